@@ -1,0 +1,92 @@
+//! The library's one error type.
+//!
+//! Every fallible function returns [`Result`]. Each variant carries what went wrong,
+//! where (file, byte offset, node index) and the value and limit involved, so the CLI
+//! can print it as one line.
+
+use std::path::PathBuf;
+
+/// Result with the library's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Everything that can go wrong in octsolid.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// Reading or writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// A file's content is malformed.
+    #[error("{}: byte {offset}: {reason}", path.display())]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// Byte offset where the problem was found.
+        offset: u64,
+        /// What is wrong.
+        reason: String,
+    },
+    /// Two octrees that must share a domain and depth do not.
+    #[error("domain mismatch: {left} vs {right}; resample one operand first")]
+    DomainMismatch {
+        /// The left operand's domain.
+        left: String,
+        /// The right operand's domain.
+        right: String,
+    },
+    /// An argument is outside what the function accepts.
+    #[error("invalid {what}: {reason}")]
+    InvalidArgument {
+        /// Which argument.
+        what: &'static str,
+        /// Why it is refused, with the given value and the limit.
+        reason: String,
+    },
+    /// An octree breaks one of its invariants.
+    #[error("invalid octree: node {index}: {reason}")]
+    InvalidOctree {
+        /// Index of the offending node in Morton order.
+        index: usize,
+        /// Which invariant is broken.
+        reason: String,
+    },
+    /// The estimated memory of a job exceeds the budget; nothing was started.
+    #[error(
+        "{job} needs an estimated {} but the memory budget is {}; lower the depth or raise the budget",
+        human_bytes(*estimate),
+        human_bytes(*budget)
+    )]
+    OverBudget {
+        /// The refused job.
+        job: String,
+        /// Estimated bytes.
+        estimate: u64,
+        /// The budget in bytes.
+        budget: u64,
+    },
+}
+
+impl Error {
+    /// Shorthand for [`Error::InvalidArgument`].
+    pub(crate) fn invalid(what: &'static str, reason: impl Into<String>) -> Self {
+        Error::InvalidArgument { what, reason: reason.into() }
+    }
+}
+
+/// Formats a byte count with a binary unit, e.g. `1.5 GiB`.
+#[must_use]
+pub fn human_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
+    let mut v = bytes as f64;
+    let mut unit = 0;
+    while v >= 1024.0 && unit + 1 < UNITS.len() {
+        v /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 { format!("{bytes} B") } else { format!("{v:.1} {}", UNITS[unit]) }
+}

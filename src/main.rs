@@ -1,0 +1,2 @@
+//! The `octsolid` command line.
+fn main() {}

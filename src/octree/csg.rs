@@ -1,0 +1,158 @@
+//! Set operations on linear octrees: one linear merge of Morton runs.
+//!
+//! Both operands are sorted disjoint runs of voxel Morton codes. A sweep over the
+//! union of their run boundaries sees, between two consecutive boundaries, a segment
+//! where membership in each operand is constant; the segments where the boolean
+//! operator holds are the result's runs, which [`ranges::cut_runs`] turns into the
+//! canonical node list. Time and memory O(n + m + output); no sort, no tree.
+//!
+//! The methods return an error for operands over different domains or depths; the
+//! operators (`|`, `&`, `-`, `^`, `!` on references) panic in that case instead.
+
+use std::ops::{BitAnd, BitOr, BitXor, Not, Sub};
+
+use super::linear::LinearOctree;
+use super::ranges::{self, Runs};
+use crate::error::Result;
+
+/// A boolean set operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetOp {
+    /// In either operand.
+    Union,
+    /// In both operands.
+    Intersection,
+    /// In the first and not the second.
+    Difference,
+    /// In exactly one operand.
+    SymmetricDifference,
+}
+
+impl SetOp {
+    /// The operator on memberships.
+    #[inline]
+    #[must_use]
+    pub fn apply(self, a: bool, b: bool) -> bool {
+        match self {
+            SetOp::Union => a | b,
+            SetOp::Intersection => a & b,
+            SetOp::Difference => a & !b,
+            SetOp::SymmetricDifference => a ^ b,
+        }
+    }
+}
+
+/// The cursor of one operand in the sweep: its current run, if any is left.
+struct Cursor<'a> {
+    runs: Runs<'a>,
+    run: Option<(u64, u64)>,
+}
+
+impl<'a> Cursor<'a> {
+    fn new(mut runs: Runs<'a>) -> Self {
+        let run = runs.next();
+        Cursor { runs, run }
+    }
+
+    /// Drops runs that end at or before `pos`; returns membership at `pos` and the
+    /// next boundary after `pos` (`limit` when none is left).
+    #[inline]
+    fn at(&mut self, pos: u64, limit: u64) -> (bool, u64) {
+        while let Some((_, e)) = self.run {
+            if e > pos {
+                break;
+            }
+            self.run = self.runs.next();
+        }
+        match self.run {
+            Some((s, e)) if s <= pos => (true, e),
+            Some((s, _)) => (false, s),
+            None => (false, limit),
+        }
+    }
+}
+
+/// The sweep: runs of `op(a, b)` over the whole domain `[0, total)`.
+fn sweep<'a>(a: Runs<'a>, b: Runs<'a>, op: SetOp, total: u64) -> impl Iterator<Item = (u64, u64)> + 'a {
+    let (mut ca, mut cb) = (Cursor::new(a), Cursor::new(b));
+    let mut pos = 0;
+    std::iter::from_fn(move || {
+        while pos < total {
+            let (in_a, next_a) = ca.at(pos, total);
+            let (in_b, next_b) = cb.at(pos, total);
+            let next = next_a.min(next_b);
+            let segment = (pos, next);
+            pos = next;
+            if op.apply(in_a, in_b) {
+                return Some(segment);
+            }
+        }
+        None
+    })
+}
+
+impl LinearOctree {
+    /// `self op other`, canonical; fails when the domains or depths differ.
+    pub fn combine(&self, other: &LinearOctree, op: SetOp) -> Result<LinearOctree> {
+        self.check_same_domain(other)?;
+        let domain = *self.domain();
+        let runs = sweep(self.runs(), other.runs(), op, domain.voxel_total());
+        Ok(LinearOctree::from_canonical(domain, ranges::cut_runs(runs, u32::from(domain.depth()))))
+    }
+
+    /// Voxels in either solid.
+    pub fn union(&self, other: &LinearOctree) -> Result<LinearOctree> {
+        self.combine(other, SetOp::Union)
+    }
+
+    /// Voxels in both solids.
+    pub fn intersection(&self, other: &LinearOctree) -> Result<LinearOctree> {
+        self.combine(other, SetOp::Intersection)
+    }
+
+    /// Voxels in `self` and not in `other`.
+    pub fn difference(&self, other: &LinearOctree) -> Result<LinearOctree> {
+        self.combine(other, SetOp::Difference)
+    }
+
+    /// Voxels in exactly one of the solids.
+    pub fn symmetric_difference(&self, other: &LinearOctree) -> Result<LinearOctree> {
+        self.combine(other, SetOp::SymmetricDifference)
+    }
+
+    /// Voxels of the domain not in `self`.
+    #[must_use]
+    pub fn complement(&self) -> LinearOctree {
+        let domain = *self.domain();
+        let full = LinearOctree::full(domain);
+        let runs = sweep(full.runs(), self.runs(), SetOp::Difference, domain.voxel_total());
+        LinearOctree::from_canonical(domain, ranges::cut_runs(runs, u32::from(domain.depth())))
+    }
+}
+
+macro_rules! binary_operator {
+    ($trait:ident, $method:ident, $op:expr) => {
+        impl $trait<&LinearOctree> for &LinearOctree {
+            type Output = LinearOctree;
+
+            /// # Panics
+            /// When the operands' domains or depths differ (use the method for a `Result`).
+            fn $method(self, rhs: &LinearOctree) -> LinearOctree {
+                self.combine(rhs, $op).unwrap_or_else(|e| panic!("{e}"))
+            }
+        }
+    };
+}
+
+binary_operator!(BitOr, bitor, SetOp::Union);
+binary_operator!(BitAnd, bitand, SetOp::Intersection);
+binary_operator!(Sub, sub, SetOp::Difference);
+binary_operator!(BitXor, bitxor, SetOp::SymmetricDifference);
+
+impl Not for &LinearOctree {
+    type Output = LinearOctree;
+
+    fn not(self) -> LinearOctree {
+        self.complement()
+    }
+}

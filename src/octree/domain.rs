@@ -1,0 +1,140 @@
+//! The world cube an octree lives in, and its depth.
+
+use glam::DVec3;
+
+use crate::aabb::Aabb;
+use crate::error::{Error, Result};
+use crate::morton;
+
+/// Deepest allowed octree: 21 levels, 2,097,152 voxels a side, Morton codes in 63 bits.
+pub const MAX_DEPTH: u8 = morton::MAX_BITS as u8;
+
+/// A world-space cube `[min, min + edge]^3` split into `2^depth` voxels per axis.
+///
+/// Voxel `(i, j, k)` covers `min + h * [i, i+1) x [j, j+1) x [k, k+1)` with
+/// `h = edge / 2^depth`; its centre is `min + h * (i + 1/2, ...)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Domain {
+    min: DVec3,
+    edge: f64,
+    depth: u8,
+}
+
+impl Domain {
+    /// A domain with lowest corner `min`, edge length `edge` and `depth` levels.
+    ///
+    /// Fails when the depth is outside `1..=21`, the edge is not positive, or any
+    /// number is not finite.
+    pub fn new(min: DVec3, edge: f64, depth: u8) -> Result<Self> {
+        if !(1..=MAX_DEPTH).contains(&depth) {
+            return Err(Error::invalid("depth", format!("{depth} is outside 1..={MAX_DEPTH}")));
+        }
+        if !min.is_finite() || !edge.is_finite() || edge <= 0.0 {
+            return Err(Error::invalid(
+                "domain",
+                format!("min {min} and edge {edge} must be finite with a positive edge"),
+            ));
+        }
+        Ok(Domain { min, edge, depth })
+    }
+
+    /// The cube of depth `depth` centred on `bounds`, with edge the longest side of
+    /// `bounds` grown by `margin` (a fraction, e.g. 0.02) so the shape touches no face.
+    pub fn around(bounds: &Aabb, margin: f64, depth: u8) -> Result<Self> {
+        if !bounds.is_finite() {
+            return Err(Error::invalid("bounds", "shape bounds are not finite; give a domain"));
+        }
+        let edge = bounds.size().max_element().max(f64::MIN_POSITIVE) * (1.0 + 2.0 * margin);
+        Domain::new(bounds.center() - DVec3::splat(edge * 0.5), edge, depth)
+    }
+
+    /// Lowest corner.
+    #[must_use]
+    pub fn min(&self) -> DVec3 {
+        self.min
+    }
+
+    /// Edge length of the cube.
+    #[must_use]
+    pub fn edge(&self) -> f64 {
+        self.edge
+    }
+
+    /// Number of levels below the root.
+    #[must_use]
+    pub fn depth(&self) -> u8 {
+        self.depth
+    }
+
+    /// Voxels per axis, `2^depth`.
+    #[must_use]
+    pub fn resolution(&self) -> u32 {
+        1 << self.depth
+    }
+
+    /// Number of voxels in the whole domain, `8^depth` (fits: at most `2^63`).
+    #[must_use]
+    pub fn voxel_total(&self) -> u64 {
+        1 << (3 * u32::from(self.depth))
+    }
+
+    /// Edge of one voxel, `edge / 2^depth`.
+    #[must_use]
+    pub fn voxel_size(&self) -> f64 {
+        self.edge / f64::from(self.resolution())
+    }
+
+    /// The same cube at another depth.
+    pub fn with_depth(&self, depth: u8) -> Result<Self> {
+        Domain::new(self.min, self.edge, depth)
+    }
+
+    /// The cube as a box.
+    #[must_use]
+    pub fn aabb(&self) -> Aabb {
+        Aabb { min: self.min, max: self.min + DVec3::splat(self.edge) }
+    }
+
+    /// Whether two domains are the same cube at the same depth.
+    #[must_use]
+    pub fn same_as(&self, other: &Domain) -> bool {
+        self == other
+    }
+
+    /// The voxel holding `p`, `None` outside the domain (the upper faces belong to no voxel).
+    #[must_use]
+    pub fn voxel_of(&self, p: DVec3) -> Option<[u32; 3]> {
+        let t = (p - self.min) / self.voxel_size();
+        let n = f64::from(self.resolution());
+        if !(t.cmpge(DVec3::ZERO).all() && t.cmplt(DVec3::splat(n)).all()) {
+            return None;
+        }
+        // floor of a value in [0, 2^21) is exact in f64.
+        Some([t.x as u32, t.y as u32, t.z as u32].map(|v| v.min(self.resolution() - 1)))
+    }
+
+    /// World position of the integer lattice point `c` (voxel corners).
+    #[must_use]
+    pub fn lattice_point(&self, c: [u32; 3]) -> DVec3 {
+        self.min + DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])) * self.voxel_size()
+    }
+
+    /// Centre of voxel `c`.
+    #[must_use]
+    pub fn voxel_center(&self, c: [u32; 3]) -> DVec3 {
+        self.lattice_point(c) + DVec3::splat(0.5 * self.voxel_size())
+    }
+
+    /// The world box of the cube with lowest voxel `c` and `size` voxels a side.
+    #[must_use]
+    pub fn cube_box(&self, c: [u32; 3], size: u32) -> Aabb {
+        let lo = self.lattice_point(c);
+        Aabb { min: lo, max: lo + DVec3::splat(f64::from(size) * self.voxel_size()) }
+    }
+}
+
+impl std::fmt::Display for Domain {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "cube at ({}, {}, {}) edge {} depth {}", self.min.x, self.min.y, self.min.z, self.edge, self.depth)
+    }
+}

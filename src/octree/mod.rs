@@ -1,0 +1,16 @@
+//! Linear octrees: domain, node keys, the canonical node list, and what works on it.
+
+mod csg;
+mod depth;
+mod domain;
+mod linear;
+mod node;
+mod ranges;
+mod voxelize;
+
+pub use csg::SetOp;
+pub use depth::CoarsenRule;
+pub use domain::{Domain, MAX_DEPTH};
+pub use linear::LinearOctree;
+pub use node::{Node, NodeKey};
+pub use voxelize::{PARALLEL_LEVELS, VoxelizeOptions, estimate_bytes, voxelize};

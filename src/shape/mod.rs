@@ -1,0 +1,87 @@
+//! Shapes: anything that can classify a box as inside, outside or crossed by its
+//! surface, and decide a point.
+//!
+//! A [`Shape`] answers two questions, the pair adaptive voxelization needs:
+//! - [`Shape::classify`] of an axis-aligned box, **conservatively**: `Inside` only when
+//!   every point of the box is inside, `Outside` only when none is; whenever in doubt
+//!   (the surface crosses the box, or rounding could matter) `Boundary`.
+//! - [`Shape::contains`] of a point, the rule that decides voxels at the finest level.
+//!
+//! Soundness contract: `classify(b) == Inside` implies `contains(p)` for every `p` in
+//! `b`, and `Outside` implies `!contains(p)`. With it, voxelizing a CSG tree of shapes
+//! gives exactly the CSG of the voxelized leaves.
+
+use glam::DVec3;
+
+use crate::aabb::Aabb;
+
+/// Where a box lies relative to a solid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Class {
+    /// Every point of the box is in the solid.
+    Inside,
+    /// No point of the box is in the solid.
+    Outside,
+    /// Undecided: the surface may cross the box.
+    Boundary,
+}
+
+impl Class {
+    /// The class of the complement.
+    #[must_use]
+    pub fn complement(self) -> Class {
+        match self {
+            Class::Inside => Class::Outside,
+            Class::Outside => Class::Inside,
+            Class::Boundary => Class::Boundary,
+        }
+    }
+}
+
+/// A solid that voxelization can ask about boxes and points. See the module doc.
+pub trait Shape: Send + Sync {
+    /// Conservative classification of the closed box `b`.
+    fn classify(&self, b: &Aabb) -> Class;
+
+    /// Whether the point `p` is in the solid.
+    fn contains(&self, p: DVec3) -> bool;
+
+    /// A box holding the solid; `None` when it is unbounded (a half-space).
+    fn bounds(&self) -> Option<Aabb>;
+}
+
+impl<S: Shape + ?Sized> Shape for &S {
+    fn classify(&self, b: &Aabb) -> Class {
+        (**self).classify(b)
+    }
+    fn contains(&self, p: DVec3) -> bool {
+        (**self).contains(p)
+    }
+    fn bounds(&self) -> Option<Aabb> {
+        (**self).bounds()
+    }
+}
+
+impl<S: Shape + ?Sized> Shape for Box<S> {
+    fn classify(&self, b: &Aabb) -> Class {
+        (**self).classify(b)
+    }
+    fn contains(&self, p: DVec3) -> bool {
+        (**self).contains(p)
+    }
+    fn bounds(&self) -> Option<Aabb> {
+        (**self).bounds()
+    }
+}
+
+impl<S: Shape + ?Sized> Shape for std::sync::Arc<S> {
+    fn classify(&self, b: &Aabb) -> Class {
+        (**self).classify(b)
+    }
+    fn contains(&self, p: DVec3) -> bool {
+        (**self).contains(p)
+    }
+    fn bounds(&self) -> Option<Aabb> {
+        (**self).bounds()
+    }
+}
