@@ -27,6 +27,7 @@ pub mod morton;
 pub mod octree;
 pub mod progress;
 pub mod shape;
+pub mod slice;
 
 pub use aabb::Aabb;
 pub use error::{Error, Result};

@@ -76,11 +76,12 @@ impl LinearOctree {
 
     /// Canonical octree from runs sorted by start (they may overlap or touch).
     pub(crate) fn from_sorted_runs(domain: Domain, runs: impl IntoIterator<Item = (u64, u64)>) -> Self {
-        LinearOctree { domain, keys: ranges::cut_runs(runs, u32::from(domain.depth())) }
+        Self::from_canonical(domain, ranges::cut_runs(runs, u32::from(domain.depth())))
     }
 
-    /// Wraps keys already known to be canonical (debug builds check).
-    pub(crate) fn from_canonical(domain: Domain, keys: Vec<NodeKey>) -> Self {
+    /// Wraps keys already known to be canonical (debug builds check), trimming spare capacity.
+    pub(crate) fn from_canonical(domain: Domain, mut keys: Vec<NodeKey>) -> Self {
+        keys.shrink_to_fit();
         let tree = LinearOctree { domain, keys };
         debug_assert!(tree.validate().is_ok(), "{:?}", tree.validate());
         tree

@@ -1,0 +1,218 @@
+//! Linear octree storage, queries, CSG and depth change against a dense-grid oracle.
+
+use octsolid::octree::{CoarsenRule, Domain, LinearOctree, Node, NodeKey, SetOp};
+use octsolid::{Error, morton};
+
+use glam::DVec3;
+
+/// Small deterministic xorshift generator.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+}
+
+fn domain(depth: u8) -> Domain {
+    Domain::new(DVec3::new(-1.0, 2.0, 0.5), 3.0, depth).unwrap()
+}
+
+/// A dense boolean grid indexed by Morton code: the oracle.
+fn dense(tree: &LinearOctree) -> Vec<bool> {
+    let mut grid = vec![false; tree.domain().voxel_total() as usize];
+    for key in tree.keys() {
+        grid[key.start() as usize..key.end() as usize].fill(true);
+    }
+    grid
+}
+
+/// A random solid: random blobs of aligned nodes and single voxels, so both big
+/// nodes and ragged boundaries occur.
+fn random_tree(rng: &mut Rng, depth: u8) -> LinearOctree {
+    let d = domain(depth);
+    let mut nodes = Vec::new();
+    for _ in 0..rng.below(40) {
+        let k = rng.below(u64::from(depth)) as u32;
+        let size = 1u32 << k;
+        let cells = d.resolution() / size;
+        let min = [0; 3].map(|_| rng.below(u64::from(cells)) as u32 * size);
+        nodes.push(Node { level: depth - k as u8, min, size });
+    }
+    for _ in 0..rng.below(200) {
+        let min = [0; 3].map(|_| rng.below(u64::from(d.resolution())) as u32);
+        nodes.push(Node { level: depth, min, size: 1 });
+    }
+    let tree = LinearOctree::from_nodes(d, nodes).unwrap();
+    tree.validate().unwrap();
+    tree
+}
+
+fn from_dense(d: Domain, grid: &[bool]) -> LinearOctree {
+    let voxels = grid.iter().enumerate().filter(|(_, f)| **f).map(|(c, _)| morton::decode(c as u64));
+    LinearOctree::from_voxels(d, voxels).unwrap()
+}
+
+#[test]
+fn from_voxels_is_canonical_and_exact() {
+    let mut rng = Rng(7);
+    for depth in 1..=5 {
+        for _ in 0..20 {
+            let tree = random_tree(&mut rng, depth);
+            let grid = dense(&tree);
+            let again = from_dense(*tree.domain(), &grid);
+            again.validate().unwrap();
+            // One solid, one canonical form: equal key lists.
+            assert_eq!(again, tree);
+            assert_eq!(tree.voxel_count(), grid.iter().filter(|f| **f).count() as u64);
+        }
+    }
+}
+
+#[test]
+fn full_domain_collapses_to_the_root() {
+    let d = domain(3);
+    let all = (0..8u32).flat_map(|x| (0..8u32).flat_map(move |y| (0..8u32).map(move |z| [x, y, z])));
+    let tree = LinearOctree::from_voxels(d, all).unwrap();
+    assert_eq!(tree, LinearOctree::full(d));
+    assert_eq!(tree.node_count(), 1);
+    assert_eq!(tree.voxel_count(), 512);
+    assert!((tree.volume() - 27.0).abs() < 1e-12);
+}
+
+#[test]
+fn csg_matches_dense_grid() {
+    let mut rng = Rng(99);
+    for depth in 1..=5 {
+        for _ in 0..30 {
+            let (a, b) = (random_tree(&mut rng, depth), random_tree(&mut rng, depth));
+            let (ga, gb) = (dense(&a), dense(&b));
+            for op in [SetOp::Union, SetOp::Intersection, SetOp::Difference, SetOp::SymmetricDifference] {
+                let got = a.combine(&b, op).unwrap();
+                got.validate().unwrap();
+                let want: Vec<bool> = ga.iter().zip(&gb).map(|(x, y)| op.apply(*x, *y)).collect();
+                assert_eq!(dense(&got), want, "{op:?} at depth {depth}");
+                assert_eq!(got, from_dense(*a.domain(), &want), "{op:?} not canonical");
+            }
+            let not_a = !&a;
+            not_a.validate().unwrap();
+            assert_eq!(dense(&not_a), ga.iter().map(|f| !f).collect::<Vec<_>>());
+            // The operators are the methods.
+            assert_eq!(&a | &b, a.union(&b).unwrap());
+            assert_eq!(&a & &b, a.intersection(&b).unwrap());
+            assert_eq!(&a - &b, a.difference(&b).unwrap());
+            assert_eq!(&a ^ &b, a.symmetric_difference(&b).unwrap());
+        }
+    }
+}
+
+#[test]
+fn csg_refuses_different_domains() {
+    let a = LinearOctree::full(domain(4));
+    let b = LinearOctree::full(domain(5));
+    let err = a.union(&b).unwrap_err();
+    assert!(matches!(err, Error::DomainMismatch { .. }), "{err}");
+    assert!(err.to_string().contains("depth 4") && err.to_string().contains("depth 5"), "{err}");
+    let c = LinearOctree::full(Domain::new(DVec3::ZERO, 3.0, 4).unwrap());
+    assert!(a.intersection(&c).is_err());
+}
+
+#[test]
+fn point_queries_and_bounds_match_dense_grid() {
+    let mut rng = Rng(3);
+    for _ in 0..20 {
+        let tree = random_tree(&mut rng, 4);
+        let d = *tree.domain();
+        let grid = dense(&tree);
+        let mut lo = [u32::MAX; 3];
+        let mut hi = [0; 3];
+        for (code, &full) in grid.iter().enumerate() {
+            let v = morton::decode(code as u64);
+            assert_eq!(tree.contains_voxel(v), full);
+            assert_eq!(tree.contains_point(d.voxel_center(v)), full);
+            if full {
+                for a in 0..3 {
+                    lo[a] = lo[a].min(v[a]);
+                    hi[a] = hi[a].max(v[a] + 1);
+                }
+            }
+        }
+        assert_eq!(tree.voxel_bounds(), (!tree.is_empty()).then_some((lo, hi)));
+        assert!(!tree.contains_point(d.min() - DVec3::splat(0.1)));
+    }
+}
+
+#[test]
+fn validate_catches_every_broken_invariant() {
+    let d = domain(2);
+    let ok = |keys: Vec<NodeKey>| LinearOctree::from_keys(d, keys);
+    assert!(ok(vec![NodeKey::new(0, 0), NodeKey::new(8, 1)]).is_ok());
+    // Out of order.
+    assert!(ok(vec![NodeKey::new(8, 1), NodeKey::new(0, 0)]).is_err());
+    // Overlapping.
+    assert!(ok(vec![NodeKey::new(8, 1), NodeKey::new(9, 0)]).is_err());
+    // Outside the domain (64 voxels at depth 2).
+    assert!(ok(vec![NodeKey::new(64, 0)]).is_err());
+    assert!(ok(vec![NodeKey::new(0, 3)]).is_err());
+    // Eight full siblings.
+    let eight: Vec<_> = (0..8).map(|i| NodeKey::new(i, 0)).collect();
+    let err = ok(eight).unwrap_err();
+    assert!(err.to_string().contains("eight full siblings"), "{err}");
+}
+
+#[test]
+fn refine_is_exact_and_coarsen_follows_its_rule() {
+    let mut rng = Rng(11);
+    for _ in 0..20 {
+        let tree = random_tree(&mut rng, 4);
+        let fine = tree.refine(6).unwrap();
+        fine.validate().unwrap();
+        assert_eq!(fine.node_count(), tree.node_count());
+        assert!((fine.volume() - tree.volume()).abs() < 1e-9);
+        assert_eq!(fine.coarsen(4, CoarsenRule::All).unwrap(), tree);
+
+        let grid = dense(&tree);
+        for (rule, test) in [
+            (CoarsenRule::Any, (|n: usize| n >= 1) as fn(usize) -> bool),
+            (CoarsenRule::All, |n| n == 8),
+            (CoarsenRule::Majority, |n| n >= 4),
+        ] {
+            let coarse = tree.coarsen(3, rule).unwrap();
+            coarse.validate().unwrap();
+            let want: Vec<bool> = grid.chunks(8).map(|c| test(c.iter().filter(|f| **f).count())).collect();
+            assert_eq!(dense(&coarse), want, "{rule:?}");
+        }
+    }
+    let t = LinearOctree::full(domain(3));
+    assert!(t.refine(2).is_err() && t.coarsen(4, CoarsenRule::Any).is_err());
+}
+
+#[test]
+fn depth_21_counts_are_exact() {
+    let d = domain(21);
+    let full = LinearOctree::full(d);
+    assert_eq!(full.voxel_count(), 1u64 << 63);
+    let one = LinearOctree::from_voxels(d, [[2_097_151, 2_097_151, 2_097_151]]).unwrap();
+    let rest = &full - &one;
+    rest.validate().unwrap();
+    assert_eq!(rest.voxel_count(), (1u64 << 63) - 1);
+    // Seven siblings at each of the 21 levels.
+    assert_eq!(rest.node_count(), 7 * 21);
+    assert!(rest.contains_voxel([0, 0, 0]) && !rest.contains_voxel([2_097_151; 3]));
+    assert_eq!(&rest | &one, full);
+}
+
+#[test]
+fn memory_is_at_most_eight_bytes_a_node() {
+    let mut rng = Rng(5);
+    let tree = random_tree(&mut rng, 5);
+    let per_node = (tree.bytes() - std::mem::size_of::<LinearOctree>()) as f64 / tree.node_count() as f64;
+    assert!(per_node <= 8.0 + 1e-9 || tree.keys().len() < 4, "{per_node} bytes a node");
+    assert_eq!(std::mem::size_of::<NodeKey>(), 8);
+}
