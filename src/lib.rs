@@ -9,12 +9,15 @@
 //! ```
 //! use octsolid::prelude::*;
 //!
-//! let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
-//! let ball = voxelize(&Sphere::new(DVec3::ZERO, 0.9), domain, &Default::default()).unwrap();
-//! let cube = voxelize(&Cuboid::new(DVec3::ZERO, DVec3::splat(0.7)), domain, &Default::default()).unwrap();
+//! # fn main() -> octsolid::Result<()> {
+//! let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6)?;
+//! let ball = voxelize(&Sphere::new(DVec3::ZERO, 0.9)?, domain, &Default::default())?;
+//! let cube = voxelize(&Cuboid::new(DVec3::ZERO, DVec3::splat(1.4))?, domain, &Default::default())?;
 //! let shell = &ball - &cube;
-//! shell.validate().unwrap();
+//! shell.validate()?;
 //! assert!(shell.volume() < ball.volume());
+//! # Ok(())
+//! # }
 //! ```
 
 #![deny(missing_docs)]
@@ -26,6 +29,7 @@ pub mod io;
 pub mod morton;
 pub mod octree;
 pub mod progress;
+pub mod samples;
 pub mod shape;
 pub mod slice;
 
@@ -39,7 +43,9 @@ pub mod prelude {
     pub use crate::aabb::Aabb;
     pub use crate::budget::MemoryBudget;
     pub use crate::error::{Error, Result};
+    pub use crate::io::{oct, png};
     pub use crate::octree::{CoarsenRule, Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
     pub use crate::shape::*;
+    pub use crate::slice::slice_image;
     pub use glam::{DMat3, DMat4, DVec3};
 }

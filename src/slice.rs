@@ -67,7 +67,11 @@ pub fn slice_image(tree: &LinearOctree, axis: usize, at: f64, size: u32) -> Resu
             let key = tree.keys()[id];
             let node_pixels = f64::from(1u32 << key.k()) * pixels_per_voxel;
             let border = (col > 0 && ids[i - 1] != id) || (row > 0 && ids[i - size as usize] != id);
-            if border && node_pixels >= 4.0 { OUTLINE } else { level_colour(f64::from(key.level(tree.depth())) / depth) }
+            if border && node_pixels >= 4.0 {
+                OUTLINE
+            } else {
+                level_colour(f64::from(key.level(tree.depth())) / depth)
+            }
         };
     }
     Ok(img)

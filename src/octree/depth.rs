@@ -48,10 +48,10 @@ impl LinearOctree {
         let mut runs: Vec<(u64, u64)> = Vec::new();
         let mut pending: Option<(u64, u64)> = None; // (coarse code, fine voxels counted)
         let flush = |pending: &mut Option<(u64, u64)>, runs: &mut Vec<(u64, u64)>| {
-            if let Some((code, count)) = pending.take() {
-                if count >= needed {
-                    runs.push((code, code + 1));
-                }
+            if let Some((code, count)) = pending.take()
+                && count >= needed
+            {
+                runs.push((code, code + 1));
             }
         };
         for key in self.keys() {

@@ -39,7 +39,7 @@ impl NodeKey {
     #[inline]
     #[must_use]
     pub fn from_bits(bits: u64) -> Option<Self> {
-        (bits != 0 && bits.trailing_zeros() % 3 == 0 && bits.trailing_zeros() <= 63).then_some(NodeKey(bits))
+        (bits != 0 && bits.trailing_zeros().is_multiple_of(3)).then_some(NodeKey(bits))
     }
 
     /// The raw 64 bits.

@@ -85,3 +85,24 @@ impl<S: Shape + ?Sized> Shape for std::sync::Arc<S> {
         (**self).bounds()
     }
 }
+
+mod axis;
+mod bounds;
+mod cone;
+mod csg;
+mod cuboid;
+mod cylinder;
+mod half_space;
+mod sphere;
+mod torus;
+mod transformed;
+
+pub use axis::Axis;
+pub use cone::Cone;
+pub use csg::{Csg, CsgNode};
+pub use cuboid::Cuboid;
+pub use cylinder::Cylinder;
+pub use half_space::HalfSpace;
+pub use sphere::{Ellipsoid, Sphere};
+pub use torus::Torus;
+pub use transformed::{ShapeExt, Transformed};

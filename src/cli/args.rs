@@ -1,0 +1,177 @@
+//! Flag definitions: the help text comes from here.
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+/// octsolid: solid modeling on linear octrees.
+#[derive(Parser, Debug)]
+#[command(name = "octsolid", version, about, long_about = None)]
+pub struct Args {
+    /// Refuse jobs whose estimated memory exceeds this (e.g. 512MiB, 8GiB; default: half the RAM).
+    #[arg(long, global = true, value_parser = parse_bytes)]
+    pub memory_budget: Option<u64>,
+
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Voxelize a primitive shape into an .oct file.
+    Shape(ShapeArgs),
+    /// Combine .oct files by a set operation.
+    Csg {
+        /// The operation (difference: the first minus all the others).
+        op: CsgOp,
+        /// Input .oct files (at least two), all over the same domain and depth.
+        #[arg(required = true, num_args = 2..)]
+        inputs: Vec<PathBuf>,
+        /// Output .oct file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Print what an .oct file holds.
+    Info {
+        /// The .oct file.
+        file: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Draw a cross-section of an .oct file as a PNG.
+    Slice {
+        /// The .oct file.
+        file: PathBuf,
+        /// Axis the cutting plane is perpendicular to.
+        #[arg(long, default_value = "z")]
+        axis: octsolid::shape::Axis,
+        /// World coordinate of the plane along the axis (default: the domain's middle).
+        #[arg(long, allow_negative_numbers = true)]
+        at: Option<f64>,
+        /// Image edge in pixels.
+        #[arg(long, default_value_t = 768)]
+        size: u32,
+        /// Output PNG file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Build the bundled showcase solid and write demo.png.
+    Demo {
+        /// Output image.
+        #[arg(short, long, default_value = "demo.png")]
+        output: PathBuf,
+        /// Octree depth of the showcase solid.
+        #[arg(long, default_value_t = 9)]
+        depth: u8,
+    },
+}
+
+/// A set operation over files.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum CsgOp {
+    /// Voxels in any input.
+    Union,
+    /// Voxels in every input.
+    Intersect,
+    /// Voxels in the first input and no other.
+    Difference,
+    /// Voxels in an odd number of inputs.
+    Xor,
+}
+
+/// The primitive kinds of `octsolid shape`.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum ShapeKind {
+    /// Ball of --radius.
+    Sphere,
+    /// Ellipsoid filling a box of --size.
+    Ellipsoid,
+    /// Box of --size.
+    Box,
+    /// Capped cylinder of --radius and --height along --axis.
+    Cylinder,
+    /// Capped cone of base --radius and --height along --axis (apex towards +axis).
+    Cone,
+    /// Torus of --radius (centre to tube centre) and --tube radius around --axis.
+    Torus,
+}
+
+/// Arguments of `octsolid shape`.
+#[derive(clap::Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct ShapeArgs {
+    /// Which shape.
+    pub kind: ShapeKind,
+    /// Radius (sphere, cylinder, cone base, torus centre line).
+    #[arg(long, default_value_t = 1.0)]
+    pub radius: f64,
+    /// Box edge lengths, or the ellipsoid's bounding box.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, default_value = "2,2,2")]
+    pub size: [f64; 3],
+    /// Height of a cylinder or cone.
+    #[arg(long, default_value_t = 2.0)]
+    pub height: f64,
+    /// Tube radius of a torus.
+    #[arg(long, default_value_t = 0.25)]
+    pub tube: f64,
+    /// Axis of a cylinder, cone or torus.
+    #[arg(long, default_value = "z")]
+    pub axis: octsolid::shape::Axis,
+    /// Centre of the shape's bounding box.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, default_value = "0,0,0")]
+    pub center: [f64; 3],
+    /// Octree depth (1..=21): 2^depth voxels a side.
+    #[arg(long, default_value_t = 8)]
+    pub depth: u8,
+    /// Domain cube MINX,MINY,MINZ,EDGE (default: a cube around the shape).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
+    pub domain: Option<[f64; 4]>,
+    /// Output .oct file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+/// Parses `X,Y,Z`.
+fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    let v = parse_floats(s, 3)?;
+    Ok([v[0], v[1], v[2]])
+}
+
+/// Parses `MINX,MINY,MINZ,EDGE`.
+fn parse_domain(s: &str) -> Result<[f64; 4], String> {
+    let v = parse_floats(s, 4)?;
+    Ok([v[0], v[1], v[2], v[3]])
+}
+
+fn parse_floats(s: &str, n: usize) -> Result<Vec<f64>, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().map_err(|_| format!("'{t}' is not a number")))
+        .collect::<Result<_, _>>()?;
+    if v.len() != n {
+        return Err(format!("expected {n} comma-separated numbers, got {}", v.len()));
+    }
+    if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
+        return Err(format!("{bad} is not a finite number"));
+    }
+    Ok(v)
+}
+
+/// Parses a byte size such as `4096`, `512MiB`, `8GiB`, `2G`.
+fn parse_bytes(s: &str) -> Result<u64, String> {
+    let s = s.trim();
+    let split = s.find(|c: char| !c.is_ascii_digit() && c != '.').unwrap_or(s.len());
+    let (num, unit) = s.split_at(split);
+    let num: f64 = num.parse().map_err(|_| format!("'{s}' is not a size like 512MiB or 8GiB"))?;
+    let scale: u64 = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1,
+        "k" | "kb" | "kib" => 1 << 10,
+        "m" | "mb" | "mib" => 1 << 20,
+        "g" | "gb" | "gib" => 1 << 30,
+        "t" | "tb" | "tib" => 1 << 40,
+        other => return Err(format!("unknown unit '{other}' (use B, KiB, MiB, GiB or TiB)")),
+    };
+    Ok((num * scale as f64) as u64)
+}

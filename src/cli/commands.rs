@@ -1,0 +1,207 @@
+//! One function a subcommand: validate, call the library, print a summary.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use glam::DVec3;
+use octsolid::budget::MemoryBudget;
+use octsolid::error::human_bytes;
+use octsolid::io::{oct, png};
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::samples;
+use octsolid::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, Shape, Sphere, Torus};
+use serde::Serialize;
+
+use super::args::{Args, Command, CsgOp, ShapeArgs, ShapeKind};
+use super::progress_bar::Bar;
+
+/// Runs the parsed command line.
+pub fn run(args: Args) -> Result<()> {
+    let budget = args.memory_budget.map_or_else(MemoryBudget::default, MemoryBudget);
+    match args.command {
+        Command::Shape(shape) => shape_command(&shape, budget),
+        Command::Csg { op, inputs, output } => csg_command(op, &inputs, &output, budget),
+        Command::Info { file, json } => info_command(&file, json, budget),
+        Command::Slice { file, axis, at, size, output } => slice_command(&file, axis, at, size, &output, budget),
+        Command::Demo { output, depth } => demo_command(&output, depth, budget),
+    }
+}
+
+/// `octsolid shape KIND ...`
+fn shape_command(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
+    let center = DVec3::from_array(a.center);
+    let size = DVec3::from_array(a.size);
+    let (shape, exact_volume): (Csg, f64) = match a.kind {
+        ShapeKind::Sphere => (Sphere::new(center, a.radius)?.into(), Sphere::new(center, a.radius)?.volume()),
+        ShapeKind::Ellipsoid => {
+            let e = Ellipsoid::new(center, size * 0.5)?;
+            (e.clone().into(), e.volume())
+        }
+        ShapeKind::Box => {
+            let b = Cuboid::new(center, size)?;
+            (b.clone().into(), b.volume())
+        }
+        ShapeKind::Cylinder => {
+            let c = Cylinder::new(center, a.axis, a.radius, a.height)?;
+            (c.clone().into(), c.volume())
+        }
+        ShapeKind::Cone => {
+            let base = center - a.axis.unit() * (a.height * 0.5);
+            let c = Cone::new(base, a.axis, a.radius, a.height)?;
+            (c.clone().into(), c.volume())
+        }
+        ShapeKind::Torus => {
+            let t = Torus::new(center, a.axis, a.radius, a.tube)?;
+            (t.clone().into(), t.volume())
+        }
+    };
+    let domain = match a.domain {
+        Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, a.depth)?,
+        None => Domain::around(&shape.bounds().context("the shape is unbounded; give --domain")?, 0.02, a.depth)?,
+    };
+    let tree = voxelize_with_bar(&shape, domain, budget)?;
+    let bytes = oct::save(&tree, &a.output)?;
+    println!("wrote {} ({})", a.output.display(), human_bytes(bytes));
+    print_summary(&tree, Some(exact_volume));
+    Ok(())
+}
+
+/// Voxelizes with a progress bar and prints the time taken.
+fn voxelize_with_bar(shape: &dyn Shape, domain: Domain, budget: MemoryBudget) -> Result<LinearOctree> {
+    let bar = Bar::new("voxelizing");
+    let started = Instant::now();
+    let tree = voxelize(shape, domain, &VoxelizeOptions { budget, progress: &bar })?;
+    println!("voxelized at depth {} in {:.1} ms", domain.depth(), started.elapsed().as_secs_f64() * 1e3);
+    Ok(tree)
+}
+
+/// `octsolid csg OP A B [MORE...] -o OUT`
+fn csg_command(op: CsgOp, inputs: &[std::path::PathBuf], output: &Path, budget: MemoryBudget) -> Result<()> {
+    let mut trees = Vec::with_capacity(inputs.len());
+    for path in inputs {
+        trees.push(oct::load(path, budget)?);
+    }
+    let started = Instant::now();
+    let mut result = trees[0].clone();
+    for (tree, path) in trees.iter().zip(inputs).skip(1) {
+        result = match op {
+            CsgOp::Union => result.union(tree),
+            CsgOp::Intersect => result.intersection(tree),
+            CsgOp::Difference => result.difference(tree),
+            CsgOp::Xor => result.symmetric_difference(tree),
+        }
+        .with_context(|| format!("{}: cannot combine with {}", path.display(), inputs[0].display()))?;
+    }
+    println!("{op:?} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
+    let bytes = oct::save(&result, output)?;
+    println!("wrote {} ({})", output.display(), human_bytes(bytes));
+    print_summary(&result, None);
+    Ok(())
+}
+
+/// What `octsolid info --json` prints; the key names are a contract.
+#[derive(Serialize)]
+struct Info {
+    depth: u8,
+    domain: DomainInfo,
+    nodes: usize,
+    voxels: u64,
+    volume: f64,
+    bounds: Option<BoundsInfo>,
+    bytes_memory: usize,
+    bytes_file: u64,
+}
+
+#[derive(Serialize)]
+struct DomainInfo {
+    min: [f64; 3],
+    edge: f64,
+}
+
+#[derive(Serialize)]
+struct BoundsInfo {
+    min: [f64; 3],
+    max: [f64; 3],
+}
+
+/// `octsolid info FILE [--json]`
+fn info_command(file: &Path, json: bool, budget: MemoryBudget) -> Result<()> {
+    let tree = oct::load(file, budget)?;
+    let bytes_file = std::fs::metadata(file).with_context(|| format!("{}", file.display()))?.len();
+    let d = tree.domain();
+    let info = Info {
+        depth: d.depth(),
+        domain: DomainInfo { min: d.min().to_array(), edge: d.edge() },
+        nodes: tree.node_count(),
+        voxels: tree.voxel_count(),
+        volume: tree.volume(),
+        bounds: tree.bounds().map(|b| BoundsInfo { min: b.min.to_array(), max: b.max.to_array() }),
+        bytes_memory: tree.bytes(),
+        bytes_file,
+    };
+    if json {
+        println!("{}", serde_json::to_string(&info)?);
+        return Ok(());
+    }
+    println!("file       {}", file.display());
+    println!("depth      {} ({} voxels a side, voxel edge {})", info.depth, d.resolution(), d.voxel_size());
+    println!("domain     min {:?} edge {}", info.domain.min, info.domain.edge);
+    print_summary(&tree, None);
+    let per_node = |b: f64| if info.nodes == 0 { 0.0 } else { b / info.nodes as f64 };
+    println!("on disk    {} ({:.2} bytes a node)", human_bytes(bytes_file), per_node(bytes_file as f64));
+    Ok(())
+}
+
+/// Prints nodes, voxels, volume (with the exact one when known), bounds and memory.
+fn print_summary(tree: &LinearOctree, exact_volume: Option<f64>) {
+    println!("nodes      {}", tree.node_count());
+    println!("voxels     {}", tree.voxel_count());
+    match exact_volume {
+        Some(v) => {
+            println!("volume     {:.6} (analytic {:.6}, {:+.3}%)", tree.volume(), v, 100.0 * (tree.volume() - v) / v)
+        }
+        None => println!("volume     {:.6}", tree.volume()),
+    }
+    match tree.bounds() {
+        Some(b) => println!("bounds     {:?} .. {:?}", b.min.to_array(), b.max.to_array()),
+        None => println!("bounds     (empty)"),
+    }
+    let per_node = if tree.node_count() == 0 { 0.0 } else { tree.bytes() as f64 / tree.node_count() as f64 };
+    println!("in memory  {} ({per_node:.2} bytes a node)", human_bytes(tree.bytes() as u64));
+}
+
+/// `octsolid slice FILE --axis A --at V [--size N] -o OUT.png`
+fn slice_command(
+    file: &Path,
+    axis: Axis,
+    at: Option<f64>,
+    size: u32,
+    output: &Path,
+    budget: MemoryBudget,
+) -> Result<()> {
+    let tree = oct::load(file, budget)?;
+    let d = tree.domain();
+    let at = at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
+    let img = octsolid::slice::slice_image(&tree, axis.index(), at, size)
+        .with_context(|| format!("{}: cannot slice", file.display()))?;
+    png::save(&img, output)?;
+    println!("wrote {} ({size}x{size}, {axis:?} = {at})", output.display());
+    Ok(())
+}
+
+/// `octsolid demo`: the showcase solid, voxelized, saved and sliced.
+fn demo_command(output: &Path, depth: u8, budget: MemoryBudget) -> Result<()> {
+    if output.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
+        bail!("{}: the demo writes a PNG image; give a .png path", output.display());
+    }
+    let shape = samples::showcase();
+    let domain = samples::showcase_domain(depth)?;
+    println!("showcase: {}", samples::SHOWCASE_DESCRIPTION);
+    let tree = voxelize_with_bar(&shape, domain, budget)?;
+    print_summary(&tree, None);
+    let img = samples::showcase_picture(&tree)?;
+    png::save(&img, output)?;
+    println!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    Ok(())
+}

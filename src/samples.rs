@@ -1,0 +1,50 @@
+//! Bundled sample solids shared by the CLI's `demo`, tests and benches, so no one
+//! writes a second showcase.
+
+use glam::DVec3;
+use image::RgbImage;
+
+use crate::error::Result;
+use crate::octree::{Domain, LinearOctree};
+use crate::shape::{Axis, Csg, Cuboid, Cylinder, Sphere, Torus};
+use crate::slice::slice_image;
+
+/// One line saying what [`showcase`] is.
+pub const SHOWCASE_DESCRIPTION: &str = "cube of side 2 & sphere of radius 1.3, minus three cylinders of radius 0.6 along x, y, z, \
+     inside a torus ring (R 1.55, r 0.2) around z";
+
+/// The classic CSG part: a cube of side 2 intersected with a sphere of radius 1.3,
+/// minus three cylinders of radius 0.6 along x, y and z (all centred at the origin).
+#[must_use]
+pub fn classic_csg() -> Csg {
+    let cube = Cuboid::new(DVec3::ZERO, DVec3::splat(2.0)).expect("valid cube");
+    let ball = Sphere::new(DVec3::ZERO, 1.3).expect("valid sphere");
+    let bore = |axis| Cylinder::new(DVec3::ZERO, axis, 0.6, 3.0).expect("valid cylinder");
+    (cube & ball) - bore(Axis::X) - bore(Axis::Y) - bore(Axis::Z)
+}
+
+/// The showcase solid of `octsolid demo`: the classic part inside a torus ring.
+#[must_use]
+pub fn showcase() -> Csg {
+    classic_csg() | Torus::new(DVec3::ZERO, Axis::Z, 1.55, 0.2).expect("valid torus")
+}
+
+/// The showcase's domain at `depth`: the cube `[-1.8, 1.8]^3`.
+pub fn showcase_domain(depth: u8) -> Result<Domain> {
+    Domain::new(DVec3::splat(-1.8), 3.6, depth)
+}
+
+/// Three cross-sections of the showcase side by side: z = 0.8 (the rounded cube with
+/// its vertical bore), z = 0 (the corners left by the three bores, and the ring) and
+/// y = 0.3 (a cut through ring, corners and the bores).
+pub fn showcase_picture(tree: &LinearOctree) -> Result<RgbImage> {
+    const PANEL: u32 = 512;
+    const GAP: u32 = 8;
+    let panels =
+        [slice_image(tree, 2, 0.8, PANEL)?, slice_image(tree, 2, 0.0, PANEL)?, slice_image(tree, 1, 0.3, PANEL)?];
+    let mut out = RgbImage::from_pixel(3 * PANEL + 2 * GAP, PANEL, image::Rgb([255, 255, 255]));
+    for (i, panel) in panels.iter().enumerate() {
+        image::imageops::replace(&mut out, panel, i64::from(i as u32 * (PANEL + GAP)), 0);
+    }
+    Ok(out)
+}

@@ -1,0 +1,48 @@
+//! Coordinate axes, for shapes with an axis and for the CLI's `--axis x|y|z`.
+
+use glam::DVec3;
+
+/// One of the three coordinate axes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Axis {
+    /// The x axis.
+    X,
+    /// The y axis.
+    Y,
+    /// The z axis.
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    #[must_use]
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The unit vector along the axis.
+    #[must_use]
+    pub fn unit(self) -> DVec3 {
+        DVec3::AXES[self.index()]
+    }
+
+    /// Splits `p` into (along the axis, the two other coordinates in cyclic order).
+    #[must_use]
+    pub(crate) fn split(self, p: DVec3) -> (f64, [f64; 2]) {
+        let i = self.index();
+        (p[i], [p[(i + 1) % 3], p[(i + 2) % 3]])
+    }
+}
+
+impl std::str::FromStr for Axis {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "x" => Ok(Axis::X),
+            "y" => Ok(Axis::Y),
+            "z" => Ok(Axis::Z),
+            _ => Err(format!("'{s}' is not an axis (use x, y or z)")),
+        }
+    }
+}

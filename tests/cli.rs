@@ -1,0 +1,133 @@
+//! The `octsolid` binary end to end: exact command forms, JSON keys, and one-line
+//! errors with a non-zero exit and no panic.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn octsolid(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_octsolid")).current_dir(dir).args(args).output().unwrap()
+}
+
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let out = octsolid(dir, args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "octsolid {args:?} failed: {stderr}");
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Runs a command that must fail; returns its one-line error.
+fn fails(dir: &Path, args: &[&str]) -> String {
+    let out = octsolid(dir, args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "octsolid {args:?} should fail");
+    assert!(!stderr.contains("panicked"), "octsolid {args:?} panicked: {stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "one line expected: {stderr}");
+    stderr
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("octsolid-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn info_json(dir: &Path, file: &str) -> serde_json::Value {
+    serde_json::from_str(&ok(dir, &["info", file, "--json"])).unwrap()
+}
+
+#[test]
+fn shape_csg_info_slice_round_trip() {
+    let dir = scratch("round-trip");
+    let domain = "-1.5,-1.5,-1.5,3";
+    ok(&dir, &["shape", "sphere", "--radius", "1.2", "--depth", "7", "--domain", domain, "-o", "ball.oct"]);
+    ok(&dir, &["shape", "box", "--size", "2,2,2", "--depth", "7", "--domain", domain, "-o", "cube.oct"]);
+    for axis in ["x", "y", "z"] {
+        let name = format!("bore_{axis}.oct");
+        ok(
+            &dir,
+            &["shape", "cylinder", "--radius", "0.5", "--height", "3", "--axis", axis, "--depth", "7"]
+                .into_iter()
+                .chain(["--domain", domain, "-o", &name])
+                .collect::<Vec<_>>(),
+        );
+    }
+    ok(&dir, &["csg", "intersect", "ball.oct", "cube.oct", "-o", "rounded.oct"]);
+    ok(&dir, &["csg", "difference", "rounded.oct", "bore_x.oct", "bore_y.oct", "bore_z.oct", "-o", "part.oct"]);
+    ok(&dir, &["csg", "union", "bore_x.oct", "bore_y.oct", "bore_z.oct", "-o", "bores.oct"]);
+    ok(&dir, &["csg", "xor", "ball.oct", "cube.oct", "-o", "xor.oct"]);
+
+    let [ball, cube, rounded, part, bores, xor] =
+        ["ball", "cube", "rounded", "part", "bores", "xor"].map(|n| info_json(&dir, &format!("{n}.oct")));
+    let vol = |v: &serde_json::Value| v["volume"].as_f64().unwrap();
+    // Every key of the JSON contract.
+    for key in ["depth", "domain", "nodes", "voxels", "volume", "bounds", "bytes_memory", "bytes_file"] {
+        assert!(part.get(key).is_some(), "missing key {key}");
+    }
+    assert_eq!(part["depth"], 7);
+    assert_eq!(part["domain"]["edge"].as_f64().unwrap(), 3.0);
+    assert_eq!(part["domain"]["min"][0].as_f64().unwrap(), -1.5);
+    assert!(part["bounds"]["min"].is_array() && part["bounds"]["max"].is_array());
+    // Inclusion-exclusion on volumes: |A ^ B| = |A| + |B| - 2 |A & B|, and
+    // rounded - bores = rounded - (rounded & bores).
+    assert!((vol(&xor) - (vol(&ball) + vol(&cube) - 2.0 * vol(&rounded))).abs() < 1e-9);
+    assert!(vol(&part) < vol(&rounded) && vol(&part) > vol(&rounded) - vol(&bores));
+    // Cube of side 2 in a 3-wide domain at depth 7: 2 / (3/128) = 85.33 voxels a side,
+    // so 85 or 86 voxels' worth a side.
+    let side = vol(&cube).cbrt();
+    assert!((side - 2.0).abs() < 2.0 * 3.0 / 128.0, "cube side {side}");
+
+    let text = ok(&dir, &["info", "part.oct"]);
+    assert!(text.contains("nodes") && text.contains("on disk"), "{text}");
+    ok(&dir, &["slice", "part.oct", "--axis", "z", "--at", "0.8", "--size", "128", "-o", "part.png"]);
+    let img = image::open(dir.join("part.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (128, 128));
+}
+
+#[test]
+fn every_shape_kind_voxelizes_with_a_default_domain() {
+    let dir = scratch("kinds");
+    for kind in ["sphere", "ellipsoid", "box", "cylinder", "cone", "torus"] {
+        let out = ok(&dir, &["shape", kind, "--depth", "6", "--center", "3,0,-1", "-o", "s.oct"]);
+        assert!(out.contains("analytic"), "{kind}: {out}");
+        let info = info_json(&dir, "s.oct");
+        let b = &info["bounds"];
+        let mid_x = (b["min"][0].as_f64().unwrap() + b["max"][0].as_f64().unwrap()) / 2.0;
+        assert!((mid_x - 3.0).abs() < 0.1, "{kind} is not centred on x = 3: {b}");
+    }
+}
+
+#[test]
+fn bad_input_gives_one_line_errors() {
+    let dir = scratch("errors");
+    let e = fails(&dir, &["info", "missing.oct"]);
+    assert!(e.contains("missing.oct"), "{e}");
+    std::fs::write(dir.join("junk.oct"), b"not an octree at all, just some text").unwrap();
+    let e = fails(&dir, &["info", "junk.oct"]);
+    assert!(e.contains("junk.oct") && e.contains("byte"), "{e}");
+    ok(&dir, &["shape", "sphere", "--depth", "5", "-o", "a.oct"]);
+    ok(&dir, &["shape", "sphere", "--depth", "6", "-o", "b.oct"]);
+    let e = fails(&dir, &["csg", "union", "a.oct", "b.oct", "-o", "c.oct"]);
+    assert!(e.contains("b.oct") && e.contains("domain"), "{e}");
+    assert!(!dir.join("c.oct").exists());
+    let e = fails(&dir, &["shape", "sphere", "--radius", "-1", "-o", "x.oct"]);
+    assert!(e.contains("radius"), "{e}");
+    let e = fails(&dir, &["shape", "sphere", "--depth", "22", "-o", "x.oct"]);
+    assert!(e.contains("depth"), "{e}");
+    let e = fails(&dir, &["shape", "sphere", "--depth", "21", "--memory-budget", "1GiB", "-o", "x.oct"]);
+    assert!(e.contains("budget"), "{e}");
+    let e = fails(&dir, &["slice", "a.oct", "--at", "99", "-o", "s.png"]);
+    assert!(e.contains("a.oct") && e.contains("99"), "{e}");
+    // A failed write keeps the old file: the output's folder does not exist.
+    let e = fails(&dir, &["shape", "sphere", "--depth", "4", "-o", "no/such/dir/x.oct"]);
+    assert!(e.contains("x.oct"), "{e}");
+}
+
+#[test]
+fn demo_writes_its_picture() {
+    let dir = scratch("demo");
+    let out = ok(&dir, &["demo", "--depth", "7"]);
+    assert!(out.contains("demo.png"), "{out}");
+    let img = image::open(dir.join("demo.png")).unwrap();
+    assert!(img.width() > 0 && img.height() > 0);
+}
