@@ -12,16 +12,14 @@ pub const MAX_SLICE_SIZE: u32 = 16_384;
 
 /// Colour of empty space.
 const EMPTY: Rgb<u8> = Rgb([246, 246, 242]);
-/// Colour of node outlines.
-const OUTLINE: Rgb<u8> = Rgb([30, 34, 48]);
 
 /// Draws the cross-section of `tree` at world coordinate `at` along `axis`
 /// (0 = x, 1 = y, 2 = z) as a `size` x `size` image.
 ///
 /// The image shows the domain's face: for axis z the image's right is +x and its up
-/// is +y (for x: +y right, +z up; for y: +z right, +x up). Each pixel shows the node
-/// holding the voxel under its centre, coloured by level (large nodes dark blue,
-/// voxels orange), with node borders outlined when nodes span at least 4 pixels.
+/// is +y (for x: +y right, +z up; for y: +x right, +z up). Each pixel shows the node
+/// holding the voxel under its centre, coloured by level (large nodes deep blue,
+/// voxels light amber), with node borders drawn darker where nodes span 6 pixels or more.
 pub fn slice_image(tree: &LinearOctree, axis: usize, at: f64, size: u32) -> Result<RgbImage> {
     if axis > 2 {
         return Err(Error::invalid("axis", format!("{axis} is not 0, 1 or 2")));
@@ -36,7 +34,7 @@ pub fn slice_image(tree: &LinearOctree, axis: usize, at: f64, size: u32) -> Resu
     }
     let n = d.resolution();
     let layer = (((at - lo) / d.voxel_size()) as u32).min(n - 1);
-    let (u_axis, v_axis) = ((axis + 1) % 3, (axis + 2) % 3);
+    let (u_axis, v_axis) = [(1, 2), (0, 2), (0, 1)][axis];
     let to_voxel = |p: u32| ((u64::from(p) * 2 + 1) * u64::from(n) / (2 * u64::from(size))) as u32;
 
     // Step 1: which node (index in Morton order) each pixel sees, usize::MAX for empty.
@@ -67,18 +65,18 @@ pub fn slice_image(tree: &LinearOctree, axis: usize, at: f64, size: u32) -> Resu
             let key = tree.keys()[id];
             let node_pixels = f64::from(1u32 << key.k()) * pixels_per_voxel;
             let border = (col > 0 && ids[i - 1] != id) || (row > 0 && ids[i - size as usize] != id);
-            if border && node_pixels >= 4.0 {
-                OUTLINE
-            } else {
-                level_colour(f64::from(key.level(tree.depth())) / depth)
-            }
+            let fill = level_colour(f64::from(key.level(tree.depth())) / depth);
+            if border && node_pixels >= 6.0 { Rgb(fill.0.map(|c| (f64::from(c) * 0.55) as u8)) } else { fill }
         };
     }
     Ok(img)
 }
 
-/// Colour ramp for a node level `t` in `[0, 1]` (0 = root): dark blue to orange.
+/// Colour ramp for a node level `t` in `[0, 1]` (0 = root): deep blue through teal
+/// to light amber, piecewise linear through three stops.
 fn level_colour(t: f64) -> Rgb<u8> {
-    let (a, b) = ([40.0, 70.0, 140.0], [245.0, 160.0, 60.0]);
-    Rgb(std::array::from_fn(|c| (a[c] + (b[c] - a[c]) * t.clamp(0.0, 1.0)) as u8))
+    const STOPS: [[f64; 3]; 3] = [[38.0, 60.0, 130.0], [40.0, 150.0, 150.0], [250.0, 200.0, 90.0]];
+    let t = t.clamp(0.0, 1.0) * 2.0;
+    let (i, f) = if t >= 1.0 { (1, t - 1.0) } else { (0, t) };
+    Rgb(std::array::from_fn(|c| (STOPS[i][c] + (STOPS[i + 1][c] - STOPS[i][c]) * f) as u8))
 }
