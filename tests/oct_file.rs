@@ -1,0 +1,212 @@
+//! The `.oct` format: round trips, determinism, and a clear error (never a panic or a
+//! silently different solid) for every corruption.
+
+use std::path::Path;
+
+use glam::DVec3;
+use octsolid::budget::MemoryBudget;
+use octsolid::io::{atomic, oct};
+use octsolid::octree::{Domain, LinearOctree, Node, VoxelizeOptions, voxelize};
+use octsolid::{Error, samples};
+
+fn decode(bytes: &[u8]) -> octsolid::Result<LinearOctree> {
+    oct::decode(bytes, Path::new("t.oct"), MemoryBudget::unlimited())
+}
+
+fn solids() -> Vec<LinearOctree> {
+    let d = |depth| Domain::new(DVec3::new(-2.0, 0.5, 1.0), 4.0, depth).unwrap();
+    let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        rng
+    };
+    let random: Vec<[u32; 3]> = (0..300).map(|_| [0; 3].map(|_| (next() % 16) as u32)).collect();
+    vec![
+        LinearOctree::empty(d(3)),
+        LinearOctree::full(d(1)),
+        LinearOctree::full(d(21)),
+        LinearOctree::from_voxels(d(4), random).unwrap(),
+        LinearOctree::from_voxels(d(21), [[0, 0, 0], [2_097_151; 3]]).unwrap(),
+        voxelize(&samples::showcase(), samples::showcase_domain(6).unwrap(), &VoxelizeOptions::default()).unwrap(),
+    ]
+}
+
+#[test]
+fn round_trip_is_exact_and_bytes_are_deterministic() {
+    for tree in solids() {
+        let bytes = oct::encode(&tree);
+        let back = decode(&bytes).unwrap();
+        back.validate().unwrap();
+        assert_eq!(back, tree);
+        assert_eq!(oct::encode(&back), bytes);
+    }
+    // The same solid built two ways gives the same bytes.
+    let d = Domain::new(DVec3::ZERO, 1.0, 3).unwrap();
+    let a = LinearOctree::from_nodes(d, [Node { level: 1, min: [4, 0, 0], size: 4 }]).unwrap();
+    let voxels = (4..8).flat_map(|x| (0..4).flat_map(move |y| (0..4).map(move |z| [x, y, z])));
+    let b = LinearOctree::from_voxels(d, voxels).unwrap();
+    assert_eq!(oct::encode(&a), oct::encode(&b));
+}
+
+#[test]
+fn payload_matches_the_documented_example() {
+    // docs/FORMAT.md: voxel 0, the node 8..16 and voxel 20 at depth 2.
+    let d = Domain::new(DVec3::ZERO, 1.0, 2).unwrap();
+    let nodes = [
+        Node { level: 2, min: [0, 0, 0], size: 1 },
+        Node { level: 1, min: [2, 0, 0], size: 2 },
+        Node { level: 2, min: [0, 2, 1], size: 1 },
+    ];
+    let tree = LinearOctree::from_nodes(d, nodes).unwrap();
+    let starts: Vec<u64> = tree.keys().iter().map(|k| k.start()).collect();
+    assert_eq!(starts, [0, 8, 20]);
+    let bytes = oct::encode(&tree);
+    assert_eq!(bytes.len(), oct::HEADER_BYTES + 5);
+    assert_eq!(&bytes[oct::HEADER_BYTES..], &[0x00, 0xe1, 0x01, 0x80, 0x01]);
+    assert_eq!(&bytes[..8], b"OCTSOLID");
+}
+
+#[test]
+fn surfaces_take_about_two_bytes_a_node() {
+    let tree =
+        voxelize(&samples::showcase(), samples::showcase_domain(8).unwrap(), &VoxelizeOptions::default()).unwrap();
+    let per_node = (oct::encode(&tree).len() - oct::HEADER_BYTES) as f64 / tree.node_count() as f64;
+    assert!(per_node < 2.0, "{per_node} bytes a node");
+}
+
+#[test]
+fn every_byte_flip_and_truncation_is_an_error() {
+    for tree in solids().into_iter().filter(|t| t.node_count() < 2000) {
+        let bytes = oct::encode(&tree);
+        for i in 0..bytes.len() {
+            for bit in [0x01, 0x80] {
+                let mut bad = bytes.clone();
+                bad[i] ^= bit;
+                let err = decode(&bad).expect_err("a flipped byte must be caught");
+                assert!(matches!(err, Error::Format { .. }), "byte {i}: {err}");
+            }
+        }
+        for len in 0..bytes.len() {
+            assert!(decode(&bytes[..len]).is_err(), "truncated to {len}");
+        }
+    }
+}
+
+#[test]
+fn random_garbage_is_an_error() {
+    let mut s = 12345u64;
+    for len in [0, 1, 7, 8, 79, 80, 81, 200, 5000] {
+        let mut garbage: Vec<u8> = (0..len)
+            .map(|_| {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                (s >> 33) as u8
+            })
+            .collect();
+        assert!(decode(&garbage).is_err());
+        if len >= 8 {
+            garbage[..8].copy_from_slice(b"OCTSOLID");
+            assert!(decode(&garbage).is_err());
+        }
+    }
+}
+
+/// Rewrites the header's CRC so a deliberate edit reaches the deeper checks.
+fn reseal(bytes: &mut [u8]) {
+    let mut h = crc32fast::Hasher::new();
+    h.update(&bytes[..72]);
+    h.update(&bytes[oct::HEADER_BYTES..]);
+    let crc = h.finalize();
+    bytes[72..76].copy_from_slice(&crc.to_le_bytes());
+}
+
+fn error_text(bytes: &[u8]) -> String {
+    decode(bytes).unwrap_err().to_string()
+}
+
+#[test]
+fn errors_say_what_and_where() {
+    let tree = LinearOctree::from_voxels(Domain::new(DVec3::ZERO, 1.0, 2).unwrap(), [[0, 0, 0], [1, 1, 1]]).unwrap();
+    let good = oct::encode(&tree);
+
+    assert!(error_text(&good[..10]).contains("shorter than the 80-byte header"));
+    let mut bad = good.clone();
+    bad[0] = b'X';
+    assert!(error_text(&bad).contains("bad magic"));
+    let mut bad = good.clone();
+    bad[8] = 9;
+    let text = error_text(&bad);
+    assert!(text.contains("version 9") && text.contains("byte 8"), "{text}");
+    let mut bad = good.clone();
+    bad[12] = 30;
+    assert!(error_text(&bad).contains("depth 30"));
+    let mut bad = good.clone();
+    bad[oct::HEADER_BYTES] ^= 0x04;
+    assert!(error_text(&bad).contains("checksum mismatch"));
+    let mut bad = good.clone();
+    bad.push(0);
+    assert!(error_text(&bad).contains("payload bytes"));
+
+    // A header claiming 2^60 nodes is refused before allocating.
+    let mut bad = good.clone();
+    bad[48..56].copy_from_slice(&(1u64 << 60).to_le_bytes());
+    reseal(&mut bad);
+    assert!(error_text(&bad).contains("cannot fit"));
+    // The budget is checked before the nodes are read.
+    let err = oct::decode(&good, Path::new("t.oct"), MemoryBudget(4)).unwrap_err();
+    assert!(matches!(err, Error::OverBudget { .. }), "{err}");
+
+    // Deeper checks, each with the node index and byte offset.
+    let mut bad = good.clone();
+    bad[oct::HEADER_BYTES] = 5; // k = 5 > depth 2
+    reseal(&mut bad);
+    let text = error_text(&bad);
+    assert!(text.contains("node 0") && text.contains("byte 80") && text.contains("exceeds depth"), "{text}");
+    let mut bad = good.clone();
+    bad[oct::HEADER_BYTES] = (3 << 5) | 1; // start 3, size 8: misaligned
+    reseal(&mut bad);
+    assert!(error_text(&bad).contains("not aligned"));
+    let mut bad = good.clone();
+    bad[56] ^= 1;
+    reseal(&mut bad);
+    assert!(error_text(&bad).contains("voxels, the header says"));
+
+    // Eight full siblings written as eight voxels: not canonical.
+    let d = Domain::new(DVec3::ZERO, 1.0, 1).unwrap();
+    let mut bytes = oct::encode(&LinearOctree::full(d));
+    bytes.truncate(oct::HEADER_BYTES);
+    bytes[48..56].copy_from_slice(&8u64.to_le_bytes());
+    bytes[56..64].copy_from_slice(&8u64.to_le_bytes());
+    bytes[64..72].copy_from_slice(&8u64.to_le_bytes());
+    bytes.extend_from_slice(&[0; 8]);
+    reseal(&mut bytes);
+    let text = error_text(&bytes);
+    assert!(text.contains("node 7") && text.contains("eight full siblings"), "{text}");
+}
+
+#[test]
+fn save_and_load_through_files_atomically() {
+    let dir = std::env::temp_dir().join(format!("octsolid-oct-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("solid.oct");
+    let tree = solids().pop().unwrap();
+    let bytes = oct::save(&tree, &path).unwrap();
+    assert_eq!(bytes, std::fs::metadata(&path).unwrap().len());
+    assert_eq!(oct::load(&path, MemoryBudget::default()).unwrap(), tree);
+
+    // A write that fails halfway leaves the old file whole and no temporary behind.
+    let err = atomic::write_atomic(&path, |w| {
+        w.write_all(b"half")?;
+        Err(std::io::Error::other("disk full"))
+    })
+    .unwrap_err();
+    assert!(err.to_string().contains("solid.oct") && err.to_string().contains("disk full"), "{err}");
+    assert_eq!(oct::load(&path, MemoryBudget::default()).unwrap(), tree);
+    let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 1, "{names:?}");
+
+    let missing = oct::load(&dir.join("nope.oct"), MemoryBudget::default()).unwrap_err();
+    assert!(missing.to_string().contains("nope.oct"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
