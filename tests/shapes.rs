@@ -1,0 +1,192 @@
+//! Shapes: classification is conservative (sampled), not trivially Boundary, volumes
+//! converge to the analytic ones, and a voxelized CSG tree is the CSG of its leaves.
+
+use std::f64::consts::PI;
+
+use glam::{DAffine3, DVec3};
+use octsolid::aabb::Aabb;
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::shape::*;
+
+struct Rng(u64);
+
+impl Rng {
+    fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+    fn vec(&mut self, lo: f64, hi: f64) -> DVec3 {
+        DVec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+    }
+    fn axis(&mut self) -> Axis {
+        [Axis::X, Axis::Y, Axis::Z][(self.unit() * 3.0) as usize % 3]
+    }
+}
+
+/// A random primitive inside roughly [-1, 1]^3.
+fn random_primitive(rng: &mut Rng) -> Csg {
+    let c = rng.vec(-0.4, 0.4);
+    match (rng.unit() * 8.0) as u32 {
+        0 => Sphere::new(c, rng.range(0.2, 0.8)).unwrap().into(),
+        1 => Ellipsoid::new(c, rng.vec(0.1, 0.7)).unwrap().into(),
+        2 => Cuboid::new(c, rng.vec(0.2, 1.2)).unwrap().into(),
+        3 => Cylinder::new(c, rng.axis(), rng.range(0.1, 0.6), rng.range(0.2, 1.2)).unwrap().into(),
+        4 => Cone::new(c, rng.axis(), rng.range(0.2, 0.6), rng.range(0.2, 0.8)).unwrap().into(),
+        5 => Torus::new(c, rng.axis(), rng.range(0.35, 0.6), rng.range(0.05, 0.3)).unwrap().into(),
+        6 => HalfSpace::new(rng.vec(-1.0, 1.0), rng.range(-0.3, 0.3)).unwrap().into(),
+        _ => {
+            let inner = Cuboid::new(DVec3::ZERO, rng.vec(0.2, 0.9)).unwrap();
+            let axis = rng.vec(-1.0, 1.0);
+            inner.rotate(axis, rng.range(0.0, PI)).translate(c).into()
+        }
+    }
+}
+
+/// A random CSG tree of `leaves` primitives.
+fn random_tree(rng: &mut Rng, leaves: u32) -> Csg {
+    if leaves <= 1 {
+        return random_primitive(rng);
+    }
+    let split = 1 + (rng.unit() * f64::from(leaves - 1)) as u32;
+    let (a, b) = (random_tree(rng, split), random_tree(rng, leaves - split));
+    match (rng.unit() * 5.0) as u32 {
+        0 => a | b,
+        1 => a & b,
+        2 => a - b,
+        3 => a ^ b,
+        _ => !a & b,
+    }
+}
+
+/// Samples points of `b` (corners, centre, random) and checks the class against them.
+fn assert_sound(shape: &dyn Shape, b: &Aabb, rng: &mut Rng) -> Class {
+    let class = shape.classify(b);
+    if class == Class::Boundary {
+        return class;
+    }
+    let want = class == Class::Inside;
+    let points = (0..8).map(|i| b.corner(i)).chain([b.center()]).chain((0..24).map(|_| {
+        let t = DVec3::new(rng.unit(), rng.unit(), rng.unit());
+        b.min + (b.max - b.min) * t
+    }));
+    for p in points.collect::<Vec<_>>() {
+        assert_eq!(shape.contains(p), want, "{class:?} box {b:?} has a point {p} on the wrong side");
+    }
+    class
+}
+
+#[test]
+fn classification_is_conservative_and_useful() {
+    let mut rng = Rng(0x1234_5678_9abc_def1);
+    for trial in 0..400 {
+        let shape = if trial % 2 == 0 { random_primitive(&mut rng) } else { random_tree(&mut rng, 4) };
+        let mut decided = 0;
+        for _ in 0..300 {
+            let size = rng.range(0.001, 0.4);
+            let b = Aabb::from_center_half(rng.vec(-1.2, 1.2), rng.vec(0.0005, size));
+            if assert_sound(&shape, &b, &mut rng) != Class::Boundary {
+                decided += 1;
+            }
+        }
+        // Most random boxes lie clearly on one side; a lazy classifier would decide none.
+        assert!(decided > 60, "trial {trial}: only {decided} of 300 boxes decided for {shape:?}");
+    }
+}
+
+#[test]
+fn tiny_boxes_on_the_surface_stay_sound() {
+    // Boxes straddling the surface at many scales, where rounding could matter.
+    let mut rng = Rng(77);
+    let sphere = Sphere::new(DVec3::new(1e3, -2e3, 5e2), 0.75).unwrap();
+    for _ in 0..20_000 {
+        let dir = rng.vec(-1.0, 1.0).normalize_or(DVec3::X);
+        let p = DVec3::new(1e3, -2e3, 5e2) + dir * 0.75;
+        let half = DVec3::splat(10f64.powf(rng.range(-12.0, -2.0)));
+        assert_sound(&sphere, &Aabb::from_center_half(p, half), &mut rng);
+    }
+}
+
+#[test]
+fn volumes_match_the_analytic_ones() {
+    let o = DVec3::new(0.03, -0.02, 0.01);
+    let cases: Vec<(&str, Csg, f64)> = vec![
+        ("sphere", Sphere::new(o, 0.8).unwrap().into(), 4.0 / 3.0 * PI * 0.512),
+        ("ellipsoid", Ellipsoid::new(o, DVec3::new(0.9, 0.5, 0.3)).unwrap().into(), 4.0 / 3.0 * PI * 0.135),
+        ("box", Cuboid::new(o, DVec3::new(1.5, 0.7, 1.1)).unwrap().into(), 1.5 * 0.7 * 1.1),
+        ("cylinder", Cylinder::new(o, Axis::Y, 0.6, 1.4).unwrap().into(), PI * 0.36 * 1.4),
+        ("cone", Cone::new(o - DVec3::Z * 0.7, Axis::Z, 0.8, 1.5).unwrap().into(), PI * 0.64 * 1.5 / 3.0),
+        ("torus", Torus::new(o, Axis::X, 0.6, 0.25).unwrap().into(), 2.0 * PI * PI * 0.6 * 0.0625),
+        (
+            "rotated box",
+            Cuboid::new(DVec3::ZERO, DVec3::new(1.0, 0.6, 0.8)).unwrap().rotate(DVec3::new(1.0, 2.0, 0.5), 0.7).into(),
+            0.48,
+        ),
+        (
+            "half-space & ball",
+            HalfSpace::new(DVec3::new(0.0, 0.0, 1.0), 0.0).unwrap() & Sphere::new(DVec3::ZERO, 0.9).unwrap(),
+            2.0 / 3.0 * PI * 0.729,
+        ),
+    ];
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 8).unwrap();
+    for (name, shape, exact) in cases {
+        let tree = voxelize(&shape, domain, &VoxelizeOptions::default()).unwrap();
+        tree.validate().unwrap();
+        let error = (tree.volume() / exact - 1.0).abs();
+        assert!(error < 0.02, "{name}: {} vs {exact} ({:.3}%)", tree.volume(), error * 100.0);
+    }
+}
+
+#[test]
+fn csg_tree_voxelizes_to_the_csg_of_its_leaves() {
+    let mut rng = Rng(4242);
+    let domain = Domain::new(DVec3::splat(-1.1), 2.2, 6).unwrap();
+    let vox = |s: &Csg| voxelize(s, domain, &VoxelizeOptions::default()).unwrap();
+    for _ in 0..40 {
+        let (a, b) = (random_tree(&mut rng, 2), random_primitive(&mut rng));
+        let (ta, tb) = (vox(&a), vox(&b));
+        let cases: [(Csg, LinearOctree); 5] = [
+            (&a | &b, ta.union(&tb).unwrap()),
+            (&a & &b, ta.intersection(&tb).unwrap()),
+            (&a - &b, ta.difference(&tb).unwrap()),
+            (&a ^ &b, ta.symmetric_difference(&tb).unwrap()),
+            (!&a, ta.complement()),
+        ];
+        for (tree, combined) in cases {
+            assert_eq!(vox(&tree), combined, "{tree:?}");
+        }
+    }
+}
+
+#[test]
+fn transforms_move_the_solid() {
+    let domain = Domain::new(DVec3::splat(-2.0), 4.0, 7).unwrap();
+    let vox = |s: &dyn Shape| voxelize(s, domain, &VoxelizeOptions::default()).unwrap();
+    // A cylinder along x is a cylinder along z rotated a quarter turn about y.
+    let along_x = vox(&Cylinder::new(DVec3::ZERO, Axis::X, 0.5, 2.0).unwrap());
+    let turned = vox(&Cylinder::new(DVec3::ZERO, Axis::Z, 0.5, 2.0).unwrap().rotate(DVec3::Y, PI / 2.0));
+    assert!((&along_x ^ &turned).voxel_count() * 200 < along_x.voxel_count());
+    // Translation and scaling move and grow the bounds.
+    let ball = Sphere::new(DVec3::ZERO, 0.5).unwrap().scale(DVec3::new(2.0, 1.0, 1.0)).unwrap();
+    let moved = vox(&ball.translate(DVec3::new(0.5, 0.25, 0.0)));
+    let b = moved.bounds().unwrap();
+    assert!((b.min.x + 0.5).abs() < 0.04 && (b.max.x - 1.5).abs() < 0.04, "{b:?}");
+    assert!((moved.volume() / (4.0 / 3.0 * PI * 0.25) - 1.0).abs() < 0.02);
+    // A singular matrix is refused.
+    assert!(Sphere::new(DVec3::ZERO, 1.0).unwrap().transform(DAffine3::from_scale(DVec3::new(1.0, 0.0, 1.0))).is_err());
+}
+
+#[test]
+fn invalid_parameters_are_refused() {
+    assert!(Sphere::new(DVec3::ZERO, -1.0).is_err());
+    assert!(Sphere::new(DVec3::NAN, 1.0).is_err());
+    assert!(Cuboid::new(DVec3::ZERO, DVec3::new(1.0, 0.0, 1.0)).is_err());
+    assert!(Cylinder::new(DVec3::ZERO, Axis::Z, 1.0, f64::INFINITY).is_err());
+    assert!(Torus::new(DVec3::ZERO, Axis::Z, 0.5, 0.6).is_err());
+    assert!(HalfSpace::new(DVec3::ZERO, 1.0).is_err());
+    assert!("w".parse::<Axis>().unwrap_err().contains("x, y or z"));
+}
