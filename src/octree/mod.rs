@@ -6,6 +6,8 @@ mod domain;
 mod linear;
 mod node;
 mod ranges;
+mod resample;
+mod transform;
 mod voxelize;
 
 pub use csg::SetOp;
