@@ -1,24 +1,13 @@
 //! Linear octree storage, queries, CSG and depth change against a dense-grid oracle.
 
-use octsolid::octree::{CoarsenRule, Domain, LinearOctree, Node, NodeKey, SetOp};
+use octsolid::octree::{CoarsenRule, Domain, LinearOctree, NodeKey, SetOp};
 use octsolid::{Error, morton};
 
 use glam::DVec3;
 
-/// Small deterministic xorshift generator.
-struct Rng(u64);
+mod common;
 
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-}
+use common::{Rng, random_octree};
 
 fn domain(depth: u8) -> Domain {
     Domain::new(DVec3::new(-1.0, 2.0, 0.5), 3.0, depth).unwrap()
@@ -33,25 +22,8 @@ fn dense(tree: &LinearOctree) -> Vec<bool> {
     grid
 }
 
-/// A random solid: random blobs of aligned nodes and single voxels, so both big
-/// nodes and ragged boundaries occur.
 fn random_tree(rng: &mut Rng, depth: u8) -> LinearOctree {
-    let d = domain(depth);
-    let mut nodes = Vec::new();
-    for _ in 0..rng.below(40) {
-        let k = rng.below(u64::from(depth)) as u32;
-        let size = 1u32 << k;
-        let cells = d.resolution() / size;
-        let min = [0; 3].map(|_| rng.below(u64::from(cells)) as u32 * size);
-        nodes.push(Node { level: depth - k as u8, min, size });
-    }
-    for _ in 0..rng.below(200) {
-        let min = [0; 3].map(|_| rng.below(u64::from(d.resolution())) as u32);
-        nodes.push(Node { level: depth, min, size: 1 });
-    }
-    let tree = LinearOctree::from_nodes(d, nodes).unwrap();
-    tree.validate().unwrap();
-    tree
+    random_octree(rng, domain(depth))
 }
 
 fn from_dense(d: Domain, grid: &[bool]) -> LinearOctree {

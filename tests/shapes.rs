@@ -8,24 +8,12 @@ use octsolid::aabb::Aabb;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::shape::*;
 
-struct Rng(u64);
+mod common;
 
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-    fn vec(&mut self, lo: f64, hi: f64) -> DVec3 {
-        DVec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
-    }
-    fn axis(&mut self) -> Axis {
-        [Axis::X, Axis::Y, Axis::Z][(self.unit() * 3.0) as usize % 3]
-    }
+use common::Rng;
+
+fn random_axis(rng: &mut Rng) -> Axis {
+    [Axis::X, Axis::Y, Axis::Z][rng.below(3) as usize]
 }
 
 /// A random primitive inside roughly [-1, 1]^3.
@@ -35,9 +23,9 @@ fn random_primitive(rng: &mut Rng) -> Csg {
         0 => Sphere::new(c, rng.range(0.2, 0.8)).unwrap().into(),
         1 => Ellipsoid::new(c, rng.vec(0.1, 0.7)).unwrap().into(),
         2 => Cuboid::new(c, rng.vec(0.2, 1.2)).unwrap().into(),
-        3 => Cylinder::new(c, rng.axis(), rng.range(0.1, 0.6), rng.range(0.2, 1.2)).unwrap().into(),
-        4 => Cone::new(c, rng.axis(), rng.range(0.2, 0.6), rng.range(0.2, 0.8)).unwrap().into(),
-        5 => Torus::new(c, rng.axis(), rng.range(0.35, 0.6), rng.range(0.05, 0.3)).unwrap().into(),
+        3 => Cylinder::new(c, random_axis(rng), rng.range(0.1, 0.6), rng.range(0.2, 1.2)).unwrap().into(),
+        4 => Cone::new(c, random_axis(rng), rng.range(0.2, 0.6), rng.range(0.2, 0.8)).unwrap().into(),
+        5 => Torus::new(c, random_axis(rng), rng.range(0.35, 0.6), rng.range(0.05, 0.3)).unwrap().into(),
         6 => HalfSpace::new(rng.vec(-1.0, 1.0), rng.range(-0.3, 0.3)).unwrap().into(),
         _ => {
             let inner = Cuboid::new(DVec3::ZERO, rng.vec(0.2, 0.9)).unwrap();

@@ -5,37 +5,19 @@ use std::f64::consts::PI;
 
 use glam::{DAffine3, DQuat, DVec3};
 use octsolid::morton;
-use octsolid::octree::{Domain, LinearOctree, Node, VoxelizeOptions, voxelize};
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::shape::{Class, Cuboid, ShapeExt};
 
-struct Rng(u64);
+mod common;
 
-impl Rng {
-    fn below(&mut self, n: u64) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0 % n
-    }
-}
+use common::{Rng, random_octree};
 
 fn domain(depth: u8) -> Domain {
     Domain::new(DVec3::new(-1.0, -1.0, -1.0), 2.0, depth).unwrap()
 }
 
 fn random_tree(rng: &mut Rng, depth: u8) -> LinearOctree {
-    let d = domain(depth);
-    let mut nodes = Vec::new();
-    for _ in 0..rng.below(12) {
-        let k = rng.below(u64::from(depth)) as u32;
-        let cells = d.resolution() >> k;
-        let min = [0; 3].map(|_| (rng.below(u64::from(cells)) as u32) << k);
-        nodes.push(Node { level: depth - k as u8, min, size: 1 << k });
-    }
-    for _ in 0..rng.below(100) {
-        nodes.push(Node { level: depth, min: [0; 3].map(|_| rng.below(u64::from(d.resolution())) as u32), size: 1 });
-    }
-    LinearOctree::from_nodes(d, nodes).unwrap()
+    random_octree(rng, domain(depth))
 }
 
 /// The full voxels as a set of coordinates, mapped by `f` (None = dropped).

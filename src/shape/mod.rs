@@ -50,41 +50,24 @@ pub trait Shape: Send + Sync {
     fn bounds(&self) -> Option<Aabb>;
 }
 
-impl<S: Shape + ?Sized> Shape for &S {
-    fn classify(&self, b: &Aabb) -> Class {
-        (**self).classify(b)
-    }
-    fn contains(&self, p: DVec3) -> bool {
-        (**self).contains(p)
-    }
-    fn bounds(&self) -> Option<Aabb> {
-        (**self).bounds()
-    }
+/// Shapes behind references and smart pointers are shapes.
+macro_rules! forward_shape {
+    ($($ptr:ty),*) => {$(
+        impl<S: Shape + ?Sized> Shape for $ptr {
+            fn classify(&self, b: &Aabb) -> Class {
+                (**self).classify(b)
+            }
+            fn contains(&self, p: DVec3) -> bool {
+                (**self).contains(p)
+            }
+            fn bounds(&self) -> Option<Aabb> {
+                (**self).bounds()
+            }
+        }
+    )*};
 }
 
-impl<S: Shape + ?Sized> Shape for Box<S> {
-    fn classify(&self, b: &Aabb) -> Class {
-        (**self).classify(b)
-    }
-    fn contains(&self, p: DVec3) -> bool {
-        (**self).contains(p)
-    }
-    fn bounds(&self) -> Option<Aabb> {
-        (**self).bounds()
-    }
-}
-
-impl<S: Shape + ?Sized> Shape for std::sync::Arc<S> {
-    fn classify(&self, b: &Aabb) -> Class {
-        (**self).classify(b)
-    }
-    fn contains(&self, p: DVec3) -> bool {
-        (**self).contains(p)
-    }
-    fn bounds(&self) -> Option<Aabb> {
-        (**self).bounds()
-    }
-}
+forward_shape!(&S, Box<S>, std::sync::Arc<S>);
 
 mod axis;
 mod bounds;
