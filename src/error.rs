@@ -31,6 +31,16 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// A text file's content is malformed at a line.
+    #[error("{}: line {line}: {reason}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// One-based line number.
+        line: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// Two octrees that must share a domain and depth do not.
     #[error("domain mismatch: {left} vs {right}; resample one operand first")]
     DomainMismatch {

@@ -26,6 +26,7 @@ pub mod aabb;
 pub mod budget;
 pub mod error;
 pub mod io;
+pub mod mesh;
 pub mod morton;
 pub mod octree;
 pub mod progress;

@@ -1,0 +1,46 @@
+//! Signed crossings of a segment with mesh triangles, counted once at shared edges.
+//!
+//! Segment `q -> p` crosses triangle `(a, b, c)` when `q` and `p` lie on opposite sides
+//! of its plane and the line through them passes inside the triangle, i.e. the three
+//! orientations `orient(q, p, a, b)`, `orient(q, p, b, c)`, `orient(q, p, c, a)` share
+//! a sign (Plucker test). Ties are broken symbolically so that a segment through a
+//! shared edge counts for exactly one of the two triangles: a zero edge orientation
+//! takes the sign of the comparison of the edge's vertex indices, which flips between
+//! the two triangles that run the edge in opposite directions; a point on a plane
+//! counts as in front of it. The orientations are exact, so the two triangles of an
+//! edge always see opposite signs.
+
+use glam::DVec3;
+
+use super::TriangleMesh;
+use super::predicates::orient3d as orient;
+
+/// `+1` when the segment enters triangle `t` against its normal (front to back), `-1`
+/// when it leaves, `0` when it misses.
+#[inline]
+#[must_use]
+pub fn signed_crossing(mesh: &TriangleMesh, t: u32, q: DVec3, p: DVec3) -> i32 {
+    let idx = mesh.triangles[t as usize];
+    let v = idx.map(|i| mesh.vertices[i as usize]);
+    let front_q = orient(v[0], v[1], v[2], q) >= 0.0;
+    let front_p = orient(v[0], v[1], v[2], p) >= 0.0;
+    if front_q == front_p {
+        return 0;
+    }
+    let edge_sign = |k: usize| {
+        let (i, j) = (k, (k + 1) % 3);
+        let o = orient(q, p, v[i], v[j]);
+        if o != 0.0 { o > 0.0 } else { idx[i] < idx[j] }
+    };
+    let s0 = edge_sign(0);
+    if edge_sign(1) != s0 || edge_sign(2) != s0 {
+        return 0;
+    }
+    if front_q { 1 } else { -1 }
+}
+
+/// Sum of [`signed_crossing`] over `triangles`.
+#[must_use]
+pub fn signed_crossings(mesh: &TriangleMesh, triangles: &[u32], q: DVec3, p: DVec3) -> i32 {
+    triangles.iter().map(|&t| signed_crossing(mesh, t, q, p)).sum()
+}

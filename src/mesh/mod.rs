@@ -1,0 +1,128 @@
+//! Triangle meshes: loading (OBJ, STL, PLY), polygon tables and diagnostics, and
+//! voxelization into solid or surface octrees.
+//!
+//! A [`TriangleMesh`] is a vertex table and a triangle table. Loaders weld vertices with
+//! identical coordinates (STL stores every corner separately), so the edge table sees
+//! the mesh's real connectivity.
+
+mod crossing;
+pub mod generate;
+mod load;
+mod obj;
+mod parity;
+mod ply;
+mod predicates;
+mod save;
+mod solid;
+mod stl;
+mod surface;
+mod tables;
+pub mod tri_box;
+mod winding;
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use crate::aabb::Aabb;
+use crate::error::{Error, Result};
+
+pub use load::{MeshFormat, load_mesh};
+pub use parity::ParityGrid;
+pub use save::{save_mesh, write_obj, write_ply, write_stl};
+pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh};
+pub use surface::{SurfaceKind, voxelize_surface};
+pub use tables::{Edge, MeshReport, PolygonTables};
+pub use winding::WindingNumber;
+
+/// A named run of triangles (an OBJ group or object).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Group {
+    /// The group's name.
+    pub name: String,
+    /// Index of its first triangle.
+    pub first: usize,
+    /// Number of its triangles.
+    pub count: usize,
+}
+
+/// A triangle mesh: positions and triangles as index triples, with optional groups.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleMesh {
+    /// The vertex table.
+    pub vertices: Vec<DVec3>,
+    /// Triangles as indices into `vertices`, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+    /// Named runs of triangles; may be empty.
+    pub groups: Vec<Group>,
+}
+
+impl TriangleMesh {
+    /// A mesh from tables, checked: non-empty, finite coordinates, indices in range.
+    pub fn new(vertices: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Result<Self> {
+        let mesh = TriangleMesh { vertices, triangles, groups: Vec::new() };
+        mesh.check()?;
+        Ok(mesh)
+    }
+
+    /// Checks the invariants [`TriangleMesh::new`] promises.
+    pub fn check(&self) -> Result<()> {
+        if self.triangles.is_empty() {
+            return Err(Error::invalid("mesh", "it has no triangles"));
+        }
+        if let Some(i) = self.vertices.iter().position(|v| !v.is_finite()) {
+            return Err(Error::invalid("mesh", format!("vertex {i} is not finite: {}", self.vertices[i])));
+        }
+        let n = self.vertices.len();
+        if let Some((t, tri)) = self.triangles.iter().enumerate().find(|(_, t)| t.iter().any(|&i| i as usize >= n)) {
+            return Err(Error::invalid("mesh", format!("triangle {t} has indices {tri:?} but there are {n} vertices")));
+        }
+        Ok(())
+    }
+
+    /// The three corners of triangle `t`.
+    #[inline]
+    #[must_use]
+    pub fn corners(&self, t: usize) -> [DVec3; 3] {
+        self.triangles[t].map(|i| self.vertices[i as usize])
+    }
+
+    /// Bounding box of the vertices used by triangles.
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.triangles.iter().flatten().map(|&i| self.vertices[i as usize]))
+            .unwrap_or(Aabb { min: DVec3::ZERO, max: DVec3::ZERO })
+    }
+
+    /// Merges vertices with bit-identical coordinates and drops unused ones.
+    pub fn weld(&mut self) {
+        let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(self.vertices.len());
+        let mut vertices = Vec::with_capacity(self.vertices.len());
+        let mut remap = vec![u32::MAX; self.vertices.len()];
+        for tri in &mut self.triangles {
+            for i in tri.iter_mut() {
+                if remap[*i as usize] == u32::MAX {
+                    let v = self.vertices[*i as usize];
+                    // +0.0 and -0.0 weld together.
+                    let bits = (v + DVec3::ZERO).to_array().map(f64::to_bits);
+                    remap[*i as usize] = *index.entry(bits).or_insert_with(|| {
+                        vertices.push(v);
+                        (vertices.len() - 1) as u32
+                    });
+                }
+                *i = remap[*i as usize];
+            }
+        }
+        self.vertices = vertices;
+    }
+
+    /// Keeps only the triangles for which `keep(t)` is true (e.g. to open a mesh).
+    pub fn retain_triangles(&mut self, mut keep: impl FnMut(usize) -> bool) {
+        let mut t = 0;
+        self.triangles.retain(|_| {
+            t += 1;
+            keep(t - 1)
+        });
+        self.groups.clear();
+    }
+}

@@ -1,0 +1,75 @@
+//! Writing meshes: OBJ (text), STL (binary) and PLY (binary little-endian), chosen by
+//! extension, written atomically.
+
+use std::io::Write;
+use std::path::Path;
+
+use super::{MeshFormat, TriangleMesh};
+use crate::error::Result;
+use crate::io::atomic::write_atomic;
+
+/// Writes `mesh` to `path` in the format its extension names; returns the bytes written.
+pub fn save_mesh(mesh: &TriangleMesh, path: &Path) -> Result<u64> {
+    let format = MeshFormat::of(path)?;
+    write_atomic(path, |w| match format {
+        MeshFormat::Obj => write_obj(mesh, w),
+        MeshFormat::Stl => write_stl(mesh, w),
+        MeshFormat::Ply => write_ply(mesh, w),
+    })
+}
+
+/// OBJ: `v x y z` lines, then `f a b c` with one-based indices. Coordinates are
+/// written with Rust's shortest round-trip formatting, so they reload exactly.
+pub fn write_obj(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
+    writeln!(w, "# written by octsolid")?;
+    for v in &mesh.vertices {
+        writeln!(w, "v {} {} {}", v.x, v.y, v.z)?;
+    }
+    for t in &mesh.triangles {
+        writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
+    }
+    Ok(())
+}
+
+/// Binary STL (coordinates as `f32`, facet normals from the corners).
+pub fn write_stl(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
+    let mut header = [0u8; 80];
+    header[..20].copy_from_slice(b"octsolid binary STL ");
+    w.write_all(&header)?;
+    w.write_all(&(mesh.triangles.len() as u32).to_le_bytes())?;
+    for t in 0..mesh.triangles.len() {
+        let [a, b, c] = mesh.corners(t);
+        let n = (b - a).cross(c - a).normalize_or_zero();
+        for v in [n, a, b, c] {
+            for x in v.to_array() {
+                w.write_all(&(x as f32).to_le_bytes())?;
+            }
+        }
+        w.write_all(&[0, 0])?;
+    }
+    Ok(())
+}
+
+/// Binary little-endian PLY with `double` coordinates and `int` indices.
+pub fn write_ply(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
+    write!(
+        w,
+        "ply\nformat binary_little_endian 1.0\ncomment written by octsolid\nelement vertex {}\n\
+         property double x\nproperty double y\nproperty double z\nelement face {}\n\
+         property list uchar int vertex_indices\nend_header\n",
+        mesh.vertices.len(),
+        mesh.triangles.len()
+    )?;
+    for v in &mesh.vertices {
+        for x in v.to_array() {
+            w.write_all(&x.to_le_bytes())?;
+        }
+    }
+    for t in &mesh.triangles {
+        w.write_all(&[3])?;
+        for i in t {
+            w.write_all(&(*i as i32).to_le_bytes())?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,152 @@
+//! The generalized winding number of a triangle mesh, fast.
+//!
+//! `w(p) = sum_t Omega_t(p) / 4 pi`, the signed solid angles of the triangles seen
+//! from `p` (Jacobson et al., "Robust Inside-Outside Segmentation using Generalized
+//! Winding Numbers", 2013). It is 1 inside and 0 outside a closed, outward-oriented
+//! mesh and degrades gracefully across holes, cracks and self-overlaps: a point is
+//! inside when `w >= 1/2`.
+//!
+//! Solid angle of one triangle (Van Oosterom and Strackee, 1983), with `a, b, c` its
+//! corners relative to `p`:
+//! `tan(Omega/2) = a . (b x c) / (|a||b||c| + (a.b)|c| + (a.c)|b| + (b.c)|a|)`.
+//!
+//! Speed (Barill et al., "Fast Winding Numbers for Soups and Clouds", 2018, first
+//! order only): a bounding hierarchy over the triangles stores for each cluster its
+//! area vector `N = sum of (b - a) x (c - a) / 2` at its area-weighted centroid `c`;
+//! a cluster farther than [`FAR_FIELD`] times its radius contributes the dipole term
+//! `N . (c - p) / |c - p|^3` instead of its triangles. Deviation from the paper: no
+//! second- or third-order terms; the cut-off is raised from 2 to 3 radii instead.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+use super::TriangleMesh;
+
+/// A cluster is approximated when `p` is farther than this many cluster radii.
+pub const FAR_FIELD: f64 = 3.0;
+/// Most triangles in a leaf cluster.
+const LEAF_SIZE: usize = 8;
+
+/// One cluster of the hierarchy.
+#[derive(Clone, Copy, Debug)]
+struct Cluster {
+    /// Area-weighted centroid.
+    center: DVec3,
+    /// Largest distance from `center` to a corner of its triangles.
+    radius: f64,
+    /// Sum of area vectors.
+    area: DVec3,
+    /// Leaf: first triangle in `order`; inner: index of the first child.
+    first: u32,
+    /// Leaf: triangle count; inner: 0 (the second child follows the first's subtree).
+    count: u32,
+    /// Inner: index of the second child.
+    second: u32,
+}
+
+/// Answers winding-number queries for one mesh.
+#[derive(Clone, Debug)]
+pub struct WindingNumber {
+    corners: Vec<[DVec3; 3]>,
+    clusters: Vec<Cluster>,
+}
+
+impl WindingNumber {
+    /// Builds the cluster hierarchy (median splits on the longest axis), O(n log n).
+    #[must_use]
+    pub fn new(mesh: &TriangleMesh) -> Self {
+        let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
+        let mut order: Vec<u32> = (0..corners.len() as u32).collect();
+        let mut clusters = Vec::with_capacity(2 * corners.len() / LEAF_SIZE + 1);
+        build(&corners, &mut order, 0, &mut clusters);
+        let corners = order.iter().map(|&t| corners[t as usize]).collect();
+        WindingNumber { corners, clusters }
+    }
+
+    /// The winding number at `p` (first-order far field).
+    #[must_use]
+    pub fn at(&self, p: DVec3) -> f64 {
+        let mut sum = 0.0;
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let c = &self.clusters[stack[top] as usize];
+            let d = c.center - p;
+            let dist2 = d.length_squared();
+            if dist2 > (FAR_FIELD * c.radius).powi(2) {
+                sum += c.area.dot(d) / (dist2 * dist2.sqrt());
+            } else if c.count > 0 {
+                let range = c.first as usize..(c.first + c.count) as usize;
+                sum += self.corners[range].iter().map(|t| solid_angle(t, p)).sum::<f64>();
+            } else {
+                stack[top] = c.first;
+                stack[top + 1] = c.second;
+                top += 2;
+            }
+        }
+        sum / (4.0 * PI)
+    }
+
+    /// The exact winding number at `p` (every triangle), for tests.
+    #[must_use]
+    pub fn exact_at(&self, p: DVec3) -> f64 {
+        self.corners.iter().map(|t| solid_angle(t, p)).sum::<f64>() / (4.0 * PI)
+    }
+}
+
+/// Signed solid angle of triangle `t` seen from `p` (Van Oosterom and Strackee).
+#[inline]
+#[must_use]
+pub fn solid_angle(t: &[DVec3; 3], p: DVec3) -> f64 {
+    let (a, b, c) = (t[0] - p, t[1] - p, t[2] - p);
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let num = a.dot(b.cross(c));
+    let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    2.0 * num.atan2(den)
+}
+
+/// Builds the cluster over `order[..]` (offset `first` in the final order); returns its index.
+fn build(corners: &[[DVec3; 3]], order: &mut [u32], first: usize, clusters: &mut Vec<Cluster>) -> u32 {
+    // Step 1: area vector, area-weighted centroid and radius.
+    let mut area = DVec3::ZERO;
+    let mut weighted = DVec3::ZERO;
+    let mut total = 0.0;
+    for &t in order.iter() {
+        let [a, b, c] = corners[t as usize];
+        let n = (b - a).cross(c - a) * 0.5;
+        let w = n.length();
+        area += n;
+        weighted += (a + b + c) / 3.0 * w;
+        total += w;
+    }
+    let center = if total > 0.0 {
+        weighted / total
+    } else {
+        order.iter().map(|&t| corners[t as usize][0]).sum::<DVec3>() / order.len() as f64
+    };
+    let radius =
+        order.iter().flat_map(|&t| corners[t as usize]).map(|v| v.distance_squared(center)).fold(0.0, f64::max).sqrt();
+    let index = clusters.len() as u32;
+    clusters.push(Cluster { center, radius, area, first: first as u32, count: order.len() as u32, second: 0 });
+    if order.len() <= LEAF_SIZE {
+        return index;
+    }
+    // Step 2: split at the median centroid along the longest axis of the centroids.
+    let centroid = |t: u32| corners[t as usize].iter().sum::<DVec3>() / 3.0;
+    let (lo, hi) = order
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &t| (lo.min(centroid(t)), hi.max(centroid(t))));
+    let axis = (hi - lo).max_position();
+    let mid = order.len() / 2;
+    order.select_nth_unstable_by(mid, |&a, &b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
+    let (left, right) = order.split_at_mut(mid);
+    let l = build(corners, left, first, clusters);
+    let r = build(corners, right, first + mid, clusters);
+    let c = &mut clusters[index as usize];
+    c.count = 0;
+    c.first = l;
+    c.second = r;
+    index
+}
