@@ -38,9 +38,3 @@ pub fn signed_crossing(mesh: &TriangleMesh, t: u32, q: DVec3, p: DVec3) -> i32 {
     }
     if front_q { 1 } else { -1 }
 }
-
-/// Sum of [`signed_crossing`] over `triangles`.
-#[must_use]
-pub fn signed_crossings(mesh: &TriangleMesh, triangles: &[u32], q: DVec3, p: DVec3) -> i32 {
-    triangles.iter().map(|&t| signed_crossing(mesh, t, q, p)).sum()
-}

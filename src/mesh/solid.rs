@@ -12,22 +12,26 @@
 //! watertight, else winding.
 //!
 //! Coherence: below nodes of [`REFERENCE_SIZE`] voxels a side, queries are not made from
-//! scratch. The node's centre `q` is queried once; a point `p` in the node then gets
-//! `value(q)` plus the signed crossings of the segment `q -> p` with the node's own
-//! triangles (the segment stays in the node, so no other triangle can cross it). That
-//! is exact for parity and for closed parts of a mesh; near a hole the winding number
-//! also varies smoothly, and this carries it over less than one small node.
+//! scratch. Such a node's centre is queried once; every node below gets the value at
+//! its centre (and a voxel or a node without triangles at its sample point) from its
+//! parent's centre value plus the signed crossings of the segment between the two
+//! points. The parent's centre is a corner of the child, so the segment stays in the
+//! child and only the child's own triangles can cross it: a child without triangles
+//! just inherits the value.
+//! That is exact for parity and for closed parts of a mesh; near a hole the winding
+//! number also varies smoothly, and this carries it over less than one small node.
 
 use rayon::prelude::*;
 
 use glam::DVec3;
 
 use super::TriangleMesh;
-use super::crossing::signed_crossings;
+use super::crossing::signed_crossing;
 use super::parity::ParityGrid;
 use super::tables::PolygonTables;
 use super::tri_box::triangle_box_overlap;
 use super::winding::WindingNumber;
+use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::morton;
@@ -35,7 +39,7 @@ use crate::octree::{Domain, LinearOctree, NodeKey, PARALLEL_LEVELS};
 use crate::progress::{NoProgress, Progress};
 
 /// Nodes of this many voxels a side carry a reference query for their subtree.
-pub const REFERENCE_SIZE: u32 = 8;
+pub const REFERENCE_SIZE: u32 = 16;
 
 /// How a point is decided inside a mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -112,9 +116,9 @@ impl Oracle {
         }
     }
 
-    /// The value at `p` from the value `vq` at `q`, crossing `triangles` in between.
-    fn carry(&self, mesh: &TriangleMesh, triangles: &[u32], q: DVec3, vq: f64, p: DVec3) -> f64 {
-        let k = f64::from(signed_crossings(mesh, triangles, q, p));
+    /// The value past `crossings` signed surface crossings from a point of value `vq`.
+    fn carry(&self, vq: f64, crossings: i32) -> f64 {
+        let k = f64::from(crossings);
         match self {
             Oracle::Parity(_) => (vq + k).rem_euclid(2.0),
             Oracle::Winding(_) => vq + k,
@@ -156,7 +160,9 @@ pub fn voxelize_mesh(
     };
     let parallel_levels = PARALLEL_LEVELS.min(domain.depth());
     options.progress.start(1 << (3 * u32::from(parallel_levels)));
-    let job = Job { mesh, domain, oracle, progress: options.progress, parallel_levels };
+    let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
+    let boxes = corners.iter().map(|c| Aabb::from_points(*c).expect("three corners")).collect();
+    let job = Job { mesh, corners, boxes, domain, oracle, progress: options.progress, parallel_levels };
     let all: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
     let mut keys = Vec::new();
     let mut stats = MeshVoxelizeStats { rule: Some(rule), ..Default::default() };
@@ -165,7 +171,8 @@ pub fn voxelize_mesh(
     Ok((LinearOctree::from_canonical(domain, keys), stats))
 }
 
-/// A reference point, its value, and the triangles of the node it belongs to.
+/// A point, the rule's value there, and the triangles a segment from it to the points
+/// being decided can cross.
 #[derive(Clone, Copy)]
 struct Reference<'t> {
     q: DVec3,
@@ -175,6 +182,10 @@ struct Reference<'t> {
 
 struct Job<'a> {
     mesh: &'a TriangleMesh,
+    /// Corners of each triangle.
+    corners: Vec<[DVec3; 3]>,
+    /// Bounding box of each triangle.
+    boxes: Vec<Aabb>,
     domain: Domain,
     oracle: Oracle,
     progress: &'a dyn Progress,
@@ -185,7 +196,20 @@ impl Job<'_> {
     /// The value at `p`, carried from the reference when there is one.
     fn value(&self, p: DVec3, reference: Option<Reference>, stats: &mut MeshVoxelizeStats) -> f64 {
         match reference {
-            Some(r) => self.oracle.carry(self.mesh, r.triangles, r.q, r.value, p),
+            Some(r) => {
+                // Only triangles whose box meets the segment's box can cross it.
+                let (lo, hi) = (r.q.min(p), r.q.max(p));
+                let crossings: i32 = r
+                    .triangles
+                    .iter()
+                    .filter(|&&t| {
+                        let b = &self.boxes[t as usize];
+                        b.min.cmple(hi).all() && b.max.cmpge(lo).all()
+                    })
+                    .map(|&t| signed_crossing(self.mesh, t, r.q, p))
+                    .sum();
+                self.oracle.carry(r.value, crossings)
+            }
             None => {
                 stats.point_queries += 1;
                 self.oracle.value(p)
@@ -214,38 +238,62 @@ impl Job<'_> {
             }
             return;
         }
-        // Step 2: small enough to carry a reference query for the subtree.
+        // Step 2: small enough: the value at this node's centre, carried from the
+        // parent's centre or queried, becomes the reference of the children.
         let size = 1u32 << key.k();
-        let reference = match reference {
-            None if size <= REFERENCE_SIZE => {
-                let q = self.domain.lattice_point(min.map(|c| c + size / 2));
-                stats.point_queries += 1;
-                Some(Reference { q, value: self.oracle.value(q), triangles })
+        let here = (size <= REFERENCE_SIZE).then(|| {
+            let q = self.domain.lattice_point(min.map(|c| c + size / 2));
+            (q, self.value(q, reference, stats))
+        });
+        // A child's points are joined to this centre (a corner of the child) by
+        // segments inside the child, so the child's own triangles are the only ones
+        // they can cross; voxels at the last level get no lists and use ours.
+        fn child_reference(here: Option<(DVec3, f64)>, triangles: &[u32]) -> Option<Reference<'_>> {
+            here.map(|(q, value)| Reference { q, value, triangles })
+        }
+        // Step 3: hand each triangle to the children it overlaps: its bounding box picks
+        // the candidates, the separating-axis test decides unless the box settles it.
+        let child_size = size / 2;
+        let center = self.domain.lattice_point(min.map(|c| c + child_size));
+        let half = DVec3::splat(f64::from(child_size) * self.domain.voxel_size() * 0.5);
+        let mut lists: [Vec<u32>; 8] = Default::default();
+        // Voxels are decided at their centres whether or not the surface crosses them,
+        // so the last level needs no lists.
+        let needs_lists = child_size > 1;
+        for &t in triangles.iter().filter(|_| needs_lists) {
+            let b = &self.boxes[t as usize];
+            for (i, list) in lists.iter_mut().enumerate() {
+                let fits = (0..3).all(|a| if i >> a & 1 == 0 { b.min[a] <= center[a] } else { b.max[a] >= center[a] });
+                if !fits {
+                    continue;
+                }
+                let offset = DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64) * 2.0 - 1.0;
+                let c = center + offset * half;
+                let inside = (b.min - (c - half)).min_element() >= 0.0 && ((c + half) - b.max).min_element() >= 0.0;
+                if !inside {
+                    stats.triangle_box_tests += 1;
+                    if !triangle_box_overlap(&self.corners[t as usize], c, half) {
+                        continue;
+                    }
+                }
+                list.push(t);
             }
-            r => r,
-        };
-        // Step 3: hand the triangles to the children that they overlap.
-        let half = f64::from(size / 2) * self.domain.voxel_size() * 0.5;
-        let child_triangles = |i: u64, stats: &mut MeshVoxelizeStats| -> (NodeKey, Vec<u32>) {
-            let child = key.child(i).expect("k > 0");
-            let b = self.domain.cube_box(morton::decode(child.start()), size / 2);
-            stats.triangle_box_tests += triangles.len() as u64;
-            let mine = triangles
-                .iter()
-                .copied()
-                .filter(|&t| triangle_box_overlap(&self.mesh.corners(t as usize), b.center(), DVec3::splat(half)))
-                .collect();
-            (child, mine)
-        };
+        }
         let before = out.len();
         if level < self.parallel_levels {
-            let parts: Vec<(Vec<NodeKey>, MeshVoxelizeStats)> = (0..8)
+            let parts: Vec<(Vec<NodeKey>, MeshVoxelizeStats)> = lists
                 .into_par_iter()
-                .map(|i| {
+                .enumerate()
+                .map(|(i, mine)| {
                     let mut s = MeshVoxelizeStats::default();
-                    let (child, mine) = child_triangles(i, &mut s);
                     let mut part = Vec::new();
-                    self.node(child, &mine, reference, &mut part, &mut s);
+                    self.node(
+                        key.child(i as u64).expect("k > 0"),
+                        &mine,
+                        child_reference(here, if needs_lists { &mine } else { triangles }),
+                        &mut part,
+                        &mut s,
+                    );
                     (part, s)
                 })
                 .collect();
@@ -257,9 +305,14 @@ impl Job<'_> {
             if level == self.parallel_levels {
                 self.report(level);
             }
-            for i in 0..8 {
-                let (child, mine) = child_triangles(i, stats);
-                self.node(child, &mine, reference, out, stats);
+            for (i, mine) in lists.iter().enumerate() {
+                self.node(
+                    key.child(i as u64).expect("k > 0"),
+                    mine,
+                    child_reference(here, if needs_lists { mine } else { triangles }),
+                    out,
+                    stats,
+                );
             }
         }
         // Step 4: eight full children are their parent.

@@ -57,9 +57,10 @@ impl WindingNumber {
     #[must_use]
     pub fn new(mesh: &TriangleMesh) -> Self {
         let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
+        let centroids: Vec<DVec3> = corners.iter().map(|t| (t[0] + t[1] + t[2]) / 3.0).collect();
         let mut order: Vec<u32> = (0..corners.len() as u32).collect();
         let mut clusters = Vec::with_capacity(2 * corners.len() / LEAF_SIZE + 1);
-        build(&corners, &mut order, 0, &mut clusters);
+        build(&corners, &centroids, &mut order, 0, &mut clusters);
         let corners = order.iter().map(|&t| corners[t as usize]).collect();
         WindingNumber { corners, clusters }
     }
@@ -108,7 +109,13 @@ pub fn solid_angle(t: &[DVec3; 3], p: DVec3) -> f64 {
 }
 
 /// Builds the cluster over `order[..]` (offset `first` in the final order); returns its index.
-fn build(corners: &[[DVec3; 3]], order: &mut [u32], first: usize, clusters: &mut Vec<Cluster>) -> u32 {
+fn build(
+    corners: &[[DVec3; 3]],
+    centroids: &[DVec3],
+    order: &mut [u32],
+    first: usize,
+    clusters: &mut Vec<Cluster>,
+) -> u32 {
     // Step 1: area vector, area-weighted centroid and radius.
     let mut area = DVec3::ZERO;
     let mut weighted = DVec3::ZERO;
@@ -134,7 +141,7 @@ fn build(corners: &[[DVec3; 3]], order: &mut [u32], first: usize, clusters: &mut
         return index;
     }
     // Step 2: split at the median centroid along the longest axis of the centroids.
-    let centroid = |t: u32| corners[t as usize].iter().sum::<DVec3>() / 3.0;
+    let centroid = |t: u32| centroids[t as usize];
     let (lo, hi) = order
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &t| (lo.min(centroid(t)), hi.max(centroid(t))));
@@ -142,8 +149,8 @@ fn build(corners: &[[DVec3; 3]], order: &mut [u32], first: usize, clusters: &mut
     let mid = order.len() / 2;
     order.select_nth_unstable_by(mid, |&a, &b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
     let (left, right) = order.split_at_mut(mid);
-    let l = build(corners, left, first, clusters);
-    let r = build(corners, right, first + mid, clusters);
+    let l = build(corners, centroids, left, first, clusters);
+    let r = build(corners, centroids, right, first + mid, clusters);
     let c = &mut clusters[index as usize];
     c.count = 0;
     c.first = l;
