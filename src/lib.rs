@@ -25,10 +25,12 @@
 pub mod aabb;
 pub mod budget;
 pub mod error;
+pub mod import;
 pub mod io;
 pub mod mesh;
 pub mod morton;
 pub mod octree;
+pub mod patch;
 pub mod progress;
 pub mod samples;
 pub mod shape;

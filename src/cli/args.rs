@@ -57,6 +57,35 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Voxelize a mesh (OBJ, STL, PLY) or a Bezier patch set (.patches) into an .oct file.
+    #[command(allow_negative_numbers = true)]
+    Voxelize {
+        /// Input file: .obj, .stl, .ply or .patches.
+        input: PathBuf,
+        /// Octree depth (1..=21).
+        #[arg(long, default_value_t = 8)]
+        depth: u8,
+        /// What to keep: the enclosed solid, every voxel the surface touches, or a thin shell.
+        #[arg(long, default_value = "solid")]
+        fill: octsolid::import::Fill,
+        /// Inside rule for solids: parity (watertight meshes), winding (robust), or auto.
+        #[arg(long, default_value = "auto")]
+        inside: octsolid::mesh::InsideRule,
+        /// Domain cube MINX,MINY,MINZ,EDGE (default: the input's bounding cube with a 2% margin).
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
+        domain: Option<[f64; 4]>,
+        /// Output .oct file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Print a mesh's polygon-table diagnostics: edges, holes, non-manifold edges, volume.
+    MeshInfo {
+        /// Input file: .obj, .stl, .ply or .patches.
+        input: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Build the bundled showcase solid and write demo.png.
     Demo {
         /// Output image.

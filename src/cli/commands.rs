@@ -7,7 +7,9 @@ use anyhow::{Context, Result, bail};
 use glam::DVec3;
 use octsolid::budget::MemoryBudget;
 use octsolid::error::human_bytes;
+use octsolid::import::{self, Fill, Input};
 use octsolid::io::{oct, png};
+use octsolid::mesh::InsideRule;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::samples;
 use octsolid::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, Shape, Sphere, Torus};
@@ -24,6 +26,10 @@ pub fn run(args: Args) -> Result<()> {
         Command::Csg { op, inputs, output } => csg_command(op, &inputs, &output, budget),
         Command::Info { file, json } => info_command(&file, json, budget),
         Command::Slice { file, axis, at, size, output } => slice_command(&file, axis, at, size, &output, budget),
+        Command::Voxelize { input, depth, fill, inside, domain, output } => {
+            voxelize_command(&input, depth, fill, inside, domain, &output, budget)
+        }
+        Command::MeshInfo { input, json } => mesh_info_command(&input, json),
         Command::Demo { output, depth } => demo_command(&output, depth, budget),
     }
 }
@@ -64,6 +70,69 @@ fn shape_command(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
     let bytes = oct::save(&tree, &a.output)?;
     println!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&tree, Some(exact_volume));
+    Ok(())
+}
+
+/// `octsolid voxelize IN --depth D [--fill F] [--inside R] [--domain ...] -o OUT`
+fn voxelize_command(
+    input: &Path,
+    depth: u8,
+    fill: Fill,
+    inside: InsideRule,
+    domain: Option<[f64; 4]>,
+    output: &Path,
+    budget: MemoryBudget,
+) -> Result<()> {
+    let started = Instant::now();
+    let loaded = Input::load(input)?;
+    let domain = match domain {
+        Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth)?,
+        None => import::default_domain(&loaded, depth)?,
+    };
+    let bar = Bar::new("voxelizing");
+    let (tree, summary) = import::voxelize_input(&loaded, domain, fill, inside, budget, &bar)
+        .with_context(|| format!("{}: cannot voxelize", input.display()))?;
+    let elapsed = started.elapsed().as_secs_f64();
+    let bytes = oct::save(&tree, output)?;
+    println!("read       {} ({} triangles)", input.display(), summary.triangles);
+    if let Some(rule) = summary.rule {
+        println!("inside     {rule:?} rule{}", if inside == InsideRule::Auto { " (auto)" } else { "" });
+    }
+    print_summary(&tree, None);
+    if let Some(v) = summary.mesh_volume {
+        println!("mesh vol.  {v:.6} ({:+.3}% voxelized vs mesh)", 100.0 * (tree.volume() / v - 1.0));
+    }
+    println!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
+    println!("wrote {} ({})", output.display(), human_bytes(bytes));
+    Ok(())
+}
+
+/// `octsolid mesh-info IN [--json]`
+fn mesh_info_command(input: &Path, json: bool) -> Result<()> {
+    let report = Input::load(input)?.report();
+    if json {
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    println!("file               {}", input.display());
+    println!("vertices           {}", report.vertices);
+    println!("triangles          {}", report.triangles);
+    println!("edges              {}", report.edges);
+    println!("degenerate faces   {}", report.degenerate_faces);
+    println!("boundary edges     {}", report.boundary_edges);
+    println!("non-manifold edges {}", report.non_manifold_edges);
+    println!("misoriented edges  {}", report.misoriented_edges);
+    println!("watertight         {}", if report.watertight { "yes" } else { "no" });
+    println!(
+        "volume             {:.6} (signed tetrahedra{})",
+        report.volume,
+        if report.watertight { "" } else { "; not closed" }
+    );
+    println!("area               {:.6}", report.area);
+    println!("bounds             {:?} .. {:?}", report.bounds_min, report.bounds_max);
+    for (name, count) in &report.groups {
+        println!("group              {name:?}: {count} triangles");
+    }
     Ok(())
 }
 

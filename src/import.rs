@@ -1,0 +1,128 @@
+//! Solids from files: meshes (OBJ, STL, PLY) and patch sets (`.patches`), voxelized
+//! as solids or surfaces. The CLI's `voxelize` and `mesh-info` are one call each here.
+
+use std::path::Path;
+
+use crate::budget::MemoryBudget;
+use crate::error::Result;
+use crate::mesh::{
+    InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh, load_mesh, voxelize_mesh,
+    voxelize_surface,
+};
+use crate::octree::{Domain, LinearOctree};
+use crate::patch::{BezierPatch, load_patches, segments_for, tessellate, voxelize_patch_surface};
+use crate::progress::Progress;
+
+/// What to make of the surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fill {
+    /// The enclosed solid.
+    Solid,
+    /// Every voxel the surface touches.
+    Surface,
+    /// A thin, 6-separating shell.
+    Thin,
+}
+
+impl std::str::FromStr for Fill {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "solid" => Ok(Fill::Solid),
+            "surface" => Ok(Fill::Surface),
+            "thin" => Ok(Fill::Thin),
+            _ => Err(format!("'{s}' is not a fill (use solid, surface or thin)")),
+        }
+    }
+}
+
+/// A loaded input: a triangle mesh, or patches with the mesh tessellated from them.
+pub enum Input {
+    /// A triangle mesh.
+    Mesh(TriangleMesh),
+    /// Bezier patches.
+    Patches(Vec<BezierPatch>),
+}
+
+impl Input {
+    /// Loads a mesh or a `.patches` file by extension.
+    pub fn load(path: &Path) -> Result<Input> {
+        let is_patches = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("patches"));
+        Ok(if is_patches { Input::Patches(load_patches(path)?) } else { Input::Mesh(load_mesh(path)?) })
+    }
+
+    /// Bounding box: of the mesh, or of the patches' control points.
+    #[must_use]
+    pub fn bounds(&self) -> crate::aabb::Aabb {
+        match self {
+            Input::Mesh(m) => m.bounds(),
+            Input::Patches(p) => p.iter().map(BezierPatch::bounds).reduce(|a, b| a.union(&b)).expect("patches"),
+        }
+    }
+
+    /// The triangles standing for the input; patches are tessellated finely enough for
+    /// a voxel of `voxel_size`.
+    #[must_use]
+    pub fn triangles(&self, voxel_size: f64) -> std::borrow::Cow<'_, TriangleMesh> {
+        match self {
+            Input::Mesh(m) => std::borrow::Cow::Borrowed(m),
+            Input::Patches(p) => {
+                let extent = p.iter().map(|q| q.bounds().size().max_element()).fold(0.0, f64::max);
+                std::borrow::Cow::Owned(tessellate(p, segments_for(extent, voxel_size / 4.0)))
+            }
+        }
+    }
+
+    /// Diagnostics of the mesh (patches: of a tessellation at 1/1000 of their size).
+    #[must_use]
+    pub fn report(&self) -> MeshReport {
+        let size = self.bounds().size().max_element();
+        PolygonTables::new(&self.triangles(size / 1000.0)).report()
+    }
+}
+
+/// What [`voxelize_input`] did.
+#[derive(Clone, Debug)]
+pub struct VoxelizeSummary {
+    /// Triangles voxelized (0 for a patch surface, made from the patches directly).
+    pub triangles: usize,
+    /// Exact signed-tetrahedron volume of the triangles (`None` for surfaces).
+    pub mesh_volume: Option<f64>,
+    /// The inside rule used, for solids.
+    pub rule: Option<InsideRule>,
+}
+
+/// Voxelizes `input` into `domain` as `fill`.
+pub fn voxelize_input(
+    input: &Input,
+    domain: Domain,
+    fill: Fill,
+    inside: InsideRule,
+    budget: MemoryBudget,
+    progress: &dyn Progress,
+) -> Result<(LinearOctree, VoxelizeSummary)> {
+    let h = domain.voxel_size();
+    if let (Input::Patches(p), Fill::Surface) = (input, fill) {
+        let tree = voxelize_patch_surface(p, domain)?;
+        return Ok((tree, VoxelizeSummary { triangles: 0, mesh_volume: None, rule: None }));
+    }
+    let mesh = input.triangles(h);
+    match fill {
+        Fill::Solid => {
+            let options = MeshVoxelizeOptions { inside, budget, progress };
+            let (tree, stats) = voxelize_mesh(&mesh, domain, &options)?;
+            let volume = PolygonTables::new(&mesh).report().volume;
+            Ok((tree, VoxelizeSummary { triangles: mesh.triangles.len(), mesh_volume: Some(volume), rule: stats.rule }))
+        }
+        Fill::Surface | Fill::Thin => {
+            let kind = if fill == Fill::Thin { SurfaceKind::Thin } else { SurfaceKind::Conservative };
+            let tree = voxelize_surface(&mesh, domain, kind)?;
+            Ok((tree, VoxelizeSummary { triangles: mesh.triangles.len(), mesh_volume: None, rule: None }))
+        }
+    }
+}
+
+/// The default domain: the input's bounding cube grown by 2% on each side.
+pub fn default_domain(input: &Input, depth: u8) -> Result<Domain> {
+    Domain::around(&input.bounds(), 0.02, depth)
+}

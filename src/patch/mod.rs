@@ -1,0 +1,17 @@
+//! Bicubic Bezier patches: evaluation, normals, loading, and voxelization.
+//!
+//! A patch is `p(u, v) = sum_ij B_i(u) B_j(v) P_ij` over a 4x4 control net with the
+//! cubic Bernstein polynomials `B`. It is evaluated by de Casteljau's algorithm
+//! (repeated linear interpolation, numerically stable), its normal is
+//! `p_u x p_v / |p_u x p_v|` (seed: parametric surfaces), and it splits at `u = 1/2`
+//! or `v = 1/2` into two patches whose control nets converge to the surface. The
+//! surface lies in the convex hull of its control points, so their bounding box bounds
+//! every piece: the voxelizer refines pieces until their boxes are small.
+
+mod bezier;
+mod load;
+mod voxelize;
+
+pub use bezier::BezierPatch;
+pub use load::load_patches;
+pub use voxelize::{segments_for, tessellate, voxelize_patch_surface};
