@@ -131,3 +131,33 @@ fn demo_writes_its_picture() {
     let img = image::open(dir.join("demo.png")).unwrap();
     assert!(img.width() > 0 && img.height() > 0);
 }
+
+#[test]
+fn voxelize_meshes_and_patches_and_report_the_rule() {
+    let dir = scratch("voxelize");
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    let spot = models.join("spot.obj");
+    let spot = spot.to_str().unwrap();
+    let out = ok(&dir, &["voxelize", spot, "--depth", "7", "-o", "spot.oct"]);
+    assert!(out.contains("Parity rule (auto)") && out.contains("5856 triangles"), "{out}");
+    let info = info_json(&dir, "spot.oct");
+    let volume = info["volume"].as_f64().unwrap();
+    assert!((volume / 0.718259 - 1.0).abs() < 0.01, "spot volume {volume}");
+    let out = ok(&dir, &["voxelize", spot, "--depth", "7", "--inside", "winding", "-o", "spot_w.oct"]);
+    assert!(out.contains("Winding rule") && !out.contains("auto"), "{out}");
+    let out = ok(&dir, &["voxelize", spot, "--depth", "7", "--fill", "surface", "-o", "spot_s.oct"]);
+    assert!(!out.contains("rule"), "{out}");
+    let teapot = models.join("teapot.patches");
+    ok(&dir, &["voxelize", teapot.to_str().unwrap(), "--depth", "6", "--fill", "surface", "-o", "t.oct"]);
+
+    let report: serde_json::Value = serde_json::from_str(&ok(&dir, &["mesh-info", spot, "--json"])).unwrap();
+    assert_eq!(report["triangles"], 5856);
+    assert_eq!(report["watertight"], true);
+    let bunny = models.join("stanford-bunny.obj");
+    let text = ok(&dir, &["mesh-info", bunny.to_str().unwrap()]);
+    assert!(text.contains("boundary edges     223") && text.contains("watertight         no"), "{text}");
+
+    std::fs::write(dir.join("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 3\n").unwrap();
+    let e = fails(&dir, &["voxelize", "broken.obj", "--depth", "5", "-o", "b.oct"]);
+    assert!(e.contains("broken.obj") && e.contains("line 3"), "{e}");
+}
