@@ -208,3 +208,17 @@ fn surface_shells_cover_the_surface_and_thin_is_6_separating() {
         }
     }
 }
+
+#[test]
+fn quick_watertight_check_agrees_with_the_tables() {
+    let mut rng = Rng(8);
+    for (name, mesh) in closed_meshes() {
+        assert!(mesh.is_watertight(), "{name}");
+        let mut open = mesh.clone();
+        open.retain_triangles(|_| rng.below(50) != 0);
+        assert_eq!(open.is_watertight(), PolygonTables::new(&open).report().watertight, "{name} opened");
+        let mut flipped = mesh.clone();
+        flipped.triangles[3].swap(0, 1);
+        assert!(!flipped.is_watertight() && !PolygonTables::new(&flipped).report().watertight, "{name} flipped");
+    }
+}

@@ -20,9 +20,24 @@ use super::predicates::orient3d as orient;
 #[inline]
 #[must_use]
 pub fn signed_crossing(mesh: &TriangleMesh, t: u32, q: DVec3, p: DVec3) -> i32 {
+    signed_crossing_from(mesh, t, q, in_front(mesh, t, q), p)
+}
+
+/// Whether `x` is in front of triangle `t` (on its plane counts as in front).
+#[inline]
+#[must_use]
+pub fn in_front(mesh: &TriangleMesh, t: u32, x: DVec3) -> bool {
+    let v = mesh.triangles[t as usize].map(|i| mesh.vertices[i as usize]);
+    orient(v[0], v[1], v[2], x) >= 0.0
+}
+
+/// [`signed_crossing`] with `front_q = in_front(mesh, t, q)` already known (many
+/// segments from one point share it).
+#[inline]
+#[must_use]
+pub fn signed_crossing_from(mesh: &TriangleMesh, t: u32, q: DVec3, front_q: bool, p: DVec3) -> i32 {
     let idx = mesh.triangles[t as usize];
     let v = idx.map(|i| mesh.vertices[i as usize]);
-    let front_q = orient(v[0], v[1], v[2], q) >= 0.0;
     let front_p = orient(v[0], v[1], v[2], p) >= 0.0;
     if front_q == front_p {
         return 0;

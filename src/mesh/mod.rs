@@ -94,6 +94,21 @@ impl TriangleMesh {
             .unwrap_or(Aabb { min: DVec3::ZERO, max: DVec3::ZERO })
     }
 
+    /// Whether every edge is used exactly twice, once in each direction (closed,
+    /// manifold, consistently oriented). Sorts directed edges: O(n log n), no tables.
+    #[must_use]
+    pub fn is_watertight(&self) -> bool {
+        let mut edges: Vec<u64> = Vec::with_capacity(self.triangles.len() * 3);
+        for t in &self.triangles {
+            for k in 0..3 {
+                edges.push(u64::from(t[k]) << 32 | u64::from(t[(k + 1) % 3]));
+            }
+        }
+        edges.sort_unstable();
+        let unique = edges.windows(2).all(|w| w[0] != w[1]);
+        unique && edges.iter().all(|&e| edges.binary_search(&(e << 32 | e >> 32)).is_ok())
+    }
+
     /// Merges vertices with bit-identical coordinates and drops unused ones.
     pub fn weld(&mut self) {
         let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(self.vertices.len());

@@ -26,9 +26,8 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::TriangleMesh;
-use super::crossing::signed_crossing;
+use super::crossing::{in_front, signed_crossing, signed_crossing_from};
 use super::parity::ParityGrid;
-use super::tables::PolygonTables;
 use super::tri_box::triangle_box_overlap;
 use super::winding::WindingNumber;
 use crate::aabb::Aabb;
@@ -150,7 +149,7 @@ pub fn voxelize_mesh(
     mesh.check()?;
     options.budget.check(format!("voxelizing a mesh at depth {}", domain.depth()), estimate_bytes(mesh, &domain))?;
     let rule = match options.inside {
-        InsideRule::Auto if PolygonTables::new(mesh).report().watertight => InsideRule::Parity,
+        InsideRule::Auto if mesh.is_watertight() => InsideRule::Parity,
         InsideRule::Auto => InsideRule::Winding,
         r => r,
     };
@@ -245,6 +244,11 @@ impl Job<'_> {
             let q = self.domain.lattice_point(min.map(|c| c + size / 2));
             (q, self.value(q, reference, stats))
         });
+        if key.k() == 1 {
+            let (q, value) = here.expect("a 2-voxel node is below the reference size");
+            self.voxels(key, triangles, q, value, out, stats);
+            return;
+        }
         // A child's points are joined to this centre (a corner of the child) by
         // segments inside the child, so the child's own triangles are the only ones
         // they can cross; voxels at the last level get no lists and use ours.
@@ -317,6 +321,44 @@ impl Job<'_> {
         }
         // Step 4: eight full children are their parent.
         if out.len() == before + 8 && out[before..].iter().all(|c| c.k() + 1 == key.k()) {
+            out.truncate(before);
+            out.push(key);
+        }
+    }
+
+    /// The eight voxels of a 2-voxel node with triangles, each carried from the
+    /// node's centre `q` (value `vq`); `q`'s side of each triangle is found once.
+    fn voxels(
+        &self,
+        key: NodeKey,
+        triangles: &[u32],
+        q: DVec3,
+        vq: f64,
+        out: &mut Vec<NodeKey>,
+        stats: &mut MeshVoxelizeStats,
+    ) {
+        let fronts: Vec<bool> = triangles.iter().map(|&t| in_front(self.mesh, t, q)).collect();
+        let before = out.len();
+        for i in 0..8 {
+            let voxel = key.child(i).expect("k = 1");
+            self.report(key.level(self.domain.depth()) + 1);
+            let p = self.domain.voxel_center(morton::decode(voxel.start()));
+            let (lo, hi) = (q.min(p), q.max(p));
+            let crossings: i32 = triangles
+                .iter()
+                .zip(&fronts)
+                .filter(|&(&t, _)| {
+                    let b = &self.boxes[t as usize];
+                    b.min.cmple(hi).all() && b.max.cmpge(lo).all()
+                })
+                .map(|(&t, &front)| signed_crossing_from(self.mesh, t, q, front, p))
+                .sum();
+            if self.oracle.inside(self.oracle.carry(vq, crossings)) {
+                out.push(voxel);
+            }
+        }
+        stats.nodes_visited += 8;
+        if out.len() == before + 8 {
             out.truncate(before);
             out.push(key);
         }

@@ -21,8 +21,14 @@ pub fn triangle_box_overlap(t: &[DVec3; 3], center: DVec3, half: DVec3) -> bool 
             return false;
         }
     }
-    // Step 3: the nine edge cross products: project triangle and box on axis = e_i x edge.
+    // Step 3: the triangle's plane: n . x = n . v0 against the box's projection radius
+    // (cheap, and it rejects most near misses).
     let edges = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
+    let n = edges[0].cross(edges[1]);
+    if n.dot(v[0]).abs() > half.dot(n.abs()) {
+        return false;
+    }
+    // Step 4: the nine edge cross products: project triangle and box on axis = e_i x edge.
     for e in edges {
         for axis in [DVec3::new(0.0, -e.z, e.y), DVec3::new(e.z, 0.0, -e.x), DVec3::new(-e.y, e.x, 0.0)] {
             let p = [axis.dot(v[0]), axis.dot(v[1]), axis.dot(v[2])];
@@ -32,9 +38,7 @@ pub fn triangle_box_overlap(t: &[DVec3; 3], center: DVec3, half: DVec3) -> bool 
             }
         }
     }
-    // Step 4: the triangle's plane: n . x = n . v0 against the box's projection radius.
-    let n = edges[0].cross(edges[1]);
-    n.dot(v[0]).abs() <= half.dot(n.abs())
+    true
 }
 
 #[cfg(test)]

@@ -37,6 +37,8 @@ struct Cluster {
     radius: f64,
     /// Sum of area vectors.
     area: DVec3,
+    /// Sum of triangle areas (the centroid's weight).
+    weight: f64,
     /// Leaf: first triangle in `order`; inner: index of the first child.
     first: u32,
     /// Leaf: triangle count; inner: 0 (the second child follows the first's subtree).
@@ -59,8 +61,7 @@ impl WindingNumber {
         let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
         let centroids: Vec<DVec3> = corners.iter().map(|t| (t[0] + t[1] + t[2]) / 3.0).collect();
         let mut order: Vec<u32> = (0..corners.len() as u32).collect();
-        let mut clusters = Vec::with_capacity(2 * corners.len() / LEAF_SIZE + 1);
-        build(&corners, &centroids, &mut order, 0, &mut clusters);
+        let clusters = build(&corners, &centroids, &mut order, 0);
         let corners = order.iter().map(|&t| corners[t as usize]).collect();
         WindingNumber { corners, clusters }
     }
@@ -108,37 +109,41 @@ pub fn solid_angle(t: &[DVec3; 3], p: DVec3) -> f64 {
     2.0 * num.atan2(den)
 }
 
-/// Builds the cluster over `order[..]` (offset `first` in the final order); returns its index.
-fn build(
-    corners: &[[DVec3; 3]],
-    centroids: &[DVec3],
-    order: &mut [u32],
-    first: usize,
-    clusters: &mut Vec<Cluster>,
-) -> u32 {
-    // Step 1: area vector, area-weighted centroid and radius.
-    let mut area = DVec3::ZERO;
-    let mut weighted = DVec3::ZERO;
-    let mut total = 0.0;
-    for &t in order.iter() {
-        let [a, b, c] = corners[t as usize];
-        let n = (b - a).cross(c - a) * 0.5;
-        let w = n.length();
-        area += n;
-        weighted += (a + b + c) / 3.0 * w;
-        total += w;
-    }
-    let center = if total > 0.0 {
-        weighted / total
-    } else {
-        order.iter().map(|&t| corners[t as usize][0]).sum::<DVec3>() / order.len() as f64
-    };
-    let radius =
-        order.iter().flat_map(|&t| corners[t as usize]).map(|v| v.distance_squared(center)).fold(0.0, f64::max).sqrt();
-    let index = clusters.len() as u32;
-    clusters.push(Cluster { center, radius, area, first: first as u32, count: order.len() as u32, second: 0 });
+/// Builds the hierarchy over `order[..]` (offset `first` in the final order) as a
+/// vector whose first cluster is the root and whose child indices are local.
+/// Inner clusters combine their children's sums; the radius bound
+/// `max(|c - c_child| + r_child)` is conservative. Large halves build in parallel.
+fn build(corners: &[[DVec3; 3]], centroids: &[DVec3], order: &mut [u32], first: usize) -> Vec<Cluster> {
     if order.len() <= LEAF_SIZE {
-        return index;
+        // Step 1: a leaf: area vector, area-weighted centroid and radius, directly.
+        let (mut area, mut weighted, mut weight) = (DVec3::ZERO, DVec3::ZERO, 0.0);
+        for &t in order.iter() {
+            let [a, b, c] = corners[t as usize];
+            let n = (b - a).cross(c - a) * 0.5;
+            area += n;
+            weighted += centroids[t as usize] * n.length();
+            weight += n.length();
+        }
+        let center = if weight > 0.0 {
+            weighted / weight
+        } else {
+            order.iter().map(|&t| centroids[t as usize]).sum::<DVec3>() / order.len() as f64
+        };
+        let radius = order
+            .iter()
+            .flat_map(|&t| corners[t as usize])
+            .map(|v| v.distance_squared(center))
+            .fold(0.0, f64::max)
+            .sqrt();
+        return vec![Cluster {
+            center,
+            radius,
+            area,
+            weight,
+            first: first as u32,
+            count: order.len() as u32,
+            second: 0,
+        }];
     }
     // Step 2: split at the median centroid along the longest axis of the centroids.
     let centroid = |t: u32| centroids[t as usize];
@@ -149,11 +154,24 @@ fn build(
     let mid = order.len() / 2;
     order.select_nth_unstable_by(mid, |&a, &b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
     let (left, right) = order.split_at_mut(mid);
-    let l = build(corners, centroids, left, first, clusters);
-    let r = build(corners, centroids, right, first + mid, clusters);
-    let c = &mut clusters[index as usize];
-    c.count = 0;
-    c.first = l;
-    c.second = r;
-    index
+    let (l, r) = if left.len() > 4096 {
+        rayon::join(|| build(corners, centroids, left, first), || build(corners, centroids, right, first + mid))
+    } else {
+        (build(corners, centroids, left, first), build(corners, centroids, right, first + mid))
+    };
+    // Step 3: the parent from its children's sums, then the children renumbered.
+    let (a, b) = (&l[0], &r[0]);
+    let weight = a.weight + b.weight;
+    let center =
+        if weight > 0.0 { (a.center * a.weight + b.center * b.weight) / weight } else { (a.center + b.center) * 0.5 };
+    let radius = (center.distance(a.center) + a.radius).max(center.distance(b.center) + b.radius);
+    let second = 1 + l.len() as u32;
+    let mut out = Vec::with_capacity(1 + l.len() + r.len());
+    out.push(Cluster { center, radius, area: a.area + b.area, weight, first: 1, count: 0, second });
+    let shift = |c: Cluster, by: u32| {
+        if c.count == 0 { Cluster { first: c.first + by, second: c.second + by, ..c } } else { c }
+    };
+    out.extend(l.into_iter().map(|c| shift(c, 1)));
+    out.extend(r.into_iter().map(|c| shift(c, second)));
+    out
 }
