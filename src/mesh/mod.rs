@@ -106,7 +106,7 @@ impl TriangleMesh {
         }
         edges.sort_unstable();
         let unique = edges.windows(2).all(|w| w[0] != w[1]);
-        unique && edges.iter().all(|&e| edges.binary_search(&(e << 32 | e >> 32)).is_ok())
+        unique && edges.iter().all(|&e| edges.binary_search(&e.rotate_right(32)).is_ok())
     }
 
     /// Merges vertices with bit-identical coordinates and drops unused ones.
