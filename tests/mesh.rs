@@ -222,3 +222,19 @@ fn quick_watertight_check_agrees_with_the_tables() {
         assert!(!flipped.is_watertight() && !PolygonTables::new(&flipped).report().watertight, "{name} flipped");
     }
 }
+
+#[test]
+fn same_octree_for_any_thread_count() {
+    let mesh = torus(1.0, 0.35, 48, 24);
+    let mut open = mesh.clone();
+    open.retain_triangles(|t| t % 17 != 0);
+    for (m, rule) in [(&mesh, InsideRule::Parity), (&open, InsideRule::Winding)] {
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| voxelize(m, 8, rule).0)
+        };
+        let one = run(1);
+        assert_same(&one, &run(2), "1 vs 2 threads");
+        assert_same(&one, &run(3), "1 vs 3 threads");
+    }
+}
