@@ -32,6 +32,7 @@ pub mod morton;
 pub mod octree;
 pub mod patch;
 pub mod progress;
+pub mod render;
 pub mod samples;
 pub mod shape;
 pub mod slice;

@@ -1,0 +1,173 @@
+//! Ray traversal against a brute-force oracle: slab tests on every node, then on every
+//! voxel of the node entered first, with the same semantics (first entry into the
+//! interior of a full voxel; half-open cells for axis-parallel rays; lowest axis on ties).
+
+mod common;
+
+use common::{Rng, random_octree};
+use glam::DVec3;
+use octsolid::morton;
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::render::Traversal;
+use octsolid::samples;
+
+/// Entry and exit times of the ray (voxel units) through the box `[lo, lo + size)`,
+/// and the lowest axis whose entry plane gives the entry time.
+fn slab(o: DVec3, d: DVec3, lo: [u32; 3], size: u32) -> Option<(f64, f64, Option<usize>)> {
+    let (mut tn, mut tf, mut face) = (f64::NEG_INFINITY, f64::INFINITY, None);
+    for a in 0..3 {
+        let (l, h) = (f64::from(lo[a]), f64::from(lo[a] + size));
+        if d[a] == 0.0 {
+            if o[a] < l || o[a] >= h {
+                return None;
+            }
+            continue;
+        }
+        let inv = 1.0 / d[a];
+        let (t0, t1) =
+            if d[a] > 0.0 { ((l - o[a]) * inv, (h - o[a]) * inv) } else { ((h - o[a]) * inv, (l - o[a]) * inv) };
+        if t0 > tn {
+            tn = t0;
+            face = Some(a);
+        }
+        tf = tf.min(t1);
+    }
+    (tn < tf && tf > 0.0).then_some((tn, tf, face))
+}
+
+/// The oracle: (t, voxel, face) of the first hit.
+fn brute_force(tree: &LinearOctree, o: DVec3, d: DVec3) -> Option<(f64, [u32; 3], Option<usize>)> {
+    let node = tree
+        .nodes()
+        .filter_map(|n| slab(o, d, n.min, n.size).map(|(tn, _, _)| (tn, n)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))?
+        .1;
+    let mut best: Option<(f64, [u32; 3], Option<usize>)> = None;
+    for x in 0..node.size {
+        for y in 0..node.size {
+            for z in 0..node.size {
+                let v = [node.min[0] + x, node.min[1] + y, node.min[2] + z];
+                if let Some((tn, _, face)) = slab(o, d, v, 1)
+                    && best.is_none_or(|b| tn < b.0)
+                {
+                    best = Some((tn, v, face));
+                }
+            }
+        }
+    }
+    best.map(|(tn, v, face)| if tn <= 0.0 { (0.0, v, None) } else { (tn, v, face) })
+}
+
+/// Rays of every kind the tests need, in voxel units of a domain of `n` voxels a side.
+fn rays(rng: &mut Rng, n: f64, count: usize) -> Vec<(DVec3, DVec3)> {
+    let mut out = Vec::with_capacity(count);
+    let lattice = |rng: &mut Rng| {
+        DVec3::new(rng.below(n as u64 + 1) as f64, rng.below(n as u64 + 1) as f64, rng.below(n as u64 + 1) as f64)
+    };
+    for i in 0..count {
+        let ray = match i % 6 {
+            // From outside towards a random point inside.
+            0 => {
+                let o = rng.vec(-0.5 * n, 1.5 * n);
+                (o, rng.vec(0.0, n) - o)
+            }
+            // From inside, any direction.
+            1 => (rng.vec(0.0, n), rng.vec(-1.0, 1.0)),
+            // Axis-parallel through voxel centres and along lattice planes.
+            2 => {
+                let mut d = DVec3::ZERO;
+                d[i % 3] = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+                let mut o = lattice(rng) + if rng.below(2) == 0 { DVec3::splat(0.5) } else { DVec3::ZERO };
+                o[i % 3] = if d[i % 3] > 0.0 { -1.0 } else { n + 1.0 };
+                (o, d)
+            }
+            // Diagonals through lattice corners (ties of two or three planes).
+            3 => {
+                let d = DVec3::new(
+                    if rng.below(2) == 0 { 1.0 } else { -1.0 },
+                    if rng.below(2) == 0 { 1.0 } else { -1.0 },
+                    if rng.below(3) == 0 {
+                        0.0
+                    } else if rng.below(2) == 0 {
+                        1.0
+                    } else {
+                        -1.0
+                    },
+                );
+                (lattice(rng) - d * (n + 2.0), d)
+            }
+            // Grazing: almost parallel to a face.
+            4 => {
+                let mut d = rng.vec(-1e-3, 1e-3);
+                d[i % 3] = 1.0;
+                let mut o = rng.vec(0.0, n);
+                o[i % 3] = -1.0;
+                (o, d)
+            }
+            // Integer origins and small integer directions (exact plane hits).
+            _ => {
+                let d = DVec3::new(rng.below(5) as f64 - 2.0, rng.below(5) as f64 - 2.0, rng.below(5) as f64 - 2.0);
+                (lattice(rng), if d == DVec3::ZERO { DVec3::X } else { d })
+            }
+        };
+        out.push(ray);
+    }
+    out
+}
+
+fn check(tree: &LinearOctree, rng: &mut Rng, count: usize) {
+    let t = Traversal::new(tree);
+    let n = f64::from(tree.domain().resolution());
+    for (o, d) in rays(rng, n, count) {
+        let got = t.hit_voxel_units(o, d, f64::INFINITY);
+        let want = brute_force(tree, o, d);
+        match (got, want) {
+            (None, None) => {}
+            (Some(h), Some((tw, vw, fw))) => {
+                assert!((h.t - tw).abs() * d.length() <= 1e-9 * n, "t {} vs {tw} for {o} {d}", h.t);
+                assert_eq!((h.voxel, h.axis), (vw, fw), "voxel/face for ray {o} {d}");
+            }
+            _ => panic!("hit {got:?} vs brute force {want:?} for ray {o} {d}"),
+        }
+    }
+}
+
+#[test]
+fn traversal_matches_brute_force_on_random_solids() {
+    let mut rng = Rng(0xdead_beef);
+    for depth in 1..=5 {
+        for _ in 0..6 {
+            let d = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
+            let tree = random_octree(&mut rng, d);
+            check(&tree, &mut rng, 600);
+        }
+    }
+}
+
+#[test]
+fn traversal_matches_brute_force_on_the_showcase_at_depth_6() {
+    let mut rng = Rng(42);
+    let d = samples::showcase_domain(6).unwrap();
+    let tree = voxelize(&samples::showcase(), d, &VoxelizeOptions::default()).unwrap();
+    check(&tree, &mut rng, 3000);
+    check(&LinearOctree::full(d), &mut rng, 300);
+    check(&LinearOctree::empty(d), &mut rng, 100);
+}
+
+#[test]
+fn world_rays_and_deep_trees() {
+    // A depth-21 solid: one voxel at the far corner, hit exactly.
+    let d = Domain::new(DVec3::splat(-1.0), 2.0, 21).unwrap();
+    let last = (1u32 << 21) - 1;
+    let tree = LinearOctree::from_voxels(d, [[last, last, last]]).unwrap();
+    let t = Traversal::new(&tree);
+    let h = d.voxel_size();
+    let target = d.voxel_center([last; 3]);
+    let origin = target - DVec3::new(0.0, 0.0, 3.0);
+    let hit = t.hit(origin, DVec3::Z, f64::INFINITY).expect("hit");
+    assert_eq!((hit.voxel, hit.axis), ([last; 3], Some(2)));
+    assert!((hit.t - (3.0 - 0.5 * h)).abs() < 1e-12, "{}", hit.t);
+    // Bytes: 21 inner nodes on the path, 8 bytes each.
+    assert_eq!(t.node_count(), 21);
+    let _ = morton::encode(0, 0, 0);
+}
