@@ -239,9 +239,9 @@ impl Walk<'_> {
         let mut cuts: [(f64, usize); 3] = [(f64::INFINITY, 0); 3];
         let mut count = 0;
         let mut face = face;
-        for a in 0..3 {
+        for (a, &lo) in min.iter().enumerate() {
             if self.d[a] != 0.0 {
-                let tm = (f64::from(min[a] + half) - self.o[a]) * self.inv[a];
+                let tm = (f64::from(lo + half) - self.o[a]) * self.inv[a];
                 if tm > ta && tm < tb {
                     cuts[count] = (tm, a);
                     count += 1;
@@ -289,7 +289,7 @@ impl Walk<'_> {
                     }
                 }
             }
-            let Some(axis) = next else { return None };
+            let axis = next?;
             // Crossing a mid plane flips that axis's bit; simultaneous crossings flip
             // several (the pieces between them have zero length).
             child ^= 1 << axis;
