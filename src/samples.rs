@@ -5,9 +5,44 @@ use glam::DVec3;
 use image::RgbImage;
 
 use crate::error::Result;
-use crate::octree::{Domain, LinearOctree};
-use crate::shape::{Axis, Csg, Cuboid, Cylinder, Sphere, Torus};
+use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use crate::render::{Light, Material, Scene};
+use crate::shape::{Axis, Csg, Cuboid, Cylinder, Shape, ShapeExt, Sphere, Torus};
 use crate::slice::slice_image;
+
+/// One line saying what [`showcase_scene`] shows.
+pub const SCENE_DESCRIPTION: &str = "the classic CSG part inside a torus ring, a ball and a tilted cylinder on a floor, \
+     two lights with shadows";
+
+/// The showcase scene of `octsolid demo`: several solids with their own materials on a
+/// floor, voxelized at `depth` in one domain, lit by a key and a fill light.
+pub fn showcase_scene(depth: u8, options: &VoxelizeOptions) -> Result<Scene> {
+    let domain = Domain::new(DVec3::new(-3.2, -3.2, -1.4), 6.4, depth)?;
+    let part = classic_csg();
+    let ring = Torus::new(DVec3::ZERO, Axis::Z, 1.55, 0.2)?;
+    let ball = Sphere::new(DVec3::new(-2.1, -1.3, -0.4), 0.6)?;
+    let post =
+        Cylinder::new(DVec3::ZERO, Axis::Z, 0.35, 1.6)?.rotate(DVec3::X, 0.5).translate(DVec3::new(2.1, 1.3, -0.12));
+    let floor = Cuboid::new(DVec3::new(0.0, 0.0, -1.1), DVec3::new(6.2, 6.2, 0.2))?;
+    let material = |r, g, b, ks, shininess| Material { color: DVec3::new(r, g, b), ka: 0.2, kd: 0.8, ks, shininess };
+    let solids: [(&str, &dyn Shape, Material); 5] = [
+        ("classic part", &part, material(0.85, 0.42, 0.16, 0.35, 32.0)),
+        ("ring", &ring, material(0.12, 0.55, 0.55, 0.4, 48.0)),
+        ("ball", &ball, material(0.25, 0.32, 0.7, 0.5, 64.0)),
+        ("post", &post, material(0.75, 0.7, 0.25, 0.3, 24.0)),
+        ("floor", &floor, material(0.78, 0.78, 0.74, 0.05, 8.0)),
+    ];
+    let mut scene = Scene::new();
+    for (name, shape, material) in solids {
+        scene.add(name, voxelize(shape, domain, options)?, material);
+    }
+    scene.ambient = DVec3::splat(0.9);
+    scene.lights = vec![
+        Light::Point { position: DVec3::new(5.0, -4.0, 7.0), color: DVec3::splat(0.8) },
+        Light::Directional { direction: DVec3::new(0.7, 0.9, -0.6), color: DVec3::splat(0.25) },
+    ];
+    Ok(scene)
+}
 
 /// One line saying what [`showcase`] is.
 pub const SHOWCASE_DESCRIPTION: &str = "cube of side 2 & sphere of radius 1.3, minus three cylinders of radius 0.6 along x, y, z, \

@@ -11,6 +11,7 @@ use octsolid::import::{self, Fill, Input};
 use octsolid::io::{oct, png};
 use octsolid::mesh::InsideRule;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::render::{self, Camera, DEFAULT_VIEW, RenderOptions, Scene};
 use octsolid::samples;
 use octsolid::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, Shape, Sphere, Torus};
 use serde::Serialize;
@@ -259,18 +260,44 @@ fn slice_command(
     Ok(())
 }
 
-/// `octsolid demo`: the showcase solid, voxelized, saved and sliced.
+/// `octsolid demo`: the showcase scene, voxelized and ray-traced.
 fn demo_command(output: &Path, depth: u8, budget: MemoryBudget) -> Result<()> {
     if output.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
         bail!("{}: the demo writes a PNG image; give a .png path", output.display());
     }
-    let shape = samples::showcase();
-    let domain = samples::showcase_domain(depth)?;
-    println!("showcase: {}", samples::SHOWCASE_DESCRIPTION);
-    let tree = voxelize_with_bar(&shape, domain, budget)?;
-    print_summary(&tree, None);
-    let img = samples::showcase_picture(&tree)?;
+    println!("showcase: {}", samples::SCENE_DESCRIPTION);
+    let started = Instant::now();
+    let bar = Bar::new("voxelizing");
+    let scene = samples::showcase_scene(depth, &VoxelizeOptions { budget, progress: &bar })?;
+    let nodes: usize = scene.solids.iter().map(|s| s.tree.node_count()).sum();
+    println!(
+        "voxelized {} solids at depth {depth}: {nodes} nodes in {:.0} ms",
+        scene.solids.len(),
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    let bounds = scene.bounds().context("the showcase is empty")?;
+    let options = RenderOptions { width: 1200, height: 720, spp: 3, shadows: true };
+    let camera = Camera::frame(&bounds, DEFAULT_VIEW, DVec3::Z, f64::from(options.width) / f64::from(options.height));
+    let img = render_with_bar(&scene, &camera, &options)?;
     png::save(&img, output)?;
     println!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     Ok(())
+}
+
+/// Renders with a progress bar and prints rays a second.
+fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<image::RgbImage> {
+    let bar = Bar::new("rendering");
+    let started = Instant::now();
+    let (img, stats) = render::render(scene, camera, options, &bar)?;
+    let seconds = started.elapsed().as_secs_f64();
+    println!(
+        "rendered {}x{} at {}x{} samples a pixel in {:.2} s ({:.1} M primary rays/s, shading and shadows included)",
+        options.width,
+        options.height,
+        options.spp,
+        options.spp,
+        seconds,
+        stats.primary_rays as f64 / seconds / 1e6
+    );
+    Ok(img)
 }

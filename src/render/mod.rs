@@ -1,5 +1,19 @@
-//! Rendering octree solids: ray traversal, cameras, shading, images.
+//! Rendering octree solids: the traversal octree and its exact ray walk, cameras,
+//! scenes, the Phong shading stage with shadows, and supersampled frames.
+//!
+//! Pipeline: for each sample, visibility (the nearest solid and voxel along the primary
+//! ray, with the entered face's axis normal) then shading (Phong, shadow rays through
+//! the same octrees), averaged over the pixel's samples and encoded as sRGB.
 
+pub mod camera;
+pub mod frame;
+pub mod light;
+pub mod scene;
+pub mod shade;
 pub mod traverse;
 
+pub use camera::{Camera, DEFAULT_VIEW, Projection};
+pub use frame::{RenderOptions, RenderStats, render};
+pub use light::{Light, Material};
+pub use scene::{Scene, SceneHit};
 pub use traverse::{Hit, Traversal};

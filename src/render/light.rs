@@ -1,0 +1,68 @@
+//! Lights and materials of the Phong model.
+
+use glam::DVec3;
+
+/// A light with a colour (linear RGB, intensity included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// Light from a point, falling on everything it sees.
+    Point {
+        /// Position.
+        position: DVec3,
+        /// Colour and intensity.
+        color: DVec3,
+    },
+    /// Light from a direction (the sun): `direction` points from the light.
+    Directional {
+        /// Direction the light travels.
+        direction: DVec3,
+        /// Colour and intensity.
+        color: DVec3,
+    },
+}
+
+impl Light {
+    /// Unit vector from `p` towards the light and the distance to it (infinite for a
+    /// directional light).
+    #[must_use]
+    pub fn towards(&self, p: DVec3) -> (DVec3, f64) {
+        match *self {
+            Light::Point { position, .. } => {
+                let v = position - p;
+                let d = v.length();
+                (v / d, d)
+            }
+            Light::Directional { direction, .. } => (-direction.normalize(), f64::INFINITY),
+        }
+    }
+
+    /// The light's colour.
+    #[must_use]
+    pub fn color(&self) -> DVec3 {
+        match *self {
+            Light::Point { color, .. } | Light::Directional { color, .. } => color,
+        }
+    }
+}
+
+/// Phong material: `I = ka Ia + sum_i Ii (kd cos(alpha_i) + ks cos^n(theta_i))`, the
+/// diffuse terms tinted by `color`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Surface colour (linear RGB).
+    pub color: DVec3,
+    /// Ambient coefficient.
+    pub ka: f64,
+    /// Diffuse (Lambert) coefficient.
+    pub kd: f64,
+    /// Specular coefficient.
+    pub ks: f64,
+    /// Specular exponent n.
+    pub shininess: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material { color: DVec3::new(0.8, 0.55, 0.3), ka: 0.15, kd: 0.75, ks: 0.25, shininess: 24.0 }
+    }
+}

@@ -1,0 +1,105 @@
+//! Scenes: solids with materials, lights, ambient light and background.
+
+use glam::DVec3;
+
+use super::light::{Light, Material};
+use super::traverse::{Hit, Traversal};
+use crate::aabb::Aabb;
+use crate::octree::LinearOctree;
+
+/// One solid of a scene with its material and traversal structure.
+#[derive(Clone, Debug)]
+pub struct SceneSolid {
+    /// A name for messages.
+    pub name: String,
+    /// The solid.
+    pub tree: LinearOctree,
+    /// Its traversal octree.
+    pub traversal: Traversal,
+    /// Its material.
+    pub material: Material,
+}
+
+/// Everything a picture shows (the camera is separate).
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The solids.
+    pub solids: Vec<SceneSolid>,
+    /// The lights.
+    pub lights: Vec<Light>,
+    /// Ambient light intensity `Ia` (linear RGB).
+    pub ambient: DVec3,
+    /// Colour where rays hit nothing (linear RGB).
+    pub background: DVec3,
+}
+
+/// What a primary ray sees: the solid, and the hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneHit {
+    /// Index of the solid.
+    pub solid: usize,
+    /// The hit in that solid.
+    pub hit: Hit,
+}
+
+impl Scene {
+    /// An empty scene with no lights.
+    #[must_use]
+    pub fn new() -> Self {
+        Scene {
+            solids: Vec::new(),
+            lights: Vec::new(),
+            ambient: DVec3::splat(1.0),
+            background: DVec3::new(0.92, 0.93, 0.95),
+        }
+    }
+
+    /// Adds a solid (its traversal octree is built here).
+    pub fn add(&mut self, name: impl Into<String>, tree: LinearOctree, material: Material) {
+        let traversal = Traversal::new(&tree);
+        self.solids.push(SceneSolid { name: name.into(), tree, traversal, material });
+    }
+
+    /// Bounds of all solids, `None` when every solid is empty.
+    #[must_use]
+    pub fn bounds(&self) -> Option<Aabb> {
+        self.solids.iter().filter_map(|s| s.tree.bounds()).reduce(|a, b| a.union(&b))
+    }
+
+    /// The nearest hit of the ray before `t_max` over all solids (ties: the first solid).
+    #[must_use]
+    pub fn hit(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<SceneHit> {
+        let mut best: Option<SceneHit> = None;
+        for (i, s) in self.solids.iter().enumerate() {
+            let limit = best.map_or(t_max, |b| b.hit.t);
+            if let Some(hit) = s.traversal.hit(origin, dir, limit) {
+                best = Some(SceneHit { solid: i, hit });
+            }
+        }
+        best
+    }
+
+    /// Whether any solid blocks the ray before `t_max`.
+    #[must_use]
+    pub fn occluded(&self, origin: DVec3, dir: DVec3, t_max: f64) -> bool {
+        self.solids.iter().any(|s| s.traversal.occluded(origin, dir, t_max))
+    }
+
+    /// Two white lights (a key light from the default view side and a dim fill light
+    /// from the other side), for solids rendered without a scene file.
+    #[must_use]
+    pub fn default_lights(bounds: &Aabb) -> Vec<Light> {
+        let c = bounds.center();
+        let r = bounds.size().length().max(1e-12);
+        vec![
+            Light::Point { position: c + DVec3::new(1.2, -1.0, 2.0) * r, color: DVec3::splat(0.85) },
+            Light::Directional { direction: DVec3::new(1.0, 0.6, 0.5), color: DVec3::splat(0.25) },
+        ]
+    }
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Scene::new()
+    }
+}
