@@ -34,6 +34,7 @@ pub mod patch;
 pub mod progress;
 pub mod render;
 pub mod samples;
+pub mod scene_file;
 pub mod shape;
 pub mod slice;
 

@@ -86,7 +86,33 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Build the bundled showcase solid and write demo.png.
+    /// Render a scene file (.toml), an .oct file, or a mesh (voxelized first) to a PNG.
+    Render {
+        /// Scene (.toml), solid (.oct) or mesh (.obj, .stl, .ply, .patches).
+        input: PathBuf,
+        /// Output PNG (default: the input's name with .png, in the current folder).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Image size WIDTHxHEIGHT (default: the scene's, or 960x720).
+        #[arg(long, value_parser = parse_size)]
+        size: Option<[u32; 2]>,
+        /// Samples a pixel side: N x N stratified samples (default: the scene's, or 2).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// How primary visibility is decided.
+        #[arg(long, default_value = "trace")]
+        method: Method,
+        /// Depth to voxelize a mesh at.
+        #[arg(long, default_value_t = 9)]
+        depth: u8,
+        /// The world's up axis for solids and meshes without a scene (the bunny is y-up).
+        #[arg(long, default_value = "z")]
+        up: octsolid::shape::Axis,
+        /// Skip shadow rays.
+        #[arg(long)]
+        no_shadows: bool,
+    },
+    /// Build the bundled showcase scene and render it to demo.png.
     Demo {
         /// Output image.
         #[arg(short, long, default_value = "demo.png")]
@@ -95,6 +121,13 @@ pub enum Command {
         #[arg(long, default_value_t = 9)]
         depth: u8,
     },
+}
+
+/// Visibility methods of `render`.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum Method {
+    /// Ray tracing through the octree.
+    Trace,
 }
 
 /// A set operation over files.
@@ -166,6 +199,13 @@ pub struct ShapeArgs {
 fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     let v = parse_floats(s, 3)?;
     Ok([v[0], v[1], v[2]])
+}
+
+/// Parses `WIDTHxHEIGHT`.
+fn parse_size(s: &str) -> Result<[u32; 2], String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("'{s}' is not a size like 960x720"))?;
+    let parse = |t: &str| t.trim().parse::<u32>().map_err(|_| format!("'{t}' is not a whole number of pixels"));
+    Ok([parse(w)?, parse(h)?])
 }
 
 /// Parses `MINX,MINY,MINZ,EDGE`.

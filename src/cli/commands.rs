@@ -11,8 +11,9 @@ use octsolid::import::{self, Fill, Input};
 use octsolid::io::{oct, png};
 use octsolid::mesh::InsideRule;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use octsolid::render::{self, Camera, DEFAULT_VIEW, RenderOptions, Scene};
+use octsolid::render::{self, Camera, DEFAULT_VIEW, Light, Material, RenderOptions, Scene};
 use octsolid::samples;
+use octsolid::scene_file;
 use octsolid::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, Shape, Sphere, Torus};
 use serde::Serialize;
 
@@ -31,6 +32,9 @@ pub fn run(args: Args) -> Result<()> {
             voxelize_command(&input, depth, fill, inside, domain, &output, budget)
         }
         Command::MeshInfo { input, json } => mesh_info_command(&input, json),
+        Command::Render { input, output, size, spp, method: _, depth, up, no_shadows } => {
+            render_command(&input, output, size, spp, depth, up, no_shadows, budget)
+        }
         Command::Demo { output, depth } => demo_command(&output, depth, budget),
     }
 }
@@ -280,6 +284,67 @@ fn demo_command(output: &Path, depth: u8, budget: MemoryBudget) -> Result<()> {
     let camera = Camera::frame(&bounds, DEFAULT_VIEW, DVec3::Z, f64::from(options.width) / f64::from(options.height));
     let img = render_with_bar(&scene, &camera, &options)?;
     png::save(&img, output)?;
+    println!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    Ok(())
+}
+
+/// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method trace] [--depth D] [--up A]`
+#[allow(clippy::too_many_arguments)]
+fn render_command(
+    input: &Path,
+    output: Option<std::path::PathBuf>,
+    size: Option<[u32; 2]>,
+    spp: Option<u32>,
+    depth: u8,
+    up: Axis,
+    no_shadows: bool,
+    budget: MemoryBudget,
+) -> Result<()> {
+    let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
+    let ext = input.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let (scene, camera, mut options) = if ext == "toml" {
+        let file = scene_file::load_scene(input, budget)?;
+        (file.scene, file.camera, file.options)
+    } else {
+        let tree = if ext == "oct" {
+            oct::load(input, budget)?
+        } else {
+            let loaded = Input::load(input)?;
+            let domain = import::default_domain(&loaded, depth)?;
+            let bar = Bar::new("voxelizing");
+            import::voxelize_input(&loaded, domain, Fill::Solid, InsideRule::Auto, budget, &bar)
+                .with_context(|| format!("{}: cannot voxelize", input.display()))?
+                .0
+        };
+        let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
+        let mut scene = Scene::new();
+        scene.add(input.display().to_string(), tree, Material::default());
+        scene.lights = Scene::default_lights(&bounds);
+        let options = RenderOptions::default();
+        let (up_vec, view) = match up {
+            Axis::Z => (DVec3::Z, DEFAULT_VIEW),
+            Axis::Y => (DVec3::Y, DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y)),
+            Axis::X => (DVec3::X, DVec3::new(DEFAULT_VIEW.z, DEFAULT_VIEW.x, -DEFAULT_VIEW.y)),
+        };
+        if up != Axis::Z {
+            let c = bounds.center();
+            let r = bounds.size().length();
+            scene.lights[0] = Light::Point { position: c + (view + up_vec * 1.5) * r, color: DVec3::splat(0.85) };
+        }
+        let aspect = f64::from(options.width) / f64::from(options.height);
+        (scene, Camera::frame(&bounds, view, up_vec, aspect), options)
+    };
+    if let Some([w, h]) = size {
+        options.width = w;
+        options.height = h;
+    }
+    if let Some(n) = spp {
+        options.spp = n;
+    }
+    options.shadows &= !no_shadows;
+    let img =
+        render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
+    png::save(&img, &output)?;
     println!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     Ok(())
 }

@@ -1,0 +1,377 @@
+//! Scene files (TOML): solids from shape CSG trees, mesh files and `.oct` files, their
+//! materials, lights, camera and image settings. The format is described in
+//! `docs/SCENES.md`; bundled scenes are in `scenes/`.
+//!
+//! Errors name the file with the line and column (TOML syntax and field errors) or the
+//! solid and what is wrong with it. Relative paths inside a scene are relative to the
+//! scene file's folder.
+
+use std::path::{Path, PathBuf};
+
+use glam::{DAffine3, DQuat, DVec3};
+use serde::Deserialize;
+
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::import::{self, Fill, Input};
+use crate::io::oct;
+use crate::mesh::InsideRule;
+use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use crate::progress::NoProgress;
+use crate::render::{Camera, DEFAULT_VIEW, Light, Material, Projection, RenderOptions, Scene};
+use crate::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, HalfSpace, Shape, Sphere, Torus, Transformed};
+
+/// The whole file.
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct SceneSpec {
+    #[serde(default)]
+    image: ImageSpec,
+    #[serde(default)]
+    camera: CameraSpec,
+    domain: Option<DomainSpec>,
+    #[serde(default, rename = "light")]
+    lights: Vec<LightSpec>,
+    #[serde(rename = "solid")]
+    solids: Vec<SolidSpec>,
+    ambient: Option<[f64; 3]>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ImageSpec {
+    #[serde(default = "default_size")]
+    size: [u32; 2],
+    #[serde(default = "default_samples")]
+    samples: u32,
+    #[serde(default = "default_true")]
+    shadows: bool,
+    background: Option<[f64; 3]>,
+}
+
+fn default_size() -> [u32; 2] {
+    [960, 720]
+}
+fn default_samples() -> u32 {
+    2
+}
+fn default_true() -> bool {
+    true
+}
+
+impl Default for ImageSpec {
+    fn default() -> Self {
+        ImageSpec { size: default_size(), samples: default_samples(), shadows: true, background: None }
+    }
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+struct CameraSpec {
+    eye: Option<[f64; 3]>,
+    target: Option<[f64; 3]>,
+    /// Direction from the target to the eye when the eye is not given (auto-framing).
+    view: Option<[f64; 3]>,
+    up: Option<[f64; 3]>,
+    fov: Option<f64>,
+    /// "perspective" (default) or "orthographic".
+    projection: Option<String>,
+    /// View height of an orthographic camera.
+    height: Option<f64>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct DomainSpec {
+    min: Option<[f64; 3]>,
+    edge: Option<f64>,
+    depth: u8,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum LightSpec {
+    Point { position: [f64; 3], color: Option<[f64; 3]> },
+    Directional { direction: [f64; 3], color: Option<[f64; 3]> },
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct SolidSpec {
+    name: Option<String>,
+    shape: Option<ShapeSpec>,
+    mesh: Option<PathBuf>,
+    oct: Option<PathBuf>,
+    /// Depth for a mesh (default: the scene domain's).
+    depth: Option<u8>,
+    inside: Option<String>,
+    #[serde(default)]
+    material: MaterialSpec,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct MaterialSpec {
+    color: Option<[f64; 3]>,
+    ka: Option<f64>,
+    kd: Option<f64>,
+    ks: Option<f64>,
+    shininess: Option<f64>,
+}
+
+impl Default for MaterialSpec {
+    fn default() -> Self {
+        MaterialSpec { color: None, ka: None, kd: None, ks: None, shininess: None }
+    }
+}
+
+/// A shape CSG tree as written in a scene file.
+#[derive(Deserialize, Debug)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+enum ShapeSpec {
+    Sphere {
+        center: [f64; 3],
+        radius: f64,
+    },
+    Ellipsoid {
+        center: [f64; 3],
+        radii: [f64; 3],
+    },
+    Box {
+        center: [f64; 3],
+        size: [f64; 3],
+    },
+    Cylinder {
+        center: [f64; 3],
+        axis: String,
+        radius: f64,
+        height: f64,
+    },
+    Cone {
+        base: [f64; 3],
+        axis: String,
+        radius: f64,
+        height: f64,
+    },
+    Torus {
+        center: [f64; 3],
+        axis: String,
+        radius: f64,
+        tube: f64,
+    },
+    HalfSpace {
+        normal: [f64; 3],
+        offset: f64,
+    },
+    Union(Vec<ShapeSpec>),
+    Intersection(Vec<ShapeSpec>),
+    Difference(Vec<ShapeSpec>),
+    Xor(Vec<ShapeSpec>),
+    Complement(Box<ShapeSpec>),
+    Transform {
+        shape: Box<ShapeSpec>,
+        scale: Option<[f64; 3]>,
+        rotate_axis: Option<[f64; 3]>,
+        rotate_degrees: Option<f64>,
+        translate: Option<[f64; 3]>,
+    },
+}
+
+fn axis(s: &str) -> Result<Axis> {
+    s.parse().map_err(|e: String| Error::invalid("axis", e))
+}
+
+impl ShapeSpec {
+    /// The CSG tree this spec describes.
+    fn build(&self) -> Result<Csg> {
+        let v = DVec3::from_array;
+        let fold = |parts: &[ShapeSpec], op: fn(Csg, Csg) -> Csg| -> Result<Csg> {
+            let mut it = parts.iter();
+            let first =
+                it.next().ok_or_else(|| Error::invalid("shape", "a CSG operation needs at least one operand"))?;
+            it.try_fold(first.build()?, |acc, s| Ok(op(acc, s.build()?)))
+        };
+        Ok(match self {
+            ShapeSpec::Sphere { center, radius } => Sphere::new(v(*center), *radius)?.into(),
+            ShapeSpec::Ellipsoid { center, radii } => Ellipsoid::new(v(*center), v(*radii))?.into(),
+            ShapeSpec::Box { center, size } => Cuboid::new(v(*center), v(*size))?.into(),
+            ShapeSpec::Cylinder { center, axis: a, radius, height } => {
+                Cylinder::new(v(*center), axis(a)?, *radius, *height)?.into()
+            }
+            ShapeSpec::Cone { base, axis: a, radius, height } => {
+                Cone::new(v(*base), axis(a)?, *radius, *height)?.into()
+            }
+            ShapeSpec::Torus { center, axis: a, radius, tube } => {
+                Torus::new(v(*center), axis(a)?, *radius, *tube)?.into()
+            }
+            ShapeSpec::HalfSpace { normal, offset } => HalfSpace::new(v(*normal), *offset)?.into(),
+            ShapeSpec::Union(parts) => fold(parts, |a, b| a | b)?,
+            ShapeSpec::Intersection(parts) => fold(parts, |a, b| a & b)?,
+            ShapeSpec::Difference(parts) => fold(parts, |a, b| a - b)?,
+            ShapeSpec::Xor(parts) => fold(parts, |a, b| a ^ b)?,
+            ShapeSpec::Complement(inner) => !inner.build()?,
+            ShapeSpec::Transform { shape, scale, rotate_axis, rotate_degrees, translate } => {
+                let scale = DAffine3::from_scale(scale.map_or(DVec3::ONE, v));
+                let rotate = match (rotate_axis, rotate_degrees) {
+                    (Some(a), Some(deg)) => {
+                        let a =
+                            v(*a).try_normalize().ok_or_else(|| Error::invalid("rotate_axis", "must be non-zero"))?;
+                        DAffine3::from_quat(DQuat::from_axis_angle(a, deg.to_radians()))
+                    }
+                    (None, None) => DAffine3::IDENTITY,
+                    _ => return Err(Error::invalid("transform", "give rotate_axis and rotate_degrees together")),
+                };
+                let translate = DAffine3::from_translation(translate.map_or(DVec3::ZERO, v));
+                Transformed::new(shape.build()?, translate * rotate * scale)?.into()
+            }
+        })
+    }
+}
+
+/// A scene file, loaded: the scene, its camera and its image settings.
+pub struct SceneFile {
+    /// The solids, lights and background.
+    pub scene: Scene,
+    /// The camera (auto-framed when the file gives no eye).
+    pub camera: Camera,
+    /// Image size and samples.
+    pub options: RenderOptions,
+}
+
+/// Reads, checks and builds the scene at `path` (voxelizing its shapes and meshes).
+pub fn load_scene(path: &Path, budget: MemoryBudget) -> Result<SceneFile> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let spec: SceneSpec = toml::from_str(&text).map_err(|e| {
+        let (line, column) = e.span().map_or((1, 1), |s| line_column(&text, s.start));
+        Error::Parse { path: path.to_path_buf(), line, reason: format!("column {column}: {}", e.message().trim()) }
+    })?;
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let at = |what: String| move |e: Error| Error::invalid("scene", format!("{}: {what}: {e}", path.display()));
+    build(&spec, folder, budget).map_err(at("cannot build the scene".into()))
+}
+
+/// One-based line and column of byte `offset` in `text`.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rfind('\n').map_or(before.len(), |i| before.len() - i - 1) + 1;
+    (line, column)
+}
+
+fn build(spec: &SceneSpec, folder: &Path, budget: MemoryBudget) -> Result<SceneFile> {
+    if spec.solids.is_empty() {
+        return Err(Error::invalid("scene", "it has no [[solid]]"));
+    }
+    let options = VoxelizeOptions { budget, progress: &NoProgress };
+    // Step 1: the shape solids' shared domain: given, or around all shapes.
+    let shapes: Vec<Option<Csg>> =
+        spec.solids.iter().map(|s| s.shape.as_ref().map(ShapeSpec::build).transpose()).collect::<Result<_>>()?;
+    let depth = spec.domain.as_ref().map_or(9, |d| d.depth);
+    let shape_domain = match &spec.domain {
+        Some(DomainSpec { min: Some(min), edge: Some(edge), depth }) => {
+            Some(Domain::new(DVec3::from_array(*min), *edge, *depth)?)
+        }
+        _ => {
+            let bounds =
+                shapes.iter().flatten().map(|s| s.bounds()).try_fold(None, |acc: Option<crate::aabb::Aabb>, b| {
+                    let b = b.ok_or_else(|| {
+                        Error::invalid("shape", "an unbounded shape needs a [domain] with min and edge")
+                    })?;
+                    Ok::<_, Error>(Some(acc.map_or(b, |a| a.union(&b))))
+                })?;
+            bounds.map(|b| Domain::around(&b, 0.02, depth)).transpose()?
+        }
+    };
+    // Step 2: every solid to an octree.
+    let mut scene = Scene::new();
+    for (i, (solid, shape)) in spec.solids.iter().zip(&shapes).enumerate() {
+        let name = solid.name.clone().unwrap_or_else(|| format!("solid {}", i + 1));
+        let sources =
+            usize::from(solid.shape.is_some()) + usize::from(solid.mesh.is_some()) + usize::from(solid.oct.is_some());
+        if sources != 1 {
+            return Err(Error::invalid("solid", format!("{name}: give exactly one of shape, mesh or oct")));
+        }
+        let tree: LinearOctree = if let Some(shape) = shape {
+            voxelize(shape, shape_domain.expect("shapes have a domain"), &options)?
+        } else if let Some(mesh) = &solid.mesh {
+            let input = Input::load(&folder.join(mesh))?;
+            let depth = solid.depth.unwrap_or(depth);
+            let domain = import::default_domain(&input, depth)?;
+            let inside: InsideRule =
+                solid.inside.as_deref().unwrap_or("auto").parse().map_err(|e: String| Error::invalid("inside", e))?;
+            import::voxelize_input(&input, domain, Fill::Solid, inside, budget, &NoProgress)?.0
+        } else {
+            let file = folder.join(solid.oct.as_ref().expect("one source"));
+            oct::load(&file, budget)?
+        };
+        let d = Material::default();
+        let m = &solid.material;
+        let material = Material {
+            color: m.color.map_or(d.color, DVec3::from_array),
+            ka: m.ka.unwrap_or(d.ka),
+            kd: m.kd.unwrap_or(d.kd),
+            ks: m.ks.unwrap_or(d.ks),
+            shininess: m.shininess.unwrap_or(d.shininess),
+        };
+        scene.add(name, tree, material);
+    }
+    // Step 3: lights, camera, image.
+    let bounds = scene.bounds().ok_or_else(|| Error::invalid("scene", "every solid is empty"))?;
+    scene.lights = spec
+        .lights
+        .iter()
+        .map(|l| match *l {
+            LightSpec::Point { position, color } => Light::Point {
+                position: DVec3::from_array(position),
+                color: color.map_or(DVec3::ONE, DVec3::from_array),
+            },
+            LightSpec::Directional { direction, color } => Light::Directional {
+                direction: DVec3::from_array(direction),
+                color: color.map_or(DVec3::ONE, DVec3::from_array),
+            },
+        })
+        .collect();
+    if scene.lights.is_empty() {
+        scene.lights = Scene::default_lights(&bounds);
+    }
+    if let Some(a) = spec.ambient {
+        scene.ambient = DVec3::from_array(a);
+    }
+    if let Some(b) = spec.image.background {
+        scene.background = DVec3::from_array(b);
+    }
+    let [width, height] = spec.image.size;
+    let render = RenderOptions { width, height, spp: spec.image.samples, shadows: spec.image.shadows };
+    let aspect = f64::from(width.max(1)) / f64::from(height.max(1));
+    let c = &spec.camera;
+    let up = c.up.map_or(DVec3::Z, DVec3::from_array);
+    let view = c.view.map_or(DEFAULT_VIEW, DVec3::from_array);
+    let mut camera = match c.eye {
+        Some(eye) => {
+            Camera::look_at(DVec3::from_array(eye), c.target.map_or(bounds.center(), DVec3::from_array), up, 35.0)
+        }
+        None => Camera::frame(&bounds, view, up, aspect),
+    };
+    match c.projection.as_deref() {
+        None | Some("perspective") => {
+            if let Some(fov) = c.fov {
+                camera.projection = Projection::Perspective { fov_y: fov };
+            }
+        }
+        Some("orthographic") => {
+            let framed = Camera::frame_orthographic(&bounds, view, up);
+            let height = c.height.unwrap_or(match framed.projection {
+                Projection::Orthographic { height } => height,
+                Projection::Perspective { .. } => 1.0,
+            });
+            if c.eye.is_none() {
+                camera = framed;
+            }
+            camera.projection = Projection::Orthographic { height };
+        }
+        Some(other) => {
+            return Err(Error::invalid("projection", format!("'{other}' (use perspective or orthographic)")));
+        }
+    }
+    Ok(SceneFile { scene, camera, options: render })
+}
