@@ -109,7 +109,7 @@ struct SolidSpec {
     material: MaterialSpec,
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Debug, Default)]
 #[serde(deny_unknown_fields)]
 struct MaterialSpec {
     color: Option<[f64; 3]>,
@@ -117,12 +117,6 @@ struct MaterialSpec {
     kd: Option<f64>,
     ks: Option<f64>,
     shininess: Option<f64>,
-}
-
-impl Default for MaterialSpec {
-    fn default() -> Self {
-        MaterialSpec { color: None, ka: None, kd: None, ks: None, shininess: None }
-    }
 }
 
 /// A shape CSG tree as written in a scene file.
