@@ -1,0 +1,143 @@
+//! Rendering: silhouettes against analytic discs, Phong highlights against the
+//! formula, thread-count independence, and scene-file errors.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+use octsolid::budget::MemoryBudget;
+use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+use octsolid::progress::NoProgress;
+use octsolid::render::shade::to_srgb8;
+use octsolid::render::*;
+use octsolid::scene_file::load_scene;
+use octsolid::shape::Sphere;
+
+fn sphere_scene(depth: u8, r: f64) -> Scene {
+    let d = Domain::new(DVec3::splat(-1.0), 2.0, depth).unwrap();
+    let tree =
+        voxelize(&Sphere::new(DVec3::new(0.003, -0.002, 0.001), r).unwrap(), d, &VoxelizeOptions::default()).unwrap();
+    let mut scene = Scene::new();
+    scene.add("sphere", tree, Material::default());
+    scene
+}
+
+fn top_camera(height: f64) -> Camera {
+    Camera {
+        eye: DVec3::new(0.0, 0.0, 5.0),
+        target: DVec3::ZERO,
+        up: DVec3::Y,
+        projection: Projection::Orthographic { height },
+    }
+}
+
+#[test]
+fn orthographic_sphere_covers_the_analytic_disc() {
+    let r = 0.8;
+    let mut scene = sphere_scene(9, r);
+    scene.lights.clear();
+    let options = RenderOptions { width: 500, height: 500, spp: 1, shadows: false };
+    let (_, stats) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
+    let pixel_area = (2.0 / 500.0) * (2.0 / 500.0);
+    let want = PI * r * r / pixel_area;
+    let error = stats.hits as f64 / want - 1.0;
+    assert!(error.abs() < 0.01, "{} covered pixels vs {want:.0} ({:+.3}%)", stats.hits, error * 100.0);
+}
+
+#[test]
+fn brightest_pixel_follows_the_phong_formula() {
+    let mut scene = sphere_scene(8, 0.8);
+    let l = DVec3::new(0.25, 0.15, 1.0).normalize();
+    scene.lights = vec![Light::Directional { direction: -l, color: DVec3::ONE }];
+    scene.ambient = DVec3::splat(0.2);
+    scene.background = DVec3::ZERO;
+    let m = scene.solids[0].material;
+    let options = RenderOptions { width: 200, height: 200, spp: 1, shadows: true };
+    let (img, _) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
+    // With axis normals the visible faces are +z, +x, -x, +y, -y; Phong says which is
+    // brightest and how bright: I = ka Ia C + kd C (N.L) + ks (R.V)^n, V = +z.
+    let v = DVec3::Z;
+    let intensity = |n: DVec3| {
+        let cos_a = n.dot(l).max(0.0);
+        let r = n * 2.0 * cos_a - l;
+        let spec = if cos_a > 0.0 { m.ks * r.dot(v).max(0.0).powf(m.shininess) } else { 0.0 };
+        m.color * (m.ka * 0.2) + m.color * (m.kd * cos_a) + DVec3::splat(spec)
+    };
+    let normals = [DVec3::Z, DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y];
+    let best =
+        normals.iter().copied().max_by(|a, b| intensity(*a).length().total_cmp(&intensity(*b).length())).unwrap();
+    assert_eq!(best, DVec3::Z);
+    let want = intensity(best);
+    let want = [to_srgb8(want.x), to_srgb8(want.y), to_srgb8(want.z)];
+    let (mut brightest, mut at) = (0u32, (0, 0));
+    for (x, y, p) in img.enumerate_pixels() {
+        let s = p.0.iter().map(|&c| u32::from(c)).sum::<u32>();
+        if s > brightest {
+            brightest = s;
+            at = (x, y);
+        }
+    }
+    assert_eq!(img.get_pixel(at.0, at.1).0, want, "brightest pixel {at:?}");
+    // Where the sphere's true normal is near +z (the disc's centre), +z voxel faces are
+    // nearly all one sees; towards the rim, terraces show side faces too.
+    let share = |lo: f64, hi: f64| {
+        let (mut bright, mut all) = (0, 0);
+        for (x, y, p) in img.enumerate_pixels() {
+            let r = (f64::from(x) - 99.5).hypot(f64::from(y) - 99.5) / 80.0;
+            if (lo..hi).contains(&r) {
+                all += 1;
+                bright += usize::from(p.0 == want);
+            }
+        }
+        bright as f64 / all as f64
+    };
+    let (centre, rim) = (share(0.0, 0.3), share(0.7, 0.95));
+    assert!(centre > 0.95 && rim < centre - 0.1, "brightest share: centre {centre}, rim {rim}");
+}
+
+#[test]
+fn same_image_for_any_thread_count() {
+    let file = load_scene("scenes/classic.toml".as_ref(), MemoryBudget::default()).unwrap();
+    let options = RenderOptions { width: 160, height: 120, spp: 2, shadows: true };
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| render(&file.scene, &file.camera, &options, &NoProgress).unwrap().0)
+    };
+    assert!(run(1) == run(2));
+}
+
+#[test]
+fn bundled_scenes_load() {
+    for name in ["classic", "flange", "showcase"] {
+        let file = load_scene(format!("scenes/{name}.toml").as_ref(), MemoryBudget::default()).unwrap();
+        assert!(!file.scene.solids.is_empty() && !file.scene.lights.is_empty(), "{name}");
+    }
+}
+
+#[test]
+fn invalid_scene_files_say_line_and_column() {
+    let dir = std::env::temp_dir().join(format!("octsolid-scenes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let error = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        load_scene(&path, MemoryBudget::default()).err().expect("an error").to_string()
+    };
+    let e = error("syntax.toml", "[image]\nsize = [640, 480\n");
+    assert!(e.contains("syntax.toml") && e.contains("line 2") && e.contains("column"), "{e}");
+    let e = error(
+        "field.toml",
+        "[image]\nsize = [64, 48]\n\n[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = 1 } }\ncolour = [1, 0, 0]\n",
+    );
+    assert!(e.contains("line 6") && e.contains("colour"), "{e}");
+    let e = error(
+        "axis.toml",
+        "[[solid]]\nshape = { cylinder = { center = [0, 0, 0], axis = \"w\", radius = 1, height = 1 } }\n",
+    );
+    assert!(e.contains("axis.toml") && e.contains("'w' is not an axis"), "{e}");
+    let e = error("none.toml", "[image]\nsize = [64, 48]\n");
+    assert!(e.contains("solid"), "{e}");
+    let e = error("radius.toml", "[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = -1 } }\n");
+    assert!(e.contains("radius"), "{e}");
+    let e = error("mesh.toml", "[[solid]]\nmesh = \"missing.obj\"\n");
+    assert!(e.contains("missing.obj"), "{e}");
+}
