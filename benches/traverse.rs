@@ -1,0 +1,95 @@
+//! Ray traversal: primary rays (coherent, one per pixel of a 1024x1024 view) and
+//! shadow rays (from the visible points to a light) on the bunny at depth 10 and a
+//! sphere at depth 12, all cores; traversal-structure build time and bytes a node.
+//! Target: 20 million primary rays a second at depth 10 on two cores.
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use glam::DVec3;
+use octsolid::budget::MemoryBudget;
+use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::progress::NoProgress;
+use octsolid::render::{Camera, DEFAULT_VIEW, Traversal};
+use octsolid::shape::Sphere;
+use rayon::prelude::*;
+
+const SIZE: u32 = 1024;
+
+fn solids() -> Vec<(&'static str, LinearOctree, DVec3)> {
+    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj").as_ref()).unwrap();
+    let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
+    let (bunny, _) = voxelize_mesh(&bunny, Domain::around(&bunny.bounds(), 0.02, 10).unwrap(), &options).unwrap();
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 12).unwrap();
+    let opts = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };
+    let sphere = voxelize(&Sphere::new(DVec3::ZERO, 0.8).unwrap(), domain, &opts).unwrap();
+    vec![("bunny_d10", bunny, DVec3::Y), ("sphere_d12", sphere, DVec3::Z)]
+}
+
+/// Primary rays of a framed 1024x1024 view, row-major.
+fn primary_rays(tree: &LinearOctree, up: DVec3) -> Vec<(DVec3, DVec3)> {
+    let b = tree.bounds().unwrap();
+    let view = if up == DVec3::Y { DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y) } else { DEFAULT_VIEW };
+    let camera = Camera::frame(&b, view, up, 1.0);
+    (0..SIZE * SIZE)
+        .map(|i| {
+            let (x, y) = (f64::from(i % SIZE) + 0.5, f64::from(i / SIZE) + 0.5);
+            camera.ray(2.0 * x / f64::from(SIZE) - 1.0, 1.0 - 2.0 * y / f64::from(SIZE), 1.0)
+        })
+        .collect()
+}
+
+fn bench(c: &mut Criterion) {
+    let mut group = c.benchmark_group("traverse");
+    group.sample_size(10);
+    for (name, tree, up) in solids() {
+        let t = Traversal::new(&tree);
+        eprintln!(
+            "stats: {name}: {} octree nodes ({} bytes), traversal {} inner nodes, {} bytes ({:.2}x the linear octree, {:.2} bytes a leaf node)",
+            tree.node_count(),
+            tree.bytes(),
+            t.node_count(),
+            t.bytes(),
+            t.bytes() as f64 / tree.bytes() as f64,
+            t.bytes() as f64 / tree.node_count() as f64
+        );
+        group.throughput(Throughput::Elements(tree.node_count() as u64));
+        group.bench_function(BenchmarkId::new("build", name), |b| b.iter(|| Traversal::new(&tree)));
+
+        let rays = primary_rays(&tree, up);
+        let hits: Vec<(DVec3, DVec3)> = rays
+            .par_iter()
+            .filter_map(|&(o, d)| t.hit(o, d, f64::INFINITY).map(|h| (o + d * h.t - d * 1e-6, d)))
+            .collect();
+        eprintln!("stats: {name}: {} of {} primary rays hit", hits.len(), rays.len());
+        group.throughput(Throughput::Elements(rays.len() as u64));
+        group.bench_function(BenchmarkId::new("primary", name), |b| {
+            b.iter(|| {
+                rays.par_chunks(SIZE as usize)
+                    .map(|row| row.iter().filter(|(o, d)| t.hit(*o, *d, f64::INFINITY).is_some()).count())
+                    .sum::<usize>()
+            })
+        });
+        let light = tree.bounds().unwrap().center() + DVec3::new(2.0, 3.0, 4.0) * tree.domain().edge();
+        group.throughput(Throughput::Elements(hits.len() as u64));
+        group.bench_function(BenchmarkId::new("shadow", name), |b| {
+            b.iter(|| {
+                hits.par_chunks(4096)
+                    .map(|chunk| {
+                        chunk
+                            .iter()
+                            .filter(|(p, d)| {
+                                let lift = *p - *d * (1e-3 * tree.domain().voxel_size());
+                                let to = light - lift;
+                                t.occluded(lift, to.normalize(), to.length())
+                            })
+                            .count()
+                    })
+                    .sum::<usize>()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
