@@ -22,6 +22,7 @@
 //! number also varies smoothly, and this carries it over less than one small node.
 
 use rayon::prelude::*;
+use smallvec::SmallVec;
 
 use glam::DVec3;
 
@@ -260,7 +261,8 @@ impl Job<'_> {
         let child_size = size / 2;
         let center = self.domain.lattice_point(min.map(|c| c + child_size));
         let half = DVec3::splat(f64::from(child_size) * self.domain.voxel_size() * 0.5);
-        let mut lists: [Vec<u32>; 8] = Default::default();
+        // Most lists are short: kept on the stack, no allocation a node.
+        let mut lists: [SmallVec<[u32; 16]>; 8] = Default::default();
         // Voxels are decided at their centres whether or not the surface crosses them,
         // so the last level needs no lists.
         let needs_lists = child_size > 1;

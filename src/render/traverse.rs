@@ -202,7 +202,12 @@ impl Traversal {
             return None;
         }
         let walk = Walk { t: self, o, d, inv, t_max };
-        walk.node(Root::Full == self.root, 0, [0, 0, 0], self.domain.resolution(), ta, tb, face)
+        let n = self.domain.resolution();
+        if self.root == Root::Full {
+            walk.full_hit([0, 0, 0], n, ta, face)
+        } else {
+            walk.node(0, [0, 0, 0], n, ta, tb, face)
+        }
     }
 }
 
@@ -216,89 +221,84 @@ struct Walk<'a> {
 }
 
 impl Walk<'_> {
-    /// The hit in the node at `min` of `size` voxels, entered at `ta` through `face`
-    /// and left at `tb`; `full` for a full node, else inner node `index`.
-    #[allow(clippy::too_many_arguments)]
-    fn node(
-        &self,
-        full: bool,
-        index: u32,
-        min: [u32; 3],
-        size: u32,
-        ta: f64,
-        tb: f64,
-        face: Option<usize>,
-    ) -> Option<Hit> {
-        if full {
-            return self.full_hit(min, size, ta, face);
-        }
+    /// The hit in inner node `index` at `min` of `size` voxels, entered at `ta` through
+    /// `face` and left at `tb`.
+    fn node(&self, index: u32, min: [u32; 3], size: u32, ta: f64, tb: f64, face: Option<usize>) -> Option<Hit> {
         let inner = self.t.nodes[index as usize];
         let half = size / 2;
-        // Step 1: the mid-plane crossing times inside (ta, tb), in order, lowest axis first on ties.
-        // A mid plane crossed exactly at ta is entered together with the node's face.
-        let mut cuts: [(f64, usize); 3] = [(f64::INFINITY, 0); 3];
+        // Step 1: per axis, the mid plane's crossing time; the child holding the ray just
+        // after ta (the high half when the position there is at or past the mid plane);
+        // the crossings inside (ta, tb). A mid plane crossed exactly at ta is entered
+        // with the node's face (the lowest axis names the face).
+        let mut cuts = [(f64::INFINITY, 0usize); 3];
         let mut count = 0;
+        let mut child = 0usize;
         let mut face = face;
-        for (a, &lo) in min.iter().enumerate() {
-            if self.d[a] != 0.0 {
-                let tm = (f64::from(lo + half) - self.o[a]) * self.inv[a];
+        for a in 0..3 {
+            let mid = f64::from(min[a] + half);
+            let high = if self.d[a] == 0.0 {
+                self.o[a] >= mid
+            } else {
+                let tm = (mid - self.o[a]) * self.inv[a];
                 if tm > ta && tm < tb {
                     cuts[count] = (tm, a);
                     count += 1;
                 } else if tm == ta && face.is_some_and(|f| a < f) {
                     face = Some(a);
                 }
-            }
-        }
-        let cuts = &mut cuts[..count];
-        cuts.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        // Step 2: the child holding the ray just after ta: per axis, the high half when
-        // the position there is at or past the mid plane.
-        let mid = |a: usize| f64::from(min[a] + half);
-        let mut child = 0usize;
-        for a in 0..3 {
-            let high = if self.d[a] > 0.0 {
-                (mid(a) - self.o[a]) * self.inv[a] <= ta
-            } else if self.d[a] < 0.0 {
-                (mid(a) - self.o[a]) * self.inv[a] > ta
-            } else {
-                self.o[a] >= mid(a)
+                if self.d[a] > 0.0 { tm <= ta } else { tm > ta }
             };
             child |= usize::from(high) << a;
         }
-        // Step 3: the pieces between cuts, each one child, in ray order.
+        // Step 2: order the crossings by time, then axis (three compare-swaps).
+        let before = |x: (f64, usize), y: (f64, usize)| x.0 < y.0 || (x.0 == y.0 && x.1 < y.1);
+        if count > 1 {
+            if before(cuts[1], cuts[0]) {
+                cuts.swap(0, 1);
+            }
+            if count > 2 {
+                if before(cuts[2], cuts[1]) {
+                    cuts.swap(1, 2);
+                }
+                if before(cuts[1], cuts[0]) {
+                    cuts.swap(0, 1);
+                }
+            }
+        }
+        // Step 3: the pieces between crossings, each one child, in ray order.
         let mut start = ta;
         let mut start_face = face;
-        let mut i = 0;
-        loop {
-            let (end, next) = if i < cuts.len() { (cuts[i].0, Some(cuts[i].1)) } else { (tb, None) };
-            if end > start && end > 0.0 {
+        for i in 0..=count {
+            let end = if i < count { cuts[i].0 } else { tb };
+            if end > start && end > 0.0 && inner.valid >> child & 1 == 1 {
                 if start >= self.t_max {
                     return None;
                 }
-                if inner.valid >> child & 1 == 1 {
-                    let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
-                    let is_full = inner.full >> child & 1 == 1;
-                    let slot = if is_full {
-                        0
-                    } else {
-                        inner.first + (inner.valid & !inner.full & ((1u8 << child) - 1)).count_ones()
-                    };
-                    if let Some(hit) = self.node(is_full, slot, cmin, half, start, end, start_face) {
-                        return Some(hit);
-                    }
+                let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
+                let hit = if inner.full >> child & 1 == 1 {
+                    self.full_hit(cmin, half, start, start_face)
+                } else {
+                    let slot = inner.first + (inner.valid & !inner.full & ((1u8 << child) - 1)).count_ones();
+                    self.node(slot, cmin, half, start, end, start_face)
+                };
+                if hit.is_some() {
+                    return hit;
                 }
             }
-            let axis = next?;
+            if i == count {
+                return None;
+            }
             // Crossing a mid plane flips that axis's bit; simultaneous crossings flip
-            // several (the pieces between them have zero length).
+            // several (the pieces between them have zero length). Crossings are sorted,
+            // so the first at a time is the lowest axis: it names the face.
+            let axis = cuts[i].1;
             child ^= 1 << axis;
             if end > start {
-                start_face = Some(axis); // the lowest axis at this time: cuts are sorted so
+                start_face = Some(axis);
             }
             start = end;
-            i += 1;
         }
+        None
     }
 
     /// A full node entered at `ta`: the voxel of the entry point.
