@@ -223,6 +223,7 @@ struct Walk<'a> {
 impl Walk<'_> {
     /// The hit in inner node `index` at `min` of `size` voxels, entered at `ta` through
     /// `face` and left at `tb`.
+    #[allow(clippy::needless_range_loop)] // `i == count` stands for the exit at `tb`
     fn node(&self, index: u32, min: [u32; 3], size: u32, ta: f64, tb: f64, face: Option<usize>) -> Option<Hit> {
         let inner = self.t.nodes[index as usize];
         let half = size / 2;
@@ -234,8 +235,8 @@ impl Walk<'_> {
         let mut count = 0;
         let mut child = 0usize;
         let mut face = face;
-        for a in 0..3 {
-            let mid = f64::from(min[a] + half);
+        for (a, &lo) in min.iter().enumerate() {
+            let mid = f64::from(lo + half);
             let high = if self.d[a] == 0.0 {
                 self.o[a] >= mid
             } else {
