@@ -335,7 +335,8 @@ fn build(spec: &SceneSpec, folder: &Path, budget: MemoryBudget) -> Result<SceneF
         scene.background = DVec3::from_array(b);
     }
     let [width, height] = spec.image.size;
-    let render = RenderOptions { width, height, spp: spec.image.samples, shadows: spec.image.shadows };
+    let render =
+        RenderOptions { width, height, spp: spec.image.samples, shadows: spec.image.shadows, ..Default::default() };
     let aspect = f64::from(width.max(1)) / f64::from(height.max(1));
     let c = &spec.camera;
     let up = c.up.map_or(DVec3::Z, DVec3::from_array);

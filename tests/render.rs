@@ -1,6 +1,8 @@
 //! Rendering: silhouettes against analytic discs, Phong highlights against the
 //! formula, thread-count independence, and scene-file errors.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use glam::DVec3;
@@ -35,7 +37,7 @@ fn orthographic_sphere_covers_the_analytic_disc() {
     let r = 0.8;
     let mut scene = sphere_scene(9, r);
     scene.lights.clear();
-    let options = RenderOptions { width: 500, height: 500, spp: 1, shadows: false };
+    let options = RenderOptions { width: 500, height: 500, spp: 1, shadows: false, ..Default::default() };
     let (_, stats) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
     let pixel_area = (2.0 / 500.0) * (2.0 / 500.0);
     let want = PI * r * r / pixel_area;
@@ -51,7 +53,7 @@ fn brightest_pixel_follows_the_phong_formula() {
     scene.ambient = DVec3::splat(0.2);
     scene.background = DVec3::ZERO;
     let m = scene.solids[0].material;
-    let options = RenderOptions { width: 200, height: 200, spp: 1, shadows: true };
+    let options = RenderOptions { width: 200, height: 200, spp: 1, shadows: true, ..Default::default() };
     let (img, _) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
     // With axis normals the visible faces are +z, +x, -x, +y, -y; Phong says which is
     // brightest and how bright: I = ka Ia C + kd C (N.L) + ks (R.V)^n, V = +z.
@@ -97,7 +99,7 @@ fn brightest_pixel_follows_the_phong_formula() {
 #[test]
 fn same_image_for_any_thread_count() {
     let file = load_scene("scenes/classic.toml".as_ref(), MemoryBudget::default()).unwrap();
-    let options = RenderOptions { width: 160, height: 120, spp: 2, shadows: true };
+    let options = RenderOptions { width: 160, height: 120, spp: 2, shadows: true, ..Default::default() };
     let run = |threads| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| render(&file.scene, &file.camera, &options, &NoProgress).unwrap().0)
@@ -140,4 +142,61 @@ fn invalid_scene_files_say_line_and_column() {
     assert!(e.contains("radius"), "{e}");
     let e = error("mesh.toml", "[[solid]]\nmesh = \"missing.obj\"\n");
     assert!(e.contains("missing.obj"), "{e}");
+}
+
+/// A random scene of up to three CSG solids sharing one small domain.
+fn random_scene(rng: &mut common::Rng, depth: u8) -> Scene {
+    use octsolid::shape::{Axis, Csg, Cuboid, Cylinder, Torus};
+    let d = Domain::new(DVec3::splat(-1.0), 2.0, depth).unwrap();
+    let mut scene = Scene::new();
+    for i in 0..1 + rng.below(3) {
+        let c = rng.vec(-0.5, 0.5);
+        let a: Csg = match rng.below(3) {
+            0 => Sphere::new(c, rng.range(0.2, 0.6)).unwrap().into(),
+            1 => Cuboid::new(c, rng.vec(0.2, 0.9)).unwrap().into(),
+            _ => Torus::new(c, Axis::Z, 0.5, rng.range(0.1, 0.3)).unwrap().into(),
+        };
+        let b: Csg = Cylinder::new(rng.vec(-0.5, 0.5), Axis::X, rng.range(0.1, 0.3), 2.0).unwrap().into();
+        let shape = if rng.below(2) == 0 { a - b } else { a | b };
+        let tree = voxelize(&shape, d, &VoxelizeOptions::default()).unwrap();
+        scene.add(format!("solid {i}"), tree, Material::default());
+    }
+    scene.lights = vec![Light::Point { position: DVec3::new(3.0, -2.0, 4.0), color: DVec3::ONE }];
+    scene
+}
+
+#[test]
+fn all_visibility_methods_agree_on_random_scenes() {
+    let mut rng = common::Rng(77);
+    let mut seen_any = 0;
+    for round in 0..16 {
+        let scene = random_scene(&mut rng, 4 + (round % 2) as u8);
+        let eye = rng.vec(-1.0, 1.0).normalize() * rng.range(3.0, 6.0);
+        let camera = if round % 3 == 2 {
+            Camera {
+                eye,
+                target: DVec3::ZERO,
+                up: DVec3::new(0.1, 0.2, 1.0),
+                projection: Projection::Orthographic { height: 3.0 },
+            }
+        } else {
+            Camera::look_at(eye, rng.vec(-0.2, 0.2), DVec3::new(0.1, 0.2, 1.0), 40.0)
+        };
+        let samples = Samples { width: 48, height: 36, spp: 2 };
+        let trace = visibility(&scene, &camera, &samples, Method::Trace);
+        seen_any += trace.iter().filter(|s| s.is_some()).count();
+        for method in [Method::FrontToBack, Method::Painter, Method::ZBuffer] {
+            let other = visibility(&scene, &camera, &samples, method);
+            for (i, (a, b)) in trace.iter().zip(&other).enumerate() {
+                assert_eq!(a, b, "round {round}, {method:?}, sample {i}");
+            }
+        }
+        let options = RenderOptions { width: 48, height: 36, spp: 2, shadows: true, method: Method::Trace };
+        let image = |method| render(&scene, &camera, &RenderOptions { method, ..options }, &NoProgress).unwrap().0;
+        let traced = image(Method::Trace);
+        for method in [Method::FrontToBack, Method::Painter, Method::ZBuffer] {
+            assert!(image(method) == traced, "round {round}: {method:?} image differs");
+        }
+    }
+    assert!(seen_any > 5000, "the scenes should be in view: {seen_any} samples hit");
 }

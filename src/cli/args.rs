@@ -128,6 +128,23 @@ pub enum Command {
 pub enum Method {
     /// Ray tracing through the octree.
     Trace,
+    /// Meagher's front-to-back octree display.
+    FrontToBack,
+    /// Painter's algorithm (far to near, overwrite).
+    Painter,
+    /// Z-buffer.
+    Zbuffer,
+}
+
+impl From<Method> for octsolid::render::Method {
+    fn from(m: Method) -> Self {
+        match m {
+            Method::Trace => octsolid::render::Method::Trace,
+            Method::FrontToBack => octsolid::render::Method::FrontToBack,
+            Method::Painter => octsolid::render::Method::Painter,
+            Method::Zbuffer => octsolid::render::Method::ZBuffer,
+        }
+    }
 }
 
 /// A set operation over files.

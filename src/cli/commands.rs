@@ -32,8 +32,8 @@ pub fn run(args: Args) -> Result<()> {
             voxelize_command(&input, depth, fill, inside, domain, &output, budget)
         }
         Command::MeshInfo { input, json } => mesh_info_command(&input, json),
-        Command::Render { input, output, size, spp, method: _, depth, up, no_shadows } => {
-            render_command(&input, output, size, spp, depth, up, no_shadows, budget)
+        Command::Render { input, output, size, spp, method, depth, up, no_shadows } => {
+            render_command(&input, output, size, spp, method.into(), depth, up, no_shadows, budget)
         }
         Command::Demo { output, depth } => demo_command(&output, depth, budget),
     }
@@ -73,7 +73,7 @@ fn shape_command(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
     };
     let tree = voxelize_with_bar(&shape, domain, budget)?;
     let bytes = oct::save(&tree, &a.output)?;
-    println!("wrote {} ({})", a.output.display(), human_bytes(bytes));
+    out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&tree, Some(exact_volume));
     Ok(())
 }
@@ -99,16 +99,16 @@ fn voxelize_command(
         .with_context(|| format!("{}: cannot voxelize", input.display()))?;
     let elapsed = started.elapsed().as_secs_f64();
     let bytes = oct::save(&tree, output)?;
-    println!("read       {} ({} triangles)", input.display(), summary.triangles);
+    out!("read       {} ({} triangles)", input.display(), summary.triangles);
     if let Some(rule) = summary.rule {
-        println!("inside     {rule:?} rule{}", if inside == InsideRule::Auto { " (auto)" } else { "" });
+        out!("inside     {rule:?} rule{}", if inside == InsideRule::Auto { " (auto)" } else { "" });
     }
     print_summary(&tree, None);
     if let Some(v) = summary.mesh_volume {
-        println!("mesh vol.  {v:.6} ({:+.3}% voxelized vs mesh)", 100.0 * (tree.volume() / v - 1.0));
+        out!("mesh vol.  {v:.6} ({:+.3}% voxelized vs mesh)", 100.0 * (tree.volume() / v - 1.0));
     }
-    println!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
-    println!("wrote {} ({})", output.display(), human_bytes(bytes));
+    out!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
+    out!("wrote {} ({})", output.display(), human_bytes(bytes));
     Ok(())
 }
 
@@ -116,27 +116,27 @@ fn voxelize_command(
 fn mesh_info_command(input: &Path, json: bool) -> Result<()> {
     let report = Input::load(input)?.report();
     if json {
-        println!("{}", serde_json::to_string(&report)?);
+        out!("{}", serde_json::to_string(&report)?);
         return Ok(());
     }
-    println!("file               {}", input.display());
-    println!("vertices           {}", report.vertices);
-    println!("triangles          {}", report.triangles);
-    println!("edges              {}", report.edges);
-    println!("degenerate faces   {}", report.degenerate_faces);
-    println!("boundary edges     {}", report.boundary_edges);
-    println!("non-manifold edges {}", report.non_manifold_edges);
-    println!("misoriented edges  {}", report.misoriented_edges);
-    println!("watertight         {}", if report.watertight { "yes" } else { "no" });
-    println!(
+    out!("file               {}", input.display());
+    out!("vertices           {}", report.vertices);
+    out!("triangles          {}", report.triangles);
+    out!("edges              {}", report.edges);
+    out!("degenerate faces   {}", report.degenerate_faces);
+    out!("boundary edges     {}", report.boundary_edges);
+    out!("non-manifold edges {}", report.non_manifold_edges);
+    out!("misoriented edges  {}", report.misoriented_edges);
+    out!("watertight         {}", if report.watertight { "yes" } else { "no" });
+    out!(
         "volume             {:.6} (signed tetrahedra{})",
         report.volume,
         if report.watertight { "" } else { "; not closed" }
     );
-    println!("area               {:.6}", report.area);
-    println!("bounds             {:?} .. {:?}", report.bounds_min, report.bounds_max);
+    out!("area               {:.6}", report.area);
+    out!("bounds             {:?} .. {:?}", report.bounds_min, report.bounds_max);
     for (name, count) in &report.groups {
-        println!("group              {name:?}: {count} triangles");
+        out!("group              {name:?}: {count} triangles");
     }
     Ok(())
 }
@@ -146,7 +146,7 @@ fn voxelize_with_bar(shape: &dyn Shape, domain: Domain, budget: MemoryBudget) ->
     let bar = Bar::new("voxelizing");
     let started = Instant::now();
     let tree = voxelize(shape, domain, &VoxelizeOptions { budget, progress: &bar })?;
-    println!("voxelized at depth {} in {:.1} ms", domain.depth(), started.elapsed().as_secs_f64() * 1e3);
+    out!("voxelized at depth {} in {:.1} ms", domain.depth(), started.elapsed().as_secs_f64() * 1e3);
     Ok(tree)
 }
 
@@ -167,9 +167,9 @@ fn csg_command(op: CsgOp, inputs: &[std::path::PathBuf], output: &Path, budget: 
         }
         .with_context(|| format!("{}: cannot combine with {}", path.display(), inputs[0].display()))?;
     }
-    println!("{op:?} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
+    out!("{op:?} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
     let bytes = oct::save(&result, output)?;
-    println!("wrote {} ({})", output.display(), human_bytes(bytes));
+    out!("wrote {} ({})", output.display(), human_bytes(bytes));
     print_summary(&result, None);
     Ok(())
 }
@@ -215,34 +215,34 @@ fn info_command(file: &Path, json: bool, budget: MemoryBudget) -> Result<()> {
         bytes_file,
     };
     if json {
-        println!("{}", serde_json::to_string(&info)?);
+        out!("{}", serde_json::to_string(&info)?);
         return Ok(());
     }
-    println!("file       {}", file.display());
-    println!("depth      {} ({} voxels a side, voxel edge {})", info.depth, d.resolution(), d.voxel_size());
-    println!("domain     min {:?} edge {}", info.domain.min, info.domain.edge);
+    out!("file       {}", file.display());
+    out!("depth      {} ({} voxels a side, voxel edge {})", info.depth, d.resolution(), d.voxel_size());
+    out!("domain     min {:?} edge {}", info.domain.min, info.domain.edge);
     print_summary(&tree, None);
     let per_node = |b: f64| if info.nodes == 0 { 0.0 } else { b / info.nodes as f64 };
-    println!("on disk    {} ({:.2} bytes a node)", human_bytes(bytes_file), per_node(bytes_file as f64));
+    out!("on disk    {} ({:.2} bytes a node)", human_bytes(bytes_file), per_node(bytes_file as f64));
     Ok(())
 }
 
 /// Prints nodes, voxels, volume (with the exact one when known), bounds and memory.
 fn print_summary(tree: &LinearOctree, exact_volume: Option<f64>) {
-    println!("nodes      {}", tree.node_count());
-    println!("voxels     {}", tree.voxel_count());
+    out!("nodes      {}", tree.node_count());
+    out!("voxels     {}", tree.voxel_count());
     match exact_volume {
         Some(v) => {
-            println!("volume     {:.6} (analytic {:.6}, {:+.3}%)", tree.volume(), v, 100.0 * (tree.volume() - v) / v)
+            out!("volume     {:.6} (analytic {:.6}, {:+.3}%)", tree.volume(), v, 100.0 * (tree.volume() - v) / v)
         }
-        None => println!("volume     {:.6}", tree.volume()),
+        None => out!("volume     {:.6}", tree.volume()),
     }
     match tree.bounds() {
-        Some(b) => println!("bounds     {:?} .. {:?}", b.min.to_array(), b.max.to_array()),
-        None => println!("bounds     (empty)"),
+        Some(b) => out!("bounds     {:?} .. {:?}", b.min.to_array(), b.max.to_array()),
+        None => out!("bounds     (empty)"),
     }
     let per_node = if tree.node_count() == 0 { 0.0 } else { tree.bytes() as f64 / tree.node_count() as f64 };
-    println!("in memory  {} ({per_node:.2} bytes a node)", human_bytes(tree.bytes() as u64));
+    out!("in memory  {} ({per_node:.2} bytes a node)", human_bytes(tree.bytes() as u64));
 }
 
 /// `octsolid slice FILE --axis A --at V [--size N] -o OUT.png`
@@ -260,7 +260,7 @@ fn slice_command(
     let img = octsolid::slice::slice_image(&tree, axis.index(), at, size)
         .with_context(|| format!("{}: cannot slice", file.display()))?;
     png::save(&img, output)?;
-    println!("wrote {} ({size}x{size}, {axis:?} = {at})", output.display());
+    out!("wrote {} ({size}x{size}, {axis:?} = {at})", output.display());
     Ok(())
 }
 
@@ -269,22 +269,22 @@ fn demo_command(output: &Path, depth: u8, budget: MemoryBudget) -> Result<()> {
     if output.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
         bail!("{}: the demo writes a PNG image; give a .png path", output.display());
     }
-    println!("showcase: {}", samples::SCENE_DESCRIPTION);
+    out!("showcase: {}", samples::SCENE_DESCRIPTION);
     let started = Instant::now();
     let bar = Bar::new("voxelizing");
     let scene = samples::showcase_scene(depth, &VoxelizeOptions { budget, progress: &bar })?;
     let nodes: usize = scene.solids.iter().map(|s| s.tree.node_count()).sum();
-    println!(
+    out!(
         "voxelized {} solids at depth {depth}: {nodes} nodes in {:.0} ms",
         scene.solids.len(),
         started.elapsed().as_secs_f64() * 1e3
     );
     let bounds = scene.bounds().context("the showcase is empty")?;
-    let options = RenderOptions { width: 1200, height: 720, spp: 3, shadows: true };
+    let options = RenderOptions { width: 1200, height: 720, spp: 3, ..Default::default() };
     let camera = Camera::frame(&bounds, DEFAULT_VIEW, DVec3::Z, f64::from(options.width) / f64::from(options.height));
     let img = render_with_bar(&scene, &camera, &options)?;
     png::save(&img, output)?;
-    println!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     Ok(())
 }
 
@@ -295,6 +295,7 @@ fn render_command(
     output: Option<std::path::PathBuf>,
     size: Option<[u32; 2]>,
     spp: Option<u32>,
+    method: render::Method,
     depth: u8,
     up: Axis,
     no_shadows: bool,
@@ -342,10 +343,11 @@ fn render_command(
         options.spp = n;
     }
     options.shadows &= !no_shadows;
+    options.method = method;
     let img =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
     png::save(&img, &output)?;
-    println!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     Ok(())
 }
 
@@ -355,14 +357,15 @@ fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> R
     let started = Instant::now();
     let (img, stats) = render::render(scene, camera, options, &bar)?;
     let seconds = started.elapsed().as_secs_f64();
-    println!(
-        "rendered {}x{} at {}x{} samples a pixel in {:.2} s ({:.1} M primary rays/s, shading and shadows included)",
+    out!(
+        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.1} M samples/s, shading and shadows included)",
         options.width,
         options.height,
         options.spp,
         options.spp,
+        options.method,
         seconds,
-        stats.primary_rays as f64 / seconds / 1e6
+        stats.samples as f64 / seconds / 1e6
     );
     Ok(img)
 }

@@ -81,6 +81,30 @@ impl Camera {
         }
     }
 
+    /// The image point `(x, y)` (in `[-1, 1]^2` when visible) of world point `p`;
+    /// `None` when `p` is not in front of a perspective camera.
+    #[must_use]
+    pub fn project(&self, p: DVec3, aspect: f64) -> Option<(f64, f64)> {
+        let forward = (self.target - self.eye).normalize();
+        let right = forward.cross(self.up).normalize();
+        let up = right.cross(forward);
+        let v = p - self.eye;
+        match self.projection {
+            Projection::Perspective { fov_y } => {
+                let z = v.dot(forward);
+                if z <= 0.0 {
+                    return None;
+                }
+                let h = (fov_y.to_radians() * 0.5).tan();
+                Some((v.dot(right) / (z * h * aspect), v.dot(up) / (z * h)))
+            }
+            Projection::Orthographic { height } => {
+                let h = height * 0.5;
+                Some((v.dot(right) / (h * aspect), v.dot(up) / h))
+            }
+        }
+    }
+
     /// The ray through the image point `(x, y)` in `[-1, 1]^2` (x right, y up) of an
     /// image with `aspect` = width / height: origin and unit direction.
     #[must_use]

@@ -1,10 +1,14 @@
-//! Making a picture: primary visibility per sample, then the shading stage, with
-//! `n x n` stratified supersampling (sample centres of an `n x n` grid in the pixel).
+//! Making a picture: primary visibility of every sample (by any [`Method`]), then the
+//! one shading stage, with `n x n` stratified supersampling (sample centres of an
+//! `n x n` grid in the pixel).
 
 use image::{Rgb, RgbImage};
 use rayon::prelude::*;
 
+use glam::DVec3;
+
 use super::camera::Camera;
+use super::raster::{Method, Samples, visibility};
 use super::scene::Scene;
 use super::shade::{shade, to_srgb8};
 use crate::error::{Error, Result};
@@ -24,56 +28,61 @@ pub struct RenderOptions {
     pub spp: u32,
     /// Trace shadow rays.
     pub shadows: bool,
+    /// How primary visibility is decided.
+    pub method: Method,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { width: 960, height: 720, spp: 2, shadows: true }
+        RenderOptions { width: 960, height: 720, spp: 2, shadows: true, method: Method::Trace }
     }
 }
 
 /// What a render did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RenderStats {
-    /// Primary rays traced.
-    pub primary_rays: u64,
-    /// Samples that hit a solid.
+    /// Samples (primary rays for the tracer).
+    pub samples: u64,
+    /// Samples that see a solid.
     pub hits: u64,
 }
 
-/// Ray-traces `scene` through `camera`; progress counts rows.
+/// Renders `scene` through `camera`: visibility of every sample by `options.method`,
+/// then the shading stage; progress counts shaded rows.
 pub fn render(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
     progress: &dyn Progress,
 ) -> Result<(RgbImage, RenderStats)> {
-    let RenderOptions { width, height, spp, shadows } = *options;
+    let RenderOptions { width, height, spp, shadows, method } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
     if !(1..=16).contains(&spp) {
         return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
     }
-    let aspect = f64::from(width) / f64::from(height);
+    let samples = Samples { width, height, spp };
+    // Step 1: what each sample sees.
+    let seen = visibility(scene, camera, &samples, method);
+    // Step 2: shading, the same for every method, averaged over each pixel's samples.
     progress.start(u64::from(height));
-    let rows: Vec<(Vec<Rgb<u8>>, u64)> = (0..height)
+    let columns = samples.columns() as usize;
+    let aspect = samples.aspect();
+    let rows: Vec<Vec<Rgb<u8>>> = (0..height)
         .into_par_iter()
         .map(|row| {
-            let mut hits = 0;
             let pixels = (0..width)
                 .map(|col| {
-                    let mut sum = glam::DVec3::ZERO;
+                    let mut sum = DVec3::ZERO;
                     for sy in 0..spp {
                         for sx in 0..spp {
-                            // Sample centre of stratum (sx, sy), mapped to [-1, 1]^2, y up.
-                            let fx = (f64::from(col) + (f64::from(sx) + 0.5) / f64::from(spp)) / f64::from(width);
-                            let fy = (f64::from(row) + (f64::from(sy) + 0.5) / f64::from(spp)) / f64::from(height);
-                            let (o, d) = camera.ray(2.0 * fx - 1.0, 1.0 - 2.0 * fy, aspect);
-                            sum += match scene.hit(o, d, f64::INFINITY) {
+                            let (c, r) = (col * spp + sx, row * spp + sy);
+                            let (x, y) = samples.point(c, r);
+                            sum += match &seen[r as usize * columns + c as usize] {
                                 Some(h) => {
-                                    hits += 1;
-                                    shade(scene, o, d, &h, shadows)
+                                    let (o, d) = camera.ray(x, y, aspect);
+                                    shade(scene, o, d, h, shadows)
                                 }
                                 None => scene.background,
                             };
@@ -84,17 +93,16 @@ pub fn render(
                 })
                 .collect();
             progress.advance(1);
-            (pixels, hits)
+            pixels
         })
         .collect();
     progress.finish();
     let mut img = RgbImage::new(width, height);
-    let mut stats = RenderStats { primary_rays: u64::from(width) * u64::from(height) * u64::from(spp * spp), hits: 0 };
-    for (row, (pixels, hits)) in rows.into_iter().enumerate() {
-        stats.hits += hits;
+    for (row, pixels) in rows.into_iter().enumerate() {
         for (col, p) in pixels.into_iter().enumerate() {
             img.put_pixel(col as u32, row as u32, p);
         }
     }
+    let stats = RenderStats { samples: seen.len() as u64, hits: seen.iter().filter(|s| s.is_some()).count() as u64 };
     Ok((img, stats))
 }

@@ -8,6 +8,7 @@
 pub mod camera;
 pub mod frame;
 pub mod light;
+pub mod raster;
 pub mod scene;
 pub mod shade;
 pub mod traverse;
@@ -15,5 +16,6 @@ pub mod traverse;
 pub use camera::{Camera, DEFAULT_VIEW, Projection};
 pub use frame::{RenderOptions, RenderStats, render};
 pub use light::{Light, Material};
+pub use raster::{Method, Samples, visibility};
 pub use scene::{Scene, SceneHit};
-pub use traverse::{Hit, Traversal};
+pub use traverse::{Hit, Traversal, VoxelRay};

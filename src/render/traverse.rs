@@ -157,14 +157,62 @@ impl Traversal {
         std::mem::size_of::<Self>() + self.nodes.capacity() * std::mem::size_of::<Inner>()
     }
 
+    /// Visits the full nodes front to back for a viewer (Meagher's octree display
+    /// order): in every inner node, the child on the viewer's side of all three mid
+    /// planes first, then those across one plane, two, three. A node can only hide
+    /// nodes visited after it. `eye_high(axis, plane)` says whether the viewer is on
+    /// the high side of `plane` (voxel units); `enter(min, size)` may prune a subtree;
+    /// `full(min, size)` receives each full node.
+    pub fn front_to_back(
+        &self,
+        eye_high: &impl Fn(usize, f64) -> bool,
+        enter: &mut impl FnMut([u32; 3], u32) -> bool,
+        full: &mut impl FnMut([u32; 3], u32),
+    ) {
+        let n = self.domain.resolution();
+        match self.root {
+            Root::Empty => {}
+            Root::Full => full([0, 0, 0], n),
+            Root::Inner => self.front_to_back_node(0, [0, 0, 0], n, eye_high, enter, full),
+        }
+    }
+
+    fn front_to_back_node(
+        &self,
+        index: u32,
+        min: [u32; 3],
+        size: u32,
+        eye_high: &impl Fn(usize, f64) -> bool,
+        enter: &mut impl FnMut([u32; 3], u32) -> bool,
+        full: &mut impl FnMut([u32; 3], u32),
+    ) {
+        if !enter(min, size) {
+            return;
+        }
+        let inner = self.nodes[index as usize];
+        let half = size / 2;
+        let e = (0..3).fold(0usize, |bits, a| bits | usize::from(eye_high(a, f64::from(min[a] + half))) << a);
+        for j in [0usize, 1, 2, 4, 3, 5, 6, 7] {
+            let child = e ^ j;
+            if inner.valid >> child & 1 == 0 {
+                continue;
+            }
+            let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
+            if inner.full >> child & 1 == 1 {
+                full(cmin, half);
+            } else {
+                let slot = inner.first + (inner.valid & !inner.full & ((1u8 << child) - 1)).count_ones();
+                self.front_to_back_node(slot, cmin, half, eye_high, enter, full);
+            }
+        }
+    }
+
     /// First hit of the world-space ray `origin + t dir` with `0 <= t < t_max`; `t` is
     /// in the ray's own parameter (world units when `dir` is a unit vector).
     #[must_use]
     pub fn hit(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<Hit> {
-        let h = self.domain.voxel_size();
-        let o = (origin - self.domain.min()) / h;
-        let d = dir / h;
-        self.hit_voxel_units(o, d, t_max)
+        let r = VoxelRay::new(&self.domain, origin, dir);
+        self.hit_voxel_units(r.o, r.d, t_max)
     }
 
     /// Whether anything lies on the ray before `t_max` (shadow rays).
@@ -208,6 +256,62 @@ impl Traversal {
         } else {
             walk.node(0, [0, 0, 0], n, ta, tb, face)
         }
+    }
+}
+
+/// A ray in voxel units of a domain: origin, direction and reciprocal direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VoxelRay {
+    /// Origin in voxel units.
+    pub o: DVec3,
+    /// Direction in voxel units (same ray parameter as the world ray).
+    pub d: DVec3,
+    /// `1 / d` per axis (infinite where `d` is 0).
+    pub inv: DVec3,
+}
+
+impl VoxelRay {
+    /// The world ray `origin + t dir` seen in the lattice of `domain`.
+    #[must_use]
+    pub fn new(domain: &Domain, origin: DVec3, dir: DVec3) -> Self {
+        let h = domain.voxel_size();
+        let d = dir / h;
+        VoxelRay { o: (origin - domain.min()) / h, d, inv: DVec3::ONE / d }
+    }
+
+    /// The hit on entering the full cube at `min` of `size` voxels at time `ta` through
+    /// `face`: the voxel just after the entry point, and the lowest axis among the
+    /// voxel planes crossed at `ta` (`t = 0` and no face when `ta <= 0`).
+    #[must_use]
+    pub fn entry(&self, min: [u32; 3], size: u32, ta: f64, face: Option<usize>) -> Hit {
+        let t = ta.max(0.0);
+        let inside = ta <= 0.0;
+        let voxel: [u32; 3] = std::array::from_fn(|a| {
+            let lo = min[a];
+            let hi = min[a] + size - 1;
+            if self.d[a] > 0.0 && !inside && face == Some(a) {
+                lo
+            } else if self.d[a] < 0.0 && !inside && face == Some(a) {
+                hi
+            } else {
+                let p = self.o[a] + self.d[a] * t;
+                // Just inside along the ray: nudge by the direction's sign on ties.
+                let f = p.floor();
+                let c = if p == f && self.d[a] < 0.0 { f - 1.0 } else { f };
+                (c.max(f64::from(lo)).min(f64::from(hi))) as u32
+            }
+        });
+        // A voxel plane inside the node crossed at the same time is entered too: the
+        // face is the lowest axis among them.
+        let face = face.map(|f| {
+            (0..f)
+                .find(|&a| {
+                    let plane = if self.d[a] > 0.0 { voxel[a] } else { voxel[a] + 1 };
+                    self.d[a] != 0.0 && (f64::from(plane) - self.o[a]) * self.inv[a] == ta
+                })
+                .unwrap_or(f)
+        });
+        Hit { t, voxel, axis: if inside { None } else { face } }
     }
 }
 
@@ -304,37 +408,9 @@ impl Walk<'_> {
 
     /// A full node entered at `ta`: the voxel of the entry point.
     fn full_hit(&self, min: [u32; 3], size: u32, ta: f64, face: Option<usize>) -> Option<Hit> {
-        let t = ta.max(0.0);
-        if t >= self.t_max {
+        if ta.max(0.0) >= self.t_max {
             return None;
         }
-        let inside = ta <= 0.0;
-        // The voxel just after the entry point (open side of the entered planes).
-        let voxel: [u32; 3] = std::array::from_fn(|a| {
-            let lo = min[a];
-            let hi = min[a] + size - 1;
-            if self.d[a] > 0.0 && !inside && face == Some(a) {
-                lo
-            } else if self.d[a] < 0.0 && !inside && face == Some(a) {
-                hi
-            } else {
-                let p = self.o[a] + self.d[a] * t;
-                // Just inside along the ray: nudge by the direction's sign on ties.
-                let f = p.floor();
-                let c = if p == f && self.d[a] < 0.0 { f - 1.0 } else { f };
-                (c.max(f64::from(lo)).min(f64::from(hi))) as u32
-            }
-        });
-        // A voxel plane inside the node crossed at the same time is entered too: the
-        // face is the lowest axis among them.
-        let face = face.map(|f| {
-            (0..f)
-                .find(|&a| {
-                    let plane = if self.d[a] > 0.0 { voxel[a] } else { voxel[a] + 1 };
-                    self.d[a] != 0.0 && (f64::from(plane) - self.o[a]) * self.inv[a] == ta
-                })
-                .unwrap_or(f)
-        });
-        Some(Hit { t, voxel, axis: if inside { None } else { face } })
+        Some(VoxelRay { o: self.o, d: self.d, inv: self.inv }.entry(min, size, ta, face))
     }
 }

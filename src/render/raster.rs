@@ -1,0 +1,313 @@
+//! Primary visibility: which solid, voxel and face every sample sees, decided by ray
+//! tracing or by drawing the solids' voxel faces in object order.
+//!
+//! Methods (all sample the same points and hand the same [`SceneHit`]s to the one
+//! shading stage, so they give the same picture):
+//! - [`Method::Trace`]: the octree ray walk.
+//! - [`Method::FrontToBack`]: Meagher's octree display: full nodes visited nearest
+//!   first ([`Traversal::front_to_back`]); a node's faces that look at the viewer are
+//!   drawn only into samples not yet covered; a subtree whose screen footprint is
+//!   already covered is skipped. No depth buffer within a solid.
+//! - [`Method::Painter`]: the same faces drawn far to near (the reverse order), each
+//!   overwriting what is under it.
+//! - [`Method::ZBuffer`]: the faces in any order (here: the octree's, with children in
+//!   storage order), kept where nearer than the depth stored for the sample.
+//!
+//! A face covers a sample when the sample's ray crosses the face's plane (at the time
+//! `(plane - o) / d`, the formula of the ray walk) and then enters the node's interior
+//! there; the hit is then computed by [`VoxelRay::entry`], as in the walk. Solids are
+//! drawn one at a time and merged per sample by depth (ties: the earlier solid), so a
+//! scene of several solids needs one depth per sample whatever the method.
+
+use std::cell::RefCell;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::camera::{Camera, Projection};
+use super::scene::{Scene, SceneHit};
+use super::traverse::{Hit, VoxelRay};
+
+/// How primary visibility is decided.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Ray tracing through the octree.
+    Trace,
+    /// Meagher's front-to-back octree display.
+    FrontToBack,
+    /// Painter's algorithm: far to near, overwrite.
+    Painter,
+    /// Z-buffer.
+    ZBuffer,
+}
+
+/// The sample grid: `spp x spp` samples a pixel, at the centres of their strata.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Samples {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples a pixel side.
+    pub spp: u32,
+}
+
+impl Samples {
+    /// Samples a row.
+    #[must_use]
+    pub fn columns(&self) -> u32 {
+        self.width * self.spp
+    }
+
+    /// Sample rows.
+    #[must_use]
+    pub fn rows(&self) -> u32 {
+        self.height * self.spp
+    }
+
+    /// Image aspect, width / height.
+    #[must_use]
+    pub fn aspect(&self) -> f64 {
+        f64::from(self.width) / f64::from(self.height)
+    }
+
+    /// Image point of sample `(col, row)` of the sample grid, `[-1, 1]^2`, y up.
+    #[must_use]
+    pub fn point(&self, col: u32, row: u32) -> (f64, f64) {
+        let x = (f64::from(col) + 0.5) / f64::from(self.columns());
+        let y = (f64::from(row) + 0.5) / f64::from(self.rows());
+        (2.0 * x - 1.0, 1.0 - 2.0 * y)
+    }
+
+    /// The sample column (continuous) of image x in `[-1, 1]`.
+    fn column_of(&self, x: f64) -> f64 {
+        (x + 1.0) * 0.5 * f64::from(self.columns()) - 0.5
+    }
+
+    /// The sample row (continuous) of image y in `[-1, 1]`.
+    fn row_of(&self, y: f64) -> f64 {
+        (1.0 - y) * 0.5 * f64::from(self.rows()) - 0.5
+    }
+}
+
+/// What every sample sees, row-major over the sample grid.
+#[must_use]
+pub fn visibility(scene: &Scene, camera: &Camera, samples: &Samples, method: Method) -> Vec<Option<SceneHit>> {
+    let columns = samples.columns() as usize;
+    let rays: Vec<(DVec3, DVec3)> = (0..samples.rows() * samples.columns())
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = samples.point(i % samples.columns(), i / samples.columns());
+            camera.ray(x, y, samples.aspect())
+        })
+        .collect();
+    if method == Method::Trace {
+        return rays
+            .par_chunks(columns)
+            .flat_map_iter(|row| row.iter().map(|&(o, d)| scene.hit(o, d, f64::INFINITY)))
+            .collect();
+    }
+    let mut seen: Vec<Option<SceneHit>> = vec![None; rays.len()];
+    for (index, solid) in scene.solids.iter().enumerate() {
+        let painter = Painter { camera, samples, rays: &rays, domain: *solid.traversal.domain() };
+        let hits = painter.draw_solid(&solid.traversal, method);
+        // Merge by depth; on equal depth the earlier solid stays.
+        for (s, h) in seen.iter_mut().zip(hits) {
+            if let Some(hit) = h
+                && s.is_none_or(|old| hit.t < old.hit.t)
+            {
+                *s = Some(SceneHit { solid: index, hit });
+            }
+        }
+    }
+    seen
+}
+
+/// Draws one solid's faces into a per-sample hit buffer.
+struct Painter<'a> {
+    camera: &'a Camera,
+    samples: &'a Samples,
+    rays: &'a [(DVec3, DVec3)],
+    domain: crate::octree::Domain,
+}
+
+impl Painter<'_> {
+    fn draw_solid(&self, traversal: &super::traverse::Traversal, method: Method) -> Vec<Option<Hit>> {
+        let mut hits: Vec<Option<Hit>> = vec![None; self.rays.len()];
+        let eye = self.eye_voxel_units();
+        let eye_high = |a: usize, plane: f64| match eye {
+            Viewer::At(e) => e[a] >= plane,
+            Viewer::Along(d) => d[a] < 0.0,
+        };
+        match method {
+            Method::FrontToBack => {
+                // Drawing updates the coverage that pruning reads: share it in a cell.
+                let state = RefCell::new((std::mem::take(&mut hits), vec![false; self.rays.len()]));
+                traversal.front_to_back(
+                    &eye_high,
+                    &mut |min, size| self.footprint_uncovered(min, size, &state.borrow().1),
+                    &mut |min, size| {
+                        let mut st = state.borrow_mut();
+                        let (hits, covered) = &mut *st;
+                        self.draw_node(min, size, eye, &mut |i, hit| {
+                            if !covered[i] {
+                                hits[i] = Some(hit);
+                                covered[i] = true;
+                            }
+                        });
+                    },
+                );
+                hits = state.into_inner().0;
+            }
+            Method::Painter => {
+                let mut nodes = Vec::new();
+                traversal.front_to_back(&eye_high, &mut |_, _| true, &mut |min, size| nodes.push((min, size)));
+                for &(min, size) in nodes.iter().rev() {
+                    self.draw_node(min, size, eye, &mut |i, hit| hits[i] = Some(hit));
+                }
+            }
+            Method::ZBuffer | Method::Trace => {
+                let mut nodes = Vec::new();
+                traversal.front_to_back(&|_, _| false, &mut |_, _| true, &mut |min, size| nodes.push((min, size)));
+                for (min, size) in nodes {
+                    self.draw_node(min, size, eye, &mut |i, hit| {
+                        if hits[i].is_none_or(|old| hit.t < old.t) {
+                            hits[i] = Some(hit);
+                        }
+                    });
+                }
+            }
+        }
+        hits
+    }
+
+    /// Where the viewer is, in voxel units of this domain.
+    fn eye_voxel_units(&self) -> Viewer {
+        let h = self.domain.voxel_size();
+        match self.camera.projection {
+            Projection::Perspective { .. } => Viewer::At((self.camera.eye - self.domain.min()) / h),
+            Projection::Orthographic { .. } => Viewer::Along((self.camera.target - self.camera.eye).normalize()),
+        }
+    }
+
+    /// The sample-grid rectangle (inclusive) that the box `[min, min + size]` may cover.
+    fn footprint(&self, lo: DVec3, hi: DVec3) -> (u32, u32, u32, u32) {
+        let full = (0, self.samples.columns() - 1, 0, self.samples.rows() - 1);
+        let aspect = self.samples.aspect();
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..8 {
+            let p = DVec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let Some((x, y)) = self.camera.project(p, aspect) else { return full };
+            let (c, r) = (self.samples.column_of(x), self.samples.row_of(y));
+            x0 = x0.min(c);
+            x1 = x1.max(c);
+            y0 = y0.min(r);
+            y1 = y1.max(r);
+        }
+        let clamp = |v: f64, n: u32| (v.max(0.0) as u32).min(n - 1);
+        if x1 < -1.0 || y1 < -1.0 || x0 > f64::from(self.samples.columns()) || y0 > f64::from(self.samples.rows()) {
+            return (1, 0, 1, 0); // empty
+        }
+        (
+            clamp(x0.floor() - 1.0, self.samples.columns()),
+            clamp(x1.ceil() + 1.0, self.samples.columns()),
+            clamp(y0.floor() - 1.0, self.samples.rows()),
+            clamp(y1.ceil() + 1.0, self.samples.rows()),
+        )
+    }
+
+    fn world_box(&self, min: [u32; 3], size: u32) -> (DVec3, DVec3) {
+        let b = self.domain.cube_box(min, size);
+        (b.min, b.max)
+    }
+
+    /// Whether some sample of the node's footprint is not covered yet.
+    fn footprint_uncovered(&self, min: [u32; 3], size: u32, covered: &[bool]) -> bool {
+        let (lo, hi) = self.world_box(min, size);
+        let (c0, c1, r0, r1) = self.footprint(lo, hi);
+        let columns = self.samples.columns() as usize;
+        (r0..=r1).any(|r| (c0..=c1).any(|c| !covered[r as usize * columns + c as usize]))
+    }
+
+    /// Draws the faces of the full node `[min, min + size)` that look at the viewer:
+    /// `put(sample, hit)` for every sample whose ray enters the node through them.
+    fn draw_node(&self, min: [u32; 3], size: u32, eye: Viewer, put: &mut impl FnMut(usize, Hit)) {
+        let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
+        for a in 0..3 {
+            // The face on axis a the viewer sees, as its plane and the sign rays need.
+            let plane = match eye {
+                Viewer::At(e) if e[a] < lo[a] => lo[a],
+                Viewer::At(e) if e[a] > hi[a] => hi[a],
+                Viewer::Along(d) if d[a] > 0.0 => lo[a],
+                Viewer::Along(d) if d[a] < 0.0 => hi[a],
+                _ => continue,
+            };
+            let mut flo = DVec3::from_array(lo);
+            let mut fhi = DVec3::from_array(hi);
+            flo[a] = plane;
+            fhi[a] = plane;
+            let h = self.domain.voxel_size();
+            let (wlo, whi) = (self.domain.min() + flo * h, self.domain.min() + fhi * h);
+            let (c0, c1, r0, r1) = self.footprint(wlo, whi);
+            let columns = self.samples.columns() as usize;
+            for r in r0..=r1 {
+                for c in c0..=c1 {
+                    let i = r as usize * columns + c as usize;
+                    let (o, d) = self.rays[i];
+                    let ray = VoxelRay::new(&self.domain, o, d);
+                    if let Some(hit) = enters(&ray, a, plane, lo, hi, min, size) {
+                        put(i, hit);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The viewer: a point (perspective), or a direction of view (orthographic).
+#[derive(Clone, Copy, Debug)]
+enum Viewer {
+    At(DVec3),
+    Along(DVec3),
+}
+
+/// The hit when `ray` crosses the plane `axis = plane` of the node `[lo, hi)` and
+/// enters the node's interior there (the walk's semantics: a ray parallel to an axis
+/// is inside the half-open interval).
+fn enters(
+    ray: &VoxelRay,
+    axis: usize,
+    plane: f64,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    min: [u32; 3],
+    size: u32,
+) -> Option<Hit> {
+    let d = ray.d[axis];
+    let inward = if plane == lo[axis] { d > 0.0 } else { d < 0.0 };
+    if !inward {
+        return None;
+    }
+    let t = (plane - ray.o[axis]) * ray.inv[axis];
+    if t <= 0.0 {
+        return None;
+    }
+    for b in (0..3).filter(|&b| b != axis) {
+        let q = ray.o[b] + ray.d[b] * t;
+        let inside = if ray.d[b] > 0.0 {
+            q >= lo[b] && q < hi[b]
+        } else if ray.d[b] < 0.0 {
+            q > lo[b] && q <= hi[b]
+        } else {
+            q >= lo[b] && q < hi[b]
+        };
+        if !inside {
+            return None;
+        }
+    }
+    Some(ray.entry(min, size, t, Some(axis)))
+}
