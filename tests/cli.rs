@@ -161,3 +161,31 @@ fn voxelize_meshes_and_patches_and_report_the_rule() {
     let e = fails(&dir, &["voxelize", "broken.obj", "--depth", "5", "-o", "b.oct"]);
     assert!(e.contains("broken.obj") && e.contains("line 3"), "{e}");
 }
+
+#[test]
+fn render_solids_meshes_and_scenes_by_every_method() {
+    let dir = scratch("render");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    ok(&dir, &["shape", "torus", "--radius", "1", "--tube", "0.3", "--depth", "6", "-o", "ring.oct"]);
+    let mut images = Vec::new();
+    for method in ["trace", "front-to-back", "painter", "zbuffer"] {
+        let name = format!("ring_{method}.png");
+        let out = ok(&dir, &["render", "ring.oct", "--size", "96x72", "--spp", "1", "--method", method, "-o", &name]);
+        assert!(out.contains("samples/s"), "{out}");
+        images.push(std::fs::read(dir.join(&name)).unwrap());
+    }
+    assert!(images.windows(2).all(|w| w[0] == w[1]), "every method gives the same picture");
+    ok(&dir, &["render", "ring.oct", "--size", "64x48"]);
+    assert!(dir.join("ring.png").exists(), "default output name");
+    let spot = root.join("models/spot.obj");
+    ok(&dir, &["render", spot.to_str().unwrap(), "--depth", "6", "--up", "y", "--size", "64x48", "-o", "spot.png"]);
+    let scene = root.join("scenes/flange.toml");
+    ok(&dir, &["render", scene.to_str().unwrap(), "--size", "64x48", "-o", "flange.png"]);
+    let img = image::open(dir.join("flange.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (64, 48));
+    std::fs::write(dir.join("bad.toml"), "[image]\nsize = [64, 48\n").unwrap();
+    let e = fails(&dir, &["render", "bad.toml"]);
+    assert!(e.contains("bad.toml") && e.contains("line 2"), "{e}");
+    let e = fails(&dir, &["render", "ring.oct", "--size", "0x10"]);
+    assert!(e.contains("image size"), "{e}");
+}
