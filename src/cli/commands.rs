@@ -358,7 +358,7 @@ fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> R
     let (img, stats) = render::render(scene, camera, options, &bar)?;
     let seconds = started.elapsed().as_secs_f64();
     out!(
-        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.1} M samples/s, shading and shadows included)",
+        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.1} M samples/s, visibility and shading)",
         options.width,
         options.height,
         options.spp,

@@ -2,7 +2,8 @@
 //!
 //! Adaptive and top-down like shape voxelization, with the triangles handed down the
 //! tree: a node keeps the triangles that overlap its box (exact separating-axis test,
-//! [`super::tri_box`]); a node with none is wholly inside or outside and is decided by
+//! [`super::tri_box`], except for small triangles in small nodes, see
+//! [`SAT_MIN_SIZE`]); a node with none is wholly inside or outside and is decided by
 //! one point query at its first voxel's centre; a voxel with triangles is decided at
 //! its centre. Work follows the surface.
 //!
@@ -37,6 +38,14 @@ use crate::error::Result;
 use crate::morton;
 use crate::octree::{Domain, LinearOctree, NodeKey, PARALLEL_LEVELS};
 use crate::progress::{NoProgress, Progress};
+
+/// Children of at least this many voxels a side, and children smaller than a
+/// triangle's bounding box, get the exact separating-axis test; otherwise a small
+/// triangle goes to every child its bounding box meets. Lists only prune work
+/// (decisions are made by point values), and for a triangle within a small child's
+/// size the exact test costs more than the visits it saves (bunny, depth 8: 104 ms
+/// with the test everywhere, 90 ms so; depth 10: unchanged, `cargo bench --bench mesh`).
+pub const SAT_MIN_SIZE: u32 = 8;
 
 /// Nodes of this many voxels a side carry a reference query for their subtree.
 pub const REFERENCE_SIZE: u32 = 16;
@@ -257,7 +266,8 @@ impl Job<'_> {
             here.map(|(q, value)| Reference { q, value, triangles })
         }
         // Step 3: hand each triangle to the children it overlaps: its bounding box picks
-        // the candidates, the separating-axis test decides unless the box settles it.
+        // the candidates, the separating-axis test decides (see SAT_MIN_SIZE) unless
+        // the box settles it.
         let child_size = size / 2;
         let center = self.domain.lattice_point(min.map(|c| c + child_size));
         let half = DVec3::splat(f64::from(child_size) * self.domain.voxel_size() * 0.5);
@@ -276,7 +286,7 @@ impl Job<'_> {
                 let offset = DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64) * 2.0 - 1.0;
                 let c = center + offset * half;
                 let inside = (b.min - (c - half)).min_element() >= 0.0 && ((c + half) - b.max).min_element() >= 0.0;
-                if !inside {
+                if !inside && (child_size >= SAT_MIN_SIZE || (b.max - b.min).max_element() > 2.0 * half.x) {
                     stats.triangle_box_tests += 1;
                     if !triangle_box_overlap(&self.corners[t as usize], c, half) {
                         continue;
