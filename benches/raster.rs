@@ -1,0 +1,33 @@
+//! Primary visibility by every method on the bunny at depth 10, 1024x1024, one sample
+//! a pixel (no shading): the octree display's frames a second against the ray tracer.
+//! Target: front-to-back display at 20 frames a second or more.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use glam::DVec3;
+use octsolid::budget::MemoryBudget;
+use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::octree::Domain;
+use octsolid::render::{Camera, DEFAULT_VIEW, Material, Method, Samples, Scene, visibility};
+
+fn bench(c: &mut Criterion) {
+    let mut group = c.benchmark_group("visibility");
+    group.sample_size(10);
+    let mesh = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj").as_ref()).unwrap();
+    let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
+    let (tree, _) = voxelize_mesh(&mesh, Domain::around(&mesh.bounds(), 0.02, 10).unwrap(), &options).unwrap();
+    let bounds = tree.bounds().unwrap();
+    let mut scene = Scene::new();
+    scene.add("bunny", tree, Material::default());
+    let view = DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y);
+    let camera = Camera::frame(&bounds, view, DVec3::Y, 1.0);
+    let samples = Samples { width: 1024, height: 1024, spp: 1 };
+    for method in [Method::Trace, Method::FrontToBack, Method::ZBuffer, Method::Painter] {
+        group.bench_function(BenchmarkId::new(format!("{method:?}"), "bunny_d10_1024"), |b| {
+            b.iter(|| visibility(&scene, &camera, &samples, method))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
