@@ -21,7 +21,7 @@ fn bench(c: &mut Criterion) {
     let view = DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y);
     let camera = Camera::frame(&bounds, view, DVec3::Y, 1.0);
     let samples = Samples { width: 1024, height: 1024, spp: 1 };
-    for method in [Method::Trace, Method::FrontToBack, Method::ZBuffer, Method::Painter] {
+    for method in [Method::Trace, Method::FrontToBack, Method::ZBuffer, Method::Painter, Method::ScanLine] {
         group.bench_function(BenchmarkId::new(format!("{method:?}"), "bunny_d10_1024"), |b| {
             b.iter(|| visibility(&scene, &camera, &samples, method))
         });

@@ -168,7 +168,7 @@ fn render_solids_meshes_and_scenes_by_every_method() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     ok(&dir, &["shape", "torus", "--radius", "1", "--tube", "0.3", "--depth", "6", "-o", "ring.oct"]);
     let mut images = Vec::new();
-    for method in ["trace", "front-to-back", "painter", "zbuffer"] {
+    for method in ["trace", "front-to-back", "painter", "zbuffer", "scanline"] {
         let name = format!("ring_{method}.png");
         let out = ok(&dir, &["render", "ring.oct", "--size", "96x72", "--spp", "1", "--method", method, "-o", &name]);
         assert!(out.contains("samples/s"), "{out}");

@@ -185,7 +185,7 @@ fn all_visibility_methods_agree_on_random_scenes() {
         let samples = Samples { width: 48, height: 36, spp: 2 };
         let trace = visibility(&scene, &camera, &samples, Method::Trace);
         seen_any += trace.iter().filter(|s| s.is_some()).count();
-        for method in [Method::FrontToBack, Method::Painter, Method::ZBuffer] {
+        for method in [Method::FrontToBack, Method::Painter, Method::ZBuffer, Method::ScanLine] {
             let other = visibility(&scene, &camera, &samples, method);
             for (i, (a, b)) in trace.iter().zip(&other).enumerate() {
                 assert_eq!(a, b, "round {round}, {method:?}, sample {i}");
@@ -194,7 +194,7 @@ fn all_visibility_methods_agree_on_random_scenes() {
         let options = RenderOptions { width: 48, height: 36, spp: 2, shadows: true, method: Method::Trace };
         let image = |method| render(&scene, &camera, &RenderOptions { method, ..options }, &NoProgress).unwrap().0;
         let traced = image(Method::Trace);
-        for method in [Method::FrontToBack, Method::Painter, Method::ZBuffer] {
+        for method in [Method::FrontToBack, Method::Painter, Method::ZBuffer, Method::ScanLine] {
             assert!(image(method) == traced, "round {round}: {method:?} image differs");
         }
     }

@@ -134,6 +134,8 @@ pub enum Method {
     Painter,
     /// Z-buffer.
     Zbuffer,
+    /// Scan-line Z-buffer (polygon, edge, active polygon and active edge tables).
+    Scanline,
 }
 
 impl From<Method> for octsolid::render::Method {
@@ -143,6 +145,7 @@ impl From<Method> for octsolid::render::Method {
             Method::FrontToBack => octsolid::render::Method::FrontToBack,
             Method::Painter => octsolid::render::Method::Painter,
             Method::Zbuffer => octsolid::render::Method::ZBuffer,
+            Method::Scanline => octsolid::render::Method::ScanLine,
         }
     }
 }
