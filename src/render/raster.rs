@@ -247,7 +247,7 @@ impl Painter<'_> {
         let mut span: Vec<(f64, f64)> = vec![(f64::INFINITY, f64::NEG_INFINITY); polygons.len()];
         let mut active_polygons: Vec<usize> = Vec::new();
         for r in 0..rows {
-            active_edges.extend(edge_table[r as usize].drain(..));
+            active_edges.append(&mut edge_table[r as usize]);
             active_edges.retain(|e| e.last >= r);
             // Active polygon table: each polygon's span on this row, from its edges'
             // x over the row band [r - 1, r + 1] (a superset of its samples).
