@@ -205,13 +205,7 @@ impl Painter<'_> {
         for (min, size) in nodes {
             let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
             for a in 0..3 {
-                let plane = match eye {
-                    Viewer::At(e) if e[a] < lo[a] => lo[a],
-                    Viewer::At(e) if e[a] > hi[a] => hi[a],
-                    Viewer::Along(d) if d[a] > 0.0 => lo[a],
-                    Viewer::Along(d) if d[a] < 0.0 => hi[a],
-                    _ => continue,
-                };
+                let Some(plane) = eye.visible_plane(a, lo, hi) else { continue };
                 let id = polygons.len();
                 polygons.push(Polygon { min, size, axis: a, plane, lo, hi });
                 // The face's corners in order around it, projected to the sample grid.
@@ -352,14 +346,7 @@ impl Painter<'_> {
     fn draw_node(&self, min: [u32; 3], size: u32, eye: Viewer, put: &mut impl FnMut(usize, Hit)) {
         let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
         for a in 0..3 {
-            // The face on axis a the viewer sees, as its plane and the sign rays need.
-            let plane = match eye {
-                Viewer::At(e) if e[a] < lo[a] => lo[a],
-                Viewer::At(e) if e[a] > hi[a] => hi[a],
-                Viewer::Along(d) if d[a] > 0.0 => lo[a],
-                Viewer::Along(d) if d[a] < 0.0 => hi[a],
-                _ => continue,
-            };
+            let Some(plane) = eye.visible_plane(a, lo, hi) else { continue };
             let mut flo = DVec3::from_array(lo);
             let mut fhi = DVec3::from_array(hi);
             flo[a] = plane;
@@ -407,6 +394,20 @@ struct Edge {
 enum Viewer {
     At(DVec3),
     Along(DVec3),
+}
+
+impl Viewer {
+    /// The plane of the box `[lo, hi]`'s face on `axis` that faces the viewer, if any
+    /// (none when the viewer is between the two planes or looks along them).
+    fn visible_plane(&self, axis: usize, lo: [f64; 3], hi: [f64; 3]) -> Option<f64> {
+        match *self {
+            Viewer::At(e) if e[axis] < lo[axis] => Some(lo[axis]),
+            Viewer::At(e) if e[axis] > hi[axis] => Some(hi[axis]),
+            Viewer::Along(d) if d[axis] > 0.0 => Some(lo[axis]),
+            Viewer::Along(d) if d[axis] < 0.0 => Some(hi[axis]),
+            _ => None,
+        }
+    }
 }
 
 /// The hit when `ray` crosses the plane `axis = plane` of the node `[lo, hi)` and
