@@ -14,7 +14,18 @@ fn main() -> ExitCode {
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("octsolid: error: {e:#}");
+            // One line: the context chain, each cause once (a library error already
+            // names its source).
+            let mut line = String::new();
+            for cause in e.chain().map(ToString::to_string) {
+                if !line.contains(&cause) {
+                    if !line.is_empty() {
+                        line.push_str(": ");
+                    }
+                    line.push_str(&cause);
+                }
+            }
+            eprintln!("octsolid: error: {line}");
             ExitCode::FAILURE
         }
     }

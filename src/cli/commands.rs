@@ -104,8 +104,12 @@ fn voxelize_command(
         out!("inside     {rule:?} rule{}", if inside == InsideRule::Auto { " (auto)" } else { "" });
     }
     print_summary(&tree, None);
-    if let Some(v) = summary.mesh_volume {
-        out!("mesh vol.  {v:.6} ({:+.3}% voxelized vs mesh)", 100.0 * (tree.volume() / v - 1.0));
+    match summary.mesh_volume {
+        Some(v) if v.abs() > 0.0 => {
+            out!("mesh vol.  {v:.6} ({:+.3}% voxelized vs mesh)", 100.0 * (tree.volume() / v - 1.0))
+        }
+        Some(_) => out!("mesh vol.  0 (the mesh encloses no volume)"),
+        None => {}
     }
     out!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
