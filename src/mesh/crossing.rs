@@ -15,6 +15,39 @@ use glam::DVec3;
 use super::TriangleMesh;
 use super::predicates::orient3d as orient;
 
+/// A triangle's plane for fast side tests: normal `n = (b - a) x (c - a)`, a corner,
+/// and `|b - a| |c - a|`, which bounds the rounding of `n . (x - a)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Plane {
+    n: DVec3,
+    a: DVec3,
+    scale: f64,
+}
+
+impl Plane {
+    /// The plane of triangle `t`.
+    #[must_use]
+    pub fn new(mesh: &TriangleMesh, t: u32) -> Self {
+        let [a, b, c] = mesh.corners(t as usize);
+        let (e1, e2) = (b - a, c - a);
+        Plane { n: e1.cross(e2), a, scale: e1.length() * e2.length() }
+    }
+
+    /// Whether `x` is in front of triangle `t` (whose plane this is), on the plane
+    /// counting as in front: the float value when it clears its error bound (a
+    /// generous `1e-12 |b - a| |c - a| |x - a|`), else the exact predicate.
+    #[inline]
+    #[must_use]
+    pub fn in_front(&self, mesh: &TriangleMesh, t: u32, x: DVec3) -> bool {
+        let d = x - self.a;
+        let s = self.n.dot(d);
+        if s.abs() > 1e-12 * self.scale * d.length() {
+            return s > 0.0;
+        }
+        in_front(mesh, t, x)
+    }
+}
+
 /// `+1` when the segment enters triangle `t` against its normal (front to back), `-1`
 /// when it leaves, `0` when it misses.
 #[inline]
@@ -36,9 +69,15 @@ pub fn in_front(mesh: &TriangleMesh, t: u32, x: DVec3) -> bool {
 #[inline]
 #[must_use]
 pub fn signed_crossing_from(mesh: &TriangleMesh, t: u32, q: DVec3, front_q: bool, p: DVec3) -> i32 {
+    signed_crossing_sides(mesh, t, q, front_q, p, in_front(mesh, t, p))
+}
+
+/// [`signed_crossing`] with both sides known.
+#[inline]
+#[must_use]
+pub fn signed_crossing_sides(mesh: &TriangleMesh, t: u32, q: DVec3, front_q: bool, p: DVec3, front_p: bool) -> i32 {
     let idx = mesh.triangles[t as usize];
     let v = idx.map(|i| mesh.vertices[i as usize]);
-    let front_p = orient(v[0], v[1], v[2], p) >= 0.0;
     if front_q == front_p {
         return 0;
     }

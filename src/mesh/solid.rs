@@ -28,7 +28,7 @@ use smallvec::SmallVec;
 use glam::DVec3;
 
 use super::TriangleMesh;
-use super::crossing::{in_front, signed_crossing, signed_crossing_from};
+use super::crossing::{Plane, signed_crossing, signed_crossing_sides};
 use super::parity::ParityGrid;
 use super::tri_box::triangle_box_overlap;
 use super::winding::WindingNumber;
@@ -171,7 +171,8 @@ pub fn voxelize_mesh(
     options.progress.start(1 << (3 * u32::from(parallel_levels)));
     let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
     let boxes = corners.iter().map(|c| Aabb::from_points(*c).expect("three corners")).collect();
-    let job = Job { mesh, corners, boxes, domain, oracle, progress: options.progress, parallel_levels };
+    let planes = (0..mesh.triangles.len() as u32).map(|t| Plane::new(mesh, t)).collect();
+    let job = Job { mesh, corners, boxes, planes, domain, oracle, progress: options.progress, parallel_levels };
     let all: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
     let mut keys = Vec::new();
     let mut stats = MeshVoxelizeStats { rule: Some(rule), ..Default::default() };
@@ -195,6 +196,8 @@ struct Job<'a> {
     corners: Vec<[DVec3; 3]>,
     /// Bounding box of each triangle.
     boxes: Vec<Aabb>,
+    /// Plane of each triangle, for fast side tests.
+    planes: Vec<Plane>,
     domain: Domain,
     oracle: Oracle,
     progress: &'a dyn Progress,
@@ -349,7 +352,8 @@ impl Job<'_> {
         out: &mut Vec<NodeKey>,
         stats: &mut MeshVoxelizeStats,
     ) {
-        let fronts: Vec<bool> = triangles.iter().map(|&t| in_front(self.mesh, t, q)).collect();
+        let fronts: SmallVec<[bool; 32]> =
+            triangles.iter().map(|&t| self.planes[t as usize].in_front(self.mesh, t, q)).collect();
         let before = out.len();
         for i in 0..8 {
             let voxel = key.child(i).expect("k = 1");
@@ -363,7 +367,10 @@ impl Job<'_> {
                     let b = &self.boxes[t as usize];
                     b.min.cmple(hi).all() && b.max.cmpge(lo).all()
                 })
-                .map(|(&t, &front)| signed_crossing_from(self.mesh, t, q, front, p))
+                .map(|(&t, &front)| {
+                    let front_p = self.planes[t as usize].in_front(self.mesh, t, p);
+                    if front_p == front { 0 } else { signed_crossing_sides(self.mesh, t, q, front, p, front_p) }
+                })
                 .sum();
             if self.oracle.inside(self.oracle.carry(vq, crossings)) {
                 out.push(voxel);
