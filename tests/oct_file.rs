@@ -48,6 +48,10 @@ fn round_trip_is_exact_and_bytes_are_deterministic() {
     let voxels = (4..8).flat_map(|x| (0..4).flat_map(move |y| (0..4).map(move |z| [x, y, z])));
     let b = LinearOctree::from_voxels(d, voxels).unwrap();
     assert_eq!(oct::encode(&a), oct::encode(&b));
+    // Nodes outside the domain are refused, even where their Morton code would wrap.
+    for min in [[8, 0, 0], [0, 4, 8], [1 << 21, 0, 0]] {
+        assert!(LinearOctree::from_nodes(d, [Node { level: 3, min, size: 1 }]).is_err(), "{min:?}");
+    }
 }
 
 #[test]

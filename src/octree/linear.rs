@@ -61,7 +61,9 @@ impl LinearOctree {
         for node in nodes {
             let key = node
                 .key()
-                .filter(|k| k.end() <= domain.voxel_total())
+                .filter(|_| {
+                    node.min.iter().all(|&c| u64::from(c) + u64::from(node.size) <= u64::from(domain.resolution()))
+                })
                 .ok_or_else(|| Error::invalid("node", format!("{node:?} is not an aligned cube inside the domain")))?;
             keys.push(key);
         }

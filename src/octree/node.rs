@@ -85,10 +85,14 @@ impl NodeKey {
     }
 
     /// Level in an octree of depth `depth` (0 = root).
+    ///
+    /// # Panics
+    /// In debug builds, when the node is larger than the root (`k > depth`).
     #[inline]
     #[must_use]
     pub fn level(self, depth: u8) -> u8 {
-        depth - self.k() as u8
+        debug_assert!(self.k() <= u32::from(depth), "node of k = {} above a depth-{depth} root", self.k());
+        depth.wrapping_sub(self.k() as u8)
     }
 
     /// The node's geometry: level, lowest voxel and edge in voxels.
@@ -127,10 +131,13 @@ pub struct Node {
 }
 
 impl Node {
-    /// The key of this node; `None` when it is not an aligned power-of-two cube.
+    /// The key of this node; `None` when it is not an aligned power-of-two cube inside
+    /// the largest grid a key can address (`2^21` voxels a side).
     #[must_use]
     pub fn key(&self) -> Option<NodeKey> {
-        if !self.size.is_power_of_two() || self.min.iter().any(|c| c % self.size != 0) {
+        let limit = 1u64 << morton::MAX_BITS;
+        let fits = self.min.iter().all(|&c| u64::from(c) + u64::from(self.size) <= limit);
+        if !fits || !self.size.is_power_of_two() || self.min.iter().any(|c| c % self.size != 0) {
             return None;
         }
         Some(NodeKey::new(morton::encode(self.min[0], self.min[1], self.min[2]), self.size.trailing_zeros()))
@@ -155,5 +162,7 @@ mod tests {
         assert!(NodeKey::from_bits(0).is_none() && NodeKey::from_bits(2).is_none());
         let n = Node { level: 3, min: [4, 0, 4], size: 4 };
         assert_eq!(n.key().unwrap().node(5), n);
+        assert!(Node { level: 0, min: [1 << 21, 0, 0], size: 1 }.key().is_none(), "beyond 2^21 voxels");
+        assert!(Node { level: 0, min: [0, 0, 0], size: 1 << 22 }.key().is_none());
     }
 }

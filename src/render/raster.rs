@@ -5,7 +5,7 @@
 //! shading stage, so they give the same picture):
 //! - [`Method::Trace`]: the octree ray walk.
 //! - [`Method::FrontToBack`]: Meagher's octree display: full nodes visited nearest
-//!   first ([`Traversal::front_to_back`]); a node's faces that look at the viewer are
+//!   first ([`super::traverse::Traversal::front_to_back`]); a node's faces that look at the viewer are
 //!   drawn only into samples not yet covered; a subtree whose screen footprint is
 //!   already covered is skipped. No depth buffer within a solid.
 //! - [`Method::Painter`]: the same faces drawn far to near (the reverse order), each
