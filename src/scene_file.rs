@@ -19,7 +19,9 @@ use crate::mesh::InsideRule;
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
 use crate::render::{Camera, DEFAULT_VIEW, Light, Material, Projection, RenderOptions, Scene};
-use crate::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, HalfSpace, Shape, Sphere, Torus, Transformed};
+use crate::shape::{
+    Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
+};
 
 /// The whole file.
 #[derive(Deserialize, Debug)]
@@ -157,6 +159,11 @@ enum ShapeSpec {
         normal: [f64; 3],
         offset: f64,
     },
+    Menger {
+        center: [f64; 3],
+        size: f64,
+        level: u32,
+    },
     Union(Vec<ShapeSpec>),
     Intersection(Vec<ShapeSpec>),
     Difference(Vec<ShapeSpec>),
@@ -199,6 +206,7 @@ impl ShapeSpec {
                 Torus::new(v(*center), axis(a)?, *radius, *tube)?.into()
             }
             ShapeSpec::HalfSpace { normal, offset } => HalfSpace::new(v(*normal), *offset)?.into(),
+            ShapeSpec::Menger { center, size, level } => Menger::new(v(*center), *size, *level)?.into(),
             ShapeSpec::Union(parts) => fold(parts, |a, b| a | b)?,
             ShapeSpec::Intersection(parts) => fold(parts, |a, b| a & b)?,
             ShapeSpec::Difference(parts) => fold(parts, |a, b| a - b)?,

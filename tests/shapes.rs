@@ -130,6 +130,34 @@ fn volumes_match_the_analytic_ones() {
 }
 
 #[test]
+fn menger_sponge_is_sound_and_has_its_volume() {
+    let mut rng = Rng(2718);
+    let sponge = Menger::new(DVec3::new(0.1, -0.05, 0.02), 1.8, 3).unwrap();
+    let mut decided = 0;
+    for _ in 0..20_000 {
+        let b = Aabb::from_center_half(rng.vec(-1.0, 1.0), rng.vec(0.0001, 0.01));
+        decided += u32::from(assert_sound(&sponge, &b, &mut rng) != Class::Boundary);
+    }
+    assert!(decided > 10_000, "only {decided} of 20000 boxes decided");
+    // The voxel set is the voxel-centre point test, voxel for voxel (dense oracle).
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+    let tree = voxelize(&sponge, domain, &VoxelizeOptions::default()).unwrap();
+    let n = domain.resolution();
+    let mut want = 0;
+    for v in (0..n * n * n).map(|i| [i % n, i / n % n, i / (n * n)]) {
+        let inside = sponge.contains(domain.voxel_center(v));
+        want += u64::from(inside);
+        assert_eq!(tree.contains_voxel(v), inside, "voxel {v:?}");
+    }
+    assert_eq!(tree.voxel_count(), want);
+    // Level 3 keeps (20/27)^3 of the cube; the volume converges at depth 8.
+    let fine = voxelize(&sponge, Domain::new(DVec3::splat(-1.0), 2.0, 8).unwrap(), &VoxelizeOptions::default());
+    let error = (fine.unwrap().volume() / sponge.volume() - 1.0).abs();
+    assert!(error < 0.02, "volume error {:.3}%", error * 100.0);
+    assert!((sponge.volume() - 1.8f64.powi(3) * 8000.0 / 19683.0).abs() < 1e-12);
+}
+
+#[test]
 fn csg_tree_voxelizes_to_the_csg_of_its_leaves() {
     let mut rng = Rng(4242);
     let domain = Domain::new(DVec3::splat(-1.1), 2.2, 6).unwrap();
