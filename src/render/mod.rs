@@ -8,9 +8,11 @@
 pub mod camera;
 pub mod frame;
 pub mod light;
+pub mod optics;
 pub mod raster;
 pub mod scene;
 pub mod shade;
+pub mod texture;
 pub mod traverse;
 
 pub use camera::{Camera, DEFAULT_VIEW, Projection};
