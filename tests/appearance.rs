@@ -178,3 +178,36 @@ fn solid_textures_are_bounded_and_follow_their_rules() {
     }
     assert!(max_noise <= 1.0 && max_noise > 0.5, "noise range {max_noise}");
 }
+
+#[test]
+fn smooth_normals_of_a_voxelized_sphere_follow_the_sphere() {
+    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+    use octsolid::render::normals::{SMOOTH_RADIUS, smooth_normal};
+    use octsolid::shape::Sphere;
+    let center = DVec3::new(0.013, -0.021, 0.007);
+    let sphere = Sphere::new(center, 0.8).unwrap();
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 9).unwrap();
+    let tree = voxelize(&sphere, domain, &VoxelizeOptions::default()).unwrap();
+    // Surface voxels: full with an empty face neighbour; every 7th of them.
+    let mut rng = Rng(5);
+    let (mut total, mut good) = (0, 0);
+    for node in tree.nodes().filter(|n| n.size == 1) {
+        let v = node.min;
+        let exposed = (0..6).any(|f| {
+            let mut w = v.map(i64::from);
+            w[f / 2] += if f % 2 == 0 { -1 } else { 1 };
+            !tree.contains_voxel(w.map(|c| c as u32))
+        });
+        if !exposed || rng.below(7) != 0 {
+            continue;
+        }
+        total += 1;
+        let want = (domain.voxel_center(v) - center).normalize();
+        let got = smooth_normal(&tree, v, SMOOTH_RADIUS).expect("a surface voxel has a gradient");
+        if got.angle_between(want).to_degrees() < 5.0 {
+            good += 1;
+        }
+    }
+    assert!(total > 10_000, "{total} surface voxels sampled");
+    assert!(good as f64 >= 0.95 * total as f64, "{good} of {total} within 5 degrees");
+}

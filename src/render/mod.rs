@@ -8,6 +8,7 @@
 pub mod camera;
 pub mod frame;
 pub mod light;
+pub mod normals;
 pub mod optics;
 pub mod raster;
 pub mod scene;
