@@ -23,7 +23,7 @@ fn bench(c: &mut Criterion) {
     let samples = Samples { width: 1024, height: 1024, spp: 1 };
     for method in [Method::Trace, Method::FrontToBack, Method::ZBuffer, Method::Painter, Method::ScanLine] {
         group.bench_function(BenchmarkId::new(format!("{method:?}"), "bunny_d10_1024"), |b| {
-            b.iter(|| visibility(&scene, &camera, &samples, method))
+            b.iter(|| visibility(&scene, &camera, &samples, method).0)
         });
     }
     group.finish();

@@ -355,14 +355,18 @@ fn render_command(
     Ok(())
 }
 
-/// Renders with a progress bar and prints rays a second.
+/// Renders with a progress bar and prints samples a second (and faces drawn by a raster method).
 fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<image::RgbImage> {
     let bar = Bar::new("rendering");
     let started = Instant::now();
     let (img, stats) = render::render(scene, camera, options, &bar)?;
     let seconds = started.elapsed().as_secs_f64();
+    let faces = match options.method {
+        render::Method::Trace => String::new(),
+        _ => format!(", {} faces drawn", stats.faces_drawn),
+    };
     out!(
-        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.1} M samples/s, visibility and shading)",
+        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.1} M samples/s, visibility and shading{faces})",
         options.width,
         options.height,
         options.spp,

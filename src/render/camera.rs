@@ -81,45 +81,90 @@ impl Camera {
         }
     }
 
+    /// The camera's frame for an image of `aspect` = width / height, computed once for
+    /// many rays or projections ([`Camera::ray`] and [`Camera::project`] use it too, so
+    /// the numbers are the same).
+    #[must_use]
+    pub fn view(&self, aspect: f64) -> View {
+        let forward = (self.target - self.eye).normalize();
+        let right = forward.cross(self.up).normalize();
+        let up = right.cross(forward);
+        let half = match self.projection {
+            Projection::Perspective { fov_y } => (fov_y.to_radians() * 0.5).tan(),
+            Projection::Orthographic { height } => height * 0.5,
+        };
+        View { eye: self.eye, forward, right, up, projection: self.projection, aspect, half }
+    }
+
     /// The image point `(x, y)` (in `[-1, 1]^2` when visible) of world point `p`;
     /// `None` when `p` is not in front of a perspective camera.
     #[must_use]
     pub fn project(&self, p: DVec3, aspect: f64) -> Option<(f64, f64)> {
-        let forward = (self.target - self.eye).normalize();
-        let right = forward.cross(self.up).normalize();
-        let up = right.cross(forward);
-        let v = p - self.eye;
-        match self.projection {
-            Projection::Perspective { fov_y } => {
-                let z = v.dot(forward);
-                if z <= 0.0 {
-                    return None;
-                }
-                let h = (fov_y.to_radians() * 0.5).tan();
-                Some((v.dot(right) / (z * h * aspect), v.dot(up) / (z * h)))
-            }
-            Projection::Orthographic { height } => {
-                let h = height * 0.5;
-                Some((v.dot(right) / (h * aspect), v.dot(up) / h))
-            }
-        }
+        self.view(aspect).project(p)
     }
 
     /// The ray through the image point `(x, y)` in `[-1, 1]^2` (x right, y up) of an
     /// image with `aspect` = width / height: origin and unit direction.
     #[must_use]
     pub fn ray(&self, x: f64, y: f64, aspect: f64) -> (DVec3, DVec3) {
-        let forward = (self.target - self.eye).normalize();
-        let right = forward.cross(self.up).normalize();
-        let up = right.cross(forward);
+        self.view(aspect).ray(x, y)
+    }
+}
+
+/// A camera's orthonormal frame (`forward`, `right`, `up`) for one image aspect.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Eye position.
+    pub eye: DVec3,
+    /// Unit vector from the eye to the target.
+    pub forward: DVec3,
+    /// Unit vector to the image's right: `forward x up`, normalized.
+    pub right: DVec3,
+    /// Unit vector to the image's top: `right x forward`.
+    pub up: DVec3,
+    /// Projection.
+    pub projection: Projection,
+    /// Image aspect, width / height.
+    pub aspect: f64,
+    /// Half the image height: `tan(fov_y / 2)` at unit distance (perspective), or
+    /// `height / 2` in world units (orthographic).
+    pub half: f64,
+}
+
+impl View {
+    /// The image point `(x, y)` of world point `p`: perspective `x = v.right / (z tan(fov/2)
+    /// aspect)`, `y = v.up / (z tan(fov/2))` with `v = p - eye`, `z = v.forward`;
+    /// `None` when `z <= 0`. Orthographic: `x = v.right / (height/2 aspect)`, `y = v.up / (height/2)`.
+    #[must_use]
+    pub fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+        let v = p - self.eye;
         match self.projection {
-            Projection::Perspective { fov_y } => {
-                let h = (fov_y.to_radians() * 0.5).tan();
-                (self.eye, (forward + right * (x * h * aspect) + up * (y * h)).normalize())
+            Projection::Perspective { .. } => {
+                let z = v.dot(self.forward);
+                if z <= 0.0 {
+                    return None;
+                }
+                let h = self.half;
+                Some((v.dot(self.right) / (z * h * self.aspect), v.dot(self.up) / (z * h)))
             }
-            Projection::Orthographic { height } => {
-                let h = height * 0.5;
-                (self.eye + right * (x * h * aspect) + up * (y * h), forward)
+            Projection::Orthographic { .. } => {
+                let h = self.half;
+                Some((v.dot(self.right) / (h * self.aspect), v.dot(self.up) / h))
+            }
+        }
+    }
+
+    /// The ray through image point `(x, y)`: origin and unit direction.
+    #[must_use]
+    pub fn ray(&self, x: f64, y: f64) -> (DVec3, DVec3) {
+        match self.projection {
+            Projection::Perspective { .. } => {
+                let h = self.half;
+                (self.eye, (self.forward + self.right * (x * h * self.aspect) + self.up * (y * h)).normalize())
+            }
+            Projection::Orthographic { .. } => {
+                let h = self.half;
+                (self.eye + self.right * (x * h * self.aspect) + self.up * (y * h), self.forward)
             }
         }
     }

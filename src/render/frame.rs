@@ -45,6 +45,8 @@ pub struct RenderStats {
     pub samples: u64,
     /// Samples that see a solid.
     pub hits: u64,
+    /// Voxel faces drawn by a raster method (0 when ray tracing).
+    pub faces_drawn: u64,
 }
 
 /// Renders `scene` through `camera`: visibility of every sample by `options.method`,
@@ -64,7 +66,7 @@ pub fn render(
     }
     let samples = Samples { width, height, spp };
     // Step 1: what each sample sees.
-    let seen = visibility(scene, camera, &samples, method);
+    let (seen, visible) = visibility(scene, camera, &samples, method);
     // Step 2: shading, the same for every method, averaged over each pixel's samples.
     progress.start(u64::from(height));
     let columns = samples.columns() as usize;
@@ -103,6 +105,10 @@ pub fn render(
             img.put_pixel(col as u32, row as u32, p);
         }
     }
-    let stats = RenderStats { samples: seen.len() as u64, hits: seen.iter().filter(|s| s.is_some()).count() as u64 };
+    let stats = RenderStats {
+        samples: seen.len() as u64,
+        hits: seen.iter().filter(|s| s.is_some()).count() as u64,
+        faces_drawn: visible.faces_drawn,
+    };
     Ok((img, stats))
 }

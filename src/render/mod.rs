@@ -6,6 +6,8 @@
 //! the same octrees), averaged over the pixel's samples and encoded as sRGB.
 
 pub mod camera;
+mod display;
+mod face;
 pub mod frame;
 pub mod light;
 pub mod normals;
@@ -16,9 +18,9 @@ pub mod shade;
 pub mod texture;
 pub mod traverse;
 
-pub use camera::{Camera, DEFAULT_VIEW, Projection};
+pub use camera::{Camera, DEFAULT_VIEW, Projection, View};
 pub use frame::{RenderOptions, RenderStats, render};
 pub use light::{Light, Material};
-pub use raster::{Method, Samples, visibility};
+pub use raster::{Method, Samples, VisibilityStats, visibility};
 pub use scene::{Scene, SceneHit};
 pub use traverse::{Hit, Traversal, VoxelRay};

@@ -4,10 +4,10 @@
 //! Methods (all sample the same points and hand the same [`SceneHit`]s to the one
 //! shading stage, so they give the same picture):
 //! - [`Method::Trace`]: the octree ray walk.
-//! - [`Method::FrontToBack`]: Meagher's octree display: full nodes visited nearest
-//!   first ([`super::traverse::Traversal::front_to_back`]); a node's faces that look at the viewer are
-//!   drawn only into samples not yet covered; a subtree whose screen footprint is
-//!   already covered is skipped. No depth buffer within a solid.
+//! - [`Method::FrontToBack`]: Meagher's octree display (module `display`): full nodes
+//!   visited nearest first; a node's faces that look at the viewer are drawn only into
+//!   samples not yet covered; a subtree whose screen footprint is already covered is
+//!   skipped. No depth buffer within a solid.
 //! - [`Method::Painter`]: the same faces drawn far to near (the reverse order), each
 //!   overwriting what is under it.
 //! - [`Method::ZBuffer`]: the faces in any order (here: the octree's, with children in
@@ -22,18 +22,19 @@
 //!
 //! A face covers a sample when the sample's ray crosses the face's plane (at the time
 //! `(plane - o) / d`, the formula of the ray walk) and then enters the node's interior
-//! there; the hit is then computed by [`VoxelRay::entry`], as in the walk. Solids are
-//! drawn one at a time and merged per sample by depth (ties: the earlier solid), so a
-//! scene of several solids needs one depth per sample whatever the method.
-
-use std::cell::RefCell;
+//! there; the hit is then computed by [`VoxelRay::entry`], as in the walk (module
+//! `face`). Solids are drawn one at a time and merged per sample by depth
+//! (ties: the earlier solid), so a scene of several solids needs one depth per sample
+//! whatever the method.
 
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::camera::{Camera, Projection};
+use super::camera::{Camera, View};
+use super::display;
+use super::face::{Face, Viewer};
 use super::scene::{Scene, SceneHit};
-use super::traverse::{Hit, VoxelRay};
+use super::traverse::{Hit, Traversal, VoxelRay};
 
 /// How primary visibility is decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -99,27 +100,54 @@ impl Samples {
     }
 }
 
-/// What every sample sees, row-major over the sample grid.
+/// What a visibility pass did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VisibilityStats {
+    /// Voxel faces drawn (0 for the ray tracer): every face looking at the viewer for
+    /// painter's, the Z-buffer and the scan-line Z-buffer; for the front-to-back
+    /// display, the faces that had an uncovered sample in their footprint when reached
+    /// (a face split between screen strips counts once a strip).
+    pub faces_drawn: u64,
+}
+
+/// What every sample sees, row-major over the sample grid, and what it took.
 #[must_use]
-pub fn visibility(scene: &Scene, camera: &Camera, samples: &Samples, method: Method) -> Vec<Option<SceneHit>> {
+pub fn visibility(
+    scene: &Scene,
+    camera: &Camera,
+    samples: &Samples,
+    method: Method,
+) -> (Vec<Option<SceneHit>>, VisibilityStats) {
+    let view = camera.view(samples.aspect());
+    let count = (samples.rows() * samples.columns()) as usize;
+    if method == Method::FrontToBack {
+        let mut seen = Vec::with_capacity(count);
+        seen.par_extend(rayon::iter::repeat_n(None, count));
+        let faces_drawn = display::front_to_back(scene, &view, samples, &mut seen);
+        return (seen, VisibilityStats { faces_drawn });
+    }
     let columns = samples.columns() as usize;
     let rays: Vec<(DVec3, DVec3)> = (0..samples.rows() * samples.columns())
         .into_par_iter()
         .map(|i| {
             let (x, y) = samples.point(i % samples.columns(), i / samples.columns());
-            camera.ray(x, y, samples.aspect())
+            view.ray(x, y)
         })
         .collect();
     if method == Method::Trace {
-        return rays
+        let seen = rays
             .par_chunks(columns)
             .flat_map_iter(|row| row.iter().map(|&(o, d)| scene.hit(o, d, f64::INFINITY)))
             .collect();
+        return (seen, VisibilityStats::default());
     }
-    let mut seen: Vec<Option<SceneHit>> = vec![None; rays.len()];
+    let mut seen: Vec<Option<SceneHit>> = vec![None; count];
+    let mut stats = VisibilityStats::default();
     for (index, solid) in scene.solids.iter().enumerate() {
-        let painter = Painter { camera, samples, rays: &rays, domain: *solid.traversal.domain() };
-        let hits = painter.draw_solid(&solid.traversal, method);
+        let domain = *solid.traversal.domain();
+        let painter = Painter { view: &view, samples, rays: &rays, domain, viewer: Viewer::new(&view, &domain) };
+        let (hits, faces) = painter.draw_solid(&solid.traversal, method);
+        stats.faces_drawn += faces;
         // Merge by depth; on equal depth the earlier solid stays.
         for (s, h) in seen.iter_mut().zip(hits) {
             if let Some(hit) = h
@@ -129,58 +157,39 @@ pub fn visibility(scene: &Scene, camera: &Camera, samples: &Samples, method: Met
             }
         }
     }
-    seen
+    (seen, stats)
 }
 
-/// Draws one solid's faces into a per-sample hit buffer.
+/// Draws one solid's faces into a per-sample hit buffer (the baseline methods).
 struct Painter<'a> {
-    camera: &'a Camera,
+    view: &'a View,
     samples: &'a Samples,
     rays: &'a [(DVec3, DVec3)],
     domain: crate::octree::Domain,
+    viewer: Viewer,
 }
 
 impl Painter<'_> {
-    fn draw_solid(&self, traversal: &super::traverse::Traversal, method: Method) -> Vec<Option<Hit>> {
+    /// The solid's hit per sample and the faces drawn.
+    fn draw_solid(&self, traversal: &Traversal, method: Method) -> (Vec<Option<Hit>>, u64) {
         let mut hits: Vec<Option<Hit>> = vec![None; self.rays.len()];
-        let eye = self.eye_voxel_units();
-        let eye_high = |a: usize, plane: f64| match eye {
-            Viewer::At(e) => e[a] >= plane,
-            Viewer::Along(d) => d[a] < 0.0,
-        };
+        let mut faces = 0;
+        let viewer = self.viewer;
         match method {
-            Method::FrontToBack => {
-                // Drawing updates the coverage that pruning reads: share it in a cell.
-                let state = RefCell::new((std::mem::take(&mut hits), vec![false; self.rays.len()]));
-                traversal.front_to_back(
-                    &eye_high,
-                    &mut |min, size| self.footprint_uncovered(min, size, &state.borrow().1),
-                    &mut |min, size| {
-                        let mut st = state.borrow_mut();
-                        let (hits, covered) = &mut *st;
-                        self.draw_node(min, size, eye, &mut |i, hit| {
-                            if !covered[i] {
-                                hits[i] = Some(hit);
-                                covered[i] = true;
-                            }
-                        });
-                    },
-                );
-                hits = state.into_inner().0;
-            }
             Method::Painter => {
                 let mut nodes = Vec::new();
+                let eye_high = |a, plane| viewer.is_high(a, plane);
                 traversal.front_to_back(&eye_high, &mut |_, _| true, &mut |min, size| nodes.push((min, size)));
                 for &(min, size) in nodes.iter().rev() {
-                    self.draw_node(min, size, eye, &mut |i, hit| hits[i] = Some(hit));
+                    faces += self.draw_node(min, size, &mut |i, hit| hits[i] = Some(hit));
                 }
             }
-            Method::ScanLine => hits = self.scan_lines(traversal, eye),
-            Method::ZBuffer | Method::Trace => {
+            Method::ScanLine => return self.scan_lines(traversal),
+            Method::ZBuffer | Method::Trace | Method::FrontToBack => {
                 let mut nodes = Vec::new();
                 traversal.front_to_back(&|_, _| false, &mut |_, _| true, &mut |min, size| nodes.push((min, size)));
                 for (min, size) in nodes {
-                    self.draw_node(min, size, eye, &mut |i, hit| {
+                    faces += self.draw_node(min, size, &mut |i, hit| {
                         if hits[i].is_none_or(|old| hit.t < old.t) {
                             hits[i] = Some(hit);
                         }
@@ -188,13 +197,12 @@ impl Painter<'_> {
                 }
             }
         }
-        hits
+        (hits, faces)
     }
 
     /// The scan-line Z-buffer (see the module doc).
-    fn scan_lines(&self, traversal: &super::traverse::Traversal, eye: Viewer) -> Vec<Option<Hit>> {
+    fn scan_lines(&self, traversal: &Traversal) -> (Vec<Option<Hit>>, u64) {
         let (columns, rows) = (self.samples.columns() as usize, self.samples.rows() as i64);
-        let aspect = self.samples.aspect();
         let h = self.domain.voxel_size();
         // Step 1: polygon table (front faces) and edge table (projected edges by first row).
         let mut polygons: Vec<Polygon> = Vec::new();
@@ -203,11 +211,10 @@ impl Painter<'_> {
         let mut nodes = Vec::new();
         traversal.front_to_back(&|_, _| false, &mut |_, _| true, &mut |min, size| nodes.push((min, size)));
         for (min, size) in nodes {
-            let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
-            for a in 0..3 {
-                let Some(plane) = eye.visible_plane(a, lo, hi) else { continue };
+            for face in Face::visible(&self.viewer, min, size) {
+                let (a, plane, lo, hi) = (face.axis, face.plane, face.lo, face.hi);
                 let id = polygons.len();
-                polygons.push(Polygon { min, size, axis: a, plane, lo, hi });
+                polygons.push(face);
                 // The face's corners in order around it, projected to the sample grid.
                 let (u, v) = ((a + 1) % 3, (a + 2) % 3);
                 let corners = [(lo[u], lo[v]), (hi[u], lo[v]), (hi[u], hi[v]), (lo[u], hi[v])].map(|(cu, cv)| {
@@ -215,8 +222,8 @@ impl Painter<'_> {
                     p[a] = plane;
                     p[u] = cu;
                     p[v] = cv;
-                    self.camera
-                        .project(self.domain.min() + p * h, aspect)
+                    self.view
+                        .project(self.domain.min() + p * h)
                         .map(|(x, y)| (self.samples.column_of(x), self.samples.row_of(y)))
                 });
                 let Some(corners) = corners.into_iter().collect::<Option<Vec<_>>>() else {
@@ -272,12 +279,12 @@ impl Painter<'_> {
                 span[id] = (f64::INFINITY, f64::NEG_INFINITY);
                 let c0 = (x0.floor() as i64 - 1).clamp(0, columns as i64 - 1) as usize;
                 let c1 = (x1.ceil() as i64 + 1).clamp(0, columns as i64 - 1) as usize;
-                let p = &polygons[id];
+                let face = &polygons[id];
                 for c in c0..=c1 {
                     let i = r as usize * columns + c;
                     let (o, d) = self.rays[i];
                     let ray = VoxelRay::new(&self.domain, o, d);
-                    if let Some(hit) = enters(&ray, p.axis, p.plane, p.lo, p.hi, p.min, p.size)
+                    if let Some(hit) = face.enters(&ray)
                         && hits[i].is_none_or(|old| hit.t < old.t)
                     {
                         hits[i] = Some(hit);
@@ -286,22 +293,13 @@ impl Painter<'_> {
             }
             active_polygons.clear();
         }
-        hits
-    }
-
-    /// Where the viewer is, in voxel units of this domain.
-    fn eye_voxel_units(&self) -> Viewer {
-        let h = self.domain.voxel_size();
-        match self.camera.projection {
-            Projection::Perspective { .. } => Viewer::At((self.camera.eye - self.domain.min()) / h),
-            Projection::Orthographic { .. } => Viewer::Along((self.camera.target - self.camera.eye).normalize()),
-        }
+        let faces = polygons.len() as u64;
+        (hits, faces)
     }
 
     /// The sample-grid rectangle (inclusive) that the box `[min, min + size]` may cover.
     fn footprint(&self, lo: DVec3, hi: DVec3) -> (u32, u32, u32, u32) {
         let full = (0, self.samples.columns() - 1, 0, self.samples.rows() - 1);
-        let aspect = self.samples.aspect();
         let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
         for i in 0..8 {
             let p = DVec3::new(
@@ -309,7 +307,7 @@ impl Painter<'_> {
                 if i & 2 == 0 { lo.y } else { hi.y },
                 if i & 4 == 0 { lo.z } else { hi.z },
             );
-            let Some((x, y)) = self.camera.project(p, aspect) else { return full };
+            let Some((x, y)) = self.view.project(p) else { return full };
             let (c, r) = (self.samples.column_of(x), self.samples.row_of(y));
             x0 = x0.min(c);
             x1 = x1.max(c);
@@ -328,29 +326,16 @@ impl Painter<'_> {
         )
     }
 
-    fn world_box(&self, min: [u32; 3], size: u32) -> (DVec3, DVec3) {
-        let b = self.domain.cube_box(min, size);
-        (b.min, b.max)
-    }
-
-    /// Whether some sample of the node's footprint is not covered yet.
-    fn footprint_uncovered(&self, min: [u32; 3], size: u32, covered: &[bool]) -> bool {
-        let (lo, hi) = self.world_box(min, size);
-        let (c0, c1, r0, r1) = self.footprint(lo, hi);
-        let columns = self.samples.columns() as usize;
-        (r0..=r1).any(|r| (c0..=c1).any(|c| !covered[r as usize * columns + c as usize]))
-    }
-
     /// Draws the faces of the full node `[min, min + size)` that look at the viewer:
     /// `put(sample, hit)` for every sample whose ray enters the node through them.
-    fn draw_node(&self, min: [u32; 3], size: u32, eye: Viewer, put: &mut impl FnMut(usize, Hit)) {
-        let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
-        for a in 0..3 {
-            let Some(plane) = eye.visible_plane(a, lo, hi) else { continue };
-            let mut flo = DVec3::from_array(lo);
-            let mut fhi = DVec3::from_array(hi);
-            flo[a] = plane;
-            fhi[a] = plane;
+    /// Returns the faces drawn.
+    fn draw_node(&self, min: [u32; 3], size: u32, put: &mut impl FnMut(usize, Hit)) -> u64 {
+        let mut faces = 0;
+        for face in Face::visible(&self.viewer, min, size) {
+            faces += 1;
+            let (mut flo, mut fhi) = (DVec3::from_array(face.lo), DVec3::from_array(face.hi));
+            flo[face.axis] = face.plane;
+            fhi[face.axis] = face.plane;
             let h = self.domain.voxel_size();
             let (wlo, whi) = (self.domain.min() + flo * h, self.domain.min() + fhi * h);
             let (c0, c1, r0, r1) = self.footprint(wlo, whi);
@@ -360,24 +345,18 @@ impl Painter<'_> {
                     let i = r as usize * columns + c as usize;
                     let (o, d) = self.rays[i];
                     let ray = VoxelRay::new(&self.domain, o, d);
-                    if let Some(hit) = enters(&ray, a, plane, lo, hi, min, size) {
+                    if let Some(hit) = face.enters(&ray) {
                         put(i, hit);
                     }
                 }
             }
         }
+        faces
     }
 }
 
 /// A polygon of the scan-line polygon table: one face of a full node.
-struct Polygon {
-    min: [u32; 3],
-    size: u32,
-    axis: usize,
-    plane: f64,
-    lo: [f64; 3],
-    hi: [f64; 3],
-}
+type Polygon = Face;
 
 /// An edge of the scan-line edge table: its polygon, the last row it touches, and its
 /// projected end points (sample-grid column, row), top first.
@@ -387,62 +366,4 @@ struct Edge {
     last: i64,
     top: (f64, f64),
     bottom: (f64, f64),
-}
-
-/// The viewer: a point (perspective), or a direction of view (orthographic).
-#[derive(Clone, Copy, Debug)]
-enum Viewer {
-    At(DVec3),
-    Along(DVec3),
-}
-
-impl Viewer {
-    /// The plane of the box `[lo, hi]`'s face on `axis` that faces the viewer, if any
-    /// (none when the viewer is between the two planes or looks along them).
-    fn visible_plane(&self, axis: usize, lo: [f64; 3], hi: [f64; 3]) -> Option<f64> {
-        match *self {
-            Viewer::At(e) if e[axis] < lo[axis] => Some(lo[axis]),
-            Viewer::At(e) if e[axis] > hi[axis] => Some(hi[axis]),
-            Viewer::Along(d) if d[axis] > 0.0 => Some(lo[axis]),
-            Viewer::Along(d) if d[axis] < 0.0 => Some(hi[axis]),
-            _ => None,
-        }
-    }
-}
-
-/// The hit when `ray` crosses the plane `axis = plane` of the node `[lo, hi)` and
-/// enters the node's interior there (the walk's semantics: a ray parallel to an axis
-/// is inside the half-open interval).
-fn enters(
-    ray: &VoxelRay,
-    axis: usize,
-    plane: f64,
-    lo: [f64; 3],
-    hi: [f64; 3],
-    min: [u32; 3],
-    size: u32,
-) -> Option<Hit> {
-    let d = ray.d[axis];
-    let inward = if plane == lo[axis] { d > 0.0 } else { d < 0.0 };
-    if !inward {
-        return None;
-    }
-    let t = (plane - ray.o[axis]) * ray.inv[axis];
-    if t <= 0.0 {
-        return None;
-    }
-    for b in (0..3).filter(|&b| b != axis) {
-        let q = ray.o[b] + ray.d[b] * t;
-        let inside = if ray.d[b] > 0.0 {
-            q >= lo[b] && q < hi[b]
-        } else if ray.d[b] < 0.0 {
-            q > lo[b] && q <= hi[b]
-        } else {
-            q >= lo[b] && q < hi[b]
-        };
-        if !inside {
-            return None;
-        }
-    }
-    Some(ray.entry(min, size, t, Some(axis)))
 }
