@@ -385,7 +385,7 @@ impl Tiles<'_> {
     /// covered when `test` says so.
     #[inline]
     fn for_each_uncovered(&self, rect: Rect, mut test: impl FnMut(usize, usize) -> bool) {
-        self.find_tile(rect, |t, ty, tx, mask| {
+        let mut tile = |t: usize, ty: usize, tx: usize, mask: u64| {
             let mut open = !self.covered[t].get() & mask;
             while open != 0 {
                 let bit = open.trailing_zeros();
@@ -395,6 +395,14 @@ impl Tiles<'_> {
                 }
             }
             false
-        });
+        };
+        match self.single_tile(rect) {
+            Some((t, mask)) => {
+                tile(t, rect.r0 / 8, rect.c0 / 8, mask);
+            }
+            None => {
+                self.find_tile(rect, tile);
+            }
+        }
     }
 }
