@@ -172,6 +172,7 @@ fn render_solids_meshes_and_scenes_by_every_method() {
         let name = format!("ring_{method}.png");
         let out = ok(&dir, &["render", "ring.oct", "--size", "96x72", "--spp", "1", "--method", method, "-o", &name]);
         assert!(out.contains("samples/s"), "{out}");
+        assert_eq!(out.contains("faces drawn"), method != "trace", "{out}");
         images.push(std::fs::read(dir.join(&name)).unwrap());
     }
     assert!(images.windows(2).all(|w| w[0] == w[1]), "every method gives the same picture");
