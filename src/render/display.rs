@@ -17,11 +17,11 @@
 //!    with its subtree.
 //! 3. Coverage is a bit a sample, kept in 8x8 tiles (one `u64` each, bit `8 row + col`),
 //!    so a footprint test is one masked word test a tile it touches (one, mostly).
-//! 4. A full node's visible faces, in axis order, test each uncovered sample of their
-//!    footprint by the exact face rule (`Face::enters`); a sample is covered by the
-//!    first face that it enters, and its hit is that face's [`VoxelRay::entry`]. The
-//!    sample's voxel ray is made for each test (about 1.5 tests a covered sample: cheaper
-//!    than keeping a strip of rays in memory).
+//! 4. A full node: each uncovered sample of its footprint makes its voxel ray once and
+//!    tests the node's faces that look at the viewer, in axis order, by the exact face
+//!    rule (`Face::enters`); the first face it enters covers the sample, with that
+//!    face's [`VoxelRay::entry`] as the hit. (One ray a sample and node, not one a
+//!    face: the ray, a square root and nine divisions, is the dear part of a test.)
 //!
 //! Tie-breaking: a sample takes the first face in visiting order (nodes front to back,
 //! faces of a node by axis) whose exact test it passes. Since the footprints only ever
@@ -55,8 +55,8 @@ const MARGIN: f64 = 1e-2;
 
 /// Draws every solid of `scene` front to back into `seen` (row-major over the sample
 /// grid, all `None` on entry); solids are merged by depth, ties to the earlier solid.
-/// Returns the faces drawn (faces with at least one uncovered sample in their
-/// footprint; a face split between strips counts once a strip).
+/// Returns the faces drawn: the visible faces of the full nodes with an uncovered
+/// sample in their footprint (a node split between strips counts once a strip).
 pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &Samples, seen: &mut [Option<SceneHit>]) -> u64 {
     let columns = samples.columns() as usize;
     seen.par_chunks_mut(STRIP_ROWS * columns)
@@ -184,30 +184,30 @@ impl Pass<'_> {
                 this.footprint(centre, half).is_some_and(|rect| tiles.any_uncovered(rect))
             },
             &mut |min, size| {
-                // Step 2 for the node first: a hidden node costs one test.
                 let centre = this.projector.centre(min, size);
                 let half = DVec3::splat(0.5 * f64::from(size));
-                if !this.footprint(centre, half).is_some_and(|rect| tiles.any_uncovered(rect)) {
-                    return;
-                }
-                // Step 4: the visible faces, by axis.
+                let Some(rect) = this.footprint(centre, half) else { return };
+                // Step 4: each uncovered sample of the footprint, its ray against the
+                // visible faces in axis order.
+                let mut visible = [None; 3];
+                let mut count = 0;
                 for face in Face::visible(&viewer, min, size) {
-                    let side = if face.plane == face.lo[face.axis] { -half.x } else { half.x };
-                    let mut flat = half;
-                    flat[face.axis] = 0.0;
-                    let face_centre = centre + this.projector.per_voxel[face.axis] * side;
-                    let Some(rect) = this.footprint(face_centre, flat) else { continue };
-                    let mut drawn = false;
-                    tiles.for_each_uncovered(rect, |row, col| {
-                        drawn = true;
-                        let i = row * columns + col;
-                        let Some(hit) = face.enters(&this.voxel_ray(row, col)) else { return false };
-                        if out[i].is_none_or(|old| hit.t < old.hit.t) {
-                            out[i] = Some(SceneHit { solid: this.solid, hit });
-                        }
-                        true
-                    });
-                    faces += u64::from(drawn);
+                    visible[count] = Some(face);
+                    count += 1;
+                }
+                let mut drawn = false;
+                tiles.for_each_uncovered(rect, |row, col| {
+                    drawn = true;
+                    let ray = this.voxel_ray(row, col);
+                    let Some(hit) = visible.iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
+                    let i = row * columns + col;
+                    if out[i].is_none_or(|old| hit.t < old.hit.t) {
+                        out[i] = Some(SceneHit { solid: this.solid, hit });
+                    }
+                    true
+                });
+                if drawn {
+                    faces += count as u64;
                 }
             },
         );

@@ -105,8 +105,9 @@ impl Samples {
 pub struct VisibilityStats {
     /// Voxel faces drawn (0 for the ray tracer): every face looking at the viewer for
     /// painter's, the Z-buffer and the scan-line Z-buffer; for the front-to-back
-    /// display, the faces that had an uncovered sample in their footprint when reached
-    /// (a face split between screen strips counts once a strip).
+    /// display, the visible faces of the full nodes that had an uncovered sample in
+    /// their footprint when reached (a node split between screen strips counts once a
+    /// strip).
     pub faces_drawn: u64,
 }
 
