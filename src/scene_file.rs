@@ -20,7 +20,7 @@ use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
 use crate::render::{Camera, DEFAULT_VIEW, Light, Material, Projection, RenderOptions, Scene};
 use crate::shape::{
-    Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
+    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
 };
 
 /// The whole file.
@@ -164,6 +164,12 @@ enum ShapeSpec {
         size: f64,
         level: u32,
     },
+    DisplacedSphere {
+        center: [f64; 3],
+        radius: f64,
+        amplitude: f64,
+        frequency: f64,
+    },
     Union(Vec<ShapeSpec>),
     Intersection(Vec<ShapeSpec>),
     Difference(Vec<ShapeSpec>),
@@ -207,6 +213,9 @@ impl ShapeSpec {
             }
             ShapeSpec::HalfSpace { normal, offset } => HalfSpace::new(v(*normal), *offset)?.into(),
             ShapeSpec::Menger { center, size, level } => Menger::new(v(*center), *size, *level)?.into(),
+            ShapeSpec::DisplacedSphere { center, radius, amplitude, frequency } => {
+                DisplacedSphere::new(v(*center), *radius, *amplitude, *frequency)?.into()
+            }
             ShapeSpec::Union(parts) => fold(parts, |a, b| a | b)?,
             ShapeSpec::Intersection(parts) => fold(parts, |a, b| a & b)?,
             ShapeSpec::Difference(parts) => fold(parts, |a, b| a - b)?,
