@@ -111,6 +111,12 @@ pub enum Command {
         /// Skip shadow rays.
         #[arg(long)]
         no_shadows: bool,
+        /// Shading normals: axis (the voxel faces') or smooth (estimated from the octree).
+        #[arg(long)]
+        normals: Option<Normals>,
+        /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
+        #[arg(long)]
+        max_depth: Option<u32>,
     },
     /// Build the bundled showcase scene and render it to demo.png.
     Demo {
@@ -124,6 +130,24 @@ pub enum Command {
 }
 
 /// Visibility methods of `render`.
+/// Shading normals.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum Normals {
+    /// The entered voxel face's axis normal.
+    Axis,
+    /// Estimated from the octree's occupancy around the hit.
+    Smooth,
+}
+
+impl From<Normals> for octsolid::render::Normals {
+    fn from(n: Normals) -> Self {
+        match n {
+            Normals::Axis => octsolid::render::Normals::Axis,
+            Normals::Smooth => octsolid::render::Normals::Smooth,
+        }
+    }
+}
+
 #[derive(ValueEnum, Clone, Copy, Debug)]
 pub enum Method {
     /// Ray tracing through the octree.

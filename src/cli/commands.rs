@@ -32,8 +32,9 @@ pub fn run(args: Args) -> Result<()> {
             voxelize_command(&input, depth, fill, inside, domain, &output, budget)
         }
         Command::MeshInfo { input, json } => mesh_info_command(&input, json),
-        Command::Render { input, output, size, spp, method, depth, up, no_shadows } => {
-            render_command(&input, output, size, spp, method.into(), depth, up, no_shadows, budget)
+        Command::Render { input, output, size, spp, method, depth, up, no_shadows, normals, max_depth } => {
+            let shading = Shading { no_shadows, normals: normals.map(Into::into), max_depth };
+            render_command(&input, output, size, spp, method.into(), depth, up, shading, budget)
         }
         Command::Demo { output, depth } => demo_command(&output, depth, budget),
     }
@@ -292,6 +293,13 @@ fn demo_command(output: &Path, depth: u8, budget: MemoryBudget) -> Result<()> {
     Ok(())
 }
 
+/// The render command's shading flags.
+struct Shading {
+    no_shadows: bool,
+    normals: Option<render::Normals>,
+    max_depth: Option<u32>,
+}
+
 /// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method trace] [--depth D] [--up A]`
 #[allow(clippy::too_many_arguments)]
 fn render_command(
@@ -302,7 +310,7 @@ fn render_command(
     method: render::Method,
     depth: u8,
     up: Axis,
-    no_shadows: bool,
+    shading: Shading,
     budget: MemoryBudget,
 ) -> Result<()> {
     let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
@@ -346,7 +354,9 @@ fn render_command(
     if let Some(n) = spp {
         options.spp = n;
     }
-    options.shadows &= !no_shadows;
+    options.shadows &= !shading.no_shadows;
+    options.normals = shading.normals.unwrap_or(options.normals);
+    options.max_depth = shading.max_depth.unwrap_or(options.max_depth);
     options.method = method;
     let img =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
