@@ -189,3 +189,23 @@ fn render_solids_meshes_and_scenes_by_every_method() {
     let e = fails(&dir, &["render", "ring.oct", "--size", "0x10"]);
     assert!(e.contains("image size"), "{e}");
 }
+
+#[test]
+fn render_meshes_as_polygons_with_each_shading() {
+    let dir = scratch("polygons");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let teapot = root.join("models/teapot.patches");
+    let mut images = Vec::new();
+    for shading in ["flat", "gouraud", "phong"] {
+        let name = format!("teapot_{shading}.png");
+        let args = ["render", teapot.to_str().unwrap(), "--shading", shading, "--size", "80x60", "-o", &name];
+        let out = ok(&dir, &args);
+        assert!(out.contains("triangles"), "{out}");
+        let img = image::open(dir.join(&name)).unwrap().to_rgb8();
+        let background = *img.get_pixel(0, 0);
+        assert!(img.pixels().filter(|p| **p != background).count() > 500, "{shading}: the teapot shows");
+        images.push(img);
+    }
+    assert!(images[0] != images[1] && images[1] != images[2], "the three shadings differ");
+    fails(&dir, &["render", teapot.to_str().unwrap(), "--shading", "shiny"]);
+}

@@ -117,6 +117,10 @@ pub enum Command {
         /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
         #[arg(long)]
         max_depth: Option<u32>,
+        /// Render a mesh (or Bezier patches, tessellated) as polygons with this
+        /// interpolation shading instead of voxelizing it.
+        #[arg(long)]
+        shading: Option<Shading>,
     },
     /// Build the bundled showcase scene and render it to demo.png.
     Demo {
@@ -130,6 +134,27 @@ pub enum Command {
 }
 
 /// Visibility methods of `render`.
+/// Polygon interpolation shading.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum Shading {
+    /// One colour a triangle.
+    Flat,
+    /// Vertex colours interpolated.
+    Gouraud,
+    /// Vertex normals interpolated, lit at every pixel.
+    Phong,
+}
+
+impl From<Shading> for octsolid::render::polygon::Interpolation {
+    fn from(s: Shading) -> Self {
+        match s {
+            Shading::Flat => Self::Flat,
+            Shading::Gouraud => Self::Gouraud,
+            Shading::Phong => Self::Phong,
+        }
+    }
+}
+
 /// Shading normals.
 #[derive(ValueEnum, Clone, Copy, Debug)]
 pub enum Normals {

@@ -32,7 +32,10 @@ pub fn run(args: Args) -> Result<()> {
             voxelize_command(&input, depth, fill, inside, domain, &output, budget)
         }
         Command::MeshInfo { input, json } => mesh_info_command(&input, json),
-        Command::Render { input, output, size, spp, method, depth, up, no_shadows, normals, max_depth } => {
+        Command::Render { input, output, size, spp, method, depth, up, no_shadows, normals, max_depth, shading } => {
+            if let Some(interpolation) = shading {
+                return polygon_command(&input, output, size, spp, up, interpolation.into());
+            }
             let shading = Shading { no_shadows, normals: normals.map(Into::into), max_depth };
             render_command(&input, output, size, spp, method.into(), depth, up, shading, budget)
         }
@@ -293,6 +296,53 @@ fn demo_command(output: &Path, depth: u8, budget: MemoryBudget) -> Result<()> {
     Ok(())
 }
 
+/// `octsolid render MESH --shading flat|gouraud|phong`: the mesh drawn as polygons.
+fn polygon_command(
+    input: &Path,
+    output: Option<std::path::PathBuf>,
+    size: Option<[u32; 2]>,
+    spp: Option<u32>,
+    up: Axis,
+    interpolation: render::polygon::Interpolation,
+) -> Result<()> {
+    let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
+    let mesh = match Input::load(input)? {
+        Input::Mesh(mesh) => mesh,
+        Input::Patches(patches) => octsolid::patch::tessellate(&patches, 16),
+    };
+    let bounds = mesh.bounds();
+    let [width, height] = size.unwrap_or([960, 720]);
+    let (up_vec, view) = view_for(up);
+    let camera = Camera::frame(&bounds, view, up_vec, f64::from(width) / f64::from(height.max(1)));
+    let scene = render::polygon::MeshScene {
+        mesh: &mesh,
+        material: Material::default(),
+        lights: Scene::default_lights(&bounds),
+        ambient: DVec3::ONE,
+        background: Scene::new().background,
+    };
+    let started = Instant::now();
+    let img = render::polygon::render_mesh(&scene, &camera, width, height, spp.unwrap_or(2), interpolation)
+        .with_context(|| format!("{}: cannot render", input.display()))?;
+    out!(
+        "drew {} triangles with {interpolation:?} shading in {:.2} s",
+        mesh.triangles.len(),
+        started.elapsed().as_secs_f64()
+    );
+    png::save(&img, &output)?;
+    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    Ok(())
+}
+
+/// The world's up vector and the default view direction for an up axis.
+fn view_for(up: Axis) -> (DVec3, DVec3) {
+    match up {
+        Axis::Z => (DVec3::Z, DEFAULT_VIEW),
+        Axis::Y => (DVec3::Y, DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y)),
+        Axis::X => (DVec3::X, DVec3::new(DEFAULT_VIEW.z, DEFAULT_VIEW.x, -DEFAULT_VIEW.y)),
+    }
+}
+
 /// The render command's shading flags.
 struct Shading {
     no_shadows: bool,
@@ -334,11 +384,7 @@ fn render_command(
         scene.add(input.display().to_string(), tree, Material::default());
         scene.lights = Scene::default_lights(&bounds);
         let options = RenderOptions::default();
-        let (up_vec, view) = match up {
-            Axis::Z => (DVec3::Z, DEFAULT_VIEW),
-            Axis::Y => (DVec3::Y, DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y)),
-            Axis::X => (DVec3::X, DVec3::new(DEFAULT_VIEW.z, DEFAULT_VIEW.x, -DEFAULT_VIEW.y)),
-        };
+        let (up_vec, view) = view_for(up);
         if up != Axis::Z {
             let c = bounds.center();
             let r = bounds.size().length();

@@ -10,6 +10,7 @@ pub mod frame;
 pub mod light;
 pub mod normals;
 pub mod optics;
+pub mod polygon;
 pub mod raster;
 pub mod scene;
 pub mod shade;
