@@ -7,7 +7,8 @@
 //! R . V`, `C` the material's colour or texture at the point, and `f_i` the fraction of
 //! light `i` reaching the point: 1 without shadows, else the transmittance of what lies
 //! between ([`Scene::transmittance`]). Shadow rays leave the surface a thousandth of a
-//! voxel along the face's axis normal (the geometric one, whatever normal shades).
+//! voxel along the face's axis normal (the geometric one, whatever normal shades); with
+//! smooth normals they start two voxels further towards the light, past the staircase.
 //!
 //! Normals: [`Normals::Axis`] is the entered face's axis normal; [`Normals::Smooth`]
 //! the octree's occupancy gradient ([`super::normals::smooth_normal`]), falling back to
@@ -115,7 +116,11 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> DVec3 {
     let m = &solid.material;
     let (p, geometric, n) = (s.p, s.geometric, s.normal);
     let v = -s.dir;
-    let lift = p + geometric * (1e-3 * solid.tree.domain().voxel_size());
+    let h = solid.tree.domain().voxel_size();
+    let lift = p + geometric * (1e-3 * h);
+    // With smooth normals the staircase next to the point would shadow a surface the
+    // smooth normal turns to the light: shadow rays skip the first two voxels.
+    let skip = if s.smooth.is_some() { 2.0 * h } else { 0.0 };
     let c = m.color_at(p);
     let mut color = scene.ambient * c * m.ka;
     for light in &scene.lights {
@@ -124,7 +129,7 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> DVec3 {
         if cos_alpha <= 0.0 {
             continue;
         }
-        let passed = if shadows { scene.transmittance(lift, l, distance) } else { 1.0 };
+        let passed = if shadows { scene.transmittance(lift + l * skip, l, distance - skip) } else { 1.0 };
         if passed == 0.0 {
             continue;
         }
