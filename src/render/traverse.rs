@@ -10,10 +10,14 @@
 //! The walk (after Revelles et al., "An efficient parametric algorithm for octree
 //! traversal", 2000): a node's interval `[ta, tb]` along the ray is cut at the times the
 //! ray crosses its three mid planes; each non-empty piece is one child, visited in ray
-//! order; full children end the walk, empty ones are skipped, inner ones recurse.
-//! Deviation from the paper: child times are computed from their planes, `(plane - o) /
-//! d`, not averaged from the parent's, so every plane's time is one formula and
-//! ties are decided the same way everywhere (and by the tests' brute force).
+//! order; full children end the walk, empty ones are skipped, inner ones are entered.
+//! The walk is one loop with an explicit stack of the inner nodes above (their index,
+//! mid-plane times and exit time), not recursion; the child at time `t` is read off
+//! the mid-plane times (`tm <= t`), so going back up needs no saved child state.
+//! Deviations from the paper: child times are computed from their planes, `(plane - o)
+//! / d`, not averaged from the parent's, so every plane's time is one formula and ties
+//! are decided the same way everywhere (and by the tests' brute force); the entered
+//! face is worked out once, at the hit, from the mid-plane times on the stack.
 //!
 //! Semantics: the hit is the first point (t >= 0) where the ray enters the interior of a
 //! full voxel; a ray that only touches full voxels along an edge, a corner or a face it
@@ -212,7 +216,8 @@ impl Traversal {
     #[must_use]
     pub fn hit(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<Hit> {
         let r = VoxelRay::new(&self.domain, origin, dir);
-        self.hit_voxel_units(r.o, r.d, t_max)
+        let (min, size, ta, face) = self.first_full(&r, t_max)?;
+        Some(r.entry(min, size, ta, face))
     }
 
     /// Whether anything lies on the ray before `t_max` (shadow rays): the walk of
@@ -238,24 +243,30 @@ impl Traversal {
         if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) {
             return None;
         }
-        let (o, d, inv) = (r.o, r.d, r.inv);
         let n = f64::from(self.domain.resolution());
-        // Entry and exit times of the root's slabs, with the axis of the entry plane.
+        // Entry and exit times of the root's slabs, with the lowest axis of the entry
+        // plane; an axis the ray is parallel to only says whether the origin is in.
         let (mut ta, mut tb, mut face) = (f64::NEG_INFINITY, f64::INFINITY, None);
-        for a in 0..3 {
-            if d[a] == 0.0 {
-                if o[a] < 0.0 || o[a] >= n {
-                    return None;
-                }
-                continue;
+        let mut outside = false;
+        let mut slab = |a: usize| {
+            let (o, d, inv) = (r.o[a], r.d[a], r.inv[a]);
+            if d == 0.0 {
+                outside |= o < 0.0 || o >= n;
+                return;
             }
-            let (near, far) = if d[a] > 0.0 { (0.0, n) } else { (n, 0.0) };
-            let (t0, t1) = ((near - o[a]) * inv[a], (far - o[a]) * inv[a]);
+            let (near, far) = if d > 0.0 { (0.0, n) } else { (n, 0.0) };
+            let (t0, t1) = ((near - o) * inv, (far - o) * inv);
             if t0 > ta {
                 ta = t0;
                 face = Some(a);
             }
             tb = tb.min(t1);
+        };
+        slab(0);
+        slab(1);
+        slab(2);
+        if outside {
+            return None;
         }
         if ta >= tb || tb <= 0.0 || ta >= t_max {
             return None;
