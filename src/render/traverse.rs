@@ -311,26 +311,13 @@ impl Traversal {
         tb: f64,
         face: Option<usize>,
     ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
-        // Per axis: the mirror bit (the ray runs to lower coordinates), and where the
-        // reciprocal is infinite (a ray parallel to the axis, or a subnormal direction)
-        // an origin moved off the lattice to `ceil(o) - 0.5` (`floor(o) + 0.5` and a
-        // reciprocal of +inf when parallel), so that no mid-plane time is NaN and the
-        // infinite ones put the ray on the side the plane formula gives everywhere
-        // else (the high side of a plane through a parallel ray's origin, the low side
-        // for a subnormal direction). Then "past the mid plane" is `tm <= t` on
+        // Per axis the mirror bit (the ray runs to lower coordinates); no mid-plane
+        // time is NaN (see `off_lattice`), so "past the mid plane" is `tm <= t` on
         // every axis and the child is those bits flipped by the mirror bits.
-        let mut mirror = 0usize;
-        let mut o = [0.0; 3];
-        let mut inv = [0.0; 3];
-        for a in 0..3 {
-            mirror |= usize::from(r.d[a] < 0.0) << a;
-            (o[a], inv[a]) = if r.d[a] == 0.0 {
-                (r.o[a].floor() + 0.5, f64::INFINITY)
-            } else if r.inv[a].is_infinite() {
-                (r.o[a].ceil() - 0.5, r.inv[a])
-            } else {
-                (r.o[a], r.inv[a])
-            };
+        let mirror = (0..3).fold(0usize, |m, a| m | usize::from(r.d[a] < 0.0) << a);
+        let (mut o, mut inv) = (r.o.to_array(), r.inv.to_array());
+        if !r.inv.is_finite() {
+            off_lattice(r, &mut o, &mut inv);
         }
         let mid_times = |min: [u32; 3], half: u32| -> [f64; 3] {
             std::array::from_fn(|a| (f64::from(min[a] + half) - o[a]) * inv[a])
@@ -392,6 +379,24 @@ impl Traversal {
                     break;
                 }
             }
+        }
+    }
+}
+
+/// Where the reciprocal direction is infinite (a ray parallel to the axis, or a
+/// subnormal direction), moves the walk's origin off the lattice to `ceil(o) - 0.5`
+/// (`floor(o) + 0.5` and a reciprocal of +inf when parallel), so that no mid-plane
+/// time `(mid - o) * inv` is NaN and the infinite ones put the ray on the side the
+/// plane formula gives everywhere else: the high side of a plane through a parallel
+/// ray's origin (half-open cells), the low side for a subnormal direction (as a NaN
+/// time compares). Rare, so out of the walk's way.
+#[cold]
+fn off_lattice(r: &VoxelRay, o: &mut [f64; 3], inv: &mut [f64; 3]) {
+    for a in 0..3 {
+        if r.d[a] == 0.0 {
+            (o[a], inv[a]) = (r.o[a].floor() + 0.5, f64::INFINITY);
+        } else if r.inv[a].is_infinite() {
+            o[a] = r.o[a].ceil() - 0.5;
         }
     }
 }
