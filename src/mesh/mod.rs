@@ -1,10 +1,11 @@
-//! Triangle meshes: loading (OBJ, STL, PLY), polygon tables and diagnostics, and
-//! voxelization into solid or surface octrees.
+//! Triangle meshes: loading (OBJ, STL, PLY), polygon tables and diagnostics,
+//! voxelization into solid or surface octrees, and the boundary mesh of an octree.
 //!
 //! A [`TriangleMesh`] is a vertex table and a triangle table. Loaders weld vertices with
 //! identical coordinates (STL stores every corner separately), so the edge table sees
 //! the mesh's real connectivity.
 
+mod boundary;
 mod crossing;
 pub mod generate;
 mod load;
@@ -27,6 +28,7 @@ use glam::DVec3;
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
+pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
 pub use load::{MeshFormat, load_mesh};
 pub use parity::ParityGrid;
 pub use save::{save_mesh, write_obj, write_ply, write_stl};

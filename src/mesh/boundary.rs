@@ -1,0 +1,448 @@
+//! The boundary of a linear octree as a closed, consistently oriented, manifold
+//! triangle mesh of axis-aligned faces.
+//!
+//! Algorithm, in lattice units (integer voxel corners, coordinates in `0..=2^depth`):
+//!
+//! 1. **Exposed squares.** For each full node and each of its six faces, the cube of
+//!    the same size across the face is looked up in the key list (one binary search):
+//!    inside a full node, the face is hidden; holding no full node, the face is
+//!    emitted whole; otherwise the face splits into the four quarters facing the
+//!    cube's four near children, recursively, each with its own slice of keys. Faces
+//!    on the domain's faces are exposed. Only the full side of a face emits it, so the
+//!    squares tile the boundary without overlap. Work follows the nodes, never a dense
+//!    grid. With [`BoundaryOptions::unit_faces`] every square is then cut into unit
+//!    squares.
+//! 2. **T-junctions.** A lattice point strictly inside a square's edge where another
+//!    square has a corner is always an end point of another square's edge on the same
+//!    line (the faces around the line change there). So all edge end points are
+//!    sorted once by (line, position), and each edge takes the points strictly between
+//!    its ends as extra polygon vertices.
+//! 3. **Manifold vertices.** At a lattice point the squares around it cover some of
+//!    the twelve quarter faces between its eight voxels; each quarter face joins two of
+//!    the six half-edges leaving the point. Along a half-edge with two quarter faces
+//!    the surface goes on from one to the other; a half-edge with four (two voxels
+//!    touching only along that edge) pairs the two faces that bound the same full
+//!    voxel, so voxels touching along an edge are pulled apart. The quarter faces fall
+//!    into cycles; each cycle is one mesh vertex, so a point where voxels touch only
+//!    along an edge or at a corner gets one vertex a sheet and every edge ends up with
+//!    exactly two faces, run in opposite directions.
+//! 4. **Triangles.** A square without extra vertices is two triangles. Otherwise, if a
+//!    corner has both its edges unsplit, the polygon is a fan from that corner
+//!    (`n - 2` triangles); else a fan from a new vertex at the square's centre (`n`
+//!    triangles; the centre of a square of edge `2^k >= 2` is a lattice point).
+//!
+//! Output: world coordinates (`domain.lattice_point`), triangles counter-clockwise seen
+//! from outside, so the signed-tetrahedron volume is the octree's volume. Every step
+//! runs in parallel over fixed chunks joined in order, and ties are broken by sorted
+//! keys, so the mesh is the same for any number of threads.
+
+use rayon::prelude::*;
+use smallvec::SmallVec;
+
+mod sheets;
+
+use super::TriangleMesh;
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::morton;
+use crate::octree::{LinearOctree, NodeKey};
+use sheets::QuarterFace;
+
+/// Items a parallel task handles.
+const CHUNK: usize = 4096;
+
+/// Bits a lattice coordinate takes in packed keys (coordinates go up to `2^21`).
+const COORD_BITS: u32 = 22;
+const COORD_MASK: u128 = (1 << COORD_BITS) - 1;
+
+/// Estimated peak bytes per square (merged) and per unit face: polygon, sort records,
+/// vertex ids and the output tables.
+const BYTES_PER_SQUARE: u64 = 240;
+const BYTES_PER_UNIT_FACE: u64 = 160;
+
+/// How [`boundary_mesh`] builds the mesh.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BoundaryOptions {
+    /// One voxel face = two triangles; otherwise (the default) the exposed part of a
+    /// node's face is emitted as one square as far as the neighbour allows.
+    pub unit_faces: bool,
+}
+
+/// A lattice point.
+type Point = [u32; 3];
+
+/// An exposed square of a node face, in lattice units.
+#[derive(Clone, Copy, Debug)]
+struct Square {
+    /// Axis of the outward normal.
+    axis: u8,
+    /// Whether the outward normal points to `+axis`.
+    positive: bool,
+    /// Coordinate of the square's plane along `axis`.
+    plane: u32,
+    /// Lowest corner along the in-plane axes `(axis + 1) % 3` and `(axis + 2) % 3`.
+    u: u32,
+    v: u32,
+    /// Edge length.
+    size: u32,
+}
+
+impl Square {
+    /// The lattice point at in-plane coordinates `(u, v)`.
+    fn point(&self, u: u32, v: u32) -> Point {
+        let a = usize::from(self.axis);
+        let mut p = [0; 3];
+        p[a] = self.plane;
+        p[(a + 1) % 3] = u;
+        p[(a + 2) % 3] = v;
+        p
+    }
+
+    /// Corners counter-clockwise seen from `+axis` (`u x v = axis`).
+    fn corners(&self) -> [Point; 4] {
+        let (u1, v1) = (self.u + self.size, self.v + self.size);
+        [self.point(self.u, self.v), self.point(u1, self.v), self.point(u1, v1), self.point(self.u, v1)]
+    }
+}
+
+/// The boundary of `tree` as a closed, manifold, outward-oriented triangle mesh in
+/// world coordinates; empty (no triangles) for an empty solid. See the module doc.
+///
+/// # Panics
+/// When the mesh would need more than `2^32` vertex indices (far beyond memory);
+/// [`try_boundary_mesh`] returns an error instead.
+#[must_use]
+pub fn boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions) -> TriangleMesh {
+    match try_boundary_mesh(tree, options, MemoryBudget::unlimited()) {
+        Ok(mesh) => mesh,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// [`boundary_mesh`], refused before the triangles are built when its estimated memory
+/// exceeds `budget` or it would need more than `2^32` vertex indices.
+pub fn try_boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions, budget: MemoryBudget) -> Result<TriangleMesh> {
+    // 1. Exposed squares.
+    let keys = tree.keys();
+    let depth = tree.depth();
+    let mut squares: Vec<Square> = keys
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut out = Vec::new();
+            for &key in chunk {
+                node_squares(keys, depth, key, &mut out);
+            }
+            out
+        })
+        .collect::<Vec<_>>()
+        .concat();
+    let unit_faces: u128 = squares.iter().map(|s| u128::from(s.size).pow(2)).sum();
+    let (count, per) =
+        if options.unit_faces { (unit_faces, BYTES_PER_UNIT_FACE) } else { (squares.len() as u128, BYTES_PER_SQUARE) };
+    let job = format!("the boundary mesh of {} exposed voxel faces", unit_faces);
+    budget.check(job, u64::try_from(count * u128::from(per)).unwrap_or(u64::MAX))?;
+    // Polygon corners (4 a square, more with T-junctions) must fit u32 vertex indices.
+    if count * 4 > u128::from(u32::MAX) {
+        return Err(Error::invalid(
+            "boundary mesh",
+            format!("{count} faces need more than 2^32 vertices; export at a lower depth"),
+        ));
+    }
+    if options.unit_faces {
+        squares = squares.par_chunks(CHUNK).map(unit_squares).collect::<Vec<_>>().concat();
+    }
+
+    // 2. Polygons with the extra vertices that T-junctions need.
+    let polygons = if options.unit_faces {
+        squares.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &[])).collect::<Vec<_>>()
+    } else {
+        let ends = edge_ends(&squares);
+        squares.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &ends)).collect::<Vec<_>>()
+    };
+    let polygons = Polygons::concat(polygons);
+    if polygons.points.len() + squares.len() > u32::MAX as usize {
+        return Err(Error::invalid(
+            "boundary mesh",
+            format!("{} polygon points need more than 2^32 vertices; export at a lower depth", polygons.points.len()),
+        ));
+    }
+
+    // 3. One vertex a sheet at each lattice point.
+    let (points, ids) = weld_sheets(&squares, &polygons);
+    let domain = tree.domain();
+    let mut vertices: Vec<_> = points.par_iter().map(|&p| domain.lattice_point(p)).collect();
+
+    // 4. Triangles, with centre vertices numbered after the welded ones in square order.
+    let centres: Vec<Option<Point>> =
+        squares.par_iter().enumerate().map(|(s, sq)| needs_centre(sq, polygons.get(s)).then(|| centre(sq))).collect();
+    let mut next = vertices.len() as u32;
+    let centre_ids: Vec<u32> = centres
+        .iter()
+        .map(|c| {
+            c.map_or(u32::MAX, |p| {
+                vertices.push(domain.lattice_point(p));
+                next += 1;
+                next - 1
+            })
+        })
+        .collect();
+    let triangles = (0..squares.len())
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .flat_map_iter(|s| {
+            let range = polygons.range(s);
+            triangulate(&squares[s], polygons.get(s), &ids[range], centre_ids[s])
+        })
+        .collect();
+    Ok(TriangleMesh { vertices, triangles, groups: Vec::new() })
+}
+
+/// Appends the exposed squares of node `key`'s six faces to `out`.
+fn node_squares(keys: &[NodeKey], depth: u8, key: NodeKey, out: &mut Vec<Square>) {
+    let node = key.node(depth);
+    let resolution = 1u32 << depth;
+    for axis in 0..3 {
+        let (u_axis, v_axis) = ((axis + 1) % 3, (axis + 2) % 3);
+        for positive in [false, true] {
+            let plane = if positive { node.min[axis] + node.size } else { node.min[axis] };
+            let square =
+                Square { axis: axis as u8, positive, plane, u: node.min[u_axis], v: node.min[v_axis], size: node.size };
+            if (positive && plane == resolution) || (!positive && plane == 0) {
+                out.push(square);
+                continue;
+            }
+            // The same-size cube across the face (aligned: the plane is a multiple of the size).
+            let mut across = node.min;
+            across[axis] = if positive { plane } else { plane - node.size };
+            let cube = NodeKey::new(morton::encode(across[0], across[1], across[2]), key.k());
+            let lo = keys.partition_point(|k| k.start() < cube.start());
+            // A key starting before the cube and reaching into it is a larger node holding it.
+            if lo > 0 && keys[lo - 1].end() > cube.start() {
+                continue;
+            }
+            let hi = lo + keys[lo..].partition_point(|k| k.start() < cube.end());
+            expose(&keys[lo..hi], cube, square, out);
+        }
+    }
+}
+
+/// Emits the parts of `square` (a face of a full node) that the cube `across` beyond it
+/// leaves uncovered; `keys` are the full nodes starting inside `across` (the first may
+/// be a larger node starting where `across` starts).
+fn expose(keys: &[NodeKey], across: NodeKey, square: Square, out: &mut Vec<Square>) {
+    match keys.first() {
+        None => out.push(square),
+        Some(&first) if first.start() == across.start() && first.k() >= across.k() => {}
+        Some(_) => {
+            // Partly full: recurse into the four children touching the square (on its
+            // side of `across` along the axis), each with its slice of keys.
+            let a = usize::from(square.axis);
+            let near = u64::from(!square.positive);
+            let half = square.size / 2;
+            let mut rest = keys;
+            for c in (0..8u64).filter(|c| (c >> a) & 1 == near) {
+                let Some(child) = across.child(c) else { return };
+                rest = &rest[rest.partition_point(|k| k.start() < child.start())..];
+                let inside = rest.partition_point(|k| k.start() < child.end());
+                let du = ((c >> ((a + 1) % 3)) & 1) as u32 * half;
+                let dv = ((c >> ((a + 2) % 3)) & 1) as u32 * half;
+                let sub = Square { u: square.u + du, v: square.v + dv, size: half, ..square };
+                expose(&rest[..inside], child, sub, out);
+                rest = &rest[inside..];
+            }
+        }
+    }
+}
+
+/// The unit squares of `squares`, in order, each square's row by row.
+fn unit_squares(squares: &[Square]) -> Vec<Square> {
+    let mut out = Vec::new();
+    for s in squares {
+        for dv in 0..s.size {
+            for du in 0..s.size {
+                out.push(Square { u: s.u + du, v: s.v + dv, size: 1, ..*s });
+            }
+        }
+    }
+    out
+}
+
+/// A point on the axis-`d` line through `p`, packed so that sorting groups points by
+/// line (axis, the two other coordinates) and orders them along it.
+fn line_point(d: usize, p: Point) -> u128 {
+    let (b, c) = ((d + 1) % 3, (d + 2) % 3);
+    (d as u128) << (3 * COORD_BITS)
+        | u128::from(p[b]) << (2 * COORD_BITS)
+        | u128::from(p[c]) << COORD_BITS
+        | u128::from(p[d])
+}
+
+/// The axis along which two lattice points on an axis-parallel edge differ.
+fn edge_axis(a: Point, b: Point) -> usize {
+    (0..3).find(|&d| a[d] != b[d]).unwrap_or(0)
+}
+
+/// Every square edge's end points as sorted, distinct [`line_point`]s.
+fn edge_ends(squares: &[Square]) -> Vec<u128> {
+    let mut ends: Vec<u128> = squares
+        .par_iter()
+        .flat_map_iter(|s| {
+            let c = s.corners();
+            (0..4).flat_map(move |i| {
+                let (a, b) = (c[i], c[(i + 1) % 4]);
+                let d = edge_axis(a, b);
+                [line_point(d, a), line_point(d, b)]
+            })
+        })
+        .collect();
+    ends.par_sort_unstable();
+    ends.dedup();
+    ends
+}
+
+/// Polygons as one flat point list with offsets: square `s` is
+/// `points[offsets[s]..offsets[s + 1]]`, counter-clockwise seen from outside,
+/// starting at a corner.
+struct Polygons {
+    points: Vec<Point>,
+    offsets: Vec<usize>,
+}
+
+impl Polygons {
+    /// The polygons of `squares`: corners plus the points of `ends` strictly inside
+    /// each edge (`ends` empty: corners only).
+    fn of(squares: &[Square], ends: &[u128]) -> Polygons {
+        let mut points = Vec::with_capacity(4 * squares.len());
+        let mut offsets = Vec::with_capacity(squares.len() + 1);
+        offsets.push(0);
+        for s in squares {
+            let start = points.len();
+            let c = s.corners();
+            for i in 0..4 {
+                let (a, b) = (c[i], c[(i + 1) % 4]);
+                points.push(a);
+                if ends.is_empty() {
+                    continue;
+                }
+                let d = edge_axis(a, b);
+                let (la, lb) = (line_point(d, a), line_point(d, b));
+                let (lo, hi) = (la.min(lb), la.max(lb));
+                let first = ends.partition_point(|&e| e <= lo);
+                let last = first + ends[first..].partition_point(|&e| e < hi);
+                let mut at = |e: &u128| {
+                    let mut p = a;
+                    p[d] = (e & COORD_MASK) as u32;
+                    points.push(p);
+                };
+                if la < lb {
+                    ends[first..last].iter().for_each(&mut at);
+                } else {
+                    ends[first..last].iter().rev().for_each(&mut at);
+                }
+            }
+            if !s.positive {
+                // Clockwise seen from +axis is counter-clockwise seen from outside.
+                points[start + 1..].reverse();
+            }
+            offsets.push(points.len());
+        }
+        Polygons { points, offsets }
+    }
+
+    /// Joins per-chunk polygon lists in order.
+    fn concat(parts: Vec<Polygons>) -> Polygons {
+        let mut points = Vec::with_capacity(parts.iter().map(|p| p.points.len()).sum());
+        let mut offsets = vec![0];
+        for part in parts {
+            let base = points.len();
+            offsets.extend(part.offsets[1..].iter().map(|o| o + base));
+            points.extend(part.points);
+        }
+        Polygons { points, offsets }
+    }
+
+    fn range(&self, s: usize) -> std::ops::Range<usize> {
+        self.offsets[s]..self.offsets[s + 1]
+    }
+
+    fn get(&self, s: usize) -> &[Point] {
+        &self.points[self.range(s)]
+    }
+
+    fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+}
+
+/// Welds the polygons' points into vertices, one a sheet at each lattice point
+/// (module doc, step 3). Returns the vertices' lattice points and each polygon
+/// point's vertex index.
+fn weld_sheets(squares: &[Square], polygons: &Polygons) -> (Vec<Point>, Vec<u32>) {
+    // One record a polygon point: where it is, which quarter faces its square covers there.
+    let records: Vec<u128> = (0..polygons.len())
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .flat_map_iter(|s| {
+            let square = &squares[s];
+            let a = usize::from(square.axis);
+            let low = square.point(square.u, square.v);
+            let range = polygons.range(s);
+            let poly = polygons.get(s);
+            let n = poly.len();
+            (0..n).map(move |i| {
+                let (p, prev, next) = (poly[i], poly[(i + n - 1) % n], poly[(i + 1) % n]);
+                let (hp, hn) = (sheets::half_edge(p, prev), sheets::half_edge(p, next));
+                let faces = if hp / 2 == hn / 2 {
+                    // A point inside an edge: two quarter faces either side of the inward half-edge.
+                    let w = 3 - a - usize::from(hp / 2);
+                    let inward = 2 * w as u8 + u8::from(p[w] == low[w]);
+                    [QuarterFace::new(a, hp, inward, square.positive), QuarterFace::new(a, inward, hn, square.positive)]
+                } else {
+                    [QuarterFace::new(a, hp, hn, square.positive), QuarterFace::NONE]
+                };
+                sheets::record(p, faces, range.start + i)
+            })
+        })
+        .collect();
+    // The polygon neighbour of point `i` in the direction of half-edge `h`.
+    let along = |i: usize, h: u8| {
+        let s = polygons.offsets.partition_point(|&o| o <= i) - 1;
+        let poly = polygons.get(s);
+        let (k, n) = (i - polygons.offsets[s], poly.len());
+        let next = poly[(k + 1) % n];
+        if sheets::half_edge(poly[k], next) == h { next } else { poly[(k + n - 1) % n] }
+    };
+    sheets::weld(records, polygons.points.len(), along)
+}
+
+/// Whether square `s` needs a centre vertex: extra points on its edges and no corner
+/// with both edges unsplit.
+fn needs_centre(s: &Square, poly: &[Point]) -> bool {
+    poly.len() > 4 && fan_corner(s, poly).is_none()
+}
+
+/// Index of a corner of the polygon whose neighbours are both corners, if any.
+fn fan_corner(s: &Square, poly: &[Point]) -> Option<usize> {
+    let corners = s.corners();
+    let is_corner = |p: &Point| corners.contains(p);
+    let n = poly.len();
+    (0..n).find(|&i| is_corner(&poly[i]) && is_corner(&poly[(i + 1) % n]) && is_corner(&poly[(i + n - 1) % n]))
+}
+
+/// The centre lattice point of a square of edge at least 2.
+fn centre(s: &Square) -> Point {
+    s.point(s.u + s.size / 2, s.v + s.size / 2)
+}
+
+/// The triangles of one square's polygon (module doc, step 4); `ids` are its points'
+/// vertex indices, `centre` the centre vertex when [`needs_centre`].
+fn triangulate(s: &Square, poly: &[Point], ids: &[u32], centre: u32) -> SmallVec<[[u32; 3]; 2]> {
+    let n = ids.len();
+    if n == 4 {
+        return SmallVec::from_buf([[ids[0], ids[1], ids[2]], [ids[0], ids[2], ids[3]]]);
+    }
+    match fan_corner(s, poly) {
+        Some(c) => (1..n - 1).map(|k| [ids[c], ids[(c + k) % n], ids[(c + k + 1) % n]]).collect(),
+        None => (0..n).map(|k| [centre, ids[k], ids[(k + 1) % n]]).collect(),
+    }
+}
