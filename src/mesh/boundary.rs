@@ -127,10 +127,11 @@ pub fn try_boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions, budget:
     let depth = tree.depth();
     let mut squares: Vec<Square> = keys
         .par_chunks(CHUNK)
-        .map(|chunk| {
+        .enumerate()
+        .map(|(c, chunk)| {
             let mut out = Vec::new();
-            for &key in chunk {
-                node_squares(keys, depth, key, &mut out);
+            for i in c * CHUNK..c * CHUNK + chunk.len() {
+                node_squares(keys, depth, i, &mut out);
             }
             out
         })
@@ -197,8 +198,38 @@ pub fn try_boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions, budget:
     Ok(TriangleMesh { vertices, triangles, groups: Vec::new() })
 }
 
-/// Appends the exposed squares of node `key`'s six faces to `out`.
-fn node_squares(keys: &[NodeKey], depth: u8, key: NodeKey, out: &mut Vec<Square>) {
+/// The index of the first key starting at or after Morton code `code`
+/// (`partition_point`), galloping from index `from`: `O(log distance)`, and most
+/// neighbours lie near in Morton order.
+fn seek(keys: &[NodeKey], from: usize, code: u64) -> usize {
+    let before = |i: usize| keys[i].start() < code;
+    let (mut lo, mut hi);
+    if from < keys.len() && before(from) {
+        // Forward: keys[lo] is before the code; grow the step until keys[hi] is not.
+        (lo, hi) = (from, from + 1);
+        let mut step = 1;
+        while hi < keys.len() && before(hi) {
+            lo = hi;
+            step *= 2;
+            hi = (hi + step).min(keys.len());
+        }
+        lo += 1;
+    } else {
+        // Backward: keys[hi] (or the end) is not before the code.
+        (lo, hi) = (from.min(keys.len()), from.min(keys.len()));
+        let mut step = 1;
+        while lo > 0 && !before(lo - 1) {
+            hi = lo - 1;
+            lo = lo.saturating_sub(step);
+            step *= 2;
+        }
+    }
+    lo + keys[lo..hi].partition_point(|k| k.start() < code)
+}
+
+/// Appends the exposed squares of the six faces of node `keys[index]` to `out`.
+fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Square>) {
+    let key = keys[index];
     let node = key.node(depth);
     let resolution = 1u32 << depth;
     for axis in 0..3 {
@@ -215,12 +246,12 @@ fn node_squares(keys: &[NodeKey], depth: u8, key: NodeKey, out: &mut Vec<Square>
             let mut across = node.min;
             across[axis] = if positive { plane } else { plane - node.size };
             let cube = NodeKey::new(morton::encode(across[0], across[1], across[2]), key.k());
-            let lo = keys.partition_point(|k| k.start() < cube.start());
+            let lo = seek(keys, index, cube.start());
             // A key starting before the cube and reaching into it is a larger node holding it.
             if lo > 0 && keys[lo - 1].end() > cube.start() {
                 continue;
             }
-            let hi = lo + keys[lo..].partition_point(|k| k.start() < cube.end());
+            let hi = seek(keys, lo, cube.end());
             expose(&keys[lo..hi], cube, square, out);
         }
     }
@@ -282,18 +313,40 @@ fn edge_axis(a: Point, b: Point) -> usize {
     (0..3).find(|&d| a[d] != b[d]).unwrap_or(0)
 }
 
-/// Every square edge's end points as sorted, distinct [`line_point`]s.
+/// A square's four edges counter-clockwise seen from `+axis`: axis, start, end.
+fn edges(s: &Square) -> impl Iterator<Item = (usize, Point, Point)> {
+    let c = s.corners();
+    (0..4).map(move |i| (edge_axis(c[i], c[(i + 1) % 4]), c[i], c[(i + 1) % 4]))
+}
+
+/// The end points of square edges, as sorted, distinct [`line_point`]s, on the lines
+/// that hold an edge longer than one voxel (only those edges have lattice points
+/// strictly inside). The lines are kept in a hashed bit set; a false hit only adds a
+/// point no long edge asks for.
 fn edge_ends(squares: &[Square]) -> Vec<u128> {
+    let line_hash = |p: u128| {
+        let line = (p >> COORD_BITS) as u64 ^ ((p >> (COORD_BITS + 64)) as u64).rotate_left(29);
+        line.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 20
+    };
+    let long_lines: Vec<u64> = squares
+        .par_iter()
+        .filter(|s| s.size > 1)
+        .flat_map_iter(|s| edges(s).map(move |(d, a, _)| line_hash(line_point(d, a))))
+        .collect();
+    let bits = (long_lines.len() * 16).next_power_of_two().max(64);
+    let mut set = vec![0u64; bits / 64];
+    for h in long_lines {
+        let b = h as usize & (bits - 1);
+        set[b / 64] |= 1 << (b % 64);
+    }
+    let on_long_line = |p: u128| {
+        let b = line_hash(p) as usize & (bits - 1);
+        set[b / 64] & (1 << (b % 64)) != 0
+    };
     let mut ends: Vec<u128> = squares
         .par_iter()
-        .flat_map_iter(|s| {
-            let c = s.corners();
-            (0..4).flat_map(move |i| {
-                let (a, b) = (c[i], c[(i + 1) % 4]);
-                let d = edge_axis(a, b);
-                [line_point(d, a), line_point(d, b)]
-            })
-        })
+        .flat_map_iter(|s| edges(s).flat_map(|(d, a, b)| [line_point(d, a), line_point(d, b)]))
+        .filter(|&p| on_long_line(p))
         .collect();
     ends.par_sort_unstable();
     ends.dedup();
@@ -321,7 +374,7 @@ impl Polygons {
             for i in 0..4 {
                 let (a, b) = (c[i], c[(i + 1) % 4]);
                 points.push(a);
-                if ends.is_empty() {
+                if s.size == 1 || ends.is_empty() {
                     continue;
                 }
                 let d = edge_axis(a, b);

@@ -70,12 +70,6 @@ impl QuarterFace {
         if b == (self.axis() + 1) % 3 { (self.0 >> 2) & 1 } else { (self.0 >> 1) & 1 }
     }
 
-    /// Whether half-edge `h` bounds this face.
-    fn bounded_by(self, h: u8) -> bool {
-        let d = usize::from(h / 2);
-        d != self.axis() && self.side(d) == h & 1
-    }
-
     /// The quarter around half-edge `h` behind the face (the full one) or in front of
     /// it (the empty one): its sides along the two axes other than `h`'s, lower axis
     /// in bit 0.
@@ -116,69 +110,92 @@ enum Pairing {
     Empty,
 }
 
-/// The quarter faces at one lattice point, each with its record's place in the group.
+/// Most quarter faces at a lattice point (each of the twelve is covered once at most).
+const MAX_FACES: usize = 12;
+
+/// The quarter faces at one lattice point, each with its record's place in the group,
+/// and the faces each half-edge bounds.
 struct Link {
-    faces: SmallVec<[(QuarterFace, usize); 16]>,
+    faces: [QuarterFace; MAX_FACES],
+    record: [u8; MAX_FACES],
+    len: usize,
+    around: [[u8; 4]; 6],
+    count: [u8; 6],
 }
 
 impl Link {
     fn new(group: &[u128]) -> Link {
-        let mut faces = SmallVec::new();
+        let mut link = Link {
+            faces: [QuarterFace::NONE; MAX_FACES],
+            record: [0; MAX_FACES],
+            len: 0,
+            around: [[0; 4]; 6],
+            count: [0; 6],
+        };
         for (r, &rec) in group.iter().enumerate() {
             for shift in [37, 32] {
                 let f = QuarterFace(((rec >> shift) & 31) as u8);
-                if f != QuarterFace::NONE {
-                    faces.push((f, r));
+                if f == QuarterFace::NONE || link.len == MAX_FACES {
+                    continue;
+                }
+                let i = link.len;
+                (link.faces[i], link.record[i]) = (f, r as u8);
+                link.len += 1;
+                let a = f.axis();
+                for b in [(a + 1) % 3, (a + 2) % 3] {
+                    let h = usize::from(2 * b as u8 + f.side(b));
+                    if usize::from(link.count[h]) < 4 {
+                        link.around[h][usize::from(link.count[h])] = i as u8;
+                    }
+                    link.count[h] += 1;
                 }
             }
         }
-        Link { faces }
-    }
-
-    /// Indices of the faces bounded by half-edge `h`.
-    fn around(&self, h: u8) -> SmallVec<[usize; 4]> {
-        (0..self.faces.len()).filter(|&i| self.faces[i].0.bounded_by(h)).collect()
+        link
     }
 
     /// Half-edges with four faces.
-    fn touches(&self) -> SmallVec<[u8; 6]> {
-        (0..6).filter(|&h| self.around(h).len() == 4).collect()
+    fn touches(&self) -> impl Iterator<Item = u8> + '_ {
+        (0..6u8).filter(|&h| self.count[usize::from(h)] == 4)
     }
 
     /// The two pairs of faces at touch `h` under `pairing`.
     fn pairs(&self, h: u8, pairing: Pairing) -> [[usize; 2]; 2] {
-        let around = self.around(h);
-        let key = |i: usize| self.faces[i].0.quarter(h, pairing == Pairing::Full);
-        let first = around[0];
-        let mate = around[1..].iter().copied().find(|&i| key(i) == key(first)).unwrap_or(around[1]);
-        let rest: SmallVec<[usize; 2]> = around[1..].iter().copied().filter(|&i| i != mate).collect();
-        [[first, mate], [rest[0], rest[1]]]
+        let around = self.around[usize::from(h)].map(usize::from);
+        let key = |i: usize| self.faces[i].quarter(h, pairing == Pairing::Full);
+        let mate = (1..4).find(|&k| key(around[k]) == key(around[0])).unwrap_or(1);
+        let rest: [usize; 2] = match mate {
+            1 => [2, 3],
+            2 => [1, 3],
+            _ => [1, 2],
+        };
+        [[around[0], around[mate]], rest.map(|k| around[k])]
     }
 
     /// The curve of each face (a union-find root), touches paired by `pairing(h)`.
-    fn curves(&self, pairing: impl Fn(u8) -> Pairing) -> SmallVec<[usize; 16]> {
-        fn find(parent: &mut [usize], mut i: usize) -> usize {
-            while parent[i] != i {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
+    fn curves(&self, pairing: impl Fn(u8) -> Pairing) -> [u8; MAX_FACES] {
+        fn find(parent: &mut [u8], mut i: usize) -> usize {
+            while usize::from(parent[i]) != i {
+                parent[i] = parent[usize::from(parent[i])];
+                i = usize::from(parent[i]);
             }
             i
         }
-        fn union(parent: &mut [usize], i: usize, j: usize) {
+        fn union(parent: &mut [u8], i: usize, j: usize) {
             let (a, b) = (find(parent, i), find(parent, j));
-            parent[a.max(b)] = a.min(b);
+            parent[a.max(b)] = a.min(b) as u8;
         }
-        let mut parent: SmallVec<[usize; 16]> = (0..self.faces.len()).collect();
+        let mut parent: [u8; MAX_FACES] = std::array::from_fn(|i| i as u8);
         // A record's two faces (a point inside a square's edge) are one curve.
-        for i in 1..self.faces.len() {
-            if self.faces[i].1 == self.faces[i - 1].1 {
+        for i in 1..self.len {
+            if self.record[i] == self.record[i - 1] {
                 union(&mut parent, i - 1, i);
             }
         }
-        for h in 0..6 {
-            let around = self.around(h);
-            match around.len() {
-                2 => union(&mut parent, around[0], around[1]),
+        for h in 0..6u8 {
+            let around = self.around[usize::from(h)];
+            match self.count[usize::from(h)] {
+                2 => union(&mut parent, usize::from(around[0]), usize::from(around[1])),
                 4 => {
                     for [i, j] in self.pairs(h, pairing(h)) {
                         union(&mut parent, i, j);
@@ -187,7 +204,10 @@ impl Link {
                 n => debug_assert!(n == 0, "{n} faces around a half-edge"),
             }
         }
-        (0..self.faces.len()).map(|i| find(&mut parent, i)).collect()
+        for i in 0..self.len {
+            parent[i] = find(&mut parent, i) as u8;
+        }
+        parent
     }
 
     /// Whether `pairing` at touch `h` leaves both its pairs on one curve.
@@ -197,26 +217,30 @@ impl Link {
         curves[a] == curves[c]
     }
 
-    /// The sheet (0, 1, ...) of each record, numbered by first appearance.
-    fn sheets(&self, records: usize, pairing: impl Fn(u8) -> Pairing) -> SmallVec<[u8; 8]> {
+    /// The sheet (0, 1, ...) of each of the group's `records`, numbered by first
+    /// appearance, and the number of sheets.
+    fn sheets(&self, pairing: impl Fn(u8) -> Pairing) -> ([u8; MAX_FACES], u8) {
         let curves = self.curves(pairing);
-        let mut roots: SmallVec<[usize; 8]> = SmallVec::new();
-        let mut sheets = SmallVec::from_elem(0, records);
-        for (i, &(_, r)) in self.faces.iter().enumerate() {
-            let sheet = roots.iter().position(|&x| x == curves[i]).unwrap_or_else(|| {
-                roots.push(curves[i]);
-                roots.len() - 1
-            });
-            sheets[r] = sheet as u8;
+        let mut number = [u8::MAX; MAX_FACES];
+        let mut sheets = [0; MAX_FACES];
+        let mut count = 0;
+        for i in 0..self.len {
+            let root = usize::from(curves[i]);
+            if number[root] == u8::MAX {
+                number[root] = count;
+                count += 1;
+            }
+            sheets[usize::from(self.record[i])] = number[root];
         }
-        sheets
+        (sheets, count)
     }
 }
 
 /// A lattice point with touches: its group of records and, for each touch, the
 /// half-edge and the key of its segment.
 struct TouchPoint {
-    group: std::ops::Range<usize>,
+    /// Index of the group.
+    index: usize,
     touches: SmallVec<[(u8, u128); 6]>,
 }
 
@@ -240,25 +264,33 @@ pub(super) fn weld(
         start = end;
     }
 
-    // Touches and their segments, keyed by the segment's lower end on its line.
-    let touch_points: Vec<TouchPoint> = groups
+    // Sheets of every record with touches paired `Full`, in parallel; touch points marked.
+    let mut sheet_of: Vec<([u8; MAX_FACES], u8, bool)> = groups
         .par_iter()
-        .filter_map(|group| {
+        .with_min_len(CHUNK)
+        .map(|group| {
             let link = Link::new(&records[group.clone()]);
-            let touches = link.touches();
-            if touches.is_empty() {
-                return None;
-            }
+            let (sheets, count) = link.sheets(|_| Pairing::Full);
+            (sheets, count, link.touches().next().is_some())
+        })
+        .collect();
+
+    // Touches and their segments, keyed by the segment's lower end on its line.
+    let touch_points: Vec<TouchPoint> = (0..groups.len())
+        .filter(|&g| sheet_of[g].2)
+        .map(|g| {
+            let group = groups[g].clone();
+            let link = Link::new(&records[group.clone()]);
             let p = record_point(records[group.start]);
-            let touches = touches
-                .iter()
-                .map(|&h| {
-                    let face = link.around(h)[0];
-                    let q = along(record_index(records[group.start + link.faces[face].1]), h);
+            let touches = link
+                .touches()
+                .map(|h| {
+                    let face = usize::from(link.around[usize::from(h)][0]);
+                    let q = along(record_index(records[group.start + usize::from(link.record[face])]), h);
                     (h, line_point(usize::from(h / 2), if h & 1 == 1 { p } else { q }))
                 })
                 .collect();
-            Some(TouchPoint { group: group.clone(), touches })
+            TouchPoint { index: g, touches }
         })
         .collect();
     let mut pairing: BTreeMap<u128, Pairing> = BTreeMap::new();
@@ -278,7 +310,7 @@ pub(super) fn weld(
         for (key, at) in &ends {
             let joined = at.iter().all(|&(t, h)| {
                 let tp = &touch_points[t];
-                Link::new(&records[tp.group.clone()]).joins(h, |g| pairing_at(&pairing, tp, g))
+                Link::new(&records[groups[tp.index].clone()]).joins(h, |g| pairing_at(&pairing, tp, g))
             });
             if joined {
                 let p = pairing.entry(*key).or_insert(Pairing::Full);
@@ -291,28 +323,19 @@ pub(super) fn weld(
         }
     }
 
-    // Sheets of every record (in parallel), then vertex numbers in sorted order.
-    let sheet_of: Vec<SmallVec<[u8; 8]>> = groups
-        .par_iter()
-        .with_min_len(CHUNK)
-        .map(|group| {
-            let link = Link::new(&records[group.clone()]);
-            let t = touch_points.partition_point(|tp| tp.group.start < group.start);
-            match touch_points.get(t).filter(|tp| tp.group.start == group.start) {
-                Some(tp) => link.sheets(group.len(), |h| pairing_at(&pairing, tp, h)),
-                None => link.sheets(group.len(), |_| Pairing::Full),
-            }
-        })
-        .collect();
+    // Touch points again with the chosen pairings, then vertex numbers in sorted order.
+    for tp in &touch_points {
+        let (sheets, count) = Link::new(&records[groups[tp.index].clone()]).sheets(|h| pairing_at(&pairing, tp, h));
+        sheet_of[tp.index] = (sheets, count, true);
+    }
     let mut ids = vec![0u32; points];
     let mut vertices = Vec::with_capacity(groups.len());
-    for (group, sheets) in groups.iter().zip(&sheet_of) {
+    for (group, (sheets, count, _)) in groups.iter().zip(&sheet_of) {
         let base = vertices.len() as u32;
         for (&r, &sheet) in records[group.clone()].iter().zip(sheets) {
             ids[record_index(r)] = base + u32::from(sheet);
         }
-        let count = sheets.iter().max().map_or(0, |&m| usize::from(m) + 1);
-        vertices.extend(std::iter::repeat_n(record_point(records[group.start]), count));
+        vertices.extend(std::iter::repeat_n(record_point(records[group.start]), usize::from(*count)));
     }
     (vertices, ids)
 }
