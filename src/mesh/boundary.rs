@@ -46,6 +46,7 @@ use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::morton;
 use crate::octree::{LinearOctree, NodeKey};
+use crate::progress::{NoProgress, Progress};
 use sheets::QuarterFace;
 
 /// Items a parallel task handles.
@@ -113,15 +114,22 @@ impl Square {
 /// [`try_boundary_mesh`] returns an error instead.
 #[must_use]
 pub fn boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions) -> TriangleMesh {
-    match try_boundary_mesh(tree, options, MemoryBudget::unlimited()) {
+    match try_boundary_mesh(tree, options, MemoryBudget::unlimited(), &NoProgress) {
         Ok(mesh) => mesh,
         Err(e) => panic!("{e}"),
     }
 }
 
 /// [`boundary_mesh`], refused before the triangles are built when its estimated memory
-/// exceeds `budget` or it would need more than `2^32` vertex indices.
-pub fn try_boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions, budget: MemoryBudget) -> Result<TriangleMesh> {
+/// exceeds `budget` or it would need more than `2^32` vertex indices. `progress`
+/// counts the four steps of the module doc.
+pub fn try_boundary_mesh(
+    tree: &LinearOctree,
+    options: &BoundaryOptions,
+    budget: MemoryBudget,
+    progress: &dyn Progress,
+) -> Result<TriangleMesh> {
+    progress.start(4);
     // 1. Exposed squares.
     let keys = tree.keys();
     let depth = tree.depth();
@@ -153,6 +161,7 @@ pub fn try_boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions, budget:
         squares = squares.par_chunks(CHUNK).map(unit_squares).collect::<Vec<_>>().concat();
     }
 
+    progress.advance(1);
     // 2. Polygons with the extra vertices that T-junctions need.
     let polygons = if options.unit_faces {
         squares.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &[])).collect::<Vec<_>>()
@@ -168,11 +177,13 @@ pub fn try_boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions, budget:
         ));
     }
 
+    progress.advance(1);
     // 3. One vertex a sheet at each lattice point.
     let (points, ids) = weld_sheets(&squares, &polygons);
     let domain = tree.domain();
     let mut vertices: Vec<_> = points.par_iter().map(|&p| domain.lattice_point(p)).collect();
 
+    progress.advance(1);
     // 4. Triangles, with centre vertices numbered after the welded ones in square order.
     let centres: Vec<Option<Point>> =
         squares.par_iter().enumerate().map(|(s, sq)| needs_centre(sq, polygons.get(s)).then(|| centre(sq))).collect();
@@ -195,6 +206,8 @@ pub fn try_boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions, budget:
             triangulate(&squares[s], polygons.get(s), &ids[range], centre_ids[s])
         })
         .collect();
+    progress.advance(1);
+    progress.finish();
     Ok(TriangleMesh { vertices, triangles, groups: Vec::new() })
 }
 

@@ -96,6 +96,19 @@ impl TriangleMesh {
             .unwrap_or(Aabb { min: DVec3::ZERO, max: DVec3::ZERO })
     }
 
+    /// Enclosed volume by the signed-tetrahedron sum `V = sum (p1 . (p2 x p3)) / 6`,
+    /// exact for a closed, consistently oriented mesh (positive when it faces out).
+    #[must_use]
+    pub fn volume(&self) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| {
+                let [a, b, c] = self.corners(t);
+                a.dot(b.cross(c))
+            })
+            .sum::<f64>()
+            / 6.0
+    }
+
     /// Whether every edge is used exactly twice, once in each direction (closed,
     /// manifold, consistently oriented). Sorts directed edges: O(n log n), no tables.
     #[must_use]
