@@ -338,23 +338,3 @@ fn files_reload_with_the_same_volume() {
         }
     }
 }
-
-#[test]
-#[ignore]
-fn stress() {
-    let mut rng = Rng(0xdead_beef);
-    for round in 0..3000 {
-        let depth = 3 + (round % 2) as u8;
-        let d = domain(depth);
-        let n = d.resolution();
-        let fill = rng.range(0.2, 0.8);
-        let voxels: Vec<[u32; 3]> = (0..n)
-            .flat_map(|x| (0..n).flat_map(move |y| (0..n).map(move |z| [x, y, z])))
-            .filter(|_| rng.unit() < fill)
-            .collect();
-        let tree = LinearOctree::from_voxels(d, voxels).unwrap();
-        check_both(&tree, &format!("stress {round} (fill {fill:.2})"));
-        let tree = random_octree(&mut rng, domain(depth + 1));
-        check_both(&tree, &format!("stress nodes {round}"));
-    }
-}

@@ -337,10 +337,8 @@ fn edges(s: &Square) -> impl Iterator<Item = (usize, Point, Point)> {
 /// strictly inside). The lines are kept in a hashed bit set; a false hit only adds a
 /// point no long edge asks for.
 fn edge_ends(squares: &[Square]) -> Vec<u128> {
-    let line_hash = |p: u128| {
-        let line = (p >> COORD_BITS) as u64 ^ ((p >> (COORD_BITS + 64)) as u64).rotate_left(29);
-        line.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 20
-    };
+    // Fibonacci hash of the line (the point without its position along the line, 46 bits).
+    let line_hash = |p: u128| ((p >> COORD_BITS) as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 20;
     let long_lines: Vec<u64> = squares
         .par_iter()
         .filter(|s| s.size > 1)
@@ -357,9 +355,19 @@ fn edge_ends(squares: &[Square]) -> Vec<u128> {
         set[b / 64] & (1 << (b % 64)) != 0
     };
     let mut ends: Vec<u128> = squares
-        .par_iter()
-        .flat_map_iter(|s| edges(s).flat_map(|(d, a, b)| [line_point(d, a), line_point(d, b)]))
-        .filter(|&p| on_long_line(p))
+        .par_chunks(CHUNK)
+        .flat_map_iter(|chunk| {
+            let mut out = Vec::new();
+            for s in chunk {
+                for (d, a, b) in edges(s) {
+                    let start = line_point(d, a);
+                    if on_long_line(start) {
+                        out.extend([start, line_point(d, b)]);
+                    }
+                }
+            }
+            out
+        })
         .collect();
     ends.par_sort_unstable();
     ends.dedup();
