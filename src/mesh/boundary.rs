@@ -4,7 +4,8 @@
 //! Algorithm, in lattice units (integer voxel corners, coordinates in `0..=2^depth`):
 //!
 //! 1. **Exposed squares.** For each full node and each of its six faces, the cube of
-//!    the same size across the face is looked up in the key list (one binary search):
+//!    the same size across the face is looked up in the key list (a galloping search
+//!    from the node's own place, as neighbours mostly lie near in Morton order):
 //!    inside a full node, the face is hidden; holding no full node, the face is
 //!    emitted whole; otherwise the face splits into the four quarters facing the
 //!    cube's four near children, recursively, each with its own slice of keys. Faces
@@ -14,17 +15,18 @@
 //!    squares.
 //! 2. **T-junctions.** A lattice point strictly inside a square's edge where another
 //!    square has a corner is always an end point of another square's edge on the same
-//!    line (the faces around the line change there). So all edge end points are
-//!    sorted once by (line, position), and each edge takes the points strictly between
-//!    its ends as extra polygon vertices.
+//!    line (the faces around the line change there). So the edge end points on lines
+//!    that hold an edge longer than one voxel are sorted once by (line, position), and
+//!    each long edge takes the points strictly between its ends as extra vertices.
 //! 3. **Manifold vertices.** At a lattice point the squares around it cover some of
 //!    the twelve quarter faces between its eight voxels; each quarter face joins two of
 //!    the six half-edges leaving the point. Along a half-edge with two quarter faces
 //!    the surface goes on from one to the other; a half-edge with four (two voxels
-//!    touching only along that edge) pairs the two faces that bound the same full
-//!    voxel, so voxels touching along an edge are pulled apart. The quarter faces fall
-//!    into cycles; each cycle is one mesh vertex, so a point where voxels touch only
-//!    along an edge or at a corner gets one vertex a sheet and every edge ends up with
+//!    touching only along that edge) pairs them around the full or around the empty
+//!    quarters, chosen for each such segment so that its two pairs end on different
+//!    vertices at one end at least (see `sheets`). The quarter faces fall into
+//!    cycles; each cycle is one mesh vertex, so a point where voxels touch only along
+//!    an edge or at a corner gets one vertex a sheet and every edge ends up with
 //!    exactly two faces, run in opposite directions.
 //! 4. **Triangles.** A square without extra vertices is two triangles. Otherwise, if a
 //!    corner has both its edges unsplit, the polygon is a fan from that corner
@@ -148,7 +150,7 @@ pub fn try_boundary_mesh(
     let unit_faces: u128 = squares.iter().map(|s| u128::from(s.size).pow(2)).sum();
     let (count, per) =
         if options.unit_faces { (unit_faces, BYTES_PER_UNIT_FACE) } else { (squares.len() as u128, BYTES_PER_SQUARE) };
-    let job = format!("the boundary mesh of {} exposed voxel faces", unit_faces);
+    let job = format!("the boundary mesh of {unit_faces} exposed voxel faces");
     budget.check(job, u64::try_from(count * u128::from(per)).unwrap_or(u64::MAX))?;
     // Polygon corners (4 a square, more with T-junctions) must fit u32 vertex indices.
     if count * 4 > u128::from(u32::MAX) {
