@@ -85,7 +85,7 @@ pub enum Command {
         /// Output mesh: .obj, .stl or .ply.
         #[arg(short, long)]
         output: PathBuf,
-        /// One voxel face = two triangles (default: whole node faces, split only where needed).
+        /// One voxel face = two triangles (default: coplanar faces merged into rectangles).
         #[arg(long)]
         unit_faces: bool,
     },

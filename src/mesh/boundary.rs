@@ -11,14 +11,16 @@
 //!    cube's four near children, recursively, each with its own slice of keys. Faces
 //!    on the domain's faces are exposed. Only the full side of a face emits it, so the
 //!    squares tile the boundary without overlap. Work follows the nodes, never a dense
-//!    grid. With [`BoundaryOptions::unit_faces`] every square is then cut into unit
-//!    squares.
-//! 2. **T-junctions.** A lattice point strictly inside a square's edge where another
-//!    square has a corner is always an end point of another square's edge on the same
-//!    line (the faces around the line change there). So the edge end points on lines
-//!    that hold an edge longer than one voxel are sorted once by (line, position), and
-//!    each long edge takes the points strictly between its ends as extra vertices.
-//! 3. **Manifold vertices.** At a lattice point the squares around it cover some of
+//!    grid. Then coplanar squares are merged into rectangles (runs along one in-plane
+//!    axis, then runs of equal runs along the other), or, with
+//!    [`BoundaryOptions::unit_faces`], cut into unit squares.
+//! 2. **T-junctions.** A lattice point strictly inside a rectangle's edge where another
+//!    rectangle has a corner is always an end point of another rectangle's edge on the
+//!    same line (the faces around the line change there, or a coplanar rectangle
+//!    ends). So the edge end points on lines that hold an edge longer than one voxel
+//!    are sorted once by (line, position), and each long edge takes the points
+//!    strictly between its ends as extra vertices.
+//! 3. **Manifold vertices.** At a lattice point the rectangles around it cover some of
 //!    the twelve quarter faces between its eight voxels; each quarter face joins two of
 //!    the six half-edges leaving the point. Along a half-edge with two quarter faces
 //!    the surface goes on from one to the other; a half-edge with four (two voxels
@@ -28,10 +30,10 @@
 //!    cycles; each cycle is one mesh vertex, so a point where voxels touch only along
 //!    an edge or at a corner gets one vertex a sheet and every edge ends up with
 //!    exactly two faces, run in opposite directions.
-//! 4. **Triangles.** A square without extra vertices is two triangles. Otherwise, if a
-//!    corner has both its edges unsplit, the polygon is a fan from that corner
-//!    (`n - 2` triangles); else a fan from a new vertex at the square's centre (`n`
-//!    triangles; the centre of a square of edge `2^k >= 2` is a lattice point).
+//! 4. **Triangles.** A rectangle without extra vertices is two triangles; a polygon of
+//!    `n` points is cut into `n - 2` by ear clipping (a corner whose neighbours are
+//!    not in line with it, keeping the rest from going flat), so no triangle is
+//!    degenerate and no vertex is added.
 //!
 //! Output: world coordinates (`domain.lattice_point`), triangles counter-clockwise seen
 //! from outside, so the signed-tetrahedron volume is the octree's volume. Every step
@@ -58,7 +60,7 @@ const CHUNK: usize = 4096;
 const COORD_BITS: u32 = 22;
 const COORD_MASK: u128 = (1 << COORD_BITS) - 1;
 
-/// Estimated peak bytes per square (merged) and per unit face: polygon, sort records,
+/// Estimated peak bytes per rectangle (merged) and per unit face: polygon, sort records,
 /// vertex ids and the output tables.
 const BYTES_PER_SQUARE: u64 = 240;
 const BYTES_PER_UNIT_FACE: u64 = 160;
@@ -66,31 +68,33 @@ const BYTES_PER_UNIT_FACE: u64 = 160;
 /// How [`boundary_mesh`] builds the mesh.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BoundaryOptions {
-    /// One voxel face = two triangles; otherwise (the default) the exposed part of a
-    /// node's face is emitted as one square as far as the neighbour allows.
+    /// One voxel face = two triangles; otherwise (the default) the exposed parts of
+    /// node faces are merged into coplanar rectangles.
     pub unit_faces: bool,
 }
 
 /// A lattice point.
 type Point = [u32; 3];
 
-/// An exposed square of a node face, in lattice units.
+/// An exposed rectangle of the boundary (a node face or part of one, or coplanar
+/// ones merged), in lattice units.
 #[derive(Clone, Copy, Debug)]
-struct Square {
+struct Rect {
     /// Axis of the outward normal.
     axis: u8,
     /// Whether the outward normal points to `+axis`.
     positive: bool,
-    /// Coordinate of the square's plane along `axis`.
+    /// Coordinate of the rectangle's plane along `axis`.
     plane: u32,
     /// Lowest corner along the in-plane axes `(axis + 1) % 3` and `(axis + 2) % 3`.
     u: u32,
     v: u32,
-    /// Edge length.
-    size: u32,
+    /// Extent along the in-plane axes `(axis + 1) % 3` and `(axis + 2) % 3`.
+    w: u32,
+    h: u32,
 }
 
-impl Square {
+impl Rect {
     /// The lattice point at in-plane coordinates `(u, v)`.
     fn point(&self, u: u32, v: u32) -> Point {
         let a = usize::from(self.axis);
@@ -103,7 +107,7 @@ impl Square {
 
     /// Corners counter-clockwise seen from `+axis` (`u x v = axis`).
     fn corners(&self) -> [Point; 4] {
-        let (u1, v1) = (self.u + self.size, self.v + self.size);
+        let (u1, v1) = (self.u + self.w, self.v + self.h);
         [self.point(self.u, self.v), self.point(u1, self.v), self.point(u1, v1), self.point(self.u, v1)]
     }
 }
@@ -132,10 +136,10 @@ pub fn try_boundary_mesh(
     progress: &dyn Progress,
 ) -> Result<TriangleMesh> {
     progress.start(4);
-    // 1. Exposed squares.
+    // 1. Exposed squares, then merged or cut.
     let keys = tree.keys();
     let depth = tree.depth();
-    let mut squares: Vec<Square> = keys
+    let mut rects: Vec<Rect> = keys
         .par_chunks(CHUNK)
         .enumerate()
         .map(|(c, chunk)| {
@@ -147,12 +151,12 @@ pub fn try_boundary_mesh(
         })
         .collect::<Vec<_>>()
         .concat();
-    let unit_faces: u128 = squares.iter().map(|s| u128::from(s.size).pow(2)).sum();
+    let unit_faces: u128 = rects.iter().map(|s| u128::from(s.w) * u128::from(s.h)).sum();
     let (count, per) =
-        if options.unit_faces { (unit_faces, BYTES_PER_UNIT_FACE) } else { (squares.len() as u128, BYTES_PER_SQUARE) };
+        if options.unit_faces { (unit_faces, BYTES_PER_UNIT_FACE) } else { (rects.len() as u128, BYTES_PER_SQUARE) };
     let job = format!("the boundary mesh of {unit_faces} exposed voxel faces");
     budget.check(job, u64::try_from(count * u128::from(per)).unwrap_or(u64::MAX))?;
-    // Polygon corners (4 a square, more with T-junctions) must fit u32 vertex indices.
+    // Polygon corners (4 a rectangle, more with T-junctions) must fit u32 vertex indices.
     if count * 4 > u128::from(u32::MAX) {
         return Err(Error::invalid(
             "boundary mesh",
@@ -160,19 +164,21 @@ pub fn try_boundary_mesh(
         ));
     }
     if options.unit_faces {
-        squares = squares.par_chunks(CHUNK).map(unit_squares).collect::<Vec<_>>().concat();
+        rects = rects.par_chunks(CHUNK).map(unit_squares).collect::<Vec<_>>().concat();
+    } else {
+        rects = merge_coplanar(rects);
     }
 
     progress.advance(1);
     // 2. Polygons with the extra vertices that T-junctions need.
     let polygons = if options.unit_faces {
-        squares.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &[])).collect::<Vec<_>>()
+        rects.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &[])).collect::<Vec<_>>()
     } else {
-        let ends = edge_ends(&squares);
-        squares.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &ends)).collect::<Vec<_>>()
+        let ends = edge_ends(&rects);
+        rects.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &ends)).collect::<Vec<_>>()
     };
     let polygons = Polygons::concat(polygons);
-    if polygons.points.len() + squares.len() > u32::MAX as usize {
+    if polygons.points.len() + rects.len() > u32::MAX as usize {
         return Err(Error::invalid(
             "boundary mesh",
             format!("{} polygon points need more than 2^32 vertices; export at a lower depth", polygons.points.len()),
@@ -181,32 +187,16 @@ pub fn try_boundary_mesh(
 
     progress.advance(1);
     // 3. One vertex a sheet at each lattice point.
-    let (points, ids) = weld_sheets(&squares, &polygons);
+    let (points, ids) = weld_sheets(&rects, &polygons);
     let domain = tree.domain();
-    let mut vertices: Vec<_> = points.par_iter().map(|&p| domain.lattice_point(p)).collect();
+    let vertices: Vec<_> = points.par_iter().map(|&p| domain.lattice_point(p)).collect();
 
     progress.advance(1);
-    // 4. Triangles, with centre vertices numbered after the welded ones in square order.
-    let centres: Vec<Option<Point>> =
-        squares.par_iter().enumerate().map(|(s, sq)| needs_centre(sq, polygons.get(s)).then(|| centre(sq))).collect();
-    let mut next = vertices.len() as u32;
-    let centre_ids: Vec<u32> = centres
-        .iter()
-        .map(|c| {
-            c.map_or(u32::MAX, |p| {
-                vertices.push(domain.lattice_point(p));
-                next += 1;
-                next - 1
-            })
-        })
-        .collect();
-    let triangles = (0..squares.len())
+    // 4. Triangles.
+    let triangles = (0..rects.len())
         .into_par_iter()
         .with_min_len(CHUNK)
-        .flat_map_iter(|s| {
-            let range = polygons.range(s);
-            triangulate(&squares[s], polygons.get(s), &ids[range], centre_ids[s])
-        })
+        .flat_map_iter(|s| triangulate(usize::from(rects[s].axis), polygons.get(s), &ids[polygons.range(s)]))
         .collect();
     progress.advance(1);
     progress.finish();
@@ -243,7 +233,7 @@ fn seek(keys: &[NodeKey], from: usize, code: u64) -> usize {
 }
 
 /// Appends the exposed squares of the six faces of node `keys[index]` to `out`.
-fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Square>) {
+fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Rect>) {
     let key = keys[index];
     let node = key.node(depth);
     let resolution = 1u32 << depth;
@@ -251,10 +241,17 @@ fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Square>
         let (u_axis, v_axis) = ((axis + 1) % 3, (axis + 2) % 3);
         for positive in [false, true] {
             let plane = if positive { node.min[axis] + node.size } else { node.min[axis] };
-            let square =
-                Square { axis: axis as u8, positive, plane, u: node.min[u_axis], v: node.min[v_axis], size: node.size };
+            let rect = Rect {
+                axis: axis as u8,
+                positive,
+                plane,
+                u: node.min[u_axis],
+                v: node.min[v_axis],
+                w: node.size,
+                h: node.size,
+            };
             if (positive && plane == resolution) || (!positive && plane == 0) {
-                out.push(square);
+                out.push(rect);
                 continue;
             }
             // The same-size cube across the face (aligned: the plane is a multiple of the size).
@@ -267,24 +264,24 @@ fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Square>
                 continue;
             }
             let hi = seek(keys, lo, cube.end());
-            expose(&keys[lo..hi], cube, square, out);
+            expose(&keys[lo..hi], cube, rect, out);
         }
     }
 }
 
-/// Emits the parts of `square` (a face of a full node) that the cube `across` beyond it
+/// Emits the parts of square `rect` (a face of a full node) that the cube `across` beyond it
 /// leaves uncovered; `keys` are the full nodes starting inside `across` (the first may
 /// be a larger node starting where `across` starts).
-fn expose(keys: &[NodeKey], across: NodeKey, square: Square, out: &mut Vec<Square>) {
+fn expose(keys: &[NodeKey], across: NodeKey, rect: Rect, out: &mut Vec<Rect>) {
     match keys.first() {
-        None => out.push(square),
+        None => out.push(rect),
         Some(&first) if first.start() == across.start() && first.k() >= across.k() => {}
         Some(_) => {
             // Partly full: recurse into the four children touching the square (on its
             // side of `across` along the axis), each with its slice of keys.
-            let a = usize::from(square.axis);
-            let near = u64::from(!square.positive);
-            let half = square.size / 2;
+            let a = usize::from(rect.axis);
+            let near = u64::from(!rect.positive);
+            let half = rect.w / 2;
             let mut rest = keys;
             for c in (0..8u64).filter(|c| (c >> a) & 1 == near) {
                 let Some(child) = across.child(c) else { return };
@@ -292,7 +289,7 @@ fn expose(keys: &[NodeKey], across: NodeKey, square: Square, out: &mut Vec<Squar
                 let inside = rest.partition_point(|k| k.start() < child.end());
                 let du = ((c >> ((a + 1) % 3)) & 1) as u32 * half;
                 let dv = ((c >> ((a + 2) % 3)) & 1) as u32 * half;
-                let sub = Square { u: square.u + du, v: square.v + dv, size: half, ..square };
+                let sub = Rect { u: rect.u + du, v: rect.v + dv, w: half, h: half, ..rect };
                 expose(&rest[..inside], child, sub, out);
                 rest = &rest[inside..];
             }
@@ -300,13 +297,43 @@ fn expose(keys: &[NodeKey], across: NodeKey, square: Square, out: &mut Vec<Squar
     }
 }
 
-/// The unit squares of `squares`, in order, each square's row by row.
-fn unit_squares(squares: &[Square]) -> Vec<Square> {
+/// Coplanar rectangles merged: first runs along `u` with the same `v` and height, then
+/// runs of those along `v` with the same `u` and width. Sorting by unique keys keeps the
+/// order independent of the thread count.
+fn merge_coplanar(mut rects: Vec<Rect>) -> Vec<Rect> {
+    let plane = |r: &Rect| (r.axis, r.positive, r.plane);
+    rects.par_sort_unstable_by_key(|r| (plane(r), r.v, r.h, r.u));
+    let rows = merge_runs(
+        rects,
+        |a, b| plane(a) == plane(b) && (a.v, a.h) == (b.v, b.h) && a.u + a.w == b.u,
+        |a, b| {
+            a.w += b.w;
+        },
+    );
+    let mut rows = rows;
+    rows.par_sort_unstable_by_key(|r| (plane(r), r.u, r.w, r.v));
+    merge_runs(rows, |a, b| plane(a) == plane(b) && (a.u, a.w) == (b.u, b.w) && a.v + a.h == b.v, |a, b| a.h += b.h)
+}
+
+/// Folds each run of consecutive items that `joins` links into its first (`grow`).
+fn merge_runs(items: Vec<Rect>, joins: impl Fn(&Rect, &Rect) -> bool, grow: impl Fn(&mut Rect, &Rect)) -> Vec<Rect> {
+    let mut out: Vec<Rect> = Vec::with_capacity(items.len());
+    for item in items {
+        match out.last_mut() {
+            Some(last) if joins(last, &item) => grow(last, &item),
+            _ => out.push(item),
+        }
+    }
+    out
+}
+
+/// The unit squares of `rects`, in order, each rectangle's row by row.
+fn unit_squares(rects: &[Rect]) -> Vec<Rect> {
     let mut out = Vec::new();
-    for s in squares {
-        for dv in 0..s.size {
-            for du in 0..s.size {
-                out.push(Square { u: s.u + du, v: s.v + dv, size: 1, ..*s });
+    for s in rects {
+        for dv in 0..s.h {
+            for du in 0..s.w {
+                out.push(Rect { u: s.u + du, v: s.v + dv, w: 1, h: 1, ..*s });
             }
         }
     }
@@ -328,23 +355,25 @@ fn edge_axis(a: Point, b: Point) -> usize {
     (0..3).find(|&d| a[d] != b[d]).unwrap_or(0)
 }
 
-/// A square's four edges counter-clockwise seen from `+axis`: axis, start, end.
-fn edges(s: &Square) -> impl Iterator<Item = (usize, Point, Point)> {
+/// A rectangle's four edges counter-clockwise seen from `+axis`: axis, start, end.
+fn edges(s: &Rect) -> impl Iterator<Item = (usize, Point, Point)> {
     let c = s.corners();
     (0..4).map(move |i| (edge_axis(c[i], c[(i + 1) % 4]), c[i], c[(i + 1) % 4]))
 }
 
-/// The end points of square edges, as sorted, distinct [`line_point`]s, on the lines
+/// The end points of rectangle edges, as sorted, distinct [`line_point`]s, on the lines
 /// that hold an edge longer than one voxel (only those edges have lattice points
 /// strictly inside). The lines are kept in a hashed bit set; a false hit only adds a
 /// point no long edge asks for.
-fn edge_ends(squares: &[Square]) -> Vec<u128> {
+fn edge_ends(rects: &[Rect]) -> Vec<u128> {
     // Fibonacci hash of the line (the point without its position along the line, 46 bits).
     let line_hash = |p: u128| ((p >> COORD_BITS) as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 20;
-    let long_lines: Vec<u64> = squares
+    let long_lines: Vec<u64> = rects
         .par_iter()
-        .filter(|s| s.size > 1)
-        .flat_map_iter(|s| edges(s).map(move |(d, a, _)| line_hash(line_point(d, a))))
+        .filter(|s| s.w > 1 || s.h > 1)
+        .flat_map_iter(|s| {
+            edges(s).filter(|(d, a, b)| a[*d].abs_diff(b[*d]) > 1).map(|(d, a, _)| line_hash(line_point(d, a)))
+        })
         .collect();
     let bits = (long_lines.len() * 16).next_power_of_two().max(64);
     let mut set = vec![0u64; bits / 64];
@@ -356,7 +385,7 @@ fn edge_ends(squares: &[Square]) -> Vec<u128> {
         let b = line_hash(p) as usize & (bits - 1);
         set[b / 64] & (1 << (b % 64)) != 0
     };
-    let mut ends: Vec<u128> = squares
+    let mut ends: Vec<u128> = rects
         .par_chunks(CHUNK)
         .flat_map_iter(|chunk| {
             let mut out = Vec::new();
@@ -376,7 +405,7 @@ fn edge_ends(squares: &[Square]) -> Vec<u128> {
     ends
 }
 
-/// Polygons as one flat point list with offsets: square `s` is
+/// Polygons as one flat point list with offsets: rectangle `s` is
 /// `points[offsets[s]..offsets[s + 1]]`, counter-clockwise seen from outside,
 /// starting at a corner.
 struct Polygons {
@@ -385,22 +414,22 @@ struct Polygons {
 }
 
 impl Polygons {
-    /// The polygons of `squares`: corners plus the points of `ends` strictly inside
+    /// The polygons of `rects`: corners plus the points of `ends` strictly inside
     /// each edge (`ends` empty: corners only).
-    fn of(squares: &[Square], ends: &[u128]) -> Polygons {
-        let mut points = Vec::with_capacity(4 * squares.len());
-        let mut offsets = Vec::with_capacity(squares.len() + 1);
+    fn of(rects: &[Rect], ends: &[u128]) -> Polygons {
+        let mut points = Vec::with_capacity(4 * rects.len());
+        let mut offsets = Vec::with_capacity(rects.len() + 1);
         offsets.push(0);
-        for s in squares {
+        for s in rects {
             let start = points.len();
             let c = s.corners();
             for i in 0..4 {
                 let (a, b) = (c[i], c[(i + 1) % 4]);
                 points.push(a);
-                if s.size == 1 || ends.is_empty() {
+                let d = edge_axis(a, b);
+                if a[d].abs_diff(b[d]) == 1 || ends.is_empty() {
                     continue;
                 }
-                let d = edge_axis(a, b);
                 let (la, lb) = (line_point(d, a), line_point(d, b));
                 let (lo, hi) = (la.min(lb), la.max(lb));
                 let first = ends.partition_point(|&e| e <= lo);
@@ -453,15 +482,15 @@ impl Polygons {
 /// Welds the polygons' points into vertices, one a sheet at each lattice point
 /// (module doc, step 3). Returns the vertices' lattice points and each polygon
 /// point's vertex index.
-fn weld_sheets(squares: &[Square], polygons: &Polygons) -> (Vec<Point>, Vec<u32>) {
-    // One record a polygon point: where it is, which quarter faces its square covers there.
+fn weld_sheets(rects: &[Rect], polygons: &Polygons) -> (Vec<Point>, Vec<u32>) {
+    // One record a polygon point: where it is, which quarter faces its rectangle covers there.
     let records: Vec<u128> = (0..polygons.len())
         .into_par_iter()
         .with_min_len(CHUNK)
         .flat_map_iter(|s| {
-            let square = &squares[s];
-            let a = usize::from(square.axis);
-            let low = square.point(square.u, square.v);
+            let rect = &rects[s];
+            let a = usize::from(rect.axis);
+            let low = rect.point(rect.u, rect.v);
             let range = polygons.range(s);
             let poly = polygons.get(s);
             let n = poly.len();
@@ -472,9 +501,9 @@ fn weld_sheets(squares: &[Square], polygons: &Polygons) -> (Vec<Point>, Vec<u32>
                     // A point inside an edge: two quarter faces either side of the inward half-edge.
                     let w = 3 - a - usize::from(hp / 2);
                     let inward = 2 * w as u8 + u8::from(p[w] == low[w]);
-                    [QuarterFace::new(a, hp, inward, square.positive), QuarterFace::new(a, inward, hn, square.positive)]
+                    [QuarterFace::new(a, hp, inward, rect.positive), QuarterFace::new(a, inward, hn, rect.positive)]
                 } else {
-                    [QuarterFace::new(a, hp, hn, square.positive), QuarterFace::NONE]
+                    [QuarterFace::new(a, hp, hn, rect.positive), QuarterFace::NONE]
                 };
                 sheets::record(p, faces, range.start + i)
             })
@@ -491,34 +520,36 @@ fn weld_sheets(squares: &[Square], polygons: &Polygons) -> (Vec<Point>, Vec<u32>
     sheets::weld(records, polygons.points.len(), along)
 }
 
-/// Whether square `s` needs a centre vertex: extra points on its edges and no corner
-/// with both edges unsplit.
-fn needs_centre(s: &Square, poly: &[Point]) -> bool {
-    poly.len() > 4 && fan_corner(s, poly).is_none()
-}
-
-/// Index of a corner of the polygon whose neighbours are both corners, if any.
-fn fan_corner(s: &Square, poly: &[Point]) -> Option<usize> {
-    let corners = s.corners();
-    let is_corner = |p: &Point| corners.contains(p);
-    let n = poly.len();
-    (0..n).find(|&i| is_corner(&poly[i]) && is_corner(&poly[(i + 1) % n]) && is_corner(&poly[(i + n - 1) % n]))
-}
-
-/// The centre lattice point of a square of edge at least 2.
-fn centre(s: &Square) -> Point {
-    s.point(s.u + s.size / 2, s.v + s.size / 2)
-}
-
-/// The triangles of one square's polygon (module doc, step 4); `ids` are its points'
-/// vertex indices, `centre` the centre vertex when [`needs_centre`].
-fn triangulate(s: &Square, poly: &[Point], ids: &[u32], centre: u32) -> SmallVec<[[u32; 3]; 2]> {
-    let n = ids.len();
-    if n == 4 {
+/// The triangles of one polygon (module doc, step 4) in the plane normal to `axis`;
+/// `ids` are its points' vertex indices.
+fn triangulate(axis: usize, poly: &[Point], ids: &[u32]) -> SmallVec<[[u32; 3]; 2]> {
+    if poly.len() == 4 {
         return SmallVec::from_buf([[ids[0], ids[1], ids[2]], [ids[0], ids[2], ids[3]]]);
     }
-    match fan_corner(s, poly) {
-        Some(c) => (1..n - 1).map(|k| [ids[c], ids[(c + k) % n], ids[(c + k + 1) % n]]).collect(),
-        None => (0..n).map(|k| [centre, ids[k], ids[(k + 1) % n]]).collect(),
+    // Ear clipping of a weakly convex polygon: cut off a corner whose neighbours are
+    // not in line with it, unless all the other points are in line with those
+    // neighbours (the rest would be flat; one of the line's two ends serves then).
+    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+    let cross = |a: Point, b: Point, c: Point| {
+        let d = |p: Point, q: Point, k: usize| i64::from(q[k]) - i64::from(p[k]);
+        d(a, b, u) * d(b, c, v) - d(a, b, v) * d(b, c, u)
+    };
+    let mut ring: SmallVec<[usize; 16]> = (0..poly.len()).collect();
+    let mut out = SmallVec::new();
+    while ring.len() > 3 {
+        let n = ring.len();
+        let around = |k: usize| (ring[(k + n - 1) % n], ring[k], ring[(k + 1) % n]);
+        let ear = (0..n)
+            .find(|&k| {
+                let (a, b, c) = around(k);
+                cross(poly[a], poly[b], poly[c]) != 0
+                    && ring.iter().any(|&j| j != b && cross(poly[a], poly[c], poly[j]) != 0)
+            })
+            .unwrap_or(0);
+        let (a, b, c) = around(ear);
+        out.push([ids[a], ids[b], ids[c]]);
+        ring.remove(ear);
     }
+    out.push([ids[ring[0]], ids[ring[1]], ids[ring[2]]]);
+    out
 }
