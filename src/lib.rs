@@ -24,6 +24,7 @@
 
 pub mod aabb;
 pub mod budget;
+pub mod color;
 pub mod error;
 pub mod import;
 pub mod io;

@@ -215,3 +215,24 @@ fn export_writes_closed_meshes_with_the_octree_volume() {
     assert!(e.contains("none.oct") && e.contains("empty"), "{e}");
     assert!(!dir.join("n.obj").exists() && !dir.join("j.obj").exists());
 }
+
+#[test]
+fn render_meshes_as_polygons_with_each_shading() {
+    let dir = scratch("polygons");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let teapot = root.join("models/teapot.patches");
+    let mut images = Vec::new();
+    for shading in ["flat", "gouraud", "phong"] {
+        let name = format!("teapot_{shading}.png");
+        let args = ["render", teapot.to_str().unwrap(), "--shading", shading, "--size", "80x60", "-o", &name];
+        let out = ok(&dir, &args);
+        assert!(out.contains("triangles"), "{out}");
+        let img = image::open(dir.join(&name)).unwrap().to_rgb8();
+        let background = *img.get_pixel(0, 0);
+        assert!(img.pixels().filter(|p| **p != background).count() > 500, "{shading}: the teapot shows");
+        images.push(img);
+    }
+    assert!(images[0] != images[1] && images[1] != images[2], "the three shadings differ");
+    let bad = octsolid(&dir, &["render", teapot.to_str().unwrap(), "--shading", "shiny"]);
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("shiny"));
+}
