@@ -78,6 +78,17 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Write the boundary of an .oct solid as a closed, manifold triangle mesh (OBJ, STL, PLY).
+    Export {
+        /// The .oct file.
+        file: PathBuf,
+        /// Output mesh: .obj, .stl or .ply.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// One voxel face = two triangles (default: coplanar faces merged into rectangles).
+        #[arg(long)]
+        unit_faces: bool,
+    },
     /// Print a mesh's polygon-table diagnostics: edges, holes, non-manifold edges, volume.
     MeshInfo {
         /// Input file: .obj, .stl, .ply or .patches.

@@ -9,7 +9,7 @@ use octsolid::budget::MemoryBudget;
 use octsolid::error::human_bytes;
 use octsolid::import::{self, Fill, Input};
 use octsolid::io::{oct, png};
-use octsolid::mesh::InsideRule;
+use octsolid::mesh::{BoundaryOptions, InsideRule, MeshFormat, save_mesh, try_boundary_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{self, Camera, DEFAULT_VIEW, Light, Material, RenderOptions, Scene};
 use octsolid::samples;
@@ -32,6 +32,7 @@ pub fn run(args: Args) -> Result<()> {
             voxelize_command(&input, depth, fill, inside, domain, &output, budget)
         }
         Command::MeshInfo { input, json } => mesh_info_command(&input, json),
+        Command::Export { file, output, unit_faces } => export_command(&file, &output, unit_faces, budget),
         Command::Render { input, output, size, spp, method, depth, up, no_shadows, normals, max_depth, shading } => {
             if let Some(interpolation) = shading {
                 return polygon_command(&input, output, size, spp, up, interpolation.into());
@@ -116,6 +117,29 @@ fn voxelize_command(
         None => {}
     }
     out!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
+    out!("wrote {} ({})", output.display(), human_bytes(bytes));
+    Ok(())
+}
+
+/// `octsolid export FILE.oct -o OUT.(obj|stl|ply) [--unit-faces]`
+fn export_command(file: &Path, output: &Path, unit_faces: bool, budget: MemoryBudget) -> Result<()> {
+    MeshFormat::of(output)?;
+    let tree = oct::load(file, budget)?;
+    if tree.is_empty() {
+        bail!("{}: the solid is empty; there is no boundary to export", file.display());
+    }
+    let started = Instant::now();
+    let bar = Bar::new("meshing");
+    let mesh = try_boundary_mesh(&tree, &BoundaryOptions { unit_faces }, budget, &bar)
+        .with_context(|| format!("{}: cannot export", file.display()))?;
+    let elapsed = started.elapsed().as_secs_f64();
+    let bytes = save_mesh(&mesh, output)?;
+    let faces = if unit_faces { "unit faces" } else { "merged faces" };
+    out!("read       {} ({} nodes, depth {})", file.display(), tree.node_count(), tree.depth());
+    out!("mesh       {} triangles, {} vertices ({faces})", mesh.triangles.len(), mesh.vertices.len());
+    let (enclosed, volume) = (mesh.volume(), tree.volume());
+    out!("volume     {enclosed:.6} enclosed, {volume:.6} octree ({:+.1e} relative)", enclosed / volume - 1.0);
+    out!("time       {:.1} ms (boundary mesh)", elapsed * 1e3);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     Ok(())
 }
