@@ -233,6 +233,10 @@ fn render_meshes_as_polygons_with_each_shading() {
         images.push(img);
     }
     assert!(images[0] != images[1] && images[1] != images[2], "the three shadings differ");
+    // A solid is drawn by its exported boundary mesh.
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "5", "-o", "ball.oct"]);
+    let out = ok(&dir, &["render", "ball.oct", "--shading", "gouraud", "--size", "64x48", "-o", "ball.png"]);
+    assert!(out.contains("triangles") && dir.join("ball.png").exists(), "{out}");
     let bad = octsolid(&dir, &["render", teapot.to_str().unwrap(), "--shading", "shiny"]);
     assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("shiny"));
 }

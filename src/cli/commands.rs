@@ -35,7 +35,7 @@ pub fn run(args: Args) -> Result<()> {
         Command::Export { file, output, unit_faces } => export_command(&file, &output, unit_faces, budget),
         Command::Render { input, output, size, spp, method, depth, up, no_shadows, normals, max_depth, shading } => {
             if let Some(interpolation) = shading {
-                return polygon_command(&input, output, size, spp, up, interpolation.into());
+                return polygon_command(&input, output, size, spp, up, interpolation.into(), budget);
             }
             let shading = Shading { no_shadows, normals: normals.map(Into::into), max_depth };
             render_command(&input, output, size, spp, method.into(), depth, up, shading, budget)
@@ -328,12 +328,23 @@ fn polygon_command(
     spp: Option<u32>,
     up: Axis,
     interpolation: render::polygon::Interpolation,
+    budget: MemoryBudget,
 ) -> Result<()> {
     let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
-    let mesh = match Input::load(input)? {
-        Input::Mesh(mesh) => mesh,
-        Input::Patches(patches) => octsolid::patch::tessellate(&patches, 16),
+    let ext = input.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let mesh = if ext == "oct" {
+        // The solid's boundary, in unit faces so that vertex normals average locally.
+        let tree = oct::load(input, budget)?;
+        try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?
+    } else {
+        match Input::load(input)? {
+            Input::Mesh(mesh) => mesh,
+            Input::Patches(patches) => octsolid::patch::tessellate(&patches, 16),
+        }
     };
+    if mesh.triangles.is_empty() {
+        bail!("{}: nothing to draw", input.display());
+    }
     let bounds = mesh.bounds();
     let [width, height] = size.unwrap_or([960, 720]);
     let (up_vec, view) = view_for(up);
