@@ -171,3 +171,26 @@ fn world_rays_and_deep_trees() {
     assert_eq!(t.node_count(), 21);
     let _ = morton::encode(0, 0, 0);
 }
+
+#[test]
+fn non_finite_rays_hit_nothing() {
+    let d = Domain::new(DVec3::ZERO, 1.0, 3).unwrap();
+    let solids = [LinearOctree::full(d), LinearOctree::from_voxels(d, [[3, 4, 5]]).unwrap()];
+    let centre = DVec3::splat(0.5);
+    let rays = [
+        (DVec3::new(f64::NAN, 0.5, 0.5), DVec3::X),
+        (DVec3::new(-1.0, f64::INFINITY, 0.5), DVec3::X),
+        (centre, DVec3::new(f64::NEG_INFINITY, 0.0, 0.0)),
+        (centre, DVec3::new(1.0, f64::NAN, 0.0)),
+    ];
+    for tree in &solids {
+        let t = Traversal::new(tree);
+        for (o, dir) in rays {
+            assert_eq!(t.hit(o, dir, f64::INFINITY), None, "{o} {dir}");
+            assert!(!t.occluded(o, dir, f64::INFINITY), "{o} {dir}");
+        }
+        // The same solid is hit by a finite ray through its voxel.
+        let v = d.voxel_center([3, 4, 5]);
+        assert!(t.hit(v - DVec3::X, DVec3::X, f64::INFINITY).is_some());
+    }
+}

@@ -86,7 +86,7 @@ fn longitude(a: f64, b: f64) -> f64 {
 }
 
 /// What gives a surface its colour.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Texture {
     /// An image placed by a mapping, sampled bilinearly, repeating.
     Image {

@@ -10,10 +10,14 @@
 //! The walk (after Revelles et al., "An efficient parametric algorithm for octree
 //! traversal", 2000): a node's interval `[ta, tb]` along the ray is cut at the times the
 //! ray crosses its three mid planes; each non-empty piece is one child, visited in ray
-//! order; full children end the walk, empty ones are skipped, inner ones recurse.
-//! Deviation from the paper: child times are computed from their planes, `(plane - o) /
-//! d`, not averaged from the parent's, so every plane's time is one formula and
-//! ties are decided the same way everywhere (and by the tests' brute force).
+//! order; full children end the walk, empty ones are skipped, inner ones are entered.
+//! The walk is one loop with an explicit stack of the inner nodes above (their index,
+//! mid-plane times and exit time), not recursion; the child at time `t` is read off
+//! the mid-plane times (`tm <= t`), so going back up needs no saved child state.
+//! Deviations from the paper: child times are computed from their planes, `(plane - o)
+//! / d`, not averaged from the parent's, so every plane's time is one formula and ties
+//! are decided the same way everywhere (and by the tests' brute force); the entered
+//! face is worked out once, at the hit, from the mid-plane times on the stack.
 //!
 //! Semantics: the hit is the first point (t >= 0) where the ray enters the interior of a
 //! full voxel; a ray that only touches full voxels along an edge, a corner or a face it
@@ -27,7 +31,7 @@
 
 use glam::DVec3;
 
-use crate::octree::{Domain, LinearOctree, NodeKey};
+use crate::octree::{Domain, LinearOctree, MAX_DEPTH, NodeKey};
 
 /// One inner node of the traversal octree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -212,51 +216,237 @@ impl Traversal {
     #[must_use]
     pub fn hit(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<Hit> {
         let r = VoxelRay::new(&self.domain, origin, dir);
-        self.hit_voxel_units(r.o, r.d, t_max)
+        let (min, size, ta, face) = self.first_full(&r, t_max)?;
+        Some(r.entry(min, size, ta, face))
     }
 
-    /// Whether anything lies on the ray before `t_max` (shadow rays).
+    /// Whether anything lies on the ray before `t_max` (shadow rays): the walk of
+    /// [`Traversal::hit`] without working out the voxel and face.
     #[must_use]
     pub fn occluded(&self, origin: DVec3, dir: DVec3, t_max: f64) -> bool {
-        self.hit(origin, dir, t_max).is_some()
+        let r = VoxelRay::new(&self.domain, origin, dir);
+        self.first_full(&r, t_max).is_some()
     }
 
     /// [`Traversal::hit`] with the ray already in voxel units of the domain.
     #[must_use]
     pub fn hit_voxel_units(&self, o: DVec3, d: DVec3, t_max: f64) -> Option<Hit> {
-        if self.root == Root::Empty {
+        let r = VoxelRay { o, d, inv: DVec3::ONE / d };
+        let (min, size, ta, face) = self.first_full(&r, t_max)?;
+        Some(r.entry(min, size, ta, face))
+    }
+
+    /// The first full node the ray enters before `t_max`: its corner, size, entry time
+    /// and entered face (the arguments of [`VoxelRay::entry`]). A ray with a non-finite
+    /// origin or direction hits nothing.
+    fn first_full(&self, r: &VoxelRay, t_max: f64) -> Option<([u32; 3], u32, f64, Option<usize>)> {
+        if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) {
             return None;
         }
-        let inv = DVec3::ONE / d;
         let n = f64::from(self.domain.resolution());
-        // Entry and exit times of the root's slabs, with the axis of the entry plane.
+        // Entry and exit times of the root's slabs, with the lowest axis of the entry
+        // plane; an axis the ray is parallel to only says whether the origin is in.
         let (mut ta, mut tb, mut face) = (f64::NEG_INFINITY, f64::INFINITY, None);
-        for a in 0..3 {
-            if d[a] == 0.0 {
-                if o[a] < 0.0 || o[a] >= n {
-                    return None;
-                }
-                continue;
+        let mut outside = false;
+        let mut slab = |a: usize| {
+            let (o, d, inv) = (r.o[a], r.d[a], r.inv[a]);
+            if d == 0.0 {
+                outside |= o < 0.0 || o >= n;
+                return;
             }
-            let (near, far) = if d[a] > 0.0 { (0.0, n) } else { (n, 0.0) };
-            let (t0, t1) = ((near - o[a]) * inv[a], (far - o[a]) * inv[a]);
+            let (near, far) = if d > 0.0 { (0.0, n) } else { (n, 0.0) };
+            let (t0, t1) = ((near - o) * inv, (far - o) * inv);
             if t0 > ta {
                 ta = t0;
                 face = Some(a);
             }
             tb = tb.min(t1);
+        };
+        slab(0);
+        slab(1);
+        slab(2);
+        if outside {
+            return None;
         }
         if ta >= tb || tb <= 0.0 || ta >= t_max {
             return None;
         }
-        let walk = Walk { t: self, o, d, inv, t_max };
         let n = self.domain.resolution();
         if self.root == Root::Full {
-            walk.full_hit([0, 0, 0], n, ta, face)
-        } else {
-            walk.node(0, [0, 0, 0], n, ta, tb, face)
+            return (ta.max(0.0) < t_max).then_some(([0, 0, 0], n, ta, face));
+        }
+        self.walk(r, t_max, ta, tb, face)
+    }
+}
+
+/// Most inner nodes a walk can be below: the root is at level 0 and the last inner
+/// nodes at level `MAX_DEPTH - 1`.
+const STACK: usize = MAX_DEPTH as usize;
+
+/// An inner node the walk went down from: what it needs to go on there.
+#[derive(Clone, Copy)]
+struct Frame {
+    index: u32,
+    tm: [f64; 3],
+    tb: f64,
+}
+
+impl Traversal {
+    /// The walk through the inner root, entered at `ta` through `face` and left at `tb`
+    /// (after Revelles et al., iterative, with an explicit stack).
+    ///
+    /// In an inner node `[min, min + size)` the mid-plane times `tm[a] = (min[a] +
+    /// size / 2 - o[a]) / d[a]` are computed once. At time `t` the ray is in the child
+    /// whose bit `a` is high when `tm[a] <= t` (`d[a] > 0`) or `tm[a] > t` (`d[a] < 0`);
+    /// that child's piece ends at the next mid-plane time `min {tm[a] : tm[a] > t}` or
+    /// at the node's exit `tb`, whichever comes first, and crossings at one time are
+    /// taken together (no zero-length pieces). The walk starts at `max(ta, 0)`: pieces
+    /// before the origin are never visited (a hit there is the origin's own voxel,
+    /// whatever its entry time).
+    fn walk(
+        &self,
+        r: &VoxelRay,
+        t_max: f64,
+        ta: f64,
+        tb: f64,
+        face: Option<usize>,
+    ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
+        // Per axis the mirror bit (the ray runs to lower coordinates); no mid-plane
+        // time is NaN (see `off_lattice`), so "past the mid plane" is `tm <= t` on
+        // every axis and the child is those bits flipped by the mirror bits.
+        let mirror = (0..3).fold(0usize, |m, a| m | usize::from(r.d[a] < 0.0) << a);
+        let (mut o, mut inv) = (r.o.to_array(), r.inv.to_array());
+        if !r.inv.is_finite() {
+            off_lattice(r, &mut o, &mut inv);
+        }
+        let mid_times = |min: [u32; 3], half: u32| -> [f64; 3] {
+            std::array::from_fn(|a| (f64::from(min[a] + half) - o[a]) * inv[a])
+        };
+        let mut stack = [Frame { index: 0, tm: [0.0; 3], tb: 0.0 }; STACK];
+        let mut depth = 0;
+        let mut index = 0u32;
+        let mut min = [0u32; 3];
+        let mut size = self.domain.resolution();
+        let mut tb = tb;
+        let mut t = ta.max(0.0);
+        let mut tm = mid_times(min, size / 2);
+        loop {
+            let inner = self.nodes[index as usize];
+            let half = size / 2;
+            // Step 1: the child the ray is in just after t, and the next mid plane.
+            let past = [tm[0] <= t, tm[1] <= t, tm[2] <= t];
+            let child = (usize::from(past[0]) | usize::from(past[1]) << 1 | usize::from(past[2]) << 2) ^ mirror;
+            let ahead = |a: usize| if past[a] { f64::INFINITY } else { tm[a] };
+            let next = earlier(earlier(ahead(0), ahead(1)), ahead(2));
+            // Step 2: a non-empty child is the hit (full) or is walked (inner).
+            if inner.valid >> child & 1 == 1 {
+                if t >= t_max {
+                    return None;
+                }
+                let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
+                if inner.full >> child & 1 == 1 {
+                    let path = stack[..depth].iter().map(|f| &f.tm).chain([&tm]);
+                    return Some((cmin, half, t, entered_face(path, t, ta, face)));
+                }
+                stack[depth] = Frame { index, tm, tb };
+                depth += 1;
+                index = inner.first + u32::from(INNER_BEFORE[usize::from(inner.valid & !inner.full)][child]);
+                min = cmin;
+                size = half;
+                tb = earlier(next, tb);
+                tm = mid_times(min, size / 2);
+                continue;
+            }
+            // Step 3: leave the child across mid planes of this node, or out of it
+            // (and of every ancestor left at the same time).
+            if next < tb {
+                t = next;
+                continue;
+            }
+            t = tb;
+            loop {
+                if depth == 0 {
+                    return None;
+                }
+                depth -= 1;
+                let frame = stack[depth];
+                size *= 2;
+                for m in &mut min {
+                    *m &= !(size - 1);
+                }
+                (index, tm, tb) = (frame.index, frame.tm, frame.tb);
+                if t < tb {
+                    break;
+                }
+            }
         }
     }
+}
+
+/// Where the reciprocal direction is infinite (a ray parallel to the axis, or a
+/// subnormal direction), moves the walk's origin off the lattice to `ceil(o) - 0.5`
+/// (`floor(o) + 0.5` and a reciprocal of +inf when parallel), so that no mid-plane
+/// time `(mid - o) * inv` is NaN and the infinite ones put the ray on the side the
+/// plane formula gives everywhere else: the high side of a plane through a parallel
+/// ray's origin (half-open cells), the low side for a subnormal direction (as a NaN
+/// time compares). Rare, so out of the walk's way.
+#[cold]
+fn off_lattice(r: &VoxelRay, o: &mut [f64; 3], inv: &mut [f64; 3]) {
+    for a in 0..3 {
+        if r.d[a] == 0.0 {
+            (o[a], inv[a]) = (r.o[a].floor() + 0.5, f64::INFINITY);
+        } else if r.inv[a].is_infinite() {
+            o[a] = r.o[a].ceil() - 0.5;
+        }
+    }
+}
+
+/// The smaller of two times that are not NaN.
+fn earlier(x: f64, y: f64) -> f64 {
+    if x < y { x } else { y }
+}
+
+/// `INNER_BEFORE[mask][i]`: how many of the children in `mask` come before child `i`
+/// (`popcount(mask & ((1 << i) - 1))`, a table lookup where the CPU has no popcount).
+const INNER_BEFORE: [[u8; 8]; 256] = {
+    let mut table = [[0u8; 8]; 256];
+    let mut mask = 0;
+    while mask < 256 {
+        let mut i = 1;
+        while i < 8 {
+            table[mask][i] = table[mask][i - 1] + ((mask >> (i - 1)) & 1) as u8;
+            i += 1;
+        }
+        mask += 1;
+    }
+    table
+};
+
+/// The face through which the walk entered a node at time `t`, given the mid-plane
+/// times of the inner nodes on its path from the root, the root's entry time `ta`
+/// and entered face `root_face`: the lowest axis of a mid plane on the path crossed
+/// at `t`, or of the root's entry plane when `t == ta`.
+///
+/// This is the rule "the lowest axis among the planes crossed at once" restricted to
+/// the planes the walk meets: a node entered at `t > ta` lies in an ancestor `Q`
+/// entered before `t`, whose mid planes crossed at `t` are the crossing; no node
+/// above `Q` has a mid plane at `t` (the child of such a node would be entered at
+/// `t`, and `Q` inside it), and the nodes below `Q` are entered at `t` through it, so
+/// their mid planes at `t` are entered at once too.
+fn entered_face<'a>(
+    path: impl Iterator<Item = &'a [f64; 3]>,
+    t: f64,
+    ta: f64,
+    root_face: Option<usize>,
+) -> Option<usize> {
+    let mut face = if t == ta { root_face } else { None };
+    for tm in path {
+        let limit = face.unwrap_or(3);
+        if let Some(a) = (0..limit).find(|&a| tm[a] == t) {
+            face = Some(a);
+        }
+    }
+    face
 }
 
 /// A ray in voxel units of a domain: origin, direction and reciprocal direction.
@@ -312,105 +502,5 @@ impl VoxelRay {
                 .unwrap_or(f)
         });
         Hit { t, voxel, axis: if inside { None } else { face } }
-    }
-}
-
-/// One ray's walk.
-struct Walk<'a> {
-    t: &'a Traversal,
-    o: DVec3,
-    d: DVec3,
-    inv: DVec3,
-    t_max: f64,
-}
-
-impl Walk<'_> {
-    /// The hit in inner node `index` at `min` of `size` voxels, entered at `ta` through
-    /// `face` and left at `tb`.
-    #[allow(clippy::needless_range_loop)] // `i == count` stands for the exit at `tb`
-    fn node(&self, index: u32, min: [u32; 3], size: u32, ta: f64, tb: f64, face: Option<usize>) -> Option<Hit> {
-        let inner = self.t.nodes[index as usize];
-        let half = size / 2;
-        // Step 1: per axis, the mid plane's crossing time; the child holding the ray just
-        // after ta (the high half when the position there is at or past the mid plane);
-        // the crossings inside (ta, tb). A mid plane crossed exactly at ta is entered
-        // with the node's face (the lowest axis names the face).
-        let mut cuts = [(f64::INFINITY, 0usize); 3];
-        let mut count = 0;
-        let mut child = 0usize;
-        let mut face = face;
-        for (a, &lo) in min.iter().enumerate() {
-            let mid = f64::from(lo + half);
-            let high = if self.d[a] == 0.0 {
-                self.o[a] >= mid
-            } else {
-                let tm = (mid - self.o[a]) * self.inv[a];
-                if tm > ta && tm < tb {
-                    cuts[count] = (tm, a);
-                    count += 1;
-                } else if tm == ta && face.is_some_and(|f| a < f) {
-                    face = Some(a);
-                }
-                if self.d[a] > 0.0 { tm <= ta } else { tm > ta }
-            };
-            child |= usize::from(high) << a;
-        }
-        // Step 2: order the crossings by time, then axis (three compare-swaps).
-        let before = |x: (f64, usize), y: (f64, usize)| x.0 < y.0 || (x.0 == y.0 && x.1 < y.1);
-        if count > 1 {
-            if before(cuts[1], cuts[0]) {
-                cuts.swap(0, 1);
-            }
-            if count > 2 {
-                if before(cuts[2], cuts[1]) {
-                    cuts.swap(1, 2);
-                }
-                if before(cuts[1], cuts[0]) {
-                    cuts.swap(0, 1);
-                }
-            }
-        }
-        // Step 3: the pieces between crossings, each one child, in ray order.
-        let mut start = ta;
-        let mut start_face = face;
-        for i in 0..=count {
-            let end = if i < count { cuts[i].0 } else { tb };
-            if end > start && end > 0.0 && inner.valid >> child & 1 == 1 {
-                if start >= self.t_max {
-                    return None;
-                }
-                let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
-                let hit = if inner.full >> child & 1 == 1 {
-                    self.full_hit(cmin, half, start, start_face)
-                } else {
-                    let slot = inner.first + (inner.valid & !inner.full & ((1u8 << child) - 1)).count_ones();
-                    self.node(slot, cmin, half, start, end, start_face)
-                };
-                if hit.is_some() {
-                    return hit;
-                }
-            }
-            if i == count {
-                return None;
-            }
-            // Crossing a mid plane flips that axis's bit; simultaneous crossings flip
-            // several (the pieces between them have zero length). Crossings are sorted,
-            // so the first at a time is the lowest axis: it names the face.
-            let axis = cuts[i].1;
-            child ^= 1 << axis;
-            if end > start {
-                start_face = Some(axis);
-            }
-            start = end;
-        }
-        None
-    }
-
-    /// A full node entered at `ta`: the voxel of the entry point.
-    fn full_hit(&self, min: [u32; 3], size: u32, ta: f64, face: Option<usize>) -> Option<Hit> {
-        if ta.max(0.0) >= self.t_max {
-            return None;
-        }
-        Some(VoxelRay { o: self.o, d: self.d, inv: self.inv }.entry(min, size, ta, face))
     }
 }
