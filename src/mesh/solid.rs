@@ -218,7 +218,7 @@ impl Job<'_> {
                         let b = &self.boxes[t as usize];
                         b.min.cmple(hi).all() && b.max.cmpge(lo).all()
                     })
-                    .map(|&t| signed_crossing(self.mesh, t, r.q, p))
+                    .map(|&t| signed_crossing(self.mesh, &self.planes[t as usize], t, r.q, p))
                     .sum();
                 self.oracle.carry(r.value, crossings)
             }
@@ -279,23 +279,33 @@ impl Job<'_> {
         // Voxels are decided at their centres whether or not the surface crosses them,
         // so the last level needs no lists.
         let needs_lists = child_size > 1;
-        for &t in triangles.iter().filter(|_| needs_lists) {
-            let b = &self.boxes[t as usize];
-            for (i, list) in lists.iter_mut().enumerate() {
-                let fits = (0..3).all(|a| if i >> a & 1 == 0 { b.min[a] <= center[a] } else { b.max[a] >= center[a] });
-                if !fits {
-                    continue;
-                }
+        if needs_lists {
+            // Each child's centre and box, once a node, and the sides of the centre it
+            // lies on: bit a for the low side of axis a, bit 3 + a for the high side.
+            let children: [(DVec3, DVec3, DVec3, u32); 8] = std::array::from_fn(|i| {
                 let offset = DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64) * 2.0 - 1.0;
                 let c = center + offset * half;
-                let inside = (b.min - (c - half)).min_element() >= 0.0 && ((c + half) - b.max).min_element() >= 0.0;
-                if !inside && (child_size >= SAT_MIN_SIZE || (b.max - b.min).max_element() > 2.0 * half.x) {
-                    stats.triangle_box_tests += 1;
-                    if !triangle_box_overlap(&self.corners[t as usize], c, half) {
+                let sides = (0..3).map(|a| if i >> a & 1 == 0 { 1 << a } else { 8 << a }).sum();
+                (c, c - half, c + half, sides)
+            });
+            for &t in triangles {
+                let b = &self.boxes[t as usize];
+                // The sides of the centre the triangle's box reaches.
+                let sides = b.min.cmple(center).bitmask() | b.max.cmpge(center).bitmask() << 3;
+                let exact = child_size >= SAT_MIN_SIZE || (b.max - b.min).max_element() > 2.0 * half.x;
+                for (list, &(c, lo, hi, needed)) in lists.iter_mut().zip(&children) {
+                    if sides & needed != needed {
                         continue;
                     }
+                    let inside = b.min.cmpge(lo).all() && b.max.cmple(hi).all();
+                    if !inside && exact {
+                        stats.triangle_box_tests += 1;
+                        if !triangle_box_overlap(&self.corners[t as usize], c, half) {
+                            continue;
+                        }
+                    }
+                    list.push(t);
                 }
-                list.push(t);
             }
         }
         let before = out.len();
