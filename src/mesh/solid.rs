@@ -158,20 +158,29 @@ pub fn voxelize_mesh(
 ) -> Result<(LinearOctree, MeshVoxelizeStats)> {
     mesh.check()?;
     options.budget.check(format!("voxelizing a mesh at depth {}", domain.depth()), estimate_bytes(mesh, &domain))?;
-    let rule = match options.inside {
-        InsideRule::Auto if mesh.is_watertight() => InsideRule::Parity,
-        InsideRule::Auto => InsideRule::Winding,
-        r => r,
+    // The oracle (and the watertight check it may need) and the per-triangle tables
+    // are independent: built side by side.
+    let oracle = || {
+        let rule = match options.inside {
+            InsideRule::Auto if mesh.is_watertight() => InsideRule::Parity,
+            InsideRule::Auto => InsideRule::Winding,
+            r => r,
+        };
+        let oracle = match rule {
+            InsideRule::Parity => Oracle::Parity(ParityGrid::new(mesh)),
+            _ => Oracle::Winding(WindingNumber::new(mesh)),
+        };
+        (rule, oracle)
     };
-    let oracle = match rule {
-        InsideRule::Parity => Oracle::Parity(ParityGrid::new(mesh)),
-        _ => Oracle::Winding(WindingNumber::new(mesh)),
+    let tables = || {
+        let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
+        let boxes: Vec<Aabb> = corners.iter().map(|c| Aabb::from_points(*c).expect("three corners")).collect();
+        let planes: Vec<Plane> = (0..mesh.triangles.len() as u32).map(|t| Plane::new(mesh, t)).collect();
+        (corners, boxes, planes)
     };
+    let ((rule, oracle), (corners, boxes, planes)) = rayon::join(oracle, tables);
     let parallel_levels = PARALLEL_LEVELS.min(domain.depth());
     options.progress.start(1 << (3 * u32::from(parallel_levels)));
-    let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
-    let boxes = corners.iter().map(|c| Aabb::from_points(*c).expect("three corners")).collect();
-    let planes = (0..mesh.triangles.len() as u32).map(|t| Plane::new(mesh, t)).collect();
     let job = Job { mesh, corners, boxes, planes, domain, oracle, progress: options.progress, parallel_levels };
     let all: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
     let mut keys = Vec::new();
