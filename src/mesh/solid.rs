@@ -291,23 +291,32 @@ impl Job<'_> {
         // so the last level needs no lists.
         let needs_lists = child_size > 1;
         if needs_lists {
-            // Each child's centre and box, once a node, and the sides of the centre it
-            // lies on: bit a for the low side of axis a, bit 3 + a for the high side.
-            let children: [(DVec3, DVec3, DVec3, u32); 8] = std::array::from_fn(|i| {
+            // Each child's centre and box, once a node.
+            let children: [(DVec3, DVec3, DVec3); 8] = std::array::from_fn(|i| {
                 let offset = DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64) * 2.0 - 1.0;
                 let c = center + offset * half;
-                let sides = (0..3).map(|a| if i >> a & 1 == 0 { 1 << a } else { 8 << a }).sum();
-                (c, c - half, c + half, sides)
+                (c, c - half, c + half)
             });
+            // Children on the low side of axis a (bit a of the child's index clear).
+            const LOW: [u8; 3] = [0x55, 0x33, 0x0f];
             for &t in triangles {
                 let b = &self.boxes[t as usize];
-                // The sides of the centre the triangle's box reaches.
-                let sides = b.min.cmple(center).bitmask() | b.max.cmpge(center).bitmask() << 3;
-                let exact = child_size >= SAT_MIN_SIZE || (b.max - b.min).max_element() > 2.0 * half.x;
-                for (list, &(c, lo, hi, needed)) in lists.iter_mut().zip(&children) {
-                    if sides & needed != needed {
-                        continue;
+                // The children the triangle's box reaches: a side of an axis it misses
+                // rules out the four children on that side.
+                let mut reached = 0xffu8;
+                for a in 0..3 {
+                    if b.min[a] > center[a] {
+                        reached &= !LOW[a];
                     }
+                    if b.max[a] < center[a] {
+                        reached &= LOW[a];
+                    }
+                }
+                let exact = child_size >= SAT_MIN_SIZE || (b.max - b.min).max_element() > 2.0 * half.x;
+                while reached != 0 {
+                    let i = reached.trailing_zeros() as usize;
+                    reached &= reached - 1;
+                    let (c, lo, hi) = children[i];
                     let inside = b.min.cmpge(lo).all() && b.max.cmple(hi).all();
                     if !inside && exact {
                         stats.triangle_box_tests += 1;
@@ -315,7 +324,7 @@ impl Job<'_> {
                             continue;
                         }
                     }
-                    list.push(t);
+                    lists[i].push(t);
                 }
             }
         }
