@@ -95,23 +95,18 @@ impl TriangleMesh {
     }
 
     /// Whether every edge is used exactly twice, once in each direction (closed,
-    /// manifold, consistently oriented): the directed edges are distinct and, sorted,
-    /// equal the sorted reversed edges. Two sorts (in parallel): O(n log n), no tables.
+    /// manifold, consistently oriented). Sorts directed edges: O(n log n), no tables.
     #[must_use]
     pub fn is_watertight(&self) -> bool {
-        let directed = |reverse: bool| {
-            let mut edges: Vec<u64> = Vec::with_capacity(self.triangles.len() * 3);
-            for t in &self.triangles {
-                for k in 0..3 {
-                    let (a, b) = (u64::from(t[k]), u64::from(t[(k + 1) % 3]));
-                    edges.push(if reverse { b << 32 | a } else { a << 32 | b });
-                }
+        let mut edges: Vec<u64> = Vec::with_capacity(self.triangles.len() * 3);
+        for t in &self.triangles {
+            for k in 0..3 {
+                edges.push(u64::from(t[k]) << 32 | u64::from(t[(k + 1) % 3]));
             }
-            edges.sort_unstable();
-            edges
-        };
-        let (edges, reversed) = rayon::join(|| directed(false), || directed(true));
-        edges.windows(2).all(|w| w[0] != w[1]) && edges == reversed
+        }
+        edges.sort_unstable();
+        let unique = edges.windows(2).all(|w| w[0] != w[1]);
+        unique && edges.iter().all(|&e| edges.binary_search(&e.rotate_right(32)).is_ok())
     }
 
     /// Merges vertices with bit-identical coordinates and drops unused ones.
