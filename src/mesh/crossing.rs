@@ -48,12 +48,14 @@ impl Plane {
     }
 }
 
-/// `+1` when the segment enters triangle `t` against its normal (front to back), `-1`
-/// when it leaves, `0` when it misses.
+/// `+1` when the segment `q -> p` enters triangle `t` (plane `plane`) against its
+/// normal (front to back), `-1` when it leaves, `0` when it misses. The plane's float
+/// side tests settle most segments, which stay on one side.
 #[inline]
 #[must_use]
-pub fn signed_crossing(mesh: &TriangleMesh, t: u32, q: DVec3, p: DVec3) -> i32 {
-    signed_crossing_from(mesh, t, q, in_front(mesh, t, q), p)
+pub fn signed_crossing(mesh: &TriangleMesh, plane: &Plane, t: u32, q: DVec3, p: DVec3) -> i32 {
+    let (front_q, front_p) = (plane.in_front(mesh, t, q), plane.in_front(mesh, t, p));
+    signed_crossing_sides(mesh, t, q, front_q, p, front_p)
 }
 
 /// Whether `x` is in front of triangle `t` (on its plane counts as in front).
@@ -64,15 +66,7 @@ pub fn in_front(mesh: &TriangleMesh, t: u32, x: DVec3) -> bool {
     orient(v[0], v[1], v[2], x) >= 0.0
 }
 
-/// [`signed_crossing`] with `front_q = in_front(mesh, t, q)` already known (many
-/// segments from one point share it).
-#[inline]
-#[must_use]
-pub fn signed_crossing_from(mesh: &TriangleMesh, t: u32, q: DVec3, front_q: bool, p: DVec3) -> i32 {
-    signed_crossing_sides(mesh, t, q, front_q, p, in_front(mesh, t, p))
-}
-
-/// [`signed_crossing`] with both sides known.
+/// [`signed_crossing`] with both sides known (many segments from one point share its side).
 #[inline]
 #[must_use]
 pub fn signed_crossing_sides(mesh: &TriangleMesh, t: u32, q: DVec3, front_q: bool, p: DVec3, front_p: bool) -> i32 {

@@ -59,10 +59,15 @@ impl WindingNumber {
     #[must_use]
     pub fn new(mesh: &TriangleMesh) -> Self {
         let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
-        let centroids: Vec<DVec3> = corners.iter().map(|t| (t[0] + t[1] + t[2]) / 3.0).collect();
-        let mut order: Vec<u32> = (0..corners.len() as u32).collect();
-        let clusters = build(&corners, &centroids, &mut order, 0);
-        let corners = order.iter().map(|&t| corners[t as usize]).collect();
+        let mut items: Vec<Item> = (0..corners.len() as u32)
+            .zip(&corners)
+            .map(|(t, c)| Item { centroid: (c[0] + c[1] + c[2]) / 3.0, t })
+            .collect();
+        let empty =
+            Cluster { center: DVec3::ZERO, radius: 0.0, area: DVec3::ZERO, weight: 0.0, first: 0, count: 0, second: 0 };
+        let mut clusters = vec![empty; cluster_count(items.len())];
+        build(&corners, &mut items, 0, &mut clusters, 0);
+        let corners = items.iter().map(|item| corners[item.t as usize]).collect();
         WindingNumber { corners, clusters }
     }
 
@@ -109,69 +114,71 @@ pub fn solid_angle(t: &[DVec3; 3], p: DVec3) -> f64 {
     2.0 * num.atan2(den)
 }
 
-/// Builds the hierarchy over `order[..]` (offset `first` in the final order) as a
-/// vector whose first cluster is the root and whose child indices are local.
+/// A triangle and its centroid, kept together so that the median splits move keys
+/// rather than look them up.
+#[derive(Clone, Copy)]
+struct Item {
+    centroid: DVec3,
+    t: u32,
+}
+
+/// Clusters of the hierarchy over `n` triangles (median splits, leaves of at most
+/// [`LEAF_SIZE`]): `1` for a leaf, else `1 + count(n / 2) + count(n - n / 2)`.
+fn cluster_count(n: usize) -> usize {
+    if n <= LEAF_SIZE { 1 } else { 1 + cluster_count(n / 2) + cluster_count(n - n / 2) }
+}
+
+/// Builds the hierarchy over `items` (offset `first` in the final order) into `out`,
+/// its [`cluster_count`] clusters in depth-first order, the root at global index `at`.
 /// Inner clusters combine their children's sums; the radius bound
 /// `max(|c - c_child| + r_child)` is conservative. Large halves build in parallel.
-fn build(corners: &[[DVec3; 3]], centroids: &[DVec3], order: &mut [u32], first: usize) -> Vec<Cluster> {
-    if order.len() <= LEAF_SIZE {
+fn build(corners: &[[DVec3; 3]], items: &mut [Item], first: usize, out: &mut [Cluster], at: u32) {
+    if items.len() <= LEAF_SIZE {
         // Step 1: a leaf: area vector, area-weighted centroid and radius, directly.
         let (mut area, mut weighted, mut weight) = (DVec3::ZERO, DVec3::ZERO, 0.0);
-        for &t in order.iter() {
-            let [a, b, c] = corners[t as usize];
+        for item in items.iter() {
+            let [a, b, c] = corners[item.t as usize];
             let n = (b - a).cross(c - a) * 0.5;
             area += n;
-            weighted += centroids[t as usize] * n.length();
+            weighted += item.centroid * n.length();
             weight += n.length();
         }
         let center = if weight > 0.0 {
             weighted / weight
         } else {
-            order.iter().map(|&t| centroids[t as usize]).sum::<DVec3>() / order.len() as f64
+            items.iter().map(|item| item.centroid).sum::<DVec3>() / items.len() as f64
         };
-        let radius = order
+        let radius = items
             .iter()
-            .flat_map(|&t| corners[t as usize])
+            .flat_map(|item| corners[item.t as usize])
             .map(|v| v.distance_squared(center))
             .fold(0.0, f64::max)
             .sqrt();
-        return vec![Cluster {
-            center,
-            radius,
-            area,
-            weight,
-            first: first as u32,
-            count: order.len() as u32,
-            second: 0,
-        }];
+        out[0] = Cluster { center, radius, area, weight, first: first as u32, count: items.len() as u32, second: 0 };
+        return;
     }
     // Step 2: split at the median centroid along the longest axis of the centroids.
-    let centroid = |t: u32| centroids[t as usize];
-    let (lo, hi) = order
+    let (lo, hi) = items
         .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &t| (lo.min(centroid(t)), hi.max(centroid(t))));
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| (lo.min(item.centroid), hi.max(item.centroid)));
     let axis = (hi - lo).max_position();
-    let mid = order.len() / 2;
-    order.select_nth_unstable_by(mid, |&a, &b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
-    let (left, right) = order.split_at_mut(mid);
-    let (l, r) = if left.len() > 4096 {
-        rayon::join(|| build(corners, centroids, left, first), || build(corners, centroids, right, first + mid))
+    let mid = items.len() / 2;
+    items.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+    let (left, right) = items.split_at_mut(mid);
+    let second = at + 1 + cluster_count(left.len()) as u32;
+    let (parent, children) = out.split_first_mut().expect("an inner cluster has room");
+    let (l, r) = children.split_at_mut((second - at - 1) as usize);
+    if left.len() > 4096 {
+        rayon::join(|| build(corners, left, first, l, at + 1), || build(corners, right, first + mid, r, second));
     } else {
-        (build(corners, centroids, left, first), build(corners, centroids, right, first + mid))
-    };
-    // Step 3: the parent from its children's sums, then the children renumbered.
+        build(corners, left, first, l, at + 1);
+        build(corners, right, first + mid, r, second);
+    }
+    // Step 3: the parent from its children's sums.
     let (a, b) = (&l[0], &r[0]);
     let weight = a.weight + b.weight;
     let center =
         if weight > 0.0 { (a.center * a.weight + b.center * b.weight) / weight } else { (a.center + b.center) * 0.5 };
     let radius = (center.distance(a.center) + a.radius).max(center.distance(b.center) + b.radius);
-    let second = 1 + l.len() as u32;
-    let mut out = Vec::with_capacity(1 + l.len() + r.len());
-    out.push(Cluster { center, radius, area: a.area + b.area, weight, first: 1, count: 0, second });
-    let shift = |c: Cluster, by: u32| {
-        if c.count == 0 { Cluster { first: c.first + by, second: c.second + by, ..c } } else { c }
-    };
-    out.extend(l.into_iter().map(|c| shift(c, 1)));
-    out.extend(r.into_iter().map(|c| shift(c, second)));
-    out
+    *parent = Cluster { center, radius, area: a.area + b.area, weight, first: at + 1, count: 0, second };
 }
