@@ -25,6 +25,7 @@
 pub mod aabb;
 pub mod bench;
 pub mod budget;
+pub mod color;
 pub mod error;
 pub mod import;
 pub mod io;

@@ -24,7 +24,7 @@ pub fn showcase_scene(depth: u8, options: &VoxelizeOptions) -> Result<Scene> {
     let post =
         Cylinder::new(DVec3::ZERO, Axis::Z, 0.35, 1.6)?.rotate(DVec3::X, 0.5).translate(DVec3::new(2.1, 1.3, -0.12));
     let floor = Cuboid::new(DVec3::new(0.0, 0.0, -1.1), DVec3::new(6.2, 6.2, 0.2))?;
-    let material = |r, g, b, ks, shininess| Material { color: DVec3::new(r, g, b), ka: 0.2, kd: 0.8, ks, shininess };
+    let material = |r, g, b, ks, shininess| Material::phong(DVec3::new(r, g, b), 0.2, 0.8, ks, shininess);
     let solids: [(&str, &dyn Shape, Material); 5] = [
         ("classic part", &part, material(0.85, 0.42, 0.16, 0.35, 32.0)),
         ("ring", &ring, material(0.12, 0.55, 0.55, 0.4, 48.0)),

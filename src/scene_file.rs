@@ -12,15 +12,18 @@ use glam::{DAffine3, DQuat, DVec3};
 use serde::Deserialize;
 
 use crate::budget::MemoryBudget;
+use crate::color::{Hsi, cmy_to_rgb, hsi_to_rgb};
 use crate::error::{Error, Result};
 use crate::import::{self, Fill, Input};
 use crate::io::oct;
 use crate::mesh::InsideRule;
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
+use crate::render::light::Bump;
+use crate::render::texture::{Mapping, Texture};
 use crate::render::{Camera, DEFAULT_VIEW, Light, Material, Projection, RenderOptions, Scene};
 use crate::shape::{
-    Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
+    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
 };
 
 /// The whole file.
@@ -49,6 +52,10 @@ struct ImageSpec {
     #[serde(default = "default_true")]
     shadows: bool,
     background: Option<[f64; 3]>,
+    /// "axis" (default) or "smooth".
+    normals: Option<String>,
+    /// Longest chain of reflected and refracted rays.
+    max_depth: Option<u32>,
 }
 
 fn default_size() -> [u32; 2] {
@@ -63,7 +70,14 @@ fn default_true() -> bool {
 
 impl Default for ImageSpec {
     fn default() -> Self {
-        ImageSpec { size: default_size(), samples: default_samples(), shadows: true, background: None }
+        ImageSpec {
+            size: default_size(),
+            samples: default_samples(),
+            shadows: true,
+            background: None,
+            normals: None,
+            max_depth: None,
+        }
     }
 }
 
@@ -114,11 +128,103 @@ struct SolidSpec {
 #[derive(Deserialize, Debug, Default)]
 #[serde(deny_unknown_fields)]
 struct MaterialSpec {
-    color: Option<[f64; 3]>,
+    color: Option<ColorSpec>,
     ka: Option<f64>,
     kd: Option<f64>,
     ks: Option<f64>,
     shininess: Option<f64>,
+    reflectance: Option<f64>,
+    transmittance: Option<f64>,
+    ior: Option<f64>,
+    texture: Option<TextureSpec>,
+    bump: Option<BumpSpec>,
+}
+
+/// A colour: `[r, g, b]`, or one of `{ rgb = [..] }`, `{ cmy = [..] }`, `{ hsi = [h, s, i] }`.
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(untagged)]
+enum ColorSpec {
+    Rgb([f64; 3]),
+    Model(ColorModelSpec),
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+enum ColorModelSpec {
+    Rgb([f64; 3]),
+    Cmy([f64; 3]),
+    Hsi([f64; 3]),
+}
+
+impl ColorSpec {
+    /// Linear RGB.
+    fn rgb(self) -> DVec3 {
+        match self {
+            ColorSpec::Rgb(c) | ColorSpec::Model(ColorModelSpec::Rgb(c)) => DVec3::from_array(c),
+            ColorSpec::Model(ColorModelSpec::Cmy(c)) => cmy_to_rgb(DVec3::from_array(c)),
+            ColorSpec::Model(ColorModelSpec::Hsi([h, s, i])) => hsi_to_rgb(Hsi { h, s, i }),
+        }
+    }
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+enum TextureSpec {
+    Checker { size: f64, a: ColorSpec, b: ColorSpec },
+    Wood { axis: String, center: Option<[f64; 3]>, size: f64, a: ColorSpec, b: ColorSpec },
+    Marble { size: f64, a: ColorSpec, b: ColorSpec },
+    Image { file: PathBuf, mapping: String, axis: Option<String>, center: Option<[f64; 3]>, scale: Option<f64> },
+}
+
+impl TextureSpec {
+    fn build(&self, folder: &Path) -> Result<Texture> {
+        let positive = |what: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 { Ok(v) } else { Err(Error::invalid(what, format!("{v} must be positive"))) }
+        };
+        Ok(match self {
+            TextureSpec::Checker { size, a, b } => {
+                Texture::Checker { size: positive("size", *size)?, a: a.rgb(), b: b.rgb() }
+            }
+            TextureSpec::Wood { axis: ax, center, size, a, b } => Texture::Wood {
+                axis: axis(ax)?,
+                center: center.map_or(DVec3::ZERO, DVec3::from_array),
+                size: positive("size", *size)?,
+                a: a.rgb(),
+                b: b.rgb(),
+            },
+            TextureSpec::Marble { size, a, b } => {
+                Texture::Marble { size: positive("size", *size)?, a: a.rgb(), b: b.rgb() }
+            }
+            TextureSpec::Image { file, mapping, axis: ax, center, scale } => {
+                let path = folder.join(file);
+                let texels = image::open(&path)
+                    .map_err(|e| Error::invalid("texture", format!("{}: {e}", path.display())))?
+                    .to_rgb8();
+                let axis = axis(ax.as_deref().unwrap_or("z"))?;
+                let center = center.map_or(DVec3::ZERO, DVec3::from_array);
+                let scale = positive("scale", scale.unwrap_or(1.0))?;
+                let mapping = match mapping.as_str() {
+                    "planar" => Mapping::Planar { axis, origin: center, scale },
+                    "cylindrical" => Mapping::Cylindrical { axis, center, scale },
+                    "spherical" => Mapping::Spherical { axis, center },
+                    other => {
+                        return Err(Error::invalid(
+                            "mapping",
+                            format!("{other:?} is not planar, cylindrical or spherical"),
+                        ));
+                    }
+                };
+                Texture::Image { texels: std::sync::Arc::new(texels), mapping }
+            }
+        })
+    }
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct BumpSpec {
+    amplitude: f64,
+    scale: f64,
 }
 
 /// A shape CSG tree as written in a scene file.
@@ -164,6 +270,12 @@ enum ShapeSpec {
         size: f64,
         level: u32,
     },
+    DisplacedSphere {
+        center: [f64; 3],
+        radius: f64,
+        amplitude: f64,
+        frequency: f64,
+    },
     Union(Vec<ShapeSpec>),
     Intersection(Vec<ShapeSpec>),
     Difference(Vec<ShapeSpec>),
@@ -207,6 +319,9 @@ impl ShapeSpec {
             }
             ShapeSpec::HalfSpace { normal, offset } => HalfSpace::new(v(*normal), *offset)?.into(),
             ShapeSpec::Menger { center, size, level } => Menger::new(v(*center), *size, *level)?.into(),
+            ShapeSpec::DisplacedSphere { center, radius, amplitude, frequency } => {
+                DisplacedSphere::new(v(*center), *radius, *amplitude, *frequency)?.into()
+            }
             ShapeSpec::Union(parts) => fold(parts, |a, b| a | b)?,
             ShapeSpec::Intersection(parts) => fold(parts, |a, b| a & b)?,
             ShapeSpec::Difference(parts) => fold(parts, |a, b| a - b)?,
@@ -309,12 +424,18 @@ fn build(spec: &SceneSpec, folder: &Path, budget: MemoryBudget) -> Result<SceneF
         let d = Material::default();
         let m = &solid.material;
         let material = Material {
-            color: m.color.map_or(d.color, DVec3::from_array),
+            color: m.color.map_or(d.color, ColorSpec::rgb),
+            texture: m.texture.as_ref().map(|t| t.build(folder)).transpose()?,
+            bump: m.bump.as_ref().map(|b| Bump { amplitude: b.amplitude, scale: b.scale }),
             ka: m.ka.unwrap_or(d.ka),
             kd: m.kd.unwrap_or(d.kd),
             ks: m.ks.unwrap_or(d.ks),
             shininess: m.shininess.unwrap_or(d.shininess),
+            reflectance: m.reflectance.unwrap_or(d.reflectance),
+            transmittance: m.transmittance.unwrap_or(d.transmittance),
+            ior: m.ior.unwrap_or(d.ior),
         };
+        material.check().map_err(|e| Error::invalid("material", format!("{name}: {e}")))?;
         scene.add(name, tree, material);
     }
     // Step 3: lights, camera, image.
@@ -343,8 +464,21 @@ fn build(spec: &SceneSpec, folder: &Path, budget: MemoryBudget) -> Result<SceneF
         scene.background = DVec3::from_array(b);
     }
     let [width, height] = spec.image.size;
-    let render =
-        RenderOptions { width, height, spp: spec.image.samples, shadows: spec.image.shadows, ..Default::default() };
+    let d = RenderOptions::default();
+    let render = RenderOptions {
+        width,
+        height,
+        spp: spec.image.samples,
+        shadows: spec.image.shadows,
+        normals: spec
+            .image
+            .normals
+            .as_deref()
+            .map_or(Ok(d.normals), str::parse)
+            .map_err(|e| Error::invalid("normals", e))?,
+        max_depth: spec.image.max_depth.unwrap_or(d.max_depth),
+        ..d
+    };
     let aspect = f64::from(width.max(1)) / f64::from(height.max(1));
     let c = &spec.camera;
     let up = c.up.map_or(DVec3::Z, DVec3::from_array);

@@ -189,3 +189,50 @@ fn render_solids_meshes_and_scenes_by_every_method() {
     let e = fails(&dir, &["render", "ring.oct", "--size", "0x10"]);
     assert!(e.contains("image size"), "{e}");
 }
+
+#[test]
+fn export_writes_closed_meshes_with_the_octree_volume() {
+    let dir = scratch("export");
+    ok(&dir, &["shape", "torus", "--radius", "1", "--tube", "0.4", "--depth", "6", "-o", "ring.oct"]);
+    let volume = info_json(&dir, "ring.oct")["volume"].as_f64().unwrap();
+    for (name, extra) in [("ring.obj", None), ("ring.stl", None), ("ring.ply", Some("--unit-faces"))] {
+        let out = ok(&dir, &["export", "ring.oct", "-o", name].into_iter().chain(extra).collect::<Vec<_>>());
+        assert!(out.contains("triangles") && out.contains("enclosed") && out.contains(name), "{out}");
+        let report: serde_json::Value = serde_json::from_str(&ok(&dir, &["mesh-info", name, "--json"])).unwrap();
+        assert_eq!(report["watertight"], true, "{name}: {report}");
+        let enclosed = report["volume"].as_f64().unwrap();
+        assert!((enclosed / volume - 1.0).abs() < 1e-6, "{name}: {enclosed} vs {volume}");
+    }
+    let e = fails(&dir, &["export", "ring.oct", "-o", "ring.xyz"]);
+    assert!(e.contains("ring.xyz") && e.contains(".obj"), "{e}");
+    let e = fails(&dir, &["export", "missing.oct", "-o", "m.obj"]);
+    assert!(e.contains("missing.oct"), "{e}");
+    std::fs::write(dir.join("junk.oct"), b"not an octree").unwrap();
+    let e = fails(&dir, &["export", "junk.oct", "-o", "j.obj"]);
+    assert!(e.contains("junk.oct") && e.contains("byte"), "{e}");
+    ok(&dir, &["csg", "difference", "ring.oct", "ring.oct", "-o", "none.oct"]);
+    let e = fails(&dir, &["export", "none.oct", "-o", "n.obj"]);
+    assert!(e.contains("none.oct") && e.contains("empty"), "{e}");
+    assert!(!dir.join("n.obj").exists() && !dir.join("j.obj").exists());
+}
+
+#[test]
+fn render_meshes_as_polygons_with_each_shading() {
+    let dir = scratch("polygons");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let teapot = root.join("models/teapot.patches");
+    let mut images = Vec::new();
+    for shading in ["flat", "gouraud", "phong"] {
+        let name = format!("teapot_{shading}.png");
+        let args = ["render", teapot.to_str().unwrap(), "--shading", shading, "--size", "80x60", "-o", &name];
+        let out = ok(&dir, &args);
+        assert!(out.contains("triangles"), "{out}");
+        let img = image::open(dir.join(&name)).unwrap().to_rgb8();
+        let background = *img.get_pixel(0, 0);
+        assert!(img.pixels().filter(|p| **p != background).count() > 500, "{shading}: the teapot shows");
+        images.push(img);
+    }
+    assert!(images[0] != images[1] && images[1] != images[2], "the three shadings differ");
+    let bad = octsolid(&dir, &["render", teapot.to_str().unwrap(), "--shading", "shiny"]);
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("shiny"));
+}

@@ -188,3 +188,28 @@ fn memory_is_at_most_eight_bytes_a_node() {
     assert!(per_node <= 8.0 + 1e-9 || tree.keys().len() < 4, "{per_node} bytes a node");
     assert_eq!(std::mem::size_of::<NodeKey>(), 8);
 }
+
+#[test]
+fn occupancy_of_a_box_matches_voxel_queries() {
+    let mut rng = Rng(8086);
+    for depth in [1u8, 3, 5] {
+        let domain = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
+        let n = i64::from(domain.resolution());
+        for _ in 0..40 {
+            let tree = random_octree(&mut rng, domain);
+            for _ in 0..10 {
+                let size = 1 + rng.below(9) as u32;
+                let lo = [0; 3].map(|_| rng.below(n as u64 + 8) as i64 - 6);
+                let got = tree.occupancy(lo, size);
+                let s = size as i64;
+                for (i, &full) in got.iter().enumerate() {
+                    let i = i as i64;
+                    let v = [lo[0] + i % s, lo[1] + i / s % s, lo[2] + i / (s * s)];
+                    let inside = v.iter().all(|&c| (0..n).contains(&c));
+                    let want = inside && tree.contains_voxel(v.map(|c| c as u32));
+                    assert_eq!(full, want, "depth {depth} box {lo:?}+{size} voxel {v:?}");
+                }
+            }
+        }
+    }
+}

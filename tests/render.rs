@@ -52,7 +52,7 @@ fn brightest_pixel_follows_the_phong_formula() {
     scene.lights = vec![Light::Directional { direction: -l, color: DVec3::ONE }];
     scene.ambient = DVec3::splat(0.2);
     scene.background = DVec3::ZERO;
-    let m = scene.solids[0].material;
+    let m = scene.solids[0].material.clone();
     let options = RenderOptions { width: 200, height: 200, spp: 1, shadows: true, ..Default::default() };
     let (img, _) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
     // With axis normals the visible faces are +z, +x, -x, +y, -y; Phong says which is
@@ -109,7 +109,7 @@ fn same_image_for_any_thread_count() {
 
 #[test]
 fn bundled_scenes_load() {
-    for name in ["classic", "flange", "showcase", "menger"] {
+    for name in ["classic", "flange", "showcase", "menger", "displaced", "whitted", "teapot"] {
         let file = load_scene(format!("scenes/{name}.toml").as_ref(), MemoryBudget::default()).unwrap();
         assert!(!file.scene.solids.is_empty() && !file.scene.lights.is_empty(), "{name}");
     }
@@ -191,7 +191,7 @@ fn all_visibility_methods_agree_on_random_scenes() {
                 assert_eq!(a, b, "round {round}, {method:?}, sample {i}");
             }
         }
-        let options = RenderOptions { width: 48, height: 36, spp: 2, shadows: true, method: Method::Trace };
+        let options = RenderOptions { width: 48, height: 36, spp: 2, ..RenderOptions::default() };
         let image = |method| render(&scene, &camera, &RenderOptions { method, ..options }, &NoProgress).unwrap().0;
         let traced = image(Method::Trace);
         for method in [Method::FrontToBack, Method::Painter, Method::ZBuffer, Method::ScanLine] {

@@ -158,6 +158,46 @@ fn menger_sponge_is_sound_and_has_its_volume() {
 }
 
 #[test]
+fn displaced_sphere_is_sound_and_has_its_volume() {
+    let mut rng = Rng(1618);
+    let center = DVec3::new(0.02, -0.01, 0.03);
+    let bumpy = DisplacedSphere::new(center, 0.7, 0.08, 9.0).unwrap();
+    let mut decided = 0;
+    for _ in 0..20_000 {
+        let p = center + rng.vec(-1.0, 1.0).normalize_or(DVec3::X) * rng.range(0.55, 0.85);
+        let b = Aabb::from_center_half(p, rng.vec(0.0001, 0.02));
+        decided += u32::from(assert_sound(&bumpy, &b, &mut rng) != Class::Boundary);
+    }
+    assert!(decided > 10_000, "only {decided} of 20000 boxes decided");
+    // Voxel for voxel the point test at voxel centres (dense oracle).
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+    let tree = voxelize(&bumpy, domain, &VoxelizeOptions::default()).unwrap();
+    let n = domain.resolution();
+    for v in (0..n * n * n).map(|i| [i % n, i / n % n, i / (n * n)]) {
+        assert_eq!(tree.contains_voxel(v), bumpy.contains(domain.voxel_center(v)), "voxel {v:?}");
+    }
+    // Volume: the integral of r(u)^3 / 3 over the directions (midpoint rule in theta, phi).
+    let (rows, columns) = (600, 1200);
+    let mut exact = 0.0;
+    for i in 0..rows {
+        let theta = PI * (i as f64 + 0.5) / rows as f64;
+        for j in 0..columns {
+            let phi = 2.0 * PI * (j as f64 + 0.5) / columns as f64;
+            let u = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            exact += bumpy.radius_towards(u).powi(3) / 3.0 * theta.sin();
+        }
+    }
+    exact *= PI / rows as f64 * 2.0 * PI / columns as f64;
+    let fine = voxelize(&bumpy, Domain::new(DVec3::splat(-1.0), 2.0, 8).unwrap(), &VoxelizeOptions::default());
+    let fine = fine.unwrap();
+    let error = (fine.volume() / exact - 1.0).abs();
+    assert!(error < 0.01, "volume {} vs {exact} ({:.3}%)", fine.volume(), error * 100.0);
+    // The work follows the surface: not many more nodes than the plain ball's.
+    let ball = voxelize(&Sphere::new(center, 0.7).unwrap(), *fine.domain(), &VoxelizeOptions::default()).unwrap();
+    assert!(fine.node_count() < 4 * ball.node_count(), "{} vs {} nodes", fine.node_count(), ball.node_count());
+}
+
+#[test]
 fn csg_tree_voxelizes_to_the_csg_of_its_leaves() {
     let mut rng = Rng(4242);
     let domain = Domain::new(DVec3::splat(-1.1), 2.2, 6).unwrap();

@@ -78,6 +78,17 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Write the boundary of an .oct solid as a closed, manifold triangle mesh (OBJ, STL, PLY).
+    Export {
+        /// The .oct file.
+        file: PathBuf,
+        /// Output mesh: .obj, .stl or .ply.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// One voxel face = two triangles (default: coplanar faces merged into rectangles).
+        #[arg(long)]
+        unit_faces: bool,
+    },
     /// Print a mesh's polygon-table diagnostics: edges, holes, non-manifold edges, volume.
     MeshInfo {
         /// Input file: .obj, .stl, .ply or .patches.
@@ -111,6 +122,16 @@ pub enum Command {
         /// Skip shadow rays.
         #[arg(long)]
         no_shadows: bool,
+        /// Shading normals: axis (the voxel faces') or smooth (estimated from the octree).
+        #[arg(long)]
+        normals: Option<Normals>,
+        /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
+        #[arg(long)]
+        max_depth: Option<u32>,
+        /// Render a mesh (or Bezier patches, tessellated) as polygons with this
+        /// interpolation shading instead of voxelizing it.
+        #[arg(long)]
+        shading: Option<Shading>,
     },
     /// Build the bundled showcase scene and render it to demo.png.
     Demo {
@@ -124,6 +145,45 @@ pub enum Command {
 }
 
 /// Visibility methods of `render`.
+/// Polygon interpolation shading.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum Shading {
+    /// One colour a triangle.
+    Flat,
+    /// Vertex colours interpolated.
+    Gouraud,
+    /// Vertex normals interpolated, lit at every pixel.
+    Phong,
+}
+
+impl From<Shading> for octsolid::render::polygon::Interpolation {
+    fn from(s: Shading) -> Self {
+        match s {
+            Shading::Flat => Self::Flat,
+            Shading::Gouraud => Self::Gouraud,
+            Shading::Phong => Self::Phong,
+        }
+    }
+}
+
+/// Shading normals.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum Normals {
+    /// The entered voxel face's axis normal.
+    Axis,
+    /// Estimated from the octree's occupancy around the hit.
+    Smooth,
+}
+
+impl From<Normals> for octsolid::render::Normals {
+    fn from(n: Normals) -> Self {
+        match n {
+            Normals::Axis => octsolid::render::Normals::Axis,
+            Normals::Smooth => octsolid::render::Normals::Smooth,
+        }
+    }
+}
+
 #[derive(ValueEnum, Clone, Copy, Debug)]
 pub enum Method {
     /// Ray tracing through the octree.

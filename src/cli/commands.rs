@@ -9,7 +9,7 @@ use octsolid::budget::MemoryBudget;
 use octsolid::error::human_bytes;
 use octsolid::import::{self, Fill, Input};
 use octsolid::io::{oct, png};
-use octsolid::mesh::InsideRule;
+use octsolid::mesh::{BoundaryOptions, InsideRule, MeshFormat, save_mesh, try_boundary_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{self, Camera, DEFAULT_VIEW, Light, Material, RenderOptions, Scene};
 use octsolid::samples;
@@ -32,8 +32,13 @@ pub fn run(args: Args) -> Result<()> {
             voxelize_command(&input, depth, fill, inside, domain, &output, budget)
         }
         Command::MeshInfo { input, json } => mesh_info_command(&input, json),
-        Command::Render { input, output, size, spp, method, depth, up, no_shadows } => {
-            render_command(&input, output, size, spp, method.into(), depth, up, no_shadows, budget)
+        Command::Export { file, output, unit_faces } => export_command(&file, &output, unit_faces, budget),
+        Command::Render { input, output, size, spp, method, depth, up, no_shadows, normals, max_depth, shading } => {
+            if let Some(interpolation) = shading {
+                return polygon_command(&input, output, size, spp, up, interpolation.into());
+            }
+            let shading = Shading { no_shadows, normals: normals.map(Into::into), max_depth };
+            render_command(&input, output, size, spp, method.into(), depth, up, shading, budget)
         }
         Command::Demo { output, depth } => demo_command(&output, depth, budget),
     }
@@ -112,6 +117,29 @@ fn voxelize_command(
         None => {}
     }
     out!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
+    out!("wrote {} ({})", output.display(), human_bytes(bytes));
+    Ok(())
+}
+
+/// `octsolid export FILE.oct -o OUT.(obj|stl|ply) [--unit-faces]`
+fn export_command(file: &Path, output: &Path, unit_faces: bool, budget: MemoryBudget) -> Result<()> {
+    MeshFormat::of(output)?;
+    let tree = oct::load(file, budget)?;
+    if tree.is_empty() {
+        bail!("{}: the solid is empty; there is no boundary to export", file.display());
+    }
+    let started = Instant::now();
+    let bar = Bar::new("meshing");
+    let mesh = try_boundary_mesh(&tree, &BoundaryOptions { unit_faces }, budget, &bar)
+        .with_context(|| format!("{}: cannot export", file.display()))?;
+    let elapsed = started.elapsed().as_secs_f64();
+    let bytes = save_mesh(&mesh, output)?;
+    let faces = if unit_faces { "unit faces" } else { "merged faces" };
+    out!("read       {} ({} nodes, depth {})", file.display(), tree.node_count(), tree.depth());
+    out!("mesh       {} triangles, {} vertices ({faces})", mesh.triangles.len(), mesh.vertices.len());
+    let (enclosed, volume) = (mesh.volume(), tree.volume());
+    out!("volume     {enclosed:.6} enclosed, {volume:.6} octree ({:+.1e} relative)", enclosed / volume - 1.0);
+    out!("time       {:.1} ms (boundary mesh)", elapsed * 1e3);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     Ok(())
 }
@@ -292,6 +320,60 @@ fn demo_command(output: &Path, depth: u8, budget: MemoryBudget) -> Result<()> {
     Ok(())
 }
 
+/// `octsolid render MESH --shading flat|gouraud|phong`: the mesh drawn as polygons.
+fn polygon_command(
+    input: &Path,
+    output: Option<std::path::PathBuf>,
+    size: Option<[u32; 2]>,
+    spp: Option<u32>,
+    up: Axis,
+    interpolation: render::polygon::Interpolation,
+) -> Result<()> {
+    let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
+    let mesh = match Input::load(input)? {
+        Input::Mesh(mesh) => mesh,
+        Input::Patches(patches) => octsolid::patch::tessellate(&patches, 16),
+    };
+    let bounds = mesh.bounds();
+    let [width, height] = size.unwrap_or([960, 720]);
+    let (up_vec, view) = view_for(up);
+    let camera = Camera::frame(&bounds, view, up_vec, f64::from(width) / f64::from(height.max(1)));
+    let scene = render::polygon::MeshScene {
+        mesh: &mesh,
+        material: Material::default(),
+        lights: Scene::default_lights(&bounds),
+        ambient: DVec3::ONE,
+        background: Scene::new().background,
+    };
+    let started = Instant::now();
+    let img = render::polygon::render_mesh(&scene, &camera, width, height, spp.unwrap_or(2), interpolation)
+        .with_context(|| format!("{}: cannot render", input.display()))?;
+    out!(
+        "drew {} triangles with {interpolation:?} shading in {:.2} s",
+        mesh.triangles.len(),
+        started.elapsed().as_secs_f64()
+    );
+    png::save(&img, &output)?;
+    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    Ok(())
+}
+
+/// The world's up vector and the default view direction for an up axis.
+fn view_for(up: Axis) -> (DVec3, DVec3) {
+    match up {
+        Axis::Z => (DVec3::Z, DEFAULT_VIEW),
+        Axis::Y => (DVec3::Y, DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y)),
+        Axis::X => (DVec3::X, DVec3::new(DEFAULT_VIEW.z, DEFAULT_VIEW.x, -DEFAULT_VIEW.y)),
+    }
+}
+
+/// The render command's shading flags.
+struct Shading {
+    no_shadows: bool,
+    normals: Option<render::Normals>,
+    max_depth: Option<u32>,
+}
+
 /// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method trace] [--depth D] [--up A]`
 #[allow(clippy::too_many_arguments)]
 fn render_command(
@@ -302,7 +384,7 @@ fn render_command(
     method: render::Method,
     depth: u8,
     up: Axis,
-    no_shadows: bool,
+    shading: Shading,
     budget: MemoryBudget,
 ) -> Result<()> {
     let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
@@ -326,11 +408,7 @@ fn render_command(
         scene.add(input.display().to_string(), tree, Material::default());
         scene.lights = Scene::default_lights(&bounds);
         let options = RenderOptions::default();
-        let (up_vec, view) = match up {
-            Axis::Z => (DVec3::Z, DEFAULT_VIEW),
-            Axis::Y => (DVec3::Y, DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y)),
-            Axis::X => (DVec3::X, DVec3::new(DEFAULT_VIEW.z, DEFAULT_VIEW.x, -DEFAULT_VIEW.y)),
-        };
+        let (up_vec, view) = view_for(up);
         if up != Axis::Z {
             let c = bounds.center();
             let r = bounds.size().length();
@@ -346,7 +424,9 @@ fn render_command(
     if let Some(n) = spp {
         options.spp = n;
     }
-    options.shadows &= !no_shadows;
+    options.shadows &= !shading.no_shadows;
+    options.normals = shading.normals.unwrap_or(options.normals);
+    options.max_depth = shading.max_depth.unwrap_or(options.max_depth);
     options.method = method;
     let img =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;

@@ -33,7 +33,11 @@ impl MeshFormat {
     }
 }
 
-/// Reads the mesh at `path` (format by extension), checks it and welds equal vertices.
+/// Reads the mesh at `path` (format by extension), checks it and welds equal vertices,
+/// unless the file's own indices already make the mesh watertight: then its duplicate
+/// positions are deliberate (a boundary mesh keeps one vertex a sheet where two voxels
+/// touch only along an edge, see [`super::boundary_mesh`]) and are kept. STL has no
+/// indices, so it is always welded.
 ///
 /// Errors name the file and the line (text formats) or byte offset (binary ones):
 /// missing file, truncated data, indices out of range, NaN or infinite coordinates,
@@ -46,6 +50,8 @@ pub fn load_mesh(path: &Path) -> Result<TriangleMesh> {
         MeshFormat::Ply => super::ply::parse(&bytes, path)?,
     };
     mesh.check().map_err(|e| Error::Format { path: path.to_path_buf(), offset: 0, reason: e.to_string() })?;
-    mesh.weld();
+    if !mesh.is_watertight() {
+        mesh.weld();
+    }
     Ok(mesh)
 }

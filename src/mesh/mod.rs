@@ -1,10 +1,11 @@
-//! Triangle meshes: loading (OBJ, STL, PLY), polygon tables and diagnostics, and
-//! voxelization into solid or surface octrees.
+//! Triangle meshes: loading (OBJ, STL, PLY), polygon tables and diagnostics,
+//! voxelization into solid or surface octrees, and the boundary mesh of an octree.
 //!
 //! A [`TriangleMesh`] is a vertex table and a triangle table. Loaders weld vertices with
 //! identical coordinates (STL stores every corner separately), so the edge table sees
 //! the mesh's real connectivity.
 
+mod boundary;
 mod crossing;
 pub mod generate;
 mod load;
@@ -27,6 +28,7 @@ use glam::DVec3;
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
+pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
 pub use load::{MeshFormat, load_mesh};
 pub use parity::ParityGrid;
 pub use save::{save_mesh, write_obj, write_ply, write_stl};
@@ -92,6 +94,19 @@ impl TriangleMesh {
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(self.triangles.iter().flatten().map(|&i| self.vertices[i as usize]))
             .unwrap_or(Aabb { min: DVec3::ZERO, max: DVec3::ZERO })
+    }
+
+    /// Enclosed volume by the signed-tetrahedron sum `V = sum (p1 . (p2 x p3)) / 6`,
+    /// exact for a closed, consistently oriented mesh (positive when it faces out).
+    #[must_use]
+    pub fn volume(&self) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| {
+                let [a, b, c] = self.corners(t);
+                a.dot(b.cross(c))
+            })
+            .sum::<f64>()
+            / 6.0
     }
 
     /// Whether every edge is used exactly twice, once in each direction (closed,

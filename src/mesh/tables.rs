@@ -109,13 +109,7 @@ impl<'a> PolygonTables<'a> {
         let boundary_edges = self.edges.iter().filter(|e| e.faces.len() == 1).count();
         let non_manifold_edges = self.edges.iter().filter(|e| e.faces.len() > 2).count();
         let misoriented_edges = self.edges.iter().filter(|e| e.faces.len() == 2 && e.forward != 1).count();
-        let volume = (0..mesh.triangles.len())
-            .map(|t| {
-                let [a, b, c] = mesh.corners(t);
-                a.dot(b.cross(c))
-            })
-            .sum::<f64>()
-            / 6.0;
+        let volume = mesh.volume();
         let b = mesh.bounds();
         MeshReport {
             vertices: mesh.vertices.len(),

@@ -4,6 +4,7 @@ mod csg;
 mod depth;
 mod domain;
 mod linear;
+mod neighbourhood;
 mod node;
 mod ranges;
 mod resample;

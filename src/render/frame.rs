@@ -1,5 +1,5 @@
 //! Making a picture: primary visibility of every sample (by any [`Method`]), then the
-//! one shading stage, with `n x n` stratified supersampling (sample centres of an
+//! one shading stage (local Phong and Whitted's secondary rays), with `n x n` stratified supersampling (sample centres of an
 //! `n x n` grid in the pixel).
 
 use image::{Rgb, RgbImage};
@@ -10,7 +10,8 @@ use glam::DVec3;
 use super::camera::Camera;
 use super::raster::{Method, Samples, visibility};
 use super::scene::Scene;
-use super::shade::{shade, to_srgb8};
+use super::shade::{Normals, ShadeOptions, to_srgb8};
+use super::whitted::radiance;
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 
@@ -28,13 +29,25 @@ pub struct RenderOptions {
     pub spp: u32,
     /// Trace shadow rays.
     pub shadows: bool,
+    /// Which normal shades surfaces.
+    pub normals: Normals,
+    /// Longest chain of reflected and refracted rays (0: local shading only).
+    pub max_depth: u32,
     /// How primary visibility is decided.
     pub method: Method,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { width: 960, height: 720, spp: 2, shadows: true, method: Method::Trace }
+        RenderOptions {
+            width: 960,
+            height: 720,
+            spp: 2,
+            shadows: true,
+            normals: Normals::Axis,
+            max_depth: ShadeOptions::default().max_depth,
+            method: Method::Trace,
+        }
     }
 }
 
@@ -55,7 +68,7 @@ pub fn render(
     options: &RenderOptions,
     progress: &dyn Progress,
 ) -> Result<(RgbImage, RenderStats)> {
-    let RenderOptions { width, height, spp, shadows, method } = *options;
+    let RenderOptions { width, height, spp, shadows, normals, max_depth, method } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
@@ -63,6 +76,7 @@ pub fn render(
         return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
     }
     let samples = Samples { width, height, spp };
+    let shading = ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() };
     // Step 1: what each sample sees.
     let seen = visibility(scene, camera, &samples, method);
     // Step 2: shading, the same for every method, averaged over each pixel's samples.
@@ -82,7 +96,7 @@ pub fn render(
                             sum += match &seen[r as usize * columns + c as usize] {
                                 Some(h) => {
                                     let (o, d) = camera.ray(x, y, aspect);
-                                    shade(scene, o, d, h, shadows)
+                                    radiance(scene, o, d, h, &shading)
                                 }
                                 None => scene.background,
                             };

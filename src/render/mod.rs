@@ -8,14 +8,20 @@
 pub mod camera;
 pub mod frame;
 pub mod light;
+pub mod normals;
+pub mod optics;
+pub mod polygon;
 pub mod raster;
 pub mod scene;
 pub mod shade;
+pub mod texture;
 pub mod traverse;
+pub mod whitted;
 
 pub use camera::{Camera, DEFAULT_VIEW, Projection};
 pub use frame::{RenderOptions, RenderStats, render};
-pub use light::{Light, Material};
+pub use light::{Bump, Light, Material};
 pub use raster::{Method, Samples, visibility};
 pub use scene::{Scene, SceneHit};
+pub use shade::{Normals, ShadeOptions};
 pub use traverse::{Hit, Traversal, VoxelRay};

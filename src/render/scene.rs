@@ -1,5 +1,7 @@
 //! Scenes: solids with materials, lights, ambient light and background.
 
+use std::sync::OnceLock;
+
 use glam::DVec3;
 
 use super::light::{Light, Material};
@@ -18,6 +20,19 @@ pub struct SceneSolid {
     pub traversal: Traversal,
     /// Its material.
     pub material: Material,
+    /// The complement's traversal octree, built on first use: rays inside the solid
+    /// (refraction) leave it where they enter the complement.
+    interior: OnceLock<Traversal>,
+}
+
+impl SceneSolid {
+    /// Where the ray `origin + t dir`, starting inside the solid, leaves it: the hit of
+    /// the first empty voxel it enters (`axis` its face). `None` when it leaves through
+    /// the domain's boundary first.
+    #[must_use]
+    pub fn exit(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+        self.interior.get_or_init(|| Traversal::new(&self.tree.complement())).hit(origin, dir, f64::INFINITY)
+    }
 }
 
 /// Everything a picture shows (the camera is separate).
@@ -57,7 +72,7 @@ impl Scene {
     /// Adds a solid (its traversal octree is built here).
     pub fn add(&mut self, name: impl Into<String>, tree: LinearOctree, material: Material) {
         let traversal = Traversal::new(&tree);
-        self.solids.push(SceneSolid { name: name.into(), tree, traversal, material });
+        self.solids.push(SceneSolid { name: name.into(), tree, traversal, material, interior: OnceLock::new() });
     }
 
     /// Bounds of all solids, `None` when every solid is empty.
@@ -83,6 +98,23 @@ impl Scene {
     #[must_use]
     pub fn occluded(&self, origin: DVec3, dir: DVec3, t_max: f64) -> bool {
         self.solids.iter().any(|s| s.traversal.occluded(origin, dir, t_max))
+    }
+
+    /// The fraction of light that passes along the ray before `t_max`: the product of
+    /// the transmittances of the solids it crosses, each counted once (no refraction
+    /// of shadow rays); 0 when an opaque solid blocks it.
+    #[must_use]
+    pub fn transmittance(&self, origin: DVec3, dir: DVec3, t_max: f64) -> f64 {
+        let mut passed = 1.0;
+        for s in &self.solids {
+            if s.traversal.occluded(origin, dir, t_max) {
+                passed *= s.material.transmittance;
+                if passed == 0.0 {
+                    break;
+                }
+            }
+        }
+        passed
     }
 
     /// Two white lights (a key light from the default view side and a dim fill light

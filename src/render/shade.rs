@@ -1,37 +1,141 @@
-//! The shading stage: Phong lighting with hard shadows, the same for every
-//! visibility method.
+//! The shading stage, the same for every visibility method: the local Phong term with
+//! shadows, on the normal the options choose, and Whitted's reflected and transmitted
+//! rays ([`super::whitted`]).
 //!
-//! `I = ka Ia C + sum_i [not shadowed] Ii (kd C cos(alpha_i) + ks cos^n(theta_i))`, with
-//! `cos(alpha) = N . L`, `R = 2 N (N . L) - L`, `cos(theta) = R . V` (seed: lighting).
-//! Shadow rays leave the surface a thousandth of a voxel along the normal.
+//! Local term (seed: lighting): `I_c = ka Ia C + sum_i f_i Ii (kd C cos(alpha_i) + ks
+//! cos^n(theta_i))`, with `cos(alpha) = N . L`, `R = 2 N (N . L) - L`, `cos(theta) =
+//! R . V`, `C` the material's colour or texture at the point, and `f_i` the fraction of
+//! light `i` reaching the point: 1 without shadows, else the transmittance of what lies
+//! between ([`Scene::transmittance`]). Shadow rays leave the surface a thousandth of a
+//! voxel along the face's axis normal (the geometric one, whatever normal shades); with
+//! smooth normals they start two voxels further towards the light, past the staircase.
+//!
+//! Normals: [`Normals::Axis`] is the entered face's axis normal; [`Normals::Smooth`]
+//! the octree's occupancy gradient ([`super::normals::smooth_normal`]), falling back to
+//! the axis normal where it would face away from the viewer. A material's bump map then
+//! tilts it.
 
 use glam::DVec3;
 
-use super::scene::{Scene, SceneHit};
+use super::normals::{SMOOTH_RADIUS, smooth_normal};
+use super::scene::{Scene, SceneHit, SceneSolid};
+use super::traverse::Hit;
 
-/// Linear RGB seen along the ray `origin + t dir` (unit `dir`) that hit `sh`.
+/// Which normal shades a surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Normals {
+    /// The entered voxel face's axis normal (exact for the voxel solid).
+    #[default]
+    Axis,
+    /// Estimated from the octree's occupancy around the hit voxel (smooth surfaces).
+    Smooth,
+}
+
+impl std::str::FromStr for Normals {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "axis" => Ok(Normals::Axis),
+            "smooth" => Ok(Normals::Smooth),
+            other => Err(format!("{other:?} is not axis or smooth")),
+        }
+    }
+}
+
+/// How the shading stage works.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadeOptions {
+    /// Trace shadow rays.
+    pub shadows: bool,
+    /// Which normal shades.
+    pub normals: Normals,
+    /// Longest chain of reflected and refracted rays after the primary one.
+    pub max_depth: u32,
+    /// A secondary ray is traced only when its weight in the pixel exceeds this.
+    pub cutoff: f64,
+}
+
+impl Default for ShadeOptions {
+    fn default() -> Self {
+        ShadeOptions { shadows: true, normals: Normals::Axis, max_depth: 6, cutoff: 1e-3 }
+    }
+}
+
+/// The geometric and the shading normal at a hit of the ray direction `dir`, both unit
+/// and facing the ray (for a hit with no face, the origin inside: `-dir`), and the raw
+/// smooth estimate (outward; `None` with axis normals).
 #[must_use]
-pub fn shade(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, shadows: bool) -> DVec3 {
-    let solid = &scene.solids[sh.solid];
+pub fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, mode: Normals) -> (DVec3, DVec3, Option<DVec3>) {
+    let axis = hit.normal(dir);
+    let geometric = if axis == DVec3::ZERO { -dir } else { axis };
+    let smooth = match mode {
+        Normals::Axis => None,
+        Normals::Smooth => smooth_normal(&solid.tree, p, SMOOTH_RADIUS),
+    };
+    let shading = smooth.filter(|n| n.dot(dir) < 0.0).unwrap_or(geometric);
+    let shading = match &solid.material.bump {
+        Some(bump) => bump.perturb(p, shading),
+        None => shading,
+    };
+    (geometric, shading, smooth)
+}
+
+/// A shaded point: where a ray of direction `dir` hit solid `solid`, with the
+/// geometric and shading normals of [`normals_at`].
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    /// Index of the solid.
+    pub solid: usize,
+    /// The point.
+    pub p: DVec3,
+    /// Unit direction of the arriving ray.
+    pub dir: DVec3,
+    /// The face's axis normal, facing the ray.
+    pub geometric: DVec3,
+    /// The normal that shades.
+    pub normal: DVec3,
+    /// The smooth estimate of the outward normal, when smooth normals are on.
+    pub smooth: Option<DVec3>,
+}
+
+impl SurfacePoint {
+    /// The point where the ray `origin + t dir` (unit `dir`) hits `sh`.
+    #[must_use]
+    pub fn new(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, mode: Normals) -> Self {
+        let p = origin + dir * sh.hit.t;
+        let (geometric, normal, smooth) = normals_at(&scene.solids[sh.solid], &sh.hit, dir, p, mode);
+        SurfacePoint { solid: sh.solid, p, dir, geometric, normal, smooth }
+    }
+}
+
+/// The local (Phong) term at `s` (see the module doc).
+#[must_use]
+pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> DVec3 {
+    let solid = &scene.solids[s.solid];
     let m = &solid.material;
-    let n = sh.hit.normal(dir);
-    let n = if n == DVec3::ZERO { -dir } else { n };
-    let p = origin + dir * sh.hit.t;
-    let v = -dir;
-    let lift = p + n * (1e-3 * solid.tree.domain().voxel_size());
-    let mut color = scene.ambient * m.color * m.ka;
+    let (p, geometric, n) = (s.p, s.geometric, s.normal);
+    let v = -s.dir;
+    let h = solid.tree.domain().voxel_size();
+    let lift = p + geometric * (1e-3 * h);
+    // With smooth normals the staircase next to the point would shadow a surface the
+    // smooth normal turns to the light: shadow rays skip the first two voxels.
+    let skip = if s.smooth.is_some() { 2.0 * h } else { 0.0 };
+    let c = m.color_at(p);
+    let mut color = scene.ambient * c * m.ka;
     for light in &scene.lights {
         let (l, distance) = light.towards(p);
         let cos_alpha = n.dot(l);
         if cos_alpha <= 0.0 {
             continue;
         }
-        if shadows && scene.occluded(lift, l, distance) {
+        let passed = if shadows { scene.transmittance(lift + l * skip, l, distance - skip) } else { 1.0 };
+        if passed == 0.0 {
             continue;
         }
         let r = n * (2.0 * cos_alpha) - l;
         let cos_theta = r.dot(v).max(0.0);
-        color += light.color() * (m.color * (m.kd * cos_alpha) + DVec3::splat(m.ks * cos_theta.powf(m.shininess)));
+        color += light.color() * passed * (c * (m.kd * cos_alpha) + DVec3::splat(m.ks * cos_theta.powf(m.shininess)));
     }
     color
 }

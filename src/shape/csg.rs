@@ -12,7 +12,9 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use super::bounds::both;
-use super::{Class, Cone, Cuboid, Cylinder, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed};
+use super::{
+    Class, Cone, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
+};
 use crate::aabb::Aabb;
 
 /// A node of a CSG tree.
@@ -155,8 +157,8 @@ macro_rules! leaf_conversions {
     )*};
 }
 
-leaf_conversions!(Sphere, Ellipsoid, Cuboid, Cylinder, Cone, Torus, HalfSpace, Menger);
-csg_operators!(Csg, Sphere, Ellipsoid, Cuboid, Cylinder, Cone, Torus, HalfSpace, Menger);
+leaf_conversions!(Sphere, Ellipsoid, Cuboid, Cylinder, Cone, Torus, HalfSpace, Menger, DisplacedSphere);
+csg_operators!(Csg, Sphere, Ellipsoid, Cuboid, Cylinder, Cone, Torus, HalfSpace, Menger, DisplacedSphere);
 
 impl<S: Shape + 'static> From<Transformed<S>> for Csg {
     fn from(shape: Transformed<S>) -> Csg {

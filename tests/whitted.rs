@@ -1,0 +1,105 @@
+//! Whitted ray tracing on octree solids: refraction through a slab walked by the octree,
+//! energy bounds, and the classic scene rendering.
+
+use glam::DVec3;
+use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+use octsolid::render::optics::refract;
+use octsolid::render::whitted::radiance;
+use octsolid::render::{Light, Material, Normals, Scene, ShadeOptions};
+use octsolid::shape::{Cuboid, Sphere};
+
+mod common;
+
+use common::Rng;
+
+#[test]
+fn a_ray_through_a_voxel_slab_comes_out_parallel_and_offset_as_snell_says() {
+    // A slab 0.25 thick between lattice planes of a depth-6 domain (voxel 1/32).
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+    let slab = Cuboid::from_corners(DVec3::new(-0.9, -0.9, 0.0), DVec3::new(0.9, 0.9, 0.25)).unwrap();
+    let mut scene = Scene::new();
+    let glass = Material { transmittance: 1.0, ior: 1.5, ..Material::default() };
+    scene.add("slab", voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), glass);
+    let mut rng = Rng(3);
+    for _ in 0..200 {
+        let angle = rng.range(0.0, 1.4);
+        let phi = rng.range(0.0, std::f64::consts::TAU);
+        let d = DVec3::new(angle.sin() * phi.cos(), angle.sin() * phi.sin(), -angle.cos());
+        let origin = DVec3::new(rng.range(-0.2, 0.2), rng.range(-0.2, 0.2), 0.25) - d * 0.5;
+        let sh = scene.hit(origin, d, f64::INFINITY).expect("the slab is below");
+        let p = origin + d * sh.hit.t;
+        assert!((p.z - 0.25).abs() < 1e-12, "enters the top face: {p}");
+        let inside = refract(d, sh.hit.normal(d), 1.0, 1.5).unwrap();
+        let exit = scene.solids[0].exit(p + inside * 1e-9, inside).expect("leaves through the bottom");
+        let q = p + inside * (1e-9 + exit.t);
+        assert_eq!(exit.axis, Some(2), "{exit:?} from {p} along {inside}");
+        assert!(q.z.abs() < 1e-12, "leaves the bottom face: {q}");
+        let out = refract(inside, DVec3::Z, 1.5, 1.0).unwrap();
+        assert!((out - d).length() < 1e-12, "parallel: {out} vs {d}");
+        // The offset from the unrefracted line: thickness sin(i - t) / cos(t).
+        let t = (angle.sin() / 1.5).asin();
+        let offset = (q - p).cross(d).length();
+        assert!((offset - 0.25 * (angle - t).sin() / t.cos()).abs() < 1e-9, "angle {angle}: {offset}");
+    }
+}
+
+#[test]
+fn whitted_never_returns_more_light_than_comes_in() {
+    // Lights summing to 1, materials with ka + kd + ks <= 1 and kr + kt <= 1, a
+    // background of 1: no ray may carry more than 1 in any channel.
+    let domain = Domain::new(DVec3::splat(-2.0), 4.0, 7).unwrap();
+    let mut rng = Rng(11);
+    let mut scene = Scene::new();
+    for i in 0..5 {
+        let sphere = Sphere::new(rng.vec(-1.2, 1.2), rng.range(0.3, 0.7)).unwrap();
+        let (ka, kd) = (rng.range(0.0, 0.3), rng.range(0.0, 0.5));
+        let kr = rng.range(0.0, 1.0);
+        let material = Material {
+            color: DVec3::new(rng.unit(), rng.unit(), rng.unit()),
+            ka,
+            kd,
+            ks: rng.range(0.0, 1.0 - ka - kd),
+            shininess: rng.range(1.0, 64.0),
+            reflectance: kr,
+            transmittance: rng.range(0.0, 1.0 - kr),
+            ior: rng.range(1.0, 2.4),
+            ..Material::default()
+        };
+        material.check().unwrap();
+        scene.add(format!("ball {i}"), voxelize(&sphere, domain, &VoxelizeOptions::default()).unwrap(), material);
+    }
+    scene.lights = vec![
+        Light::Point { position: DVec3::new(3.0, -2.0, 4.0), color: DVec3::splat(0.6) },
+        Light::Directional { direction: DVec3::new(-1.0, 0.5, -1.0), color: DVec3::splat(0.4) },
+    ];
+    scene.ambient = DVec3::ONE;
+    scene.background = DVec3::ONE;
+    let mut seen = 0;
+    for normals in [Normals::Axis, Normals::Smooth] {
+        let options = ShadeOptions { normals, max_depth: 8, ..ShadeOptions::default() };
+        for _ in 0..3000 {
+            let origin = rng.vec(-1.0, 1.0).normalize() * 5.0;
+            let dir = (rng.vec(-1.0, 1.0) - origin).normalize();
+            if let Some(sh) = scene.hit(origin, dir, f64::INFINITY) {
+                seen += 1;
+                let c = radiance(&scene, origin, dir, &sh, &options);
+                assert!(c.max_element() <= 1.0 + 1e-9 && c.min_element() >= 0.0, "{c}");
+            }
+        }
+    }
+    assert!(seen > 1000, "{seen} rays hit");
+}
+
+#[test]
+fn materials_out_of_range_are_refused() {
+    let bad = [
+        Material { reflectance: 0.7, transmittance: 0.5, ..Material::default() },
+        Material { ior: 0.0, ..Material::default() },
+        Material { ka: -0.1, ..Material::default() },
+        Material { transmittance: f64::NAN, ..Material::default() },
+    ];
+    for m in bad {
+        assert!(m.check().is_err(), "{m:?}");
+    }
+    assert!(Material::default().check().is_ok());
+}
