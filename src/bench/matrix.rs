@@ -16,10 +16,10 @@ use super::machine::Machine;
 use super::obvhs_contender::ObvhsBvh;
 use super::rays::{RayKind, RaySet, light_position, primary_rays, random_rays, shadow_rays};
 use super::scenes::{BenchScene, SceneKind, build_scene};
-use super::unit_faces::unit_face_mesh;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::mesh::TriangleMesh;
+use crate::mesh::{BoundaryOptions, try_boundary_mesh};
+use crate::progress::NoProgress;
 use crate::progress::Progress;
 use crate::render::Traversal;
 
@@ -297,13 +297,8 @@ fn skipped(kind: ContenderKind, triangles: usize, reason: String) -> ContenderRe
     ContenderResult { kind, skipped: Some(reason), triangles, build_ms: 0.0, bytes: 0, nodes: 0, speeds: Vec::new() }
 }
 
-/// The boundary faces of the scene's octree as triangles.
-fn boundary_faces(scene: &BenchScene) -> TriangleMesh {
-    unit_face_mesh(&scene.tree)
-}
-
 /// Runs one scene at one depth.
-fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress: &dyn Progress) -> CaseResult {
+fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress: &dyn Progress) -> Result<CaseResult> {
     let per_contender = 1 + 2 * RayKind::ALL.len() as u64;
     let octree = Traversal::new(&scene.tree);
     let bounds = scene.tree.bounds().unwrap_or_else(|| scene.tree.domain().aabb());
@@ -319,7 +314,9 @@ fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress
     let mut contenders =
         vec![measure::<Traversal>(ContenderKind::Octree, &scene.tree, 0, &ray_sets, pools, repeats, progress)];
     let started = Instant::now();
-    let faces = pools.all.install(|| boundary_faces(scene));
+    // The boundary faces: the export's default, coplanar faces merged into rectangles.
+    let faces =
+        pools.all.install(|| try_boundary_mesh(&scene.tree, &BoundaryOptions::default(), options.budget, &NoProgress))?;
     let faces_ms = started.elapsed().as_secs_f64() * 1e3;
     let n = faces.triangles.len();
     for kind in [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces] {
@@ -339,7 +336,7 @@ fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress
         contenders.push(measure::<ObvhsBvh>(ContenderKind::ObvhsMesh, mesh, n, &ray_sets, pools, repeats, progress));
         contenders.push(measure::<BvhCrateBvh>(ContenderKind::BvhMesh, mesh, n, &ray_sets, pools, repeats, progress));
     }
-    CaseResult {
+    Ok(CaseResult {
         scene: scene.kind,
         depth: scene.tree.depth(),
         octree_nodes: scene.tree.node_count(),
@@ -347,7 +344,7 @@ fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress
         faces_ms,
         rays: ray_sets.iter().map(|s| (s.kind, s.rays.len())).collect(),
         contenders,
-    }
+    })
 }
 
 /// Runs the matrix; `progress` receives [`MatrixOptions::work_units`] units.
@@ -361,7 +358,7 @@ pub fn run_matrix(options: &MatrixOptions, progress: &dyn Progress) -> Result<Ma
     for &kind in &options.scenes {
         for &depth in &options.depths {
             let scene = pools.all.install(|| build_scene(kind, depth, &options.models, options.budget))?;
-            cases.push(run_case(&scene, options, &pools, progress));
+            cases.push(run_case(&scene, options, &pools, progress)?);
         }
     }
     progress.finish();

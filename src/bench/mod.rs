@@ -16,7 +16,6 @@ pub mod obvhs_contender;
 pub mod octree_contender;
 pub mod rays;
 pub mod scenes;
-pub mod unit_faces;
 
 pub use bvh_contender::BvhCrateBvh;
 pub use contender::{Contender, SurfaceHit};
