@@ -46,7 +46,8 @@ pub trait Contender: Send + Sync + Sized {
         rays.rays
             .par_chunks(256)
             .map(|chunk| {
-                chunk.iter().filter(|r| if any { self.occluded(r) } else { self.closest_hit(r).is_some() }).count() as u64
+                chunk.iter().filter(|r| if any { self.occluded(r) } else { self.closest_hit(r).is_some() }).count()
+                    as u64
             })
             .sum()
     }

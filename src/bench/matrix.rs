@@ -100,16 +100,17 @@ pub struct MatrixOptions {
 }
 
 impl MatrixOptions {
-    /// The full matrix: depths 8, 10 and 12, a 512 x 512 image, 262,144 random rays, 5 runs.
+    /// The full matrix: depths 8, 10 and 12 (where the scene allows), a 384 x 384 image,
+    /// 131,072 random rays, 3 runs.
     #[must_use]
     pub fn full() -> Self {
         MatrixOptions {
             scenes: SceneKind::ALL.to_vec(),
             depths: vec![8, 10, 12],
-            image_size: 512,
-            random_rays: 1 << 18,
+            image_size: 384,
+            random_rays: 1 << 17,
             threads: std::thread::available_parallelism().map_or(1, usize::from),
-            repeats: 5,
+            repeats: 3,
             max_bvh_triangles: 4_000_000,
             models: PathBuf::from("models"),
             budget: MemoryBudget::default(),
@@ -123,12 +124,18 @@ impl MatrixOptions {
         MatrixOptions { depths: vec![8, 10], image_size: 256, random_rays: 1 << 16, repeats: 3, ..Self::full() }
     }
 
+    /// The depths `scene` runs at: those of [`MatrixOptions::depths`] up to its
+    /// [`SceneKind::max_depth`].
+    pub fn depths_of(&self, scene: SceneKind) -> impl Iterator<Item = u8> + '_ {
+        self.depths.iter().copied().filter(move |&d| d <= scene.max_depth())
+    }
+
     /// Number of progress units [`run_matrix`] reports: one a build and one a measurement.
     #[must_use]
     pub fn work_units(&self) -> u64 {
         let per_contender = 1 + 2 * RayKind::ALL.len() as u64;
         let contenders = |s: SceneKind| if s == SceneKind::Bunny { 5 } else { 3 };
-        self.scenes.iter().map(|&s| contenders(s) * per_contender * self.depths.len() as u64).sum()
+        self.scenes.iter().map(|&s| contenders(s) * per_contender * self.depths_of(s).count() as u64).sum()
     }
 }
 
@@ -315,19 +322,31 @@ fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress
         vec![measure::<Traversal>(ContenderKind::Octree, &scene.tree, 0, &ray_sets, pools, repeats, progress)];
     let started = Instant::now();
     // The boundary faces: the export's default, coplanar faces merged into rectangles.
+    // A mesh over the memory budget skips the BVHs over it (the octree still runs).
     let faces =
-        pools.all.install(|| try_boundary_mesh(&scene.tree, &BoundaryOptions::default(), options.budget, &NoProgress))?;
+        pools.all.install(|| try_boundary_mesh(&scene.tree, &BoundaryOptions::default(), options.budget, &NoProgress));
     let faces_ms = started.elapsed().as_secs_f64() * 1e3;
-    let n = faces.triangles.len();
+    let faces = match faces {
+        Ok(faces) => Ok(faces),
+        Err(e @ Error::OverBudget { .. }) => Err(e.to_string()),
+        Err(e) => return Err(e),
+    };
+    let n = faces.as_ref().map_or(0, |f| f.triangles.len());
     for kind in [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces] {
-        if n > options.max_bvh_triangles {
-            let reason = format!("{n} boundary triangles, above the limit of {}", options.max_bvh_triangles);
-            contenders.push(skipped(kind, n, reason));
-            progress.advance(per_contender);
-        } else if kind == ContenderKind::ObvhsFaces {
-            contenders.push(measure::<ObvhsBvh>(kind, &faces, n, &ray_sets, pools, repeats, progress));
-        } else {
-            contenders.push(measure::<BvhCrateBvh>(kind, &faces, n, &ray_sets, pools, repeats, progress));
+        match &faces {
+            Err(why) => {
+                contenders.push(skipped(kind, n, why.clone()));
+                progress.advance(per_contender);
+            }
+            Ok(_) if n > options.max_bvh_triangles => {
+                let reason = format!("{n} boundary triangles, above the limit of {}", options.max_bvh_triangles);
+                contenders.push(skipped(kind, n, reason));
+                progress.advance(per_contender);
+            }
+            Ok(f) if kind == ContenderKind::ObvhsFaces => {
+                contenders.push(measure::<ObvhsBvh>(kind, f, n, &ray_sets, pools, repeats, progress));
+            }
+            Ok(f) => contenders.push(measure::<BvhCrateBvh>(kind, f, n, &ray_sets, pools, repeats, progress)),
         }
     }
     drop(faces);
@@ -356,7 +375,7 @@ pub fn run_matrix(options: &MatrixOptions, progress: &dyn Progress) -> Result<Ma
     progress.start(options.work_units());
     let mut cases = Vec::new();
     for &kind in &options.scenes {
-        for &depth in &options.depths {
+        for depth in options.depths_of(kind) {
             let scene = pools.all.install(|| build_scene(kind, depth, &options.models, options.budget))?;
             cases.push(run_case(&scene, options, &pools, progress)?);
         }

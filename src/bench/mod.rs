@@ -5,16 +5,19 @@
 //! BVH), each built over the octree's boundary faces and, where the solid came from a
 //! triangle mesh, over that mesh. [`run_matrix`] traces the same [`RaySet`]s (primary,
 //! shadow, random) through each on one thread and on all threads and returns build
-//! times, bytes and rays a second; [`report`] turns the results into a Markdown
+//! times, bytes and rays a second; [`write_report`] turns the results into a Markdown
 //! section and plots.
 
 pub mod bvh_contender;
 pub mod contender;
 pub mod machine;
+pub mod markdown;
 pub mod matrix;
 pub mod obvhs_contender;
 pub mod octree_contender;
+pub mod plots;
 pub mod rays;
+pub mod report;
 pub mod scenes;
 
 pub use bvh_contender::BvhCrateBvh;
@@ -23,4 +26,5 @@ pub use machine::Machine;
 pub use matrix::{CaseResult, ContenderKind, ContenderResult, MatrixOptions, MatrixResults, Speed, run_matrix};
 pub use obvhs_contender::ObvhsBvh;
 pub use rays::{Ray, RayKind, RaySet};
+pub use report::write_report;
 pub use scenes::{BenchScene, SceneKind, build_scene};

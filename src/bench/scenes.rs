@@ -58,6 +58,17 @@ impl SceneKind {
         }
     }
 
+    /// The deepest depth the matrix runs the scene at: 12 for the sphere and the bunny;
+    /// 10 for the sponge and the CSG part, whose node counts (30 and 5 million at depth
+    /// 10) would grow to hundreds of millions at 12.
+    #[must_use]
+    pub fn max_depth(self) -> u8 {
+        match self {
+            SceneKind::Sphere | SceneKind::Bunny => 12,
+            SceneKind::Menger | SceneKind::ClassicCsg => 10,
+        }
+    }
+
     /// The world's up direction (the bunny is y-up).
     #[must_use]
     pub fn up(self) -> DVec3 {
@@ -67,7 +78,11 @@ impl SceneKind {
     /// The camera's viewing direction (from the target to the eye) for [`SceneKind::up`].
     #[must_use]
     pub fn view(self) -> DVec3 {
-        if self == SceneKind::Bunny { DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y) } else { DEFAULT_VIEW }
+        if self == SceneKind::Bunny {
+            DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y)
+        } else {
+            DEFAULT_VIEW
+        }
     }
 }
 
