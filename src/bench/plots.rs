@@ -78,23 +78,21 @@ pub fn mrays_plot(r: &MatrixResults, scene: SceneKind, path: &Path) -> Result<()
                 .margin(12)
                 .x_label_area_size(36)
                 .y_label_area_size(56)
-                .build_cartesian_2d(f64::from(d0) - 0.5..f64::from(d1) + 0.5, 0.0..top * 1.15)
+                .build_cartesian_2d(i32::from(d0) - 1..i32::from(d1) + 1, 0.0..top * 1.15)
                 .map_err(|e| e.to_string())?;
             chart
                 .configure_mesh()
                 .x_desc("depth")
                 .y_desc("Mrays/s")
-                .x_labels(8)
-                .x_label_formatter(&|x| format!("{x:.0}"))
                 .label_style(("sans-serif", 14))
                 .draw()
                 .map_err(|e| e.to_string())?;
             for contender in ContenderKind::ALL {
-                let points: Vec<(f64, f64)> = cases
+                let points: Vec<(i32, f64)> = cases
                     .iter()
                     .filter_map(|c| {
                         let s = c.contender(contender)?.speed(kind, threads)?;
-                        Some((f64::from(c.depth), s.mrays()))
+                        Some((i32::from(c.depth), s.mrays()))
                     })
                     .collect();
                 if points.is_empty() {
@@ -149,6 +147,7 @@ pub fn build_plot(r: &MatrixResults, path: &Path) -> Result<()> {
         chart
             .configure_mesh()
             .x_desc("octree nodes of the solid")
+            .x_label_formatter(&|x| format!("{x:.0e}"))
             .y_desc("build ms")
             .label_style(("sans-serif", 14))
             .draw()
