@@ -23,6 +23,7 @@
 #![deny(missing_docs)]
 
 pub mod aabb;
+pub mod bench;
 pub mod budget;
 pub mod color;
 pub mod error;

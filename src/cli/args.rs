@@ -133,6 +133,24 @@ pub enum Command {
         #[arg(long)]
         shading: Option<Shading>,
     },
+    /// Octree traversal against the BVH crates obvhs and bvh: build time, bytes, rays a second.
+    Bench {
+        /// Write the report: the section of --out between its bvh-report markers, and plots in docs/images/ beside it.
+        #[arg(long)]
+        report: bool,
+        /// A smaller matrix (depths 8 and 10, fewer rays, fewer runs).
+        #[arg(long)]
+        quick: bool,
+        /// The Markdown file of the report.
+        #[arg(long, default_value = "BENCHMARKS.md")]
+        out: PathBuf,
+        /// Threads of the "all threads" runs (default: all hardware threads).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Folder holding stanford-bunny.obj.
+        #[arg(long, default_value = "models")]
+        models: PathBuf,
+    },
     /// Build the bundled showcase scene and render it to demo.png.
     Demo {
         /// Output image.

@@ -5,6 +5,9 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use glam::DVec3;
+use octsolid::bench::markdown::render_section;
+use octsolid::bench::report::IMAGES;
+use octsolid::bench::{MatrixOptions, run_matrix, write_report};
 use octsolid::budget::MemoryBudget;
 use octsolid::error::human_bytes;
 use octsolid::import::{self, Fill, Input};
@@ -41,6 +44,9 @@ pub fn run(args: Args) -> Result<()> {
             render_command(&input, output, size, spp, method.into(), depth, up, shading, budget)
         }
         Command::Demo { output, depth } => demo_command(&output, depth, budget),
+        Command::Bench { report, quick, out, threads, models } => {
+            bench_command(report, quick, &out, threads, models, budget)
+        }
     }
 }
 
@@ -467,4 +473,36 @@ fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> R
         stats.samples as f64 / seconds / 1e6
     );
     Ok(img)
+}
+
+/// `octsolid bench [--report] [--quick] [--out FILE] [--threads N] [--models DIR]`
+fn bench_command(
+    report: bool,
+    quick: bool,
+    out: &Path,
+    threads: Option<usize>,
+    models: std::path::PathBuf,
+    budget: MemoryBudget,
+) -> Result<()> {
+    let mut options = if quick { MatrixOptions::quick() } else { MatrixOptions::full() };
+    if let Some(n) = threads {
+        if n == 0 {
+            bail!("--threads must be at least 1");
+        }
+        options.threads = n;
+    }
+    options.models = models;
+    options.budget = budget;
+    let started = Instant::now();
+    let bar = Bar::new("benchmarking");
+    let results = run_matrix(&options, &bar)?;
+    out!("ran the matrix in {:.0} s", started.elapsed().as_secs_f64());
+    if report {
+        for path in write_report(&results, out)? {
+            out!("wrote {}", path.display());
+        }
+    } else {
+        out!("{}", render_section(&results, IMAGES, &[]));
+    }
+    Ok(())
 }
