@@ -1,4 +1,5 @@
-//! Ray traversal: primary rays (coherent, one per pixel of a 1024x1024 view) and
+//! Ray traversal: primary rays (coherent, one per pixel of a 1024x1024 view, walked as
+//! packets of 8x8 tiles as the renderer does; `primary_single` walks them one by one) and
 //! shadow rays (from the visible points to a light) on the bunny at depth 10 and a
 //! sphere at depth 12, all cores; traversal-structure build time and bytes a node.
 //! Target: 20 million primary rays a second at depth 10 on two cores.
@@ -9,7 +10,7 @@ use octsolid::budget::MemoryBudget;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::progress::NoProgress;
-use octsolid::render::{Camera, DEFAULT_VIEW, Traversal};
+use octsolid::render::{Camera, DEFAULT_VIEW, PACKET, TILE, Traversal};
 use octsolid::shape::Sphere;
 use rayon::prelude::*;
 
@@ -38,6 +39,21 @@ fn primary_rays(tree: &LinearOctree, up: DVec3) -> Vec<(DVec3, DVec3)> {
         .collect()
 }
 
+/// The rays of `primary_rays` in tile order: the TILE x TILE tiles row by row, each
+/// tile's rays row-major (one packet a tile).
+fn tiles(rays: &[(DVec3, DVec3)]) -> Vec<(DVec3, DVec3)> {
+    let size = SIZE as usize;
+    let mut out = Vec::with_capacity(rays.len());
+    for r0 in (0..size).step_by(TILE) {
+        for c0 in (0..size).step_by(TILE) {
+            for r in r0..r0 + TILE {
+                out.extend_from_slice(&rays[r * size + c0..][..TILE]);
+            }
+        }
+    }
+    out
+}
+
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("traverse");
     group.sample_size(10);
@@ -56,6 +72,7 @@ fn bench(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new("build", name), |b| b.iter(|| Traversal::new(&tree)));
 
         let rays = primary_rays(&tree, up);
+        let tiles = tiles(&rays);
         let hits: Vec<(DVec3, DVec3)> = rays
             .par_iter()
             .filter_map(|&(o, d)| t.hit(o, d, f64::INFINITY).map(|h| (o + d * h.t - d * 1e-6, d)))
@@ -63,6 +80,23 @@ fn bench(c: &mut Criterion) {
         eprintln!("stats: {name}: {} of {} primary rays hit", hits.len(), rays.len());
         group.throughput(Throughput::Elements(rays.len() as u64));
         group.bench_function(BenchmarkId::new("primary", name), |b| {
+            b.iter(|| {
+                tiles
+                    .par_chunks(TILE * SIZE as usize)
+                    .map(|band| {
+                        let t_max = [f64::INFINITY; PACKET];
+                        let mut hits = [None; PACKET];
+                        band.chunks(PACKET)
+                            .map(|tile| {
+                                t.hit_packet(tile, &t_max, &mut hits);
+                                hits.iter().filter(|h| h.is_some()).count()
+                            })
+                            .sum::<usize>()
+                    })
+                    .sum::<usize>()
+            })
+        });
+        group.bench_function(BenchmarkId::new("primary_single", name), |b| {
             b.iter(|| {
                 rays.par_chunks(SIZE as usize)
                     .map(|row| row.iter().filter(|(o, d)| t.hit(*o, *d, f64::INFINITY).is_some()).count())

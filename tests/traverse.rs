@@ -8,7 +8,7 @@ use common::{Rng, random_octree};
 use glam::DVec3;
 use octsolid::morton;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use octsolid::render::Traversal;
+use octsolid::render::{Camera, PACKET, TILE, Traversal};
 use octsolid::samples;
 
 /// Entry and exit times of the ray (voxel units) through the box `[lo, lo + size)`,
@@ -192,5 +192,61 @@ fn non_finite_rays_hit_nothing() {
         // The same solid is hit by a finite ray through its voxel.
         let v = d.voxel_center([3, 4, 5]);
         assert!(t.hit(v - DVec3::X, DVec3::X, f64::INFINITY).is_some());
+    }
+}
+
+/// Packets of rays of every kind (camera tiles, small bundles from one point, the
+/// oracle suite's rays in groups) against single rays: `hit_packet` must give the bits
+/// of `hit` for every ray, whatever its `t_max`.
+#[test]
+fn packets_match_single_rays() {
+    let mut rng = Rng(0x5eed);
+    let mut trees = Vec::new();
+    for depth in [3, 5, 6] {
+        let d = Domain::new(DVec3::new(-0.5, 0.25, 1.0), 1.5, depth).unwrap();
+        trees.push(random_octree(&mut rng, d));
+    }
+    let d6 = samples::showcase_domain(6).unwrap();
+    trees.push(voxelize(&samples::showcase(), d6, &VoxelizeOptions::default()).unwrap());
+    trees.push(LinearOctree::full(d6));
+    trees.push(LinearOctree::empty(d6));
+    for tree in &trees {
+        let t = Traversal::new(tree);
+        let d = tree.domain();
+        let (c, edge) = (d.min() + DVec3::splat(0.5 * d.edge()), d.edge());
+        let mut packets: Vec<Vec<(DVec3, DVec3)>> = Vec::new();
+        // Tiles of cameras around and inside the domain.
+        for _ in 0..40 {
+            let eye = c + rng.vec(-1.5, 1.5) * edge;
+            let camera = Camera::look_at(eye, c + rng.vec(-0.3, 0.3) * edge, DVec3::Z, 40.0);
+            let n = 64.0;
+            let (c0, r0) = (rng.below(56) as f64, rng.below(56) as f64);
+            packets.push(
+                (0..PACKET)
+                    .map(|i| {
+                        let (x, y) = (c0 + (i % TILE) as f64 + 0.5, r0 + (i / TILE) as f64 + 0.5);
+                        camera.ray(2.0 * x / n - 1.0, 1.0 - 2.0 * y / n, 1.0)
+                    })
+                    .collect(),
+            );
+        }
+        // The oracle suite's rays (voxel units moved to world units) in small groups.
+        let h = d.voxel_size();
+        let n = f64::from(d.resolution());
+        let odd: Vec<(DVec3, DVec3)> =
+            rays(&mut rng, n, 600).into_iter().map(|(o, dir)| (d.min() + o * h, dir)).collect();
+        packets.extend(odd.chunks(5).map(<[_]>::to_vec));
+        packets.push(odd[..150].to_vec());
+        for rays in &packets {
+            let t_max: Vec<f64> = rays
+                .iter()
+                .map(|_| if rng.below(3) == 0 { rng.range(0.0, 3.0) * edge } else { f64::INFINITY })
+                .collect();
+            let mut got = vec![None; rays.len()];
+            t.hit_packet(rays, &t_max, &mut got);
+            for ((&(o, dir), &limit), got) in rays.iter().zip(&t_max).zip(&got) {
+                assert_eq!(*got, t.hit(o, dir, limit), "ray {o} {dir} before {limit}");
+            }
+        }
     }
 }

@@ -5,6 +5,7 @@
 //! ray, with the entered face's axis normal) then shading (Phong, shadow rays through
 //! the same octrees), averaged over the pixel's samples and encoded as sRGB.
 
+pub mod beam;
 pub mod camera;
 mod display;
 mod face;
@@ -20,6 +21,7 @@ pub mod texture;
 pub mod traverse;
 pub mod whitted;
 
+pub use beam::{PACKET, TILE};
 pub use camera::{Camera, DEFAULT_VIEW, Projection, View};
 pub use frame::{RenderOptions, RenderStats, render};
 pub use light::{Bump, Light, Material};

@@ -30,6 +30,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::beam::TILE;
 use super::camera::{Camera, View};
 use super::display;
 use super::face::{Face, Viewer};
@@ -136,10 +137,25 @@ pub fn visibility(
         })
         .collect();
     if method == Method::Trace {
-        let seen = rays
-            .par_chunks(columns)
-            .flat_map_iter(|row| row.iter().map(|&(o, d)| scene.hit(o, d, f64::INFINITY)))
-            .collect();
+        // One packet a tile of TILE x TILE samples, a band of TILE rows a task.
+        let mut seen: Vec<Option<SceneHit>> = vec![None; count];
+        seen.par_chunks_mut(TILE * columns).zip(rays.par_chunks(TILE * columns)).for_each(|(seen, rays)| {
+            let rows = rays.len() / columns;
+            let mut tile = Vec::with_capacity(TILE * TILE);
+            let mut hits = [None; TILE * TILE];
+            for c0 in (0..columns).step_by(TILE) {
+                let w = TILE.min(columns - c0);
+                tile.clear();
+                for r in 0..rows {
+                    tile.extend_from_slice(&rays[r * columns + c0..][..w]);
+                }
+                let hits = &mut hits[..tile.len()];
+                scene.hit_packet(&tile, hits);
+                for (r, hits) in hits.chunks(w).enumerate() {
+                    seen[r * columns + c0..][..w].copy_from_slice(hits);
+                }
+            }
+        });
         return (seen, VisibilityStats::default());
     }
     let mut seen: Vec<Option<SceneHit>> = vec![None; count];

@@ -4,6 +4,7 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 
+use super::beam::PACKET;
 use super::light::{Light, Material};
 use super::traverse::{Hit, Traversal};
 use crate::aabb::Aabb;
@@ -92,6 +93,32 @@ impl Scene {
             }
         }
         best
+    }
+
+    /// [`Scene::hit`] of every ray of a packet with `t_max` infinite, bit for bit, one
+    /// [`Traversal::hit_packet`] a solid (fast for a tile of primary rays).
+    ///
+    /// # Panics
+    /// When `rays` and `hits` differ in length.
+    pub fn hit_packet(&self, rays: &[(DVec3, DVec3)], hits: &mut [Option<SceneHit>]) {
+        assert_eq!(rays.len(), hits.len(), "a packet's slices differ in length");
+        hits.fill(None);
+        let mut limits = [f64::INFINITY; PACKET];
+        let mut found = [None; PACKET];
+        for (rays, hits) in rays.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
+            let (limits, found) = (&mut limits[..rays.len()], &mut found[..rays.len()]);
+            for (i, s) in self.solids.iter().enumerate() {
+                for (limit, best) in limits.iter_mut().zip(hits.iter()) {
+                    *limit = best.map_or(f64::INFINITY, |b| b.hit.t);
+                }
+                s.traversal.hit_packet(rays, limits, found);
+                for (best, hit) in hits.iter_mut().zip(found.iter()) {
+                    if let Some(hit) = *hit {
+                        *best = Some(SceneHit { solid: i, hit });
+                    }
+                }
+            }
+        }
     }
 
     /// Whether any solid blocks the ray before `t_max`.

@@ -50,7 +50,7 @@ const _: () = assert!(std::mem::size_of::<Inner>() == 8);
 
 /// What the root is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Root {
+pub(super) enum Root {
     Empty,
     Full,
     Inner,
@@ -86,8 +86,8 @@ impl Hit {
 #[derive(Clone, Debug)]
 pub struct Traversal {
     domain: Domain,
-    root: Root,
-    nodes: Vec<Inner>,
+    pub(super) root: Root,
+    pub(super) nodes: Vec<Inner>,
 }
 
 impl Traversal {
@@ -240,6 +240,18 @@ impl Traversal {
     /// and entered face (the arguments of [`VoxelRay::entry`]). A ray with a non-finite
     /// origin or direction hits nothing.
     fn first_full(&self, r: &VoxelRay, t_max: f64) -> Option<([u32; 3], u32, f64, Option<usize>)> {
+        self.first_full_after(r, t_max, 0.0)
+    }
+
+    /// [`Traversal::first_full`] with the walk started at `max(entry, start)` instead of
+    /// `max(entry, 0)`, for a `start >= 0` at or before the ray's first hit (a beam's
+    /// lower bound): the pieces skipped are empty, so the result is the same.
+    pub(super) fn first_full_after(
+        &self,
+        r: &VoxelRay,
+        t_max: f64,
+        start: f64,
+    ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
         if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) {
             return None;
         }
@@ -275,7 +287,7 @@ impl Traversal {
         if self.root == Root::Full {
             return (ta.max(0.0) < t_max).then_some(([0, 0, 0], n, ta, face));
         }
-        self.walk(r, t_max, ta, tb, face)
+        self.walk(r, t_max, ta, tb, face, start)
     }
 }
 
@@ -302,7 +314,7 @@ impl Traversal {
     /// at the node's exit `tb`, whichever comes first, and crossings at one time are
     /// taken together (no zero-length pieces). The walk starts at `max(ta, 0)`: pieces
     /// before the origin are never visited (a hit there is the origin's own voxel,
-    /// whatever its entry time).
+    /// whatever its entry time); nor, when `start > 0`, those before `start`.
     fn walk(
         &self,
         r: &VoxelRay,
@@ -310,6 +322,7 @@ impl Traversal {
         ta: f64,
         tb: f64,
         face: Option<usize>,
+        start: f64,
     ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
         // Per axis the mirror bit (the ray runs to lower coordinates); no mid-plane
         // time is NaN (see `off_lattice`), so "past the mid plane" is `tm <= t` on
@@ -328,7 +341,10 @@ impl Traversal {
         let mut min = [0u32; 3];
         let mut size = self.domain.resolution();
         let mut tb = tb;
-        let mut t = ta.max(0.0);
+        let mut t = ta.max(start);
+        if t >= tb {
+            return None;
+        }
         let mut tm = mid_times(min, size / 2);
         loop {
             let inner = self.nodes[index as usize];

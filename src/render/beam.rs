@@ -1,0 +1,193 @@
+//! Beams: the first hits of a packet of coherent rays (a tile of primary rays), with
+//! one conservative walk of the octree for the whole packet before the rays' own walks.
+//!
+//! The packet is bounded per axis by the range of its origins `[o-, o+]` and of its
+//! reciprocal directions `[inv-, inv+]` (voxel units), all its directions having one
+//! sign an axis. Every plane time of a ray of the packet, `(p - o) * inv` rounded as
+//! the walk rounds it, lies between the same formula at the corners of those
+//! intervals, because rounding is monotone. So a node `[min, min + size)` that some ray
+//! of the packet enters has `lo < hi` for `lo` = the largest over axes of the earliest
+//! time of its near plane and `hi` = the smallest over axes of the latest time of its
+//! far plane, and every ray enters it at or after `lo`.
+//!
+//! The pre-pass finds `start` = the least `lo` over the full nodes the packet may
+//! enter (best first, pruning subtrees whose `lo` is no better), then each ray walks
+//! from `max(entry, start)`: the pieces it skips lie before its first hit, so they are
+//! empty and the hit is bit for bit that of [`Traversal::hit`]. A packet that can enter
+//! no full node hits nothing, without walking a ray.
+//!
+//! After the multi-level ray tracing algorithm of Reshetov, Soupikov and Hurley (2005),
+//! which finds the entry point of a beam deep in a kd-tree; deviation: the beam is
+//! bounded by intervals of the rays' parameters, not by frustum planes, so the bounds
+//! hold exactly in floating point.
+
+use glam::DVec3;
+
+use super::traverse::{Hit, Root, Traversal, VoxelRay};
+use crate::octree::MAX_DEPTH;
+
+/// Samples a side of the square tiles of primary rays the renderer walks as packets.
+pub const TILE: usize = 8;
+
+/// Rays a packet walks together at most (one tile); longer slices are cut into
+/// packets of this many.
+pub const PACKET: usize = TILE * TILE;
+
+/// Bounds of a packet's plane times.
+struct Beam {
+    /// Per axis the origin bound giving the earliest time of a near plane.
+    near_o: [f64; 3],
+    /// Per axis the origin bound giving the latest time of a far plane.
+    far_o: [f64; 3],
+    /// Per axis the least and the greatest reciprocal direction.
+    inv: [[f64; 2]; 3],
+    /// Per axis whether the rays run to lower coordinates.
+    mirror: [bool; 3],
+}
+
+impl Beam {
+    /// The bounds of `rays`, `None` when they are not a beam: a non-finite origin or
+    /// reciprocal direction (axis-parallel rays), or directions of both signs on an axis.
+    fn new(rays: &[VoxelRay]) -> Option<Self> {
+        let first = rays.first()?;
+        let mirror = [first.d.x < 0.0, first.d.y < 0.0, first.d.z < 0.0];
+        let (mut o_lo, mut o_hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        let (mut inv_lo, mut inv_hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for r in rays {
+            let same = (0..3).all(|a| (r.d[a] < 0.0) == mirror[a]);
+            if !(same && r.o.is_finite() && r.inv.is_finite() && r.d.cmpne(DVec3::ZERO).all()) {
+                return None;
+            }
+            (o_lo, o_hi) = (o_lo.min(r.o), o_hi.max(r.o));
+            (inv_lo, inv_hi) = (inv_lo.min(r.inv), inv_hi.max(r.inv));
+        }
+        // (p - o) * inv falls as o grows when inv > 0 (the earliest near-plane time is
+        // at o+, the latest far-plane time at o-), and rises when inv < 0.
+        let pick = |a: usize, high: bool| if high { o_hi[a] } else { o_lo[a] };
+        Some(Beam {
+            near_o: std::array::from_fn(|a| pick(a, !mirror[a])),
+            far_o: std::array::from_fn(|a| pick(a, mirror[a])),
+            inv: std::array::from_fn(|a| [inv_lo[a], inv_hi[a]]),
+            mirror,
+        })
+    }
+
+    /// `(lo, hi)` for the node `[min, min + size)`: no ray of the beam enters it before
+    /// `lo` or leaves it after `hi`.
+    fn span(&self, min: [u32; 3], size: u32) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for (a, &m) in min.iter().enumerate() {
+            let (near, far) = if self.mirror[a] { (m + size, m) } else { (m, m + size) };
+            let [i0, i1] = self.inv[a];
+            let x = f64::from(near) - self.near_o[a];
+            let y = f64::from(far) - self.far_o[a];
+            lo = lo.max((x * i0).min(x * i1));
+            hi = hi.min((y * i0).max(y * i1));
+        }
+        (lo, hi)
+    }
+}
+
+/// A node the pre-pass has still to look into.
+#[derive(Clone, Copy)]
+struct Pending {
+    index: u32,
+    min: [u32; 3],
+    size: u32,
+    lo: f64,
+}
+
+/// Most nodes the pre-pass holds at once: up to 7 siblings left a level, and the root.
+const PENDING: usize = 7 * MAX_DEPTH as usize + 1;
+
+impl Traversal {
+    /// First hits of a packet of rays: `hits[i]` is `self.hit(rays[i].0, rays[i].1,
+    /// t_max[i])`, bit for bit, found faster when the rays are coherent (a tile of
+    /// primary rays; see the module doc).
+    ///
+    /// # Panics
+    /// When the three slices differ in length.
+    pub fn hit_packet(&self, rays: &[(DVec3, DVec3)], t_max: &[f64], hits: &mut [Option<Hit>]) {
+        assert!(rays.len() == t_max.len() && rays.len() == hits.len(), "a packet's slices differ in length");
+        for ((rays, t_max), hits) in rays.chunks(PACKET).zip(t_max.chunks(PACKET)).zip(hits.chunks_mut(PACKET)) {
+            let none = VoxelRay { o: DVec3::ZERO, d: DVec3::ZERO, inv: DVec3::ZERO };
+            let voxel_rays: [VoxelRay; PACKET] =
+                std::array::from_fn(|i| rays.get(i).map_or(none, |&(o, d)| VoxelRay::new(self.domain(), o, d)));
+            let voxel_rays = &voxel_rays[..rays.len()];
+            let limit = t_max.iter().fold(f64::NEG_INFINITY, |m, &t| m.max(t));
+            let start = match Beam::new(voxel_rays) {
+                Some(beam) => match self.nearest_full(&beam, limit) {
+                    Some(lo) => lo.max(0.0),
+                    None => {
+                        hits.fill(None);
+                        continue;
+                    }
+                },
+                None => 0.0,
+            };
+            for ((hit, r), &t_max) in hits.iter_mut().zip(voxel_rays.iter()).zip(t_max) {
+                *hit = self.first_full_after(r, t_max, start).map(|(min, size, ta, face)| r.entry(min, size, ta, face));
+            }
+        }
+    }
+
+    /// The least `lo` (see [`Beam::span`]) over the full nodes the beam may enter before
+    /// `limit`, best first; `None` when there is none.
+    fn nearest_full(&self, beam: &Beam, limit: f64) -> Option<f64> {
+        let n = self.domain().resolution();
+        let enters = |(lo, hi): (f64, f64), best: f64| lo < hi && hi > 0.0 && lo < best;
+        let root = beam.span([0; 3], n);
+        match self.root {
+            Root::Empty => return None,
+            Root::Full => return enters(root, limit).then_some(root.0),
+            Root::Inner if !enters(root, limit) => return None,
+            Root::Inner => {}
+        }
+        let mut best = limit;
+        let mut found = false;
+        let mut pending = [Pending { index: 0, min: [0; 3], size: n, lo: root.0 }; PENDING];
+        let mut len = 1;
+        while len > 0 {
+            len -= 1;
+            let node = pending[len];
+            if node.lo >= best {
+                continue;
+            }
+            let inner = self.nodes[node.index as usize];
+            let half = node.size / 2;
+            // Step 1: the children the beam may enter; full ones lower `best`.
+            let mut kids = [(0.0f64, 0usize); 8];
+            let mut count = 0;
+            for child in 0..8 {
+                if inner.valid >> child & 1 == 0 {
+                    continue;
+                }
+                let cmin: [u32; 3] = std::array::from_fn(|a| node.min[a] + if child >> a & 1 == 1 { half } else { 0 });
+                let span = beam.span(cmin, half);
+                if !enters(span, best) {
+                    continue;
+                }
+                if inner.full >> child & 1 == 1 {
+                    best = span.0;
+                    found = true;
+                } else {
+                    kids[count] = (span.0, child);
+                    count += 1;
+                }
+            }
+            // Step 2: the inner ones still better than `best`, the earliest on top.
+            let kids = &mut kids[..count];
+            kids.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+            for &(lo, child) in kids.iter() {
+                if lo < best {
+                    let cmin: [u32; 3] =
+                        std::array::from_fn(|a| node.min[a] + if child >> a & 1 == 1 { half } else { 0 });
+                    let before = inner.valid & !inner.full & ((1u8 << child) - 1);
+                    pending[len] = Pending { index: inner.first + before.count_ones(), min: cmin, size: half, lo };
+                    len += 1;
+                }
+            }
+        }
+        found.then_some(best)
+    }
+}
