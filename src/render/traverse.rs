@@ -280,7 +280,8 @@ impl Traversal {
         if outside {
             return None;
         }
-        if ta >= tb || tb <= 0.0 || ta >= t_max {
+        // The walk starts at max(ta, start) (start >= 0), which must be before tb.
+        if ta >= tb || tb <= start || ta >= t_max {
             return None;
         }
         let n = self.domain.resolution();
@@ -312,9 +313,10 @@ impl Traversal {
     /// whose bit `a` is high when `tm[a] <= t` (`d[a] > 0`) or `tm[a] > t` (`d[a] < 0`);
     /// that child's piece ends at the next mid-plane time `min {tm[a] : tm[a] > t}` or
     /// at the node's exit `tb`, whichever comes first, and crossings at one time are
-    /// taken together (no zero-length pieces). The walk starts at `max(ta, 0)`: pieces
-    /// before the origin are never visited (a hit there is the origin's own voxel,
-    /// whatever its entry time); nor, when `start > 0`, those before `start`.
+    /// taken together (no zero-length pieces). The walk starts at `max(ta, start)`, with
+    /// `0 <= start < tb`: pieces before the origin are never visited (a hit there is the
+    /// origin's own voxel, whatever its entry time); nor, when `start > 0`, those before
+    /// `start`.
     fn walk(
         &self,
         r: &VoxelRay,
@@ -342,9 +344,6 @@ impl Traversal {
         let mut size = self.domain.resolution();
         let mut tb = tb;
         let mut t = ta.max(start);
-        if t >= tb {
-            return None;
-        }
         let mut tm = mid_times(min, size / 2);
         loop {
             let inner = self.nodes[index as usize];
