@@ -211,3 +211,36 @@ fn smooth_normals_of_a_voxelized_sphere_follow_the_sphere() {
     assert!(total > 10_000, "{total} surface voxels sampled");
     assert!(good as f64 >= 0.95 * total as f64, "{good} of {total} within 5 degrees");
 }
+
+#[test]
+fn the_cached_normal_field_equals_the_direct_estimate() {
+    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+    use octsolid::render::normals::{NormalField, SMOOTH_RADIUS, smooth_normal};
+    use octsolid::shape::{Csg, Cuboid, Sphere};
+    // A carved sphere and a slab reaching the domain's faces (windows cut by the
+    // boundary), at a depth where 16-voxel bricks straddle every window.
+    let sphere = Sphere::new(DVec3::new(0.11, -0.07, 0.2), 0.62).unwrap();
+    let notch = Cuboid::new(DVec3::new(0.5, 0.0, 0.5), DVec3::splat(0.5)).unwrap();
+    let slab = Cuboid::new(DVec3::new(0.0, 0.0, -0.8), DVec3::new(2.5, 2.5, 0.3)).unwrap();
+    let solid = (Csg::leaf(sphere) - Csg::leaf(notch)) | Csg::leaf(slab);
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let tree = voxelize(&solid, domain, &VoxelizeOptions::default()).unwrap();
+    let field = NormalField::new();
+    let mut rng = Rng(77);
+    let mut some = 0;
+    for _ in 0..20_000 {
+        let p = rng.vec(-1.0, 1.0);
+        let want = smooth_normal(&tree, p, SMOOTH_RADIUS);
+        assert_eq!(field.normal(&tree, p), want, "at {p}");
+        some += usize::from(want.is_some());
+    }
+    assert!(some > 2_000, "{some} points near the surface");
+    // The slab's top face (voxelized at the lattice plane nearest z = -0.65) is flat:
+    // exactly its axis.
+    for _ in 0..1_000 {
+        let p = DVec3::new(rng.unit() * 1.2 - 0.6, rng.unit() * 1.2 - 0.6, -0.65);
+        if (p - DVec3::new(0.11, -0.07, 0.2)).length() > 0.62 + 0.3 {
+            assert_eq!(field.normal(&tree, p), Some(DVec3::Z), "at {p}");
+        }
+    }
+}

@@ -82,7 +82,7 @@ fn whitted_never_returns_more_light_than_comes_in() {
             let dir = (rng.vec(-1.0, 1.0) - origin).normalize();
             if let Some(sh) = scene.hit(origin, dir, f64::INFINITY) {
                 seen += 1;
-                let c = radiance(&scene, origin, dir, &sh, &options);
+                let (c, _) = radiance(&scene, origin, dir, &sh, &options);
                 assert!(c.max_element() <= 1.0 + 1e-9 && c.min_element() >= 0.0, "{c}");
             }
         }

@@ -5,6 +5,7 @@ use std::sync::OnceLock;
 use glam::DVec3;
 
 use super::light::{Light, Material};
+use super::normals::NormalField;
 use super::traverse::{Hit, Traversal};
 use crate::aabb::Aabb;
 use crate::octree::LinearOctree;
@@ -23,6 +24,8 @@ pub struct SceneSolid {
     /// The complement's traversal octree, built on first use: rays inside the solid
     /// (refraction) leave it where they enter the complement.
     interior: OnceLock<Traversal>,
+    /// Its smooth normals, estimated where rays ask for them.
+    normals: NormalField,
 }
 
 impl SceneSolid {
@@ -32,6 +35,12 @@ impl SceneSolid {
     #[must_use]
     pub fn exit(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
         self.interior.get_or_init(|| Traversal::new(&self.tree.complement())).hit(origin, dir, f64::INFINITY)
+    }
+
+    /// The smooth outward normal at the surface point `p` ([`NormalField`]).
+    #[must_use]
+    pub fn smooth_normal(&self, p: DVec3) -> Option<DVec3> {
+        self.normals.normal(&self.tree, p)
     }
 }
 
@@ -72,7 +81,14 @@ impl Scene {
     /// Adds a solid (its traversal octree is built here).
     pub fn add(&mut self, name: impl Into<String>, tree: LinearOctree, material: Material) {
         let traversal = Traversal::new(&tree);
-        self.solids.push(SceneSolid { name: name.into(), tree, traversal, material, interior: OnceLock::new() });
+        self.solids.push(SceneSolid {
+            name: name.into(),
+            tree,
+            traversal,
+            material,
+            interior: OnceLock::new(),
+            normals: NormalField::new(),
+        });
     }
 
     /// Bounds of all solids, `None` when every solid is empty.

@@ -17,7 +17,6 @@
 
 use glam::DVec3;
 
-use super::normals::{SMOOTH_RADIUS, smooth_normal};
 use super::scene::{Scene, SceneHit, SceneSolid};
 use super::traverse::Hit;
 
@@ -71,7 +70,7 @@ pub fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, mode: Nor
     let geometric = if axis == DVec3::ZERO { -dir } else { axis };
     let smooth = match mode {
         Normals::Axis => None,
-        Normals::Smooth => smooth_normal(&solid.tree, p, SMOOTH_RADIUS),
+        Normals::Smooth => solid.smooth_normal(p),
     };
     let shading = smooth.filter(|n| n.dot(dir) < 0.0).unwrap_or(geometric);
     let shading = match &solid.material.bump {
@@ -109,9 +108,9 @@ impl SurfacePoint {
     }
 }
 
-/// The local (Phong) term at `s` (see the module doc).
+/// The local (Phong) term at `s` (see the module doc), and the shadow rays cast.
 #[must_use]
-pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> DVec3 {
+pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
     let solid = &scene.solids[s.solid];
     let m = &solid.material;
     let (p, geometric, n) = (s.p, s.geometric, s.normal);
@@ -123,13 +122,19 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> DVec3 {
     let skip = if s.smooth.is_some() { 2.0 * h } else { 0.0 };
     let c = m.color_at(p);
     let mut color = scene.ambient * c * m.ka;
+    let mut rays = 0;
     for light in &scene.lights {
         let (l, distance) = light.towards(p);
         let cos_alpha = n.dot(l);
         if cos_alpha <= 0.0 {
             continue;
         }
-        let passed = if shadows { scene.transmittance(lift + l * skip, l, distance - skip) } else { 1.0 };
+        let passed = if shadows {
+            rays += 1;
+            scene.transmittance(lift + l * skip, l, distance - skip)
+        } else {
+            1.0
+        };
         if passed == 0.0 {
             continue;
         }
@@ -137,7 +142,7 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> DVec3 {
         let cos_theta = r.dot(v).max(0.0);
         color += light.color() * passed * (c * (m.kd * cos_alpha) + DVec3::splat(m.ks * cos_theta.powf(m.shininess)));
     }
-    color
+    (color, rays)
 }
 
 /// sRGB encoding of a linear value in `[0, 1]` (IEC 61966-2-1), to 8 bits.

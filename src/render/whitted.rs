@@ -13,30 +13,37 @@
 //! a transparent solid sees only that solid (transparent solids should not touch
 //! others).
 
+use std::cell::Cell;
+
 use glam::DVec3;
 
-use super::normals::{SMOOTH_RADIUS, smooth_normal};
 use super::optics::{reflect, refract};
 use super::scene::{Scene, SceneHit, SceneSolid};
 use super::shade::{Normals, ShadeOptions, SurfacePoint, local};
 use super::traverse::Hit;
 
-/// The light seen along the ray `origin + t dir` (unit `dir`) whose first hit is `sh`.
+/// The light seen along the ray `origin + t dir` (unit `dir`) whose first hit is `sh`,
+/// and the rays cast to find it after the primary one (secondary and shadow rays).
 #[must_use]
-pub fn radiance(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, options: &ShadeOptions) -> DVec3 {
+pub fn radiance(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, options: &ShadeOptions) -> (DVec3, u64) {
     let s = SurfacePoint::new(scene, origin, dir, sh, options.normals);
-    Tracer { scene, options }.at_hit(&s, 0, 1.0)
+    let tracer = Tracer { scene, options, rays: Cell::new(0) };
+    let light = tracer.at_hit(&s, 0, 1.0);
+    (light, tracer.rays.get())
 }
 
-/// One pixel's recursive tracer.
+/// One sample's recursive tracer.
 struct Tracer<'a> {
     scene: &'a Scene,
     options: &'a ShadeOptions,
+    /// Rays cast so far.
+    rays: Cell<u64>,
 }
 
 impl Tracer<'_> {
     /// Light along a secondary ray, `depth` rays deep, `weight` its share of the pixel.
     fn trace(&self, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
+        self.count(1);
         match self.scene.hit(origin, dir, f64::INFINITY) {
             // The origin lies inside a solid (a ray started at a voxel's edge or corner):
             // light passes on through a transparent one, an opaque one shows nothing.
@@ -69,7 +76,9 @@ impl Tracer<'_> {
         let m = &solid.material;
         let (kr, kt) = (m.reflectance, m.transmittance);
         let dir = s.dir;
-        let mut color = local(self.scene, s, self.options.shadows) * (1.0 - kr - kt);
+        let (local, shadow_rays) = local(self.scene, s, self.options.shadows);
+        self.count(shadow_rays);
+        let mut color = local * (1.0 - kr - kt);
         if depth >= self.options.max_depth || kr + kt == 0.0 {
             return color;
         }
@@ -90,6 +99,10 @@ impl Tracer<'_> {
         color
     }
 
+    fn count(&self, rays: u64) {
+        self.rays.set(self.rays.get() + rays);
+    }
+
     /// Rays start this far off a surface of `solid`.
     fn eps(&self, solid: &SceneSolid) -> f64 {
         1e-3 * solid.tree.domain().voxel_size()
@@ -97,6 +110,7 @@ impl Tracer<'_> {
 
     /// Light along a ray that starts inside `solid` and crosses it without refraction.
     fn pass_through(&self, solid: &SceneSolid, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
+        self.count(1);
         match solid.exit(origin, dir) {
             Some(exit) if exit.axis.is_some() && depth <= self.options.max_depth => {
                 let p = origin + dir * exit.t;
@@ -110,6 +124,7 @@ impl Tracer<'_> {
     fn through(&self, solid: &SceneSolid, mut origin: DVec3, mut dir: DVec3, mut depth: u32, weight: f64) -> DVec3 {
         let eps = 1e-3 * solid.tree.domain().voxel_size();
         while depth <= self.options.max_depth {
+            self.count(1);
             let Some(exit) = solid.exit(origin, dir) else {
                 // Leaves through the domain's boundary: no surface there.
                 return self.trace(origin, dir, depth, weight);
@@ -123,6 +138,7 @@ impl Tracer<'_> {
             if smooth.is_some_and(|n| n.dot(dir) < 0.0) {
                 // A notch of the staircase inside the smooth surface: no surface, the
                 // ray goes on to where it meets the solid again.
+                self.count(1);
                 if let Some(back) = solid.traversal.hit(p + geometric * eps, dir, f64::INFINITY) {
                     let q = p + geometric * eps + dir * back.t;
                     origin = q - back.normal(dir) * eps;
@@ -168,7 +184,7 @@ fn outward(
     let geometric = -exit.normal(dir);
     let smooth = match options.normals {
         Normals::Axis => None,
-        Normals::Smooth => smooth_normal(&solid.tree, p, SMOOTH_RADIUS),
+        Normals::Smooth => solid.smooth_normal(p),
     };
     let n = smooth.filter(|n| n.dot(dir) > 0.0).unwrap_or(geometric);
     (geometric, solid.material.bump.map_or(n, |b| b.perturb(p, n)), smooth)
