@@ -1,14 +1,16 @@
 //! Scenes: solids with materials, lights, ambient light and background.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use glam::DVec3;
 
 use super::light::{Light, Material};
 use super::normals::NormalField;
+use super::shade::Normals;
 use super::traverse::{Hit, Traversal};
 use crate::aabb::Aabb;
 use crate::octree::LinearOctree;
+use crate::shape::Shape;
 
 /// One solid of a scene with its material and traversal structure.
 #[derive(Clone, Debug)]
@@ -26,6 +28,18 @@ pub struct SceneSolid {
     interior: OnceLock<Traversal>,
     /// Its smooth normals, estimated where rays ask for them.
     normals: NormalField,
+    /// The shape it was voxelized from, when it came from one.
+    source: Option<Source>,
+}
+
+/// A solid's source shape (shapes need not be `Debug`).
+#[derive(Clone)]
+struct Source(Arc<dyn Shape>);
+
+impl std::fmt::Debug for Source {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Source(shape)")
+    }
 }
 
 impl SceneSolid {
@@ -37,9 +51,17 @@ impl SceneSolid {
         self.interior.get_or_init(|| Traversal::new(&self.tree.complement())).hit(origin, dir, f64::INFINITY)
     }
 
-    /// The smooth outward normal at the surface point `p` ([`NormalField`]).
+    /// The smooth outward normal at the surface point `p`: with [`Normals::Smooth`]
+    /// the source shape's where it knows its surface within two voxels of `p`, else
+    /// the octree's estimate ([`NormalField`]).
     #[must_use]
-    pub fn smooth_normal(&self, p: DVec3) -> Option<DVec3> {
+    pub fn smooth_normal(&self, p: DVec3, mode: Normals) -> Option<DVec3> {
+        if mode == Normals::Smooth
+            && let Some(s) = self.source.as_ref().and_then(|s| s.0.surface(p))
+            && s.distance.abs() <= 2.0 * self.tree.domain().voxel_size()
+        {
+            return Some(s.normal);
+        }
         self.normals.normal(&self.tree, p)
     }
 }
@@ -88,7 +110,20 @@ impl Scene {
             material,
             interior: OnceLock::new(),
             normals: NormalField::new(),
+            source: None,
         });
+    }
+
+    /// Adds a solid voxelized from `shape`, whose surface gives its smooth normals.
+    pub fn add_shaped(
+        &mut self,
+        name: impl Into<String>,
+        tree: LinearOctree,
+        material: Material,
+        shape: Arc<dyn Shape>,
+    ) {
+        self.add(name, tree, material);
+        self.solids.last_mut().expect("just added").source = Some(Source(shape));
     }
 
     /// Bounds of all solids, `None` when every solid is empty.

@@ -11,8 +11,10 @@
 //! smooth normals they start two voxels further towards the light, past the staircase.
 //!
 //! Normals: [`Normals::Axis`] is the entered face's axis normal; [`Normals::Smooth`]
-//! the octree's occupancy gradient ([`super::normals::smooth_normal`]), falling back to
-//! the axis normal where it would face away from the viewer. A material's bump map then
+//! the source shape's normal where there is one, else (and always with
+//! [`Normals::Octree`]) the octree's occupancy gradient
+//! ([`super::normals::smooth_normal`]); a smooth normal falls back to the axis normal
+//! where it would face away from the viewer. A material's bump map then
 //! tilts it.
 
 use glam::DVec3;
@@ -26,8 +28,12 @@ pub enum Normals {
     /// The entered voxel face's axis normal (exact for the voxel solid).
     #[default]
     Axis,
-    /// Estimated from the octree's occupancy around the hit voxel (smooth surfaces).
+    /// The source shape's normal where the solid was voxelized from a shape that
+    /// knows its surface ([`crate::shape::Shape::surface`]) and the hit lies within
+    /// two voxels of that surface; else the octree's estimate.
     Smooth,
+    /// Estimated from the octree's occupancy around the hit ([`super::normals`]).
+    Octree,
 }
 
 impl std::str::FromStr for Normals {
@@ -37,7 +43,8 @@ impl std::str::FromStr for Normals {
         match s {
             "axis" => Ok(Normals::Axis),
             "smooth" => Ok(Normals::Smooth),
-            other => Err(format!("{other:?} is not axis or smooth")),
+            "octree" => Ok(Normals::Octree),
+            other => Err(format!("{other:?} is not axis, smooth or octree")),
         }
     }
 }
@@ -70,7 +77,7 @@ pub fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, mode: Nor
     let geometric = if axis == DVec3::ZERO { -dir } else { axis };
     let smooth = match mode {
         Normals::Axis => None,
-        Normals::Smooth => solid.smooth_normal(p),
+        Normals::Smooth | Normals::Octree => solid.smooth_normal(p, mode),
     };
     let shading = smooth.filter(|n| n.dot(dir) < 0.0).unwrap_or(geometric);
     let shading = match &solid.material.bump {

@@ -9,9 +9,17 @@
 //! on total internal reflection it reflects inside and walks again. Limits: at most
 //! `max_depth` secondary rays in a chain, and a ray whose weight in the pixel falls
 //! below `cutoff` is not traced (its light is dropped: black). Rays start a thousandth
-//! of a voxel off the surface, on the side they travel to. Simplification: a ray inside
-//! a transparent solid sees only that solid (transparent solids should not touch
-//! others).
+//! of a voxel off the voxel face, on the side of the face they leave from.
+//! Simplification: a ray inside a transparent solid sees only that solid (transparent
+//! solids should not touch others).
+//!
+//! Smooth normals on a voxel staircase: directions follow the smooth normal, even where
+//! that sends a ray back through the voxel face it starts on. The staircase then shows
+//! slivers (voxels outside the smooth surface: a ray meets one where the smooth normal
+//! says it is leaving) and notches (empty voxels inside it: a ray inside the solid
+//! leaves into one where the smooth normal says it is entering); rays pass both as if
+//! the smooth surface were the solid's, up to [`MAX_SLIVERS`] a sample, without using up
+//! the recursion depth.
 
 use std::cell::Cell;
 
@@ -27,8 +35,8 @@ use super::traverse::Hit;
 #[must_use]
 pub fn radiance(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, options: &ShadeOptions) -> (DVec3, u64) {
     let s = SurfacePoint::new(scene, origin, dir, sh, options.normals);
-    let tracer = Tracer { scene, options, rays: Cell::new(0) };
-    let light = tracer.at_hit(&s, 0, 1.0);
+    let tracer = Tracer { scene, options, rays: Cell::new(0), slivers: Cell::new(0) };
+    let light = tracer.at_surface(&s, 0, 1.0);
     (light, tracer.rays.get())
 }
 
@@ -38,7 +46,13 @@ struct Tracer<'a> {
     options: &'a ShadeOptions,
     /// Rays cast so far.
     rays: Cell<u64>,
+    /// Staircase slivers passed so far.
+    slivers: Cell<u32>,
 }
+
+/// Most staircase slivers one sample's rays pass through (a ray grazing a voxelized
+/// surface meets one a step); they do not count against the recursion depth.
+const MAX_SLIVERS: u32 = 256;
 
 impl Tracer<'_> {
     /// Light along a secondary ray, `depth` rays deep, `weight` its share of the pixel.
@@ -56,18 +70,23 @@ impl Tracer<'_> {
                 }
             }
             Some(sh) => {
-                let solid = &self.scene.solids[sh.solid];
-                let s = SurfacePoint::new(self.scene, origin, dir, &sh, self.options.normals);
-                if solid.material.transmittance > 0.0 && s.smooth.is_some_and(|n| n.dot(dir) > 0.0) {
-                    // A sliver of the voxel staircase that the smooth surface leaves
-                    // outside: no surface, the ray goes on.
-                    let inside = s.p - s.geometric * self.eps(solid);
-                    return self.pass_through(solid, inside, dir, depth + 1, weight);
-                }
-                self.at_hit(&s, depth, weight)
+                self.at_surface(&SurfacePoint::new(self.scene, origin, dir, &sh, self.options.normals), depth, weight)
             }
             None => self.scene.background,
         }
+    }
+
+    /// Light along a ray that arrives at the voxel face `s`.
+    fn at_surface(&self, s: &SurfacePoint, depth: u32, weight: f64) -> DVec3 {
+        if s.smooth.is_some_and(|n| n.dot(s.dir) > 0.0) && self.slivers.get() < MAX_SLIVERS {
+            // A sliver of the voxel staircase that the smooth surface leaves outside
+            // (at silhouettes, and next to where a grazing ray left the solid): no
+            // surface, the ray goes on.
+            self.slivers.set(self.slivers.get() + 1);
+            let solid = &self.scene.solids[s.solid];
+            return self.pass_through(solid, s.p - s.geometric * self.eps(solid), s.dir, depth, weight);
+        }
+        self.at_hit(s, depth, weight)
     }
 
     /// Light along a ray that arrives at the surface point `s`.
@@ -87,13 +106,13 @@ impl Tracer<'_> {
         // Light that does not pass (total internal reflection) is reflected.
         let mut mirrored = kr;
         if kt * weight > self.options.cutoff {
-            match bend(n, geometric, |n| refract(dir, n, 1.0, m.ior), -1.0) {
+            match refract(dir, n, 1.0, m.ior) {
                 Some(t) => color += self.through(solid, p - geometric * eps, t, depth + 1, weight * kt) * kt,
                 None => mirrored += kt,
             }
         }
         if mirrored * weight > self.options.cutoff {
-            let r = bend(n, geometric, |n| Some(reflect(dir, n)), 1.0).expect("reflection always exists");
+            let r = reflect(dir, n);
             color += self.trace(p + geometric * eps, r, depth + 1, weight * mirrored) * mirrored;
         }
         color
@@ -112,7 +131,7 @@ impl Tracer<'_> {
     fn pass_through(&self, solid: &SceneSolid, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
         self.count(1);
         match solid.exit(origin, dir) {
-            Some(exit) if exit.axis.is_some() && depth <= self.options.max_depth => {
+            Some(exit) if exit.axis.is_some() => {
                 let p = origin + dir * exit.t;
                 self.trace(p - exit.normal(dir) * self.eps(solid), dir, depth, weight)
             }
@@ -135,39 +154,27 @@ impl Tracer<'_> {
             }
             let p = origin + dir * exit.t;
             let (geometric, n, smooth) = outward(solid, &exit, dir, p, self.options);
-            if smooth.is_some_and(|n| n.dot(dir) < 0.0) {
+            if smooth.is_some_and(|n| n.dot(dir) < 0.0) && self.slivers.get() < MAX_SLIVERS {
                 // A notch of the staircase inside the smooth surface: no surface, the
                 // ray goes on to where it meets the solid again.
+                self.slivers.set(self.slivers.get() + 1);
                 self.count(1);
                 if let Some(back) = solid.traversal.hit(p + geometric * eps, dir, f64::INFINITY) {
                     let q = p + geometric * eps + dir * back.t;
                     origin = q - back.normal(dir) * eps;
-                    depth += 1;
                     continue;
                 }
             }
-            match bend(n, geometric, |n| refract(dir, n, solid.material.ior, 1.0), 1.0) {
+            match refract(dir, n, solid.material.ior, 1.0) {
                 Some(t) => return self.trace(p + geometric * eps, t, depth, weight),
                 None => {
-                    dir = bend(n, geometric, |n| Some(reflect(dir, n)), -1.0).expect("reflection always exists");
+                    dir = reflect(dir, n);
                     origin = p - geometric * eps;
                     depth += 1;
                 }
             }
         }
         DVec3::ZERO
-    }
-}
-
-/// A new direction `make(n)` from the shading normal `n`, on the side `side` (+1: the
-/// side the geometric normal `geometric` points to, -1: the other): where a shading
-/// normal far from the geometric one would send the ray through the wrong side of the
-/// voxel face, the geometric normal bends it instead.
-/// Total internal reflection (`None`) by the shading normal stands.
-fn bend(n: DVec3, geometric: DVec3, make: impl Fn(DVec3) -> Option<DVec3>, side: f64) -> Option<DVec3> {
-    match make(n) {
-        Some(v) if v.dot(geometric) * side <= 0.0 && n != geometric => make(geometric),
-        other => other,
     }
 }
 
@@ -184,7 +191,7 @@ fn outward(
     let geometric = -exit.normal(dir);
     let smooth = match options.normals {
         Normals::Axis => None,
-        Normals::Smooth => solid.smooth_normal(p),
+        Normals::Smooth | Normals::Octree => solid.smooth_normal(p, options.normals),
     };
     let n = smooth.filter(|n| n.dot(dir) > 0.0).unwrap_or(geometric);
     (geometric, solid.material.bump.map_or(n, |b| b.perturb(p, n)), smooth)
