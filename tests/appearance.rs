@@ -155,6 +155,36 @@ fn projections_give_the_known_coordinates() {
 }
 
 #[test]
+fn image_textures_stand_upright() {
+    // A 2x2 picture: top row red, green; bottom row blue, white (sRGB 0 or 255, so
+    // linear 0 or 1). Sampled at texel centres, bilinear filtering returns them (up to rounding).
+    let mut texels = image::RgbImage::new(2, 2);
+    let (red, green, blue, white) = ([255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]);
+    for (x, y, c) in [(0, 0, red), (1, 0, green), (0, 1, blue), (1, 1, white)] {
+        texels.put_pixel(x, y, image::Rgb(c));
+    }
+    let linear = |c: [u8; 3]| DVec3::from_array(c.map(|v| f64::from(v) / 255.0));
+    let texels = std::sync::Arc::new(texels);
+    let at = |mapping: Mapping, p: DVec3| Texture::Image { texels: texels.clone(), mapping }.color(p);
+    let planar = Mapping::Planar { axis: Axis::Z, origin: DVec3::ZERO, scale: 1.0 };
+    let cylinder = Mapping::Cylindrical { axis: Axis::Z, center: DVec3::ZERO, scale: 1.0 };
+    let sphere = Mapping::Spherical { axis: Axis::Z, center: DVec3::ZERO };
+    for (mapping, p, want) in [
+        // Up the plane's second axis is up the picture.
+        (planar, DVec3::new(0.25, 0.25, 0.0), blue),
+        (planar, DVec3::new(0.75, 0.75, 0.0), green),
+        // Up the cylinder's axis is up the picture.
+        (cylinder, DVec3::new(0.0, 1.0, 0.75), red),
+        (cylinder, DVec3::new(0.0, 1.0, 0.25), blue),
+        // The sphere's pole is the top row.
+        (sphere, DVec3::new(0.0, 1.0, 1.0), red),
+        (sphere, DVec3::new(0.0, 1.0, -1.0), blue),
+    ] {
+        assert!(close(at(mapping, p), linear(want), 1e-9), "{mapping:?} at {p}: {}", at(mapping, p));
+    }
+}
+
+#[test]
 fn solid_textures_are_bounded_and_follow_their_rules() {
     let (a, b) = (DVec3::new(0.9, 0.8, 0.6), DVec3::new(0.3, 0.2, 0.1));
     let checker = Texture::Checker { size: 0.5, a, b };

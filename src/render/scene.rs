@@ -10,7 +10,7 @@ use super::shade::Normals;
 use super::traverse::{Hit, Traversal};
 use crate::aabb::Aabb;
 use crate::octree::LinearOctree;
-use crate::shape::Shape;
+use crate::shape::{Shape, Surface};
 
 /// One solid of a scene with its material and traversal structure.
 #[derive(Clone, Debug)]
@@ -56,13 +56,25 @@ impl SceneSolid {
     /// the octree's estimate ([`NormalField`]).
     #[must_use]
     pub fn smooth_normal(&self, p: DVec3, mode: Normals) -> Option<DVec3> {
-        if mode == Normals::Smooth
-            && let Some(s) = self.source.as_ref().and_then(|s| s.0.surface(p))
-            && s.distance.abs() <= 2.0 * self.tree.domain().voxel_size()
-        {
-            return Some(s.normal);
+        match self.shape_surface(p, mode) {
+            Some(s) => Some(s.normal),
+            None => self.normals.normal(&self.tree, p),
         }
-        self.normals.normal(&self.tree, p)
+    }
+
+    /// Where a texture is looked up for the surface point `p`: with [`Normals::Smooth`]
+    /// and a source shape, `p` moved onto the shape's surface (`p - d n`), so pictures
+    /// do not follow the voxel staircase; else `p`.
+    #[must_use]
+    pub fn texture_point(&self, p: DVec3, mode: Normals) -> DVec3 {
+        self.shape_surface(p, mode).map_or(p, |s| p - s.normal * s.distance)
+    }
+
+    /// The source shape's surface seen from `p` when smooth normals come from it: with
+    /// [`Normals::Smooth`], within two voxels of `p`.
+    fn shape_surface(&self, p: DVec3, mode: Normals) -> Option<Surface> {
+        let s = self.source.as_ref().filter(|_| mode == Normals::Smooth)?.0.surface(p)?;
+        (s.distance.abs() <= 2.0 * self.tree.domain().voxel_size()).then_some(s)
     }
 }
 

@@ -7,8 +7,9 @@
 //! R . V`, `C` the material's colour or texture at the point, and `f_i` the fraction of
 //! light `i` reaching the point: 1 without shadows, else the transmittance of what lies
 //! between ([`Scene::transmittance`]). Shadow rays leave the surface a thousandth of a
-//! voxel along the face's axis normal (the geometric one, whatever normal shades); with
-//! smooth normals they start two voxels further towards the light, past the staircase.
+//! voxel along the face's axis normal; with smooth normals, two voxels along the
+//! shading normal from the smooth surface's point ([`SurfacePoint::texture_at`]),
+//! clear of the voxel staircase (which would shadow it at grazing light).
 //!
 //! Normals: [`Normals::Axis`] is the entered face's axis normal; [`Normals::Smooth`]
 //! the source shape's normal where there is one, else (and always with
@@ -103,6 +104,8 @@ pub struct SurfacePoint {
     pub normal: DVec3,
     /// The smooth estimate of the outward normal, when smooth normals are on.
     pub smooth: Option<DVec3>,
+    /// Where the material's texture is looked up ([`SceneSolid::texture_point`]).
+    pub texture_at: DVec3,
 }
 
 impl SurfacePoint {
@@ -110,8 +113,10 @@ impl SurfacePoint {
     #[must_use]
     pub fn new(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, mode: Normals) -> Self {
         let p = origin + dir * sh.hit.t;
-        let (geometric, normal, smooth) = normals_at(&scene.solids[sh.solid], &sh.hit, dir, p, mode);
-        SurfacePoint { solid: sh.solid, p, dir, geometric, normal, smooth }
+        let solid = &scene.solids[sh.solid];
+        let (geometric, normal, smooth) = normals_at(solid, &sh.hit, dir, p, mode);
+        let texture_at = solid.texture_point(p, mode);
+        SurfacePoint { solid: sh.solid, p, dir, geometric, normal, smooth, texture_at }
     }
 }
 
@@ -123,22 +128,25 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
     let (p, geometric, n) = (s.p, s.geometric, s.normal);
     let v = -s.dir;
     let h = solid.tree.domain().voxel_size();
-    let lift = p + geometric * (1e-3 * h);
     // With smooth normals the staircase next to the point would shadow a surface the
-    // smooth normal turns to the light: shadow rays skip the first two voxels.
-    let skip = if s.smooth.is_some() { 2.0 * h } else { 0.0 };
-    let c = m.color_at(p);
+    // smooth normal turns to the light: shadow rays start clear of it.
+    let start = match s.smooth {
+        Some(_) => s.texture_at + n * (2.0 * h),
+        None => p + geometric * (1e-3 * h),
+    };
+    let c = m.color_at(s.texture_at);
     let mut color = scene.ambient * c * m.ka;
     let mut rays = 0;
     for light in &scene.lights {
-        let (l, distance) = light.towards(p);
+        let (l, _) = light.towards(p);
         let cos_alpha = n.dot(l);
         if cos_alpha <= 0.0 {
             continue;
         }
         let passed = if shadows {
             rays += 1;
-            scene.transmittance(lift + l * skip, l, distance - skip)
+            let (l, distance) = light.towards(start);
+            scene.transmittance(start, l, distance)
         } else {
             1.0
         };
