@@ -35,8 +35,6 @@
 //! for any domain (depth <= 21) and image (<= 16384 a side), so [`MARGIN`] (1e-2
 //! samples) only ever makes a footprint propose more samples, never fewer.
 
-use std::cell::Cell;
-
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -44,8 +42,8 @@ use super::camera::{Projection, View};
 use super::face::{Face, Viewer};
 use super::raster::Samples;
 use super::scene::{Scene, SceneHit};
-use super::traverse::VoxelRay;
-use crate::octree::Domain;
+use super::traverse::{Inner, Traversal, VoxelRay};
+use crate::octree::{Domain, MAX_DEPTH};
 
 /// Sample rows a strip (one parallel task); a multiple of the tile height 8.
 pub const STRIP_ROWS: usize = 64;
@@ -59,28 +57,29 @@ const MARGIN: f64 = 1e-2;
 /// sample in their footprint (a node split between strips counts once a strip).
 pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &Samples, seen: &mut [Option<SceneHit>]) -> u64 {
     let columns = samples.columns() as usize;
+    let solids: Vec<Solid> = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
     seen.par_chunks_mut(STRIP_ROWS * columns)
         .enumerate()
         .map_init(
             || Strip::new(columns),
             |strip, (k, out)| {
-                let row0 = k * STRIP_ROWS;
+                let rows = out.len() / columns;
                 let mut faces = 0;
-                for (index, solid) in scene.solids.iter().enumerate() {
-                    let domain = solid.traversal.domain();
+                for (index, solid) in solids.iter().enumerate() {
+                    strip.reset(rows);
                     let mut pass = Pass {
-                        solid: index,
-                        domain,
-                        viewer: Viewer::new(view, domain),
-                        projector: Projector::new(view, domain, samples),
+                        solid,
+                        index,
                         samples,
                         view,
-                        row0,
-                        rows: out.len() / columns,
+                        row0: k * STRIP_ROWS,
+                        rows,
+                        columns,
+                        tiles: Tiles { covered: &mut strip.covered, tiles_x: strip.tiles_x },
+                        out: &mut *out,
                         faces: 0,
                     };
-                    strip.reset(pass.rows);
-                    pass.draw(&solid.traversal, strip, out);
+                    pass.draw();
                     faces += pass.faces;
                 }
                 faces
@@ -96,10 +95,10 @@ struct Projector {
     base: DVec3,
     /// The change of `X, Y, W` a voxel along axis `a`, at `per_voxel[a]`.
     per_voxel: [DVec3; 3],
-    /// The change of `X` a voxel along x, y, z.
-    dx: DVec3,
     /// The change of `Y` a voxel along x, y, z.
     dy: DVec3,
+    /// The change of `X` a voxel along x, y, z.
+    dx: DVec3,
     /// The change of `W` a voxel along x, y, z.
     dw: DVec3,
 }
@@ -132,15 +131,52 @@ impl Projector {
         let base = DVec3::new(v0.dot(kx), v0.dot(ky), v0.dot(kw)) + constant;
         let (dx, dy, dw) = (kx * h, ky * h, kw * h);
         let per_voxel = [0, 1, 2].map(|a| DVec3::new(dx[a], dy[a], dw[a]));
-        Projector { base, per_voxel, dx, dy, dw }
+        Projector { base, per_voxel, dy, dx, dw }
     }
+}
 
-    /// `X, Y, W` at the centre of the cube `[min, min + size]`.
-    #[inline]
-    fn centre(&self, min: [u32; 3], size: u32) -> DVec3 {
-        let half = 0.5 * f64::from(size);
-        let [px, py, pz] = self.per_voxel;
-        self.base + px * (f64::from(min[0]) + half) + py * (f64::from(min[1]) + half) + pz * (f64::from(min[2]) + half)
+/// What every node of one size shares: its half edge, how far its box reaches towards
+/// the eye, and where its children's centres are.
+#[derive(Clone, Copy, Debug, Default)]
+struct Level {
+    /// Half the edge, voxels.
+    half: f64,
+    /// `sum |dW| half`: the box's nearest point has `W >= W(centre) - reach`.
+    reach: f64,
+    /// `X, Y, W` of the centre of child `i` of a node twice this size minus the
+    /// parent's: `sum_a (bit a of i ? +half : -half) per_voxel[a]`.
+    to_child: [DVec3; 8],
+}
+
+/// One solid prepared once a frame for every strip.
+struct Solid<'a> {
+    /// The inner nodes, root first; `Some([])` when the root is full, `None` when empty.
+    nodes: Option<&'a [Inner]>,
+    domain: &'a Domain,
+    viewer: Viewer,
+    projector: Projector,
+    /// `X, Y, W` of the root's centre.
+    root: DVec3,
+    /// `levels[s]`: nodes of `2^s` voxels a side.
+    levels: [Level; MAX_DEPTH as usize + 1],
+}
+
+impl<'a> Solid<'a> {
+    fn new(traversal: &'a Traversal, view: &View, samples: &Samples) -> Self {
+        let domain = traversal.domain();
+        let projector = Projector::new(view, domain, samples);
+        let mut levels = [Level::default(); MAX_DEPTH as usize + 1];
+        for (s, level) in levels.iter_mut().enumerate() {
+            let half = 0.5 * f64::from(1u32 << s);
+            let step = projector.per_voxel.map(|p| p * half);
+            let to_child = std::array::from_fn(|i| {
+                (0..3).fold(DVec3::ZERO, |sum, a| if i >> a & 1 == 1 { sum + step[a] } else { sum - step[a] })
+            });
+            *level = Level { half, reach: projector.dw.abs().element_sum() * half, to_child };
+        }
+        let half = 0.5 * f64::from(domain.resolution());
+        let root = projector.per_voxel.iter().fold(projector.base, |sum, &p| sum + p * half);
+        Solid { nodes: traversal.inner_nodes(), domain, viewer: Viewer::new(view, domain), projector, root, levels }
     }
 }
 
@@ -155,100 +191,132 @@ struct Rect {
 
 /// One solid drawn into one strip.
 struct Pass<'a> {
-    solid: usize,
-    domain: &'a Domain,
-    viewer: Viewer,
-    projector: Projector,
+    solid: &'a Solid<'a>,
+    /// Index of the solid in the scene.
+    index: usize,
     samples: &'a Samples,
     view: &'a View,
     /// First sample row of the strip.
     row0: usize,
     /// Sample rows in the strip.
     rows: usize,
+    /// Sample columns.
+    columns: usize,
+    tiles: Tiles<'a>,
+    /// The strip's samples.
+    out: &'a mut [Option<SceneHit>],
     faces: u64,
 }
 
 impl Pass<'_> {
-    fn draw(&mut self, traversal: &super::traverse::Traversal, strip: &mut Strip, out: &mut [Option<SceneHit>]) {
-        let Strip { covered, tiles_x, .. } = strip;
-        let tiles = Tiles { covered: Cell::from_mut(covered.as_mut_slice()).as_slice_of_cells(), tiles_x: *tiles_x };
-        let viewer = self.viewer;
-        let this = &*self;
-        let columns = this.samples.columns() as usize;
-        let mut faces = 0;
-        traversal.front_to_back(
-            &|axis, plane| viewer.is_high(axis, plane),
-            &mut |min, size| {
-                let centre = this.projector.centre(min, size);
-                let half = DVec3::splat(0.5 * f64::from(size));
-                this.footprint(centre, half).is_some_and(|rect| tiles.any_uncovered(rect))
-            },
-            &mut |min, size| {
-                let centre = this.projector.centre(min, size);
-                let half = DVec3::splat(0.5 * f64::from(size));
-                let Some(rect) = this.footprint(centre, half) else { return };
-                // Step 4: each uncovered sample of the footprint, its ray against the
-                // visible faces in axis order.
-                let mut visible = [None; 3];
+    /// Step 1: the walk from the root.
+    fn draw(&mut self) {
+        let solid = self.solid;
+        let Some(nodes) = solid.nodes else { return };
+        let shift = usize::from(solid.domain.depth());
+        if nodes.is_empty() {
+            self.full([0; 3], shift, solid.root);
+        } else if self.open(solid.root, shift) {
+            self.inner(nodes, 0, [0; 3], shift, solid.root);
+        }
+    }
+
+    /// Whether the footprint of the node of centre `centre` (its `X, Y, W`) and
+    /// `2^shift` voxels a side has an uncovered sample.
+    #[inline]
+    fn open(&self, centre: DVec3, shift: usize) -> bool {
+        self.footprint(centre, &self.solid.levels[shift]).is_some_and(|rect| self.tiles.any_uncovered(rect))
+    }
+
+    /// The children of inner node `index` (`[min, min + 2^shift)`, not culled) front
+    /// to back: the child on the viewer's side of all three mid planes first, then
+    /// those across one plane, two, three; a child's centre is its parent's plus the
+    /// level's offset.
+    fn inner(&mut self, nodes: &[Inner], index: u32, min: [u32; 3], shift: usize, centre: DVec3) {
+        let solid = self.solid;
+        let node = nodes[index as usize];
+        let half = 1u32 << (shift - 1);
+        let viewer = solid.viewer;
+        let e = (0..3).fold(0usize, |bits, a| bits | usize::from(viewer.is_high(a, f64::from(min[a] + half))) << a);
+        let level = &solid.levels[shift - 1];
+        for j in [0usize, 1, 2, 4, 3, 5, 6, 7] {
+            let child = e ^ j;
+            if node.valid >> child & 1 == 0 {
+                continue;
+            }
+            let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
+            let c = centre + level.to_child[child];
+            if node.full >> child & 1 == 1 {
+                self.full(cmin, shift - 1, c);
+            } else if self.open(c, shift - 1) {
+                let slot = node.first + (node.valid & !node.full & ((1u8 << child) - 1)).count_ones();
+                self.inner(nodes, slot, cmin, shift - 1, c);
+            }
+        }
+    }
+
+    /// Step 4: the full node `[min, min + 2^shift)`: each uncovered sample of its
+    /// footprint, its ray against the visible faces in axis order (the faces worked
+    /// out at the first such sample).
+    fn full(&mut self, min: [u32; 3], shift: usize, centre: DVec3) {
+        let Some(rect) = self.footprint(centre, &self.solid.levels[shift]) else { return };
+        let Pass { solid, index, samples, view, row0, columns, tiles, out, .. } = self;
+        let (solid, index, samples, view, row0, columns) = (*solid, *index, *samples, *view, *row0, *columns);
+        let mut visible: Option<([Option<Face>; 3], u64)> = None;
+        tiles.for_each_uncovered(rect, |row, col| {
+            let (faces, _) = visible.get_or_insert_with(|| {
+                let mut faces = [None; 3];
                 let mut count = 0;
-                for face in Face::visible(&viewer, min, size) {
-                    visible[count] = Some(face);
+                for face in Face::visible(&solid.viewer, min, 1 << shift) {
+                    faces[count] = Some(face);
                     count += 1;
                 }
-                let mut drawn = false;
-                tiles.for_each_uncovered(rect, |row, col| {
-                    drawn = true;
-                    let ray = this.voxel_ray(row, col);
-                    let Some(hit) = visible.iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
-                    let i = row * columns + col;
-                    if out[i].is_none_or(|old| hit.t < old.hit.t) {
-                        out[i] = Some(SceneHit { solid: this.solid, hit });
-                    }
-                    true
-                });
-                if drawn {
-                    faces += count as u64;
-                }
-            },
-        );
-        self.faces += faces;
+                (faces, count as u64)
+            });
+            let (x, y) = samples.point(col as u32, (row0 + row) as u32);
+            let (o, d) = view.ray(x, y);
+            let ray = VoxelRay::new(solid.domain, o, d);
+            let Some(hit) = faces.iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
+            let i = row * columns + col;
+            if out[i].is_none_or(|old| hit.t < old.hit.t) {
+                out[i] = Some(SceneHit { solid: index, hit });
+            }
+            true
+        });
+        if let Some((_, count)) = visible {
+            self.faces += count;
+        }
     }
 
-    /// The voxel ray of sample `(col, row0 + row)`: the tracer's primary ray.
-    fn voxel_ray(&self, row: usize, col: usize) -> VoxelRay {
-        let (x, y) = self.samples.point(col as u32, (self.row0 + row) as u32);
-        let (o, d) = self.view.ray(x, y);
-        VoxelRay::new(self.domain, o, d)
-    }
-
-    /// The strip rectangle holding the projection of the box of centre `centre` (its
-    /// `X, Y, W`) and half extents `half` (voxels, per axis), widened by [`MARGIN`]; the
-    /// whole strip when the box reaches behind the eye; `None` when empty.
+    /// Step 2: the strip rectangle holding the projection of the box of centre `centre`
+    /// (its `X, Y, W`) and half edge `level.half`, widened by [`MARGIN`]; the whole
+    /// strip when the box reaches behind the eye; `None` when empty.
     ///
     /// Bound: for a point `c + e` of the box, `x(c + e) - x(c) = ((dX - x(c) dW) . e) /
     /// (W(c) + dW . e)`, so `|x(c + e) - x(c)| <= sum |dX - x(c) dW| half / (W(c) - sum
-    /// |dW| half)` when that denominator is positive; the same for rows.
+    /// |dW| half)` when that denominator is positive; the same for rows (rows first:
+    /// most nodes a strip meets lie above or below it).
     #[inline]
-    fn footprint(&self, centre: DVec3, half: DVec3) -> Option<Rect> {
-        let (columns, rows) = (i64::from(self.samples.columns()), self.rows as i64);
-        let p = &self.projector;
-        let nearest = centre.z - p.dw.abs().dot(half);
+    fn footprint(&self, centre: DVec3, level: &Level) -> Option<Rect> {
+        let (columns, rows) = (self.columns as i64, self.rows as i64);
+        let p = &self.solid.projector;
+        let nearest = centre.z - level.reach;
         if nearest <= 0.0 {
-            return Some(Rect { c0: 0, c1: columns as usize - 1, r0: 0, r1: self.rows - 1 });
+            return Some(Rect { c0: 0, c1: self.columns - 1, r0: 0, r1: self.rows - 1 });
         }
-        let (w, k) = (1.0 / centre.z, 1.0 / nearest);
+        let (w, k) = (1.0 / centre.z, level.half / nearest);
         let y = centre.y * w;
-        let ry = (p.dy - p.dw * y).abs().dot(half) * k + MARGIN;
+        let ry = (p.dy - p.dw * y).abs().element_sum() * k + MARGIN;
         let row0 = self.row0 as f64;
-        let r0 = ceil_within(y - ry - row0, rows).max(0);
-        let r1 = floor_within(y + ry - row0, rows).min(rows - 1);
+        let r0 = first_at_or_after(y - ry - row0, rows).max(0);
+        let r1 = last_at_or_before(y + ry - row0, rows).min(rows - 1);
         if r0 > r1 {
             return None;
         }
         let x = centre.x * w;
-        let rx = (p.dx - p.dw * x).abs().dot(half) * k + MARGIN;
-        let c0 = ceil_within(x - rx, columns).max(0);
-        let c1 = floor_within(x + rx, columns).min(columns - 1);
+        let rx = (p.dx - p.dw * x).abs().element_sum() * k + MARGIN;
+        let c0 = first_at_or_after(x - rx, columns).max(0);
+        let c1 = last_at_or_before(x + rx, columns).min(columns - 1);
         if c0 > c1 {
             return None;
         }
@@ -256,20 +324,28 @@ impl Pass<'_> {
     }
 }
 
-/// `ceil(v)`, exact for `v` in `[-1, n]`; values outside are moved to the nearer end.
+/// The first integer at or after `v` (`ceil`), moved into `[-1, n]` (NaN: -1). Rounds
+/// `v + 1/2` to nearest, so an integer `v` (give or take its rounding) may give
+/// `v + 1`: a footprint loses at most the samples on its widened edge, [`MARGIN`] away
+/// from the projection.
 #[inline]
-fn ceil_within(v: f64, n: i64) -> i64 {
-    let v = v.clamp(-1.0, n as f64);
-    let t = v as i64; // truncation: ceil for v <= 0, floor for v >= 0
-    if (t as f64) < v { t + 1 } else { t }
+fn first_at_or_after(v: f64, n: i64) -> i64 {
+    round_to_integer(v.max(-1.0).min(n as f64) + 0.5)
 }
 
-/// `floor(v)`, exact for `v` in `[-1, n]`; values outside are moved to the nearer end.
+/// The last integer at or before `v` (`floor`), moved into `[-1, n]` (NaN: `n`); the
+/// mirror of [`first_at_or_after`].
 #[inline]
-fn floor_within(v: f64, n: i64) -> i64 {
-    let v = v.clamp(-1.0, n as f64);
-    let t = v as i64;
-    if (t as f64) > v { t - 1 } else { t }
+fn last_at_or_before(v: f64, n: i64) -> i64 {
+    round_to_integer(v.min(n as f64).max(-1.0) - 0.5)
+}
+
+/// `v` rounded to the nearest integer (ties to even) for `|v| < 2^51`: added to
+/// `1.5 * 2^52`, the sum's last mantissa bits are that integer.
+#[inline]
+fn round_to_integer(v: f64) -> i64 {
+    const SHIFT: f64 = 6_755_399_441_055_744.0;
+    (v + SHIFT).to_bits() as i64 - SHIFT.to_bits() as i64
 }
 
 /// A strip's coverage, reused for every solid and strip a task draws.
@@ -337,38 +413,35 @@ const ROWS: [[u64; 8]; 8] = {
     t
 };
 
-/// The coverage tiles of a strip, shared by the walk's pruning test and drawing.
+/// The coverage tiles of a strip.
 struct Tiles<'a> {
-    covered: &'a [Cell<u64>],
+    covered: &'a mut [u64],
     tiles_x: usize,
 }
 
 impl Tiles<'_> {
-    /// Calls `each(tile, tile row, tile column, mask of the tile's samples in rect)` for
-    /// the tiles `rect` touches, row by row; stops when `each` returns true.
+    /// The tiles `rect` touches, row by row: `(tile, tile row, tile column, mask of the
+    /// tile's samples in rect)`, with `tiles_x` tiles a row.
     #[inline]
-    fn find_tile(&self, rect: Rect, mut each: impl FnMut(usize, usize, usize, u64) -> bool) -> bool {
+    fn touched(rect: Rect, tiles_x: usize) -> impl Iterator<Item = (usize, usize, usize, u64)> {
         let (ty0, ty1, tx0, tx1) = (rect.r0 / 8, rect.r1 / 8, rect.c0 / 8, rect.c1 / 8);
-        for ty in ty0..ty1 + 1 {
+        (ty0..ty1 + 1).flat_map(move |ty| {
             let rows = ROWS[if ty == ty0 { rect.r0 % 8 } else { 0 }][if ty == ty1 { rect.r1 % 8 } else { 7 }];
-            for tx in tx0..tx1 + 1 {
+            (tx0..tx1 + 1).map(move |tx| {
                 let cols =
                     columns_mask(if tx == tx0 { rect.c0 % 8 } else { 0 }, if tx == tx1 { rect.c1 % 8 } else { 7 });
-                if each(ty * self.tiles_x + tx, ty, tx, rows & cols) {
-                    return true;
-                }
-            }
-        }
-        false
+                (ty * tiles_x + tx, ty, tx, rows & cols)
+            })
+        })
     }
 
     /// Whether some sample of `rect` is not covered.
     #[inline]
     fn any_uncovered(&self, rect: Rect) -> bool {
         if let Some((t, mask)) = self.single_tile(rect) {
-            return !self.covered[t].get() & mask != 0;
+            return !self.covered[t] & mask != 0;
         }
-        self.find_tile(rect, |t, _, _, mask| !self.covered[t].get() & mask != 0)
+        Self::touched(rect, self.tiles_x).any(|(t, _, _, mask)| !self.covered[t] & mask != 0)
     }
 
     /// The tile and mask of a rectangle within one tile (the common case of small nodes).
@@ -384,25 +457,23 @@ impl Tiles<'_> {
     /// Calls `test(row, col)` for each uncovered sample of `rect`; a sample becomes
     /// covered when `test` says so.
     #[inline]
-    fn for_each_uncovered(&self, rect: Rect, mut test: impl FnMut(usize, usize) -> bool) {
-        let mut tile = |t: usize, ty: usize, tx: usize, mask: u64| {
-            let mut open = !self.covered[t].get() & mask;
+    fn for_each_uncovered(&mut self, rect: Rect, mut test: impl FnMut(usize, usize) -> bool) {
+        let mut tile = |covered: &mut u64, ty: usize, tx: usize, mask: u64| {
+            let mut open = !*covered & mask;
             while open != 0 {
                 let bit = open.trailing_zeros();
                 open &= open - 1;
                 if test(8 * ty + (bit / 8) as usize, 8 * tx + (bit % 8) as usize) {
-                    self.covered[t].set(self.covered[t].get() | 1 << bit);
+                    *covered |= 1 << bit;
                 }
             }
-            false
         };
-        match self.single_tile(rect) {
-            Some((t, mask)) => {
-                tile(t, rect.r0 / 8, rect.c0 / 8, mask);
-            }
-            None => {
-                self.find_tile(rect, tile);
-            }
+        if let Some((t, mask)) = self.single_tile(rect) {
+            tile(&mut self.covered[t], rect.r0 / 8, rect.c0 / 8, mask);
+            return;
+        }
+        for (t, ty, tx, mask) in Self::touched(rect, self.tiles_x) {
+            tile(&mut self.covered[t], ty, tx, mask);
         }
     }
 }
