@@ -180,6 +180,33 @@ impl<'a> Solid<'a> {
     }
 }
 
+/// Front-to-back child order relative to the child `e` nearest the viewer: child
+/// `e ^ ORDER[p]` comes `p`-th (across no mid plane, one, two, three); its own inverse.
+const ORDER: [usize; 8] = [0, 1, 2, 4, 3, 5, 6, 7];
+
+/// The byte whose bit `j` is bit `e ^ j` of `mask` (`e < 8`): a swap of bits, pairs,
+/// nibbles for each bit of `e`.
+#[inline]
+fn xor_permuted(mask: u8, e: usize) -> u8 {
+    let mut m = mask;
+    if e & 1 != 0 {
+        m = (m & 0x55) << 1 | (m & 0xAA) >> 1;
+    }
+    if e & 2 != 0 {
+        m = (m & 0x33) << 2 | (m & 0xCC) >> 2;
+    }
+    if e & 4 != 0 {
+        m = m.rotate_left(4);
+    }
+    m
+}
+
+/// `mask` with bits 3 and 4 swapped: bit `j` to bit `p` where `ORDER[p] = j`.
+#[inline]
+fn swap_bits_3_and_4(mask: u8) -> u8 {
+    (mask & 0xE7) | (mask & 0x08) << 1 | (mask & 0x10) >> 1
+}
+
 /// An inclusive rectangle of samples: columns `c0..=c1`, rows `r0..=r1` (strip rows).
 #[derive(Clone, Copy, Debug)]
 struct Rect {
@@ -214,43 +241,52 @@ impl Pass<'_> {
         let solid = self.solid;
         let Some(nodes) = solid.nodes else { return };
         let shift = usize::from(solid.domain.depth());
+        let strip = Rect { c0: 0, c1: self.columns - 1, r0: 0, r1: self.rows - 1 };
         if nodes.is_empty() {
-            self.full([0; 3], shift, solid.root);
-        } else if self.open(solid.root, shift) {
-            self.inner(nodes, 0, [0; 3], shift, solid.root);
+            self.full([0; 3], shift, solid.root, strip);
+        } else if let Some(rect) = self.open(solid.root, shift, strip) {
+            self.inner(nodes, 0, [0; 3], shift, solid.root, rect);
         }
     }
 
-    /// Whether the footprint of the node of centre `centre` (its `X, Y, W`) and
-    /// `2^shift` voxels a side has an uncovered sample.
+    /// The footprint of the node of centre `centre` (its `X, Y, W`) and `2^shift`
+    /// voxels a side within its parent's `within`, when it has an uncovered sample.
     #[inline]
-    fn open(&self, centre: DVec3, shift: usize) -> bool {
-        self.footprint(centre, &self.solid.levels[shift]).is_some_and(|rect| self.tiles.any_uncovered(rect))
+    fn open(&self, centre: DVec3, shift: usize, within: Rect) -> Option<Rect> {
+        self.footprint(centre, &self.solid.levels[shift], within).filter(|&rect| self.tiles.any_uncovered(rect))
     }
 
-    /// The children of inner node `index` (`[min, min + 2^shift)`, not culled) front
-    /// to back: the child on the viewer's side of all three mid planes first, then
-    /// those across one plane, two, three; a child's centre is its parent's plus the
-    /// level's offset.
-    fn inner(&mut self, nodes: &[Inner], index: u32, min: [u32; 3], shift: usize, centre: DVec3) {
+    /// The children of inner node `index` (`[min, min + 2^shift)`, footprint `rect`
+    /// with an uncovered sample) front to back: the child on the viewer's side of all
+    /// three mid planes first, then those across one plane, two, three; a child's
+    /// centre is its parent's plus the level's offset, its footprint within `rect`
+    /// (the child's box is within the parent's). When `rect` lies in one tile, the rest
+    /// are skipped once it is covered.
+    fn inner(&mut self, nodes: &[Inner], index: u32, min: [u32; 3], shift: usize, centre: DVec3, rect: Rect) {
         let solid = self.solid;
         let node = nodes[index as usize];
         let half = 1u32 << (shift - 1);
         let viewer = solid.viewer;
         let e = (0..3).fold(0usize, |bits, a| bits | usize::from(viewer.is_high(a, f64::from(min[a] + half))) << a);
         let level = &solid.levels[shift - 1];
-        for j in [0usize, 1, 2, 4, 3, 5, 6, 7] {
-            let child = e ^ j;
-            if node.valid >> child & 1 == 0 {
-                continue;
-            }
+        // Bit `p` of `todo`: child `e ^ ORDER[p]` is not empty.
+        let mut todo = swap_bits_3_and_4(xor_permuted(node.valid, e));
+        let rect_tile = self.tiles.single_tile(rect);
+        while todo != 0 {
+            let child = e ^ ORDER[todo.trailing_zeros() as usize];
+            todo &= todo - 1;
             let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
             let c = centre + level.to_child[child];
             if node.full >> child & 1 == 1 {
-                self.full(cmin, shift - 1, c);
-            } else if self.open(c, shift - 1) {
+                self.full(cmin, shift - 1, c, rect);
+            } else if let Some(child_rect) = self.open(c, shift - 1, rect) {
                 let slot = node.first + (node.valid & !node.full & ((1u8 << child) - 1)).count_ones();
-                self.inner(nodes, slot, cmin, shift - 1, c);
+                self.inner(nodes, slot, cmin, shift - 1, c, child_rect);
+            } else {
+                continue;
+            }
+            if todo != 0 && rect_tile.is_some_and(|(t, mask)| !self.tiles.covered[t] & mask == 0) {
+                return;
             }
         }
     }
@@ -258,8 +294,8 @@ impl Pass<'_> {
     /// Step 4: the full node `[min, min + 2^shift)`: each uncovered sample of its
     /// footprint, its ray against the visible faces in axis order (the faces worked
     /// out at the first such sample).
-    fn full(&mut self, min: [u32; 3], shift: usize, centre: DVec3) {
-        let Some(rect) = self.footprint(centre, &self.solid.levels[shift]) else { return };
+    fn full(&mut self, min: [u32; 3], shift: usize, centre: DVec3, within: Rect) {
+        let Some(rect) = self.footprint(centre, &self.solid.levels[shift], within) else { return };
         let Pass { solid, index, samples, view, row0, columns, tiles, out, .. } = self;
         let (solid, index, samples, view, row0, columns) = (*solid, *index, *samples, *view, *row0, *columns);
         let mut visible: Option<([Option<Face>; 3], u64)> = None;
@@ -288,35 +324,35 @@ impl Pass<'_> {
         }
     }
 
-    /// Step 2: the strip rectangle holding the projection of the box of centre `centre`
-    /// (its `X, Y, W`) and half edge `level.half`, widened by [`MARGIN`]; the whole
-    /// strip when the box reaches behind the eye; `None` when empty.
+    /// Step 2: the rectangle within `within` holding the projection of the box of
+    /// centre `centre` (its `X, Y, W`) and half edge `level.half`, widened by
+    /// [`MARGIN`]; all of `within` when the box reaches behind the eye; `None` when empty.
     ///
     /// Bound: for a point `c + e` of the box, `x(c + e) - x(c) = ((dX - x(c) dW) . e) /
     /// (W(c) + dW . e)`, so `|x(c + e) - x(c)| <= sum |dX - x(c) dW| half / (W(c) - sum
     /// |dW| half)` when that denominator is positive; the same for rows (rows first:
     /// most nodes a strip meets lie above or below it).
     #[inline]
-    fn footprint(&self, centre: DVec3, level: &Level) -> Option<Rect> {
+    fn footprint(&self, centre: DVec3, level: &Level, within: Rect) -> Option<Rect> {
         let (columns, rows) = (self.columns as i64, self.rows as i64);
         let p = &self.solid.projector;
         let nearest = centre.z - level.reach;
         if nearest <= 0.0 {
-            return Some(Rect { c0: 0, c1: self.columns - 1, r0: 0, r1: self.rows - 1 });
+            return Some(within);
         }
         let (w, k) = (1.0 / centre.z, level.half / nearest);
         let y = centre.y * w;
         let ry = (p.dy - p.dw * y).abs().element_sum() * k + MARGIN;
         let row0 = self.row0 as f64;
-        let r0 = first_at_or_after(y - ry - row0, rows).max(0);
-        let r1 = last_at_or_before(y + ry - row0, rows).min(rows - 1);
+        let r0 = first_at_or_after(y - ry - row0, rows).max(within.r0 as i64);
+        let r1 = last_at_or_before(y + ry - row0, rows).min(within.r1 as i64);
         if r0 > r1 {
             return None;
         }
         let x = centre.x * w;
         let rx = (p.dx - p.dw * x).abs().element_sum() * k + MARGIN;
-        let c0 = first_at_or_after(x - rx, columns).max(0);
-        let c1 = last_at_or_before(x + rx, columns).min(columns - 1);
+        let c0 = first_at_or_after(x - rx, columns).max(within.c0 as i64);
+        let c1 = last_at_or_before(x + rx, columns).min(within.c1 as i64);
         if c0 > c1 {
             return None;
         }
