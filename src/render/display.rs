@@ -46,7 +46,7 @@ use super::traverse::{Inner, Traversal, VoxelRay};
 use crate::octree::{Domain, MAX_DEPTH};
 
 /// Sample rows a strip (one parallel task); a multiple of the tile height 8.
-pub const STRIP_ROWS: usize = 64;
+pub const STRIP_ROWS: usize = 32;
 
 /// Samples by which a projected footprint is widened on every side.
 const MARGIN: f64 = 1e-2;
@@ -296,32 +296,29 @@ impl Pass<'_> {
     /// out at the first such sample).
     fn full(&mut self, min: [u32; 3], shift: usize, centre: DVec3, within: Rect) {
         let Some(rect) = self.footprint(centre, &self.solid.levels[shift], within) else { return };
+        if !self.tiles.any_uncovered(rect) {
+            return;
+        }
         let Pass { solid, index, samples, view, row0, columns, tiles, out, .. } = self;
         let (solid, index, samples, view, row0, columns) = (*solid, *index, *samples, *view, *row0, *columns);
-        let mut visible: Option<([Option<Face>; 3], u64)> = None;
+        let mut faces = [None; 3];
+        let mut count = 0;
+        for face in Face::visible(&solid.viewer, min, 1 << shift) {
+            faces[count] = Some(face);
+            count += 1;
+        }
+        self.faces += count as u64;
         tiles.for_each_uncovered(rect, |row, col| {
-            let (faces, _) = visible.get_or_insert_with(|| {
-                let mut faces = [None; 3];
-                let mut count = 0;
-                for face in Face::visible(&solid.viewer, min, 1 << shift) {
-                    faces[count] = Some(face);
-                    count += 1;
-                }
-                (faces, count as u64)
-            });
             let (x, y) = samples.point(col as u32, (row0 + row) as u32);
             let (o, d) = view.ray(x, y);
             let ray = VoxelRay::new(solid.domain, o, d);
-            let Some(hit) = faces.iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
+            let Some(hit) = faces[..count].iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
             let i = row * columns + col;
             if out[i].is_none_or(|old| hit.t < old.hit.t) {
                 out[i] = Some(SceneHit { solid: index, hit });
             }
             true
         });
-        if let Some((_, count)) = visible {
-            self.faces += count;
-        }
     }
 
     /// Step 2: the rectangle within `within` holding the projection of the box of
@@ -332,7 +329,7 @@ impl Pass<'_> {
     /// (W(c) + dW . e)`, so `|x(c + e) - x(c)| <= sum |dX - x(c) dW| half / (W(c) - sum
     /// |dW| half)` when that denominator is positive; the same for rows (rows first:
     /// most nodes a strip meets lie above or below it).
-    #[inline]
+    #[inline(always)]
     fn footprint(&self, centre: DVec3, level: &Level, within: Rect) -> Option<Rect> {
         let (columns, rows) = (self.columns as i64, self.rows as i64);
         let p = &self.solid.projector;
