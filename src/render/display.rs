@@ -453,32 +453,47 @@ struct Tiles<'a> {
 }
 
 impl Tiles<'_> {
-    /// The tiles `rect` touches, row by row: `(tile, tile row, tile column, mask of the
-    /// tile's samples in rect)`, with `tiles_x` tiles a row.
-    #[inline]
-    fn touched(rect: Rect, tiles_x: usize) -> impl Iterator<Item = (usize, usize, usize, u64)> {
-        let (ty0, ty1, tx0, tx1) = (rect.r0 / 8, rect.r1 / 8, rect.c0 / 8, rect.c1 / 8);
-        (ty0..ty1 + 1).flat_map(move |ty| {
-            let rows = ROWS[if ty == ty0 { rect.r0 % 8 } else { 0 }][if ty == ty1 { rect.r1 % 8 } else { 7 }];
-            (tx0..tx1 + 1).map(move |tx| {
-                let cols =
-                    columns_mask(if tx == tx0 { rect.c0 % 8 } else { 0 }, if tx == tx1 { rect.c1 % 8 } else { 7 });
-                (ty * tiles_x + tx, ty, tx, rows & cols)
-            })
-        })
+    /// Whether some sample of `rect` is not covered: one masked word test when `rect`
+    /// lies in one tile (most nodes).
+    #[inline(always)]
+    fn any_uncovered(&self, rect: Rect) -> bool {
+        match self.single_tile(rect) {
+            Some((t, mask)) => !self.covered[t] & mask != 0,
+            None => self.any_uncovered_in_tiles(rect),
+        }
     }
 
-    /// Whether some sample of `rect` is not covered.
+    /// [`Tiles::any_uncovered`] for a rectangle over several tiles.
+    #[inline(never)]
+    fn any_uncovered_in_tiles(&self, rect: Rect) -> bool {
+        let mut any = false;
+        Self::for_each_tile(rect, self.tiles_x, |t, _, _, mask| {
+            any = !self.covered[t] & mask != 0;
+            any
+        });
+        any
+    }
+
+    /// Calls `each(tile, tile row, tile column, mask of the tile's samples in rect)` for
+    /// the tiles `rect` touches (`tiles_x` tiles a row), row by row, until `each`
+    /// returns true.
     #[inline]
-    fn any_uncovered(&self, rect: Rect) -> bool {
-        if let Some((t, mask)) = self.single_tile(rect) {
-            return !self.covered[t] & mask != 0;
+    fn for_each_tile(rect: Rect, tiles_x: usize, mut each: impl FnMut(usize, usize, usize, u64) -> bool) {
+        let (ty0, ty1, tx0, tx1) = (rect.r0 / 8, rect.r1 / 8, rect.c0 / 8, rect.c1 / 8);
+        for ty in ty0..=ty1 {
+            let rows = ROWS[if ty == ty0 { rect.r0 % 8 } else { 0 }][if ty == ty1 { rect.r1 % 8 } else { 7 }];
+            for tx in tx0..=tx1 {
+                let cols =
+                    columns_mask(if tx == tx0 { rect.c0 % 8 } else { 0 }, if tx == tx1 { rect.c1 % 8 } else { 7 });
+                if each(ty * tiles_x + tx, ty, tx, rows & cols) {
+                    return;
+                }
+            }
         }
-        Self::touched(rect, self.tiles_x).any(|(t, _, _, mask)| !self.covered[t] & mask != 0)
     }
 
     /// The tile and mask of a rectangle within one tile (the common case of small nodes).
-    #[inline]
+    #[inline(always)]
     fn single_tile(&self, rect: Rect) -> Option<(usize, u64)> {
         let (ty, tx) = (rect.r0 / 8, rect.c0 / 8);
         (ty == rect.r1 / 8 && tx == rect.c1 / 8).then(|| {
@@ -505,8 +520,10 @@ impl Tiles<'_> {
             tile(&mut self.covered[t], rect.r0 / 8, rect.c0 / 8, mask);
             return;
         }
-        for (t, ty, tx, mask) in Self::touched(rect, self.tiles_x) {
-            tile(&mut self.covered[t], ty, tx, mask);
-        }
+        let covered = &mut *self.covered;
+        Self::for_each_tile(rect, self.tiles_x, |t, ty, tx, mask| {
+            tile(&mut covered[t], ty, tx, mask);
+            false
+        });
     }
 }
