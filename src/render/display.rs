@@ -6,22 +6,27 @@
 //! Steps, per screen strip of [`STRIP_ROWS`] sample rows (strips are independent rayon
 //! tasks, each walking the octree culled to its rows, so the result does not depend on
 //! the thread count):
-//! 1. Walk the full nodes front to back ([`Traversal::front_to_back`]: in every inner
-//!    node the child on the viewer's side of all three mid planes first). A node can
-//!    only hide nodes visited after it.
+//! 1. Walk the traversal octree's nodes front to back (`Pass::inner`, recursive: in
+//!    every inner node the child on the viewer's side of all three mid planes first,
+//!    then those across one plane, two, three). A node can only hide nodes visited
+//!    after it.
 //! 2. Footprint of a node: the box projected to the sample grid by one projective map
 //!    (`column = X(p) / W(p)`, `row = Y(p) / W(p)`, `X, Y, W` affine in the voxel point
 //!    `p`), bounded from its centre (see `Pass::footprint`: two divisions, no corners),
-//!    widened by [`MARGIN`] samples; the whole strip when the box reaches behind the
-//!    eye. A node whose footprint has no uncovered sample is skipped, an inner node
-//!    with its subtree.
+//!    widened by [`MARGIN`] samples and cut to the parent's footprint (the child's box
+//!    is in the parent's); all of the parent's when the box reaches behind the eye.
+//!    A child's `X, Y, W` is its parent's plus a per-size offset (no products). A node
+//!    whose footprint has no uncovered sample is skipped, an inner node with its
+//!    subtree; the remaining children of a node whose footprint lies in one tile are
+//!    skipped once it is covered.
 //! 3. Coverage is a bit a sample, kept in 8x8 tiles (one `u64` each, bit `8 row + col`),
 //!    so a footprint test is one masked word test a tile it touches (one, mostly).
-//! 4. A full node: each uncovered sample of its footprint makes its voxel ray once and
-//!    tests the node's faces that look at the viewer, in axis order, by the exact face
-//!    rule (`Face::enters`); the first face it enters covers the sample, with that
-//!    face's [`VoxelRay::entry`] as the hit. (One ray a sample and node, not one a
-//!    face: the ray, a square root and nine divisions, is the dear part of a test.)
+//! 4. A full node with an uncovered sample in its footprint: its faces that look at
+//!    the viewer, then each uncovered sample of the footprint makes its voxel ray once
+//!    and tests those faces in axis order by the exact face rule (`Face::enters`); the
+//!    first face it enters covers the sample, with that face's [`VoxelRay::entry`] as
+//!    the hit. (One ray a sample and node, not one a face: the ray, a square root and
+//!    nine divisions, is the dear part of a test.)
 //!
 //! Tie-breaking: a sample takes the first face in visiting order (nodes front to back,
 //! faces of a node by axis) whose exact test it passes. Since the footprints only ever
@@ -31,9 +36,12 @@
 //! Precision of the margin: the footprint and the exact test are two roundings of the
 //! same geometry. The test's in-plane point is off by a few ulps of `t d` along the ray,
 //! which moves it on screen only by the ulps of its depth coordinate; the projection's
-//! own rounding is a few ulps of the sample coordinates. Both stay below 1e-6 samples
-//! for any domain (depth <= 21) and image (<= 16384 a side), so [`MARGIN`] (1e-2
-//! samples) only ever makes a footprint propose more samples, never fewer.
+//! own rounding (a centre summed from at most 21 offsets, the bound, the rounding of
+//! the bound to whole samples) is a few dozen ulps of the sample coordinates. Both
+//! stay below 1e-6 samples for any domain (depth <= 21) and image (<= 16384 a side),
+//! so [`MARGIN`] (1e-2 samples) only ever makes a footprint propose more samples,
+//! never fewer: a sample the rounding of a bound drops lies on the widened edge,
+//! [`MARGIN`] away from the projection.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -291,9 +299,9 @@ impl Pass<'_> {
         }
     }
 
-    /// Step 4: the full node `[min, min + 2^shift)`: each uncovered sample of its
-    /// footprint, its ray against the visible faces in axis order (the faces worked
-    /// out at the first such sample).
+    /// Step 4: the full node `[min, min + 2^shift)` (centre `centre`, within the
+    /// parent's footprint `within`): when its footprint has an uncovered sample, its
+    /// visible faces, then each uncovered sample's ray against them in axis order.
     fn full(&mut self, min: [u32; 3], shift: usize, centre: DVec3, within: Rect) {
         let Some(rect) = self.footprint(centre, &self.solid.levels[shift], within) else { return };
         if !self.tiles.any_uncovered(rect) {
