@@ -7,6 +7,7 @@
 //! scene file's folder.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::{DAffine3, DQuat, DVec3};
 use serde::Deserialize;
@@ -52,7 +53,7 @@ struct ImageSpec {
     #[serde(default = "default_true")]
     shadows: bool,
     background: Option<[f64; 3]>,
-    /// "axis" (default) or "smooth".
+    /// "axis" (default), "smooth" or "octree".
     normals: Option<String>,
     /// Longest chain of reflected and refracted rays.
     max_depth: Option<u32>,
@@ -436,7 +437,10 @@ fn build(spec: &SceneSpec, folder: &Path, budget: MemoryBudget) -> Result<SceneF
             ior: m.ior.unwrap_or(d.ior),
         };
         material.check().map_err(|e| Error::invalid("material", format!("{name}: {e}")))?;
-        scene.add(name, tree, material);
+        match shape {
+            Some(shape) => scene.add_shaped(name, tree, material, Arc::new(shape.clone())),
+            None => scene.add(name, tree, material),
+        }
     }
     // Step 3: lights, camera, image.
     let bounds = scene.bounds().ok_or_else(|| Error::invalid("scene", "every solid is empty"))?;

@@ -155,6 +155,36 @@ fn projections_give_the_known_coordinates() {
 }
 
 #[test]
+fn image_textures_stand_upright() {
+    // A 2x2 picture: top row red, green; bottom row blue, white (sRGB 0 or 255, so
+    // linear 0 or 1). Sampled at texel centres, bilinear filtering returns them (up to rounding).
+    let mut texels = image::RgbImage::new(2, 2);
+    let (red, green, blue, white) = ([255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]);
+    for (x, y, c) in [(0, 0, red), (1, 0, green), (0, 1, blue), (1, 1, white)] {
+        texels.put_pixel(x, y, image::Rgb(c));
+    }
+    let linear = |c: [u8; 3]| DVec3::from_array(c.map(|v| f64::from(v) / 255.0));
+    let texels = std::sync::Arc::new(texels);
+    let at = |mapping: Mapping, p: DVec3| Texture::Image { texels: texels.clone(), mapping }.color(p);
+    let planar = Mapping::Planar { axis: Axis::Z, origin: DVec3::ZERO, scale: 1.0 };
+    let cylinder = Mapping::Cylindrical { axis: Axis::Z, center: DVec3::ZERO, scale: 1.0 };
+    let sphere = Mapping::Spherical { axis: Axis::Z, center: DVec3::ZERO };
+    for (mapping, p, want) in [
+        // Up the plane's second axis is up the picture.
+        (planar, DVec3::new(0.25, 0.25, 0.0), blue),
+        (planar, DVec3::new(0.75, 0.75, 0.0), green),
+        // Up the cylinder's axis is up the picture.
+        (cylinder, DVec3::new(0.0, 1.0, 0.75), red),
+        (cylinder, DVec3::new(0.0, 1.0, 0.25), blue),
+        // The sphere's pole is the top row.
+        (sphere, DVec3::new(0.0, 1.0, 1.0), red),
+        (sphere, DVec3::new(0.0, 1.0, -1.0), blue),
+    ] {
+        assert!(close(at(mapping, p), linear(want), 1e-9), "{mapping:?} at {p}: {}", at(mapping, p));
+    }
+}
+
+#[test]
 fn solid_textures_are_bounded_and_follow_their_rules() {
     let (a, b) = (DVec3::new(0.9, 0.8, 0.6), DVec3::new(0.3, 0.2, 0.1));
     let checker = Texture::Checker { size: 0.5, a, b };
@@ -210,4 +240,37 @@ fn smooth_normals_of_a_voxelized_sphere_follow_the_sphere() {
     }
     assert!(total > 10_000, "{total} surface voxels sampled");
     assert!(good as f64 >= 0.95 * total as f64, "{good} of {total} within 5 degrees");
+}
+
+#[test]
+fn the_cached_normal_field_equals_the_direct_estimate() {
+    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+    use octsolid::render::normals::{NormalField, SMOOTH_RADIUS, smooth_normal};
+    use octsolid::shape::{Csg, Cuboid, Sphere};
+    // A carved sphere and a slab reaching the domain's faces (windows cut by the
+    // boundary), at a depth where 16-voxel bricks straddle every window.
+    let sphere = Sphere::new(DVec3::new(0.11, -0.07, 0.2), 0.62).unwrap();
+    let notch = Cuboid::new(DVec3::new(0.5, 0.0, 0.5), DVec3::splat(0.5)).unwrap();
+    let slab = Cuboid::new(DVec3::new(0.0, 0.0, -0.8), DVec3::new(2.5, 2.5, 0.3)).unwrap();
+    let solid = (Csg::leaf(sphere) - Csg::leaf(notch)) | Csg::leaf(slab);
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let tree = voxelize(&solid, domain, &VoxelizeOptions::default()).unwrap();
+    let field = NormalField::new();
+    let mut rng = Rng(77);
+    let mut some = 0;
+    for _ in 0..20_000 {
+        let p = rng.vec(-1.0, 1.0);
+        let want = smooth_normal(&tree, p, SMOOTH_RADIUS);
+        assert_eq!(field.normal(&tree, p), want, "at {p}");
+        some += usize::from(want.is_some());
+    }
+    assert!(some > 2_000, "{some} points near the surface");
+    // The slab's top face (voxelized at the lattice plane nearest z = -0.65) is flat:
+    // exactly its axis.
+    for _ in 0..1_000 {
+        let p = DVec3::new(rng.unit() * 1.2 - 0.6, rng.unit() * 1.2 - 0.6, -0.65);
+        if (p - DVec3::new(0.11, -0.07, 0.2)).length() > 0.62 + 0.3 {
+            assert_eq!(field.normal(&tree, p), Some(DVec3::Z), "at {p}");
+        }
+    }
 }

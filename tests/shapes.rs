@@ -246,3 +246,83 @@ fn invalid_parameters_are_refused() {
     assert!(HalfSpace::new(DVec3::ZERO, 1.0).is_err());
     assert!("w".parse::<Axis>().unwrap_err().contains("x, y or z"));
 }
+
+/// The point where `shape`'s boundary crosses the segment from `inside` to `outside`
+/// (by bisection on `contains`).
+fn crossing(shape: &dyn Shape, mut inside: DVec3, mut outside: DVec3) -> DVec3 {
+    for _ in 0..80 {
+        let mid = (inside + outside) * 0.5;
+        if shape.contains(mid) {
+            inside = mid;
+        } else {
+            outside = mid;
+        }
+    }
+    (inside + outside) * 0.5
+}
+
+/// Shapes whose surfaces the smooth normals use: the random primitives and trees, a
+/// displaced sphere, and primitives under shear and uneven scaling.
+fn surface_case(rng: &mut Rng, case: u32) -> Csg {
+    match case % 4 {
+        0 => random_primitive(rng),
+        1 => random_tree(rng, 3),
+        2 => DisplacedSphere::new(rng.vec(-0.2, 0.2), rng.range(0.5, 0.8), rng.range(0.0, 0.1), rng.range(2.0, 9.0))
+            .unwrap()
+            .into(),
+        _ => {
+            let mut m = DAffine3::from_scale(rng.vec(0.5, 1.5));
+            m.matrix3.x_axis.y = rng.range(-0.4, 0.4);
+            m.translation = rng.vec(-0.2, 0.2);
+            let inner = if rng.below(2) == 0 {
+                Csg::from(Torus::new(DVec3::ZERO, random_axis(rng), 0.45, 0.2).unwrap())
+            } else {
+                Csg::from(Cylinder::new(DVec3::ZERO, random_axis(rng), 0.4, 0.9).unwrap())
+            };
+            inner.transform(m).unwrap().into()
+        }
+    }
+}
+
+#[test]
+fn surfaces_have_the_sign_of_contains_and_the_tangent_plane_of_the_boundary() {
+    let mut rng = Rng(404);
+    let (mut points, mut tangent) = (0, 0);
+    for case in 0..800 {
+        let shape = surface_case(&mut rng, case);
+        // The distance's sign is the point's side.
+        let mut inside = None;
+        let mut outside = None;
+        for _ in 0..200 {
+            let p = rng.vec(-1.2, 1.2);
+            let s = shape.surface(p).expect("these shapes know their surface");
+            assert!((s.normal.length() - 1.0).abs() < 1e-12, "case {case}: normal {}", s.normal);
+            if s.distance.abs() > 1e-9 {
+                assert_eq!(s.distance < 0.0, shape.contains(p), "case {case} at {p}: distance {}", s.distance);
+            }
+            *(if shape.contains(p) { &mut inside } else { &mut outside }) = Some(p);
+        }
+        let (Some(a), Some(b)) = (inside, outside) else { continue };
+        // At a boundary point the distance vanishes and the normal is the boundary's:
+        // stepping h along a tangent, the boundary stays within a small fraction of h
+        // of the tangent plane (off it by h times the normal's angle error, plus h^2
+        // times the curvature), and it lies towards -n.
+        let q = crossing(&shape, a, b);
+        let s = shape.surface(q).unwrap();
+        assert!(s.distance.abs() < 1e-6, "case {case} at {q}: distance {}", s.distance);
+        let n = s.normal;
+        points += 1;
+        let h = 1e-3;
+        let t1 = n.any_orthonormal_vector();
+        let t2 = n.cross(t1);
+        let flat = [t1, -t1, t2, -t2].iter().all(|t| {
+            let r = q + *t * h;
+            let (lo, hi) = (r - n * (4.0 * h), r + n * (4.0 * h));
+            shape.contains(lo) && !shape.contains(hi) && (crossing(&shape, lo, hi) - r).dot(n).abs() < 0.05 * h
+        });
+        tangent += usize::from(flat);
+    }
+    assert!(points > 600, "{points} boundary points");
+    // Edges and corners (box, cylinder and cone rims, CSG seams) are allowed to fail.
+    assert!(tangent as f64 >= 0.99 * points as f64, "{tangent} of {points} boundary points have the tangent plane");
+}

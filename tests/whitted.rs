@@ -82,7 +82,7 @@ fn whitted_never_returns_more_light_than_comes_in() {
             let dir = (rng.vec(-1.0, 1.0) - origin).normalize();
             if let Some(sh) = scene.hit(origin, dir, f64::INFINITY) {
                 seen += 1;
-                let c = radiance(&scene, origin, dir, &sh, &options);
+                let (c, _) = radiance(&scene, origin, dir, &sh, &options);
                 assert!(c.max_element() <= 1.0 + 1e-9 && c.min_element() >= 0.0, "{c}");
             }
         }
@@ -102,4 +102,33 @@ fn materials_out_of_range_are_refused() {
         assert!(m.check().is_err(), "{m:?}");
     }
     assert!(Material::default().check().is_ok());
+}
+
+#[test]
+fn a_voxelized_mirror_ball_reflects_only_the_background() {
+    // A mirror ball (reflectance 0.9, no local light) alone in the scene: every ray
+    // reflected off a convex surface escapes, so with the sphere's own normals every
+    // pixel shows the background B or 0.9 B exactly. A ray caught on the voxel
+    // staircase (reflected into a neighbouring step) would show 0.81 B or less.
+    use octsolid::progress::NoProgress;
+    use octsolid::render::shade::to_srgb8;
+    use octsolid::render::{Camera, RenderOptions, render};
+    use std::sync::Arc;
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 8).unwrap();
+    let sphere = Sphere::new(DVec3::new(0.03, -0.02, 0.01), 0.7).unwrap();
+    let mirror = Material { color: DVec3::ZERO, ka: 0.0, kd: 0.0, ks: 0.0, reflectance: 0.9, ..Material::default() };
+    let mut scene = Scene::new();
+    let tree = voxelize(&sphere, domain, &VoxelizeOptions::default()).unwrap();
+    scene.add_shaped("mirror", tree, mirror, Arc::new(sphere));
+    scene.background = DVec3::new(0.2, 0.5, 0.8);
+    scene.lights = vec![Light::Directional { direction: DVec3::new(-1.0, -0.5, -1.0), color: DVec3::ONE }];
+    let camera = Camera::look_at(DVec3::new(0.4, -3.0, 1.2), DVec3::ZERO, DVec3::Z, 35.0);
+    let options = RenderOptions { width: 160, height: 160, spp: 1, normals: Normals::Smooth, ..Default::default() };
+    let (img, stats) = render(&scene, &camera, &options, &NoProgress).unwrap();
+    let srgb = |c: DVec3| [to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)];
+    let (background, reflected) = (srgb(scene.background), srgb(scene.background * 0.9));
+    let on_ball = img.pixels().filter(|p| p.0 == reflected).count();
+    let wrong = img.pixels().filter(|p| p.0 != background && p.0 != reflected).count();
+    assert!(on_ball > 8_000 && on_ball as u64 <= stats.hits, "{on_ball} pixels show the reflection");
+    assert_eq!(wrong, 0, "{wrong} pixels are neither the background nor its reflection");
 }

@@ -122,7 +122,8 @@ pub enum Command {
         /// Skip shadow rays.
         #[arg(long)]
         no_shadows: bool,
-        /// Shading normals: axis (the voxel faces') or smooth (estimated from the octree).
+        /// Shading normals: axis (the voxel faces'), smooth (the source shape's where a
+        /// solid has one, else estimated from the octree) or octree (always estimated).
         #[arg(long)]
         normals: Option<Normals>,
         /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
@@ -189,8 +190,10 @@ impl From<Shading> for octsolid::render::polygon::Interpolation {
 pub enum Normals {
     /// The entered voxel face's axis normal.
     Axis,
-    /// Estimated from the octree's occupancy around the hit.
+    /// The source shape's normal where the solid has one, else the octree's estimate.
     Smooth,
+    /// Estimated from the octree's occupancy around the hit, always.
+    Octree,
 }
 
 impl From<Normals> for octsolid::render::Normals {
@@ -198,6 +201,7 @@ impl From<Normals> for octsolid::render::Normals {
         match n {
             Normals::Axis => octsolid::render::Normals::Axis,
             Normals::Smooth => octsolid::render::Normals::Smooth,
+            Normals::Octree => octsolid::render::Normals::Octree,
         }
     }
 }

@@ -452,7 +452,8 @@ fn render_command(
     Ok(())
 }
 
-/// Renders with a progress bar and prints samples a second (and faces drawn by a raster method).
+/// Renders with a progress bar and prints samples and rays a second (and faces drawn by
+/// a raster method).
 fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<image::RgbImage> {
     let bar = Bar::new("rendering");
     let started = Instant::now();
@@ -462,15 +463,21 @@ fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> R
         render::Method::Trace => String::new(),
         _ => format!(", {} faces drawn", stats.faces_drawn),
     };
+    let rays = stats.samples + stats.secondary_rays;
     out!(
-        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.1} M samples/s, visibility and shading{faces})",
+        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.2} M samples/s; {} rays: {} primary, {} \
+         secondary and shadow, {:.2} M rays/s{faces})",
         options.width,
         options.height,
         options.spp,
         options.spp,
         options.method,
         seconds,
-        stats.samples as f64 / seconds / 1e6
+        stats.samples as f64 / seconds / 1e6,
+        rays,
+        stats.samples,
+        stats.secondary_rays,
+        rays as f64 / seconds / 1e6
     );
     Ok(img)
 }

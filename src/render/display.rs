@@ -6,22 +6,27 @@
 //! Steps, per screen strip of [`STRIP_ROWS`] sample rows (strips are independent rayon
 //! tasks, each walking the octree culled to its rows, so the result does not depend on
 //! the thread count):
-//! 1. Walk the full nodes front to back ([`Traversal::front_to_back`]: in every inner
-//!    node the child on the viewer's side of all three mid planes first). A node can
-//!    only hide nodes visited after it.
+//! 1. Walk the traversal octree's nodes front to back (`Pass::inner`, recursive: in
+//!    every inner node the child on the viewer's side of all three mid planes first,
+//!    then those across one plane, two, three). A node can only hide nodes visited
+//!    after it.
 //! 2. Footprint of a node: the box projected to the sample grid by one projective map
 //!    (`column = X(p) / W(p)`, `row = Y(p) / W(p)`, `X, Y, W` affine in the voxel point
 //!    `p`), bounded from its centre (see `Pass::footprint`: two divisions, no corners),
-//!    widened by [`MARGIN`] samples; the whole strip when the box reaches behind the
-//!    eye. A node whose footprint has no uncovered sample is skipped, an inner node
-//!    with its subtree.
+//!    widened by [`MARGIN`] samples and cut to the parent's footprint (the child's box
+//!    is in the parent's); all of the parent's when the box reaches behind the eye.
+//!    A child's `X, Y, W` is its parent's plus a per-size offset (no products). A node
+//!    whose footprint has no uncovered sample is skipped, an inner node with its
+//!    subtree; the remaining children of a node whose footprint lies in one tile are
+//!    skipped once it is covered.
 //! 3. Coverage is a bit a sample, kept in 8x8 tiles (one `u64` each, bit `8 row + col`),
 //!    so a footprint test is one masked word test a tile it touches (one, mostly).
-//! 4. A full node: each uncovered sample of its footprint makes its voxel ray once and
-//!    tests the node's faces that look at the viewer, in axis order, by the exact face
-//!    rule (`Face::enters`); the first face it enters covers the sample, with that
-//!    face's [`VoxelRay::entry`] as the hit. (One ray a sample and node, not one a
-//!    face: the ray, a square root and nine divisions, is the dear part of a test.)
+//! 4. A full node with an uncovered sample in its footprint: its faces that look at
+//!    the viewer, then each uncovered sample of the footprint makes its voxel ray once
+//!    and tests those faces in axis order by the exact face rule (`Face::enters`); the
+//!    first face it enters covers the sample, with that face's [`VoxelRay::entry`] as
+//!    the hit. (One ray a sample and node, not one a face: the ray, a square root and
+//!    nine divisions, is the dear part of a test.)
 //!
 //! Tie-breaking: a sample takes the first face in visiting order (nodes front to back,
 //! faces of a node by axis) whose exact test it passes. Since the footprints only ever
@@ -31,11 +36,12 @@
 //! Precision of the margin: the footprint and the exact test are two roundings of the
 //! same geometry. The test's in-plane point is off by a few ulps of `t d` along the ray,
 //! which moves it on screen only by the ulps of its depth coordinate; the projection's
-//! own rounding is a few ulps of the sample coordinates. Both stay below 1e-6 samples
-//! for any domain (depth <= 21) and image (<= 16384 a side), so [`MARGIN`] (1e-2
-//! samples) only ever makes a footprint propose more samples, never fewer.
-
-use std::cell::Cell;
+//! own rounding (a centre summed from at most 21 offsets, the bound, the rounding of
+//! the bound to whole samples) is a few dozen ulps of the sample coordinates. Both
+//! stay below 1e-6 samples for any domain (depth <= 21) and image (<= 16384 a side),
+//! so [`MARGIN`] (1e-2 samples) only ever makes a footprint propose more samples,
+//! never fewer: a sample the rounding of a bound drops lies on the widened edge,
+//! [`MARGIN`] away from the projection.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -44,11 +50,11 @@ use super::camera::{Projection, View};
 use super::face::{Face, Viewer};
 use super::raster::Samples;
 use super::scene::{Scene, SceneHit};
-use super::traverse::VoxelRay;
-use crate::octree::Domain;
+use super::traverse::{Inner, Traversal, VoxelRay};
+use crate::octree::{Domain, MAX_DEPTH};
 
 /// Sample rows a strip (one parallel task); a multiple of the tile height 8.
-pub const STRIP_ROWS: usize = 64;
+pub const STRIP_ROWS: usize = 32;
 
 /// Samples by which a projected footprint is widened on every side.
 const MARGIN: f64 = 1e-2;
@@ -59,28 +65,29 @@ const MARGIN: f64 = 1e-2;
 /// sample in their footprint (a node split between strips counts once a strip).
 pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &Samples, seen: &mut [Option<SceneHit>]) -> u64 {
     let columns = samples.columns() as usize;
+    let solids: Vec<Solid> = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
     seen.par_chunks_mut(STRIP_ROWS * columns)
         .enumerate()
         .map_init(
             || Strip::new(columns),
             |strip, (k, out)| {
-                let row0 = k * STRIP_ROWS;
+                let rows = out.len() / columns;
                 let mut faces = 0;
-                for (index, solid) in scene.solids.iter().enumerate() {
-                    let domain = solid.traversal.domain();
+                for (index, solid) in solids.iter().enumerate() {
+                    strip.reset(rows);
                     let mut pass = Pass {
-                        solid: index,
-                        domain,
-                        viewer: Viewer::new(view, domain),
-                        projector: Projector::new(view, domain, samples),
+                        solid,
+                        index,
                         samples,
                         view,
-                        row0,
-                        rows: out.len() / columns,
+                        row0: k * STRIP_ROWS,
+                        rows,
+                        columns,
+                        tiles: Tiles { covered: &mut strip.covered, tiles_x: strip.tiles_x },
+                        out: &mut *out,
                         faces: 0,
                     };
-                    strip.reset(pass.rows);
-                    pass.draw(&solid.traversal, strip, out);
+                    pass.draw();
                     faces += pass.faces;
                 }
                 faces
@@ -96,10 +103,10 @@ struct Projector {
     base: DVec3,
     /// The change of `X, Y, W` a voxel along axis `a`, at `per_voxel[a]`.
     per_voxel: [DVec3; 3],
-    /// The change of `X` a voxel along x, y, z.
-    dx: DVec3,
     /// The change of `Y` a voxel along x, y, z.
     dy: DVec3,
+    /// The change of `X` a voxel along x, y, z.
+    dx: DVec3,
     /// The change of `W` a voxel along x, y, z.
     dw: DVec3,
 }
@@ -132,16 +139,80 @@ impl Projector {
         let base = DVec3::new(v0.dot(kx), v0.dot(ky), v0.dot(kw)) + constant;
         let (dx, dy, dw) = (kx * h, ky * h, kw * h);
         let per_voxel = [0, 1, 2].map(|a| DVec3::new(dx[a], dy[a], dw[a]));
-        Projector { base, per_voxel, dx, dy, dw }
+        Projector { base, per_voxel, dy, dx, dw }
     }
+}
 
-    /// `X, Y, W` at the centre of the cube `[min, min + size]`.
-    #[inline]
-    fn centre(&self, min: [u32; 3], size: u32) -> DVec3 {
-        let half = 0.5 * f64::from(size);
-        let [px, py, pz] = self.per_voxel;
-        self.base + px * (f64::from(min[0]) + half) + py * (f64::from(min[1]) + half) + pz * (f64::from(min[2]) + half)
+/// What every node of one size shares: its half edge, how far its box reaches towards
+/// the eye, and where its children's centres are.
+#[derive(Clone, Copy, Debug, Default)]
+struct Level {
+    /// Half the edge, voxels.
+    half: f64,
+    /// `sum |dW| half`: the box's nearest point has `W >= W(centre) - reach`.
+    reach: f64,
+    /// `X, Y, W` of the centre of child `i` of a node twice this size minus the
+    /// parent's: `sum_a (bit a of i ? +half : -half) per_voxel[a]`.
+    to_child: [DVec3; 8],
+}
+
+/// One solid prepared once a frame for every strip.
+struct Solid<'a> {
+    /// The inner nodes, root first; `Some([])` when the root is full, `None` when empty.
+    nodes: Option<&'a [Inner]>,
+    domain: &'a Domain,
+    viewer: Viewer,
+    projector: Projector,
+    /// `X, Y, W` of the root's centre.
+    root: DVec3,
+    /// `levels[s]`: nodes of `2^s` voxels a side.
+    levels: [Level; MAX_DEPTH as usize + 1],
+}
+
+impl<'a> Solid<'a> {
+    fn new(traversal: &'a Traversal, view: &View, samples: &Samples) -> Self {
+        let domain = traversal.domain();
+        let projector = Projector::new(view, domain, samples);
+        let mut levels = [Level::default(); MAX_DEPTH as usize + 1];
+        for (s, level) in levels.iter_mut().enumerate() {
+            let half = 0.5 * f64::from(1u32 << s);
+            let step = projector.per_voxel.map(|p| p * half);
+            let to_child = std::array::from_fn(|i| {
+                (0..3).fold(DVec3::ZERO, |sum, a| if i >> a & 1 == 1 { sum + step[a] } else { sum - step[a] })
+            });
+            *level = Level { half, reach: projector.dw.abs().element_sum() * half, to_child };
+        }
+        let half = 0.5 * f64::from(domain.resolution());
+        let root = projector.per_voxel.iter().fold(projector.base, |sum, &p| sum + p * half);
+        Solid { nodes: traversal.inner_nodes(), domain, viewer: Viewer::new(view, domain), projector, root, levels }
     }
+}
+
+/// Front-to-back child order relative to the child `e` nearest the viewer: child
+/// `e ^ ORDER[p]` comes `p`-th (across no mid plane, one, two, three); its own inverse.
+const ORDER: [usize; 8] = [0, 1, 2, 4, 3, 5, 6, 7];
+
+/// The byte whose bit `j` is bit `e ^ j` of `mask` (`e < 8`): a swap of bits, pairs,
+/// nibbles for each bit of `e`.
+#[inline]
+fn xor_permuted(mask: u8, e: usize) -> u8 {
+    let mut m = mask;
+    if e & 1 != 0 {
+        m = (m & 0x55) << 1 | (m & 0xAA) >> 1;
+    }
+    if e & 2 != 0 {
+        m = (m & 0x33) << 2 | (m & 0xCC) >> 2;
+    }
+    if e & 4 != 0 {
+        m = m.rotate_left(4);
+    }
+    m
+}
+
+/// `mask` with bits 3 and 4 swapped: bit `j` to bit `p` where `ORDER[p] = j`.
+#[inline]
+fn swap_bits_3_and_4(mask: u8) -> u8 {
+    (mask & 0xE7) | (mask & 0x08) << 1 | (mask & 0x10) >> 1
 }
 
 /// An inclusive rectangle of samples: columns `c0..=c1`, rows `r0..=r1` (strip rows).
@@ -155,100 +226,138 @@ struct Rect {
 
 /// One solid drawn into one strip.
 struct Pass<'a> {
-    solid: usize,
-    domain: &'a Domain,
-    viewer: Viewer,
-    projector: Projector,
+    solid: &'a Solid<'a>,
+    /// Index of the solid in the scene.
+    index: usize,
     samples: &'a Samples,
     view: &'a View,
     /// First sample row of the strip.
     row0: usize,
     /// Sample rows in the strip.
     rows: usize,
+    /// Sample columns.
+    columns: usize,
+    tiles: Tiles<'a>,
+    /// The strip's samples.
+    out: &'a mut [Option<SceneHit>],
     faces: u64,
 }
 
 impl Pass<'_> {
-    fn draw(&mut self, traversal: &super::traverse::Traversal, strip: &mut Strip, out: &mut [Option<SceneHit>]) {
-        let Strip { covered, tiles_x, .. } = strip;
-        let tiles = Tiles { covered: Cell::from_mut(covered.as_mut_slice()).as_slice_of_cells(), tiles_x: *tiles_x };
-        let viewer = self.viewer;
-        let this = &*self;
-        let columns = this.samples.columns() as usize;
-        let mut faces = 0;
-        traversal.front_to_back(
-            &|axis, plane| viewer.is_high(axis, plane),
-            &mut |min, size| {
-                let centre = this.projector.centre(min, size);
-                let half = DVec3::splat(0.5 * f64::from(size));
-                this.footprint(centre, half).is_some_and(|rect| tiles.any_uncovered(rect))
-            },
-            &mut |min, size| {
-                let centre = this.projector.centre(min, size);
-                let half = DVec3::splat(0.5 * f64::from(size));
-                let Some(rect) = this.footprint(centre, half) else { return };
-                // Step 4: each uncovered sample of the footprint, its ray against the
-                // visible faces in axis order.
-                let mut visible = [None; 3];
-                let mut count = 0;
-                for face in Face::visible(&viewer, min, size) {
-                    visible[count] = Some(face);
-                    count += 1;
-                }
-                let mut drawn = false;
-                tiles.for_each_uncovered(rect, |row, col| {
-                    drawn = true;
-                    let ray = this.voxel_ray(row, col);
-                    let Some(hit) = visible.iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
-                    let i = row * columns + col;
-                    if out[i].is_none_or(|old| hit.t < old.hit.t) {
-                        out[i] = Some(SceneHit { solid: this.solid, hit });
-                    }
-                    true
-                });
-                if drawn {
-                    faces += count as u64;
-                }
-            },
-        );
-        self.faces += faces;
+    /// Step 1: the walk from the root.
+    fn draw(&mut self) {
+        let solid = self.solid;
+        let Some(nodes) = solid.nodes else { return };
+        let shift = usize::from(solid.domain.depth());
+        let strip = Rect { c0: 0, c1: self.columns - 1, r0: 0, r1: self.rows - 1 };
+        if nodes.is_empty() {
+            self.full([0; 3], shift, solid.root, strip);
+        } else if let Some(rect) = self.open(solid.root, shift, strip) {
+            self.inner(nodes, 0, [0; 3], shift, solid.root, rect);
+        }
     }
 
-    /// The voxel ray of sample `(col, row0 + row)`: the tracer's primary ray.
-    fn voxel_ray(&self, row: usize, col: usize) -> VoxelRay {
-        let (x, y) = self.samples.point(col as u32, (self.row0 + row) as u32);
-        let (o, d) = self.view.ray(x, y);
-        VoxelRay::new(self.domain, o, d)
+    /// The footprint of the node of centre `centre` (its `X, Y, W`) and `2^shift`
+    /// voxels a side within its parent's `within`, when it has an uncovered sample.
+    #[inline]
+    fn open(&self, centre: DVec3, shift: usize, within: Rect) -> Option<Rect> {
+        self.footprint(centre, &self.solid.levels[shift], within).filter(|&rect| self.tiles.any_uncovered(rect))
     }
 
-    /// The strip rectangle holding the projection of the box of centre `centre` (its
-    /// `X, Y, W`) and half extents `half` (voxels, per axis), widened by [`MARGIN`]; the
-    /// whole strip when the box reaches behind the eye; `None` when empty.
+    /// The children of inner node `index` (`[min, min + 2^shift)`, footprint `rect`
+    /// with an uncovered sample) front to back: the child on the viewer's side of all
+    /// three mid planes first, then those across one plane, two, three; a child's
+    /// centre is its parent's plus the level's offset, its footprint within `rect`
+    /// (the child's box is within the parent's). When `rect` lies in one tile, the rest
+    /// are skipped once it is covered.
+    fn inner(&mut self, nodes: &[Inner], index: u32, min: [u32; 3], shift: usize, centre: DVec3, rect: Rect) {
+        let solid = self.solid;
+        let node = nodes[index as usize];
+        let half = 1u32 << (shift - 1);
+        let viewer = solid.viewer;
+        let e = (0..3).fold(0usize, |bits, a| bits | usize::from(viewer.is_high(a, f64::from(min[a] + half))) << a);
+        let level = &solid.levels[shift - 1];
+        // Bit `p` of `todo`: child `e ^ ORDER[p]` is not empty.
+        let mut todo = swap_bits_3_and_4(xor_permuted(node.valid, e));
+        let rect_tile = self.tiles.single_tile(rect);
+        while todo != 0 {
+            let child = e ^ ORDER[todo.trailing_zeros() as usize];
+            todo &= todo - 1;
+            let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
+            let c = centre + level.to_child[child];
+            if node.full >> child & 1 == 1 {
+                self.full(cmin, shift - 1, c, rect);
+            } else if let Some(child_rect) = self.open(c, shift - 1, rect) {
+                let slot = node.first + (node.valid & !node.full & ((1u8 << child) - 1)).count_ones();
+                self.inner(nodes, slot, cmin, shift - 1, c, child_rect);
+            } else {
+                continue;
+            }
+            if todo != 0 && rect_tile.is_some_and(|(t, mask)| !self.tiles.covered[t] & mask == 0) {
+                return;
+            }
+        }
+    }
+
+    /// Step 4: the full node `[min, min + 2^shift)` (centre `centre`, within the
+    /// parent's footprint `within`): when its footprint has an uncovered sample, its
+    /// visible faces, then each uncovered sample's ray against them in axis order.
+    fn full(&mut self, min: [u32; 3], shift: usize, centre: DVec3, within: Rect) {
+        let Some(rect) = self.footprint(centre, &self.solid.levels[shift], within) else { return };
+        if !self.tiles.any_uncovered(rect) {
+            return;
+        }
+        let Pass { solid, index, samples, view, row0, columns, tiles, out, .. } = self;
+        let (solid, index, samples, view, row0, columns) = (*solid, *index, *samples, *view, *row0, *columns);
+        let mut faces = [None; 3];
+        let mut count = 0;
+        for face in Face::visible(&solid.viewer, min, 1 << shift) {
+            faces[count] = Some(face);
+            count += 1;
+        }
+        self.faces += count as u64;
+        tiles.for_each_uncovered(rect, |row, col| {
+            let (x, y) = samples.point(col as u32, (row0 + row) as u32);
+            let (o, d) = view.ray(x, y);
+            let ray = VoxelRay::new(solid.domain, o, d);
+            let Some(hit) = faces[..count].iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
+            let i = row * columns + col;
+            if out[i].is_none_or(|old| hit.t < old.hit.t) {
+                out[i] = Some(SceneHit { solid: index, hit });
+            }
+            true
+        });
+    }
+
+    /// Step 2: the rectangle within `within` holding the projection of the box of
+    /// centre `centre` (its `X, Y, W`) and half edge `level.half`, widened by
+    /// [`MARGIN`]; all of `within` when the box reaches behind the eye; `None` when empty.
     ///
     /// Bound: for a point `c + e` of the box, `x(c + e) - x(c) = ((dX - x(c) dW) . e) /
     /// (W(c) + dW . e)`, so `|x(c + e) - x(c)| <= sum |dX - x(c) dW| half / (W(c) - sum
-    /// |dW| half)` when that denominator is positive; the same for rows.
-    #[inline]
-    fn footprint(&self, centre: DVec3, half: DVec3) -> Option<Rect> {
-        let (columns, rows) = (i64::from(self.samples.columns()), self.rows as i64);
-        let p = &self.projector;
-        let nearest = centre.z - p.dw.abs().dot(half);
+    /// |dW| half)` when that denominator is positive; the same for rows (rows first:
+    /// most nodes a strip meets lie above or below it).
+    #[inline(always)]
+    fn footprint(&self, centre: DVec3, level: &Level, within: Rect) -> Option<Rect> {
+        let (columns, rows) = (self.columns as i64, self.rows as i64);
+        let p = &self.solid.projector;
+        let nearest = centre.z - level.reach;
         if nearest <= 0.0 {
-            return Some(Rect { c0: 0, c1: columns as usize - 1, r0: 0, r1: self.rows - 1 });
+            return Some(within);
         }
-        let (w, k) = (1.0 / centre.z, 1.0 / nearest);
+        let (w, k) = (1.0 / centre.z, level.half / nearest);
         let y = centre.y * w;
-        let ry = (p.dy - p.dw * y).abs().dot(half) * k + MARGIN;
+        let ry = (p.dy - p.dw * y).abs().element_sum() * k + MARGIN;
         let row0 = self.row0 as f64;
-        let r0 = ceil_within(y - ry - row0, rows).max(0);
-        let r1 = floor_within(y + ry - row0, rows).min(rows - 1);
+        let r0 = first_at_or_after(y - ry - row0, rows).max(within.r0 as i64);
+        let r1 = last_at_or_before(y + ry - row0, rows).min(within.r1 as i64);
         if r0 > r1 {
             return None;
         }
         let x = centre.x * w;
-        let rx = (p.dx - p.dw * x).abs().dot(half) * k + MARGIN;
-        let c0 = ceil_within(x - rx, columns).max(0);
-        let c1 = floor_within(x + rx, columns).min(columns - 1);
+        let rx = (p.dx - p.dw * x).abs().element_sum() * k + MARGIN;
+        let c0 = first_at_or_after(x - rx, columns).max(within.c0 as i64);
+        let c1 = last_at_or_before(x + rx, columns).min(within.c1 as i64);
         if c0 > c1 {
             return None;
         }
@@ -256,20 +365,28 @@ impl Pass<'_> {
     }
 }
 
-/// `ceil(v)`, exact for `v` in `[-1, n]`; values outside are moved to the nearer end.
+/// The first integer at or after `v` (`ceil`), moved into `[-1, n]` (NaN: -1). Rounds
+/// `v + 1/2` to nearest, so an integer `v` (give or take its rounding) may give
+/// `v + 1`: a footprint loses at most the samples on its widened edge, [`MARGIN`] away
+/// from the projection.
 #[inline]
-fn ceil_within(v: f64, n: i64) -> i64 {
-    let v = v.clamp(-1.0, n as f64);
-    let t = v as i64; // truncation: ceil for v <= 0, floor for v >= 0
-    if (t as f64) < v { t + 1 } else { t }
+fn first_at_or_after(v: f64, n: i64) -> i64 {
+    round_to_integer(v.max(-1.0).min(n as f64) + 0.5)
 }
 
-/// `floor(v)`, exact for `v` in `[-1, n]`; values outside are moved to the nearer end.
+/// The last integer at or before `v` (`floor`), moved into `[-1, n]` (NaN: `n`); the
+/// mirror of [`first_at_or_after`].
 #[inline]
-fn floor_within(v: f64, n: i64) -> i64 {
-    let v = v.clamp(-1.0, n as f64);
-    let t = v as i64;
-    if (t as f64) > v { t - 1 } else { t }
+fn last_at_or_before(v: f64, n: i64) -> i64 {
+    round_to_integer(v.min(n as f64).max(-1.0) - 0.5)
+}
+
+/// `v` rounded to the nearest integer (ties to even) for `|v| < 2^51`: added to
+/// `1.5 * 2^52`, the sum's last mantissa bits are that integer.
+#[inline]
+fn round_to_integer(v: f64) -> i64 {
+    const SHIFT: f64 = 6_755_399_441_055_744.0;
+    (v + SHIFT).to_bits() as i64 - SHIFT.to_bits() as i64
 }
 
 /// A strip's coverage, reused for every solid and strip a task draws.
@@ -337,42 +454,54 @@ const ROWS: [[u64; 8]; 8] = {
     t
 };
 
-/// The coverage tiles of a strip, shared by the walk's pruning test and drawing.
+/// The coverage tiles of a strip.
 struct Tiles<'a> {
-    covered: &'a [Cell<u64>],
+    covered: &'a mut [u64],
     tiles_x: usize,
 }
 
 impl Tiles<'_> {
+    /// Whether some sample of `rect` is not covered: one masked word test when `rect`
+    /// lies in one tile (most nodes).
+    #[inline(always)]
+    fn any_uncovered(&self, rect: Rect) -> bool {
+        match self.single_tile(rect) {
+            Some((t, mask)) => !self.covered[t] & mask != 0,
+            None => self.any_uncovered_in_tiles(rect),
+        }
+    }
+
+    /// [`Tiles::any_uncovered`] for a rectangle over several tiles.
+    #[inline(never)]
+    fn any_uncovered_in_tiles(&self, rect: Rect) -> bool {
+        let mut any = false;
+        Self::for_each_tile(rect, self.tiles_x, |t, _, _, mask| {
+            any = !self.covered[t] & mask != 0;
+            any
+        });
+        any
+    }
+
     /// Calls `each(tile, tile row, tile column, mask of the tile's samples in rect)` for
-    /// the tiles `rect` touches, row by row; stops when `each` returns true.
+    /// the tiles `rect` touches (`tiles_x` tiles a row), row by row, until `each`
+    /// returns true.
     #[inline]
-    fn find_tile(&self, rect: Rect, mut each: impl FnMut(usize, usize, usize, u64) -> bool) -> bool {
+    fn for_each_tile(rect: Rect, tiles_x: usize, mut each: impl FnMut(usize, usize, usize, u64) -> bool) {
         let (ty0, ty1, tx0, tx1) = (rect.r0 / 8, rect.r1 / 8, rect.c0 / 8, rect.c1 / 8);
-        for ty in ty0..ty1 + 1 {
+        for ty in ty0..=ty1 {
             let rows = ROWS[if ty == ty0 { rect.r0 % 8 } else { 0 }][if ty == ty1 { rect.r1 % 8 } else { 7 }];
-            for tx in tx0..tx1 + 1 {
+            for tx in tx0..=tx1 {
                 let cols =
                     columns_mask(if tx == tx0 { rect.c0 % 8 } else { 0 }, if tx == tx1 { rect.c1 % 8 } else { 7 });
-                if each(ty * self.tiles_x + tx, ty, tx, rows & cols) {
-                    return true;
+                if each(ty * tiles_x + tx, ty, tx, rows & cols) {
+                    return;
                 }
             }
         }
-        false
-    }
-
-    /// Whether some sample of `rect` is not covered.
-    #[inline]
-    fn any_uncovered(&self, rect: Rect) -> bool {
-        if let Some((t, mask)) = self.single_tile(rect) {
-            return !self.covered[t].get() & mask != 0;
-        }
-        self.find_tile(rect, |t, _, _, mask| !self.covered[t].get() & mask != 0)
     }
 
     /// The tile and mask of a rectangle within one tile (the common case of small nodes).
-    #[inline]
+    #[inline(always)]
     fn single_tile(&self, rect: Rect) -> Option<(usize, u64)> {
         let (ty, tx) = (rect.r0 / 8, rect.c0 / 8);
         (ty == rect.r1 / 8 && tx == rect.c1 / 8).then(|| {
@@ -384,25 +513,25 @@ impl Tiles<'_> {
     /// Calls `test(row, col)` for each uncovered sample of `rect`; a sample becomes
     /// covered when `test` says so.
     #[inline]
-    fn for_each_uncovered(&self, rect: Rect, mut test: impl FnMut(usize, usize) -> bool) {
-        let mut tile = |t: usize, ty: usize, tx: usize, mask: u64| {
-            let mut open = !self.covered[t].get() & mask;
+    fn for_each_uncovered(&mut self, rect: Rect, mut test: impl FnMut(usize, usize) -> bool) {
+        let mut tile = |covered: &mut u64, ty: usize, tx: usize, mask: u64| {
+            let mut open = !*covered & mask;
             while open != 0 {
                 let bit = open.trailing_zeros();
                 open &= open - 1;
                 if test(8 * ty + (bit / 8) as usize, 8 * tx + (bit % 8) as usize) {
-                    self.covered[t].set(self.covered[t].get() | 1 << bit);
+                    *covered |= 1 << bit;
                 }
             }
-            false
         };
-        match self.single_tile(rect) {
-            Some((t, mask)) => {
-                tile(t, rect.r0 / 8, rect.c0 / 8, mask);
-            }
-            None => {
-                self.find_tile(rect, tile);
-            }
+        if let Some((t, mask)) = self.single_tile(rect) {
+            tile(&mut self.covered[t], rect.r0 / 8, rect.c0 / 8, mask);
+            return;
         }
+        let covered = &mut *self.covered;
+        Self::for_each_tile(rect, self.tiles_x, |t, ty, tx, mask| {
+            tile(&mut covered[t], ty, tx, mask);
+            false
+        });
     }
 }

@@ -1,6 +1,6 @@
 //! Making a picture: primary visibility of every sample (by any [`Method`]), then the
-//! one shading stage (local Phong and Whitted's secondary rays), with `n x n` stratified supersampling (sample centres of an
-//! `n x n` grid in the pixel).
+//! one shading stage (local Phong and Whitted's secondary rays), with `n x n` stratified
+//! supersampling (sample centres of an `n x n` grid in the pixel).
 
 use image::{Rgb, RgbImage};
 use rayon::prelude::*;
@@ -60,6 +60,9 @@ pub struct RenderStats {
     pub hits: u64,
     /// Voxel faces drawn by a raster method (0 when ray tracing).
     pub faces_drawn: u64,
+    /// Rays cast by the shading stage: reflected, refracted and shadow rays (the
+    /// samples are the primary rays).
+    pub secondary_rays: u64,
 }
 
 /// Renders `scene` through `camera`: visibility of every sample by `options.method`,
@@ -85,9 +88,10 @@ pub fn render(
     progress.start(u64::from(height));
     let columns = samples.columns() as usize;
     let aspect = samples.aspect();
-    let rows: Vec<Vec<Rgb<u8>>> = (0..height)
+    let rows: Vec<(Vec<Rgb<u8>>, u64)> = (0..height)
         .into_par_iter()
         .map(|row| {
+            let mut rays = 0;
             let pixels = (0..width)
                 .map(|col| {
                     let mut sum = DVec3::ZERO;
@@ -98,7 +102,9 @@ pub fn render(
                             sum += match &seen[r as usize * columns + c as usize] {
                                 Some(h) => {
                                     let (o, d) = camera.ray(x, y, aspect);
-                                    radiance(scene, o, d, h, &shading)
+                                    let (light, cast) = radiance(scene, o, d, h, &shading);
+                                    rays += cast;
+                                    light
                                 }
                                 None => scene.background,
                             };
@@ -109,12 +115,13 @@ pub fn render(
                 })
                 .collect();
             progress.advance(1);
-            pixels
+            (pixels, rays)
         })
         .collect();
     progress.finish();
+    let secondary_rays = rows.iter().map(|(_, rays)| rays).sum();
     let mut img = RgbImage::new(width, height);
-    for (row, pixels) in rows.into_iter().enumerate() {
+    for (row, (pixels, _)) in rows.into_iter().enumerate() {
         for (col, p) in pixels.into_iter().enumerate() {
             img.put_pixel(col as u32, row as u32, p);
         }
@@ -123,6 +130,7 @@ pub fn render(
         samples: seen.len() as u64,
         hits: seen.iter().filter(|s| s.is_some()).count() as u64,
         faces_drawn: visible.faces_drawn,
+        secondary_rays,
     };
     Ok((img, stats))
 }

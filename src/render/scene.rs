@@ -1,14 +1,17 @@
 //! Scenes: solids with materials, lights, ambient light and background.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use glam::DVec3;
 
 use super::beam::PACKET;
 use super::light::{Light, Material};
+use super::normals::NormalField;
+use super::shade::Normals;
 use super::traverse::{Hit, Traversal};
 use crate::aabb::Aabb;
 use crate::octree::LinearOctree;
+use crate::shape::{Shape, Surface};
 
 /// One solid of a scene with its material and traversal structure.
 #[derive(Clone, Debug)]
@@ -24,6 +27,20 @@ pub struct SceneSolid {
     /// The complement's traversal octree, built on first use: rays inside the solid
     /// (refraction) leave it where they enter the complement.
     interior: OnceLock<Traversal>,
+    /// Its smooth normals, estimated where rays ask for them.
+    normals: NormalField,
+    /// The shape it was voxelized from, when it came from one.
+    source: Option<Source>,
+}
+
+/// A solid's source shape (shapes need not be `Debug`).
+#[derive(Clone)]
+struct Source(Arc<dyn Shape>);
+
+impl std::fmt::Debug for Source {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Source(shape)")
+    }
 }
 
 impl SceneSolid {
@@ -33,6 +50,32 @@ impl SceneSolid {
     #[must_use]
     pub fn exit(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
         self.interior.get_or_init(|| Traversal::new(&self.tree.complement())).hit(origin, dir, f64::INFINITY)
+    }
+
+    /// The smooth outward normal at the surface point `p`: with [`Normals::Smooth`]
+    /// the source shape's where it knows its surface within two voxels of `p`, else
+    /// the octree's estimate ([`NormalField`]).
+    #[must_use]
+    pub fn smooth_normal(&self, p: DVec3, mode: Normals) -> Option<DVec3> {
+        match self.shape_surface(p, mode) {
+            Some(s) => Some(s.normal),
+            None => self.normals.normal(&self.tree, p),
+        }
+    }
+
+    /// Where a texture is looked up for the surface point `p`: with [`Normals::Smooth`]
+    /// and a source shape, `p` moved onto the shape's surface (`p - d n`), so pictures
+    /// do not follow the voxel staircase; else `p`.
+    #[must_use]
+    pub fn texture_point(&self, p: DVec3, mode: Normals) -> DVec3 {
+        self.shape_surface(p, mode).map_or(p, |s| p - s.normal * s.distance)
+    }
+
+    /// The source shape's surface seen from `p` when smooth normals come from it: with
+    /// [`Normals::Smooth`], within two voxels of `p`.
+    fn shape_surface(&self, p: DVec3, mode: Normals) -> Option<Surface> {
+        let s = self.source.as_ref().filter(|_| mode == Normals::Smooth)?.0.surface(p)?;
+        (s.distance.abs() <= 2.0 * self.tree.domain().voxel_size()).then_some(s)
     }
 }
 
@@ -73,7 +116,27 @@ impl Scene {
     /// Adds a solid (its traversal octree is built here).
     pub fn add(&mut self, name: impl Into<String>, tree: LinearOctree, material: Material) {
         let traversal = Traversal::new(&tree);
-        self.solids.push(SceneSolid { name: name.into(), tree, traversal, material, interior: OnceLock::new() });
+        self.solids.push(SceneSolid {
+            name: name.into(),
+            tree,
+            traversal,
+            material,
+            interior: OnceLock::new(),
+            normals: NormalField::new(),
+            source: None,
+        });
+    }
+
+    /// Adds a solid voxelized from `shape`, whose surface gives its smooth normals.
+    pub fn add_shaped(
+        &mut self,
+        name: impl Into<String>,
+        tree: LinearOctree,
+        material: Material,
+        shape: Arc<dyn Shape>,
+    ) {
+        self.add(name, tree, material);
+        self.solids.last_mut().expect("just added").source = Some(Source(shape));
     }
 
     /// Bounds of all solids, `None` when every solid is empty.

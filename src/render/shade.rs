@@ -7,17 +7,19 @@
 //! R . V`, `C` the material's colour or texture at the point, and `f_i` the fraction of
 //! light `i` reaching the point: 1 without shadows, else the transmittance of what lies
 //! between ([`Scene::transmittance`]). Shadow rays leave the surface a thousandth of a
-//! voxel along the face's axis normal (the geometric one, whatever normal shades); with
-//! smooth normals they start two voxels further towards the light, past the staircase.
+//! voxel along the face's axis normal; with smooth normals, two voxels along the
+//! shading normal from the smooth surface's point ([`SurfacePoint::texture_at`]),
+//! clear of the voxel staircase (which would shadow it at grazing light).
 //!
 //! Normals: [`Normals::Axis`] is the entered face's axis normal; [`Normals::Smooth`]
-//! the octree's occupancy gradient ([`super::normals::smooth_normal`]), falling back to
-//! the axis normal where it would face away from the viewer. A material's bump map then
+//! the source shape's normal where there is one, else (and always with
+//! [`Normals::Octree`]) the octree's occupancy gradient
+//! ([`super::normals::smooth_normal`]); a smooth normal falls back to the axis normal
+//! where it would face away from the viewer. A material's bump map then
 //! tilts it.
 
 use glam::DVec3;
 
-use super::normals::{SMOOTH_RADIUS, smooth_normal};
 use super::scene::{Scene, SceneHit, SceneSolid};
 use super::traverse::Hit;
 
@@ -27,8 +29,12 @@ pub enum Normals {
     /// The entered voxel face's axis normal (exact for the voxel solid).
     #[default]
     Axis,
-    /// Estimated from the octree's occupancy around the hit voxel (smooth surfaces).
+    /// The source shape's normal where the solid was voxelized from a shape that
+    /// knows its surface ([`crate::shape::Shape::surface`]) and the hit lies within
+    /// two voxels of that surface; else the octree's estimate.
     Smooth,
+    /// Estimated from the octree's occupancy around the hit ([`super::normals`]).
+    Octree,
 }
 
 impl std::str::FromStr for Normals {
@@ -38,7 +44,8 @@ impl std::str::FromStr for Normals {
         match s {
             "axis" => Ok(Normals::Axis),
             "smooth" => Ok(Normals::Smooth),
-            other => Err(format!("{other:?} is not axis or smooth")),
+            "octree" => Ok(Normals::Octree),
+            other => Err(format!("{other:?} is not axis, smooth or octree")),
         }
     }
 }
@@ -71,7 +78,7 @@ pub fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, mode: Nor
     let geometric = if axis == DVec3::ZERO { -dir } else { axis };
     let smooth = match mode {
         Normals::Axis => None,
-        Normals::Smooth => smooth_normal(&solid.tree, p, SMOOTH_RADIUS),
+        Normals::Smooth | Normals::Octree => solid.smooth_normal(p, mode),
     };
     let shading = smooth.filter(|n| n.dot(dir) < 0.0).unwrap_or(geometric);
     let shading = match &solid.material.bump {
@@ -97,6 +104,8 @@ pub struct SurfacePoint {
     pub normal: DVec3,
     /// The smooth estimate of the outward normal, when smooth normals are on.
     pub smooth: Option<DVec3>,
+    /// Where the material's texture is looked up ([`SceneSolid::texture_point`]).
+    pub texture_at: DVec3,
 }
 
 impl SurfacePoint {
@@ -104,32 +113,43 @@ impl SurfacePoint {
     #[must_use]
     pub fn new(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, mode: Normals) -> Self {
         let p = origin + dir * sh.hit.t;
-        let (geometric, normal, smooth) = normals_at(&scene.solids[sh.solid], &sh.hit, dir, p, mode);
-        SurfacePoint { solid: sh.solid, p, dir, geometric, normal, smooth }
+        let solid = &scene.solids[sh.solid];
+        let (geometric, normal, smooth) = normals_at(solid, &sh.hit, dir, p, mode);
+        let texture_at = solid.texture_point(p, mode);
+        SurfacePoint { solid: sh.solid, p, dir, geometric, normal, smooth, texture_at }
     }
 }
 
-/// The local (Phong) term at `s` (see the module doc).
+/// The local (Phong) term at `s` (see the module doc), and the shadow rays cast.
 #[must_use]
-pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> DVec3 {
+pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
     let solid = &scene.solids[s.solid];
     let m = &solid.material;
     let (p, geometric, n) = (s.p, s.geometric, s.normal);
     let v = -s.dir;
     let h = solid.tree.domain().voxel_size();
-    let lift = p + geometric * (1e-3 * h);
     // With smooth normals the staircase next to the point would shadow a surface the
-    // smooth normal turns to the light: shadow rays skip the first two voxels.
-    let skip = if s.smooth.is_some() { 2.0 * h } else { 0.0 };
-    let c = m.color_at(p);
+    // smooth normal turns to the light: shadow rays start clear of it.
+    let start = match s.smooth {
+        Some(_) => s.texture_at + n * (2.0 * h),
+        None => p + geometric * (1e-3 * h),
+    };
+    let c = m.color_at(s.texture_at);
     let mut color = scene.ambient * c * m.ka;
+    let mut rays = 0;
     for light in &scene.lights {
-        let (l, distance) = light.towards(p);
+        let (l, _) = light.towards(p);
         let cos_alpha = n.dot(l);
         if cos_alpha <= 0.0 {
             continue;
         }
-        let passed = if shadows { scene.transmittance(lift + l * skip, l, distance - skip) } else { 1.0 };
+        let passed = if shadows {
+            rays += 1;
+            let (l, distance) = light.towards(start);
+            scene.transmittance(start, l, distance)
+        } else {
+            1.0
+        };
         if passed == 0.0 {
             continue;
         }
@@ -137,7 +157,7 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> DVec3 {
         let cos_theta = r.dot(v).max(0.0);
         color += light.color() * passed * (c * (m.kd * cos_alpha) + DVec3::splat(m.ks * cos_theta.powf(m.shininess)));
     }
-    color
+    (color, rays)
 }
 
 /// sRGB encoding of a linear value in `[0, 1]` (IEC 61966-2-1), to 8 bits.

@@ -135,7 +135,13 @@ impl Texture {
         match self {
             Texture::Image { texels, mapping } => {
                 let (u, v) = mapping.uv(p);
-                bilinear(texels, u, v)
+                // Pictures stand upright: up the plane's second axis or the cylinder's
+                // axis is up the image; the sphere's pole is its top row.
+                let down = match mapping {
+                    Mapping::Spherical { .. } => v,
+                    _ => 1.0 - v,
+                };
+                bilinear(texels, u, down)
             }
             Texture::Checker { size, a, b } => {
                 let c = (p / *size).floor();
@@ -155,11 +161,12 @@ impl Texture {
     }
 }
 
-/// Bilinear sample of `image` (sRGB bytes, decoded to linear) at `(u, v)`, `v = 0` the
-/// top row; the image repeats in both directions.
-fn bilinear(image: &RgbImage, u: f64, v: f64) -> DVec3 {
+/// Bilinear sample of `image` (sRGB bytes, decoded to linear) at `(u, down)`, `u` the
+/// fraction of its width from the left, `down` of its height from the top; the image
+/// repeats in both directions.
+fn bilinear(image: &RgbImage, u: f64, down: f64) -> DVec3 {
     let (w, h) = (image.width() as i64, image.height() as i64);
-    let (x, y) = (u * w as f64 - 0.5, v * h as f64 - 0.5);
+    let (x, y) = (u * w as f64 - 0.5, down * h as f64 - 0.5);
     let (x0, y0) = (x.floor(), y.floor());
     let (fx, fy) = (x - x0, y - y0);
     let texel = |i: i64, j: i64| {

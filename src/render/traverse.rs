@@ -161,6 +161,16 @@ impl Traversal {
         std::mem::size_of::<Self>() + self.nodes.capacity() * std::mem::size_of::<Inner>()
     }
 
+    /// The root for walks of their own (the front-to-back display): `None` when empty,
+    /// `Some([])` when wholly full, else the inner nodes with the root at index 0.
+    pub(crate) fn inner_nodes(&self) -> Option<&[Inner]> {
+        match self.root {
+            Root::Empty => None,
+            Root::Full => Some(&[]),
+            Root::Inner => Some(&self.nodes),
+        }
+    }
+
     /// Visits the full nodes front to back for a viewer (Meagher's octree display
     /// order): in every inner node, the child on the viewer's side of all three mid
     /// planes first, then those across one plane, two, three. A node can only hide

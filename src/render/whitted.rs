@@ -9,34 +9,55 @@
 //! on total internal reflection it reflects inside and walks again. Limits: at most
 //! `max_depth` secondary rays in a chain, and a ray whose weight in the pixel falls
 //! below `cutoff` is not traced (its light is dropped: black). Rays start a thousandth
-//! of a voxel off the surface, on the side they travel to. Simplification: a ray inside
-//! a transparent solid sees only that solid (transparent solids should not touch
-//! others).
+//! of a voxel off the voxel face, on the side of the face they leave from.
+//! Simplification: a ray inside a transparent solid sees only that solid (transparent
+//! solids should not touch others).
+//!
+//! Smooth normals on a voxel staircase: directions follow the smooth normal, even where
+//! that sends a ray back through the voxel face it starts on. The staircase then shows
+//! slivers (voxels outside the smooth surface: a ray meets one where the smooth normal
+//! says it is leaving) and notches (empty voxels inside it: a ray inside the solid
+//! leaves into one where the smooth normal says it is entering); rays pass both as if
+//! the smooth surface were the solid's, up to [`MAX_SLIVERS`] a sample, without using up
+//! the recursion depth.
+
+use std::cell::Cell;
 
 use glam::DVec3;
 
-use super::normals::{SMOOTH_RADIUS, smooth_normal};
 use super::optics::{reflect, refract};
 use super::scene::{Scene, SceneHit, SceneSolid};
 use super::shade::{Normals, ShadeOptions, SurfacePoint, local};
 use super::traverse::Hit;
 
-/// The light seen along the ray `origin + t dir` (unit `dir`) whose first hit is `sh`.
+/// The light seen along the ray `origin + t dir` (unit `dir`) whose first hit is `sh`,
+/// and the rays cast to find it after the primary one (secondary and shadow rays).
 #[must_use]
-pub fn radiance(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, options: &ShadeOptions) -> DVec3 {
+pub fn radiance(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, options: &ShadeOptions) -> (DVec3, u64) {
     let s = SurfacePoint::new(scene, origin, dir, sh, options.normals);
-    Tracer { scene, options }.at_hit(&s, 0, 1.0)
+    let tracer = Tracer { scene, options, rays: Cell::new(0), slivers: Cell::new(0) };
+    let light = tracer.at_surface(&s, 0, 1.0);
+    (light, tracer.rays.get())
 }
 
-/// One pixel's recursive tracer.
+/// One sample's recursive tracer.
 struct Tracer<'a> {
     scene: &'a Scene,
     options: &'a ShadeOptions,
+    /// Rays cast so far.
+    rays: Cell<u64>,
+    /// Staircase slivers passed so far.
+    slivers: Cell<u32>,
 }
+
+/// Most staircase slivers one sample's rays pass through (a ray grazing a voxelized
+/// surface meets one a step); they do not count against the recursion depth.
+const MAX_SLIVERS: u32 = 256;
 
 impl Tracer<'_> {
     /// Light along a secondary ray, `depth` rays deep, `weight` its share of the pixel.
     fn trace(&self, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
+        self.count(1);
         match self.scene.hit(origin, dir, f64::INFINITY) {
             // The origin lies inside a solid (a ray started at a voxel's edge or corner):
             // light passes on through a transparent one, an opaque one shows nothing.
@@ -49,18 +70,23 @@ impl Tracer<'_> {
                 }
             }
             Some(sh) => {
-                let solid = &self.scene.solids[sh.solid];
-                let s = SurfacePoint::new(self.scene, origin, dir, &sh, self.options.normals);
-                if solid.material.transmittance > 0.0 && s.smooth.is_some_and(|n| n.dot(dir) > 0.0) {
-                    // A sliver of the voxel staircase that the smooth surface leaves
-                    // outside: no surface, the ray goes on.
-                    let inside = s.p - s.geometric * self.eps(solid);
-                    return self.pass_through(solid, inside, dir, depth + 1, weight);
-                }
-                self.at_hit(&s, depth, weight)
+                self.at_surface(&SurfacePoint::new(self.scene, origin, dir, &sh, self.options.normals), depth, weight)
             }
             None => self.scene.background,
         }
+    }
+
+    /// Light along a ray that arrives at the voxel face `s`.
+    fn at_surface(&self, s: &SurfacePoint, depth: u32, weight: f64) -> DVec3 {
+        if s.smooth.is_some_and(|n| n.dot(s.dir) > 0.0) && self.slivers.get() < MAX_SLIVERS {
+            // A sliver of the voxel staircase that the smooth surface leaves outside
+            // (at silhouettes, and next to where a grazing ray left the solid): no
+            // surface, the ray goes on.
+            self.slivers.set(self.slivers.get() + 1);
+            let solid = &self.scene.solids[s.solid];
+            return self.pass_through(solid, s.p - s.geometric * self.eps(solid), s.dir, depth, weight);
+        }
+        self.at_hit(s, depth, weight)
     }
 
     /// Light along a ray that arrives at the surface point `s`.
@@ -69,7 +95,9 @@ impl Tracer<'_> {
         let m = &solid.material;
         let (kr, kt) = (m.reflectance, m.transmittance);
         let dir = s.dir;
-        let mut color = local(self.scene, s, self.options.shadows) * (1.0 - kr - kt);
+        let (local, shadow_rays) = local(self.scene, s, self.options.shadows);
+        self.count(shadow_rays);
+        let mut color = local * (1.0 - kr - kt);
         if depth >= self.options.max_depth || kr + kt == 0.0 {
             return color;
         }
@@ -78,16 +106,20 @@ impl Tracer<'_> {
         // Light that does not pass (total internal reflection) is reflected.
         let mut mirrored = kr;
         if kt * weight > self.options.cutoff {
-            match bend(n, geometric, |n| refract(dir, n, 1.0, m.ior), -1.0) {
+            match refract(dir, n, 1.0, m.ior) {
                 Some(t) => color += self.through(solid, p - geometric * eps, t, depth + 1, weight * kt) * kt,
                 None => mirrored += kt,
             }
         }
         if mirrored * weight > self.options.cutoff {
-            let r = bend(n, geometric, |n| Some(reflect(dir, n)), 1.0).expect("reflection always exists");
+            let r = reflect(dir, n);
             color += self.trace(p + geometric * eps, r, depth + 1, weight * mirrored) * mirrored;
         }
         color
+    }
+
+    fn count(&self, rays: u64) {
+        self.rays.set(self.rays.get() + rays);
     }
 
     /// Rays start this far off a surface of `solid`.
@@ -97,8 +129,9 @@ impl Tracer<'_> {
 
     /// Light along a ray that starts inside `solid` and crosses it without refraction.
     fn pass_through(&self, solid: &SceneSolid, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
+        self.count(1);
         match solid.exit(origin, dir) {
-            Some(exit) if exit.axis.is_some() && depth <= self.options.max_depth => {
+            Some(exit) if exit.axis.is_some() => {
                 let p = origin + dir * exit.t;
                 self.trace(p - exit.normal(dir) * self.eps(solid), dir, depth, weight)
             }
@@ -110,6 +143,7 @@ impl Tracer<'_> {
     fn through(&self, solid: &SceneSolid, mut origin: DVec3, mut dir: DVec3, mut depth: u32, weight: f64) -> DVec3 {
         let eps = 1e-3 * solid.tree.domain().voxel_size();
         while depth <= self.options.max_depth {
+            self.count(1);
             let Some(exit) = solid.exit(origin, dir) else {
                 // Leaves through the domain's boundary: no surface there.
                 return self.trace(origin, dir, depth, weight);
@@ -120,38 +154,27 @@ impl Tracer<'_> {
             }
             let p = origin + dir * exit.t;
             let (geometric, n, smooth) = outward(solid, &exit, dir, p, self.options);
-            if smooth.is_some_and(|n| n.dot(dir) < 0.0) {
+            if smooth.is_some_and(|n| n.dot(dir) < 0.0) && self.slivers.get() < MAX_SLIVERS {
                 // A notch of the staircase inside the smooth surface: no surface, the
                 // ray goes on to where it meets the solid again.
+                self.slivers.set(self.slivers.get() + 1);
+                self.count(1);
                 if let Some(back) = solid.traversal.hit(p + geometric * eps, dir, f64::INFINITY) {
                     let q = p + geometric * eps + dir * back.t;
                     origin = q - back.normal(dir) * eps;
-                    depth += 1;
                     continue;
                 }
             }
-            match bend(n, geometric, |n| refract(dir, n, solid.material.ior, 1.0), 1.0) {
+            match refract(dir, n, solid.material.ior, 1.0) {
                 Some(t) => return self.trace(p + geometric * eps, t, depth, weight),
                 None => {
-                    dir = bend(n, geometric, |n| Some(reflect(dir, n)), -1.0).expect("reflection always exists");
+                    dir = reflect(dir, n);
                     origin = p - geometric * eps;
                     depth += 1;
                 }
             }
         }
         DVec3::ZERO
-    }
-}
-
-/// A new direction `make(n)` from the shading normal `n`, on the side `side` (+1: the
-/// side the geometric normal `geometric` points to, -1: the other): where a shading
-/// normal far from the geometric one would send the ray through the wrong side of the
-/// voxel face, the geometric normal bends it instead.
-/// Total internal reflection (`None`) by the shading normal stands.
-fn bend(n: DVec3, geometric: DVec3, make: impl Fn(DVec3) -> Option<DVec3>, side: f64) -> Option<DVec3> {
-    match make(n) {
-        Some(v) if v.dot(geometric) * side <= 0.0 && n != geometric => make(geometric),
-        other => other,
     }
 }
 
@@ -168,7 +191,7 @@ fn outward(
     let geometric = -exit.normal(dir);
     let smooth = match options.normals {
         Normals::Axis => None,
-        Normals::Smooth => smooth_normal(&solid.tree, p, SMOOTH_RADIUS),
+        Normals::Smooth | Normals::Octree => solid.smooth_normal(p, options.normals),
     };
     let n = smooth.filter(|n| n.dot(dir) > 0.0).unwrap_or(geometric);
     (geometric, solid.material.bump.map_or(n, |b| b.perturb(p, n)), smooth)

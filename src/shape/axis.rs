@@ -32,6 +32,18 @@ impl Axis {
         let i = self.index();
         (p[i], [p[(i + 1) % 3], p[(i + 2) % 3]])
     }
+
+    /// The inverse of [`Axis::split`]: the vector with coordinate `w` along the axis
+    /// and `[u, v]` across it.
+    #[must_use]
+    pub(crate) fn join(self, w: f64, [u, v]: [f64; 2]) -> DVec3 {
+        let i = self.index();
+        let mut p = DVec3::ZERO;
+        p[i] = w;
+        p[(i + 1) % 3] = u;
+        p[(i + 2) % 3] = v;
+        p
+    }
 }
 
 impl std::str::FromStr for Axis {

@@ -12,7 +12,7 @@ use glam::DVec3;
 
 use super::axis::Axis;
 use super::bounds::{both, classify_below, finite, positive, radial_range};
-use super::{Class, Shape};
+use super::{Class, Shape, Surface};
 use crate::aabb::Aabb;
 use crate::error::Result;
 
@@ -73,6 +73,19 @@ impl Shape for Cone {
         let (t, [u, v]) = self.axis.split(p - self.base);
         let r = self.radius * (1.0 - t / self.height);
         (0.0..=self.height).contains(&t) && u * u + v * v <= r * r
+    }
+
+    /// The intersection of the lateral surface `f = rho + (R / H) t - R` (first order,
+    /// `grad f = radial + (R / H) axis`) and the slab `0 <= t <= H`.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let (t, [u, v]) = self.axis.split(p - self.base);
+        let rho = u.hypot(v);
+        let slope = self.radius / self.height;
+        let radial = if rho > 0.0 { [u / rho, v / rho] } else { [0.0, 0.0] };
+        let side = Surface::from_field(rho + slope * t - self.radius, self.axis.join(slope, radial))?;
+        let half = self.height * 0.5;
+        let slab = Surface::from_field((t - half).abs() - half, self.axis.unit() * (t - half).signum())?;
+        Some(side.intersection(slab))
     }
 
     fn bounds(&self) -> Option<Aabb> {

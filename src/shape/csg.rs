@@ -13,7 +13,8 @@ use glam::DVec3;
 
 use super::bounds::both;
 use super::{
-    Class, Cone, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
+    Class, Cone, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Surface, Torus,
+    Transformed,
 };
 use crate::aabb::Aabb;
 
@@ -96,6 +97,22 @@ impl Shape for Csg {
             CsgNode::SymmetricDifference(x, y) => x.contains(p) != y.contains(p),
             CsgNode::Complement(x) => !x.contains(p),
         }
+    }
+
+    /// Leaves' surfaces combined as distance bounds (see [`Surface`]); `None` when a
+    /// leaf cannot tell.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        Some(match &*self.0 {
+            CsgNode::Leaf(s) => s.surface(p)?,
+            CsgNode::Union(x, y) => x.surface(p)?.union(y.surface(p)?),
+            CsgNode::Intersection(x, y) => x.surface(p)?.intersection(y.surface(p)?),
+            CsgNode::Difference(x, y) => x.surface(p)?.intersection(y.surface(p)?.flipped()),
+            CsgNode::SymmetricDifference(x, y) => {
+                let (a, b) = (x.surface(p)?, y.surface(p)?);
+                a.intersection(b.flipped()).union(b.intersection(a.flipped()))
+            }
+            CsgNode::Complement(x) => x.surface(p)?.flipped(),
+        })
     }
 
     fn bounds(&self) -> Option<Aabb> {

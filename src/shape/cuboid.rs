@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use super::bounds::{EPS, finite, positive};
-use super::{Class, Shape};
+use super::{Class, Shape, Surface};
 use crate::aabb::Aabb;
 use crate::error::Result;
 
@@ -55,5 +55,21 @@ impl Shape for Cuboid {
 
     fn bounds(&self) -> Option<Aabb> {
         Some(self.b)
+    }
+
+    /// Exact: with `e = |p - c| - h` (`h` the half size), outside
+    /// `d = |max(e, 0)|`, `n` along `max(e, 0)` signed like `p - c`; inside
+    /// `d = max_i e_i`, `n` the axis of that face.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let q = p - self.b.center();
+        let e = q.abs() - self.b.size() * 0.5;
+        let outside = e.max(DVec3::ZERO);
+        if outside != DVec3::ZERO {
+            return Surface::exact(outside.length(), outside * q.signum());
+        }
+        let a = e.max_position();
+        let mut normal = DVec3::ZERO;
+        normal[a] = q[a].signum();
+        Some(Surface { distance: e[a], normal })
     }
 }

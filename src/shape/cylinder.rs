@@ -10,7 +10,7 @@ use glam::DVec3;
 
 use super::axis::Axis;
 use super::bounds::{both, classify_below, finite, positive, radial_range, square_range};
-use super::{Class, Shape};
+use super::{Class, Shape, Surface};
 use crate::aabb::Aabb;
 use crate::error::Result;
 
@@ -55,6 +55,18 @@ impl Shape for Cylinder {
     fn contains(&self, p: DVec3) -> bool {
         let (w, [u, v]) = self.axis.split(p - self.center);
         u * u + v * v <= self.radius * self.radius && w.abs() <= self.height * 0.5
+    }
+
+    /// The intersection of the infinite cylinder (`d = sqrt(u^2 + v^2) - R`, radial
+    /// normal) and the slab between the caps (`d = |w| - H / 2`, axial normal).
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let (w, [u, v]) = self.axis.split(p - self.center);
+        let caps = Surface::exact(w.abs() - self.height * 0.5, self.axis.unit() * w.signum())?;
+        match Surface::exact(u.hypot(v) - self.radius, self.axis.join(0.0, [u, v])) {
+            Some(side) => Some(side.intersection(caps)),
+            // On the axis: no radial direction, and the caps are nearer anyway.
+            None => Some(caps),
+        }
     }
 
     fn bounds(&self) -> Option<Aabb> {

@@ -14,7 +14,7 @@
 use glam::DVec3;
 
 use super::bounds::{EPS, finite, positive};
-use super::{Class, Shape};
+use super::{Class, Shape, Surface};
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
@@ -84,6 +84,21 @@ impl Shape for DisplacedSphere {
 
     fn contains(&self, p: DVec3) -> bool {
         self.g(p) <= 0.0
+    }
+
+    /// `g` and its gradient `u - (grad_u r - u (u . grad_u r)) / |q|` (first order),
+    /// with `u = q / |q|` and `grad_u r = A k (cos(k u_x) sin(k u_y) sin(k u_z), ...)`.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let q = p - self.center;
+        let d = q.length();
+        if d == 0.0 {
+            return None;
+        }
+        let u = q / d;
+        let k = self.frequency;
+        let (s, c) = ((k * u).to_array().map(f64::sin), (k * u).to_array().map(f64::cos));
+        let along = DVec3::new(c[0] * s[1] * s[2], s[0] * c[1] * s[2], s[0] * s[1] * c[2]) * (self.amplitude * k);
+        Surface::from_field(self.g(p), u - (along - u * u.dot(along)) / d)
     }
 
     fn bounds(&self) -> Option<Aabb> {

@@ -5,7 +5,7 @@
 use glam::DVec3;
 
 use super::bounds::{EPS, finite};
-use super::{Class, Shape};
+use super::{Class, Shape, Surface};
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
@@ -52,5 +52,10 @@ impl Shape for HalfSpace {
 
     fn bounds(&self) -> Option<Aabb> {
         None
+    }
+
+    /// Exact: `d = (n . p - offset) / |n|`.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        Surface::from_field(self.normal.dot(p) - self.offset, self.normal)
     }
 }

@@ -48,6 +48,13 @@ pub trait Shape: Send + Sync {
 
     /// A box holding the solid; `None` when it is unbounded (a half-space).
     fn bounds(&self) -> Option<Aabb>;
+
+    /// The surface nearest `p` (signed distance and outward normal), for smooth
+    /// shading; `None` (the default) when the shape cannot tell.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let _ = p;
+        None
+    }
 }
 
 /// Shapes behind references and smart pointers are shapes.
@@ -62,6 +69,9 @@ macro_rules! forward_shape {
             }
             fn bounds(&self) -> Option<Aabb> {
                 (**self).bounds()
+            }
+            fn surface(&self, p: DVec3) -> Option<Surface> {
+                (**self).surface(p)
             }
         }
     )*};
@@ -79,6 +89,7 @@ mod displaced;
 mod half_space;
 mod menger;
 mod sphere;
+mod surface;
 mod torus;
 mod transformed;
 
@@ -91,5 +102,6 @@ pub use displaced::DisplacedSphere;
 pub use half_space::HalfSpace;
 pub use menger::Menger;
 pub use sphere::{Ellipsoid, Sphere};
+pub use surface::Surface;
 pub use torus::Torus;
 pub use transformed::{ShapeExt, Transformed};

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 use glam::DVec3;
 
 use super::bounds::{classify_below, finite, positive, square_range};
-use super::{Class, Shape};
+use super::{Class, Shape, Surface};
 use crate::aabb::Aabb;
 use crate::error::Result;
 
@@ -57,6 +57,12 @@ impl Shape for Ellipsoid {
     fn bounds(&self) -> Option<Aabb> {
         Some(Aabb::from_center_half(self.center, self.radii))
     }
+
+    /// `f = |(p - c) / r|^2 - 1`, `grad f = 2 (p - c) / r^2` (first order).
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let q = (p - self.center) / self.radii;
+        Surface::from_field(q.length_squared() - 1.0, 2.0 * q / self.radii)
+    }
 }
 
 /// A ball `|p - c| <= r`.
@@ -85,5 +91,10 @@ impl Shape for Sphere {
     }
     fn bounds(&self) -> Option<Aabb> {
         self.0.bounds()
+    }
+    /// Exact: `d = |p - c| - r`, `n = (p - c) / |p - c|`.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let q = p - self.0.center;
+        Surface::exact(q.length() - self.0.radii.x, q)
     }
 }

@@ -12,7 +12,7 @@ use glam::DVec3;
 
 use super::axis::Axis;
 use super::bounds::{classify_below, finite, positive, radial_range, square_range};
-use super::{Class, Shape};
+use super::{Class, Shape, Surface};
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
@@ -58,6 +58,18 @@ impl Shape for Torus {
         let (w, [u, v]) = self.axis.split(p - self.center);
         let d = (u * u + v * v).sqrt() - self.major;
         d * d + w * w <= self.minor * self.minor
+    }
+
+    /// Exact: `d = |(rho - R, w)| - r`, the normal along `(rho - R)` radially and `w`
+    /// axially.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let (w, [u, v]) = self.axis.split(p - self.center);
+        let rho = u.hypot(v);
+        if rho == 0.0 {
+            return None;
+        }
+        let across = rho - self.major;
+        Surface::exact(across.hypot(w) - self.minor, self.axis.join(w, [across * u / rho, across * v / rho]))
     }
 
     fn bounds(&self) -> Option<Aabb> {

@@ -8,7 +8,7 @@
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
-use super::{Class, Shape};
+use super::{Class, Shape, Surface};
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
@@ -55,6 +55,14 @@ impl<S: Shape> Shape for Transformed<S> {
 
     fn contains(&self, p: DVec3) -> bool {
         self.inner.contains(self.to_local.transform_point3(p))
+    }
+
+    /// The inner shape's surface at the local point: normals map by the inverse
+    /// transpose `g = M^-T n`, distances (first order) by `d / |g|`.
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        let s = self.inner.surface(self.to_local.transform_point3(p))?;
+        let g = self.to_local.matrix3.transpose() * s.normal;
+        Surface::from_field(s.distance, g)
     }
 
     fn bounds(&self) -> Option<Aabb> {
