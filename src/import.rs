@@ -111,7 +111,7 @@ pub fn voxelize_input(
         Fill::Solid => {
             let options = MeshVoxelizeOptions { inside, budget, progress };
             let (tree, stats) = voxelize_mesh(&mesh, domain, &options)?;
-            let volume = PolygonTables::new(&mesh).report().volume;
+            let volume = mesh.volume();
             Ok((tree, VoxelizeSummary { triangles: mesh.triangles.len(), mesh_volume: Some(volume), rule: stats.rule }))
         }
         Fill::Surface | Fill::Thin => {

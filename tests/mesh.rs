@@ -220,6 +220,10 @@ fn quick_watertight_check_agrees_with_the_tables() {
         let mut flipped = mesh.clone();
         flipped.triangles[3].swap(0, 1);
         assert!(!flipped.is_watertight() && !PolygonTables::new(&flipped).report().watertight, "{name} flipped");
+        // Every edge twice each way: each reverse is there, but edges repeat.
+        let mut doubled = mesh.clone();
+        doubled.triangles.extend_from_within(..);
+        assert!(!doubled.is_watertight() && !PolygonTables::new(&doubled).report().watertight, "{name} doubled");
     }
 }
 

@@ -48,6 +48,19 @@ impl Plane {
     }
 }
 
+impl Plane {
+    /// Whether the plane may meet the closed box of centre `c` and half side `h`
+    /// (conservative): it misses when `|n . (c - a)| > |n|_1 h`, the box's projection
+    /// radius on `n`. The bound is grown by `1e-12 |n|_1 |c - a|_inf`, more than the
+    /// rounding of the dot product, and by a relative hair on `h`.
+    #[inline]
+    #[must_use]
+    pub fn meets_cube(&self, c: DVec3, h: f64) -> bool {
+        let d = c - self.a;
+        self.n.dot(d).abs() <= self.n.abs().element_sum() * (h * (1.0 + 1e-9) + 1e-12 * d.abs().max_element())
+    }
+}
+
 /// `+1` when the segment `q -> p` enters triangle `t` (plane `plane`) against its
 /// normal (front to back), `-1` when it leaves, `0` when it misses. The plane's float
 /// side tests settle most segments, which stay on one side.
@@ -85,4 +98,34 @@ pub fn signed_crossing_sides(mesh: &TriangleMesh, t: u32, q: DVec3, front_q: boo
         return 0;
     }
     if front_q { 1 } else { -1 }
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::rngs::Xoshiro256PlusPlus;
+    use rand::{RngExt, SeedableRng};
+
+    use super::*;
+    use crate::mesh::tri_box::triangle_box_overlap;
+
+    #[test]
+    fn plane_test_keeps_every_triangle_that_meets_the_cube() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        let mut point =
+            || DVec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        let (mut met, mut missed) = (0, 0);
+        for _ in 0..3000 {
+            let mesh = TriangleMesh::new(vec![point(), point(), point()], vec![[0, 1, 2]]).unwrap();
+            let (c, h) = (point(), 0.3 * (point().x + 1.0) + 0.01);
+            let plane = Plane::new(&mesh, 0);
+            // The oracle: the exact separating-axis test on the same cube.
+            if triangle_box_overlap(&mesh.corners(0), c, DVec3::splat(h)) {
+                assert!(plane.meets_cube(c, h), "{:?} {c} {h}", mesh.corners(0));
+                met += 1;
+            } else {
+                missed += usize::from(!plane.meets_cube(c, h));
+            }
+        }
+        assert!(met > 300 && missed > 300, "{met} met, {missed} missed by the plane too");
+    }
 }

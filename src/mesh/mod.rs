@@ -110,18 +110,42 @@ impl TriangleMesh {
     }
 
     /// Whether every edge is used exactly twice, once in each direction (closed,
-    /// manifold, consistently oriented). Sorts directed edges: O(n log n), no tables.
+    /// manifold, consistently oriented): each directed edge `a -> b` occurs once and
+    /// `b -> a` occurs too. The directed edges are bucketed by their first vertex (a
+    /// counting sort, O(n)) and each bucket sorted (a few edges), so both checks look
+    /// at one vertex's edges only: O(n log d) for vertex degree d, no tables.
     #[must_use]
     pub fn is_watertight(&self) -> bool {
-        let mut edges: Vec<u64> = Vec::with_capacity(self.triangles.len() * 3);
+        // Step 1: bucket starts by first vertex (counts, then prefix sums); indices
+        // past the vertex table are counted too, so an unchecked mesh cannot panic.
+        let n = self.triangles.iter().flatten().max().map_or(0, |&i| i as usize + 1);
+        let mut start = vec![0u32; n + 1];
+        for &a in self.triangles.iter().flatten() {
+            start[a as usize + 1] += 1;
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        // Step 2: each edge's second vertex into its first vertex's bucket, sorted.
+        let mut next = start.clone();
+        let mut ends = vec![0u32; self.triangles.len() * 3];
         for t in &self.triangles {
             for k in 0..3 {
-                edges.push(u64::from(t[k]) << 32 | u64::from(t[(k + 1) % 3]));
+                let (a, b) = (t[k] as usize, t[(k + 1) % 3]);
+                ends[next[a] as usize] = b;
+                next[a] += 1;
             }
         }
-        edges.sort_unstable();
-        let unique = edges.windows(2).all(|w| w[0] != w[1]);
-        unique && edges.iter().all(|&e| edges.binary_search(&e.rotate_right(32)).is_ok())
+        let bucket = |a: usize| start[a] as usize..start[a + 1] as usize;
+        for a in 0..n {
+            ends[bucket(a)].sort_unstable();
+        }
+        // Step 3: no edge twice, and every edge's reverse present.
+        (0..n).all(|a| {
+            let out = &ends[bucket(a)];
+            out.windows(2).all(|w| w[0] != w[1])
+                && out.iter().all(|&b| ends[bucket(b as usize)].binary_search(&(a as u32)).is_ok())
+        })
     }
 
     /// Merges vertices with bit-identical coordinates and drops unused ones.

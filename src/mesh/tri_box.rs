@@ -11,36 +11,36 @@ use glam::DVec3;
 /// Whether triangle `t` meets the closed box with centre `center` and half extents `half`.
 #[must_use]
 pub fn triangle_box_overlap(t: &[DVec3; 3], center: DVec3, half: DVec3) -> bool {
-    let half = half * (1.0 + 1e-9) + DVec3::splat(1e-300);
+    let h = half * (1.0 + 1e-9) + DVec3::splat(1e-300);
     // Step 1: move the box to the origin.
     let v = [t[0] - center, t[1] - center, t[2] - center];
     // Step 2: the box normals (the triangle's bounding box against the box).
     for a in 0..3 {
         let (lo, hi) = min_max([v[0][a], v[1][a], v[2][a]]);
-        if lo > half[a] || hi < -half[a] {
+        if lo > h[a] || hi < -h[a] {
             return false;
         }
     }
     // Step 3: the triangle's plane: n . x = n . v0 against the box's projection radius
     // (cheap, and it rejects most near misses).
-    let edges = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
-    let n = edges[0].cross(edges[1]);
-    if n.dot(v[0]).abs() > half.dot(n.abs()) {
+    let e = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
+    let n = e[0].cross(e[1]);
+    if n.dot(v[0]).abs() > h.dot(n.abs()) {
         return false;
     }
-    // Step 4: the nine edge cross products: project triangle and box on axis = e_i x edge.
-    // The axes have a zero component, dropped from the dot products (the same sums).
-    let h = half;
-    for e in edges {
-        let (ax, ay, az) =
-            (v.map(|v| -e.z * v.y + e.y * v.z), v.map(|v| e.z * v.x + -e.x * v.z), v.map(|v| -e.y * v.x + e.x * v.y));
-        let radii =
-            [h.y * e.z.abs() + h.z * e.y.abs(), h.x * e.z.abs() + h.z * e.x.abs(), h.x * e.y.abs() + h.y * e.x.abs()];
-        for (p, r) in [ax, ay, az].into_iter().zip(radii) {
-            let (lo, hi) = min_max(p);
-            if lo > r || hi < -r {
-                return false;
-            }
+    // Step 4: the nine axes u_i x e_k (box axis u_i, triangle edge e_k). Edge k's two
+    // ends project alike, to u_i . (e_k x v_k); the third corner adds
+    // u_i . (e_k x (v_opposite - v_k)) = n_i, the same for every edge. So the
+    // triangle's projection is [w_i, w_i + n_i] with w = e_k x v_k, against the box's
+    // radius h_j |e_k,l| + h_l |e_k,j| ({i, j, l} = {x, y, z}).
+    let (n_lo, n_hi) = (n.min(DVec3::ZERO), n.max(DVec3::ZERO));
+    for k in 0..3 {
+        let w = e[k].cross(v[k]);
+        let a = e[k].abs();
+        let r = DVec3::new(h.y * a.z + h.z * a.y, h.x * a.z + h.z * a.x, h.x * a.y + h.y * a.x);
+        // Separated on some axis i: w_i + min(0, n_i) > r_i or w_i + max(0, n_i) < -r_i.
+        if (w + n_lo).cmpgt(r).any() || (w + n_hi).cmplt(-r).any() {
+            return false;
         }
     }
     true

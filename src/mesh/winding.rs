@@ -163,7 +163,13 @@ fn build(corners: &[[DVec3; 3]], items: &mut [Item], first: usize, out: &mut [Cl
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| (lo.min(item.centroid), hi.max(item.centroid)));
     let axis = (hi - lo).max_position();
     let mid = items.len() / 2;
-    items.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+    // One comparison per axis with the coordinate fixed at compile time (the same order
+    // as `centroid[axis].total_cmp`, without the run-time index in the hot loop).
+    match axis {
+        0 => items.select_nth_unstable_by(mid, |a, b| a.centroid.x.total_cmp(&b.centroid.x)),
+        1 => items.select_nth_unstable_by(mid, |a, b| a.centroid.y.total_cmp(&b.centroid.y)),
+        _ => items.select_nth_unstable_by(mid, |a, b| a.centroid.z.total_cmp(&b.centroid.z)),
+    };
     let (left, right) = items.split_at_mut(mid);
     let second = at + 1 + cluster_count(left.len()) as u32;
     let (parent, children) = out.split_first_mut().expect("an inner cluster has room");
