@@ -125,7 +125,7 @@ fn check(tree: &LinearOctree, rng: &mut Rng, count: usize) {
             (None, None) => {}
             (Some(h), Some((tw, vw, fw))) => {
                 assert!((h.t - tw).abs() * d.length() <= 1e-9 * n, "t {} vs {tw} for {o} {d}", h.t);
-                assert_eq!((h.voxel, h.axis), (vw, fw), "voxel/face for ray {o} {d}");
+                assert_eq!((h.voxel, h.axis.map(usize::from)), (vw, fw), "voxel/face for ray {o} {d}");
             }
             _ => panic!("hit {got:?} vs brute force {want:?} for ray {o} {d}"),
         }

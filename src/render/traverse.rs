@@ -63,8 +63,9 @@ pub struct Hit {
     pub t: f64,
     /// The full voxel entered, in integer coordinates.
     pub voxel: [u32; 3],
-    /// Axis of the entered face (0, 1, 2), `None` when the origin is inside.
-    pub axis: Option<usize>,
+    /// Axis of the entered face (0, 1, 2), `None` when the origin is inside. (A byte:
+    /// a frame holds a hit a sample, so the record is kept to 24 bytes.)
+    pub axis: Option<u8>,
 }
 
 impl Hit {
@@ -73,6 +74,7 @@ impl Hit {
     pub fn normal(&self, dir: DVec3) -> DVec3 {
         match self.axis {
             Some(a) => {
+                let a = usize::from(a);
                 let mut n = DVec3::ZERO;
                 n[a] = -dir[a].signum();
                 n
@@ -526,6 +528,6 @@ impl VoxelRay {
                 })
                 .unwrap_or(f)
         });
-        Hit { t, voxel, axis: if inside { None } else { face } }
+        Hit { t, voxel, axis: if inside { None } else { face.map(|a| a as u8) } }
     }
 }
