@@ -459,14 +459,18 @@ fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> R
     let started = Instant::now();
     let (img, stats) = render::render(scene, camera, options, &bar)?;
     let seconds = started.elapsed().as_secs_f64();
-    let faces = match options.method {
-        render::Method::Trace => String::new(),
-        _ => format!(", {} faces drawn", stats.faces_drawn),
+    let secondary = stats.secondary_rays;
+    let visibility = match options.method {
+        // Every sample is a primary ray.
+        render::Method::Trace => {
+            let rays = stats.samples + secondary;
+            let rate = rays as f64 / seconds / 1e6;
+            format!("{rays} rays: {} primary, {secondary} secondary and shadow; {rate:.2} M rays/s", stats.samples)
+        }
+        _ => format!("{} faces drawn, {secondary} secondary and shadow rays", stats.faces_drawn),
     };
-    let rays = stats.samples + stats.secondary_rays;
     out!(
-        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.2} M samples/s; {} rays: {} primary, {} \
-         secondary and shadow, {:.2} M rays/s{faces})",
+        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.2} M samples/s; {visibility})",
         options.width,
         options.height,
         options.spp,
@@ -474,10 +478,6 @@ fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> R
         options.method,
         seconds,
         stats.samples as f64 / seconds / 1e6,
-        rays,
-        stats.samples,
-        stats.secondary_rays,
-        rays as f64 / seconds / 1e6
     );
     Ok(img)
 }
