@@ -9,7 +9,7 @@
 //! window's cube into a full and an empty half (a flat face), the face's axis normal.
 //!
 //! Method: the cube of `2r + 2` voxels around `q` is read as one bit pattern a row of
-//! voxels along x ([`Window`]); a row at offsets `(dy, dz)` with `rho^2 = dy^2 + dz^2`
+//! voxels along x (`Window`); a row at offsets `(dy, dz)` with `rho^2 = dy^2 + dz^2`
 //! adds, over its full voxels inside the ball, `(a S1 - S3 / R^2, dy (a S0 - S2 / R^2),
 //! dz (a S0 - S2 / R^2))` with `a = 1 - rho^2 / R^2`, `R = r + 1/2` and `Sk = sum dx^k`,
 //! so a query costs a pass over the rows' set bits. [`NormalField`], the renderer's

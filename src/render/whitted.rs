@@ -18,7 +18,7 @@
 //! slivers (voxels outside the smooth surface: a ray meets one where the smooth normal
 //! says it is leaving) and notches (empty voxels inside it: a ray inside the solid
 //! leaves into one where the smooth normal says it is entering); rays pass both as if
-//! the smooth surface were the solid's, up to [`MAX_SLIVERS`] a sample, without using up
+//! the smooth surface were the solid's, up to `MAX_SLIVERS` (256) a sample, without using up
 //! the recursion depth.
 
 use std::cell::Cell;
