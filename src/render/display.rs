@@ -311,17 +311,12 @@ impl Pass<'_> {
         }
         let Pass { solid, index, rays, row0, columns, tiles, out, .. } = self;
         let (solid, index, rays, row0, columns) = (*solid, *index, *rays, *row0, *columns);
-        let mut faces = [None; 3];
-        let mut count = 0;
-        for face in Face::visible(&solid.viewer, min, 1 << shift) {
-            faces[count] = Some(face);
-            count += 1;
-        }
-        self.faces += count as u64;
+        let faces = Face::visible(&solid.viewer, min, 1 << shift);
+        self.faces += faces.clone().count() as u64;
         tiles.for_each_uncovered(rect, |row, col| {
             let (o, d) = rays.ray(col, row0 + row);
             let ray = VoxelRay::new(solid.domain, o, d);
-            let Some(hit) = faces[..count].iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
+            let Some(hit) = faces.clone().find_map(|face| face.enters(&ray)) else { return false };
             let i = row * columns + col;
             if out[i].is_none_or(|old| hit.t < old.hit.t) {
                 out[i] = Some(SceneHit { solid: index, hit });
