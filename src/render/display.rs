@@ -56,7 +56,7 @@ use super::traverse::{Inner, Traversal, VoxelRay};
 use crate::octree::{Domain, MAX_DEPTH};
 
 /// Sample rows a strip (one parallel task); a multiple of the tile height 8.
-pub const STRIP_ROWS: usize = 32;
+pub const STRIP_ROWS: usize = 64;
 
 /// Samples by which a projected footprint is widened on every side.
 const MARGIN: f64 = 1e-2;
