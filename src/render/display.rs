@@ -23,10 +23,11 @@
 //!    so a footprint test is one masked word test a tile it touches (one, mostly).
 //! 4. A full node with an uncovered sample in its footprint: its faces that look at
 //!    the viewer, then each uncovered sample of the footprint makes its voxel ray once
-//!    and tests those faces in axis order by the exact face rule (`Face::enters`); the
-//!    first face it enters covers the sample, with that face's [`VoxelRay::entry`] as
-//!    the hit. (One ray a sample and node, not one a face: the ray, a square root and
-//!    nine divisions, is the dear part of a test.)
+//!    (the camera ray from per-column and per-row terms, [`RayGrid`]) and tests those
+//!    faces in axis order by the exact face rule (`Face::enters`); the first face it
+//!    enters covers the sample, with that face's [`VoxelRay::entry`] as the hit. (One
+//!    ray a sample and node, not one a face: the ray, a square root and ten divisions,
+//!    is the dear part of a test.)
 //!
 //! Tie-breaking: a sample takes the first face in visiting order (nodes front to back,
 //! faces of a node by axis) whose exact test it passes. Since the footprints only ever
@@ -49,12 +50,13 @@ use rayon::prelude::*;
 use super::camera::{Projection, View};
 use super::face::{Face, Viewer};
 use super::raster::Samples;
+use super::ray_grid::RayGrid;
 use super::scene::{Scene, SceneHit};
 use super::traverse::{Inner, Traversal, VoxelRay};
 use crate::octree::{Domain, MAX_DEPTH};
 
 /// Sample rows a strip (one parallel task); a multiple of the tile height 8.
-pub const STRIP_ROWS: usize = 32;
+pub const STRIP_ROWS: usize = 64;
 
 /// Samples by which a projected footprint is widened on every side.
 const MARGIN: f64 = 1e-2;
@@ -66,6 +68,7 @@ const MARGIN: f64 = 1e-2;
 pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &Samples, seen: &mut [Option<SceneHit>]) -> u64 {
     let columns = samples.columns() as usize;
     let solids: Vec<Solid> = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
+    let rays = RayGrid::new(view, samples);
     seen.par_chunks_mut(STRIP_ROWS * columns)
         .enumerate()
         .map_init(
@@ -78,8 +81,7 @@ pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &Samples, seen:
                     let mut pass = Pass {
                         solid,
                         index,
-                        samples,
-                        view,
+                        rays: &rays,
                         row0: k * STRIP_ROWS,
                         rows,
                         columns,
@@ -229,8 +231,8 @@ struct Pass<'a> {
     solid: &'a Solid<'a>,
     /// Index of the solid in the scene.
     index: usize,
-    samples: &'a Samples,
-    view: &'a View,
+    /// The primary rays.
+    rays: &'a RayGrid,
     /// First sample row of the strip.
     row0: usize,
     /// Sample rows in the strip.
@@ -307,20 +309,14 @@ impl Pass<'_> {
         if !self.tiles.any_uncovered(rect) {
             return;
         }
-        let Pass { solid, index, samples, view, row0, columns, tiles, out, .. } = self;
-        let (solid, index, samples, view, row0, columns) = (*solid, *index, *samples, *view, *row0, *columns);
-        let mut faces = [None; 3];
-        let mut count = 0;
-        for face in Face::visible(&solid.viewer, min, 1 << shift) {
-            faces[count] = Some(face);
-            count += 1;
-        }
-        self.faces += count as u64;
+        let Pass { solid, index, rays, row0, columns, tiles, out, .. } = self;
+        let (solid, index, rays, row0, columns) = (*solid, *index, *rays, *row0, *columns);
+        let faces = Face::visible(&solid.viewer, min, 1 << shift);
+        self.faces += faces.clone().count() as u64;
         tiles.for_each_uncovered(rect, |row, col| {
-            let (x, y) = samples.point(col as u32, (row0 + row) as u32);
-            let (o, d) = view.ray(x, y);
+            let (o, d) = rays.ray(col, row0 + row);
             let ray = VoxelRay::new(solid.domain, o, d);
-            let Some(hit) = faces[..count].iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
+            let Some(hit) = faces.clone().find_map(|face| face.enters(&ray)) else { return false };
             let i = row * columns + col;
             if out[i].is_none_or(|old| hit.t < old.hit.t) {
                 out[i] = Some(SceneHit { solid: index, hit });

@@ -42,6 +42,7 @@ impl Viewer {
 
     /// The plane of the box `[lo, hi]`'s face on `axis` that faces the viewer, if any
     /// (none when the viewer is between the two planes or looks along them).
+    #[inline]
     pub(crate) fn visible_plane(&self, axis: usize, lo: [f64; 3], hi: [f64; 3]) -> Option<f64> {
         match *self {
             Viewer::At(e) if e[axis] < lo[axis] => Some(lo[axis]),
@@ -67,7 +68,8 @@ pub(crate) struct Face {
 
 impl Face {
     /// The faces of the full node `[min, min + size)` that look at `viewer`, by axis.
-    pub(crate) fn visible(viewer: &Viewer, min: [u32; 3], size: u32) -> impl Iterator<Item = Face> {
+    #[inline]
+    pub(crate) fn visible(viewer: &Viewer, min: [u32; 3], size: u32) -> impl Iterator<Item = Face> + Clone {
         let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
         let viewer = *viewer;
         (0..3).filter_map(move |axis| {

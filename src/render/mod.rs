@@ -15,6 +15,7 @@ pub mod normals;
 pub mod optics;
 pub mod polygon;
 pub mod raster;
+mod ray_grid;
 pub mod scene;
 pub mod shade;
 pub mod texture;
