@@ -23,7 +23,7 @@
 
 use glam::DVec3;
 
-use super::traverse::{Hit, Root, Traversal, VoxelRay};
+use super::traverse::{Hit, Root, Subtree, Traversal, VoxelRay};
 use crate::octree::MAX_DEPTH;
 
 /// Samples a side of the square tiles of primary rays the renderer walks as packets.
@@ -86,6 +86,15 @@ impl Beam {
         }
         (lo, hi)
     }
+
+    /// The earliest and the latest time at which a ray of the beam crosses the plane
+    /// `p` of axis `a`.
+    fn plane_times(&self, a: usize, p: u32) -> (f64, f64) {
+        let [i0, i1] = self.inv[a];
+        let x = f64::from(p) - self.near_o[a];
+        let y = f64::from(p) - self.far_o[a];
+        ((x * i0).min(x * i1), (y * i0).max(y * i1))
+    }
 }
 
 /// A node the pre-pass has still to look into.
@@ -115,20 +124,65 @@ impl Traversal {
                 std::array::from_fn(|i| rays.get(i).map_or(none, |&(o, d)| VoxelRay::new(self.domain(), o, d)));
             let voxel_rays = &voxel_rays[..rays.len()];
             let limit = t_max.iter().fold(f64::NEG_INFINITY, |m, &t| m.max(t));
-            let start = match Beam::new(voxel_rays) {
+            let mut above = [0u32; MAX_DEPTH as usize];
+            let (start, from) = match Beam::new(voxel_rays) {
                 Some(beam) => match self.nearest_full(&beam, limit) {
-                    Some(lo) => lo.max(0.0),
+                    Some(lo) => {
+                        let start = lo.max(0.0);
+                        (start, self.start_node(&beam, start, &mut above))
+                    }
                     None => {
                         hits.fill(None);
                         continue;
                     }
                 },
-                None => 0.0,
+                None => (0.0, Subtree::ROOT),
             };
             for ((hit, r), &t_max) in hits.iter_mut().zip(voxel_rays.iter()).zip(t_max) {
-                *hit = self.first_full_after(r, t_max, start).map(|(min, size, ta, face)| r.entry(min, size, ta, face));
+                *hit = self
+                    .first_full_after(r, t_max, start, from)
+                    .map(|(min, size, ta, face)| r.entry(min, size, ta, face));
             }
         }
+    }
+
+    /// The deepest inner node that holds every ray of the beam at time `start` (each
+    /// of its ancestors' mid planes is crossed by all rays at or before `start`, or by
+    /// none), with the inner nodes above it recorded in `above`: the rays that enter
+    /// the root by `start` begin their walks there instead of at the root.
+    fn start_node<'a>(&self, beam: &Beam, start: f64, above: &'a mut [u32; MAX_DEPTH as usize]) -> Subtree<'a> {
+        if self.root != Root::Inner {
+            return Subtree::ROOT;
+        }
+        let (mut index, mut min, mut size, mut depth) = (0u32, [0u32; 3], self.domain().resolution(), 0);
+        'down: loop {
+            let inner = self.nodes[index as usize];
+            let half = size / 2;
+            // The child all rays are in at `start`: per axis past the mid plane (its
+            // latest time <= start) or not (its earliest time > start); else stop.
+            let mut child = 0;
+            for a in 0..3 {
+                let (early, late) = beam.plane_times(a, min[a] + half);
+                if late <= start {
+                    child |= 1 << a;
+                } else if early <= start {
+                    break 'down;
+                }
+                if beam.mirror[a] {
+                    child ^= 1 << a;
+                }
+            }
+            let inner_kids = inner.valid & !inner.full;
+            if inner_kids >> child & 1 == 0 {
+                break;
+            }
+            above[depth] = index;
+            depth += 1;
+            index = inner.first + (inner_kids & ((1u8 << child) - 1)).count_ones();
+            min = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
+            size = half;
+        }
+        Subtree { index, min, size, above: &above[..depth] }
     }
 
     /// The least `lo` (see [`Beam::span`]) over the full nodes the beam may enter before
