@@ -49,25 +49,31 @@ impl Beam {
     /// The bounds of `rays`, `None` when they are not a beam: a non-finite origin or
     /// reciprocal direction (axis-parallel rays), or directions of both signs on an axis.
     fn new(rays: &[VoxelRay]) -> Option<Self> {
-        let first = rays.first()?;
-        let mirror = [first.d.x < 0.0, first.d.y < 0.0, first.d.z < 0.0];
-        let (mut o_lo, mut o_hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        let (mut inv_lo, mut inv_hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        // Per ray `[o, inv]`: the least and greatest of each, and the sum of `x - x`
+        // over all, which is 0 when every value is finite and NaN otherwise (plain
+        // compares, no NaN-aware min and max: a NaN shows in the sum).
+        let (mut lo, mut hi) = ([f64::INFINITY; 6], [f64::NEG_INFINITY; 6]);
+        let mut finite = 0.0;
         for r in rays {
-            let same = (0..3).all(|a| (r.d[a] < 0.0) == mirror[a]);
-            if !(same && r.o.is_finite() && r.inv.is_finite() && r.d.cmpne(DVec3::ZERO).all()) {
-                return None;
+            let v = [r.o.x, r.o.y, r.o.z, r.inv.x, r.inv.y, r.inv.z];
+            for k in 0..6 {
+                finite += v[k] - v[k];
+                lo[k] = if v[k] < lo[k] { v[k] } else { lo[k] };
+                hi[k] = if v[k] > hi[k] { v[k] } else { hi[k] };
             }
-            (o_lo, o_hi) = (o_lo.min(r.o), o_hi.max(r.o));
-            (inv_lo, inv_hi) = (inv_lo.min(r.inv), inv_hi.max(r.inv));
         }
+        // A finite reciprocal direction is that of a non-zero direction of its sign.
+        if rays.is_empty() || finite != 0.0 || (0..3).any(|a| lo[a + 3] <= 0.0 && hi[a + 3] >= 0.0) {
+            return None;
+        }
+        let mirror = [hi[3] < 0.0, hi[4] < 0.0, hi[5] < 0.0];
         // (p - o) * inv falls as o grows when inv > 0 (the earliest near-plane time is
         // at o+, the latest far-plane time at o-), and rises when inv < 0.
-        let pick = |a: usize, high: bool| if high { o_hi[a] } else { o_lo[a] };
+        let pick = |a: usize, high: bool| if high { hi[a] } else { lo[a] };
         Some(Beam {
             near_o: std::array::from_fn(|a| pick(a, !mirror[a])),
             far_o: std::array::from_fn(|a| pick(a, mirror[a])),
-            inv: std::array::from_fn(|a| [inv_lo[a], inv_hi[a]]),
+            inv: std::array::from_fn(|a| [lo[a + 3], hi[a + 3]]),
             mirror,
         })
     }
