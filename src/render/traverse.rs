@@ -303,8 +303,13 @@ impl Traversal {
         if self.root == Root::Full {
             return (ta.max(0.0) < t_max).then_some(([0, 0, 0], n, ta, face));
         }
-        let from = if from.above.is_empty() || ta > start { Subtree::ROOT } else { from };
-        self.walk(r, t_max, ta, tb, face, start, from)
+        // Two builds of the walk: the one from the root (single rays) carries no
+        // subtree logic.
+        if from.above.is_empty() || ta > start {
+            self.walk::<false>(r, t_max, ta, tb, face, start, Subtree::ROOT)
+        } else {
+            self.walk::<true>(r, t_max, ta, tb, face, start, from)
+        }
     }
 }
 
@@ -356,9 +361,10 @@ impl Traversal {
     /// above it empty; they are filled only if the ray leaves `from` (a node's exit
     /// time is the least time of its far planes, the same bits as the `tb` the walk
     /// from the root carries down), and the face of a hit in `from` is read off the
-    /// hit node's near planes (see [`near_face`]).
+    /// hit node's near planes (see [`near_face`]). `BELOW_ROOT` false builds the walk from
+    /// the root alone, without that logic (single rays).
     #[allow(clippy::too_many_arguments)]
-    fn walk(
+    fn walk<const BELOW_ROOT: bool>(
         &self,
         r: &VoxelRay,
         t_max: f64,
@@ -383,7 +389,7 @@ impl Traversal {
         let root_tb = tb;
         let mut t = ta.max(start);
         // Frames below `base` are not filled yet (a walk begun below the root).
-        let mut base = from.above.len();
+        let mut base = if BELOW_ROOT { from.above.len() } else { 0 };
         let mut depth = base;
         let (mut index, mut min, mut size, mut tb) = if base == 0 {
             (0u32, [0u32; 3], self.domain.resolution(), tb)
@@ -409,7 +415,7 @@ impl Traversal {
                 }
                 let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
                 if inner.full >> child & 1 == 1 {
-                    let face = if base == 0 {
+                    let face = if !BELOW_ROOT || base == 0 {
                         let path = stack[..depth].iter().map(|f| &f.tm).chain([&tm]);
                         entered_face(path, t, ta, face)
                     } else {
@@ -435,7 +441,7 @@ impl Traversal {
             t = tb;
             loop {
                 if depth == base {
-                    if base == 0 {
+                    if !BELOW_ROOT || base == 0 {
                         return None;
                     }
                     // Leaving the node the walk began in: fill the frames above it.
