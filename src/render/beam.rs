@@ -14,7 +14,10 @@
 //! enter (best first, pruning subtrees whose `lo` is no better), then each ray walks
 //! from `max(entry, start)`: the pieces it skips lie before its first hit, so they are
 //! empty and the hit is bit for bit that of [`Traversal::hit`]. A packet that can enter
-//! no full node hits nothing, without walking a ray.
+//! no full node hits nothing, without walking a ray. The walks begin in the deepest
+//! inner node that holds every ray at `start` (for each mid plane above it the latest
+//! crossing time is `<= start` or the earliest `> start`), not at the root: the walk
+//! from the root would go straight down to it, so the steps skipped are that descent.
 //!
 //! After the multi-level ray tracing algorithm of Reshetov, Soupikov and Hurley (2005),
 //! which finds the entry point of a beam deep in a kd-tree; deviation: the beam is
@@ -23,7 +26,7 @@
 
 use glam::DVec3;
 
-use super::traverse::{Hit, Root, Traversal, VoxelRay};
+use super::traverse::{Hit, Root, Subtree, Traversal, VoxelRay};
 use crate::octree::MAX_DEPTH;
 
 /// Samples a side of the square tiles of primary rays the renderer walks as packets.
@@ -49,25 +52,31 @@ impl Beam {
     /// The bounds of `rays`, `None` when they are not a beam: a non-finite origin or
     /// reciprocal direction (axis-parallel rays), or directions of both signs on an axis.
     fn new(rays: &[VoxelRay]) -> Option<Self> {
-        let first = rays.first()?;
-        let mirror = [first.d.x < 0.0, first.d.y < 0.0, first.d.z < 0.0];
-        let (mut o_lo, mut o_hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        let (mut inv_lo, mut inv_hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        // Per ray `[o, inv]`: the least and greatest of each (plain compares, no
+        // NaN-aware min and max), and the sum of all, finite only when each value is
+        // (a NaN or an infinity carries through; an overflow only turns a beam down).
+        let (mut lo, mut hi) = ([f64::INFINITY; 6], [f64::NEG_INFINITY; 6]);
+        let mut sum = 0.0;
         for r in rays {
-            let same = (0..3).all(|a| (r.d[a] < 0.0) == mirror[a]);
-            if !(same && r.o.is_finite() && r.inv.is_finite() && r.d.cmpne(DVec3::ZERO).all()) {
-                return None;
+            let v = [r.o.x, r.o.y, r.o.z, r.inv.x, r.inv.y, r.inv.z];
+            for k in 0..6 {
+                sum += v[k];
+                lo[k] = if v[k] < lo[k] { v[k] } else { lo[k] };
+                hi[k] = if v[k] > hi[k] { v[k] } else { hi[k] };
             }
-            (o_lo, o_hi) = (o_lo.min(r.o), o_hi.max(r.o));
-            (inv_lo, inv_hi) = (inv_lo.min(r.inv), inv_hi.max(r.inv));
         }
+        // A finite reciprocal direction is that of a non-zero direction of its sign.
+        if rays.is_empty() || !sum.is_finite() || (0..3).any(|a| lo[a + 3] <= 0.0 && hi[a + 3] >= 0.0) {
+            return None;
+        }
+        let mirror = [hi[3] < 0.0, hi[4] < 0.0, hi[5] < 0.0];
         // (p - o) * inv falls as o grows when inv > 0 (the earliest near-plane time is
         // at o+, the latest far-plane time at o-), and rises when inv < 0.
-        let pick = |a: usize, high: bool| if high { o_hi[a] } else { o_lo[a] };
+        let pick = |a: usize, high: bool| if high { hi[a] } else { lo[a] };
         Some(Beam {
             near_o: std::array::from_fn(|a| pick(a, !mirror[a])),
             far_o: std::array::from_fn(|a| pick(a, mirror[a])),
-            inv: std::array::from_fn(|a| [inv_lo[a], inv_hi[a]]),
+            inv: std::array::from_fn(|a| [lo[a + 3], hi[a + 3]]),
             mirror,
         })
     }
@@ -78,14 +87,51 @@ impl Beam {
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
         for (a, &m) in min.iter().enumerate() {
             let (near, far) = if self.mirror[a] { (m + size, m) } else { (m, m + size) };
-            let [i0, i1] = self.inv[a];
-            let x = f64::from(near) - self.near_o[a];
-            let y = f64::from(far) - self.far_o[a];
-            lo = lo.max((x * i0).min(x * i1));
-            hi = hi.min((y * i0).max(y * i1));
+            lo = later(lo, self.plane_times(a, near).0);
+            hi = earlier(hi, self.plane_times(a, far).1);
         }
         (lo, hi)
     }
+
+    /// Per axis and child side (bit 0 low, 1 high) of the node `[min, min + size)`, the
+    /// earliest time of the child's near plane and the latest of its far plane: the
+    /// terms of [`Beam::span`] for its eight children, from the times of the node's
+    /// three planes an axis (the same bits as `span` of each child).
+    fn child_planes(&self, min: [u32; 3], size: u32) -> ([[f64; 2]; 3], [[f64; 2]; 3]) {
+        let half = size / 2;
+        let mut near = [[0.0; 2]; 3];
+        let mut far = [[0.0; 2]; 3];
+        for a in 0..3 {
+            let planes = [min[a], min[a] + half, min[a] + size];
+            let times = planes.map(|p| self.plane_times(a, p));
+            for side in 0..2 {
+                // Side `side` spans planes side and side + 1; a mirrored ray enters at the upper.
+                let (n, f) = if self.mirror[a] { (side + 1, side) } else { (side, side + 1) };
+                near[a][side] = times[n].0;
+                far[a][side] = times[f].1;
+            }
+        }
+        (near, far)
+    }
+
+    /// The earliest and the latest time at which a ray of the beam crosses the plane
+    /// `p` of axis `a`.
+    fn plane_times(&self, a: usize, p: u32) -> (f64, f64) {
+        let [i0, i1] = self.inv[a];
+        let x = f64::from(p) - self.near_o[a];
+        let y = f64::from(p) - self.far_o[a];
+        (earlier(x * i0, x * i1), later(y * i0, y * i1))
+    }
+}
+
+/// The larger of two times that are not NaN.
+fn later(x: f64, y: f64) -> f64 {
+    if x > y { x } else { y }
+}
+
+/// The smaller of two times that are not NaN.
+fn earlier(x: f64, y: f64) -> f64 {
+    if x < y { x } else { y }
 }
 
 /// A node the pre-pass has still to look into.
@@ -115,20 +161,65 @@ impl Traversal {
                 std::array::from_fn(|i| rays.get(i).map_or(none, |&(o, d)| VoxelRay::new(self.domain(), o, d)));
             let voxel_rays = &voxel_rays[..rays.len()];
             let limit = t_max.iter().fold(f64::NEG_INFINITY, |m, &t| m.max(t));
-            let start = match Beam::new(voxel_rays) {
+            let mut above = [0u32; MAX_DEPTH as usize];
+            let (start, from) = match Beam::new(voxel_rays) {
                 Some(beam) => match self.nearest_full(&beam, limit) {
-                    Some(lo) => lo.max(0.0),
+                    Some(lo) => {
+                        let start = lo.max(0.0);
+                        (start, self.start_node(&beam, start, &mut above))
+                    }
                     None => {
                         hits.fill(None);
                         continue;
                     }
                 },
-                None => 0.0,
+                None => (0.0, Subtree::ROOT),
             };
             for ((hit, r), &t_max) in hits.iter_mut().zip(voxel_rays.iter()).zip(t_max) {
-                *hit = self.first_full_after(r, t_max, start).map(|(min, size, ta, face)| r.entry(min, size, ta, face));
+                *hit = self
+                    .first_full_after(r, t_max, start, from)
+                    .map(|(min, size, ta, face)| r.entry(min, size, ta, face));
             }
         }
+    }
+
+    /// The deepest inner node that holds every ray of the beam at time `start` (each
+    /// of its ancestors' mid planes is crossed by all rays at or before `start`, or by
+    /// none), with the inner nodes above it recorded in `above`: the rays that enter
+    /// the root by `start` begin their walks there instead of at the root.
+    fn start_node<'a>(&self, beam: &Beam, start: f64, above: &'a mut [u32; MAX_DEPTH as usize]) -> Subtree<'a> {
+        if self.root != Root::Inner {
+            return Subtree::ROOT;
+        }
+        let (mut index, mut min, mut size, mut depth) = (0u32, [0u32; 3], self.domain().resolution(), 0);
+        'down: loop {
+            let inner = self.nodes[index as usize];
+            let half = size / 2;
+            // The child all rays are in at `start`: per axis past the mid plane (its
+            // latest time <= start) or not (its earliest time > start); else stop.
+            let mut child = 0;
+            for (a, &m) in min.iter().enumerate() {
+                let (early, late) = beam.plane_times(a, m + half);
+                if late <= start {
+                    child |= 1 << a;
+                } else if early <= start {
+                    break 'down;
+                }
+                if beam.mirror[a] {
+                    child ^= 1 << a;
+                }
+            }
+            let inner_kids = inner.valid & !inner.full;
+            if inner_kids >> child & 1 == 0 {
+                break;
+            }
+            above[depth] = index;
+            depth += 1;
+            index = inner.first + (inner_kids & ((1u8 << child) - 1)).count_ones();
+            min = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
+            size = half;
+        }
+        Subtree { index, min, size, above: &above[..depth] }
     }
 
     /// The least `lo` (see [`Beam::span`]) over the full nodes the beam may enter before
@@ -158,12 +249,15 @@ impl Traversal {
             // Step 1: the children the beam may enter; full ones lower `best`.
             let mut kids = [(0.0f64, 0usize); 8];
             let mut count = 0;
+            let (near, far) = beam.child_planes(node.min, node.size);
             for child in 0..8 {
                 if inner.valid >> child & 1 == 0 {
                     continue;
                 }
-                let cmin: [u32; 3] = std::array::from_fn(|a| node.min[a] + if child >> a & 1 == 1 { half } else { 0 });
-                let span = beam.span(cmin, half);
+                let (x, y, z) = (child & 1, child >> 1 & 1, child >> 2);
+                let lo = [near[0][x], near[1][y], near[2][z]].into_iter().fold(f64::NEG_INFINITY, later);
+                let hi = [far[0][x], far[1][y], far[2][z]].into_iter().fold(f64::INFINITY, earlier);
+                let span = (lo, hi);
                 if !enters(span, best) {
                     continue;
                 }

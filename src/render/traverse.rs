@@ -252,17 +252,20 @@ impl Traversal {
     /// and entered face (the arguments of [`VoxelRay::entry`]). A ray with a non-finite
     /// origin or direction hits nothing.
     fn first_full(&self, r: &VoxelRay, t_max: f64) -> Option<([u32; 3], u32, f64, Option<usize>)> {
-        self.first_full_after(r, t_max, 0.0)
+        self.first_full_after(r, t_max, 0.0, Subtree::ROOT)
     }
 
     /// [`Traversal::first_full`] with the walk started at `max(entry, start)` instead of
     /// `max(entry, 0)`, for a `start >= 0` at or before the ray's first hit (a beam's
-    /// lower bound): the pieces skipped are empty, so the result is the same.
+    /// lower bound): the pieces skipped are empty, so the result is the same. When the
+    /// ray enters the root by `start`, the walk begins in `from`, which must hold the
+    /// ray at time `start` as the walk places it (see [`Subtree`]).
     pub(super) fn first_full_after(
         &self,
         r: &VoxelRay,
         t_max: f64,
         start: f64,
+        from: Subtree,
     ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
         if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) {
             return None;
@@ -300,8 +303,32 @@ impl Traversal {
         if self.root == Root::Full {
             return (ta.max(0.0) < t_max).then_some(([0, 0, 0], n, ta, face));
         }
-        self.walk(r, t_max, ta, tb, face, start)
+        // Two builds of the walk: the one from the root (single rays) carries no
+        // subtree logic.
+        if from.above.is_empty() || ta > start {
+            self.walk::<false>(r, t_max, ta, tb, face, start, Subtree::ROOT)
+        } else {
+            self.walk::<true>(r, t_max, ta, tb, face, start, from)
+        }
     }
+}
+
+/// An inner node a walk may begin in, below the root: its index, corner and size, and
+/// the indices of the inner nodes above it from the root down (empty for the root).
+/// It must hold the ray at the walk's start time `t` as the walk's rule places it:
+/// on each axis the time of its near plane `<= t` and of its far plane `> t` (then the
+/// walk from the root would go down to it at `t` without a step across).
+#[derive(Clone, Copy)]
+pub(super) struct Subtree<'a> {
+    pub index: u32,
+    pub min: [u32; 3],
+    pub size: u32,
+    pub above: &'a [u32],
+}
+
+impl Subtree<'_> {
+    /// The root (its size is read from the domain by the walk).
+    pub const ROOT: Subtree<'static> = Subtree { index: 0, min: [0; 3], size: 0, above: &[] };
 }
 
 /// Most inner nodes a walk can be below: the root is at level 0 and the last inner
@@ -329,7 +356,15 @@ impl Traversal {
     /// `0 <= start < tb`: pieces before the origin are never visited (a hit there is the
     /// origin's own voxel, whatever its entry time); nor, when `start > 0`, those before
     /// `start`.
-    fn walk(
+    ///
+    /// A walk begun in a node `from` below the root leaves the frames of the nodes
+    /// above it empty; they are filled only if the ray leaves `from` (a node's exit
+    /// time is the least time of its far planes, the same bits as the `tb` the walk
+    /// from the root carries down), and the face of a hit in `from` is read off the
+    /// hit node's near planes (see [`near_face`]). `BELOW_ROOT` false builds the walk from
+    /// the root alone, without that logic (single rays).
+    #[allow(clippy::too_many_arguments)]
+    fn walk<const BELOW_ROOT: bool>(
         &self,
         r: &VoxelRay,
         t_max: f64,
@@ -337,6 +372,7 @@ impl Traversal {
         tb: f64,
         face: Option<usize>,
         start: f64,
+        from: Subtree,
     ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
         // Per axis the mirror bit (the ray runs to lower coordinates); no mid-plane
         // time is NaN (see `off_lattice`), so "past the mid plane" is `tm <= t` on
@@ -350,12 +386,19 @@ impl Traversal {
             std::array::from_fn(|a| (f64::from(min[a] + half) - o[a]) * inv[a])
         };
         let mut stack = [Frame { index: 0, tm: [0.0; 3], tb: 0.0 }; STACK];
-        let mut depth = 0;
-        let mut index = 0u32;
-        let mut min = [0u32; 3];
-        let mut size = self.domain.resolution();
-        let mut tb = tb;
+        let root_tb = tb;
         let mut t = ta.max(start);
+        // Frames below `base` are not filled yet (a walk begun below the root).
+        let mut base = if BELOW_ROOT { from.above.len() } else { 0 };
+        let mut depth = base;
+        let (mut index, mut min, mut size, mut tb) = if base == 0 {
+            (0u32, [0u32; 3], self.domain.resolution(), tb)
+        } else {
+            if t >= t_max {
+                return None;
+            }
+            (from.index, from.min, from.size, exit_time(from.min, from.size, mirror, &o, &inv))
+        };
         let mut tm = mid_times(min, size / 2);
         loop {
             let inner = self.nodes[index as usize];
@@ -372,8 +415,13 @@ impl Traversal {
                 }
                 let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
                 if inner.full >> child & 1 == 1 {
-                    let path = stack[..depth].iter().map(|f| &f.tm).chain([&tm]);
-                    return Some((cmin, half, t, entered_face(path, t, ta, face)));
+                    let face = if !BELOW_ROOT || base == 0 {
+                        let path = stack[..depth].iter().map(|f| &f.tm).chain([&tm]);
+                        entered_face(path, t, ta, face)
+                    } else {
+                        near_face(cmin, half, mirror, &o, &inv, t)
+                    };
+                    return Some((cmin, half, t, face));
                 }
                 stack[depth] = Frame { index, tm, tb };
                 depth += 1;
@@ -392,8 +440,18 @@ impl Traversal {
             }
             t = tb;
             loop {
-                if depth == 0 {
-                    return None;
+                if depth == base {
+                    if !BELOW_ROOT || base == 0 {
+                        return None;
+                    }
+                    // Leaving the node the walk began in: fill the frames above it.
+                    for (level, (frame, &above)) in stack[..base].iter_mut().zip(from.above).enumerate() {
+                        let up = size << (base - level);
+                        let umin = min.map(|m| m & !(up - 1));
+                        let utb = if level == 0 { root_tb } else { exit_time(umin, up, mirror, &o, &inv) };
+                        *frame = Frame { index: above, tm: mid_times(umin, up / 2), tb: utb };
+                    }
+                    base = 0;
                 }
                 depth -= 1;
                 let frame = stack[depth];
@@ -408,6 +466,32 @@ impl Traversal {
             }
         }
     }
+}
+
+/// The time the ray leaves the node `[min, min + size)`: the least time of its far
+/// planes, `min over a of (far[a] - o[a]) * inv[a]`.
+fn exit_time(min: [u32; 3], size: u32, mirror: usize, o: &[f64; 3], inv: &[f64; 3]) -> f64 {
+    let far = |a: usize| {
+        let plane = if mirror >> a & 1 == 1 { min[a] } else { min[a] + size };
+        (f64::from(plane) - o[a]) * inv[a]
+    };
+    earlier(earlier(far(0), far(1)), far(2))
+}
+
+/// The face through which a walk entered the node `[min, min + size)` at time `t`: the
+/// lowest axis whose near plane the ray crosses at `t`, `None` when there is none.
+///
+/// The same axis as [`entered_face`] for a ray not parallel to any axis: the near
+/// planes of a node on the walk's path are mid planes of its ancestors or the root's
+/// entry planes, all crossed at or before `t`; a mid plane on the path crossed at `t`
+/// lies on the node's near side on its axis (a far-side one is crossed after `t`), so
+/// the node's near plane there is crossed at `t` too (plane times are monotone); and
+/// a root entry plane crossed at `t` means `t == ta`.
+fn near_face(min: [u32; 3], size: u32, mirror: usize, o: &[f64; 3], inv: &[f64; 3], t: f64) -> Option<usize> {
+    (0..3).find(|&a| {
+        let plane = if mirror >> a & 1 == 1 { min[a] + size } else { min[a] };
+        (f64::from(plane) - o[a]) * inv[a] == t
+    })
 }
 
 /// Where the reciprocal direction is infinite (a ray parallel to the axis, or a
