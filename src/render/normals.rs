@@ -168,8 +168,12 @@ impl NormalField {
     pub fn normal(&self, tree: &LinearOctree, p: DVec3) -> Option<DVec3> {
         let (q, lo, size) = placement(tree, p, SMOOTH_RADIUS);
         let first = lo.map(|c| c.div_euclid(BRICK));
-        let bricks: [Option<Arc<Brick>>; 8] =
-            std::array::from_fn(|i| self.brick(tree, std::array::from_fn(|a| first[a] + ((i >> a) & 1) as i64)));
+        let last = lo.map(|c| (c + size as i64 - 1).div_euclid(BRICK));
+        // The window's bricks: one or two an axis (none read where it needs only one).
+        let bricks: [Option<Arc<Brick>>; 8] = std::array::from_fn(|i| {
+            let b: [i64; 3] = std::array::from_fn(|a| first[a] + ((i >> a) & 1) as i64);
+            if (0..3).any(|a| b[a] > last[a]) { None } else { self.brick(tree, b) }
+        });
         let mut window = Window::empty(lo, size);
         let shift = lo[0].rem_euclid(BRICK);
         for z in 0..size {

@@ -52,23 +52,21 @@ impl SceneSolid {
         self.interior.get_or_init(|| Traversal::new(&self.tree.complement())).hit(origin, dir, f64::INFINITY)
     }
 
-    /// The smooth outward normal at the surface point `p`: with [`Normals::Smooth`]
-    /// the source shape's where it knows its surface within two voxels of `p`, else
-    /// the octree's estimate ([`NormalField`]).
+    /// The smooth surface at the surface point `p` under the normals `mode`: the
+    /// outward normal and the point where textures are looked up. With
+    /// [`Normals::Smooth`] and a source shape whose surface lies within two voxels of
+    /// `p`: the shape's normal, and `p` moved onto that surface (`p - d n`), so pictures
+    /// do not follow the voxel staircase. Else the octree's estimate ([`NormalField`];
+    /// `None` without a gradient, and always with [`Normals::Axis`]) at `p` itself.
     #[must_use]
-    pub fn smooth_normal(&self, p: DVec3, mode: Normals) -> Option<DVec3> {
-        match self.shape_surface(p, mode) {
-            Some(s) => Some(s.normal),
-            None => self.normals.normal(&self.tree, p),
+    pub fn smooth_at(&self, p: DVec3, mode: Normals) -> (Option<DVec3>, DVec3) {
+        if mode == Normals::Axis {
+            return (None, p);
         }
-    }
-
-    /// Where a texture is looked up for the surface point `p`: with [`Normals::Smooth`]
-    /// and a source shape, `p` moved onto the shape's surface (`p - d n`), so pictures
-    /// do not follow the voxel staircase; else `p`.
-    #[must_use]
-    pub fn texture_point(&self, p: DVec3, mode: Normals) -> DVec3 {
-        self.shape_surface(p, mode).map_or(p, |s| p - s.normal * s.distance)
+        match self.shape_surface(p, mode) {
+            Some(s) => (Some(s.normal), p - s.normal * s.distance),
+            None => (self.normals.normal(&self.tree, p), p),
+        }
     }
 
     /// The source shape's surface seen from `p` when smooth normals come from it: with

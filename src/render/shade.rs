@@ -70,22 +70,18 @@ impl Default for ShadeOptions {
 }
 
 /// The geometric and the shading normal at a hit of the ray direction `dir`, both unit
-/// and facing the ray (for a hit with no face, the origin inside: `-dir`), and the raw
-/// smooth estimate (outward; `None` with axis normals).
+/// and facing the ray (for a hit with no face, the origin inside: `-dir`), from the
+/// raw smooth estimate `smooth` (outward; `None` with axis normals).
 #[must_use]
-pub fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, mode: Normals) -> (DVec3, DVec3, Option<DVec3>) {
+pub fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, smooth: Option<DVec3>) -> (DVec3, DVec3) {
     let axis = hit.normal(dir);
     let geometric = if axis == DVec3::ZERO { -dir } else { axis };
-    let smooth = match mode {
-        Normals::Axis => None,
-        Normals::Smooth | Normals::Octree => solid.smooth_normal(p, mode),
-    };
     let shading = smooth.filter(|n| n.dot(dir) < 0.0).unwrap_or(geometric);
     let shading = match &solid.material.bump {
         Some(bump) => bump.perturb(p, shading),
         None => shading,
     };
-    (geometric, shading, smooth)
+    (geometric, shading)
 }
 
 /// A shaded point: where a ray of direction `dir` hit solid `solid`, with the
@@ -104,7 +100,7 @@ pub struct SurfacePoint {
     pub normal: DVec3,
     /// The smooth estimate of the outward normal, when smooth normals are on.
     pub smooth: Option<DVec3>,
-    /// Where the material's texture is looked up ([`SceneSolid::texture_point`]).
+    /// Where the material's texture is looked up ([`SceneSolid::smooth_at`]).
     pub texture_at: DVec3,
 }
 
@@ -114,8 +110,8 @@ impl SurfacePoint {
     pub fn new(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, mode: Normals) -> Self {
         let p = origin + dir * sh.hit.t;
         let solid = &scene.solids[sh.solid];
-        let (geometric, normal, smooth) = normals_at(solid, &sh.hit, dir, p, mode);
-        let texture_at = solid.texture_point(p, mode);
+        let (smooth, texture_at) = solid.smooth_at(p, mode);
+        let (geometric, normal) = normals_at(solid, &sh.hit, dir, p, smooth);
         SurfacePoint { solid: sh.solid, p, dir, geometric, normal, smooth, texture_at }
     }
 }

@@ -27,7 +27,7 @@ use glam::DVec3;
 
 use super::optics::{reflect, refract};
 use super::scene::{Scene, SceneHit, SceneSolid};
-use super::shade::{Normals, ShadeOptions, SurfacePoint, local};
+use super::shade::{ShadeOptions, SurfacePoint, local};
 use super::traverse::Hit;
 
 /// The light seen along the ray `origin + t dir` (unit `dir`) whose first hit is `sh`,
@@ -102,7 +102,7 @@ impl Tracer<'_> {
             return color;
         }
         let (p, geometric, n) = (s.p, s.geometric, s.normal);
-        let eps = 1e-3 * solid.tree.domain().voxel_size();
+        let eps = self.eps(solid);
         // Light that does not pass (total internal reflection) is reflected.
         let mut mirrored = kr;
         if kt * weight > self.options.cutoff {
@@ -141,7 +141,7 @@ impl Tracer<'_> {
 
     /// Light carried by a ray that travels inside `solid` from `origin`.
     fn through(&self, solid: &SceneSolid, mut origin: DVec3, mut dir: DVec3, mut depth: u32, weight: f64) -> DVec3 {
-        let eps = 1e-3 * solid.tree.domain().voxel_size();
+        let eps = self.eps(solid);
         while depth <= self.options.max_depth {
             self.count(1);
             let Some(exit) = solid.exit(origin, dir) else {
@@ -189,10 +189,7 @@ fn outward(
     options: &ShadeOptions,
 ) -> (DVec3, DVec3, Option<DVec3>) {
     let geometric = -exit.normal(dir);
-    let smooth = match options.normals {
-        Normals::Axis => None,
-        Normals::Smooth | Normals::Octree => solid.smooth_normal(p, options.normals),
-    };
+    let (smooth, _) = solid.smooth_at(p, options.normals);
     let n = smooth.filter(|n| n.dot(dir) > 0.0).unwrap_or(geometric);
     (geometric, solid.material.bump.map_or(n, |b| b.perturb(p, n)), smooth)
 }
