@@ -26,7 +26,7 @@ pub use beam::{PACKET, TILE};
 pub use camera::{Camera, DEFAULT_VIEW, Projection, View};
 pub use frame::{RenderOptions, RenderStats, render};
 pub use light::{Bump, Light, Material};
-pub use raster::{Method, Samples, VisibilityStats, visibility};
+pub use raster::{Method, Samples, VisibilityStats, visibility, visibility_into};
 pub use scene::{Scene, SceneHit};
 pub use shade::{Normals, ShadeOptions};
 pub use traverse::{Hit, Traversal, VoxelRay};

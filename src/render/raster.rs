@@ -120,13 +120,31 @@ pub fn visibility(
     samples: &Samples,
     method: Method,
 ) -> (Vec<Option<SceneHit>>, VisibilityStats) {
+    let mut seen = Vec::new();
+    let stats = visibility_into(scene, camera, samples, method, &mut seen);
+    (seen, stats)
+}
+
+/// [`visibility`] into a frame buffer of the caller's, resized to the sample grid: a
+/// viewer drawing frame after frame keeps one buffer (a fresh one costs a page fault
+/// every 4 KiB of its first writes, a fifth of a front-to-back frame at 1024x1024).
+pub fn visibility_into(
+    scene: &Scene,
+    camera: &Camera,
+    samples: &Samples,
+    method: Method,
+    seen: &mut Vec<Option<SceneHit>>,
+) -> VisibilityStats {
     let view = camera.view(samples.aspect());
     let count = (samples.rows() * samples.columns()) as usize;
+    // Every sample None, on all threads (the first writes of a fresh buffer fault its pages in).
+    seen.truncate(count);
+    seen.par_iter_mut().for_each(|s| *s = None);
+    let missing = count - seen.len();
+    seen.par_extend(rayon::iter::repeat_n(None, missing));
     if method == Method::FrontToBack {
-        let mut seen = Vec::with_capacity(count);
-        seen.par_extend(rayon::iter::repeat_n(None, count));
-        let faces_drawn = display::front_to_back(scene, &view, samples, &mut seen);
-        return (seen, VisibilityStats { faces_drawn });
+        let faces_drawn = display::front_to_back(scene, &view, samples, seen);
+        return VisibilityStats { faces_drawn };
     }
     let columns = samples.columns() as usize;
     let rays: Vec<(DVec3, DVec3)> = (0..samples.rows() * samples.columns())
@@ -138,7 +156,6 @@ pub fn visibility(
         .collect();
     if method == Method::Trace {
         // One packet a tile of TILE x TILE samples, a band of TILE rows a task.
-        let mut seen: Vec<Option<SceneHit>> = vec![None; count];
         seen.par_chunks_mut(TILE * columns).zip(rays.par_chunks(TILE * columns)).for_each(|(seen, rays)| {
             let rows = rays.len() / columns;
             let mut tile = Vec::with_capacity(TILE * TILE);
@@ -156,9 +173,8 @@ pub fn visibility(
                 }
             }
         });
-        return (seen, VisibilityStats::default());
+        return VisibilityStats::default();
     }
-    let mut seen: Vec<Option<SceneHit>> = vec![None; count];
     let mut stats = VisibilityStats::default();
     for (index, solid) in scene.solids.iter().enumerate() {
         let domain = *solid.traversal.domain();
@@ -174,7 +190,7 @@ pub fn visibility(
             }
         }
     }
-    (seen, stats)
+    stats
 }
 
 /// Draws one solid's faces into a per-sample hit buffer (the baseline methods).
