@@ -84,6 +84,12 @@ impl Domain {
         self.edge / f64::from(self.resolution())
     }
 
+    /// Voxels a unit of length, `2^depth / edge` (the lattice's scale).
+    #[must_use]
+    pub fn voxels_per_unit(&self) -> f64 {
+        f64::from(self.resolution()) / self.edge
+    }
+
     /// The same cube at another depth.
     pub fn with_depth(&self, depth: u8) -> Result<Self> {
         Domain::new(self.min, self.edge, depth)

@@ -157,8 +157,9 @@ impl Traversal {
         assert!(rays.len() == t_max.len() && rays.len() == hits.len(), "a packet's slices differ in length");
         for ((rays, t_max), hits) in rays.chunks(PACKET).zip(t_max.chunks(PACKET)).zip(hits.chunks_mut(PACKET)) {
             let none = VoxelRay { o: DVec3::ZERO, d: DVec3::ZERO, inv: DVec3::ZERO };
+            let (min, scale) = (self.domain().min(), self.domain().voxels_per_unit());
             let voxel_rays: [VoxelRay; PACKET] =
-                std::array::from_fn(|i| rays.get(i).map_or(none, |&(o, d)| VoxelRay::new(self.domain(), o, d)));
+                std::array::from_fn(|i| rays.get(i).map_or(none, |&(o, d)| VoxelRay::scaled(min, scale, o, d)));
             let voxel_rays = &voxel_rays[..rays.len()];
             let limit = t_max.iter().fold(f64::NEG_INFINITY, |m, &t| m.max(t));
             let mut above = [0u32; MAX_DEPTH as usize];

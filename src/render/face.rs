@@ -26,7 +26,7 @@ impl Viewer {
     /// The viewer of `view` in voxel units of `domain`.
     pub(crate) fn new(view: &View, domain: &Domain) -> Self {
         match view.projection {
-            Projection::Perspective { .. } => Viewer::At((view.eye - domain.min()) / domain.voxel_size()),
+            Projection::Perspective { .. } => Viewer::At((view.eye - domain.min()) * domain.voxels_per_unit()),
             Projection::Orthographic { .. } => Viewer::Along(view.forward),
         }
     }
