@@ -49,36 +49,51 @@ struct Beam {
 }
 
 impl Beam {
-    /// The bounds of `rays`, `None` when they are not a beam: a non-finite origin or
-    /// reciprocal direction (axis-parallel rays), or directions of both signs on an axis.
-    fn new(rays: &[VoxelRay]) -> Option<Self> {
-        // Per ray `[o, inv]`: the least and greatest of each (plain compares, no
-        // NaN-aware min and max), and the sum of all, finite only when each value is
-        // (a NaN or an infinity carries through; an overflow only turns a beam down).
+    /// The bounds of the world rays `rays` seen in voxel units (origin `(o - min) s`,
+    /// direction `d s`, reciprocal `1 / (d s)`, as [`VoxelRay::scaled`] makes them),
+    /// `None` when they are not a beam: a non-finite origin or reciprocal direction
+    /// (axis-parallel rays), or directions of both signs on an axis.
+    ///
+    /// The bounds come from the world rays' least and greatest coordinates: subtracting
+    /// `min`, scaling by `s > 0` and, on directions of one sign, the reciprocal are
+    /// monotone with rounding, so the extremes map to the extremes and a packet that
+    /// is culled never works out its rays' reciprocals.
+    fn new(rays: &[(DVec3, DVec3)], min: DVec3, scale: f64) -> Option<Self> {
+        // Per ray `[o, d]`: the least and greatest of each (plain compares, no NaN-aware
+        // min and max), and the sum of all, finite only when each value is (a NaN or an
+        // infinity carries through; an overflow only turns a beam down).
         let (mut lo, mut hi) = ([f64::INFINITY; 6], [f64::NEG_INFINITY; 6]);
         let mut sum = 0.0;
-        for r in rays {
-            let v = [r.o.x, r.o.y, r.o.z, r.inv.x, r.inv.y, r.inv.z];
+        for (o, d) in rays {
+            let v = [o.x, o.y, o.z, d.x, d.y, d.z];
             for k in 0..6 {
                 sum += v[k];
                 lo[k] = if v[k] < lo[k] { v[k] } else { lo[k] };
                 hi[k] = if v[k] > hi[k] { v[k] } else { hi[k] };
             }
         }
-        // A finite reciprocal direction is that of a non-zero direction of its sign.
-        if rays.is_empty() || !sum.is_finite() || (0..3).any(|a| lo[a + 3] <= 0.0 && hi[a + 3] >= 0.0) {
+        if rays.is_empty() || !sum.is_finite() {
             return None;
         }
-        let mirror = [hi[3] < 0.0, hi[4] < 0.0, hi[5] < 0.0];
-        // (p - o) * inv falls as o grows when inv > 0 (the earliest near-plane time is
-        // at o+, the latest far-plane time at o-), and rises when inv < 0.
-        let pick = |a: usize, high: bool| if high { hi[a] } else { lo[a] };
-        Some(Beam {
-            near_o: std::array::from_fn(|a| pick(a, !mirror[a])),
-            far_o: std::array::from_fn(|a| pick(a, mirror[a])),
-            inv: std::array::from_fn(|a| [lo[a + 3], hi[a + 3]]),
-            mirror,
-        })
+        let o = |a: usize, x: f64| (x - min[a]) * scale;
+        let mut beam = Beam { near_o: [0.0; 3], far_o: [0.0; 3], inv: [[0.0; 2]; 3], mirror: [false; 3] };
+        for a in 0..3 {
+            let (o_lo, o_hi) = (o(a, lo[a]), o(a, hi[a]));
+            let (d_lo, d_hi) = (lo[a + 3] * scale, hi[a + 3] * scale);
+            // 1 / d falls as d grows on either side of 0.
+            let inv = [1.0 / d_hi, 1.0 / d_lo];
+            let one_sign = d_lo > 0.0 || d_hi < 0.0;
+            if !(one_sign && o_lo.is_finite() && o_hi.is_finite() && inv[0].is_finite() && inv[1].is_finite()) {
+                return None;
+            }
+            let mirror = d_hi < 0.0;
+            // (p - o) * inv falls as o grows when inv > 0 (the earliest near-plane time
+            // is at o+, the latest far-plane time at o-), and rises when inv < 0.
+            (beam.near_o[a], beam.far_o[a]) = if mirror { (o_lo, o_hi) } else { (o_hi, o_lo) };
+            beam.inv[a] = inv;
+            beam.mirror[a] = mirror;
+        }
+        Some(beam)
     }
 
     /// `(lo, hi)` for the node `[min, min + size)`: no ray of the beam enters it before
@@ -156,14 +171,10 @@ impl Traversal {
     pub fn hit_packet(&self, rays: &[(DVec3, DVec3)], t_max: &[f64], hits: &mut [Option<Hit>]) {
         assert!(rays.len() == t_max.len() && rays.len() == hits.len(), "a packet's slices differ in length");
         for ((rays, t_max), hits) in rays.chunks(PACKET).zip(t_max.chunks(PACKET)).zip(hits.chunks_mut(PACKET)) {
-            let none = VoxelRay { o: DVec3::ZERO, d: DVec3::ZERO, inv: DVec3::ZERO };
             let (min, scale) = (self.domain().min(), self.domain().voxels_per_unit());
-            let voxel_rays: [VoxelRay; PACKET] =
-                std::array::from_fn(|i| rays.get(i).map_or(none, |&(o, d)| VoxelRay::scaled(min, scale, o, d)));
-            let voxel_rays = &voxel_rays[..rays.len()];
             let limit = t_max.iter().fold(f64::NEG_INFINITY, |m, &t| m.max(t));
             let mut above = [0u32; MAX_DEPTH as usize];
-            let (start, from) = match Beam::new(voxel_rays) {
+            let (start, from) = match Beam::new(rays, min, scale) {
                 Some(beam) => match self.nearest_full(&beam, limit) {
                     Some(lo) => {
                         let start = lo.max(0.0);
@@ -176,7 +187,8 @@ impl Traversal {
                 },
                 None => (0.0, Subtree::ROOT),
             };
-            for ((hit, r), &t_max) in hits.iter_mut().zip(voxel_rays.iter()).zip(t_max) {
+            for ((hit, &(o, d)), &t_max) in hits.iter_mut().zip(rays).zip(t_max) {
+                let r = &VoxelRay::scaled(min, scale, o, d);
                 *hit = self
                     .first_full_after(r, t_max, start, from)
                     .map(|(min, size, ta, face)| r.entry(min, size, ta, face));
