@@ -60,19 +60,20 @@ impl Beam {
     /// is culled never works out its rays' reciprocals.
     fn new(rays: &[(DVec3, DVec3)], min: DVec3, scale: f64) -> Option<Self> {
         // Per ray `[o, d]`: the least and greatest of each (plain compares, no NaN-aware
-        // min and max), and the sum of all, finite only when each value is (a NaN or an
-        // infinity carries through; an overflow only turns a beam down).
+        // min and max), and the sums of each, finite only when every value is (a NaN or
+        // an infinity carries through; an overflow only turns a beam down). Six sums,
+        // not one: a single sum is a chain of dependent additions, the loop's bottleneck.
         let (mut lo, mut hi) = ([f64::INFINITY; 6], [f64::NEG_INFINITY; 6]);
-        let mut sum = 0.0;
+        let mut sums = [0.0; 6];
         for (o, d) in rays {
             let v = [o.x, o.y, o.z, d.x, d.y, d.z];
             for k in 0..6 {
-                sum += v[k];
+                sums[k] += v[k];
                 lo[k] = if v[k] < lo[k] { v[k] } else { lo[k] };
                 hi[k] = if v[k] > hi[k] { v[k] } else { hi[k] };
             }
         }
-        if rays.is_empty() || !sum.is_finite() {
+        if rays.is_empty() || !sums.iter().sum::<f64>().is_finite() {
             return None;
         }
         let o = |a: usize, x: f64| (x - min[a]) * scale;
