@@ -13,6 +13,7 @@ pub mod frame;
 pub mod light;
 pub mod normals;
 pub mod optics;
+mod plane_times;
 pub mod polygon;
 pub mod raster;
 mod ray_grid;

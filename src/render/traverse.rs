@@ -31,6 +31,7 @@
 
 use glam::DVec3;
 
+use super::plane_times::PlaneTimes;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, NodeKey};
 
 /// One inner node of the traversal octree.
@@ -339,7 +340,7 @@ const STACK: usize = MAX_DEPTH as usize;
 #[derive(Clone, Copy)]
 struct Frame {
     index: u32,
-    tm: [f64; 3],
+    tm: PlaneTimes,
     tb: f64,
 }
 
@@ -382,10 +383,10 @@ impl Traversal {
         if !r.inv.is_finite() {
             off_lattice(r, &mut o, &mut inv);
         }
-        let mid_times = |min: [u32; 3], half: u32| -> [f64; 3] {
-            std::array::from_fn(|a| (f64::from(min[a] + half) - o[a]) * inv[a])
+        let mid_times = |min: [u32; 3], half: u32| {
+            PlaneTimes::new(std::array::from_fn(|a| (f64::from(min[a] + half) - o[a]) * inv[a]))
         };
-        let mut stack = [Frame { index: 0, tm: [0.0; 3], tb: 0.0 }; STACK];
+        let mut stack = [Frame { index: 0, tm: PlaneTimes::new([0.0; 3]), tb: 0.0 }; STACK];
         let root_tb = tb;
         let mut t = ta.max(start);
         // Frames below `base` are not filled yet (a walk begun below the root).
@@ -404,10 +405,8 @@ impl Traversal {
             let inner = self.nodes[index as usize];
             let half = size / 2;
             // Step 1: the child the ray is in just after t, and the next mid plane.
-            let past = [tm[0] <= t, tm[1] <= t, tm[2] <= t];
-            let child = (usize::from(past[0]) | usize::from(past[1]) << 1 | usize::from(past[2]) << 2) ^ mirror;
-            let ahead = |a: usize| if past[a] { f64::INFINITY } else { tm[a] };
-            let next = earlier(earlier(ahead(0), ahead(1)), ahead(2));
+            let (past, next) = tm.split(t);
+            let child = past ^ mirror;
             // Step 2: a non-empty child is the hit (full) or is walked (inner).
             if inner.valid >> child & 1 == 1 {
                 if t >= t_max {
@@ -416,7 +415,7 @@ impl Traversal {
                 let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
                 if inner.full >> child & 1 == 1 {
                     let face = if !BELOW_ROOT || base == 0 {
-                        let path = stack[..depth].iter().map(|f| &f.tm).chain([&tm]);
+                        let path = stack[..depth].iter().map(|f| f.tm.to_array()).chain([tm.to_array()]);
                         entered_face(path, t, ta, face)
                     } else {
                         near_face(cmin, half, mirror, &o, &inv, t)
@@ -544,12 +543,7 @@ const INNER_BEFORE: [[u8; 8]; 256] = {
 /// above `Q` has a mid plane at `t` (the child of such a node would be entered at
 /// `t`, and `Q` inside it), and the nodes below `Q` are entered at `t` through it, so
 /// their mid planes at `t` are entered at once too.
-fn entered_face<'a>(
-    path: impl Iterator<Item = &'a [f64; 3]>,
-    t: f64,
-    ta: f64,
-    root_face: Option<usize>,
-) -> Option<usize> {
+fn entered_face(path: impl Iterator<Item = [f64; 3]>, t: f64, ta: f64, root_face: Option<usize>) -> Option<usize> {
     let mut face = if t == ta { root_face } else { None };
     for tm in path {
         let limit = face.unwrap_or(3);
