@@ -13,9 +13,10 @@
 //! order; full children end the walk, empty ones are skipped, inner ones are entered.
 //! The walk is one loop with an explicit stack of the inner nodes above (their index,
 //! mid-plane times and exit time), not recursion; the child at time `t` is read off
-//! the mid-plane times (`tm <= t`), so going back up needs no saved child state.
+//! the mid-plane times (`tm <= t`, three lanes at once: `PlaneTimes`), so going back up
+//! needs no saved child state.
 //! Deviations from the paper: child times are computed from their planes, `(plane - o)
-//! / d`, not averaged from the parent's, so every plane's time is one formula and ties
+//! * (1 / d)`, not averaged from the parent's, so every plane's time is one formula and ties
 //! are decided the same way everywhere (and by the tests' brute force); the entered
 //! face is worked out once, at the hit, from the mid-plane times on the stack.
 //!
