@@ -18,7 +18,8 @@
 //! Deviations from the paper: child times are computed from their planes,
 //! `(plane - o) * inv` with `inv = 1 / d`, not averaged from the parent's, so every
 //! plane's time is one formula and ties are decided the same way everywhere (and by
-//! the tests' brute force); the entered face is worked out once, at the hit, from the mid-plane times on the stack.
+//! the tests' brute force); the entered face is worked out once, at the hit, from the
+//! mid-plane times on the stack.
 //!
 //! Semantics: the hit is the first point (t >= 0) where the ray enters the interior of a
 //! full voxel; a ray that only touches full voxels along an edge, a corner or a face it
