@@ -179,7 +179,14 @@ fn render_solids_meshes_and_scenes_by_every_method() {
     ok(&dir, &["render", "ring.oct", "--size", "64x48"]);
     assert!(dir.join("ring.png").exists(), "default output name");
     let spot = root.join("models/spot.obj");
-    ok(&dir, &["render", spot.to_str().unwrap(), "--depth", "6", "--up", "y", "--size", "64x48", "-o", "spot.png"]);
+    let spot_with = |name: &str, up: Option<&str>| {
+        let args = ["render", spot.to_str().unwrap(), "--depth", "6", "--size", "64x48", "-o", name];
+        ok(&dir, &args.into_iter().chain(up.into_iter().flat_map(|a| ["--up", a])).collect::<Vec<_>>());
+        std::fs::read(dir.join(name)).unwrap()
+    };
+    let spot_default = spot_with("spot.png", None);
+    assert!(spot_default == spot_with("spot_y.png", Some("y")), "an OBJ is y-up unless told");
+    assert!(spot_default != spot_with("spot_z.png", Some("z")), "--up z turns the view");
     let scene = root.join("scenes/flange.toml");
     ok(&dir, &["render", scene.to_str().unwrap(), "--size", "64x48", "-o", "flange.png"]);
     let img = image::open(dir.join("flange.png")).unwrap();

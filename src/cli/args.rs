@@ -116,9 +116,10 @@ pub enum Command {
         /// Depth to voxelize a mesh at.
         #[arg(long, default_value_t = 9)]
         depth: u8,
-        /// The world's up axis for solids and meshes without a scene (the bunny is y-up).
-        #[arg(long, default_value = "z")]
-        up: octsolid::shape::Axis,
+        /// The world's up axis for solids and meshes without a scene (default: y for .obj
+        /// and .ply, y-up by convention, as the bunny and Spot are; z otherwise).
+        #[arg(long)]
+        up: Option<octsolid::shape::Axis>,
         /// Skip shadow rays.
         #[arg(long)]
         no_shadows: bool,

@@ -37,6 +37,7 @@ pub fn run(args: Args) -> Result<()> {
         Command::MeshInfo { input, json } => mesh_info_command(&input, json),
         Command::Export { file, output, unit_faces } => export_command(&file, &output, unit_faces, budget),
         Command::Render { input, output, size, spp, method, depth, up, no_shadows, normals, max_depth, shading } => {
+            let up = up.unwrap_or_else(|| default_up(&input));
             if let Some(interpolation) = shading {
                 return polygon_command(&input, output, size, spp, up, interpolation.into(), budget);
             }
@@ -373,6 +374,13 @@ fn polygon_command(
     png::save(&img, &output)?;
     out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     Ok(())
+}
+
+/// The up axis a file's format implies: OBJ and PLY meshes are y-up by convention
+/// (the bunny, Spot); STL, Bezier patches (the teapot) and our .oct files z-up.
+fn default_up(input: &Path) -> Axis {
+    let ext = input.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if matches!(ext.as_str(), "obj" | "ply") { Axis::Y } else { Axis::Z }
 }
 
 /// The world's up vector and the default view direction for an up axis.
