@@ -116,8 +116,10 @@ pub enum Command {
         /// Depth to voxelize a mesh at.
         #[arg(long, default_value_t = 9)]
         depth: u8,
-        /// The world's up axis for solids and meshes without a scene (default: y for .obj
-        /// and .ply, y-up by convention, as the bunny and Spot are; z otherwise).
+        /// The world's up axis for solids and meshes without a scene (default by the
+        /// file's extension: y for .obj and .ply, y-up by convention, as the bunny and
+        /// Spot are; z otherwise, as octsolid's shapes are: pass --up z to view a shape
+        /// exported to .obj or .ply as it was built).
         #[arg(long)]
         up: Option<octsolid::shape::Axis>,
         /// Skip shadow rays.

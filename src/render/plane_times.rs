@@ -27,12 +27,14 @@ impl PlaneTimes {
     /// At time `t`: the planes crossed, bit `a` set when `time[a] <= t`, and the next
     /// crossing, `min {time[a] : time[a] > t}` (`+inf` when none), the minimum taken
     /// as `earlier(earlier(x, y), z)` with `earlier(p, q) = if p < q { p } else { q }`.
-    /// No time may be NaN.
     #[inline(always)]
     pub(super) fn split(self, t: f64) -> (usize, f64) {
         self.0.split(t)
     }
 }
+
+#[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
+use scalar as imp;
 
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 mod imp {
@@ -85,8 +87,9 @@ mod imp {
     }
 }
 
-#[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
-mod imp {
+/// The scalar rule: the build where the target has no SSE2, and the tests' oracle.
+#[cfg(any(test, not(all(target_arch = "x86_64", target_feature = "sse2"))))]
+mod scalar {
     /// The times in an array.
     #[derive(Clone, Copy, Debug)]
     pub(super) struct Lanes([f64; 3]);
@@ -117,24 +120,52 @@ mod imp {
 mod tests {
     use super::*;
 
+    /// Every triple of `values` at every time in `values`: the build's lanes give the
+    /// scalar rule's bits (on x86-64 the SSE2 lanes against the scalar build).
     #[test]
     fn split_is_the_scalar_rule() {
-        let earlier = |p: f64, q: f64| if p < q { p } else { q };
-        let values = [f64::NEG_INFINITY, -2.5, -0.0, 0.0, 1.0, 1.0, 3.25, f64::INFINITY];
+        let nan = f64::from_bits(0x7ff8_0000_0000_0123);
+        let values = [
+            f64::NEG_INFINITY,
+            -f64::MAX,
+            -2.5,
+            -f64::MIN_POSITIVE / 4.0,
+            -0.0,
+            0.0,
+            f64::MIN_POSITIVE / 4.0,
+            1.0,
+            3.25,
+            f64::MAX,
+            f64::INFINITY,
+            nan,
+        ];
         for &x in &values {
             for &y in &values {
                 for &z in &values {
                     let times = PlaneTimes::new([x, y, z]);
-                    assert_eq!(times.to_array().map(f64::to_bits), [x, y, z].map(f64::to_bits));
+                    let oracle = scalar::Lanes::new([x, y, z]);
+                    for stored in [times.to_array(), oracle.to_array()] {
+                        assert_eq!(stored.map(f64::to_bits), [x, y, z].map(f64::to_bits));
+                    }
                     for &t in &values {
-                        let ahead = |v: f64| if v <= t { f64::INFINITY } else { v };
-                        let crossed = usize::from(x <= t) | usize::from(y <= t) << 1 | usize::from(z <= t) << 2;
-                        let next = earlier(earlier(ahead(x), ahead(y)), ahead(z));
                         let (c, n) = times.split(t);
-                        assert_eq!((c, n.to_bits()), (crossed, next.to_bits()), "{x} {y} {z} at {t}");
+                        let (oc, on) = oracle.split(t);
+                        assert_eq!((c, n.to_bits()), (oc, on.to_bits()), "{x} {y} {z} at {t}");
                     }
                 }
             }
         }
+    }
+
+    /// The scalar rule on hand-worked cases.
+    #[test]
+    fn split_finds_the_crossed_planes_and_the_next() {
+        let times = PlaneTimes::new([2.0, 0.5, 4.0]);
+        assert_eq!(times.split(0.0), (0b000, 0.5));
+        assert_eq!(times.split(0.5), (0b010, 2.0));
+        assert_eq!(times.split(3.0), (0b011, 4.0));
+        assert_eq!(times.split(4.0), (0b111, f64::INFINITY));
+        let parallel = PlaneTimes::new([f64::NEG_INFINITY, f64::INFINITY, 1.0]);
+        assert_eq!(parallel.split(0.0), (0b001, 1.0));
     }
 }

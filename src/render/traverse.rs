@@ -351,7 +351,7 @@ impl Traversal {
     /// (after Revelles et al., iterative, with an explicit stack).
     ///
     /// In an inner node `[min, min + size)` the mid-plane times `tm[a] = (min[a] +
-    /// size / 2 - o[a]) / d[a]` are computed once. At time `t` the ray is in the child
+    /// size / 2 - o[a]) * inv[a]` (`inv = 1 / d`) are computed once. At time `t` the ray is in the child
     /// whose bit `a` is high when `tm[a] <= t` (`d[a] > 0`) or `tm[a] > t` (`d[a] < 0`);
     /// that child's piece ends at the next mid-plane time `min {tm[a] : tm[a] > t}` or
     /// at the node's exit `tb`, whichever comes first, and crossings at one time are
