@@ -379,8 +379,7 @@ fn polygon_command(
 /// The up axis a file's format implies: OBJ and PLY meshes are y-up by convention
 /// (the bunny, Spot); STL, Bezier patches (the teapot) and our .oct files z-up.
 fn default_up(input: &Path) -> Axis {
-    let ext = input.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    if matches!(ext.as_str(), "obj" | "ply") { Axis::Y } else { Axis::Z }
+    if matches!(MeshFormat::of(input), Ok(MeshFormat::Obj | MeshFormat::Ply)) { Axis::Y } else { Axis::Z }
 }
 
 /// The world's up vector and the default view direction for an up axis.

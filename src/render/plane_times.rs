@@ -90,6 +90,8 @@ mod imp {
 /// The scalar rule: the build where the target has no SSE2, and the tests' oracle.
 #[cfg(any(test, not(all(target_arch = "x86_64", target_feature = "sse2"))))]
 mod scalar {
+    use crate::render::traverse::earlier;
+
     /// The times in an array.
     #[derive(Clone, Copy, Debug)]
     pub(super) struct Lanes([f64; 3]);
@@ -107,7 +109,6 @@ mod scalar {
 
         #[inline(always)]
         pub(super) fn split(self, t: f64) -> (usize, f64) {
-            let earlier = |p: f64, q: f64| if p < q { p } else { q };
             let [x, y, z] = self.0;
             let ahead = |v: f64| if v <= t { f64::INFINITY } else { v };
             let crossed = usize::from(x <= t) | usize::from(y <= t) << 1 | usize::from(z <= t) << 2;

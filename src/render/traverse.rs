@@ -351,11 +351,11 @@ impl Traversal {
     /// (after Revelles et al., iterative, with an explicit stack).
     ///
     /// In an inner node `[min, min + size)` the mid-plane times `tm[a] = (min[a] +
-    /// size / 2 - o[a]) * inv[a]` (`inv = 1 / d`) are computed once. At time `t` the ray is in the child
-    /// whose bit `a` is high when `tm[a] <= t` (`d[a] > 0`) or `tm[a] > t` (`d[a] < 0`);
-    /// that child's piece ends at the next mid-plane time `min {tm[a] : tm[a] > t}` or
-    /// at the node's exit `tb`, whichever comes first, and crossings at one time are
-    /// taken together (no zero-length pieces). The walk starts at `max(ta, start)`, with
+    /// size / 2 - o[a]) * inv[a]` (`inv = 1 / d`) are computed once. At time `t` the
+    /// ray is in the child whose bit `a` is high when `tm[a] <= t` (`d[a] > 0`) or
+    /// `tm[a] > t` (`d[a] < 0`); that child's piece ends at the next mid-plane time
+    /// `min {tm[a] : tm[a] > t}` or at the node's exit `tb`, whichever comes first, and
+    /// crossings at one time are taken together (no zero-length pieces). The walk starts at `max(ta, start)`, with
     /// `0 <= start < tb`: pieces before the origin are never visited (a hit there is the
     /// origin's own voxel, whatever its entry time); nor, when `start > 0`, those before
     /// `start`.
@@ -514,7 +514,7 @@ fn off_lattice(r: &VoxelRay, o: &mut [f64; 3], inv: &mut [f64; 3]) {
 }
 
 /// The smaller of two times that are not NaN.
-fn earlier(x: f64, y: f64) -> f64 {
+pub(super) fn earlier(x: f64, y: f64) -> f64 {
     if x < y { x } else { y }
 }
 
