@@ -1,7 +1,7 @@
 //! Octree traversal against BVHs (obvhs CWBVH and the bvh crate) over the octree's
 //! boundary faces and, for the bunny, over its original mesh: build, and primary, shadow
 //! and random rays on 1 thread and all threads. The same scenes, rays and pools as
-//! `octsolid bench --report` (`octsolid::bench`).
+//! `octsolid bench --report` (`octsolid_harness`).
 //!
 //! Ids: `bvh/{scene}_d{depth}/{contender}/{build|primary|shadow|random}_{threads}t`.
 //! The whole matrix takes long; pick a subset by filter, e.g.
@@ -10,11 +10,11 @@
 //! runs: its boundary meshes exceed the matrix's 4 million triangle limit for BVHs.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use octsolid::bench::rays::{light_position, primary_rays, random_rays, shadow_rays};
-use octsolid::bench::{BvhCrateBvh, Contender, ObvhsBvh, RaySet, SceneKind, build_scene};
 use octsolid::budget::MemoryBudget;
 use octsolid::mesh::{BoundaryOptions, TriangleMesh, boundary_mesh};
 use octsolid::render::Traversal;
+use octsolid_harness::rays::{light_position, primary_rays, random_rays, shadow_rays};
+use octsolid_harness::{BvhCrateBvh, Contender, ObvhsBvh, RaySet, SceneKind, build_scene};
 
 const IMAGE: u32 = 256;
 const RANDOM: usize = 1 << 16;

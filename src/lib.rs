@@ -23,7 +23,6 @@
 #![deny(missing_docs)]
 
 pub mod aabb;
-pub mod bench;
 pub mod budget;
 pub mod color;
 pub mod error;

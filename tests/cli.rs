@@ -8,6 +8,11 @@ fn octsolid(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_octsolid")).current_dir(dir).args(args).output().unwrap()
 }
 
+/// The repository's top folder (this test belongs to the cli package in `cli/`).
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("cli/ has a parent").to_path_buf()
+}
+
 fn ok(dir: &Path, args: &[&str]) -> String {
     let out = octsolid(dir, args);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -135,7 +140,7 @@ fn demo_writes_its_picture() {
 #[test]
 fn voxelize_meshes_and_patches_and_report_the_rule() {
     let dir = scratch("voxelize");
-    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    let models = repo().join("models");
     let spot = models.join("spot.obj");
     let spot = spot.to_str().unwrap();
     let out = ok(&dir, &["voxelize", spot, "--depth", "7", "-o", "spot.oct"]);
@@ -165,7 +170,7 @@ fn voxelize_meshes_and_patches_and_report_the_rule() {
 #[test]
 fn render_solids_meshes_and_scenes_by_every_method() {
     let dir = scratch("render");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = &repo();
     ok(&dir, &["shape", "torus", "--radius", "1", "--tube", "0.3", "--depth", "6", "-o", "ring.oct"]);
     let mut images = Vec::new();
     for method in ["trace", "front-to-back", "painter", "zbuffer", "scanline"] {
@@ -227,7 +232,7 @@ fn export_writes_closed_meshes_with_the_octree_volume() {
 #[test]
 fn render_meshes_as_polygons_with_each_shading() {
     let dir = scratch("polygons");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = &repo();
     let teapot = root.join("models/teapot.patches");
     let mut images = Vec::new();
     for shading in ["flat", "gouraud", "phong"] {

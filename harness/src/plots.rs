@@ -12,7 +12,7 @@ use plotters::prelude::*;
 use super::matrix::{ContenderKind, MatrixResults};
 use super::rays::RayKind;
 use super::scenes::SceneKind;
-use crate::error::{Error, Result};
+use octsolid::error::{Error, Result};
 
 /// The embedded font.
 static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
@@ -57,7 +57,7 @@ fn render_png(
         root.present().map_err(|e| plot_error(path, e))?;
     }
     let img = RgbImage::from_raw(w, h, buffer).ok_or_else(|| plot_error(path, "image buffer size"))?;
-    crate::io::png::save(&img, path).map(|_| ())
+    octsolid::io::png::save(&img, path).map(|_| ())
 }
 
 /// Mrays/s against depth on all threads for `scene`: one panel a ray kind.

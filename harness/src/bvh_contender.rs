@@ -22,7 +22,7 @@ use nalgebra::{Point3, Vector3};
 
 use super::contender::{Contender, SurfaceHit};
 use super::rays::Ray;
-use crate::mesh::TriangleMesh;
+use octsolid::mesh::TriangleMesh;
 
 /// One triangle as a shape of the `bvh` crate.
 #[derive(Clone, Copy, Debug)]

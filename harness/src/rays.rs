@@ -15,8 +15,8 @@ use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
 
-use crate::aabb::Aabb;
-use crate::render::{Camera, Traversal};
+use octsolid::aabb::Aabb;
+use octsolid::render::{Camera, Traversal};
 
 /// A ray `origin + t dir`, `0 <= t < t_max`, `dir` a unit vector (so `t` is a distance).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,15 +3,26 @@
 //! Raw arguments -> validated values -> one library call a subcommand. Every error is
 //! printed as one line and exits with status 1 (2 for bad usage, from clap).
 
-mod cli;
+/// Prints a line to stdout, ignoring a closed pipe (`octsolid info x.oct | head -1`
+/// must not panic).
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+mod args;
+mod commands;
+mod progress_bar;
 
 use std::process::ExitCode;
 
 use clap::Parser;
 
 fn main() -> ExitCode {
-    let args = cli::Args::parse();
-    match cli::run(args) {
+    let args = args::Args::parse();
+    match commands::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // One line: the context chain, each cause once (a library error already

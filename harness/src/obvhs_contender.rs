@@ -21,7 +21,7 @@ use obvhs::triangle::Triangle;
 
 use super::contender::{Contender, SurfaceHit};
 use super::rays::Ray;
-use crate::mesh::TriangleMesh;
+use octsolid::mesh::TriangleMesh;
 
 /// A CWBVH of `obvhs` and its triangles in leaf order.
 pub struct ObvhsBvh {

@@ -16,12 +16,12 @@ use super::machine::Machine;
 use super::obvhs_contender::ObvhsBvh;
 use super::rays::{RayKind, RaySet, light_position, primary_rays, random_rays, shadow_rays};
 use super::scenes::{BenchScene, SceneKind, build_scene};
-use crate::budget::MemoryBudget;
-use crate::error::{Error, Result};
-use crate::mesh::{BoundaryOptions, try_boundary_mesh};
-use crate::progress::NoProgress;
-use crate::progress::Progress;
-use crate::render::Traversal;
+use octsolid::budget::MemoryBudget;
+use octsolid::error::{Error, Result};
+use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
+use octsolid::progress::NoProgress;
+use octsolid::progress::Progress;
+use octsolid::render::Traversal;
 
 /// The structures under test.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -258,10 +258,10 @@ struct Pools {
 impl Pools {
     fn new(threads: usize) -> Result<Self> {
         let pool = |n| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| Error::invalid("threads", format!("cannot start {n} threads: {e}")))
+            rayon::ThreadPoolBuilder::new().num_threads(n).build().map_err(|e| Error::InvalidArgument {
+                what: "threads",
+                reason: format!("cannot start {n} threads: {e}"),
+            })
         };
         Ok(Pools { one: pool(1)?, all: pool(threads.max(1))?, threads: threads.max(1) })
     }
@@ -369,7 +369,10 @@ fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress
 /// Runs the matrix; `progress` receives [`MatrixOptions::work_units`] units.
 pub fn run_matrix(options: &MatrixOptions, progress: &dyn Progress) -> Result<MatrixResults> {
     if options.image_size == 0 || options.random_rays == 0 {
-        return Err(Error::invalid("ray sets", "the image size and the number of random rays must be positive"));
+        return Err(Error::InvalidArgument {
+            what: "ray sets",
+            reason: "the image size and the number of random rays must be positive".into(),
+        });
     }
     let pools = Pools::new(options.threads)?;
     progress.start(options.work_units());

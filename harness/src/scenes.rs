@@ -5,13 +5,13 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use crate::budget::MemoryBudget;
-use crate::error::Result;
-use crate::mesh::{MeshVoxelizeOptions, TriangleMesh, load_mesh, voxelize_mesh};
-use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use crate::render::DEFAULT_VIEW;
-use crate::samples::classic_csg;
-use crate::shape::{Menger, Sphere};
+use octsolid::budget::MemoryBudget;
+use octsolid::error::Result;
+use octsolid::mesh::{MeshVoxelizeOptions, TriangleMesh, load_mesh, voxelize_mesh};
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::render::DEFAULT_VIEW;
+use octsolid::samples::classic_csg;
+use octsolid::shape::{Menger, Sphere};
 
 /// The file of the bunny inside the models folder.
 pub const BUNNY_FILE: &str = "stanford-bunny.obj";

@@ -5,9 +5,6 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use glam::DVec3;
-use octsolid::bench::markdown::render_section;
-use octsolid::bench::report::IMAGES;
-use octsolid::bench::{MatrixOptions, run_matrix, write_report};
 use octsolid::budget::MemoryBudget;
 use octsolid::error::human_bytes;
 use octsolid::import::{self, Fill, Input};
@@ -18,6 +15,9 @@ use octsolid::render::{self, Camera, DEFAULT_VIEW, Light, Material, RenderOption
 use octsolid::samples;
 use octsolid::scene_file;
 use octsolid::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, Shape, Sphere, Torus};
+use octsolid_harness::markdown::render_section;
+use octsolid_harness::report::IMAGES;
+use octsolid_harness::{MatrixOptions, run_matrix, write_report};
 use serde::Serialize;
 
 use super::args::{Args, Command, CsgOp, ShapeArgs, ShapeKind};

@@ -5,8 +5,8 @@
 
 use super::contender::{Contender, SurfaceHit};
 use super::rays::Ray;
-use crate::octree::LinearOctree;
-use crate::render::Traversal;
+use octsolid::octree::LinearOctree;
+use octsolid::render::Traversal;
 
 impl Contender for Traversal {
     type Input = LinearOctree;
