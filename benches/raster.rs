@@ -8,7 +8,7 @@ use glam::DVec3;
 use octsolid::budget::MemoryBudget;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
-use octsolid::render::{Camera, DEFAULT_VIEW, Material, Method, Samples, Scene, visibility, visibility_into};
+use octsolid::render::{Camera, DEFAULT_VIEW, Material, Method, SampleGrid, Scene, visibility, visibility_into};
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("visibility");
@@ -21,7 +21,7 @@ fn bench(c: &mut Criterion) {
     scene.add("bunny", tree, Material::default());
     let view = DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y);
     let camera = Camera::frame(&bounds, view, DVec3::Y, 1.0);
-    let samples = Samples { width: 1024, height: 1024, spp: 1 };
+    let samples = SampleGrid { width: 1024, height: 1024, spp: 1 };
     // Frames of a viewer: one frame buffer drawn into again and again.
     let mut frame = Vec::new();
     for method in [Method::Trace, Method::FrontToBack, Method::ZBuffer, Method::Painter, Method::ScanLine] {

@@ -38,6 +38,8 @@ pub mod samples;
 pub mod scene_file;
 pub mod shape;
 pub mod slice;
+#[cfg(test)]
+mod test_util;
 
 pub use aabb::Aabb;
 pub use error::{Error, Result};

@@ -3,8 +3,8 @@
 
 use glam::DVec3;
 use octsolid::color::{Hsi, cmy_to_rgb, hsi_to_rgb, rgb_to_cmy, rgb_to_hsi};
-use octsolid::render::optics::{reflect, refract};
-use octsolid::render::texture::{Mapping, Texture, noise};
+use octsolid::render::scene::{Mapping, Texture};
+use octsolid::render::shade::{reflect, refract};
 use octsolid::shape::Axis;
 
 mod common;
@@ -195,82 +195,11 @@ fn solid_textures_are_bounded_and_follow_their_rules() {
     let textures =
         [Texture::Wood { axis: Axis::Z, center: DVec3::ZERO, size: 0.1, a, b }, Texture::Marble { size: 0.3, a, b }];
     let (lo, hi) = (a.min(b), a.max(b));
-    let mut max_noise: f64 = 0.0;
     for _ in 0..20_000 {
         let p = rng.vec(-50.0, 50.0);
         for t in &textures {
             let c = t.color(p);
             assert!(c.cmpge(lo - 1e-12).all() && c.cmple(hi + 1e-12).all(), "{c}");
-        }
-        max_noise = max_noise.max(noise(p).abs());
-        // Zero at lattice points.
-        assert_eq!(noise(p.floor()), 0.0);
-    }
-    assert!(max_noise <= 1.0 && max_noise > 0.5, "noise range {max_noise}");
-}
-
-#[test]
-fn smooth_normals_of_a_voxelized_sphere_follow_the_sphere() {
-    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
-    use octsolid::render::normals::{SMOOTH_RADIUS, smooth_normal};
-    use octsolid::shape::Sphere;
-    let center = DVec3::new(0.013, -0.021, 0.007);
-    let sphere = Sphere::new(center, 0.8).unwrap();
-    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 9).unwrap();
-    let tree = voxelize(&sphere, domain, &VoxelizeOptions::default()).unwrap();
-    // Surface voxels: full with an empty face neighbour; every 7th of them.
-    let mut rng = Rng(5);
-    let (mut total, mut good) = (0, 0);
-    for node in tree.nodes().filter(|n| n.size == 1) {
-        let v = node.min;
-        let exposed = (0..6).any(|f| {
-            let mut w = v.map(i64::from);
-            w[f / 2] += if f % 2 == 0 { -1 } else { 1 };
-            !tree.contains_voxel(w.map(|c| c as u32))
-        });
-        if !exposed || rng.below(7) != 0 {
-            continue;
-        }
-        total += 1;
-        let want = (domain.voxel_center(v) - center).normalize();
-        let got = smooth_normal(&tree, domain.voxel_center(v), SMOOTH_RADIUS).expect("a surface voxel has a gradient");
-        if got.angle_between(want).to_degrees() < 5.0 {
-            good += 1;
-        }
-    }
-    assert!(total > 10_000, "{total} surface voxels sampled");
-    assert!(good as f64 >= 0.95 * total as f64, "{good} of {total} within 5 degrees");
-}
-
-#[test]
-fn the_cached_normal_field_equals_the_direct_estimate() {
-    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
-    use octsolid::render::normals::{NormalField, SMOOTH_RADIUS, smooth_normal};
-    use octsolid::shape::{Csg, Cuboid, Sphere};
-    // A carved sphere and a slab reaching the domain's faces (windows cut by the
-    // boundary), at a depth where 16-voxel bricks straddle every window.
-    let sphere = Sphere::new(DVec3::new(0.11, -0.07, 0.2), 0.62).unwrap();
-    let notch = Cuboid::new(DVec3::new(0.5, 0.0, 0.5), DVec3::splat(0.5)).unwrap();
-    let slab = Cuboid::new(DVec3::new(0.0, 0.0, -0.8), DVec3::new(2.5, 2.5, 0.3)).unwrap();
-    let solid = (Csg::leaf(sphere) - Csg::leaf(notch)) | Csg::leaf(slab);
-    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
-    let tree = voxelize(&solid, domain, &VoxelizeOptions::default()).unwrap();
-    let field = NormalField::new();
-    let mut rng = Rng(77);
-    let mut some = 0;
-    for _ in 0..20_000 {
-        let p = rng.vec(-1.0, 1.0);
-        let want = smooth_normal(&tree, p, SMOOTH_RADIUS);
-        assert_eq!(field.normal(&tree, p), want, "at {p}");
-        some += usize::from(want.is_some());
-    }
-    assert!(some > 2_000, "{some} points near the surface");
-    // The slab's top face (voxelized at the lattice plane nearest z = -0.65) is flat:
-    // exactly its axis.
-    for _ in 0..1_000 {
-        let p = DVec3::new(rng.unit() * 1.2 - 0.6, rng.unit() * 1.2 - 0.6, -0.65);
-        if (p - DVec3::new(0.11, -0.07, 0.2)).length() > 0.62 + 0.3 {
-            assert_eq!(field.normal(&tree, p), Some(DVec3::Z), "at {p}");
         }
     }
 }

@@ -9,7 +9,7 @@ use glam::DVec3;
 use octsolid::budget::MemoryBudget;
 use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
 use octsolid::progress::NoProgress;
-use octsolid::render::shade::to_srgb8;
+use octsolid::render::film::to_srgb8;
 use octsolid::render::*;
 use octsolid::scene_file::load_scene;
 use octsolid::shape::Sphere;
@@ -185,7 +185,7 @@ fn all_visibility_methods_agree_on_random_scenes() {
         } else {
             Camera::look_at(eye, rng.vec(-0.2, 0.2), DVec3::new(0.1, 0.2, 1.0), 40.0)
         };
-        let samples = Samples { width: 48 - 8 * (round % 2), height: 36, spp: 2 };
+        let samples = SampleGrid { width: 48 - 8 * (round % 2), height: 36, spp: 2 };
         let (trace, _) = visibility(&scene, &camera, &samples, Method::Trace);
         seen_any += trace.iter().filter(|s| s.is_some()).count();
         for method in [Method::FrontToBack, Method::Painter, Method::ZBuffer, Method::ScanLine] {
@@ -221,7 +221,7 @@ fn front_to_back_matches_the_tracer_near_the_eye_at_odd_sizes_on_any_thread_coun
         }
         rounds += 1;
         let camera = Camera::look_at(eye, rng.vec(-0.3, 0.3) * 0.1, DVec3::new(0.1, 0.2, 1.0), 70.0);
-        let samples = Samples { width: 37, height: 71, spp: 1 };
+        let samples = SampleGrid { width: 37, height: 71, spp: 1 };
         let (trace, stats) = visibility(&scene, &camera, &samples, Method::Trace);
         assert_eq!(stats.faces_drawn, 0);
         for threads in [1, 2] {

@@ -1,33 +1,29 @@
-//! Rendering octree solids: the traversal octree and its exact ray walk, cameras,
-//! scenes, the Phong shading stage with shadows, and supersampled frames.
+//! Rendering octree solids. Read bottom-up, each layer using only those below it:
 //!
-//! Pipeline: for each sample, visibility (the nearest solid and voxel along the primary
-//! ray, with the entered face's axis normal) then shading (Phong, shadow rays through
-//! the same octrees), averaged over the pixel's samples and encoded as sRGB.
+//! - [`film`]: cameras, the sample grid, camera rays of a grid, the pixel average and
+//!   sRGB.
+//! - [`trace`]: the traversal octree and its exact ray walk, with the beam pre-pass
+//!   for packets of primary rays.
+//! - [`scene`]: what a picture shows: solids with materials and textures, lights.
+//! - [`raster`]: object-order visibility: front-to-back, painter's, Z-buffer and
+//!   scan-line over voxel faces, and triangle meshes as polygons.
+//! - [`shade`]: the shading stage: normals, Phong with shadows, Whitted.
+//! - `visibility`: which solid, voxel and face each sample sees, by any [`Method`]
+//!   (the ray walk or a raster method: the same hits, bit for bit).
+//! - `pipeline`: [`render`]: visibility, then shading, averaged over each pixel's
+//!   samples.
 
-pub mod beam;
-pub mod camera;
-mod display;
-mod face;
-pub mod frame;
-pub mod light;
-pub mod normals;
-pub mod optics;
-mod plane_times;
-pub mod polygon;
+pub mod film;
+mod pipeline;
 pub mod raster;
-mod ray_grid;
 pub mod scene;
 pub mod shade;
-pub mod texture;
-pub mod traverse;
-pub mod whitted;
+pub mod trace;
+mod visibility;
 
-pub use beam::{PACKET, TILE};
-pub use camera::{Camera, DEFAULT_VIEW, Projection, View};
-pub use frame::{RenderOptions, RenderStats, render};
-pub use light::{Bump, Light, Material};
-pub use raster::{Method, Samples, VisibilityStats, visibility, visibility_into};
-pub use scene::{Scene, SceneHit};
+pub use film::{Camera, DEFAULT_VIEW, Projection, SampleGrid, View};
+pub use pipeline::{MAX_IMAGE_SIZE, RenderOptions, RenderStats, render};
+pub use scene::{Bump, Light, Material, Scene, SceneHit, SceneSolid};
 pub use shade::{Normals, ShadeOptions};
-pub use traverse::{Hit, Traversal, VoxelRay};
+pub use trace::{Hit, PACKET, TILE, Traversal, VoxelRay};
+pub use visibility::{Method, VisibilityStats, visibility, visibility_into};

@@ -7,11 +7,11 @@ use rayon::prelude::*;
 
 use glam::DVec3;
 
-use super::camera::Camera;
-use super::raster::{Method, Samples, visibility};
+use super::film::resolve::resolve;
+use super::film::{Camera, SampleGrid};
 use super::scene::Scene;
-use super::shade::{Normals, ShadeOptions, to_srgb8};
-use super::whitted::radiance;
+use super::shade::{Normals, ShadeOptions, radiance};
+use super::visibility::{Method, visibility};
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 
@@ -80,7 +80,7 @@ pub fn render(
     if !(1..=16).contains(&spp) {
         return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
     }
-    let samples = Samples { width, height, spp };
+    let samples = SampleGrid { width, height, spp };
     let shading = ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() };
     // Step 1: what each sample sees.
     let (seen, visible) = visibility(scene, camera, &samples, method);
@@ -110,8 +110,7 @@ pub fn render(
                             };
                         }
                     }
-                    let c = sum / f64::from(spp * spp);
-                    Rgb([to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)])
+                    resolve(sum, spp * spp)
                 })
                 .collect();
             progress.advance(1);

@@ -25,10 +25,12 @@ use std::cell::Cell;
 
 use glam::DVec3;
 
+use super::ShadeOptions;
+use super::normals::{SurfacePoint, smooth_at};
 use super::optics::{reflect, refract};
-use super::scene::{Scene, SceneHit, SceneSolid};
-use super::shade::{ShadeOptions, SurfacePoint, local};
-use super::traverse::Hit;
+use super::phong::local;
+use crate::render::scene::{Scene, SceneHit, SceneSolid};
+use crate::render::trace::Hit;
 
 /// The light seen along the ray `origin + t dir` (unit `dir`) whose first hit is `sh`,
 /// and the rays cast to find it after the primary one (secondary and shadow rays).
@@ -189,7 +191,7 @@ fn outward(
     options: &ShadeOptions,
 ) -> (DVec3, DVec3, Option<DVec3>) {
     let geometric = -exit.normal(dir);
-    let (smooth, _) = solid.smooth_at(p, options.normals);
+    let (smooth, _) = smooth_at(solid, p, options.normals);
     let n = smooth.filter(|n| n.dot(dir) > 0.0).unwrap_or(geometric);
     (geometric, solid.material.bump.map_or(n, |b| b.perturb(p, n)), smooth)
 }

@@ -33,8 +33,8 @@ pub const MAX_RADIUS: u32 = 7;
 /// The outward unit normal estimated at the world point `p` with window radius
 /// `radius` voxels (at most [`MAX_RADIUS`]); `None` where the window is uniformly full
 /// or empty (no gradient).
-#[must_use]
-pub fn smooth_normal(tree: &LinearOctree, p: DVec3, radius: u32) -> Option<DVec3> {
+#[cfg(test)]
+fn smooth_normal(tree: &LinearOctree, p: DVec3, radius: u32) -> Option<DVec3> {
     let (q, lo, size) = placement(tree, p, radius);
     let full = tree.occupancy(lo, size as u32);
     let mut window = Window::empty(lo, size);
@@ -205,5 +205,74 @@ impl NormalField {
             rows[i / 16] |= 1 << (i % 16);
         }
         Some(Arc::clone(&self.bricks.entry(b).or_insert_with(|| Arc::new(rows))))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::octree::{Domain, VoxelizeOptions, voxelize};
+    use crate::shape::{Csg, Cuboid, Sphere};
+    use crate::test_util::Rng;
+
+    #[test]
+    fn smooth_normals_of_a_voxelized_sphere_follow_the_sphere() {
+        let center = DVec3::new(0.013, -0.021, 0.007);
+        let sphere = Sphere::new(center, 0.8).unwrap();
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 9).unwrap();
+        let tree = voxelize(&sphere, domain, &VoxelizeOptions::default()).unwrap();
+        // Surface voxels: full with an empty face neighbour; every 7th of them.
+        let mut rng = Rng(5);
+        let (mut total, mut good) = (0, 0);
+        for node in tree.nodes().filter(|n| n.size == 1) {
+            let v = node.min;
+            let exposed = (0..6).any(|f| {
+                let mut w = v.map(i64::from);
+                w[f / 2] += if f % 2 == 0 { -1 } else { 1 };
+                !tree.contains_voxel(w.map(|c| c as u32))
+            });
+            if !exposed || rng.below(7) != 0 {
+                continue;
+            }
+            total += 1;
+            let want = (domain.voxel_center(v) - center).normalize();
+            let got =
+                smooth_normal(&tree, domain.voxel_center(v), SMOOTH_RADIUS).expect("a surface voxel has a gradient");
+            if got.angle_between(want).to_degrees() < 5.0 {
+                good += 1;
+            }
+        }
+        assert!(total > 10_000, "{total} surface voxels sampled");
+        assert!(good as f64 >= 0.95 * total as f64, "{good} of {total} within 5 degrees");
+    }
+
+    #[test]
+    fn the_cached_normal_field_equals_the_direct_estimate() {
+        // A carved sphere and a slab reaching the domain's faces (windows cut by the
+        // boundary), at a depth where 16-voxel bricks straddle every window.
+        let sphere = Sphere::new(DVec3::new(0.11, -0.07, 0.2), 0.62).unwrap();
+        let notch = Cuboid::new(DVec3::new(0.5, 0.0, 0.5), DVec3::splat(0.5)).unwrap();
+        let slab = Cuboid::new(DVec3::new(0.0, 0.0, -0.8), DVec3::new(2.5, 2.5, 0.3)).unwrap();
+        let solid = (Csg::leaf(sphere) - Csg::leaf(notch)) | Csg::leaf(slab);
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+        let tree = voxelize(&solid, domain, &VoxelizeOptions::default()).unwrap();
+        let field = NormalField::new();
+        let mut rng = Rng(77);
+        let mut some = 0;
+        for _ in 0..20_000 {
+            let p = rng.vec(-1.0, 1.0);
+            let want = smooth_normal(&tree, p, SMOOTH_RADIUS);
+            assert_eq!(field.normal(&tree, p), want, "at {p}");
+            some += usize::from(want.is_some());
+        }
+        assert!(some > 2_000, "{some} points near the surface");
+        // The slab's top face (voxelized at the lattice plane nearest z = -0.65) is flat:
+        // exactly its axis.
+        for _ in 0..1_000 {
+            let p = DVec3::new(rng.unit() * 1.2 - 0.6, rng.unit() * 1.2 - 0.6, -0.65);
+            if (p - DVec3::new(0.11, -0.07, 0.2)).length() > 0.62 + 0.3 {
+                assert_eq!(field.normal(&tree, p), Some(DVec3::Z), "at {p}");
+            }
+        }
     }
 }

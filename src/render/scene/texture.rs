@@ -21,6 +21,7 @@
 use glam::DVec3;
 use image::RgbImage;
 
+use crate::render::film::resolve::from_srgb8;
 use crate::shape::Axis;
 
 /// How a surface point finds its place in an image.
@@ -179,16 +180,9 @@ fn bilinear(image: &RgbImage, u: f64, down: f64) -> DVec3 {
     top.lerp(bottom, fy)
 }
 
-/// Linear value of an 8-bit sRGB channel (IEC 61966-2-1).
-#[must_use]
-pub fn from_srgb8(c: u8) -> f64 {
-    let s = f64::from(c) / 255.0;
-    if s <= 0.040_45 { s / 12.92 } else { ((s + 0.055) / 1.055).powf(2.4) }
-}
-
 /// Perlin's improved noise at `p` (see the module doc).
 #[must_use]
-pub fn noise(p: DVec3) -> f64 {
+pub(crate) fn noise(p: DVec3) -> f64 {
     let cell = p.floor();
     let f = p - cell;
     let [x, y, z] = cell.to_array().map(|c| (c.rem_euclid(256.0)) as usize);
@@ -223,7 +217,7 @@ pub fn noise(p: DVec3) -> f64 {
 
 /// `sum_k |noise(2^k p)| / 2^k`, five octaves.
 #[must_use]
-pub fn turbulence(p: DVec3) -> f64 {
+pub(crate) fn turbulence(p: DVec3) -> f64 {
     (0..5).map(|k| noise(p * f64::from(1 << k)).abs() / f64::from(1 << k)).sum()
 }
 
@@ -250,3 +244,21 @@ const PERMUTATION: [u8; 256] = {
     }
     p
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::Rng;
+
+    #[test]
+    fn noise_is_zero_at_lattice_points_and_within_one() {
+        let mut rng = Rng(99);
+        let mut max_noise: f64 = 0.0;
+        for _ in 0..20_000 {
+            let p = rng.vec(-50.0, 50.0);
+            max_noise = max_noise.max(noise(p).abs());
+            assert_eq!(noise(p.floor()), 0.0);
+        }
+        assert!(max_noise <= 1.0 && max_noise > 0.5, "noise range {max_noise}");
+    }
+}

@@ -8,9 +8,9 @@
 
 use glam::DVec3;
 
-use super::camera::{Projection, View};
-use super::traverse::{Hit, VoxelRay};
 use crate::octree::Domain;
+use crate::render::film::{Projection, View};
+use crate::render::trace::{Hit, VoxelRay};
 
 /// The viewer in voxel units of a domain: a point (perspective), or a direction of
 /// view (orthographic).

@@ -47,25 +47,24 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::camera::{Projection, View};
 use super::face::{Face, Viewer};
-use super::raster::Samples;
-use super::ray_grid::RayGrid;
-use super::scene::{Scene, SceneHit};
-use super::traverse::{Inner, Traversal, VoxelRay};
 use crate::octree::{Domain, MAX_DEPTH};
+use crate::render::film::ray_grid::RayGrid;
+use crate::render::film::{Projection, SampleGrid, View};
+use crate::render::scene::{Scene, SceneHit};
+use crate::render::trace::{Inner, Traversal, VoxelRay};
 
 /// Sample rows a strip (one parallel task); a multiple of the tile height 8.
 pub const STRIP_ROWS: usize = 64;
 
-/// Samples by which a projected footprint is widened on every side.
+/// SampleGrid by which a projected footprint is widened on every side.
 const MARGIN: f64 = 1e-2;
 
 /// Draws every solid of `scene` front to back into `seen` (row-major over the sample
 /// grid, all `None` on entry); solids are merged by depth, ties to the earlier solid.
 /// Returns the faces drawn: the visible faces of the full nodes with an uncovered
 /// sample in their footprint (a node split between strips counts once a strip).
-pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &Samples, seen: &mut [Option<SceneHit>]) -> u64 {
+pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &SampleGrid, seen: &mut [Option<SceneHit>]) -> u64 {
     let columns = samples.columns() as usize;
     let solids: Vec<Solid> = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
     let rays = RayGrid::new(view, samples);
@@ -119,7 +118,7 @@ impl Projector {
     /// perspective `X = v.(right C / (2 t a) + forward (C - 1) / 2)`,
     /// `Y = v.(-up R / (2 t) + forward (R - 1) / 2)`, `W = v.forward`;
     /// orthographic the same with `t` the half height and `W = 1`.
-    fn new(view: &View, domain: &Domain, samples: &Samples) -> Self {
+    fn new(view: &View, domain: &Domain, samples: &SampleGrid) -> Self {
         let (c, r) = (f64::from(samples.columns()), f64::from(samples.rows()));
         let t = view.half;
         let v0 = domain.min() - view.eye;
@@ -172,7 +171,7 @@ struct Solid<'a> {
 }
 
 impl<'a> Solid<'a> {
-    fn new(traversal: &'a Traversal, view: &View, samples: &Samples) -> Self {
+    fn new(traversal: &'a Traversal, view: &View, samples: &SampleGrid) -> Self {
         let domain = traversal.domain();
         let projector = Projector::new(view, domain, samples);
         let mut levels = [Level::default(); MAX_DEPTH as usize + 1];

@@ -20,14 +20,15 @@
 //!   evaluated at every pixel at the (perspective-correct) surface point.
 
 use glam::DVec3;
-use image::{Rgb, RgbImage};
+use image::RgbImage;
 use rayon::prelude::*;
 
-use super::camera::{Camera, Projection};
-use super::light::{Light, Material};
-use super::shade::to_srgb8;
 use crate::error::{Error, Result};
 use crate::mesh::TriangleMesh;
+use crate::render::film::resolve::resolve;
+use crate::render::film::{Camera, Projection};
+use crate::render::scene::{Light, Material};
+use crate::render::shade::phong;
 
 /// How colour is spread over a triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -255,8 +256,7 @@ pub fn render_mesh(
                 sum += linear[((y * spp + sy) * w + x * spp + sx) as usize];
             }
         }
-        let c = sum / f64::from(spp * spp);
-        *px = Rgb([to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)]);
+        *px = resolve(sum, spp * spp);
     }
     Ok(img)
 }
@@ -277,17 +277,6 @@ impl Shader<'_> {
             Projection::Orthographic { .. } => (self.camera.eye - self.camera.target).normalize_or_zero(),
         };
         let n = if n.dot(v) < 0.0 { -n } else { n };
-        let mut color = self.scene.ambient * m.color * m.ka;
-        for light in &self.scene.lights {
-            let (l, _) = light.towards(p);
-            let cos_alpha = n.dot(l);
-            if cos_alpha <= 0.0 {
-                continue;
-            }
-            let r = n * (2.0 * cos_alpha) - l;
-            let cos_theta = r.dot(v).max(0.0);
-            color += light.color() * (m.color * (m.kd * cos_alpha) + DVec3::splat(m.ks * cos_theta.powf(m.shininess)));
-        }
-        color
+        phong(m, m.color, self.scene.ambient, (p, n, v), &self.scene.lights, |_| 1.0)
     }
 }

@@ -33,6 +33,11 @@ impl PlaneTimes {
     }
 }
 
+/// The smaller of two times that are not NaN.
+pub(super) fn earlier(x: f64, y: f64) -> f64 {
+    if x < y { x } else { y }
+}
+
 #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
 use scalar as imp;
 
@@ -90,7 +95,7 @@ mod imp {
 /// The scalar rule: the build where the target has no SSE2, and the tests' oracle.
 #[cfg(any(test, not(all(target_arch = "x86_64", target_feature = "sse2"))))]
 mod scalar {
-    use crate::render::traverse::earlier;
+    use super::earlier;
 
     /// The times in an array.
     #[derive(Clone, Copy, Debug)]

@@ -26,7 +26,9 @@
 
 use glam::DVec3;
 
-use super::traverse::{Hit, Root, Subtree, Traversal, VoxelRay};
+use super::traversal::{Root, Traversal};
+use super::voxel_ray::{Hit, VoxelRay};
+use super::walk::Subtree;
 use crate::octree::MAX_DEPTH;
 
 /// Samples a side of the square tiles of primary rays the renderer walks as packets.

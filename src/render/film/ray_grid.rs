@@ -1,11 +1,11 @@
 //! The primary rays of a sample grid from per-column and per-row terms: the ray of
-//! sample `(col, row)` is [`View::ray`] at [`Samples::point`]`(col, row)`, bit for bit,
+//! sample `(col, row)` is [`View::ray`] at [`SampleGrid::point`]`(col, row)`, bit for bit,
 //! with the image point's divisions and products done once a column and once a row.
 
 use glam::DVec3;
 
 use super::camera::{Projection, View};
-use super::raster::Samples;
+use super::sample_grid::SampleGrid;
 
 /// Per-column and per-row terms of [`View::ray`] over a sample grid.
 ///
@@ -28,7 +28,7 @@ pub(crate) struct RayGrid {
 
 impl RayGrid {
     /// The terms of `view`'s rays through the samples of `samples`.
-    pub(crate) fn new(view: &View, samples: &Samples) -> Self {
+    pub(crate) fn new(view: &View, samples: &SampleGrid) -> Self {
         let (base, eye) = match view.projection {
             Projection::Perspective { .. } => (view.forward, Some(view.eye)),
             Projection::Orthographic { .. } => (view.eye, None),
@@ -53,11 +53,11 @@ impl RayGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::Camera;
+    use crate::render::film::Camera;
 
     #[test]
     fn rays_are_the_views_bit_for_bit() {
-        let samples = Samples { width: 13, height: 7, spp: 3 };
+        let samples = SampleGrid { width: 13, height: 7, spp: 3 };
         let eye = DVec3::new(1.5, -2.25, 0.75);
         let target = DVec3::new(0.1, 0.3, -0.2);
         let up = DVec3::new(0.1, 0.2, 1.0);

@@ -1,14 +1,23 @@
-//! Scenes: solids with materials, lights, ambient light and background.
+//! Scenes: what a picture shows. Solids ([`SceneSolid`]: a linear octree, its
+//! traversal octree, its material, the shape it came from and the caches rays fill:
+//! the complement's traversal for rays inside, the octree's normal estimate), their
+//! materials and textures, lights, ambient light and background.
+
+mod light;
+mod material;
+mod normal_field;
+mod texture;
+
+pub use light::Light;
+pub use material::{Bump, Material};
+pub(crate) use normal_field::NormalField;
+pub use texture::{Mapping, Texture};
 
 use std::sync::{Arc, OnceLock};
 
 use glam::DVec3;
 
-use super::beam::PACKET;
-use super::light::{Light, Material};
-use super::normals::NormalField;
-use super::shade::Normals;
-use super::traverse::{Hit, Traversal};
+use super::trace::{Hit, PACKET, Traversal};
 use crate::aabb::Aabb;
 use crate::octree::LinearOctree;
 use crate::shape::{Shape, Surface};
@@ -52,28 +61,17 @@ impl SceneSolid {
         self.interior.get_or_init(|| Traversal::new(&self.tree.complement())).hit(origin, dir, f64::INFINITY)
     }
 
-    /// The smooth surface at the surface point `p` under the normals `mode`: the
-    /// outward normal and the point where textures are looked up. With
-    /// [`Normals::Smooth`] and a source shape whose surface lies within two voxels of
-    /// `p`: the shape's normal, and `p` moved onto that surface (`p - d n`), so pictures
-    /// do not follow the voxel staircase. Else the octree's estimate ([`NormalField`];
-    /// `None` without a gradient, and always with [`Normals::Axis`]) at `p` itself.
-    #[must_use]
-    pub fn smooth_at(&self, p: DVec3, mode: Normals) -> (Option<DVec3>, DVec3) {
-        if mode == Normals::Axis {
-            return (None, p);
-        }
-        match self.shape_surface(p, mode) {
-            Some(s) => (Some(s.normal), p - s.normal * s.distance),
-            None => (self.normals.normal(&self.tree, p), p),
-        }
+    /// The source shape's surface seen from `p` when it lies within two voxels of
+    /// `p` (smooth normals come from it there).
+    pub(crate) fn shape_surface(&self, p: DVec3) -> Option<Surface> {
+        let s = self.source.as_ref()?.0.surface(p)?;
+        (s.distance.abs() <= 2.0 * self.tree.domain().voxel_size()).then_some(s)
     }
 
-    /// The source shape's surface seen from `p` when smooth normals come from it: with
-    /// [`Normals::Smooth`], within two voxels of `p`.
-    fn shape_surface(&self, p: DVec3, mode: Normals) -> Option<Surface> {
-        let s = self.source.as_ref().filter(|_| mode == Normals::Smooth)?.0.surface(p)?;
-        (s.distance.abs() <= 2.0 * self.tree.domain().voxel_size()).then_some(s)
+    /// The octree's estimate of the outward normal at the surface point `p`, `None`
+    /// where the occupancy has no gradient.
+    pub(crate) fn estimated_normal(&self, p: DVec3) -> Option<DVec3> {
+        self.normals.normal(&self.tree, p)
     }
 }
 

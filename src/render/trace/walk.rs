@@ -1,11 +1,5 @@
-//! Ray traversal of an octree: a compact pointer octree built from the linear octree,
-//! and an exact first-hit walk that skips empty space at every level.
-//!
-//! Layout (a contract, 8 bytes an inner node): for each inner node the masks of its
-//! non-empty and of its full children and the index of its first inner child; the inner
-//! children of a node are stored together in child order, so child `i` is at
-//! `first + popcount(inner & ((1 << i) - 1))`. Built by one recursive partition of the
-//! sorted keys, O(n * depth).
+//! The exact first-hit walk through a [`Traversal`], skipping empty space at every
+//! level.
 //!
 //! The walk (after Revelles et al., "An efficient parametric algorithm for octree
 //! traversal", 2000): a node's interval `[ta, tb]` along the ray is cut at the times the
@@ -29,203 +23,15 @@
 //! lowest axis.
 //!
 //! Precision: coordinates are in voxel units of the domain (`0..2^depth`), so every
-//! plane is an integer below 2^21, exact in f64, at any depth.
 
 use glam::DVec3;
 
-use super::plane_times::PlaneTimes;
-use crate::octree::{Domain, LinearOctree, MAX_DEPTH, NodeKey};
-
-/// One inner node of the traversal octree.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(C)]
-pub struct Inner {
-    /// Index of the first inner child.
-    pub first: u32,
-    /// Children that hold some solid.
-    pub valid: u8,
-    /// Children that are wholly solid.
-    pub full: u8,
-    _pad: u16,
-}
-
-const _: () = assert!(std::mem::size_of::<Inner>() == 8);
-
-/// What the root is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Root {
-    Empty,
-    Full,
-    Inner,
-}
-
-/// A ray hit.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hit {
-    /// Ray parameter of the entry point (0 when the origin is inside the solid).
-    pub t: f64,
-    /// The full voxel entered, in integer coordinates.
-    pub voxel: [u32; 3],
-    /// Axis of the entered face (0, 1, 2), `None` when the origin is inside. (A byte:
-    /// a frame holds a hit a sample, so the record is kept to 24 bytes.)
-    pub axis: Option<u8>,
-}
-
-impl Hit {
-    /// The axis normal of the entered face, facing the ray (zero when inside).
-    #[must_use]
-    pub fn normal(&self, dir: DVec3) -> DVec3 {
-        match self.axis {
-            Some(a) => {
-                let a = usize::from(a);
-                let mut n = DVec3::ZERO;
-                n[a] = -dir[a].signum();
-                n
-            }
-            None => DVec3::ZERO,
-        }
-    }
-}
-
-/// The traversal octree of one solid.
-#[derive(Clone, Debug)]
-pub struct Traversal {
-    domain: Domain,
-    pub(super) root: Root,
-    pub(super) nodes: Vec<Inner>,
-}
+use super::plane_times::{PlaneTimes, earlier};
+use super::traversal::{Root, Traversal};
+use super::voxel_ray::{Hit, VoxelRay};
+use crate::octree::MAX_DEPTH;
 
 impl Traversal {
-    /// Builds the pointer octree from a canonical linear octree.
-    #[must_use]
-    pub fn new(tree: &LinearOctree) -> Self {
-        let domain = *tree.domain();
-        let keys = tree.keys();
-        let root_key = NodeKey::new(0, u32::from(domain.depth()));
-        let root = match keys {
-            [] => Root::Empty,
-            [k] if *k == root_key => Root::Full,
-            _ => Root::Inner,
-        };
-        let mut t = Traversal { domain, root, nodes: Vec::new() };
-        if root == Root::Inner {
-            t.nodes.push(Inner { first: 0, valid: 0, full: 0, _pad: 0 });
-            t.build(0, root_key, keys);
-        }
-        t
-    }
-
-    /// Fills inner node `index` for `key`, whose solid is `keys`.
-    fn build(&mut self, index: usize, key: NodeKey, keys: &[NodeKey]) {
-        let mut ranges = [(0usize, 0usize); 8];
-        let mut pos = 0;
-        let (mut valid, mut full) = (0u8, 0u8);
-        for (i, range) in ranges.iter_mut().enumerate() {
-            let child = key.child(i as u64).expect("an inner node is not a voxel");
-            let start = pos;
-            while pos < keys.len() && keys[pos].start() < child.end() {
-                pos += 1;
-            }
-            *range = (start, pos);
-            if pos > start {
-                valid |= 1 << i;
-                if pos - start == 1 && keys[start] == child {
-                    full |= 1 << i;
-                }
-            }
-        }
-        let inner = valid & !full;
-        let first = self.nodes.len();
-        self.nodes[index] = Inner { first: first as u32, valid, full, _pad: 0 };
-        self.nodes
-            .extend(std::iter::repeat_n(Inner { first: 0, valid: 0, full: 0, _pad: 0 }, inner.count_ones() as usize));
-        let mut slot = first;
-        for (i, &(a, b)) in ranges.iter().enumerate() {
-            if inner >> i & 1 == 1 {
-                self.build(slot, key.child(i as u64).expect("inner"), &keys[a..b]);
-                slot += 1;
-            }
-        }
-    }
-
-    /// The domain.
-    #[must_use]
-    pub fn domain(&self) -> &Domain {
-        &self.domain
-    }
-
-    /// Number of inner nodes.
-    #[must_use]
-    pub fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-
-    /// Bytes used: the struct plus the node buffer.
-    #[must_use]
-    pub fn bytes(&self) -> usize {
-        std::mem::size_of::<Self>() + self.nodes.capacity() * std::mem::size_of::<Inner>()
-    }
-
-    /// The root for walks of their own (the front-to-back display): `None` when empty,
-    /// `Some([])` when wholly full, else the inner nodes with the root at index 0.
-    pub(crate) fn inner_nodes(&self) -> Option<&[Inner]> {
-        match self.root {
-            Root::Empty => None,
-            Root::Full => Some(&[]),
-            Root::Inner => Some(&self.nodes),
-        }
-    }
-
-    /// Visits the full nodes front to back for a viewer (Meagher's octree display
-    /// order): in every inner node, the child on the viewer's side of all three mid
-    /// planes first, then those across one plane, two, three. A node can only hide
-    /// nodes visited after it. `eye_high(axis, plane)` says whether the viewer is on
-    /// the high side of `plane` (voxel units); `enter(min, size)` may prune a subtree;
-    /// `full(min, size)` receives each full node.
-    pub fn front_to_back(
-        &self,
-        eye_high: &impl Fn(usize, f64) -> bool,
-        enter: &mut impl FnMut([u32; 3], u32) -> bool,
-        full: &mut impl FnMut([u32; 3], u32),
-    ) {
-        let n = self.domain.resolution();
-        match self.root {
-            Root::Empty => {}
-            Root::Full => full([0, 0, 0], n),
-            Root::Inner => self.front_to_back_node(0, [0, 0, 0], n, eye_high, enter, full),
-        }
-    }
-
-    fn front_to_back_node(
-        &self,
-        index: u32,
-        min: [u32; 3],
-        size: u32,
-        eye_high: &impl Fn(usize, f64) -> bool,
-        enter: &mut impl FnMut([u32; 3], u32) -> bool,
-        full: &mut impl FnMut([u32; 3], u32),
-    ) {
-        if !enter(min, size) {
-            return;
-        }
-        let inner = self.nodes[index as usize];
-        let half = size / 2;
-        let e = (0..3).fold(0usize, |bits, a| bits | usize::from(eye_high(a, f64::from(min[a] + half))) << a);
-        for j in [0usize, 1, 2, 4, 3, 5, 6, 7] {
-            let child = e ^ j;
-            if inner.valid >> child & 1 == 0 {
-                continue;
-            }
-            let cmin: [u32; 3] = std::array::from_fn(|a| min[a] + if child >> a & 1 == 1 { half } else { 0 });
-            if inner.full >> child & 1 == 1 {
-                full(cmin, half);
-            } else {
-                let slot = inner.first + (inner.valid & !inner.full & ((1u8 << child) - 1)).count_ones();
-                self.front_to_back_node(slot, cmin, half, eye_high, enter, full);
-            }
-        }
-    }
-
     /// First hit of the world-space ray `origin + t dir` with `0 <= t < t_max`; `t` is
     /// in the ray's own parameter (world units when `dir` is a unit vector).
     #[must_use]
@@ -513,11 +319,6 @@ fn off_lattice(r: &VoxelRay, o: &mut [f64; 3], inv: &mut [f64; 3]) {
     }
 }
 
-/// The smaller of two times that are not NaN.
-pub(super) fn earlier(x: f64, y: f64) -> f64 {
-    if x < y { x } else { y }
-}
-
 /// `INNER_BEFORE[mask][i]`: how many of the children in `mask` come before child `i`
 /// (`popcount(mask & ((1 << i) - 1))`, a table lookup where the CPU has no popcount).
 const INNER_BEFORE: [[u8; 8]; 256] = {
@@ -554,67 +355,4 @@ fn entered_face(path: impl Iterator<Item = [f64; 3]>, t: f64, ta: f64, root_face
         }
     }
     face
-}
-
-/// A ray in voxel units of a domain: origin, direction and reciprocal direction.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct VoxelRay {
-    /// Origin in voxel units.
-    pub o: DVec3,
-    /// Direction in voxel units (same ray parameter as the world ray).
-    pub d: DVec3,
-    /// `1 / d` per axis (infinite where `d` is 0).
-    pub inv: DVec3,
-}
-
-impl VoxelRay {
-    /// The world ray `origin + t dir` seen in the lattice of `domain`: `o = (origin -
-    /// min) s`, `d = dir s` with `s` = [`Domain::voxels_per_unit`], `inv = 1 / d`.
-    #[must_use]
-    pub fn new(domain: &Domain, origin: DVec3, dir: DVec3) -> Self {
-        Self::scaled(domain.min(), domain.voxels_per_unit(), origin, dir)
-    }
-
-    /// [`VoxelRay::new`] with the domain's corner and scale given (a packet's rays
-    /// share them): three divisions a ray, not ten.
-    #[inline]
-    pub(super) fn scaled(min: DVec3, scale: f64, origin: DVec3, dir: DVec3) -> Self {
-        let d = dir * scale;
-        VoxelRay { o: (origin - min) * scale, d, inv: DVec3::ONE / d }
-    }
-
-    /// The hit on entering the full cube at `min` of `size` voxels at time `ta` through
-    /// `face`: the voxel just after the entry point, and the lowest axis among the
-    /// voxel planes crossed at `ta` (`t = 0` and no face when `ta <= 0`).
-    #[must_use]
-    pub fn entry(&self, min: [u32; 3], size: u32, ta: f64, face: Option<usize>) -> Hit {
-        let t = ta.max(0.0);
-        let inside = ta <= 0.0;
-        let voxel: [u32; 3] = std::array::from_fn(|a| {
-            let lo = min[a];
-            let hi = min[a] + size - 1;
-            if self.d[a] > 0.0 && !inside && face == Some(a) {
-                lo
-            } else if self.d[a] < 0.0 && !inside && face == Some(a) {
-                hi
-            } else {
-                let p = self.o[a] + self.d[a] * t;
-                // Just inside along the ray: nudge by the direction's sign on ties.
-                let f = p.floor();
-                let c = if p == f && self.d[a] < 0.0 { f - 1.0 } else { f };
-                (c.max(f64::from(lo)).min(f64::from(hi))) as u32
-            }
-        });
-        // A voxel plane inside the node crossed at the same time is entered too: the
-        // face is the lowest axis among them.
-        let face = face.map(|f| {
-            (0..f)
-                .find(|&a| {
-                    let plane = if self.d[a] > 0.0 { voxel[a] } else { voxel[a] + 1 };
-                    self.d[a] != 0.0 && (f64::from(plane) - self.o[a]) * self.inv[a] == ta
-                })
-                .unwrap_or(f)
-        });
-        Hit { t, voxel, axis: if inside { None } else { face.map(|a| a as u8) } }
-    }
 }

@@ -1,58 +1,16 @@
-//! Lights and materials of the Phong model.
+//! Materials: the Phong coefficients, a colour or texture, a bump map, and Whitted's
+//! reflectance, transmittance and index of refraction.
 
 use glam::DVec3;
 
 use super::texture::{Texture, noise};
 use crate::error::{Error, Result};
 
-/// A light with a colour (linear RGB, intensity included).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Light {
-    /// Light from a point, falling on everything it sees.
-    Point {
-        /// Position.
-        position: DVec3,
-        /// Colour and intensity.
-        color: DVec3,
-    },
-    /// Light from a direction (the sun): `direction` points from the light.
-    Directional {
-        /// Direction the light travels.
-        direction: DVec3,
-        /// Colour and intensity.
-        color: DVec3,
-    },
-}
-
-impl Light {
-    /// Unit vector from `p` towards the light and the distance to it (infinite for a
-    /// directional light).
-    #[must_use]
-    pub fn towards(&self, p: DVec3) -> (DVec3, f64) {
-        match *self {
-            Light::Point { position, .. } => {
-                let v = position - p;
-                let d = v.length();
-                (v / d, d)
-            }
-            Light::Directional { direction, .. } => (-direction.normalize(), f64::INFINITY),
-        }
-    }
-
-    /// The light's colour.
-    #[must_use]
-    pub fn color(&self) -> DVec3 {
-        match *self {
-            Light::Point { color, .. } | Light::Directional { color, .. } => color,
-        }
-    }
-}
-
 /// A surface's optical properties.
 ///
 /// Local (Phong) term: `I_c = ka Ia C + sum_i Ii (kd C cos(alpha_i) + ks cos^n(theta_i))`,
 /// `C` the colour (or the texture's at the point). Whitted: `I = (1 - kr - kt) I_c +
-/// kr I_reflected + kt I_transmitted` (see [`super::whitted`]).
+/// kr I_reflected + kt I_transmitted` (see `render::shade`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Surface colour (linear RGB), used where there is no texture.

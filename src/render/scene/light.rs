@@ -1,0 +1,46 @@
+//! Lights: points and directions, with a colour that includes the intensity.
+
+use glam::DVec3;
+
+/// A light with a colour (linear RGB, intensity included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// Light from a point, falling on everything it sees.
+    Point {
+        /// Position.
+        position: DVec3,
+        /// Colour and intensity.
+        color: DVec3,
+    },
+    /// Light from a direction (the sun): `direction` points from the light.
+    Directional {
+        /// Direction the light travels.
+        direction: DVec3,
+        /// Colour and intensity.
+        color: DVec3,
+    },
+}
+
+impl Light {
+    /// Unit vector from `p` towards the light and the distance to it (infinite for a
+    /// directional light).
+    #[must_use]
+    pub fn towards(&self, p: DVec3) -> (DVec3, f64) {
+        match *self {
+            Light::Point { position, .. } => {
+                let v = position - p;
+                let d = v.length();
+                (v / d, d)
+            }
+            Light::Directional { direction, .. } => (-direction.normalize(), f64::INFINITY),
+        }
+    }
+
+    /// The light's colour.
+    #[must_use]
+    pub fn color(&self) -> DVec3 {
+        match *self {
+            Light::Point { color, .. } | Light::Directional { color, .. } => color,
+        }
+    }
+}

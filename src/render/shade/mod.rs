@@ -1,0 +1,34 @@
+//! The shading stage, the same for every visibility method: the shading normal
+//! (`normals`), the local Phong term with shadows (`phong`), and Whitted's reflected
+//! and transmitted rays (`whitted`, with the laws of reflection and refraction in
+//! `optics`).
+
+mod normals;
+mod optics;
+mod phong;
+mod whitted;
+
+pub use normals::{Normals, SurfacePoint, normals_at, smooth_at};
+pub use optics::{reflect, refract};
+pub use phong::local;
+pub(crate) use phong::phong;
+pub use whitted::radiance;
+
+/// How the shading stage works.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadeOptions {
+    /// Trace shadow rays.
+    pub shadows: bool,
+    /// Which normal shades.
+    pub normals: Normals,
+    /// Longest chain of reflected and refracted rays after the primary one.
+    pub max_depth: u32,
+    /// A secondary ray is traced only when its weight in the pixel exceeds this.
+    pub cutoff: f64,
+}
+
+impl Default for ShadeOptions {
+    fn default() -> Self {
+        ShadeOptions { shadows: true, normals: Normals::Axis, max_depth: 6, cutoff: 1e-3 }
+    }
+}

@@ -1,0 +1,71 @@
+//! The local term of the Phong model, written once for voxel solids and for polygons
+//! (seed: lighting):
+//!
+//! `I_c = ka Ia C + sum_i f_i Ii (kd C cos(alpha_i) + ks cos^n(theta_i))`, with
+//! `cos(alpha) = N . L`, `R = 2 N (N . L) - L`, `cos(theta) = R . V`, `C` the
+//! material's colour or texture at the point, and `f_i` the fraction of light `i`
+//! reaching the point: 1 without shadows, else the transmittance of what lies between
+//! ([`Scene::transmittance`]). Shadow rays leave the surface a thousandth of a voxel
+//! along the face's axis normal; with smooth normals, two voxels along the shading
+//! normal from the smooth surface's point ([`SurfacePoint::texture_at`]), clear of the
+//! voxel staircase (which would shadow it at grazing light).
+
+use glam::DVec3;
+
+use super::normals::SurfacePoint;
+use crate::render::scene::{Light, Material, Scene};
+
+/// The Phong model at a point of normal `n` seen along `v` (both unit, from the
+/// point), of colour `c` in the material `m`, under the ambient light `ambient` and
+/// `lights`; `passed(light)` is the fraction `f_i` of a light that reaches the point,
+/// asked only of lights in front of the surface (`N . L > 0`).
+pub(crate) fn phong(
+    m: &Material,
+    c: DVec3,
+    ambient: DVec3,
+    (p, n, v): (DVec3, DVec3, DVec3),
+    lights: &[Light],
+    mut passed: impl FnMut(&Light) -> f64,
+) -> DVec3 {
+    let mut color = ambient * c * m.ka;
+    for light in lights {
+        let (l, _) = light.towards(p);
+        let cos_alpha = n.dot(l);
+        if cos_alpha <= 0.0 {
+            continue;
+        }
+        let passed = passed(light);
+        if passed == 0.0 {
+            continue;
+        }
+        let r = n * (2.0 * cos_alpha) - l;
+        let cos_theta = r.dot(v).max(0.0);
+        color += light.color() * passed * (c * (m.kd * cos_alpha) + DVec3::splat(m.ks * cos_theta.powf(m.shininess)));
+    }
+    color
+}
+
+/// The local (Phong) term at `s` (see the module doc), and the shadow rays cast.
+#[must_use]
+pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
+    let solid = &scene.solids[s.solid];
+    let m = &solid.material;
+    let (p, geometric, n) = (s.p, s.geometric, s.normal);
+    let h = solid.tree.domain().voxel_size();
+    // With smooth normals the staircase next to the point would shadow a surface the
+    // smooth normal turns to the light: shadow rays start clear of it.
+    let start = match s.smooth {
+        Some(_) => s.texture_at + n * (2.0 * h),
+        None => p + geometric * (1e-3 * h),
+    };
+    let mut rays = 0;
+    let color = phong(m, m.color_at(s.texture_at), scene.ambient, (p, n, -s.dir), &scene.lights, |light| {
+        if !shadows {
+            return 1.0;
+        }
+        rays += 1;
+        let (l, distance) = light.towards(start);
+        scene.transmittance(start, l, distance)
+    });
+    (color, rays)
+}

@@ -1,0 +1,107 @@
+//! Rays in the lattice of a domain ([`VoxelRay`]), where every voxel plane is an
+//! integer and each plane's crossing time is `(plane - o) * inv`, and what a walk
+//! returns ([`Hit`]): the entry time, the full voxel entered and the entered face.
+//!
+//! Semantics: the hit is the first point (t >= 0) where the ray enters the interior of a
+//! full voxel; a ray that only touches full voxels along an edge, a corner or a face it
+//! grazes does not hit them. A ray parallel to an axis counts as inside the half-open
+//! cells `[i, i + 1)` along that axis. The entered face is the axis of the plane crossed
+//! there; when several voxel planes are crossed at once (an edge or corner), the
+//! lowest axis.
+//!
+//! Precision: coordinates are in voxel units of the domain (`0..2^depth`), so every
+
+use glam::DVec3;
+
+use crate::octree::Domain;
+
+/// A ray hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the entry point (0 when the origin is inside the solid).
+    pub t: f64,
+    /// The full voxel entered, in integer coordinates.
+    pub voxel: [u32; 3],
+    /// Axis of the entered face (0, 1, 2), `None` when the origin is inside. (A byte:
+    /// a frame holds a hit a sample, so the record is kept to 24 bytes.)
+    pub axis: Option<u8>,
+}
+
+impl Hit {
+    /// The axis normal of the entered face, facing the ray (zero when inside).
+    #[must_use]
+    pub fn normal(&self, dir: DVec3) -> DVec3 {
+        match self.axis {
+            Some(a) => {
+                let a = usize::from(a);
+                let mut n = DVec3::ZERO;
+                n[a] = -dir[a].signum();
+                n
+            }
+            None => DVec3::ZERO,
+        }
+    }
+}
+
+/// A ray in voxel units of a domain: origin, direction and reciprocal direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VoxelRay {
+    /// Origin in voxel units.
+    pub o: DVec3,
+    /// Direction in voxel units (same ray parameter as the world ray).
+    pub d: DVec3,
+    /// `1 / d` per axis (infinite where `d` is 0).
+    pub inv: DVec3,
+}
+
+impl VoxelRay {
+    /// The world ray `origin + t dir` seen in the lattice of `domain`: `o = (origin -
+    /// min) s`, `d = dir s` with `s` = [`Domain::voxels_per_unit`], `inv = 1 / d`.
+    #[must_use]
+    pub fn new(domain: &Domain, origin: DVec3, dir: DVec3) -> Self {
+        Self::scaled(domain.min(), domain.voxels_per_unit(), origin, dir)
+    }
+
+    /// [`VoxelRay::new`] with the domain's corner and scale given (a packet's rays
+    /// share them): three divisions a ray, not ten.
+    #[inline]
+    pub(super) fn scaled(min: DVec3, scale: f64, origin: DVec3, dir: DVec3) -> Self {
+        let d = dir * scale;
+        VoxelRay { o: (origin - min) * scale, d, inv: DVec3::ONE / d }
+    }
+
+    /// The hit on entering the full cube at `min` of `size` voxels at time `ta` through
+    /// `face`: the voxel just after the entry point, and the lowest axis among the
+    /// voxel planes crossed at `ta` (`t = 0` and no face when `ta <= 0`).
+    #[must_use]
+    pub fn entry(&self, min: [u32; 3], size: u32, ta: f64, face: Option<usize>) -> Hit {
+        let t = ta.max(0.0);
+        let inside = ta <= 0.0;
+        let voxel: [u32; 3] = std::array::from_fn(|a| {
+            let lo = min[a];
+            let hi = min[a] + size - 1;
+            if self.d[a] > 0.0 && !inside && face == Some(a) {
+                lo
+            } else if self.d[a] < 0.0 && !inside && face == Some(a) {
+                hi
+            } else {
+                let p = self.o[a] + self.d[a] * t;
+                // Just inside along the ray: nudge by the direction's sign on ties.
+                let f = p.floor();
+                let c = if p == f && self.d[a] < 0.0 { f - 1.0 } else { f };
+                (c.max(f64::from(lo)).min(f64::from(hi))) as u32
+            }
+        });
+        // A voxel plane inside the node crossed at the same time is entered too: the
+        // face is the lowest axis among them.
+        let face = face.map(|f| {
+            (0..f)
+                .find(|&a| {
+                    let plane = if self.d[a] > 0.0 { voxel[a] } else { voxel[a] + 1 };
+                    self.d[a] != 0.0 && (f64::from(plane) - self.o[a]) * self.inv[a] == ta
+                })
+                .unwrap_or(f)
+        });
+        Hit { t, voxel, axis: if inside { None } else { face.map(|a| a as u8) } }
+    }
+}
