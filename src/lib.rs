@@ -33,6 +33,7 @@ pub mod morton;
 pub mod octree;
 pub mod patch;
 pub mod progress;
+pub mod ray;
 pub mod render;
 pub mod samples;
 pub mod scene_file;
@@ -44,6 +45,7 @@ mod test_util;
 pub use aabb::Aabb;
 pub use error::{Error, Result};
 pub use octree::{Domain, LinearOctree, Node, NodeKey, voxelize};
+pub use ray::{Ray, RayCast};
 pub use shape::{Class, Shape};
 
 /// Everything a CSG script needs, in one import.

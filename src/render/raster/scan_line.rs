@@ -97,8 +97,7 @@ impl FaceDrawer<'_> {
                 let face = &polygons[id];
                 for c in c0..=c1 {
                     let i = r as usize * columns + c;
-                    let (o, d) = self.rays[i];
-                    let ray = VoxelRay::new(&self.domain, o, d);
+                    let ray = VoxelRay::new(&self.domain, &self.rays[i]);
                     if let Some(hit) = face.enters(&ray)
                         && hits[i].is_none_or(|old| hit.t < old.t)
                     {

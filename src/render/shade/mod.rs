@@ -8,7 +8,7 @@ mod optics;
 mod phong;
 mod whitted;
 
-pub use normals::{Normals, SurfacePoint, normals_at, smooth_at};
+pub use normals::{Normals, SurfacePoint, smooth_at};
 pub use optics::{reflect, refract};
 pub use phong::local;
 pub(crate) use phong::phong;

@@ -24,43 +24,41 @@
 //!
 //! Precision: coordinates are in voxel units of the domain (`0..2^depth`), so every
 
-use glam::DVec3;
-
 use super::plane_times::{PlaneTimes, earlier};
 use super::traversal::{Root, Traversal};
-use super::voxel_ray::{Hit, VoxelRay};
+use super::voxel_ray::{Entry, Hit, VoxelRay};
 use crate::octree::MAX_DEPTH;
+use crate::ray::{Ray, RayCast};
+
+/// The walk through a traversal octree: the first full voxel a world-space ray
+/// enters (`t` in the ray's own parameter: world units when `dir` is a unit vector).
+impl RayCast for Traversal {
+    type Hit = Hit;
+
+    fn hit(&self, ray: &Ray) -> Option<Hit> {
+        let r = VoxelRay::new(&self.domain, ray);
+        Some(r.entry(&self.first_full(&r, ray.t_max)?))
+    }
+
+    /// The walk of [`RayCast::hit`] without working out the voxel and face.
+    fn occluded(&self, ray: &Ray) -> bool {
+        let r = VoxelRay::new(&self.domain, ray);
+        self.first_full(&r, ray.t_max).is_some()
+    }
+}
 
 impl Traversal {
-    /// First hit of the world-space ray `origin + t dir` with `0 <= t < t_max`; `t` is
-    /// in the ray's own parameter (world units when `dir` is a unit vector).
+    /// [`RayCast::hit`] of a ray already in voxel units of the domain.
     #[must_use]
-    pub fn hit(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<Hit> {
-        let r = VoxelRay::new(&self.domain, origin, dir);
-        let (min, size, ta, face) = self.first_full(&r, t_max)?;
-        Some(r.entry(min, size, ta, face))
-    }
-
-    /// Whether anything lies on the ray before `t_max` (shadow rays): the walk of
-    /// [`Traversal::hit`] without working out the voxel and face.
-    #[must_use]
-    pub fn occluded(&self, origin: DVec3, dir: DVec3, t_max: f64) -> bool {
-        let r = VoxelRay::new(&self.domain, origin, dir);
-        self.first_full(&r, t_max).is_some()
-    }
-
-    /// [`Traversal::hit`] with the ray already in voxel units of the domain.
-    #[must_use]
-    pub fn hit_voxel_units(&self, o: DVec3, d: DVec3, t_max: f64) -> Option<Hit> {
-        let r = VoxelRay { o, d, inv: DVec3::ONE / d };
-        let (min, size, ta, face) = self.first_full(&r, t_max)?;
-        Some(r.entry(min, size, ta, face))
+    pub fn hit_voxel_units(&self, ray: &Ray) -> Option<Hit> {
+        let r = VoxelRay::in_voxel_units(ray);
+        Some(r.entry(&self.first_full(&r, ray.t_max)?))
     }
 
     /// The first full node the ray enters before `t_max`: its corner, size, entry time
-    /// and entered face (the arguments of [`VoxelRay::entry`]). A ray with a non-finite
-    /// origin or direction hits nothing.
-    fn first_full(&self, r: &VoxelRay, t_max: f64) -> Option<([u32; 3], u32, f64, Option<usize>)> {
+    /// and entered face (what [`VoxelRay::entry`] turns into a hit). A ray with a
+    /// non-finite origin or direction hits nothing.
+    fn first_full(&self, r: &VoxelRay, t_max: f64) -> Option<Entry> {
         self.first_full_after(r, t_max, 0.0, Subtree::ROOT)
     }
 
@@ -69,13 +67,7 @@ impl Traversal {
     /// lower bound): the pieces skipped are empty, so the result is the same. When the
     /// ray enters the root by `start`, the walk begins in `from`, which must hold the
     /// ray at time `start` as the walk places it (see [`Subtree`]).
-    pub(super) fn first_full_after(
-        &self,
-        r: &VoxelRay,
-        t_max: f64,
-        start: f64,
-        from: Subtree,
-    ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
+    pub(super) fn first_full_after(&self, r: &VoxelRay, t_max: f64, start: f64, from: Subtree) -> Option<Entry> {
         if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) {
             return None;
         }
@@ -110,7 +102,7 @@ impl Traversal {
         }
         let n = self.domain.resolution();
         if self.root == Root::Full {
-            return (ta.max(0.0) < t_max).then_some(([0, 0, 0], n, ta, face));
+            return (ta.max(0.0) < t_max).then_some(Entry { min: [0, 0, 0], size: n, t: ta, face });
         }
         // Two builds of the walk: the one from the root (single rays) carries no
         // subtree logic.
@@ -182,7 +174,7 @@ impl Traversal {
         face: Option<usize>,
         start: f64,
         from: Subtree,
-    ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
+    ) -> Option<Entry> {
         // Per axis the mirror bit (the ray runs to lower coordinates); no mid-plane
         // time is NaN (see `off_lattice`), so "past the mid plane" is `tm <= t` on
         // every axis and the child is those bits flipped by the mirror bits.
@@ -228,7 +220,7 @@ impl Traversal {
                     } else {
                         near_face(cmin, half, mirror, &o, &inv, t)
                     };
-                    return Some((cmin, half, t, face));
+                    return Some(Entry { min: cmin, size: half, t, face });
                 }
                 stack[depth] = Frame { index, tm, tb };
                 depth += 1;
