@@ -20,7 +20,7 @@ use crate::io::oct;
 use crate::mesh::InsideRule;
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
-use crate::render::scene::{Bump, Mapping, Texture};
+use crate::render::{Bump, Mapping, Texture};
 use crate::render::{Camera, DEFAULT_VIEW, Light, Material, Projection, RenderOptions, Scene};
 use crate::shape::{
     Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,

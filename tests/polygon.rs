@@ -4,7 +4,7 @@
 use glam::DVec3;
 use octsolid::mesh::TriangleMesh;
 use octsolid::mesh::generate::{icosphere, torus};
-use octsolid::render::raster::polygon::{Interpolation, MeshScene, fragments, render_mesh, vertex_normals};
+use octsolid::render::polygon::{Interpolation, MeshScene, fragments, render_mesh, vertex_normals};
 use octsolid::render::{Camera, Light, Material, Projection};
 
 mod common;

@@ -9,7 +9,7 @@ use glam::DVec3;
 use octsolid::budget::MemoryBudget;
 use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
 use octsolid::progress::NoProgress;
-use octsolid::render::film::to_srgb8;
+use octsolid::render::to_srgb8;
 use octsolid::render::*;
 use octsolid::scene_file::load_scene;
 use octsolid::shape::Sphere;

@@ -3,8 +3,8 @@
 
 use glam::DVec3;
 use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
-use octsolid::render::shade::radiance;
-use octsolid::render::shade::refract;
+use octsolid::render::radiance;
+use octsolid::render::refract;
 use octsolid::render::{Light, Material, Normals, Scene, ShadeOptions};
 use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Ray, RayCast};
@@ -113,7 +113,7 @@ fn a_voxelized_mirror_ball_reflects_only_the_background() {
     // pixel shows the background B or 0.9 B exactly. A ray caught on the voxel
     // staircase (reflected into a neighbouring step) would show 0.81 B or less.
     use octsolid::progress::NoProgress;
-    use octsolid::render::film::to_srgb8;
+    use octsolid::render::to_srgb8;
     use octsolid::render::{Camera, RenderOptions, render};
     use std::sync::Arc;
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 8).unwrap();

@@ -334,7 +334,7 @@ fn polygon_command(
     size: Option<[u32; 2]>,
     spp: Option<u32>,
     up: Axis,
-    interpolation: render::raster::polygon::Interpolation,
+    interpolation: render::polygon::Interpolation,
     budget: MemoryBudget,
 ) -> Result<()> {
     let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
@@ -356,7 +356,7 @@ fn polygon_command(
     let [width, height] = size.unwrap_or([960, 720]);
     let (up_vec, view) = view_for(up);
     let camera = Camera::frame(&bounds, view, up_vec, f64::from(width) / f64::from(height.max(1)));
-    let scene = render::raster::polygon::MeshScene {
+    let scene = render::polygon::MeshScene {
         mesh: &mesh,
         material: Material::default(),
         lights: Scene::default_lights(&bounds),
@@ -364,7 +364,7 @@ fn polygon_command(
         background: Scene::new().background,
     };
     let started = Instant::now();
-    let img = render::raster::polygon::render_mesh(&scene, &camera, width, height, spp.unwrap_or(2), interpolation)
+    let img = render::polygon::render_mesh(&scene, &camera, width, height, spp.unwrap_or(2), interpolation)
         .with_context(|| format!("{}: cannot render", input.display()))?;
     out!(
         "drew {} triangles with {interpolation:?} shading in {:.2} s",
