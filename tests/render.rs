@@ -110,7 +110,7 @@ fn same_image_for_any_thread_count() {
 
 #[test]
 fn bundled_scenes_load() {
-    for name in ["classic", "flange", "showcase", "menger", "displaced", "whitted", "teapot"] {
+    for name in ["classic", "flange", "showcase", "menger", "displaced", "whitted", "whitted-classic", "teapot"] {
         let file = load_scene(format!("scenes/{name}.toml").as_ref(), MemoryBudget::default()).unwrap();
         assert!(!file.scene.solids.is_empty() && !file.scene.lights.is_empty(), "{name}");
     }
