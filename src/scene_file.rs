@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::{DAffine3, DQuat, DVec3};
+use glam::DVec3;
 use serde::Deserialize;
 
 use crate::budget::MemoryBudget;
@@ -22,9 +22,7 @@ use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
 use crate::render::scene::{Bump, Mapping, Texture};
 use crate::render::{Camera, DEFAULT_VIEW, Light, Material, Projection, RenderOptions, Scene};
-use crate::shape::{
-    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
-};
+use crate::shape::{Axis, Csg, Shape, ShapeSpec};
 
 /// The whole file.
 #[derive(Deserialize, Debug)]
@@ -227,122 +225,8 @@ struct BumpSpec {
     scale: f64,
 }
 
-/// A shape CSG tree as written in a scene file.
-#[derive(Deserialize, Debug)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-enum ShapeSpec {
-    Sphere {
-        center: [f64; 3],
-        radius: f64,
-    },
-    Ellipsoid {
-        center: [f64; 3],
-        radii: [f64; 3],
-    },
-    Box {
-        center: [f64; 3],
-        size: [f64; 3],
-    },
-    Cylinder {
-        center: [f64; 3],
-        axis: String,
-        radius: f64,
-        height: f64,
-    },
-    Cone {
-        base: [f64; 3],
-        axis: String,
-        radius: f64,
-        height: f64,
-    },
-    Torus {
-        center: [f64; 3],
-        axis: String,
-        radius: f64,
-        tube: f64,
-    },
-    HalfSpace {
-        normal: [f64; 3],
-        offset: f64,
-    },
-    Menger {
-        center: [f64; 3],
-        size: f64,
-        level: u32,
-    },
-    DisplacedSphere {
-        center: [f64; 3],
-        radius: f64,
-        amplitude: f64,
-        frequency: f64,
-    },
-    Union(Vec<ShapeSpec>),
-    Intersection(Vec<ShapeSpec>),
-    Difference(Vec<ShapeSpec>),
-    Xor(Vec<ShapeSpec>),
-    Complement(Box<ShapeSpec>),
-    Transform {
-        shape: Box<ShapeSpec>,
-        scale: Option<[f64; 3]>,
-        rotate_axis: Option<[f64; 3]>,
-        rotate_degrees: Option<f64>,
-        translate: Option<[f64; 3]>,
-    },
-}
-
 fn axis(s: &str) -> Result<Axis> {
     s.parse().map_err(|e: String| Error::invalid("axis", e))
-}
-
-impl ShapeSpec {
-    /// The CSG tree this spec describes.
-    fn build(&self) -> Result<Csg> {
-        let v = DVec3::from_array;
-        let fold = |parts: &[ShapeSpec], op: fn(Csg, Csg) -> Csg| -> Result<Csg> {
-            let mut it = parts.iter();
-            let first =
-                it.next().ok_or_else(|| Error::invalid("shape", "a CSG operation needs at least one operand"))?;
-            it.try_fold(first.build()?, |acc, s| Ok(op(acc, s.build()?)))
-        };
-        Ok(match self {
-            ShapeSpec::Sphere { center, radius } => Sphere::new(v(*center), *radius)?.into(),
-            ShapeSpec::Ellipsoid { center, radii } => Ellipsoid::new(v(*center), v(*radii))?.into(),
-            ShapeSpec::Box { center, size } => Cuboid::new(v(*center), v(*size))?.into(),
-            ShapeSpec::Cylinder { center, axis: a, radius, height } => {
-                Cylinder::new(v(*center), axis(a)?, *radius, *height)?.into()
-            }
-            ShapeSpec::Cone { base, axis: a, radius, height } => {
-                Cone::new(v(*base), axis(a)?, *radius, *height)?.into()
-            }
-            ShapeSpec::Torus { center, axis: a, radius, tube } => {
-                Torus::new(v(*center), axis(a)?, *radius, *tube)?.into()
-            }
-            ShapeSpec::HalfSpace { normal, offset } => HalfSpace::new(v(*normal), *offset)?.into(),
-            ShapeSpec::Menger { center, size, level } => Menger::new(v(*center), *size, *level)?.into(),
-            ShapeSpec::DisplacedSphere { center, radius, amplitude, frequency } => {
-                DisplacedSphere::new(v(*center), *radius, *amplitude, *frequency)?.into()
-            }
-            ShapeSpec::Union(parts) => fold(parts, |a, b| a | b)?,
-            ShapeSpec::Intersection(parts) => fold(parts, |a, b| a & b)?,
-            ShapeSpec::Difference(parts) => fold(parts, |a, b| a - b)?,
-            ShapeSpec::Xor(parts) => fold(parts, |a, b| a ^ b)?,
-            ShapeSpec::Complement(inner) => !inner.build()?,
-            ShapeSpec::Transform { shape, scale, rotate_axis, rotate_degrees, translate } => {
-                let scale = DAffine3::from_scale(scale.map_or(DVec3::ONE, v));
-                let rotate = match (rotate_axis, rotate_degrees) {
-                    (Some(a), Some(deg)) => {
-                        let a =
-                            v(*a).try_normalize().ok_or_else(|| Error::invalid("rotate_axis", "must be non-zero"))?;
-                        DAffine3::from_quat(DQuat::from_axis_angle(a, deg.to_radians()))
-                    }
-                    (None, None) => DAffine3::IDENTITY,
-                    _ => return Err(Error::invalid("transform", "give rotate_axis and rotate_degrees together")),
-                };
-                let translate = DAffine3::from_translation(translate.map_or(DVec3::ZERO, v));
-                Transformed::new(shape.build()?, translate * rotate * scale)?.into()
-            }
-        })
-    }
 }
 
 /// A scene file, loaded: the scene, its camera and its image settings.

@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use glam::DVec3;
+use octsolid::shape::ShapeSpec;
 
 /// octsolid: solid modeling on linear octrees.
 #[derive(Parser, Debug)]
@@ -260,6 +262,28 @@ pub struct ShapeArgs {
     /// Output .oct file.
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+impl ShapeArgs {
+    /// The flags as a shape specification, the form scene files write: the ellipsoid
+    /// fills the box of `--size`, the cone's base sits `--height / 2` below `--center`.
+    #[must_use]
+    pub fn spec(&self) -> ShapeSpec {
+        let (center, axis, radius, height) = (self.center, self.axis, self.radius, self.height);
+        match self.kind {
+            ShapeKind::Sphere => ShapeSpec::Sphere { center, radius },
+            ShapeKind::Ellipsoid => {
+                ShapeSpec::Ellipsoid { center, radii: (DVec3::from_array(self.size) * 0.5).to_array() }
+            }
+            ShapeKind::Box => ShapeSpec::Box { center, size: self.size },
+            ShapeKind::Cylinder => ShapeSpec::Cylinder { center, axis, radius, height },
+            ShapeKind::Cone => {
+                let base = DVec3::from_array(center) - axis.unit() * (height * 0.5);
+                ShapeSpec::Cone { base: base.to_array(), axis, radius, height }
+            }
+            ShapeKind::Torus => ShapeSpec::Torus { center, axis, radius, tube: self.tube },
+        }
+    }
 }
 
 /// Arguments of `octsolid render`.

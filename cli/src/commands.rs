@@ -15,13 +15,13 @@ use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{self, Camera, DEFAULT_VIEW, Light, Material, RenderOptions, Scene};
 use octsolid::samples;
 use octsolid::scene_file;
-use octsolid::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, Shape, Sphere, Torus};
+use octsolid::shape::{Axis, Shape};
 use octsolid_harness::markdown::render_section;
 use octsolid_harness::report::IMAGES;
 use octsolid_harness::{MatrixOptions, run_matrix, write_report};
 use serde::Serialize;
 
-use super::args::{Args, Command, CsgOp, RenderArgs, ShapeArgs, ShapeKind};
+use super::args::{Args, Command, CsgOp, RenderArgs, ShapeArgs};
 use super::progress_bar::Bar;
 
 /// Runs the parsed command line.
@@ -47,32 +47,8 @@ pub fn run(args: Args) -> Result<()> {
 
 /// `octsolid shape KIND ...`
 fn shape_command(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
-    let center = DVec3::from_array(a.center);
-    let size = DVec3::from_array(a.size);
-    let (shape, exact_volume): (Csg, f64) = match a.kind {
-        ShapeKind::Sphere => (Sphere::new(center, a.radius)?.into(), Sphere::new(center, a.radius)?.volume()),
-        ShapeKind::Ellipsoid => {
-            let e = Ellipsoid::new(center, size * 0.5)?;
-            (e.clone().into(), e.volume())
-        }
-        ShapeKind::Box => {
-            let b = Cuboid::new(center, size)?;
-            (b.clone().into(), b.volume())
-        }
-        ShapeKind::Cylinder => {
-            let c = Cylinder::new(center, a.axis, a.radius, a.height)?;
-            (c.clone().into(), c.volume())
-        }
-        ShapeKind::Cone => {
-            let base = center - a.axis.unit() * (a.height * 0.5);
-            let c = Cone::new(base, a.axis, a.radius, a.height)?;
-            (c.clone().into(), c.volume())
-        }
-        ShapeKind::Torus => {
-            let t = Torus::new(center, a.axis, a.radius, a.tube)?;
-            (t.clone().into(), t.volume())
-        }
-    };
+    let spec = a.spec();
+    let shape = spec.build()?;
     let domain = match a.domain {
         Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, a.depth)?,
         None => Domain::around(&shape.bounds().context("the shape is unbounded; give --domain")?, 0.02, a.depth)?,
@@ -80,7 +56,7 @@ fn shape_command(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
     let tree = voxelize_with_bar(&shape, domain, budget)?;
     let bytes = oct::save(&tree, &a.output)?;
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
-    print_summary(&tree, Some(exact_volume));
+    print_summary(&tree, spec.volume());
     Ok(())
 }
 
