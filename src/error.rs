@@ -42,6 +42,18 @@ pub enum Error {
         /// Every extension the reader accepts, without the dot.
         accepted: Vec<&'static str>,
     },
+    /// A scene file could not be built: the cause as it was, with the scene file and,
+    /// where it concerns one, the solid's name (its `name`, else `solid N`).
+    #[error("{}: {}{source}", path.display(), solid.as_ref().map_or(String::new(), |s| format!("{s}: ")))]
+    Scene {
+        /// The scene file.
+        path: PathBuf,
+        /// The solid being built, if the error concerns one.
+        solid: Option<String>,
+        /// What went wrong: the I/O, format or over-budget error of a file the scene
+        /// names, a refused value, ...
+        source: Box<Error>,
+    },
     /// A text file's content is malformed at a line.
     #[error("{}: line {line}: {reason}", path.display())]
     Parse {

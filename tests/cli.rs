@@ -130,6 +130,10 @@ fn bad_input_gives_one_line_errors() {
     assert!(e.contains("a.oct") && e.contains("(use .obj, .stl, .ply or .patches)"), "{e}");
     let e = fails(&dir, &["render", "scene.toml", "--shading", "flat"]);
     assert!(e.contains("scene.toml") && e.contains("(use .oct, .obj, .stl, .ply or .patches)"), "{e}");
+    // A scene's build error: the scene, the solid and the cause, on one line.
+    std::fs::write(dir.join("scene.toml"), "[[solid]]\nname = \"part\"\nmesh = \"gone.obj\"\n").unwrap();
+    let e = fails(&dir, &["render", "scene.toml"]);
+    assert!(e.contains("scene.toml: part: ") && e.contains("gone.obj: "), "{e}");
     // A failed write keeps the old file: the output's folder does not exist.
     let e = fails(&dir, &["shape", "sphere", "--depth", "4", "-o", "no/such/dir/x.oct"]);
     assert!(e.contains("x.oct"), "{e}");
