@@ -12,6 +12,7 @@ use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::progress::NoProgress;
 use octsolid::render::{Camera, PACKET, TILE, Traversal};
 use octsolid::shape::{Axis, Sphere};
+use octsolid::{Ray, RayCast};
 use rayon::prelude::*;
 
 const SIZE: u32 = 1024;
@@ -27,7 +28,7 @@ fn solids() -> Vec<(&'static str, LinearOctree, Axis)> {
 }
 
 /// Primary rays of a framed 1024x1024 view, row-major.
-fn primary_rays(tree: &LinearOctree, up: Axis) -> Vec<(DVec3, DVec3)> {
+fn primary_rays(tree: &LinearOctree, up: Axis) -> Vec<Ray> {
     let b = tree.bounds().unwrap();
     let camera = Camera::frame(&b, Camera::default_view(up), up.unit(), 1.0);
     (0..SIZE * SIZE)
@@ -40,7 +41,7 @@ fn primary_rays(tree: &LinearOctree, up: Axis) -> Vec<(DVec3, DVec3)> {
 
 /// The rays of `primary_rays` in tile order: the TILE x TILE tiles row by row, each
 /// tile's rays row-major (one packet a tile).
-fn tiles(rays: &[(DVec3, DVec3)]) -> Vec<(DVec3, DVec3)> {
+fn tiles(rays: &[Ray]) -> Vec<Ray> {
     let size = SIZE as usize;
     let mut out = Vec::with_capacity(rays.len());
     for r0 in (0..size).step_by(TILE) {
@@ -72,10 +73,8 @@ fn bench(c: &mut Criterion) {
 
         let rays = primary_rays(&tree, up);
         let tiles = tiles(&rays);
-        let hits: Vec<(DVec3, DVec3)> = rays
-            .par_iter()
-            .filter_map(|&(o, d)| t.hit(o, d, f64::INFINITY).map(|h| (o + d * h.t - d * 1e-6, d)))
-            .collect();
+        let hits: Vec<(DVec3, DVec3)> =
+            rays.par_iter().filter_map(|r| t.hit(r).map(|h| (r.at(h.t) - r.dir * 1e-6, r.dir))).collect();
         eprintln!("stats: {name}: {} of {} primary rays hit", hits.len(), rays.len());
         group.throughput(Throughput::Elements(rays.len() as u64));
         group.bench_function(BenchmarkId::new("primary", name), |b| {
@@ -83,11 +82,10 @@ fn bench(c: &mut Criterion) {
                 tiles
                     .par_chunks(TILE * SIZE as usize)
                     .map(|band| {
-                        let t_max = [f64::INFINITY; PACKET];
                         let mut hits = [None; PACKET];
                         band.chunks(PACKET)
                             .map(|tile| {
-                                t.hit_packet(tile, &t_max, &mut hits);
+                                t.hit_packet(tile, &mut hits);
                                 hits.iter().filter(|h| h.is_some()).count()
                             })
                             .sum::<usize>()
@@ -98,7 +96,7 @@ fn bench(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new("primary_single", name), |b| {
             b.iter(|| {
                 rays.par_chunks(SIZE as usize)
-                    .map(|row| row.iter().filter(|(o, d)| t.hit(*o, *d, f64::INFINITY).is_some()).count())
+                    .map(|row| row.iter().filter(|r| t.hit(r).is_some()).count())
                     .sum::<usize>()
             })
         });
@@ -113,7 +111,7 @@ fn bench(c: &mut Criterion) {
                             .filter(|(p, d)| {
                                 let lift = *p - *d * (1e-3 * tree.domain().voxel_size());
                                 let to = light - lift;
-                                t.occluded(lift, to.normalize(), to.length())
+                                t.occluded(&Ray::segment(lift, to.normalize(), to.length()))
                             })
                             .count()
                     })

@@ -34,6 +34,7 @@ pub mod morton;
 pub mod octree;
 pub mod patch;
 pub mod progress;
+pub mod ray;
 pub mod render;
 pub mod samples;
 pub mod scene_file;
@@ -46,6 +47,7 @@ pub use aabb::Aabb;
 pub use error::{Error, Result};
 pub use file_kind::FileKind;
 pub use octree::{Domain, LinearOctree, Node, NodeKey, voxelize};
+pub use ray::{Ray, RayCast};
 pub use shape::{Class, Shape};
 
 /// Everything a CSG script needs, in one import.

@@ -2,13 +2,11 @@
 //! writes a second showcase.
 
 use glam::DVec3;
-use image::RgbImage;
 
 use crate::error::Result;
-use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use crate::octree::{Domain, VoxelizeOptions, voxelize};
 use crate::render::{Light, Material, Scene};
 use crate::shape::{Axis, Csg, Cuboid, Cylinder, Shape, ShapeExt, Sphere, Torus};
-use crate::slice::slice_image;
 
 /// One line saying what [`showcase_scene`] shows.
 pub const SCENE_DESCRIPTION: &str = "the classic CSG part inside a torus ring, a ball and a tilted cylinder on a floor, \
@@ -44,10 +42,6 @@ pub fn showcase_scene(depth: u8, options: &VoxelizeOptions) -> Result<Scene> {
     Ok(scene)
 }
 
-/// One line saying what [`showcase`] is.
-pub const SHOWCASE_DESCRIPTION: &str = "cube of side 2 & sphere of radius 1.3, minus three cylinders of radius 0.6 along x, y, z, \
-     inside a torus ring (R 1.55, r 0.2) around z";
-
 /// The classic CSG part: a cube of side 2 intersected with a sphere of radius 1.3,
 /// minus three cylinders of radius 0.6 along x, y and z (all centred at the origin).
 #[must_use]
@@ -67,19 +61,4 @@ pub fn showcase() -> Csg {
 /// The showcase's domain at `depth`: the cube `[-1.8, 1.8]^3`.
 pub fn showcase_domain(depth: u8) -> Result<Domain> {
     Domain::new(DVec3::splat(-1.8), 3.6, depth)
-}
-
-/// Three cross-sections of the showcase side by side: z = 0.8 (the rounded cube with
-/// its vertical bore), z = 0 (the corners left by the three bores, and the ring) and
-/// y = 0.3 (a cut through ring, corners and the bores).
-pub fn showcase_picture(tree: &LinearOctree) -> Result<RgbImage> {
-    const PANEL: u32 = 512;
-    const GAP: u32 = 8;
-    let panels =
-        [slice_image(tree, 2, 0.8, PANEL)?, slice_image(tree, 2, 0.0, PANEL)?, slice_image(tree, 1, 0.3, PANEL)?];
-    let mut out = RgbImage::from_pixel(3 * PANEL + 2 * GAP, PANEL, image::Rgb([255, 255, 255]));
-    for (i, panel) in panels.iter().enumerate() {
-        image::imageops::replace(&mut out, panel, i64::from(i as u32 * (PANEL + GAP)), 0);
-    }
-    Ok(out)
 }

@@ -29,8 +29,9 @@ use crate::io::oct;
 use crate::mesh::InsideRule;
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
-use crate::render::scene::{Bump, Mapping, Texture};
-use crate::render::{Camera, DEFAULT_VIEW, Light, Material, Normals, Projection, RenderOptions, Scene};
+use crate::render::{
+    Bump, Camera, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection, RenderOptions, Scene, Texture,
+};
 use crate::shape::{Axis, Csg, Shape, ShapeSpec};
 
 /// The whole file.

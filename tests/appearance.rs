@@ -3,8 +3,8 @@
 
 use glam::DVec3;
 use octsolid::color::{Hsi, cmy_to_rgb, hsi_to_rgb, rgb_to_cmy, rgb_to_hsi};
-use octsolid::render::scene::{Mapping, Texture};
-use octsolid::render::shade::{reflect, refract};
+use octsolid::render::{Mapping, Texture};
+use octsolid::render::{reflect, refract};
 use octsolid::shape::Axis;
 
 mod common;

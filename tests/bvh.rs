@@ -14,13 +14,14 @@
 //! normal and even hit or miss are not defined by the surface alone.
 
 use glam::DVec3;
+use octsolid::Ray;
 use octsolid::mesh::{BoundaryOptions, boundary_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{DEFAULT_VIEW, Traversal};
 use octsolid::samples::classic_csg;
 use octsolid::shape::{Menger, Shape, Sphere};
 use octsolid_harness::rays::{primary_rays, random_rays};
-use octsolid_harness::{BvhCrateBvh, Contender, ObvhsBvh, Ray, SurfaceHit};
+use octsolid_harness::{BvhCrateBvh, Contender, ObvhsBvh, SurfaceHit};
 
 fn solid(shape: &dyn Shape, depth: u8) -> LinearOctree {
     let domain = Domain::new(DVec3::splat(-1.1), 2.2, depth).unwrap();

@@ -180,13 +180,42 @@ fn depth_21_counts_are_exact() {
     assert_eq!(&rest | &one, full);
 }
 
+/// The storage budget: every way of making a solid keeps exactly 8 bytes a node (the
+/// key list holds no spare capacity), whatever the node count.
 #[test]
-fn memory_is_at_most_eight_bytes_a_node() {
+fn every_constructor_keeps_exactly_eight_bytes_a_node() {
+    use octsolid::octree::{VoxelizeOptions, voxelize};
+    use octsolid::shape::Sphere;
+    let exact = |what: &str, t: &LinearOctree| {
+        let want = std::mem::size_of::<LinearOctree>() + 8 * t.node_count();
+        assert_eq!(t.bytes(), want, "{what}: {} nodes", t.node_count());
+    };
     let mut rng = Rng(5);
-    let tree = random_tree(&mut rng, 5);
-    let per_node = (tree.bytes() - std::mem::size_of::<LinearOctree>()) as f64 / tree.node_count() as f64;
-    assert!(per_node <= 8.0 + 1e-9 || tree.keys().len() < 4, "{per_node} bytes a node");
-    assert_eq!(std::mem::size_of::<NodeKey>(), 8);
+    let d = domain(5);
+    let (a, b) = (random_tree(&mut rng, 5), random_tree(&mut rng, 5));
+    exact("random", &a);
+    exact("from_voxels", &from_dense(d, &dense(&a)));
+    exact("from_nodes", &LinearOctree::from_nodes(d, a.nodes()).unwrap());
+    exact("from_keys", &LinearOctree::from_keys(d, a.keys().to_vec()).unwrap());
+    for op in [SetOp::Union, SetOp::Intersection, SetOp::Difference, SetOp::SymmetricDifference] {
+        exact(&format!("{op:?}"), &a.combine(&b, op).unwrap());
+    }
+    exact("complement", &a.complement());
+    exact("refine", &a.refine(7).unwrap());
+    exact("coarsen", &a.coarsen(3, CoarsenRule::Majority).unwrap());
+    exact("translate", &a.translate([3, -2, 5]));
+    exact("mirror", &a.mirror(1));
+    exact("rotate90", &a.rotate90(2, 1));
+    let ball = Sphere::new(d.min() + DVec3::splat(1.5), 1.2).unwrap();
+    exact("voxelize", &voxelize(&ball, domain(7), &VoxelizeOptions::default()).unwrap());
+    let file = std::env::temp_dir().join(format!("octsolid-bytes-{}.oct", std::process::id()));
+    octsolid::io::oct::save(&a, &file).unwrap();
+    let loaded = octsolid::io::oct::load(&file, octsolid::budget::MemoryBudget::unlimited()).unwrap();
+    std::fs::remove_file(&file).unwrap();
+    assert_eq!(loaded, a);
+    exact("oct::load", &loaded);
+    exact("empty", &LinearOctree::empty(d));
+    exact("full", &LinearOctree::full(d));
 }
 
 #[test]

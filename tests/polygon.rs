@@ -4,7 +4,7 @@
 use glam::DVec3;
 use octsolid::mesh::TriangleMesh;
 use octsolid::mesh::generate::{icosphere, torus};
-use octsolid::render::raster::polygon::{Interpolation, MeshScene, fragments, render_mesh, vertex_normals};
+use octsolid::render::polygon::{Interpolation, MeshScene, fragments, render_mesh, vertex_normals};
 use octsolid::render::{Camera, Light, Material, Projection};
 
 mod common;
@@ -52,8 +52,8 @@ fn visibility_matches_brute_force_ray_casting() {
         let (mut agree, mut total) = (0, 0);
         for (i, f) in seen.iter().enumerate() {
             let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
-            let (o, d) =
-                cam.ray(2.0 * x / f64::from(w) - 1.0, 1.0 - 2.0 * y / f64::from(h), f64::from(w) / f64::from(h));
+            let ray = cam.ray(2.0 * x / f64::from(w) - 1.0, 1.0 - 2.0 * y / f64::from(h), f64::from(w) / f64::from(h));
+            let (o, d) = (ray.origin, ray.dir);
             let want = nearest(&mesh, o, d).map(|t| t * d.dot(forward));
             total += 1;
             match (f, want) {

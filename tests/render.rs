@@ -9,10 +9,11 @@ use glam::DVec3;
 use octsolid::budget::MemoryBudget;
 use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
 use octsolid::progress::NoProgress;
-use octsolid::render::film::to_srgb8;
+use octsolid::render::to_srgb8;
 use octsolid::render::*;
 use octsolid::scene_file::load_scene;
 use octsolid::shape::Sphere;
+use octsolid::{Ray, RayCast};
 
 fn sphere_scene(depth: u8, r: f64) -> Scene {
     let d = Domain::new(DVec3::splat(-1.0), 2.0, depth).unwrap();
@@ -179,7 +180,7 @@ fn front_to_back_matches_the_tracer_near_the_eye_at_odd_sizes_on_any_thread_coun
     while rounds < 6 {
         let scene = random_scene(&mut rng, 5);
         let eye = rng.vec(-0.9, 0.9);
-        if scene.solids.iter().any(|s| s.traversal.hit(eye, DVec3::Z, f64::INFINITY).is_some_and(|h| h.t == 0.0)) {
+        if scene.solids.iter().any(|s| s.traversal.hit(&Ray::new(eye, DVec3::Z)).is_some_and(|h| h.t == 0.0)) {
             continue; // the eye inside a solid: every method sees nothing but the tracer
         }
         rounds += 1;

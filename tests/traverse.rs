@@ -10,6 +10,7 @@ use octsolid::morton;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{Camera, PACKET, TILE, Traversal};
 use octsolid::samples;
+use octsolid::{Ray, RayCast};
 
 /// Entry and exit times of the ray (voxel units) through the box `[lo, lo + size)`,
 /// and the lowest axis whose entry plane gives the entry time.
@@ -119,7 +120,7 @@ fn check(tree: &LinearOctree, rng: &mut Rng, count: usize) {
     let t = Traversal::new(tree);
     let n = f64::from(tree.domain().resolution());
     for (o, d) in rays(rng, n, count) {
-        let got = t.hit_voxel_units(o, d, f64::INFINITY);
+        let got = t.hit_voxel_units(&Ray::new(o, d));
         let want = brute_force(tree, o, d);
         match (got, want) {
             (None, None) => {}
@@ -164,7 +165,7 @@ fn world_rays_and_deep_trees() {
     let h = d.voxel_size();
     let target = d.voxel_center([last; 3]);
     let origin = target - DVec3::new(0.0, 0.0, 3.0);
-    let hit = t.hit(origin, DVec3::Z, f64::INFINITY).expect("hit");
+    let hit = t.hit(&Ray::new(origin, DVec3::Z)).expect("hit");
     assert_eq!((hit.voxel, hit.axis), ([last; 3], Some(2)));
     assert!((hit.t - (3.0 - 0.5 * h)).abs() < 1e-12, "{}", hit.t);
     // Bytes: 21 inner nodes on the path, 8 bytes each.
@@ -186,12 +187,12 @@ fn non_finite_rays_hit_nothing() {
     for tree in &solids {
         let t = Traversal::new(tree);
         for (o, dir) in rays {
-            assert_eq!(t.hit(o, dir, f64::INFINITY), None, "{o} {dir}");
-            assert!(!t.occluded(o, dir, f64::INFINITY), "{o} {dir}");
+            assert_eq!(t.hit(&Ray::new(o, dir)), None, "{o} {dir}");
+            assert!(!t.occluded(&Ray::new(o, dir)), "{o} {dir}");
         }
         // The same solid is hit by a finite ray through its voxel.
         let v = d.voxel_center([3, 4, 5]);
-        assert!(t.hit(v - DVec3::X, DVec3::X, f64::INFINITY).is_some());
+        assert!(t.hit(&Ray::new(v - DVec3::X, DVec3::X)).is_some());
     }
 }
 
@@ -214,7 +215,7 @@ fn packets_match_single_rays() {
         let t = Traversal::new(tree);
         let d = tree.domain();
         let (c, edge) = (d.min() + DVec3::splat(0.5 * d.edge()), d.edge());
-        let mut packets: Vec<Vec<(DVec3, DVec3)>> = Vec::new();
+        let mut packets: Vec<Vec<Ray>> = Vec::new();
         // Tiles of cameras around and inside the domain.
         for _ in 0..40 {
             let eye = c + rng.vec(-1.5, 1.5) * edge;
@@ -233,19 +234,16 @@ fn packets_match_single_rays() {
         // The oracle suite's rays (voxel units moved to world units) in small groups.
         let h = d.voxel_size();
         let n = f64::from(d.resolution());
-        let odd: Vec<(DVec3, DVec3)> =
-            rays(&mut rng, n, 600).into_iter().map(|(o, dir)| (d.min() + o * h, dir)).collect();
+        let odd: Vec<Ray> = rays(&mut rng, n, 600).into_iter().map(|(o, dir)| Ray::new(d.min() + o * h, dir)).collect();
         packets.extend(odd.chunks(5).map(<[_]>::to_vec));
         packets.push(odd[..150].to_vec());
         for rays in &packets {
-            let t_max: Vec<f64> = rays
-                .iter()
-                .map(|_| if rng.below(3) == 0 { rng.range(0.0, 3.0) * edge } else { f64::INFINITY })
-                .collect();
+            let rays: Vec<Ray> =
+                rays.iter().map(|r| if rng.below(3) == 0 { r.until(rng.range(0.0, 3.0) * edge) } else { *r }).collect();
             let mut got = vec![None; rays.len()];
-            t.hit_packet(rays, &t_max, &mut got);
-            for ((&(o, dir), &limit), got) in rays.iter().zip(&t_max).zip(&got) {
-                assert_eq!(*got, t.hit(o, dir, limit), "ray {o} {dir} before {limit}");
+            t.hit_packet(&rays, &mut got);
+            for (ray, got) in rays.iter().zip(&got) {
+                assert_eq!(*got, t.hit(ray), "ray {ray:?}");
             }
         }
     }

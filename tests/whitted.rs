@@ -3,10 +3,11 @@
 
 use glam::DVec3;
 use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
-use octsolid::render::shade::radiance;
-use octsolid::render::shade::refract;
+use octsolid::render::radiance;
+use octsolid::render::refract;
 use octsolid::render::{Light, Material, Normals, Scene, ShadeOptions};
 use octsolid::shape::{Cuboid, Sphere};
+use octsolid::{Ray, RayCast};
 
 mod common;
 
@@ -26,11 +27,11 @@ fn a_ray_through_a_voxel_slab_comes_out_parallel_and_offset_as_snell_says() {
         let phi = rng.range(0.0, std::f64::consts::TAU);
         let d = DVec3::new(angle.sin() * phi.cos(), angle.sin() * phi.sin(), -angle.cos());
         let origin = DVec3::new(rng.range(-0.2, 0.2), rng.range(-0.2, 0.2), 0.25) - d * 0.5;
-        let sh = scene.hit(origin, d, f64::INFINITY).expect("the slab is below");
+        let sh = scene.hit(&Ray::new(origin, d)).expect("the slab is below");
         let p = origin + d * sh.hit.t;
         assert!((p.z - 0.25).abs() < 1e-12, "enters the top face: {p}");
         let inside = refract(d, sh.hit.normal(d), 1.0, 1.5).unwrap();
-        let exit = scene.solids[0].exit(p + inside * 1e-9, inside).expect("leaves through the bottom");
+        let exit = scene.solids[0].exit(&Ray::new(p + inside * 1e-9, inside)).expect("leaves through the bottom");
         let q = p + inside * (1e-9 + exit.t);
         assert_eq!(exit.axis, Some(2), "{exit:?} from {p} along {inside}");
         assert!(q.z.abs() < 1e-12, "leaves the bottom face: {q}");
@@ -80,9 +81,10 @@ fn whitted_never_returns_more_light_than_comes_in() {
         for _ in 0..3000 {
             let origin = rng.vec(-1.0, 1.0).normalize() * 5.0;
             let dir = (rng.vec(-1.0, 1.0) - origin).normalize();
-            if let Some(sh) = scene.hit(origin, dir, f64::INFINITY) {
+            let ray = Ray::new(origin, dir);
+            if let Some(sh) = scene.hit(&ray) {
                 seen += 1;
-                let (c, _) = radiance(&scene, origin, dir, &sh, &options);
+                let (c, _) = radiance(&scene, &ray, &sh, &options);
                 assert!(c.max_element() <= 1.0 + 1e-9 && c.min_element() >= 0.0, "{c}");
             }
         }
@@ -111,7 +113,7 @@ fn a_voxelized_mirror_ball_reflects_only_the_background() {
     // pixel shows the background B or 0.9 B exactly. A ray caught on the voxel
     // staircase (reflected into a neighbouring step) would show 0.81 B or less.
     use octsolid::progress::NoProgress;
-    use octsolid::render::film::to_srgb8;
+    use octsolid::render::to_srgb8;
     use octsolid::render::{Camera, RenderOptions, render};
     use std::sync::Arc;
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 8).unwrap();

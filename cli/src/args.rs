@@ -142,7 +142,7 @@ pub enum Shading {
     Phong,
 }
 
-impl From<Shading> for octsolid::render::raster::polygon::Interpolation {
+impl From<Shading> for octsolid::render::polygon::Interpolation {
     fn from(s: Shading) -> Self {
         match s {
             Shading::Flat => Self::Flat,

@@ -371,7 +371,7 @@ fn polygon_command(
     a: &RenderArgs,
     kind: FileKind,
     output: &Path,
-    interpolation: render::raster::polygon::Interpolation,
+    interpolation: render::polygon::Interpolation,
     budget: MemoryBudget,
 ) -> Result<()> {
     let input = &a.input;
@@ -393,7 +393,7 @@ fn polygon_command(
     let up = a.up.unwrap_or(kind.default_up());
     let camera =
         Camera::frame(&bounds, Camera::default_view(up), up.unit(), f64::from(width) / f64::from(height.max(1)));
-    let scene = render::raster::polygon::MeshScene {
+    let scene = render::polygon::MeshScene {
         mesh: &mesh,
         material: Material::default(),
         lights: Scene::default_lights(&bounds),
@@ -401,7 +401,7 @@ fn polygon_command(
         background: Scene::new().background,
     };
     let started = Instant::now();
-    let img = render::raster::polygon::render_mesh(&scene, &camera, width, height, a.spp.unwrap_or(2), interpolation)
+    let img = render::polygon::render_mesh(&scene, &camera, width, height, a.spp.unwrap_or(2), interpolation)
         .with_context(|| format!("{}: cannot render", input.display()))?;
     out!(
         "drew {} triangles with {interpolation:?} shading in {:.2} s",

@@ -20,8 +20,9 @@ use bvh::ray::Ray as BvhRay;
 use glam::DVec3;
 use nalgebra::{Point3, Vector3};
 
+use octsolid::{Ray, RayCast};
+
 use super::contender::{Contender, SurfaceHit};
-use super::rays::Ray;
 use octsolid::mesh::TriangleMesh;
 
 /// One triangle as a shape of the `bvh` crate.
@@ -87,7 +88,15 @@ impl Contender for BvhCrateBvh {
         self.bvh.nodes.len()
     }
 
-    fn closest_hit(&self, ray: &Ray) -> Option<SurfaceHit> {
+    fn surface(&self, hit: SurfaceHit, _ray: &Ray) -> SurfaceHit {
+        hit
+    }
+}
+
+impl RayCast for BvhCrateBvh {
+    type Hit = SurfaceHit;
+
+    fn hit(&self, ray: &Ray) -> Option<SurfaceHit> {
         let r = to_bvh(ray);
         let mut best: Option<(f64, &BvhTriangle)> = None;
         for tri in self.bvh.nearest_traverse_iterator(&r, &self.triangles) {

@@ -1,5 +1,6 @@
 //! The one interface every ray-casting structure of the benchmark answers: built from
-//! its input, then asked for the closest hit or any hit of each ray.
+//! its input, then asked for the closest hit or any hit of each ray (the library's
+//! [`RayCast`]).
 //!
 //! All contenders answer the same questions about the same rays: the closest hit
 //! (distance along the unit ray and the surface normal facing the ray) for primary and
@@ -8,7 +9,9 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::rays::{Ray, RaySet};
+use octsolid::{Ray, RayCast};
+
+use super::rays::RaySet;
 
 /// A closest hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -19,8 +22,9 @@ pub struct SurfaceHit {
     pub normal: DVec3,
 }
 
-/// A ray-casting structure under test.
-pub trait Contender: Send + Sync + Sized {
+/// A ray-casting structure under test: a [`RayCast`] that can be built from its input
+/// and says what it costs.
+pub trait Contender: RayCast + Send + Sync + Sized {
     /// What it is built from (an octree, a triangle mesh).
     type Input: ?Sized + Sync;
 
@@ -33,11 +37,13 @@ pub trait Contender: Send + Sync + Sized {
     /// Number of nodes of the structure (inner nodes of the octree, BVH nodes).
     fn node_count(&self) -> usize;
 
-    /// The closest hit of `ray` with `t < ray.t_max`.
-    fn closest_hit(&self, ray: &Ray) -> Option<SurfaceHit>;
+    /// Its hit as a [`SurfaceHit`] (distance and the normal facing `ray`).
+    fn surface(&self, hit: Self::Hit, ray: &Ray) -> SurfaceHit;
 
-    /// Whether anything lies on `ray` before `ray.t_max`.
-    fn occluded(&self, ray: &Ray) -> bool;
+    /// The closest hit of `ray` with `t < ray.t_max`, as a [`SurfaceHit`].
+    fn closest_hit(&self, ray: &Ray) -> Option<SurfaceHit> {
+        self.hit(ray).map(|h| self.surface(h, ray))
+    }
 
     /// Traces a ray set in the current rayon pool (chunks of 256 rays a task) and returns
     /// the number of rays that hit (closest hits, or occluded shadow rays).
@@ -46,8 +52,7 @@ pub trait Contender: Send + Sync + Sized {
         rays.rays
             .par_chunks(256)
             .map(|chunk| {
-                chunk.iter().filter(|r| if any { self.occluded(r) } else { self.closest_hit(r).is_some() }).count()
-                    as u64
+                chunk.iter().filter(|r| if any { self.occluded(r) } else { self.hit(r).is_some() }).count() as u64
             })
             .sum()
     }

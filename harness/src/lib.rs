@@ -25,6 +25,6 @@ pub use contender::{Contender, SurfaceHit};
 pub use machine::Machine;
 pub use matrix::{CaseResult, ContenderKind, ContenderResult, MatrixOptions, MatrixResults, Speed, run_matrix};
 pub use obvhs_contender::ObvhsBvh;
-pub use rays::{Ray, RayKind, RaySet};
+pub use rays::{RayKind, RaySet};
 pub use report::write_report;
 pub use scenes::{BenchScene, SceneKind, build_scene};

@@ -68,80 +68,97 @@ fn range(values: &[f64]) -> String {
 
 /// The summary in words: who wins where, from the numbers.
 fn findings(r: &MatrixResults) -> String {
-    let threads = r.options.threads;
     let mut out = String::new();
-    let faces = [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces];
-    // Build: octree build speed against each BVH over the same boundary faces.
+    build_finding(r, &mut out);
+    for kind in RayKind::ALL {
+        tracing_finding(r, kind, &mut out);
+    }
+    bunny_findings(r, &mut out);
+    out
+}
+
+/// The BVHs over the octree's own boundary faces.
+const FACES: [ContenderKind; 2] = [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces];
+
+/// Build: octree build speed and memory against each BVH over the same boundary faces.
+fn build_finding(r: &MatrixResults, out: &mut String) {
     let mut build = Vec::new();
     let mut bytes = Vec::new();
     for case in &r.cases {
         let Some(o) = case.contender(ContenderKind::Octree) else { continue };
-        for k in faces {
+        for k in FACES {
             if let Some(c) = case.contender(k).filter(|c| c.skipped.is_none()) {
                 build.push(c.build_ms / o.build_ms.max(1e-6));
                 bytes.push(c.bytes as f64 / o.bytes.max(1) as f64);
             }
         }
     }
-    if !build.is_empty() {
-        let faster = build.iter().filter(|&&x| x > 1.0).count();
-        let _ = writeln!(
-            out,
-            "- **Build.** Against a BVH over its own boundary faces, the octree built faster in {faster} of {} \
-             cases (the BVH took {} the octree's time) and took less memory in {} of {} (the BVH held {} the \
-             octree's bytes). The octree's build is one sequential pass over the sorted node keys; a BVH must \
-             sort or partition every boundary triangle, and it stores boxes and triangles where the octree \
-             stores 8 bytes an inner node.",
-            build.len(),
-            range(&build),
-            bytes.iter().filter(|&&x| x > 1.0).count(),
-            bytes.len(),
-            range(&bytes),
-        );
+    if build.is_empty() {
+        return;
     }
-    // Tracing against BVHs over the same faces, per ray kind.
-    for kind in RayKind::ALL {
-        let mut ratios = Vec::new();
-        let mut lost = Vec::new();
-        for case in &r.cases {
-            for k in faces {
-                if let Some(x) = speed_ratio(case, ContenderKind::Octree, k, kind, threads) {
-                    ratios.push(x);
-                    if x < 1.0 {
-                        lost.push(format!("{} {} at depth {}", k.label(), case.scene.name(), case.depth));
-                    }
+    let faster = build.iter().filter(|&&x| x > 1.0).count();
+    let _ = writeln!(
+        out,
+        "- **Build.** Against a BVH over its own boundary faces, the octree built faster in {faster} of {} \
+         cases (the BVH took {} the octree's time) and took less memory in {} of {} (the BVH held {} the \
+         octree's bytes). The octree's build is one sequential pass over the sorted node keys; a BVH must \
+         sort or partition every boundary triangle, and it stores boxes and triangles where the octree \
+         stores 8 bytes an inner node.",
+        build.len(),
+        range(&build),
+        bytes.iter().filter(|&&x| x > 1.0).count(),
+        bytes.len(),
+        range(&bytes),
+    );
+}
+
+/// Tracing rays of `kind` against the BVHs over the same faces.
+fn tracing_finding(r: &MatrixResults, kind: RayKind, out: &mut String) {
+    let threads = r.options.threads;
+    let mut ratios = Vec::new();
+    let mut lost = Vec::new();
+    for case in &r.cases {
+        for k in FACES {
+            if let Some(x) = speed_ratio(case, ContenderKind::Octree, k, kind, threads) {
+                ratios.push(x);
+                if x < 1.0 {
+                    lost.push(format!("{} {} at depth {}", k.label(), case.scene.name(), case.depth));
                 }
             }
         }
-        if ratios.is_empty() {
-            continue;
-        }
-        let wins = ratios.iter().filter(|&&x| x >= 1.0).count();
-        let _ = write!(
-            out,
-            "- **{} rays, {threads} threads, same boundary faces.** The octree was faster in {wins} of {} cases \
-             ({} the BVH's rays a second).",
-            kind.name(),
-            ratios.len(),
-            range(&ratios)
-        );
-        if lost.is_empty() {
-            let _ = writeln!(
-                out,
-                " Its walk steps through empty space a node at a time with exact integer-plane crossings and \
-                 stops at the first full node, while a BVH over the faces tests overlapping boxes and then \
-                 triangles."
-            );
-        } else {
-            let _ = writeln!(
-                out,
-                " It lost to {}: there the BVH's wide nodes and f32 box tests cost less than the octree's \
-                 per-level f64 plane crossings.",
-                lost.join(", ")
-            );
-        }
     }
-    // The original bunny mesh, primary rays: is the octree within 2x of the best BVH?
+    if ratios.is_empty() {
+        return;
+    }
+    let wins = ratios.iter().filter(|&&x| x >= 1.0).count();
+    let _ = write!(
+        out,
+        "- **{} rays, {threads} threads, same boundary faces.** The octree was faster in {wins} of {} cases \
+         ({} the BVH's rays a second).",
+        kind.name(),
+        ratios.len(),
+        range(&ratios)
+    );
+    if lost.is_empty() {
+        let _ = writeln!(
+            out,
+            " Its walk steps through empty space a node at a time with exact integer-plane crossings and \
+             stops at the first full node, while a BVH over the faces tests overlapping boxes and then \
+             triangles."
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            " It lost to {}: there the BVH's wide nodes and f32 box tests cost less than the octree's \
+             per-level f64 plane crossings.",
+            lost.join(", ")
+        );
+    }
+}
+
+/// The original bunny mesh, primary rays: is the octree within 2x of each BVH?
+fn bunny_findings(r: &MatrixResults, out: &mut String) {
+    let threads = r.options.threads;
     for case in r.cases.iter().filter(|c| c.scene == SceneKind::Bunny) {
         for k in [ContenderKind::ObvhsMesh, ContenderKind::BvhMesh] {
             let (Some(x), Some(mesh)) =
@@ -172,7 +189,6 @@ fn findings(r: &MatrixResults) -> String {
             );
         }
     }
-    out
 }
 
 /// The whole section, markers included; `images` is the folder of the plots relative

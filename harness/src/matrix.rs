@@ -59,18 +59,6 @@ impl ContenderKind {
             ContenderKind::BvhMesh => "bvh, original mesh",
         }
     }
-
-    /// Whether it is built over the original mesh (only scenes that come from one).
-    #[must_use]
-    pub fn over_mesh(self) -> bool {
-        matches!(self, ContenderKind::ObvhsMesh | ContenderKind::BvhMesh)
-    }
-
-    /// Whether it is built over the octree's boundary faces.
-    #[must_use]
-    pub fn over_faces(self) -> bool {
-        matches!(self, ContenderKind::ObvhsFaces | ContenderKind::BvhFaces)
-    }
 }
 
 /// What to run.

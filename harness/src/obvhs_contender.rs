@@ -19,8 +19,9 @@ use obvhs::cwbvh::{CwBvh, builder::build_cwbvh_from_tris, node::CwBvhNode};
 use obvhs::ray::{Ray as ObvhsRay, RayHit};
 use obvhs::triangle::Triangle;
 
+use octsolid::{Ray, RayCast};
+
 use super::contender::{Contender, SurfaceHit};
-use super::rays::Ray;
 use octsolid::mesh::TriangleMesh;
 
 /// A CWBVH of `obvhs` and its triangles in leaf order.
@@ -57,7 +58,15 @@ impl Contender for ObvhsBvh {
         self.bvh.nodes.len()
     }
 
-    fn closest_hit(&self, ray: &Ray) -> Option<SurfaceHit> {
+    fn surface(&self, hit: SurfaceHit, _ray: &Ray) -> SurfaceHit {
+        hit
+    }
+}
+
+impl RayCast for ObvhsBvh {
+    type Hit = SurfaceHit;
+
+    fn hit(&self, ray: &Ray) -> Option<SurfaceHit> {
         let mut hit = RayHit::none();
         if !self.bvh.ray_traverse(to_obvhs(ray), &mut hit, |r, id| self.triangles[id].intersect(r)) {
             return None;

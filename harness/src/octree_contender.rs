@@ -4,9 +4,9 @@
 //! all the walk reads; the linear octree it is built from is not counted.
 
 use super::contender::{Contender, SurfaceHit};
-use super::rays::Ray;
+use octsolid::Ray;
 use octsolid::octree::LinearOctree;
-use octsolid::render::Traversal;
+use octsolid::render::{Hit, Traversal};
 
 impl Contender for Traversal {
     type Input = LinearOctree;
@@ -23,11 +23,7 @@ impl Contender for Traversal {
         Traversal::node_count(self)
     }
 
-    fn closest_hit(&self, ray: &Ray) -> Option<SurfaceHit> {
-        self.hit(ray.origin, ray.dir, ray.t_max).map(|h| SurfaceHit { t: h.t, normal: h.normal(ray.dir) })
-    }
-
-    fn occluded(&self, ray: &Ray) -> bool {
-        Traversal::occluded(self, ray.origin, ray.dir, ray.t_max)
+    fn surface(&self, hit: Hit, ray: &Ray) -> SurfaceHit {
+        SurfaceHit { t: hit.t, normal: hit.normal(ray.dir) }
     }
 }

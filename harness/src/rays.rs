@@ -17,17 +17,7 @@ use rayon::prelude::*;
 
 use octsolid::aabb::Aabb;
 use octsolid::render::{Camera, Traversal};
-
-/// A ray `origin + t dir`, `0 <= t < t_max`, `dir` a unit vector (so `t` is a distance).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ray {
-    /// Start point.
-    pub origin: DVec3,
-    /// Unit direction.
-    pub dir: DVec3,
-    /// Hits at or beyond this distance do not count.
-    pub t_max: f64,
-}
+use octsolid::{Ray, RayCast};
 
 /// What a ray set asks and how its rays are spread.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -79,8 +69,7 @@ pub fn primary_rays(bounds: &Aabb, view: DVec3, up: DVec3, size: u32) -> RaySet 
     let rays = (0..size * size)
         .map(|i| {
             let (x, y) = (f64::from(i % size) + 0.5, f64::from(i / size) + 0.5);
-            let (origin, dir) = camera.ray(2.0 * x / n - 1.0, 1.0 - 2.0 * y / n, 1.0);
-            Ray { origin, dir, t_max: f64::INFINITY }
+            camera.ray(2.0 * x / n - 1.0, 1.0 - 2.0 * y / n, 1.0)
         })
         .collect();
     RaySet { kind: RayKind::Primary, rays }
@@ -101,7 +90,7 @@ pub fn shadow_rays(octree: &Traversal, primary: &RaySet, light: DVec3) -> RaySet
         .rays
         .par_iter()
         .filter_map(|r| {
-            let hit = octree.hit(r.origin, r.dir, r.t_max)?;
+            let hit = octree.hit(r)?;
             let origin = r.origin + r.dir * (hit.t - lift);
             let to = light - origin;
             Some(Ray { origin, dir: to.normalize(), t_max: to.length() })

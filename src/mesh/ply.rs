@@ -131,10 +131,46 @@ impl Body<'_> {
     }
 }
 
+/// The header: the body's format, its elements in order, where the body starts and
+/// how many lines the header has.
+struct Header {
+    format: Option<String>,
+    elements: Vec<Element>,
+    body_start: usize,
+    lines: usize,
+}
+
 /// Parses PLY bytes into a mesh (not yet welded).
 pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
-    let fail = |line: usize, reason: String| Error::Parse { path: path.to_path_buf(), line, reason };
     // Step 1: the header, line by line, up to "end_header".
+    let header = parse_header(bytes, path)?;
+    // Step 2: the body, as text tokens or little-endian bytes.
+    let mut body = body(bytes, &header, path)?;
+    // Step 3: the elements in order; vertices and faces are kept.
+    let mut mesh = TriangleMesh::default();
+    let mut vertex_count = None;
+    for el in &header.elements {
+        let reader = ElementReader::new(el, vertex_count, header.lines, path)?;
+        for item in 0..el.count {
+            reader.read_item(item, &mut body, &mut mesh)?;
+        }
+        if reader.is_vertex {
+            vertex_count = Some(el.count);
+        }
+    }
+    if mesh.triangles.is_empty() {
+        return Err(Error::Parse {
+            path: path.to_path_buf(),
+            line: header.lines,
+            reason: "the file has no faces".into(),
+        });
+    }
+    Ok(mesh)
+}
+
+/// Reads the header up to its `end_header` line.
+fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
+    let fail = |line: usize, reason: String| Error::Parse { path: path.to_path_buf(), line, reason };
     let mut pos = 0;
     let mut line_no = 0;
     let mut format = None;
@@ -173,8 +209,14 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
             _ => return Err(fail(line_no, format!("unexpected header line '{line}'"))),
         }
     }
-    let header_lines = line_no;
-    let mut body = match format.as_deref() {
+    Ok(Header { format, elements, body_start: pos, lines: line_no })
+}
+
+/// The body after `header`, in the header's format.
+fn body<'a>(bytes: &'a [u8], header: &Header, path: &Path) -> Result<Body<'a>> {
+    let fail = |line: usize, reason: String| Error::Parse { path: path.to_path_buf(), line, reason };
+    let (pos, header_lines) = (header.body_start, header.lines);
+    match header.format.as_deref() {
         Some("ascii") => {
             let text = std::str::from_utf8(&bytes[pos..]).map_err(|e| Error::Format {
                 path: path.to_path_buf(),
@@ -186,95 +228,101 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
                 .enumerate()
                 .flat_map(|(i, l)| l.split_whitespace().map(move |t| (header_lines + i + 1, t)))
                 .collect();
-            Body::Ascii { tokens, next: 0, last_line: header_lines + text.lines().count().max(1) }
+            Ok(Body::Ascii { tokens, next: 0, last_line: header_lines + text.lines().count().max(1) })
         }
-        Some("binary_little_endian") => Body::Binary { bytes, pos },
-        Some(other) => {
-            return Err(fail(2, format!("format '{other}' is not supported (use ascii or binary_little_endian)")));
-        }
-        None => return Err(fail(header_lines, "header has no 'format' line".into())),
-    };
+        Some("binary_little_endian") => Ok(Body::Binary { bytes, pos }),
+        Some(other) => Err(fail(2, format!("format '{other}' is not supported (use ascii or binary_little_endian)"))),
+        None => Err(fail(header_lines, "header has no 'format' line".into())),
+    }
+}
 
-    // Step 2: the elements in order; vertices and faces are kept.
-    let mut mesh = TriangleMesh::default();
-    let mut vertex_count = None;
-    for el in &elements {
-        let is_vertex = el.name == "vertex";
-        let is_face = el.name == "face";
-        let xyz: Vec<Option<usize>> = ["x", "y", "z"]
-            .iter()
-            .map(|n| el.properties.iter().position(|p| p.name == *n && p.list.is_none()))
-            .collect();
+/// How one element's items are read: which properties are the vertex coordinates
+/// and the face's vertex list.
+struct ElementReader<'a> {
+    el: &'a Element,
+    path: &'a Path,
+    is_vertex: bool,
+    is_face: bool,
+    /// Property indices of x, y and z (vertices).
+    xyz: [usize; 3],
+    /// Property index of the vertex index list (faces).
+    index_prop: Option<usize>,
+    /// Vertices read before this element (faces index them).
+    vertex_count: usize,
+}
+
+impl<'a> ElementReader<'a> {
+    /// Checks that vertices have x, y, z and faces a vertex list after the vertices.
+    fn new(el: &'a Element, vertex_count: Option<usize>, header_lines: usize, path: &'a Path) -> Result<Self> {
+        let fail = |reason: &str| Error::Parse { path: path.to_path_buf(), line: header_lines, reason: reason.into() };
+        let (is_vertex, is_face) = (el.name == "vertex", el.name == "face");
+        let scalar = |n: &str| el.properties.iter().position(|p| p.name == n && p.list.is_none());
+        let xyz = [scalar("x"), scalar("y"), scalar("z")];
         if is_vertex && xyz.iter().any(Option::is_none) {
-            return Err(fail(header_lines, "vertex element lacks x, y or z".into()));
+            return Err(fail("vertex element lacks x, y or z"));
         }
         let index_prop = el
             .properties
             .iter()
             .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"));
         if is_face && index_prop.is_none() {
-            return Err(fail(header_lines, "face element lacks a 'vertex_indices' list".into()));
+            return Err(fail("face element lacks a 'vertex_indices' list"));
         }
         if is_face && vertex_count.is_none() {
-            return Err(fail(header_lines, "faces come before vertices".into()));
+            return Err(fail("faces come before vertices"));
         }
-        let mut values = vec![0.0; el.properties.len()];
-        for item in 0..el.count {
-            let place = body.place();
-            let mut polygon: Vec<u32> = Vec::new();
-            for (pi, p) in el.properties.iter().enumerate() {
-                match p.list {
-                    None => values[pi] = body.value(p.ty, path)?,
-                    Some(count_ty) => {
-                        let n = body.value(count_ty, path)?;
-                        if !(0.0..=1e6).contains(&n) || n.fract() != 0.0 {
-                            return Err(fail_at(
-                                path,
-                                &place,
-                                format!("{} {item}: list length {n} is invalid", el.name),
-                            ));
-                        }
-                        for _ in 0..n as usize {
-                            let v = body.value(p.ty, path)?;
-                            if is_face && Some(pi) == index_prop {
-                                let nv = vertex_count.unwrap_or(0);
-                                if v < 0.0 || v >= nv as f64 || v.fract() != 0.0 {
-                                    return Err(fail_at(
-                                        path,
-                                        &place,
-                                        format!("face {item}: vertex index {v} is out of range (0..{nv})"),
-                                    ));
-                                }
-                                polygon.push(v as u32);
-                            }
-                        }
+        let xyz = xyz.map(|i| i.unwrap_or(0));
+        Ok(ElementReader { el, path, is_vertex, is_face, xyz, index_prop, vertex_count: vertex_count.unwrap_or(0) })
+    }
+
+    /// Reads item `item` of the element; a vertex or a face goes into `mesh`
+    /// (polygons fan-triangulated).
+    fn read_item(&self, item: usize, body: &mut Body, mesh: &mut TriangleMesh) -> Result<()> {
+        let (el, path) = (self.el, self.path);
+        let place = body.place();
+        let mut values = [0.0; 3];
+        let mut polygon: Vec<u32> = Vec::new();
+        for (pi, p) in el.properties.iter().enumerate() {
+            let Some(count_ty) = p.list else {
+                let v = body.value(p.ty, path)?;
+                if let Some(k) = self.xyz.iter().position(|&i| i == pi) {
+                    values[k] = v;
+                }
+                continue;
+            };
+            let n = body.value(count_ty, path)?;
+            if !(0.0..=1e6).contains(&n) || n.fract() != 0.0 {
+                return Err(fail_at(path, &place, format!("{} {item}: list length {n} is invalid", el.name)));
+            }
+            for _ in 0..n as usize {
+                let v = body.value(p.ty, path)?;
+                if self.is_face && Some(pi) == self.index_prop {
+                    let nv = self.vertex_count;
+                    if v < 0.0 || v >= nv as f64 || v.fract() != 0.0 {
+                        let reason = format!("face {item}: vertex index {v} is out of range (0..{nv})");
+                        return Err(fail_at(path, &place, reason));
                     }
-                }
-            }
-            if is_vertex {
-                let v = DVec3::new(values[xyz[0].expect("x")], values[xyz[1].expect("y")], values[xyz[2].expect("z")]);
-                if !v.is_finite() {
-                    return Err(fail_at(path, &place, format!("vertex {item}: {v} is NaN or infinite")));
-                }
-                mesh.vertices.push(v);
-            }
-            if is_face {
-                if polygon.len() < 3 {
-                    return Err(fail_at(path, &place, format!("face {item} has {} vertices", polygon.len())));
-                }
-                for k in 1..polygon.len() - 1 {
-                    mesh.triangles.push([polygon[0], polygon[k], polygon[k + 1]]);
+                    polygon.push(v as u32);
                 }
             }
         }
-        if is_vertex {
-            vertex_count = Some(el.count);
+        if self.is_vertex {
+            let v = DVec3::from_array(values);
+            if !v.is_finite() {
+                return Err(fail_at(path, &place, format!("vertex {item}: {v} is NaN or infinite")));
+            }
+            mesh.vertices.push(v);
         }
+        if self.is_face {
+            if polygon.len() < 3 {
+                return Err(fail_at(path, &place, format!("face {item} has {} vertices", polygon.len())));
+            }
+            for k in 1..polygon.len() - 1 {
+                mesh.triangles.push([polygon[0], polygon[k], polygon[k + 1]]);
+            }
+        }
+        Ok(())
     }
-    if mesh.triangles.is_empty() {
-        return Err(fail(header_lines, "the file has no faces".into()));
-    }
-    Ok(mesh)
 }
 
 /// An error at a place given as "line N" or "byte N".

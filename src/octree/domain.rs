@@ -101,12 +101,6 @@ impl Domain {
         Aabb { min: self.min, max: self.min + DVec3::splat(self.edge) }
     }
 
-    /// Whether two domains are the same cube at the same depth.
-    #[must_use]
-    pub fn same_as(&self, other: &Domain) -> bool {
-        self == other
-    }
-
     /// The voxel holding `p`, `None` outside the domain (the upper faces belong to no voxel).
     #[must_use]
     pub fn voxel_of(&self, p: DVec3) -> Option<[u32; 3]> {

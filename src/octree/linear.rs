@@ -232,7 +232,7 @@ impl LinearOctree {
 
     /// Fails unless `other` has the same domain and depth.
     pub(crate) fn check_same_domain(&self, other: &LinearOctree) -> Result<()> {
-        if self.domain.same_as(&other.domain) {
+        if self.domain == other.domain {
             Ok(())
         } else {
             Err(Error::DomainMismatch { left: self.domain.to_string(), right: other.domain.to_string() })

@@ -101,8 +101,7 @@ pub fn render(
                             let (x, y) = samples.point(c, r);
                             sum += match &seen[r as usize * columns + c as usize] {
                                 Some(h) => {
-                                    let (o, d) = camera.ray(x, y, aspect);
-                                    let (light, cast) = radiance(scene, o, d, h, &shading);
+                                    let (light, cast) = radiance(scene, &camera.ray(x, y, aspect), h, &shading);
                                     rays += cast;
                                     light
                                 }

@@ -26,13 +26,13 @@
 //! (ties: the earlier solid), so a scene of several solids needs one depth per sample
 //! whatever the method.
 
-use glam::DVec3;
 use rayon::prelude::*;
 
 use super::film::{Camera, SampleGrid};
 use super::raster::{self, FaceDrawer};
 use super::scene::{Scene, SceneHit};
 use super::trace::TILE;
+use crate::ray::Ray;
 
 /// How primary visibility is decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -95,7 +95,7 @@ pub fn visibility_into(
         return VisibilityStats { faces_drawn };
     }
     let columns = samples.columns() as usize;
-    let rays: Vec<(DVec3, DVec3)> = (0..samples.rows() * samples.columns())
+    let rays: Vec<Ray> = (0..samples.rows() * samples.columns())
         .into_par_iter()
         .map(|i| {
             let (x, y) = samples.point(i % samples.columns(), i / samples.columns());

@@ -256,16 +256,7 @@ pub(super) fn weld(
     along: impl Fn(usize, u8) -> Point + Sync,
 ) -> (Vec<Point>, Vec<u32>) {
     records.par_sort_unstable();
-    // Groups: the records of one lattice point.
-    let mut groups = Vec::new();
-    let mut start = 0;
-    while start < records.len() {
-        let position = records[start] >> POSITION_SHIFT;
-        let end = start + records[start..].partition_point(|r| r >> POSITION_SHIFT == position);
-        groups.push(start..end);
-        start = end;
-    }
-
+    let groups = groups(&records);
     // Sheets of every record with touches paired `Full`, in parallel; touch points marked.
     let mut sheet_of: Vec<([u8; MAX_FACES], u8, bool)> = groups
         .par_iter()
@@ -276,9 +267,48 @@ pub(super) fn weld(
             (sheets, count, link.touches().next().is_some())
         })
         .collect();
+    let touch_points = touch_points(&records, &groups, &sheet_of, along);
+    let pairing = choose_pairings(&records, &groups, &touch_points);
+    // Touch points again with the chosen pairings, then vertex numbers in sorted order.
+    for tp in &touch_points {
+        let link = Link::new(&records[groups[tp.index].clone()]);
+        let (sheets, count) = link.sheets(|h| pairing_at(&pairing, tp, h));
+        sheet_of[tp.index] = (sheets, count, true);
+    }
+    let mut ids = vec![0u32; points];
+    let mut vertices = Vec::with_capacity(groups.len());
+    for (group, (sheets, count, _)) in groups.iter().zip(&sheet_of) {
+        let base = vertices.len() as u32;
+        for (&r, &sheet) in records[group.clone()].iter().zip(sheets) {
+            ids[record_index(r)] = base + u32::from(sheet);
+        }
+        vertices.extend(std::iter::repeat_n(record_point(records[group.start]), usize::from(*count)));
+    }
+    (vertices, ids)
+}
 
-    // Touches and their segments, keyed by the segment's lower end on its line.
-    let touch_points: Vec<TouchPoint> = (0..groups.len())
+/// The groups of sorted records that share a lattice point.
+fn groups(records: &[u128]) -> Vec<std::ops::Range<usize>> {
+    let mut groups = Vec::new();
+    let mut start = 0;
+    while start < records.len() {
+        let position = records[start] >> POSITION_SHIFT;
+        let end = start + records[start..].partition_point(|r| r >> POSITION_SHIFT == position);
+        groups.push(start..end);
+        start = end;
+    }
+    groups
+}
+
+/// The lattice points with touches, each touch with its half-edge and the key of its
+/// segment (the segment's lower end on its line).
+fn touch_points(
+    records: &[u128],
+    groups: &[std::ops::Range<usize>],
+    sheet_of: &[([u8; MAX_FACES], u8, bool)],
+    along: impl Fn(usize, u8) -> Point,
+) -> Vec<TouchPoint> {
+    (0..groups.len())
         .filter(|&g| sheet_of[g].2)
         .map(|g| {
             let group = groups[g].clone();
@@ -294,7 +324,16 @@ pub(super) fn weld(
                 .collect();
             TouchPoint { index: g, touches }
         })
-        .collect();
+        .collect()
+}
+
+/// The pairing of every touch segment: start `Full`, then flip segments whose pairing
+/// joins their pairs at both ends, until none is left (at most `MAX_ROUNDS` rounds).
+fn choose_pairings(
+    records: &[u128],
+    groups: &[std::ops::Range<usize>],
+    touch_points: &[TouchPoint],
+) -> BTreeMap<u128, Pairing> {
     let mut pairing: BTreeMap<u128, Pairing> = BTreeMap::new();
     let mut ends: BTreeMap<u128, SmallVec<[(usize, u8); 2]>> = BTreeMap::new();
     for (t, tp) in touch_points.iter().enumerate() {
@@ -303,10 +342,6 @@ pub(super) fn weld(
             ends.entry(key).or_default().push((t, h));
         }
     }
-    let pairing_at = |pairing: &BTreeMap<u128, Pairing>, tp: &TouchPoint, h: u8| {
-        tp.touches.iter().find(|t| t.0 == h).and_then(|t| pairing.get(&t.1)).copied().unwrap_or(Pairing::Full)
-    };
-    // Flip segments whose pairing joins their pairs at both ends, until none is left.
     for _ in 0..MAX_ROUNDS {
         let mut flipped = false;
         for (key, at) in &ends {
@@ -324,20 +359,11 @@ pub(super) fn weld(
             break;
         }
     }
+    pairing
+}
 
-    // Touch points again with the chosen pairings, then vertex numbers in sorted order.
-    for tp in &touch_points {
-        let (sheets, count) = Link::new(&records[groups[tp.index].clone()]).sheets(|h| pairing_at(&pairing, tp, h));
-        sheet_of[tp.index] = (sheets, count, true);
-    }
-    let mut ids = vec![0u32; points];
-    let mut vertices = Vec::with_capacity(groups.len());
-    for (group, (sheets, count, _)) in groups.iter().zip(&sheet_of) {
-        let base = vertices.len() as u32;
-        for (&r, &sheet) in records[group.clone()].iter().zip(sheets) {
-            ids[record_index(r)] = base + u32::from(sheet);
-        }
-        vertices.extend(std::iter::repeat_n(record_point(records[group.start]), usize::from(*count)));
-    }
-    (vertices, ids)
+/// The pairing of touch point `tp`'s segment along half-edge `h` (`Full` where it has
+/// none).
+fn pairing_at(pairing: &BTreeMap<u128, Pairing>, tp: &TouchPoint, h: u8) -> Pairing {
+    tp.touches.iter().find(|t| t.0 == h).and_then(|t| pairing.get(&t.1)).copied().unwrap_or(Pairing::Full)
 }

@@ -3,6 +3,7 @@
 use glam::DVec3;
 
 use crate::aabb::Aabb;
+use crate::ray::Ray;
 use crate::shape::Axis;
 
 /// How the camera projects.
@@ -120,9 +121,9 @@ impl Camera {
     }
 
     /// The ray through the image point `(x, y)` in `[-1, 1]^2` (x right, y up) of an
-    /// image with `aspect` = width / height: origin and unit direction.
+    /// image with `aspect` = width / height, with a unit direction.
     #[must_use]
-    pub fn ray(&self, x: f64, y: f64, aspect: f64) -> (DVec3, DVec3) {
+    pub fn ray(&self, x: f64, y: f64, aspect: f64) -> Ray {
         self.view(aspect).ray(x, y)
     }
 }
@@ -170,17 +171,17 @@ impl View {
         }
     }
 
-    /// The ray through image point `(x, y)`: origin and unit direction.
+    /// The ray through image point `(x, y)`, with a unit direction.
     #[must_use]
-    pub fn ray(&self, x: f64, y: f64) -> (DVec3, DVec3) {
+    pub fn ray(&self, x: f64, y: f64) -> Ray {
         match self.projection {
             Projection::Perspective { .. } => {
                 let h = self.half;
-                (self.eye, (self.forward + self.right * (x * h * self.aspect) + self.up * (y * h)).normalize())
+                Ray::new(self.eye, (self.forward + self.right * (x * h * self.aspect) + self.up * (y * h)).normalize())
             }
             Projection::Orthographic { .. } => {
                 let h = self.half;
-                (self.eye + self.right * (x * h * self.aspect) + self.up * (y * h), self.forward)
+                Ray::new(self.eye + self.right * (x * h * self.aspect) + self.up * (y * h), self.forward)
             }
         }
     }

@@ -6,6 +6,7 @@ use glam::DVec3;
 
 use super::camera::{Projection, View};
 use super::sample_grid::SampleGrid;
+use crate::ray::Ray;
 
 /// Per-column and per-row terms of [`View::ray`] over a sample grid.
 ///
@@ -39,13 +40,13 @@ impl RayGrid {
         RayGrid { columns: columns.collect(), rows: rows.collect(), eye, forward: view.forward }
     }
 
-    /// The ray of sample `(col, row)`: origin and unit direction.
+    /// The ray of sample `(col, row)`, with a unit direction.
     #[inline]
-    pub(crate) fn ray(&self, col: usize, row: usize) -> (DVec3, DVec3) {
+    pub(crate) fn ray(&self, col: usize, row: usize) -> Ray {
         let sum = self.columns[col] + self.rows[row];
         match self.eye {
-            Some(eye) => (eye, sum.normalize()),
-            None => (sum, self.forward),
+            Some(eye) => Ray::new(eye, sum.normalize()),
+            None => Ray::new(sum, self.forward),
         }
     }
 }
@@ -67,10 +68,14 @@ mod tests {
             for row in 0..samples.rows() {
                 for col in 0..samples.columns() {
                     let (x, y) = samples.point(col, row);
-                    let (o, d) = view.ray(x, y);
-                    let (go, gd) = grid.ray(col as usize, row as usize);
+                    let want = view.ray(x, y);
+                    let got = grid.ray(col as usize, row as usize);
                     let bits = |v: DVec3| v.to_array().map(f64::to_bits);
-                    assert_eq!((bits(go), bits(gd)), (bits(o), bits(d)), "{projection:?}, sample {col}, {row}");
+                    assert_eq!(
+                        (bits(got.origin), bits(got.dir)),
+                        (bits(want.origin), bits(want.dir)),
+                        "{projection:?}, sample {col}, {row}"
+                    );
                 }
             }
         }

@@ -10,7 +10,7 @@ use glam::DVec3;
 
 use crate::octree::Domain;
 use crate::render::film::{Projection, View};
-use crate::render::trace::{Hit, VoxelRay};
+use crate::render::trace::{Entry, Hit, VoxelRay};
 
 /// The viewer in voxel units of a domain: a point (perspective), or a direction of
 /// view (orthographic).
@@ -98,6 +98,6 @@ impl Face {
                 return None;
             }
         }
-        Some(ray.entry(self.min, self.size, t, Some(axis)))
+        Some(ray.entry(&Entry { min: self.min, size: self.size, t, face: Some(axis) }))
     }
 }

@@ -313,8 +313,7 @@ impl Pass<'_> {
         let faces = Face::visible(&solid.viewer, min, 1 << shift);
         self.faces += faces.clone().count() as u64;
         tiles.for_each_uncovered(rect, |row, col| {
-            let (o, d) = rays.ray(col, row0 + row);
-            let ray = VoxelRay::new(solid.domain, o, d);
+            let ray = VoxelRay::new(solid.domain, &rays.ray(col, row0 + row));
             let Some(hit) = faces.clone().find_map(|face| face.enters(&ray)) else { return false };
             let i = row * columns + col;
             if out[i].is_none_or(|old| hit.t < old.hit.t) {

@@ -5,7 +5,7 @@
 //!
 //! A face covers a sample when the sample's ray crosses the face's plane (at the time
 //! `(plane - o) / d`, the formula of the ray walk) and then enters the node's interior
-//! there; the hit is then computed by [`VoxelRay::entry`], as in the walk (`face`). So
+//! there; the hit is then computed by `VoxelRay::entry`, as in the walk (`face`). So
 //! every method here hands the shading stage the hits the ray tracer finds, bit for
 //! bit (see [`super::visibility`]).
 //!
@@ -26,6 +26,7 @@ pub(crate) use front_to_back::front_to_back;
 use super::film::{SampleGrid, View};
 use super::trace::{Hit, Traversal, VoxelRay};
 use crate::octree::Domain;
+use crate::ray::Ray;
 use face::{Face, Viewer};
 
 /// Draws one solid's faces into a per-sample hit buffer (painter's, the Z-buffer and
@@ -33,14 +34,14 @@ use face::{Face, Viewer};
 pub(crate) struct FaceDrawer<'a> {
     view: &'a View,
     samples: &'a SampleGrid,
-    rays: &'a [(DVec3, DVec3)],
+    rays: &'a [Ray],
     domain: Domain,
     viewer: Viewer,
 }
 
 impl<'a> FaceDrawer<'a> {
     /// A drawer for one solid's `domain`; `rays[i]` is sample `i`'s camera ray.
-    pub(crate) fn new(view: &'a View, samples: &'a SampleGrid, rays: &'a [(DVec3, DVec3)], domain: Domain) -> Self {
+    pub(crate) fn new(view: &'a View, samples: &'a SampleGrid, rays: &'a [Ray], domain: Domain) -> Self {
         FaceDrawer { view, samples, rays, domain, viewer: Viewer::new(view, &domain) }
     }
 
@@ -120,8 +121,7 @@ impl<'a> FaceDrawer<'a> {
             for r in r0..=r1 {
                 for c in c0..=c1 {
                     let i = r as usize * columns + c as usize;
-                    let (o, d) = self.rays[i];
-                    let ray = VoxelRay::new(&self.domain, o, d);
+                    let ray = VoxelRay::new(&self.domain, &self.rays[i]);
                     if let Some(hit) = face.enters(&ray) {
                         put(i, hit);
                     }

@@ -240,9 +240,9 @@ pub fn render_mesh(
                 Interpolation::Phong => {
                     let n: DVec3 = (0..3).map(|k| normals[t[k] as usize] * f.weights[k]).sum();
                     let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
-                    let (o, d) = camera.ray(2.0 * x / f64::from(w) - 1.0, 1.0 - 2.0 * y / f64::from(h), aspect);
+                    let ray = camera.ray(2.0 * x / f64::from(w) - 1.0, 1.0 - 2.0 * y / f64::from(h), aspect);
                     let forward = (camera.target - camera.eye).normalize();
-                    let p = o + d * (f.depth / d.dot(forward));
+                    let p = ray.at(f.depth / ray.dir.dot(forward));
                     shader.light(p, n.normalize_or_zero())
                 }
             }

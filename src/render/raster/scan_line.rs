@@ -18,45 +18,8 @@ impl FaceDrawer<'_> {
     /// The scan-line Z-buffer (see the module doc).
     pub(crate) fn scan_lines(&self, traversal: &Traversal) -> (Vec<Option<Hit>>, u64) {
         let (columns, rows) = (self.samples.columns() as usize, self.samples.rows() as i64);
-        let h = self.domain.voxel_size();
         // Step 1: polygon table (front faces) and edge table (projected edges by first row).
-        let mut polygons: Vec<Polygon> = Vec::new();
-        let mut edge_table: Vec<Vec<Edge>> = vec![Vec::new(); rows.max(1) as usize];
-        let mut full_screen: Vec<usize> = Vec::new();
-        let mut nodes = Vec::new();
-        traversal.front_to_back(&|_, _| false, &mut |_, _| true, &mut |min, size| nodes.push((min, size)));
-        for (min, size) in nodes {
-            for face in Face::visible(&self.viewer, min, size) {
-                let (a, plane, lo, hi) = (face.axis, face.plane, face.lo, face.hi);
-                let id = polygons.len();
-                polygons.push(face);
-                // The face's corners in order around it, projected to the sample grid.
-                let (u, v) = ((a + 1) % 3, (a + 2) % 3);
-                let corners = [(lo[u], lo[v]), (hi[u], lo[v]), (hi[u], hi[v]), (lo[u], hi[v])].map(|(cu, cv)| {
-                    let mut p = DVec3::ZERO;
-                    p[a] = plane;
-                    p[u] = cu;
-                    p[v] = cv;
-                    self.view
-                        .project(self.domain.min() + p * h)
-                        .map(|(x, y)| (self.samples.column_of(x), self.samples.row_of(y)))
-                });
-                let Some(corners) = corners.into_iter().collect::<Option<Vec<_>>>() else {
-                    full_screen.push(id); // a corner behind the eye: every row, every column
-                    continue;
-                };
-                for k in 0..4 {
-                    let (p, q) = (corners[k], corners[(k + 1) % 4]);
-                    let (top, bottom) = if p.1 <= q.1 { (p, q) } else { (q, p) };
-                    let first = (top.1.floor() as i64 - 1).clamp(0, rows - 1);
-                    let last = (bottom.1.ceil() as i64 + 1).clamp(0, rows - 1);
-                    if top.1 > (rows + 1) as f64 || bottom.1 < -2.0 {
-                        continue;
-                    }
-                    edge_table[first as usize].push(Edge { polygon: id, last, top, bottom });
-                }
-            }
-        }
+        let Tables { polygons, mut edge_table, full_screen } = self.tables(traversal);
         // Step 2: rows top to bottom with the active edge and polygon tables.
         let mut hits: Vec<Option<Hit>> = vec![None; self.rays.len()];
         let mut active_edges: Vec<Edge> = Vec::new();
@@ -97,8 +60,7 @@ impl FaceDrawer<'_> {
                 let face = &polygons[id];
                 for c in c0..=c1 {
                     let i = r as usize * columns + c;
-                    let (o, d) = self.rays[i];
-                    let ray = VoxelRay::new(&self.domain, o, d);
+                    let ray = VoxelRay::new(&self.domain, &self.rays[i]);
                     if let Some(hit) = face.enters(&ray)
                         && hits[i].is_none_or(|old| hit.t < old.t)
                     {
@@ -111,6 +73,59 @@ impl FaceDrawer<'_> {
         let faces = polygons.len() as u64;
         (hits, faces)
     }
+
+    /// The polygon table (the faces looking at the viewer), the edge table (their
+    /// projected edges, bucketed by first sample row) and the polygons with a corner
+    /// behind the eye (they may cover every sample).
+    fn tables(&self, traversal: &Traversal) -> Tables {
+        let rows = self.samples.rows() as i64;
+        let h = self.domain.voxel_size();
+        let mut polygons: Vec<Polygon> = Vec::new();
+        let mut edge_table: Vec<Vec<Edge>> = vec![Vec::new(); rows.max(1) as usize];
+        let mut full_screen: Vec<usize> = Vec::new();
+        let mut nodes = Vec::new();
+        traversal.front_to_back(&|_, _| false, &mut |_, _| true, &mut |min, size| nodes.push((min, size)));
+        for (min, size) in nodes {
+            for face in Face::visible(&self.viewer, min, size) {
+                let (a, plane, lo, hi) = (face.axis, face.plane, face.lo, face.hi);
+                let id = polygons.len();
+                polygons.push(face);
+                // The face's corners in order around it, projected to the sample grid.
+                let (u, v) = ((a + 1) % 3, (a + 2) % 3);
+                let corners = [(lo[u], lo[v]), (hi[u], lo[v]), (hi[u], hi[v]), (lo[u], hi[v])].map(|(cu, cv)| {
+                    let mut p = DVec3::ZERO;
+                    p[a] = plane;
+                    p[u] = cu;
+                    p[v] = cv;
+                    self.view
+                        .project(self.domain.min() + p * h)
+                        .map(|(x, y)| (self.samples.column_of(x), self.samples.row_of(y)))
+                });
+                let Some(corners) = corners.into_iter().collect::<Option<Vec<_>>>() else {
+                    full_screen.push(id); // a corner behind the eye: every row, every column
+                    continue;
+                };
+                for k in 0..4 {
+                    let (p, q) = (corners[k], corners[(k + 1) % 4]);
+                    let (top, bottom) = if p.1 <= q.1 { (p, q) } else { (q, p) };
+                    let first = (top.1.floor() as i64 - 1).clamp(0, rows - 1);
+                    let last = (bottom.1.ceil() as i64 + 1).clamp(0, rows - 1);
+                    if top.1 > (rows + 1) as f64 || bottom.1 < -2.0 {
+                        continue;
+                    }
+                    edge_table[first as usize].push(Edge { polygon: id, last, top, bottom });
+                }
+            }
+        }
+        Tables { polygons, edge_table, full_screen }
+    }
+}
+
+/// The scan-line algorithm's tables (see [`FaceDrawer::tables`]).
+struct Tables {
+    polygons: Vec<Polygon>,
+    edge_table: Vec<Vec<Edge>>,
+    full_screen: Vec<usize>,
 }
 
 /// A polygon of the scan-line polygon table: one face of a full node.

@@ -2,6 +2,8 @@
 
 use glam::DVec3;
 
+use crate::ray::Ray;
+
 /// A light with a colour (linear RGB, intensity included).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
@@ -22,18 +24,24 @@ pub enum Light {
 }
 
 impl Light {
-    /// Unit vector from `p` towards the light and the distance to it (infinite for a
-    /// directional light).
+    /// The shadow ray from `p` to the light: unit direction towards it, `t_max` the
+    /// distance to it (infinite for a directional light).
     #[must_use]
-    pub fn towards(&self, p: DVec3) -> (DVec3, f64) {
+    pub fn shadow_ray(&self, p: DVec3) -> Ray {
         match *self {
             Light::Point { position, .. } => {
                 let v = position - p;
                 let d = v.length();
-                (v / d, d)
+                Ray::segment(p, v / d, d)
             }
-            Light::Directional { direction, .. } => (-direction.normalize(), f64::INFINITY),
+            Light::Directional { direction, .. } => Ray::new(p, -direction.normalize()),
         }
+    }
+
+    /// Unit vector from `p` towards the light.
+    #[must_use]
+    pub fn direction_from(&self, p: DVec3) -> DVec3 {
+        self.shadow_ray(p).dir
     }
 
     /// The light's colour.

@@ -20,6 +20,7 @@ use glam::DVec3;
 use super::trace::{Hit, PACKET, Traversal};
 use crate::aabb::Aabb;
 use crate::octree::LinearOctree;
+use crate::ray::{Ray, RayCast};
 use crate::shape::{Shape, Surface};
 
 /// One solid of a scene with its material and traversal structure.
@@ -53,12 +54,12 @@ impl std::fmt::Debug for Source {
 }
 
 impl SceneSolid {
-    /// Where the ray `origin + t dir`, starting inside the solid, leaves it: the hit of
-    /// the first empty voxel it enters (`axis` its face). `None` when it leaves through
-    /// the domain's boundary first.
+    /// Where `ray`, starting inside the solid, leaves it: the hit of the first empty
+    /// voxel it enters (`axis` its face). `None` when it leaves through the domain's
+    /// boundary first.
     #[must_use]
-    pub fn exit(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
-        self.interior.get_or_init(|| Traversal::new(&self.tree.complement())).hit(origin, dir, f64::INFINITY)
+    pub fn exit(&self, ray: &Ray) -> Option<Hit> {
+        self.interior.get_or_init(|| Traversal::new(&self.tree.complement())).hit(ray)
     }
 
     /// The source shape's surface seen from `p` when it lies within two voxels of
@@ -141,36 +142,24 @@ impl Scene {
         self.solids.iter().filter_map(|s| s.tree.bounds()).reduce(|a, b| a.union(&b))
     }
 
-    /// The nearest hit of the ray before `t_max` over all solids (ties: the first solid).
-    #[must_use]
-    pub fn hit(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<SceneHit> {
-        let mut best: Option<SceneHit> = None;
-        for (i, s) in self.solids.iter().enumerate() {
-            let limit = best.map_or(t_max, |b| b.hit.t);
-            if let Some(hit) = s.traversal.hit(origin, dir, limit) {
-                best = Some(SceneHit { solid: i, hit });
-            }
-        }
-        best
-    }
-
-    /// [`Scene::hit`] of every ray of a packet with `t_max` infinite, bit for bit, one
+    /// [`RayCast::hit`] of every ray of a packet, bit for bit, one
     /// [`Traversal::hit_packet`] a solid (fast for a tile of primary rays).
     ///
     /// # Panics
     /// When `rays` and `hits` differ in length.
-    pub fn hit_packet(&self, rays: &[(DVec3, DVec3)], hits: &mut [Option<SceneHit>]) {
+    pub fn hit_packet(&self, rays: &[Ray], hits: &mut [Option<SceneHit>]) {
         assert_eq!(rays.len(), hits.len(), "a packet's slices differ in length");
         hits.fill(None);
-        let mut limits = [f64::INFINITY; PACKET];
+        let mut limited = [Ray::new(DVec3::ZERO, DVec3::ZERO); PACKET];
         let mut found = [None; PACKET];
         for (rays, hits) in rays.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
-            let (limits, found) = (&mut limits[..rays.len()], &mut found[..rays.len()]);
+            let (limited, found) = (&mut limited[..rays.len()], &mut found[..rays.len()]);
             for (i, s) in self.solids.iter().enumerate() {
-                for (limit, best) in limits.iter_mut().zip(hits.iter()) {
-                    *limit = best.map_or(f64::INFINITY, |b| b.hit.t);
+                // Each ray only as far as the nearest hit in the solids before.
+                for ((limited, ray), best) in limited.iter_mut().zip(rays).zip(hits.iter()) {
+                    *limited = ray.until(best.map_or(ray.t_max, |b| b.hit.t));
                 }
-                s.traversal.hit_packet(rays, limits, found);
+                s.traversal.hit_packet(limited, found);
                 for (best, hit) in hits.iter_mut().zip(found.iter()) {
                     if let Some(hit) = *hit {
                         *best = Some(SceneHit { solid: i, hit });
@@ -180,20 +169,14 @@ impl Scene {
         }
     }
 
-    /// Whether any solid blocks the ray before `t_max`.
+    /// The fraction of light that passes along `ray` before its `t_max`: the product
+    /// of the transmittances of the solids it crosses, each counted once (no
+    /// refraction of shadow rays); 0 when an opaque solid blocks it.
     #[must_use]
-    pub fn occluded(&self, origin: DVec3, dir: DVec3, t_max: f64) -> bool {
-        self.solids.iter().any(|s| s.traversal.occluded(origin, dir, t_max))
-    }
-
-    /// The fraction of light that passes along the ray before `t_max`: the product of
-    /// the transmittances of the solids it crosses, each counted once (no refraction
-    /// of shadow rays); 0 when an opaque solid blocks it.
-    #[must_use]
-    pub fn transmittance(&self, origin: DVec3, dir: DVec3, t_max: f64) -> f64 {
+    pub fn transmittance(&self, ray: &Ray) -> f64 {
         let mut passed = 1.0;
         for s in &self.solids {
-            if s.traversal.occluded(origin, dir, t_max) {
+            if s.traversal.occluded(ray) {
                 passed *= s.material.transmittance;
                 if passed == 0.0 {
                     break;
@@ -219,5 +202,26 @@ impl Scene {
 impl Default for Scene {
     fn default() -> Self {
         Scene::new()
+    }
+}
+
+/// The nearest hit over all solids (ties: the first solid), and whether any solid
+/// blocks the ray.
+impl RayCast for Scene {
+    type Hit = SceneHit;
+
+    fn hit(&self, ray: &Ray) -> Option<SceneHit> {
+        let mut best: Option<SceneHit> = None;
+        for (i, s) in self.solids.iter().enumerate() {
+            let limit = best.map_or(ray.t_max, |b| b.hit.t);
+            if let Some(hit) = s.traversal.hit(&ray.until(limit)) {
+                best = Some(SceneHit { solid: i, hit });
+            }
+        }
+        best
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.solids.iter().any(|s| s.traversal.occluded(ray))
     }
 }

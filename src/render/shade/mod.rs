@@ -8,9 +8,8 @@ mod optics;
 mod phong;
 mod whitted;
 
-pub use normals::{Normals, SurfacePoint, normals_at, smooth_at};
+pub use normals::Normals;
 pub use optics::{reflect, refract};
-pub use phong::local;
 pub(crate) use phong::phong;
 pub use whitted::radiance;
 

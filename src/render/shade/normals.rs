@@ -6,6 +6,7 @@
 
 use glam::DVec3;
 
+use crate::ray::Ray;
 use crate::render::scene::{Scene, SceneHit, SceneSolid};
 use crate::render::trace::Hit;
 
@@ -59,7 +60,7 @@ pub fn smooth_at(solid: &SceneSolid, p: DVec3, mode: Normals) -> (Option<DVec3>,
 /// and facing the ray (for a hit with no face, the origin inside: `-dir`), from the
 /// raw smooth estimate `smooth` (outward; `None` with axis normals).
 #[must_use]
-pub fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, smooth: Option<DVec3>) -> (DVec3, DVec3) {
+fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, smooth: Option<DVec3>) -> (DVec3, DVec3) {
     let axis = hit.normal(dir);
     let geometric = if axis == DVec3::ZERO { -dir } else { axis };
     let shading = smooth.filter(|n| n.dot(dir) < 0.0).unwrap_or(geometric);
@@ -71,7 +72,7 @@ pub fn normals_at(solid: &SceneSolid, hit: &Hit, dir: DVec3, p: DVec3, smooth: O
 }
 
 /// A shaded point: where a ray of direction `dir` hit solid `solid`, with the
-/// geometric and shading normals of [`normals_at`].
+/// geometric and shading normals of `normals_at`.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfacePoint {
     /// Index of the solid.
@@ -91,10 +92,10 @@ pub struct SurfacePoint {
 }
 
 impl SurfacePoint {
-    /// The point where the ray `origin + t dir` (unit `dir`) hits `sh`.
+    /// The point where `ray` (unit direction) hits `sh`.
     #[must_use]
-    pub fn new(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, mode: Normals) -> Self {
-        let p = origin + dir * sh.hit.t;
+    pub fn new(scene: &Scene, ray: &Ray, sh: &SceneHit, mode: Normals) -> Self {
+        let (p, dir) = (ray.at(sh.hit.t), ray.dir);
         let solid = &scene.solids[sh.solid];
         let (smooth, texture_at) = smooth_at(solid, p, mode);
         let (geometric, normal) = normals_at(solid, &sh.hit, dir, p, smooth);

@@ -29,7 +29,7 @@ pub(crate) fn phong(
 ) -> DVec3 {
     let mut color = ambient * c * m.ka;
     for light in lights {
-        let (l, _) = light.towards(p);
+        let l = light.direction_from(p);
         let cos_alpha = n.dot(l);
         if cos_alpha <= 0.0 {
             continue;
@@ -64,8 +64,7 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
             return 1.0;
         }
         rays += 1;
-        let (l, distance) = light.towards(start);
-        scene.transmittance(start, l, distance)
+        scene.transmittance(&light.shadow_ray(start))
     });
     (color, rays)
 }

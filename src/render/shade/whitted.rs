@@ -29,14 +29,15 @@ use super::ShadeOptions;
 use super::normals::{SurfacePoint, smooth_at};
 use super::optics::{reflect, refract};
 use super::phong::local;
+use crate::ray::{Ray, RayCast};
 use crate::render::scene::{Scene, SceneHit, SceneSolid};
 use crate::render::trace::Hit;
 
-/// The light seen along the ray `origin + t dir` (unit `dir`) whose first hit is `sh`,
-/// and the rays cast to find it after the primary one (secondary and shadow rays).
+/// The light seen along `ray` (unit direction) whose first hit is `sh`, and the rays
+/// cast to find it after the primary one (secondary and shadow rays).
 #[must_use]
-pub fn radiance(scene: &Scene, origin: DVec3, dir: DVec3, sh: &SceneHit, options: &ShadeOptions) -> (DVec3, u64) {
-    let s = SurfacePoint::new(scene, origin, dir, sh, options.normals);
+pub fn radiance(scene: &Scene, ray: &Ray, sh: &SceneHit, options: &ShadeOptions) -> (DVec3, u64) {
+    let s = SurfacePoint::new(scene, ray, sh, options.normals);
     let tracer = Tracer { scene, options, rays: Cell::new(0), slivers: Cell::new(0) };
     let light = tracer.at_surface(&s, 0, 1.0);
     (light, tracer.rays.get())
@@ -60,7 +61,7 @@ impl Tracer<'_> {
     /// Light along a secondary ray, `depth` rays deep, `weight` its share of the pixel.
     fn trace(&self, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
         self.count(1);
-        match self.scene.hit(origin, dir, f64::INFINITY) {
+        match self.scene.hit(&Ray::new(origin, dir)) {
             // The origin lies inside a solid (a ray started at a voxel's edge or corner):
             // light passes on through a transparent one, an opaque one shows nothing.
             Some(sh) if sh.hit.axis.is_none() => {
@@ -71,9 +72,11 @@ impl Tracer<'_> {
                     DVec3::ZERO
                 }
             }
-            Some(sh) => {
-                self.at_surface(&SurfacePoint::new(self.scene, origin, dir, &sh, self.options.normals), depth, weight)
-            }
+            Some(sh) => self.at_surface(
+                &SurfacePoint::new(self.scene, &Ray::new(origin, dir), &sh, self.options.normals),
+                depth,
+                weight,
+            ),
             None => self.scene.background,
         }
     }
@@ -132,7 +135,7 @@ impl Tracer<'_> {
     /// Light along a ray that starts inside `solid` and crosses it without refraction.
     fn pass_through(&self, solid: &SceneSolid, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
         self.count(1);
-        match solid.exit(origin, dir) {
+        match solid.exit(&Ray::new(origin, dir)) {
             Some(exit) if exit.axis.is_some() => {
                 let p = origin + dir * exit.t;
                 self.trace(p - exit.normal(dir) * self.eps(solid), dir, depth, weight)
@@ -146,7 +149,7 @@ impl Tracer<'_> {
         let eps = self.eps(solid);
         while depth <= self.options.max_depth {
             self.count(1);
-            let Some(exit) = solid.exit(origin, dir) else {
+            let Some(exit) = solid.exit(&Ray::new(origin, dir)) else {
                 // Leaves through the domain's boundary: no surface there.
                 return self.trace(origin, dir, depth, weight);
             };
@@ -161,7 +164,7 @@ impl Tracer<'_> {
                 // ray goes on to where it meets the solid again.
                 self.slivers.set(self.slivers.get() + 1);
                 self.count(1);
-                if let Some(back) = solid.traversal.hit(p + geometric * eps, dir, f64::INFINITY) {
+                if let Some(back) = solid.traversal.hit(&Ray::new(p + geometric * eps, dir)) {
                     let q = p + geometric * eps + dir * back.t;
                     origin = q - back.normal(dir) * eps;
                     continue;

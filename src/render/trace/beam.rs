@@ -30,6 +30,7 @@ use super::traversal::{Root, Traversal};
 use super::voxel_ray::{Hit, VoxelRay};
 use super::walk::Subtree;
 use crate::octree::MAX_DEPTH;
+use crate::ray::Ray;
 
 /// Samples a side of the square tiles of primary rays the renderer walks as packets.
 pub const TILE: usize = 8;
@@ -60,14 +61,14 @@ impl Beam {
     /// `min`, scaling by `s > 0` and, on directions of one sign, the reciprocal are
     /// monotone with rounding, so the extremes map to the extremes and a packet that
     /// is culled never works out its rays' reciprocals.
-    fn new(rays: &[(DVec3, DVec3)], min: DVec3, scale: f64) -> Option<Self> {
+    fn new(rays: &[Ray], min: DVec3, scale: f64) -> Option<Self> {
         // Per ray `[o, d]`: the least and greatest of each (plain compares, no NaN-aware
         // min and max), and the sums of each, finite only when every value is (a NaN or
         // an infinity carries through; an overflow only turns a beam down). Six sums,
         // not one: a single sum is a chain of dependent additions, the loop's bottleneck.
         let (mut lo, mut hi) = ([f64::INFINITY; 6], [f64::NEG_INFINITY; 6]);
         let mut sums = [0.0; 6];
-        for (o, d) in rays {
+        for Ray { origin: o, dir: d, .. } in rays {
             let v = [o.x, o.y, o.z, d.x, d.y, d.z];
             for k in 0..6 {
                 sums[k] += v[k];
@@ -165,17 +166,17 @@ struct Pending {
 const PENDING: usize = 7 * MAX_DEPTH as usize + 1;
 
 impl Traversal {
-    /// First hits of a packet of rays: `hits[i]` is `self.hit(rays[i].0, rays[i].1,
-    /// t_max[i])`, bit for bit, found faster when the rays are coherent (a tile of
-    /// primary rays; see the module doc).
+    /// First hits of a packet of rays: `hits[i]` is `self.hit(&rays[i])`, bit for bit,
+    /// found faster when the rays are coherent (a tile of primary rays; see the module
+    /// doc).
     ///
     /// # Panics
-    /// When the three slices differ in length.
-    pub fn hit_packet(&self, rays: &[(DVec3, DVec3)], t_max: &[f64], hits: &mut [Option<Hit>]) {
-        assert!(rays.len() == t_max.len() && rays.len() == hits.len(), "a packet's slices differ in length");
-        for ((rays, t_max), hits) in rays.chunks(PACKET).zip(t_max.chunks(PACKET)).zip(hits.chunks_mut(PACKET)) {
+    /// When the slices differ in length.
+    pub fn hit_packet(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        assert!(rays.len() == hits.len(), "a packet's slices differ in length");
+        for (rays, hits) in rays.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
             let (min, scale) = (self.domain().min(), self.domain().voxels_per_unit());
-            let limit = t_max.iter().fold(f64::NEG_INFINITY, |m, &t| m.max(t));
+            let limit = rays.iter().fold(f64::NEG_INFINITY, |m, r| m.max(r.t_max));
             let mut above = [0u32; MAX_DEPTH as usize];
             let (start, from) = match Beam::new(rays, min, scale) {
                 Some(beam) => match self.nearest_full(&beam, limit) {
@@ -190,11 +191,9 @@ impl Traversal {
                 },
                 None => (0.0, Subtree::ROOT),
             };
-            for ((hit, &(o, d)), &t_max) in hits.iter_mut().zip(rays).zip(t_max) {
-                let r = &VoxelRay::scaled(min, scale, o, d);
-                *hit = self
-                    .first_full_after(r, t_max, start, from)
-                    .map(|(min, size, ta, face)| r.entry(min, size, ta, face));
+            for (hit, ray) in hits.iter_mut().zip(rays) {
+                let r = &VoxelRay::scaled(min, scale, ray);
+                *hit = self.first_full_after(r, ray.t_max, start, from).map(|entry| r.entry(&entry));
             }
         }
     }

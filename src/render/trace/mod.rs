@@ -14,4 +14,5 @@ mod walk;
 pub use beam::{PACKET, TILE};
 pub(crate) use traversal::Inner;
 pub use traversal::Traversal;
+pub(crate) use voxel_ray::Entry;
 pub use voxel_ray::{Hit, VoxelRay};

@@ -14,6 +14,7 @@
 use glam::DVec3;
 
 use crate::octree::Domain;
+use crate::ray::Ray;
 
 /// A ray hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,6 +44,20 @@ impl Hit {
     }
 }
 
+/// Where a walk enters a full node: the node's corner and size (voxels), the entry
+/// time and the entered face's axis (`None` when the ray starts inside).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Entry {
+    /// Lowest voxel of the node.
+    pub min: [u32; 3],
+    /// Edge in voxels.
+    pub size: u32,
+    /// Entry time (`<= 0` when the origin is inside).
+    pub t: f64,
+    /// Axis of the entered face.
+    pub face: Option<usize>,
+}
+
 /// A ray in voxel units of a domain: origin, direction and reciprocal direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VoxelRay {
@@ -56,25 +71,33 @@ pub struct VoxelRay {
 
 impl VoxelRay {
     /// The world ray `origin + t dir` seen in the lattice of `domain`: `o = (origin -
-    /// min) s`, `d = dir s` with `s` = [`Domain::voxels_per_unit`], `inv = 1 / d`.
+    /// min) s`, `d = dir s` with `s` = [`Domain::voxels_per_unit`], `inv = 1 / d`
+    /// (the ray's `t_max` is not part of it: the walk is given its limit).
     #[must_use]
-    pub fn new(domain: &Domain, origin: DVec3, dir: DVec3) -> Self {
-        Self::scaled(domain.min(), domain.voxels_per_unit(), origin, dir)
+    pub fn new(domain: &Domain, ray: &Ray) -> Self {
+        Self::scaled(domain.min(), domain.voxels_per_unit(), ray)
+    }
+
+    /// The ray `ray`, already in voxel units.
+    #[must_use]
+    pub fn in_voxel_units(ray: &Ray) -> Self {
+        VoxelRay { o: ray.origin, d: ray.dir, inv: DVec3::ONE / ray.dir }
     }
 
     /// [`VoxelRay::new`] with the domain's corner and scale given (a packet's rays
     /// share them): three divisions a ray, not ten.
     #[inline]
-    pub(super) fn scaled(min: DVec3, scale: f64, origin: DVec3, dir: DVec3) -> Self {
-        let d = dir * scale;
-        VoxelRay { o: (origin - min) * scale, d, inv: DVec3::ONE / d }
+    pub(super) fn scaled(min: DVec3, scale: f64, ray: &Ray) -> Self {
+        let d = ray.dir * scale;
+        VoxelRay { o: (ray.origin - min) * scale, d, inv: DVec3::ONE / d }
     }
 
     /// The hit on entering the full cube at `min` of `size` voxels at time `ta` through
     /// `face`: the voxel just after the entry point, and the lowest axis among the
     /// voxel planes crossed at `ta` (`t = 0` and no face when `ta <= 0`).
     #[must_use]
-    pub fn entry(&self, min: [u32; 3], size: u32, ta: f64, face: Option<usize>) -> Hit {
+    pub(crate) fn entry(&self, entry: &Entry) -> Hit {
+        let Entry { min, size, t: ta, face } = *entry;
         let t = ta.max(0.0);
         let inside = ta <= 0.0;
         let voxel: [u32; 3] = std::array::from_fn(|a| {

@@ -24,43 +24,41 @@
 //!
 //! Precision: coordinates are in voxel units of the domain (`0..2^depth`), so every
 
-use glam::DVec3;
-
 use super::plane_times::{PlaneTimes, earlier};
 use super::traversal::{Root, Traversal};
-use super::voxel_ray::{Hit, VoxelRay};
+use super::voxel_ray::{Entry, Hit, VoxelRay};
 use crate::octree::MAX_DEPTH;
+use crate::ray::{Ray, RayCast};
+
+/// The walk through a traversal octree: the first full voxel a world-space ray
+/// enters (`t` in the ray's own parameter: world units when `dir` is a unit vector).
+impl RayCast for Traversal {
+    type Hit = Hit;
+
+    fn hit(&self, ray: &Ray) -> Option<Hit> {
+        let r = VoxelRay::new(&self.domain, ray);
+        Some(r.entry(&self.first_full(&r, ray.t_max)?))
+    }
+
+    /// The walk of [`RayCast::hit`] without working out the voxel and face.
+    fn occluded(&self, ray: &Ray) -> bool {
+        let r = VoxelRay::new(&self.domain, ray);
+        self.first_full(&r, ray.t_max).is_some()
+    }
+}
 
 impl Traversal {
-    /// First hit of the world-space ray `origin + t dir` with `0 <= t < t_max`; `t` is
-    /// in the ray's own parameter (world units when `dir` is a unit vector).
+    /// [`RayCast::hit`] of a ray already in voxel units of the domain.
     #[must_use]
-    pub fn hit(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<Hit> {
-        let r = VoxelRay::new(&self.domain, origin, dir);
-        let (min, size, ta, face) = self.first_full(&r, t_max)?;
-        Some(r.entry(min, size, ta, face))
-    }
-
-    /// Whether anything lies on the ray before `t_max` (shadow rays): the walk of
-    /// [`Traversal::hit`] without working out the voxel and face.
-    #[must_use]
-    pub fn occluded(&self, origin: DVec3, dir: DVec3, t_max: f64) -> bool {
-        let r = VoxelRay::new(&self.domain, origin, dir);
-        self.first_full(&r, t_max).is_some()
-    }
-
-    /// [`Traversal::hit`] with the ray already in voxel units of the domain.
-    #[must_use]
-    pub fn hit_voxel_units(&self, o: DVec3, d: DVec3, t_max: f64) -> Option<Hit> {
-        let r = VoxelRay { o, d, inv: DVec3::ONE / d };
-        let (min, size, ta, face) = self.first_full(&r, t_max)?;
-        Some(r.entry(min, size, ta, face))
+    pub fn hit_voxel_units(&self, ray: &Ray) -> Option<Hit> {
+        let r = VoxelRay::in_voxel_units(ray);
+        Some(r.entry(&self.first_full(&r, ray.t_max)?))
     }
 
     /// The first full node the ray enters before `t_max`: its corner, size, entry time
-    /// and entered face (the arguments of [`VoxelRay::entry`]). A ray with a non-finite
-    /// origin or direction hits nothing.
-    fn first_full(&self, r: &VoxelRay, t_max: f64) -> Option<([u32; 3], u32, f64, Option<usize>)> {
+    /// and entered face (what [`VoxelRay::entry`] turns into a hit). A ray with a
+    /// non-finite origin or direction hits nothing.
+    fn first_full(&self, r: &VoxelRay, t_max: f64) -> Option<Entry> {
         self.first_full_after(r, t_max, 0.0, Subtree::ROOT)
     }
 
@@ -69,19 +67,35 @@ impl Traversal {
     /// lower bound): the pieces skipped are empty, so the result is the same. When the
     /// ray enters the root by `start`, the walk begins in `from`, which must hold the
     /// ray at time `start` as the walk places it (see [`Subtree`]).
-    pub(super) fn first_full_after(
-        &self,
-        r: &VoxelRay,
-        t_max: f64,
-        start: f64,
-        from: Subtree,
-    ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
+    pub(super) fn first_full_after(&self, r: &VoxelRay, t_max: f64, start: f64, from: Subtree) -> Option<Entry> {
         if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) {
             return None;
         }
+        let span = self.root_span(r)?;
+        let RootSpan { ta, tb, face } = span;
+        // The walk starts at max(ta, start) (start >= 0), which must be before tb.
+        if ta >= tb || tb <= start || ta >= t_max {
+            return None;
+        }
+        if self.root == Root::Full {
+            let n = self.domain.resolution();
+            return (ta.max(0.0) < t_max).then_some(Entry { min: [0, 0, 0], size: n, t: ta, face });
+        }
+        // Two builds of the walk: the one from the root (single rays) carries no
+        // subtree logic.
+        if from.above.is_empty() || ta > start {
+            self.walk::<false>(r, t_max, span, start, Subtree::ROOT)
+        } else {
+            self.walk::<true>(r, t_max, span, start, from)
+        }
+    }
+
+    /// Entry and exit times of the root's slabs, with the lowest axis of the entry
+    /// plane; an axis the ray is parallel to only says whether the origin is in
+    /// (`None` when it is not).
+    #[inline(always)]
+    fn root_span(&self, r: &VoxelRay) -> Option<RootSpan> {
         let n = f64::from(self.domain.resolution());
-        // Entry and exit times of the root's slabs, with the lowest axis of the entry
-        // plane; an axis the ray is parallel to only says whether the origin is in.
         let (mut ta, mut tb, mut face) = (f64::NEG_INFINITY, f64::INFINITY, None);
         let mut outside = false;
         let mut slab = |a: usize| {
@@ -101,24 +115,68 @@ impl Traversal {
         slab(0);
         slab(1);
         slab(2);
-        if outside {
-            return None;
+        (!outside).then_some(RootSpan { ta, tb, face })
+    }
+}
+
+/// Where a ray crosses the root: entered at `ta` through `face`, left at `tb`.
+#[derive(Clone, Copy)]
+struct RootSpan {
+    ta: f64,
+    tb: f64,
+    face: Option<usize>,
+}
+
+/// The ray as the walk reads it: origin and reciprocal direction in voxel units (moved
+/// off the lattice where the reciprocal is infinite, see `off_lattice`) and the mirror
+/// bits (bit `a` set when the ray runs to lower coordinates on axis `a`).
+struct Lattice {
+    o: [f64; 3],
+    inv: [f64; 3],
+    mirror: usize,
+}
+
+impl Lattice {
+    fn new(r: &VoxelRay) -> Self {
+        let mirror = (0..3).fold(0usize, |m, a| m | usize::from(r.d[a] < 0.0) << a);
+        let (mut o, mut inv) = (r.o.to_array(), r.inv.to_array());
+        if !r.inv.is_finite() {
+            off_lattice(r, &mut o, &mut inv);
         }
-        // The walk starts at max(ta, start) (start >= 0), which must be before tb.
-        if ta >= tb || tb <= start || ta >= t_max {
-            return None;
-        }
-        let n = self.domain.resolution();
-        if self.root == Root::Full {
-            return (ta.max(0.0) < t_max).then_some(([0, 0, 0], n, ta, face));
-        }
-        // Two builds of the walk: the one from the root (single rays) carries no
-        // subtree logic.
-        if from.above.is_empty() || ta > start {
-            self.walk::<false>(r, t_max, ta, tb, face, start, Subtree::ROOT)
-        } else {
-            self.walk::<true>(r, t_max, ta, tb, face, start, from)
-        }
+        Lattice { o, inv, mirror }
+    }
+
+    /// The times of the mid planes `min + half` of a node: `(min[a] + half - o[a]) * inv[a]`.
+    #[inline(always)]
+    fn mid_times(&self, min: [u32; 3], half: u32) -> PlaneTimes {
+        PlaneTimes::new(std::array::from_fn(|a| (f64::from(min[a] + half) - self.o[a]) * self.inv[a]))
+    }
+
+    /// The time the ray leaves the node `[min, min + size)`: the least time of its far
+    /// planes, `min over a of (far[a] - o[a]) * inv[a]`.
+    fn exit_time(&self, min: [u32; 3], size: u32) -> f64 {
+        let far = |a: usize| {
+            let plane = if self.mirror >> a & 1 == 1 { min[a] } else { min[a] + size };
+            (f64::from(plane) - self.o[a]) * self.inv[a]
+        };
+        earlier(earlier(far(0), far(1)), far(2))
+    }
+
+    /// The face through which a walk entered the node `[min, min + size)` at time `t`:
+    /// the lowest axis whose near plane the ray crosses at `t`, `None` when there is
+    /// none.
+    ///
+    /// The same axis as [`entered_face`] for a ray not parallel to any axis: the near
+    /// planes of a node on the walk's path are mid planes of its ancestors or the
+    /// root's entry planes, all crossed at or before `t`; a mid plane on the path
+    /// crossed at `t` lies on the node's near side on its axis (a far-side one is
+    /// crossed after `t`), so the node's near plane there is crossed at `t` too (plane
+    /// times are monotone); and a root entry plane crossed at `t` means `t == ta`.
+    fn near_face(&self, min: [u32; 3], size: u32, t: f64) -> Option<usize> {
+        (0..3).find(|&a| {
+            let plane = if self.mirror >> a & 1 == 1 { min[a] + size } else { min[a] };
+            (f64::from(plane) - self.o[a]) * self.inv[a] == t
+        })
     }
 }
 
@@ -170,30 +228,21 @@ impl Traversal {
     /// above it empty; they are filled only if the ray leaves `from` (a node's exit
     /// time is the least time of its far planes, the same bits as the `tb` the walk
     /// from the root carries down), and the face of a hit in `from` is read off the
-    /// hit node's near planes (see [`near_face`]). `BELOW_ROOT` false builds the walk from
+    /// hit node's near planes (see [`Lattice::near_face`]). `BELOW_ROOT` false builds the walk from
     /// the root alone, without that logic (single rays).
-    #[allow(clippy::too_many_arguments)]
     fn walk<const BELOW_ROOT: bool>(
         &self,
         r: &VoxelRay,
         t_max: f64,
-        ta: f64,
-        tb: f64,
-        face: Option<usize>,
+        span: RootSpan,
         start: f64,
         from: Subtree,
-    ) -> Option<([u32; 3], u32, f64, Option<usize>)> {
-        // Per axis the mirror bit (the ray runs to lower coordinates); no mid-plane
-        // time is NaN (see `off_lattice`), so "past the mid plane" is `tm <= t` on
-        // every axis and the child is those bits flipped by the mirror bits.
-        let mirror = (0..3).fold(0usize, |m, a| m | usize::from(r.d[a] < 0.0) << a);
-        let (mut o, mut inv) = (r.o.to_array(), r.inv.to_array());
-        if !r.inv.is_finite() {
-            off_lattice(r, &mut o, &mut inv);
-        }
-        let mid_times = |min: [u32; 3], half: u32| {
-            PlaneTimes::new(std::array::from_fn(|a| (f64::from(min[a] + half) - o[a]) * inv[a]))
-        };
+    ) -> Option<Entry> {
+        // No mid-plane time is NaN (see `off_lattice`), so "past the mid plane" is
+        // `tm <= t` on every axis and the child is those bits flipped by the mirror bits.
+        let RootSpan { ta, tb, face } = span;
+        let ray = Lattice::new(r);
+        let mirror = ray.mirror;
         let mut stack = [Frame { index: 0, tm: PlaneTimes::new([0.0; 3]), tb: 0.0 }; STACK];
         let root_tb = tb;
         let mut t = ta.max(start);
@@ -206,9 +255,9 @@ impl Traversal {
             if t >= t_max {
                 return None;
             }
-            (from.index, from.min, from.size, exit_time(from.min, from.size, mirror, &o, &inv))
+            (from.index, from.min, from.size, ray.exit_time(from.min, from.size))
         };
-        let mut tm = mid_times(min, size / 2);
+        let mut tm = ray.mid_times(min, size / 2);
         loop {
             let inner = self.nodes[index as usize];
             let half = size / 2;
@@ -226,9 +275,9 @@ impl Traversal {
                         let path = stack[..depth].iter().map(|f| f.tm.to_array()).chain([tm.to_array()]);
                         entered_face(path, t, ta, face)
                     } else {
-                        near_face(cmin, half, mirror, &o, &inv, t)
+                        ray.near_face(cmin, half, t)
                     };
-                    return Some((cmin, half, t, face));
+                    return Some(Entry { min: cmin, size: half, t, face });
                 }
                 stack[depth] = Frame { index, tm, tb };
                 depth += 1;
@@ -236,7 +285,7 @@ impl Traversal {
                 min = cmin;
                 size = half;
                 tb = earlier(next, tb);
-                tm = mid_times(min, size / 2);
+                tm = ray.mid_times(min, size / 2);
                 continue;
             }
             // Step 3: leave the child across mid planes of this node, or out of it
@@ -252,12 +301,7 @@ impl Traversal {
                         return None;
                     }
                     // Leaving the node the walk began in: fill the frames above it.
-                    for (level, (frame, &above)) in stack[..base].iter_mut().zip(from.above).enumerate() {
-                        let up = size << (base - level);
-                        let umin = min.map(|m| m & !(up - 1));
-                        let utb = if level == 0 { root_tb } else { exit_time(umin, up, mirror, &o, &inv) };
-                        *frame = Frame { index: above, tm: mid_times(umin, up / 2), tb: utb };
-                    }
+                    fill_frames_above(&mut stack[..base], &from, (min, size), root_tb, &ray);
                     base = 0;
                 }
                 depth -= 1;
@@ -275,30 +319,18 @@ impl Traversal {
     }
 }
 
-/// The time the ray leaves the node `[min, min + size)`: the least time of its far
-/// planes, `min over a of (far[a] - o[a]) * inv[a]`.
-fn exit_time(min: [u32; 3], size: u32, mirror: usize, o: &[f64; 3], inv: &[f64; 3]) -> f64 {
-    let far = |a: usize| {
-        let plane = if mirror >> a & 1 == 1 { min[a] } else { min[a] + size };
-        (f64::from(plane) - o[a]) * inv[a]
-    };
-    earlier(earlier(far(0), far(1)), far(2))
-}
-
-/// The face through which a walk entered the node `[min, min + size)` at time `t`: the
-/// lowest axis whose near plane the ray crosses at `t`, `None` when there is none.
-///
-/// The same axis as [`entered_face`] for a ray not parallel to any axis: the near
-/// planes of a node on the walk's path are mid planes of its ancestors or the root's
-/// entry planes, all crossed at or before `t`; a mid plane on the path crossed at `t`
-/// lies on the node's near side on its axis (a far-side one is crossed after `t`), so
-/// the node's near plane there is crossed at `t` too (plane times are monotone); and
-/// a root entry plane crossed at `t` means `t == ta`.
-fn near_face(min: [u32; 3], size: u32, mirror: usize, o: &[f64; 3], inv: &[f64; 3], t: f64) -> Option<usize> {
-    (0..3).find(|&a| {
-        let plane = if mirror >> a & 1 == 1 { min[a] + size } else { min[a] };
-        (f64::from(plane) - o[a]) * inv[a] == t
-    })
+/// The frames of the nodes above `from`, from the root down, for a walk that began in
+/// `from` and now leaves it: each the ancestor of the node `[min, min + size)` the walk
+/// is in, at its level, with its mid-plane times and exit time (the root's is `root_tb`).
+#[cold]
+fn fill_frames_above(stack: &mut [Frame], from: &Subtree, (min, size): ([u32; 3], u32), root_tb: f64, ray: &Lattice) {
+    let base = stack.len();
+    for (level, (frame, &above)) in stack.iter_mut().zip(from.above).enumerate() {
+        let up = size << (base - level);
+        let umin = min.map(|m| m & !(up - 1));
+        let utb = if level == 0 { root_tb } else { ray.exit_time(umin, up) };
+        *frame = Frame { index: above, tm: ray.mid_times(umin, up / 2), tb: utb };
+    }
 }
 
 /// Where the reciprocal direction is infinite (a ray parallel to the axis, or a
