@@ -4,11 +4,11 @@
 //! Target: front-to-back display at 20 frames a second or more.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use glam::DVec3;
 use octsolid::budget::MemoryBudget;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
-use octsolid::render::{Camera, DEFAULT_VIEW, Material, Method, SampleGrid, Scene, visibility, visibility_into};
+use octsolid::render::{Camera, Material, Method, SampleGrid, Scene, visibility, visibility_into};
+use octsolid::shape::Axis;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("visibility");
@@ -19,8 +19,7 @@ fn bench(c: &mut Criterion) {
     let bounds = tree.bounds().unwrap();
     let mut scene = Scene::new();
     scene.add("bunny", tree, Material::default());
-    let view = DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y);
-    let camera = Camera::frame(&bounds, view, DVec3::Y, 1.0);
+    let camera = Camera::frame(&bounds, Camera::default_view(Axis::Y), Axis::Y.unit(), 1.0);
     let samples = SampleGrid { width: 1024, height: 1024, spp: 1 };
     // Frames of a viewer: one frame buffer drawn into again and again.
     let mut frame = Vec::new();

@@ -10,28 +10,27 @@ use octsolid::budget::MemoryBudget;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::progress::NoProgress;
-use octsolid::render::{Camera, DEFAULT_VIEW, PACKET, TILE, Traversal};
-use octsolid::shape::Sphere;
+use octsolid::render::{Camera, PACKET, TILE, Traversal};
+use octsolid::shape::{Axis, Sphere};
 use octsolid::{Ray, RayCast};
 use rayon::prelude::*;
 
 const SIZE: u32 = 1024;
 
-fn solids() -> Vec<(&'static str, LinearOctree, DVec3)> {
+fn solids() -> Vec<(&'static str, LinearOctree, Axis)> {
     let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj").as_ref()).unwrap();
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     let (bunny, _) = voxelize_mesh(&bunny, Domain::around(&bunny.bounds(), 0.02, 10).unwrap(), &options).unwrap();
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 12).unwrap();
     let opts = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };
     let sphere = voxelize(&Sphere::new(DVec3::ZERO, 0.8).unwrap(), domain, &opts).unwrap();
-    vec![("bunny_d10", bunny, DVec3::Y), ("sphere_d12", sphere, DVec3::Z)]
+    vec![("bunny_d10", bunny, Axis::Y), ("sphere_d12", sphere, Axis::Z)]
 }
 
 /// Primary rays of a framed 1024x1024 view, row-major.
-fn primary_rays(tree: &LinearOctree, up: DVec3) -> Vec<Ray> {
+fn primary_rays(tree: &LinearOctree, up: Axis) -> Vec<Ray> {
     let b = tree.bounds().unwrap();
-    let view = if up == DVec3::Y { DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y) } else { DEFAULT_VIEW };
-    let camera = Camera::frame(&b, view, up, 1.0);
+    let camera = Camera::frame(&b, Camera::default_view(up), up.unit(), 1.0);
     (0..SIZE * SIZE)
         .map(|i| {
             let (x, y) = (f64::from(i % SIZE) + 0.5, f64::from(i / SIZE) + 0.5);

@@ -31,6 +31,29 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// A file's extension is missing or not one the reader accepts
+    /// ([`crate::file_kind::FileKind::of`]).
+    #[error("{}: {} (use {})", path.display(), found_extension(found), list_extensions(accepted))]
+    UnknownExtension {
+        /// The file.
+        path: PathBuf,
+        /// Its extension without the dot; empty when it has none.
+        found: String,
+        /// Every extension the reader accepts, without the dot.
+        accepted: Vec<&'static str>,
+    },
+    /// A scene file could not be built: the cause as it was, with the scene file and,
+    /// where it concerns one, the solid's name (its `name`, else `solid N`).
+    #[error("{}: {}{source}", path.display(), solid.as_ref().map_or(String::new(), |s| format!("{s}: ")))]
+    Scene {
+        /// The scene file.
+        path: PathBuf,
+        /// The solid being built, if the error concerns one.
+        solid: Option<String>,
+        /// What went wrong: the I/O, format or over-budget error of a file the scene
+        /// names, a refused value, ...
+        source: Box<Error>,
+    },
     /// A text file's content is malformed at a line.
     #[error("{}: line {line}: {reason}", path.display())]
     Parse {
@@ -85,6 +108,21 @@ impl Error {
     /// Shorthand for [`Error::InvalidArgument`].
     pub(crate) fn invalid(what: &'static str, reason: impl Into<String>) -> Self {
         Error::InvalidArgument { what, reason: reason.into() }
+    }
+}
+
+/// `unexpected extension '.ext'`, or `no extension` for an empty one.
+fn found_extension(found: &str) -> String {
+    if found.is_empty() { "no extension".into() } else { format!("unexpected extension '.{found}'") }
+}
+
+/// `.a, .b or .c`.
+fn list_extensions(extensions: &[&str]) -> String {
+    let dotted: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+    match dotted.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
     }
 }
 

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use crate::budget::MemoryBudget;
 use crate::error::Result;
+use crate::file_kind::FileKind;
 use crate::mesh::{
     InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh, load_mesh, voxelize_mesh,
     voxelize_surface,
@@ -45,10 +46,12 @@ pub enum Input {
 }
 
 impl Input {
-    /// Loads a mesh or a `.patches` file by extension.
+    /// Loads a mesh or a `.patches` file by extension ([`FileKind::SURFACES`]).
     pub fn load(path: &Path) -> Result<Input> {
-        let is_patches = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("patches"));
-        Ok(if is_patches { Input::Patches(load_patches(path)?) } else { Input::Mesh(load_mesh(path)?) })
+        Ok(match FileKind::of(path, FileKind::SURFACES)? {
+            FileKind::Patches => Input::Patches(load_patches(path)?),
+            _ => Input::Mesh(load_mesh(path)?),
+        })
     }
 
     /// Bounding box: of the mesh, or of the patches' control points.

@@ -26,6 +26,7 @@ pub mod aabb;
 pub mod budget;
 pub mod color;
 pub mod error;
+pub mod file_kind;
 pub mod import;
 pub mod io;
 pub mod mesh;
@@ -44,6 +45,7 @@ mod test_util;
 
 pub use aabb::Aabb;
 pub use error::{Error, Result};
+pub use file_kind::FileKind;
 pub use octree::{Domain, LinearOctree, Node, NodeKey, voxelize};
 pub use ray::{Ray, RayCast};
 pub use shape::{Class, Shape};

@@ -2,16 +2,25 @@
 //! materials, lights, camera and image settings. The format is described in
 //! `docs/SCENES.md`; bundled scenes are in `scenes/`.
 //!
-//! Errors name the file with the line and column (TOML syntax and field errors) or the
-//! solid and what is wrong with it. Relative paths inside a scene are relative to the
-//! scene file's folder.
+//! Loading is two steps. Parsing deserializes the whole file into the private `*Spec`
+//! types; every enum-like value is a serde enum (shape and texture kinds
+//! ([`ShapeSpec`]), light `type`, `normals`, `projection`, `inside`, `mapping`, `axis`),
+//! so a misspelt value is reported like a misspelt key or a syntax error: an
+//! [`Error::Parse`] with the file, the line and the column. Building then voxelizes the
+//! solids and sets up lights, image and camera; what fails there is an
+//! [`Error::Scene`] holding its cause as it was (the I/O, format or over-budget error of
+//! a mesh or `.oct` file the scene names, a refused value), with the scene file and the
+//! name of the solid it concerns.
+//!
+//! Relative paths inside a scene are relative to the scene file's folder.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::{DAffine3, DQuat, DVec3};
+use glam::DVec3;
 use serde::Deserialize;
 
+use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
 use crate::color::{Hsi, cmy_to_rgb, hsi_to_rgb};
 use crate::error::{Error, Result};
@@ -20,11 +29,10 @@ use crate::io::oct;
 use crate::mesh::InsideRule;
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
-use crate::render::{Bump, Mapping, Texture};
-use crate::render::{Camera, DEFAULT_VIEW, Light, Material, Projection, RenderOptions, Scene};
-use crate::shape::{
-    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Shape, Sphere, Torus, Transformed,
+use crate::render::{
+    Bump, Camera, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection, RenderOptions, Scene, Texture,
 };
+use crate::shape::{Axis, Csg, Shape, ShapeSpec};
 
 /// The whole file.
 #[derive(Deserialize, Debug)]
@@ -52,8 +60,8 @@ struct ImageSpec {
     #[serde(default = "default_true")]
     shadows: bool,
     background: Option<[f64; 3]>,
-    /// "axis" (default), "smooth" or "octree".
-    normals: Option<String>,
+    /// Axis (the default), smooth or octree.
+    normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays.
     max_depth: Option<u32>,
 }
@@ -90,10 +98,18 @@ struct CameraSpec {
     view: Option<[f64; 3]>,
     up: Option<[f64; 3]>,
     fov: Option<f64>,
-    /// "perspective" (default) or "orthographic".
-    projection: Option<String>,
+    /// Perspective (the default) or orthographic.
+    projection: Option<ProjectionSpec>,
     /// View height of an orthographic camera.
     height: Option<f64>,
+}
+
+/// How the camera projects; the field of view and the view height are keys of their own.
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+enum ProjectionSpec {
+    Perspective,
+    Orthographic,
 }
 
 #[derive(Deserialize, Debug)]
@@ -120,9 +136,29 @@ struct SolidSpec {
     oct: Option<PathBuf>,
     /// Depth for a mesh (default: the scene domain's).
     depth: Option<u8>,
-    inside: Option<String>,
+    /// How a mesh decides its inside (default auto).
+    inside: Option<InsideSpec>,
     #[serde(default)]
     material: MaterialSpec,
+}
+
+/// [`InsideRule`] as a scene writes it.
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum InsideSpec {
+    Auto,
+    Parity,
+    Winding,
+}
+
+impl From<InsideSpec> for InsideRule {
+    fn from(rule: InsideSpec) -> Self {
+        match rule {
+            InsideSpec::Auto => InsideRule::Auto,
+            InsideSpec::Parity => InsideRule::Parity,
+            InsideSpec::Winding => InsideRule::Winding,
+        }
+    }
 }
 
 #[derive(Deserialize, Debug, Default)]
@@ -171,9 +207,18 @@ impl ColorSpec {
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 enum TextureSpec {
     Checker { size: f64, a: ColorSpec, b: ColorSpec },
-    Wood { axis: String, center: Option<[f64; 3]>, size: f64, a: ColorSpec, b: ColorSpec },
+    Wood { axis: Axis, center: Option<[f64; 3]>, size: f64, a: ColorSpec, b: ColorSpec },
     Marble { size: f64, a: ColorSpec, b: ColorSpec },
-    Image { file: PathBuf, mapping: String, axis: Option<String>, center: Option<[f64; 3]>, scale: Option<f64> },
+    Image { file: PathBuf, mapping: MappingSpec, axis: Option<Axis>, center: Option<[f64; 3]>, scale: Option<f64> },
+}
+
+/// The projection of an image texture ([`Mapping`] without its parameters).
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum MappingSpec {
+    Planar,
+    Cylindrical,
+    Spherical,
 }
 
 impl TextureSpec {
@@ -185,8 +230,8 @@ impl TextureSpec {
             TextureSpec::Checker { size, a, b } => {
                 Texture::Checker { size: positive("size", *size)?, a: a.rgb(), b: b.rgb() }
             }
-            TextureSpec::Wood { axis: ax, center, size, a, b } => Texture::Wood {
-                axis: axis(ax)?,
+            TextureSpec::Wood { axis, center, size, a, b } => Texture::Wood {
+                axis: *axis,
                 center: center.map_or(DVec3::ZERO, DVec3::from_array),
                 size: positive("size", *size)?,
                 a: a.rgb(),
@@ -195,28 +240,29 @@ impl TextureSpec {
             TextureSpec::Marble { size, a, b } => {
                 Texture::Marble { size: positive("size", *size)?, a: a.rgb(), b: b.rgb() }
             }
-            TextureSpec::Image { file, mapping, axis: ax, center, scale } => {
+            TextureSpec::Image { file, mapping, axis, center, scale } => {
                 let path = folder.join(file);
-                let texels = image::open(&path)
-                    .map_err(|e| Error::invalid("texture", format!("{}: {e}", path.display())))?
-                    .to_rgb8();
-                let axis = axis(ax.as_deref().unwrap_or("z"))?;
+                let texels = load_texels(&path)?;
+                let axis = axis.unwrap_or(Axis::Z);
                 let center = center.map_or(DVec3::ZERO, DVec3::from_array);
                 let scale = positive("scale", scale.unwrap_or(1.0))?;
-                let mapping = match mapping.as_str() {
-                    "planar" => Mapping::Planar { axis, origin: center, scale },
-                    "cylindrical" => Mapping::Cylindrical { axis, center, scale },
-                    "spherical" => Mapping::Spherical { axis, center },
-                    other => {
-                        return Err(Error::invalid(
-                            "mapping",
-                            format!("{other:?} is not planar, cylindrical or spherical"),
-                        ));
-                    }
+                let mapping = match mapping {
+                    MappingSpec::Planar => Mapping::Planar { axis, origin: center, scale },
+                    MappingSpec::Cylindrical => Mapping::Cylindrical { axis, center, scale },
+                    MappingSpec::Spherical => Mapping::Spherical { axis, center },
                 };
-                Texture::Image { texels: std::sync::Arc::new(texels), mapping }
+                Texture::Image { texels: Arc::new(texels), mapping }
             }
         })
+    }
+}
+
+/// The image at `path` as 8-bit RGB; a file that cannot be read is [`Error::Io`].
+fn load_texels(path: &Path) -> Result<image::RgbImage> {
+    match image::open(path) {
+        Ok(img) => Ok(img.to_rgb8()),
+        Err(image::ImageError::IoError(source)) => Err(Error::Io { path: path.to_path_buf(), source }),
+        Err(e) => Err(Error::invalid("texture", format!("{}: {e}", path.display()))),
     }
 }
 
@@ -225,124 +271,6 @@ impl TextureSpec {
 struct BumpSpec {
     amplitude: f64,
     scale: f64,
-}
-
-/// A shape CSG tree as written in a scene file.
-#[derive(Deserialize, Debug)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-enum ShapeSpec {
-    Sphere {
-        center: [f64; 3],
-        radius: f64,
-    },
-    Ellipsoid {
-        center: [f64; 3],
-        radii: [f64; 3],
-    },
-    Box {
-        center: [f64; 3],
-        size: [f64; 3],
-    },
-    Cylinder {
-        center: [f64; 3],
-        axis: String,
-        radius: f64,
-        height: f64,
-    },
-    Cone {
-        base: [f64; 3],
-        axis: String,
-        radius: f64,
-        height: f64,
-    },
-    Torus {
-        center: [f64; 3],
-        axis: String,
-        radius: f64,
-        tube: f64,
-    },
-    HalfSpace {
-        normal: [f64; 3],
-        offset: f64,
-    },
-    Menger {
-        center: [f64; 3],
-        size: f64,
-        level: u32,
-    },
-    DisplacedSphere {
-        center: [f64; 3],
-        radius: f64,
-        amplitude: f64,
-        frequency: f64,
-    },
-    Union(Vec<ShapeSpec>),
-    Intersection(Vec<ShapeSpec>),
-    Difference(Vec<ShapeSpec>),
-    Xor(Vec<ShapeSpec>),
-    Complement(Box<ShapeSpec>),
-    Transform {
-        shape: Box<ShapeSpec>,
-        scale: Option<[f64; 3]>,
-        rotate_axis: Option<[f64; 3]>,
-        rotate_degrees: Option<f64>,
-        translate: Option<[f64; 3]>,
-    },
-}
-
-fn axis(s: &str) -> Result<Axis> {
-    s.parse().map_err(|e: String| Error::invalid("axis", e))
-}
-
-impl ShapeSpec {
-    /// The CSG tree this spec describes.
-    fn build(&self) -> Result<Csg> {
-        let v = DVec3::from_array;
-        let fold = |parts: &[ShapeSpec], op: fn(Csg, Csg) -> Csg| -> Result<Csg> {
-            let mut it = parts.iter();
-            let first =
-                it.next().ok_or_else(|| Error::invalid("shape", "a CSG operation needs at least one operand"))?;
-            it.try_fold(first.build()?, |acc, s| Ok(op(acc, s.build()?)))
-        };
-        Ok(match self {
-            ShapeSpec::Sphere { center, radius } => Sphere::new(v(*center), *radius)?.into(),
-            ShapeSpec::Ellipsoid { center, radii } => Ellipsoid::new(v(*center), v(*radii))?.into(),
-            ShapeSpec::Box { center, size } => Cuboid::new(v(*center), v(*size))?.into(),
-            ShapeSpec::Cylinder { center, axis: a, radius, height } => {
-                Cylinder::new(v(*center), axis(a)?, *radius, *height)?.into()
-            }
-            ShapeSpec::Cone { base, axis: a, radius, height } => {
-                Cone::new(v(*base), axis(a)?, *radius, *height)?.into()
-            }
-            ShapeSpec::Torus { center, axis: a, radius, tube } => {
-                Torus::new(v(*center), axis(a)?, *radius, *tube)?.into()
-            }
-            ShapeSpec::HalfSpace { normal, offset } => HalfSpace::new(v(*normal), *offset)?.into(),
-            ShapeSpec::Menger { center, size, level } => Menger::new(v(*center), *size, *level)?.into(),
-            ShapeSpec::DisplacedSphere { center, radius, amplitude, frequency } => {
-                DisplacedSphere::new(v(*center), *radius, *amplitude, *frequency)?.into()
-            }
-            ShapeSpec::Union(parts) => fold(parts, |a, b| a | b)?,
-            ShapeSpec::Intersection(parts) => fold(parts, |a, b| a & b)?,
-            ShapeSpec::Difference(parts) => fold(parts, |a, b| a - b)?,
-            ShapeSpec::Xor(parts) => fold(parts, |a, b| a ^ b)?,
-            ShapeSpec::Complement(inner) => !inner.build()?,
-            ShapeSpec::Transform { shape, scale, rotate_axis, rotate_degrees, translate } => {
-                let scale = DAffine3::from_scale(scale.map_or(DVec3::ONE, v));
-                let rotate = match (rotate_axis, rotate_degrees) {
-                    (Some(a), Some(deg)) => {
-                        let a =
-                            v(*a).try_normalize().ok_or_else(|| Error::invalid("rotate_axis", "must be non-zero"))?;
-                        DAffine3::from_quat(DQuat::from_axis_angle(a, deg.to_radians()))
-                    }
-                    (None, None) => DAffine3::IDENTITY,
-                    _ => return Err(Error::invalid("transform", "give rotate_axis and rotate_degrees together")),
-                };
-                let translate = DAffine3::from_translation(translate.map_or(DVec3::ZERO, v));
-                Transformed::new(shape.build()?, translate * rotate * scale)?.into()
-            }
-        })
-    }
 }
 
 /// A scene file, loaded: the scene, its camera and its image settings.
@@ -356,6 +284,8 @@ pub struct SceneFile {
 }
 
 /// Reads, checks and builds the scene at `path` (voxelizing its shapes and meshes).
+/// Errors: [`Error::Io`] when the file cannot be read, [`Error::Parse`] (with the line
+/// and column) when it is not a scene, [`Error::Scene`] when the scene cannot be built.
 pub fn load_scene(path: &Path, budget: MemoryBudget) -> Result<SceneFile> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let spec: SceneSpec = toml::from_str(&text).map_err(|e| {
@@ -363,8 +293,7 @@ pub fn load_scene(path: &Path, budget: MemoryBudget) -> Result<SceneFile> {
         Error::Parse { path: path.to_path_buf(), line, reason: format!("column {column}: {}", e.message().trim()) }
     })?;
     let folder = path.parent().unwrap_or(Path::new("."));
-    let at = |what: String| move |e: Error| Error::invalid("scene", format!("{}: {what}: {e}", path.display()));
-    build(&spec, folder, budget).map_err(at("cannot build the scene".into()))
+    build(&spec, &Context { path, folder, budget })
 }
 
 /// One-based line and column of byte `offset` in `text`.
@@ -375,88 +304,53 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
-fn build(spec: &SceneSpec, folder: &Path, budget: MemoryBudget) -> Result<SceneFile> {
+/// What building a scene needs besides its spec.
+struct Context<'a> {
+    /// The scene file, for errors.
+    path: &'a Path,
+    /// The folder its relative paths start from.
+    folder: &'a Path,
+    /// Every voxelization and load is checked against it.
+    budget: MemoryBudget,
+}
+
+impl Context<'_> {
+    /// `source` as an error of this scene, about the solid `solid` if it concerns one.
+    fn error(&self, solid: Option<&str>, source: Error) -> Error {
+        Error::Scene { path: self.path.to_path_buf(), solid: solid.map(str::to_owned), source: Box::new(source) }
+    }
+}
+
+/// The scene, its camera and image settings from the parsed file.
+fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
+    let whole = |e| cx.error(None, e);
     if spec.solids.is_empty() {
-        return Err(Error::invalid("scene", "it has no [[solid]]"));
+        return Err(whole(Error::invalid("scene", "it has no [[solid]]")));
     }
-    let options = VoxelizeOptions { budget, progress: &NoProgress };
-    // Step 1: the shape solids' shared domain: given, or around all shapes.
-    let shapes: Vec<Option<Csg>> =
-        spec.solids.iter().map(|s| s.shape.as_ref().map(ShapeSpec::build).transpose()).collect::<Result<_>>()?;
-    let depth = spec.domain.as_ref().map_or(9, |d| d.depth);
-    let shape_domain = match &spec.domain {
-        Some(DomainSpec { min: Some(min), edge: Some(edge), depth }) => {
-            Some(Domain::new(DVec3::from_array(*min), *edge, *depth)?)
-        }
-        _ => {
-            let bounds =
-                shapes.iter().flatten().map(|s| s.bounds()).try_fold(None, |acc: Option<crate::aabb::Aabb>, b| {
-                    let b = b.ok_or_else(|| {
-                        Error::invalid("shape", "an unbounded shape needs a [domain] with min and edge")
-                    })?;
-                    Ok::<_, Error>(Some(acc.map_or(b, |a| a.union(&b))))
-                })?;
-            bounds.map(|b| Domain::around(&b, 0.02, depth)).transpose()?
-        }
-    };
-    // Step 2: every solid to an octree.
-    let mut scene = Scene::new();
-    for (i, (solid, shape)) in spec.solids.iter().zip(&shapes).enumerate() {
-        let name = solid.name.clone().unwrap_or_else(|| format!("solid {}", i + 1));
-        let sources =
-            usize::from(solid.shape.is_some()) + usize::from(solid.mesh.is_some()) + usize::from(solid.oct.is_some());
-        if sources != 1 {
-            return Err(Error::invalid("solid", format!("{name}: give exactly one of shape, mesh or oct")));
-        }
-        let tree: LinearOctree = if let Some(shape) = shape {
-            voxelize(shape, shape_domain.expect("shapes have a domain"), &options)?
-        } else if let Some(mesh) = &solid.mesh {
-            let input = Input::load(&folder.join(mesh))?;
-            let depth = solid.depth.unwrap_or(depth);
-            let domain = import::default_domain(&input, depth)?;
-            let inside: InsideRule =
-                solid.inside.as_deref().unwrap_or("auto").parse().map_err(|e: String| Error::invalid("inside", e))?;
-            import::voxelize_input(&input, domain, Fill::Solid, inside, budget, &NoProgress)?.0
-        } else {
-            let file = folder.join(solid.oct.as_ref().expect("one source"));
-            oct::load(&file, budget)?
-        };
-        let d = Material::default();
-        let m = &solid.material;
-        let material = Material {
-            color: m.color.map_or(d.color, ColorSpec::rgb),
-            texture: m.texture.as_ref().map(|t| t.build(folder)).transpose()?,
-            bump: m.bump.as_ref().map(|b| Bump { amplitude: b.amplitude, scale: b.scale }),
-            ka: m.ka.unwrap_or(d.ka),
-            kd: m.kd.unwrap_or(d.kd),
-            ks: m.ks.unwrap_or(d.ks),
-            shininess: m.shininess.unwrap_or(d.shininess),
-            reflectance: m.reflectance.unwrap_or(d.reflectance),
-            transmittance: m.transmittance.unwrap_or(d.transmittance),
-            ior: m.ior.unwrap_or(d.ior),
-        };
-        material.check().map_err(|e| Error::invalid("material", format!("{name}: {e}")))?;
-        match shape {
-            Some(shape) => scene.add_shaped(name, tree, material, Arc::new(shape.clone())),
-            None => scene.add(name, tree, material),
-        }
-    }
-    // Step 3: lights, camera, image.
-    let bounds = scene.bounds().ok_or_else(|| Error::invalid("scene", "every solid is empty"))?;
-    scene.lights = spec
-        .lights
+    let names: Vec<String> = spec
+        .solids
         .iter()
-        .map(|l| match *l {
-            LightSpec::Point { position, color } => Light::Point {
-                position: DVec3::from_array(position),
-                color: color.map_or(DVec3::ONE, DVec3::from_array),
-            },
-            LightSpec::Directional { direction, color } => Light::Directional {
-                direction: DVec3::from_array(direction),
-                color: color.map_or(DVec3::ONE, DVec3::from_array),
-            },
-        })
+        .enumerate()
+        .map(|(i, s)| s.name.clone().unwrap_or_else(|| format!("solid {}", i + 1)))
         .collect();
+    // Step 1: every solid's shape tree, and the shape solids' shared domain.
+    let shapes: Vec<Option<Csg>> = spec
+        .solids
+        .iter()
+        .zip(&names)
+        .map(|(s, name)| s.shape.as_ref().map(ShapeSpec::build).transpose().map_err(|e| cx.error(Some(name), e)))
+        .collect::<Result<_>>()?;
+    let depth = spec.domain.as_ref().map_or(9, |d| d.depth);
+    let domain = shape_domain(spec.domain.as_ref(), depth, &names, &shapes, cx)?;
+    // Step 2: every solid to an octree, with its material.
+    let mut scene = Scene::new();
+    for ((solid, shape), name) in spec.solids.iter().zip(&shapes).zip(&names) {
+        let source = SolidSource { shape: shape.as_ref(), shape_domain: domain, depth };
+        add_solid(&mut scene, solid, name, &source, cx).map_err(|e| cx.error(Some(name), e))?;
+    }
+    // Step 3: lights, image and camera, from the solids' bounds.
+    let bounds = scene.bounds().ok_or_else(|| whole(Error::invalid("scene", "every solid is empty")))?;
+    scene.lights = spec.lights.iter().map(LightSpec::light).collect();
     if scene.lights.is_empty() {
         scene.lights = Scene::default_lights(&bounds);
     }
@@ -466,52 +360,158 @@ fn build(spec: &SceneSpec, folder: &Path, budget: MemoryBudget) -> Result<SceneF
     if let Some(b) = spec.image.background {
         scene.background = DVec3::from_array(b);
     }
-    let [width, height] = spec.image.size;
-    let d = RenderOptions::default();
-    let render = RenderOptions {
-        width,
-        height,
-        spp: spec.image.samples,
-        shadows: spec.image.shadows,
-        normals: spec
-            .image
-            .normals
-            .as_deref()
-            .map_or(Ok(d.normals), str::parse)
-            .map_err(|e| Error::invalid("normals", e))?,
-        max_depth: spec.image.max_depth.unwrap_or(d.max_depth),
-        ..d
+    let options = spec.image.options();
+    let aspect = f64::from(options.width.max(1)) / f64::from(options.height.max(1));
+    Ok(SceneFile { scene, camera: spec.camera.camera(&bounds, aspect), options })
+}
+
+/// The domain every `shape` solid is voxelized in: the `[domain]`'s when it gives `min`
+/// and `edge`, else the cube around all shapes with a 2% margin at `depth`; `None`
+/// when no solid is a shape. An unbounded shape needs the former.
+fn shape_domain(
+    spec: Option<&DomainSpec>,
+    depth: u8,
+    names: &[String],
+    shapes: &[Option<Csg>],
+    cx: &Context,
+) -> Result<Option<Domain>> {
+    if let Some(DomainSpec { min: Some(min), edge: Some(edge), depth }) = spec {
+        return Domain::new(DVec3::from_array(*min), *edge, *depth).map(Some).map_err(|e| cx.error(None, e));
+    }
+    let mut bounds: Option<Aabb> = None;
+    for (shape, name) in shapes.iter().zip(names) {
+        let Some(shape) = shape else { continue };
+        let b = shape.bounds().ok_or_else(|| {
+            cx.error(Some(name), Error::invalid("shape", "an unbounded shape needs a [domain] with min and edge"))
+        })?;
+        bounds = Some(bounds.map_or(b, |a| a.union(&b)));
+    }
+    bounds.map(|b| Domain::around(&b, 0.02, depth)).transpose().map_err(|e| cx.error(None, e))
+}
+
+/// Where a solid's octree comes from, besides its own keys.
+struct SolidSource<'a> {
+    /// Its shape's tree, for a `shape` solid.
+    shape: Option<&'a Csg>,
+    /// The domain shape solids share (`Some` when any solid is a shape).
+    shape_domain: Option<Domain>,
+    /// The depth a mesh is voxelized at without a `depth` of its own.
+    depth: u8,
+}
+
+/// Voxelizes or loads `solid` and adds it to `scene` under `name` with its material.
+fn add_solid(scene: &mut Scene, solid: &SolidSpec, name: &str, source: &SolidSource, cx: &Context) -> Result<()> {
+    let sources =
+        usize::from(solid.shape.is_some()) + usize::from(solid.mesh.is_some()) + usize::from(solid.oct.is_some());
+    if sources != 1 {
+        return Err(Error::invalid("solid", "give exactly one of shape, mesh or oct"));
+    }
+    let tree: LinearOctree = if let Some(shape) = source.shape {
+        let options = VoxelizeOptions { budget: cx.budget, progress: &NoProgress };
+        voxelize(shape, source.shape_domain.expect("shapes have a domain"), &options)?
+    } else if let Some(mesh) = &solid.mesh {
+        let input = Input::load(&cx.folder.join(mesh))?;
+        let domain = import::default_domain(&input, solid.depth.unwrap_or(source.depth))?;
+        let inside = solid.inside.map_or(InsideRule::Auto, InsideRule::from);
+        import::voxelize_input(&input, domain, Fill::Solid, inside, cx.budget, &NoProgress)?.0
+    } else {
+        oct::load(&cx.folder.join(solid.oct.as_ref().expect("one source")), cx.budget)?
     };
-    let aspect = f64::from(width.max(1)) / f64::from(height.max(1));
-    let c = &spec.camera;
-    let up = c.up.map_or(DVec3::Z, DVec3::from_array);
-    let view = c.view.map_or(DEFAULT_VIEW, DVec3::from_array);
-    let mut camera = match c.eye {
-        Some(eye) => {
-            Camera::look_at(DVec3::from_array(eye), c.target.map_or(bounds.center(), DVec3::from_array), up, 35.0)
-        }
-        None => Camera::frame(&bounds, view, up, aspect),
-    };
-    match c.projection.as_deref() {
-        None | Some("perspective") => {
-            if let Some(fov) = c.fov {
-                camera.projection = Projection::Perspective { fov_y: fov };
-            }
-        }
-        Some("orthographic") => {
-            let framed = Camera::frame_orthographic(&bounds, view, up);
-            let height = c.height.unwrap_or(match framed.projection {
-                Projection::Orthographic { height } => height,
-                Projection::Perspective { .. } => 1.0,
-            });
-            if c.eye.is_none() {
-                camera = framed;
-            }
-            camera.projection = Projection::Orthographic { height };
-        }
-        Some(other) => {
-            return Err(Error::invalid("projection", format!("'{other}' (use perspective or orthographic)")));
+    let material = solid.material.material(cx.folder)?;
+    material.check()?;
+    match source.shape {
+        Some(shape) => scene.add_shaped(name, tree, material, Arc::new(shape.clone())),
+        None => scene.add(name, tree, material),
+    }
+    Ok(())
+}
+
+impl MaterialSpec {
+    /// The material, every coefficient not given the default's.
+    fn material(&self, folder: &Path) -> Result<Material> {
+        let d = Material::default();
+        Ok(Material {
+            color: self.color.map_or(d.color, ColorSpec::rgb),
+            texture: self.texture.as_ref().map(|t| t.build(folder)).transpose()?,
+            bump: self.bump.as_ref().map(|b| Bump { amplitude: b.amplitude, scale: b.scale }),
+            ka: self.ka.unwrap_or(d.ka),
+            kd: self.kd.unwrap_or(d.kd),
+            ks: self.ks.unwrap_or(d.ks),
+            shininess: self.shininess.unwrap_or(d.shininess),
+            reflectance: self.reflectance.unwrap_or(d.reflectance),
+            transmittance: self.transmittance.unwrap_or(d.transmittance),
+            ior: self.ior.unwrap_or(d.ior),
+        })
+    }
+}
+
+impl LightSpec {
+    /// The light; white without a colour.
+    fn light(&self) -> Light {
+        match *self {
+            LightSpec::Point { position, color } => Light::Point {
+                position: DVec3::from_array(position),
+                color: color.map_or(DVec3::ONE, DVec3::from_array),
+            },
+            LightSpec::Directional { direction, color } => Light::Directional {
+                direction: DVec3::from_array(direction),
+                color: color.map_or(DVec3::ONE, DVec3::from_array),
+            },
         }
     }
-    Ok(SceneFile { scene, camera, options: render })
+}
+
+impl ImageSpec {
+    /// The render options, every one not given the default's.
+    fn options(&self) -> RenderOptions {
+        let [width, height] = self.size;
+        let d = RenderOptions::default();
+        RenderOptions {
+            width,
+            height,
+            spp: self.samples,
+            shadows: self.shadows,
+            normals: self.normals.unwrap_or(d.normals),
+            max_depth: self.max_depth.unwrap_or(d.max_depth),
+            ..d
+        }
+    }
+}
+
+impl CameraSpec {
+    /// The camera: at `eye` when given (35 degrees, looking at `target`, default the
+    /// solids' centre), else framing `bounds` from `view` for an image of `aspect`; an
+    /// orthographic one shows `height`, by default all of `bounds`.
+    fn camera(&self, bounds: &Aabb, aspect: f64) -> Camera {
+        let up = self.up.map_or(DVec3::Z, DVec3::from_array);
+        let view = self.view.map_or(DEFAULT_VIEW, DVec3::from_array);
+        let mut camera = match self.eye {
+            Some(eye) => Camera::look_at(
+                DVec3::from_array(eye),
+                self.target.map_or(bounds.center(), DVec3::from_array),
+                up,
+                35.0,
+            ),
+            None => Camera::frame(bounds, view, up, aspect),
+        };
+        match self.projection.unwrap_or(ProjectionSpec::Perspective) {
+            ProjectionSpec::Perspective => {
+                if let Some(fov) = self.fov {
+                    camera.projection = Projection::Perspective { fov_y: fov };
+                }
+            }
+            ProjectionSpec::Orthographic => {
+                let framed = Camera::frame_orthographic(bounds, view, up);
+                let height = self.height.unwrap_or(match framed.projection {
+                    Projection::Orthographic { height } => height,
+                    Projection::Perspective { .. } => 1.0,
+                });
+                if self.eye.is_none() {
+                    camera = framed;
+                }
+                camera.projection = Projection::Orthographic { height };
+            }
+        }
+        camera
+    }
 }

@@ -123,6 +123,17 @@ fn bad_input_gives_one_line_errors() {
     assert!(e.contains("budget"), "{e}");
     let e = fails(&dir, &["slice", "a.oct", "--at", "99", "-o", "s.png"]);
     assert!(e.contains("a.oct") && e.contains("99"), "{e}");
+    // An unknown extension names the file and everything the command reads.
+    let e = fails(&dir, &["render", "a.3ds"]);
+    assert!(e.contains("a.3ds") && e.contains("(use .toml, .oct, .obj, .stl, .ply or .patches)"), "{e}");
+    let e = fails(&dir, &["voxelize", "a.oct", "-o", "v.oct"]);
+    assert!(e.contains("a.oct") && e.contains("(use .obj, .stl, .ply or .patches)"), "{e}");
+    let e = fails(&dir, &["render", "scene.toml", "--shading", "flat"]);
+    assert!(e.contains("scene.toml") && e.contains("(use .oct, .obj, .stl, .ply or .patches)"), "{e}");
+    // A scene's build error: the scene, the solid and the cause, on one line.
+    std::fs::write(dir.join("scene.toml"), "[[solid]]\nname = \"part\"\nmesh = \"gone.obj\"\n").unwrap();
+    let e = fails(&dir, &["render", "scene.toml"]);
+    assert!(e.contains("scene.toml: part: ") && e.contains("gone.obj: "), "{e}");
     // A failed write keeps the old file: the output's folder does not exist.
     let e = fails(&dir, &["shape", "sphere", "--depth", "4", "-o", "no/such/dir/x.oct"]);
     assert!(e.contains("x.oct"), "{e}");

@@ -156,8 +156,17 @@ fn errors_name_the_line_or_offset_and_reason() {
     assert!(matches!(e, Error::Format { offset: 80, .. }), "{e}");
     let e = load_mesh(&dir.join("missing.stl")).unwrap_err().to_string();
     assert!(e.contains("missing.stl"), "{e}");
-    let e = error("x.3ds", "");
-    assert!(e.contains("unknown mesh extension"), "{e}");
+    // An unknown extension: its own error, listing every extension the reader takes
+    // (the importer reads patch sets too), with no byte offset.
+    let e = load_mesh(&write(&dir, "x.3ds", b"")).unwrap_err();
+    match &e {
+        Error::UnknownExtension { path, found, accepted } => {
+            assert!(path.ends_with("x.3ds") && found == "3ds" && accepted == &["obj", "stl", "ply"], "{e:?}")
+        }
+        other => panic!("{other:?}"),
+    }
+    let e = octsolid::import::Input::load(&write(&dir, "x.3ds", b"")).err().expect("an error").to_string();
+    assert!(e.contains("x.3ds") && e.contains("(use .obj, .stl, .ply or .patches)") && !e.contains("byte"), "{e}");
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! Rendering: silhouettes against analytic discs, Phong highlights against the
-//! formula, thread-count independence, and scene-file errors.
+//! formula, thread-count independence (scene files themselves: `scene_file.rs`).
 
 mod common;
 
@@ -106,43 +106,6 @@ fn same_image_for_any_thread_count() {
         pool.install(|| render(&file.scene, &file.camera, &options, &NoProgress).unwrap().0)
     };
     assert!(run(1) == run(2));
-}
-
-#[test]
-fn bundled_scenes_load() {
-    for name in ["classic", "flange", "showcase", "menger", "displaced", "whitted", "whitted-classic", "teapot"] {
-        let file = load_scene(format!("scenes/{name}.toml").as_ref(), MemoryBudget::default()).unwrap();
-        assert!(!file.scene.solids.is_empty() && !file.scene.lights.is_empty(), "{name}");
-    }
-}
-
-#[test]
-fn invalid_scene_files_say_line_and_column() {
-    let dir = std::env::temp_dir().join(format!("octsolid-scenes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let error = |name: &str, text: &str| {
-        let path = dir.join(name);
-        std::fs::write(&path, text).unwrap();
-        load_scene(&path, MemoryBudget::default()).err().expect("an error").to_string()
-    };
-    let e = error("syntax.toml", "[image]\nsize = [640, 480\n");
-    assert!(e.contains("syntax.toml") && e.contains("line 2") && e.contains("column"), "{e}");
-    let e = error(
-        "field.toml",
-        "[image]\nsize = [64, 48]\n\n[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = 1 } }\ncolour = [1, 0, 0]\n",
-    );
-    assert!(e.contains("line 6") && e.contains("colour"), "{e}");
-    let e = error(
-        "axis.toml",
-        "[[solid]]\nshape = { cylinder = { center = [0, 0, 0], axis = \"w\", radius = 1, height = 1 } }\n",
-    );
-    assert!(e.contains("axis.toml") && e.contains("'w' is not an axis"), "{e}");
-    let e = error("none.toml", "[image]\nsize = [64, 48]\n");
-    assert!(e.contains("solid"), "{e}");
-    let e = error("radius.toml", "[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = -1 } }\n");
-    assert!(e.contains("radius"), "{e}");
-    let e = error("mesh.toml", "[[solid]]\nmesh = \"missing.obj\"\n");
-    assert!(e.contains("missing.obj"), "{e}");
 }
 
 /// A random scene of up to three CSG solids sharing one small domain.

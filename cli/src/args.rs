@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use glam::DVec3;
+use octsolid::shape::ShapeSpec;
 
 /// octsolid: solid modeling on linear octrees.
 #[derive(Parser, Debug)]
@@ -98,45 +100,7 @@ pub enum Command {
         json: bool,
     },
     /// Render a scene file (.toml), an .oct file, or a mesh (voxelized first) to a PNG.
-    Render {
-        /// Scene (.toml), solid (.oct) or mesh (.obj, .stl, .ply, .patches).
-        input: PathBuf,
-        /// Output PNG (default: the input's name with .png, in the current folder).
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        /// Image size WIDTHxHEIGHT (default: the scene's, or 960x720).
-        #[arg(long, value_parser = parse_size)]
-        size: Option<[u32; 2]>,
-        /// Samples a pixel side: N x N stratified samples (default: the scene's, or 2).
-        #[arg(long)]
-        spp: Option<u32>,
-        /// How primary visibility is decided.
-        #[arg(long, default_value = "trace")]
-        method: Method,
-        /// Depth to voxelize a mesh at.
-        #[arg(long, default_value_t = 9)]
-        depth: u8,
-        /// The world's up axis for solids and meshes without a scene (default by the
-        /// file's extension: y for .obj and .ply, y-up by convention, as the bunny and
-        /// Spot are; z otherwise, as octsolid's shapes are: pass --up z to view a shape
-        /// exported to .obj or .ply as it was built).
-        #[arg(long)]
-        up: Option<octsolid::shape::Axis>,
-        /// Skip shadow rays.
-        #[arg(long)]
-        no_shadows: bool,
-        /// Shading normals: axis (the voxel faces'), smooth (the source shape's where a
-        /// solid has one, else estimated from the octree) or octree (always estimated).
-        #[arg(long)]
-        normals: Option<Normals>,
-        /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
-        #[arg(long)]
-        max_depth: Option<u32>,
-        /// Render a mesh (or Bezier patches, tessellated) as polygons with this
-        /// interpolation shading instead of voxelizing it.
-        #[arg(long)]
-        shading: Option<Shading>,
-    },
+    Render(RenderArgs),
     /// Octree traversal against the BVH crates obvhs and bvh: build time, bytes, rays a second.
     Bench {
         /// Write the report: the section of --out between its bvh-report markers, and plots in docs/images/ beside it.
@@ -298,6 +262,70 @@ pub struct ShapeArgs {
     /// Output .oct file.
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+impl ShapeArgs {
+    /// The flags as a shape specification, the form scene files write: the ellipsoid
+    /// fills the box of `--size`, the cone's base sits `--height / 2` below `--center`.
+    #[must_use]
+    pub fn spec(&self) -> ShapeSpec {
+        let (center, axis, radius, height) = (self.center, self.axis, self.radius, self.height);
+        match self.kind {
+            ShapeKind::Sphere => ShapeSpec::Sphere { center, radius },
+            ShapeKind::Ellipsoid => {
+                ShapeSpec::Ellipsoid { center, radii: (DVec3::from_array(self.size) * 0.5).to_array() }
+            }
+            ShapeKind::Box => ShapeSpec::Box { center, size: self.size },
+            ShapeKind::Cylinder => ShapeSpec::Cylinder { center, axis, radius, height },
+            ShapeKind::Cone => {
+                let base = DVec3::from_array(center) - axis.unit() * (height * 0.5);
+                ShapeSpec::Cone { base: base.to_array(), axis, radius, height }
+            }
+            ShapeKind::Torus => ShapeSpec::Torus { center, axis, radius, tube: self.tube },
+        }
+    }
+}
+
+/// Arguments of `octsolid render`.
+#[derive(clap::Args, Debug)]
+pub struct RenderArgs {
+    /// Scene (.toml), solid (.oct) or mesh (.obj, .stl, .ply, .patches).
+    pub input: PathBuf,
+    /// Output PNG (default: the input's name with .png, in the current folder).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Image size WIDTHxHEIGHT (default: the scene's, or 960x720).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<[u32; 2]>,
+    /// Samples a pixel side: N x N stratified samples (default: the scene's, or 2).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// How primary visibility is decided.
+    #[arg(long, default_value = "trace")]
+    pub method: Method,
+    /// Depth to voxelize a mesh at.
+    #[arg(long, default_value_t = 9)]
+    pub depth: u8,
+    /// The world's up axis for solids and meshes without a scene (default by the
+    /// file's extension: y for .obj and .ply, y-up by convention, as the bunny and
+    /// Spot are; z otherwise, as octsolid's shapes are: pass --up z to view a shape
+    /// exported to .obj or .ply as it was built).
+    #[arg(long)]
+    pub up: Option<octsolid::shape::Axis>,
+    /// Skip shadow rays.
+    #[arg(long)]
+    pub no_shadows: bool,
+    /// Shading normals: axis (the voxel faces'), smooth (the source shape's where a
+    /// solid has one, else estimated from the octree) or octree (always estimated).
+    #[arg(long)]
+    pub normals: Option<Normals>,
+    /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Render a mesh (or Bezier patches, tessellated) as polygons with this
+    /// interpolation shading instead of voxelizing it.
+    #[arg(long)]
+    pub shading: Option<Shading>,
 }
 
 /// Parses `X,Y,Z`.

@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use glam::DVec3;
+use octsolid::FileKind;
 use octsolid::budget::MemoryBudget;
 use octsolid::error::human_bytes;
 use octsolid::import::{self, Fill, Input};
@@ -14,13 +15,13 @@ use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{self, Camera, DEFAULT_VIEW, Light, Material, RenderOptions, Scene};
 use octsolid::samples;
 use octsolid::scene_file;
-use octsolid::shape::{Axis, Cone, Csg, Cuboid, Cylinder, Ellipsoid, Shape, Sphere, Torus};
+use octsolid::shape::{Axis, Shape};
 use octsolid_harness::markdown::render_section;
 use octsolid_harness::report::IMAGES;
 use octsolid_harness::{MatrixOptions, run_matrix, write_report};
 use serde::Serialize;
 
-use super::args::{Args, Command, CsgOp, ShapeArgs, ShapeKind};
+use super::args::{Args, Command, CsgOp, RenderArgs, ShapeArgs};
 use super::progress_bar::Bar;
 
 /// Runs the parsed command line.
@@ -36,14 +37,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         Command::MeshInfo { input, json } => mesh_info_command(&input, json),
         Command::Export { file, output, unit_faces } => export_command(&file, &output, unit_faces, budget),
-        Command::Render { input, output, size, spp, method, depth, up, no_shadows, normals, max_depth, shading } => {
-            let up = up.unwrap_or_else(|| default_up(&input));
-            if let Some(interpolation) = shading {
-                return polygon_command(&input, output, size, spp, up, interpolation.into(), budget);
-            }
-            let shading = Shading { no_shadows, normals: normals.map(Into::into), max_depth };
-            render_command(&input, output, size, spp, method.into(), depth, up, shading, budget)
-        }
+        Command::Render(render) => render_command(&render, budget),
         Command::Demo { output, depth } => demo_command(&output, depth, budget),
         Command::Bench { report, quick, out, threads, models } => {
             bench_command(report, quick, &out, threads, models, budget)
@@ -53,32 +47,8 @@ pub fn run(args: Args) -> Result<()> {
 
 /// `octsolid shape KIND ...`
 fn shape_command(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
-    let center = DVec3::from_array(a.center);
-    let size = DVec3::from_array(a.size);
-    let (shape, exact_volume): (Csg, f64) = match a.kind {
-        ShapeKind::Sphere => (Sphere::new(center, a.radius)?.into(), Sphere::new(center, a.radius)?.volume()),
-        ShapeKind::Ellipsoid => {
-            let e = Ellipsoid::new(center, size * 0.5)?;
-            (e.clone().into(), e.volume())
-        }
-        ShapeKind::Box => {
-            let b = Cuboid::new(center, size)?;
-            (b.clone().into(), b.volume())
-        }
-        ShapeKind::Cylinder => {
-            let c = Cylinder::new(center, a.axis, a.radius, a.height)?;
-            (c.clone().into(), c.volume())
-        }
-        ShapeKind::Cone => {
-            let base = center - a.axis.unit() * (a.height * 0.5);
-            let c = Cone::new(base, a.axis, a.radius, a.height)?;
-            (c.clone().into(), c.volume())
-        }
-        ShapeKind::Torus => {
-            let t = Torus::new(center, a.axis, a.radius, a.tube)?;
-            (t.clone().into(), t.volume())
-        }
-    };
+    let spec = a.spec();
+    let shape = spec.build()?;
     let domain = match a.domain {
         Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, a.depth)?,
         None => Domain::around(&shape.bounds().context("the shape is unbounded; give --domain")?, 0.02, a.depth)?,
@@ -86,7 +56,7 @@ fn shape_command(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
     let tree = voxelize_with_bar(&shape, domain, budget)?;
     let bytes = oct::save(&tree, &a.output)?;
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
-    print_summary(&tree, Some(exact_volume));
+    print_summary(&tree, spec.volume());
     Ok(())
 }
 
@@ -327,19 +297,85 @@ fn demo_command(output: &Path, depth: u8, budget: MemoryBudget) -> Result<()> {
     Ok(())
 }
 
-/// `octsolid render MESH --shading flat|gouraud|phong`: the mesh drawn as polygons.
+/// What `render --shading` draws as polygons: meshes, patch sets (tessellated) and
+/// solids (their boundary); not scenes.
+const POLYGON_INPUTS: &[FileKind] = &[FileKind::Oct, FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::Patches];
+
+/// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method M] [--depth D] [--up A] [--shading S]`
+fn render_command(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
+    let input = &a.input;
+    let output =
+        a.output.clone().unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
+    if let Some(interpolation) = a.shading {
+        let kind = FileKind::of(input, POLYGON_INPUTS)?;
+        return polygon_command(a, kind, &output, interpolation.into(), budget);
+    }
+    let (scene, camera, mut options) = match FileKind::of(input, FileKind::ALL)? {
+        FileKind::Scene => {
+            let file = scene_file::load_scene(input, budget)?;
+            (file.scene, file.camera, file.options)
+        }
+        kind => solid_scene(a, kind, budget)?,
+    };
+    if let Some([w, h]) = a.size {
+        options.width = w;
+        options.height = h;
+    }
+    if let Some(n) = a.spp {
+        options.spp = n;
+    }
+    options.shadows &= !a.no_shadows;
+    options.normals = a.normals.map_or(options.normals, Into::into);
+    options.max_depth = a.max_depth.unwrap_or(options.max_depth);
+    options.method = a.method.into();
+    let img =
+        render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
+    png::save(&img, &output)?;
+    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    Ok(())
+}
+
+/// The scene of one solid file (`.oct`, or a mesh or patches voxelized at `--depth`)
+/// with the default lights and camera for its up axis (`--up`, else its kind's).
+fn solid_scene(a: &RenderArgs, kind: FileKind, budget: MemoryBudget) -> Result<(Scene, Camera, RenderOptions)> {
+    let input = &a.input;
+    let tree = if kind == FileKind::Oct {
+        oct::load(input, budget)?
+    } else {
+        let loaded = Input::load(input)?;
+        let domain = import::default_domain(&loaded, a.depth)?;
+        let bar = Bar::new("voxelizing");
+        import::voxelize_input(&loaded, domain, Fill::Solid, InsideRule::Auto, budget, &bar)
+            .with_context(|| format!("{}: cannot voxelize", input.display()))?
+            .0
+    };
+    let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
+    let mut scene = Scene::new();
+    scene.add(input.display().to_string(), tree, Material::default());
+    scene.lights = Scene::default_lights(&bounds);
+    let options = RenderOptions::default();
+    let up = a.up.unwrap_or(kind.default_up());
+    let (up_vec, view) = (up.unit(), Camera::default_view(up));
+    if up != Axis::Z {
+        let c = bounds.center();
+        let r = bounds.size().length();
+        scene.lights[0] = Light::Point { position: c + (view + up_vec * 1.5) * r, color: DVec3::splat(0.85) };
+    }
+    let aspect = f64::from(options.width) / f64::from(options.height);
+    Ok((scene, Camera::frame(&bounds, view, up_vec, aspect), options))
+}
+
+/// `octsolid render IN --shading flat|gouraud|phong`: a mesh drawn as polygons
+/// (patches tessellated, a solid's boundary in unit faces).
 fn polygon_command(
-    input: &Path,
-    output: Option<std::path::PathBuf>,
-    size: Option<[u32; 2]>,
-    spp: Option<u32>,
-    up: Axis,
+    a: &RenderArgs,
+    kind: FileKind,
+    output: &Path,
     interpolation: render::polygon::Interpolation,
     budget: MemoryBudget,
 ) -> Result<()> {
-    let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
-    let ext = input.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    let mesh = if ext == "oct" {
+    let input = &a.input;
+    let mesh = if kind == FileKind::Oct {
         // The solid's boundary, in unit faces so that vertex normals average locally.
         let tree = oct::load(input, budget)?;
         try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?
@@ -353,9 +389,10 @@ fn polygon_command(
         bail!("{}: nothing to draw", input.display());
     }
     let bounds = mesh.bounds();
-    let [width, height] = size.unwrap_or([960, 720]);
-    let (up_vec, view) = view_for(up);
-    let camera = Camera::frame(&bounds, view, up_vec, f64::from(width) / f64::from(height.max(1)));
+    let [width, height] = a.size.unwrap_or([960, 720]);
+    let up = a.up.unwrap_or(kind.default_up());
+    let camera =
+        Camera::frame(&bounds, Camera::default_view(up), up.unit(), f64::from(width) / f64::from(height.max(1)));
     let scene = render::polygon::MeshScene {
         mesh: &mesh,
         material: Material::default(),
@@ -364,97 +401,14 @@ fn polygon_command(
         background: Scene::new().background,
     };
     let started = Instant::now();
-    let img = render::polygon::render_mesh(&scene, &camera, width, height, spp.unwrap_or(2), interpolation)
+    let img = render::polygon::render_mesh(&scene, &camera, width, height, a.spp.unwrap_or(2), interpolation)
         .with_context(|| format!("{}: cannot render", input.display()))?;
     out!(
         "drew {} triangles with {interpolation:?} shading in {:.2} s",
         mesh.triangles.len(),
         started.elapsed().as_secs_f64()
     );
-    png::save(&img, &output)?;
-    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
-    Ok(())
-}
-
-/// The up axis a file's format implies: OBJ and PLY meshes are y-up by convention
-/// (the bunny, Spot); STL, Bezier patches (the teapot) and our .oct files z-up.
-fn default_up(input: &Path) -> Axis {
-    if matches!(MeshFormat::of(input), Ok(MeshFormat::Obj | MeshFormat::Ply)) { Axis::Y } else { Axis::Z }
-}
-
-/// The world's up vector and the default view direction for an up axis.
-fn view_for(up: Axis) -> (DVec3, DVec3) {
-    match up {
-        Axis::Z => (DVec3::Z, DEFAULT_VIEW),
-        Axis::Y => (DVec3::Y, DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y)),
-        Axis::X => (DVec3::X, DVec3::new(DEFAULT_VIEW.z, DEFAULT_VIEW.x, -DEFAULT_VIEW.y)),
-    }
-}
-
-/// The render command's shading flags.
-struct Shading {
-    no_shadows: bool,
-    normals: Option<render::Normals>,
-    max_depth: Option<u32>,
-}
-
-/// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method trace] [--depth D] [--up A]`
-#[allow(clippy::too_many_arguments)]
-fn render_command(
-    input: &Path,
-    output: Option<std::path::PathBuf>,
-    size: Option<[u32; 2]>,
-    spp: Option<u32>,
-    method: render::Method,
-    depth: u8,
-    up: Axis,
-    shading: Shading,
-    budget: MemoryBudget,
-) -> Result<()> {
-    let output = output.unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
-    let ext = input.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    let (scene, camera, mut options) = if ext == "toml" {
-        let file = scene_file::load_scene(input, budget)?;
-        (file.scene, file.camera, file.options)
-    } else {
-        let tree = if ext == "oct" {
-            oct::load(input, budget)?
-        } else {
-            let loaded = Input::load(input)?;
-            let domain = import::default_domain(&loaded, depth)?;
-            let bar = Bar::new("voxelizing");
-            import::voxelize_input(&loaded, domain, Fill::Solid, InsideRule::Auto, budget, &bar)
-                .with_context(|| format!("{}: cannot voxelize", input.display()))?
-                .0
-        };
-        let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
-        let mut scene = Scene::new();
-        scene.add(input.display().to_string(), tree, Material::default());
-        scene.lights = Scene::default_lights(&bounds);
-        let options = RenderOptions::default();
-        let (up_vec, view) = view_for(up);
-        if up != Axis::Z {
-            let c = bounds.center();
-            let r = bounds.size().length();
-            scene.lights[0] = Light::Point { position: c + (view + up_vec * 1.5) * r, color: DVec3::splat(0.85) };
-        }
-        let aspect = f64::from(options.width) / f64::from(options.height);
-        (scene, Camera::frame(&bounds, view, up_vec, aspect), options)
-    };
-    if let Some([w, h]) = size {
-        options.width = w;
-        options.height = h;
-    }
-    if let Some(n) = spp {
-        options.spp = n;
-    }
-    options.shadows &= !shading.no_shadows;
-    options.normals = shading.normals.unwrap_or(options.normals);
-    options.max_depth = shading.max_depth.unwrap_or(options.max_depth);
-    options.method = method;
-    let img =
-        render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
-    png::save(&img, &output)?;
+    png::save(&img, output)?;
     out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     Ok(())
 }

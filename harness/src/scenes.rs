@@ -9,9 +9,9 @@ use octsolid::budget::MemoryBudget;
 use octsolid::error::Result;
 use octsolid::mesh::{MeshVoxelizeOptions, TriangleMesh, load_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use octsolid::render::DEFAULT_VIEW;
+use octsolid::render::Camera;
 use octsolid::samples::classic_csg;
-use octsolid::shape::{Menger, Sphere};
+use octsolid::shape::{Axis, Menger, Sphere};
 
 /// The file of the bunny inside the models folder.
 pub const BUNNY_FILE: &str = "stanford-bunny.obj";
@@ -69,20 +69,23 @@ impl SceneKind {
         }
     }
 
-    /// The world's up direction (the bunny is y-up).
+    /// The world's up axis (the bunny is y-up).
     #[must_use]
-    pub fn up(self) -> DVec3 {
-        if self == SceneKind::Bunny { DVec3::Y } else { DVec3::Z }
+    pub fn up_axis(self) -> Axis {
+        if self == SceneKind::Bunny { Axis::Y } else { Axis::Z }
     }
 
-    /// The camera's viewing direction (from the target to the eye) for [`SceneKind::up`].
+    /// The world's up direction, [`SceneKind::up_axis`] as a vector.
+    #[must_use]
+    pub fn up(self) -> DVec3 {
+        self.up_axis().unit()
+    }
+
+    /// The camera's viewing direction (from the target to the eye): the default view
+    /// for [`SceneKind::up_axis`].
     #[must_use]
     pub fn view(self) -> DVec3 {
-        if self == SceneKind::Bunny {
-            DVec3::new(DEFAULT_VIEW.x, DEFAULT_VIEW.z, -DEFAULT_VIEW.y)
-        } else {
-            DEFAULT_VIEW
-        }
+        Camera::default_view(self.up_axis())
     }
 }
 

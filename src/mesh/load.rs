@@ -1,9 +1,10 @@
-//! Loading meshes by file extension.
+//! Loading meshes by file extension (read by [`FileKind::of`]).
 
 use std::path::Path;
 
 use super::TriangleMesh;
 use crate::error::{Error, Result};
+use crate::file_kind::FileKind;
 
 /// Mesh file formats octsolid reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -17,19 +18,15 @@ pub enum MeshFormat {
 }
 
 impl MeshFormat {
-    /// The format of `path` by its extension, case-insensitive.
+    /// The format of `path` by its extension, case-insensitive ([`FileKind::of`]
+    /// over [`FileKind::MESHES`]).
     pub fn of(path: &Path) -> Result<MeshFormat> {
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        match ext.as_str() {
-            "obj" => Ok(MeshFormat::Obj),
-            "stl" => Ok(MeshFormat::Stl),
-            "ply" => Ok(MeshFormat::Ply),
-            _ => Err(Error::Format {
-                path: path.to_path_buf(),
-                offset: 0,
-                reason: format!("unknown mesh extension '{ext}' (use .obj, .stl or .ply)"),
-            }),
-        }
+        Ok(match FileKind::of(path, FileKind::MESHES)? {
+            FileKind::Obj => MeshFormat::Obj,
+            FileKind::Stl => MeshFormat::Stl,
+            FileKind::Ply => MeshFormat::Ply,
+            other => unreachable!("{other:?} is not in FileKind::MESHES"),
+        })
     }
 }
 

@@ -1,8 +1,11 @@
-//! Coordinate axes, for shapes with an axis and for the CLI's `--axis x|y|z`.
+//! Coordinate axes, for shapes with an axis, scene files' `axis = "z"` and the CLI's
+//! `--axis x|y|z`.
 
 use glam::DVec3;
 
-/// One of the three coordinate axes.
+/// One of the three coordinate axes. In scene files `"x"`, `"y"` or `"z"`, in either
+/// case as by [`str::parse`]; any other value is a deserialization error (an unknown
+/// variant) at its place in the file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Axis {
     /// The x axis.
@@ -56,5 +59,14 @@ impl std::str::FromStr for Axis {
             "z" => Ok(Axis::Z),
             _ => Err(format!("'{s}' is not an axis (use x, y or z)")),
         }
+    }
+}
+
+/// A string read by [`str::parse`], so scene files take what `--axis` takes; a derived
+/// enum would list the upper-case spellings as variants of their own in its errors.
+impl<'de> serde::Deserialize<'de> for Axis {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(deserializer)?;
+        s.parse().map_err(|_| serde::de::Error::unknown_variant(&s, &["x", "y", "z"]))
     }
 }

@@ -4,6 +4,7 @@ use glam::DVec3;
 
 use crate::aabb::Aabb;
 use crate::ray::Ray;
+use crate::shape::Axis;
 
 /// How the camera projects.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,7 +35,8 @@ pub struct Camera {
 }
 
 /// The default viewing direction of [`Camera::frame`], from the target towards the
-/// eye, for a z-up world: front-right and above.
+/// eye, for a z-up world: front-right and above. [`Camera::default_view`] gives it for
+/// any up axis.
 pub const DEFAULT_VIEW: DVec3 = DVec3::new(1.0, -1.7, 1.1);
 
 impl Camera {
@@ -44,10 +46,24 @@ impl Camera {
         Camera { eye, target, up, projection: Projection::Perspective { fov_y } }
     }
 
+    /// The default viewing direction (from the target towards the eye) for a world
+    /// whose up vector is `up.unit()`: [`DEFAULT_VIEW`] `v` for z-up; for y-up
+    /// `(v.x, v.z, -v.y)`, the z-up view turned with the world so that its z goes to
+    /// y; for x-up `(v.z, v.x, -v.y)`. The one place an up axis becomes a view.
+    #[must_use]
+    pub fn default_view(up: Axis) -> DVec3 {
+        let v = DEFAULT_VIEW;
+        match up {
+            Axis::Z => v,
+            Axis::Y => DVec3::new(v.x, v.z, -v.y),
+            Axis::X => DVec3::new(v.z, v.x, -v.y),
+        }
+    }
+
     /// A perspective camera (35 degrees) framing `bounds` from `view` (a direction from
-    /// the target to the eye; use [`DEFAULT_VIEW`]) with `up`, for an image of `aspect`
-    /// = width / height: the nearest distance at which all eight corners of the box
-    /// project inside the image, plus a 6% margin.
+    /// the target to the eye; use [`Camera::default_view`]) with `up`, for an image of
+    /// `aspect` = width / height: the nearest distance at which all eight corners of the
+    /// box project inside the image, plus a 6% margin.
     #[must_use]
     pub fn frame(bounds: &Aabb, view: DVec3, up: DVec3, aspect: f64) -> Self {
         let fov_y: f64 = 35.0;
@@ -168,5 +184,24 @@ impl View {
                 Ray::new(self.eye + self.right * (x * h * self.aspect) + self.up * (y * h), self.forward)
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_view_looks_down_from_the_same_height_for_every_up_axis() {
+        assert_eq!(Camera::default_view(Axis::Z), DEFAULT_VIEW);
+        for up in [Axis::X, Axis::Y, Axis::Z] {
+            let v = Camera::default_view(up);
+            // The same direction in the up axis's frame: as far above the target, as
+            // long, and never along the up vector (which would leave no image right).
+            assert_eq!(v.dot(up.unit()), DEFAULT_VIEW.z, "{up:?}");
+            assert_eq!(v.length_squared(), DEFAULT_VIEW.length_squared(), "{up:?}");
+            assert!(v.cross(up.unit()).length() > 1.0, "{up:?}");
+        }
+        assert_eq!(Camera::default_view(Axis::Y), DVec3::new(1.0, 1.1, 1.7));
     }
 }

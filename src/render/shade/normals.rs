@@ -10,8 +10,10 @@ use crate::ray::Ray;
 use crate::render::scene::{Scene, SceneHit, SceneSolid};
 use crate::render::trace::Hit;
 
-/// Which normal shades a surface.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Which normal shades a surface. Scene files write it in snake case (`normals =
+/// "smooth"`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Normals {
     /// The entered voxel face's axis normal (exact for the voxel solid).
     #[default]

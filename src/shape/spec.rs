@@ -1,0 +1,315 @@
+//! Shape specifications: a CSG tree of shapes written as data, and the one place a
+//! shape is built by its kind.
+//!
+//! A [`ShapeSpec`] is what a scene file writes after `shape =` (`docs/SCENES.md`): one
+//! key naming the kind, in snake case, holding the kind's fields, e.g.
+//! `{ sphere = { center = [0, 0, 0], radius = 1 } }`, or a list for the set operations,
+//! `{ difference = [a, b, c] }`. Unknown kinds and fields are deserialization errors,
+//! which the scene loader reports with file, line and column. The CLI's
+//! `octsolid shape KIND --radius ...` flags become a spec too, so both build shapes by
+//! [`ShapeSpec::build`] and get the same checks and the same bits.
+//!
+//! Building checks what the shapes' constructors check (finite values, positive sizes)
+//! and that every set operation has an operand; a `transform` applies `scale`, then the
+//! rotation of `rotate_degrees` about `rotate_axis` (both or neither), then `translate`.
+//!
+//! [`ShapeSpec::volume`] is the exact volume where there is a closed form: each
+//! primitive's formula (the Menger sponge's `size^3 (20/27)^level` included), and a
+//! transform's inner volume times `|det M|` of its linear part. Half-spaces and
+//! complements are unbounded, a displaced sphere and the set operations have none.
+
+use glam::{DAffine3, DQuat, DVec3};
+use serde::Deserialize;
+
+use super::{
+    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Sphere, Torus, Transformed,
+};
+use crate::error::{Error, Result};
+
+/// A shape CSG tree as data (see the module doc); [`ShapeSpec::build`] makes the [`Csg`].
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// A ball.
+    Sphere {
+        /// Centre.
+        center: [f64; 3],
+        /// Radius.
+        radius: f64,
+    },
+    /// An axis-aligned ellipsoid.
+    Ellipsoid {
+        /// Centre.
+        center: [f64; 3],
+        /// Semi-axes along x, y and z.
+        radii: [f64; 3],
+    },
+    /// An axis-aligned box.
+    Box {
+        /// Centre.
+        center: [f64; 3],
+        /// Edge lengths.
+        size: [f64; 3],
+    },
+    /// A capped cylinder.
+    Cylinder {
+        /// Centre (the middle of the axis).
+        center: [f64; 3],
+        /// The axis it runs along.
+        axis: Axis,
+        /// Radius.
+        radius: f64,
+        /// Length along the axis.
+        height: f64,
+    },
+    /// A capped cone, its apex towards `+axis`.
+    Cone {
+        /// Centre of the base disc.
+        base: [f64; 3],
+        /// The axis from the base to the apex.
+        axis: Axis,
+        /// Radius of the base.
+        radius: f64,
+        /// Base to apex.
+        height: f64,
+    },
+    /// A torus around an axis.
+    Torus {
+        /// Centre.
+        center: [f64; 3],
+        /// The axis it turns around.
+        axis: Axis,
+        /// Centre to the middle of the tube.
+        radius: f64,
+        /// Radius of the tube.
+        tube: f64,
+    },
+    /// The points `p` with `normal . p <= offset`.
+    HalfSpace {
+        /// Outward normal (need not be unit).
+        normal: [f64; 3],
+        /// The plane's offset along the normal.
+        offset: f64,
+    },
+    /// The Menger sponge in a cube.
+    Menger {
+        /// Centre of the cube.
+        center: [f64; 3],
+        /// Edge of the cube.
+        size: f64,
+        /// Recursion level (at most 30).
+        level: u32,
+    },
+    /// A sphere of radius `R + A sin(k x) sin(k y) sin(k z)` over unit directions.
+    DisplacedSphere {
+        /// Centre.
+        center: [f64; 3],
+        /// Mean radius `R`.
+        radius: f64,
+        /// Amplitude `A` of the bumps.
+        amplitude: f64,
+        /// Frequency `k` of the bumps.
+        frequency: f64,
+    },
+    /// Points in any operand.
+    Union(Vec<ShapeSpec>),
+    /// Points in every operand.
+    Intersection(Vec<ShapeSpec>),
+    /// Points in the first operand and no other.
+    Difference(Vec<ShapeSpec>),
+    /// Points in an odd number of the operands.
+    Xor(Vec<ShapeSpec>),
+    /// Points not in the shape.
+    Complement(Box<ShapeSpec>),
+    /// A shape scaled, then rotated, then translated.
+    Transform {
+        /// The shape moved.
+        shape: Box<ShapeSpec>,
+        /// Scale factors along x, y and z (default 1).
+        scale: Option<[f64; 3]>,
+        /// The rotation's axis (with `rotate_degrees`; need not be unit).
+        rotate_axis: Option<[f64; 3]>,
+        /// The rotation's angle in degrees (with `rotate_axis`).
+        rotate_degrees: Option<f64>,
+        /// Translation (default none).
+        translate: Option<[f64; 3]>,
+    },
+}
+
+/// A `[x, y, z]` of a spec as a vector.
+fn v(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+impl ShapeSpec {
+    /// The CSG tree this spec describes; errors name the refused value (a negative
+    /// radius, a set operation without operands, a rotation axis of zero length).
+    pub fn build(&self) -> Result<Csg> {
+        Ok(match self {
+            ShapeSpec::Sphere { center, radius } => Sphere::new(v(*center), *radius)?.into(),
+            ShapeSpec::Ellipsoid { center, radii } => Ellipsoid::new(v(*center), v(*radii))?.into(),
+            ShapeSpec::Box { center, size } => Cuboid::new(v(*center), v(*size))?.into(),
+            ShapeSpec::Cylinder { center, axis, radius, height } => {
+                Cylinder::new(v(*center), *axis, *radius, *height)?.into()
+            }
+            ShapeSpec::Cone { base, axis, radius, height } => Cone::new(v(*base), *axis, *radius, *height)?.into(),
+            ShapeSpec::Torus { center, axis, radius, tube } => Torus::new(v(*center), *axis, *radius, *tube)?.into(),
+            ShapeSpec::HalfSpace { normal, offset } => HalfSpace::new(v(*normal), *offset)?.into(),
+            ShapeSpec::Menger { center, size, level } => Menger::new(v(*center), *size, *level)?.into(),
+            ShapeSpec::DisplacedSphere { center, radius, amplitude, frequency } => {
+                DisplacedSphere::new(v(*center), *radius, *amplitude, *frequency)?.into()
+            }
+            ShapeSpec::Union(parts) => fold(parts, |a, b| a | b)?,
+            ShapeSpec::Intersection(parts) => fold(parts, |a, b| a & b)?,
+            ShapeSpec::Difference(parts) => fold(parts, |a, b| a - b)?,
+            ShapeSpec::Xor(parts) => fold(parts, |a, b| a ^ b)?,
+            ShapeSpec::Complement(inner) => !inner.build()?,
+            ShapeSpec::Transform { shape, .. } => {
+                let map = self.transform()?;
+                Transformed::new(shape.build()?, map)?.into()
+            }
+        })
+    }
+
+    /// The exact volume where there is a closed form (see the module doc); `None`
+    /// where there is none and for a spec that does not build.
+    #[must_use]
+    pub fn volume(&self) -> Option<f64> {
+        match self {
+            ShapeSpec::Sphere { center, radius } => Some(Sphere::new(v(*center), *radius).ok()?.volume()),
+            ShapeSpec::Ellipsoid { center, radii } => Some(Ellipsoid::new(v(*center), v(*radii)).ok()?.volume()),
+            ShapeSpec::Box { center, size } => Some(Cuboid::new(v(*center), v(*size)).ok()?.volume()),
+            ShapeSpec::Cylinder { center, axis, radius, height } => {
+                Some(Cylinder::new(v(*center), *axis, *radius, *height).ok()?.volume())
+            }
+            ShapeSpec::Cone { base, axis, radius, height } => {
+                Some(Cone::new(v(*base), *axis, *radius, *height).ok()?.volume())
+            }
+            ShapeSpec::Torus { center, axis, radius, tube } => {
+                Some(Torus::new(v(*center), *axis, *radius, *tube).ok()?.volume())
+            }
+            ShapeSpec::Menger { center, size, level } => Some(Menger::new(v(*center), *size, *level).ok()?.volume()),
+            // The volume of an affine image is |det| of the linear part times the volume.
+            ShapeSpec::Transform { shape, .. } => {
+                Some(shape.volume()? * self.transform().ok()?.matrix3.determinant().abs())
+            }
+            ShapeSpec::HalfSpace { .. }
+            | ShapeSpec::DisplacedSphere { .. }
+            | ShapeSpec::Union(_)
+            | ShapeSpec::Intersection(_)
+            | ShapeSpec::Difference(_)
+            | ShapeSpec::Xor(_)
+            | ShapeSpec::Complement(_) => None,
+        }
+    }
+
+    /// The map of a `transform`: `translate * rotate * scale`; the identity for any
+    /// other kind.
+    fn transform(&self) -> Result<DAffine3> {
+        let ShapeSpec::Transform { scale, rotate_axis, rotate_degrees, translate, .. } = self else {
+            return Ok(DAffine3::IDENTITY);
+        };
+        let scale = DAffine3::from_scale(scale.map_or(DVec3::ONE, v));
+        let rotate = match (rotate_axis, rotate_degrees) {
+            (Some(a), Some(deg)) => {
+                let a = v(*a).try_normalize().ok_or_else(|| Error::invalid("rotate_axis", "must be non-zero"))?;
+                DAffine3::from_quat(DQuat::from_axis_angle(a, deg.to_radians()))
+            }
+            (None, None) => DAffine3::IDENTITY,
+            _ => return Err(Error::invalid("transform", "give rotate_axis and rotate_degrees together")),
+        };
+        let translate = DAffine3::from_translation(translate.map_or(DVec3::ZERO, v));
+        Ok(translate * rotate * scale)
+    }
+}
+
+/// The left fold of `op` over the operands' trees: `((a op b) op c) ...`.
+fn fold(parts: &[ShapeSpec], op: fn(Csg, Csg) -> Csg) -> Result<Csg> {
+    let mut it = parts.iter();
+    let first = it.next().ok_or_else(|| Error::invalid("shape", "a CSG operation needs at least one operand"))?;
+    it.try_fold(first.build()?, |acc, s| Ok(op(acc, s.build()?)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shape::Shape;
+
+    fn spec(toml_text: &str) -> std::result::Result<ShapeSpec, toml::de::Error> {
+        #[derive(Deserialize)]
+        struct File {
+            shape: ShapeSpec,
+        }
+        toml::from_str::<File>(toml_text).map(|f| f.shape)
+    }
+
+    #[test]
+    fn scene_syntax_deserializes_to_the_spec() {
+        let s = spec(
+            "shape = { difference = [\n  { box = { center = [0, 0, 0], size = [2, 2, 2] } },\n  \
+             { cylinder = { center = [0, 0, 0], axis = \"Z\", radius = 0.6, height = 3 } },\n] }",
+        )
+        .unwrap();
+        let want = ShapeSpec::Difference(vec![
+            ShapeSpec::Box { center: [0.0; 3], size: [2.0; 3] },
+            ShapeSpec::Cylinder { center: [0.0; 3], axis: Axis::Z, radius: 0.6, height: 3.0 },
+        ]);
+        assert_eq!(s, want);
+        let e = spec("shape = { cylinder = { center = [0, 0, 0], axis = \"w\", radius = 1, height = 1 } }")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("column 51") && e.contains("unknown variant `w`, expected one of `x`, `y`, `z`"), "{e}");
+        assert!(spec("shape = { sphere = { center = [0, 0, 0], radius = 1, colour = 2 } }").is_err());
+        assert!(spec("shape = { blob = { center = [0, 0, 0] } }").is_err());
+    }
+
+    #[test]
+    fn volumes_are_the_primitives_and_affine_images_have_det_times_it() {
+        let ball = ShapeSpec::Sphere { center: [1.0, 0.0, 0.0], radius: 2.0 };
+        assert_eq!(ball.volume(), Some(Sphere::new(DVec3::X, 2.0).unwrap().volume()));
+        let stretched = ShapeSpec::Transform {
+            shape: Box::new(ball.clone()),
+            scale: Some([2.0, 0.5, 3.0]),
+            rotate_axis: Some([1.0, 1.0, 0.0]),
+            rotate_degrees: Some(30.0),
+            translate: Some([5.0, 0.0, 0.0]),
+        };
+        let want = 3.0 * 32.0 / 3.0 * std::f64::consts::PI;
+        assert!((stretched.volume().unwrap() / want - 1.0).abs() < 1e-12, "{:?}", stretched.volume());
+        let sponge = ShapeSpec::Menger { center: [0.0; 3], size: 3.0, level: 2 };
+        assert_eq!(sponge.volume(), Some(27.0 * (20.0f64 / 27.0).powi(2)));
+        assert_eq!(ShapeSpec::Union(vec![ball.clone()]).volume(), None);
+        assert_eq!(ShapeSpec::Sphere { center: [0.0; 3], radius: -1.0 }.volume(), None);
+    }
+
+    #[test]
+    fn building_checks_the_values_and_the_operands() {
+        let e = ShapeSpec::Sphere { center: [0.0; 3], radius: -1.0 }.build().unwrap_err().to_string();
+        assert!(e.contains("radius"), "{e}");
+        let e = ShapeSpec::Union(vec![]).build().unwrap_err().to_string();
+        assert!(e.contains("at least one operand"), "{e}");
+        let half_turn = ShapeSpec::Transform {
+            shape: Box::new(ShapeSpec::Box { center: [1.0, 0.0, 0.0], size: [1.0; 3] }),
+            scale: None,
+            rotate_axis: Some([0.0, 0.0, 2.0]),
+            rotate_degrees: Some(180.0),
+            translate: Some([0.0, 0.0, 1.0]),
+        };
+        let tree = half_turn.build().unwrap();
+        assert!(tree.contains(DVec3::new(-1.0, 0.0, 1.0)) && !tree.contains(DVec3::new(1.0, 0.0, 0.0)));
+        let lopsided = ShapeSpec::Transform {
+            shape: Box::new(ShapeSpec::Sphere { center: [0.0; 3], radius: 1.0 }),
+            scale: None,
+            rotate_axis: None,
+            rotate_degrees: Some(90.0),
+            translate: None,
+        };
+        assert!(lopsided.build().unwrap_err().to_string().contains("together"));
+        let xor = ShapeSpec::Xor(vec![
+            ShapeSpec::Sphere { center: [0.0; 3], radius: 1.0 },
+            ShapeSpec::Sphere { center: [1.0, 0.0, 0.0], radius: 1.0 },
+        ]);
+        let tree = xor.build().unwrap();
+        assert!(tree.contains(DVec3::new(-0.9, 0.0, 0.0)) && !tree.contains(DVec3::new(0.5, 0.0, 0.0)));
+    }
+}
