@@ -4,7 +4,8 @@
 //!
 //! The file is an ASCII header, `#binvox 1` (or `2`), `dim d w h`, `translate tx ty
 //! tz`, `scale s`, `data`, one a line, then run-length pairs of bytes `(value, count)`,
-//! `count` in `1..=255`, over the voxels in the spec's order: index
+//! `count` in `1..=255` (a count of 0, which some writers emit after a run of exactly
+//! 255, is read as no voxels), over the voxels in the spec's order: index
 //! `x * (w h) + z * w + y` (x slowest, then z, y fastest), so `dim` lists the sizes
 //! along x, z and y. Voxel `(i, j, k)` has its centre at
 //! `translate + scale * ((i, j, k) + 1/2) / d`.
@@ -75,9 +76,8 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
         let Some(len) = bytes[pos..bytes.len().min(MAX_HEADER)].iter().position(|&b| b == b'\n') else {
             return Err(fail(path, at, format!("no \"data\" line within the first {MAX_HEADER} bytes")));
         };
-        let line = std::str::from_utf8(&bytes[pos..pos + len])
-            .map_err(|_| fail(path, at, "header line is not ASCII"))?
-            .trim();
+        let line =
+            std::str::from_utf8(&bytes[pos..pos + len]).map_err(|_| fail(path, at, "header line is not ASCII"))?.trim();
         pos += len + 1;
         let mut words = line.split_whitespace();
         let key = words.next().unwrap_or("");
@@ -86,14 +86,17 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
             header.version = match (key, values.as_slice()) {
                 ("#binvox", ["1"]) => 1,
                 ("#binvox", ["2"]) => 2,
-                ("#binvox", _) => return Err(fail(path, at, format!("binvox version {line:?} is not supported (1 or 2)"))),
+                ("#binvox", _) => {
+                    return Err(fail(path, at, format!("binvox version {line:?} is not supported (1 or 2)")));
+                }
                 _ => return Err(fail(path, 0, "not a binvox file (the first line is not \"#binvox 1\")")),
             };
             line_no += 1;
             continue;
         }
         let numbers = |n: usize| -> Result<Vec<f64>> {
-            let parsed: Vec<f64> = values.iter().filter_map(|v| v.parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
+            let parsed: Vec<f64> =
+                values.iter().filter_map(|v| v.parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
             if values.len() != n || parsed.len() != n {
                 return Err(fail(path, at, format!("{key} needs {n} finite numbers, got {line:?}")));
             }
@@ -155,9 +158,6 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
     for (p, pair) in data.chunks_exact(2).enumerate() {
         let at = header.data + 2 * p;
         let (value, count) = (pair[0], u64::from(pair[1]));
-        if count == 0 {
-            return Err(fail(path, at + 1, "run of count 0"));
-        }
         if header.version == 1 && value > 1 {
             return Err(fail(path, at, format!("value {value} in a version-1 file (0 or 1)")));
         }

@@ -156,10 +156,7 @@ impl SolidFormat {
             _ => {
                 return Err(Error::invalid(
                     "solid file",
-                    format!(
-                        "{}: extension {ext:?} is not a solid format (oct, vox, binvox, vdb, glb)",
-                        path.display()
-                    ),
+                    format!("{}: extension {ext:?} is not a solid format (oct, vox, binvox, vdb, glb)", path.display()),
                 ));
             }
         })

@@ -252,7 +252,9 @@ fn encode_grid(solid: &ColouredSolid, compression: Compression) -> (Vec<u8>, usi
     let h = d.voxel_size();
     write_string(&mut out, "UniformScaleTranslateMap");
     let t = d.min() + DVec3::splat(0.5 * h);
-    for v in [t, DVec3::splat(h), DVec3::splat(h), DVec3::splat(1.0 / h), DVec3::splat(1.0 / (h * h)), DVec3::splat(0.5 / h)] {
+    for v in
+        [t, DVec3::splat(h), DVec3::splat(h), DVec3::splat(1.0 / h), DVec3::splat(1.0 / (h * h)), DVec3::splat(0.5 / h)]
+    {
         for c in v.to_array() {
             out.extend(c.to_le_bytes());
         }
@@ -381,7 +383,9 @@ impl<'a> Reader<'a> {
 
     fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8]> {
         if n > self.bytes.len() - self.pos {
-            return Err(self.err(self.pos, format!("truncated: {what} needs {n} bytes, {} left", self.bytes.len() - self.pos)));
+            return Err(
+                self.err(self.pos, format!("truncated: {what} needs {n} bytes, {} left", self.bytes.len() - self.pos))
+            );
         }
         let s = &self.bytes[self.pos..self.pos + n];
         self.pos += n;
@@ -533,11 +537,8 @@ impl Reader<'_> {
             return Ok(self.take(len, "values")?.to_vec());
         }
         let src = self.take(usize::try_from(n).unwrap_or(usize::MAX), "compressed values")?;
-        let out = if grid.compression & COMPRESS_BLOSC != 0 {
-            blosc::decompress(src, len)
-        } else {
-            blosc::inflate(src, len)
-        };
+        let out =
+            if grid.compression & COMPRESS_BLOSC != 0 { blosc::decompress(src, len) } else { blosc::inflate(src, len) };
         out.map_err(|e| self.err(at, e))
     }
 
@@ -562,7 +563,8 @@ impl Reader<'_> {
         let masked = grid.compression & COMPRESS_ACTIVE_MASK != 0 && meta != 6;
         let stored = if masked { active.count() } else { count };
         let size = grid.buffer_size();
-        let raw = self.data(grid, stored, size)?;
+        // OpenVDB's half writer writes nothing at all, not even a size, for no values.
+        let raw = if grid.half && stored == 0 { Vec::new() } else { self.data(grid, stored, size)? };
         let decoded: Vec<f64> = raw.chunks_exact(size).map(|b| grid.decode_value(b)).collect();
         if stored == count {
             return Ok(decoded);
@@ -609,7 +611,10 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
     }
     let version = r.u32("file version")?;
     if version < OLDEST_VERSION {
-        return Err(r.err(8, format!("file format version {version} is older than {OLDEST_VERSION}; re-save it with OpenVDB 3 or later")));
+        return Err(r.err(
+            8,
+            format!("file format version {version} is older than {OLDEST_VERSION}; re-save it with OpenVDB 3 or later"),
+        ));
     }
     r.take(8, "library version")?;
     if r.array::<1>("grid offsets flag")?[0] == 0 {
@@ -628,9 +633,14 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
         let parent = r.string("instance parent")?;
         let (grid_pos, block_pos, end_pos) = (r.i64("grid offset")?, r.i64("block offset")?, r.i64("end offset")?);
         let name = unique.split('\u{1e}').next().unwrap_or_default().to_owned();
-        let ok = grid_pos == r.pos as i64 && grid_pos <= block_pos && block_pos <= end_pos && end_pos as u64 <= bytes.len() as u64;
+        let ok = grid_pos == r.pos as i64
+            && grid_pos <= block_pos
+            && block_pos <= end_pos
+            && end_pos as u64 <= bytes.len() as u64;
         if !ok {
-            return Err(r.err(at, format!("grid {name:?}: offsets {grid_pos}, {block_pos}, {end_pos} do not fit the file")));
+            return Err(
+                r.err(at, format!("grid {name:?}: offsets {grid_pos}, {block_pos}, {end_pos} do not fit the file"))
+            );
         }
         let (value, half) = match kind.as_str() {
             "Tree_float_5_4_3" => (Some(ValueType::F32), false),
@@ -642,18 +652,27 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
         let wanted = options.grid.as_ref().is_none_or(|g| *g == name);
         if wanted && (value.is_some() || options.grid.is_some()) {
             let Some(value) = value else {
-                return Err(r.err(at, format!("grid {name:?} is of type {kind}; float, double and bool grids are read")));
+                return Err(
+                    r.err(at, format!("grid {name:?} is of type {kind}; float, double and bool grids are read"))
+                );
             };
             if !parent.is_empty() {
-                return Err(r.err(at, format!("grid {name:?} is an instance of {parent:?}; instanced grids are not supported")));
+                return Err(r.err(
+                    at,
+                    format!("grid {name:?} is an instance of {parent:?}; instanced grids are not supported"),
+                ));
             }
             return read_grid(&mut r, name, value, half, options);
         }
         found.push(format!("{name} ({kind})"));
         r.pos = end_pos as usize;
     }
-    let what = options.grid.as_ref().map_or("no float, double or bool grid".to_string(), |g| format!("no grid named {g:?}"));
-    Err(r.err(at, format!("{what}; the file has {}", if found.is_empty() { "no grids".into() } else { found.join(", ") })))
+    let what =
+        options.grid.as_ref().map_or("no float, double or bool grid".to_string(), |g| format!("no grid named {g:?}"));
+    Err(r.err(
+        at,
+        format!("{what}; the file has {}", if found.is_empty() { "no grids".into() } else { found.join(", ") }),
+    ))
 }
 
 fn read_grid(r: &mut Reader<'_>, name: String, value: ValueType, half: bool, options: &ReadOptions) -> Result<Solids> {
@@ -694,7 +713,9 @@ fn read_grid(r: &mut Reader<'_>, name: String, value: ValueType, half: bool, opt
     let vs = grid.value_size();
     grid.background = grid.decode_value(r.take(vs, "background")?);
     if grid.inside(grid.background) {
-        return Err(r.err(at + 4, format!("the background {} is inside: the solid would be unbounded", grid.background)));
+        return Err(
+            r.err(at + 4, format!("the background {} is inside: the solid would be unbounded", grid.background))
+        );
     }
     let at = r.pos;
     let (tiles, children) = (r.u32("tile count")? as u64, r.u32("child count")? as u64);
@@ -725,7 +746,10 @@ fn read_grid(r: &mut Reader<'_>, name: String, value: ValueType, half: bool, opt
     }
     // The budget: a node a tile and a voxel of every leaf at most, 20 bytes each.
     let leaves: usize = uppers.values().flat_map(|u: &ReadUpper| &u.lowers).map(|l| l.leaves.len()).sum();
-    let tile_count: usize = uppers.values().map(|u| u.inside_tiles.len() + u.lowers.iter().map(|l| l.inside_tiles.len()).sum::<usize>()).sum();
+    let tile_count: usize = uppers
+        .values()
+        .map(|u| u.inside_tiles.len() + u.lowers.iter().map(|l| l.inside_tiles.len()).sum::<usize>())
+        .sum();
     let estimate = (leaves as u64 * 512 + tile_count as u64 + blocks.len() as u64) * 40;
     options.budget.check(format!("reading grid {:?} of {}", grid.name, r.path.display()), estimate)?;
     // Step 5: inside tiles, then the buffers of every leaf in the root's origin order.
@@ -780,7 +804,12 @@ fn read_upper(r: &mut Reader<'_>, grid: &Grid, origin: [i64; 3]) -> Result<ReadU
 }
 
 /// A leaf's buffer: its value mask and values (bools: its origin and a value mask).
-fn read_leaf_buffer(r: &mut Reader<'_>, grid: &Grid, origin: [i64; 3], blocks: &mut Vec<([i64; 3], i64)>) -> Result<()> {
+fn read_leaf_buffer(
+    r: &mut Reader<'_>,
+    grid: &Grid,
+    origin: [i64; 3],
+    blocks: &mut Vec<([i64; 3], i64)>,
+) -> Result<()> {
     let active = r.mask(512, "leaf value mask")?;
     let inside: Vec<bool> = if grid.value == ValueType::Bool {
         let at = r.pos;
@@ -878,7 +907,8 @@ fn build_solids(grid: Grid, blocks: Vec<([i64; 3], i64)>, options: &ReadOptions,
         if depth > u32::from(MAX_DEPTH) {
             return Err(r.err(0, format!("grid {:?} spans {extent} voxels a side, more than 2^{MAX_DEPTH}", grid.name)));
         }
-        let min = grid.t + (DVec3::new(origin[0] as f64, origin[1] as f64, origin[2] as f64) - DVec3::splat(0.5)) * grid.h;
+        let min =
+            grid.t + (DVec3::new(origin[0] as f64, origin[1] as f64, origin[2] as f64) - DVec3::splat(0.5)) * grid.h;
         (Domain::new(min, grid.h * f64::from(1u32 << depth), depth as u8)?, origin)
     };
     let depth = domain.depth();

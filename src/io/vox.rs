@@ -227,7 +227,11 @@ fn budget_check(budget: MemoryBudget, path: &Path, voxels: u64) -> Result<()> {
 /// The file's chunks below `MAIN`, checked to nest and fit.
 fn walk(bytes: &[u8], path: &Path) -> Result<Vec<Chunk>> {
     if bytes.len() < 20 {
-        return Err(fail(path, bytes.len(), format!("file of {} bytes is shorter than a header and MAIN", bytes.len())));
+        return Err(fail(
+            path,
+            bytes.len(),
+            format!("file of {} bytes is shorter than a header and MAIN", bytes.len()),
+        ));
     }
     if &bytes[..4] != b"VOX " {
         return Err(fail(path, 0, "not a MagicaVoxel file (bad magic; expected \"VOX \")"));
@@ -465,7 +469,11 @@ fn frame_transform(frame: &[(String, String)]) -> std::result::Result<Placement,
                 p.sign = [4, 5, 6].map(|bit| if r >> bit & 1 == 1 { -1 } else { 1 });
             }
             "_t" => {
-                let parts: Vec<i64> = value.split_whitespace().map(|s| s.parse::<i32>().map(i64::from)).collect::<std::result::Result<_, _>>().map_err(|_| format!("translation _t = {value:?} is not three integers"))?;
+                let parts: Vec<i64> = value
+                    .split_whitespace()
+                    .map(|s| s.parse::<i32>().map(i64::from))
+                    .collect::<std::result::Result<_, _>>()
+                    .map_err(|_| format!("translation _t = {value:?} is not three integers"))?;
                 let [x, y, z] = parts.as_slice() else {
                     return Err(format!("translation _t = {value:?} is not three integers"));
                 };
@@ -500,10 +508,16 @@ fn scene_instances(data: &dot_vox::DotVoxData, checked: &Checked, path: &Path) -
     while let Some((index, placement)) = stack.pop() {
         let at = checked.nodes[index].at;
         if std::mem::replace(&mut visited[index], true) {
-            return Err(fail(path, at, format!("scene node {} is reached twice (a cycle or a shared node)", checked.nodes[index].id)));
+            return Err(fail(
+                path,
+                at,
+                format!("scene node {} is reached twice (a cycle or a shared node)", checked.nodes[index].id),
+            ));
         }
         let child = |id: u32| {
-            by_id.get(&id).copied().ok_or_else(|| fail(path, at, format!("scene node {} links to missing node {id}", checked.nodes[index].id)))
+            by_id.get(&id).copied().ok_or_else(|| {
+                fail(path, at, format!("scene node {} links to missing node {id}", checked.nodes[index].id))
+            })
         };
         match &data.scenes[index] {
             dot_vox::SceneNode::Transform { attributes, frames, child: c, layer_id } => {
@@ -527,7 +541,11 @@ fn scene_instances(data: &dot_vox::DotVoxData, checked: &Checked, path: &Path) -
             dot_vox::SceneNode::Shape { models, .. } => {
                 let model = models[0].model_id as usize;
                 if model >= data.models.len() {
-                    return Err(fail(path, at, format!("shape node uses model {model}; the file has {}", data.models.len())));
+                    return Err(fail(
+                        path,
+                        at,
+                        format!("shape node uses model {model}; the file has {}", data.models.len()),
+                    ));
                 }
                 out.push(Instance { model, placement, centred: true });
             }
@@ -582,9 +600,11 @@ pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
     let voxels: u64 = solids.solids.iter().map(|s| s.tree.voxel_count()).sum();
     budget.check(format!("a .vox file of {voxels} voxels"), voxels.saturating_mul(12))?;
     // Step 2: every voxel into its model of at most 256^3, from the bounding box's corner.
-    let bounds = solids.solids.iter().filter_map(|s| s.tree.voxel_bounds()).reduce(|a, b| {
-        (std::array::from_fn(|i| a.0[i].min(b.0[i])), std::array::from_fn(|i| a.1[i].max(b.1[i])))
-    });
+    let bounds = solids
+        .solids
+        .iter()
+        .filter_map(|s| s.tree.voxel_bounds())
+        .reduce(|a, b| (std::array::from_fn(|i| a.0[i].min(b.0[i])), std::array::from_fn(|i| a.1[i].max(b.1[i]))));
     let lo = bounds.map_or([0; 3], |b| b.0);
     let mut tiles: BTreeMap<[u32; 3], Vec<([u8; 3], u32, u8)>> = BTreeMap::new();
     let mut seq = 0u32;
@@ -678,7 +698,10 @@ fn palette_indices(solids: &[ColouredSolid]) -> Result<Vec<u8>> {
     if solids.len() > MAX_COLOURS {
         return Err(Error::invalid(
             "solids",
-            format!("a .vox palette holds {MAX_COLOURS} colours and {} solids were given (one colour a solid)", solids.len()),
+            format!(
+                "a .vox palette holds {MAX_COLOURS} colours and {} solids were given (one colour a solid)",
+                solids.len()
+            ),
         ));
     }
     let mut taken = [false; 256];
