@@ -21,7 +21,7 @@
 //! **Reading** checks the header line by line (errors name the byte offset of the
 //! line), sums the runs before anything is allocated (their total must be exactly the
 //! dims' product), checks the bit grid's memory against the budget, then fills the
-//! bits and builds the octree ([`super::bitgrid`]). Version 2 files (any non-zero
+//! bits and builds the octree (`io/bitgrid.rs`). Version 2 files (any non-zero
 //! value is a set voxel) are read too; version 1 values must be 0 or 1.
 //!
 //! **Writing** gives a cubic grid of `2^depth` (`translate` = domain min, `scale` =
@@ -149,7 +149,7 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
     let domain = Domain::new(header.translate, edge, depth).map_err(|e| fail(path, 0, e.to_string()))?;
     // Step 2: the runs must cover the dims exactly; nothing is allocated yet.
     let data = &bytes[header.data..];
-    if data.len() % 2 != 0 {
+    if !data.len().is_multiple_of(2) {
         return Err(fail(path, bytes.len() - 1, "voxel data ends in the middle of a (value, count) pair"));
     }
     let total = nx * ny * nz;

@@ -161,7 +161,7 @@ mod tests {
                     s ^= s << 13;
                     s ^= s >> 7;
                     s ^= s << 17;
-                    if s % 3 != 0 || x < 2 {
+                    if !s.is_multiple_of(3) || x < 2 {
                         grid.set_run((x * 6 + z) * 3 + y, 1);
                         voxels.push([x as u32, y as u32, z as u32]);
                     }

@@ -35,7 +35,7 @@
 //! values above [`ReadOptions::fog_threshold`], a bool grid's true values; the value
 //! decides, active or not, so a level set's inactive interior tiles are inside. Value
 //! buffers may be uncompressed, zlib, or Blosc with LZ4 or zlib blocks
-//! ([`super::blosc`]), with or without active-mask compression. Transforms: uniform
+//! (`io/blosc.rs`), with or without active-mask compression. Transforms: uniform
 //! scale, translation, scale and translation, or an affine map that is one of these.
 //! Refused by name: other grid types (vec3s, int32, points, masks), other tree
 //! configurations, instanced grids, file versions before 222, frustum and non-uniform

@@ -68,6 +68,9 @@ const BYTES_PER_VOXEL: u64 = 48;
 /// Colour written for a solid without one (sRGB 204, 204, 204).
 const DEFAULT_GREY: f64 = 0.6;
 
+/// A voxel bound for a model: position in the model, sequence (later wins), palette index.
+type TileVoxel = ([u8; 3], u32, u8);
+
 /// A chunk found by the structure walk: id, offset of its 12-byte header, content bytes.
 struct Chunk {
     id: [u8; 4],
@@ -606,7 +609,7 @@ pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
         .filter_map(|s| s.tree.voxel_bounds())
         .reduce(|a, b| (std::array::from_fn(|i| a.0[i].min(b.0[i])), std::array::from_fn(|i| a.1[i].max(b.1[i]))));
     let lo = bounds.map_or([0; 3], |b| b.0);
-    let mut tiles: BTreeMap<[u32; 3], Vec<([u8; 3], u32, u8)>> = BTreeMap::new();
+    let mut tiles: BTreeMap<[u32; 3], Vec<TileVoxel>> = BTreeMap::new();
     let mut seq = 0u32;
     for (solid, &index) in solids.solids.iter().zip(&indices) {
         for node in solid.tree.nodes() {
