@@ -28,6 +28,8 @@
 //! .oct` is exact. Values are written with OpenVDB's active-mask compression and, by
 //! default, zlib (`Compression::Zip`); the UUID is derived from the content, so the
 //! same solids give the same bytes.
+//! Limit: a full node of side `2^k >= 4096` becomes `(2^k / 4096)^3` root tiles (a
+//! full depth-21 domain would be 2^27 of them).
 //!
 //! **Reading**: float, half-float, double and bool grids (`Tree_{float,double,bool}_
 //! 5_4_3`, `_HalfFloat`); the grid named by [`ReadOptions::grid`] or else the first of

@@ -750,7 +750,7 @@ mod tests {
 
     #[test]
     fn placements_compose_like_matrices() {
-        // _r = 0b0100_0110... take two rotations and compare with 3x3 products.
+        // Every valid _r against a sample of others: composition is the matrix product.
         let rows = |p: &Placement| -> [[i64; 3]; 3] {
             std::array::from_fn(|i| std::array::from_fn(|j| if p.col[i] == j { p.sign[i] } else { 0 }))
         };
