@@ -1,6 +1,19 @@
 //! Reading and writing solids and images: the native `.oct` format (see
-//! `docs/FORMAT.md`), PNG output, and the atomic write both use.
+//! `docs/FORMAT.md`), the voxel and volume formats other tools use (MagicaVoxel
+//! `.vox`, binvox, OpenVDB `.vdb`; glTF `.glb` meshes out), PNG output, and the atomic
+//! write they all use. [`read_solids`] and [`write_solids`] pick the format by extension.
 
 pub mod atomic;
+pub mod binvox;
+mod bitgrid;
+mod blosc;
+pub mod gltf;
 pub mod oct;
 pub mod png;
+mod solids;
+pub mod vdb;
+pub mod vox;
+
+pub use solids::{
+    ColouredSolid, ReadOptions, SolidFormat, Solids, WriteOptions, read_solids, write_solid, write_solids,
+};

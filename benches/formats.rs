@@ -1,0 +1,92 @@
+//! Voxel interchange formats: read and write of `.vox`, `.binvox`, `.vdb` (zip and
+//! uncompressed) and `.glb` (write only) for the Stanford bunny voxelized at depth 10
+//! (the mesh bench's solid), throughput in file bytes, with a stats line of file sizes
+//! against `.oct`.
+
+use std::path::Path;
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use octsolid::budget::MemoryBudget;
+use octsolid::io::{ColouredSolid, ReadOptions, Solids, binvox, gltf, oct, vdb, vox};
+use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::octree::Domain;
+use octsolid::progress::NoProgress;
+
+fn bench(c: &mut Criterion) {
+    let mut group = c.benchmark_group("formats");
+    group.sample_size(10);
+    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj").as_ref()).unwrap();
+    let options =
+        MeshVoxelizeOptions { inside: InsideRule::Auto, budget: MemoryBudget::unlimited(), progress: &NoProgress };
+    let domain = Domain::around(&bunny.bounds(), 0.02, 10).unwrap();
+    let (tree, _) = voxelize_mesh(&bunny, domain, &options).unwrap();
+    let solids = Solids { domain, solids: vec![ColouredSolid::new("bunny", None, tree.clone())] };
+    let read = ReadOptions { budget: MemoryBudget::unlimited(), ..ReadOptions::default() };
+    let path = Path::new("bunny");
+
+    let oct_bytes = oct::encode(&tree);
+    let vox_bytes = vox::encode(&solids, MemoryBudget::unlimited()).unwrap();
+    let mut binvox_bytes = Vec::new();
+    binvox::encode_to(&tree, &mut binvox_bytes).unwrap();
+    let vdb_zip = vdb::encode(&solids, vdb::Compression::Zip);
+    let vdb_raw = vdb::encode(&solids, vdb::Compression::None);
+    let glb = gltf::encode(&solids, MemoryBudget::unlimited()).unwrap();
+    eprintln!(
+        "stats: bunny depth 10: {} nodes, {} voxels; .oct {} B, .vox {} B, .binvox {} B, .vdb zip {} B ({:.2}x .oct), \
+         .vdb raw {} B ({:.2}x .oct), .glb {} B",
+        tree.node_count(),
+        tree.voxel_count(),
+        oct_bytes.len(),
+        vox_bytes.len(),
+        binvox_bytes.len(),
+        vdb_zip.len(),
+        vdb_zip.len() as f64 / oct_bytes.len() as f64,
+        vdb_raw.len(),
+        vdb_raw.len() as f64 / oct_bytes.len() as f64,
+        glb.len()
+    );
+
+    // Each job with the file size its throughput counts.
+    type Job<'a> = (String, usize, Box<dyn Fn() + 'a>);
+    let mut jobs: Vec<Job> = vec![
+        (
+            "vox_write".into(),
+            vox_bytes.len(),
+            Box::new(|| drop(vox::encode(&solids, MemoryBudget::unlimited()).unwrap())),
+        ),
+        ("vox_read".into(), vox_bytes.len(), Box::new(|| drop(vox::decode(&vox_bytes, path, &read).unwrap()))),
+        (
+            "binvox_write".into(),
+            binvox_bytes.len(),
+            Box::new(|| {
+                let mut out = Vec::with_capacity(binvox_bytes.len());
+                binvox::encode_to(&tree, &mut out).unwrap();
+            }),
+        ),
+        (
+            "binvox_read".into(),
+            binvox_bytes.len(),
+            Box::new(|| drop(binvox::decode(&binvox_bytes, path, MemoryBudget::unlimited()).unwrap())),
+        ),
+        ("glb_write".into(), glb.len(), Box::new(|| drop(gltf::encode(&solids, MemoryBudget::unlimited()).unwrap()))),
+    ];
+    for (name, compression, bytes) in
+        [("vdb_zip", vdb::Compression::Zip, &vdb_zip), ("vdb_raw", vdb::Compression::None, &vdb_raw)]
+    {
+        let (solids, read) = (&solids, &read);
+        jobs.push((format!("{name}_write"), bytes.len(), Box::new(move || drop(vdb::encode(solids, compression)))));
+        jobs.push((
+            format!("{name}_read"),
+            bytes.len(),
+            Box::new(move || drop(vdb::decode(bytes, path, read).unwrap())),
+        ));
+    }
+    for (name, bytes, job) in &jobs {
+        group.throughput(Throughput::Bytes(*bytes as u64));
+        group.bench_function(BenchmarkId::new(name.clone(), 10), |b| b.iter(job));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,285 @@
+//! binvox `.binvox` (Patrick Min's voxelizer; format by Michael Kazhdan, specified at
+//! `patrickmin.com/binvox/binvox.html`): read and write. Mapping in `docs/FORMAT.md`,
+//! section ".binvox".
+//!
+//! The file is an ASCII header, `#binvox 1` (or `2`), `dim d w h`, `translate tx ty
+//! tz`, `scale s`, `data`, one a line, then run-length pairs of bytes `(value, count)`,
+//! `count` in `1..=255` (a count of 0, which some writers emit after a run of exactly
+//! 255, is read as no voxels), over the voxels in the spec's order: index
+//! `x * (w h) + z * w + y` (x slowest, then z, y fastest), so `dim` lists the sizes
+//! along x, z and y. Voxel `(i, j, k)` has its centre at
+//! `translate + scale * ((i, j, k) + 1/2) / d`.
+//!
+//! **Domain.** `translate` is the domain's lowest corner, `scale / n` the voxel edge,
+//! with `n` the largest of the three dims; the depth is the smallest with
+//! `2^depth >= n` (at most 21). A cubic power-of-two grid is the domain exactly
+//! (`scale` = domain edge); any other grid sits at the cube's low corner, padded with
+//! empty voxels up to `2^depth` along each axis. (The spec asks for equal dims; for
+//! unequal ones this follows the reference reader's `depth, height, width` order and a
+//! uniform voxel, the only reading a single `scale` allows.)
+//!
+//! **Reading** checks the header line by line (errors name the byte offset of the
+//! line), sums the runs before anything is allocated (their total must be exactly the
+//! dims' product), checks the bit grid's memory against the budget, then fills the
+//! bits and builds the octree (`io/bitgrid.rs`). Version 2 files (any non-zero
+//! value is a set voxel) are read too; version 1 values must be 0 or 1.
+//!
+//! **Writing** gives a cubic grid of `2^depth` (`translate` = domain min, `scale` =
+//! domain edge, both printed with the shortest decimal that reads back to the same
+//! `f64`, so `.oct -> .binvox -> .oct` is exact) and streams the runs slab by slab
+//! (x), row by row (z), from the octree's nodes, without a dense grid: work and
+//! memory follow the nodes and the output, which is at least two bytes a 255 voxels
+//! of the cube.
+
+use std::io::Write;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::bitgrid::BitGrid;
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::io::atomic::write_atomic;
+use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
+
+/// Longest header accepted, in bytes (real headers are under 100).
+const MAX_HEADER: usize = 4096;
+
+fn fail(path: &Path, offset: usize, reason: impl Into<String>) -> Error {
+    Error::Format { path: path.to_path_buf(), offset: offset as u64, reason: reason.into() }
+}
+
+/// Reads the `.binvox` file at `path`.
+pub fn read(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    decode(&bytes, path, budget)
+}
+
+/// The header's fields.
+struct Header {
+    version: u8,
+    /// Sizes along x, z, y (the file's order).
+    dims: [u64; 3],
+    translate: DVec3,
+    scale: f64,
+    /// Offset of the first data byte.
+    data: usize,
+}
+
+fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
+    let mut pos = 0;
+    let mut line_no = 0;
+    let mut header = Header { version: 0, dims: [0; 3], translate: DVec3::ZERO, scale: 1.0, data: 0 };
+    let mut have_dims = false;
+    loop {
+        let at = pos;
+        let Some(len) = bytes[pos..bytes.len().min(MAX_HEADER)].iter().position(|&b| b == b'\n') else {
+            return Err(fail(path, at, format!("no \"data\" line within the first {MAX_HEADER} bytes")));
+        };
+        let line =
+            std::str::from_utf8(&bytes[pos..pos + len]).map_err(|_| fail(path, at, "header line is not ASCII"))?.trim();
+        pos += len + 1;
+        let mut words = line.split_whitespace();
+        let key = words.next().unwrap_or("");
+        let values: Vec<&str> = words.collect();
+        if line_no == 0 {
+            header.version = match (key, values.as_slice()) {
+                ("#binvox", ["1"]) => 1,
+                ("#binvox", ["2"]) => 2,
+                ("#binvox", _) => {
+                    return Err(fail(path, at, format!("binvox version {line:?} is not supported (1 or 2)")));
+                }
+                _ => return Err(fail(path, 0, "not a binvox file (the first line is not \"#binvox 1\")")),
+            };
+            line_no += 1;
+            continue;
+        }
+        let numbers = |n: usize| -> Result<Vec<f64>> {
+            let parsed: Vec<f64> =
+                values.iter().filter_map(|v| v.parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
+            if values.len() != n || parsed.len() != n {
+                return Err(fail(path, at, format!("{key} needs {n} finite numbers, got {line:?}")));
+            }
+            Ok(parsed)
+        };
+        match key {
+            "dim" => {
+                let dims: Vec<u64> = values.iter().filter_map(|v| v.parse().ok()).collect();
+                let limit = 1u64 << MAX_DEPTH;
+                let [a, b, c] = dims.as_slice() else {
+                    return Err(fail(path, at, format!("dim needs three integers, got {line:?}")));
+                };
+                header.dims = [*a, *b, *c];
+                if values.len() != 3 || header.dims.iter().any(|&d| d == 0 || d > limit) {
+                    return Err(fail(path, at, format!("dims {line:?} must be three integers in 1..={limit}")));
+                }
+                have_dims = true;
+            }
+            "translate" => {
+                let t = numbers(3)?;
+                header.translate = DVec3::new(t[0], t[1], t[2]);
+            }
+            "scale" => {
+                header.scale = numbers(1)?[0];
+                if header.scale <= 0.0 {
+                    return Err(fail(path, at, format!("scale {} must be positive", header.scale)));
+                }
+            }
+            "data" => {
+                if !have_dims {
+                    return Err(fail(path, at, "the header ends without a dim line"));
+                }
+                header.data = pos;
+                return Ok(header);
+            }
+            _ => return Err(fail(path, at, format!("unknown header line {line:?}"))),
+        }
+        line_no += 1;
+    }
+}
+
+/// Parses and checks a whole `.binvox` file; `path` names it in errors.
+pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
+    // Step 1: header and domain.
+    let header = parse_header(bytes, path)?;
+    let [nx, nz, ny] = header.dims;
+    let n = nx.max(ny).max(nz);
+    let depth = n.next_power_of_two().trailing_zeros().max(1) as u8;
+    let edge = header.scale / n as f64 * f64::from(1u32 << depth);
+    let domain = Domain::new(header.translate, edge, depth).map_err(|e| fail(path, 0, e.to_string()))?;
+    // Step 2: the runs must cover the dims exactly; nothing is allocated yet.
+    let data = &bytes[header.data..];
+    if !data.len().is_multiple_of(2) {
+        return Err(fail(path, bytes.len() - 1, "voxel data ends in the middle of a (value, count) pair"));
+    }
+    let total = nx * ny * nz;
+    let mut sum = 0u64;
+    let mut set = 0u64;
+    for (p, pair) in data.chunks_exact(2).enumerate() {
+        let at = header.data + 2 * p;
+        let (value, count) = (pair[0], u64::from(pair[1]));
+        if header.version == 1 && value > 1 {
+            return Err(fail(path, at, format!("value {value} in a version-1 file (0 or 1)")));
+        }
+        sum += count;
+        if sum > total {
+            return Err(fail(path, at, format!("runs cover more than the {total} voxels of the dims")));
+        }
+        if value != 0 {
+            set += count;
+        }
+    }
+    if sum != total {
+        return Err(fail(path, bytes.len(), format!("runs cover {sum} voxels, the dims hold {total}")));
+    }
+    // At most a node a set voxel, 8 bytes each, beside the bits.
+    let estimate = BitGrid::estimate_bytes([nx, ny, nz]).saturating_add(set.saturating_mul(8));
+    budget.check(format!("reading {} ({nx} x {nz} x {ny} voxels)", path.display()), estimate)?;
+    // Step 3: the bits (file order x, z, y = the grid's), then the octree.
+    let mut grid = BitGrid::new([nx, ny, nz]);
+    let mut index = 0u64;
+    for pair in data.chunks_exact(2) {
+        let count = u64::from(pair[1]);
+        if pair[0] != 0 {
+            grid.set_run(index, count);
+        }
+        index += count;
+    }
+    grid.to_octree(domain)
+}
+
+/// Writes `tree` to `path` as a cubic binvox grid, atomically; returns the bytes written.
+pub fn write(path: &Path, tree: &LinearOctree) -> Result<u64> {
+    write_atomic(path, |w| encode_to(tree, w))
+}
+
+/// The whole file for `tree` into `w` (module doc, "Writing").
+pub fn encode_to(tree: &LinearOctree, w: &mut dyn Write) -> std::io::Result<()> {
+    let d = tree.domain();
+    let n = d.resolution();
+    write!(
+        w,
+        "#binvox 1\ndim {n} {n} {n}\ntranslate {} {} {}\nscale {}\ndata\n",
+        d.min().x,
+        d.min().y,
+        d.min().z,
+        d.edge()
+    )?;
+    // Nodes by their first slab; a node is active in slabs [x0, x0 + size).
+    let mut nodes: Vec<Node> = tree.nodes().collect();
+    nodes.sort_by_key(|n| n.min[0]);
+    let mut next = 0;
+    let mut active: Vec<Node> = Vec::new();
+    let mut rows: Vec<Vec<(u32, u32)>> = vec![Vec::new(); n as usize];
+    let mut rle = Rle { w, value: 0, count: 0, buf: Vec::with_capacity(1 << 16) };
+    for x in 0..n {
+        active.retain(|node| node.min[0] + node.size > x);
+        while next < nodes.len() && nodes[next].min[0] == x {
+            active.push(nodes[next]);
+            next += 1;
+        }
+        if active.is_empty() {
+            rle.feed(0, u64::from(n) * u64::from(n))?;
+            continue;
+        }
+        // Each active node covers rows z0..z0+s with the y interval [y0, y0 + s).
+        for node in &active {
+            for z in node.min[2]..node.min[2] + node.size {
+                rows[z as usize].push((node.min[1], node.min[1] + node.size));
+            }
+        }
+        for row in &mut rows {
+            row.sort_unstable();
+            let mut y = 0;
+            for &(a, b) in row.iter() {
+                // Nodes are disjoint, so sorted intervals do not overlap.
+                rle.feed(0, u64::from(a - y))?;
+                rle.feed(1, u64::from(b - a))?;
+                y = b;
+            }
+            rle.feed(0, u64::from(n - y))?;
+            row.clear();
+        }
+    }
+    rle.finish()
+}
+
+/// Run-length encoder into `(value, count)` byte pairs.
+struct Rle<'a> {
+    w: &'a mut dyn Write,
+    value: u8,
+    count: u64,
+    buf: Vec<u8>,
+}
+
+impl Rle<'_> {
+    fn feed(&mut self, value: u8, count: u64) -> std::io::Result<()> {
+        if count == 0 {
+            return Ok(());
+        }
+        if value != self.value {
+            self.flush_run()?;
+            self.value = value;
+        }
+        self.count += count;
+        Ok(())
+    }
+
+    fn flush_run(&mut self) -> std::io::Result<()> {
+        while self.count > 0 {
+            let c = self.count.min(255);
+            self.buf.extend_from_slice(&[self.value, c as u8]);
+            self.count -= c;
+            if self.buf.len() >= 1 << 16 {
+                self.w.write_all(&self.buf)?;
+                self.buf.clear();
+            }
+        }
+        Ok(())
+    }
+
+    fn finish(mut self) -> std::io::Result<()> {
+        self.flush_run()?;
+        self.w.write_all(&self.buf)
+    }
+}

@@ -1,0 +1,204 @@
+//! glTF 2.0 binary (`.glb`, Khronos glTF 2.0 specification, "GLB File Format"): the
+//! boundary mesh of each solid ([`crate::mesh::try_boundary_mesh`], closed and
+//! manifold) with vertex normals and one PBR material (base colour) a solid. Written
+//! only. Mapping in `docs/FORMAT.md`, section ".glb".
+//!
+//! Layout: a 12-byte header (`glTF`, version 2, total length), a JSON chunk padded
+//! with spaces and a BIN chunk padded with zeros, each 4-byte aligned. A solid is one
+//! node, one mesh of one triangle primitive (`POSITION` and `NORMAL` as `f32` VEC3,
+//! indices as `u32`) and one material (`baseColorFactor` = the solid's linear colour,
+//! light grey without one; metallic 0, roughness 0.8). Coordinates are world
+//! coordinates as they are (no axis swap: glTF's +Y up is octsolid's +Y), in `f32`.
+//!
+//! Normals: every face of the boundary is axis-aligned, so a vertex shared by faces of
+//! different directions is written once a direction with that direction as its
+//! normal: shading is exactly flat, and welding the positions gives back the closed
+//! manifold mesh. Empty solids have no mesh (glTF forbids empty accessors) and are
+//! left out.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::solids::Solids;
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::io::atomic::write_atomic;
+use crate::mesh::{BoundaryOptions, TriangleMesh, try_boundary_mesh};
+use crate::progress::NoProgress;
+
+/// Colour of a solid without one (linear).
+const DEFAULT_COLOR: DVec3 = DVec3::splat(0.6);
+const GLB_MAGIC: u32 = 0x4654_6C67;
+const CHUNK_JSON: u32 = 0x4E4F_534A;
+const CHUNK_BIN: u32 = 0x004E_4942;
+
+/// A mesh ready for glTF: positions and normals (`f32`), indices.
+pub struct FlatMesh {
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Unit axis normal of each vertex.
+    pub normals: Vec<[f32; 3]>,
+    /// Triangles, counter-clockwise seen from outside.
+    pub indices: Vec<u32>,
+}
+
+/// `mesh` with each vertex split by the directions of its faces (module doc).
+#[must_use]
+pub fn flat_mesh(mesh: &TriangleMesh) -> FlatMesh {
+    let mut out = FlatMesh { positions: Vec::new(), normals: Vec::new(), indices: Vec::new() };
+    let mut ids: HashMap<(u32, u8), u32> = HashMap::new();
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let [a, b, c] = mesh.corners(t);
+        let n = (b - a).cross(c - a);
+        // The face's axis: its normal's largest component (exactly one is non-zero).
+        let axis = (0..3).max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs())).unwrap_or(0);
+        let direction = axis as u8 * 2 + u8::from(n[axis] < 0.0);
+        let mut normal = [0f32; 3];
+        normal[axis] = if n[axis] < 0.0 { -1.0 } else { 1.0 };
+        for &v in tri {
+            let id = *ids.entry((v, direction)).or_insert_with(|| {
+                let p = mesh.vertices[v as usize];
+                out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
+                out.normals.push(normal);
+                (out.positions.len() - 1) as u32
+            });
+            out.indices.push(id);
+        }
+    }
+    out
+}
+
+/// A JSON string literal.
+fn json_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// A JSON number for a finite `f32` (Rust's shortest round-trip decimal).
+fn json_number(v: f32) -> String {
+    if v == v.trunc() && v.abs() < 1e15 { format!("{v:.1}") } else { format!("{v}") }
+}
+
+/// Writes `solids` to `path` as one GLB, atomically; returns the bytes written.
+pub fn write(path: &Path, solids: &Solids, budget: MemoryBudget) -> Result<u64> {
+    let bytes = encode(solids, budget)?;
+    write_atomic(path, |w| w.write_all(&bytes))
+}
+
+/// The whole `.glb` for `solids` (module doc).
+pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
+    let mut bin: Vec<u8> = Vec::new();
+    let (mut nodes, mut meshes, mut materials, mut views, mut accessors) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for solid in &solids.solids {
+        // Step 1: the closed manifold boundary, vertices split by face direction.
+        let mesh = try_boundary_mesh(&solid.tree, &BoundaryOptions::default(), budget, &NoProgress)?;
+        if mesh.triangles.is_empty() {
+            continue;
+        }
+        let flat = flat_mesh(&mesh);
+        // Step 2: three buffer views (positions, normals, indices), all 4-byte aligned.
+        let first_accessor = accessors.len();
+        let pos_bytes: Vec<u8> = flat.positions.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
+        let nrm_bytes: Vec<u8> = flat.normals.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
+        let idx_bytes: Vec<u8> = flat.indices.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let v0 = views.len();
+        for (data, target) in [(pos_bytes, 34962), (nrm_bytes, 34962), (idx_bytes, 34963)] {
+            views.push(format!(
+                "{{\"buffer\":0,\"byteOffset\":{},\"byteLength\":{},\"target\":{target}}}",
+                bin.len(),
+                data.len()
+            ));
+            bin.extend(data);
+        }
+        // Step 3: accessors; POSITION carries its exact f32 bounds.
+        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+        for p in &flat.positions {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let vec3 = |v: [f32; 3]| format!("[{},{},{}]", json_number(v[0]), json_number(v[1]), json_number(v[2]));
+        let n = flat.positions.len();
+        accessors.push(format!(
+            "{{\"bufferView\":{v0},\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\",\"min\":{},\"max\":{}}}",
+            vec3(lo),
+            vec3(hi)
+        ));
+        accessors.push(format!("{{\"bufferView\":{},\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\"}}", v0 + 1));
+        accessors.push(format!(
+            "{{\"bufferView\":{},\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}",
+            v0 + 2,
+            flat.indices.len()
+        ));
+        // Step 4: material, mesh and node.
+        let c = solid.color.unwrap_or(DEFAULT_COLOR).clamp(DVec3::ZERO, DVec3::ONE);
+        let m = materials.len();
+        materials.push(format!(
+            "{{\"name\":{},\"pbrMetallicRoughness\":{{\"baseColorFactor\":[{},{},{},1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.8}}}}",
+            json_string(&solid.name),
+            json_number(c.x as f32),
+            json_number(c.y as f32),
+            json_number(c.z as f32)
+        ));
+        meshes.push(format!(
+            "{{\"name\":{},\"primitives\":[{{\"attributes\":{{\"POSITION\":{},\"NORMAL\":{}}},\"indices\":{},\"material\":{m},\"mode\":4}}]}}",
+            json_string(&solid.name),
+            first_accessor,
+            first_accessor + 1,
+            first_accessor + 2
+        ));
+        nodes.push(format!("{{\"name\":{},\"mesh\":{}}}", json_string(&solid.name), meshes.len() - 1));
+    }
+    // Step 5: the JSON document, then the GLB container.
+    let mut json = String::from("{\"asset\":{\"version\":\"2.0\",\"generator\":\"octsolid\"},\"scene\":0,");
+    if nodes.is_empty() {
+        json.push_str("\"scenes\":[{}]}");
+    } else {
+        let list = |items: &[String]| items.join(",");
+        let indices: Vec<String> = (0..nodes.len()).map(|i| i.to_string()).collect();
+        let _ = write!(
+            json,
+            "\"scenes\":[{{\"nodes\":[{}]}}],\"nodes\":[{}],\"meshes\":[{}],\"materials\":[{}],\
+             \"buffers\":[{{\"byteLength\":{}}}],\"bufferViews\":[{}],\"accessors\":[{}]}}",
+            indices.join(","),
+            list(&nodes),
+            list(&meshes),
+            list(&materials),
+            bin.len(),
+            list(&views),
+            list(&accessors)
+        );
+    }
+    let mut json = json.into_bytes();
+    json.resize(json.len().next_multiple_of(4), b' ');
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    let total = 12 + 8 + json.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
+    let total = u32::try_from(total).map_err(|_| {
+        Error::invalid("glTF output", format!("{total} bytes exceed the 4 GiB a GLB can hold; lower the depth"))
+    })?;
+    let mut out = Vec::with_capacity(total as usize);
+    out.extend([GLB_MAGIC, 2, total].map(u32::to_le_bytes).concat());
+    out.extend([json.len() as u32, CHUNK_JSON].map(u32::to_le_bytes).concat());
+    out.extend(json);
+    if !bin.is_empty() {
+        out.extend([bin.len() as u32, CHUNK_BIN].map(u32::to_le_bytes).concat());
+        out.extend(bin);
+    }
+    Ok(out)
+}

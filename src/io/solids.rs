@@ -1,0 +1,228 @@
+//! One entry point for every solid file: [`read_solids`] reads any format octsolid
+//! reads into [`Solids`] (one domain, one or more coloured solids), [`write_solid`] and
+//! [`write_solids`] write any format octsolid writes, each chosen by the file's
+//! extension ([`SolidFormat::of`]).
+//!
+//! | extension | read | write | holds |
+//! |-----------|------|-------|-------|
+//! | `.oct`    | yes  | yes   | one solid, exact domain (`docs/FORMAT.md`) |
+//! | `.vox`    | yes  | yes   | one solid a palette colour (MagicaVoxel, [`super::vox`]) |
+//! | `.binvox` | yes  | yes   | one solid (binvox, [`super::binvox`]) |
+//! | `.vdb`    | yes  | yes   | one grid read; one fog-volume grid a solid written ([`super::vdb`]) |
+//! | `.glb`    | no   | yes   | one boundary mesh a solid, PBR base colour ([`super::gltf`]) |
+//!
+//! Every reader names the file and the place (byte offset, chunk or line) of what it
+//! refuses, checks the memory a header claims against [`ReadOptions::budget`] before
+//! allocating it, and never panics; every writer writes atomically.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::{binvox, gltf, oct, vdb, vox};
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::octree::{Domain, LinearOctree};
+
+/// A solid with what the file says about its look.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ColouredSolid {
+    /// A name: the grid's in `.vdb`, `colour N` for palette index `N` in `.vox`, the
+    /// file's stem otherwise.
+    pub name: String,
+    /// Linear RGB in `[0, 1]`, when the file gives one.
+    pub color: Option<DVec3>,
+    /// The `.vox` palette index (1..=255) the solid came from or should go to.
+    pub palette_index: Option<u8>,
+    /// Material properties as the file names them (`.vox` MATL: `_type`, `_rough`,
+    /// `_metal`, `_ior`, ...); empty when the file has none.
+    pub material: BTreeMap<String, String>,
+    /// The solid, over the shared domain.
+    pub tree: LinearOctree,
+}
+
+impl ColouredSolid {
+    /// A solid with a name and an optional colour, no palette index or material.
+    #[must_use]
+    pub fn new(name: impl Into<String>, color: Option<DVec3>, tree: LinearOctree) -> Self {
+        ColouredSolid { name: name.into(), color, palette_index: None, material: BTreeMap::new(), tree }
+    }
+}
+
+/// What [`read_solids`] returns: one domain and the solids over it (each `tree`'s
+/// domain is `domain`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solids {
+    /// The shared domain.
+    pub domain: Domain,
+    /// The solids, in the file's order (`.vox`: ascending palette index).
+    pub solids: Vec<ColouredSolid>,
+}
+
+impl Solids {
+    /// Checks every solid's invariants and that all share `domain`.
+    pub fn validate(&self) -> Result<()> {
+        for s in &self.solids {
+            s.tree.validate()?;
+            if *s.tree.domain() != self.domain {
+                return Err(Error::DomainMismatch {
+                    left: self.domain.to_string(),
+                    right: s.tree.domain().to_string(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The union of all solids.
+    #[must_use]
+    pub fn union(&self) -> LinearOctree {
+        self.solids.iter().fold(LinearOctree::empty(self.domain), |acc, s| &acc | &s.tree)
+    }
+}
+
+/// How files are read. `Default` is the documented behaviour of each format.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReadOptions {
+    /// Memory limit for what a file's header claims (checked before allocating).
+    pub budget: MemoryBudget,
+    /// `.vox`: world edge of one voxel (1 by default: a voxel is one world unit).
+    pub voxel_size: f64,
+    /// `.vox` and `.vdb`: use the domain octsolid stored in the file (so a written
+    /// solid reads back with its exact domain) when it holds every voxel; `false`
+    /// always fits the domain to the voxels.
+    pub stored_domain: bool,
+    /// `.vdb` fog volumes: a voxel is inside when its value is above this.
+    pub fog_threshold: f64,
+    /// `.vdb`: the grid to read by name; `None` reads the first float, double or
+    /// bool grid.
+    pub grid: Option<String>,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        ReadOptions {
+            budget: MemoryBudget::default(),
+            voxel_size: 1.0,
+            stored_domain: true,
+            fog_threshold: 0.5,
+            grid: None,
+        }
+    }
+}
+
+/// How files are written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WriteOptions {
+    /// Memory limit for building the file (`.vox` and `.glb` are proportional to
+    /// voxels and faces).
+    pub budget: MemoryBudget,
+    /// `.vdb`: compression of the value buffers.
+    pub vdb_compression: vdb::Compression,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        WriteOptions { budget: MemoryBudget::default(), vdb_compression: vdb::Compression::Zip }
+    }
+}
+
+/// The solid file formats, by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SolidFormat {
+    /// octsolid's native `.oct`.
+    Oct,
+    /// MagicaVoxel `.vox`.
+    Vox,
+    /// binvox `.binvox`.
+    Binvox,
+    /// OpenVDB `.vdb`.
+    Vdb,
+    /// glTF 2.0 binary `.glb` (written only).
+    Glb,
+}
+
+impl SolidFormat {
+    /// The format `path`'s extension names (case-insensitive).
+    pub fn of(path: &Path) -> Result<SolidFormat> {
+        let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+        Ok(match ext.as_str() {
+            "oct" => SolidFormat::Oct,
+            "vox" => SolidFormat::Vox,
+            "binvox" => SolidFormat::Binvox,
+            "vdb" => SolidFormat::Vdb,
+            "glb" => SolidFormat::Glb,
+            _ => {
+                return Err(Error::invalid(
+                    "solid file",
+                    format!("{}: extension {ext:?} is not a solid format (oct, vox, binvox, vdb, glb)", path.display()),
+                ));
+            }
+        })
+    }
+}
+
+/// Reads the solid file at `path` (format by extension) into one domain and its solids.
+pub fn read_solids(path: &Path, options: &ReadOptions) -> Result<Solids> {
+    let solids = match SolidFormat::of(path)? {
+        SolidFormat::Oct => {
+            let tree = oct::load(path, options.budget)?;
+            Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new(stem(path), None, tree)] }
+        }
+        SolidFormat::Vox => vox::read(path, options)?,
+        SolidFormat::Binvox => {
+            let tree = binvox::read(path, options.budget)?;
+            Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new(stem(path), None, tree)] }
+        }
+        SolidFormat::Vdb => vdb::read(path, options)?,
+        SolidFormat::Glb => {
+            return Err(Error::invalid(
+                "solid file",
+                format!("{}: .glb is written only; voxelize a mesh (OBJ, STL, PLY) instead", path.display()),
+            ));
+        }
+    };
+    debug_assert!(solids.validate().is_ok());
+    Ok(solids)
+}
+
+/// Writes one solid with an optional colour to `path` (format by extension); returns
+/// the file size in bytes.
+pub fn write_solid(path: &Path, tree: &LinearOctree, color: Option<DVec3>, options: &WriteOptions) -> Result<u64> {
+    let solids = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new(stem(path), color, tree.clone())] };
+    write_solids(path, &solids, options)
+}
+
+/// Writes several solids over one domain to `path` (format by extension): `.vox` one
+/// palette colour each, `.vdb` one grid each, `.glb` one mesh each; `.oct` and
+/// `.binvox` hold one solid and refuse more. Returns the file size in bytes.
+pub fn write_solids(path: &Path, solids: &Solids, options: &WriteOptions) -> Result<u64> {
+    solids.validate()?;
+    let format = SolidFormat::of(path)?;
+    let single = || -> Result<&LinearOctree> {
+        match solids.solids.as_slice() {
+            [one] => Ok(&one.tree),
+            many => Err(Error::invalid(
+                "solids",
+                format!(
+                    "{}: the format holds one solid and {} were given; union them first, or write .vox, .vdb or .glb",
+                    path.display(),
+                    many.len()
+                ),
+            )),
+        }
+    };
+    match format {
+        SolidFormat::Oct => oct::save(single()?, path),
+        SolidFormat::Binvox => binvox::write(path, single()?),
+        SolidFormat::Vox => vox::write(path, solids, options.budget),
+        SolidFormat::Vdb => vdb::write(path, solids, options.vdb_compression),
+        SolidFormat::Glb => gltf::write(path, solids, options.budget),
+    }
+}
+
+/// The file's stem, the default solid name.
+fn stem(path: &Path) -> String {
+    path.file_stem().map_or_else(|| "solid".into(), |s| s.to_string_lossy().into_owned())
+}

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Writes the reference files the format tests read (tests/formats.rs), with tools
+# nobody on the team wrote:
+#   vdb/*.vdb      OpenVDB 10 through Debian's python3-openvdb (pyopenvdb),
+#   binvox/*.binvox  the PyPI `binvox` package (a binvox-rw-py descendant), in a venv,
+# plus a JSON file beside each set naming the analytic shapes the tests check against.
+# The .vox samples are copied from the dot_vox crate's package (see vox/README.md).
+#
+#   tests/data/make_reference_files.sh          # as root, or with the packages installed
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+"$here/install_reference_tools.sh"
+/usr/bin/python3 "$here/make_reference_files.py" vdb "$here/vdb"
+venv=$(mktemp -d)
+trap 'rm -rf "$venv"' EXIT
+"${PYTHON:-python3}" -m venv "$venv"
+"$venv/bin/pip" install --quiet "binvox==0.1.6" "numpy>=2"
+"$venv/bin/python" "$here/make_reference_files.py" binvox "$here/binvox"
