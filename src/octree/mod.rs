@@ -10,6 +10,7 @@ mod ranges;
 mod resample;
 mod transform;
 mod voxelize;
+mod window;
 
 pub use csg::SetOp;
 pub use depth::CoarsenRule;
@@ -17,3 +18,4 @@ pub use domain::{Domain, MAX_DEPTH};
 pub use linear::LinearOctree;
 pub use node::{Node, NodeKey};
 pub use voxelize::{PARALLEL_LEVELS, VoxelizeOptions, estimate_bytes, voxelize};
+pub(crate) use window::keys_meeting_near;
