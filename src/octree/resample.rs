@@ -29,9 +29,10 @@
 use glam::{DAffine3, DVec3};
 
 use super::domain::Domain;
+use super::driver::VoxelizeOptions;
 use super::linear::LinearOctree;
 use super::node::NodeKey;
-use super::voxelize::{VoxelizeOptions, voxelize};
+use super::voxelize::voxelize;
 use super::window::keys_meeting;
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
