@@ -280,8 +280,7 @@ impl Voxelizer for Job<'_> {
         }
         // Step 3: the children (of at least two voxels a side here) with their own
         // triangles; this centre, a corner of each, is their reference.
-        let lists = self.child_lists(min, size / 2, triangles, stats);
-        Decision::Split(lists.map(|triangles| MeshNode { triangles, reference: here }))
+        Decision::Split(self.children(min, size / 2, triangles, here, stats))
     }
 }
 
@@ -310,23 +309,26 @@ impl Job<'_> {
         }
     }
 
-    /// Hands each of `triangles` to the children (of `child_size` voxels a side, at
-    /// least two, of the node with lowest voxel `min`) it overlaps: its bounding box
-    /// picks the candidates, the separating-axis test (large children) or the plane
-    /// test (small ones, see [`SAT_MIN_SIZE`]) decides unless the box settles it.
-    fn child_lists(
+    /// The children (of `child_size` voxels a side, at least two, of the node with
+    /// lowest voxel `min`), each with reference `here` and the triangles of
+    /// `triangles` it overlaps: a triangle's bounding box picks the candidates, the
+    /// separating-axis test (large children) or the plane test (small ones, see
+    /// [`SAT_MIN_SIZE`]) decides unless the box settles it.
+    fn children(
         &self,
         min: [u32; 3],
         child_size: u32,
         triangles: &[u32],
+        here: Option<(DVec3, f64)>,
         stats: &mut MeshVoxelizeStats,
-    ) -> [SmallVec<[u32; 16]>; 8] {
+    ) -> [MeshNode; 8] {
         let center = self.domain.lattice_point(min.map(|c| c + child_size));
         let half = DVec3::splat(f64::from(child_size) * self.domain.voxel_size() * 0.5);
-        // Most lists are short: kept on the stack, no allocation a node.
-        let mut lists: [SmallVec<[u32; 16]>; 8] = Default::default();
+        // Most lists are short: kept inline, no allocation a node.
+        let mut children: [MeshNode; 8] =
+            std::array::from_fn(|_| MeshNode { triangles: SmallVec::new(), reference: here });
         // Each child's centre and box, once a node.
-        let children: [(DVec3, DVec3, DVec3); 8] = std::array::from_fn(|i| {
+        let cubes: [(DVec3, DVec3, DVec3); 8] = std::array::from_fn(|i| {
             let offset = DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64) * 2.0 - 1.0;
             let c = center + offset * half;
             (c, c - half, c + half)
@@ -341,7 +343,7 @@ impl Job<'_> {
             while reached != 0 {
                 let i = reached.trailing_zeros() as usize;
                 reached &= reached - 1;
-                let (c, lo, hi) = children[i];
+                let (c, lo, hi) = cubes[i];
                 let inside = b.min.cmpge(lo).all() && b.max.cmple(hi).all();
                 if !inside && child_size >= SAT_MIN_SIZE {
                     stats.triangle_box_tests += 1;
@@ -351,10 +353,10 @@ impl Job<'_> {
                 } else if !inside && !self.planes[t as usize].meets_cube(c, half.x) {
                     continue;
                 }
-                lists[i].push(t);
+                children[i].triangles.push(t);
             }
         }
-        lists
+        children
     }
 
     /// Which of the eight voxels of a 2-voxel node with triangles are inside (bit `i`

@@ -10,6 +10,8 @@
 //! is the octree driver's ([`crate::octree`]); a node hands its pieces to each of its
 //! children. Memory: [`estimate_surface_bytes`].
 
+use std::sync::Arc;
+
 use super::BezierPatch;
 use crate::aabb::Aabb;
 use crate::error::Result;
@@ -27,7 +29,7 @@ pub fn voxelize_patch_surface(
     options: &VoxelizeOptions,
 ) -> Result<LinearOctree> {
     let plan = Plan::new("voxelizing a patch surface", estimate_surface_bytes(patches, &domain), domain, options)?;
-    Ok(plan.run(&PatchSurface { domain }, patches.to_vec()).0)
+    Ok(plan.run(&PatchSurface { domain }, Arc::new(patches.to_vec())).0)
 }
 
 /// Pieces a node is taken to hold in [`estimate_surface_bytes`] (its parent's pieces,
@@ -37,7 +39,7 @@ const PIECES_A_NODE: f64 = 16.0;
 /// Estimated peak bytes of the surface voxelization of `patches` in `domain`:
 ///
 /// ```text
-/// bytes = 16 V + 384 (16 (N + 8 (depth + 1) T) + 16 Z E) + 4096
+/// bytes = 16 V + 384 (16 (N + 2 (depth + 1) T) + 4 Z E) + 4096
 /// V = sum over patches of (3 a + 2 p + 1)
 /// N = sum over levels l <= PARALLEL_LEVELS of
 ///     min(8^l, sum over patches of (3 a / s^2 + 2 p / s + 1)),  s = 2^(depth - l)
@@ -50,18 +52,19 @@ const PIECES_A_NODE: f64 = 16.0;
 ///   round the surface, so the shell is about `|n|_1 + 1 <= 2.8` voxels thick, taken
 ///   as 3, plus a band along the patch edges and the voxel a small patch lies in; a
 ///   key is 8 bytes, doubled for the per-task buffers joined at the end.
-/// - The rest is the pieces (a patch is 384 bytes). A node holds its parent's pieces,
-///   about 16 (`PIECES_A_NODE`). The nodes alive at once are those meeting the
-///   surface on levels 0 to `PARALLEL_LEVELS`, whose states wait for their parallel
-///   tasks (`N`: the cell count of `V` at the node size, capped by the number of
-///   nodes), and, below them, eight a level on the path of each running subtree, one
+/// - The rest is the pieces (a patch is 384 bytes). A node's pieces, about 16
+///   (`PIECES_A_NODE`), are shared by its children until the last one starts, and
+///   the running child works on its own copy. The lists alive at once are those of the
+///   nodes meeting the surface on levels 0 to `PARALLEL_LEVELS`, which wait for their
+///   parallel tasks (`N`: the cell count of `V` at the node size, capped by the number
+///   of nodes), and, below them, two a level on the path of each running subtree, one
 ///   a thread (`T`, the threads of the pool it runs on: the lists grow with the
 ///   threads, the voxels do not).
-/// - `16 Z E`: a patch side shorter than a voxel (collapsed to a point, as the
+/// - `4 Z E`: a patch side shorter than a voxel (collapsed to a point, as the
 ///   teapot's lid and bottom) splits into slivers that all meet the nodes at that
 ///   point, about `E / s` of them at node size `s` (`E`: the largest patch extent in
-///   voxels); the path to such a point holds eight lists a level, about `16 E` pieces.
-///   `Z` counts those sides.
+///   voxels); the path to such a point holds two such lists a level, `4 E` pieces
+///   over the levels. `Z` counts those sides.
 ///
 /// Clamped to `u64::MAX`.
 #[must_use]
@@ -81,10 +84,10 @@ pub fn estimate_surface_bytes(patches: &[BezierPatch], domain: &Domain) -> u64 {
         })
         .sum();
     let threads = rayon::current_num_threads() as f64;
-    let nodes = top + 8.0 * f64::from(domain.depth() + 1) * threads;
+    let lists = top + 2.0 * f64::from(domain.depth() + 1) * threads;
     let extent = patches.iter().map(|p| p.bounds().size().max_element()).fold(0.0, f64::max) / h;
     let collapsed = patches.iter().map(|p| collapsed_sides(p, h)).sum::<usize>() as f64;
-    let pieces = PIECES_A_NODE * nodes + 16.0 * collapsed * extent;
+    let pieces = PIECES_A_NODE * lists + 4.0 * collapsed * extent;
     let piece = std::mem::size_of::<BezierPatch>() as f64;
     (16.0 * voxels + piece * pieces + 4096.0).min(u64::MAX as f64) as u64
 }
@@ -123,18 +126,22 @@ struct PatchSurface {
 }
 
 impl Voxelizer for PatchSurface {
-    /// The parent's pieces (the patches at the root).
-    type Node = Vec<BezierPatch>;
+    /// The parent's pieces (the patches at the root), shared by the eight children;
+    /// each copies them when it starts (the last one takes them), so one copy is
+    /// alive at a time on a path, as in a plain recursion.
+    type Node = Arc<Vec<BezierPatch>>;
     type Counters = ();
 
-    fn decide(&self, key: NodeKey, pieces: Vec<BezierPatch>, _: &mut ()) -> Decision<Vec<BezierPatch>> {
+    fn decide(&self, key: NodeKey, pieces: Self::Node, _: &mut ()) -> Decision<Self::Node> {
+        let pieces = Arc::try_unwrap(pieces).unwrap_or_else(|shared| shared.as_ref().clone());
         let mine = self.pieces_meeting(key, pieces);
         if mine.is_empty() {
             Decision::Empty
         } else if key.k() == 0 {
             Decision::Full
         } else {
-            Decision::Split(std::array::from_fn(|_| mine.clone()))
+            let mine = Arc::new(mine);
+            Decision::Split(std::array::from_fn(|_| Arc::clone(&mine)))
         }
     }
 }
