@@ -6,7 +6,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use octsolid::budget::MemoryBudget;
 use octsolid::import::{self, Fill, Input};
 use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, load_mesh, voxelize_mesh};
-use octsolid::octree::Domain;
+use octsolid::octree::{Domain, VoxelizeOptions};
 use octsolid::patch::voxelize_patch_surface;
 use octsolid::progress::NoProgress;
 
@@ -34,10 +34,11 @@ fn bench(c: &mut Criterion) {
     let teapot = Input::load(concat!(env!("CARGO_MANIFEST_DIR"), "/models/teapot.patches").as_ref()).unwrap();
     let domain = import::default_domain(&teapot, 9).unwrap();
     let Input::Patches(patches) = &teapot else { unreachable!() };
-    let shell = voxelize_patch_surface(patches, domain).unwrap();
+    let surface_options = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };
+    let shell = voxelize_patch_surface(patches, domain, &surface_options).unwrap();
     eprintln!("stats: teapot depth 9 surface: {} nodes", shell.node_count());
     group.bench_function(BenchmarkId::new("teapot_surface", 9), |b| {
-        b.iter(|| voxelize_patch_surface(patches, domain).unwrap())
+        b.iter(|| voxelize_patch_surface(patches, domain, &surface_options).unwrap())
     });
     group.bench_function(BenchmarkId::new("teapot_solid", 9), |b| {
         b.iter(|| {

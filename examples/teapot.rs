@@ -16,7 +16,7 @@ fn main() -> Result<()> {
     let domain = import::default_domain(&input, 9)?;
 
     // The shell, within half a voxel of the patches.
-    let shell = voxelize_patch_surface(patches, domain)?;
+    let shell = voxelize_patch_surface(patches, domain, &VoxelizeOptions::default())?;
     // The solid, from a tessellation fine enough for the voxel size.
     let (solid, summary) =
         import::voxelize_input(&input, domain, Fill::Solid, InsideRule::Auto, MemoryBudget::default(), &NoProgress)?;

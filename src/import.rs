@@ -1,5 +1,7 @@
 //! Solids from files: meshes (OBJ, STL, PLY) and patch sets (`.patches`), voxelized
 //! as solids or surfaces. The CLI's `voxelize` and `mesh-info` are one call each here.
+//! Every fill is checked against the memory budget before it starts and reports its
+//! progress (the voxelizers share one driver, see [`crate::octree`]).
 
 use std::path::Path;
 
@@ -10,7 +12,7 @@ use crate::mesh::{
     InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh, load_mesh, voxelize_mesh,
     voxelize_surface,
 };
-use crate::octree::{Domain, LinearOctree};
+use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
 use crate::patch::{BezierPatch, load_patches, segments_for, tessellate, voxelize_patch_surface};
 use crate::progress::Progress;
 
@@ -105,8 +107,9 @@ pub fn voxelize_input(
     progress: &dyn Progress,
 ) -> Result<(LinearOctree, VoxelizeSummary)> {
     let h = domain.voxel_size();
+    let options = VoxelizeOptions { budget, progress };
     if let (Input::Patches(p), Fill::Surface) = (input, fill) {
-        let tree = voxelize_patch_surface(p, domain)?;
+        let tree = voxelize_patch_surface(p, domain, &options)?;
         return Ok((tree, VoxelizeSummary { triangles: 0, mesh_volume: None, rule: None }));
     }
     let mesh = input.triangles(h);
@@ -119,7 +122,7 @@ pub fn voxelize_input(
         }
         Fill::Surface | Fill::Thin => {
             let kind = if fill == Fill::Thin { SurfaceKind::Thin } else { SurfaceKind::Conservative };
-            let tree = voxelize_surface(&mesh, domain, kind)?;
+            let tree = voxelize_surface(&mesh, domain, kind, &options)?;
             Ok((tree, VoxelizeSummary { triangles: mesh.triangles.len(), mesh_volume: None, rule: None }))
         }
     }

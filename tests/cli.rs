@@ -121,6 +121,13 @@ fn bad_input_gives_one_line_errors() {
     assert!(e.contains("depth"), "{e}");
     let e = fails(&dir, &["shape", "sphere", "--depth", "21", "--memory-budget", "1GiB", "-o", "x.oct"]);
     assert!(e.contains("budget"), "{e}");
+    // The surface fills honour the budget too: one triangle at depth 14 is gigabytes.
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 1\nf 1 2 3\n").unwrap();
+    for fill in ["surface", "thin"] {
+        let args = ["voxelize", "tri.obj", "--depth", "14", "--fill", fill, "--memory-budget", "256MiB", "-o", "t.oct"];
+        let e = fails(&dir, &args);
+        assert!(e.contains("tri.obj") && e.contains("budget"), "{fill}: {e}");
+    }
     let e = fails(&dir, &["slice", "a.oct", "--at", "99", "-o", "s.png"]);
     assert!(e.contains("a.oct") && e.contains("99"), "{e}");
     // An unknown extension names the file and everything the command reads.

@@ -3,13 +3,16 @@
 
 mod common;
 
-use common::Rng;
+use common::{Recorder, Rng};
 use glam::DVec3;
+use octsolid::budget::MemoryBudget;
 use octsolid::mesh::generate::{box_with_hole, icosphere, torus};
 use octsolid::mesh::tri_box::triangle_box_overlap;
 use octsolid::mesh::*;
 use octsolid::morton;
-use octsolid::octree::{Domain, LinearOctree};
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions};
+use octsolid::progress::NoProgress;
+use octsolid::{Error, import};
 
 fn domain_for(mesh: &TriangleMesh, depth: u8) -> Domain {
     Domain::around(&mesh.bounds(), 0.03, depth).unwrap()
@@ -184,8 +187,8 @@ fn triangle_box_overlap_matches_sampling() {
 fn surface_shells_cover_the_surface_and_thin_is_6_separating() {
     let mesh = icosphere(DVec3::ZERO, 1.0, 3);
     let d = domain_for(&mesh, 6);
-    let thick = voxelize_surface(&mesh, d, SurfaceKind::Conservative).unwrap();
-    let thin = voxelize_surface(&mesh, d, SurfaceKind::Thin).unwrap();
+    let thick = voxelize_surface(&mesh, d, SurfaceKind::Conservative, &VoxelizeOptions::default()).unwrap();
+    let thin = voxelize_surface(&mesh, d, SurfaceKind::Thin, &VoxelizeOptions::default()).unwrap();
     thick.validate().unwrap();
     assert!(thin.voxel_count() < thick.voxel_count() && (&thin - &thick).is_empty());
     // Every vertex lies in a shell voxel.
@@ -240,5 +243,68 @@ fn same_octree_for_any_thread_count() {
         let one = run(1);
         assert_same(&one, &run(2), "1 vs 2 threads");
         assert_same(&one, &run(3), "1 vs 3 threads");
+    }
+}
+
+/// Regression: `--fill surface` of one triangle across the domain at depth 14 went
+/// straight to work and allocated gigabytes (about 2.6e8 surface voxels), because the
+/// surface voxelizers had no memory estimate. Both kinds must be refused, before any
+/// work, under a small budget, through the library call and the import path the CLI
+/// takes.
+#[test]
+fn one_triangle_surface_at_depth_14_is_refused_under_a_small_budget() {
+    let corners = vec![DVec3::ZERO, DVec3::X, DVec3::new(0.0, 1.0, 1.0)];
+    let mesh = TriangleMesh::new(corners, vec![[0, 1, 2]]).unwrap();
+    let domain = domain_for(&mesh, 14);
+    let budget = MemoryBudget(256 << 20);
+    for kind in [SurfaceKind::Conservative, SurfaceKind::Thin] {
+        let progress = Recorder::default();
+        let err = voxelize_surface(&mesh, domain, kind, &VoxelizeOptions { budget, progress: &progress }).unwrap_err();
+        // Area 0.71 in (1.06 / 2^14)^2 voxel faces: about 1.7e8, so gigabytes of keys.
+        assert!(matches!(err, Error::OverBudget { estimate, .. } if estimate > 2 << 30), "{kind:?}: {err}");
+        assert!(err.to_string().contains("depth 14"), "{err}");
+        assert_eq!(progress.read().0, 0, "{kind:?}: work started before the budget check");
+    }
+    let input = import::Input::Mesh(mesh);
+    for fill in [import::Fill::Surface, import::Fill::Thin] {
+        let result = import::voxelize_input(&input, domain, fill, InsideRule::Auto, budget, &NoProgress);
+        assert!(matches!(result, Err(Error::OverBudget { .. })), "{fill:?} passed the import path");
+    }
+}
+
+#[test]
+fn surface_shells_are_the_same_on_any_thread_count() {
+    let mesh = torus(1.0, 0.35, 48, 24);
+    let d = domain_for(&mesh, 8);
+    for kind in [SurfaceKind::Conservative, SurfaceKind::Thin] {
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| voxelize_surface(&mesh, d, kind, &VoxelizeOptions::default()).unwrap())
+        };
+        let one = run(1);
+        assert!(one.voxel_count() > 10_000, "{kind:?}: {} voxels", one.voxel_count());
+        assert_eq!(one, run(2), "{kind:?}: 1 vs 2 threads");
+        assert_eq!(one, run(3), "{kind:?}: 1 vs 3 threads");
+    }
+}
+
+#[test]
+fn mesh_voxelizations_report_progress_adding_up_to_their_total() {
+    // Depth 4 is one level below the parallel ones, where the solid's 2-voxel nodes
+    // once reported nothing.
+    let mesh = icosphere(DVec3::new(0.1, -0.2, 0.05), 1.0, 3);
+    for depth in 1..=7 {
+        let d = domain_for(&mesh, depth);
+        let total = 1 << (3 * u32::from(depth.min(3)));
+        let solid = Recorder::default();
+        let options = MeshVoxelizeOptions { progress: &solid, ..Default::default() };
+        voxelize_mesh(&mesh, d, &options).unwrap();
+        assert_eq!(solid.read(), (1, total, total, 1), "solid at depth {depth}");
+        for kind in [SurfaceKind::Conservative, SurfaceKind::Thin] {
+            let shell = Recorder::default();
+            let options = VoxelizeOptions { budget: MemoryBudget::default(), progress: &shell };
+            voxelize_surface(&mesh, d, kind, &options).unwrap();
+            assert_eq!(shell.read(), (1, total, total, 1), "{kind:?} at depth {depth}");
+        }
     }
 }

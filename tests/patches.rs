@@ -1,13 +1,18 @@
 //! Bezier patch voxelization of the Utah teapot against dense samples of its surface.
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::Path;
 
+use common::Recorder;
 use glam::DVec3;
+use octsolid::Error;
+use octsolid::budget::MemoryBudget;
 use octsolid::import::{self, Fill, Input};
 use octsolid::mesh::{InsideRule, PolygonTables};
-use octsolid::octree::Domain;
-use octsolid::patch::{load_patches, tessellate, voxelize_patch_surface};
+use octsolid::octree::{Domain, VoxelizeOptions};
+use octsolid::patch::{BezierPatch, load_patches, tessellate, voxelize_patch_surface};
 use octsolid::progress::NoProgress;
 
 #[test]
@@ -16,7 +21,7 @@ fn teapot_surface_voxels_hug_the_surface() {
     let input = Input::Patches(patches.clone());
     let domain = Domain::around(&input.bounds(), 0.02, 7).unwrap();
     let h = domain.voxel_size();
-    let shell = voxelize_patch_surface(&patches, domain).unwrap();
+    let shell = voxelize_patch_surface(&patches, domain, &VoxelizeOptions::default()).unwrap();
     shell.validate().unwrap();
 
     // Dense samples of every patch, bucketed by voxel; `spacing` bounds how far a
@@ -76,4 +81,46 @@ fn teapot_solid_matches_its_tessellation() {
     let Input::Patches(patches) = &input else { unreachable!() };
     let fine = PolygonTables::new(&tessellate(patches, 64)).report().volume;
     assert!((tree.volume() / fine - 1.0).abs() < 0.01, "{} vs {fine}", tree.volume());
+}
+
+/// The surface voxelizers once had no memory estimate: one patch across the domain at
+/// depth 14 (about 2.7e8 voxel faces) must be refused before any work under a small
+/// budget, through the library call and the import path the CLI takes.
+#[test]
+fn one_patch_surface_at_depth_14_is_refused_under_a_small_budget() {
+    // A unit square tilted across all three axes, its odd control rows lifted a little.
+    let p = std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let (u, v) = (i as f64 / 3.0, j as f64 / 3.0);
+            DVec3::new(u, v, 0.5 * (u + v) + 0.1 * (i % 2) as f64)
+        })
+    });
+    let patches = vec![BezierPatch { p }];
+    let input = Input::Patches(patches.clone());
+    let domain = Domain::around(&input.bounds(), 0.02, 14).unwrap();
+    let budget = MemoryBudget(256 << 20);
+    let progress = Recorder::default();
+    let err = voxelize_patch_surface(&patches, domain, &VoxelizeOptions { budget, progress: &progress }).unwrap_err();
+    assert!(matches!(err, Error::OverBudget { estimate, .. } if estimate > 2 << 30), "{err}");
+    assert_eq!(progress.read().0, 0, "work started before the budget check");
+    let result = import::voxelize_input(&input, domain, Fill::Surface, InsideRule::Auto, budget, &NoProgress);
+    assert!(matches!(result, Err(Error::OverBudget { .. })), "the import path passed");
+}
+
+#[test]
+fn teapot_surface_is_the_same_on_any_thread_count_with_progress_adding_up() {
+    let patches = load_patches(Path::new("models/teapot.patches")).unwrap();
+    let domain = Domain::around(&Input::Patches(patches.clone()).bounds(), 0.02, 7).unwrap();
+    let run = |threads| {
+        let progress = Recorder::default();
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let options = VoxelizeOptions { budget: MemoryBudget::default(), progress: &progress };
+        let tree = pool.install(|| voxelize_patch_surface(&patches, domain, &options).unwrap());
+        assert_eq!(progress.read(), (1, 512, 512, 1), "{threads} threads");
+        tree
+    };
+    let one = run(1);
+    assert!(one.voxel_count() > 10_000, "{} voxels", one.voxel_count());
+    assert_eq!(one, run(2), "1 vs 2 threads");
+    assert_eq!(one, run(3), "1 vs 3 threads");
 }

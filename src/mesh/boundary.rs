@@ -49,7 +49,7 @@ use super::TriangleMesh;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::morton;
-use crate::octree::{LinearOctree, NodeKey};
+use crate::octree::{LinearOctree, NodeKey, keys_meeting_near};
 use crate::progress::{NoProgress, Progress};
 use sheets::QuarterFace;
 
@@ -203,35 +203,6 @@ pub fn try_boundary_mesh(
     Ok(TriangleMesh { vertices, triangles, groups: Vec::new() })
 }
 
-/// The index of the first key starting at or after Morton code `code`
-/// (`partition_point`), galloping from index `from`: `O(log distance)`, and most
-/// neighbours lie near in Morton order.
-fn seek(keys: &[NodeKey], from: usize, code: u64) -> usize {
-    let before = |i: usize| keys[i].start() < code;
-    let (mut lo, mut hi);
-    if from < keys.len() && before(from) {
-        // Forward: keys[lo] is before the code; grow the step until keys[hi] is not.
-        (lo, hi) = (from, from + 1);
-        let mut step = 1;
-        while hi < keys.len() && before(hi) {
-            lo = hi;
-            step *= 2;
-            hi = (hi + step).min(keys.len());
-        }
-        lo += 1;
-    } else {
-        // Backward: keys[hi] (or the end) is not before the code.
-        (lo, hi) = (from.min(keys.len()), from.min(keys.len()));
-        let mut step = 1;
-        while lo > 0 && !before(lo - 1) {
-            hi = lo - 1;
-            lo = lo.saturating_sub(step);
-            step *= 2;
-        }
-    }
-    lo + keys[lo..hi].partition_point(|k| k.start() < code)
-}
-
 /// Appends the exposed squares of the six faces of node `keys[index]` to `out`.
 fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Rect>) {
     let key = keys[index];
@@ -258,25 +229,19 @@ fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Rect>) 
             let mut across = node.min;
             across[axis] = if positive { plane } else { plane - node.size };
             let cube = NodeKey::new(morton::encode(across[0], across[1], across[2]), key.k());
-            let lo = seek(keys, index, cube.start());
-            // A key starting before the cube and reaching into it is a larger node holding it.
-            if lo > 0 && keys[lo - 1].end() > cube.start() {
-                continue;
-            }
-            let hi = seek(keys, lo, cube.end());
-            expose(&keys[lo..hi], cube, rect, out);
+            expose(keys_meeting_near(keys, index, cube), cube, rect, out);
         }
     }
 }
 
 /// Emits the parts of square `rect` (a face of a full node) that the cube `across` beyond it
-/// leaves uncovered; `keys` are the full nodes starting inside `across` (the first may
-/// be a larger node starting where `across` starts).
+/// leaves uncovered; `keys` are the full nodes meeting `across` as `keys_meeting`
+/// gives them (the covering node alone when one covers it).
 fn expose(keys: &[NodeKey], across: NodeKey, rect: Rect, out: &mut Vec<Rect>) {
-    match keys.first() {
-        None => out.push(rect),
-        Some(&first) if first.start() == across.start() && first.k() >= across.k() => {}
-        Some(_) => {
+    match keys {
+        [] => out.push(rect),
+        [key] if key.k() >= across.k() => {}
+        _ => {
             // Partly full: recurse into the four children touching the square (on its
             // side of `across` along the axis), each with its slice of keys.
             let a = usize::from(rect.axis);

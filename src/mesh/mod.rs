@@ -33,7 +33,7 @@ pub use load::{MeshFormat, load_mesh};
 pub use parity::ParityGrid;
 pub use save::{save_mesh, write_obj, write_ply, write_stl};
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh};
-pub use surface::{SurfaceKind, voxelize_surface};
+pub use surface::{SurfaceKind, estimate_surface_bytes, voxelize_surface};
 pub use tables::{Edge, MeshReport, PolygonTables};
 pub use winding::WindingNumber;
 

@@ -5,7 +5,10 @@
 //! [`super::tri_box`], in large nodes; a plane test in small ones, see
 //! [`SAT_MIN_SIZE`]); a node with none is wholly inside or outside and is decided by
 //! one point query at its first voxel's centre; a voxel with triangles is decided at
-//! its centre. Work follows the surface.
+//! its centre. Work follows the surface. The walk itself (Morton order, the merge of
+//! eight full children, the parallel top levels, progress, the budget check before the
+//! tables are built) is the octree driver's ([`crate::octree`]); this file says how a
+//! node is decided and what it hands its children ([`MeshNode`]).
 //!
 //! Inside rules: [`InsideRule::Parity`] counts crossings of a `+x` ray (watertight
 //! meshes); [`InsideRule::Winding`] thresholds the generalized winding number at 1/2
@@ -22,7 +25,6 @@
 //! That is exact for parity and for closed parts of a mesh; near a hole the winding
 //! number also varies smoothly, and this carries it over less than one small node.
 
-use rayon::prelude::*;
 use smallvec::SmallVec;
 
 use glam::DVec3;
@@ -36,7 +38,7 @@ use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::morton;
-use crate::octree::{Domain, LinearOctree, NodeKey, PARALLEL_LEVELS};
+use crate::octree::{Counters, Decision, Domain, LinearOctree, NodeKey, Plan, VoxelizeOptions, Voxelizer};
 use crate::progress::{NoProgress, Progress};
 
 /// Children of at least this many voxels a side get the exact separating-axis test;
@@ -106,8 +108,8 @@ pub struct MeshVoxelizeStats {
     pub point_queries: u64,
 }
 
-impl MeshVoxelizeStats {
-    fn add(&mut self, o: &MeshVoxelizeStats) {
+impl Counters for MeshVoxelizeStats {
+    fn add(&mut self, o: MeshVoxelizeStats) {
         self.nodes_visited += o.nodes_visited;
         self.triangle_box_tests += o.triangle_box_tests;
         self.point_queries += o.point_queries;
@@ -160,7 +162,8 @@ pub fn voxelize_mesh(
     options: &MeshVoxelizeOptions,
 ) -> Result<(LinearOctree, MeshVoxelizeStats)> {
     mesh.check()?;
-    options.budget.check(format!("voxelizing a mesh at depth {}", domain.depth()), estimate_bytes(mesh, &domain))?;
+    let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
+    let plan = Plan::new("voxelizing a mesh", estimate_bytes(mesh, &domain), domain, &driver)?;
     // The oracle (and the watertight check it may need) and the per-triangle tables
     // are independent: built side by side.
     let oracle = || {
@@ -182,15 +185,11 @@ pub fn voxelize_mesh(
         (corners, boxes, planes)
     };
     let ((rule, oracle), (corners, boxes, planes)) = rayon::join(oracle, tables);
-    let parallel_levels = PARALLEL_LEVELS.min(domain.depth());
-    options.progress.start(1 << (3 * u32::from(parallel_levels)));
-    let job = Job { mesh, corners, boxes, planes, domain, oracle, progress: options.progress, parallel_levels };
-    let all: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
-    let mut keys = Vec::new();
-    let mut stats = MeshVoxelizeStats { rule: Some(rule), ..Default::default() };
-    job.node(NodeKey::new(0, u32::from(domain.depth())), &all, None, &mut keys, &mut stats);
-    options.progress.finish();
-    Ok((LinearOctree::from_canonical(domain, keys), stats))
+    let job = Job { mesh, corners, boxes, planes, domain, oracle };
+    let root = MeshNode { triangles: (0..mesh.triangles.len() as u32).collect(), reference: None };
+    let (tree, mut stats) = plan.run(&job, root);
+    stats.rule = Some(rule);
+    Ok((tree, stats))
 }
 
 /// Children on the low side of axis `a` (bit `a` of the child's index clear).
@@ -230,6 +229,17 @@ struct Reference<'t> {
     triangles: &'t [u32],
 }
 
+/// What a node is handed by its parent.
+struct MeshNode {
+    /// The triangles that may meet the node (every one that does; see [`SAT_MIN_SIZE`]).
+    triangles: SmallVec<[u32; 16]>,
+    /// Below the reference size: the parent's centre (a corner of this node) and the
+    /// value there. A segment from it to a point of the node stays in the node, so only
+    /// the node's own triangles can cross it.
+    reference: Option<(DVec3, f64)>,
+}
+
+/// One mesh voxelization's fixed inputs: the mesh, its per-triangle tables, the oracle.
 struct Job<'a> {
     mesh: &'a TriangleMesh,
     /// Corners of each triangle.
@@ -240,8 +250,38 @@ struct Job<'a> {
     planes: Vec<Plane>,
     domain: Domain,
     oracle: Oracle,
-    progress: &'a dyn Progress,
-    parallel_levels: u8,
+}
+
+impl Voxelizer for Job<'_> {
+    type Node = MeshNode;
+    type Counters = MeshVoxelizeStats;
+
+    fn decide(&self, key: NodeKey, node: MeshNode, stats: &mut MeshVoxelizeStats) -> Decision<MeshNode> {
+        stats.nodes_visited += 1;
+        let min = morton::decode(key.start());
+        let triangles = &node.triangles[..];
+        let reference = node.reference.map(|(q, value)| Reference { q, value, triangles });
+        // Step 1: no surface in the node (or a voxel): one point decides.
+        if triangles.is_empty() || key.k() == 0 {
+            let p = self.domain.voxel_center(min);
+            let inside = self.oracle.inside(self.value(p, reference, stats));
+            return if inside { Decision::Full } else { Decision::Empty };
+        }
+        // Step 2: small enough: the value at this node's centre, carried from the
+        // parent's centre or queried, becomes the reference of the children.
+        let size = 1u32 << key.k();
+        let here = (size <= REFERENCE_SIZE).then(|| {
+            let q = self.domain.lattice_point(min.map(|c| c + size / 2));
+            (q, self.value(q, reference, stats))
+        });
+        if key.k() == 1 {
+            let (q, value) = here.expect("a 2-voxel node is below the reference size");
+            return Decision::Children(self.voxels(key, triangles, q, value, stats));
+        }
+        // Step 3: the children (of at least two voxels a side here) with their own
+        // triangles; this centre, a corner of each, is their reference.
+        Decision::Split(self.children(min, size / 2, triangles, here, stats))
+    }
 }
 
 impl Job<'_> {
@@ -269,144 +309,63 @@ impl Job<'_> {
         }
     }
 
-    /// Appends the canonical nodes of the solid inside `key`; `triangles` overlap it.
-    fn node(
+    /// The children (of `child_size` voxels a side, at least two, of the node with
+    /// lowest voxel `min`), each with reference `here` and the triangles of
+    /// `triangles` it overlaps: a triangle's bounding box picks the candidates, the
+    /// separating-axis test (large children) or the plane test (small ones, see
+    /// [`SAT_MIN_SIZE`]) decides unless the box settles it.
+    fn children(
         &self,
-        key: NodeKey,
+        min: [u32; 3],
+        child_size: u32,
         triangles: &[u32],
-        reference: Option<Reference>,
-        out: &mut Vec<NodeKey>,
+        here: Option<(DVec3, f64)>,
         stats: &mut MeshVoxelizeStats,
-    ) {
-        stats.nodes_visited += 1;
-        let min = morton::decode(key.start());
-        let level = key.level(self.domain.depth());
-        // Step 1: no surface in the node (or a voxel): one point decides.
-        if triangles.is_empty() || key.k() == 0 {
-            self.report(level);
-            let p = self.domain.voxel_center(min);
-            if self.oracle.inside(self.value(p, reference, stats)) {
-                out.push(key);
-            }
-            return;
-        }
-        // Step 2: small enough: the value at this node's centre, carried from the
-        // parent's centre or queried, becomes the reference of the children.
-        let size = 1u32 << key.k();
-        let here = (size <= REFERENCE_SIZE).then(|| {
-            let q = self.domain.lattice_point(min.map(|c| c + size / 2));
-            (q, self.value(q, reference, stats))
-        });
-        if key.k() == 1 {
-            let (q, value) = here.expect("a 2-voxel node is below the reference size");
-            self.voxels(key, triangles, q, value, out, stats);
-            return;
-        }
-        // A child's points are joined to this centre (a corner of the child) by
-        // segments inside the child, so the child's own triangles are the only ones
-        // they can cross; voxels at the last level get no lists and use ours.
-        fn child_reference(here: Option<(DVec3, f64)>, triangles: &[u32]) -> Option<Reference<'_>> {
-            here.map(|(q, value)| Reference { q, value, triangles })
-        }
-        // Step 3: hand each triangle to the children it overlaps: its bounding box picks
-        // the candidates, the separating-axis test (large children) or the plane test
-        // (small ones, see SAT_MIN_SIZE) decides unless the box settles it.
-        let child_size = size / 2;
+    ) -> [MeshNode; 8] {
         let center = self.domain.lattice_point(min.map(|c| c + child_size));
         let half = DVec3::splat(f64::from(child_size) * self.domain.voxel_size() * 0.5);
-        // Most lists are short: kept on the stack, no allocation a node.
-        let mut lists: [SmallVec<[u32; 16]>; 8] = Default::default();
-        // Voxels are decided at their centres whether or not the surface crosses them,
-        // so the last level needs no lists.
-        let needs_lists = child_size > 1;
-        if needs_lists {
-            // Each child's centre and box, once a node.
-            let children: [(DVec3, DVec3, DVec3); 8] = std::array::from_fn(|i| {
-                let offset = DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64) * 2.0 - 1.0;
-                let c = center + offset * half;
-                (c, c - half, c + half)
-            });
-            for &t in triangles {
-                let b = &self.boxes[t as usize];
-                // The children the triangle's box reaches: a side of an axis it misses
-                // rules out the four children on that side.
-                let above = b.min.cmpgt(center).bitmask() as usize;
-                let below = b.max.cmplt(center).bitmask() as usize;
-                let mut reached = REACHED_ABOVE[above] & REACHED_BELOW[below];
-                while reached != 0 {
-                    let i = reached.trailing_zeros() as usize;
-                    reached &= reached - 1;
-                    let (c, lo, hi) = children[i];
-                    let inside = b.min.cmpge(lo).all() && b.max.cmple(hi).all();
-                    if !inside && child_size >= SAT_MIN_SIZE {
-                        stats.triangle_box_tests += 1;
-                        if !triangle_box_overlap(&self.corners[t as usize], c, half) {
-                            continue;
-                        }
-                    } else if !inside && !self.planes[t as usize].meets_cube(c, half.x) {
+        // Most lists are short: kept inline, no allocation a node.
+        let mut children: [MeshNode; 8] =
+            std::array::from_fn(|_| MeshNode { triangles: SmallVec::new(), reference: here });
+        // Each child's centre and box, once a node.
+        let cubes: [(DVec3, DVec3, DVec3); 8] = std::array::from_fn(|i| {
+            let offset = DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64) * 2.0 - 1.0;
+            let c = center + offset * half;
+            (c, c - half, c + half)
+        });
+        for &t in triangles {
+            let b = &self.boxes[t as usize];
+            // The children the triangle's box reaches: a side of an axis it misses
+            // rules out the four children on that side.
+            let above = b.min.cmpgt(center).bitmask() as usize;
+            let below = b.max.cmplt(center).bitmask() as usize;
+            let mut reached = REACHED_ABOVE[above] & REACHED_BELOW[below];
+            while reached != 0 {
+                let i = reached.trailing_zeros() as usize;
+                reached &= reached - 1;
+                let (c, lo, hi) = cubes[i];
+                let inside = b.min.cmpge(lo).all() && b.max.cmple(hi).all();
+                if !inside && child_size >= SAT_MIN_SIZE {
+                    stats.triangle_box_tests += 1;
+                    if !triangle_box_overlap(&self.corners[t as usize], c, half) {
                         continue;
                     }
-                    lists[i].push(t);
+                } else if !inside && !self.planes[t as usize].meets_cube(c, half.x) {
+                    continue;
                 }
+                children[i].triangles.push(t);
             }
         }
-        let before = out.len();
-        if level < self.parallel_levels {
-            let parts: Vec<(Vec<NodeKey>, MeshVoxelizeStats)> = lists
-                .into_par_iter()
-                .enumerate()
-                .map(|(i, mine)| {
-                    let mut s = MeshVoxelizeStats::default();
-                    let mut part = Vec::new();
-                    self.node(
-                        key.child(i as u64).expect("k > 0"),
-                        &mine,
-                        child_reference(here, if needs_lists { &mine } else { triangles }),
-                        &mut part,
-                        &mut s,
-                    );
-                    (part, s)
-                })
-                .collect();
-            for (part, s) in parts {
-                out.extend(part);
-                stats.add(&s);
-            }
-        } else {
-            if level == self.parallel_levels {
-                self.report(level);
-            }
-            for (i, mine) in lists.iter().enumerate() {
-                self.node(
-                    key.child(i as u64).expect("k > 0"),
-                    mine,
-                    child_reference(here, if needs_lists { mine } else { triangles }),
-                    out,
-                    stats,
-                );
-            }
-        }
-        // Step 4: eight full children are their parent.
-        if out.len() == before + 8 && out[before..].iter().all(|c| c.k() + 1 == key.k()) {
-            out.truncate(before);
-            out.push(key);
-        }
+        children
     }
 
-    /// The eight voxels of a 2-voxel node with triangles, each carried from the
-    /// node's centre `q` (value `vq`). Triangle by triangle: `q`'s side of it is found
-    /// once, and only the voxels whose segment from `q` its box meets are looked at
-    /// (the centre's side of each axis picks them, as for child lists, then the far
-    /// end of the segment); the crossings are summed a voxel.
-    fn voxels(
-        &self,
-        key: NodeKey,
-        triangles: &[u32],
-        q: DVec3,
-        vq: f64,
-        out: &mut Vec<NodeKey>,
-        stats: &mut MeshVoxelizeStats,
-    ) {
+    /// Which of the eight voxels of a 2-voxel node with triangles are inside (bit `i`
+    /// for child `i`), each carried from the node's centre `q` (value `vq`). Triangle
+    /// by triangle: `q`'s side of it is found once, and only the voxels whose segment
+    /// from `q` its box meets are looked at (the centre's side of each axis picks them,
+    /// as for child lists, then the far end of the segment); the crossings are summed
+    /// a voxel.
+    fn voxels(&self, key: NodeKey, triangles: &[u32], q: DVec3, vq: f64, stats: &mut MeshVoxelizeStats) -> u8 {
         let min = morton::decode(key.start());
         let centers: [DVec3; 8] = std::array::from_fn(|i| {
             self.domain.voxel_center([
@@ -439,23 +398,7 @@ impl Job<'_> {
                 }
             }
         }
-        let before = out.len();
-        for (i, &k) in crossings.iter().enumerate() {
-            self.report(key.level(self.domain.depth()) + 1);
-            if self.oracle.inside(self.oracle.carry(vq, k)) {
-                out.push(key.child(i as u64).expect("k = 1"));
-            }
-        }
         stats.nodes_visited += 8;
-        if out.len() == before + 8 {
-            out.truncate(before);
-            out.push(key);
-        }
-    }
-
-    fn report(&self, level: u8) {
-        if level <= self.parallel_levels {
-            self.progress.advance(1 << (3 * u32::from(self.parallel_levels - level)));
-        }
+        (0..8).filter(|&i| self.oracle.inside(self.oracle.carry(vq, crossings[i]))).fold(0, |m, i| m | 1 << i)
     }
 }

@@ -1,8 +1,17 @@
 //! Linear octrees: domain, node keys, the canonical node list, and what works on it.
+//!
+//! Every voxelizer of the library (shapes here, mesh solids and surfaces in
+//! [`crate::mesh`], patch surfaces in [`crate::patch`]) runs one top-down walk: its job
+//! is refused before any work when its estimated memory exceeds the budget; children
+//! are visited in Morton order and eight full children become their parent, so the
+//! keys come out sorted and canonical; the top [`PARALLEL_LEVELS`] levels run as
+//! parallel tasks joined in child order, so the result does not depend on the number
+//! of threads; progress comes in units of level-3 subtrees ([`VoxelizeOptions`]).
 
 mod csg;
 mod depth;
 mod domain;
+mod driver;
 mod linear;
 mod neighbourhood;
 mod node;
@@ -10,10 +19,14 @@ mod ranges;
 mod resample;
 mod transform;
 mod voxelize;
+mod window;
 
 pub use csg::SetOp;
 pub use depth::CoarsenRule;
 pub use domain::{Domain, MAX_DEPTH};
+pub(crate) use driver::{Counters, Decision, Plan, Voxelizer};
+pub use driver::{PARALLEL_LEVELS, VoxelizeOptions};
 pub use linear::LinearOctree;
 pub use node::{Node, NodeKey};
-pub use voxelize::{PARALLEL_LEVELS, VoxelizeOptions, estimate_bytes, voxelize};
+pub use voxelize::{estimate_bytes, voxelize};
+pub(crate) use window::keys_meeting_near;

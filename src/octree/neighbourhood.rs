@@ -9,6 +9,7 @@
 use super::linear::LinearOctree;
 use super::node::NodeKey;
 use super::resample::enclosing_node;
+use super::window::keys_meeting;
 use crate::morton;
 
 impl LinearOctree {
@@ -43,18 +44,11 @@ struct Fill {
 impl Fill {
     /// Fills the full voxels of `node` (which meets the box) from the sorted run `keys`.
     fn visit(&self, keys: &[NodeKey], node: NodeKey, out: &mut [bool]) {
-        let (s, e) = (node.start(), node.end());
-        let first = keys.partition_point(|k| k.start() <= s);
-        let from = match first.checked_sub(1) {
-            Some(i) if keys[i].end() >= e => return self.set(node, out),
-            Some(i) if keys[i].end() > s => i,
-            _ => first,
+        let window = match keys_meeting(keys, node) {
+            [] => return,
+            [key] if key.k() >= node.k() => return self.set(node, out),
+            window => window,
         };
-        let to = first + keys[first..].partition_point(|k| k.start() < e);
-        if from == to {
-            return;
-        }
-        let window = &keys[from..to];
         let half = 1u32 << (node.k() - 1);
         for i in 0..8 {
             let child = node.child(i).expect("a partly full node is not a voxel");

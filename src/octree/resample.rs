@@ -29,9 +29,11 @@
 use glam::{DAffine3, DVec3};
 
 use super::domain::Domain;
+use super::driver::VoxelizeOptions;
 use super::linear::LinearOctree;
 use super::node::NodeKey;
-use super::voxelize::{VoxelizeOptions, voxelize};
+use super::voxelize::voxelize;
+use super::window::keys_meeting;
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 use crate::morton;
@@ -93,29 +95,20 @@ pub(super) fn enclosing_node(lo: [u32; 3], hi: [u32; 3]) -> NodeKey {
 /// the box); `keys` is any sorted run of the canonical key list that holds every key
 /// meeting that part of the box (the whole list will do).
 pub(super) fn classify_in(keys: &[NodeKey], node: NodeKey, lo: [u32; 3], hi: [u32; 3]) -> Class {
-    let (s, e) = (node.start(), node.end());
-    // Step 1: the keys meeting the node. Aligned cubes nest or are disjoint, so a key
-    // starting at or before `s` and reaching past it either covers the node or starts
-    // at `s`; every other key meeting the node starts inside it.
-    let first = keys.partition_point(|k| k.start() <= s);
-    let from = match first.checked_sub(1) {
-        Some(i) if keys[i].end() >= e => return Class::Inside,
-        Some(i) if keys[i].end() > s => i,
-        _ => first,
+    // Step 1: the keys meeting the node: none, one covering it, or a part.
+    let window = match keys_meeting(keys, node) {
+        [] => return Class::Outside,
+        [key] if key.k() >= node.k() => return Class::Inside,
+        window => window,
     };
-    let to = first + keys[first..].partition_point(|k| k.start() < e);
-    if from == to {
-        return Class::Outside;
-    }
     // Step 2: partly full (a canonical list has no set of keys that fills a node
     // without a key covering it), so if the node lies in the box, the box is mixed.
-    let min = morton::decode(s);
+    let min = morton::decode(node.start());
     let size = 1u32 << node.k();
     if (0..3).all(|a| lo[a] <= min[a] && min[a] + size <= hi[a]) {
         return Class::Boundary;
     }
     // Step 3: the children that meet the box decide.
-    let window = &keys[from..to];
     let half = size / 2;
     let mut seen: Option<Class> = None;
     for i in 0..8 {

@@ -27,6 +27,7 @@
 use super::linear::LinearOctree;
 use super::node::{Node, NodeKey};
 use super::resample::classify_in;
+use super::window::keys_meeting;
 use crate::morton;
 use crate::shape::Class;
 
@@ -165,6 +166,19 @@ impl Shift {
             return;
         }
         // Step 1: classify the preimage part by part; what lies outside the domain is empty.
+        // Step 2: emit, drop, or recurse (the preimage is not one voxel: see step 0).
+        match self.preimage_class(k, lo, base, &windows) {
+            Class::Inside => out.push(node),
+            Class::Outside => {}
+            Class::Boundary => self.split(node, lo, base, &windows, out),
+        }
+    }
+
+    /// Whether the preimage `[lo, lo + 2^k)` (block `base` of size-`2^k` cubes, their
+    /// runs `windows`) is all full, all empty or mixed; voxels outside the domain are
+    /// empty.
+    fn preimage_class(&self, k: u32, lo: [i64; 3], base: [i64; 3], windows: &[&[NodeKey]; 8]) -> Class {
+        let s = 1i64 << k;
         let clipped = lo.iter().any(|&c| c < 0 || c + s > self.n);
         let (mut full, mut empty) = (false, clipped);
         for (d, window) in windows.iter().enumerate() {
@@ -192,51 +206,41 @@ impl Shift {
                 break;
             }
         }
-        // Step 2: emit, drop, or recurse (the preimage is not one voxel: see step 0).
         match (full, empty) {
-            (true, false) => out.push(node),
-            (false, _) => {}
-            (true, true) => {
-                let h = s / 2;
-                let gbase = lo.map(|c| c.div_euclid(h));
-                // The runs of the 3 x 3 x 3 half-size cubes, index x + 3y + 9z.
-                let grid: [&[NodeKey]; 27] = std::array::from_fn(|g| {
-                    let c: [i64; 3] =
-                        [gbase[0] + (g % 3) as i64, gbase[1] + (g / 3 % 3) as i64, gbase[2] + (g / 9) as i64];
-                    let Some(cmin) = self.cube_min(c, h).filter(|m| (0..3).all(|a| i64::from(m[a]) < lo[a] + s)) else {
-                        return &[][..]; // Outside the domain, or beyond B.
-                    };
-                    // The node's cube holding it (a cube meeting B lies in one), as an
-                    // index into the node's block.
-                    let up: [i64; 3] = std::array::from_fn(|a| (c[a] >> 1) - base[a]);
-                    debug_assert!(up.iter().all(|u| (0..2).contains(u)), "{up:?}");
-                    let window = windows[(up[0] + 2 * up[1] + 4 * up[2]) as usize];
-                    narrow(window, NodeKey::new(morton::encode(cmin[0], cmin[1], cmin[2]), k - 1))
-                });
-                for i in 0..8 {
-                    let child = node.child(i as u64).expect("a mixed preimage is not one voxel");
-                    let bit = [i & 1, (i >> 1) & 1, (i >> 2) & 1];
-                    let clo: [i64; 3] = std::array::from_fn(|a| lo[a] + bit[a] as i64 * h);
-                    // The child's block starts at gbase + bit.
-                    let cwindows = std::array::from_fn(|d| {
-                        grid[(bit[0] + (d & 1)) + 3 * (bit[1] + ((d >> 1) & 1)) + 9 * (bit[2] + ((d >> 2) & 1))]
-                    });
-                    self.visit(child, clo, cwindows, out);
-                }
-            }
+            (true, false) => Class::Inside,
+            (false, _) => Class::Outside,
+            (true, true) => Class::Boundary,
         }
     }
-}
 
-/// The keys of the sorted run `window` that meet `cube` (just the covering key when
-/// one covers it), given that `window` holds every key meeting it.
-fn narrow(window: &[NodeKey], cube: NodeKey) -> &[NodeKey] {
-    let (s, e) = (cube.start(), cube.end());
-    let first = window.partition_point(|k| k.start() <= s);
-    let from = match first.checked_sub(1) {
-        Some(i) if window[i].end() >= e => return &window[i..first],
-        Some(i) if window[i].end() > s => i,
-        _ => first,
-    };
-    &window[from..first + window[first..].partition_point(|k| k.start() < e)]
+    /// Visits the eight children of the mixed `node` (preimage at `lo`, block `base`,
+    /// runs `windows`), each with the runs of its own block of half-size cubes.
+    fn split(&self, node: NodeKey, lo: [i64; 3], base: [i64; 3], windows: &[&[NodeKey]; 8], out: &mut Vec<NodeKey>) {
+        let k = node.k();
+        let (s, h) = (1i64 << k, 1i64 << (k - 1));
+        let gbase = lo.map(|c| c.div_euclid(h));
+        // The runs of the 3 x 3 x 3 half-size cubes, index x + 3y + 9z.
+        let grid: [&[NodeKey]; 27] = std::array::from_fn(|g| {
+            let c: [i64; 3] = [gbase[0] + (g % 3) as i64, gbase[1] + (g / 3 % 3) as i64, gbase[2] + (g / 9) as i64];
+            let Some(cmin) = self.cube_min(c, h).filter(|m| (0..3).all(|a| i64::from(m[a]) < lo[a] + s)) else {
+                return &[][..]; // Outside the domain, or beyond B.
+            };
+            // The node's cube holding it (a cube meeting B lies in one), as an
+            // index into the node's block.
+            let up: [i64; 3] = std::array::from_fn(|a| (c[a] >> 1) - base[a]);
+            debug_assert!(up.iter().all(|u| (0..2).contains(u)), "{up:?}");
+            let window = windows[(up[0] + 2 * up[1] + 4 * up[2]) as usize];
+            keys_meeting(window, NodeKey::new(morton::encode(cmin[0], cmin[1], cmin[2]), k - 1))
+        });
+        for i in 0..8 {
+            let child = node.child(i as u64).expect("a mixed preimage is not one voxel");
+            let bit = [i & 1, (i >> 1) & 1, (i >> 2) & 1];
+            let clo: [i64; 3] = std::array::from_fn(|a| lo[a] + bit[a] as i64 * h);
+            // The child's block starts at gbase + bit.
+            let cwindows = std::array::from_fn(|d| {
+                grid[(bit[0] + (d & 1)) + 3 * (bit[1] + ((d >> 1) & 1)) + 9 * (bit[2] + ((d >> 2) & 1))]
+            });
+            self.visit(child, clo, cwindows, out);
+        }
+    }
 }

@@ -14,4 +14,4 @@ mod voxelize;
 
 pub use bezier::BezierPatch;
 pub use load::load_patches;
-pub use voxelize::{segments_for, tessellate, voxelize_patch_surface};
+pub use voxelize::{estimate_surface_bytes, segments_for, tessellate, voxelize_patch_surface};

@@ -55,3 +55,40 @@ pub fn random_octree(rng: &mut Rng, domain: Domain) -> LinearOctree {
     tree.validate().unwrap();
     tree
 }
+
+/// A [`Progress`](octsolid::progress::Progress) that records what it was told, to
+/// check that a job's units add up to its total, or that it never started.
+#[derive(Default)]
+pub struct Recorder {
+    /// Calls to `start`.
+    pub starts: std::sync::atomic::AtomicU64,
+    /// The last total given to `start`.
+    pub total: std::sync::atomic::AtomicU64,
+    /// Units advanced since the last `start`.
+    pub done: std::sync::atomic::AtomicU64,
+    /// Calls to `finish`.
+    pub finishes: std::sync::atomic::AtomicU64,
+}
+
+impl Recorder {
+    /// `(starts, total, done, finishes)`.
+    pub fn read(&self) -> (u64, u64, u64, u64) {
+        use std::sync::atomic::Ordering::SeqCst;
+        (self.starts.load(SeqCst), self.total.load(SeqCst), self.done.load(SeqCst), self.finishes.load(SeqCst))
+    }
+}
+
+impl octsolid::progress::Progress for Recorder {
+    fn start(&self, total: u64) {
+        use std::sync::atomic::Ordering::SeqCst;
+        self.starts.fetch_add(1, SeqCst);
+        self.total.store(total, SeqCst);
+        self.done.store(0, SeqCst);
+    }
+    fn advance(&self, n: u64) {
+        self.done.fetch_add(n, std::sync::atomic::Ordering::SeqCst);
+    }
+    fn finish(&self) {
+        self.finishes.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    }
+}
