@@ -10,7 +10,7 @@
 //! runs: its boundary meshes exceed the matrix's 4 million triangle limit for BVHs.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
 use octsolid::mesh::{BoundaryOptions, TriangleMesh, boundary_mesh};
 use octsolid::render::Traversal;
 use octsolid_harness::rays::{light_position, primary_rays, random_rays, shadow_rays};

@@ -3,9 +3,9 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
+use octsolid::NoProgress;
 use octsolid::octree::{Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
-use octsolid::progress::NoProgress;
 use octsolid::shape::Sphere;
 
 fn spheres(depth: u8) -> (LinearOctree, LinearOctree) {

@@ -3,10 +3,10 @@
 //! (nodes, triangles, vertices) for each.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
+use octsolid::NoProgress;
 use octsolid::mesh::{BoundaryOptions, InsideRule, MeshVoxelizeOptions, boundary_mesh, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
-use octsolid::progress::NoProgress;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("export");

@@ -6,11 +6,11 @@
 use std::path::Path;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
+use octsolid::NoProgress;
 use octsolid::io::{ColouredSolid, ReadOptions, Solids, binvox, gltf, oct, vdb, vox};
 use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
-use octsolid::progress::NoProgress;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("formats");

@@ -3,12 +3,12 @@
 //! Targets: bunny depth 10 under 1 s, depth 8 under 60 ms, about 4x a level.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use octsolid::budget::MemoryBudget;
-use octsolid::import::{self, Fill, Input};
+use octsolid::MemoryBudget;
+use octsolid::NoProgress;
+use octsolid::import::{self, ImportOptions, Input};
 use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, VoxelizeOptions};
 use octsolid::patch::voxelize_patch_surface;
-use octsolid::progress::NoProgress;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("mesh");
@@ -42,15 +42,8 @@ fn bench(c: &mut Criterion) {
     });
     group.bench_function(BenchmarkId::new("teapot_solid", 9), |b| {
         b.iter(|| {
-            import::voxelize_input(
-                &teapot,
-                domain,
-                Fill::Solid,
-                InsideRule::Auto,
-                MemoryBudget::unlimited(),
-                &NoProgress,
-            )
-            .unwrap()
+            let options = ImportOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
+            import::voxelize_input(&teapot, domain, &options).unwrap()
         })
     });
     group.finish();

@@ -4,7 +4,7 @@
 //! Target: front-to-back display at 20 frames a second or more.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
 use octsolid::render::{Camera, Material, Method, SampleGrid, Scene, visibility, visibility_into};

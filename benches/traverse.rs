@@ -6,10 +6,10 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
+use octsolid::NoProgress;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use octsolid::progress::NoProgress;
 use octsolid::render::{Camera, PACKET, TILE, Traversal};
 use octsolid::shape::{Axis, Sphere};
 use octsolid::{Ray, RayCast};

@@ -7,8 +7,8 @@
 //! from the octree.
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use octsolid::budget::MemoryBudget;
-use octsolid::progress::NoProgress;
+use octsolid::MemoryBudget;
+use octsolid::NoProgress;
 use octsolid::render::{Normals, render};
 use octsolid::scene_file::{SceneFile, load_scene};
 

@@ -4,11 +4,9 @@
 //!
 //! Run: `cargo run --release --example teapot` (writes teapot.oct, teapot_shell.oct, teapot.png).
 
-use octsolid::import::{self, Fill, Input};
-use octsolid::mesh::InsideRule;
+use octsolid::import::{self, ImportOptions, Input};
 use octsolid::patch::{tessellate, voxelize_patch_surface};
 use octsolid::prelude::*;
-use octsolid::progress::NoProgress;
 
 fn main() -> Result<()> {
     let input = Input::load("models/teapot.patches".as_ref())?;
@@ -18,8 +16,7 @@ fn main() -> Result<()> {
     // The shell, within half a voxel of the patches.
     let shell = voxelize_patch_surface(patches, domain, &VoxelizeOptions::default())?;
     // The solid, from a tessellation fine enough for the voxel size.
-    let (solid, summary) =
-        import::voxelize_input(&input, domain, Fill::Solid, InsideRule::Auto, MemoryBudget::default(), &NoProgress)?;
+    let (solid, summary) = import::voxelize_input(&input, domain, &ImportOptions::default())?;
     oct::save(&solid, "teapot.oct".as_ref())?;
     oct::save(&shell, "teapot_shell.oct".as_ref())?;
     png::save(&slice_image(&solid, 1, 0.0, 768)?, "teapot.png".as_ref())?;

@@ -14,7 +14,7 @@ use crate::mesh::{
 };
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
 use crate::patch::{BezierPatch, load_patches, segments_for, tessellate, voxelize_patch_surface};
-use crate::progress::Progress;
+use crate::progress::{NoProgress, Progress};
 
 /// What to make of the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,15 +97,38 @@ pub struct VoxelizeSummary {
     pub rule: Option<InsideRule>,
 }
 
-/// Voxelizes `input` into `domain` as `fill`.
+/// How an input is voxelized.
+#[derive(Clone, Copy)]
+pub struct ImportOptions<'a> {
+    /// What to make of the surface.
+    pub fill: Fill,
+    /// The inside rule for solids.
+    pub inside: InsideRule,
+    /// Refuse the job when its estimated memory exceeds this.
+    pub budget: MemoryBudget,
+    /// Receives the voxelizer's progress.
+    pub progress: &'a dyn Progress,
+}
+
+impl Default for ImportOptions<'_> {
+    /// A solid by the automatic inside rule, under the default budget, no progress.
+    fn default() -> Self {
+        ImportOptions {
+            fill: Fill::Solid,
+            inside: InsideRule::Auto,
+            budget: MemoryBudget::default(),
+            progress: &NoProgress,
+        }
+    }
+}
+
+/// Voxelizes `input` into `domain` as `options.fill`.
 pub fn voxelize_input(
     input: &Input,
     domain: Domain,
-    fill: Fill,
-    inside: InsideRule,
-    budget: MemoryBudget,
-    progress: &dyn Progress,
+    options: &ImportOptions,
 ) -> Result<(LinearOctree, VoxelizeSummary)> {
+    let ImportOptions { fill, inside, budget, progress } = *options;
     let h = domain.voxel_size();
     let options = VoxelizeOptions { budget, progress };
     if let (Input::Patches(p), Fill::Surface) = (input, fill) {

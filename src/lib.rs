@@ -1,10 +1,23 @@
 //! # octsolid
 //!
 //! Solid modeling and rendering on **linear octrees**. A solid is the sorted,
-//! canonical list of its full octree nodes ([`LinearOctree`]), 8 bytes a node, over a
-//! cubic [`Domain`] of depth up to 21. Solids come from [`Shape`]s (quadrics, boxes,
-//! CSG trees of them) by adaptive [`voxelize`], combine by set operations in one linear
-//! merge, transform, and save to the `.oct` format.
+//! canonical list of its full octree nodes ([`octree::LinearOctree`]), 8 bytes a node,
+//! over a cubic [`octree::Domain`] of depth up to 21. Solids come from shapes
+//! ([`shape::Shape`]: quadrics, boxes, CSG trees of them, any type of yours) by
+//! adaptive [`octree::voxelize`], and from triangle meshes and Bezier patches
+//! ([`mesh`], [`patch`], [`import`]); they combine by set operations in one linear
+//! merge, move exactly or by resampling, travel in files ([`io`]: `.oct`, MagicaVoxel,
+//! binvox, OpenVDB, glTF, PNG) and are drawn by an octree renderer ([`render`]: the ray
+//! walk through the octree itself, Meagher's front-to-back display and the classic
+//! visibility algorithms, Phong, shadows, Whitted, textures) from code or from scene
+//! files ([`scene_file`]).
+//!
+//! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`], [`io`],
+//! [`slice`](mod@slice), [`render`], [`import`], [`scene_file`], [`samples`]. Across them: one
+//! [`Error`] with the file and place of every failure, a [`MemoryBudget`] every large
+//! job is checked against before it allocates, [`Progress`] for long jobs (the library
+//! never prints), and [`Ray`] with the one query interface of everything a ray can hit,
+//! [`RayCast`]. A CSG script needs one import, [`prelude`].
 //!
 //! ```
 //! use octsolid::prelude::*;
@@ -22,19 +35,19 @@
 
 #![deny(missing_docs)]
 
-pub mod aabb;
-pub mod budget;
+mod aabb;
+mod budget;
 pub mod color;
-pub mod error;
-pub mod file_kind;
+mod error;
+mod file_kind;
 pub mod import;
 pub mod io;
 pub mod mesh;
 pub mod morton;
 pub mod octree;
 pub mod patch;
-pub mod progress;
-pub mod ray;
+mod progress;
+mod ray;
 pub mod render;
 pub mod samples;
 pub mod scene_file;
@@ -44,20 +57,18 @@ pub mod slice;
 mod test_util;
 
 pub use aabb::Aabb;
-pub use error::{Error, Result};
+pub use budget::MemoryBudget;
+pub use error::{Error, Result, human_bytes};
 pub use file_kind::FileKind;
-pub use octree::{Domain, LinearOctree, Node, NodeKey, voxelize};
+pub use progress::{NoProgress, Progress};
 pub use ray::{Ray, RayCast};
-pub use shape::{Class, Shape};
 
 /// Everything a CSG script needs, in one import.
 pub mod prelude {
-    pub use crate::aabb::Aabb;
-    pub use crate::budget::MemoryBudget;
-    pub use crate::error::{Error, Result};
     pub use crate::io::{oct, png};
     pub use crate::octree::{CoarsenRule, Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
     pub use crate::shape::*;
     pub use crate::slice::slice_image;
+    pub use crate::{Aabb, Error, MemoryBudget, Result};
     pub use glam::{DMat3, DMat4, DVec3};
 }

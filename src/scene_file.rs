@@ -24,7 +24,7 @@ use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
 use crate::color::{Hsi, cmy_to_rgb, hsi_to_rgb};
 use crate::error::{Error, Result};
-use crate::import::{self, Fill, Input};
+use crate::import::{self, ImportOptions, Input};
 use crate::io::oct;
 use crate::mesh::InsideRule;
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
@@ -413,7 +413,7 @@ fn add_solid(scene: &mut Scene, solid: &SolidSpec, name: &str, source: &SolidSou
         let input = Input::load(&cx.folder.join(mesh))?;
         let domain = import::default_domain(&input, solid.depth.unwrap_or(source.depth))?;
         let inside = solid.inside.map_or(InsideRule::Auto, InsideRule::from);
-        import::voxelize_input(&input, domain, Fill::Solid, inside, cx.budget, &NoProgress)?.0
+        import::voxelize_input(&input, domain, &ImportOptions { inside, budget: cx.budget, ..Default::default() })?.0
     } else {
         oct::load(&cx.folder.join(solid.oct.as_ref().expect("one source")), cx.budget)?
     };

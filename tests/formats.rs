@@ -11,7 +11,7 @@ use std::process::Command;
 
 use common::{Rng, random_octree};
 use glam::DVec3;
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
 use octsolid::io::{self, ColouredSolid, ReadOptions, Solids, WriteOptions, binvox, gltf, vdb, vox};
 use octsolid::octree::{Domain, LinearOctree, Node};
 use octsolid::render::{from_srgb8, to_srgb8};

@@ -5,13 +5,11 @@ mod common;
 
 use common::{Recorder, Rng};
 use glam::DVec3;
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
 use octsolid::mesh::generate::{box_with_hole, icosphere, torus};
-use octsolid::mesh::tri_box::triangle_box_overlap;
 use octsolid::mesh::*;
 use octsolid::morton;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions};
-use octsolid::progress::NoProgress;
 use octsolid::{Error, import};
 
 fn domain_for(mesh: &TriangleMesh, depth: u8) -> Domain {
@@ -151,39 +149,6 @@ fn winding_number_is_one_inside_zero_outside() {
 }
 
 #[test]
-fn triangle_box_overlap_matches_sampling() {
-    let mut rng = Rng(99);
-    let (mut overlaps, mut separate) = (0, 0);
-    for _ in 0..3000 {
-        let t = [rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0)];
-        let center = rng.vec(-1.0, 1.0);
-        let half = rng.vec(0.02, 0.5);
-        let got = triangle_box_overlap(&t, center, half);
-        // Sample the triangle on a barycentric grid: distance from the box.
-        const N: usize = 60;
-        let mut nearest = f64::INFINITY;
-        for i in 0..=N {
-            for j in 0..=N - i {
-                let (u, v) = (i as f64 / N as f64, j as f64 / N as f64);
-                let p = t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v;
-                nearest = nearest.min(((p - center).abs() - half).max(DVec3::ZERO).length());
-            }
-        }
-        let spacing = [t[1] - t[0], t[2] - t[0], t[2] - t[1]].iter().map(|e| e.length()).fold(0.0, f64::max) / N as f64;
-        if nearest == 0.0 {
-            assert!(got, "a sampled point lies in the box: {t:?} {center} {half}");
-        }
-        if got {
-            assert!(nearest <= spacing, "reported overlap, but the triangle is {nearest} away: {t:?} {center} {half}");
-            overlaps += 1;
-        } else {
-            separate += 1;
-        }
-    }
-    assert!(overlaps > 300 && separate > 300, "{overlaps} overlaps, {separate} separate");
-}
-
-#[test]
 fn surface_shells_cover_the_surface_and_thin_is_6_separating() {
     let mesh = icosphere(DVec3::ZERO, 1.0, 3);
     let d = domain_for(&mesh, 6);
@@ -267,7 +232,8 @@ fn one_triangle_surface_at_depth_14_is_refused_under_a_small_budget() {
     }
     let input = import::Input::Mesh(mesh);
     for fill in [import::Fill::Surface, import::Fill::Thin] {
-        let result = import::voxelize_input(&input, domain, fill, InsideRule::Auto, budget, &NoProgress);
+        let result =
+            import::voxelize_input(&input, domain, &import::ImportOptions { fill, budget, ..Default::default() });
         assert!(matches!(result, Err(Error::OverBudget { .. })), "{fill:?} passed the import path");
     }
 }

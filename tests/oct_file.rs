@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use glam::DVec3;
-use octsolid::budget::MemoryBudget;
-use octsolid::io::{atomic, oct};
+use octsolid::MemoryBudget;
+use octsolid::io::{oct, write_atomic};
 use octsolid::octree::{Domain, LinearOctree, Node, VoxelizeOptions, voxelize};
 use octsolid::{Error, samples};
 
@@ -200,7 +200,7 @@ fn save_and_load_through_files_atomically() {
     assert_eq!(oct::load(&path, MemoryBudget::default()).unwrap(), tree);
 
     // A write that fails halfway leaves the old file whole and no temporary behind.
-    let err = atomic::write_atomic(&path, |w| {
+    let err = write_atomic(&path, |w| {
         w.write_all(b"half")?;
         Err(std::io::Error::other("disk full"))
     })

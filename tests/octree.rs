@@ -210,7 +210,7 @@ fn every_constructor_keeps_exactly_eight_bytes_a_node() {
     exact("voxelize", &voxelize(&ball, domain(7), &VoxelizeOptions::default()).unwrap());
     let file = std::env::temp_dir().join(format!("octsolid-bytes-{}.oct", std::process::id()));
     octsolid::io::oct::save(&a, &file).unwrap();
-    let loaded = octsolid::io::oct::load(&file, octsolid::budget::MemoryBudget::unlimited()).unwrap();
+    let loaded = octsolid::io::oct::load(&file, octsolid::MemoryBudget::unlimited()).unwrap();
     std::fs::remove_file(&file).unwrap();
     assert_eq!(loaded, a);
     exact("oct::load", &loaded);

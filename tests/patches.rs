@@ -8,12 +8,11 @@ use std::path::Path;
 use common::Recorder;
 use glam::DVec3;
 use octsolid::Error;
-use octsolid::budget::MemoryBudget;
-use octsolid::import::{self, Fill, Input};
+use octsolid::MemoryBudget;
+use octsolid::import::{self, Fill, ImportOptions, Input};
 use octsolid::mesh::{InsideRule, PolygonTables};
 use octsolid::octree::{Domain, VoxelizeOptions};
 use octsolid::patch::{BezierPatch, load_patches, tessellate, voxelize_patch_surface};
-use octsolid::progress::NoProgress;
 
 #[test]
 fn teapot_surface_voxels_hug_the_surface() {
@@ -74,8 +73,7 @@ fn teapot_surface_voxels_hug_the_surface() {
 fn teapot_solid_matches_its_tessellation() {
     let input = Input::load(Path::new("models/teapot.patches")).unwrap();
     let domain = import::default_domain(&input, 8).unwrap();
-    let (tree, summary) =
-        import::voxelize_input(&input, domain, Fill::Solid, InsideRule::Auto, Default::default(), &NoProgress).unwrap();
+    let (tree, summary) = import::voxelize_input(&input, domain, &ImportOptions::default()).unwrap();
     tree.validate().unwrap();
     assert_eq!(summary.rule, Some(InsideRule::Winding), "the teapot is not watertight");
     let Input::Patches(patches) = &input else { unreachable!() };
@@ -103,7 +101,8 @@ fn one_patch_surface_at_depth_14_is_refused_under_a_small_budget() {
     let err = voxelize_patch_surface(&patches, domain, &VoxelizeOptions { budget, progress: &progress }).unwrap_err();
     assert!(matches!(err, Error::OverBudget { estimate, .. } if estimate > 2 << 30), "{err}");
     assert_eq!(progress.read().0, 0, "work started before the budget check");
-    let result = import::voxelize_input(&input, domain, Fill::Surface, InsideRule::Auto, budget, &NoProgress);
+    let result =
+        import::voxelize_input(&input, domain, &ImportOptions { fill: Fill::Surface, budget, ..Default::default() });
     assert!(matches!(result, Err(Error::OverBudget { .. })), "the import path passed");
 }
 

@@ -6,9 +6,9 @@ mod common;
 use std::f64::consts::PI;
 
 use glam::DVec3;
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
+use octsolid::NoProgress;
 use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
-use octsolid::progress::NoProgress;
 use octsolid::render::to_srgb8;
 use octsolid::render::*;
 use octsolid::scene_file::load_scene;

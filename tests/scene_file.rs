@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
 use octsolid::io::oct;
 use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
 use octsolid::scene_file::{SceneFile, load_scene};

@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 
 use glam::{DAffine3, DVec3};
-use octsolid::aabb::Aabb;
+use octsolid::Aabb;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::shape::*;
 

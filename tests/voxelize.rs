@@ -5,12 +5,12 @@ use std::f64::consts::PI;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::DVec3;
-use octsolid::budget::MemoryBudget;
+use octsolid::MemoryBudget;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use octsolid::progress::{NoProgress, Progress};
 use octsolid::samples;
 use octsolid::shape::{Shape, Sphere};
 use octsolid::{Error, morton};
+use octsolid::{NoProgress, Progress};
 
 fn options() -> VoxelizeOptions<'static> {
     VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress }

@@ -112,7 +112,7 @@ fn a_voxelized_mirror_ball_reflects_only_the_background() {
     // reflected off a convex surface escapes, so with the sphere's own normals every
     // pixel shows the background B or 0.9 B exactly. A ray caught on the voxel
     // staircase (reflected into a neighbouring step) would show 0.81 B or less.
-    use octsolid::progress::NoProgress;
+    use octsolid::NoProgress;
     use octsolid::render::to_srgb8;
     use octsolid::render::{Camera, RenderOptions, render};
     use std::sync::Arc;

@@ -6,9 +6,9 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use glam::DVec3;
 use octsolid::FileKind;
-use octsolid::budget::MemoryBudget;
-use octsolid::error::human_bytes;
-use octsolid::import::{self, Fill, Input};
+use octsolid::MemoryBudget;
+use octsolid::human_bytes;
+use octsolid::import::{self, Fill, ImportOptions, Input};
 use octsolid::io::{oct, png};
 use octsolid::mesh::{BoundaryOptions, InsideRule, MeshFormat, save_mesh, try_boundary_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
@@ -77,8 +77,9 @@ fn voxelize_command(
         None => import::default_domain(&loaded, depth)?,
     };
     let bar = Bar::new("voxelizing");
-    let (tree, summary) = import::voxelize_input(&loaded, domain, fill, inside, budget, &bar)
-        .with_context(|| format!("{}: cannot voxelize", input.display()))?;
+    let (tree, summary) =
+        import::voxelize_input(&loaded, domain, &ImportOptions { fill, inside, budget, progress: &bar })
+            .with_context(|| format!("{}: cannot voxelize", input.display()))?;
     let elapsed = started.elapsed().as_secs_f64();
     let bytes = oct::save(&tree, output)?;
     out!("read       {} ({} triangles)", input.display(), summary.triangles);
@@ -345,7 +346,7 @@ fn solid_scene(a: &RenderArgs, kind: FileKind, budget: MemoryBudget) -> Result<(
         let loaded = Input::load(input)?;
         let domain = import::default_domain(&loaded, a.depth)?;
         let bar = Bar::new("voxelizing");
-        import::voxelize_input(&loaded, domain, Fill::Solid, InsideRule::Auto, budget, &bar)
+        import::voxelize_input(&loaded, domain, &ImportOptions { budget, progress: &bar, ..Default::default() })
             .with_context(|| format!("{}: cannot voxelize", input.display()))?
             .0
     };

@@ -2,7 +2,7 @@
 //! not a terminal).
 
 use indicatif::{ProgressBar, ProgressStyle};
-use octsolid::progress::Progress;
+use octsolid::Progress;
 
 /// A progress bar with a message, e.g. "voxelizing".
 pub struct Bar(ProgressBar);

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use super::matrix::{CaseResult, ContenderKind, ContenderResult, MatrixResults};
 use super::rays::RayKind;
 use super::scenes::SceneKind;
-use octsolid::error::{Error, Result, human_bytes};
+use octsolid::{Error, Result, human_bytes};
 
 /// First line of the section.
 pub const BEGIN: &str = "<!-- bvh-report:begin -->";

@@ -16,12 +16,12 @@ use super::machine::Machine;
 use super::obvhs_contender::ObvhsBvh;
 use super::rays::{RayKind, RaySet, light_position, primary_rays, random_rays, shadow_rays};
 use super::scenes::{BenchScene, SceneKind, build_scene};
-use octsolid::budget::MemoryBudget;
-use octsolid::error::{Error, Result};
+use octsolid::MemoryBudget;
+use octsolid::NoProgress;
+use octsolid::Progress;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
-use octsolid::progress::NoProgress;
-use octsolid::progress::Progress;
 use octsolid::render::Traversal;
+use octsolid::{Error, Result};
 
 /// The structures under test.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

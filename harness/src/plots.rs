@@ -12,7 +12,7 @@ use plotters::prelude::*;
 use super::matrix::{ContenderKind, MatrixResults};
 use super::rays::RayKind;
 use super::scenes::SceneKind;
-use octsolid::error::{Error, Result};
+use octsolid::{Error, Result};
 
 /// The embedded font.
 static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");

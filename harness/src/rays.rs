@@ -15,7 +15,7 @@ use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
 
-use octsolid::aabb::Aabb;
+use octsolid::Aabb;
 use octsolid::render::{Camera, Traversal};
 use octsolid::{Ray, RayCast};
 

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 use super::markdown::{render_section, splice_section};
 use super::matrix::MatrixResults;
 use super::plots::{build_plot, mrays_plot};
-use octsolid::error::{Error, Result};
-use octsolid::io::atomic::write_atomic;
+use octsolid::io::write_atomic;
+use octsolid::{Error, Result};
 
 /// Folder of the plots, relative to the Markdown file.
 pub const IMAGES: &str = "docs/images";

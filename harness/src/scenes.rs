@@ -5,8 +5,8 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use octsolid::budget::MemoryBudget;
-use octsolid::error::Result;
+use octsolid::MemoryBudget;
+use octsolid::Result;
 use octsolid::mesh::{MeshVoxelizeOptions, TriangleMesh, load_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::Camera;

@@ -25,7 +25,7 @@ use glam::DVec3;
 use super::solids::Solids;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::atomic::write_atomic;
+use crate::io::write_atomic;
 use crate::mesh::{BoundaryOptions, TriangleMesh, try_boundary_mesh};
 use crate::progress::NoProgress;
 

@@ -3,7 +3,7 @@
 //! `.vox`, binvox, OpenVDB `.vdb`; glTF `.glb` meshes out), PNG output, and the atomic
 //! write they all use. [`read_solids`] and [`write_solids`] pick the format by extension.
 
-pub mod atomic;
+mod atomic;
 pub mod binvox;
 mod bitgrid;
 mod blosc;
@@ -14,6 +14,7 @@ mod solids;
 pub mod vdb;
 pub mod vox;
 
+pub use atomic::write_atomic;
 pub use solids::{
     ColouredSolid, ReadOptions, SolidFormat, Solids, WriteOptions, read_solids, write_solid, write_solids,
 };

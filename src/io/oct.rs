@@ -13,7 +13,7 @@ use glam::DVec3;
 
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::atomic::write_atomic;
+use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, NodeKey};
 
 /// The first eight bytes of every `.oct` file.

@@ -56,7 +56,7 @@ use glam::DVec3;
 use super::blosc;
 use super::solids::{ColouredSolid, ReadOptions, Solids};
 use crate::error::{Error, Result};
-use crate::io::atomic::write_atomic;
+use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 
 /// The first 8 bytes: `0x56444220` as a little-endian i64.

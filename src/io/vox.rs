@@ -49,7 +49,7 @@ use glam::DVec3;
 use super::solids::{ColouredSolid, ReadOptions, Solids};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::atomic::write_atomic;
+use crate::io::write_atomic;
 use crate::morton;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH};
 use crate::render::{from_srgb8, to_srgb8};

@@ -18,7 +18,7 @@ mod solid;
 mod stl;
 mod surface;
 mod tables;
-pub mod tri_box;
+mod tri_box;
 mod winding;
 
 use std::collections::HashMap;

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::{MeshFormat, TriangleMesh};
 use crate::error::Result;
-use crate::io::atomic::write_atomic;
+use crate::io::write_atomic;
 
 /// Writes `mesh` to `path` in the format its extension names; returns the bytes written.
 pub fn save_mesh(mesh: &TriangleMesh, path: &Path) -> Result<u64> {

@@ -10,7 +10,7 @@ use glam::DVec3;
 
 /// Whether triangle `t` meets the closed box with centre `center` and half extents `half`.
 #[must_use]
-pub fn triangle_box_overlap(t: &[DVec3; 3], center: DVec3, half: DVec3) -> bool {
+pub(crate) fn triangle_box_overlap(t: &[DVec3; 3], center: DVec3, half: DVec3) -> bool {
     let h = half * (1.0 + 1e-9) + DVec3::splat(1e-300);
     // Step 1: move the box to the origin.
     let v = [t[0] - center, t[1] - center, t[2] - center];
@@ -57,6 +57,7 @@ fn min_max(p: [f64; 3]) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_util::Rng;
 
     #[test]
     fn plain_cases() {
@@ -65,5 +66,42 @@ mod tests {
         assert!(!triangle_box_overlap(&t, DVec3::new(0.0, 0.0, 0.2), DVec3::splat(0.1)));
         // Beside the hypotenuse: the box-normal tests pass, an edge axis separates.
         assert!(!triangle_box_overlap(&t, DVec3::new(0.9, 0.9, 0.0), DVec3::splat(0.1)));
+    }
+
+    #[test]
+    fn triangle_box_overlap_matches_sampling() {
+        let mut rng = Rng(99);
+        let (mut overlaps, mut separate) = (0, 0);
+        for _ in 0..3000 {
+            let t = [rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0)];
+            let center = rng.vec(-1.0, 1.0);
+            let half = rng.vec(0.02, 0.5);
+            let got = triangle_box_overlap(&t, center, half);
+            // Sample the triangle on a barycentric grid: distance from the box.
+            const N: usize = 60;
+            let mut nearest = f64::INFINITY;
+            for i in 0..=N {
+                for j in 0..=N - i {
+                    let (u, v) = (i as f64 / N as f64, j as f64 / N as f64);
+                    let p = t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v;
+                    nearest = nearest.min(((p - center).abs() - half).max(DVec3::ZERO).length());
+                }
+            }
+            let spacing =
+                [t[1] - t[0], t[2] - t[0], t[2] - t[1]].iter().map(|e| e.length()).fold(0.0, f64::max) / N as f64;
+            if nearest == 0.0 {
+                assert!(got, "a sampled point lies in the box: {t:?} {center} {half}");
+            }
+            if got {
+                assert!(
+                    nearest <= spacing,
+                    "reported overlap, but the triangle is {nearest} away: {t:?} {center} {half}"
+                );
+                overlaps += 1;
+            } else {
+                separate += 1;
+            }
+        }
+        assert!(overlaps > 300 && separate > 300, "{overlaps} overlaps, {separate} separate");
     }
 }

@@ -56,7 +56,7 @@ pub fn random_octree(rng: &mut Rng, domain: Domain) -> LinearOctree {
     tree
 }
 
-/// A [`Progress`](octsolid::progress::Progress) that records what it was told, to
+/// A [`Progress`](octsolid::Progress) that records what it was told, to
 /// check that a job's units add up to its total, or that it never started.
 #[derive(Default)]
 pub struct Recorder {
@@ -78,7 +78,7 @@ impl Recorder {
     }
 }
 
-impl octsolid::progress::Progress for Recorder {
+impl octsolid::Progress for Recorder {
     fn start(&self, total: u64) {
         use std::sync::atomic::Ordering::SeqCst;
         self.starts.fetch_add(1, SeqCst);
