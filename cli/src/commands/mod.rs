@@ -1,0 +1,99 @@
+//! One file a subcommand: its flags (a `clap::Args` struct) and its `run`, which
+//! validates them, makes one library call and prints a summary; and the summaries
+//! several commands share.
+
+pub mod bench;
+pub mod csg;
+pub mod demo;
+pub mod export;
+pub mod info;
+pub mod mesh_info;
+pub mod render;
+pub mod shape;
+pub mod slice;
+pub mod voxelize;
+
+use std::time::Instant;
+
+use anyhow::Result;
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::render::{Camera, RenderOptions, Scene};
+use octsolid::shape::Shape;
+use octsolid::{MemoryBudget, human_bytes};
+
+use crate::args::{Args, Command};
+use crate::progress_bar::Bar;
+
+/// Runs the parsed command line.
+pub fn run(args: Args) -> Result<()> {
+    let budget = args.memory_budget.map_or_else(MemoryBudget::default, MemoryBudget);
+    match args.command {
+        Command::Shape(a) => shape::run(&a, budget),
+        Command::Csg(a) => csg::run(&a, budget),
+        Command::Info(a) => info::run(&a, budget),
+        Command::Slice(a) => slice::run(&a, budget),
+        Command::Voxelize(a) => voxelize::run(&a, budget),
+        Command::MeshInfo(a) => mesh_info::run(&a),
+        Command::Export(a) => export::run(&a, budget),
+        Command::Render(a) => render::run(&a, budget),
+        Command::Demo(a) => demo::run(&a, budget),
+        Command::Bench(a) => bench::run(&a, budget),
+    }
+}
+
+/// Voxelizes with a progress bar and prints the time taken.
+pub(crate) fn voxelize_with_bar(shape: &dyn Shape, domain: Domain, budget: MemoryBudget) -> Result<LinearOctree> {
+    let bar = Bar::new("voxelizing");
+    let started = Instant::now();
+    let tree = voxelize(shape, domain, &VoxelizeOptions { budget, progress: &bar })?;
+    out!("voxelized at depth {} in {:.1} ms", domain.depth(), started.elapsed().as_secs_f64() * 1e3);
+    Ok(tree)
+}
+
+/// Prints nodes, voxels, volume (with the exact one when known), bounds and memory.
+pub(crate) fn print_summary(tree: &LinearOctree, exact_volume: Option<f64>) {
+    out!("nodes      {}", tree.node_count());
+    out!("voxels     {}", tree.voxel_count());
+    match exact_volume {
+        Some(v) => {
+            out!("volume     {:.6} (analytic {:.6}, {:+.3}%)", tree.volume(), v, 100.0 * (tree.volume() - v) / v)
+        }
+        None => out!("volume     {:.6}", tree.volume()),
+    }
+    match tree.bounds() {
+        Some(b) => out!("bounds     {:?} .. {:?}", b.min.to_array(), b.max.to_array()),
+        None => out!("bounds     (empty)"),
+    }
+    let per_node = if tree.node_count() == 0 { 0.0 } else { tree.bytes() as f64 / tree.node_count() as f64 };
+    out!("in memory  {} ({per_node:.2} bytes a node)", human_bytes(tree.bytes() as u64));
+}
+
+/// Renders with a progress bar and prints samples and rays a second (and faces drawn by
+/// a raster method).
+pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<image::RgbImage> {
+    let bar = Bar::new("rendering");
+    let started = Instant::now();
+    let (img, stats) = octsolid::render::render(scene, camera, options, &bar)?;
+    let seconds = started.elapsed().as_secs_f64();
+    let secondary = stats.secondary_rays;
+    let visibility = match options.method {
+        // Every sample is a primary ray.
+        octsolid::render::Method::Trace => {
+            let rays = stats.samples + secondary;
+            let rate = rays as f64 / seconds / 1e6;
+            format!("{rays} rays: {} primary, {secondary} secondary and shadow; {rate:.2} M rays/s", stats.samples)
+        }
+        _ => format!("{} faces drawn, {secondary} secondary and shadow rays", stats.faces_drawn),
+    };
+    out!(
+        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.2} M samples/s; {visibility})",
+        options.width,
+        options.height,
+        options.spp,
+        options.spp,
+        options.method,
+        seconds,
+        stats.samples as f64 / seconds / 1e6,
+    );
+    Ok(img)
+}

@@ -1,0 +1,103 @@
+//! `octsolid shape KIND ...`: a primitive voxelized into an .oct file.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::ValueEnum;
+use glam::DVec3;
+use octsolid::io::oct;
+use octsolid::octree::Domain;
+use octsolid::shape::{Shape, ShapeSpec};
+use octsolid::{MemoryBudget, human_bytes};
+
+use super::{print_summary, voxelize_with_bar};
+use crate::args::{parse_domain, parse_vec3};
+
+/// The primitive kinds of `octsolid shape`.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum ShapeKind {
+    /// Ball of --radius.
+    Sphere,
+    /// Ellipsoid filling a box of --size.
+    Ellipsoid,
+    /// Box of --size.
+    Box,
+    /// Capped cylinder of --radius and --height along --axis.
+    Cylinder,
+    /// Capped cone of base --radius and --height along --axis (apex towards +axis).
+    Cone,
+    /// Torus of --radius (centre to tube centre) and --tube radius around --axis.
+    Torus,
+}
+
+/// Arguments of `octsolid shape`.
+#[derive(clap::Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct ShapeArgs {
+    /// Which shape.
+    pub kind: ShapeKind,
+    /// Radius (sphere, cylinder, cone base, torus centre line).
+    #[arg(long, default_value_t = 1.0)]
+    pub radius: f64,
+    /// Box edge lengths, or the ellipsoid's bounding box.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, default_value = "2,2,2")]
+    pub size: [f64; 3],
+    /// Height of a cylinder or cone.
+    #[arg(long, default_value_t = 2.0)]
+    pub height: f64,
+    /// Tube radius of a torus.
+    #[arg(long, default_value_t = 0.25)]
+    pub tube: f64,
+    /// Axis of a cylinder, cone or torus.
+    #[arg(long, default_value = "z")]
+    pub axis: octsolid::shape::Axis,
+    /// Centre of the shape's bounding box.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, default_value = "0,0,0")]
+    pub center: [f64; 3],
+    /// Octree depth (1..=21): 2^depth voxels a side.
+    #[arg(long, default_value_t = 8)]
+    pub depth: u8,
+    /// Domain cube MINX,MINY,MINZ,EDGE (default: a cube around the shape).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
+    pub domain: Option<[f64; 4]>,
+    /// Output .oct file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+impl ShapeArgs {
+    /// The flags as a shape specification, the form scene files write: the ellipsoid
+    /// fills the box of `--size`, the cone's base sits `--height / 2` below `--center`.
+    #[must_use]
+    pub fn spec(&self) -> ShapeSpec {
+        let (center, axis, radius, height) = (self.center, self.axis, self.radius, self.height);
+        match self.kind {
+            ShapeKind::Sphere => ShapeSpec::Sphere { center, radius },
+            ShapeKind::Ellipsoid => {
+                ShapeSpec::Ellipsoid { center, radii: (DVec3::from_array(self.size) * 0.5).to_array() }
+            }
+            ShapeKind::Box => ShapeSpec::Box { center, size: self.size },
+            ShapeKind::Cylinder => ShapeSpec::Cylinder { center, axis, radius, height },
+            ShapeKind::Cone => {
+                let base = DVec3::from_array(center) - axis.unit() * (height * 0.5);
+                ShapeSpec::Cone { base: base.to_array(), axis, radius, height }
+            }
+            ShapeKind::Torus => ShapeSpec::Torus { center, axis, radius, tube: self.tube },
+        }
+    }
+}
+
+/// `octsolid shape KIND ...`
+pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
+    let spec = a.spec();
+    let shape = spec.build()?;
+    let domain = match a.domain {
+        Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, a.depth)?,
+        None => Domain::around(&shape.bounds().context("the shape is unbounded; give --domain")?, 0.02, a.depth)?,
+    };
+    let tree = voxelize_with_bar(&shape, domain, budget)?;
+    let bytes = oct::save(&tree, &a.output)?;
+    out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
+    print_summary(&tree, spec.volume());
+    Ok(())
+}

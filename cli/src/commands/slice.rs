@@ -1,0 +1,40 @@
+//! `octsolid slice FILE --axis A --at V [--size N] -o OUT.png`: a cross-section.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use octsolid::MemoryBudget;
+use octsolid::io::{oct, png};
+use octsolid::shape::Axis;
+
+/// Arguments of `octsolid slice`.
+#[derive(clap::Args, Debug)]
+pub struct SliceArgs {
+    /// The .oct file.
+    pub file: PathBuf,
+    /// Axis the cutting plane is perpendicular to.
+    #[arg(long, default_value = "z")]
+    pub axis: Axis,
+    /// World coordinate of the plane along the axis (default: the domain's middle).
+    #[arg(long, allow_negative_numbers = true)]
+    pub at: Option<f64>,
+    /// Image edge in pixels.
+    #[arg(long, default_value_t = 768)]
+    pub size: u32,
+    /// Output PNG file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+/// `octsolid slice FILE --axis A --at V [--size N] -o OUT.png`
+pub fn run(a: &SliceArgs, budget: MemoryBudget) -> Result<()> {
+    let (file, axis, size, output) = (&a.file, a.axis, a.size, &a.output);
+    let tree = oct::load(file, budget)?;
+    let d = tree.domain();
+    let at = a.at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
+    let img = octsolid::slice::slice_image(&tree, axis.index(), at, size)
+        .with_context(|| format!("{}: cannot slice", file.display()))?;
+    png::save(&img, output)?;
+    out!("wrote {} ({size}x{size}, {axis:?} = {at})", output.display());
+    Ok(())
+}
