@@ -13,7 +13,7 @@ use octsolid::patch::voxelize_patch_surface;
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("mesh");
     group.sample_size(10);
-    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj").as_ref()).unwrap();
+    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
     let options =
         MeshVoxelizeOptions { inside: InsideRule::Auto, budget: MemoryBudget::unlimited(), progress: &NoProgress };
     for depth in [8, 9, 10] {
@@ -31,7 +31,7 @@ fn bench(c: &mut Criterion) {
             b.iter(|| voxelize_mesh(&bunny, domain, &options).unwrap())
         });
     }
-    let teapot = Input::load(concat!(env!("CARGO_MANIFEST_DIR"), "/models/teapot.patches").as_ref()).unwrap();
+    let teapot = Input::load(concat!(env!("CARGO_MANIFEST_DIR"), "/models/teapot.patches")).unwrap();
     let domain = import::default_domain(&teapot, 9).unwrap();
     let Input::Patches(patches) = &teapot else { unreachable!() };
     let surface_options = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };

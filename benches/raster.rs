@@ -13,7 +13,7 @@ use octsolid::shape::Axis;
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("visibility");
     group.sample_size(10);
-    let mesh = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj").as_ref()).unwrap();
+    let mesh = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     let (tree, _) = voxelize_mesh(&mesh, Domain::around(&mesh.bounds(), 0.02, 10).unwrap(), &options).unwrap();
     let bounds = tree.bounds().unwrap();

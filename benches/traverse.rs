@@ -18,7 +18,7 @@ use rayon::prelude::*;
 const SIZE: u32 = 1024;
 
 fn solids() -> Vec<(&'static str, LinearOctree, Axis)> {
-    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj").as_ref()).unwrap();
+    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     let (bunny, _) = voxelize_mesh(&bunny, Domain::around(&bunny.bounds(), 0.02, 10).unwrap(), &options).unwrap();
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 12).unwrap();

@@ -9,7 +9,7 @@ use octsolid::prelude::*;
 
 fn main() -> Result<()> {
     // The scan is open at the base; the default `auto` rule picks the winding number.
-    let mesh = load_mesh("models/stanford-bunny.obj".as_ref())?;
+    let mesh = load_mesh("models/stanford-bunny.obj")?;
     let domain = Domain::around(&mesh.bounds(), 0.02, 9)?;
     let (bunny, stats) = voxelize_mesh(&mesh, domain, &MeshVoxelizeOptions::default())?;
 
@@ -24,8 +24,8 @@ fn main() -> Result<()> {
     let tunnel = voxelize(&Cylinder::new(body, Axis::X, 0.015, 0.4)?, domain, &VoxelizeOptions::default())?;
 
     let carved = &(&bunny - &cavity) - &tunnel;
-    oct::save(&carved, "bunny_csg.oct".as_ref())?;
-    png::save(&slice_image(&carved, 2, 0.0, 768)?, "bunny_csg.png".as_ref())?;
+    oct::save(&carved, "bunny_csg.oct")?;
+    png::save(&slice_image(&carved, Axis::Z, 0.0, 768)?, "bunny_csg.png")?;
 
     println!(
         "bunny at depth 9 ({:?} rule): {} nodes, volume {:.4e}",

@@ -17,8 +17,8 @@ fn main() -> Result<()> {
     // Voxelize into 512^3 voxels over the cube [-1, 1]^3 and save.
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 9)?;
     let solid = voxelize(&part, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, "classic_csg.oct".as_ref())?;
-    png::save(&slice_image(&solid, 2, 0.8, 768)?, "classic_csg.png".as_ref())?;
+    oct::save(&solid, "classic_csg.oct")?;
+    png::save(&slice_image(&solid, Axis::Z, 0.8, 768)?, "classic_csg.png")?;
 
     // Analytic volume: the ball clipped by the cube loses six caps of height h = R - 1
     // (they never overlap since 2 > R^2); the three bores lie wholly inside it and

@@ -26,8 +26,8 @@ fn main() -> Result<()> {
     // Voxelize: the domain is the cube around the disc, 512 voxels a side.
     let domain = Domain::new(DVec3::new(-1.05, -1.05, -0.1), 2.1, 9)?;
     let solid = voxelize(&flange, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, "flange.oct".as_ref())?;
-    png::save(&slice_image(&solid, 2, 0.1, 768)?, "flange.png".as_ref())?;
+    oct::save(&solid, "flange.oct")?;
+    png::save(&slice_image(&solid, Axis::Z, 0.1, 768)?, "flange.png")?;
 
     let exact = PI * (disc_r * disc_r * disc_t + hub_r * hub_r * (hub_h - disc_t))
         - PI * bore_r * bore_r * hub_h

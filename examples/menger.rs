@@ -16,8 +16,8 @@ fn main() -> Result<()> {
     let sponge = Menger::new(DVec3::ZERO, 2.0, level)?;
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, depth)?;
     let solid = voxelize(&sponge, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, "menger.oct".as_ref())?;
-    png::save(&slice_image(&solid, 2, -0.99, 810)?, "menger.png".as_ref())?;
+    oct::save(&solid, "menger.oct")?;
+    png::save(&slice_image(&solid, Axis::Z, -0.99, 810)?, "menger.png")?;
 
     let exact = sponge.volume();
     println!(

@@ -9,7 +9,7 @@ use octsolid::patch::{tessellate, voxelize_patch_surface};
 use octsolid::prelude::*;
 
 fn main() -> Result<()> {
-    let input = Input::load("models/teapot.patches".as_ref())?;
+    let input = Input::load("models/teapot.patches")?;
     let Input::Patches(patches) = &input else { unreachable!("a .patches file") };
     let domain = import::default_domain(&input, 9)?;
 
@@ -17,9 +17,9 @@ fn main() -> Result<()> {
     let shell = voxelize_patch_surface(patches, domain, &VoxelizeOptions::default())?;
     // The solid, from a tessellation fine enough for the voxel size.
     let (solid, summary) = import::voxelize_input(&input, domain, &ImportOptions::default())?;
-    oct::save(&solid, "teapot.oct".as_ref())?;
-    oct::save(&shell, "teapot_shell.oct".as_ref())?;
-    png::save(&slice_image(&solid, 1, 0.0, 768)?, "teapot.png".as_ref())?;
+    oct::save(&solid, "teapot.oct")?;
+    oct::save(&shell, "teapot_shell.oct")?;
+    png::save(&slice_image(&solid, Axis::Y, 0.0, 768)?, "teapot.png")?;
 
     let reference = octsolid::mesh::PolygonTables::new(&tessellate(patches, 64)).report().volume;
     println!("teapot: {} patches; shell {} nodes ({} voxels)", patches.len(), shell.node_count(), shell.voxel_count());

@@ -61,7 +61,8 @@ impl FileKind {
     /// The kind of `path` by its extension (case-insensitive), if it is one of
     /// `accepted`; else [`Error::UnknownExtension`] naming the file, the extension
     /// found (empty when there is none) and every accepted one.
-    pub fn of(path: &Path, accepted: &[FileKind]) -> Result<FileKind> {
+    pub fn of(path: impl AsRef<Path>, accepted: &[FileKind]) -> Result<FileKind> {
+        let path = path.as_ref();
         let found = path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
         accepted.iter().copied().find(|k| found.eq_ignore_ascii_case(k.extension())).ok_or_else(|| {
             Error::UnknownExtension {

@@ -49,7 +49,8 @@ pub enum Input {
 
 impl Input {
     /// Loads a mesh or a `.patches` file by extension ([`FileKind::SURFACES`]).
-    pub fn load(path: &Path) -> Result<Input> {
+    pub fn load(path: impl AsRef<Path>) -> Result<Input> {
+        let path = path.as_ref();
         Ok(match FileKind::of(path, FileKind::SURFACES)? {
             FileKind::Patches => Input::Patches(load_patches(path)?),
             _ => Input::Mesh(load_mesh(path)?),

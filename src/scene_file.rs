@@ -286,7 +286,8 @@ pub struct SceneFile {
 /// Reads, checks and builds the scene at `path` (voxelizing its shapes and meshes).
 /// Errors: [`Error::Io`] when the file cannot be read, [`Error::Parse`] (with the line
 /// and column) when it is not a scene, [`Error::Scene`] when the scene cannot be built.
-pub fn load_scene(path: &Path, budget: MemoryBudget) -> Result<SceneFile> {
+pub fn load_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneFile> {
+    let path = path.as_ref();
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let spec: SceneSpec = toml::from_str(&text).map_err(|e| {
         let (line, column) = e.span().map_or((1, 1), |s| line_column(&text, s.start));

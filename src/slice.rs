@@ -6,6 +6,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::octree::LinearOctree;
+use crate::shape::Axis;
 
 /// Largest slice image edge in pixels.
 pub const MAX_SLICE_SIZE: u32 = 16_384;
@@ -13,17 +14,15 @@ pub const MAX_SLICE_SIZE: u32 = 16_384;
 /// Colour of empty space.
 const EMPTY: Rgb<u8> = Rgb([246, 246, 242]);
 
-/// Draws the cross-section of `tree` at world coordinate `at` along `axis`
-/// (0 = x, 1 = y, 2 = z) as a `size` x `size` image.
+/// Draws the cross-section of `tree` at world coordinate `at` along `axis` as a
+/// `size` x `size` image.
 ///
 /// The image shows the domain's face: for axis z the image's right is +x and its up
 /// is +y (for x: +y right, +z up; for y: +x right, +z up). Each pixel shows the node
 /// holding the voxel under its centre, coloured by level (large nodes deep blue,
 /// voxels light amber), with node borders drawn darker where nodes span 6 pixels or more.
-pub fn slice_image(tree: &LinearOctree, axis: usize, at: f64, size: u32) -> Result<RgbImage> {
-    if axis > 2 {
-        return Err(Error::invalid("axis", format!("{axis} is not 0, 1 or 2")));
-    }
+pub fn slice_image(tree: &LinearOctree, axis: Axis, at: f64, size: u32) -> Result<RgbImage> {
+    let axis = axis.index();
     if !(1..=MAX_SLICE_SIZE).contains(&size) {
         return Err(Error::invalid("size", format!("{size} pixels is outside 1..={MAX_SLICE_SIZE}")));
     }

@@ -99,7 +99,7 @@ fn brightest_pixel_follows_the_phong_formula() {
 
 #[test]
 fn same_image_for_any_thread_count() {
-    let file = load_scene("scenes/classic.toml".as_ref(), MemoryBudget::default()).unwrap();
+    let file = load_scene("scenes/classic.toml", MemoryBudget::default()).unwrap();
     let options = RenderOptions { width: 160, height: 120, spp: 2, shadows: true, ..Default::default() };
     let run = |threads| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();

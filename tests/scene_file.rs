@@ -50,7 +50,7 @@ const BALL: &str = "shape = { sphere = { center = [0, 0, 0], radius = 1 } }";
 #[test]
 fn bundled_scenes_load() {
     for name in ["classic", "flange", "showcase", "menger", "displaced", "whitted", "whitted-classic", "teapot"] {
-        let file = load_scene(format!("scenes/{name}.toml").as_ref(), MemoryBudget::default()).unwrap();
+        let file = load_scene(format!("scenes/{name}.toml"), MemoryBudget::default()).unwrap();
         assert!(!file.scene.solids.is_empty() && !file.scene.lights.is_empty(), "{name}");
     }
 }

@@ -38,7 +38,8 @@ fn temporary_sibling(path: &Path) -> PathBuf {
 ///
 /// On any error the temporary file is removed and the destination is untouched; the
 /// error names the destination.
-pub fn write_atomic(path: &Path, write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<u64> {
+pub fn write_atomic(path: impl AsRef<Path>, write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<u64> {
+    let path = path.as_ref();
     let temp = temporary_sibling(path);
     let result = (|| {
         let file = File::create(&temp)?;

@@ -50,7 +50,8 @@ fn fail(path: &Path, offset: usize, reason: impl Into<String>) -> Error {
 }
 
 /// Reads the `.binvox` file at `path`.
-pub fn read(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
+pub fn read(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<LinearOctree> {
+    let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     decode(&bytes, path, budget)
 }
@@ -189,7 +190,8 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
 }
 
 /// Writes `tree` to `path` as a cubic binvox grid, atomically; returns the bytes written.
-pub fn write(path: &Path, tree: &LinearOctree) -> Result<u64> {
+pub fn write(path: impl AsRef<Path>, tree: &LinearOctree) -> Result<u64> {
+    let path = path.as_ref();
     write_atomic(path, |w| encode_to(tree, w))
 }
 

@@ -94,7 +94,8 @@ fn json_number(v: f32) -> String {
 }
 
 /// Writes `solids` to `path` as one GLB, atomically; returns the bytes written.
-pub fn write(path: &Path, solids: &Solids, budget: MemoryBudget) -> Result<u64> {
+pub fn write(path: impl AsRef<Path>, solids: &Solids, budget: MemoryBudget) -> Result<u64> {
+    let path = path.as_ref();
     let bytes = encode(solids, budget)?;
     write_atomic(path, |w| w.write_all(&bytes))
 }

@@ -55,13 +55,15 @@ pub fn encode(tree: &LinearOctree) -> Vec<u8> {
 }
 
 /// Writes `tree` to `path` atomically; returns the file size in bytes.
-pub fn save(tree: &LinearOctree, path: &Path) -> Result<u64> {
+pub fn save(tree: &LinearOctree, path: impl AsRef<Path>) -> Result<u64> {
+    let path = path.as_ref();
     let bytes = encode(tree);
     write_atomic(path, |w| w.write_all(&bytes))
 }
 
 /// Reads and checks the `.oct` file at `path`.
-pub fn load(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
+pub fn load(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<LinearOctree> {
+    let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     decode(&bytes, path, budget)
 }

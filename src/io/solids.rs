@@ -145,7 +145,8 @@ pub enum SolidFormat {
 
 impl SolidFormat {
     /// The format `path`'s extension names (case-insensitive).
-    pub fn of(path: &Path) -> Result<SolidFormat> {
+    pub fn of(path: impl AsRef<Path>) -> Result<SolidFormat> {
+        let path = path.as_ref();
         let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
         Ok(match ext.as_str() {
             "oct" => SolidFormat::Oct,
@@ -164,7 +165,8 @@ impl SolidFormat {
 }
 
 /// Reads the solid file at `path` (format by extension) into one domain and its solids.
-pub fn read_solids(path: &Path, options: &ReadOptions) -> Result<Solids> {
+pub fn read_solids(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
+    let path = path.as_ref();
     let solids = match SolidFormat::of(path)? {
         SolidFormat::Oct => {
             let tree = oct::load(path, options.budget)?;
@@ -189,7 +191,13 @@ pub fn read_solids(path: &Path, options: &ReadOptions) -> Result<Solids> {
 
 /// Writes one solid with an optional colour to `path` (format by extension); returns
 /// the file size in bytes.
-pub fn write_solid(path: &Path, tree: &LinearOctree, color: Option<DVec3>, options: &WriteOptions) -> Result<u64> {
+pub fn write_solid(
+    path: impl AsRef<Path>,
+    tree: &LinearOctree,
+    color: Option<DVec3>,
+    options: &WriteOptions,
+) -> Result<u64> {
+    let path = path.as_ref();
     let solids = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new(stem(path), color, tree.clone())] };
     write_solids(path, &solids, options)
 }
@@ -197,7 +205,8 @@ pub fn write_solid(path: &Path, tree: &LinearOctree, color: Option<DVec3>, optio
 /// Writes several solids over one domain to `path` (format by extension): `.vox` one
 /// palette colour each, `.vdb` one grid each, `.glb` one mesh each; `.oct` and
 /// `.binvox` hold one solid and refuse more. Returns the file size in bytes.
-pub fn write_solids(path: &Path, solids: &Solids, options: &WriteOptions) -> Result<u64> {
+pub fn write_solids(path: impl AsRef<Path>, solids: &Solids, options: &WriteOptions) -> Result<u64> {
+    let path = path.as_ref();
     solids.validate()?;
     let format = SolidFormat::of(path)?;
     let single = || -> Result<&LinearOctree> {

@@ -308,7 +308,8 @@ fn encode_grid(solid: &ColouredSolid, compression: Compression) -> (Vec<u8>, usi
 }
 
 /// Writes `solids` to `path`, one fog-volume grid each, atomically; returns the bytes written.
-pub fn write(path: &Path, solids: &Solids, compression: Compression) -> Result<u64> {
+pub fn write(path: impl AsRef<Path>, solids: &Solids, compression: Compression) -> Result<u64> {
+    let path = path.as_ref();
     let bytes = encode(solids, compression);
     write_atomic(path, |w| w.write_all(&bytes))
 }
@@ -598,7 +599,8 @@ struct ReadUpper {
 }
 
 /// Reads the `.vdb` file at `path` (one grid; see the module doc).
-pub fn read(path: &Path, options: &ReadOptions) -> Result<Solids> {
+pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
+    let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     decode(&bytes, path, options)
 }

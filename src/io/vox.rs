@@ -149,7 +149,8 @@ fn chunk_error(path: &Path, chunk: &Chunk, offset: usize, reason: impl std::fmt:
 }
 
 /// Reads the `.vox` file at `path`.
-pub fn read(path: &Path, options: &ReadOptions) -> Result<Solids> {
+pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
+    let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     decode(&bytes, path, options)
 }
@@ -591,7 +592,8 @@ fn fit_domain(
 }
 
 /// Writes `solids` to `path` as `.vox`, atomically; returns the bytes written.
-pub fn write(path: &Path, solids: &Solids, budget: MemoryBudget) -> Result<u64> {
+pub fn write(path: impl AsRef<Path>, solids: &Solids, budget: MemoryBudget) -> Result<u64> {
+    let path = path.as_ref();
     let bytes = encode(solids, budget)?;
     write_atomic(path, |w| w.write_all(&bytes))
 }

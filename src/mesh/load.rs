@@ -20,7 +20,8 @@ pub enum MeshFormat {
 impl MeshFormat {
     /// The format of `path` by its extension, case-insensitive ([`FileKind::of`]
     /// over [`FileKind::MESHES`]).
-    pub fn of(path: &Path) -> Result<MeshFormat> {
+    pub fn of(path: impl AsRef<Path>) -> Result<MeshFormat> {
+        let path = path.as_ref();
         Ok(match FileKind::of(path, FileKind::MESHES)? {
             FileKind::Obj => MeshFormat::Obj,
             FileKind::Stl => MeshFormat::Stl,
@@ -39,7 +40,8 @@ impl MeshFormat {
 /// Errors name the file and the line (text formats) or byte offset (binary ones):
 /// missing file, truncated data, indices out of range, NaN or infinite coordinates,
 /// a mesh without triangles.
-pub fn load_mesh(path: &Path) -> Result<TriangleMesh> {
+pub fn load_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh> {
+    let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let mut mesh = match MeshFormat::of(path)? {
         MeshFormat::Obj => super::obj::parse(&bytes, path)?,

@@ -9,7 +9,8 @@ use crate::error::Result;
 use crate::io::write_atomic;
 
 /// Writes `mesh` to `path` in the format its extension names; returns the bytes written.
-pub fn save_mesh(mesh: &TriangleMesh, path: &Path) -> Result<u64> {
+pub fn save_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
+    let path = path.as_ref();
     let format = MeshFormat::of(path)?;
     write_atomic(path, |w| match format {
         MeshFormat::Obj => write_obj(mesh, w),

@@ -10,7 +10,8 @@ use super::BezierPatch;
 use crate::error::{Error, Result};
 
 /// Reads a patch set; errors name the file and line.
-pub fn load_patches(path: &Path) -> Result<Vec<BezierPatch>> {
+pub fn load_patches(path: impl AsRef<Path>) -> Result<Vec<BezierPatch>> {
+    let path = path.as_ref();
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let fail = |line: usize, reason: String| Error::Parse { path: path.to_path_buf(), line, reason };
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim())).filter(|(_, l)| !l.is_empty());

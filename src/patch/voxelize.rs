@@ -237,7 +237,7 @@ mod tests {
 
     #[test]
     fn estimate_covers_the_keys_made_and_is_within_a_few_times_them_for_large_patches() {
-        let teapot = load_patches("models/teapot.patches".as_ref()).unwrap();
+        let teapot = load_patches("models/teapot.patches").unwrap();
         // One patch tilted across all three axes, its odd control rows lifted.
         let p = std::array::from_fn(|i| {
             std::array::from_fn(|j| {

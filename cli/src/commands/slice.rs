@@ -32,7 +32,7 @@ pub fn run(a: &SliceArgs, budget: MemoryBudget) -> Result<()> {
     let tree = oct::load(file, budget)?;
     let d = tree.domain();
     let at = a.at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
-    let img = octsolid::slice::slice_image(&tree, axis.index(), at, size)
+    let img = octsolid::slice::slice_image(&tree, axis, at, size)
         .with_context(|| format!("{}: cannot slice", file.display()))?;
     png::save(&img, output)?;
     out!("wrote {} ({size}x{size}, {axis:?} = {at})", output.display());
