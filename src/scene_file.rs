@@ -411,12 +411,12 @@ fn add_solid(scene: &mut Scene, solid: &SolidSpec, name: &str, source: &SolidSou
         let options = VoxelizeOptions { budget: cx.budget, progress: &NoProgress };
         voxelize(shape, source.shape_domain.expect("shapes have a domain"), &options)?
     } else if let Some(mesh) = &solid.mesh {
-        let input = Input::load(&cx.folder.join(mesh))?;
+        let input = Input::load(cx.folder.join(mesh))?;
         let domain = import::default_domain(&input, solid.depth.unwrap_or(source.depth))?;
         let inside = solid.inside.map_or(InsideRule::Auto, InsideRule::from);
         import::voxelize_input(&input, domain, &ImportOptions { inside, budget: cx.budget, ..Default::default() })?.0
     } else {
-        oct::load(&cx.folder.join(solid.oct.as_ref().expect("one source")), cx.budget)?
+        oct::load(cx.folder.join(solid.oct.as_ref().expect("one source")), cx.budget)?
     };
     let material = solid.material.material(cx.folder)?;
     material.check()?;

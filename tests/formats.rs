@@ -163,7 +163,7 @@ fn vox_materials_come_with_their_palette_index() {
             }
         }
     }
-    let metal = io::read_solids(&data("vox/metal-material.vox"), &options()).unwrap();
+    let metal = io::read_solids(data("vox/metal-material.vox"), &options()).unwrap();
     assert!(metal.solids.iter().any(|s| s.material.get("_type").is_some_and(|t| t == "_metal")));
 }
 
@@ -383,7 +383,7 @@ fn binvox_reference_files_hold_their_analytic_shapes() {
         ),
     ] {
         let s = &shapes[name];
-        let tree = binvox::read(&data(&format!("binvox/{name}")), MemoryBudget::unlimited()).unwrap();
+        let tree = binvox::read(data(&format!("binvox/{name}")), MemoryBudget::unlimited()).unwrap();
         tree.validate().unwrap();
         let dim = s["dim"].as_u64().unwrap() as u32;
         let t = [0, 1, 2].map(|a| f(&s["translate"][a]));
@@ -730,12 +730,12 @@ fn read_solids_and_write_solid_agree_for_every_format() {
     let glb = dir.join("s.glb");
     assert!(io::write_solid(&glb, &tree, None, &WriteOptions::default()).unwrap() > 0);
     assert!(io::read_solids(&glb, &options()).is_err());
-    assert!(io::read_solids(&dir.join("s.xyz"), &options()).is_err());
+    assert!(io::read_solids(dir.join("s.xyz"), &options()).is_err());
     let two = Solids {
         domain: d,
         solids: vec![ColouredSolid::new("a", None, tree.clone()), ColouredSolid::new("b", None, tree)],
     };
-    let err = io::write_solids(&dir.join("two.binvox"), &two, &WriteOptions::default()).unwrap_err();
+    let err = io::write_solids(dir.join("two.binvox"), &two, &WriteOptions::default()).unwrap_err();
     assert!(err.to_string().contains("holds one solid"), "{err}");
 }
 
@@ -743,7 +743,7 @@ fn read_solids_and_write_solid_agree_for_every_format() {
 fn headers_claiming_more_than_the_budget_are_refused_before_allocating() {
     let small = ReadOptions { budget: MemoryBudget(4096), ..ReadOptions::default() };
     for path in ["vox/axes.vox", "vdb/sphere.vdb", "binvox/torus64.binvox"] {
-        let err = io::read_solids(&data(path), &small).unwrap_err();
+        let err = io::read_solids(data(path), &small).unwrap_err();
         assert!(matches!(err, octsolid::Error::OverBudget { .. }), "{path}: {err}");
     }
     // A binvox grid of 2^21 a side whose runs do not cover it: refused, nothing allocated.

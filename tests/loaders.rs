@@ -76,7 +76,7 @@ fn every_format_round_trips() {
     let mesh = icosphere(DVec3::new(0.5, -1.0, 2.0), 1.5, 2);
     let want = PolygonTables::new(&mesh).report();
     for (name, bytes) in files(&mesh) {
-        let loaded = load_mesh(&write(&dir, name, &bytes)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let loaded = load_mesh(write(&dir, name, &bytes)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let got = PolygonTables::new(&loaded).report();
         assert_eq!((got.vertices, got.triangles, got.edges), (want.vertices, want.triangles, want.edges), "{name}");
         assert!(got.watertight, "{name}: welding restores the connectivity");
@@ -109,19 +109,19 @@ fn bad_files_give_errors_with_a_place_never_panics() {
                 let i = rng.below(bad.len() as u64) as usize;
                 bad[i] = rng.below(256) as u8;
             }
-            let _ = load_mesh(&write(&dir, name, &bad));
+            let _ = load_mesh(write(&dir, name, &bad));
         }
         // Random garbage.
         for len in [0, 1, 10, 84, 100, 1000] {
             let garbage: Vec<u8> = (0..len).map(|_| rng.below(256) as u8).collect();
-            assert!(load_mesh(&write(&dir, name, &garbage)).is_err(), "{name}: garbage of {len} bytes loaded");
+            assert!(load_mesh(write(&dir, name, &garbage)).is_err(), "{name}: garbage of {len} bytes loaded");
         }
     }
 }
 
 fn error(name: &str, text: &str) -> String {
     let dir = scratch("errors");
-    load_mesh(&write(&dir, name, text.as_bytes())).unwrap_err().to_string()
+    load_mesh(write(&dir, name, text.as_bytes())).unwrap_err().to_string()
 }
 
 #[test]
@@ -152,20 +152,20 @@ fn errors_name_the_line_or_offset_and_reason() {
     let mut stl = vec![0u8; 84 + 50];
     stl[80] = 2;
     let dir = scratch("errors");
-    let e = load_mesh(&write(&dir, "short.stl", &stl)).unwrap_err();
+    let e = load_mesh(write(&dir, "short.stl", &stl)).unwrap_err();
     assert!(matches!(e, Error::Format { offset: 80, .. }), "{e}");
-    let e = load_mesh(&dir.join("missing.stl")).unwrap_err().to_string();
+    let e = load_mesh(dir.join("missing.stl")).unwrap_err().to_string();
     assert!(e.contains("missing.stl"), "{e}");
     // An unknown extension: its own error, listing every extension the reader takes
     // (the importer reads patch sets too), with no byte offset.
-    let e = load_mesh(&write(&dir, "x.3ds", b"")).unwrap_err();
+    let e = load_mesh(write(&dir, "x.3ds", b"")).unwrap_err();
     match &e {
         Error::UnknownExtension { path, found, accepted } => {
             assert!(path.ends_with("x.3ds") && found == "3ds" && accepted == &["obj", "stl", "ply"], "{e:?}")
         }
         other => panic!("{other:?}"),
     }
-    let e = octsolid::import::Input::load(&write(&dir, "x.3ds", b"")).err().expect("an error").to_string();
+    let e = octsolid::import::Input::load(write(&dir, "x.3ds", b"")).err().expect("an error").to_string();
     assert!(e.contains("x.3ds") && e.contains("(use .obj, .stl, .ply or .patches)") && !e.contains("byte"), "{e}");
 }
 
@@ -178,15 +178,15 @@ fn patch_files_load_and_bad_ones_are_refused() {
     let lines: Vec<&str> = text.lines().collect();
     // Truncated after the patches.
     let cut = lines[..34].join("\n");
-    let e = load_patches(&write(&dir, "cut.patches", cut.as_bytes())).unwrap_err().to_string();
+    let e = load_patches(write(&dir, "cut.patches", cut.as_bytes())).unwrap_err().to_string();
     assert!(e.contains("truncated"), "{e}");
     // An index out of range.
     let mut bad = lines.clone();
     bad[1] = "1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,999";
-    let e = load_patches(&write(&dir, "bad.patches", bad.join("\n").as_bytes())).unwrap_err().to_string();
+    let e = load_patches(write(&dir, "bad.patches", bad.join("\n").as_bytes())).unwrap_err().to_string();
     assert!(e.contains("line 2") && e.contains("999"), "{e}");
     let mut bad = lines.clone();
     bad[40] = "1.0,abc,2.0";
-    let e = load_patches(&write(&dir, "nan.patches", bad.join("\n").as_bytes())).unwrap_err().to_string();
+    let e = load_patches(write(&dir, "nan.patches", bad.join("\n").as_bytes())).unwrap_err().to_string();
     assert!(e.contains("line 41") && e.contains("abc"), "{e}");
 }

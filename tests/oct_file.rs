@@ -210,7 +210,7 @@ fn save_and_load_through_files_atomically() {
     let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(names.len(), 1, "{names:?}");
 
-    let missing = oct::load(&dir.join("nope.oct"), MemoryBudget::default()).unwrap_err();
+    let missing = oct::load(dir.join("nope.oct"), MemoryBudget::default()).unwrap_err();
     assert!(missing.to_string().contains("nope.oct"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -146,7 +146,7 @@ fn an_over_budget_solid_keeps_over_budget() {
     // The same refusal of an .oct file the scene names.
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
     let tree = voxelize(&Sphere::new(DVec3::ZERO, 0.9).unwrap(), domain, &VoxelizeOptions::default()).unwrap();
-    oct::save(&tree, &dir.join("ball.oct")).unwrap();
+    oct::save(&tree, dir.join("ball.oct")).unwrap();
     let (path, loaded) = load(&dir, "oct.toml", "[[solid]]\noct = \"ball.oct\"\n", small);
     let cause = scene_cause(loaded.err().expect("refused"), &path, Some("solid 1"));
     assert!(matches!(cause, Error::OverBudget { budget: 1024, .. }), "{cause:?}");

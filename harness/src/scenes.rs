@@ -111,7 +111,7 @@ pub fn build_scene(kind: SceneKind, depth: u8, models: &Path, budget: MemoryBudg
             (voxelize(&classic_csg(), Domain::new(DVec3::splat(-1.1), 2.2, depth)?, &options)?, None)
         }
         SceneKind::Bunny => {
-            let mesh = load_mesh(&models.join(BUNNY_FILE))?;
+            let mesh = load_mesh(models.join(BUNNY_FILE))?;
             let domain = Domain::around(&mesh.bounds(), 0.02, depth)?;
             let (tree, _) = voxelize_mesh(&mesh, domain, &MeshVoxelizeOptions { budget, ..Default::default() })?;
             (tree, Some(mesh))
