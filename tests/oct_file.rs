@@ -214,3 +214,47 @@ fn save_and_load_through_files_atomically() {
     assert!(missing.to_string().contains("nope.oct"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn version_2_keeps_the_up_axis_and_units_and_version_1_still_reads() {
+    use octsolid::shape::Axis;
+    let tree = solids().swap_remove(3);
+    // No metadata: version 1, byte-identical to the plain encoder, read back as empty.
+    let plain = oct::encode_with(&tree, &oct::Metadata::default());
+    assert_eq!(plain, oct::encode(&tree));
+    assert_eq!(u16::from_le_bytes([plain[8], plain[9]]), 1);
+    let (back, meta) = oct::decode_with(&plain, Path::new("t.oct"), MemoryBudget::unlimited()).unwrap();
+    assert_eq!((back, meta), (tree.clone(), oct::Metadata::default()));
+    for up in [None, Some(Axis::X), Some(Axis::Y), Some(Axis::Z)] {
+        for units in [None, Some(oct::Units::Millimetre), Some(oct::Units::Inch)] {
+            let meta = oct::Metadata { up, units };
+            let bytes = oct::encode_with(&tree, &meta);
+            let version = u16::from_le_bytes([bytes[8], bytes[9]]);
+            assert_eq!(version, if up.is_none() && units.is_none() { 1 } else { 2 });
+            // The documented codes, at the documented offsets.
+            assert_eq!(bytes[13], up.map_or(0, |a| a.index() as u8 + 1));
+            assert_eq!(bytes[14], units.map_or(0, |u| if u == oct::Units::Millimetre { 2 } else { 5 }));
+            let (back, got) = oct::decode_with(&bytes, Path::new("t.oct"), MemoryBudget::unlimited()).unwrap();
+            assert_eq!((back, got), (tree.clone(), meta));
+        }
+    }
+    // Unknown codes are refused with their offset; version 1 keeps bytes 13..16 zero.
+    let mut bad = oct::encode_with(&tree, &oct::Metadata { up: Some(Axis::Y), units: None });
+    bad[13] = 4;
+    reseal(&mut bad);
+    assert!(error_text(&bad).contains("byte 13"), "{}", error_text(&bad));
+    bad[13] = 2;
+    bad[14] = 9;
+    reseal(&mut bad);
+    assert!(error_text(&bad).contains("byte 14"), "{}", error_text(&bad));
+    let mut v1 = oct::encode(&tree);
+    v1[13] = 2;
+    reseal(&mut v1);
+    assert!(error_text(&v1).contains("reserved"), "{}", error_text(&v1));
+    let mut v3 = oct::encode(&tree);
+    v3[8] = 3;
+    reseal(&mut v3);
+    assert!(error_text(&v3).contains("version 3"), "{}", error_text(&v3));
+    assert_eq!("MM".parse::<oct::Units>(), Ok(oct::Units::Millimetre));
+    assert!("furlong".parse::<oct::Units>().unwrap_err().contains("um, mm, cm, m, in, ft"));
+}

@@ -5,8 +5,8 @@
 use std::f64::consts::PI;
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
-use octsolid::octree::{Domain, LinearOctree, Node, VoxelizeOptions, voxelize};
-use octsolid::shape::{Class, Cuboid, ShapeExt};
+use octsolid::octree::{Domain, Fit, LinearOctree, Motion, Node, Turn, VoxelizeOptions, common_domain, voxelize};
+use octsolid::shape::{Axis, Class, Cuboid, ShapeExt};
 
 mod common;
 
@@ -478,4 +478,105 @@ fn resampled_rotation_keeps_the_volume() {
     let direct = voxelize(&shape.transform(turn).unwrap(), d, &opts()).unwrap();
     let differ = (&turned ^ &direct).voxel_count() as f64;
     assert!(differ < 0.08 * direct.voxel_count() as f64, "{differ} voxels differ");
+}
+
+/// The point-sampling oracle: target voxel `v` is full iff `tree` holds the preimage
+/// under `map` of its centre.
+fn sampled(tree: &LinearOctree, map: DAffine3, target: &Domain) -> Grid {
+    let back = map.inverse();
+    let mut want = Grid::empty(target.resolution());
+    for v in want.clone().voxels() {
+        if tree.contains_point(back.transform_point3(target.voxel_center(v.map(|c| c as u32)))) {
+            want.set(v);
+        }
+    }
+    want
+}
+
+#[test]
+fn fit_to_is_exact_where_lattices_nest_and_samples_otherwise() {
+    let mut rng = Rng(57);
+    for round in 0..30 {
+        let depth = 3 + (round % 2) as u8;
+        let (tree, _) = random_solid(&mut rng, depth);
+        let d = *tree.domain();
+        let h = d.voxel_size();
+        // A target whose voxels nest: finer by 0 or 1 level, corner on the source's
+        // finer lattice, larger (more levels) or smaller (fewer) than the source.
+        let refined = rng.below(2) as u8;
+        let fine = h / f64::from(1 << refined);
+        let levels = depth + refined + rng.below(3) as u8 - 1;
+        let shift = [0; 3].map(|_| rng.below(9) as f64 - 4.0);
+        let target = Domain::new(d.min() + DVec3::from(shift) * fine, fine * f64::from(1 << levels), levels).unwrap();
+        let (got, fit) = tree.fit_to(target, &opts()).unwrap();
+        assert!(matches!(fit, Fit::Exact { refined: r, .. } if r == refined), "round {round}: {fit:?}");
+        assert_eq!(got.domain(), &target);
+        check(&got, &sampled(&tree, DAffine3::IDENTITY, &target), &format!("round {round} exact"));
+        // Off the lattice by a third of a voxel: sampled, and still the oracle's.
+        let off = Domain::new(target.min() + DVec3::splat(fine / 3.0), target.edge(), target.depth()).unwrap();
+        let (got, fit) = tree.fit_to(off, &opts()).unwrap();
+        assert_eq!(fit, Fit::Resampled);
+        check(&got, &sampled(&tree, DAffine3::IDENTITY, &off), &format!("round {round} resampled"));
+    }
+    let (tree, _) = random_solid(&mut rng, 4);
+    assert_eq!(tree.fit_to(*tree.domain(), &opts()).unwrap(), (tree.clone(), Fit::Same));
+}
+
+#[test]
+fn common_domain_covers_all_and_keeps_the_finest_voxels() {
+    let a = Domain::new(DVec3::ZERO, 2.0, 5).unwrap();
+    // An octant of `a` at the same depth has voxels half as big: one level more.
+    let octant = Domain::new(DVec3::new(1.0, 0.0, 1.0), 1.0, 5).unwrap();
+    let c = common_domain(&[a, octant]).unwrap();
+    assert_eq!((c.min(), c.edge(), c.depth()), (DVec3::ZERO, 2.0, 6));
+    // Unrelated domains: the smallest cube holding both, at the deeper depth.
+    let b = Domain::new(DVec3::new(-1.05, -1.05, -1.05), 2.1, 4).unwrap();
+    let s = Domain::new(DVec3::new(-1.02, -1.0, -1.0), 2.04, 6).unwrap();
+    let c = common_domain(&[b, s]).unwrap();
+    assert_eq!((c.min(), c.edge(), c.depth()), (DVec3::splat(-1.05), 2.1, 6));
+    for d in [b, s] {
+        let (inner, outer) = (d.aabb(), c.aabb());
+        assert!(inner.min.cmpge(outer.min).all() && inner.max.cmple(outer.max + 1e-12).all(), "{d:?} in {c:?}");
+    }
+    for d in [a, octant, b, s] {
+        assert_eq!(common_domain(&[d]).unwrap(), d);
+    }
+    assert!(common_domain(&[]).is_err());
+}
+
+#[test]
+fn motions_by_quarter_turns_and_powers_of_two_are_exact() {
+    let mut rng = Rng(91);
+    for round in 0..20 {
+        let (tree, _) = random_solid(&mut rng, 4);
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let turns = (0..rng.below(3))
+            .map(|_| Turn { axis: axes[rng.below(3) as usize], degrees: 90.0 * (rng.below(7) as f64 - 3.0) })
+            .collect();
+        let motion = Motion { scale: [0.5, 1.0, 2.0][rng.below(3) as usize], turns, translate: rng.vec(-3.0, 3.0) };
+        let (got, fit) = tree.transformed(&motion, Ok, &opts()).unwrap();
+        assert!(matches!(fit, Fit::Exact { .. }), "round {round}: {fit:?}");
+        assert_eq!(got.node_count(), tree.node_count(), "round {round}");
+        let want = sampled(&tree, motion.affine(), got.domain());
+        check(&got, &want, &format!("round {round}"));
+        let ratio = got.volume() / tree.volume().max(f64::MIN_POSITIVE);
+        assert!(tree.is_empty() || (ratio - motion.scale.powi(3)).abs() < 1e-9, "round {round}: {ratio}");
+    }
+}
+
+#[test]
+fn other_motions_resample_once_into_the_target() {
+    let d = Domain::new(DVec3::splat(-1.0), 2.0, 5).unwrap();
+    let tree = voxelize(&Cuboid::new(DVec3::ZERO, DVec3::ONE).unwrap(), d, &opts()).unwrap();
+    let motion = Motion { scale: 1.5, turns: vec![Turn { axis: Axis::Z, degrees: 30.0 }], translate: DVec3::X };
+    let target = Domain::new(DVec3::new(-1.0, -2.0, -2.0), 4.0, 6).unwrap();
+    let (got, fit) = tree.transformed(&motion, |_| Ok(target), &opts()).unwrap();
+    assert_eq!(fit, Fit::Resampled);
+    check(&got, &sampled(&tree, motion.affine(), &target), "into the target");
+    // The default target holds the whole moved cube (volume 1.5^3 within a voxel shell).
+    let (got, _) = tree.transformed(&motion, Ok, &opts()).unwrap();
+    let h = got.domain().voxel_size();
+    assert!((got.volume() - 1.5f64.powi(3)).abs() < 6.0 * 1.5 * 1.5 * h * 2.0, "{}", got.volume());
+    let bad = Motion { scale: -1.0, ..Motion::default() };
+    assert!(tree.transformed(&bad, Ok, &opts()).is_err());
 }

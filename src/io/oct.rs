@@ -1,7 +1,8 @@
-//! The native `.oct` format, version 1 (full description in `docs/FORMAT.md`).
+//! The native `.oct` format, versions 1 and 2 (full description in `docs/FORMAT.md`).
 //!
 //! An 80-byte little-endian header (magic, version, depth, domain, counts, payload
-//! length, CRC-32) and a payload of one LEB128 varint a node, in Morton order:
+//! length, CRC-32; version 2 adds the up axis and the length unit of what the solid
+//! was made from, in bytes that version 1 reserved) and a payload of one LEB128 varint a node, in Morton order:
 //! `(gap << 5) | k`, where `gap` is the number of empty voxels between the previous
 //! node's end and this node's start and `k` the node's levels above the voxels.
 //! Surface-dominated solids take one to two bytes a node. The encoding is a function
@@ -15,20 +16,118 @@ use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, NodeKey};
+use crate::shape::Axis;
 
 /// The first eight bytes of every `.oct` file.
 pub const MAGIC: [u8; 8] = *b"OCTSOLID";
-/// The format version this build writes and reads.
-pub const VERSION: u16 = 1;
+/// The newest format version, which this build writes when there is [`Metadata`] to
+/// record; it reads every version up to this one.
+pub const VERSION: u16 = 2;
+/// The version written for a solid without metadata: version 1 readers open it.
+const PLAIN_VERSION: u16 = 1;
 /// Header size in bytes; the payload starts here.
 pub const HEADER_BYTES: usize = 80;
 /// Byte offset of the CRC-32 field; the checksum covers the bytes before it and the payload.
 const CRC_OFFSET: usize = 72;
+/// Byte offsets of the version 2 fields.
+const UP_OFFSET: usize = 13;
+const UNITS_OFFSET: usize = 14;
 
-/// The whole file for `tree`.
+/// What a solid was made from, beyond its voxels: version 2's header fields.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Metadata {
+    /// The world's up axis (+x, +y or +z) of the source: y for a y-up OBJ. `None`:
+    /// not recorded (octsolid's own convention, z, applies).
+    pub up: Option<Axis>,
+    /// The length unit of the coordinates, when the source said or the user gave it.
+    pub units: Option<Units>,
+}
+
+/// Length units a file may record.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Units {
+    /// Micrometres.
+    Micrometre,
+    /// Millimetres.
+    Millimetre,
+    /// Centimetres.
+    Centimetre,
+    /// Metres.
+    Metre,
+    /// Inches.
+    Inch,
+    /// Feet.
+    Foot,
+}
+
+impl Units {
+    const ALL: [(Units, &'static str, u8); 6] = [
+        (Units::Micrometre, "um", 1),
+        (Units::Millimetre, "mm", 2),
+        (Units::Centimetre, "cm", 3),
+        (Units::Metre, "m", 4),
+        (Units::Inch, "in", 5),
+        (Units::Foot, "ft", 6),
+    ];
+
+    /// The short name: `um`, `mm`, `cm`, `m`, `in` or `ft`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        Units::ALL.iter().find(|u| u.0 == self).expect("every unit listed").1
+    }
+
+    fn code(self) -> u8 {
+        Units::ALL.iter().find(|u| u.0 == self).expect("every unit listed").2
+    }
+
+    fn from_code(code: u8) -> Option<Units> {
+        Units::ALL.iter().find(|u| u.2 == code).map(|u| u.0)
+    }
+}
+
+impl std::str::FromStr for Units {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Units::ALL.iter().find(|u| u.1.eq_ignore_ascii_case(s)).map(|u| u.0).ok_or_else(|| {
+            let names: Vec<_> = Units::ALL.iter().map(|u| u.1).collect();
+            format!("unknown unit {s:?}; expected one of {}", names.join(", "))
+        })
+    }
+}
+
+impl std::fmt::Display for Units {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+fn axis_code(up: Option<Axis>) -> u8 {
+    up.map_or(0, |a| a.index() as u8 + 1)
+}
+
+fn axis_from_code(code: u8) -> Option<Option<Axis>> {
+    match code {
+        0 => Some(None),
+        1 => Some(Some(Axis::X)),
+        2 => Some(Some(Axis::Y)),
+        3 => Some(Some(Axis::Z)),
+        _ => None,
+    }
+}
+
+/// The whole file for `tree`, without metadata (version 1).
 #[must_use]
 pub fn encode(tree: &LinearOctree) -> Vec<u8> {
+    encode_with(tree, &Metadata::default())
+}
+
+/// The whole file for `tree` with `meta`: version 2 when `meta` records anything,
+/// else version 1, so files without metadata stay readable by older builds.
+#[must_use]
+pub fn encode_with(tree: &LinearOctree, meta: &Metadata) -> Vec<u8> {
     let d = tree.domain();
+    let version = if *meta == Metadata::default() { PLAIN_VERSION } else { VERSION };
     let mut payload = Vec::with_capacity(tree.node_count() * 2);
     let mut end = 0u64;
     for key in tree.keys() {
@@ -38,9 +137,9 @@ pub fn encode(tree: &LinearOctree) -> Vec<u8> {
     }
     let mut out = Vec::with_capacity(HEADER_BYTES + payload.len());
     out.extend_from_slice(&MAGIC);
-    out.extend_from_slice(&VERSION.to_le_bytes());
+    out.extend_from_slice(&version.to_le_bytes());
     out.extend_from_slice(&0u16.to_le_bytes());
-    out.extend_from_slice(&[d.depth(), 0, 0, 0]);
+    out.extend_from_slice(&[d.depth(), axis_code(meta.up), meta.units.map_or(0, Units::code), 0]);
     for v in [d.min().x, d.min().y, d.min().z, d.edge()] {
         out.extend_from_slice(&v.to_le_bytes());
     }
@@ -54,18 +153,27 @@ pub fn encode(tree: &LinearOctree) -> Vec<u8> {
     out
 }
 
-/// Writes `tree` to `path` atomically; returns the file size in bytes.
+/// Writes `tree` to `path` atomically, without metadata; returns the file size in bytes.
 pub fn save(tree: &LinearOctree, path: impl AsRef<Path>) -> Result<u64> {
-    let path = path.as_ref();
-    let bytes = encode(tree);
-    write_atomic(path, |w| w.write_all(&bytes))
+    save_with(tree, &Metadata::default(), path)
+}
+
+/// Writes `tree` with `meta` to `path` atomically; returns the file size in bytes.
+pub fn save_with(tree: &LinearOctree, meta: &Metadata, path: impl AsRef<Path>) -> Result<u64> {
+    let bytes = encode_with(tree, meta);
+    write_atomic(path.as_ref(), |w| w.write_all(&bytes))
 }
 
 /// Reads and checks the `.oct` file at `path`.
 pub fn load(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<LinearOctree> {
+    Ok(load_with(path, budget)?.0)
+}
+
+/// Reads and checks the `.oct` file at `path`, with its metadata (empty for version 1).
+pub fn load_with(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<(LinearOctree, Metadata)> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-    decode(&bytes, path, budget)
+    decode_with(&bytes, path, budget)
 }
 
 /// CRC-32 of the header before the checksum field, then the payload.
@@ -100,9 +208,48 @@ fn read_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
 
 /// Parses and checks a whole `.oct` file; `path` names it in errors.
 pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
+    Ok(decode_with(bytes, path, budget)?.0)
+}
+
+/// The header fields the payload is read against.
+struct Header {
+    domain: Domain,
+    nodes: u64,
+    voxels: u64,
+    meta: Metadata,
+}
+
+/// Parses and checks a whole `.oct` file with its metadata; `path` names it in errors.
+pub fn decode_with(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<(LinearOctree, Metadata)> {
     let fail =
         |offset: usize, reason: String| Error::Format { path: path.to_path_buf(), offset: offset as u64, reason };
-    // Step 1: header.
+    let header = decode_header(bytes, path)?;
+    // Refuse absurd counts before allocating (every node takes at least a byte).
+    let payload = &bytes[HEADER_BYTES..];
+    if header.nodes > payload.len() as u64 {
+        return Err(fail(48, format!("{} nodes cannot fit in {} payload bytes", header.nodes, payload.len())));
+    }
+    budget.check(format!("loading {}", path.display()), header.nodes.saturating_mul(8))?;
+    let keys = decode_nodes(payload, &header, path)?;
+    // Canonical form (no eight full siblings), named by the node's offset.
+    let tree = LinearOctree::from_keys(header.domain, keys).map_err(|e| match e {
+        Error::InvalidOctree { index, reason } => {
+            let mut pos = 0;
+            for _ in 0..index {
+                read_varint(payload, &mut pos);
+            }
+            fail(HEADER_BYTES + pos, format!("node {index}: {reason}"))
+        }
+        other => other,
+    })?;
+    Ok((tree, header.meta))
+}
+
+/// Checks the header: magic, version, reserved bytes, depth, domain, metadata codes,
+/// payload length and checksum.
+fn decode_header(bytes: &[u8], path: &Path) -> Result<Header> {
+    let fail =
+        |offset: usize, reason: String| Error::Format { path: path.to_path_buf(), offset: offset as u64, reason };
     if bytes.len() < HEADER_BYTES {
         return Err(fail(
             bytes.len(),
@@ -116,12 +263,19 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
     let u64_at = |o: usize| u64::from_le_bytes(bytes[o..o + 8].try_into().expect("8 bytes"));
     let f64_at = |o: usize| f64::from_bits(u64_at(o));
     let version = u16_at(8);
-    if version != VERSION {
-        return Err(fail(8, format!("format version {version} is not supported (this build reads version {VERSION})")));
+    if !(1..=VERSION).contains(&version) {
+        return Err(fail(8, format!("format version {version} is not supported (this build reads 1..={VERSION})")));
     }
-    if u16_at(10) != 0 || bytes[13..16] != [0, 0, 0] || bytes[76..80] != [0; 4] {
+    let reserved_v2 = if version == 1 { &bytes[13..16] } else { &bytes[15..16] };
+    if u16_at(10) != 0 || reserved_v2.iter().any(|&b| b != 0) || bytes[76..80] != [0; 4] {
         return Err(fail(10, "reserved header fields are not zero".into()));
     }
+    let up = axis_from_code(bytes[UP_OFFSET])
+        .ok_or_else(|| fail(UP_OFFSET, format!("up axis code {} is not 0 (none), 1 (x), 2 (y) or 3 (z)", bytes[13])))?;
+    let units = match bytes[UNITS_OFFSET] {
+        0 => None,
+        code => Some(Units::from_code(code).ok_or_else(|| fail(UNITS_OFFSET, format!("unit code {code} is unknown")))?),
+    };
     let depth = bytes[12];
     if !(1..=MAX_DEPTH).contains(&depth) {
         return Err(fail(12, format!("depth {depth} is outside 1..={MAX_DEPTH}")));
@@ -141,13 +295,16 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
     if stored != computed {
         return Err(fail(CRC_OFFSET, format!("checksum mismatch: stored {stored:08x}, computed {computed:08x}")));
     }
-    // Step 2: refuse absurd counts before allocating (every node takes at least a byte).
-    if nodes > payload_len {
-        return Err(fail(48, format!("{nodes} nodes cannot fit in {payload_len} payload bytes")));
-    }
-    budget.check(format!("loading {}", path.display()), nodes.saturating_mul(8))?;
+    Ok(Header { domain, nodes, voxels, meta: Metadata { up, units } })
+}
 
-    // Step 3: nodes, each in range, aligned, sorted and disjoint by construction.
+/// The payload's nodes, each in range, aligned, sorted and disjoint by construction,
+/// as many as the header says, holding its voxel count.
+fn decode_nodes(payload: &[u8], header: &Header, path: &Path) -> Result<Vec<NodeKey>> {
+    let fail =
+        |offset: usize, reason: String| Error::Format { path: path.to_path_buf(), offset: offset as u64, reason };
+    let (domain, nodes, voxels) = (header.domain, header.nodes, header.voxels);
+    let depth = domain.depth();
     let total = domain.voxel_total();
     let mut keys = Vec::with_capacity(nodes as usize);
     let mut pos = 0usize;
@@ -182,20 +339,10 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
         count += len;
     }
     if keys.len() as u64 != nodes {
-        return Err(fail(bytes.len(), format!("{} nodes found, the header says {nodes}", keys.len())));
+        return Err(fail(HEADER_BYTES + payload.len(), format!("{} nodes found, the header says {nodes}", keys.len())));
     }
     if count != voxels {
         return Err(fail(56, format!("nodes hold {count} voxels, the header says {voxels}")));
     }
-    // Step 4: canonical form (no eight full siblings), named by the node's offset.
-    LinearOctree::from_keys(domain, keys).map_err(|e| match e {
-        Error::InvalidOctree { index, reason } => {
-            let mut pos = 0;
-            for _ in 0..index {
-                read_varint(payload, &mut pos);
-            }
-            fail(HEADER_BYTES + pos, format!("node {index}: {reason}"))
-        }
-        other => other,
-    })
+    Ok(keys)
 }

@@ -22,7 +22,10 @@ mod shade;
 mod trace;
 mod visibility;
 
-pub use film::{Camera, DEFAULT_VIEW, Projection, SampleGrid, View, from_srgb8, to_srgb8};
+pub use film::{
+    Camera, DEFAULT_VIEW, NamedView, Projection, SampleGrid, View, default_orbit, from_srgb8, orbit_direction,
+    silhouette_points, to_srgb8, up_for,
+};
 pub use pipeline::{MAX_IMAGE_SIZE, RenderOptions, RenderStats, render};
 pub use raster::polygon;
 pub use scene::{Bump, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};
