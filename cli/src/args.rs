@@ -3,8 +3,11 @@
 //! text comes from these definitions.
 
 use clap::{Parser, Subcommand};
+use glam::DVec3;
+use octsolid::octree::Turn;
+use octsolid::shape::Axis;
 
-use crate::commands::{bench, csg, demo, export, info, mesh_info, render, shape, slice, voxelize};
+use crate::commands::{bench, csg, demo, export, info, mesh_info, render, shape, slice, transform, voxelize};
 
 /// octsolid: solid modeling on linear octrees.
 #[derive(Parser, Debug)]
@@ -23,8 +26,10 @@ pub struct Args {
 pub enum Command {
     /// Voxelize a primitive shape into an .oct file.
     Shape(shape::ShapeArgs),
-    /// Combine .oct files by a set operation.
+    /// Combine .oct files by a set operation (bringing them into one domain first).
     Csg(csg::CsgArgs),
+    /// Move, turn or scale an .oct solid, or bring it into another domain or depth.
+    Transform(transform::TransformArgs),
     /// Print what an .oct file holds.
     Info(info::InfoArgs),
     /// Draw a cross-section of an .oct file as a PNG.
@@ -47,6 +52,62 @@ pub enum Command {
 pub(crate) fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     let v = parse_floats(s, 3)?;
     Ok([v[0], v[1], v[2]])
+}
+
+/// Parses `AXIS,DEG` (x, y or z, and an angle in degrees).
+pub(crate) fn parse_turn(s: &str) -> Result<Turn, String> {
+    let (axis, degrees) = s.split_once(',').ok_or_else(|| format!("'{s}' is not AXIS,DEG like z,90"))?;
+    let axis = axis.trim().parse::<Axis>().map_err(|e| format!("'{s}': {e}"))?;
+    let degrees = parse_floats(degrees, 1)?[0];
+    Ok(Turn { axis, degrees })
+}
+
+/// Parses the up direction: an axis (`x`, `y`, `z`) or a vector `X,Y,Z`.
+pub(crate) fn parse_up(s: &str) -> Result<Up, String> {
+    if let Ok(axis) = s.trim().parse::<Axis>() {
+        return Ok(Up::Axis(axis));
+    }
+    let v = DVec3::from(parse_vec3(s).map_err(|e| format!("'{s}' is neither x, y, z nor X,Y,Z: {e}"))?);
+    if v.length() < 1e-12 {
+        return Err(format!("'{s}': the up vector is zero"));
+    }
+    Ok(Up::Vector(v))
+}
+
+/// An up direction from the command line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Up {
+    /// A coordinate axis: also names the frame of `--view` and the orbit angles.
+    Axis(Axis),
+    /// Any vector: views are named in the frame of the axis nearest to it.
+    Vector(DVec3),
+}
+
+impl Up {
+    /// The nearest coordinate axis (the frame views are named in).
+    pub(crate) fn axis(self) -> Axis {
+        match self {
+            Up::Axis(a) => a,
+            Up::Vector(v) => {
+                let a = v.abs();
+                if a.x >= a.y && a.x >= a.z {
+                    Axis::X
+                } else if a.y >= a.z {
+                    Axis::Y
+                } else {
+                    Axis::Z
+                }
+            }
+        }
+    }
+
+    /// The up vector.
+    pub(crate) fn vector(self) -> DVec3 {
+        match self {
+            Up::Axis(a) => a.unit(),
+            Up::Vector(v) => v.normalize(),
+        }
+    }
 }
 
 /// Parses `WIDTHxHEIGHT`.

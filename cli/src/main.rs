@@ -12,8 +12,18 @@ macro_rules! out {
     }};
 }
 
+/// Prints a warning to stderr: something was ignored or is probably not what the
+/// user meant, but the command goes on.
+macro_rules! warn {
+    ($($arg:tt)*) => {{
+        eprintln!("octsolid: warning: {}", format_args!($($arg)*));
+    }};
+}
+
 mod args;
+mod camera_flags;
 mod commands;
+mod output;
 mod progress_bar;
 
 use std::process::ExitCode;

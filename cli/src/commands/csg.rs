@@ -1,26 +1,41 @@
-//! `octsolid csg OP A B [MORE...] -o OUT`: .oct files combined by a set operation.
+//! `octsolid csg OP A B [MORE...] -o OUT [--domain ...] [--depth D]`: solids combined
+//! by a set operation, after bringing them into one domain.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::ValueEnum;
+use glam::DVec3;
 use octsolid::io::oct;
+use octsolid::octree::{Domain, Fit, VoxelizeOptions, common_domain};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
+use crate::args::parse_domain;
+use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
+use crate::progress_bar::Bar;
 
 /// Arguments of `octsolid csg`.
 #[derive(clap::Args, Debug)]
 pub struct CsgArgs {
     /// The operation (difference: the first minus all the others).
     pub op: CsgOp,
-    /// Input .oct files (at least two), all over the same domain and depth.
+    /// Input .oct files (at least two). Inputs over other domains or depths are
+    /// brought into one: exactly where their voxels nest, else resampled.
     #[arg(required = true, num_args = 2..)]
     pub inputs: Vec<PathBuf>,
-    /// Output .oct file.
+    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// The common domain MINX,MINY,MINZ,EDGE (default: the smallest cube holding
+    /// every input's domain).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
+    pub domain: Option<[f64; 4]>,
+    /// The common depth (default: the deepest, or deeper where an input's voxels nest
+    /// only at a finer level).
+    #[arg(long)]
+    pub depth: Option<u8>,
 }
 
 /// A set operation over files.
@@ -36,26 +51,49 @@ pub enum CsgOp {
     Xor,
 }
 
-/// `octsolid csg OP A B [MORE...] -o OUT`
+/// `octsolid csg OP A B [MORE...] -o OUT [--domain ...] [--depth D]`
 pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     let (op, inputs, output) = (a.op, &a.inputs, &a.output);
+    check_extension(output, SOLID_EXTENSIONS)?;
     let mut trees = Vec::with_capacity(inputs.len());
+    let mut meta = None;
     for path in inputs {
-        trees.push(oct::load(path, budget)?);
+        let (tree, m) = oct::load_with(path, budget)?;
+        meta.get_or_insert(m);
+        trees.push(tree);
+    }
+    let common = common_domain(&trees.iter().map(|t| *t.domain()).collect::<Vec<_>>())?;
+    let target = match a.domain {
+        Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, a.depth.unwrap_or(common.depth()))?,
+        None => common.with_depth(a.depth.unwrap_or(common.depth()))?,
+    };
+    let bar = Bar::new("fitting");
+    let options = VoxelizeOptions { budget, progress: &bar };
+    for (tree, path) in trees.iter_mut().zip(inputs) {
+        let started = Instant::now();
+        let (fitted, fit) =
+            tree.fit_to(target, &options).with_context(|| format!("{}: cannot bring into {target}", path.display()))?;
+        if fit != Fit::Same {
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            out!("{}: {fit} into {target} in {ms:.1} ms", path.display());
+        }
+        *tree = fitted;
     }
     let started = Instant::now();
     let mut result = trees[0].clone();
-    for (tree, path) in trees.iter().zip(inputs).skip(1) {
+    for tree in &trees[1..] {
         result = match op {
             CsgOp::Union => result.union(tree),
             CsgOp::Intersect => result.intersection(tree),
             CsgOp::Difference => result.difference(tree),
             CsgOp::Xor => result.symmetric_difference(tree),
-        }
-        .with_context(|| format!("{}: cannot combine with {}", path.display(), inputs[0].display()))?;
+        }?;
     }
     out!("{op:?} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
-    let bytes = oct::save(&result, output)?;
+    if result.is_empty() {
+        warn!("the {op:?} is empty: no voxel is in it");
+    }
+    let bytes = write_solid_file(output, &result, &meta.unwrap_or_default(), budget)?;
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     print_summary(&result, None);
     Ok(())

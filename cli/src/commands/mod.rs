@@ -11,6 +11,7 @@ pub mod mesh_info;
 pub mod render;
 pub mod shape;
 pub mod slice;
+pub mod transform;
 pub mod voxelize;
 
 use std::time::Instant;
@@ -30,6 +31,7 @@ pub fn run(args: Args) -> Result<()> {
     match args.command {
         Command::Shape(a) => shape::run(&a, budget),
         Command::Csg(a) => csg::run(&a, budget),
+        Command::Transform(a) => transform::run(&a, budget),
         Command::Info(a) => info::run(&a, budget),
         Command::Slice(a) => slice::run(&a, budget),
         Command::Voxelize(a) => voxelize::run(&a, budget),

@@ -10,17 +10,20 @@ use glam::DVec3;
 use octsolid::import::{self, ImportOptions, Input};
 use octsolid::io::{oct, png};
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
-use octsolid::render::{self, Camera, Light, Material, RenderOptions, Scene};
+use octsolid::render::{self, Camera, Light, Material, NamedView, RenderOptions, Scene, silhouette_points};
 use octsolid::scene_file;
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget};
 
 use super::render_with_bar;
-use crate::args::parse_size;
+use crate::args::{Up, parse_size, parse_up, parse_vec3};
+use crate::camera_flags::{self, Framing};
+use crate::output::check_extension;
 use crate::progress_bar::Bar;
 
 /// Arguments of `octsolid render`.
 #[derive(clap::Args, Debug)]
+#[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
     /// Scene (.toml), solid (.oct) or mesh (.obj, .stl, .ply, .patches).
     pub input: PathBuf,
@@ -36,15 +39,38 @@ pub struct RenderArgs {
     /// How primary visibility is decided.
     #[arg(long, default_value = "trace")]
     pub method: Method,
-    /// Depth to voxelize a mesh at.
-    #[arg(long, default_value_t = 9)]
-    pub depth: u8,
-    /// The world's up axis for solids and meshes without a scene (default by the
-    /// file's extension: y for .obj and .ply, y-up by convention, as the bunny and
-    /// Spot are; z otherwise, as octsolid's shapes are: pass --up z to view a shape
-    /// exported to .obj or .ply as it was built).
+    /// Depth to voxelize a mesh at (default 9; not for .oct files or scenes).
     #[arg(long)]
-    pub up: Option<octsolid::shape::Axis>,
+    pub depth: Option<u8>,
+    /// The world's up: an axis (x, y, z) or a vector X,Y,Z (default: the scene's
+    /// camera's; an .oct file's recorded axis; by extension for meshes: y for .obj and
+    /// .ply, y-up by convention; z otherwise, octsolid's own).
+    #[arg(long, value_parser = parse_up)]
+    pub up: Option<Up>,
+    /// Eye position X,Y,Z (looking at --target, default the object's centre).
+    #[arg(long, value_parser = parse_vec3, conflicts_with_all = ["view", "azimuth", "elevation"])]
+    pub eye: Option<[f64; 3]>,
+    /// Point looked at X,Y,Z (default: the middle of the object's silhouette).
+    #[arg(long, value_parser = parse_vec3)]
+    pub target: Option<[f64; 3]>,
+    /// Vertical field of view in degrees (default: the scene's, or 35).
+    #[arg(long)]
+    pub fov: Option<f64>,
+    /// A named view in the up axis's frame (front looks from -y in a z-up world).
+    #[arg(long, conflicts_with_all = ["azimuth", "elevation"])]
+    pub view: Option<NamedView>,
+    /// Orbit: degrees around the up axis from the front view, towards the right.
+    #[arg(long)]
+    pub azimuth: Option<f64>,
+    /// Orbit: degrees above the horizon.
+    #[arg(long)]
+    pub elevation: Option<f64>,
+    /// Magnify by F (the eye moves F times closer; orthographic: F times less shown).
+    #[arg(long)]
+    pub zoom: Option<f64>,
+    /// Orthographic projection instead of perspective.
+    #[arg(long)]
+    pub ortho: bool,
     /// Skip shadow rays.
     #[arg(long)]
     pub no_shadows: bool,
@@ -133,21 +159,30 @@ impl From<Method> for octsolid::render::Method {
 /// solids (their boundary); not scenes.
 const POLYGON_INPUTS: &[FileKind] = &[FileKind::Oct, FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::Patches];
 
-/// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method M] [--depth D] [--up A] [--shading S]`
+/// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method M] [--depth D] [camera flags] [--shading S]`
 pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let input = &a.input;
     let output =
         a.output.clone().unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
+    check_extension(&output, &["png"])?;
+    let mut stages = Stages::new();
     if let Some(interpolation) = a.shading {
         let kind = FileKind::of(input, POLYGON_INPUTS)?;
         return polygon_command(a, kind, &output, interpolation.into(), budget);
     }
-    let (scene, camera, mut options) = match FileKind::of(input, FileKind::ALL)? {
+    let kind = FileKind::of(input, FileKind::ALL)?;
+    if a.depth.is_some() && matches!(kind, FileKind::Oct | FileKind::Scene) {
+        warn!("--depth is ignored for {}: its solids already have their depths", input.display());
+    }
+    let (scene, camera, mut options) = match kind {
         FileKind::Scene => {
             let file = scene_file::load_scene(input, budget)?;
-            (file.scene, file.camera, file.options)
+            stages.done("loading and voxelizing the scene");
+            let framing = Framing::of_scene(&file.scene, file.camera);
+            let aspect = size_aspect(a.size, &file.options);
+            (file.scene, camera_flags::camera(a, &framing, aspect)?, file.options)
         }
-        kind => solid_scene(a, kind, budget)?,
+        kind => solid_scene(a, kind, budget, &mut stages)?,
     };
     if let Some([w, h]) = a.size {
         options.width = w;
@@ -162,39 +197,61 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     options.method = a.method.into();
     let img =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
+    stages.done("rendering");
     png::save(&img, &output)?;
+    stages.done("writing");
     out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    stages.report();
     Ok(())
 }
 
+/// Image width / height: `--size`, else the options'.
+fn size_aspect(size: Option<[u32; 2]>, options: &RenderOptions) -> f64 {
+    let [w, h] = size.unwrap_or([options.width, options.height]);
+    f64::from(w) / f64::from(h.max(1))
+}
+
 /// The scene of one solid file (`.oct`, or a mesh or patches voxelized at `--depth`)
-/// with the default lights and camera for its up axis (`--up`, else its kind's).
-fn solid_scene(a: &RenderArgs, kind: FileKind, budget: MemoryBudget) -> Result<(Scene, Camera, RenderOptions)> {
+/// with the default lights, and the camera the flags ask for.
+fn solid_scene(
+    a: &RenderArgs,
+    kind: FileKind,
+    budget: MemoryBudget,
+    stages: &mut Stages,
+) -> Result<(Scene, Camera, RenderOptions)> {
     let input = &a.input;
-    let tree = if kind == FileKind::Oct {
-        oct::load(input, budget)?
+    let (tree, recorded_up) = if kind == FileKind::Oct {
+        let (tree, meta) = oct::load_with(input, budget)?;
+        stages.done("loading");
+        (tree, meta.up)
     } else {
         let loaded = Input::load(input)?;
-        let domain = import::default_domain(&loaded, a.depth)?;
+        stages.done("loading");
+        let domain = import::default_domain(&loaded, a.depth.unwrap_or(9))?;
         let bar = Bar::new("voxelizing");
-        import::voxelize_input(&loaded, domain, &ImportOptions { budget, progress: &bar, ..Default::default() })
-            .with_context(|| format!("{}: cannot voxelize", input.display()))?
-            .0
+        let tree =
+            import::voxelize_input(&loaded, domain, &ImportOptions { budget, progress: &bar, ..Default::default() })
+                .with_context(|| format!("{}: cannot voxelize", input.display()))?
+                .0;
+        stages.done("voxelizing");
+        (tree, None)
     };
     let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
+    let options = RenderOptions::default();
+    let up = a.up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
+    let framing = Framing { points: silhouette_points(&tree), up, scene_camera: None };
+    let camera = camera_flags::camera(a, &framing, size_aspect(a.size, &options))?;
     let mut scene = Scene::new();
     scene.add(input.display().to_string(), tree, Material::default());
+    stages.done("building the traversal");
     scene.lights = Scene::default_lights(&bounds);
-    let options = RenderOptions::default();
-    let up = a.up.unwrap_or(kind.default_up());
-    let (up_vec, view) = (up.unit(), Camera::default_view(up));
-    if up != Axis::Z {
+    if up.axis() != Axis::Z {
         let c = bounds.center();
         let r = bounds.size().length();
-        scene.lights[0] = Light::Point { position: c + (view + up_vec * 1.5) * r, color: DVec3::splat(0.85) };
+        let view = Camera::default_view(up.axis());
+        scene.lights[0] = Light::Point { position: c + (view + up.vector() * 1.5) * r, color: DVec3::splat(0.85) };
     }
-    let aspect = f64::from(options.width) / f64::from(options.height);
-    Ok((scene, Camera::frame(&bounds, view, up_vec, aspect), options))
+    Ok((scene, camera, options))
 }
 
 /// `octsolid render IN --shading flat|gouraud|phong`: a mesh drawn as polygons
@@ -207,24 +264,27 @@ fn polygon_command(
     budget: MemoryBudget,
 ) -> Result<()> {
     let input = &a.input;
-    let mesh = if kind == FileKind::Oct {
+    let mut stages = Stages::new();
+    let (mesh, recorded_up) = if kind == FileKind::Oct {
         // The solid's boundary, in unit faces so that vertex normals average locally.
-        let tree = oct::load(input, budget)?;
-        try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?
+        let (tree, meta) = oct::load_with(input, budget)?;
+        (try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?, meta.up)
     } else {
-        match Input::load(input)? {
+        let mesh = match Input::load(input)? {
             Input::Mesh(mesh) => mesh,
             Input::Patches(patches) => octsolid::patch::tessellate(&patches, 16),
-        }
+        };
+        (mesh, None)
     };
+    stages.done("loading");
     if mesh.triangles.is_empty() {
         bail!("{}: nothing to draw", input.display());
     }
     let bounds = mesh.bounds();
     let [width, height] = a.size.unwrap_or([960, 720]);
-    let up = a.up.unwrap_or(kind.default_up());
-    let camera =
-        Camera::frame(&bounds, Camera::default_view(up), up.unit(), f64::from(width) / f64::from(height.max(1)));
+    let up = a.up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
+    let framing = Framing { points: mesh.vertices.clone(), up, scene_camera: None };
+    let camera = camera_flags::camera(a, &framing, f64::from(width) / f64::from(height.max(1)))?;
     let scene = render::polygon::MeshScene {
         mesh: &mesh,
         material: Material::default(),
@@ -232,15 +292,38 @@ fn polygon_command(
         ambient: DVec3::ONE,
         background: Scene::new().background,
     };
-    let started = Instant::now();
     let img = render::polygon::render_mesh(&scene, &camera, width, height, a.spp.unwrap_or(2), interpolation)
         .with_context(|| format!("{}: cannot render", input.display()))?;
-    out!(
-        "drew {} triangles with {interpolation:?} shading in {:.2} s",
-        mesh.triangles.len(),
-        started.elapsed().as_secs_f64()
-    );
+    stages.done("drawing");
+    out!("drew {} triangles with {interpolation:?} shading", mesh.triangles.len());
     png::save(&img, output)?;
+    stages.done("writing");
     out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    stages.report();
     Ok(())
+}
+
+/// Wall-clock time of each stage of a command, printed at the end with the total.
+struct Stages {
+    started: Instant,
+    last: Instant,
+    done: Vec<(&'static str, f64)>,
+}
+
+impl Stages {
+    fn new() -> Self {
+        let now = Instant::now();
+        Stages { started: now, last: now, done: Vec::new() }
+    }
+
+    fn done(&mut self, stage: &'static str) {
+        let now = Instant::now();
+        self.done.push((stage, (now - self.last).as_secs_f64()));
+        self.last = now;
+    }
+
+    fn report(&self) {
+        let parts: Vec<String> = self.done.iter().map(|(stage, s)| format!("{stage} {s:.2} s")).collect();
+        out!("time       {:.2} s: {}", self.started.elapsed().as_secs_f64(), parts.join(", "));
+    }
 }

@@ -5,13 +5,14 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use glam::DVec3;
-use octsolid::io::oct;
+use octsolid::io::oct::Metadata;
 use octsolid::octree::Domain;
 use octsolid::shape::{Shape, ShapeSpec};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::{print_summary, voxelize_with_bar};
 use crate::args::{parse_domain, parse_vec3};
+use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
 
 /// The primitive kinds of `octsolid shape`.
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -60,7 +61,7 @@ pub struct ShapeArgs {
     /// Domain cube MINX,MINY,MINZ,EDGE (default: a cube around the shape).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
     pub domain: Option<[f64; 4]>,
-    /// Output .oct file.
+    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
     pub output: PathBuf,
 }
@@ -89,6 +90,7 @@ impl ShapeArgs {
 
 /// `octsolid shape KIND ...`
 pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
+    check_extension(&a.output, SOLID_EXTENSIONS)?;
     let spec = a.spec();
     let shape = spec.build()?;
     let domain = match a.domain {
@@ -96,7 +98,7 @@ pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
         None => Domain::around(&shape.bounds().context("the shape is unbounded; give --domain")?, 0.02, a.depth)?,
     };
     let tree = voxelize_with_bar(&shape, domain, budget)?;
-    let bytes = oct::save(&tree, &a.output)?;
+    let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), budget)?;
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&tree, spec.volume());
     Ok(())

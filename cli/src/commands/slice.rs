@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use crate::output::check_extension;
 use anyhow::{Context, Result};
 use octsolid::MemoryBudget;
 use octsolid::io::{oct, png};
@@ -29,6 +30,7 @@ pub struct SliceArgs {
 /// `octsolid slice FILE --axis A --at V [--size N] -o OUT.png`
 pub fn run(a: &SliceArgs, budget: MemoryBudget) -> Result<()> {
     let (file, axis, size, output) = (&a.file, a.axis, a.size, &a.output);
+    check_extension(output, &["png"])?;
     let tree = oct::load(file, budget)?;
     let d = tree.domain();
     let at = a.at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());

@@ -7,13 +7,15 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use glam::DVec3;
 use octsolid::import::{self, Fill, ImportOptions, Input};
-use octsolid::io::oct;
+use octsolid::io::oct::{Metadata, Units};
 use octsolid::mesh::InsideRule;
 use octsolid::octree::Domain;
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::shape::Axis;
+use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::print_summary;
 use crate::args::parse_domain;
+use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
 use crate::progress_bar::Bar;
 
 /// Arguments of `octsolid voxelize`.
@@ -34,7 +36,14 @@ pub struct VoxelizeArgs {
     /// Domain cube MINX,MINY,MINZ,EDGE (default: the input's bounding cube with a 2% margin).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
     pub domain: Option<[f64; 4]>,
-    /// Output .oct file.
+    /// The source's up axis, recorded in the .oct file so `render` shows it upright
+    /// (default by extension: y for .obj and .ply, z otherwise).
+    #[arg(long)]
+    pub up: Option<Axis>,
+    /// The source's length unit, recorded in the .oct file: um, mm, cm, m, in or ft.
+    #[arg(long)]
+    pub units: Option<Units>,
+    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
     pub output: PathBuf,
 }
@@ -42,6 +51,8 @@ pub struct VoxelizeArgs {
 /// `octsolid voxelize IN --depth D [--fill F] [--inside R] [--domain ...] -o OUT`
 pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     let (input, depth, fill, inside, output) = (&a.input, a.depth, a.fill, a.inside, &a.output);
+    check_extension(output, SOLID_EXTENSIONS)?;
+    let up = a.up.unwrap_or(FileKind::of(input, FileKind::SURFACES)?.default_up());
     let started = Instant::now();
     let loaded = Input::load(input)?;
     let domain = match a.domain {
@@ -53,7 +64,7 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
         import::voxelize_input(&loaded, domain, &ImportOptions { fill, inside, budget, progress: &bar })
             .with_context(|| format!("{}: cannot voxelize", input.display()))?;
     let elapsed = started.elapsed().as_secs_f64();
-    let bytes = oct::save(&tree, output)?;
+    let bytes = write_solid_file(output, &tree, &Metadata { up: Some(up), units: a.units }, budget)?;
     out!("read       {} ({} triangles)", input.display(), summary.triangles);
     if let Some(rule) = summary.rule {
         out!("inside     {rule:?} rule{}", if inside == InsideRule::Auto { " (auto)" } else { "" });

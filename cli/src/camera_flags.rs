@@ -1,0 +1,115 @@
+//! The camera `render`'s flags ask for: `--eye`, `--target`, `--up`, `--fov`,
+//! `--view`, `--azimuth`/`--elevation`, `--zoom` and `--ortho`, over a scene's own
+//! camera or the auto-framing of a solid or mesh (its silhouette fills the picture,
+//! [`Camera::frame_points`]).
+//!
+//! A scene's camera is kept as its file says unless a flag changes it: `--up`, `--fov`,
+//! `--eye` and `--target` replace its fields; a view or orbit flag re-frames the
+//! scene's solids from that direction; `--ortho` shows what the perspective showed at
+//! the target's distance; `--zoom` comes last.
+
+use anyhow::{Result, bail};
+use glam::DVec3;
+use octsolid::render::{Camera, Projection, Scene, default_orbit, orbit_direction, silhouette_points, up_for};
+
+use crate::args::Up;
+use crate::commands::render::RenderArgs;
+
+/// What the camera frames: the object's silhouette points and up, and a scene's own
+/// camera when there is one.
+pub(crate) struct Framing {
+    pub points: Vec<DVec3>,
+    pub up: Up,
+    pub scene_camera: Option<Camera>,
+}
+
+impl Framing {
+    /// A scene's framing: its solids' silhouettes, its camera's up.
+    pub(crate) fn of_scene(scene: &Scene, camera: Camera) -> Framing {
+        let points = scene.solids.iter().flat_map(|s| silhouette_points(&s.tree)).collect();
+        Framing { points, up: Up::Vector(camera.up), scene_camera: Some(camera) }
+    }
+}
+
+const DEFAULT_FOV: f64 = 35.0;
+
+/// The camera for an image of `aspect` = width / height.
+pub(crate) fn camera(a: &RenderArgs, framing: &Framing, aspect: f64) -> Result<Camera> {
+    if let Some(fov) = a.fov.filter(|f| !(f.is_finite() && *f > 0.0 && *f < 180.0)) {
+        bail!("--fov {fov}: the field of view must be between 0 and 180 degrees");
+    }
+    if let Some(zoom) = a.zoom.filter(|z| !(z.is_finite() && *z > 0.0)) {
+        bail!("--zoom {zoom}: the zoom must be a positive number");
+    }
+    let up = a.up.unwrap_or(framing.up);
+    let (axis, up_vec) = (up.axis(), up.vector());
+    let oriented = a.view.is_some() || a.azimuth.is_some() || a.elevation.is_some();
+    let view = if let Some(v) = a.view {
+        v.direction(axis)
+    } else if oriented {
+        let (azimuth, elevation) = default_orbit();
+        orbit_direction(a.azimuth.unwrap_or(azimuth), a.elevation.unwrap_or(elevation), axis)
+    } else {
+        Camera::default_view(axis)
+    };
+    let mut camera = match (framing.scene_camera, a.eye) {
+        (_, Some(eye)) => {
+            let eye = DVec3::from(eye);
+            let target = a.target.map(DVec3::from).unwrap_or_else(|| centre(&framing.points));
+            let fov = a.fov.or(framing.scene_camera.and_then(fov_of)).unwrap_or(DEFAULT_FOV);
+            Camera::look_at(eye, target, up_for(eye - target, up_vec, axis), fov)
+        }
+        (Some(scene), None) if !oriented => {
+            let mut c = scene;
+            c.up = up_vec;
+            if let Some(t) = a.target {
+                c.target = DVec3::from(t);
+            }
+            if let (Some(fov), Projection::Perspective { .. }) = (a.fov, c.projection) {
+                c.projection = Projection::Perspective { fov_y: fov };
+            }
+            c
+        }
+        (scene, None) => {
+            let fov = a.fov.or(scene.and_then(fov_of)).unwrap_or(DEFAULT_FOV);
+            let fov = (!a.ortho).then_some(fov);
+            let Some(mut c) = Camera::frame_points(&framing.points, view, up_for(view, up_vec, axis), aspect, fov)
+            else {
+                bail!("there is nothing to frame: the solids are empty");
+            };
+            if let Some(t) = a.target {
+                let t = DVec3::from(t);
+                c.eye += t - c.target;
+                c.target = t;
+            }
+            c
+        }
+    };
+    if a.ortho {
+        if let Projection::Perspective { fov_y } = camera.projection {
+            let height = 2.0 * (camera.eye - camera.target).length() * (fov_y.to_radians() * 0.5).tan();
+            camera.projection = Projection::Orthographic { height };
+        }
+    }
+    if let Some(zoom) = a.zoom {
+        match &mut camera.projection {
+            Projection::Perspective { .. } => camera.eye = camera.target + (camera.eye - camera.target) / zoom,
+            Projection::Orthographic { height } => *height /= zoom,
+        }
+    }
+    Ok(camera)
+}
+
+fn fov_of(c: Camera) -> Option<f64> {
+    match c.projection {
+        Projection::Perspective { fov_y } => Some(fov_y),
+        Projection::Orthographic { .. } => None,
+    }
+}
+
+/// The middle of the points' box.
+fn centre(points: &[DVec3]) -> DVec3 {
+    let lo = points.iter().fold(DVec3::splat(f64::MAX), |a, p| a.min(*p));
+    let hi = points.iter().fold(DVec3::splat(f64::MIN), |a, p| a.max(*p));
+    if points.is_empty() { DVec3::ZERO } else { (lo + hi) * 0.5 }
+}

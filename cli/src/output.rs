@@ -1,0 +1,51 @@
+//! Output files by extension: a solid is written in the format its `-o` extension
+//! names (octsolid's `.oct`, the voxel formats, or its boundary as a mesh), a picture
+//! as PNG; any other extension is refused before any work, listing what is accepted.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use octsolid::io::oct::{self, Metadata};
+use octsolid::io::{WriteOptions, write_solid};
+use octsolid::mesh::{BoundaryOptions, save_mesh, try_boundary_mesh};
+use octsolid::octree::LinearOctree;
+use octsolid::{FileKind, MemoryBudget};
+
+use crate::progress_bar::Bar;
+
+/// What a solid can be written as, by extension.
+pub(crate) const SOLID_EXTENSIONS: &[&str] = &["oct", "vox", "binvox", "vdb", "glb", "obj", "stl", "ply"];
+
+fn extension(path: &Path) -> String {
+    path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default()
+}
+
+/// Refuses `path` unless its extension is one of `accepted`.
+pub(crate) fn check_extension(path: &Path, accepted: &[&str]) -> Result<()> {
+    let found = extension(path);
+    if accepted.contains(&found.as_str()) {
+        return Ok(());
+    }
+    let found = if found.is_empty() { "no extension".to_string() } else { format!("extension .{found}") };
+    bail!("{}: {found} is not written here; accepted: {}", path.display(), accepted.join(", "))
+}
+
+/// Writes `tree` to `path` in the format the extension names: `.oct` with `meta`, a
+/// voxel format, or the boundary mesh (merged faces) as OBJ, STL or PLY. Returns the
+/// file size in bytes.
+pub(crate) fn write_solid_file(path: &Path, tree: &LinearOctree, meta: &Metadata, budget: MemoryBudget) -> Result<u64> {
+    check_extension(path, SOLID_EXTENSIONS)?;
+    let ext = extension(path);
+    if ext == "oct" {
+        return Ok(oct::save_with(tree, meta, path)?);
+    }
+    if FileKind::MESHES.iter().any(|k| k.extension() == ext) {
+        if tree.is_empty() {
+            bail!("{}: the solid is empty; there is no boundary to write as a mesh", path.display());
+        }
+        let mesh = try_boundary_mesh(tree, &BoundaryOptions::default(), budget, &Bar::new("meshing"))
+            .with_context(|| format!("{}: cannot mesh the solid", path.display()))?;
+        return Ok(save_mesh(&mesh, path)?);
+    }
+    Ok(write_solid(path, tree, None, &WriteOptions { budget, ..WriteOptions::default() })?)
+}

@@ -1,0 +1,307 @@
+//! What a new user meets in the first hour (the walkthrough's pieces, one test each):
+//! csg over different domains, `transform`, camera flags and framing, the up axis kept
+//! in `.oct` files, output extensions honoured or refused, ignored flags and empty
+//! results said, stage timings and plain progress lines. Oracles: analytic volumes,
+//! the library's own exact operations, pixel counts of the pictures.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn octsolid(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_octsolid")).current_dir(dir).args(args).output().unwrap()
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("cli/ has a parent").to_path_buf()
+}
+
+/// Runs a command that must succeed; returns stdout and stderr.
+fn ok(dir: &Path, args: &[&str]) -> (String, String) {
+    let out = octsolid(dir, args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "octsolid {args:?} failed: {stderr}");
+    (String::from_utf8(out.stdout).unwrap(), stderr)
+}
+
+/// Runs a command that must fail; returns its error line.
+fn fails(dir: &Path, args: &[&str]) -> String {
+    let out = octsolid(dir, args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "octsolid {args:?} should fail");
+    assert!(!stderr.contains("panicked"), "octsolid {args:?} panicked: {stderr}");
+    stderr
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("octsolid-first-hour-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn json(dir: &Path, file: &str) -> serde_json::Value {
+    serde_json::from_str(&ok(dir, &["info", file, "--json"]).0).unwrap()
+}
+
+fn volume(dir: &Path, file: &str) -> f64 {
+    json(dir, file)["volume"].as_f64().unwrap()
+}
+
+#[test]
+fn csg_brings_operands_into_one_domain_and_says_how() {
+    let dir = scratch("csg");
+    // The README's pair: a sphere in its own default domain, a box in a given one.
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "7", "-o", "ball.oct"]);
+    ok(
+        &dir,
+        &[
+            "shape",
+            "box",
+            "--size",
+            "1.6,1.6,1.6",
+            "--depth",
+            "7",
+            "--domain",
+            "-1.05,-1.05,-1.05,2.1",
+            "-o",
+            "cube.oct",
+        ],
+    );
+    let (out, _) = ok(&dir, &["csg", "difference", "cube.oct", "ball.oct", "-o", "hollow.oct"]);
+    assert!(
+        out.contains("ball.oct: resampled (voxels do not nest) into cube at (-1.05, -1.05, -1.05) edge 2.1 depth 7"),
+        "{out}"
+    );
+    assert!(!out.contains("cube.oct:"), "the box is already in the common domain: {out}");
+    // Analytic: the box minus the unit ball (the ball pokes out of the box's faces,
+    // so the removed part is the ball clipped to the box), within the voxel shell.
+    let v = volume(&dir, "hollow.oct");
+    let clipped_ball = {
+        // Monte Carlo-free: the ball minus six caps of height 1 - 0.8.
+        let h: f64 = 0.2;
+        4.0 / 3.0 * std::f64::consts::PI - 6.0 * std::f64::consts::PI * h * h * (3.0 - h) / 3.0
+    };
+    let want = 1.6f64.powi(3) - clipped_ball;
+    assert!((v - want).abs() < 0.03 * want, "{v} vs {want}");
+    // An octant-aligned pair nests: exact, one level deeper, volumes add.
+    ok(
+        &dir,
+        &[
+            "shape",
+            "box",
+            "--size",
+            "1,1,1",
+            "--center",
+            "0.5,0.5,0.5",
+            "--depth",
+            "5",
+            "--domain",
+            "0,0,0,2",
+            "-o",
+            "a.oct",
+        ],
+    );
+    ok(
+        &dir,
+        &[
+            "shape",
+            "box",
+            "--size",
+            "1,1,1",
+            "--center",
+            "1.5,1.5,1.5",
+            "--depth",
+            "5",
+            "--domain",
+            "1,1,1,1",
+            "-o",
+            "b.oct",
+        ],
+    );
+    let (out, _) = ok(&dir, &["csg", "union", "a.oct", "b.oct", "-o", "ab.oct"]);
+    assert!(out.contains("a.oct: exact (voxels nest, refined 1 level)"), "{out}");
+    assert!(out.contains("b.oct: exact (voxels nest, moved by [32, 32, 32] voxels)"), "{out}");
+    let info = json(&dir, "ab.oct");
+    assert_eq!(info["depth"], 6);
+    assert!((info["volume"].as_f64().unwrap() - 2.0).abs() < 1e-12, "{info}");
+    // --domain and --depth choose the common domain; an empty result is said.
+    let (out, _) =
+        ok(&dir, &["csg", "union", "a.oct", "b.oct", "--domain", "-1,-1,-1,4", "--depth", "7", "-o", "big.oct"]);
+    assert!(out.contains("a.oct: exact") && out.contains("b.oct: exact"), "{out}");
+    assert!((volume(&dir, "big.oct") - 2.0).abs() < 1e-12);
+    let (_, err) = ok(&dir, &["csg", "intersect", "a.oct", "b.oct", "-o", "none.oct"]);
+    assert!(err.contains("warning: the Intersect is empty"), "{err}");
+}
+
+#[test]
+fn transform_is_exact_for_whole_voxel_moves_and_resamples_others() {
+    let dir = scratch("transform");
+    ok(&dir, &["shape", "torus", "--radius", "1", "--tube", "0.3", "--depth", "7", "-o", "ring.oct"]);
+    let before = json(&dir, "ring.oct");
+    let (out, _) = ok(
+        &dir,
+        &["transform", "ring.oct", "-o", "turned.oct", "--rotate", "x,90", "--translate", "0.3,-2,5", "--scale", "2"],
+    );
+    assert!(out.contains("ring.oct: exact"), "{out}");
+    let after = json(&dir, "turned.oct");
+    // A quarter turn and a power-of-two scale keep every node; the volume scales by 8.
+    assert_eq!(after["nodes"], before["nodes"]);
+    assert!((after["volume"].as_f64().unwrap() / before["volume"].as_f64().unwrap() - 8.0).abs() < 1e-9);
+    // The torus's axis was z; turned about x it lies along y: its y extent is the
+    // tube's, 2 x 0.3 x 2 (scaled), around the translated centre -2.
+    let b = &after["bounds"];
+    let (ymin, ymax) = (b["min"][1].as_f64().unwrap(), b["max"][1].as_f64().unwrap());
+    let h = after["domain"]["edge"].as_f64().unwrap() / 128.0;
+    assert!((ymin + 2.0 + 0.6).abs() < 2.0 * h && (ymax + 2.0 - 0.6).abs() < 2.0 * h, "{ymin} {ymax}");
+    let (out, _) = ok(&dir, &["transform", "ring.oct", "-o", "tilted.oct", "--rotate", "y,30"]);
+    assert!(out.contains("ring.oct: resampled"), "{out}");
+    let analytic = 2.0 * std::f64::consts::PI.powi(2) * 1.0 * 0.3f64.powi(2);
+    assert!((volume(&dir, "tilted.oct") / analytic - 1.0).abs() < 0.03);
+    let e = fails(&dir, &["transform", "ring.oct", "-o", "bad.oct", "--rotate", "w,30"]);
+    assert!(e.contains("w,30"), "{e}");
+    let e = fails(&dir, &["transform", "ring.oct", "-o", "bad.oct", "--scale", "0"]);
+    assert!(e.contains("positive scale"), "{e}");
+}
+
+/// The bounding box of the pixels that differ from the top-left (background) pixel,
+/// as fractions of the image's width and height.
+fn coverage(path: &Path) -> (f64, f64) {
+    let img = image::open(path).unwrap().to_rgb8();
+    let bg = *img.get_pixel(0, 0);
+    let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
+    for (x, y, p) in img.enumerate_pixels() {
+        if p.0.iter().zip(bg.0).any(|(a, b)| a.abs_diff(b) > 8) {
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+        }
+    }
+    (f64::from(x1 + 1 - x0) / f64::from(img.width()), f64::from(y1 + 1 - y0) / f64::from(img.height()))
+}
+
+#[test]
+fn camera_flags_frame_and_orient_the_picture() {
+    let dir = scratch("camera");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "7", "-o", "ball.oct"]);
+    // Auto-framing fills the picture: the ball spans nearly the full height.
+    ok(&dir, &["render", "ball.oct", "--size", "160x120", "--spp", "1", "-o", "ball.png"]);
+    let (w, h) = coverage(&dir.join("ball.png"));
+    assert!(h > 0.88 && h <= 1.0 && w > 0.6, "{w} {h}");
+    // Orthographic from the top: a disc as tall as the picture (within the margin).
+    ok(&dir, &["render", "ball.oct", "--size", "120x120", "--spp", "1", "--view", "top", "--ortho", "-o", "top.png"]);
+    let (w, h) = coverage(&dir.join("top.png"));
+    assert!((w - h).abs() < 0.03 && h > 0.9, "{w} {h}");
+    // --zoom 2 halves what is shown: the ball overflows the picture.
+    ok(&dir, &["render", "ball.oct", "--size", "120x120", "--spp", "1", "--zoom", "2", "--ortho", "-o", "zoom.png"]);
+    assert_eq!(coverage(&dir.join("zoom.png")), (1.0, 1.0));
+    // A far eye and a narrow field of view show the ball small, centred.
+    ok(
+        &dir,
+        &["render", "ball.oct", "--size", "120x120", "--spp", "1", "--eye", "0,-40,0", "--fov", "10", "-o", "far.png"],
+    );
+    let (_, h) = coverage(&dir.join("far.png"));
+    let want = 1.0 / (40.0 * (5f64).to_radians().tan());
+    assert!((h - want).abs() < 0.05, "{h} vs {want}");
+    // Front and azimuth 0 are one view; back differs from front for an asymmetric solid.
+    ok(&dir, &["shape", "cone", "--radius", "1", "--height", "2", "--axis", "x", "--depth", "6", "-o", "cone.oct"]);
+    let render = |name: &str, extra: &[&str]| {
+        let args: Vec<&str> =
+            ["render", "cone.oct", "--size", "64x48", "--spp", "1", "-o", name].iter().chain(extra).copied().collect();
+        ok(&dir, &args);
+        std::fs::read(dir.join(name)).unwrap()
+    };
+    let front = render("front.png", &["--view", "front"]);
+    assert_eq!(front, render("az0.png", &["--azimuth", "0", "--elevation", "0"]));
+    assert_ne!(front, render("right.png", &["--view", "right"]));
+    let e = fails(&dir, &["render", "cone.oct", "--eye", "1,2,3", "--view", "top"]);
+    assert!(e.contains("--eye") && e.contains("--view"), "{e}");
+    let e = fails(&dir, &["render", "cone.oct", "--view", "sideways"]);
+    assert!(e.contains("front, back, left, right, top, bottom or iso"), "{e}");
+    let e = fails(&dir, &["render", "cone.oct", "--fov", "200"]);
+    assert!(e.contains("--fov"), "{e}");
+    // Scenes take the flags too; without flags their own camera is kept.
+    let scene = repo().join("scenes/classic.toml");
+    let scene = scene.to_str().unwrap();
+    ok(&dir, &["render", scene, "--size", "64x48", "--spp", "1", "-o", "s1.png"]);
+    ok(&dir, &["render", scene, "--size", "64x48", "--spp", "1", "--view", "top", "-o", "s2.png"]);
+    assert_ne!(std::fs::read(dir.join("s1.png")).unwrap(), std::fs::read(dir.join("s2.png")).unwrap());
+}
+
+#[test]
+fn the_up_axis_travels_in_the_oct_file() {
+    let dir = scratch("up");
+    let spot = repo().join("models/spot.obj");
+    let spot = spot.to_str().unwrap();
+    ok(&dir, &["voxelize", spot, "--depth", "6", "-o", "spot.oct"]);
+    ok(&dir, &["voxelize", spot, "--depth", "6", "--up", "z", "--units", "mm", "-o", "spot-z.oct"]);
+    let bytes = std::fs::read(dir.join("spot.oct")).unwrap();
+    assert_eq!((bytes[8], bytes[13], bytes[14]), (2, 2, 0), "version 2, up +y, no unit");
+    let bytes = std::fs::read(dir.join("spot-z.oct")).unwrap();
+    assert_eq!((bytes[13], bytes[14]), (3, 2), "up +z, millimetres");
+    // Rendering the .oct uses the recorded axis: the same picture as --up y.
+    let render = |file: &str, name: &str, up: Option<&str>| {
+        let mut args = vec!["render", file, "--size", "64x48", "--spp", "1", "-o", name];
+        args.extend(up.iter().flat_map(|u| ["--up", *u]));
+        ok(&dir, &args);
+        std::fs::read(dir.join(name)).unwrap()
+    };
+    let recorded = render("spot.oct", "a.png", None);
+    assert_eq!(recorded, render("spot.oct", "b.png", Some("y")));
+    assert_ne!(recorded, render("spot.oct", "c.png", Some("z")));
+    assert_eq!(render("spot-z.oct", "d.png", None), render("spot.oct", "e.png", Some("z")));
+    // csg and transform keep the first input's metadata.
+    ok(&dir, &["transform", "spot.oct", "--translate", "1,0,0", "-o", "moved.oct"]);
+    assert_eq!(std::fs::read(dir.join("moved.oct")).unwrap()[13], 2);
+}
+
+#[test]
+fn outputs_are_written_as_their_extension_says_or_refused() {
+    let dir = scratch("extensions");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "5", "-o", "ball.oct"]);
+    let oct_volume = volume(&dir, "ball.oct");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "5", "-o", "ball.stl"]);
+    assert!(std::fs::read(dir.join("ball.stl")).unwrap().len() > 84, "a binary STL");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "5", "-o", "ball.vox"]);
+    assert_eq!(&std::fs::read(dir.join("ball.vox")).unwrap()[..4], b"VOX ");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "5", "-o", "ball.binvox"]);
+    assert!(std::fs::read(dir.join("ball.binvox")).unwrap().starts_with(b"#binvox"));
+    // The mesh written encloses the octree's volume exactly (mesh-info's volume).
+    let (out, _) = ok(&dir, &["mesh-info", "ball.stl"]);
+    let line = out.lines().find(|l| l.starts_with("volume")).unwrap();
+    let v: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!((v - oct_volume).abs() < 1e-9 * oct_volume, "{line} vs {oct_volume}");
+    for (args, accepted) in [
+        (vec!["shape", "sphere", "-o", "x.txt"], "oct, vox, binvox, vdb, glb, obj, stl, ply"),
+        (vec!["render", "ball.oct", "-o", "x.jpg"], "accepted: png"),
+        (vec!["slice", "ball.oct", "-o", "x.bmp"], "accepted: png"),
+        (vec!["csg", "union", "ball.oct", "ball.oct", "-o", "x"], "no extension"),
+    ] {
+        let e = fails(&dir, &args);
+        assert!(e.contains(accepted), "{args:?}: {e}");
+    }
+    assert!(!dir.join("x.txt").exists() && !dir.join("x.jpg").exists());
+    let (_, err) = ok(&dir, &["render", "ball.oct", "--depth", "4", "--size", "32x24", "-o", "d.png"]);
+    assert!(err.contains("warning: --depth is ignored for ball.oct"), "{err}");
+}
+
+#[test]
+fn render_reports_every_stage_and_prints_progress_lines_off_a_terminal() {
+    let dir = scratch("stages");
+    let spot = repo().join("models/spot.obj");
+    let out = Command::new(env!("CARGO_BIN_EXE_octsolid"))
+        .current_dir(&dir)
+        .env("OCTSOLID_PROGRESS_SECONDS", "0")
+        .args(["render", spot.to_str().unwrap(), "--depth", "6", "--size", "64x48", "--spp", "1", "-o", "s.png"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let time = stdout.lines().find(|l| l.starts_with("time")).unwrap_or_else(|| panic!("{stdout}"));
+    for stage in ["loading", "voxelizing", "building the traversal", "rendering", "writing"] {
+        assert!(time.contains(stage), "{time}");
+    }
+    // The total is the sum of the stages (to rounding) and not less than any of them.
+    let numbers: Vec<f64> = time.split([' ', ',', ':']).filter_map(|t| t.parse().ok()).collect();
+    let (total, parts) = (numbers[0], &numbers[1..]);
+    assert!((total - parts.iter().sum::<f64>()).abs() <= 0.011 * parts.len() as f64, "{time}");
+    assert!(stderr.contains("voxelizing: ") && stderr.contains("rendering: "), "{stderr}");
+    assert!(stderr.lines().any(|l| l.starts_with("rendering: 100%")), "{stderr}");
+}

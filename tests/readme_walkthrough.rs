@@ -1,0 +1,62 @@
+//! README.md's walkthrough, run as written: every command of the first `sh` block
+//! under "## Use", in order, in a fresh folder holding the repository's `models/`
+//! and `scenes/`. Each must succeed, and no command may overwrite what an earlier one
+//! wrote (every output name, given by `-o` or implied by `render`, is new), so the
+//! walkthrough cannot silently break again.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("cli/ has a parent").to_path_buf()
+}
+
+/// The walkthrough's commands, comments stripped, split into arguments.
+fn walkthrough() -> Vec<Vec<String>> {
+    let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
+    let usage = &readme[readme.find("## Use").expect("a Use section")..];
+    let block = &usage[usage.find("```sh\n").expect("an sh block") + 6..];
+    let block = &block[..block.find("```").expect("a closed block")];
+    block
+        .lines()
+        .map(|line| line.split(" #").next().unwrap().split_whitespace().map(String::from).collect::<Vec<_>>())
+        .filter(|words| !words.is_empty())
+        .collect()
+}
+
+/// Where a command writes: its `-o`, or for `render` without one the input's stem
+/// with `.png`.
+fn output_of(args: &[String]) -> Option<String> {
+    if let Some(i) = args.iter().position(|a| a == "-o") {
+        return args.get(i + 1).cloned();
+    }
+    (args[1] == "render").then(|| format!("{}.png", Path::new(&args[2]).file_stem().unwrap().to_string_lossy()))
+}
+
+#[test]
+fn every_readme_command_runs_in_order() {
+    let commands = walkthrough();
+    assert!(commands.len() >= 10, "the walkthrough has its commands: {commands:?}");
+    let dir = std::env::temp_dir().join(format!("octsolid-readme-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for folder in ["models", "scenes"] {
+        std::os::unix::fs::symlink(repo().join(folder), dir.join(folder)).unwrap();
+    }
+    let mut written = BTreeSet::new();
+    for args in &commands {
+        assert_eq!(args[0], "octsolid", "a walkthrough line is an octsolid command: {args:?}");
+        if let Some(out) = output_of(args) {
+            assert!(written.insert(out.clone()), "{args:?} overwrites {out}, written by an earlier command");
+        }
+        let out = Command::new(env!("CARGO_BIN_EXE_octsolid")).current_dir(&dir).args(&args[1..]).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "README command {args:?} failed: {stderr}");
+        assert!(!stderr.contains("warning"), "README command {args:?} warns: {stderr}");
+    }
+    for out in &written {
+        assert!(dir.join(out).metadata().is_ok_and(|m| m.len() > 0), "{out} was not written");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
