@@ -1,15 +1,21 @@
 //! The Stanford bunny, voxelized and carved by CSG: hollowed out by a shrunken copy of
 //! itself, then bored through by a cylindrical tunnel.
 //!
-//! Run: `cargo run --release --example bunny_csg` (writes bunny_csg.oct and bunny_csg.png).
+//! Run: `cargo run --release --example bunny_csg` (writes example-output/bunny_csg/bunny_csg.oct and .png).
 
 use glam::DAffine3;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::prelude::*;
 
-fn main() -> Result<()> {
+mod common;
+
+fn main() -> std::process::ExitCode {
+    common::run("bunny_csg", bunny_csg)
+}
+
+fn bunny_csg(out: &std::path::Path) -> Result<()> {
     // The scan is open at the base; the default `auto` rule picks the winding number.
-    let mesh = load_mesh("models/stanford-bunny.obj")?;
+    let mesh = load_mesh(common::model("stanford-bunny.obj"))?;
     let domain = Domain::around(&mesh.bounds(), 0.02, 9)?;
     let (bunny, stats) = voxelize_mesh(&mesh, domain, &MeshVoxelizeOptions::default())?;
 
@@ -24,12 +30,12 @@ fn main() -> Result<()> {
     let tunnel = voxelize(&Cylinder::new(body, Axis::X, 0.015, 0.4)?, domain, &VoxelizeOptions::default())?;
 
     let carved = &(&bunny - &cavity) - &tunnel;
-    oct::save(&carved, "bunny_csg.oct")?;
-    png::save(&slice_image(&carved, Axis::Z, 0.0, 768)?, "bunny_csg.png")?;
+    oct::save(&carved, out.join("bunny_csg.oct"))?;
+    png::save(&slice_image(&carved, Axis::Z, 0.0, 768)?, out.join("bunny_csg.png"))?;
 
     println!(
-        "bunny at depth 9 ({:?} rule): {} nodes, volume {:.4e}",
-        stats.rule.unwrap(),
+        "bunny at depth 9 ({} rule): {} nodes, volume {:.4e}",
+        stats.rule.map_or_else(|| "no".into(), |r| format!("{r:?}")),
         bunny.node_count(),
         bunny.volume()
     );
@@ -39,6 +45,6 @@ fn main() -> Result<()> {
         100.0 * cavity.volume() / bunny.volume()
     );
     println!("carved: {} nodes, volume {:.4e}", carved.node_count(), carved.volume());
-    println!("wrote bunny_csg.oct and bunny_csg.png (slice at z = 0)");
+    println!("bunny_csg.oct and bunny_csg.png (slice at z = 0)");
     Ok(())
 }

@@ -1,13 +1,19 @@
 //! The classic CSG part: a cube of side 2 intersected with a sphere of radius 1.3,
 //! minus three cylinders of radius 0.6 along x, y and z.
 //!
-//! Run: `cargo run --release --example classic_csg` (writes classic_csg.oct and .png).
+//! Run: `cargo run --release --example classic_csg` (writes example-output/classic_csg/classic_csg.oct and .png).
 
 use std::f64::consts::PI;
 
 use octsolid::prelude::*;
 
-fn main() -> Result<()> {
+mod common;
+
+fn main() -> std::process::ExitCode {
+    common::run("classic_csg", classic_csg)
+}
+
+fn classic_csg(out: &std::path::Path) -> Result<()> {
     // Model: (cube & ball) minus three bores.
     let cube = Cuboid::new(DVec3::ZERO, DVec3::splat(2.0))?;
     let ball = Sphere::new(DVec3::ZERO, 1.3)?;
@@ -17,8 +23,8 @@ fn main() -> Result<()> {
     // Voxelize into 512^3 voxels over the cube [-1, 1]^3 and save.
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 9)?;
     let solid = voxelize(&part, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, "classic_csg.oct")?;
-    png::save(&slice_image(&solid, Axis::Z, 0.8, 768)?, "classic_csg.png")?;
+    oct::save(&solid, out.join("classic_csg.oct"))?;
+    png::save(&slice_image(&solid, Axis::Z, 0.8, 768)?, out.join("classic_csg.png"))?;
 
     // Analytic volume: the ball clipped by the cube loses six caps of height h = R - 1
     // (they never overlap since 2 > R^2); the three bores lie wholly inside it and
@@ -31,6 +37,6 @@ fn main() -> Result<()> {
     let exact = clipped_ball - bores;
     println!("classic CSG part at depth 9: {} nodes, {} voxels", solid.node_count(), solid.voxel_count());
     println!("volume {:.5}, analytic {:.5} ({:+.3}%)", solid.volume(), exact, 100.0 * (solid.volume() / exact - 1.0));
-    println!("wrote classic_csg.oct and classic_csg.png (slice at z = 0.8)");
+    println!("classic_csg.oct and classic_csg.png (slice at z = 0.8)");
     Ok(())
 }

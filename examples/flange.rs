@@ -1,13 +1,19 @@
 //! A pipe flange: a disc with a raised hub, a bore through both and a ring of six
 //! bolt holes.
 //!
-//! Run: `cargo run --release --example flange` (writes flange.oct and flange.png).
+//! Run: `cargo run --release --example flange` (writes example-output/flange/flange.oct and flange.png).
 
 use std::f64::consts::PI;
 
 use octsolid::prelude::*;
 
-fn main() -> Result<()> {
+mod common;
+
+fn main() -> std::process::ExitCode {
+    common::run("flange", flange)
+}
+
+fn flange(out: &std::path::Path) -> Result<()> {
     // Dimensions (metres): disc 0.2 thick, hub 0.6 tall, the part standing on z = 0.
     let (disc_r, disc_t) = (1.0, 0.2);
     let (hub_r, hub_h) = (0.4, 0.6);
@@ -26,14 +32,14 @@ fn main() -> Result<()> {
     // Voxelize: the domain is the cube around the disc, 512 voxels a side.
     let domain = Domain::new(DVec3::new(-1.05, -1.05, -0.1), 2.1, 9)?;
     let solid = voxelize(&flange, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, "flange.oct")?;
-    png::save(&slice_image(&solid, Axis::Z, 0.1, 768)?, "flange.png")?;
+    oct::save(&solid, out.join("flange.oct"))?;
+    png::save(&slice_image(&solid, Axis::Z, 0.1, 768)?, out.join("flange.png"))?;
 
     let exact = PI * (disc_r * disc_r * disc_t + hub_r * hub_r * (hub_h - disc_t))
         - PI * bore_r * bore_r * hub_h
         - f64::from(bolts) * PI * bolt_r * bolt_r * disc_t;
     println!("flange at depth 9: {} nodes, {} voxels", solid.node_count(), solid.voxel_count());
     println!("volume {:.5}, analytic {:.5} ({:+.3}%)", solid.volume(), exact, 100.0 * (solid.volume() / exact - 1.0));
-    println!("wrote flange.oct and flange.png (slice through the disc at z = 0.1)");
+    println!("flange.oct and flange.png (slice through the disc at z = 0.1)");
     Ok(())
 }

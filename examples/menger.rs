@@ -3,11 +3,17 @@
 //! classification and a point test.)
 //!
 //! Run: `cargo run --release --example menger [LEVEL] [DEPTH]` (defaults 4 and 9;
-//! writes menger.oct and menger.png).
+//! writes example-output/menger/menger.oct and menger.png).
 
 use octsolid::prelude::*;
 
-fn main() -> Result<()> {
+mod common;
+
+fn main() -> std::process::ExitCode {
+    common::run("menger", menger)
+}
+
+fn menger(out: &std::path::Path) -> Result<()> {
     let mut args = std::env::args().skip(1).map(|a| a.parse::<u32>());
     let level = args.next().transpose().map_err(|e| Error::InvalidArgument { what: "level", reason: e.to_string() })?;
     let depth = args.next().transpose().map_err(|e| Error::InvalidArgument { what: "depth", reason: e.to_string() })?;
@@ -16,8 +22,8 @@ fn main() -> Result<()> {
     let sponge = Menger::new(DVec3::ZERO, 2.0, level)?;
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, depth)?;
     let solid = voxelize(&sponge, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, "menger.oct")?;
-    png::save(&slice_image(&solid, Axis::Z, -0.99, 810)?, "menger.png")?;
+    oct::save(&solid, out.join("menger.oct"))?;
+    png::save(&slice_image(&solid, Axis::Z, -0.99, 810)?, out.join("menger.png"))?;
 
     let exact = sponge.volume();
     println!(
@@ -31,6 +37,6 @@ fn main() -> Result<()> {
         exact,
         100.0 * (solid.volume() / exact - 1.0)
     );
-    println!("wrote menger.oct and menger.png (slice at z = -0.99: a Sierpinski carpet)");
+    println!("menger.oct and menger.png (slice at z = -0.99: a Sierpinski carpet)");
     Ok(())
 }

@@ -2,14 +2,20 @@
 //! from the patches, and the solid (the spout and handle pierce the body, so the
 //! winding rule decides inside).
 //!
-//! Run: `cargo run --release --example teapot` (writes teapot.oct, teapot_shell.oct, teapot.png).
+//! Run: `cargo run --release --example teapot` (writes example-output/teapot/teapot.oct, teapot_shell.oct, teapot.png).
 
 use octsolid::import::{self, ImportOptions, Input};
 use octsolid::patch::{tessellate, voxelize_patch_surface};
 use octsolid::prelude::*;
 
-fn main() -> Result<()> {
-    let input = Input::load("models/teapot.patches")?;
+mod common;
+
+fn main() -> std::process::ExitCode {
+    common::run("teapot", teapot)
+}
+
+fn teapot(out: &std::path::Path) -> Result<()> {
+    let input = Input::load(common::model("teapot.patches"))?;
     let Input::Patches(patches) = &input else { unreachable!("a .patches file") };
     let domain = import::default_domain(&input, 9)?;
 
@@ -17,21 +23,21 @@ fn main() -> Result<()> {
     let shell = voxelize_patch_surface(patches, domain, &VoxelizeOptions::default())?;
     // The solid, from a tessellation fine enough for the voxel size.
     let (solid, summary) = import::voxelize_input(&input, domain, &ImportOptions::default())?;
-    oct::save(&solid, "teapot.oct")?;
-    oct::save(&shell, "teapot_shell.oct")?;
-    png::save(&slice_image(&solid, Axis::Y, 0.0, 768)?, "teapot.png")?;
+    oct::save(&solid, out.join("teapot.oct"))?;
+    oct::save(&shell, out.join("teapot_shell.oct"))?;
+    png::save(&slice_image(&solid, Axis::Y, 0.0, 768)?, out.join("teapot.png"))?;
 
     let reference = octsolid::mesh::PolygonTables::new(&tessellate(patches, 64)).report().volume;
     println!("teapot: {} patches; shell {} nodes ({} voxels)", patches.len(), shell.node_count(), shell.voxel_count());
     println!(
-        "solid ({:?} rule, {} triangles): {} nodes, volume {:.4} vs {:.4} for a 64x64-a-patch tessellation ({:+.2}%)",
-        summary.rule.unwrap(),
+        "solid ({} rule, {} triangles): {} nodes, volume {:.4} vs {:.4} for a 64x64-a-patch tessellation ({:+.2}%)",
+        summary.rule.map_or_else(|| "no".into(), |r| format!("{r:?}")),
         summary.triangles,
         solid.node_count(),
         solid.volume(),
         reference,
         100.0 * (solid.volume() / reference - 1.0)
     );
-    println!("wrote teapot.oct, teapot_shell.oct and teapot.png (slice at y = 0)");
+    println!("teapot.oct, teapot_shell.oct and teapot.png (slice at y = 0)");
     Ok(())
 }

@@ -20,6 +20,8 @@ mkdir -p "$out/work"
 cd "$out/work"
 ln -s "$root/models" models
 log="$out/log.txt"
+# Progress lines off a terminal come every few seconds, a count that varies: none here.
+export OCTSOLID_PROGRESS_SECONDS=1000000
 
 # Timings and rates differ run to run; everything else printed must not.
 mask() { sed -E 's/[0-9]+(\.[0-9]+)? ?(ms|s|M rays\/s|M samples\/s|µs)\b/<t>/g; s/in <t>/in <t>/g'; }
@@ -70,7 +72,7 @@ run export bunny.oct -o bunny.ply
 run demo -o demo.png
 run demo --depth 7 -o demo-d7.png
 
-# The examples write into the current folder.
+# The examples write into example-output/NAME/ under the current folder.
 for ex in "$root"/examples/*.rs; do
   name=$(basename "$ex" .rs)
   echo "\$ example $name" >>"$log"

@@ -85,11 +85,9 @@ pub(crate) fn camera(a: &RenderArgs, framing: &Framing, aspect: f64) -> Result<C
             c
         }
     };
-    if a.ortho {
-        if let Projection::Perspective { fov_y } = camera.projection {
-            let height = 2.0 * (camera.eye - camera.target).length() * (fov_y.to_radians() * 0.5).tan();
-            camera.projection = Projection::Orthographic { height };
-        }
+    if let (true, Projection::Perspective { fov_y }) = (a.ortho, camera.projection) {
+        let height = 2.0 * (camera.eye - camera.target).length() * (fov_y.to_radians() * 0.5).tan();
+        camera.projection = Projection::Orthographic { height };
     }
     if let Some(zoom) = a.zoom {
         match &mut camera.projection {
