@@ -272,7 +272,7 @@ fn outputs_are_written_as_their_extension_says_or_refused() {
         (vec!["shape", "sphere", "-o", "x.txt"], "oct, vox, binvox, vdb, glb, obj, stl, ply"),
         (vec!["render", "ball.oct", "-o", "x.jpg"], "accepted: png"),
         (vec!["slice", "ball.oct", "-o", "x.bmp"], "accepted: png"),
-        (vec!["csg", "union", "ball.oct", "ball.oct", "-o", "x"], "no extension"),
+        (vec!["csg", "union", "ball.oct", "ball.oct", "-o", "x"], "has no extension"),
     ] {
         let e = fails(&dir, &args);
         assert!(e.contains(accepted), "{args:?}: {e}");
@@ -304,4 +304,31 @@ fn render_reports_every_stage_and_prints_progress_lines_off_a_terminal() {
     assert!((total - parts.iter().sum::<f64>()).abs() <= 0.011 * parts.len() as f64, "{time}");
     assert!(stderr.contains("voxelizing: ") && stderr.contains("rendering: "), "{stderr}");
     assert!(stderr.lines().any(|l| l.starts_with("rendering: 100%")), "{stderr}");
+}
+
+#[test]
+fn outputs_never_replace_inputs_and_stdout_failures_are_errors() {
+    let dir = scratch("safety");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "4", "-o", "ball.oct"]);
+    let before = std::fs::read(dir.join("ball.oct")).unwrap();
+    for args in [
+        vec!["transform", "ball.oct", "--scale", "2", "-o", "./ball.oct"],
+        vec!["csg", "union", "ball.oct", "ball.oct", "-o", "ball.oct"],
+        vec!["export", "ball.oct", "-o", "ball.oct"],
+    ] {
+        let e = fails(&dir, &args);
+        assert!(e.contains("the output is the input") || e.contains("unexpected extension"), "{args:?}: {e}");
+    }
+    assert_eq!(std::fs::read(dir.join("ball.oct")).unwrap(), before);
+    if Path::new("/dev/full").exists() {
+        let full = std::fs::File::create("/dev/full").unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_octsolid"))
+            .current_dir(&dir)
+            .args(["info", "ball.oct"])
+            .stdout(full)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "a lost output is an error");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("cannot write the output to stdout"));
+    }
 }

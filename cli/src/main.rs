@@ -3,13 +3,25 @@
 //! Raw arguments -> validated values -> one library call a subcommand. Every error is
 //! printed as one line and exits with status 1 (2 for bad usage, from clap).
 
-/// Prints a line to stdout, ignoring a closed pipe (`octsolid info x.oct | head -1`
-/// must not panic).
+/// Prints a line to stdout. A closed pipe (`octsolid info x.oct | head -1`) is
+/// ignored; any other failure (`> /dev/full`) is remembered, and the command then
+/// exits with an error instead of losing its output silently.
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), $($arg)*);
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            crate::stdout_failed(e);
+        }
     }};
+}
+
+/// The first error writing stdout, other than a closed pipe.
+static STDOUT_ERROR: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
+
+fn stdout_failed(e: std::io::Error) {
+    if e.kind() != std::io::ErrorKind::BrokenPipe {
+        STDOUT_ERROR.lock().unwrap_or_else(std::sync::PoisonError::into_inner).get_or_insert(e.to_string());
+    }
 }
 
 /// Prints a warning to stderr: something was ignored or is probably not what the
@@ -32,7 +44,17 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     let args = args::Args::parse();
-    match commands::run(args) {
+    let result = commands::run(args).and_then(|()| {
+        use std::io::Write as _;
+        if let Err(e) = std::io::stdout().flush() {
+            stdout_failed(e);
+        }
+        match STDOUT_ERROR.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take() {
+            Some(e) => Err(anyhow::anyhow!("cannot write the output to stdout: {e}")),
+            None => Ok(()),
+        }
+    });
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // One line: the context chain, each cause once (a library error already

@@ -26,8 +26,17 @@ pub(crate) fn check_extension(path: &Path, accepted: &[&str]) -> Result<()> {
     if accepted.contains(&found.as_str()) {
         return Ok(());
     }
-    let found = if found.is_empty() { "no extension".to_string() } else { format!("extension .{found}") };
-    bail!("{}: {found} is not written here; accepted: {}", path.display(), accepted.join(", "))
+    let found = if found.is_empty() { "has no extension".to_string() } else { format!("has extension .{found}") };
+    bail!("{}: {found}, which names no format written here; accepted: {}", path.display(), accepted.join(", "))
+}
+
+/// Refuses an output that is one of the inputs (the same file, through any spelling
+/// or link): writing it would replace what the command reads.
+pub(crate) fn check_not_an_input(output: &Path, inputs: &[&Path]) -> Result<()> {
+    if let Some(input) = inputs.iter().find(|i| octsolid::io::same_file(output, i)) {
+        bail!("{}: the output is the input {}; choose another output name", output.display(), input.display());
+    }
+    Ok(())
 }
 
 /// Writes `tree` to `path` in the format the extension names: `.oct` with `meta`, a

@@ -1,13 +1,33 @@
 //! Atomic file output: write a temporary sibling, flush it to disk, rename it over the
 //! destination. A crash or a full disk never leaves a half-written file and never
 //! destroys the old one.
+//!
+//! The temporary file is `.NAME.octsolid-tmp-XXXXXXXXXXXXXXXX` in the destination's
+//! folder: an unpredictable name (random bits from the standard library's hasher
+//! seeds, the time and a counter) created exclusively (`O_EXCL`), so a file or
+//! symlink planted under a guessed name is never written through. A write killed
+//! before its rename leaves such a file behind; the next write to the same
+//! destination removes the ones older than an hour (younger ones may belong to a
+//! writer still running).
+//!
+//! Destinations that are not regular files: a symlink is followed, and its target
+//! replaced atomically (the link stays); a device or fifo (`/dev/null`,
+//! `/dev/stdout`) is written in place, since renaming over it would replace the
+//! device with a regular file.
 
-use std::fs::File;
+use std::fs::{File, OpenOptions};
+use std::hash::{BuildHasher, Hasher};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, SystemTime};
 
 use crate::error::{Error, Result};
+
+/// The marker in every temporary file's name.
+const TEMP_MARKER: &str = ".octsolid-tmp-";
+/// Temporary files older than this are taken for leftovers of killed writes.
+const STALE_AFTER: Duration = Duration::from_secs(3600);
 
 /// Counts bytes passing through a writer.
 struct Counting<W> {
@@ -26,34 +46,159 @@ impl<W: Write> Write for Counting<W> {
     }
 }
 
-/// A temporary path next to `path`, unique to this process and call.
-fn temporary_sibling(path: &Path) -> PathBuf {
+/// 64 unpredictable bits: a fresh randomly seeded std hasher over the time, the
+/// process and a counter.
+fn random_suffix() -> u64 {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
+    h.write_u32(std::process::id());
+    h.write_u128(SystemTime::now().duration_since(SystemTime::UNIX_EPOCH).map_or(0, |d| d.as_nanos()));
+    h.finish()
+}
+
+/// Creates a new temporary sibling of `path`, exclusively.
+fn create_temporary(path: &Path) -> std::io::Result<(File, PathBuf)> {
     let name = path.file_name().map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(".{name}.tmp-{}-{n}", std::process::id()))
+    loop {
+        let temp = path.with_file_name(format!(".{name}{TEMP_MARKER}{:016x}", random_suffix()));
+        match OpenOptions::new().write(true).create_new(true).open(&temp) {
+            Ok(file) => return Ok((file, temp)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// Removes temporary siblings of `path` older than [`STALE_AFTER`]; best effort.
+fn remove_stale_temporaries(path: &Path) {
+    let Some(name) = path.file_name().map(|n| n.to_string_lossy().into_owned()) else { return };
+    let prefix = format!(".{name}{TEMP_MARKER}");
+    let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let Ok(entries) = std::fs::read_dir(folder) else { return };
+    for entry in entries.flatten() {
+        let stale = entry.metadata().ok().filter(std::fs::Metadata::is_file).and_then(|m| m.modified().ok());
+        let old = stale.and_then(|t| t.elapsed().ok()).is_some_and(|age| age > STALE_AFTER);
+        if old && entry.file_name().to_string_lossy().starts_with(&prefix) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
 }
 
 /// Writes a file through `write`, atomically; returns the bytes written.
 ///
 /// On any error the temporary file is removed and the destination is untouched; the
-/// error names the destination.
+/// error names the destination. See the module doc for symlinks and devices.
 pub fn write_atomic(path: impl AsRef<Path>, write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<u64> {
     let path = path.as_ref();
-    let temp = temporary_sibling(path);
+    let io_error = |source| Error::Io { path: path.to_path_buf(), source };
+    let mut target = path.to_path_buf();
+    if let Ok(meta) = std::fs::symlink_metadata(path) {
+        if meta.file_type().is_symlink() {
+            target = std::fs::canonicalize(path).map_err(io_error)?;
+        }
+        let followed = std::fs::metadata(&target).map_err(io_error)?;
+        if !followed.is_file() && !followed.is_dir() {
+            return write_in_place(&target, write).map_err(io_error);
+        }
+    }
+    remove_stale_temporaries(&target);
+    let (file, temp) = create_temporary(&target).map_err(io_error)?;
     let result = (|| {
-        let file = File::create(&temp)?;
         let mut out = Counting { inner: BufWriter::new(file), bytes: 0 };
         write(&mut out)?;
         out.flush()?;
         let bytes = out.bytes;
         let file = out.inner.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
-        std::fs::rename(&temp, path)?;
+        std::fs::rename(&temp, &target)?;
         Ok(bytes)
     })();
     result.map_err(|source| {
         let _ = std::fs::remove_file(&temp);
-        Error::Io { path: path.to_path_buf(), source }
+        io_error(source)
     })
+}
+
+/// Writes into an existing device or fifo.
+fn write_in_place(path: &Path, write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> std::io::Result<u64> {
+    let file = OpenOptions::new().write(true).open(path)?;
+    let mut out = Counting { inner: BufWriter::new(file), bytes: 0 };
+    write(&mut out)?;
+    out.flush()?;
+    Ok(out.bytes)
+}
+
+/// Whether `a` and `b` name the same existing file (the same device and inode, so
+/// also through links and different spellings). An output that is one of the inputs
+/// is refused by the command line with this.
+#[must_use]
+pub fn same_file(a: impl AsRef<Path>, b: impl AsRef<Path>) -> bool {
+    use std::os::unix::fs::MetadataExt as _;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("octsolid-atomic-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn a_planted_file_under_the_temporary_name_is_never_written_through() {
+        // Names are unpredictable: two calls never share one, so a planted symlink
+        // cannot be guessed; and creation is exclusive, so even a clash fails safe.
+        let names: std::collections::HashSet<u64> = (0..1000).map(|_| random_suffix()).collect();
+        assert_eq!(names.len(), 1000);
+        let dir = scratch("planted");
+        let victim = dir.join("victim");
+        std::fs::write(&victim, b"keep").unwrap();
+        let out = dir.join("out.oct");
+        write_atomic(&out, |w| w.write_all(b"new")).unwrap();
+        assert_eq!(std::fs::read(&victim).unwrap(), b"keep");
+        assert_eq!(std::fs::read(&out).unwrap(), b"new");
+        let leftovers = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().contains(TEMP_MARKER));
+        assert_eq!(leftovers.count(), 0);
+    }
+
+    #[test]
+    fn symlinks_keep_pointing_and_devices_stay_devices() {
+        let dir = scratch("links");
+        let real = dir.join("real.oct");
+        std::fs::write(&real, b"old").unwrap();
+        let link = dir.join("link.oct");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write_atomic(&link, |w| w.write_all(b"new")).unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+        assert_eq!(write_atomic("/dev/null", |w| w.write_all(b"gone")).unwrap(), 4);
+        assert!(!std::fs::metadata("/dev/null").unwrap().is_file());
+        assert!(same_file(&link, &real) && same_file(dir.join("./real.oct"), &real));
+        assert!(!same_file(&real, dir.join("missing")));
+    }
+
+    #[test]
+    fn stale_temporaries_are_removed_and_young_ones_kept() {
+        let dir = scratch("stale");
+        let out = dir.join("big.oct");
+        let old = dir.join(format!(".big.oct{TEMP_MARKER}0000000000000001"));
+        let young = dir.join(format!(".big.oct{TEMP_MARKER}0000000000000002"));
+        for p in [&old, &young] {
+            std::fs::write(p, b"partial").unwrap();
+        }
+        let two_hours_ago = SystemTime::now() - Duration::from_secs(7200);
+        File::options().write(true).open(&old).unwrap().set_modified(two_hours_ago).unwrap();
+        write_atomic(&out, |w| w.write_all(b"done")).unwrap();
+        assert!(!old.exists() && young.exists());
+    }
 }

@@ -14,7 +14,7 @@ mod solids;
 pub mod vdb;
 pub mod vox;
 
-pub use atomic::write_atomic;
+pub use atomic::{same_file, write_atomic};
 pub use solids::{
     ColouredSolid, ReadOptions, SolidFormat, Solids, WriteOptions, read_solids, write_solid, write_solids,
 };

@@ -13,7 +13,7 @@ use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
 use crate::args::parse_domain;
-use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
+use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 
 /// Arguments of `octsolid csg`.
@@ -55,6 +55,7 @@ pub enum CsgOp {
 pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     let (op, inputs, output) = (a.op, &a.inputs, &a.output);
     check_extension(output, SOLID_EXTENSIONS)?;
+    check_not_an_input(output, &inputs.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
     let mut trees = Vec::with_capacity(inputs.len());
     let mut meta = None;
     for path in inputs {

@@ -9,6 +9,7 @@ use octsolid::io::oct;
 use octsolid::mesh::{BoundaryOptions, MeshFormat, save_mesh, try_boundary_mesh};
 use octsolid::{MemoryBudget, human_bytes};
 
+use crate::output::check_not_an_input;
 use crate::progress_bar::Bar;
 
 /// Arguments of `octsolid export`.
@@ -28,6 +29,7 @@ pub struct ExportArgs {
 pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let (file, output, unit_faces) = (&a.file, &a.output, a.unit_faces);
     MeshFormat::of(output)?;
+    check_not_an_input(output, &[file])?;
     let tree = oct::load(file, budget)?;
     if tree.is_empty() {
         bail!("{}: the solid is empty; there is no boundary to export", file.display());

@@ -13,7 +13,7 @@ use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
 use crate::args::{parse_domain, parse_turn, parse_vec3};
-use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
+use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 
 /// Arguments of `octsolid transform`.
@@ -47,6 +47,7 @@ pub struct TransformArgs {
 /// `octsolid transform IN -o OUT [...]`
 pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&a.output, SOLID_EXTENSIONS)?;
+    check_not_an_input(&a.output, &[&a.input])?;
     let (tree, meta) = oct::load_with(&a.input, budget)?;
     let motion =
         Motion { scale: a.scale, turns: a.rotate.clone(), translate: a.translate.map_or(DVec3::ZERO, DVec3::from) };

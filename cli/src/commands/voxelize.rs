@@ -15,7 +15,7 @@ use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::print_summary;
 use crate::args::parse_domain;
-use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
+use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 
 /// Arguments of `octsolid voxelize`.
@@ -52,6 +52,7 @@ pub struct VoxelizeArgs {
 pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     let (input, depth, fill, inside, output) = (&a.input, a.depth, a.fill, a.inside, &a.output);
     check_extension(output, SOLID_EXTENSIONS)?;
+    check_not_an_input(output, &[input])?;
     let up = a.up.unwrap_or(FileKind::of(input, FileKind::SURFACES)?.default_up());
     let started = Instant::now();
     let loaded = Input::load(input)?;
