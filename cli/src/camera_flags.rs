@@ -24,14 +24,24 @@ pub(crate) struct Framing {
 }
 
 impl Framing {
-    /// A scene's framing: its solids' silhouettes, its camera's up.
-    pub(crate) fn of_scene(scene: &Scene, camera: Camera) -> Framing {
-        let points = scene.solids.iter().flat_map(|s| silhouette_points(&s.tree)).collect();
+    /// A scene's framing: its camera's up, and its solids' silhouettes when the
+    /// flags re-frame it (only then are they computed).
+    pub(crate) fn of_scene(scene: &Scene, camera: Camera, a: &RenderArgs) -> Framing {
+        let points = if reframes(a) {
+            scene.solids.iter().flat_map(|s| silhouette_points(&s.tree)).collect()
+        } else {
+            Vec::new()
+        };
         Framing { points, up: Up::Vector(camera.up), scene_camera: Some(camera) }
     }
 }
 
 const DEFAULT_FOV: f64 = 35.0;
+
+/// Whether the flags ask for a new viewing direction (a view or orbit angles).
+fn reframes(a: &RenderArgs) -> bool {
+    a.view.is_some() || a.azimuth.is_some() || a.elevation.is_some()
+}
 
 /// The camera for an image of `aspect` = width / height.
 pub(crate) fn camera(a: &RenderArgs, framing: &Framing, aspect: f64) -> Result<Camera> {
@@ -43,7 +53,7 @@ pub(crate) fn camera(a: &RenderArgs, framing: &Framing, aspect: f64) -> Result<C
     }
     let up = a.up.unwrap_or(framing.up);
     let (axis, up_vec) = (up.axis(), up.vector());
-    let oriented = a.view.is_some() || a.azimuth.is_some() || a.elevation.is_some();
+    let oriented = reframes(a);
     let view = if let Some(v) = a.view {
         v.direction(axis)
     } else if oriented {
@@ -55,7 +65,8 @@ pub(crate) fn camera(a: &RenderArgs, framing: &Framing, aspect: f64) -> Result<C
     let mut camera = match (framing.scene_camera, a.eye) {
         (_, Some(eye)) => {
             let eye = DVec3::from(eye);
-            let target = a.target.map(DVec3::from).unwrap_or_else(|| centre(&framing.points));
+            let scene_target = framing.scene_camera.map(|c| c.target);
+            let target = a.target.map(DVec3::from).or(scene_target).unwrap_or_else(|| centre(&framing.points));
             let fov = a.fov.or(framing.scene_camera.and_then(fov_of)).unwrap_or(DEFAULT_FOV);
             Camera::look_at(eye, target, up_for(eye - target, up_vec, axis), fov)
         }

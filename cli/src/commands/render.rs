@@ -178,7 +178,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
         FileKind::Scene => {
             let file = scene_file::load_scene(input, budget)?;
             stages.done("loading and voxelizing the scene");
-            let framing = Framing::of_scene(&file.scene, file.camera);
+            let framing = Framing::of_scene(&file.scene, file.camera, a);
             let aspect = size_aspect(a.size, &file.options);
             (file.scene, camera_flags::camera(a, &framing, aspect)?, file.options)
         }
