@@ -90,7 +90,7 @@ pub enum Error {
     },
     /// The estimated memory of a job exceeds the budget; nothing was started.
     #[error(
-        "{job} needs an estimated {} but the memory budget is {}; lower the depth or raise the budget",
+        "{job} needs an estimated {} but the memory budget is {}; make the job smaller (depth, size, samples) or raise --memory-budget",
         human_bytes(*estimate),
         human_bytes(*budget)
     )]

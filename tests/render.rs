@@ -200,3 +200,26 @@ fn front_to_back_matches_the_tracer_near_the_eye_at_odd_sizes_on_any_thread_coun
         assert_eq!(count(Method::ScanLine), painter);
     }
 }
+
+#[test]
+fn pictures_over_the_budget_and_endless_mirrors_are_refused_before_work() {
+    let scene = sphere_scene(5, 0.5);
+    let camera = top_camera(1.2);
+    // 4096 x 4096 at 16 x 16 samples: 4.3 G samples, refused by the estimate (never
+    // allocated); the estimate counts at least a hit record a sample.
+    let huge = RenderOptions { width: 4096, height: 4096, spp: 16, ..RenderOptions::default() };
+    let samples = SampleGrid { width: 4096, height: 4096, spp: 16 };
+    assert!(estimate_bytes(&samples) >= 4096u64 * 4096 * 256 * std::mem::size_of::<Option<SceneHit>>() as u64);
+    let e = render(&scene, &camera, &huge, &NoProgress).unwrap_err();
+    assert!(matches!(e, octsolid::Error::OverBudget { .. }), "{e}");
+    // A small budget refuses even a small picture; the same picture fits without it.
+    let small =
+        RenderOptions { width: 64, height: 48, spp: 4, budget: MemoryBudget(1 << 10), ..RenderOptions::default() };
+    assert!(render(&scene, &camera, &small, &NoProgress).is_err());
+    let fits = RenderOptions { budget: MemoryBudget::unlimited(), ..small };
+    assert!(render(&scene, &camera, &fits, &NoProgress).is_ok());
+    // Secondary rays are bounded: a recursion deeper than the limit is refused.
+    let deep = RenderOptions { max_depth: MAX_RAY_DEPTH + 1, ..fits };
+    assert!(render(&scene, &camera, &deep, &NoProgress).unwrap_err().to_string().contains("max depth"));
+    assert!(render(&scene, &camera, &RenderOptions { max_depth: MAX_RAY_DEPTH, ..fits }, &NoProgress).is_ok());
+}

@@ -26,7 +26,7 @@ pub use film::{
     Camera, DEFAULT_VIEW, NamedView, Projection, SampleGrid, View, default_orbit, from_srgb8, orbit_direction,
     silhouette_points, to_srgb8, up_for,
 };
-pub use pipeline::{MAX_IMAGE_SIZE, RenderOptions, RenderStats, render};
+pub use pipeline::{MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats, estimate_bytes, render};
 pub use raster::polygon;
 pub use scene::{Bump, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};
 pub use shade::{Normals, ShadeOptions, radiance, reflect, refract};

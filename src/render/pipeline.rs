@@ -9,14 +9,18 @@ use glam::DVec3;
 
 use super::film::resolve::resolve;
 use super::film::{Camera, SampleGrid};
-use super::scene::Scene;
+use super::scene::{Scene, SceneHit};
 use super::shade::{Normals, ShadeOptions, radiance};
 use super::visibility::{Method, visibility};
+use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 
 /// Largest image edge in pixels.
 pub const MAX_IMAGE_SIZE: u32 = 16_384;
+/// Longest chain of secondary rays: the shading recursion's depth, bounded so that a
+/// hall of mirrors cannot overflow a thread's stack.
+pub const MAX_RAY_DEPTH: u32 = 64;
 
 /// Image size and quality.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,6 +39,8 @@ pub struct RenderOptions {
     pub max_depth: u32,
     /// How primary visibility is decided.
     pub method: Method,
+    /// Refuse a picture whose sample buffers would exceed this, before allocating.
+    pub budget: MemoryBudget,
 }
 
 impl Default for RenderOptions {
@@ -47,6 +53,7 @@ impl Default for RenderOptions {
             normals: Normals::Axis,
             max_depth: ShadeOptions::default().max_depth,
             method: Method::Trace,
+            budget: MemoryBudget::default(),
         }
     }
 }
@@ -65,6 +72,15 @@ pub struct RenderStats {
     pub secondary_rays: u64,
 }
 
+/// The memory a picture's buffers take: a hit record and a depth a sample (what
+/// every visibility method keeps), and the finished rows.
+#[must_use]
+pub fn estimate_bytes(samples: &SampleGrid) -> u64 {
+    let count = u64::from(samples.columns()) * u64::from(samples.rows());
+    let per_sample = (std::mem::size_of::<Option<SceneHit>>() + std::mem::size_of::<f64>()) as u64;
+    count.saturating_mul(per_sample) + u64::from(samples.width) * u64::from(samples.height) * 3
+}
+
 /// Renders `scene` through `camera`: visibility of every sample by `options.method`,
 /// then the shading stage; progress counts shaded rows.
 pub fn render(
@@ -73,14 +89,18 @@ pub fn render(
     options: &RenderOptions,
     progress: &dyn Progress,
 ) -> Result<(RgbImage, RenderStats)> {
-    let RenderOptions { width, height, spp, shadows, normals, max_depth, method } = *options;
+    let RenderOptions { width, height, spp, shadows, normals, max_depth, method, budget } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
     if !(1..=16).contains(&spp) {
         return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
     }
+    if max_depth > MAX_RAY_DEPTH {
+        return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
+    }
     let samples = SampleGrid { width, height, spp };
+    budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
     let shading = ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() };
     // Step 1: what each sample sees.
     let (seen, visible) = visibility(scene, camera, &samples, method);

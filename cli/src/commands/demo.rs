@@ -42,7 +42,7 @@ pub fn run(a: &DemoArgs, budget: MemoryBudget) -> Result<()> {
         started.elapsed().as_secs_f64() * 1e3
     );
     let bounds = scene.bounds().context("the showcase is empty")?;
-    let options = RenderOptions { width: 1200, height: 720, spp: 3, ..Default::default() };
+    let options = RenderOptions { width: 1200, height: 720, spp: 3, budget, ..Default::default() };
     let camera = Camera::frame(&bounds, DEFAULT_VIEW, DVec3::Z, f64::from(options.width) / f64::from(options.height));
     let img = render_with_bar(&scene, &camera, &options)?;
     png::save(&img, output)?;

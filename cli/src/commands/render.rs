@@ -195,6 +195,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     options.normals = a.normals.map_or(options.normals, Into::into);
     options.max_depth = a.max_depth.unwrap_or(options.max_depth);
     options.method = a.method.into();
+    options.budget = budget;
     let img =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("rendering");
