@@ -19,6 +19,7 @@ mod stl;
 mod surface;
 mod tables;
 mod tri_box;
+mod triangulate;
 mod winding;
 
 use std::collections::HashMap;
