@@ -15,7 +15,7 @@ use octsolid::scene_file;
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget};
 
-use super::render_with_bar;
+use super::{load_input, print_warnings, render_with_bar};
 use crate::args::parse_size;
 use crate::progress_bar::Bar;
 
@@ -145,6 +145,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let (scene, camera, mut options) = match FileKind::of(input, FileKind::ALL)? {
         FileKind::Scene => {
             let file = scene_file::load_scene(input, budget)?;
+            print_warnings(&file.warnings);
             (file.scene, file.camera, file.options)
         }
         kind => solid_scene(a, kind, budget)?,
@@ -174,7 +175,7 @@ fn solid_scene(a: &RenderArgs, kind: FileKind, budget: MemoryBudget) -> Result<(
     let tree = if kind == FileKind::Oct {
         oct::load(input, budget)?
     } else {
-        let loaded = Input::load(input)?;
+        let loaded = load_input(input)?;
         let domain = import::default_domain(&loaded, a.depth)?;
         let bar = Bar::new("voxelizing");
         import::voxelize_input(&loaded, domain, &ImportOptions { budget, progress: &bar, ..Default::default() })
@@ -212,7 +213,7 @@ fn polygon_command(
         let tree = oct::load(input, budget)?;
         try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?
     } else {
-        match Input::load(input)? {
+        match load_input(input)? {
             Input::Mesh(mesh) => mesh,
             Input::Patches(patches) => octsolid::patch::tessellate(&patches, 16),
         }

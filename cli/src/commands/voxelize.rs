@@ -6,13 +6,13 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use glam::DVec3;
-use octsolid::import::{self, Fill, ImportOptions, Input};
+use octsolid::import::{self, Fill, ImportOptions};
 use octsolid::io::oct;
 use octsolid::mesh::InsideRule;
 use octsolid::octree::Domain;
 use octsolid::{MemoryBudget, human_bytes};
 
-use super::print_summary;
+use super::{load_input, print_summary};
 use crate::args::parse_domain;
 use crate::progress_bar::Bar;
 
@@ -43,7 +43,7 @@ pub struct VoxelizeArgs {
 pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     let (input, depth, fill, inside, output) = (&a.input, a.depth, a.fill, a.inside, &a.output);
     let started = Instant::now();
-    let loaded = Input::load(input)?;
+    let loaded = load_input(input)?;
     let domain = match a.domain {
         Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth)?,
         None => import::default_domain(&loaded, depth)?,
