@@ -2,7 +2,8 @@
 //!
 //! Every fallible function returns [`Result`]. Each variant carries what went wrong,
 //! where (file, byte offset, node index) and the value and limit involved, so the CLI
-//! can print it as one line.
+//! can print it as one line. Bytes quoted from an input file go through [`quoted`],
+//! so a hostile file cannot put terminal escapes or line breaks into that line.
 
 use std::path::PathBuf;
 
@@ -126,6 +127,54 @@ fn list_extensions(extensions: &[&str]) -> String {
     }
 }
 
+/// Longest run of characters [`quoted`] shows before it cuts with `...`.
+const QUOTE_LIMIT: usize = 80;
+
+/// `bytes` from an input file as a single-quoted string that is safe to print on one
+/// line: printable characters as they are; `\'` and `\\` escaped; tab, line feed and
+/// carriage return as `\t`, `\n`, `\r`; other control characters and the invisible
+/// format characters that reorder or hide text (bidirectional overrides, zero-width
+/// characters, the byte-order mark) as `\x1b` (ASCII) or `\u{202e}`; bytes that are not
+/// UTF-8 as `\xff`. More than [`QUOTE_LIMIT`] characters are cut, ending in `...`.
+#[must_use]
+pub(crate) fn quoted(bytes: &[u8]) -> String {
+    let mut out = String::from("'");
+    let mut shown = 0;
+    for chunk in bytes.utf8_chunks() {
+        for c in chunk.valid().chars() {
+            if shown == QUOTE_LIMIT {
+                return out + "...'";
+            }
+            push_escaped(&mut out, c);
+            shown += 1;
+        }
+        for b in chunk.invalid() {
+            if shown == QUOTE_LIMIT {
+                return out + "...'";
+            }
+            out += &format!("\\x{b:02x}");
+            shown += 1;
+        }
+    }
+    out + "'"
+}
+
+/// One character of [`quoted`].
+fn push_escaped(out: &mut String, c: char) {
+    let invisible =
+        matches!(c, '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{2069}' | '\u{feff}');
+    match c {
+        '\'' => out.push_str("\\'"),
+        '\\' => out.push_str("\\\\"),
+        '\t' => out.push_str("\\t"),
+        '\n' => out.push_str("\\n"),
+        '\r' => out.push_str("\\r"),
+        c if c.is_ascii_control() => out.push_str(&format!("\\x{:02x}", c as u32)),
+        c if c.is_control() || invisible => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+        c => out.push(c),
+    }
+}
+
 /// Formats a byte count with a binary unit, e.g. `1.5 GiB`.
 #[must_use]
 pub fn human_bytes(bytes: u64) -> String {
@@ -137,4 +186,20 @@ pub fn human_bytes(bytes: u64) -> String {
         unit += 1;
     }
     if unit == 0 { format!("{bytes} B") } else { format!("{v:.1} {}", UNITS[unit]) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::quoted;
+
+    #[test]
+    fn quoted_escapes_what_a_terminal_would_act_on() {
+        assert_eq!(quoted(b"solid x"), "'solid x'");
+        assert_eq!(quoted(b"a\x1b[31mred\x07\n"), "'a\\x1b[31mred\\x07\\n'");
+        assert_eq!(quoted("it's a\\b\tc\r".as_bytes()), "'it\\'s a\\\\b\\tc\\r'");
+        assert_eq!(quoted(b"caf\xe9 \xff"), "'caf\\xe9 \\xff'");
+        assert_eq!(quoted("Größe \u{202e}txt\u{85}".as_bytes()), "'Größe \\u{202e}txt\\u{85}'");
+        let long = quoted(&[b'a'; 200]);
+        assert!(long.ends_with("...'") && long.len() == 1 + 80 + 4, "{long}");
+    }
 }

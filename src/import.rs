@@ -9,12 +9,13 @@ use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::file_kind::FileKind;
 use crate::mesh::{
-    InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh, load_mesh, voxelize_mesh,
-    voxelize_surface,
+    InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh, load_mesh_with_warnings,
+    voxelize_mesh, voxelize_surface,
 };
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
 use crate::patch::{BezierPatch, load_patches, segments_for, tessellate, voxelize_patch_surface};
 use crate::progress::{NoProgress, Progress};
+use crate::warning::Warning;
 
 /// What to make of the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,10 +51,19 @@ pub enum Input {
 impl Input {
     /// Loads a mesh or a `.patches` file by extension ([`FileKind::SURFACES`]).
     pub fn load(path: impl AsRef<Path>) -> Result<Input> {
+        Input::load_with_warnings(path).map(|(input, _)| input)
+    }
+
+    /// [`Input::load`], with what the mesh loader read past
+    /// ([`crate::mesh::load_mesh_with_warnings`]; a patch set has none).
+    pub fn load_with_warnings(path: impl AsRef<Path>) -> Result<(Input, Vec<Warning>)> {
         let path = path.as_ref();
         Ok(match FileKind::of(path, FileKind::SURFACES)? {
-            FileKind::Patches => Input::Patches(load_patches(path)?),
-            _ => Input::Mesh(load_mesh(path)?),
+            FileKind::Patches => (Input::Patches(load_patches(path)?), Vec::new()),
+            _ => {
+                let (mesh, warnings) = load_mesh_with_warnings(path)?;
+                (Input::Mesh(mesh), warnings)
+            }
         })
     }
 

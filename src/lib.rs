@@ -14,7 +14,8 @@
 //!
 //! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`], [`io`],
 //! [`slice`](mod@slice), [`render`], [`import`], [`scene_file`], [`samples`]. Across them: one
-//! [`Error`] with the file and place of every failure, a [`MemoryBudget`] every large
+//! [`Error`] with the file and place of every failure, [`Warning`]s as values for what
+//! a loader read past, a [`MemoryBudget`] every large
 //! job is checked against before it allocates, [`Progress`] for long jobs (the library
 //! never prints), and [`Ray`] with the one query interface of everything a ray can hit,
 //! [`RayCast`]. A CSG script needs one import, [`prelude`].
@@ -55,6 +56,8 @@ pub mod shape;
 pub mod slice;
 #[cfg(test)]
 mod test_util;
+mod text;
+mod warning;
 
 pub use aabb::Aabb;
 pub use budget::MemoryBudget;
@@ -62,6 +65,7 @@ pub use error::{Error, Result, human_bytes};
 pub use file_kind::FileKind;
 pub use progress::{NoProgress, Progress};
 pub use ray::{Ray, RayCast};
+pub use warning::{Place, Warning};
 
 /// Everything a CSG script needs, in one import.
 pub mod prelude {

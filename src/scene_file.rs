@@ -33,6 +33,7 @@ use crate::render::{
     Bump, Camera, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection, RenderOptions, Scene, Texture,
 };
 use crate::shape::{Axis, Csg, Shape, ShapeSpec};
+use crate::warning::Warning;
 
 /// The whole file.
 #[derive(Deserialize, Debug)]
@@ -281,6 +282,8 @@ pub struct SceneFile {
     pub camera: Camera,
     /// Image size and samples.
     pub options: RenderOptions,
+    /// What the loaders of its mesh files read past, file by file.
+    pub warnings: Vec<Warning>,
 }
 
 /// Reads, checks and builds the scene at `path` (voxelizing its shapes and meshes).
@@ -345,9 +348,10 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
     let domain = shape_domain(spec.domain.as_ref(), depth, &names, &shapes, cx)?;
     // Step 2: every solid to an octree, with its material.
     let mut scene = Scene::new();
+    let mut warnings = Vec::new();
     for ((solid, shape), name) in spec.solids.iter().zip(&shapes).zip(&names) {
         let source = SolidSource { shape: shape.as_ref(), shape_domain: domain, depth };
-        add_solid(&mut scene, solid, name, &source, cx).map_err(|e| cx.error(Some(name), e))?;
+        warnings.extend(add_solid(&mut scene, solid, name, &source, cx).map_err(|e| cx.error(Some(name), e))?);
     }
     // Step 3: lights, image and camera, from the solids' bounds.
     let bounds = scene.bounds().ok_or_else(|| whole(Error::invalid("scene", "every solid is empty")))?;
@@ -363,7 +367,7 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
     }
     let options = spec.image.options();
     let aspect = f64::from(options.width.max(1)) / f64::from(options.height.max(1));
-    Ok(SceneFile { scene, camera: spec.camera.camera(&bounds, aspect), options })
+    Ok(SceneFile { scene, camera: spec.camera.camera(&bounds, aspect), options, warnings })
 }
 
 /// The domain every `shape` solid is voxelized in: the `[domain]`'s when it gives `min`
@@ -400,8 +404,16 @@ struct SolidSource<'a> {
     depth: u8,
 }
 
-/// Voxelizes or loads `solid` and adds it to `scene` under `name` with its material.
-fn add_solid(scene: &mut Scene, solid: &SolidSpec, name: &str, source: &SolidSource, cx: &Context) -> Result<()> {
+/// Voxelizes or loads `solid` and adds it to `scene` under `name` with its material;
+/// returns the warnings of loading its mesh.
+fn add_solid(
+    scene: &mut Scene,
+    solid: &SolidSpec,
+    name: &str,
+    source: &SolidSource,
+    cx: &Context,
+) -> Result<Vec<Warning>> {
+    let mut warnings = Vec::new();
     let sources =
         usize::from(solid.shape.is_some()) + usize::from(solid.mesh.is_some()) + usize::from(solid.oct.is_some());
     if sources != 1 {
@@ -411,7 +423,8 @@ fn add_solid(scene: &mut Scene, solid: &SolidSpec, name: &str, source: &SolidSou
         let options = VoxelizeOptions { budget: cx.budget, progress: &NoProgress };
         voxelize(shape, source.shape_domain.expect("shapes have a domain"), &options)?
     } else if let Some(mesh) = &solid.mesh {
-        let input = Input::load(cx.folder.join(mesh))?;
+        let input;
+        (input, warnings) = Input::load_with_warnings(cx.folder.join(mesh))?;
         let domain = import::default_domain(&input, solid.depth.unwrap_or(source.depth))?;
         let inside = solid.inside.map_or(InsideRule::Auto, InsideRule::from);
         import::voxelize_input(&input, domain, &ImportOptions { inside, budget: cx.budget, ..Default::default() })?.0
@@ -424,7 +437,7 @@ fn add_solid(scene: &mut Scene, solid: &SolidSpec, name: &str, source: &SolidSou
         Some(shape) => scene.add_shaped(name, tree, material, Arc::new(shape.clone())),
         None => scene.add(name, tree, material),
     }
-    Ok(())
+    Ok(warnings)
 }
 
 impl MaterialSpec {

@@ -186,6 +186,28 @@ fn voxelize_meshes_and_patches_and_report_the_rule() {
 }
 
 #[test]
+fn loader_warnings_go_to_stderr_with_the_file_and_line() {
+    let dir = scratch("warnings");
+    // A unit tetrahedron whose material library is missing and whose group name is
+    // Latin-1: it loads, and each warning is one stderr line naming the file and line.
+    let obj = b"mtllib gone.mtl\ng T\xe9tra\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    std::fs::write(dir.join("t.obj"), obj).unwrap();
+    for args in [&["mesh-info", "t.obj"][..], &["voxelize", "t.obj", "--depth", "5", "-o", "t.oct"]] {
+        let out = octsolid(&dir, args);
+        assert!(out.status.success(), "{args:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let warnings: Vec<&str> = stderr.lines().filter(|l| l.starts_with("warning: ")).collect();
+        assert_eq!(warnings.len(), 2, "{stderr}");
+        assert!(warnings[0].starts_with("warning: t.obj: line 2: lines that are not UTF-8"), "{stderr}");
+        assert!(warnings[1].starts_with("warning: t.obj: line 1: material library 'gone.mtl'"), "{stderr}");
+    }
+    let report: serde_json::Value = serde_json::from_str(&ok(&dir, &["mesh-info", "t.obj", "--json"])).unwrap();
+    assert_eq!(report["triangles"], 4);
+    assert_eq!(report["groups"][0][0], "T\u{e9}tra");
+    assert!((report["volume"].as_f64().unwrap() - 1.0 / 6.0).abs() < 1e-15, "{report}");
+}
+
+#[test]
 fn render_solids_meshes_and_scenes_by_every_method() {
     let dir = scratch("render");
     let root = &repo();

@@ -5,11 +5,12 @@ use std::path::Path;
 use super::TriangleMesh;
 use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
+use crate::warning::Warning;
 
 /// Mesh file formats octsolid reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MeshFormat {
-    /// Wavefront OBJ (polygons are triangulated, groups kept).
+    /// Wavefront OBJ (polygons are ear-clipped, groups kept).
     Obj,
     /// STL, ASCII or binary.
     Stl,
@@ -39,18 +40,34 @@ impl MeshFormat {
 ///
 /// Errors name the file and the line (text formats) or byte offset (binary ones):
 /// missing file, truncated data, indices out of range, NaN or infinite coordinates,
-/// a mesh without triangles.
+/// a mesh without triangles. What the loader reads past is dropped; see
+/// [`load_mesh_with_warnings`] to have it.
 pub fn load_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh> {
+    load_mesh_with_warnings(path).map(|(mesh, _)| mesh)
+}
+
+/// [`load_mesh`], with what the loader read past without refusing the file, in file
+/// order: lines that are not UTF-8 (read as Latin-1), a missing or broken `.mtl`, PLY
+/// header lines it does not know, faces that are not polygons, bytes after a binary
+/// STL's last triangle.
+pub fn load_mesh_with_warnings(path: impl AsRef<Path>) -> Result<(TriangleMesh, Vec<Warning>)> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let mut warnings = Vec::new();
     let mut mesh = match MeshFormat::of(path)? {
-        MeshFormat::Obj => super::obj::parse(&bytes, path)?,
-        MeshFormat::Stl => super::stl::parse(&bytes, path)?,
-        MeshFormat::Ply => super::ply::parse(&bytes, path)?,
+        MeshFormat::Obj => {
+            let obj = super::obj::parse(&bytes, path, &mut warnings)?;
+            for (line, name) in &obj.material_libraries {
+                super::mtl::check(path, *line, name, &mut warnings);
+            }
+            obj.mesh
+        }
+        MeshFormat::Stl => super::stl::parse(&bytes, path, &mut warnings)?,
+        MeshFormat::Ply => super::ply::parse(&bytes, path, &mut warnings)?,
     };
     mesh.check().map_err(|e| Error::Format { path: path.to_path_buf(), offset: 0, reason: e.to_string() })?;
     if !mesh.is_watertight() {
         mesh.weld();
     }
-    Ok(mesh)
+    Ok((mesh, warnings))
 }

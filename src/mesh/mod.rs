@@ -9,6 +9,7 @@ mod boundary;
 mod crossing;
 pub mod generate;
 mod load;
+mod mtl;
 mod obj;
 mod parity;
 mod ply;
@@ -19,6 +20,7 @@ mod stl;
 mod surface;
 mod tables;
 mod tri_box;
+mod triangulate;
 mod winding;
 
 use std::collections::HashMap;
@@ -29,7 +31,7 @@ use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
 pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
-pub use load::{MeshFormat, load_mesh};
+pub use load::{MeshFormat, load_mesh, load_mesh_with_warnings};
 pub use parity::ParityGrid;
 pub use save::{save_mesh, write_obj, write_ply, write_stl};
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh};

@@ -2,15 +2,31 @@
 //!
 //! Written here because errors must say where, and the subset meshes use is small: a
 //! header of `element` and `property` lines, then the elements in order. Vertices need
-//! `x`, `y`, `z`; faces need a list property `vertex_indices` (or `vertex_index`),
-//! fan-triangulated. Other elements and properties are read and skipped.
+//! `x`, `y`, `z` (finite); faces need a list property `vertex_indices` (or
+//! `vertex_index`), cut into triangles by [`EarClipper`]. Other elements and
+//! properties are read and skipped.
+//!
+//! The header (Turk, "The PLY Polygon File Format", 1994): `comment` and `obj_info`
+//! lines are skipped; a line with any other unknown keyword (exporters write free text
+//! there) is skipped with a warning; a broken `format`, `element` or `property` line is
+//! an error. Before reading, every element's count is checked against what is left of
+//! the file (an item takes at least a byte a scalar, or a word of ASCII, a property),
+//! and an element without properties, which takes no room at all, may declare at most
+//! [`MAX_EMPTY_ITEMS`]: so a header cannot make the reader loop or allocate beyond the
+//! file's size. A body line that is not UTF-8 reads as Latin-1 ([`crate::text`]).
 
 use std::path::Path;
 
 use glam::DVec3;
 
 use super::TriangleMesh;
-use crate::error::{Error, Result};
+use super::triangulate::{EarClipper, FanTally};
+use crate::error::{Result, quoted};
+use crate::text::Text;
+use crate::warning::{Place, Warning};
+
+/// Most items an element without properties may declare.
+pub const MAX_EMPTY_ITEMS: u64 = 1 << 20;
 
 /// A scalar type of the format.
 #[derive(Clone, Copy, Debug)]
@@ -72,46 +88,52 @@ struct Property {
     ty: Scalar,
 }
 
+impl Property {
+    /// The fewest bytes (binary) an item of this property takes.
+    fn min_bytes(&self) -> u64 {
+        self.list.unwrap_or(self.ty).size() as u64
+    }
+}
+
 #[derive(Clone, Debug)]
 struct Element {
     name: String,
-    count: usize,
+    count: u64,
     properties: Vec<Property>,
+    /// Its header line.
+    line: usize,
 }
 
-/// Where values come from: lines of text, or little-endian bytes.
+/// The body's encodings octsolid reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Ascii,
+    BinaryLittleEndian,
+}
+
+/// Where values come from: words of text, or little-endian bytes.
 enum Body<'a> {
-    Ascii { tokens: Vec<(usize, &'a str)>, next: usize, last_line: usize },
+    Ascii { words: Vec<(usize, &'a str)>, next: usize, last_line: usize },
     Binary { bytes: &'a [u8], pos: usize },
 }
 
 impl Body<'_> {
     /// Reads one value of type `ty`; errors say the line or byte offset.
     fn value(&mut self, ty: Scalar, path: &Path) -> Result<f64> {
+        let truncated = "file ends before all elements were read (truncated)";
         match self {
-            Body::Ascii { tokens, next, last_line } => {
-                let Some(&(line, t)) = tokens.get(*next) else {
-                    return Err(Error::Parse {
-                        path: path.to_path_buf(),
-                        line: *last_line,
-                        reason: "file ends before all elements were read (truncated)".into(),
-                    });
+            Body::Ascii { words, next, last_line } => {
+                let Some(&(line, w)) = words.get(*next) else {
+                    return Err(Place::Line(*last_line).error(path, truncated));
                 };
                 *next += 1;
-                t.parse::<f64>().map_err(|_| Error::Parse {
-                    path: path.to_path_buf(),
-                    line,
-                    reason: format!("'{t}' is not a number"),
-                })
+                w.parse::<f64>()
+                    .map_err(|_| Place::Line(line).error(path, format!("{} is not a number", quoted(w.as_bytes()))))
             }
             Body::Binary { bytes, pos } => {
                 let end = *pos + ty.size();
                 if end > bytes.len() {
-                    return Err(Error::Format {
-                        path: path.to_path_buf(),
-                        offset: *pos as u64,
-                        reason: "file ends before all elements were read (truncated)".into(),
-                    });
+                    return Err(Place::Byte(*pos as u64).error(path, truncated));
                 }
                 let v = ty.read(&bytes[*pos..end]);
                 *pos = end;
@@ -120,13 +142,19 @@ impl Body<'_> {
         }
     }
 
-    /// Where the next value starts, for error messages.
-    fn place(&self) -> String {
+    /// Where the next value starts, for messages.
+    fn place(&self) -> Place {
         match self {
-            Body::Ascii { tokens, next, last_line } => {
-                format!("line {}", tokens.get(*next).map_or(*last_line, |t| t.0))
-            }
-            Body::Binary { pos, .. } => format!("byte {pos}"),
+            Body::Ascii { words, next, last_line } => Place::Line(words.get(*next).map_or(*last_line, |w| w.0)),
+            Body::Binary { pos, .. } => Place::Byte(*pos as u64),
+        }
+    }
+
+    /// What is left to read: words (ASCII) or bytes (binary).
+    fn left(&self) -> u64 {
+        match self {
+            Body::Ascii { words, next, .. } => (words.len() - next) as u64,
+            Body::Binary { bytes, pos } => (bytes.len() - pos) as u64,
         }
     }
 }
@@ -134,106 +162,166 @@ impl Body<'_> {
 /// The header: the body's format, its elements in order, where the body starts and
 /// how many lines the header has.
 struct Header {
-    format: Option<String>,
+    format: Option<Format>,
     elements: Vec<Element>,
     body_start: usize,
     lines: usize,
 }
 
-/// Parses PLY bytes into a mesh (not yet welded).
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
+/// Parses PLY bytes into a mesh (not yet welded), pushing what it skipped to `warnings`.
+pub(super) fn parse(bytes: &[u8], path: &Path, warnings: &mut Vec<Warning>) -> Result<TriangleMesh> {
     // Step 1: the header, line by line, up to "end_header".
-    let header = parse_header(bytes, path)?;
-    // Step 2: the body, as text tokens or little-endian bytes.
-    let mut body = body(bytes, &header, path)?;
+    let header = parse_header(bytes, path, warnings)?;
+    // Step 2: the body, as words of text or little-endian bytes, with room for every
+    // element the header declares.
+    let Some(format) = header.format else {
+        return Err(Place::Line(header.lines).error(path, "header has no 'format' line"));
+    };
+    let text = (format == Format::Ascii).then(|| Text::decode(&bytes[header.body_start..]).after_lines(header.lines));
+    let mut body = match &text {
+        Some(text) => {
+            warnings.extend(text.warnings(path));
+            let words = text.lines().flat_map(|(n, l)| l.split_whitespace().map(move |w| (n, w))).collect();
+            Body::Ascii { words, next: 0, last_line: text.last_line() }
+        }
+        None => Body::Binary { bytes, pos: header.body_start },
+    };
+    check_room(&header.elements, &body, path)?;
     // Step 3: the elements in order; vertices and faces are kept.
     let mut mesh = TriangleMesh::default();
+    let mut faces = FaceCutter::default();
     let mut vertex_count = None;
     for el in &header.elements {
         let reader = ElementReader::new(el, vertex_count, header.lines, path)?;
-        for item in 0..el.count {
-            reader.read_item(item, &mut body, &mut mesh)?;
+        if !el.properties.is_empty() {
+            for item in 0..el.count {
+                reader.read_item(item, &mut body, &mut mesh, &mut faces)?;
+            }
         }
         if reader.is_vertex {
-            vertex_count = Some(el.count);
+            vertex_count = Some(el.count as usize);
         }
     }
+    warnings.extend(faces.fanned.warnings(path));
     if mesh.triangles.is_empty() {
-        return Err(Error::Parse {
-            path: path.to_path_buf(),
-            line: header.lines,
-            reason: "the file has no faces".into(),
-        });
+        return Err(Place::Line(header.lines).error(path, "the file has no faces"));
     }
     Ok(mesh)
 }
 
-/// Reads the header up to its `end_header` line.
-fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
-    let fail = |line: usize, reason: String| Error::Parse { path: path.to_path_buf(), line, reason };
-    let mut pos = 0;
-    let mut line_no = 0;
-    let mut format = None;
-    let mut elements: Vec<Element> = Vec::new();
-    loop {
-        let Some(len) = bytes[pos..].iter().position(|&b| b == b'\n') else {
-            return Err(fail(line_no + 1, "header has no 'end_header' line (truncated)".into()));
+/// Refuses a header whose elements cannot fit in what follows it, and elements without
+/// properties that declare more than [`MAX_EMPTY_ITEMS`].
+fn check_room(elements: &[Element], body: &Body, path: &Path) -> Result<()> {
+    let left = body.left();
+    let unit = if matches!(body, Body::Ascii { .. }) { "words" } else { "bytes" };
+    let mut need: u128 = 0;
+    for el in elements {
+        let fail = |reason: String| Place::Line(el.line).error(path, reason);
+        if el.properties.is_empty() && el.count > MAX_EMPTY_ITEMS {
+            return Err(fail(format!(
+                "element {} has no properties but declares {} items (at most {MAX_EMPTY_ITEMS})",
+                quoted(el.name.as_bytes()),
+                el.count
+            )));
+        }
+        let per_item: u64 = match body {
+            Body::Ascii { .. } => el.properties.len() as u64,
+            Body::Binary { .. } => el.properties.iter().map(Property::min_bytes).sum(),
         };
-        let line = String::from_utf8_lossy(&bytes[pos..pos + len]).trim().to_string();
-        pos += len + 1;
-        line_no += 1;
-        let words: Vec<&str> = line.split_whitespace().collect();
-        match words.as_slice() {
-            ["ply"] if line_no == 1 => {}
-            _ if line_no == 1 => return Err(fail(1, "not a PLY file (first line is not 'ply')".into())),
-            ["format", f, _] => format = Some(f.to_string()),
-            ["comment", ..] | ["obj_info", ..] | [] => {}
-            ["element", name, count] => {
-                let count =
-                    count.parse().map_err(|_| fail(line_no, format!("element count '{count}' is not a number")))?;
-                elements.push(Element { name: name.to_string(), count, properties: Vec::new() });
-            }
-            ["property", "list", count_ty, item_ty, name] => {
-                let (Some(c), Some(t)) = (Scalar::parse(count_ty), Scalar::parse(item_ty)) else {
-                    return Err(fail(line_no, format!("unknown list types '{count_ty} {item_ty}'")));
-                };
-                let el = elements.last_mut().ok_or_else(|| fail(line_no, "property before any element".into()))?;
-                el.properties.push(Property { name: name.to_string(), list: Some(c), ty: t });
-            }
-            ["property", ty, name] => {
-                let t = Scalar::parse(ty).ok_or_else(|| fail(line_no, format!("unknown property type '{ty}'")))?;
-                let el = elements.last_mut().ok_or_else(|| fail(line_no, "property before any element".into()))?;
-                el.properties.push(Property { name: name.to_string(), list: None, ty: t });
-            }
-            ["end_header"] => break,
-            _ => return Err(fail(line_no, format!("unexpected header line '{line}'"))),
+        need += u128::from(el.count) * u128::from(per_item);
+        if need > u128::from(left) {
+            return Err(fail(format!(
+                "element {} declares {} items of at least {per_item} {unit}, more than the {left} {unit} after the header",
+                quoted(el.name.as_bytes()),
+                el.count
+            )));
         }
     }
-    Ok(Header { format, elements, body_start: pos, lines: line_no })
+    Ok(())
 }
 
-/// The body after `header`, in the header's format.
-fn body<'a>(bytes: &'a [u8], header: &Header, path: &Path) -> Result<Body<'a>> {
-    let fail = |line: usize, reason: String| Error::Parse { path: path.to_path_buf(), line, reason };
-    let (pos, header_lines) = (header.body_start, header.lines);
-    match header.format.as_deref() {
-        Some("ascii") => {
-            let text = std::str::from_utf8(&bytes[pos..]).map_err(|e| Error::Format {
-                path: path.to_path_buf(),
-                offset: (pos + e.valid_up_to()) as u64,
-                reason: "ASCII body is not text".into(),
-            })?;
-            let tokens: Vec<(usize, &str)> = text
-                .lines()
-                .enumerate()
-                .flat_map(|(i, l)| l.split_whitespace().map(move |t| (header_lines + i + 1, t)))
-                .collect();
-            Ok(Body::Ascii { tokens, next: 0, last_line: header_lines + text.lines().count().max(1) })
+/// Reads the header up to its `end_header` line.
+fn parse_header(bytes: &[u8], path: &Path, warnings: &mut Vec<Warning>) -> Result<Header> {
+    let mut pos = 0;
+    let mut line_no = 0;
+    let mut header = Header { format: None, elements: Vec::new(), body_start: 0, lines: 0 };
+    loop {
+        let Some(len) = bytes[pos..].iter().position(|&b| b == b'\n') else {
+            return Err(Place::Line(line_no + 1).error(path, "header has no 'end_header' line (truncated)"));
+        };
+        let raw = bytes[pos..pos + len].trim_ascii();
+        pos += len + 1;
+        line_no += 1;
+        let line = String::from_utf8_lossy(raw);
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if line_no == 1 {
+            if words != ["ply"] {
+                return Err(Place::Line(1).error(path, "not a PLY file (first line is not 'ply')"));
+            }
+            continue;
         }
-        Some("binary_little_endian") => Ok(Body::Binary { bytes, pos }),
-        Some(other) => Err(fail(2, format!("format '{other}' is not supported (use ascii or binary_little_endian)"))),
-        None => Err(fail(header_lines, "header has no 'format' line".into())),
+        if words == ["end_header"] {
+            break;
+        }
+        header_line(&words, raw, line_no, &mut header, path, warnings)?;
     }
+    header.body_start = pos;
+    header.lines = line_no;
+    Ok(header)
+}
+
+/// One header line between `ply` and `end_header`, as words (`raw` for messages).
+fn header_line(
+    words: &[&str],
+    raw: &[u8],
+    line_no: usize,
+    header: &mut Header,
+    path: &Path,
+    warnings: &mut Vec<Warning>,
+) -> Result<()> {
+    let place = Place::Line(line_no);
+    let fail = |reason: String| place.error(path, reason);
+    let q = |s: &str| quoted(s.as_bytes());
+    let mut add = |property: Property| match header.elements.last_mut() {
+        Some(el) => {
+            el.properties.push(property);
+            Ok(())
+        }
+        None => Err(fail("property before any element".into())),
+    };
+    match words {
+        ["format", f, _] => {
+            let format = match *f {
+                "ascii" => Format::Ascii,
+                "binary_little_endian" => Format::BinaryLittleEndian,
+                other => {
+                    let reason = format!("format {} is not supported (use ascii or binary_little_endian)", q(other));
+                    return Err(fail(reason));
+                }
+            };
+            header.format = Some(format);
+        }
+        ["comment", ..] | ["obj_info", ..] | [] => {}
+        ["element", name, count] => {
+            let count = count.parse().map_err(|_| fail(format!("element count {} is not a number", q(count))))?;
+            header.elements.push(Element { name: name.to_string(), count, properties: Vec::new(), line: line_no });
+        }
+        ["property", "list", count_ty, item_ty, name] => {
+            let (Some(c), Some(t)) = (Scalar::parse(count_ty), Scalar::parse(item_ty)) else {
+                return Err(fail(format!("unknown list types {}", q(&format!("{count_ty} {item_ty}")))));
+            };
+            add(Property { name: name.to_string(), list: Some(c), ty: t })?;
+        }
+        ["property", ty, name] => {
+            let t = Scalar::parse(ty).ok_or_else(|| fail(format!("unknown property type {}", q(ty))))?;
+            add(Property { name: name.to_string(), list: None, ty: t })?;
+        }
+        ["format" | "element" | "property" | "end_header", ..] => {
+            return Err(fail(format!("malformed header line {}", quoted(raw))));
+        }
+        _ => warnings.push(place.warning(path, format!("unknown header line {} skipped", quoted(raw)))),
+    }
+    Ok(())
 }
 
 /// How one element's items are read: which properties are the vertex coordinates
@@ -254,7 +342,7 @@ struct ElementReader<'a> {
 impl<'a> ElementReader<'a> {
     /// Checks that vertices have x, y, z and faces a vertex list after the vertices.
     fn new(el: &'a Element, vertex_count: Option<usize>, header_lines: usize, path: &'a Path) -> Result<Self> {
-        let fail = |reason: &str| Error::Parse { path: path.to_path_buf(), line: header_lines, reason: reason.into() };
+        let fail = |reason: &str| Place::Line(header_lines).error(path, reason);
         let (is_vertex, is_face) = (el.name == "vertex", el.name == "face");
         let scalar = |n: &str| el.properties.iter().position(|p| p.name == n && p.list.is_none());
         let xyz = [scalar("x"), scalar("y"), scalar("z")];
@@ -275,13 +363,12 @@ impl<'a> ElementReader<'a> {
         Ok(ElementReader { el, path, is_vertex, is_face, xyz, index_prop, vertex_count: vertex_count.unwrap_or(0) })
     }
 
-    /// Reads item `item` of the element; a vertex or a face goes into `mesh`
-    /// (polygons fan-triangulated).
-    fn read_item(&self, item: usize, body: &mut Body, mesh: &mut TriangleMesh) -> Result<()> {
+    /// Reads item `item` of the element; a vertex or a face goes into `mesh`.
+    fn read_item(&self, item: u64, body: &mut Body, mesh: &mut TriangleMesh, faces: &mut FaceCutter) -> Result<()> {
         let (el, path) = (self.el, self.path);
         let place = body.place();
         let mut values = [0.0; 3];
-        let mut polygon: Vec<u32> = Vec::new();
+        faces.polygon.clear();
         for (pi, p) in el.properties.iter().enumerate() {
             let Some(count_ty) = p.list else {
                 let v = body.value(p.ty, path)?;
@@ -292,7 +379,7 @@ impl<'a> ElementReader<'a> {
             };
             let n = body.value(count_ty, path)?;
             if !(0.0..=1e6).contains(&n) || n.fract() != 0.0 {
-                return Err(fail_at(path, &place, format!("{} {item}: list length {n} is invalid", el.name)));
+                return Err(place.error(path, format!("{} {item}: list length {n} is invalid", el.name)));
             }
             for _ in 0..n as usize {
                 let v = body.value(p.ty, path)?;
@@ -300,36 +387,41 @@ impl<'a> ElementReader<'a> {
                     let nv = self.vertex_count;
                     if v < 0.0 || v >= nv as f64 || v.fract() != 0.0 {
                         let reason = format!("face {item}: vertex index {v} is out of range (0..{nv})");
-                        return Err(fail_at(path, &place, reason));
+                        return Err(place.error(path, reason));
                     }
-                    polygon.push(v as u32);
+                    faces.polygon.push(v as u32);
                 }
             }
         }
         if self.is_vertex {
             let v = DVec3::from_array(values);
             if !v.is_finite() {
-                return Err(fail_at(path, &place, format!("vertex {item}: {v} is NaN or infinite")));
+                return Err(place.error(path, format!("vertex {item}: {v} is NaN or infinite")));
             }
             mesh.vertices.push(v);
         }
         if self.is_face {
-            if polygon.len() < 3 {
-                return Err(fail_at(path, &place, format!("face {item} has {} vertices", polygon.len())));
+            if faces.polygon.len() < 3 {
+                return Err(place.error(path, format!("face {item} has {} vertices", faces.polygon.len())));
             }
-            for k in 1..polygon.len() - 1 {
-                mesh.triangles.push([polygon[0], polygon[k], polygon[k + 1]]);
-            }
+            faces.cut(place, mesh);
         }
         Ok(())
     }
 }
 
-/// An error at a place given as "line N" or "byte N".
-fn fail_at(path: &Path, place: &str, reason: String) -> Error {
-    match place.split_once(' ') {
-        Some(("line", n)) => Error::Parse { path: path.to_path_buf(), line: n.parse().unwrap_or(0), reason },
-        Some((_, n)) => Error::Format { path: path.to_path_buf(), offset: n.parse().unwrap_or(0), reason },
-        None => Error::Format { path: path.to_path_buf(), offset: 0, reason },
+/// Cuts faces into triangles, counting the ones that had to be fanned.
+#[derive(Default)]
+struct FaceCutter {
+    polygon: Vec<u32>,
+    clipper: EarClipper,
+    fanned: FanTally,
+}
+
+impl FaceCutter {
+    /// The triangles of `self.polygon` (the face at `place`) into `mesh`.
+    fn cut(&mut self, place: Place, mesh: &mut TriangleMesh) {
+        let how = self.clipper.triangulate(&mesh.vertices, &self.polygon, &mut mesh.triangles);
+        self.fanned.add(how, place);
     }
 }

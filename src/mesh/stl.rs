@@ -2,31 +2,55 @@
 //!
 //! Written here rather than taken from a crate because errors must say where: the
 //! format is tiny (binary: an 80-byte header, a `u32` count, 50 bytes a triangle;
-//! ASCII: `facet normal / outer loop / vertex x3 / endloop / endfacet`). A file is
-//! binary when its size is exactly `84 + 50 n` for the count `n` it declares, or when
-//! it does not start with `solid`.
+//! ASCII: `solid NAME`, then `facet normal / outer loop / vertex x3 / endloop /
+//! endfacet` a triangle, then `endsolid NAME`).
+//!
+//! Which of the two a file is cannot be read off its first bytes: binary exporters
+//! often begin the header with `solid` too. A file is binary when its size is exactly
+//! `84 + 50 n` for the count `n` it declares, or when it does not start with `solid`.
+//! Otherwise it is ASCII when the word after its first line is `facet` or `endsolid`,
+//! or when its first [`SNIFF_BYTES`] hold no NUL byte (a binary triangle nearly always
+//! has one: its attribute count, a coordinate's low byte); else binary.
+//!
+//! Binary: the triangles the header declares must fit in the file; bytes after the
+//! last one are ignored with a warning (some exporters pad). ASCII: the names after
+//! `solid` and `endsolid` may hold any bytes (they are skipped to the end of the line,
+//! and a line that is not UTF-8 reads as Latin-1, see [`crate::text`]); several solids
+//! may follow one another and all are read. Facet normals are read as numbers and
+//! dropped (the triangle's corners orient it), so a `nan` normal, which exporters write
+//! for degenerate facets, is accepted; corners must be finite.
 
 use std::path::Path;
 
 use glam::DVec3;
 
 use super::TriangleMesh;
-use crate::error::{Error, Result};
+use crate::error::{Result, quoted};
+use crate::text::Text;
+use crate::warning::{Place, Warning};
 
-/// Parses STL bytes into a mesh (not yet welded).
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
-    let declared = bytes.get(80..84).map(|b| u64::from(u32::from_le_bytes(b.try_into().expect("4 bytes"))));
-    let is_binary_size = declared.is_some_and(|n| 84 + 50 * n == bytes.len() as u64);
-    if is_binary_size || !bytes.trim_ascii_start().starts_with(b"solid") {
-        parse_binary(bytes, path)
-    } else {
-        parse_ascii(bytes, path)
-    }
+/// How many leading bytes of a file starting with `solid` are searched for a NUL byte.
+pub const SNIFF_BYTES: usize = 512;
+
+/// Parses STL bytes into a mesh (not yet welded), pushing what it skipped to `warnings`.
+pub(super) fn parse(bytes: &[u8], path: &Path, warnings: &mut Vec<Warning>) -> Result<TriangleMesh> {
+    if is_ascii(bytes) { parse_ascii(bytes, path, warnings) } else { parse_binary(bytes, path, warnings) }
 }
 
-fn parse_binary(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
-    let fail =
-        |offset: usize, reason: String| Error::Format { path: path.to_path_buf(), offset: offset as u64, reason };
+/// Whether `bytes` are ASCII STL, by the rule of the module docs.
+fn is_ascii(bytes: &[u8]) -> bool {
+    let declared = bytes.get(80..84).map(|b| u64::from(u32::from_le_bytes(b.try_into().expect("4 bytes"))));
+    let text = bytes.trim_ascii_start();
+    if declared.is_some_and(|n| 84 + 50 * n == bytes.len() as u64) || !text.starts_with(b"solid") {
+        return false;
+    }
+    let first_line_end = text.iter().position(|&b| b == b'\n' || b == b'\r');
+    let next_word = first_line_end.and_then(|end| text[end..].split(u8::is_ascii_whitespace).find(|w| !w.is_empty()));
+    matches!(next_word, Some(b"facet" | b"endsolid")) || !bytes[..bytes.len().min(SNIFF_BYTES)].contains(&0)
+}
+
+fn parse_binary(bytes: &[u8], path: &Path, warnings: &mut Vec<Warning>) -> Result<TriangleMesh> {
+    let fail = |offset: usize, reason: String| Place::Byte(offset as u64).error(path, reason);
     if bytes.len() < 84 {
         return Err(fail(
             bytes.len(),
@@ -35,7 +59,7 @@ fn parse_binary(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
     }
     let n = u32::from_le_bytes(bytes[80..84].try_into().expect("4 bytes")) as usize;
     let need = 84 + 50 * n as u64;
-    if need != bytes.len() as u64 {
+    if need > bytes.len() as u64 {
         return Err(fail(
             80,
             format!("header declares {n} triangles ({need} bytes) but the file has {} bytes", bytes.len()),
@@ -43,6 +67,11 @@ fn parse_binary(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
     }
     if n == 0 {
         return Err(fail(80, "the file has no triangles".into()));
+    }
+    if need < bytes.len() as u64 {
+        let extra = bytes.len() as u64 - need;
+        warnings
+            .push(Place::Byte(need).warning(path, format!("{extra} bytes after the last of {n} triangles ignored")));
     }
     let mut mesh = TriangleMesh::default();
     mesh.vertices.reserve(3 * n);
@@ -63,80 +92,105 @@ fn parse_binary(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
     Ok(mesh)
 }
 
-fn parse_ascii(bytes: &[u8], path: &Path) -> Result<TriangleMesh> {
-    let fail = |line: usize, reason: String| Error::Parse { path: path.to_path_buf(), line, reason };
-    let text = std::str::from_utf8(bytes).map_err(|e| Error::Format {
-        path: path.to_path_buf(),
-        offset: e.valid_up_to() as u64,
-        reason: "not UTF-8 text".into(),
-    })?;
-    let mut tokens =
-        text.lines().enumerate().flat_map(|(i, l)| l.split_whitespace().map(move |t| (i + 1, t))).peekable();
-    let last_line = text.lines().count().max(1);
-    let expect = |word: &str, tokens: &mut std::iter::Peekable<_>| -> Result<usize> {
-        match Iterator::next(tokens) {
-            Some((line, t)) if t == word => Ok(line),
-            Some((line, t)) => Err(fail(line, format!("expected '{word}', found '{t}'"))),
-            None => Err(fail(last_line, format!("file ends where '{word}' was expected (truncated)"))),
-        }
-    };
-    expect("solid", &mut tokens)?;
-    // The solid's name: everything up to the first "facet" or "endsolid".
-    while let Some((_, t)) = tokens.peek() {
-        if *t == "facet" || *t == "endsolid" {
-            break;
-        }
-        tokens.next();
+/// The words of an ASCII STL with their lines, read one at a time.
+struct Words<'a> {
+    words: Vec<(usize, &'a str)>,
+    next: usize,
+    last_line: usize,
+    path: &'a Path,
+}
+
+impl<'a> Words<'a> {
+    fn peek(&self) -> Option<&'a str> {
+        self.words.get(self.next).map(|w| w.1)
     }
+
+    /// The next word, which must be `word`; its line.
+    fn expect(&mut self, word: &str) -> Result<usize> {
+        let found = self.words.get(self.next).copied();
+        self.next += 1;
+        match found {
+            Some((line, w)) if w == word => Ok(line),
+            Some((line, w)) => {
+                Err(Place::Line(line).error(self.path, format!("expected '{word}', found {}", quoted(w.as_bytes()))))
+            }
+            None => Err(self.truncated(&format!("where '{word}' was expected"))),
+        }
+    }
+
+    /// Skips the rest of the line of the word just read (a solid's name).
+    fn skip_line(&mut self, line: usize) {
+        while self.words.get(self.next).is_some_and(|w| w.0 == line) {
+            self.next += 1;
+        }
+    }
+
+    /// The next word as a number.
+    fn number(&mut self) -> Result<f64> {
+        let found = self.words.get(self.next).copied();
+        self.next += 1;
+        let Some((line, w)) = found else { return Err(self.truncated("inside a facet")) };
+        w.parse::<f64>()
+            .map_err(|_| Place::Line(line).error(self.path, format!("{} is not a number", quoted(w.as_bytes()))))
+    }
+
+    fn truncated(&self, where_: &str) -> crate::Error {
+        Place::Line(self.last_line).error(self.path, format!("file ends {where_} (truncated)"))
+    }
+}
+
+fn parse_ascii(bytes: &[u8], path: &Path, warnings: &mut Vec<Warning>) -> Result<TriangleMesh> {
+    let text = Text::decode(bytes);
+    warnings.extend(text.warnings(path));
+    let words = text.lines().flat_map(|(n, l)| l.split_whitespace().map(move |w| (n, w))).collect();
+    let mut words = Words { words, next: 0, last_line: text.last_line(), path };
     let mut mesh = TriangleMesh::default();
     loop {
-        match tokens.peek() {
-            Some((_, "endsolid")) => break,
-            Some(_) => {}
-            None => return Err(fail(last_line, "file ends before 'endsolid' (truncated)".into())),
-        }
-        expect("facet", &mut tokens)?;
-        expect("normal", &mut tokens)?;
-        for _ in 0..3 {
-            number(&mut tokens, last_line, path)?;
-        }
-        expect("outer", &mut tokens)?;
-        expect("loop", &mut tokens)?;
-        for _ in 0..3 {
-            let line = expect("vertex", &mut tokens)?;
-            let v = DVec3::new(
-                number(&mut tokens, last_line, path)?,
-                number(&mut tokens, last_line, path)?,
-                number(&mut tokens, last_line, path)?,
-            );
-            if !v.is_finite() {
-                return Err(fail(line, format!("vertex {v} is NaN or infinite")));
+        let line = words.expect("solid")?;
+        words.skip_line(line);
+        while words.peek() != Some("endsolid") {
+            if words.peek().is_none() {
+                return Err(words.truncated("before 'endsolid'"));
             }
-            mesh.vertices.push(v);
+            facet(&mut words, &mut mesh)?;
         }
-        expect("endloop", &mut tokens)?;
-        expect("endfacet", &mut tokens)?;
-        let i = mesh.vertices.len() as u32 - 3;
-        mesh.triangles.push([i, i + 1, i + 2]);
+        let line = words.expect("endsolid")?;
+        words.skip_line(line);
+        match words.words.get(words.next) {
+            None => break,
+            Some((_, "solid")) => {}
+            Some(&(line, _)) => {
+                warnings.push(Place::Line(line).warning(path, "text after the last 'endsolid' ignored"));
+                break;
+            }
+        }
     }
     if mesh.triangles.is_empty() {
-        return Err(fail(last_line, "the file has no facets".into()));
+        return Err(Place::Line(text.last_line()).error(path, "the file has no facets"));
     }
     Ok(mesh)
 }
 
-/// The next token as a number.
-fn number<'a>(tokens: &mut impl Iterator<Item = (usize, &'a str)>, last_line: usize, path: &Path) -> Result<f64> {
-    match tokens.next() {
-        Some((line, t)) => t.parse::<f64>().map_err(|_| Error::Parse {
-            path: path.to_path_buf(),
-            line,
-            reason: format!("'{t}' is not a number"),
-        }),
-        None => Err(Error::Parse {
-            path: path.to_path_buf(),
-            line: last_line,
-            reason: "file ends inside a facet (truncated)".into(),
-        }),
+/// One `facet ... endfacet`.
+fn facet(words: &mut Words, mesh: &mut TriangleMesh) -> Result<()> {
+    words.expect("facet")?;
+    words.expect("normal")?;
+    for _ in 0..3 {
+        words.number()?;
     }
+    words.expect("outer")?;
+    words.expect("loop")?;
+    for _ in 0..3 {
+        let line = words.expect("vertex")?;
+        let v = DVec3::new(words.number()?, words.number()?, words.number()?);
+        if !v.is_finite() {
+            return Err(Place::Line(line).error(words.path, format!("vertex {v} is NaN or infinite")));
+        }
+        mesh.vertices.push(v);
+    }
+    words.expect("endloop")?;
+    words.expect("endfacet")?;
+    let i = mesh.vertices.len() as u32 - 3;
+    mesh.triangles.push([i, i + 1, i + 2]);
+    Ok(())
 }

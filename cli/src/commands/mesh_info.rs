@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use octsolid::import::Input;
+
+use super::load_input;
 
 /// Arguments of `octsolid mesh-info`.
 #[derive(clap::Args, Debug)]
@@ -18,7 +19,7 @@ pub struct MeshInfoArgs {
 /// `octsolid mesh-info IN [--json]`
 pub fn run(a: &MeshInfoArgs) -> Result<()> {
     let (input, json) = (&a.input, a.json);
-    let report = Input::load(input)?.report();
+    let report = load_input(input)?.report();
     if json {
         out!("{}", serde_json::to_string(&report)?);
         return Ok(());

@@ -16,7 +16,11 @@ pub mod voxelize;
 
 use std::time::Instant;
 
+use std::path::Path;
+
 use anyhow::Result;
+use octsolid::Warning;
+use octsolid::import::Input;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{Camera, RenderOptions, Scene};
 use octsolid::shape::Shape;
@@ -40,6 +44,20 @@ pub fn run(args: Args) -> Result<()> {
         Command::Render(a) => render::run(&a, budget),
         Command::Demo(a) => demo::run(&a, budget),
         Command::Bench(a) => bench::run(&a, budget),
+    }
+}
+
+/// Loads a mesh or patch set, printing what the loader read past to stderr.
+pub(crate) fn load_input(path: &Path) -> Result<Input> {
+    let (input, warnings) = Input::load_with_warnings(path)?;
+    print_warnings(&warnings);
+    Ok(input)
+}
+
+/// Prints each warning to stderr as `warning: FILE: PLACE: message`.
+pub(crate) fn print_warnings(warnings: &[Warning]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
     }
 }
 

@@ -15,7 +15,7 @@ use octsolid::scene_file;
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget};
 
-use super::render_with_bar;
+use super::{load_input, print_warnings, render_with_bar};
 use crate::args::{Up, parse_size, parse_up, parse_vec3};
 use crate::camera_flags::{self, Framing};
 use crate::output::check_extension;
@@ -177,6 +177,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let (scene, camera, mut options) = match kind {
         FileKind::Scene => {
             let file = scene_file::load_scene(input, budget)?;
+            print_warnings(&file.warnings);
             stages.done("loading and voxelizing the scene");
             let framing = Framing::of_scene(&file.scene, file.camera, a);
             let aspect = size_aspect(a.size, &file.options);
@@ -226,7 +227,7 @@ fn solid_scene(
         stages.done("loading");
         (tree, meta.up)
     } else {
-        let loaded = Input::load(input)?;
+        let loaded = load_input(input)?;
         stages.done("loading");
         let domain = import::default_domain(&loaded, a.depth.unwrap_or(9))?;
         let bar = Bar::new("voxelizing");
@@ -271,7 +272,7 @@ fn polygon_command(
         let (tree, meta) = oct::load_with(input, budget)?;
         (try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?, meta.up)
     } else {
-        let mesh = match Input::load(input)? {
+        let mesh = match load_input(input)? {
             Input::Mesh(mesh) => mesh,
             Input::Patches(patches) => octsolid::patch::tessellate(&patches, 16),
         };

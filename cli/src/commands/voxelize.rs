@@ -6,14 +6,14 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use glam::DVec3;
-use octsolid::import::{self, Fill, ImportOptions, Input};
+use octsolid::import::{self, Fill, ImportOptions};
 use octsolid::io::oct::{Metadata, Units};
 use octsolid::mesh::InsideRule;
 use octsolid::octree::Domain;
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
-use super::print_summary;
+use super::{load_input, print_summary};
 use crate::args::parse_domain;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
@@ -55,7 +55,7 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     check_not_an_input(output, &[input])?;
     let up = a.up.unwrap_or(FileKind::of(input, FileKind::SURFACES)?.default_up());
     let started = Instant::now();
-    let loaded = Input::load(input)?;
+    let loaded = load_input(input)?;
     let domain = match a.domain {
         Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth)?,
         None => import::default_domain(&loaded, depth)?,
