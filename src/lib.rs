@@ -66,6 +66,7 @@ pub use ray::{Ray, RayCast};
 /// Everything a CSG script needs, in one import.
 pub mod prelude {
     pub use crate::io::{oct, png};
+    pub use crate::mesh::{MeshShape, load_mesh};
     pub use crate::octree::{CoarsenRule, Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
     pub use crate::shape::*;
     pub use crate::slice::slice_image;
