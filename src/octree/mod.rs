@@ -8,6 +8,7 @@
 //! parallel tasks joined in child order, so the result does not depend on the number
 //! of threads; progress comes in units of level-3 subtrees ([`VoxelizeOptions`]).
 
+mod affine;
 mod csg;
 mod depth;
 mod domain;
@@ -28,5 +29,6 @@ pub(crate) use driver::{Counters, Decision, Plan, Voxelizer};
 pub use driver::{PARALLEL_LEVELS, VoxelizeOptions};
 pub use linear::LinearOctree;
 pub use node::{Node, NodeKey};
+pub use resample::OctreeShape;
 pub use voxelize::{estimate_bytes, voxelize};
 pub(crate) use window::keys_meeting_near;
