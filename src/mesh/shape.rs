@@ -39,6 +39,21 @@ use crate::error::{Error, Result};
 use crate::shape::{Class, Csg, Shape};
 
 /// A closed triangle mesh as a shape (see the module doc).
+///
+/// ```
+/// use octsolid::mesh::generate::cuboid;
+/// use octsolid::prelude::*;
+///
+/// # fn main() -> octsolid::Result<()> {
+/// let block = MeshShape::new(&cuboid(DVec3::ZERO, DVec3::splat(2.0)))?;
+/// let drilled = block - Cylinder::new(DVec3::ZERO, Axis::Z, 0.5, 3.0)?;
+/// // Voxels of 1/16: the block's faces lie on voxel faces.
+/// let tree = voxelize(&drilled, Domain::new(DVec3::splat(-2.0), 4.0, 6)?, &Default::default())?;
+/// let exact = 8.0 - std::f64::consts::PI * 0.5 * 0.5 * 2.0;
+/// assert!((tree.volume() / exact - 1.0).abs() < 0.01);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone)]
 pub struct MeshShape {
     parity: ParityGrid,
