@@ -43,17 +43,31 @@ pub enum Error {
         /// Every extension the reader accepts, without the dot.
         accepted: Vec<&'static str>,
     },
-    /// A scene file could not be built: the cause as it was, with the scene file and,
+    /// A scene file could not be read or built: the cause as it was, with the scene
+    /// file, the place in it the cause concerns (`file:line:column: ` when known) and,
     /// where it concerns one, the solid's name (its `name`, else `solid N`).
-    #[error("{}: {}{source}", path.display(), solid.as_ref().map_or(String::new(), |s| format!("{s}: ")))]
+    #[error("{}: {}{source}", scene_place(path, place), solid.as_ref().map_or(String::new(), |s| format!("{s}: ")))]
     Scene {
         /// The scene file.
         path: PathBuf,
+        /// One-based line and column (in bytes) of the value the error concerns: the
+        /// refused value itself for what its reader refuses, else the solid's key that
+        /// names what could not be built (`shape`, `mesh`, `oct`, `transform`,
+        /// `material`) or the solid's `[[solid]]` header.
+        place: Option<(usize, usize)>,
         /// The solid being built, if the error concerns one.
         solid: Option<String>,
         /// What went wrong: the I/O, format or over-budget error of a file the scene
         /// names, a refused value, ...
         source: Box<Error>,
+    },
+    /// A TOML document's reader refused it: a syntax error, an unknown key or value, a
+    /// value of the wrong form or out of range. The message names the value and what
+    /// was expected; the place is the wrapping [`Error::Scene`]'s.
+    #[error("{reason}")]
+    Toml {
+        /// The reader's message.
+        reason: String,
     },
     /// A text file's content is malformed at a line.
     #[error("{}: line {line}: {reason}", path.display())]
@@ -109,6 +123,14 @@ impl Error {
     /// Shorthand for [`Error::InvalidArgument`].
     pub(crate) fn invalid(what: &'static str, reason: impl Into<String>) -> Self {
         Error::InvalidArgument { what, reason: reason.into() }
+    }
+}
+
+/// `file:line:column`, or just `file` when the place is not known.
+fn scene_place(path: &std::path::Path, place: &Option<(usize, usize)>) -> String {
+    match place {
+        Some((line, column)) => format!("{}:{line}:{column}", path.display()),
+        None => path.display().to_string(),
     }
 }
 

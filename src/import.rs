@@ -5,6 +5,8 @@
 
 use std::path::Path;
 
+use glam::DAffine3;
+
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::file_kind::FileKind;
@@ -65,6 +67,16 @@ impl Input {
                 (Input::Mesh(mesh), warnings)
             }
         })
+    }
+
+    /// Moves the input by the affine map `map` (mesh vertices or patch control points;
+    /// see [`TriangleMesh::transform`] and [`BezierPatch::transformed`] for maps that
+    /// reverse orientation).
+    pub fn transform(&mut self, map: DAffine3) {
+        match self {
+            Input::Mesh(m) => m.transform(map),
+            Input::Patches(p) => p.iter_mut().for_each(|q| *q = q.transformed(map)),
+        }
     }
 
     /// Bounding box: of the mesh, or of the patches' control points.

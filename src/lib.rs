@@ -70,6 +70,7 @@ pub use warning::{Place, Warning};
 /// Everything a CSG script needs, in one import.
 pub mod prelude {
     pub use crate::io::{oct, png};
+    pub use crate::mesh::{MeshShape, load_mesh};
     pub use crate::octree::{CoarsenRule, Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
     pub use crate::shape::*;
     pub use crate::slice::slice_image;

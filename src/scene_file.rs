@@ -2,37 +2,65 @@
 //! materials, lights, camera and image settings. The format is described in
 //! `docs/SCENES.md`; bundled scenes are in `scenes/`.
 //!
-//! Loading is two steps. Parsing deserializes the whole file into the private `*Spec`
-//! types; every enum-like value is a serde enum (shape and texture kinds
-//! ([`ShapeSpec`]), light `type`, `normals`, `projection`, `inside`, `mapping`, `axis`),
-//! so a misspelt value is reported like a misspelt key or a syntax error: an
-//! [`Error::Parse`] with the file, the line and the column. Building then voxelizes the
-//! solids and sets up lights, image and camera; what fails there is an
-//! [`Error::Scene`] holding its cause as it was (the I/O, format or over-budget error of
-//! a mesh or `.oct` file the scene names, a refused value), with the scene file and the
-//! name of the solid it concerns.
+//! Loading is two steps. Reading deserializes the whole file into the private `*Spec`
+//! types and checks every value where it is read: enum-like values are serde enums
+//! (shape and texture kinds, light `type`, `normals`, `projection`, `inside`,
+//! `mapping`, `axis`), shape nodes are built as they are read ([`ShapeSpec`]'s
+//! deserializer), colours are checked in form and range ([`ColorSpec`]). So a
+//! misspelt key or value, a negative radius or a colour out of range is refused by the
+//! reader, an [`Error::Scene`] around [`Error::Toml`] with the place of the value (the
+//! reader's span as line and column) and, when it lies in a `[[solid]]`, that solid's
+//! name (found from the spans of the parsed document: the solid whose header, keys and
+//! values hold the place). Building then voxelizes the solids and sets up lights,
+//! image and camera; what fails there is an [`Error::Scene`] holding its cause as it
+//! was (the I/O, format or over-budget error of a mesh or `.oct` file the scene names,
+//! a mesh shape that is not closed, a refused material), with the place of the key it
+//! concerns (`shape`, `mesh`, `oct`, `transform`, `material`, else the `[[solid]]`
+//! header) and the solid's name.
+//!
+//! Solids, and where their octrees come from:
+//! - `shape`: a CSG tree ([`ShapeSpec`]) whose leaves may also be `{ mesh = "..." }`
+//!   (a closed mesh, as a [`MeshShape`]) and `{ oct = "..." }` (a stored octree, as an
+//!   [`OctreeShape`]: nearest sampling through the tree's transforms). The whole tree,
+//!   moved by the solid's `transform`, is one [`Shape`], voxelized once into the
+//!   domain every `shape` solid shares. By the soundness contract of [`Shape`] this is
+//!   exactly the octree CSG of the leaves voxelized into that domain, an `.oct` leaf
+//!   being its octree resampled into it: exact when the domain's lattice is the `.oct`
+//!   file's moved by whole voxels (the same `[domain]`, say), sampled otherwise. One
+//!   tree of shapes is the simplest design that is correct for any nesting of the three
+//!   kinds (no per-node domains, no conversions); the cost is that a mesh or `.oct`
+//!   leaf is asked point by point (no state handed down the tree).
+//! - `mesh`: the mesh file voxelized alone in its own bounding cube at its `depth`,
+//!   with its `inside` rule (meshes need not be closed here); a `transform` moves the
+//!   vertices (or patch control points) first, so it is exact.
+//! - `oct`: the stored octree; a `transform` moves it by
+//!   [`LinearOctree::transformed`]: exactly (the keys permuted and mirrored, the domain
+//!   moved) for translations, uniform scales, quarter turns and mirrors, resampled at
+//!   the same depth otherwise.
 //!
 //! Relative paths inside a scene are relative to the scene file's folder.
 
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 use serde::Deserialize;
+use toml::Spanned;
 
 use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
-use crate::color::{Hsi, cmy_to_rgb, hsi_to_rgb};
+use crate::color::ColorSpec;
 use crate::error::{Error, Result};
 use crate::import::{self, ImportOptions, Input};
 use crate::io::oct;
-use crate::mesh::InsideRule;
-use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use crate::mesh::{InsideRule, MeshShape, load_mesh};
+use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
 use crate::render::{
     Bump, Camera, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection, RenderOptions, Scene, Texture,
 };
-use crate::shape::{Axis, Csg, Shape, ShapeSpec};
+use crate::shape::{Axis, Csg, FileLeaves, Shape, ShapeSpec, TransformSpec, Transformed};
 use crate::warning::Warning;
 
 /// The whole file.
@@ -43,12 +71,12 @@ struct SceneSpec {
     image: ImageSpec,
     #[serde(default)]
     camera: CameraSpec,
-    domain: Option<DomainSpec>,
+    domain: Option<Spanned<DomainSpec>>,
     #[serde(default, rename = "light")]
-    lights: Vec<LightSpec>,
+    lights: Vec<Spanned<LightSpec>>,
     #[serde(rename = "solid")]
-    solids: Vec<SolidSpec>,
-    ambient: Option<[f64; 3]>,
+    solids: Vec<Spanned<SolidSpec>>,
+    ambient: Option<ColorSpec>,
 }
 
 #[derive(Deserialize, Debug)]
@@ -60,7 +88,7 @@ struct ImageSpec {
     samples: u32,
     #[serde(default = "default_true")]
     shadows: bool,
-    background: Option<[f64; 3]>,
+    background: Option<ColorSpec>,
     /// Axis (the default), smooth or octree.
     normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays.
@@ -121,26 +149,41 @@ struct DomainSpec {
     depth: u8,
 }
 
+/// A light: a struct with its `type` rather than an internally tagged enum, which
+/// serde reads from a buffered copy without the reader's spans; whether `position` or
+/// `direction` is given is checked when it is built, at the light's header.
 #[derive(Deserialize, Debug)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-enum LightSpec {
-    Point { position: [f64; 3], color: Option<[f64; 3]> },
-    Directional { direction: [f64; 3], color: Option<[f64; 3]> },
+#[serde(deny_unknown_fields)]
+struct LightSpec {
+    #[serde(rename = "type")]
+    kind: LightKind,
+    position: Option<[f64; 3]>,
+    direction: Option<[f64; 3]>,
+    color: Option<ColorSpec>,
+}
+
+/// The kinds of light.
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+enum LightKind {
+    Point,
+    Directional,
 }
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 struct SolidSpec {
     name: Option<String>,
-    shape: Option<ShapeSpec>,
-    mesh: Option<PathBuf>,
-    oct: Option<PathBuf>,
+    shape: Option<Spanned<ShapeSpec>>,
+    mesh: Option<Spanned<PathBuf>>,
+    oct: Option<Spanned<PathBuf>>,
+    /// Moves the solid: scale, rotate, translate (as a shape's `transform`).
+    transform: Option<Spanned<TransformSpec>>,
     /// Depth for a mesh (default: the scene domain's).
     depth: Option<u8>,
     /// How a mesh decides its inside (default auto).
     inside: Option<InsideSpec>,
-    #[serde(default)]
-    material: MaterialSpec,
+    material: Option<Spanned<MaterialSpec>>,
 }
 
 /// [`InsideRule`] as a scene writes it.
@@ -175,33 +218,6 @@ struct MaterialSpec {
     ior: Option<f64>,
     texture: Option<TextureSpec>,
     bump: Option<BumpSpec>,
-}
-
-/// A colour: `[r, g, b]`, or one of `{ rgb = [..] }`, `{ cmy = [..] }`, `{ hsi = [h, s, i] }`.
-#[derive(Deserialize, Debug, Clone, Copy)]
-#[serde(untagged)]
-enum ColorSpec {
-    Rgb([f64; 3]),
-    Model(ColorModelSpec),
-}
-
-#[derive(Deserialize, Debug, Clone, Copy)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-enum ColorModelSpec {
-    Rgb([f64; 3]),
-    Cmy([f64; 3]),
-    Hsi([f64; 3]),
-}
-
-impl ColorSpec {
-    /// Linear RGB.
-    fn rgb(self) -> DVec3 {
-        match self {
-            ColorSpec::Rgb(c) | ColorSpec::Model(ColorModelSpec::Rgb(c)) => DVec3::from_array(c),
-            ColorSpec::Model(ColorModelSpec::Cmy(c)) => cmy_to_rgb(DVec3::from_array(c)),
-            ColorSpec::Model(ColorModelSpec::Hsi([h, s, i])) => hsi_to_rgb(Hsi { h, s, i }),
-        }
-    }
 }
 
 #[derive(Deserialize, Debug)]
@@ -282,36 +298,58 @@ pub struct SceneFile {
     pub camera: Camera,
     /// Image size and samples.
     pub options: RenderOptions,
-    /// What the loaders of its mesh files read past, file by file.
+    /// What loading its meshes read past without refusing them.
     pub warnings: Vec<Warning>,
 }
 
 /// Reads, checks and builds the scene at `path` (voxelizing its shapes and meshes).
-/// Errors: [`Error::Io`] when the file cannot be read, [`Error::Parse`] (with the line
-/// and column) when it is not a scene, [`Error::Scene`] when the scene cannot be built.
+/// Errors: [`Error::Io`] when the file cannot be read; else an [`Error::Scene`] with
+/// the place (see the module doc): around [`Error::Toml`] when the reader refuses the
+/// text (syntax, an unknown key or value, a value out of range), around the cause when
+/// the scene cannot be built.
 pub fn load_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneFile> {
     let path = path.as_ref();
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-    let spec: SceneSpec = toml::from_str(&text).map_err(|e| {
-        let (line, column) = e.span().map_or((1, 1), |s| line_column(&text, s.start));
-        Error::Parse { path: path.to_path_buf(), line, reason: format!("column {column}: {}", e.message().trim()) }
-    })?;
     let folder = path.parent().unwrap_or(Path::new("."));
-    build(&spec, &Context { path, folder, budget })
+    let cx = Context { path, text: &text, folder, budget };
+    let spec: SceneSpec = toml::from_str(&text).map_err(|e| cx.refused(&e))?;
+    build(&spec, &cx)
 }
 
-/// One-based line and column of byte `offset` in `text`.
+/// One-based line and column (in bytes) of byte `offset` in `text`.
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
-    let before = &text[..offset.min(text.len())];
-    let line = before.matches('\n').count() + 1;
-    let column = before.rfind('\n').map_or(before.len(), |i| before.len() - i - 1) + 1;
+    let before = &text.as_bytes()[..offset.min(text.len())];
+    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+    let column = before.iter().rposition(|&b| b == b'\n').map_or(before.len(), |i| before.len() - i - 1) + 1;
     (line, column)
+}
+
+/// The name of the `[[solid]]` whose header, keys or values hold byte `offset` of
+/// `text` (its `name`, else `solid N`); `None` when the place lies in no solid or
+/// `text` is not TOML.
+fn solid_at(text: &str, offset: usize) -> Option<String> {
+    use toml::de::{DeTable, DeValue};
+    let doc = DeTable::parse(text).ok()?;
+    let DeValue::Array(solids) = doc.get_ref().get("solid")?.get_ref() else { return None };
+    solids.iter().enumerate().find_map(|(i, solid)| {
+        let mut region = solid.span();
+        let mut name = None;
+        if let DeValue::Table(table) = solid.get_ref() {
+            for (key, value) in table.iter() {
+                region = region.start.min(key.span().start)..region.end.max(value.span().end);
+            }
+            name = table.get("name").and_then(|v| v.get_ref().as_str()).map(str::to_owned);
+        }
+        region.contains(&offset).then(|| name.unwrap_or_else(|| format!("solid {}", i + 1)))
+    })
 }
 
 /// What building a scene needs besides its spec.
 struct Context<'a> {
     /// The scene file, for errors.
     path: &'a Path,
+    /// Its text, for the line and column of a span.
+    text: &'a str,
     /// The folder its relative paths start from.
     folder: &'a Path,
     /// Every voxelization and load is checked against it.
@@ -319,51 +357,69 @@ struct Context<'a> {
 }
 
 impl Context<'_> {
-    /// `source` as an error of this scene, about the solid `solid` if it concerns one.
-    fn error(&self, solid: Option<&str>, source: Error) -> Error {
-        Error::Scene { path: self.path.to_path_buf(), solid: solid.map(str::to_owned), source: Box::new(source) }
+    /// `source` as an error of this scene at the start of the byte range `span` when
+    /// given, about the solid `solid` if it concerns one.
+    fn error(&self, solid: Option<&str>, span: Option<&Range<usize>>, source: Error) -> Error {
+        Error::Scene {
+            path: self.path.to_path_buf(),
+            place: span.map(|s| line_column(self.text, s.start)),
+            solid: solid.map(str::to_owned),
+            source: Box::new(source),
+        }
+    }
+
+    /// The reader's refusal `e`, at its place, naming the solid that place lies in.
+    fn refused(&self, e: &toml::de::Error) -> Error {
+        let span = e.span();
+        let solid = span.as_ref().and_then(|s| solid_at(self.text, s.start));
+        self.error(solid.as_deref(), span.as_ref(), Error::Toml { reason: e.message().trim().to_owned() })
     }
 }
 
 /// The scene, its camera and image settings from the parsed file.
 fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
-    let whole = |e| cx.error(None, e);
+    let whole = |e| cx.error(None, None, e);
     if spec.solids.is_empty() {
         return Err(whole(Error::invalid("scene", "it has no [[solid]]")));
     }
-    let names: Vec<String> = spec
+    let solids: Vec<SolidBuild> = spec
         .solids
         .iter()
         .enumerate()
-        .map(|(i, s)| s.name.clone().unwrap_or_else(|| format!("solid {}", i + 1)))
+        .map(|(i, s)| SolidBuild {
+            spec: s.get_ref(),
+            name: s.get_ref().name.clone().unwrap_or_else(|| format!("solid {}", i + 1)),
+            header: s.span(),
+            cx,
+        })
         .collect();
-    // Step 1: every solid's shape tree, and the shape solids' shared domain.
-    let shapes: Vec<Option<Csg>> = spec
-        .solids
+    // Step 1: the lights (checked before any work), every shape solid's tree (moved by
+    // its transform), and the shape solids' shared domain.
+    let lights: Vec<Light> = spec
+        .lights
         .iter()
-        .zip(&names)
-        .map(|(s, name)| s.shape.as_ref().map(ShapeSpec::build).transpose().map_err(|e| cx.error(Some(name), e)))
+        .map(|l| l.get_ref().light().map_err(|e| cx.error(None, Some(&l.span()), e)))
         .collect::<Result<_>>()?;
-    let depth = spec.domain.as_ref().map_or(9, |d| d.depth);
-    let domain = shape_domain(spec.domain.as_ref(), depth, &names, &shapes, cx)?;
+    let shapes: Vec<Option<Csg>> = solids.iter().map(SolidBuild::shape).collect::<Result<_>>()?;
+    let depth = spec.domain.as_ref().map_or(9, |d| d.get_ref().depth);
+    let domain = shape_domain(spec.domain.as_ref(), depth, &solids, &shapes, cx)?;
     // Step 2: every solid to an octree, with its material.
     let mut scene = Scene::new();
     let mut warnings = Vec::new();
-    for ((solid, shape), name) in spec.solids.iter().zip(&shapes).zip(&names) {
-        let source = SolidSource { shape: shape.as_ref(), shape_domain: domain, depth };
-        warnings.extend(add_solid(&mut scene, solid, name, &source, cx).map_err(|e| cx.error(Some(name), e))?);
+    for (solid, shape) in solids.iter().zip(&shapes) {
+        warnings.extend(solid.add_to(&mut scene, shape.as_ref(), domain, depth)?);
     }
     // Step 3: lights, image and camera, from the solids' bounds.
     let bounds = scene.bounds().ok_or_else(|| whole(Error::invalid("scene", "every solid is empty")))?;
-    scene.lights = spec.lights.iter().map(LightSpec::light).collect();
+    scene.lights = lights;
     if scene.lights.is_empty() {
         scene.lights = Scene::default_lights(&bounds);
     }
     if let Some(a) = spec.ambient {
-        scene.ambient = DVec3::from_array(a);
+        scene.ambient = a.rgb();
     }
     if let Some(b) = spec.image.background {
-        scene.background = DVec3::from_array(b);
+        scene.background = b.rgb();
     }
     let options = spec.image.options();
     let aspect = f64::from(options.width.max(1)) / f64::from(options.height.max(1));
@@ -374,70 +430,169 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
 /// and `edge`, else the cube around all shapes with a 2% margin at `depth`; `None`
 /// when no solid is a shape. An unbounded shape needs the former.
 fn shape_domain(
-    spec: Option<&DomainSpec>,
+    spec: Option<&Spanned<DomainSpec>>,
     depth: u8,
-    names: &[String],
+    solids: &[SolidBuild],
     shapes: &[Option<Csg>],
     cx: &Context,
 ) -> Result<Option<Domain>> {
-    if let Some(DomainSpec { min: Some(min), edge: Some(edge), depth }) = spec {
-        return Domain::new(DVec3::from_array(*min), *edge, *depth).map(Some).map_err(|e| cx.error(None, e));
+    let span = spec.map(Spanned::span);
+    let at_domain = |e| cx.error(None, span.as_ref(), e);
+    if let Some(DomainSpec { min: Some(min), edge: Some(edge), depth }) = spec.map(Spanned::get_ref) {
+        return Domain::new(DVec3::from_array(*min), *edge, *depth).map(Some).map_err(at_domain);
     }
     let mut bounds: Option<Aabb> = None;
-    for (shape, name) in shapes.iter().zip(names) {
+    for (shape, solid) in shapes.iter().zip(solids) {
         let Some(shape) = shape else { continue };
         let b = shape.bounds().ok_or_else(|| {
-            cx.error(Some(name), Error::invalid("shape", "an unbounded shape needs a [domain] with min and edge"))
+            let e = Error::invalid("shape", "an unbounded shape needs a [domain] with min and edge");
+            solid.at(solid.spec.shape.as_ref().map(Spanned::span))(e)
         })?;
         bounds = Some(bounds.map_or(b, |a| a.union(&b)));
     }
-    bounds.map(|b| Domain::around(&b, 0.02, depth)).transpose().map_err(|e| cx.error(None, e))
+    bounds.map(|b| Domain::around(&b, 0.02, depth)).transpose().map_err(at_domain)
 }
 
-/// Where a solid's octree comes from, besides its own keys.
-struct SolidSource<'a> {
-    /// Its shape's tree, for a `shape` solid.
-    shape: Option<&'a Csg>,
-    /// The domain shape solids share (`Some` when any solid is a shape).
-    shape_domain: Option<Domain>,
-    /// The depth a mesh is voxelized at without a `depth` of its own.
-    depth: u8,
+/// The leaves of a scene's shape trees that name files, read relative to its folder.
+struct SceneFiles<'a> {
+    cx: &'a Context<'a>,
 }
 
-/// Voxelizes or loads `solid` and adds it to `scene` under `name` with its material;
-/// returns the warnings of loading its mesh.
-fn add_solid(
-    scene: &mut Scene,
-    solid: &SolidSpec,
-    name: &str,
-    source: &SolidSource,
-    cx: &Context,
-) -> Result<Vec<Warning>> {
-    let mut warnings = Vec::new();
-    let sources =
-        usize::from(solid.shape.is_some()) + usize::from(solid.mesh.is_some()) + usize::from(solid.oct.is_some());
-    if sources != 1 {
-        return Err(Error::invalid("solid", "give exactly one of shape, mesh or oct"));
+impl FileLeaves for SceneFiles<'_> {
+    /// The mesh as a [`MeshShape`]; a refusal (not closed) names the file.
+    fn mesh(&self, file: &Path) -> Result<Csg> {
+        let path = self.cx.folder.join(file);
+        let mesh = load_mesh(&path)?;
+        match MeshShape::new(&mesh) {
+            Ok(shape) => Ok(shape.into()),
+            Err(Error::InvalidArgument { what, reason }) => {
+                Err(Error::invalid(what, format!("{}: {reason}", path.display())))
+            }
+            Err(e) => Err(e),
+        }
     }
-    let tree: LinearOctree = if let Some(shape) = source.shape {
-        let options = VoxelizeOptions { budget: cx.budget, progress: &NoProgress };
-        voxelize(shape, source.shape_domain.expect("shapes have a domain"), &options)?
-    } else if let Some(mesh) = &solid.mesh {
-        let input;
-        (input, warnings) = Input::load_with_warnings(cx.folder.join(mesh))?;
-        let domain = import::default_domain(&input, solid.depth.unwrap_or(source.depth))?;
-        let inside = solid.inside.map_or(InsideRule::Auto, InsideRule::from);
-        import::voxelize_input(&input, domain, &ImportOptions { inside, budget: cx.budget, ..Default::default() })?.0
-    } else {
-        oct::load(cx.folder.join(solid.oct.as_ref().expect("one source")), cx.budget)?
-    };
-    let material = solid.material.material(cx.folder)?;
-    material.check()?;
-    match source.shape {
-        Some(shape) => scene.add_shaped(name, tree, material, Arc::new(shape.clone())),
-        None => scene.add(name, tree, material),
+
+    /// The octree as an [`OctreeShape`] where it lies.
+    fn oct(&self, file: &Path) -> Result<Csg> {
+        let tree = oct::load(self.cx.folder.join(file), self.cx.budget)?;
+        Ok(Csg::leaf(OctreeShape::new(Arc::new(tree), DAffine3::IDENTITY)?))
     }
-    Ok(warnings)
+}
+
+/// One solid being built: its spec, its name, the span of its `[[solid]]` header, and
+/// the scene's context; its errors carry the place of the key they concern.
+struct SolidBuild<'a> {
+    spec: &'a SolidSpec,
+    name: String,
+    header: Range<usize>,
+    cx: &'a Context<'a>,
+}
+
+impl SolidBuild<'_> {
+    /// What turns a cause into this solid's error at the value `span` of one of its
+    /// keys (its header when `None`).
+    fn at(&self, span: Option<Range<usize>>) -> impl Fn(Error) -> Error + '_ {
+        move |e| self.cx.error(Some(&self.name), Some(span.as_ref().unwrap_or(&self.header)), e)
+    }
+
+    /// The span of the solid's `transform`, if it has one.
+    fn transform_span(&self) -> Option<Range<usize>> {
+        self.spec.transform.as_ref().map(Spanned::span)
+    }
+
+    /// The map of the solid's `transform`, `None` without one.
+    fn transform(&self) -> Result<Option<DAffine3>> {
+        let map = self.spec.transform.as_ref().map(|t| t.get_ref().map());
+        map.transpose().map_err(self.at(self.transform_span()))
+    }
+
+    /// The solid's shape tree moved by its transform; `None` unless it is a `shape` solid.
+    fn shape(&self) -> Result<Option<Csg>> {
+        let Some(shape) = &self.spec.shape else { return Ok(None) };
+        let tree = shape.get_ref().build_with(&SceneFiles { cx: self.cx }).map_err(self.at(Some(shape.span())))?;
+        Ok(Some(match self.transform()? {
+            Some(map) => Transformed::new(tree, map).map_err(self.at(self.transform_span()))?.into(),
+            None => tree,
+        }))
+    }
+
+    /// Voxelizes or loads the solid and adds it to `scene` with its material: a shape
+    /// (its tree `shape`) into `shape_domain`, a mesh at its depth or `depth`. Returns
+    /// the warnings of loading its mesh.
+    fn add_to(
+        &self,
+        scene: &mut Scene,
+        shape: Option<&Csg>,
+        shape_domain: Option<Domain>,
+        depth: u8,
+    ) -> Result<Vec<Warning>> {
+        let s = self.spec;
+        let sources = usize::from(s.shape.is_some()) + usize::from(s.mesh.is_some()) + usize::from(s.oct.is_some());
+        if sources != 1 {
+            return Err(self.at(None)(Error::invalid("solid", "give exactly one of shape, mesh or oct")));
+        }
+        let mut warnings = Vec::new();
+        let tree = match (shape, &s.mesh, &s.oct) {
+            (Some(shape), _, _) => {
+                let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
+                let domain = shape_domain.expect("shapes have a domain");
+                voxelize(shape, domain, &options).map_err(self.at(s.shape.as_ref().map(Spanned::span)))?
+            }
+            (None, Some(mesh), _) => {
+                let tree;
+                (tree, warnings) = self.mesh_tree(mesh, depth)?;
+                tree
+            }
+            (None, None, Some(file)) => self.oct_tree(file)?,
+            (None, None, None) => unreachable!("one source"),
+        };
+        let material = self.material()?;
+        match shape {
+            Some(shape) => scene.add_shaped(&self.name, tree, material, Arc::new(shape.clone())),
+            None => scene.add(&self.name, tree, material),
+        }
+        Ok(warnings)
+    }
+
+    /// The mesh (or patch) file moved by the solid's transform, voxelized in its own
+    /// bounding cube at the solid's depth (else `depth`) by its inside rule; with the
+    /// warnings of loading it.
+    fn mesh_tree(&self, file: &Spanned<PathBuf>, depth: u8) -> Result<(LinearOctree, Vec<Warning>)> {
+        let at_file = self.at(Some(file.span()));
+        let (mut input, warnings) = Input::load_with_warnings(self.cx.folder.join(file.get_ref())).map_err(&at_file)?;
+        if let Some(map) = self.transform()? {
+            input.transform(map);
+        }
+        let domain = import::default_domain(&input, self.spec.depth.unwrap_or(depth)).map_err(&at_file)?;
+        let inside = self.spec.inside.map_or(InsideRule::Auto, InsideRule::from);
+        let options = ImportOptions { inside, budget: self.cx.budget, ..Default::default() };
+        Ok((import::voxelize_input(&input, domain, &options).map_err(at_file)?.0, warnings))
+    }
+
+    /// The `.oct` file's octree moved by the solid's transform.
+    fn oct_tree(&self, file: &Spanned<PathBuf>) -> Result<LinearOctree> {
+        let tree =
+            oct::load(self.cx.folder.join(file.get_ref()), self.cx.budget).map_err(self.at(Some(file.span())))?;
+        match self.transform()? {
+            Some(map) => {
+                let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
+                tree.transformed(map, Ok, &options).map(|(tree, _)| tree).map_err(self.at(self.transform_span()))
+            }
+            None => Ok(tree),
+        }
+    }
+
+    /// The solid's material, checked; the default without one.
+    fn material(&self) -> Result<Material> {
+        let default = MaterialSpec::default();
+        let (spec, span) = match &self.spec.material {
+            Some(m) => (m.get_ref(), Some(m.span())),
+            None => (&default, None),
+        };
+        let material = spec.material(self.cx.folder).map_err(self.at(span.clone()))?;
+        material.check().map_err(self.at(span))?;
+        Ok(material)
+    }
 }
 
 impl MaterialSpec {
@@ -460,17 +615,19 @@ impl MaterialSpec {
 }
 
 impl LightSpec {
-    /// The light; white without a colour.
-    fn light(&self) -> Light {
-        match *self {
-            LightSpec::Point { position, color } => Light::Point {
-                position: DVec3::from_array(position),
-                color: color.map_or(DVec3::ONE, DVec3::from_array),
-            },
-            LightSpec::Directional { direction, color } => Light::Directional {
-                direction: DVec3::from_array(direction),
-                color: color.map_or(DVec3::ONE, DVec3::from_array),
-            },
+    /// The light, white without a colour; a point light takes a `position` and no
+    /// `direction`, a directional light the other way round.
+    fn light(&self) -> Result<Light> {
+        let color = self.color.map_or(DVec3::ONE, ColorSpec::rgb);
+        match (self.kind, self.position, self.direction) {
+            (LightKind::Point, Some(p), None) => Ok(Light::Point { position: DVec3::from_array(p), color }),
+            (LightKind::Directional, None, Some(d)) => {
+                Ok(Light::Directional { direction: DVec3::from_array(d), color })
+            }
+            (LightKind::Point, ..) => Err(Error::invalid("light", "a point light takes a position and no direction")),
+            (LightKind::Directional, ..) => {
+                Err(Error::invalid("light", "a directional light takes a direction and no position"))
+            }
         }
     }
 }

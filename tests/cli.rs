@@ -137,10 +137,10 @@ fn bad_input_gives_one_line_errors() {
     assert!(e.contains("a.oct") && e.contains("(use .obj, .stl, .ply or .patches)"), "{e}");
     let e = fails(&dir, &["render", "scene.toml", "--shading", "flat"]);
     assert!(e.contains("scene.toml") && e.contains("(use .oct, .obj, .stl, .ply or .patches)"), "{e}");
-    // A scene's build error: the scene, the solid and the cause, on one line.
+    // A scene's build error: the scene, the place, the solid and the cause, on one line.
     std::fs::write(dir.join("scene.toml"), "[[solid]]\nname = \"part\"\nmesh = \"gone.obj\"\n").unwrap();
     let e = fails(&dir, &["render", "scene.toml"]);
-    assert!(e.contains("scene.toml: part: ") && e.contains("gone.obj: "), "{e}");
+    assert!(e.contains("scene.toml:3:8: part: ") && e.contains("gone.obj: "), "{e}");
     // A failed write keeps the old file: the output's folder does not exist.
     let e = fails(&dir, &["shape", "sphere", "--depth", "4", "-o", "no/such/dir/x.oct"]);
     assert!(e.contains("x.oct"), "{e}");
@@ -238,7 +238,7 @@ fn render_solids_meshes_and_scenes_by_every_method() {
     assert_eq!((img.width(), img.height()), (64, 48));
     std::fs::write(dir.join("bad.toml"), "[image]\nsize = [64, 48\n").unwrap();
     let e = fails(&dir, &["render", "bad.toml"]);
-    assert!(e.contains("bad.toml") && e.contains("line 2"), "{e}");
+    assert!(e.contains("bad.toml:2:15: unclosed array"), "{e}");
     let e = fails(&dir, &["render", "ring.oct", "--size", "0x10"]);
     assert!(e.contains("image size"), "{e}");
 }

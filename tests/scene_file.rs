@@ -1,15 +1,22 @@
-//! Scene files: every bundled scene loads; a misspelt key or value is a parse error at
-//! its file, line and column; a scene that cannot be built keeps the cause's kind (I/O,
-//! format, over budget, refused value) with the scene file and the solid's name.
+//! Scene files: every bundled scene loads; a misspelt key or value, a refused value and
+//! a file that cannot be built are errors that name the scene file, the place
+//! (`line:column`, found here from the text) and the solid, keeping the cause's kind
+//! (I/O, format, over budget, refused value); colour forms against hand-computed RGB;
+//! transformed mesh and `.oct` solids against analytic volumes and exact moves; a CSG
+//! scene of a shape, a mesh and an `.oct` file against the brute-force predicate.
 
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use octsolid::MemoryBudget;
+use octsolid::color::COLOR_FORMS;
 use octsolid::io::oct;
-use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+use octsolid::mesh::generate::cuboid;
+use octsolid::mesh::save_mesh;
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::render::Light;
 use octsolid::scene_file::{SceneFile, load_scene};
-use octsolid::shape::Sphere;
+use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Error, Result};
 
 /// A folder of its own for each test (tests run in parallel).
@@ -33,16 +40,35 @@ fn error(dir: &Path, name: &str, text: &str) -> (PathBuf, Error) {
     (path, loaded.err().expect("an error"))
 }
 
-/// The cause inside the [`Error::Scene`] of a scene that must fail to build, after
-/// checking it names `path` and `solid`.
-fn scene_cause(e: Error, path: &Path, solid: Option<&str>) -> Error {
-    match e {
-        Error::Scene { path: p, solid: s, source } => {
-            assert_eq!((p.as_path(), s.as_deref()), (path, solid));
-            *source
-        }
-        other => panic!("not a scene error: {other:?}"),
+/// One-based line and column of the first `needle` in `text`: the oracle of a place.
+fn place_of(text: &str, needle: &str) -> (usize, usize) {
+    let at = text.find(needle).unwrap_or_else(|| panic!("{needle:?} is not in the scene"));
+    let before = &text[..at];
+    (before.matches('\n').count() + 1, at - before.rfind('\n').map_or(0, |i| i + 1) + 1)
+}
+
+/// The cause inside the [`Error::Scene`] of a scene that must fail, after checking it
+/// names `path`, the place of `needle` in `text` (`None`: no place) and `solid`, and
+/// that its message says all three as `file:line:column: solid: `.
+fn scene_cause(e: Error, path: &Path, text: &str, needle: Option<&str>, solid: Option<&str>) -> Error {
+    scene_cause_at(e, path, needle.map(|n| place_of(text, n)), solid)
+}
+
+/// [`scene_cause`] with the place `want` given as line and column.
+fn scene_cause_at(e: Error, path: &Path, want: Option<(usize, usize)>, solid: Option<&str>) -> Error {
+    let message = e.to_string();
+    let Error::Scene { path: p, place, solid: s, source } = e else { panic!("not a scene error: {e:?}") };
+    assert_eq!((p.as_path(), place, s.as_deref()), (path, want, solid), "{message}");
+    let mut prefix = path.display().to_string();
+    if let Some((line, column)) = want {
+        prefix += &format!(":{line}:{column}");
     }
+    prefix += ": ";
+    if let Some(solid) = solid {
+        prefix += &format!("{solid}: ");
+    }
+    assert!(message.starts_with(&prefix), "{message:?} does not start with {prefix:?}");
+    *source
 }
 
 const BALL: &str = "shape = { sphere = { center = [0, 0, 0], radius = 1 } }";
@@ -58,59 +84,153 @@ fn bundled_scenes_load() {
 #[test]
 fn syntax_errors_and_misspelt_keys_say_line_and_column() {
     let dir = scratch("syntax");
-    let (_, e) = error(&dir, "syntax.toml", "[image]\nsize = [640, 480\n");
-    let e = e.to_string();
-    assert!(e.contains("syntax.toml") && e.contains("line 2") && e.contains("column"), "{e}");
-    let (_, e) =
-        error(&dir, "field.toml", &format!("[image]\nsize = [64, 48]\n\n[[solid]]\n{BALL}\ncolour = [1, 0, 0]\n"));
-    let e = e.to_string();
-    assert!(e.contains("line 6") && e.contains("colour"), "{e}");
+    let text = "[image]\nsize = [640, 480\n";
+    let (path, e) = error(&dir, "syntax.toml", text);
+    // The reader stops at the end of the unclosed array's line.
+    let end_of_line_2 = (2, text.lines().nth(1).unwrap().len() + 1);
+    let cause = scene_cause_at(e, &path, Some(end_of_line_2), None);
+    assert!(matches!(&cause, Error::Toml { reason } if reason.contains("unclosed array")), "{cause:?}");
+    let text = format!("[image]\nsize = [64, 48]\n\n[[solid]]\n{BALL}\ncolour = [1, 0, 0]\n");
+    let (path, e) = error(&dir, "field.toml", &text);
+    let cause = scene_cause(e, &path, &text, Some("colour"), Some("solid 1"));
+    assert!(cause.to_string().contains("unknown field `colour`"), "{cause}");
     let (_, e) = error(&dir, "none.toml", "[image]\nsize = [64, 48]\n");
-    assert!(e.to_string().contains("solid"), "{e}");
+    assert!(e.to_string().contains("missing field `solid`"), "{e}");
 }
 
 #[test]
-fn misspelt_values_are_parse_errors_at_their_place() {
+fn misspelt_values_are_refused_at_their_place() {
     let dir = scratch("values");
-    // (file text, line, column of the value, the misspelling)
+    // (file text, the misspelt value as written, the solid it lies in)
     let cases = [
-        (format!("[image]\nsize = [64, 48]\nnormals = \"smoth\"\n\n[[solid]]\n{BALL}\n"), 3, 11, "smoth"),
-        (format!("[camera]\nprojection = \"ortho\"\n\n[[solid]]\n{BALL}\n"), 2, 14, "ortho"),
-        (format!("[[light]]\ntype = \"spot\"\nposition = [1, 1, 1]\n\n[[solid]]\n{BALL}\n"), 2, 8, "spot"),
-        ("[[solid]]\nmesh = \"bunny.obj\"\ninside = \"odd\"\n".into(), 3, 10, "odd"),
+        (format!("[image]\nsize = [64, 48]\nnormals = \"smoth\"\n\n[[solid]]\n{BALL}\n"), "smoth", None),
+        (format!("[camera]\nprojection = \"ortho\"\n\n[[solid]]\n{BALL}\n"), "ortho", None),
+        (format!("[[light]]\ntype = \"spot\"\nposition = [1, 1, 1]\n\n[[solid]]\n{BALL}\n"), "spot", None),
+        ("[[solid]]\nmesh = \"bunny.obj\"\ninside = \"odd\"\n".into(), "odd", Some("solid 1")),
         (
-            "[[solid]]\nshape = { cylinder = { center = [0, 0, 0], axis = \"w\", radius = 1, height = 1 } }\n".into(),
-            2,
-            51,
+            "[[solid]]\nname = \"rod\"\nshape = { cylinder = { center = [0, 0, 0], axis = \"w\", radius = 1, height = 1 } }\n"
+                .into(),
             "w",
+            Some("rod"),
         ),
         (
             format!(
                 "[[solid]]\n{BALL}\nmaterial = {{ texture = {{ image = {{ file = \"t.png\", mapping = \"polar\" }} }} }}\n"
             ),
-            3,
-            62,
             "polar",
+            Some("solid 1"),
         ),
         (
             format!(
-                "[[solid]]\n{BALL}\nmaterial = {{ texture = {{ wood = {{ axis = \"q\", size = 1, a = [1, 1, 1], b = [0, 0, 0] }} }} }}\n"
+                "[[solid]]\n{BALL}\n\n[[solid]]\n{BALL}\nmaterial = {{ texture = {{ wood = {{ axis = \"q\", size = 1, a = [1, 1, 1], b = [0, 0, 0] }} }} }}\n"
             ),
-            3,
-            42,
             "q",
+            Some("solid 2"),
         ),
-        ("[[solid]]\nshape = { blob = { radius = 1 } }\n".into(), 2, 11, "blob"),
+        ("[[solid]]\nshape = { union = [\n  { blob = { radius = 1 } },\n] }\nname = \"late\"\n".into(), "blob", Some("late")),
     ];
-    for (i, (text, line, column, word)) in cases.iter().enumerate() {
+    for (i, (text, word, solid)) in cases.iter().enumerate() {
         let (path, e) = error(&dir, &format!("value{i}.toml"), text);
-        match &e {
-            Error::Parse { path: p, line: l, reason } => {
-                assert_eq!((p, l), (&path, line), "{e}");
-                assert!(reason.starts_with(&format!("column {column}: ")), "{e}");
-                assert!(reason.contains(&format!("unknown variant `{word}`")), "{e}");
-            }
-            other => panic!("case {i}: not a parse error: {other}"),
+        // The place is the value itself: inside its quotes, or the bare key.
+        let needle = if text.contains(&format!("\"{word}\"")) { format!("\"{word}\"") } else { word.to_string() };
+        match scene_cause(e, &path, text, Some(&needle), *solid) {
+            Error::Toml { reason } => assert!(reason.contains(&format!("unknown variant `{word}`")), "{reason}"),
+            other => panic!("case {i}: not the reader's error: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn value_errors_name_the_file_the_place_and_the_solid() {
+    let dir = scratch("refused");
+    std::fs::write(dir.join("open.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n").unwrap();
+    save_mesh(&cuboid(DVec3::ZERO, DVec3::ONE), dir.join("cube.obj")).unwrap();
+    let part = |material: &str| format!("[[solid]]\nname = \"part\"\n{BALL}\nmaterial = {{ {material} }}\n");
+    // (scene text, where the error is, the solid, words of the message)
+    let cases: Vec<(String, &str, Option<&str>, Vec<&str>)> = vec![
+        (part("color = \"red\""), "\"red\"", Some("part"), vec!["invalid colour", COLOR_FORMS]),
+        (part("color = 0.5"), "0.5", Some("part"), vec!["expected a colour", COLOR_FORMS]),
+        (part("color = [0.5, 0.5]"), "[0.5, 0.5]", Some("part"), vec!["2 components", COLOR_FORMS]),
+        (part("color = { rbg = [1, 0, 0] }"), "{ rbg", Some("part"), vec!["unknown model `rbg`", COLOR_FORMS]),
+        (part("color = \"#12345g\""), "\"#12345g\"", Some("part"), vec!["#12345g", COLOR_FORMS]),
+        (part("color = [1.5, 0, 0]"), "[1.5", Some("part"), vec!["component 1.5", "outside 0..1"]),
+        (part("color = { cmy = [0, -0.1, 0] }"), "{ cmy", Some("part"), vec!["component -0.1", "outside 0..1"]),
+        (part("color = { hsi = [400, 0.5, 0.5] }"), "{ hsi", Some("part"), vec!["hue 400", "0..360"]),
+        // I (1 + S cos 0 / cos 60) = 0.9 (1 + 2) > 1: that saturation is out of reach.
+        (part("color = { hsi = [0, 1, 0.9] }"), "{ hsi", Some("part"), vec!["hsi [0.0, 1.0, 0.9] gives rgb", "outside 0..1"]),
+        (
+            part("texture = { checker = { size = 1, a = [1, 1, 1], b = [0, 0, 2] } }"),
+            "[0, 0, 2]",
+            Some("part"),
+            vec!["component 2", "outside 0..1"],
+        ),
+        (
+            "[[solid]]\nname = \"drilled\"\nshape = { difference = [\n  { box = { center = [0, 0, 0], size = [2, 2, 2] } },\n  { sphere = { center = [0, 0, 0], radius = -1 } },\n] }\n".into(),
+            "{ sphere = { center = [0, 0, 0], radius = -1",
+            Some("drilled"),
+            vec!["invalid radius: -1"],
+        ),
+        (
+            "[[solid]]\nname = \"ring\"\nshape = { torus = { center = [0, 0, 0], axis = \"z\", radius = 1, tube = 2 } }\n".into(),
+            "{ torus",
+            Some("ring"),
+            vec!["tube radius"],
+        ),
+        ("[[solid]]\nname = \"none\"\nshape = { union = [] }\n".into(), "{ union", Some("none"), vec!["at least one operand"]),
+        (
+            format!("[[light]]\ntype = \"point\"\nposition = [1, 1, 1]\ncolor = [2, 2, 2]\n\n[[solid]]\n{BALL}\n"),
+            "[2, 2, 2]",
+            None,
+            vec!["component 2"],
+        ),
+        (format!("[image]\nbackground = \"#zz0000\"\n\n[[solid]]\n{BALL}\n"), "\"#zz0000\"", None, vec![COLOR_FORMS]),
+    ];
+    for (i, (text, needle, solid, words)) in cases.iter().enumerate() {
+        let (path, e) = error(&dir, &format!("refused{i}.toml"), text);
+        let message = e.to_string();
+        let cause = scene_cause(e, &path, text, Some(needle), *solid);
+        assert!(matches!(cause, Error::Toml { .. }), "case {i}: {cause:?}");
+        for word in words {
+            assert!(message.contains(word), "case {i}: {message:?} lacks {word:?}");
+        }
+    }
+    // Refused while building: at the key that names what failed.
+    let built: Vec<(String, &str, Vec<&str>)> = vec![
+        (
+            "[[solid]]\nname = \"part\"\nshape = { union = [{ mesh = \"gone.obj\" }] }\n".into(),
+            "{ union",
+            vec!["gone.obj", "No such file"],
+        ),
+        (
+            "[[solid]]\nname = \"part\"\nshape = { difference = [{ mesh = \"open.obj\" }, { sphere = { center = [0, 0, 0], radius = 0.1 } }] }\n".into(),
+            "{ difference",
+            vec!["open.obj", "closed", "3 boundary"],
+        ),
+        (
+            "[[solid]]\nname = \"part\"\nmesh = \"cube.obj\"\ntransform = { rotate_degrees = 30 }\n".into(),
+            "{ rotate_degrees",
+            vec!["rotate_axis and rotate_degrees together"],
+        ),
+        (
+            "[[solid]]\nname = \"part\"\nmesh = \"cube.obj\"\ntransform = { scale = [1, 0, 1] }\n".into(),
+            "{ scale",
+            vec!["not finite and invertible"],
+        ),
+        ("[[solid]]\nname = \"part\"\nmesh = \"cube.obj\"\nmaterial = { ka = 2 }\n".into(), "{ ka", vec!["invalid ka"]),
+        (
+            "[[solid]]\nname = \"part\"\nshape = { half_space = { normal = [0, 0, 1], offset = 0 } }\n".into(),
+            "{ half_space",
+            vec!["unbounded"],
+        ),
+        (format!("[[solid]]\nname = \"part\"\n{BALL}\nmesh = \"cube.obj\"\n"), "[[solid]]", vec!["exactly one of"]),
+    ];
+    for (i, (text, needle, words)) in built.iter().enumerate() {
+        let (path, e) = error(&dir, &format!("built{i}.toml"), text);
+        let message = e.to_string();
+        let cause = scene_cause(e, &path, text, Some(needle), Some("part"));
+        assert!(!matches!(cause, Error::Toml { .. }), "case {i}: {cause:?}");
+        for word in words {
+            assert!(message.contains(word), "case {i}: {message:?} lacks {word:?}");
         }
     }
 }
@@ -118,9 +238,9 @@ fn misspelt_values_are_parse_errors_at_their_place() {
 #[test]
 fn a_missing_mesh_keeps_its_io_error_and_the_solids_name() {
     let dir = scratch("missing");
-    let (path, e) = error(&dir, "mesh.toml", "[[solid]]\nname = \"bunny\"\nmesh = \"missing.obj\"\n");
-    assert!(e.to_string().contains("mesh.toml: bunny: ") && e.to_string().contains("missing.obj"), "{e}");
-    match scene_cause(e, &path, Some("bunny")) {
+    let text = "[[solid]]\nname = \"bunny\"\nmesh = \"missing.obj\"\n";
+    let (path, e) = error(&dir, "mesh.toml", text);
+    match scene_cause(e, &path, text, Some("\"missing.obj\""), Some("bunny")) {
         Error::Io { path, source } => {
             assert_eq!(path, dir.join("missing.obj"));
             assert_eq!(source.kind(), std::io::ErrorKind::NotFound);
@@ -132,7 +252,8 @@ fn a_missing_mesh_keeps_its_io_error_and_the_solids_name() {
         "[[solid]]\n{BALL}\n\n[[solid]]\n{BALL}\nmaterial = {{ texture = {{ image = {{ file = \"gone.png\", mapping = \"planar\" }} }} }}\n"
     );
     let (path, e) = error(&dir, "texture.toml", &text);
-    assert!(matches!(scene_cause(e, &path, Some("solid 2")), Error::Io { path, .. } if path.ends_with("gone.png")));
+    let cause = scene_cause(e, &path, &text, Some("{ texture"), Some("solid 2"));
+    assert!(matches!(cause, Error::Io { path, .. } if path.ends_with("gone.png")));
 }
 
 #[test]
@@ -141,39 +262,195 @@ fn an_over_budget_solid_keeps_over_budget() {
     let small = MemoryBudget(1 << 10);
     let text = format!("[domain]\ndepth = 8\n\n[[solid]]\nname = \"ball\"\n{BALL}\n");
     let (path, loaded) = load(&dir, "shape.toml", &text, small);
-    let cause = scene_cause(loaded.err().expect("refused"), &path, Some("ball"));
+    let cause = scene_cause(loaded.err().expect("refused"), &path, &text, Some("{ sphere"), Some("ball"));
     assert!(matches!(cause, Error::OverBudget { budget: 1024, .. }), "{cause:?}");
     // The same refusal of an .oct file the scene names.
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
     let tree = voxelize(&Sphere::new(DVec3::ZERO, 0.9).unwrap(), domain, &VoxelizeOptions::default()).unwrap();
     oct::save(&tree, dir.join("ball.oct")).unwrap();
-    let (path, loaded) = load(&dir, "oct.toml", "[[solid]]\noct = \"ball.oct\"\n", small);
-    let cause = scene_cause(loaded.err().expect("refused"), &path, Some("solid 1"));
+    let text = "[[solid]]\noct = \"ball.oct\"\n";
+    let (path, loaded) = load(&dir, "oct.toml", text, small);
+    let cause = scene_cause(loaded.err().expect("refused"), &path, text, Some("\"ball.oct\""), Some("solid 1"));
     assert!(matches!(cause, Error::OverBudget { budget: 1024, .. }), "{cause:?}");
     // Within the budget it loads.
-    let (_, loaded) = load(&dir, "oct.toml", "[[solid]]\noct = \"ball.oct\"\n", MemoryBudget::default());
+    let (_, loaded) = load(&dir, "oct.toml", text, MemoryBudget::default());
     assert_eq!(loaded.unwrap().scene.solids[0].tree, tree);
 }
 
 #[test]
-fn a_corrupt_file_keeps_its_format_error_and_refused_values_their_name() {
+fn a_corrupt_file_keeps_its_format_error() {
     let dir = scratch("corrupt");
     std::fs::write(dir.join("junk.oct"), b"not an octree at all, just some text").unwrap();
-    let (path, e) = error(&dir, "junk.toml", "[[solid]]\nname = \"junk\"\noct = \"junk.oct\"\n");
-    assert!(matches!(scene_cause(e, &path, Some("junk")), Error::Format { path, .. } if path.ends_with("junk.oct")));
+    let text = "[[solid]]\nname = \"junk\"\noct = \"junk.oct\"\n";
+    let (path, e) = error(&dir, "junk.toml", text);
+    let cause = scene_cause(e, &path, text, Some("\"junk.oct\""), Some("junk"));
+    assert!(matches!(cause, Error::Format { path, .. } if path.ends_with("junk.oct")));
     std::fs::write(dir.join("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
-    let (path, e) = error(&dir, "obj.toml", "[[solid]]\nmesh = \"bad.obj\"\n");
-    assert!(matches!(scene_cause(e, &path, Some("solid 1")), Error::Parse { line: 4, .. }));
-    let (path, e) = error(&dir, "radius.toml", "[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = -1 } }\n");
-    assert!(matches!(scene_cause(e, &path, Some("solid 1")), Error::InvalidArgument { what: "radius", .. }));
-    let (path, e) = error(&dir, "ka.toml", &format!("[[solid]]\n{BALL}\nmaterial = {{ ka = 2 }}\n"));
-    assert!(matches!(scene_cause(e, &path, Some("solid 1")), Error::InvalidArgument { what: "ka", .. }));
-    let (path, e) = error(&dir, "two.toml", &format!("[[solid]]\n{BALL}\noct = \"junk.oct\"\n"));
-    assert!(matches!(scene_cause(e, &path, Some("solid 1")), Error::InvalidArgument { what: "solid", .. }));
-    let (path, e) = error(
-        &dir,
-        "unbounded.toml",
-        "[[solid]]\nname = \"floor\"\nshape = { half_space = { normal = [0, 0, 1], offset = 0 } }\n",
+    let text = "[[solid]]\nmesh = \"bad.obj\"\n";
+    let (path, e) = error(&dir, "obj.toml", text);
+    assert!(matches!(scene_cause(e, &path, text, Some("\"bad.obj\""), Some("solid 1")), Error::Parse { line: 4, .. }));
+}
+
+/// The material colours of a scene whose solids are balls of the given materials.
+fn colours(dir: &Path, name: &str, materials: &[&str]) -> Vec<DVec3> {
+    let text: String = materials.iter().map(|m| format!("[[solid]]\n{BALL}\nmaterial = {{ {m} }}\n\n")).collect();
+    let (_, loaded) = load(dir, name, &text, MemoryBudget::default());
+    loaded.unwrap().scene.solids.iter().map(|s| s.material.color).collect()
+}
+
+#[test]
+fn colour_forms_parse_to_their_rgb() {
+    let dir = scratch("colours");
+    // (form, linear RGB by hand)
+    let cases = [
+        ("[0.25, 0.5, 1]", DVec3::new(0.25, 0.5, 1.0)),
+        ("{ rgb = [0.25, 0.5, 1] }", DVec3::new(0.25, 0.5, 1.0)),
+        // cmy = 1 - rgb.
+        ("{ cmy = [0.25, 0.5, 1] }", DVec3::new(0.75, 0.5, 0.0)),
+        ("\"#ff8000\"", DVec3::new(1.0, 128.0 / 255.0, 0.0)),
+        ("\"#0A141e\"", DVec3::new(10.0, 20.0, 30.0) / 255.0),
+        // HSI by the sector formulas: H = 60 in the first sector, B = I (1 - S) = 0.2,
+        // R = I (1 + S cos 60 / cos 0) = 0.5, G = 3 I - R - B = 0.5.
+        ("{ hsi = [60, 0.5, 0.4] }", DVec3::new(0.5, 0.5, 0.2)),
+        // H = 120 starts the second sector: R = I (1 - S) = 0.2, G = I (1 + S / cos 60) = 0.8.
+        ("{ hsi = [120, 0.5, 0.4] }", DVec3::new(0.2, 0.8, 0.2)),
+        // H = 240: G = I (1 - S) = 0.3, B = I (1 + S / cos 60) = 0.6, R = 0.3.
+        ("{ hsi = [240, 0.25, 0.4] }", DVec3::new(0.3, 0.3, 0.6)),
+        // Grey: no saturation, every channel the intensity, whatever the hue.
+        ("{ hsi = [300, 0, 0.7] }", DVec3::splat(0.7)),
+    ];
+    let materials: Vec<String> = cases.iter().map(|(form, _)| format!("color = {form}")).collect();
+    let got = colours(&dir, "forms.toml", &materials.iter().map(String::as_str).collect::<Vec<_>>());
+    for ((form, want), got) in cases.iter().zip(got) {
+        assert!((got - *want).abs().max_element() < 1e-12, "{form}: {got} vs {want}");
+    }
+    // Textures, lights, the ambient light and the background take the same forms.
+    let text = format!(
+        "ambient = {{ cmy = [0.5, 0.5, 0.5] }}\n[image]\nbackground = \"#336699\"\n\n[[light]]\ntype = \"directional\"\n\
+         direction = [0, 0, -1]\ncolor = {{ hsi = [0, 0, 0.8] }}\n\n[[solid]]\n{BALL}\n\
+         material = {{ texture = {{ checker = {{ size = 1, a = \"#ffffff\", b = {{ cmy = [1, 1, 1] }} }} }} }}\n"
     );
-    assert!(matches!(scene_cause(e, &path, Some("floor")), Error::InvalidArgument { what: "shape", .. }));
+    let (_, loaded) = load(&dir, "others.toml", &text, MemoryBudget::default());
+    let scene = loaded.unwrap().scene;
+    assert_eq!(scene.ambient, DVec3::splat(0.5));
+    assert_eq!(scene.background, DVec3::new(0x33 as f64, 0x66 as f64, 0x99 as f64) / 255.0);
+    assert!(
+        matches!(scene.lights[..], [Light::Directional { color, .. }] if (color - DVec3::splat(0.8)).length() < 1e-12)
+    );
+    let texture = format!("{:?}", scene.solids[0].material.texture);
+    assert!(texture.contains("a: DVec3(1.0, 1.0, 1.0), b: DVec3(0.0, 0.0, 0.0)"), "{texture}");
+}
+
+/// Writes the closed mesh of the box `center`, `size` to `dir/name`.
+fn write_box(dir: &Path, name: &str, center: DVec3, size: DVec3) {
+    save_mesh(&cuboid(center, size), dir.join(name)).unwrap();
+}
+
+#[test]
+fn a_transformed_mesh_solid_has_the_volume_of_the_transformed_mesh() {
+    let dir = scratch("mesh-transform");
+    let (center, size) = (DVec3::new(0.1, 0.2, -0.3), DVec3::new(1.0, 0.8, 0.6));
+    write_box(&dir, "box.obj", center, size);
+    let depth = 6;
+    let (cos, sin) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    // (transform, its scale, inside rule, where the box's centre goes); the winding rule,
+    // unlike parity, would see a mirrored mesh turned inside out.
+    let cases = [
+        ("scale = [2, 2, 2]", DVec3::splat(2.0), "auto", center * 2.0),
+        ("scale = [-2, 2, 2], translate = [5, 0, 0]", DVec3::new(-2.0, 2.0, 2.0), "auto", DVec3::new(4.8, 0.4, -0.6)),
+        (
+            "scale = [-2, 2, 2], translate = [5, 0, 0]",
+            DVec3::new(-2.0, 2.0, 2.0),
+            "winding",
+            DVec3::new(4.8, 0.4, -0.6),
+        ),
+        (
+            "scale = [2, 1, 1], rotate_axis = [0, 0, 1], rotate_degrees = 30, translate = [0, 0, 1]",
+            DVec3::new(2.0, 1.0, 1.0),
+            "auto",
+            DVec3::new(0.2 * cos - 0.2 * sin, 0.2 * sin + 0.2 * cos, 0.7),
+        ),
+    ];
+    for (transform, scale, inside, moved_center) in cases {
+        let text = format!(
+            "[[solid]]\nmesh = \"box.obj\"\ndepth = {depth}\ninside = \"{inside}\"\ntransform = {{ {transform} }}\n"
+        );
+        let (_, loaded) = load(&dir, "moved.toml", &text, MemoryBudget::default());
+        let tree = loaded.unwrap().scene.solids.remove(0).tree;
+        // The analytic volume and area of the moved box (a rotation keeps both).
+        let edges = (size * scale).abs();
+        let want = edges.x * edges.y * edges.z;
+        let area = 2.0 * (edges.x * edges.y + edges.y * edges.z + edges.x * edges.z);
+        // Centre sampling errs only in voxels the surface crosses, within sqrt(3) h / 2
+        // of it: at most the shell of area x sqrt(3) h (1.8 for the edges' share).
+        let h = tree.domain().voxel_size();
+        let bound = 1.8 * area * h;
+        assert!((tree.volume() - want).abs() < bound, "{transform}: {} vs {want} (bound {bound})", tree.volume());
+        let b = tree.bounds().unwrap();
+        assert!((b.center() - moved_center).abs().max_element() < 2.0 * h, "{transform}: centre {}", b.center());
+    }
+}
+
+#[test]
+fn a_transformed_oct_solid_moves_exactly_or_resamples() {
+    let dir = scratch("oct-transform");
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+    let box_shape = Cuboid::new(DVec3::new(0.1, 0.0, 0.0), DVec3::new(1.2, 0.7, 0.5)).unwrap();
+    let tree = voxelize(&box_shape, domain, &VoxelizeOptions::default()).unwrap();
+    oct::save(&tree, dir.join("box.oct")).unwrap();
+    let moved = |transform: &str| -> LinearOctree {
+        let text = format!("[[solid]]\noct = \"box.oct\"\ntransform = {{ {transform} }}\n");
+        let (_, loaded) = load(&dir, "moved.toml", &text, MemoryBudget::default());
+        loaded.unwrap().scene.solids.remove(0).tree
+    };
+    // A translation by a fraction of a voxel and a uniform scale move the domain, not the keys.
+    let shifted = moved("scale = [3, 3, 3], translate = [0.3, 0, -7]");
+    assert_eq!(shifted.keys(), tree.keys());
+    assert_eq!(*shifted.domain(), Domain::new(DVec3::new(-2.7, -3.0, -10.0), 6.0, 6).unwrap());
+    // A quarter turn about z: the voxel (x, y, z) of the box is at (-y, x, z).
+    let turned = moved("rotate_axis = [0, 0, 1], rotate_degrees = 90");
+    assert_eq!(turned.voxel_count(), tree.voxel_count());
+    for v in [[40u32, 30, 33], [20, 30, 30], [36, 40, 31]] {
+        let p = domain.voxel_center(v);
+        let image = DVec3::new(-p.y, p.x, p.z);
+        assert_eq!(turned.contains_point(image), tree.contains_voxel(v), "{v:?}");
+    }
+    // An eighth turn is resampled: the volume within a voxel layer of the box's area.
+    let eighth = moved("rotate_axis = [0, 0, 1], rotate_degrees = 45");
+    let h = domain.voxel_size();
+    let area = 2.0 * (1.2 * 0.7 + 0.7 * 0.5 + 1.2 * 0.5);
+    assert!((eighth.volume() - tree.volume()).abs() < 1.8 * area * h, "{} vs {}", eighth.volume(), tree.volume());
+}
+
+#[test]
+fn a_csg_scene_of_a_shape_a_mesh_and_an_oct_is_the_predicate_voxel_by_voxel() {
+    let dir = scratch("mixed");
+    // The .oct: a slab voxelized in the scene's domain, so the scene samples it exactly.
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+    let (slab_center, slab_size) = (DVec3::new(-0.2, 0.1, -0.5), DVec3::new(1.4, 1.1, 0.3));
+    let slab = Cuboid::new(slab_center, slab_size).unwrap();
+    oct::save(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
+    let (cube_center, cube_size) = (DVec3::new(0.13, 0.07, 0.21), DVec3::new(0.9, 0.8, 0.7));
+    write_box(&dir, "cube.obj", cube_center, cube_size);
+    let (ball_center, radius) = (DVec3::new(0.3, 0.2, 0.1), 0.45);
+    // 0.25 is eight voxels: the moved slab is still sampled at its voxel centres.
+    let text = format!(
+        "[domain]\nmin = [-1, -1, -1]\nedge = 2\ndepth = 6\n\n[[solid]]\nname = \"mixed\"\nshape = {{ difference = [\n  \
+         {{ union = [\n    {{ mesh = \"cube.obj\" }},\n    {{ transform = {{ shape = {{ oct = \"slab.oct\" }}, translate = [0.25, 0, 0] }} }},\n  ] }},\n  \
+         {{ sphere = {{ center = [{}, {}, {}], radius = {radius} }} }},\n] }}\n",
+        ball_center.x, ball_center.y, ball_center.z
+    );
+    let (_, loaded) = load(&dir, "mixed.toml", &text, MemoryBudget::default());
+    let got = loaded.unwrap().scene.solids.remove(0).tree;
+    // The oracle: the analytic predicate at every voxel centre.
+    let in_box = |p: DVec3, c: DVec3, s: DVec3| ((p - c).abs() - s * 0.5).max_element() <= 0.0;
+    let n = domain.resolution();
+    let voxels = (0..n).flat_map(|z| (0..n).flat_map(move |y| (0..n).map(move |x| [x, y, z]))).filter(|&v| {
+        let p = domain.voxel_center(v);
+        let solid = in_box(p, cube_center, cube_size) || in_box(p - DVec3::new(0.25, 0.0, 0.0), slab_center, slab_size);
+        solid && (p - ball_center).length_squared() > radius * radius
+    });
+    let want = LinearOctree::from_voxels(domain, voxels).unwrap();
+    assert!(want.voxel_count() > 5000, "{}", want.voxel_count());
+    assert_eq!(got, want, "{} voxels differ", (&got ^ &want).voxel_count());
 }

@@ -554,7 +554,7 @@ fn motions_by_quarter_turns_and_powers_of_two_are_exact() {
             .map(|_| Turn { axis: axes[rng.below(3) as usize], degrees: 90.0 * (rng.below(7) as f64 - 3.0) })
             .collect();
         let motion = Motion { scale: [0.5, 1.0, 2.0][rng.below(3) as usize], turns, translate: rng.vec(-3.0, 3.0) };
-        let (got, fit) = tree.transformed(&motion, Ok, &opts()).unwrap();
+        let (got, fit) = tree.transformed(motion.affine(), Ok, &opts()).unwrap();
         assert!(matches!(fit, Fit::Exact { .. }), "round {round}: {fit:?}");
         assert_eq!(got.node_count(), tree.node_count(), "round {round}");
         let want = sampled(&tree, motion.affine(), got.domain());
@@ -570,13 +570,78 @@ fn other_motions_resample_once_into_the_target() {
     let tree = voxelize(&Cuboid::new(DVec3::ZERO, DVec3::ONE).unwrap(), d, &opts()).unwrap();
     let motion = Motion { scale: 1.5, turns: vec![Turn { axis: Axis::Z, degrees: 30.0 }], translate: DVec3::X };
     let target = Domain::new(DVec3::new(-1.0, -2.0, -2.0), 4.0, 6).unwrap();
-    let (got, fit) = tree.transformed(&motion, |_| Ok(target), &opts()).unwrap();
+    let (got, fit) = tree.transformed(motion.affine(), |_| Ok(target), &opts()).unwrap();
     assert_eq!(fit, Fit::Resampled);
     check(&got, &sampled(&tree, motion.affine(), &target), "into the target");
     // The default target holds the whole moved cube (volume 1.5^3 within a voxel shell).
-    let (got, _) = tree.transformed(&motion, Ok, &opts()).unwrap();
+    let (got, _) = tree.transformed(motion.affine(), Ok, &opts()).unwrap();
     let h = got.domain().voxel_size();
     assert!((got.volume() - 1.5f64.powi(3)).abs() < 6.0 * 1.5 * 1.5 * h * 2.0, "{}", got.volume());
     let bad = Motion { scale: -1.0, ..Motion::default() };
-    assert!(tree.transformed(&bad, Ok, &opts()).is_err());
+    assert!(bad.checked_affine().is_err());
+}
+
+/// The oracle of a moved solid: voxel `v` of `got`'s domain is full iff the source
+/// voxel under the preimage of its centre is (nearest sampling, which is the exact
+/// image when the map sends voxels to voxels).
+fn check_moved(got: &LinearOctree, source: &Domain, grid: &Grid, map: DAffine3, what: &str) {
+    got.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
+    let (d, back) = (*got.domain(), map.inverse());
+    let n = d.resolution();
+    for x in 0..n {
+        for y in 0..n {
+            for z in 0..n {
+                let p = back.transform_point3(d.voxel_center([x, y, z]));
+                let want = source.voxel_of(p).is_some_and(|s| grid.get(s.map(i64::from)));
+                assert_eq!(got.contains_voxel([x, y, z]), want, "{what}: voxel {:?}", [x, y, z]);
+            }
+        }
+    }
+}
+
+#[test]
+fn transformed_is_exact_for_cube_symmetries_and_resampled_otherwise() {
+    let mut rng = Rng(2024);
+    let deg = |a: f64| a.to_radians();
+    let point = DVec3::new(0.3, -2.0, 1.7);
+    let about = |m: DAffine3| DAffine3::from_translation(point) * m * DAffine3::from_translation(-point);
+    // (name, map, exact: a cube symmetry times a scale plus a translation)
+    let maps = [
+        ("translation by a fraction of a voxel", DAffine3::from_translation(DVec3::new(0.37, -1.2, 5.01)), true),
+        ("uniform scale", DAffine3::from_scale(DVec3::splat(2.5)), true),
+        ("quarter turn in degrees", about(DAffine3::from_axis_angle(DVec3::Z, deg(90.0))), true),
+        ("three quarter turns about x", about(DAffine3::from_axis_angle(DVec3::X, deg(270.0))), true),
+        ("mirror", DAffine3::from_scale(DVec3::new(-1.0, 1.0, 1.0)), true),
+        (
+            "turn, mirror, shrink and move",
+            DAffine3::from_translation(DVec3::new(4.0, 0.5, -3.0))
+                * DAffine3::from_scale(DVec3::new(0.5, -0.5, 0.5))
+                * DAffine3::from_axis_angle(DVec3::Y, deg(-90.0)),
+            true,
+        ),
+        ("eighth turn", about(DAffine3::from_axis_angle(DVec3::Z, deg(45.0))), false),
+        ("stretch", DAffine3::from_scale(DVec3::new(1.0, 2.0, 1.0)), false),
+    ];
+    for trial in 0..6 {
+        let (tree, grid) = random_solid(&mut rng, 4);
+        for (name, map, exact) in maps {
+            let what = format!("trial {trial}, {name}");
+            let moved = tree.transformed(map, Ok, &opts()).unwrap().0;
+            check_moved(&moved, tree.domain(), &grid, map, &what);
+            if exact {
+                let scale = map.matrix3.determinant().abs().cbrt();
+                assert_eq!(moved.voxel_count(), tree.voxel_count(), "{what}");
+                assert!((moved.domain().edge() / tree.domain().edge() - scale).abs() < 1e-12, "{what}");
+                assert_eq!(moved.depth(), tree.depth(), "{what}");
+            } else if let Some(b) = tree.bounds() {
+                // The moved solid's box lies in the new domain: nothing is clipped.
+                let d = moved.domain().aabb();
+                for i in 0..8 {
+                    let c = map.transform_point3(b.corner(i));
+                    assert!(c.cmpge(d.min).all() && c.cmple(d.max).all(), "{what}: corner {c} outside {d:?}");
+                }
+            }
+        }
+    }
+    assert!(LinearOctree::empty(domain(3)).transformed(DAffine3::from_scale(DVec3::ZERO), Ok, &opts()).is_err());
 }

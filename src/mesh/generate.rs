@@ -120,3 +120,17 @@ pub fn box_with_hole(hole: f64, height: f64) -> TriangleMesh {
     }
     TriangleMesh { vertices, triangles, groups: Vec::new() }
 }
+
+/// The axis-aligned box of centre `center` and edge lengths `size`: 8 corners, 12
+/// triangles wound outward. Volume `size.x size.y size.z`.
+#[must_use]
+pub fn cuboid(center: DVec3, size: DVec3) -> TriangleMesh {
+    // Corner k has bit a set when it lies on the high side of axis a.
+    let vertices = (0..8)
+        .map(|k| center + (DVec3::new(f64::from(k & 1), f64::from(k >> 1 & 1), f64::from(k >> 2 & 1)) - 0.5) * size)
+        .collect();
+    // Each face as a quad, counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
+    let faces: [[u32; 4]; 6] = [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
+    let triangles = faces.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
+    TriangleMesh { vertices, triangles, groups: Vec::new() }
+}

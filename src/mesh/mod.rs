@@ -15,17 +15,19 @@ mod parity;
 mod ply;
 mod predicates;
 mod save;
+mod shape;
 mod solid;
 mod stl;
 mod surface;
 mod tables;
 mod tri_box;
+mod triangle_tree;
 mod triangulate;
 mod winding;
 
 use std::collections::HashMap;
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
@@ -34,6 +36,7 @@ pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
 pub use load::{MeshFormat, load_mesh, load_mesh_with_warnings};
 pub use parity::ParityGrid;
 pub use save::{save_mesh, write_obj, write_ply, write_stl};
+pub use shape::MeshShape;
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh};
 pub use surface::{SurfaceKind, estimate_surface_bytes, voxelize_surface};
 pub use tables::{Edge, MeshReport, PolygonTables};
@@ -170,6 +173,20 @@ impl TriangleMesh {
             }
         }
         self.vertices = vertices;
+    }
+
+    /// Moves the mesh by the affine map `map`: every vertex to `map * v`. A map that
+    /// reverses orientation (`det < 0`, a mirror) would turn the triangles inward, so
+    /// their winding is reversed too and the mesh still faces out.
+    pub fn transform(&mut self, map: DAffine3) {
+        for v in &mut self.vertices {
+            *v = map.transform_point3(*v);
+        }
+        if map.matrix3.determinant() < 0.0 {
+            for t in &mut self.triangles {
+                t.swap(1, 2);
+            }
+        }
     }
 
     /// Keeps only the triangles for which `keep(t)` is true (e.g. to open a mesh).

@@ -29,7 +29,6 @@
 use super::domain::{Domain, MAX_DEPTH};
 use super::driver::VoxelizeOptions;
 use super::linear::LinearOctree;
-use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
 /// How a solid was brought into a domain (see the module doc).
@@ -148,12 +147,4 @@ impl LinearOctree {
             .collect();
         LinearOctree::from_canonical(corner, keys)
     }
-}
-
-/// The cube of `depth` holding the image of `bounds` under the affine map `to_world`
-/// (its eight corners mapped), grown by `margin` (a fraction) on every side.
-pub(crate) fn image_domain(bounds: &Aabb, to_world: glam::DAffine3, margin: f64, depth: u8) -> Result<Domain> {
-    let corners = (0..8).map(|i| to_world.transform_point3(bounds.corner(i)));
-    let image = Aabb::from_points(corners).expect("eight corners");
-    Domain::around(&image, margin, depth)
 }

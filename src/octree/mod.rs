@@ -8,6 +8,7 @@
 //! parallel tasks joined in child order, so the result does not depend on the number
 //! of threads; progress comes in units of level-3 subtrees ([`VoxelizeOptions`]).
 
+mod affine;
 mod csg;
 mod depth;
 mod domain;
@@ -32,5 +33,6 @@ pub use fit::{Fit, common_domain};
 pub use linear::LinearOctree;
 pub use motion::{Motion, Turn};
 pub use node::{Node, NodeKey};
+pub use resample::OctreeShape;
 pub use voxelize::{estimate_bytes, voxelize};
 pub(crate) use window::keys_meeting_near;

@@ -26,6 +26,8 @@
 //! by other than quarter turns make the corner boxes looser (up to about 1.7 times per
 //! axis), which only adds boundary nodes.
 
+use std::borrow::Borrow;
+
 use glam::{DAffine3, DVec3};
 
 use super::domain::Domain;
@@ -47,13 +49,7 @@ impl LinearOctree {
     /// See the module doc for exactness and cost. Fails when `transform` is not finite
     /// and invertible, or when the voxelization exceeds `options.budget`.
     pub fn resample(&self, transform: DAffine3, target: Domain, options: &VoxelizeOptions) -> Result<LinearOctree> {
-        let det = transform.matrix3.determinant();
-        let to_source = transform.inverse();
-        if !transform.is_finite() || !det.is_finite() || det.abs() < 1e-300 || !to_source.is_finite() {
-            return Err(Error::invalid("transform", format!("{transform:?} is not finite and invertible")));
-        }
-        let view = OctreeShape { tree: self, to_source, to_target: transform };
-        voxelize(&view, target, options)
+        voxelize(&OctreeShape::new(self, transform)?, target, options)
     }
 
     /// The same solid in another domain or at another depth, sampled at the target
@@ -126,32 +122,53 @@ pub(super) fn classify_in(keys: &[NodeKey], node: NodeKey, lo: [u32; 3], hi: [u3
     seen.unwrap_or(Class::Outside)
 }
 
-/// A source octree seen through an affine map, as a [`Shape`] in the target frame.
-struct OctreeShape<'a> {
-    tree: &'a LinearOctree,
+/// An octree moved by an affine map, as a [`Shape`]: what [`LinearOctree::resample`]
+/// voxelizes, and how an octree takes part in shape CSG (a scene's `oct` leaves). `T`
+/// holds the octree: a reference, or an `Arc` for a shape that owns it. See the module
+/// doc for the point rule (nearest source voxel) and the conservative box rule.
+#[derive(Clone, Debug)]
+pub struct OctreeShape<T> {
+    tree: T,
     /// Target (world) frame to source (world) frame: the inverse of the transform.
     to_source: DAffine3,
     /// Source frame to target frame: the transform.
     to_target: DAffine3,
 }
 
-impl OctreeShape<'_> {
+impl<T: Borrow<LinearOctree>> OctreeShape<T> {
+    /// The solid of `tree` moved by `transform` (a point `p` of it goes to
+    /// `transform * p`), which must be finite and invertible.
+    pub fn new(tree: T, transform: DAffine3) -> Result<Self> {
+        let det = transform.matrix3.determinant();
+        let to_source = transform.inverse();
+        if !transform.is_finite() || !det.is_finite() || det.abs() < 1e-300 || !to_source.is_finite() {
+            return Err(Error::invalid("transform", format!("{transform:?} is not finite and invertible")));
+        }
+        Ok(OctreeShape { tree, to_source, to_target: transform })
+    }
+
+    /// The octree seen.
+    #[must_use]
+    pub fn tree(&self) -> &LinearOctree {
+        self.tree.borrow()
+    }
+
     /// World-space allowance for rounding when the points of `b` are mapped and
     /// located in the source grid: many ulps of the largest magnitude involved (the
     /// terms of the mapped coordinates and the domain's corner and edge).
     fn slack(&self, b: &Aabb) -> f64 {
         let m = self.to_source.matrix3.abs();
         let t = self.to_source.translation.abs();
-        let d = self.tree.domain();
+        let d = self.tree().domain();
         let terms = (0..8).map(|i| (m * b.corner(i).abs() + t).max_element()).fold(0.0, f64::max);
         let magnitude = terms + d.min().abs().max_element() + d.edge();
         1e-12 * magnitude + 1e-9 * d.voxel_size()
     }
 }
 
-impl Shape for OctreeShape<'_> {
+impl<T: Borrow<LinearOctree> + Send + Sync> Shape for OctreeShape<T> {
     fn classify(&self, b: &Aabb) -> Class {
-        let d = self.tree.domain();
+        let d = self.tree().domain();
         let region =
             Aabb::from_points((0..8).map(|i| self.to_source.transform_point3(b.corner(i)))).expect("eight corners");
         // Step 1: the padded region in source voxel units.
@@ -168,18 +185,18 @@ impl Shape for OctreeShape<'_> {
         // Step 2: the source voxels the closed region touches, clamped to the domain.
         let lo = t0.max(DVec3::ZERO).floor().to_array().map(|c| c as u32);
         let hi = (t1.min(DVec3::splat(n - 1.0)).floor() + 1.0).to_array().map(|c| c as u32);
-        match self.tree.classify_voxel_box(lo, hi) {
+        match self.tree().classify_voxel_box(lo, hi) {
             Class::Inside if leaves_domain => Class::Boundary,
             c => c,
         }
     }
 
     fn contains(&self, p: DVec3) -> bool {
-        self.tree.contains_point(self.to_source.transform_point3(p))
+        self.tree().contains_point(self.to_source.transform_point3(p))
     }
 
     fn bounds(&self) -> Option<Aabb> {
-        let b = self.tree.bounds()?;
+        let b = self.tree().bounds()?;
         Aabb::from_points((0..8).map(|i| self.to_target.transform_point3(b.corner(i))))
     }
 }

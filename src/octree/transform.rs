@@ -106,7 +106,7 @@ impl LinearOctree {
 
     /// Applies a symmetry of the domain's octree (a bijection of aligned cubes that
     /// keeps sizes and sibling sets), given by each cube's new lowest voxel; then sorts.
-    fn map_nodes(&self, f: impl Fn([u32; 3], u32) -> [u32; 3]) -> LinearOctree {
+    pub(super) fn map_nodes(&self, f: impl Fn([u32; 3], u32) -> [u32; 3]) -> LinearOctree {
         let mut keys: Vec<NodeKey> = self
             .nodes()
             .map(|Node { min, size, .. }| {

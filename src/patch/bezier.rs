@@ -1,6 +1,6 @@
 //! One bicubic Bezier patch.
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 
 use crate::aabb::Aabb;
 
@@ -38,6 +38,19 @@ fn split_curve(c: [DVec3; 4]) -> ([DVec3; 4], [DVec3; 4]) {
 }
 
 impl BezierPatch {
+    /// The patch moved by the affine map `map`: Bezier patches are affine invariant,
+    /// so the control points are mapped. A map that reverses orientation (`det < 0`)
+    /// also swaps `u` and `v` (the net transposed), so the normal `du x dv` keeps its side.
+    #[must_use]
+    pub fn transformed(&self, map: DAffine3) -> BezierPatch {
+        let mirrored = map.matrix3.determinant() < 0.0;
+        BezierPatch {
+            p: std::array::from_fn(|i| {
+                std::array::from_fn(|j| map.transform_point3(if mirrored { self.p[j][i] } else { self.p[i][j] }))
+            }),
+        }
+    }
+
     /// The surface point `p(u, v)`.
     #[must_use]
     pub fn eval(&self, u: f64, v: f64) -> DVec3 {

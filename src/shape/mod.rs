@@ -102,7 +102,7 @@ pub use cylinder::Cylinder;
 pub use displaced::DisplacedSphere;
 pub use half_space::HalfSpace;
 pub use menger::Menger;
-pub use spec::ShapeSpec;
+pub use spec::{FileLeaves, ShapeSpec, TransformSpec};
 pub use sphere::{Ellipsoid, Sphere};
 pub use surface::Surface;
 pub use torus::Torus;

@@ -11,24 +11,59 @@
 //!
 //! Building checks what the shapes' constructors check (finite values, positive sizes)
 //! and that every set operation has an operand; a `transform` applies `scale`, then the
-//! rotation of `rotate_degrees` about `rotate_axis` (both or neither), then `translate`.
+//! rotation of `rotate_degrees` about `rotate_axis` (both or neither), then `translate`
+//! ([`TransformSpec`], which a scene's `mesh` and `oct` solids take too).
+//!
+//! Reading checks too: deserializing a node builds it (a primitive by its constructor,
+//! a set operation's operand count, a transform's map) and refuses it with the
+//! constructor's message, so a scene's negative radius is an error of the reader, at
+//! the place of the node that holds it (the deserializer's span of that node), like a
+//! misspelt kind. This is done by a visitor of the node's table that hands it to the
+//! derived deserializer (of a private twin, see `shape_spec!`) and checks the result
+//! before returning, inside the reader's call for that node.
+//!
+//! Two leaves name files, `{ mesh = "part.obj" }` (a closed triangle mesh) and
+//! `{ oct = "part.oct" }` (a stored octree). The shape layer knows no mesh or octree:
+//! [`ShapeSpec::build_with`] asks a [`FileLeaves`] (the scene loader) for their shapes;
+//! [`ShapeSpec::build`] refuses them.
 //!
 //! [`ShapeSpec::volume`] is the exact volume where there is a closed form: each
 //! primitive's formula (the Menger sponge's `size^3 (20/27)^level` included), and a
 //! transform's inner volume times `|det M|` of its linear part. Half-spaces and
 //! complements are unbounded, a displaced sphere and the set operations have none.
 
+use std::path::{Path, PathBuf};
+
 use glam::{DAffine3, DQuat, DVec3};
 use serde::Deserialize;
+use serde::de::{self, Deserializer, IgnoredAny, MapAccess, Visitor};
 
 use super::{
     Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Sphere, Torus, Transformed,
 };
 use crate::error::{Error, Result};
 
+/// Defines [`ShapeSpec`] and, from the same variants, the private `Derived`, whose
+/// derived deserializer (`serde(remote = "ShapeSpec")`, an inherent function of
+/// `Derived` that makes a `ShapeSpec`) is what the checking [`Deserialize`] impl of
+/// `ShapeSpec` calls for a node's table. One list of variants; no derived deserializer
+/// that skips the checks is public (`remote = "Self"` would make it an inherent
+/// `ShapeSpec::deserialize`).
+macro_rules! shape_spec {
+    ($(#[$attr:meta])* pub enum ShapeSpec { $($variants:tt)* }) => {
+        $(#[$attr])*
+        pub enum ShapeSpec { $($variants)* }
+
+        #[derive(Deserialize)]
+        #[serde(remote = "ShapeSpec", rename_all = "snake_case", deny_unknown_fields)]
+        #[allow(dead_code)] // only its generated function is used
+        enum Derived { $($variants)* }
+    };
+}
+
+shape_spec! {
 /// A shape CSG tree as data (see the module doc); [`ShapeSpec::build`] makes the [`Csg`].
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum ShapeSpec {
     /// A ball.
     Sphere {
@@ -121,6 +156,10 @@ pub enum ShapeSpec {
     Xor(Vec<ShapeSpec>),
     /// Points not in the shape.
     Complement(Box<ShapeSpec>),
+    /// A closed triangle mesh read from a file (OBJ, STL, PLY), built by a [`FileLeaves`].
+    Mesh(PathBuf),
+    /// A solid read from an `.oct` file, built by a [`FileLeaves`].
+    Oct(PathBuf),
     /// A shape scaled, then rotated, then translated.
     Transform {
         /// The shape moved.
@@ -135,16 +174,106 @@ pub enum ShapeSpec {
         translate: Option<[f64; 3]>,
     },
 }
+}
 
 /// A `[x, y, z]` of a spec as a vector.
 fn v(a: [f64; 3]) -> DVec3 {
     DVec3::from_array(a)
 }
 
+/// An affine map as data: `scale`, then the rotation of `rotate_degrees` about
+/// `rotate_axis` (both or neither), then `translate`; every part optional.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformSpec {
+    /// Scale factors along x, y and z (default 1).
+    pub scale: Option<[f64; 3]>,
+    /// The rotation's axis (with `rotate_degrees`; need not be unit).
+    pub rotate_axis: Option<[f64; 3]>,
+    /// The rotation's angle in degrees (with `rotate_axis`).
+    pub rotate_degrees: Option<f64>,
+    /// Translation (default none).
+    pub translate: Option<[f64; 3]>,
+}
+
+impl TransformSpec {
+    /// The map `translate * rotate * scale`, refused unless it is finite and
+    /// invertible, and when only one of `rotate_axis` and `rotate_degrees` is given.
+    pub fn map(&self) -> Result<DAffine3> {
+        let scale = DAffine3::from_scale(self.scale.map_or(DVec3::ONE, v));
+        let rotate = match (self.rotate_axis, self.rotate_degrees) {
+            (Some(a), Some(deg)) => {
+                let a = v(a).try_normalize().ok_or_else(|| Error::invalid("rotate_axis", "must be non-zero"))?;
+                DAffine3::from_quat(DQuat::from_axis_angle(a, deg.to_radians()))
+            }
+            (None, None) => DAffine3::IDENTITY,
+            _ => return Err(Error::invalid("transform", "give rotate_axis and rotate_degrees together")),
+        };
+        let map = DAffine3::from_translation(self.translate.map_or(DVec3::ZERO, v)) * rotate * scale;
+        let det = map.matrix3.determinant();
+        if !map.is_finite() || !det.is_finite() || det.abs() < 1e-300 {
+            return Err(Error::invalid("transform", format!("{map:?} is not finite and invertible")));
+        }
+        Ok(map)
+    }
+}
+
+/// What builds the leaves of a spec that name files: the scene loader, which reads
+/// them relative to its folder.
+pub trait FileLeaves {
+    /// The shape of the closed mesh in `file` (`{ mesh = "file" }`).
+    fn mesh(&self, file: &Path) -> Result<Csg>;
+    /// The shape of the octree in `file` (`{ oct = "file" }`).
+    fn oct(&self, file: &Path) -> Result<Csg>;
+}
+
+/// The [`FileLeaves`] of [`ShapeSpec::build`]: none; a file leaf is refused.
+struct NoFiles;
+
+impl FileLeaves for NoFiles {
+    fn mesh(&self, file: &Path) -> Result<Csg> {
+        Err(no_file_leaves("mesh", file))
+    }
+    fn oct(&self, file: &Path) -> Result<Csg> {
+        Err(no_file_leaves("oct", file))
+    }
+}
+
+fn no_file_leaves(kind: &str, file: &Path) -> Error {
+    Error::invalid(
+        "shape",
+        format!("{kind} leaf {}: files are read by a scene (ShapeSpec::build_with)", file.display()),
+    )
+}
+
 impl ShapeSpec {
     /// The CSG tree this spec describes; errors name the refused value (a negative
-    /// radius, a set operation without operands, a rotation axis of zero length).
+    /// radius, a set operation without operands, a rotation axis of zero length). A
+    /// `mesh` or `oct` leaf is refused: see [`ShapeSpec::build_with`].
     pub fn build(&self) -> Result<Csg> {
+        self.build_with(&NoFiles)
+    }
+
+    /// [`ShapeSpec::build`] with the leaves that name files built by `files`.
+    pub fn build_with(&self, files: &dyn FileLeaves) -> Result<Csg> {
+        Ok(match self {
+            ShapeSpec::Union(parts) => fold(parts, files, |a, b| a | b)?,
+            ShapeSpec::Intersection(parts) => fold(parts, files, |a, b| a & b)?,
+            ShapeSpec::Difference(parts) => fold(parts, files, |a, b| a - b)?,
+            ShapeSpec::Xor(parts) => fold(parts, files, |a, b| a ^ b)?,
+            ShapeSpec::Complement(inner) => !inner.build_with(files)?,
+            ShapeSpec::Transform { shape, .. } => Transformed::new(shape.build_with(files)?, self.transform()?)?.into(),
+            ShapeSpec::Mesh(file) => files.mesh(file)?,
+            ShapeSpec::Oct(file) => files.oct(file)?,
+            primitive => primitive.primitive()?,
+        })
+    }
+
+    /// The shape of a primitive leaf.
+    ///
+    /// # Panics
+    /// When `self` is a set operation, a transform or a file leaf.
+    fn primitive(&self) -> Result<Csg> {
         Ok(match self {
             ShapeSpec::Sphere { center, radius } => Sphere::new(v(*center), *radius)?.into(),
             ShapeSpec::Ellipsoid { center, radii } => Ellipsoid::new(v(*center), v(*radii))?.into(),
@@ -159,16 +288,32 @@ impl ShapeSpec {
             ShapeSpec::DisplacedSphere { center, radius, amplitude, frequency } => {
                 DisplacedSphere::new(v(*center), *radius, *amplitude, *frequency)?.into()
             }
-            ShapeSpec::Union(parts) => fold(parts, |a, b| a | b)?,
-            ShapeSpec::Intersection(parts) => fold(parts, |a, b| a & b)?,
-            ShapeSpec::Difference(parts) => fold(parts, |a, b| a - b)?,
-            ShapeSpec::Xor(parts) => fold(parts, |a, b| a ^ b)?,
-            ShapeSpec::Complement(inner) => !inner.build()?,
-            ShapeSpec::Transform { shape, .. } => {
-                let map = self.transform()?;
-                Transformed::new(shape.build()?, map)?.into()
-            }
+            other => unreachable!("{other:?} is not a primitive"),
         })
+    }
+
+    /// Checks this node alone (its children were checked when they were read): a
+    /// primitive builds, a set operation has an operand, a transform's map is valid.
+    fn check_node(&self) -> Result<()> {
+        match self {
+            ShapeSpec::Union(parts)
+            | ShapeSpec::Intersection(parts)
+            | ShapeSpec::Difference(parts)
+            | ShapeSpec::Xor(parts)
+                if parts.is_empty() =>
+            {
+                Err(no_operands())
+            }
+            ShapeSpec::Transform { .. } => self.transform().map(drop),
+            ShapeSpec::Union(_)
+            | ShapeSpec::Intersection(_)
+            | ShapeSpec::Difference(_)
+            | ShapeSpec::Xor(_)
+            | ShapeSpec::Complement(_)
+            | ShapeSpec::Mesh(_)
+            | ShapeSpec::Oct(_) => Ok(()),
+            primitive => primitive.primitive().map(drop),
+        }
     }
 
     /// The exact volume where there is a closed form (see the module doc); `None`
@@ -199,35 +344,68 @@ impl ShapeSpec {
             | ShapeSpec::Intersection(_)
             | ShapeSpec::Difference(_)
             | ShapeSpec::Xor(_)
-            | ShapeSpec::Complement(_) => None,
+            | ShapeSpec::Complement(_)
+            | ShapeSpec::Mesh(_)
+            | ShapeSpec::Oct(_) => None,
         }
     }
 
-    /// The map of a `transform`: `translate * rotate * scale`; the identity for any
-    /// other kind.
+    /// The map of a `transform` ([`TransformSpec::map`]); the identity for any other kind.
     fn transform(&self) -> Result<DAffine3> {
         let ShapeSpec::Transform { scale, rotate_axis, rotate_degrees, translate, .. } = self else {
             return Ok(DAffine3::IDENTITY);
         };
-        let scale = DAffine3::from_scale(scale.map_or(DVec3::ONE, v));
-        let rotate = match (rotate_axis, rotate_degrees) {
-            (Some(a), Some(deg)) => {
-                let a = v(*a).try_normalize().ok_or_else(|| Error::invalid("rotate_axis", "must be non-zero"))?;
-                DAffine3::from_quat(DQuat::from_axis_angle(a, deg.to_radians()))
-            }
-            (None, None) => DAffine3::IDENTITY,
-            _ => return Err(Error::invalid("transform", "give rotate_axis and rotate_degrees together")),
-        };
-        let translate = DAffine3::from_translation(translate.map_or(DVec3::ZERO, v));
-        Ok(translate * rotate * scale)
+        TransformSpec {
+            scale: *scale,
+            rotate_axis: *rotate_axis,
+            rotate_degrees: *rotate_degrees,
+            translate: *translate,
+        }
+        .map()
     }
 }
 
+/// Reading a node checks it (see the module doc): the node's table goes to the derived
+/// deserializer, and the node it gives is checked before the reader's call returns.
+impl<'de> Deserialize<'de> for ShapeSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        d.deserialize_any(NodeVisitor)
+    }
+}
+
+/// Reads one node: a table with one key, its kind.
+struct NodeVisitor;
+
+impl<'de> Visitor<'de> for NodeVisitor {
+    type Value = ShapeSpec;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a shape: a table with one key, its kind")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> std::result::Result<ShapeSpec, A::Error> {
+        let one_kind = || de::Error::custom("a shape is a table with one key, its kind");
+        if map.size_hint() == Some(0) {
+            return Err(one_kind());
+        }
+        let node = Derived::deserialize(de::value::MapAccessDeserializer::new(&mut map))?;
+        if map.next_key::<IgnoredAny>()?.is_some() {
+            return Err(one_kind());
+        }
+        node.check_node().map_err(de::Error::custom)?;
+        Ok(node)
+    }
+}
+
+fn no_operands() -> Error {
+    Error::invalid("shape", "a CSG operation needs at least one operand")
+}
+
 /// The left fold of `op` over the operands' trees: `((a op b) op c) ...`.
-fn fold(parts: &[ShapeSpec], op: fn(Csg, Csg) -> Csg) -> Result<Csg> {
+fn fold(parts: &[ShapeSpec], files: &dyn FileLeaves, op: fn(Csg, Csg) -> Csg) -> Result<Csg> {
     let mut it = parts.iter();
-    let first = it.next().ok_or_else(|| Error::invalid("shape", "a CSG operation needs at least one operand"))?;
-    it.try_fold(first.build()?, |acc, s| Ok(op(acc, s.build()?)))
+    let first = it.next().ok_or_else(no_operands)?;
+    it.try_fold(first.build_with(files)?, |acc, s| Ok(op(acc, s.build_with(files)?)))
 }
 
 #[cfg(test)]

@@ -61,7 +61,7 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
     let started = Instant::now();
     let bar = Bar::new("resampling");
     let (moved, fit) = tree
-        .transformed(&motion, target, &VoxelizeOptions { budget, progress: &bar })
+        .transformed(motion.checked_affine()?, target, &VoxelizeOptions { budget, progress: &bar })
         .with_context(|| format!("{}: cannot transform", a.input.display()))?;
     out!("{}: {fit} into {} in {:.1} ms", a.input.display(), moved.domain(), started.elapsed().as_secs_f64() * 1e3);
     if moved.is_empty() && !tree.is_empty() {
