@@ -1,5 +1,6 @@
 //! The Stanford bunny, voxelized and carved by CSG: hollowed out by a shrunken copy of
-//! itself, then bored through by a cylindrical tunnel.
+//! itself, then bored through by a cylindrical tunnel. And the closed (watertight)
+//! bunny as a shape in a CSG expression before any voxelizing: `bunny - cylinder`.
 //!
 //! Run: `cargo run --release --example bunny_csg` (writes example-output/bunny_csg/bunny_csg.oct and .png).
 
@@ -45,6 +46,18 @@ fn bunny_csg(out: &std::path::Path) -> Result<()> {
         100.0 * cavity.volume() / bunny.volume()
     );
     println!("carved: {} nodes, volume {:.4e}", carved.node_count(), carved.volume());
-    println!("bunny_csg.oct and bunny_csg.png (slice at z = 0)");
+
+    // A closed mesh is a Shape: carve the watertight bunny by a cylinder first, then
+    // voxelize the expression once.
+    let closed = load_mesh(common::model("bunny-watertight.obj"))?;
+    let b = closed.bounds();
+    let (centre, size) = (b.center(), b.size());
+    let bore = Cylinder::new(centre, Axis::X, 0.12 * size.y, 1.2 * size.x)?;
+    let expression = MeshShape::new(&closed)? - bore;
+    let bored = voxelize(&expression, Domain::around(&b, 0.02, 8)?, &VoxelizeOptions::default())?;
+    oct::save(&bored, out.join("bunny_bored.oct"))?;
+    png::save(&slice_image(&bored, Axis::Z, centre.z, 768)?, out.join("bunny_bored.png"))?;
+    println!("closed bunny minus a bore, as one shape: {} nodes, volume {:.4e}", bored.node_count(), bored.volume());
+    println!("bunny_csg.oct, bunny_csg.png (slice at z = 0), bunny_bored.oct and bunny_bored.png");
     Ok(())
 }
