@@ -25,7 +25,7 @@ pub enum Command {
     Shape(shape::ShapeArgs),
     /// Combine .oct files by a set operation.
     Csg(csg::CsgArgs),
-    /// Print what an .oct file holds.
+    /// Print what an .oct file holds and measure it (area, centre of mass, inertia, components).
     Info(info::InfoArgs),
     /// Draw a cross-section of an .oct file as a PNG.
     Slice(slice::SliceArgs),
