@@ -45,7 +45,7 @@
 //! estimate never exceeds the raw voxel face area.
 //!
 //! Method: the bricks of 64^3 voxels holding boundary faces ([`BoundaryBricks`]) are
-//! read one at a time with a margin of 8 voxels as rows of bits ([`Rows`]); a row's
+//! read one at a time with a margin of 5 voxels as rows of bits ([`Rows`]); a row's
 //! exposed faces and irregular edges are a few shifts and masks of it and its eight
 //! neighbouring rows, counted into the blocks; then each block of the brick is
 //! weighted by its window. Faces on the inner parts of big flat node faces are counted

@@ -12,7 +12,6 @@
 
 use std::ops::Range;
 
-use crate::morton;
 use crate::octree::NodeKey;
 use crate::octree::window::range_meeting_near;
 
@@ -73,7 +72,8 @@ fn step(code: u64, axis: usize, k: u32, positive: bool, depth: u8) -> Option<u64
     if k >= u32::from(depth) {
         return None; // the root: nothing around it
     }
-    let lane = morton::spread(u32::MAX >> (32 - u32::from(depth))) << axis;
+    // Bits 3i + axis for i < depth: the coordinate's bits inside the domain.
+    let lane = (0x1249_2492_4924_9249 & ((1u64 << (3 * u32::from(depth))) - 1)) << axis;
     let unit = 1u64 << (3 * k + axis as u32);
     let own = code & lane;
     let moved = if positive {
@@ -120,6 +120,7 @@ impl Walk<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::morton;
     use crate::octree::{Domain, LinearOctree};
     use crate::test_util::Rng;
     use glam::DVec3;

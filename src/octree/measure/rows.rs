@@ -106,6 +106,14 @@ impl Paint {
     /// Sets the voxels of the full `node` that lie in the cube (if any).
     fn fill(&self, node: NodeKey, out: &mut Rows) {
         let min = morton::decode(node.start());
+        if node.k() == 0 {
+            // A voxel, the most common key near a surface: one bit.
+            if (0..3).all(|i| self.clo[i] <= min[i] && min[i] < self.chi[i]) {
+                let [x, y, z]: [usize; 3] = std::array::from_fn(|i| (i64::from(min[i]) - self.lo[i]) as usize);
+                out.rows[y + out.size * z] |= 1 << x;
+            }
+            return;
+        }
         let size = 1u32 << node.k();
         // The node's part of the cube, in offsets from its corner.
         let mut a = [0usize; 3];
