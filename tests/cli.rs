@@ -66,7 +66,10 @@ fn shape_csg_info_slice_round_trip() {
         ["ball", "cube", "rounded", "part", "bores", "xor"].map(|n| info_json(&dir, &format!("{n}.oct")));
     let vol = |v: &serde_json::Value| v["volume"].as_f64().unwrap();
     // Every key of the JSON contract.
-    for key in ["depth", "domain", "nodes", "voxels", "volume", "bounds", "bytes_memory", "bytes_file"] {
+    for key in ["depth", "domain", "nodes", "voxels", "volume", "bounds", "bytes_memory", "bytes_file"]
+        .into_iter()
+        .chain(["surface_area", "voxel_face_area", "centre_of_mass", "inertia", "components"])
+    {
         assert!(part.get(key).is_some(), "missing key {key}");
     }
     assert_eq!(part["depth"], 7);
@@ -87,6 +90,51 @@ fn shape_csg_info_slice_round_trip() {
     ok(&dir, &["slice", "part.oct", "--axis", "z", "--at", "0.8", "--size", "128", "-o", "part.png"]);
     let img = image::open(dir.join("part.png")).unwrap();
     assert_eq!((img.width(), img.height()), (128, 128));
+}
+
+#[test]
+fn info_measures_a_sphere_against_its_analytic_values() {
+    use std::f64::consts::PI;
+    let dir = scratch("measures");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "8", "-o", "ball.oct"]);
+    let info = info_json(&dir, "ball.oct");
+    let num = |v: &serde_json::Value| v.as_f64().unwrap();
+    // The default domain: the sphere's box grown by 2% a side, 256 voxels.
+    let h = 2.08 / 256.0;
+    assert!((num(&info["domain"]["edge"]) / 256.0 - h).abs() < 1e-12);
+    let area = num(&info["surface_area"]);
+    assert!((area / (4.0 * PI) - 1.0).abs() < 0.02, "surface_area {area}");
+    // The staircase: 3/2 the sphere's area (the mean of |n_x| + |n_y| + |n_z|).
+    assert!((num(&info["voxel_face_area"]) / (6.0 * PI) - 1.0).abs() < 0.01);
+    // Voxelization errs only within sqrt(3) h / 2 of the surface: the shell bounds
+    // the volume's error, the centre's offset and the inertia's.
+    let delta = 3f64.sqrt() / 2.0 * h;
+    let shell = 4.0 / 3.0 * PI * ((1.0 + delta).powi(3) - (1.0 - delta).powi(3));
+    let mass = 4.0 / 3.0 * PI;
+    let volume = num(&info["volume"]);
+    assert!((volume - mass).abs() <= shell);
+    let offset = (1.0 + delta) * shell / volume;
+    let centre: Vec<f64> = info["centre_of_mass"].as_array().unwrap().iter().map(num).collect();
+    assert!(centre.len() == 3 && centre.iter().map(|c| c * c).sum::<f64>().sqrt() <= offset, "{centre:?}");
+    let tolerance = (1.0 + delta).powi(2) * shell + volume * offset * offset;
+    let rows = info["inertia"].as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    for (i, row) in rows.iter().enumerate() {
+        let row: Vec<f64> = row.as_array().unwrap().iter().map(num).collect();
+        for (j, &value) in row.iter().enumerate() {
+            let want = if i == j { 0.4 * mass } else { 0.0 };
+            assert!((value - want).abs() <= tolerance, "inertia[{i}][{j}] = {value}, want {want}");
+        }
+    }
+    assert_eq!(info["components"], 1);
+    let text = ok(&dir, &["info", "ball.oct"]);
+    for label in ["area ", "centre ", "inertia ", "components 1"] {
+        assert!(text.contains(label), "{label}: {text}");
+    }
+    // Nothing left: no centre, no inertia, no components.
+    ok(&dir, &["csg", "difference", "ball.oct", "ball.oct", "-o", "none.oct"]);
+    let none = info_json(&dir, "none.oct");
+    assert!(none["centre_of_mass"].is_null() && none["components"] == 0 && num(&none["surface_area"]) == 0.0);
 }
 
 #[test]

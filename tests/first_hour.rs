@@ -234,6 +234,8 @@ fn the_up_axis_travels_in_the_oct_file() {
     ok(&dir, &["voxelize", spot, "--depth", "6", "--up", "z", "--units", "mm", "-o", "spot-z.oct"]);
     let bytes = std::fs::read(dir.join("spot.oct")).unwrap();
     assert_eq!((bytes[8], bytes[13], bytes[14]), (2, 2, 0), "version 2, up +y, no unit");
+    assert_eq!((json(&dir, "spot.oct")["up"].as_str(), json(&dir, "spot.oct")["units"].as_str()), (Some("y"), None));
+    assert_eq!(json(&dir, "spot-z.oct")["units"].as_str(), Some("mm"));
     let bytes = std::fs::read(dir.join("spot-z.oct")).unwrap();
     assert_eq!((bytes[13], bytes[14]), (3, 2), "up +z, millimetres");
     // Rendering the .oct uses the recorded axis: the same picture as --up y.

@@ -30,7 +30,7 @@ pub enum Command {
     Csg(csg::CsgArgs),
     /// Move, turn or scale an .oct solid, or bring it into another domain or depth.
     Transform(transform::TransformArgs),
-    /// Print what an .oct file holds.
+    /// Print what an .oct file holds and measure it (area, centre of mass, inertia, components).
     Info(info::InfoArgs),
     /// Draw a cross-section of an .oct file as a PNG.
     Slice(slice::SliceArgs),

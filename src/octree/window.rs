@@ -17,6 +17,8 @@
 //! that meets the node, which a parent's run does for its children: descents narrow
 //! the run as they go down.
 
+use std::ops::Range;
+
 use super::node::NodeKey;
 
 /// The keys of the sorted, disjoint run `keys` that meet `node` (just the covering key
@@ -43,16 +45,23 @@ pub(crate) fn keys_meeting(keys: &[NodeKey], node: NodeKey) -> &[NodeKey] {
 /// order). Same result as `keys_meeting(keys, node)`.
 #[must_use]
 pub(crate) fn keys_meeting_near(keys: &[NodeKey], hint: usize, node: NodeKey) -> &[NodeKey] {
+    &keys[range_meeting_near(keys, hint, node)]
+}
+
+/// [`keys_meeting_near`] as index range into `keys`, for walks that need the keys'
+/// places in the list (the component count's union-find).
+#[must_use]
+pub(crate) fn range_meeting_near(keys: &[NodeKey], hint: usize, node: NodeKey) -> Range<usize> {
     let (s, e) = (node.start(), node.end());
     // Step 1: the first key starting at or after `s`; the key before it covers the
     // node when it reaches past `s` (it starts before `s`, so it is larger).
     let lo = seek(keys, hint, s);
     if lo > 0 && keys[lo - 1].end() > s {
-        return &keys[lo - 1..lo];
+        return lo - 1..lo;
     }
     // Step 2: the keys starting inside the node (a first one starting at `s` and at
     // least the node's size covers it and is then the only one).
-    &keys[lo..seek(keys, lo, e)]
+    lo..seek(keys, lo, e)
 }
 
 /// The index of the first key starting at or after Morton code `code`
@@ -118,6 +127,7 @@ mod tests {
                 assert_eq!(keys_meeting(keys, node), want, "{node:?}");
                 for hint in [0, keys.len() / 3, keys.len() - 1, keys.len()] {
                     assert_eq!(keys_meeting_near(keys, hint, node), want, "{node:?} from {hint}");
+                    assert_eq!(&keys[range_meeting_near(keys, hint, node)], want, "{node:?} from {hint}");
                 }
                 // A parent's run holds every key meeting its children.
                 if let Some(child) = node.child(5) {

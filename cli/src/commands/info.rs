@@ -1,4 +1,5 @@
-//! `octsolid info FILE [--json]`: what an .oct file holds.
+//! `octsolid info FILE [--json]`: what an .oct file holds, and its measurements
+//! (boundary area, centre of mass, inertia tensor, connected components).
 
 use std::path::PathBuf;
 
@@ -30,6 +31,20 @@ struct Info {
     bounds: Option<BoundsInfo>,
     bytes_memory: usize,
     bytes_file: u64,
+    /// The source's up axis recorded in the file ("x", "y", "z"), or null.
+    up: Option<&'static str>,
+    /// The length unit recorded in the file ("mm", ...), or null.
+    units: Option<&'static str>,
+    /// The boundary's estimated area (`LinearOctree::surface_area`).
+    surface_area: f64,
+    /// The voxel boundary's own area.
+    voxel_face_area: f64,
+    /// `[x, y, z]`, `null` for the empty solid.
+    centre_of_mass: Option<[f64; 3]>,
+    /// About the centre of mass, unit density: three rows of three.
+    inertia: [[f64; 3]; 3],
+    /// Face-connected components.
+    components: u64,
 }
 
 #[derive(Serialize)]
@@ -47,9 +62,10 @@ struct BoundsInfo {
 /// `octsolid info FILE [--json]`
 pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     let (file, json) = (&a.file, a.json);
-    let tree = oct::load(file, budget)?;
+    let (tree, meta) = oct::load_with(file, budget)?;
     let bytes_file = std::fs::metadata(file).with_context(|| format!("{}", file.display()))?.len();
     let d = tree.domain();
+    let measures = tree.measure();
     let info = Info {
         depth: d.depth(),
         domain: DomainInfo { min: d.min().to_array(), edge: d.edge() },
@@ -59,6 +75,13 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
         bounds: tree.bounds().map(|b| BoundsInfo { min: b.min.to_array(), max: b.max.to_array() }),
         bytes_memory: tree.bytes(),
         bytes_file,
+        up: meta.up.map(|a| ["x", "y", "z"][a.index()]),
+        units: meta.units.map(oct::Units::name),
+        surface_area: measures.surface_area,
+        voxel_face_area: measures.voxel_face_area,
+        centre_of_mass: measures.centre_of_mass.map(|c| c.to_array()),
+        inertia: std::array::from_fn(|i| measures.inertia.row(i).to_array()),
+        components: measures.components,
     };
     if json {
         out!("{}", serde_json::to_string(&info)?);
@@ -67,8 +90,24 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     out!("file       {}", file.display());
     out!("depth      {} ({} voxels a side, voxel edge {})", info.depth, d.resolution(), d.voxel_size());
     out!("domain     min {:?} edge {}", info.domain.min, info.domain.edge);
+    out!("up         {} (units {})", info.up.unwrap_or("not recorded: z"), info.units.unwrap_or("not recorded"));
     print_summary(&tree, None);
     let per_node = |b: f64| if info.nodes == 0 { 0.0 } else { b / info.nodes as f64 };
     out!("on disk    {} ({:.2} bytes a node)", human_bytes(bytes_file), per_node(bytes_file as f64));
+    print_measures(&info);
     Ok(())
+}
+
+/// The measurements: area (and the voxel faces'), centre of mass, inertia, components.
+fn print_measures(info: &Info) {
+    out!("area       {:.6} (voxel faces {:.6})", info.surface_area, info.voxel_face_area);
+    match info.centre_of_mass {
+        Some(c) => out!("centre     [{:.6}, {:.6}, {:.6}]", c[0], c[1], c[2]),
+        None => out!("centre     (empty)"),
+    }
+    for (i, row) in info.inertia.iter().enumerate() {
+        let label = if i == 0 { "inertia" } else { "" };
+        out!("{label:<10} [{:.6}, {:.6}, {:.6}]", row[0], row[1], row[2]);
+    }
+    out!("components {}", info.components);
 }
