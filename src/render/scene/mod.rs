@@ -3,10 +3,13 @@
 //! the complement's traversal for rays inside, the octree's normal estimate), their
 //! materials and textures, lights, ambient light and background.
 
+mod gradient;
 mod light;
 mod material;
 mod normal_field;
+mod occupancy;
 mod texture;
+mod thread_cache;
 
 pub use light::Light;
 pub use material::{Bump, Material};
