@@ -12,10 +12,11 @@
 //! - `visibility`: which solid, voxel and face each sample sees, by any [`Method`]
 //!   (the ray walk or a raster method: the same hits, bit for bit).
 //! - `pipeline`: [`render`]: visibility, then shading, averaged over each pixel's
-//!   samples.
+//!   samples; [`quick`]: a solid to a PNG file in one call.
 
 mod film;
 mod pipeline;
+mod quick;
 mod raster;
 mod scene;
 mod shade;
@@ -24,6 +25,7 @@ mod visibility;
 
 pub use film::{Camera, DEFAULT_VIEW, Projection, SampleGrid, View, from_srgb8, to_srgb8};
 pub use pipeline::{MAX_IMAGE_SIZE, RenderOptions, RenderStats, render};
+pub use quick::quick;
 pub use raster::polygon;
 pub use scene::{Bump, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};
 pub use shade::{Normals, ShadeOptions, radiance, reflect, refract};

@@ -49,7 +49,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_shadows: bool,
     /// Shading normals: axis (the voxel faces'), smooth (the source shape's where a
-    /// solid has one, else estimated from the octree) or octree (always estimated).
+    /// solid has one, else estimated from the octree) or octree (always estimated)
+    /// (default: the scene's, or smooth).
     #[arg(long)]
     pub normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
@@ -182,9 +183,8 @@ fn solid_scene(a: &RenderArgs, kind: FileKind, budget: MemoryBudget) -> Result<(
             .0
     };
     let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
-    let mut scene = Scene::new();
-    scene.add(input.display().to_string(), tree, Material::default());
-    scene.lights = Scene::default_lights(&bounds);
+    let mut scene = Scene::from_solid(tree);
+    scene.solids[0].name = input.display().to_string();
     let options = RenderOptions::default();
     let up = a.up.unwrap_or(kind.default_up());
     let (up_vec, view) = (up.unit(), Camera::default_view(up));

@@ -113,6 +113,18 @@ impl Scene {
         }
     }
 
+    /// A scene of the one solid `tree`, as `octsolid render solid.oct` shows it: the
+    /// default material, [`Scene::default_lights`] around its bounds (no light for an
+    /// empty solid), the default ambient light and background. Smooth normals come from
+    /// the octree's estimate (there is no shape; use [`Scene::add_shaped`] for one).
+    #[must_use]
+    pub fn from_solid(tree: LinearOctree) -> Self {
+        let mut scene = Scene::new();
+        scene.lights = tree.bounds().map(|b| Scene::default_lights(&b)).unwrap_or_default();
+        scene.add("solid", tree, Material::default());
+        scene
+    }
+
     /// Adds a solid (its traversal octree is built here).
     pub fn add(&mut self, name: impl Into<String>, tree: LinearOctree, material: Material) {
         let traversal = Traversal::new(&tree);
