@@ -2,20 +2,54 @@
 //! a pixel (no shading), into one frame buffer kept between frames as a viewer keeps
 //! it: the octree display's frames a second against the ray tracer.
 //! Target: front-to-back display at 20 frames a second or more.
+//!
+//! `shading_normals`: a whole default render of the bunny at depth 9 (960x720, 2x2
+//! samples, shadows, the CLI's y-up framing; `Scene::from_solid`) with axis normals
+//! and with the octree's estimated normals, each iteration on a fresh scene (cold
+//! normal caches, as one CLI run). Target: the estimate costs at most 1.5x the axis
+//! render.
 
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use octsolid::MemoryBudget;
+use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
-use octsolid::octree::Domain;
-use octsolid::render::{Camera, Material, Method, SampleGrid, Scene, visibility, visibility_into};
+use octsolid::octree::{Domain, LinearOctree};
+use octsolid::render::{
+    Camera, Material, Method, Normals, RenderOptions, SampleGrid, Scene, render, visibility, visibility_into,
+};
 use octsolid::shape::Axis;
+use octsolid::{MemoryBudget, NoProgress};
+
+/// The bunny voxelized at `depth` in its bounding cube (2% margin), as the CLI does.
+fn bunny(depth: u8) -> LinearOctree {
+    let mesh = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
+    let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
+    voxelize_mesh(&mesh, Domain::around(&mesh.bounds(), 0.02, depth).unwrap(), &options).unwrap().0
+}
+
+fn shading_normals(c: &mut Criterion) {
+    let mut group = c.benchmark_group("shading_normals");
+    group.sample_size(10);
+    let tree = bunny(9);
+    let bounds = tree.bounds().unwrap();
+    let options = RenderOptions::default();
+    let aspect = f64::from(options.width) / f64::from(options.height);
+    let camera = Camera::frame(&bounds, Camera::default_view(Axis::Y), Axis::Y.unit(), aspect);
+    for (name, normals) in [("axis", Normals::Axis), ("octree", Normals::Octree)] {
+        let options = RenderOptions { normals, ..options };
+        group.bench_function(BenchmarkId::new("bunny_d9_960x720_4spp", name), |b| {
+            b.iter_batched(
+                || Scene::from_solid(tree.clone()),
+                |scene| render(&scene, &camera, &options, &NoProgress).unwrap().1,
+                BatchSize::PerIteration,
+            )
+        });
+    }
+    group.finish();
+}
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("visibility");
     group.sample_size(10);
-    let mesh = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
-    let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
-    let (tree, _) = voxelize_mesh(&mesh, Domain::around(&mesh.bounds(), 0.02, 10).unwrap(), &options).unwrap();
+    let tree = bunny(10);
     let bounds = tree.bounds().unwrap();
     let mut scene = Scene::new();
     scene.add("bunny", tree, Material::default());
@@ -35,5 +69,5 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, shading_normals);
 criterion_main!(benches);

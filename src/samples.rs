@@ -1,6 +1,8 @@
 //! Bundled sample solids shared by the CLI's `demo`, tests and benches, so no one
 //! writes a second showcase.
 
+use std::sync::Arc;
+
 use glam::DVec3;
 
 use crate::error::Result;
@@ -13,7 +15,8 @@ pub const SCENE_DESCRIPTION: &str = "the classic CSG part inside a torus ring, a
      two lights with shadows";
 
 /// The showcase scene of `octsolid demo`: several solids with their own materials on a
-/// floor, voxelized at `depth` in one domain, lit by a key and a fill light.
+/// floor, voxelized at `depth` in one domain, lit by a key and a fill light; each solid
+/// keeps its shape, whose surface gives its smooth normals.
 pub fn showcase_scene(depth: u8, options: &VoxelizeOptions) -> Result<Scene> {
     let domain = Domain::new(DVec3::new(-3.2, -3.2, -1.4), 6.4, depth)?;
     let part = classic_csg();
@@ -23,16 +26,17 @@ pub fn showcase_scene(depth: u8, options: &VoxelizeOptions) -> Result<Scene> {
         Cylinder::new(DVec3::ZERO, Axis::Z, 0.35, 1.6)?.rotate(DVec3::X, 0.5).translate(DVec3::new(2.1, 1.3, -0.12));
     let floor = Cuboid::new(DVec3::new(0.0, 0.0, -1.1), DVec3::new(6.2, 6.2, 0.2))?;
     let material = |r, g, b, ks, shininess| Material::phong(DVec3::new(r, g, b), 0.2, 0.8, ks, shininess);
-    let solids: [(&str, &dyn Shape, Material); 5] = [
-        ("classic part", &part, material(0.85, 0.42, 0.16, 0.35, 32.0)),
-        ("ring", &ring, material(0.12, 0.55, 0.55, 0.4, 48.0)),
-        ("ball", &ball, material(0.25, 0.32, 0.7, 0.5, 64.0)),
-        ("post", &post, material(0.75, 0.7, 0.25, 0.3, 24.0)),
-        ("floor", &floor, material(0.78, 0.78, 0.74, 0.05, 8.0)),
+    let solids: [(&str, Arc<dyn Shape>, Material); 5] = [
+        ("classic part", Arc::new(part), material(0.85, 0.42, 0.16, 0.35, 32.0)),
+        ("ring", Arc::new(ring), material(0.12, 0.55, 0.55, 0.4, 48.0)),
+        ("ball", Arc::new(ball), material(0.25, 0.32, 0.7, 0.5, 64.0)),
+        ("post", Arc::new(post), material(0.75, 0.7, 0.25, 0.3, 24.0)),
+        ("floor", Arc::new(floor), material(0.78, 0.78, 0.74, 0.05, 8.0)),
     ];
     let mut scene = Scene::new();
     for (name, shape, material) in solids {
-        scene.add(name, voxelize(shape, domain, options)?, material);
+        let tree = voxelize(shape.as_ref(), domain, options)?;
+        scene.add_shaped(name, tree, material, shape);
     }
     scene.ambient = DVec3::splat(0.9);
     scene.lights = vec![

@@ -12,7 +12,7 @@ use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
 use octsolid::render::to_srgb8;
 use octsolid::render::*;
 use octsolid::scene_file::load_scene;
-use octsolid::shape::Sphere;
+use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Ray, RayCast};
 
 fn sphere_scene(depth: u8, r: f64) -> Scene {
@@ -54,7 +54,8 @@ fn brightest_pixel_follows_the_phong_formula() {
     scene.ambient = DVec3::splat(0.2);
     scene.background = DVec3::ZERO;
     let m = scene.solids[0].material.clone();
-    let options = RenderOptions { width: 200, height: 200, spp: 1, shadows: true, ..Default::default() };
+    let options =
+        RenderOptions { width: 200, height: 200, spp: 1, shadows: true, normals: Normals::Axis, ..Default::default() };
     let (img, _) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
     // With axis normals the visible faces are +z, +x, -x, +y, -y; Phong says which is
     // brightest and how bright: I = ka Ia C + kd C (N.L) + ks (R.V)^n, V = +z.
@@ -222,4 +223,69 @@ fn pictures_over_the_budget_and_endless_mirrors_are_refused_before_work() {
     let deep = RenderOptions { max_depth: MAX_RAY_DEPTH + 1, ..fits };
     assert!(render(&scene, &camera, &deep, &NoProgress).unwrap_err().to_string().contains("max depth"));
     assert!(render(&scene, &camera, &RenderOptions { max_depth: MAX_RAY_DEPTH, ..fits }, &NoProgress).is_ok());
+}
+
+#[test]
+fn flat_faces_shade_flat_with_the_default_normals() {
+    // A box whose faces lie on lattice planes (voxels of 1/128), seen straight down by
+    // an orthographic camera at a voxel a pixel, lit by one directional light with no
+    // highlight: with one normal, Lambert gives one colour. Every pixel of the top face
+    // farther than the estimate's reach (7 voxels) from its edges must have exactly the
+    // colour of the axis-normal picture there.
+    let d = Domain::new(DVec3::splat(-1.0), 2.0, 8).unwrap();
+    let half = DVec3::new(0.5, 0.375, 0.25);
+    let tree = voxelize(&Cuboid::new(DVec3::ZERO, half * 2.0).unwrap(), d, &VoxelizeOptions::default()).unwrap();
+    let mut scene = Scene::new();
+    scene.add("box", tree, Material::phong(DVec3::new(0.7, 0.5, 0.3), 0.2, 0.8, 0.0, 1.0));
+    scene.lights = vec![Light::Directional { direction: DVec3::new(-0.3, -0.2, -1.0), color: DVec3::ONE }];
+    let options = RenderOptions { width: 256, height: 256, spp: 1, ..Default::default() };
+    assert_eq!(options.normals, Normals::Smooth);
+    let (smooth, _) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
+    let axis = RenderOptions { normals: Normals::Axis, ..options };
+    let (flat, _) = render(&scene, &top_camera(2.0), &axis, &NoProgress).unwrap();
+    let reach = 7.0 * d.voxel_size();
+    let mut face = Vec::new();
+    for (col, row, pixel) in smooth.enumerate_pixels() {
+        let x = -1.0 + (f64::from(col) + 0.5) * 2.0 / 256.0;
+        let y = 1.0 - (f64::from(row) + 0.5) * 2.0 / 256.0;
+        if x.abs() < half.x - reach && y.abs() < half.y - reach {
+            assert_eq!(pixel, flat.get_pixel(col, row), "pixel ({col}, {row})");
+            face.push(*pixel);
+        }
+    }
+    assert!(face.len() > 9_000, "{} pixels of the face checked", face.len());
+    assert!(face.iter().all(|p| *p == face[0]), "the face has more than one colour");
+}
+
+#[test]
+fn quick_writes_a_default_size_picture_of_the_solid() {
+    // A ball at the centre of its domain: the default camera frames its bounds from
+    // DEFAULT_VIEW, so it projects to a disc at the image centre of radius f tan(asin(r
+    // / D)), D the eye's distance and f the focal length in pixels. The pixels that are
+    // not the background must cover that disc (within the voxels' 1% in radius).
+    let r = 0.8;
+    let d = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let tree = voxelize(&Sphere::new(DVec3::ZERO, r).unwrap(), d, &VoxelizeOptions::default()).unwrap();
+    let dir = std::env::temp_dir().join(format!("octsolid-render-quick-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("ball.png");
+    let stats = quick(&tree, &path).unwrap();
+    let img = image::open(&path).unwrap().to_rgb8();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let defaults = RenderOptions::default();
+    assert_eq!(img.dimensions(), (defaults.width, defaults.height));
+    let background = image::Rgb(Scene::new().background.to_array().map(to_srgb8));
+    let covered = img.pixels().filter(|p| **p != background).count() as f64;
+    let aspect = f64::from(defaults.width) / f64::from(defaults.height);
+    let camera = Camera::frame(&tree.bounds().unwrap(), DEFAULT_VIEW, DVec3::Z, aspect);
+    let Projection::Perspective { fov_y } = camera.projection else { panic!("a framing camera is perspective") };
+    let focal = f64::from(defaults.height) / 2.0 / (fov_y.to_radians() / 2.0).tan();
+    let radius = focal * (r / camera.eye.length()).asin().tan();
+    let want = PI * radius * radius;
+    assert!((covered / want - 1.0).abs() < 0.03, "{covered} pixels show the ball, the disc has {want:.0}");
+    assert!(stats.hits > 0 && stats.secondary_rays > 0, "{stats:?}");
+    // An empty solid has nothing to frame: an error, no file.
+    let empty = octsolid::octree::LinearOctree::empty(d);
+    assert!(quick(&empty, dir.join("empty.png")).is_err());
+    assert!(!dir.join("empty.png").exists());
 }

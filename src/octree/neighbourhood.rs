@@ -1,10 +1,13 @@
 //! Dense occupancy of a small box of voxels, read from the linear octree: the input of
-//! local estimates such as smooth normals.
+//! local estimates such as smooth normals; as one flag a voxel, or as one bit a voxel
+//! in rows along x.
 //!
 //! Method: a descent of the implicit tree from the smallest aligned node holding the
 //! (clipped) box, into the children that meet it; a node wholly covered by one key
 //! fills its part of the box, a node holding no key is skipped. Each visit narrows the
 //! run of keys by two binary searches. Cost: the nodes meeting the box plus its volume.
+
+use std::ops::Range;
 
 use super::linear::LinearOctree;
 use super::node::NodeKey;
@@ -20,16 +23,30 @@ impl LinearOctree {
     pub fn occupancy(&self, lo: [i64; 3], size: u32) -> Vec<bool> {
         let s = size as usize;
         let mut out = vec![false; s * s * s];
+        self.fill_rows(lo, size, &mut |row, xs| out[s * row..][xs].fill(true));
+        out
+    }
+
+    /// The same cube's occupancy as bit rows: `rows[y + size z]` bit `x` is voxel `lo +
+    /// (x, y, z)`, for `size` at most 32; `rows` holds at least `size^2` rows, which
+    /// must be zero on entry.
+    pub(crate) fn occupancy_rows(&self, lo: [i64; 3], size: u32, rows: &mut [u32]) {
+        debug_assert!(size <= 32 && rows.len() >= (size * size) as usize);
+        self.fill_rows(lo, size, &mut |row, xs| rows[row] |= (((1u64 << xs.len()) - 1) << xs.start) as u32);
+    }
+
+    /// Calls `mark(y + size z, x range)` for the full voxels of the cube, a run of a row
+    /// at a time (offsets from `lo`; nothing outside the domain).
+    fn fill_rows(&self, lo: [i64; 3], size: u32, mark: &mut dyn FnMut(usize, Range<usize>)) {
         let n = i64::from(self.domain().resolution());
         let clo = lo.map(|c| c.clamp(0, n));
         let chi: [i64; 3] = std::array::from_fn(|a| (lo[a] + i64::from(size)).clamp(0, n));
         if (0..3).any(|a| clo[a] >= chi[a]) {
-            return out;
+            return;
         }
         let (clo, chi) = (clo.map(|c| c as u32), chi.map(|c| c as u32));
-        let fill = Fill { lo, size: s, clo, chi };
-        fill.visit(self.keys(), enclosing_node(clo, chi), &mut out);
-        out
+        let fill = Fill { lo, size: size as usize, clo, chi };
+        fill.visit(self.keys(), enclosing_node(clo, chi), mark);
     }
 }
 
@@ -43,10 +60,10 @@ struct Fill {
 
 impl Fill {
     /// Fills the full voxels of `node` (which meets the box) from the sorted run `keys`.
-    fn visit(&self, keys: &[NodeKey], node: NodeKey, out: &mut [bool]) {
+    fn visit(&self, keys: &[NodeKey], node: NodeKey, mark: &mut dyn FnMut(usize, Range<usize>)) {
         let window = match keys_meeting(keys, node) {
             [] => return,
-            [key] if key.k() >= node.k() => return self.set(node, out),
+            [key] if key.k() >= node.k() => return self.set(node, mark),
             window => window,
         };
         let half = 1u32 << (node.k() - 1);
@@ -54,13 +71,13 @@ impl Fill {
             let child = node.child(i).expect("a partly full node is not a voxel");
             let c = morton::decode(child.start());
             if (0..3).all(|a| c[a] < self.chi[a] && c[a] + half > self.clo[a]) {
-                self.visit(window, child, out);
+                self.visit(window, child, mark);
             }
         }
     }
 
     /// Marks the voxels of the full `node` that lie in the box.
-    fn set(&self, node: NodeKey, out: &mut [bool]) {
+    fn set(&self, node: NodeKey, mark: &mut dyn FnMut(usize, Range<usize>)) {
         let min = morton::decode(node.start());
         let size = 1u32 << node.k();
         let a: [u32; 3] = std::array::from_fn(|i| min[i].max(self.clo[i]));
@@ -68,8 +85,7 @@ impl Fill {
         let offset = |i: usize, c: u32| (i64::from(c) - self.lo[i]) as usize;
         for z in a[2]..b[2] {
             for y in a[1]..b[1] {
-                let row = self.size * (offset(1, y) + self.size * offset(2, z));
-                out[row + offset(0, a[0])..row + offset(0, b[0])].fill(true);
+                mark(offset(1, y) + self.size * offset(2, z), offset(0, a[0])..offset(0, b[0]));
             }
         }
     }

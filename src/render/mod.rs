@@ -12,10 +12,11 @@
 //! - `visibility`: which solid, voxel and face each sample sees, by any [`Method`]
 //!   (the ray walk or a raster method: the same hits, bit for bit).
 //! - `pipeline`: [`render`]: visibility, then shading, averaged over each pixel's
-//!   samples.
+//!   samples; [`quick`]: a solid to a PNG file in one call.
 
 mod film;
 mod pipeline;
+mod quick;
 mod raster;
 mod scene;
 mod shade;
@@ -27,6 +28,7 @@ pub use film::{
     silhouette_points, to_srgb8, up_for,
 };
 pub use pipeline::{MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats, estimate_bytes, render};
+pub use quick::quick;
 pub use raster::polygon;
 pub use scene::{Bump, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};
 pub use shade::{Normals, ShadeOptions, radiance, reflect, refract};

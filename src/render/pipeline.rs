@@ -33,7 +33,7 @@ pub struct RenderOptions {
     pub spp: u32,
     /// Trace shadow rays.
     pub shadows: bool,
-    /// Which normal shades surfaces.
+    /// Which normal shades surfaces (default [`Normals::Smooth`]).
     pub normals: Normals,
     /// Longest chain of reflected and refracted rays (0: local shading only).
     pub max_depth: u32,
@@ -50,7 +50,7 @@ impl Default for RenderOptions {
             height: 720,
             spp: 2,
             shadows: true,
-            normals: Normals::Axis,
+            normals: Normals::default(),
             max_depth: ShadeOptions::default().max_depth,
             method: Method::Trace,
             budget: MemoryBudget::default(),

@@ -75,7 +75,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_shadows: bool,
     /// Shading normals: axis (the voxel faces'), smooth (the source shape's where a
-    /// solid has one, else estimated from the octree) or octree (always estimated).
+    /// solid has one, else estimated from the octree) or octree (always estimated)
+    /// (default: the scene's, or smooth).
     #[arg(long)]
     pub normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays (default: the scene's, or 6).

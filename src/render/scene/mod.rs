@@ -3,10 +3,13 @@
 //! the complement's traversal for rays inside, the octree's normal estimate), their
 //! materials and textures, lights, ambient light and background.
 
+mod gradient;
 mod light;
 mod material;
 mod normal_field;
+mod occupancy;
 mod texture;
+mod thread_cache;
 
 pub use light::Light;
 pub use material::{Bump, Material};
@@ -108,6 +111,18 @@ impl Scene {
             ambient: DVec3::splat(1.0),
             background: DVec3::new(0.92, 0.93, 0.95),
         }
+    }
+
+    /// A scene of the one solid `tree`, as `octsolid render solid.oct` shows it: the
+    /// default material, [`Scene::default_lights`] around its bounds (no light for an
+    /// empty solid), the default ambient light and background. Smooth normals come from
+    /// the octree's estimate (there is no shape; use [`Scene::add_shaped`] for one).
+    #[must_use]
+    pub fn from_solid(tree: LinearOctree) -> Self {
+        let mut scene = Scene::new();
+        scene.lights = tree.bounds().map(|b| Scene::default_lights(&b)).unwrap_or_default();
+        scene.add("solid", tree, Material::default());
+        scene
     }
 
     /// Adds a solid (its traversal octree is built here).

@@ -1,210 +1,179 @@
-//! Smooth surface normals estimated from the octree: the negated occupancy gradient
-//! over a ball of voxels around the surface point.
+//! Smooth surface normals estimated from the octree: the occupancy gradient
+//! (`gradient`) at the centres of a lattice of voxels, interpolated between the eight
+//! around a surface point, each estimated once and cached.
 //!
-//! `n ~ -sum_c occ(c) w(|c - q|) (c - q)`, over the voxel centres `c` within `r + 1/2`
-//! voxels of the point `q` (voxel units), with `w(s) = 1 - s^2 / (r + 1/2)^2`: a
-//! smooth, symmetric window, so a flat surface at any orientation gives a normal close
-//! to its own, and the estimate varies continuously with `q` (no per-voxel facets in
-//! reflections and refractions). Where a lattice plane through the point splits the
-//! window's cube into a full and an empty half (a flat face), the face's axis normal.
+//! The lattice: the centres of the voxels whose coordinates are multiples of
+//! `SPACING` (2). At a surface point `q` (voxel units): the trilinear interpolation of
+//! the normals at the eight lattice centres around it (the cell whose lowest centre is
+//! `SPACING floor((q - 1/2) / SPACING)`), renormalized, as a mesh's vertex normals are
+//! interpolated across its faces (Phong), with lattice centres for vertices:
+//! continuous in `q`, so reflections and refractions show no facets. Centres without
+//! a gradient drop out; where all eight are one normal, that normal exactly, so a flat
+//! face on a lattice plane farther than `r + 3` voxels from its edges shades with its
+//! axis normal at every point, not a noisy estimate.
 //!
-//! Method: the cube of `2r + 2` voxels around `q` is read as one bit pattern a row of
-//! voxels along x (`Window`); a row at offsets `(dy, dz)` with `rho^2 = dy^2 + dz^2`
-//! adds, over its full voxels inside the ball, `(a S1 - S3 / R^2, dy (a S0 - S2 / R^2),
-//! dz (a S0 - S2 / R^2))` with `a = 1 - rho^2 / R^2`, `R = r + 1/2` and `Sk = sum dx^k`,
-//! so a query costs a pass over the rows' set bits. [`NormalField`], the renderer's
-//! form, reads the rows from cached 16^3 bricks of the octree's occupancy, which
-//! neighbouring hits share.
+//! Departures, both for speed. From estimating at the point itself (the window
+//! centred on `q`, as this module did before): that cost one window a ray, with
+//! non-integer offsets; a centre's estimate is exact integer sums and is shared by
+//! every ray nearby. From a lattice of every voxel: with `SPACING` 2 a surface needs a
+//! quarter of the estimates, and the gradient's window (radius 4.5 voxels) is smooth
+//! at that scale: on a voxelized sphere the normals at hits are closer to the sphere's
+//! than the point estimate's were (median 0.56 against 0.74 degrees, 95% within 2.5
+//! against 3.0; see the tests).
+//!
+//! Caching: per thread (`thread_cache`), so the renderer's threads never wait for or
+//! write to memory another core reads. A thread keeps the cells it met (the eight
+//! centres' normals, one lookup a ray), the centres it estimated, and the windows of
+//! the tiles (8^3 voxels of cells) it read them from, the windows read from the
+//! solid's 16^3 occupancy bricks (`occupancy::Bricks`, shared, each read from the
+//! octree once). An estimate is a pure function of the octree and the centre, so a
+//! value evicted and made again, or made by two threads, is the same.
 
-use std::sync::Arc;
+use std::cell::RefCell;
 
-use dashmap::DashMap;
-use glam::DVec3;
-use rustc_hash::FxBuildHasher;
+use glam::{DVec3, Vec3};
 
+use super::gradient::{SMOOTH_RADIUS, WINDOW, centre_normal};
+use super::occupancy::{Bricks, Window};
+use super::thread_cache::{DirectMapped, cached, new_owner, with_cached};
 use crate::octree::LinearOctree;
 
-/// Default window radius in voxels.
-pub const SMOOTH_RADIUS: u32 = 4;
+/// Voxels between neighbouring centres of the interpolation lattice.
+const SPACING: i64 = 2;
 
-/// Largest window radius: windows of up to 16 voxels a side.
-pub const MAX_RADIUS: u32 = 7;
+/// Voxels a side of a tile: the cells whose lowest centres lie in one aligned cube of
+/// `TILE` voxels share one window.
+const TILE: i64 = 8;
 
-/// The outward unit normal estimated at the world point `p` with window radius
-/// `radius` voxels (at most [`MAX_RADIUS`]); `None` where the window is uniformly full
-/// or empty (no gradient).
-#[cfg(test)]
-fn smooth_normal(tree: &LinearOctree, p: DVec3, radius: u32) -> Option<DVec3> {
-    let (q, lo, size) = placement(tree, p, radius);
-    let full = tree.occupancy(lo, size as u32);
-    let mut window = Window::empty(lo, size);
-    for (i, _) in full.iter().enumerate().filter(|(_, f)| **f) {
-        window.rows[i / size] |= 1 << (i % size);
-    }
-    window.normal(q, radius)
+/// Voxels a side of a tile's window: the cube holding the windows of all the centres
+/// of its cells (voxels `TILE t ..= TILE t + TILE`).
+const TILE_WINDOW: usize = TILE as usize + WINDOW;
+
+/// The normals at the eight lattice centres of a cell, centre `i` at `SPACING (i & 1,
+/// (i >> 1) & 1, (i >> 2) & 1)` voxels from the lowest; NaN where a centre has no
+/// gradient. `f32`: axis normals stay exact, and a cell is 96 bytes.
+type Cell = [Vec3; 8];
+
+/// The lowest voxel of the window of the voxel `v` (the cube of [`WINDOW`] voxels
+/// centred on it), which is also that of the tile window of the tile whose lowest voxel
+/// is `v`.
+fn window_lo(v: [i64; 3]) -> [i64; 3] {
+    v.map(|c| c - i64::from(SMOOTH_RADIUS))
 }
 
-/// The window around the world point `p`: the point in voxel units, the window's
-/// lowest voxel and its size, `2 radius + 2` (the voxels whose centres can lie within
-/// `radius + 1/2` of the point).
-fn placement(tree: &LinearOctree, p: DVec3, radius: u32) -> (DVec3, [i64; 3], usize) {
-    let radius = radius.min(MAX_RADIUS);
+/// A centre's normal as stored in a [`Cell`].
+fn stored(n: Option<DVec3>) -> Vec3 {
+    n.map_or(Vec3::NAN, |n| n.as_vec3())
+}
+
+/// The normal at `t` (in `[0, 1]^3`) within a cell: the module doc's interpolation.
+fn interpolate(cell: &Cell, t: DVec3) -> Option<DVec3> {
+    let first = cell[0];
+    if !first.is_nan() && cell.iter().all(|&n| n == first) {
+        return Some(first.as_dvec3().normalize());
+    }
+    let mut sum = DVec3::ZERO;
+    for (i, n) in cell.iter().enumerate().filter(|(_, n)| !n.is_nan()) {
+        let w: f64 = (0..3).map(|a| if (i >> a) & 1 == 1 { t[a] } else { 1.0 - t[a] }).product();
+        sum += n.as_dvec3() * w;
+    }
+    sum.try_normalize()
+}
+
+/// The cell around the world point `p` of `tree` (its lowest centre's voxel) and `p`'s
+/// place in it.
+fn cell_at(tree: &LinearOctree, p: DVec3) -> ([i64; 3], DVec3) {
     let d = tree.domain();
-    let q = (p - d.min()) / d.voxel_size();
-    let lo = (q - DVec3::splat(f64::from(radius) + 1.0)).floor();
-    (q, lo.to_array().map(|c| c as i64), 2 * radius as usize + 2)
+    let q = ((p - d.min()) / d.voxel_size() - DVec3::splat(0.5)) / SPACING as f64;
+    let lowest = q.floor();
+    (lowest.to_array().map(|c| c as i64 * SPACING), q - lowest)
 }
 
-/// Occupancy of a cube of voxels: `rows[y + size z]` bit `x` is voxel `lo + (x, y, z)`.
-struct Window {
-    lo: [i64; 3],
-    size: usize,
-    rows: [u32; 256],
+/// The voxel of centre `i` of the cell whose lowest centre is the voxel `lowest`.
+fn corner(lowest: [i64; 3], i: usize) -> [i64; 3] {
+    std::array::from_fn(|a| lowest[a] + SPACING * ((i >> a) & 1) as i64)
 }
 
-impl Window {
-    fn empty(lo: [i64; 3], size: usize) -> Self {
-        Window { lo, size, rows: [0; 256] }
-    }
-
-    /// The estimate at `q` (voxel units), see the module doc.
-    fn normal(&self, q: DVec3, radius: u32) -> Option<DVec3> {
-        if let Some(n) = self.flat(q) {
-            return Some(n);
-        }
-        let s = self.size;
-        let reach = f64::from(radius.min(MAX_RADIUS)) + 0.5;
-        let r2 = reach * reach;
-        let offset = |a: usize, i: usize| (self.lo[a] + i as i64) as f64 + 0.5 - q[a];
-        let dx: [f64; 16] = std::array::from_fn(|i| offset(0, i));
-        let dx2 = dx.map(|v| v * v);
-        let mut gradient = DVec3::ZERO;
-        for z in 0..s {
-            let dz = offset(2, z);
-            for y in 0..s {
-                let dy = offset(1, y);
-                let rho2 = dy * dy + dz * dz;
-                let mut bits = self.rows[y + s * z];
-                if rho2 >= r2 || bits == 0 {
-                    continue;
-                }
-                let limit = r2 - rho2;
-                let (mut s0, mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0, 0.0);
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    if dx2[i] < limit {
-                        s0 += 1.0;
-                        s1 += dx[i];
-                        s2 += dx2[i];
-                        s3 += dx2[i] * dx[i];
-                    }
-                }
-                let a = 1.0 - rho2 / r2;
-                let across = a * s0 - s2 / r2;
-                gradient += DVec3::new(a * s1 - s3 / r2, dy * across, dz * across);
-            }
-        }
-        (-gradient).try_normalize()
-    }
-
-    /// The axis normal when a lattice plane through (the rounded) `q` cuts the window
-    /// into a full half and an empty half.
-    fn flat(&self, q: DVec3) -> Option<DVec3> {
-        let s = self.size;
-        let all = (1u32 << s) - 1;
-        for a in 0..3 {
-            let k = q[a].round() as i64 - self.lo[a];
-            if k <= 0 || k >= s as i64 {
-                continue;
-            }
-            let k = k as usize;
-            // The rows expected when the half below the plane is full.
-            let below_full = |y: usize, z: usize| match a {
-                0 => (1u32 << k) - 1,
-                1 if y < k => all,
-                2 if z < k => all,
-                _ => 0,
-            };
-            let rows = || (0..s * s).map(|i| (self.rows[i], below_full(i % s, i / s)));
-            let mut axis = DVec3::ZERO;
-            if rows().all(|(row, want)| row == want) {
-                axis[a] = 1.0;
-            } else if rows().all(|(row, want)| row == all ^ want) {
-                axis[a] = -1.0;
-            } else {
-                continue;
-            }
-            return Some(axis);
-        }
-        None
-    }
-}
-
-/// Voxels a side of a cached brick.
-const BRICK: i64 = 16;
-
-/// A brick's occupancy: `rows[y + 16 z]` bit `x`.
-type Brick = [u16; 256];
-
-/// The smooth normals of one solid ([`smooth_normal`] with radius [`SMOOTH_RADIUS`]),
-/// reading the occupancy from 16^3 bricks read from the octree on first use. Safe to
-/// share between threads; the normals do not depend on the order of the queries and
-/// equal [`smooth_normal`]'s.
-#[derive(Clone, Debug, Default)]
+/// The octree's smooth normals of one solid (see the module doc), estimated where rays
+/// ask for them. Safe to share between threads; the normals do not depend on the order
+/// of the queries or on which thread asks. For one octree: a field must not be asked
+/// about another. A clone starts with nothing cached.
+#[derive(Debug)]
 pub struct NormalField {
-    bricks: DashMap<[i64; 3], Arc<Brick>, FxBuildHasher>,
+    /// The id of this field's entries in the per-thread caches.
+    owner: u64,
+    /// The solid's occupancy, read a brick at a time.
+    bricks: Bricks,
+}
+
+thread_local! {
+    /// Each thread's cells, by owner and lowest centre (4096 of 136 bytes).
+    static CELLS: RefCell<DirectMapped<Cell>> = RefCell::new(DirectMapped::new(12));
+    /// Each thread's centre estimates, by owner and voxel (16384 of 48 bytes).
+    static CENTRES: RefCell<DirectMapped<Vec3>> = RefCell::new(DirectMapped::new(14));
+    /// Each thread's tile windows, by owner and tile (256 of 1.2 KB).
+    static TILES: RefCell<DirectMapped<Window>> = RefCell::new(DirectMapped::new(8));
 }
 
 impl NormalField {
-    /// An empty field (no brick read yet).
+    /// An empty field (nothing read yet).
     #[must_use]
     pub fn new() -> Self {
-        Self::default()
+        NormalField { owner: new_owner(), bricks: Bricks::default() }
     }
 
-    /// The outward unit normal of `tree` at the world point `p`, as [`smooth_normal`].
+    /// The outward unit normal of `tree` at the world point `p`; `None` where no
+    /// lattice centre around it has a gradient.
     #[must_use]
     pub fn normal(&self, tree: &LinearOctree, p: DVec3) -> Option<DVec3> {
-        let (q, lo, size) = placement(tree, p, SMOOTH_RADIUS);
-        let first = lo.map(|c| c.div_euclid(BRICK));
-        let last = lo.map(|c| (c + size as i64 - 1).div_euclid(BRICK));
-        // The window's bricks: one or two an axis (none read where it needs only one).
-        let bricks: [Option<Arc<Brick>>; 8] = std::array::from_fn(|i| {
-            let b: [i64; 3] = std::array::from_fn(|a| first[a] + ((i >> a) & 1) as i64);
-            if (0..3).any(|a| b[a] > last[a]) { None } else { self.brick(tree, b) }
-        });
-        let mut window = Window::empty(lo, size);
-        let shift = lo[0].rem_euclid(BRICK);
-        for z in 0..size {
-            let wz = lo[2] + z as i64;
-            for y in 0..size {
-                let wy = lo[1] + y as i64;
-                let slot = (wy.div_euclid(BRICK) - first[1]) * 2 + (wz.div_euclid(BRICK) - first[2]) * 4;
-                let at = (wy.rem_euclid(BRICK) + BRICK * wz.rem_euclid(BRICK)) as usize;
-                let row = |dx: i64| bricks[(slot + dx) as usize].as_ref().map_or(0, |b| u32::from(b[at]));
-                let both = u64::from(row(0)) | u64::from(row(1)) << BRICK;
-                window.rows[y + size * z] = (both >> shift) as u32 & ((1u32 << size) - 1);
-            }
-        }
-        window.normal(q, SMOOTH_RADIUS)
+        let (lowest, t) = cell_at(tree, p);
+        interpolate(&cached(&CELLS, (self.owner, lowest), || self.estimate_cell(tree, lowest)), t)
     }
 
-    /// The brick at brick coordinates `b`, read on first use; `None` outside the domain.
-    fn brick(&self, tree: &LinearOctree, b: [i64; 3]) -> Option<Arc<Brick>> {
-        let n = i64::from(tree.domain().resolution());
-        if b.iter().any(|&c| c < 0 || c * BRICK >= n) {
-            return None;
+    /// The eight centres' normals of the cell whose lowest centre is the voxel
+    /// `lowest`: those this thread estimated before from its cache, the others from the
+    /// window of the cell's tile.
+    fn estimate_cell(&self, tree: &LinearOctree, lowest: [i64; 3]) -> Cell {
+        let key = |i| (self.owner, corner(lowest, i));
+        let mut cell = [Vec3::NAN; 8];
+        let mut missing = [false; 8];
+        CENTRES.with_borrow(|centres| {
+            for i in 0..8 {
+                match centres.get(&key(i)) {
+                    Some(n) => cell[i] = n,
+                    None => missing[i] = true,
+                }
+            }
+        });
+        if !missing.contains(&true) {
+            return cell;
         }
-        if let Some(brick) = self.bricks.get(&b) {
-            return Some(Arc::clone(&brick));
-        }
-        let full = tree.occupancy(b.map(|c| c * BRICK), BRICK as u32);
-        let mut rows = [0u16; 256];
-        for (i, _) in full.iter().enumerate().filter(|(_, f)| **f) {
-            rows[i / 16] |= 1 << (i % 16);
-        }
-        Some(Arc::clone(&self.bricks.entry(b).or_insert_with(|| Arc::new(rows))))
+        let tile = lowest.map(|c| c.div_euclid(TILE) * TILE);
+        let read = || self.bricks.window(tree, window_lo(tile), TILE_WINDOW);
+        with_cached(&TILES, (self.owner, tile), read, |window| {
+            for i in (0..8).filter(|&i| missing[i]) {
+                let at = corner(lowest, i);
+                cell[i] = stored(centre_normal(window, std::array::from_fn(|a| (at[a] - tile[a]) as usize)));
+            }
+        });
+        CENTRES.with_borrow_mut(|centres| {
+            for i in (0..8).filter(|&i| missing[i]) {
+                centres.put(key(i), cell[i]);
+            }
+        });
+        cell
+    }
+}
+
+impl Default for NormalField {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Clone for NormalField {
+    fn clone(&self) -> Self {
+        Self::new()
     }
 }
 
@@ -212,38 +181,50 @@ impl NormalField {
 mod tests {
     use super::*;
     use crate::octree::{Domain, VoxelizeOptions, voxelize};
+    use crate::ray::{Ray, RayCast};
+    use crate::render::trace::Traversal;
     use crate::shape::{Csg, Cuboid, Sphere};
     use crate::test_util::Rng;
 
+    /// The field's normal computed with no cache: every centre's window read straight
+    /// from the octree.
+    fn direct(tree: &LinearOctree, p: DVec3) -> Option<DVec3> {
+        let (lowest, t) = cell_at(tree, p);
+        let centre = |i| stored(centre_normal(&Window::read(tree, window_lo(corner(lowest, i)), WINDOW), [0; 3]));
+        interpolate(&std::array::from_fn(centre), t)
+    }
+
     #[test]
-    fn smooth_normals_of_a_voxelized_sphere_follow_the_sphere() {
+    fn normals_at_hits_on_a_voxelized_sphere_follow_the_sphere() {
+        // Rays from all around at the sphere's centre, offset; the normal at each hit
+        // against the analytic one, (p - c) / |p - c|.
         let center = DVec3::new(0.013, -0.021, 0.007);
         let sphere = Sphere::new(center, 0.8).unwrap();
         let domain = Domain::new(DVec3::splat(-1.0), 2.0, 9).unwrap();
         let tree = voxelize(&sphere, domain, &VoxelizeOptions::default()).unwrap();
-        // Surface voxels: full with an empty face neighbour; every 7th of them.
+        let (traversal, field) = (Traversal::new(&tree), NormalField::new());
         let mut rng = Rng(5);
-        let (mut total, mut good) = (0, 0);
-        for node in tree.nodes().filter(|n| n.size == 1) {
-            let v = node.min;
-            let exposed = (0..6).any(|f| {
-                let mut w = v.map(i64::from);
-                w[f / 2] += if f % 2 == 0 { -1 } else { 1 };
-                !tree.contains_voxel(w.map(|c| c as u32))
-            });
-            if !exposed || rng.below(7) != 0 {
+        let mut angles = Vec::new();
+        while angles.len() < 20_000 {
+            let dir = rng.vec(-1.0, 1.0);
+            if !(0.1..1.0).contains(&dir.length()) {
                 continue;
             }
-            total += 1;
-            let want = (domain.voxel_center(v) - center).normalize();
-            let got =
-                smooth_normal(&tree, domain.voxel_center(v), SMOOTH_RADIUS).expect("a surface voxel has a gradient");
-            if got.angle_between(want).to_degrees() < 5.0 {
-                good += 1;
-            }
+            let origin = center - dir.normalize() * 3.0 + rng.vec(-0.5, 0.5);
+            let ray = Ray::new(origin, dir.normalize());
+            let Some(hit) = traversal.hit(&ray) else { continue };
+            let p = ray.at(hit.t);
+            let got = field.normal(&tree, p).expect("a surface point has a gradient");
+            angles.push(got.angle_between((p - center).normalize()).to_degrees());
         }
-        assert!(total > 10_000, "{total} surface voxels sampled");
-        assert!(good as f64 >= 0.95 * total as f64, "{good} of {total} within 5 degrees");
+        angles.sort_by(f64::total_cmp);
+        let at = |fraction: f64| angles[((angles.len() - 1) as f64 * fraction) as usize];
+        let (median, p95, worst) = (at(0.5), at(0.95), at(1.0));
+        // Near the axes the voxelized sphere is flat terraces up to 28 voxels wide, wider
+        // than the window, which sees a plane there: errors up to the terrace's slope.
+        // (Measured: median 0.56, 95% 2.5, worst 10.1; the former estimate at the point
+        // itself: 0.74, 3.0, 10.5.)
+        assert!(median < 0.8 && p95 < 3.0 && worst < 12.0, "median {median}, 95% {p95}, worst {worst} degrees");
     }
 
     #[test]
@@ -261,18 +242,36 @@ mod tests {
         let mut some = 0;
         for _ in 0..20_000 {
             let p = rng.vec(-1.0, 1.0);
-            let want = smooth_normal(&tree, p, SMOOTH_RADIUS);
+            let want = direct(&tree, p);
             assert_eq!(field.normal(&tree, p), want, "at {p}");
             some += usize::from(want.is_some());
         }
         assert!(some > 2_000, "{some} points near the surface");
-        // The slab's top face (voxelized at the lattice plane nearest z = -0.65) is flat:
-        // exactly its axis.
-        for _ in 0..1_000 {
-            let p = DVec3::new(rng.unit() * 1.2 - 0.6, rng.unit() * 1.2 - 0.6, -0.65);
-            if (p - DVec3::new(0.11, -0.07, 0.2)).length() > 0.62 + 0.3 {
-                assert_eq!(field.normal(&tree, p), Some(DVec3::Z), "at {p}");
+    }
+
+    #[test]
+    fn flat_faces_get_their_axis_normal_exactly() {
+        // A box whose faces lie on lattice planes (the domain's voxels are 1/64): at
+        // every point of a face more than the windows' reach (r + 3 = 7 voxels) from
+        // its edges, the face's axis normal, bit for bit.
+        let half = DVec3::new(0.5, 0.375, 0.25);
+        let cube = Cuboid::new(DVec3::ZERO, half * 2.0).unwrap();
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+        let tree = voxelize(&cube, domain, &VoxelizeOptions::default()).unwrap();
+        let field = NormalField::new();
+        let reach = 7.0 * domain.voxel_size();
+        let mut rng = Rng(9);
+        for _ in 0..6_000 {
+            let axis = rng.below(3) as usize;
+            let sign = if rng.below(2) == 0 { -1.0 } else { 1.0 };
+            let mut p = DVec3::ZERO;
+            for a in 0..3 {
+                p[a] = rng.range(-half[a] + reach, half[a] - reach);
             }
+            p[axis] = sign * half[axis];
+            let mut want = DVec3::ZERO;
+            want[axis] = sign;
+            assert_eq!(field.normal(&tree, p), Some(want), "at {p}");
         }
     }
 }

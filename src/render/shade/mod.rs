@@ -18,7 +18,7 @@ pub use whitted::radiance;
 pub struct ShadeOptions {
     /// Trace shadow rays.
     pub shadows: bool,
-    /// Which normal shades.
+    /// Which normal shades (default [`Normals::Smooth`]).
     pub normals: Normals,
     /// Longest chain of reflected and refracted rays after the primary one.
     pub max_depth: u32,
@@ -28,6 +28,6 @@ pub struct ShadeOptions {
 
 impl Default for ShadeOptions {
     fn default() -> Self {
-        ShadeOptions { shadows: true, normals: Normals::Axis, max_depth: 6, cutoff: 1e-3 }
+        ShadeOptions { shadows: true, normals: Normals::default(), max_depth: 6, cutoff: 1e-3 }
     }
 }
