@@ -161,6 +161,26 @@ mod tests {
     use super::*;
     use crate::mesh::tri_box::triangle_box_overlap;
 
+    /// Every segment between points of a grid that holds the unit cube's corners, edge
+    /// midpoints and face centres (and points outside): the signed crossings with its
+    /// twelve triangles are the change of the tie rule's indicator, `lo <= x < hi` on
+    /// each axis (the point moved toward `+x`, then `+y`, then `+z`), so chains of
+    /// carried values telescope even through vertices and along faces.
+    #[test]
+    fn crossings_through_cube_corners_edges_and_faces_follow_the_perturbation() {
+        let mesh = crate::mesh::generate::cuboid(DVec3::splat(0.5), DVec3::ONE);
+        let planes: Vec<Plane> = (0..12).map(|t| Plane::new(&mesh, t)).collect();
+        let steps = [-0.5, 0.0, 0.5, 1.0, 1.5];
+        let points: Vec<DVec3> = (0..125).map(|i| DVec3::new(steps[i % 5], steps[i / 5 % 5], steps[i / 25])).collect();
+        let inside = |x: DVec3| i32::from(x.cmpge(DVec3::ZERO).all() && x.cmplt(DVec3::ONE).all());
+        for &q in &points {
+            for &p in &points {
+                let sum: i32 = (0..12).map(|t| signed_crossing(&mesh, &planes[t as usize], t, q, p)).sum();
+                assert_eq!(sum, inside(p) - inside(q), "{q} -> {p}");
+            }
+        }
+    }
+
     #[test]
     fn plane_test_keeps_every_triangle_that_meets_the_cube() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);

@@ -100,17 +100,17 @@ mod tests {
 
     #[test]
     fn cross_of_differences_is_exact_where_floats_cancel() {
-        // Oracle: the same value in integers. Coordinates are in 1..2, so multiples of
-        // 2^-52, and b - a is nearly parallel to p - q (three times it, rounded), so
-        // the cross product is a few units of 2^-104 that float products round away.
+        // Oracle: the same value in integers. Every coordinate stays in 1..2, so is a
+        // multiple of 2^-52, and b - a is p - q plus a unit or so of 2^-52 on each
+        // axis: the cross product is some 2^-55, the products some 2^-6.
         let mut rng = crate::test_util::Rng(17);
         let fixed = |x: f64| (x * 2f64.powi(52)) as i128;
         let (mut positive, mut negative) = (0, 0);
         for _ in 0..2000 {
-            let base = rng.range(1.25, 1.75);
-            let mut near = || base + rng.range(-1.0, 1.0) * 2f64.powi(-20);
+            let mut near = || 1.5 + rng.range(-0.1, 0.1);
             let [px, qx, ax, py, qy, ay] = std::array::from_fn(|_| near());
-            let (bx, by) = (ax + 3.0 * (px - qx), ay + 3.0 * (py - qy));
+            let mut ulps = || (rng.next() % 3) as f64 - 1.0;
+            let (bx, by) = (ax + (px - qx) + ulps() * 2f64.powi(-52), ay + (py - qy) + ulps() * 2f64.powi(-52));
             let exact =
                 (fixed(px) - fixed(qx)) * (fixed(by) - fixed(ay)) - (fixed(py) - fixed(qy)) * (fixed(bx) - fixed(ax));
             let got =
