@@ -6,7 +6,7 @@ mod common;
 use common::{Recorder, Rng};
 use glam::DVec3;
 use octsolid::MemoryBudget;
-use octsolid::mesh::generate::{box_with_hole, icosphere, torus};
+use octsolid::mesh::generate::{box_with_hole, cuboid, icosphere, torus};
 use octsolid::mesh::*;
 use octsolid::morton;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions};
@@ -271,6 +271,86 @@ fn mesh_voxelizations_report_progress_adding_up_to_their_total() {
             let options = VoxelizeOptions { budget: MemoryBudget::default(), progress: &shell };
             voxelize_surface(&mesh, d, kind, &options).unwrap();
             assert_eq!(shell.read(), (1, total, total, 1), "{kind:?} at depth {depth}");
+        }
+    }
+}
+
+/// The box with corners `lo` and `hi` as a closed mesh: [`cuboid`]'s triangles, each
+/// corner `lo` or `hi` on each axis exactly (no arithmetic on the coordinates).
+fn box_mesh(lo: DVec3, hi: DVec3) -> TriangleMesh {
+    let unit = cuboid(DVec3::splat(0.5), DVec3::ONE);
+    let pick = |v: DVec3| DVec3::select(v.cmpgt(DVec3::splat(0.5)), hi, lo);
+    TriangleMesh::new(unit.vertices.iter().map(|&v| pick(v)).collect(), unit.triangles).unwrap()
+}
+
+/// Brute force over voxel centres with the voxelizer's tie rule for points on the
+/// surface (the point a hair toward +x, then +y, then +z decides): a centre is in the
+/// box `[lo, hi]` iff `lo <= c < hi` on each axis.
+fn box_by_centres(domain: Domain, lo: DVec3, hi: DVec3) -> LinearOctree {
+    let inside = |c: DVec3| c.cmpge(lo).all() && c.cmplt(hi).all();
+    let voxels = (0..domain.voxel_total()).map(morton::decode).filter(|&v| inside(domain.voxel_center(v)));
+    LinearOctree::from_voxels(domain, voxels).unwrap()
+}
+
+fn voxelize_in(mesh: &TriangleMesh, domain: Domain, inside: InsideRule) -> LinearOctree {
+    let options = MeshVoxelizeOptions { inside, ..Default::default() };
+    let (tree, _) = voxelize_mesh(mesh, domain, &options).unwrap();
+    tree.validate().unwrap();
+    tree
+}
+
+/// Regression: faces, edges and corners on voxel planes put node centres on the
+/// surface (at depth 3 in `[-0.5, 1.5]^3` the centres of the eight depth-1 nodes are
+/// the cube's corners), where crossings were counted by vertex indices: the whole
+/// domain, volume 5 instead of 1.
+#[test]
+fn axis_aligned_cube_on_voxel_planes_voxelizes_exactly() {
+    let cube = cuboid(DVec3::splat(0.5), DVec3::ONE);
+    // Domains in which 0 and 1 lie on voxel planes at every depth from 2.
+    let domains =
+        [(DVec3::splat(-0.5), 2.0), (DVec3::ZERO, 1.0), (DVec3::splat(-1.0), 4.0), (DVec3::new(-1.0, -3.0, -2.0), 4.0)];
+    for (min, edge) in domains {
+        for depth in 2..=7 {
+            let domain = Domain::new(min, edge, depth).unwrap();
+            let want = box_by_centres(domain, DVec3::ZERO, DVec3::ONE);
+            assert_eq!(want.volume(), 1.0, "brute force in {min} edge {edge} depth {depth}");
+            for rule in [InsideRule::Parity, InsideRule::Winding] {
+                let tree = voxelize_in(&cube, domain, rule);
+                let what = format!("{rule:?} in {min} edge {edge} depth {depth}");
+                assert_eq!(tree.volume(), 1.0, "{what}");
+                assert_same(&tree, &want, &what);
+            }
+        }
+    }
+}
+
+/// Random boxes with corners on the voxel lattice (faces on voxel planes, the exact
+/// answer the voxels of the index range) and at voxel centres (faces through a layer
+/// of centres on each side, decided by the tie rule of [`box_by_centres`]).
+#[test]
+fn boxes_on_voxel_planes_and_through_voxel_centres_match_brute_force() {
+    let mut rng = Rng(41);
+    for case in 0..60 {
+        let depth = 2 + rng.below(5) as u8;
+        let domain = Domain::new(rng.vec(-2.0, 2.0), rng.range(0.5, 3.0), depth).unwrap();
+        let res = u64::from(domain.resolution());
+        let through_centres = case % 2 == 1;
+        // Index ranges lo..hi on each axis, at least one voxel wide.
+        let top = if through_centres { res - 1 } else { res };
+        let mut lo = [0u32; 3];
+        let mut hi = [0u32; 3];
+        for a in 0..3 {
+            let (x, y) = (rng.below(top), rng.below(top));
+            (lo[a], hi[a]) = (x.min(y) as u32, (x.max(y) + 1).min(top) as u32);
+        }
+        let corner = |c: [u32; 3]| if through_centres { domain.voxel_center(c) } else { domain.lattice_point(c) };
+        let (a, b) = (corner(lo), corner(hi));
+        let want = box_by_centres(domain, a, b);
+        let count: u64 = (0..3).map(|i| u64::from(hi[i] - lo[i])).product();
+        assert_eq!(want.voxel_count(), count, "brute force, case {case}");
+        for rule in [InsideRule::Parity, InsideRule::Winding] {
+            let what = format!("case {case}: {rule:?} box {a}..{b} depth {depth}");
+            assert_same(&voxelize_in(&box_mesh(a, b), domain, rule), &want, &what);
         }
     }
 }

@@ -1,19 +1,40 @@
-//! Signed crossings of a segment with mesh triangles, counted once at shared edges.
+//! Signed crossings of a segment with mesh triangles, counted once at shared edges and
+//! vertices.
 //!
 //! Segment `q -> p` crosses triangle `(a, b, c)` when `q` and `p` lie on opposite sides
 //! of its plane and the line through them passes inside the triangle, i.e. the three
 //! orientations `orient(q, p, a, b)`, `orient(q, p, b, c)`, `orient(q, p, c, a)` share
-//! a sign (Plucker test). Ties are broken symbolically so that a segment through a
-//! shared edge counts for exactly one of the two triangles: a zero edge orientation
-//! takes the sign of the comparison of the edge's vertex indices, which flips between
-//! the two triangles that run the edge in opposite directions; a point on a plane
-//! counts as in front of it. The orientations are exact, so the two triangles of an
-//! edge always see opposite signs.
+//! a sign (Plucker test). The orientations are exact.
+//!
+//! Ties (a point on a plane, a line through an edge or a vertex) are broken by
+//! simulation of simplicity (Edelsbrunner and Mucke, 1990) with one perturbation for
+//! every point: each query point `x` stands for `x + eps d`, `d = (1, delta, delta^2)`,
+//! `0 < eps << delta << 1`, i.e. moved a hair toward `+x`, then `+y`, then `+z`.
+//! - On the plane of `(a, b, c)`: `orient(a, b, c, x + eps d) = orient(a, b, c, x) +
+//!   eps n . d`, `n = (b - a) x (c - a)`: the sign of the first non-zero of `n_x, n_y,
+//!   n_z` (each an exact 2-D orientation). A degenerate triangle (`n = 0`) counts as
+//!   in front, as before, so no segment crosses it.
+//! - Through edge `a -> b`: `orient(q + eps d, p + eps d, a, b) = orient(q, p, a, b) +
+//!   eps d . ((p - q) x (b - a))`: the sign of the first non-zero component of
+//!   `(p - q) x (b - a)` (exact, [`cross_of_differences`]). It flips with the edge's
+//!   direction, so of two triangles sharing an edge exactly one counts, and since it
+//!   is one geometric perturbation of the segment, around a vertex the fan counts as
+//!   a translated segment would: once.
+//!
+//! Departure from the paper: one translation for all points rather than a
+//! perturbation per point, which is all the carried values need (every point of a
+//! chain `q -> p -> ...` moves alike, so the sums telescope). The perturbed point is
+//! the tie rule of the solid voxelizer: a voxel centre on the surface is inside when
+//! the point just above it in `(x, y, z)` lexicographic order is; for a box, `lo <= c
+//! < hi` on each axis.
+//! An earlier version broke edge ties by vertex indices, which is consistent for an
+//! edge but not around a vertex: a segment ending at a cube corner counted two or
+//! none of its three faces.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::TriangleMesh;
-use super::predicates::orient3d as orient;
+use super::predicates::{cross_of_differences, orient2d, orient3d as orient};
 
 /// A triangle's plane for fast side tests: normal `n = (b - a) x (c - a)`, a corner,
 /// and `|b - a| |c - a|`, which bounds the rounding of `n . (x - a)`.
@@ -33,9 +54,9 @@ impl Plane {
         Plane { n: e1.cross(e2), a, scale: e1.length() * e2.length() }
     }
 
-    /// Whether `x` is in front of triangle `t` (whose plane this is), on the plane
-    /// counting as in front: the float value when it clears its error bound (a
-    /// generous `1e-12 |b - a| |c - a| |x - a|`), else the exact predicate.
+    /// Whether `x` is in front of triangle `t` (whose plane this is), a point on the
+    /// plane perturbed (module docs): the float value when it clears its error bound
+    /// (a generous `1e-12 |b - a| |c - a| |x - a|`), else the exact predicate.
     #[inline]
     #[must_use]
     pub fn in_front(&self, mesh: &TriangleMesh, t: u32, x: DVec3) -> bool {
@@ -45,6 +66,18 @@ impl Plane {
             return s > 0.0;
         }
         in_front(mesh, t, x)
+    }
+
+    /// Whether `x` lies exactly on the plane of triangle `t` (whose plane this is).
+    #[inline]
+    #[must_use]
+    pub fn contains(&self, mesh: &TriangleMesh, t: u32, x: DVec3) -> bool {
+        let d = x - self.a;
+        if self.n.dot(d).abs() > 1e-12 * self.scale * d.length() {
+            return false;
+        }
+        let v = mesh.triangles[t as usize].map(|i| mesh.vertices[i as usize]);
+        orient(v[0], v[1], v[2], x) == 0.0
     }
 }
 
@@ -71,27 +104,47 @@ pub fn signed_crossing(mesh: &TriangleMesh, plane: &Plane, t: u32, q: DVec3, p: 
     signed_crossing_sides(mesh, t, q, front_q, p, front_p)
 }
 
-/// Whether `x` is in front of triangle `t` (on its plane counts as in front).
+/// The projections on the `yz`, `zx` and `xy` planes, whose 2-D cross products are
+/// the `x`, `y` and `z` components of the 3-D one.
+const PROJECTIONS: [fn(DVec3) -> DVec2; 3] =
+    [|p| DVec2::new(p.y, p.z), |p| DVec2::new(p.z, p.x), |p| DVec2::new(p.x, p.y)];
+
+/// Whether `x` is in front of triangle `t`, a point on its plane perturbed toward
+/// `d = (1, delta, delta^2)` (module docs).
 #[inline]
 #[must_use]
 pub fn in_front(mesh: &TriangleMesh, t: u32, x: DVec3) -> bool {
     let v = mesh.triangles[t as usize].map(|i| mesh.vertices[i as usize]);
-    orient(v[0], v[1], v[2], x) >= 0.0
+    let o = orient(v[0], v[1], v[2], x);
+    if o != 0.0 {
+        return o > 0.0;
+    }
+    // n . d: n_x, then n_y, then n_z, each the orientation of a coordinate projection.
+    let normal = PROJECTIONS.iter().map(|f| orient2d(f(v[0]), f(v[1]), f(v[2]))).find(|&n| n != 0.0);
+    normal.is_none_or(|n| n > 0.0)
+}
+
+/// Whether the segment `q -> p`, moved by `eps d`, passes on the positive side of edge
+/// `a -> b` when `orient(q, p, a, b)` is zero: the sign of the first non-zero
+/// component of `(p - q) x (b - a)` (module docs). All zero only when the segment is
+/// parallel to the edge, which a segment crossing the edge's plane is not.
+fn tie_sign(q: DVec3, p: DVec3, a: DVec3, b: DVec3) -> bool {
+    let c = PROJECTIONS.iter().map(|f| cross_of_differences(f(p), f(q), f(b), f(a))).find(|&c| c != 0.0);
+    c.is_some_and(|c| c > 0.0)
 }
 
 /// [`signed_crossing`] with both sides known (many segments from one point share its side).
 #[inline]
 #[must_use]
 pub fn signed_crossing_sides(mesh: &TriangleMesh, t: u32, q: DVec3, front_q: bool, p: DVec3, front_p: bool) -> i32 {
-    let idx = mesh.triangles[t as usize];
-    let v = idx.map(|i| mesh.vertices[i as usize]);
     if front_q == front_p {
         return 0;
     }
+    let v = mesh.triangles[t as usize].map(|i| mesh.vertices[i as usize]);
     let edge_sign = |k: usize| {
-        let (i, j) = (k, (k + 1) % 3);
-        let o = orient(q, p, v[i], v[j]);
-        if o != 0.0 { o > 0.0 } else { idx[i] < idx[j] }
+        let (a, b) = (v[k], v[(k + 1) % 3]);
+        let o = orient(q, p, a, b);
+        if o != 0.0 { o > 0.0 } else { tie_sign(q, p, a, b) }
     };
     let s0 = edge_sign(0);
     if edge_sign(1) != s0 || edge_sign(2) != s0 {
@@ -107,6 +160,26 @@ mod tests {
 
     use super::*;
     use crate::mesh::tri_box::triangle_box_overlap;
+
+    /// Every segment between points of a grid that holds the unit cube's corners, edge
+    /// midpoints and face centres (and points outside): the signed crossings with its
+    /// twelve triangles are the change of the tie rule's indicator, `lo <= x < hi` on
+    /// each axis (the point moved toward `+x`, then `+y`, then `+z`), so chains of
+    /// carried values telescope even through vertices and along faces.
+    #[test]
+    fn crossings_through_cube_corners_edges_and_faces_follow_the_perturbation() {
+        let mesh = crate::mesh::generate::cuboid(DVec3::splat(0.5), DVec3::ONE);
+        let planes: Vec<Plane> = (0..12).map(|t| Plane::new(&mesh, t)).collect();
+        let steps = [-0.5, 0.0, 0.5, 1.0, 1.5];
+        let points: Vec<DVec3> = (0..125).map(|i| DVec3::new(steps[i % 5], steps[i / 5 % 5], steps[i / 25])).collect();
+        let inside = |x: DVec3| i32::from(x.cmpge(DVec3::ZERO).all() && x.cmplt(DVec3::ONE).all());
+        for &q in &points {
+            for &p in &points {
+                let sum: i32 = (0..12).map(|t| signed_crossing(&mesh, &planes[t as usize], t, q, p)).sum();
+                assert_eq!(sum, inside(p) - inside(q), "{q} -> {p}");
+            }
+        }
+    }
 
     #[test]
     fn plane_test_keeps_every_triangle_that_meets_the_cube() {

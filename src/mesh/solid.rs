@@ -24,6 +24,16 @@
 //! just inherits the value.
 //! That is exact for parity and for closed parts of a mesh; near a hole the winding
 //! number also varies smoothly, and this carries it over less than one small node.
+//!
+//! Points on the surface: node centres are lattice points and voxel centres half-way
+//! between, so a mesh whose faces, edges or vertices lie on the lattice (an
+//! axis-aligned box on voxel planes) puts them on the surface. Every crossing count
+//! then perturbs all points alike ([`super::crossing`]): a point on the surface is
+//! decided as the point a hair toward `+x`, then `+y`, then `+z` (for a box, `lo <= c
+//! < hi` on each axis). A query from scratch is never made at a point on the plane of
+//! one of its node's triangles (the oracles have no such rule, and the winding number
+//! is undefined there): it is made at a point of the node off all of them and carried
+//! to the point like any reference value.
 
 use smallvec::SmallVec;
 
@@ -229,6 +239,21 @@ struct Reference<'t> {
     triangles: &'t [u32],
 }
 
+/// A node's box: lowest corner and side.
+struct Cell {
+    min: DVec3,
+    side: f64,
+}
+
+/// Roberts' R3 sequence step `(1/g, 1/g^2, 1/g^3)`, `g` the plastic ratio's 3-D
+/// analogue (`g^4 = g + 1`): well spread points of a box, none on its lattice planes.
+const R3: DVec3 = DVec3::new(0.819_172_513_396_164_4, 0.671_043_606_703_789_2, 0.549_700_477_901_970_4);
+
+/// Points of a node tried before a query from scratch gives up avoiding the planes of
+/// its triangles (each plane holds at most a few of them unless the points are
+/// collinear on it, which R3's steps are not).
+const OFF_SURFACE_TRIES: u32 = 32;
+
 /// What a node is handed by its parent.
 struct MeshNode {
     /// The triangles that may meet the node (every one that does; see [`SAT_MIN_SIZE`]).
@@ -261,18 +286,19 @@ impl Voxelizer for Job<'_> {
         let min = morton::decode(key.start());
         let triangles = &node.triangles[..];
         let reference = node.reference.map(|(q, value)| Reference { q, value, triangles });
+        let size = 1u32 << key.k();
+        let cell = Cell { min: self.domain.lattice_point(min), side: f64::from(size) * self.domain.voxel_size() };
         // Step 1: no surface in the node (or a voxel): one point decides.
         if triangles.is_empty() || key.k() == 0 {
             let p = self.domain.voxel_center(min);
-            let inside = self.oracle.inside(self.value(p, reference, stats));
+            let inside = self.oracle.inside(self.value(p, reference, &cell, triangles, stats));
             return if inside { Decision::Full } else { Decision::Empty };
         }
         // Step 2: small enough: the value at this node's centre, carried from the
         // parent's centre or queried, becomes the reference of the children.
-        let size = 1u32 << key.k();
         let here = (size <= REFERENCE_SIZE).then(|| {
             let q = self.domain.lattice_point(min.map(|c| c + size / 2));
-            (q, self.value(q, reference, stats))
+            (q, self.value(q, reference, &cell, triangles, stats))
         });
         if key.k() == 1 {
             let (q, value) = here.expect("a 2-voxel node is below the reference size");
@@ -285,28 +311,55 @@ impl Voxelizer for Job<'_> {
 }
 
 impl Job<'_> {
-    /// The value at `p`, carried from the reference when there is one.
-    fn value(&self, p: DVec3, reference: Option<Reference>, stats: &mut MeshVoxelizeStats) -> f64 {
+    /// The value at `p` (a point of the node `cell`, whose triangles are `triangles`),
+    /// carried from the reference when there is one, else queried.
+    fn value(
+        &self,
+        p: DVec3,
+        reference: Option<Reference>,
+        cell: &Cell,
+        triangles: &[u32],
+        stats: &mut MeshVoxelizeStats,
+    ) -> f64 {
         match reference {
-            Some(r) => {
-                // Only triangles whose box meets the segment's box can cross it.
-                let (lo, hi) = (r.q.min(p), r.q.max(p));
-                let crossings: i32 = r
-                    .triangles
-                    .iter()
-                    .filter(|&&t| {
-                        let b = &self.boxes[t as usize];
-                        b.min.cmple(hi).all() && b.max.cmpge(lo).all()
-                    })
-                    .map(|&t| signed_crossing(self.mesh, &self.planes[t as usize], t, r.q, p))
-                    .sum();
-                self.oracle.carry(r.value, crossings)
-            }
-            None => {
-                stats.point_queries += 1;
-                self.oracle.value(p)
-            }
+            Some(r) => self.carry(p, r),
+            None => self.query(p, cell, triangles, stats),
         }
+    }
+
+    /// The value at `p` carried from the reference `r` by the signed crossings of the
+    /// segment between them.
+    fn carry(&self, p: DVec3, r: Reference) -> f64 {
+        // Only triangles whose box meets the segment's box can cross it.
+        let (lo, hi) = (r.q.min(p), r.q.max(p));
+        let crossings: i32 = r
+            .triangles
+            .iter()
+            .filter(|&&t| {
+                let b = &self.boxes[t as usize];
+                b.min.cmple(hi).all() && b.max.cmpge(lo).all()
+            })
+            .map(|&t| signed_crossing(self.mesh, &self.planes[t as usize], t, r.q, p))
+            .sum();
+        self.oracle.carry(r.value, crossings)
+    }
+
+    /// The value at `p` from scratch. When `p` lies on the plane of one of the node's
+    /// triangles (every triangle meeting the closed box `cell`, which holds `p`), the
+    /// query is made at a point of the box off all their planes instead (a few points
+    /// of an additive recurrence, Roberts' R3 sequence) and carried to `p`: the segment
+    /// stays in the box, so only those triangles can cross it.
+    fn query(&self, p: DVec3, cell: &Cell, triangles: &[u32], stats: &mut MeshVoxelizeStats) -> f64 {
+        stats.point_queries += 1;
+        let on_surface = |x: DVec3| triangles.iter().any(|&t| self.planes[t as usize].contains(self.mesh, t, x));
+        if !on_surface(p) {
+            return self.oracle.value(p);
+        }
+        let start = (1..=OFF_SURFACE_TRIES)
+            .map(|k| cell.min + (DVec3::splat(0.5) + R3 * f64::from(k)).fract() * cell.side)
+            .find(|&q| !on_surface(q))
+            .unwrap_or(cell.min + DVec3::splat(0.5 * cell.side));
+        self.carry(p, Reference { q: start, value: self.oracle.value(start), triangles })
     }
 
     /// The children (of `child_size` voxels a side, at least two, of the node with
