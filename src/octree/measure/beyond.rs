@@ -223,7 +223,7 @@ mod tests {
     fn check_tiling(tree: &LinearOctree, node: crate::octree::Node, face: CubeFace, min_k: u32, beyond: &[Beyond]) {
         let (keys, axis) = (tree.keys(), face.axis);
         let across = node.min[axis] as i64 + if face.positive { i64::from(node.size) } else { -1 };
-        if across < 0 || across >= 16 {
+        if !(0..16).contains(&across) {
             return assert_eq!(beyond, [Beyond::Outside]);
         }
         let cube_of = |b: &Beyond| match b {

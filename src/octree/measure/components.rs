@@ -9,10 +9,14 @@
 //! neighbour across the same face, then the children touching the face). Every pair
 //! of face-adjacent nodes has one on the negative side of the other along some axis,
 //! so each pair is found once. A node is connected inside (a cube), so the components
-//! of the nodes are those of the voxels. No grid: the cost is the nodes' faces and
-//! their neighbours, each found in `O(log distance)` in Morton order. The nodes are
-//! cut into chunks joined in parallel within themselves; the pairs that cross chunks
-//! are joined after, in chunk order.
+//! of the nodes are those of the voxels. Departure, for the commonest keys: the
+//! voxels of one partly full `2^3` cube (whose keys are all voxels) join among
+//! themselves by their places in it, and reach beyond through the cube's three walks,
+//! not three each. No grid: the cost is the nodes' faces and their neighbours, each
+//! found in `O(log distance)` in Morton order. The nodes are cut into chunks joined
+//! in parallel within themselves; the pairs that cross chunks are joined after, in
+//! chunk order, so the count never depends on the number of threads. Memory: one
+//! `usize` a node (the sets), and the pairs that cross chunks.
 
 use rayon::prelude::*;
 
