@@ -6,11 +6,12 @@
 //! ([`shape::Shape`]: quadrics, boxes, CSG trees of them, any type of yours) by
 //! adaptive [`octree::voxelize`], and from triangle meshes and Bezier patches
 //! ([`mesh`], [`patch`], [`import`]); they combine by set operations in one linear
-//! merge, move exactly or by resampling, travel in files ([`io`]: `.oct`, MagicaVoxel,
-//! binvox, OpenVDB, glTF, PNG) and are drawn by an octree renderer ([`render`]: the ray
-//! walk through the octree itself, Meagher's front-to-back display and the classic
-//! visibility algorithms, Phong, shadows, Whitted, textures) from code or from scene
-//! files ([`scene_file`]).
+//! merge, move exactly or by resampling, are measured ([`octree::Measures`]: boundary
+//! area, centre of mass, inertia tensor, components), travel in files ([`io`]:
+//! `.oct`, MagicaVoxel, binvox, OpenVDB, glTF, PNG) and are drawn by an octree
+//! renderer ([`render`]: the ray walk through the octree itself, Meagher's
+//! front-to-back display and the classic visibility algorithms, Phong, shadows,
+//! Whitted, textures) from code or from scene files ([`scene_file`]).
 //!
 //! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`], [`io`],
 //! [`slice`](mod@slice), [`render`], [`import`], [`scene_file`], [`samples`]. Across them: one

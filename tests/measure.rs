@@ -291,6 +291,22 @@ fn components_equal_a_flood_fill_on_random_solids() {
 }
 
 #[test]
+fn components_equal_a_flood_fill_on_large_random_solids() {
+    // Near the percolation threshold of the cubic lattice (31%): clusters of every
+    // size, and hundreds of thousands of keys, so the joins run in many parallel
+    // chunks and cubes of voxels straddle their ends.
+    let mut rng = Rng(43);
+    let domain = Domain::new(DVec3::ZERO, 1.0, 7).unwrap();
+    for density in [0.2, 0.3, 0.45] {
+        let cells = (0..128u32).flat_map(|x| (0..128u32).flat_map(move |y| (0..128u32).map(move |z| [x, y, z])));
+        let chosen: Vec<[u32; 3]> = cells.filter(|_| rng.unit() < density).collect();
+        let tree = LinearOctree::from_voxels(domain, chosen).unwrap();
+        assert!(tree.node_count() > 100_000);
+        assert_eq!(tree.components(), flood_components(&tree), "density {density}");
+    }
+}
+
+#[test]
 fn measure_gathers_the_parts() {
     let tree = torus(DVec3::ZERO, 1.0, 0.25, 6);
     let all = tree.measure();

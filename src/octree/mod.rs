@@ -7,6 +7,10 @@
 //! keys come out sorted and canonical; the top [`PARALLEL_LEVELS`] levels run as
 //! parallel tasks joined in child order, so the result does not depend on the number
 //! of threads; progress comes in units of level-3 subtrees ([`VoxelizeOptions`]).
+//!
+//! Measurements work on the key list too ([`LinearOctree::measure`], [`Measures`]):
+//! exact mass properties, an estimate of the boundary's area that converges to a
+//! smooth surface's, and the face-connected components.
 
 mod affine;
 mod csg;

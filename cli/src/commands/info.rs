@@ -107,7 +107,8 @@ fn print_measures(info: &Info) {
     }
     for (i, row) in info.inertia.iter().enumerate() {
         let label = if i == 0 { "inertia" } else { "" };
-        out!("{label:<10} [{:.6}, {:.6}, {:.6}]", row[0], row[1], row[2]);
+        // Length to the fifth: any size, so significant digits rather than decimals.
+        out!("{label:<10} [{:.6e}, {:.6e}, {:.6e}]", row[0], row[1], row[2]);
     }
     out!("components {}", info.components);
 }

@@ -49,7 +49,8 @@
 //! exposed faces and irregular edges are a few shifts and masks of it and its eight
 //! neighbouring rows, counted into the blocks; then each block of the brick is
 //! weighted by its window. Faces on the inner parts of big flat node faces are counted
-//! in bulk, whole. Bricks run in parallel and are summed in brick order, so the
+//! in bulk, whole: nothing but their plane lies within a brick of them, and a window
+//! reaches 9 voxels. Bricks run in parallel and are summed in brick order, so the
 //! estimate does not depend on the number of threads.
 
 use rayon::prelude::*;

@@ -3,8 +3,9 @@
 //! node's face are exposed) share.
 //!
 //! Method (the walk of `mesh::boundary`'s exposed squares): the cube of the node's size
-//! across the face is looked up in the key list by a galloping search from the node's
-//! own place (face neighbours mostly lie near in Morton order). Holding no full voxel,
+//! across the face is looked up in the key list by a galloping search from a hint: the
+//! node's own place, or where the same face of the node before it found its cube
+//! (walks in Morton order find their neighbours in nearly increasing order). Holding no full voxel,
 //! or lying inside one full node, it is reported whole; partly full, it splits into its
 //! four children touching the face, each with its slice of keys, down to a given
 //! level, where a partly full cube is reported as such. Aligned cubes nest, so the
@@ -15,19 +16,33 @@ use std::ops::Range;
 use crate::octree::NodeKey;
 use crate::octree::window::range_meeting_near;
 
-/// One face of the node `keys[index]`.
+/// One face of a cube of the implicit tree whose keys (itself, when it is a node) end
+/// just before `keys[next]`.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct NodeFace {
-    /// Index of the node in the key list.
-    pub index: usize,
+pub(super) struct CubeFace {
+    /// The cube: a node, or a partly full cube.
+    pub cube: NodeKey,
+    /// Index of the first key after the cube's in the list.
+    pub next: usize,
     /// Axis of the face's normal.
     pub axis: usize,
     /// Whether the outward normal points to `+axis`.
     pub positive: bool,
+    /// Where the search for the keys beyond starts: the cube's own place, or what
+    /// [`walk_beyond`] returned for the same face of the cube before it in Morton
+    /// order, whose neighbours lie near (the nearer, the shorter the gallop).
+    pub hint: usize,
+}
+
+impl CubeFace {
+    /// The face of the node `keys[index]` normal to `axis`, searched from the node.
+    pub(super) fn of_node(keys: &[NodeKey], index: usize, axis: usize, positive: bool) -> CubeFace {
+        CubeFace { cube: keys[index], next: index + 1, axis, positive, hint: index }
+    }
 }
 
 /// What fills a cube across a node face, as [`walk_beyond`] reports it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub(super) enum Beyond {
     /// The face lies on the domain's boundary: nothing beyond it.
     Outside,
@@ -35,33 +50,43 @@ pub(super) enum Beyond {
     Empty(NodeKey),
     /// The cube lies inside the full node of this index in the key list.
     Full(NodeKey, usize),
-    /// The cube, at the walk's finest level (or the node's size, when smaller), is
-    /// partly full.
-    Mixed(NodeKey),
+    /// The cube, at the walk's finest level (or the face's cube's size, when smaller),
+    /// is partly full: the keys inside it are `keys[range]`.
+    Mixed(NodeKey, Range<usize>),
 }
 
 /// Reports the cubes across `face` of the canonical key list `keys` (depth `depth`)
 /// that touch the face, each empty, inside one full node, or partly full at `k =
 /// min_k` (or the node's own `k` when smaller; see the module doc);
-/// [`Beyond::Outside`] alone on the domain's boundary.
-pub(super) fn walk_beyond(keys: &[NodeKey], depth: u8, face: NodeFace, min_k: u32, visit: &mut impl FnMut(Beyond)) {
-    let key = keys[face.index];
+/// [`Beyond::Outside`] alone on the domain's boundary. Returns where the keys beyond
+/// start in the list (the next hint).
+pub(super) fn walk_beyond(
+    keys: &[NodeKey],
+    depth: u8,
+    face: CubeFace,
+    min_k: u32,
+    visit: &mut impl FnMut(Beyond),
+) -> usize {
+    let key = face.cube;
     // The same-size cube across the face (aligned: the plane is a multiple of the size).
     let Some(start) = step(key.start(), face.axis, key.k(), face.positive, depth) else {
-        return visit(Beyond::Outside);
+        visit(Beyond::Outside);
+        return face.hint;
     };
     let cube = NodeKey::new(start, key.k());
     let walk = Walk { keys, axis: face.axis, near: u64::from(!face.positive), min_k };
-    let next = face.index + 1;
+    let next = face.next;
     let range = match keys.get(next) {
         // The cube right after the node in Morton order: the next key starts in it
         // (covering it when as large), or after it.
-        _ if cube.start() != key.end() => range_meeting_near(keys, face.index, cube),
+        _ if cube.start() != key.end() => range_meeting_near(keys, face.hint, cube),
         Some(n) if n.start() == cube.start() && n.k() >= cube.k() => next..next + 1,
         Some(n) if n.start() < cube.end() => range_meeting_near(keys, next, cube),
         _ => next..next,
     };
+    let found = range.start;
     walk.descend(range, cube, visit);
+    found
 }
 
 /// The Morton code `code` of a voxel whose coordinate along `axis` is a multiple of
@@ -102,7 +127,7 @@ impl Walk<'_> {
         match &self.keys[range.clone()] {
             [] => return visit(Beyond::Empty(cube)),
             [key] if key.k() >= cube.k() => return visit(Beyond::Full(cube, range.start)),
-            _ if cube.k() <= self.min_k => return visit(Beyond::Mixed(cube)),
+            _ if cube.k() <= self.min_k => return visit(Beyond::Mixed(cube, range)),
             _ => {}
         }
         // Partly full: every key of the range starts inside the cube.
@@ -162,70 +187,75 @@ mod tests {
         }
     }
 
+    /// The faces to walk: every node's, and those of the partly full parents of voxels
+    /// (cubes that are no node), each with the index of the first key after it.
+    fn cubes(keys: &[NodeKey]) -> Vec<(NodeKey, usize)> {
+        let mut out: Vec<_> = (0..keys.len()).map(|i| (keys[i], i + 1)).collect();
+        for i in (0..keys.len()).filter(|&i| keys[i].k() == 0) {
+            let parent = keys[i].parent();
+            out.push((parent, i + keys[i..].partition_point(|k| k.start() < parent.end())));
+        }
+        out
+    }
+
     #[test]
     fn the_reported_cubes_tile_the_face_and_say_what_fills_them() {
         let mut rng = Rng(31);
         for _ in 0..10 {
             let tree = random_tree(&mut rng);
             let (keys, depth) = (tree.keys(), tree.depth());
-            for index in 0..keys.len() {
-                let node = keys[index].node(depth);
+            for (n, (cube, next)) in cubes(keys).into_iter().enumerate() {
+                let node = cube.node(depth);
                 for (axis, positive, min_k) in [(0, true, 0), (1, false, 1), (2, true, 2), (0, false, 0)] {
-                    let face = NodeFace { index, axis, positive };
-                    let mut cubes = Vec::new();
-                    walk_beyond(keys, depth, face, min_k, &mut |b| cubes.push(b));
-                    let beyond = node.min[axis] as i64 + if positive { i64::from(node.size) } else { -1 };
-                    if beyond < 0 || beyond >= 16 {
-                        assert_eq!(cubes, [Beyond::Outside]);
-                        continue;
-                    }
-                    // Brute force: each voxel across the face lies in exactly one
-                    // reported cube, which says whether it is full.
-                    let mut seen = 0;
-                    for (u, v) in (0..node.size).flat_map(|u| (0..node.size).map(move |v| (u, v))) {
-                        let mut p = node.min;
-                        p[axis] = beyond as u32;
-                        p[(axis + 1) % 3] += u;
-                        p[(axis + 2) % 3] += v;
-                        let code = morton::encode(p[0], p[1], p[2]);
-                        let holding: Vec<_> = cubes
-                            .iter()
-                            .filter(|b| match b {
-                                Beyond::Empty(c) | Beyond::Full(c, _) | Beyond::Mixed(c) => {
-                                    c.start() <= code && code < c.end()
-                                }
-                                Beyond::Outside => false,
-                            })
-                            .collect();
-                        assert_eq!(holding.len(), 1, "{p:?}");
-                        match holding[0] {
-                            Beyond::Empty(_) => assert!(!tree.contains_voxel(p)),
-                            Beyond::Full(c, j) => {
-                                assert!(keys[*j].start() <= c.start() && c.end() <= keys[*j].end());
-                                assert!(tree.contains_voxel(p));
-                            }
-                            Beyond::Mixed(c) => {
-                                assert!(c.k() <= min_k && c.k() > 0, "{c:?}");
-                                let (mut full, mut empty) = (false, false);
-                                for code in c.start()..c.end() {
-                                    let f = tree.find_code(code).is_some();
-                                    (full, empty) = (full || f, empty || !f);
-                                }
-                                assert!(full && empty, "{c:?} is not partly full");
-                            }
-                            Beyond::Outside => unreachable!(),
-                        }
-                        seen += 1;
-                    }
-                    assert_eq!(seen, node.size * node.size);
-                    // And no cube lies off the face: their sides tile it.
-                    let side = |b: &Beyond| match b {
-                        Beyond::Empty(c) | Beyond::Full(c, _) | Beyond::Mixed(c) => 1u32 << c.k(),
-                        Beyond::Outside => 0,
-                    };
-                    assert_eq!(cubes.iter().map(|b| side(b).pow(2)).sum::<u32>(), node.size * node.size);
+                    // Any hint will do: the search gallops from it.
+                    let hint = [0, next - 1, keys.len() - 1, keys.len()][n % 4];
+                    let face = CubeFace { cube, next, axis, positive, hint };
+                    let mut beyond = Vec::new();
+                    walk_beyond(keys, depth, face, min_k, &mut |b| beyond.push(b));
+                    check_tiling(&tree, node, face, min_k, &beyond);
                 }
             }
         }
+    }
+
+    /// Each voxel across the face lies in exactly one reported cube, which says rightly
+    /// what fills it, and the cubes' sides tile the face.
+    fn check_tiling(tree: &LinearOctree, node: crate::octree::Node, face: CubeFace, min_k: u32, beyond: &[Beyond]) {
+        let (keys, axis) = (tree.keys(), face.axis);
+        let across = node.min[axis] as i64 + if face.positive { i64::from(node.size) } else { -1 };
+        if !(0..16).contains(&across) {
+            return assert_eq!(beyond, [Beyond::Outside]);
+        }
+        let cube_of = |b: &Beyond| match b {
+            Beyond::Empty(c) | Beyond::Full(c, _) | Beyond::Mixed(c, _) => Some(*c),
+            Beyond::Outside => None,
+        };
+        for (u, v) in (0..node.size).flat_map(|u| (0..node.size).map(move |v| (u, v))) {
+            let mut p = node.min;
+            p[axis] = across as u32;
+            p[(axis + 1) % 3] += u;
+            p[(axis + 2) % 3] += v;
+            let code = morton::encode(p[0], p[1], p[2]);
+            let holding: Vec<_> =
+                beyond.iter().filter(|b| cube_of(b).is_some_and(|c| c.start() <= code && code < c.end())).collect();
+            assert_eq!(holding.len(), 1, "{p:?}");
+            match holding[0] {
+                Beyond::Empty(_) => assert!(!tree.contains_voxel(p)),
+                Beyond::Full(c, j) => {
+                    assert!(keys[*j].start() <= c.start() && c.end() <= keys[*j].end());
+                    assert!(tree.contains_voxel(p));
+                }
+                Beyond::Mixed(c, range) => {
+                    assert!(c.k() <= min_k && c.k() > 0, "{c:?}");
+                    let inside: Vec<usize> =
+                        (0..keys.len()).filter(|&i| c.start() <= keys[i].start() && keys[i].end() <= c.end()).collect();
+                    assert_eq!(*range, inside[0]..inside[0] + inside.len(), "{c:?}");
+                    assert!(keys[range.clone()].iter().map(|k| k.len()).sum::<u64>() < c.len(), "{c:?} is full");
+                }
+                Beyond::Outside => unreachable!(),
+            }
+        }
+        let area: u32 = beyond.iter().filter_map(cube_of).map(|c| 1u32 << (2 * c.k())).sum();
+        assert_eq!(area, node.size * node.size);
     }
 }

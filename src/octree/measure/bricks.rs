@@ -17,7 +17,7 @@
 
 use rayon::prelude::*;
 
-use super::beyond::{Beyond, NodeFace, walk_beyond};
+use super::beyond::{Beyond, CubeFace, walk_beyond};
 use crate::morton;
 use crate::octree::{LinearOctree, NodeKey};
 
@@ -68,14 +68,14 @@ impl BoundaryBricks {
         let node = keys[index].node(depth);
         for axis in 0..3 {
             for positive in [false, true] {
-                let face = NodeFace { index, axis, positive };
+                let face = CubeFace::of_node(keys, index, axis, positive);
                 // The layer of bricks inside the node along the face.
                 let plane = if positive { node.min[axis] + node.size - 1 } else { node.min[axis] };
                 let square = |cube: NodeKey| Square::of_cube(cube, axis, plane, k);
                 walk_beyond(keys, depth, face, k, &mut |beyond| match beyond {
                     Beyond::Outside => self.add_square(Square::of_cube(keys[index], axis, plane, k), true),
                     Beyond::Empty(cube) => self.add_square(square(cube), true),
-                    Beyond::Mixed(cube) => self.add_square(square(cube), false),
+                    Beyond::Mixed(cube, _) => self.add_square(square(cube), false),
                     Beyond::Full(..) => {}
                 });
             }
