@@ -115,7 +115,7 @@ impl LinearOctree {
             map.translation[i] + if mirrored[i] { -scale * (lo + d.edge()) } else { scale * lo }
         };
         let domain = Domain::new(DVec3::new(corner(0), corner(1), corner(2)), scale * d.edge(), d.depth())?;
-        Ok(LinearOctree::from_canonical(domain, tree.keys().to_vec()))
+        Ok(tree.reframed(domain))
     }
 
     /// Corner `i` of the solid's bounds (of the domain when it is empty).

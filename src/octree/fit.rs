@@ -95,7 +95,6 @@ pub fn common_domain(domains: &[Domain]) -> Result<Domain> {
     let first = domains.first().ok_or_else(|| Error::invalid("domains", "no domain to cover"))?;
     let union = domains.iter().fold(first.aabb(), |acc, d| acc.union(&d.aabb()));
     let edge = union.size().max_element();
-    let probe = Domain::new(union.min, edge, first.depth())?;
     let depth = domains
         .iter()
         .map(|d| match power_of_two(edge / d.voxel_size()) {
@@ -103,7 +102,7 @@ pub fn common_domain(domains: &[Domain]) -> Result<Domain> {
             _ => d.depth(),
         })
         .max()
-        .unwrap_or(probe.depth());
+        .unwrap_or(first.depth());
     Domain::new(union.min, edge, depth)
 }
 
@@ -126,13 +125,13 @@ impl LinearOctree {
         let moved = if target_depth >= fine_depth {
             // The same keys in the target-sized cube at the source's corner, then moved.
             let frame = Domain::new(fine.domain().min(), target.edge(), target.depth())?;
-            LinearOctree::from_canonical(frame, fine.keys().to_vec()).translate(offset)
+            fine.reframed(frame).translate(offset)
         } else {
             // Moved in the source's larger frame so the target is its lowest corner,
             // then cut to that corner.
             fine.translate(offset).lowest_corner(target)
         };
-        Ok((LinearOctree::from_canonical(target, moved.keys().to_vec()), Fit::Exact { refined, offset }))
+        Ok((moved.reframed(target), Fit::Exact { refined, offset }))
     }
 
     /// The part of this solid in its domain's lowest-corner cube of `corner`'s depth

@@ -89,6 +89,13 @@ impl LinearOctree {
         tree
     }
 
+    /// The same keys read in another domain (of at least this depth), without a copy:
+    /// a key names a Morton start and a height above the voxels, so it describes the
+    /// same cells of any domain with the same voxel lattice from its corner.
+    pub(crate) fn reframed(self, domain: Domain) -> Self {
+        LinearOctree::from_canonical(domain, self.keys)
+    }
+
     /// An octree from raw keys, checked against every invariant.
     pub fn from_keys(domain: Domain, keys: Vec<NodeKey>) -> Result<Self> {
         let tree = LinearOctree { domain, keys };

@@ -244,10 +244,9 @@ fn solid_scene(
     let up = a.up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
     let framing = Framing { points: silhouette_points(&tree), up, scene_camera: None };
     let camera = camera_flags::camera(a, &framing, size_aspect(a.size, &options))?;
-    let mut scene = Scene::new();
-    scene.add(input.display().to_string(), tree, Material::default());
+    let mut scene = Scene::from_solid(tree);
+    scene.solids[0].name = input.display().to_string();
     stages.done("building the traversal");
-    scene.lights = Scene::default_lights(&bounds);
     if up.axis() != Axis::Z {
         let c = bounds.center();
         let r = bounds.size().length();

@@ -39,6 +39,16 @@ pub struct Camera {
 /// any up axis.
 pub const DEFAULT_VIEW: DVec3 = DVec3::new(1.0, -1.7, 1.1);
 
+/// `v` given in a z-up world, turned with the world so that its z goes to `up`: for
+/// y-up `(v.x, v.z, -v.y)`, for x-up `(v.z, v.x, -v.y)`.
+pub(crate) fn turned_to_up(v: DVec3, up: Axis) -> DVec3 {
+    match up {
+        Axis::Z => v,
+        Axis::Y => DVec3::new(v.x, v.z, -v.y),
+        Axis::X => DVec3::new(v.z, v.x, -v.y),
+    }
+}
+
 impl Camera {
     /// A perspective camera at `eye` looking at `target`.
     #[must_use]
@@ -52,12 +62,7 @@ impl Camera {
     /// y; for x-up `(v.z, v.x, -v.y)`. The one place an up axis becomes a view.
     #[must_use]
     pub fn default_view(up: Axis) -> DVec3 {
-        let v = DEFAULT_VIEW;
-        match up {
-            Axis::Z => v,
-            Axis::Y => DVec3::new(v.x, v.z, -v.y),
-            Axis::X => DVec3::new(v.z, v.x, -v.y),
-        }
+        turned_to_up(DEFAULT_VIEW, up)
     }
 
     /// A perspective camera (35 degrees) framing `bounds` from `view` (a direction from

@@ -19,7 +19,7 @@
 
 use glam::DVec3;
 
-use super::camera::{Camera, DEFAULT_VIEW, Projection};
+use super::camera::{Camera, DEFAULT_VIEW, Projection, turned_to_up};
 use crate::octree::{CoarsenRule, LinearOctree};
 use crate::shape::Axis;
 
@@ -59,15 +59,6 @@ impl std::str::FromStr for NamedView {
     }
 }
 
-/// `v` given in the z-up frame, turned with the world so that z goes to `up`.
-fn turned(v: DVec3, up: Axis) -> DVec3 {
-    match up {
-        Axis::Z => v,
-        Axis::Y => DVec3::new(v.x, v.z, -v.y),
-        Axis::X => DVec3::new(v.z, v.x, -v.y),
-    }
-}
-
 impl NamedView {
     /// The direction from the target towards the eye in a world whose up is `up`.
     #[must_use]
@@ -81,7 +72,7 @@ impl NamedView {
             NamedView::Bottom => -DVec3::Z,
             NamedView::Iso => DVec3::new(1.0, -1.0, 1.0).normalize(),
         };
-        turned(v, up)
+        turned_to_up(v, up)
     }
 }
 
@@ -97,7 +88,7 @@ pub fn default_orbit() -> (f64, f64) {
 #[must_use]
 pub fn orbit_direction(azimuth: f64, elevation: f64, up: Axis) -> DVec3 {
     let (a, e) = (azimuth.to_radians(), elevation.to_radians());
-    turned(DVec3::new(a.sin() * e.cos(), -a.cos() * e.cos(), e.sin()), up)
+    turned_to_up(DVec3::new(a.sin() * e.cos(), -a.cos() * e.cos(), e.sin()), up)
 }
 
 /// A camera up vector that is not parallel to `view`: `up`, or, looking straight
@@ -105,7 +96,7 @@ pub fn orbit_direction(azimuth: f64, elevation: f64, up: Axis) -> DVec3 {
 /// so that the picture keeps front at the bottom.
 #[must_use]
 pub fn up_for(view: DVec3, up: DVec3, up_axis: Axis) -> DVec3 {
-    if view.normalize().cross(up.normalize()).length() > 1e-6 { up } else { turned(DVec3::Y, up_axis) }
+    if view.normalize().cross(up.normalize()).length() > 1e-6 { up } else { turned_to_up(DVec3::Y, up_axis) }
 }
 
 /// The corners of `tree`'s nodes coarsened (by [`CoarsenRule::Any`]) to at most 64
