@@ -1,7 +1,8 @@
 //! A pipe flange: a disc with a raised hub, a bore through both and a ring of six
 //! bolt holes.
 //!
-//! Run: `cargo run --release --example flange` (writes example-output/flange/flange.oct and flange.png).
+//! Run: `cargo run --release --example flange` (writes example-output/flange/flange.oct,
+//! flange.png and flange-render.png).
 
 use std::f64::consts::PI;
 
@@ -34,12 +35,14 @@ fn flange(out: &std::path::Path) -> Result<()> {
     let solid = voxelize(&flange, domain, &VoxelizeOptions::default())?;
     oct::save(&solid, out.join("flange.oct"))?;
     png::save(&slice_image(&solid, Axis::Z, 0.1, 768)?, out.join("flange.png"))?;
+    // A picture of the part in one call: default camera, lights and material.
+    octsolid::render::quick(&solid, out.join("flange-render.png"))?;
 
     let exact = PI * (disc_r * disc_r * disc_t + hub_r * hub_r * (hub_h - disc_t))
         - PI * bore_r * bore_r * hub_h
         - f64::from(bolts) * PI * bolt_r * bolt_r * disc_t;
     println!("flange at depth 9: {} nodes, {} voxels", solid.node_count(), solid.voxel_count());
     println!("volume {:.5}, analytic {:.5} ({:+.3}%)", solid.volume(), exact, 100.0 * (solid.volume() / exact - 1.0));
-    println!("flange.oct and flange.png (slice through the disc at z = 0.1)");
+    println!("flange.oct, flange.png (slice through the disc at z = 0.1) and flange-render.png");
     Ok(())
 }
