@@ -9,6 +9,19 @@ use crate::morton;
 /// Deepest allowed octree: 21 levels, 2,097,152 voxels a side, Morton codes in 63 bits.
 pub const MAX_DEPTH: u8 = morton::MAX_BITS as u8;
 
+/// Domain edges octsolid accepts: far enough from the limits of `f64` that areas,
+/// volumes and the fifth powers in moments of inertia (`edge^5`) stay finite and
+/// normal at every depth.
+pub const EDGE_RANGE: std::ops::RangeInclusive<f64> = 1e-50..=1e50;
+
+/// How far from the origin a domain's corners may lie.
+pub const MAX_COORDINATE: f64 = 1e50;
+
+/// Bits of a voxel's edge that must lie above the last place of the domain's largest
+/// coordinate, so voxel corners and centres are distinct numbers with room for the
+/// sub-voxel positions of rays and surfaces.
+pub const LATTICE_BITS: u32 = 8;
+
 /// A world-space cube `[min, min + edge]^3` split into `2^depth` voxels per axis.
 ///
 /// Voxel `(i, j, k)` covers `min + h * [i, i+1) x [j, j+1) x [k, k+1)` with
@@ -23,8 +36,11 @@ pub struct Domain {
 impl Domain {
     /// A domain with lowest corner `min`, edge length `edge` and `depth` levels.
     ///
-    /// Fails when the depth is outside `1..=21`, the edge is not positive, or any
-    /// number is not finite.
+    /// Fails when the depth is outside `1..=21`, any number is not finite, the edge is
+    /// outside [`EDGE_RANGE`], a corner is farther than [`MAX_COORDINATE`] from the
+    /// origin, or the corner's coordinates are so large against the voxel that
+    /// neighbouring voxel corners would round to the same number (fewer than
+    /// [`LATTICE_BITS`] bits of a voxel left below the coordinates' last place).
     pub fn new(min: DVec3, edge: f64, depth: u8) -> Result<Self> {
         if !(1..=MAX_DEPTH).contains(&depth) {
             return Err(Error::invalid("depth", format!("{depth} is outside 1..={MAX_DEPTH}")));
@@ -33,6 +49,35 @@ impl Domain {
             return Err(Error::invalid(
                 "domain",
                 format!("min {min} and edge {edge} must be finite with a positive edge"),
+            ));
+        }
+        if !EDGE_RANGE.contains(&edge) {
+            return Err(Error::invalid(
+                "domain",
+                format!(
+                    "edge {edge:e} is outside the supported {:e}..={:e} (scale the model's units)",
+                    EDGE_RANGE.start(),
+                    EDGE_RANGE.end()
+                ),
+            ));
+        }
+        let reach = min.abs().max(min + DVec3::splat(edge)).max_element();
+        if reach > MAX_COORDINATE {
+            return Err(Error::invalid(
+                "domain",
+                format!("it reaches {reach:e} from the origin, beyond the supported {MAX_COORDINATE:e}"),
+            ));
+        }
+        let voxel = edge / f64::from(1u32 << depth);
+        if reach * f64::EPSILON * f64::from(1u32 << LATTICE_BITS) > voxel {
+            return Err(Error::invalid(
+                "domain",
+                format!(
+                    "its corners reach {reach:e} from the origin, too far for voxels of {voxel:e} \
+                     (double precision keeps {LATTICE_BITS} bits of a voxel only within {:e}); \
+                     move the model nearer the origin or use a smaller depth",
+                    voxel / (f64::EPSILON * f64::from(1u32 << LATTICE_BITS))
+                ),
             ));
         }
         Ok(Domain { min, edge, depth })

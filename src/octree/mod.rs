@@ -31,7 +31,7 @@ mod window;
 
 pub use csg::SetOp;
 pub use depth::CoarsenRule;
-pub use domain::{Domain, MAX_DEPTH};
+pub use domain::{Domain, EDGE_RANGE, LATTICE_BITS, MAX_COORDINATE, MAX_DEPTH};
 pub(crate) use driver::{Counters, Decision, Plan, Voxelizer};
 pub use driver::{PARALLEL_LEVELS, VoxelizeOptions};
 pub use fit::{Fit, common_domain};
