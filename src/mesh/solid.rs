@@ -157,12 +157,18 @@ impl Oracle {
     }
 }
 
-/// Estimated peak bytes: nodes near the surface of the mesh's box, plus the triangle
-/// lists handed down (a few per surface voxel).
-fn estimate_bytes(mesh: &TriangleMesh, domain: &Domain) -> u64 {
+/// Estimated peak bytes: nodes near the surface of the mesh's box, the triangle
+/// lists handed down (a few per surface voxel), and the inside oracle (the parity
+/// grid's bound, [`ParityGrid::max_bytes`], when the rule may be parity; the winding
+/// hierarchy is within the 200 bytes a triangle).
+fn estimate_bytes(mesh: &TriangleMesh, domain: &Domain, inside: InsideRule) -> u64 {
     let area = mesh.bounds().intersection(&domain.aabb()).map_or(0.0, |b| b.area());
     let faces = area / domain.voxel_size().powi(2);
-    (faces * 32.0 + mesh.triangles.len() as f64 * 200.0).min(u64::MAX as f64) as u64
+    let oracle = match inside {
+        InsideRule::Winding => 0.0,
+        InsideRule::Parity | InsideRule::Auto => ParityGrid::max_bytes(mesh.triangles.len()) as f64,
+    };
+    (faces * 32.0 + mesh.triangles.len() as f64 * 200.0 + oracle).min(u64::MAX as f64) as u64
 }
 
 /// Voxelizes the solid bounded by `mesh` into `domain`.
@@ -173,7 +179,7 @@ pub fn voxelize_mesh(
 ) -> Result<(LinearOctree, MeshVoxelizeStats)> {
     mesh.check()?;
     let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
-    let plan = Plan::new("voxelizing a mesh", estimate_bytes(mesh, &domain), domain, &driver)?;
+    let plan = Plan::new("voxelizing a mesh", estimate_bytes(mesh, &domain, options.inside), domain, &driver)?;
     // The oracle (and the watertight check it may need) and the per-triangle tables
     // are independent: built side by side.
     let oracle = || {
