@@ -15,7 +15,7 @@ use crate::mesh::{
     voxelize_mesh, voxelize_surface,
 };
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
-use crate::patch::{BezierPatch, load_patches, segments_for, tessellate, voxelize_patch_surface};
+use crate::patch::{BezierPatch, load_patches, segments_for, tessellate_within, voxelize_patch_surface};
 use crate::progress::{NoProgress, Progress};
 use crate::warning::Warning;
 
@@ -89,23 +89,24 @@ impl Input {
     }
 
     /// The triangles standing for the input; patches are tessellated finely enough for
-    /// a voxel of `voxel_size`.
-    #[must_use]
-    pub fn triangles(&self, voxel_size: f64) -> std::borrow::Cow<'_, TriangleMesh> {
-        match self {
+    /// a voxel of `voxel_size`, refused when that exceeds `budget`
+    /// ([`crate::patch::estimate_tessellation_bytes`]).
+    pub fn triangles(&self, voxel_size: f64, budget: MemoryBudget) -> Result<std::borrow::Cow<'_, TriangleMesh>> {
+        Ok(match self {
             Input::Mesh(m) => std::borrow::Cow::Borrowed(m),
             Input::Patches(p) => {
                 let extent = p.iter().map(|q| q.bounds().size().max_element()).fold(0.0, f64::max);
-                std::borrow::Cow::Owned(tessellate(p, segments_for(extent, voxel_size / 4.0)))
+                std::borrow::Cow::Owned(tessellate_within(p, segments_for(extent, voxel_size / 4.0), budget)?)
             }
-        }
+        })
     }
 
-    /// Diagnostics of the mesh (patches: of a tessellation at 1/1000 of their size).
-    #[must_use]
-    pub fn report(&self) -> MeshReport {
+    /// Diagnostics of the mesh (patches: of a tessellation at 1/1000 of their size,
+    /// refused when that exceeds `budget`).
+    pub fn report(&self, budget: MemoryBudget) -> Result<MeshReport> {
         let size = self.bounds().size().max_element();
-        PolygonTables::new(&self.triangles(size / 1000.0)).report()
+        let mesh = self.triangles(size / 1000.0, budget)?;
+        Ok(PolygonTables::new(&mesh).report())
     }
 }
 
@@ -158,7 +159,7 @@ pub fn voxelize_input(
         let tree = voxelize_patch_surface(p, domain, &options)?;
         return Ok((tree, VoxelizeSummary { triangles: 0, mesh_volume: None, rule: None }));
     }
-    let mesh = input.triangles(h);
+    let mesh = input.triangles(h, budget)?;
     match fill {
         Fill::Solid => {
             let options = MeshVoxelizeOptions { inside, budget, progress };

@@ -14,4 +14,7 @@ mod voxelize;
 
 pub use bezier::BezierPatch;
 pub use load::load_patches;
-pub use voxelize::{estimate_surface_bytes, segments_for, tessellate, voxelize_patch_surface};
+pub use voxelize::{
+    estimate_surface_bytes, estimate_tessellation_bytes, segments_for, tessellate, tessellate_within,
+    voxelize_patch_surface,
+};

@@ -14,6 +14,7 @@ use std::sync::Arc;
 
 use super::BezierPatch;
 use crate::aabb::Aabb;
+use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::mesh::TriangleMesh;
 use crate::morton;
@@ -178,6 +179,30 @@ impl PatchSurface {
         }
         mine
     }
+}
+
+/// Estimated peak bytes of [`tessellate`]`(patches, n)` for `patches` patches:
+///
+/// ```text
+/// bytes = patches * (92 V + 12 T),  V = (n + 1)^2,  T = 2 n^2
+/// ```
+///
+/// A grid vertex is 24 bytes, held twice while welding, with a 4-byte remap entry
+/// and a hash entry of about 40 bytes; a triangle is 12 bytes. A patch file is a few
+/// hundred bytes a patch and its tessellation up to 2 MB a patch at `n = 128`, so
+/// this is checked before tessellating. Saturates at `u64::MAX`.
+#[must_use]
+pub fn estimate_tessellation_bytes(patches: usize, n: u32) -> u64 {
+    let n = u64::from(n.max(1));
+    let per_patch = 92 * (n + 1) * (n + 1) + 12 * 2 * n * n;
+    (patches as u64).saturating_mul(per_patch)
+}
+
+/// [`tessellate`], refused (before any work) when [`estimate_tessellation_bytes`]
+/// exceeds `budget`.
+pub fn tessellate_within(patches: &[BezierPatch], n: u32, budget: MemoryBudget) -> Result<TriangleMesh> {
+    budget.check("tessellating patches", estimate_tessellation_bytes(patches.len(), n))?;
+    Ok(tessellate(patches, n))
 }
 
 /// Triangles on an `n x n` grid of every patch, welded, oriented so the enclosed

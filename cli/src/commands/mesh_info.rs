@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
+use octsolid::MemoryBudget;
 
 use super::load_input;
 
@@ -17,9 +18,9 @@ pub struct MeshInfoArgs {
 }
 
 /// `octsolid mesh-info IN [--json]`
-pub fn run(a: &MeshInfoArgs) -> Result<()> {
+pub fn run(a: &MeshInfoArgs, budget: MemoryBudget) -> Result<()> {
     let (input, json) = (&a.input, a.json);
-    let report = load_input(input)?.report();
+    let report = load_input(input)?.report(budget).with_context(|| format!("{}: cannot measure", input.display()))?;
     if json {
         out!("{}", serde_json::to_string(&report)?);
         return Ok(());

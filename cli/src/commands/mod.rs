@@ -39,7 +39,7 @@ pub fn run(args: Args) -> Result<()> {
         Command::Info(a) => info::run(&a, budget),
         Command::Slice(a) => slice::run(&a, budget),
         Command::Voxelize(a) => voxelize::run(&a, budget),
-        Command::MeshInfo(a) => mesh_info::run(&a),
+        Command::MeshInfo(a) => mesh_info::run(&a, budget),
         Command::Export(a) => export::run(&a, budget),
         Command::Render(a) => render::run(&a, budget),
         Command::Demo(a) => demo::run(&a, budget),
