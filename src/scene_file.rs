@@ -313,7 +313,37 @@ pub fn load_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneF
     let folder = path.parent().unwrap_or(Path::new("."));
     let cx = Context { path, text: &text, folder, budget };
     let spec: SceneSpec = toml::from_str(&text).map_err(|e| cx.refused(&e))?;
+    if let Some((span, key, literal)) = first_non_finite(&text) {
+        let solid = solid_at(&text, span.start);
+        let reason = format!("{key} = {literal} is not a finite number");
+        return Err(cx.error(solid.as_deref(), Some(&span), Error::Toml { reason }));
+    }
     build(&spec, &cx)
+}
+
+/// The first float of the TOML `text` that is not finite (`nan`, `inf`, or a literal
+/// past `f64`'s range such as `1e400`): its span, dotted key and literal. Every float
+/// of a scene is a coordinate, size, angle or coefficient, none of which may be
+/// infinite, so the whole document is checked once here rather than field by field.
+fn first_non_finite(text: &str) -> Option<(Range<usize>, String, String)> {
+    use toml::de::{DeTable, DeValue};
+    fn walk(value: &toml::Spanned<DeValue>, key: &str) -> Option<(Range<usize>, String, String)> {
+        match value.get_ref() {
+            DeValue::Float(f) => {
+                let literal = f.as_str();
+                let finite = literal.replace('_', "").parse::<f64>().is_ok_and(f64::is_finite);
+                (!finite).then(|| (value.span(), key.to_owned(), literal.to_owned()))
+            }
+            DeValue::Array(items) => items.iter().enumerate().find_map(|(i, item)| walk(item, &format!("{key}[{i}]"))),
+            DeValue::Table(table) => table.iter().find_map(|(k, v)| {
+                let name = if key.is_empty() { k.get_ref().to_string() } else { format!("{key}.{}", k.get_ref()) };
+                walk(v, &name)
+            }),
+            _ => None,
+        }
+    }
+    let doc = DeTable::parse(text).ok()?;
+    doc.get_ref().iter().find_map(|(k, v)| walk(v, k.get_ref()))
 }
 
 /// One-based line and column (in bytes) of byte `offset` in `text`.
@@ -423,7 +453,9 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
     }
     let options = spec.image.options();
     let aspect = f64::from(options.width.max(1)) / f64::from(options.height.max(1));
-    Ok(SceneFile { scene, camera: spec.camera.camera(&bounds, aspect), options, warnings })
+    let camera = spec.camera.camera(&bounds, aspect);
+    camera.check().map_err(|e| cx.error(None, None, e))?;
+    Ok(SceneFile { scene, camera, options, warnings })
 }
 
 /// The domain every `shape` solid is voxelized in: the `[domain]`'s when it gives `min`

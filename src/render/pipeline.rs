@@ -99,6 +99,7 @@ pub fn render(
     if max_depth > MAX_RAY_DEPTH {
         return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
     }
+    camera.check()?;
     let samples = SampleGrid { width, height, spp };
     budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
     let shading = ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() };

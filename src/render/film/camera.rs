@@ -3,6 +3,7 @@
 use glam::DVec3;
 
 use crate::aabb::Aabb;
+use crate::error::{Error, Result};
 use crate::ray::Ray;
 use crate::shape::Axis;
 
@@ -50,6 +51,35 @@ pub(crate) fn turned_to_up(v: DVec3, up: Axis) -> DVec3 {
 }
 
 impl Camera {
+    /// Fails unless the camera can make a picture: finite `eye`, `target` and `up`,
+    /// `eye` away from `target`, `up` not along the line of sight, a perspective field
+    /// of view strictly between 0 and 180 degrees, an orthographic height finite and
+    /// positive.
+    pub fn check(&self) -> Result<()> {
+        let bad = |reason: String| Err(Error::invalid("camera", reason));
+        let (eye, target, up) = (self.eye, self.target, self.up);
+        if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
+            return bad(format!("eye {eye}, target {target} and up {up} must be finite"));
+        }
+        let sight = target - eye;
+        if sight.length() == 0.0 || !sight.normalize().is_finite() {
+            return bad(format!("the eye {eye} is at the target"));
+        }
+        let unit_up = up.normalize_or_zero();
+        if unit_up == DVec3::ZERO || sight.normalize().cross(unit_up).length() < 1e-9 {
+            return bad(format!("up {up} gives no vertical: it is zero or along the line of sight"));
+        }
+        match self.projection {
+            Projection::Perspective { fov_y } if !(fov_y > 0.0 && fov_y < 180.0) => {
+                bad(format!("field of view {fov_y} must be between 0 and 180 degrees"))
+            }
+            Projection::Orthographic { height } if !(height.is_finite() && height > 0.0) => {
+                bad(format!("orthographic height {height} must be finite and positive"))
+            }
+            _ => Ok(()),
+        }
+    }
+
     /// A perspective camera at `eye` looking at `target`.
     #[must_use]
     pub fn look_at(eye: DVec3, target: DVec3, up: DVec3, fov_y: f64) -> Self {
