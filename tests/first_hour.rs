@@ -160,7 +160,7 @@ fn transform_is_exact_for_whole_voxel_moves_and_resamples_others() {
     let e = fails(&dir, &["transform", "ring.oct", "-o", "bad.oct", "--rotate", "w,30"]);
     assert!(e.contains("w,30"), "{e}");
     let e = fails(&dir, &["transform", "ring.oct", "-o", "bad.oct", "--scale", "0"]);
-    assert!(e.contains("positive scale"), "{e}");
+    assert!(e.contains("scale 0 must be finite and positive"), "{e}");
 }
 
 /// The bounding box of the pixels that differ from the top-left (background) pixel,

@@ -117,6 +117,11 @@ pub(crate) fn parse_size(s: &str) -> Result<[u32; 2], String> {
     Ok([parse(w)?, parse(h)?])
 }
 
+/// Parses one finite number (`nan` and `inf` are refused where they enter).
+pub(crate) fn parse_finite(s: &str) -> Result<f64, String> {
+    Ok(parse_floats(s, 1)?[0])
+}
+
 /// Parses `MINX,MINY,MINZ,EDGE`.
 pub(crate) fn parse_domain(s: &str) -> Result<[f64; 4], String> {
     let v = parse_floats(s, 4)?;

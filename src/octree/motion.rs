@@ -54,10 +54,17 @@ impl Motion {
 
     /// The map as an affine transform, checked: finite numbers and a positive scale.
     pub fn checked_affine(&self) -> Result<DAffine3> {
-        let finite = self.translate.is_finite() && self.turns.iter().all(|t| t.degrees.is_finite());
-        if !finite || !self.scale.is_finite() || self.scale <= 0.0 {
-            return Err(Error::invalid("transform", format!("{self:?}: needs finite numbers and a positive scale")));
+        if !self.scale.is_finite() || self.scale <= 0.0 {
+            return Err(Error::invalid("transform", format!("scale {} must be finite and positive", self.scale)));
         }
-        Ok(self.affine())
+        if let Some(t) = self.turns.iter().find(|t| !t.degrees.is_finite()) {
+            return Err(Error::invalid("transform", format!("the turn of {} degrees is not finite", t.degrees)));
+        }
+        if !self.translate.is_finite() {
+            return Err(Error::invalid("transform", format!("the move {} is not finite", self.translate)));
+        }
+        let map = self.affine();
+        crate::shape::check_invertible(&map)?;
+        Ok(map)
     }
 }

@@ -37,7 +37,7 @@ use super::node::NodeKey;
 use super::voxelize::voxelize;
 use super::window::keys_meeting;
 use crate::aabb::Aabb;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::morton;
 use crate::shape::{Class, Shape};
 
@@ -139,12 +139,8 @@ impl<T: Borrow<LinearOctree>> OctreeShape<T> {
     /// The solid of `tree` moved by `transform` (a point `p` of it goes to
     /// `transform * p`), which must be finite and invertible.
     pub fn new(tree: T, transform: DAffine3) -> Result<Self> {
-        let det = transform.matrix3.determinant();
-        let to_source = transform.inverse();
-        if !transform.is_finite() || !det.is_finite() || det.abs() < 1e-300 || !to_source.is_finite() {
-            return Err(Error::invalid("transform", format!("{transform:?} is not finite and invertible")));
-        }
-        Ok(OctreeShape { tree, to_source, to_target: transform })
+        crate::shape::check_invertible(&transform)?;
+        Ok(OctreeShape { tree, to_source: transform.inverse(), to_target: transform })
     }
 
     /// The octree seen.

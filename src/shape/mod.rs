@@ -106,4 +106,5 @@ pub use spec::{FileLeaves, ShapeSpec, TransformSpec};
 pub use sphere::{Ellipsoid, Sphere};
 pub use surface::Surface;
 pub use torus::Torus;
+pub(crate) use transformed::check_invertible;
 pub use transformed::{ShapeExt, Transformed};

@@ -210,10 +210,7 @@ impl TransformSpec {
             _ => return Err(Error::invalid("transform", "give rotate_axis and rotate_degrees together")),
         };
         let map = DAffine3::from_translation(self.translate.map_or(DVec3::ZERO, v)) * rotate * scale;
-        let det = map.matrix3.determinant();
-        if !map.is_finite() || !det.is_finite() || det.abs() < 1e-300 {
-            return Err(Error::invalid("transform", format!("{map:?} is not finite and invertible")));
-        }
+        super::check_invertible(&map)?;
         Ok(map)
     }
 }

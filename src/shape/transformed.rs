@@ -23,10 +23,7 @@ pub struct Transformed<S> {
 impl<S: Shape> Transformed<S> {
     /// `inner` mapped by `to_world`, which must be finite and invertible.
     pub fn new(inner: S, to_world: DAffine3) -> Result<Self> {
-        let det = to_world.matrix3.determinant();
-        if !to_world.is_finite() || !det.is_finite() || det.abs() < 1e-300 {
-            return Err(Error::invalid("transform", format!("{to_world:?} is not finite and invertible")));
-        }
+        check_invertible(&to_world)?;
         Ok(Transformed { inner, to_world, to_local: to_world.inverse() })
     }
 
@@ -99,3 +96,28 @@ pub trait ShapeExt: Shape + Sized {
 }
 
 impl<S: Shape> ShapeExt for S {}
+
+/// `x` in plain digits when that is short, else in scientific notation.
+fn short(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
+}
+
+/// Fails unless `map` is finite and invertible with a finite inverse (determinant at
+/// least `1e-300` in size), naming its rows and determinant.
+pub(crate) fn check_invertible(map: &DAffine3) -> Result<()> {
+    let det = map.matrix3.determinant();
+    if map.is_finite() && det.is_finite() && det.abs() >= 1e-300 && map.inverse().is_finite() {
+        return Ok(());
+    }
+    let m = map.matrix3.transpose();
+    let t = map.translation;
+    let rows: Vec<String> = [m.x_axis, m.y_axis, m.z_axis]
+        .iter()
+        .zip(t.to_array())
+        .map(|(r, t)| format!("[{} {} {} | {}]", short(r.x), short(r.y), short(r.z), short(t)))
+        .collect();
+    Err(Error::invalid(
+        "transform",
+        format!("the map {} (determinant {det:e}) is not finite and invertible", rows.join(" ")),
+    ))
+}

@@ -38,16 +38,16 @@ pub struct ShapeArgs {
     /// Which shape.
     pub kind: ShapeKind,
     /// Radius (sphere, cylinder, cone base, torus centre line).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::args::parse_finite)]
     pub radius: f64,
     /// Box edge lengths, or the ellipsoid's bounding box.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, default_value = "2,2,2")]
     pub size: [f64; 3],
     /// Height of a cylinder or cone.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, value_parser = crate::args::parse_finite)]
     pub height: f64,
     /// Tube radius of a torus.
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, default_value_t = 0.25, value_parser = crate::args::parse_finite)]
     pub tube: f64,
     /// Axis of a cylinder, cone or torus.
     #[arg(long, default_value = "z")]

@@ -33,7 +33,7 @@ pub struct TransformArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = parse_turn)]
     pub rotate: Vec<Turn>,
     /// Uniform scale about the origin (applied first), positive.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::args::parse_finite)]
     pub scale: f64,
     /// Target domain MINX,MINY,MINZ,EDGE (default: the moved domain when the move is
     /// exact, else the cube around the moved solid).
