@@ -14,6 +14,13 @@ pub const MAX_SLICE_SIZE: u32 = 16_384;
 /// Colour of empty space.
 const EMPTY: Rgb<u8> = Rgb([246, 246, 242]);
 
+/// Peak bytes of a `size x size` slice written as a PNG: the 3-byte pixels, and as
+/// much again for the encoder's filtered rows and compressed stream.
+#[must_use]
+pub fn estimate_bytes(size: u32) -> u64 {
+    2 * 3 * u64::from(size) * u64::from(size)
+}
+
 /// Draws the cross-section of `tree` at world coordinate `at` along `axis` as a
 /// `size` x `size` image.
 ///

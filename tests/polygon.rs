@@ -2,14 +2,20 @@
 //! a sphere, and the three interpolation shadings against their definitions.
 
 use glam::DVec3;
+use octsolid::MemoryBudget;
 use octsolid::mesh::TriangleMesh;
 use octsolid::mesh::generate::{icosphere, torus};
-use octsolid::render::polygon::{Interpolation, MeshScene, fragments, render_mesh, vertex_normals};
+use octsolid::render::polygon::{Interpolation, MeshRenderOptions, MeshScene, fragments, render_mesh, vertex_normals};
 use octsolid::render::{Camera, Light, Material, Projection};
 
 mod common;
 
 use common::Rng;
+
+/// One sample a pixel under the default budget.
+fn options(width: u32, height: u32, interpolation: Interpolation) -> MeshRenderOptions {
+    MeshRenderOptions { width, height, spp: 1, interpolation, budget: MemoryBudget::default() }
+}
 
 /// Nearest hit distance of the ray over all triangles (Moller-Trumbore), brute force.
 fn nearest(mesh: &TriangleMesh, o: DVec3, d: DVec3) -> Option<f64> {
@@ -47,7 +53,7 @@ fn visibility_matches_brute_force_ray_casting() {
     let (w, h) = (96u32, 72u32);
     for _ in 0..4 {
         let cam = camera(rng.vec(-1.0, 1.0).normalize() * 4.0);
-        let seen = fragments(&mesh, &cam, w, h);
+        let seen = fragments(&mesh, &cam, w, h, MemoryBudget::default()).unwrap();
         let forward = (cam.target - cam.eye).normalize();
         let (mut agree, mut total) = (0, 0);
         for (i, f) in seen.iter().enumerate() {
@@ -72,7 +78,7 @@ fn an_orthographic_sphere_covers_its_disc() {
     let mesh = icosphere(DVec3::ZERO, 0.8, 5);
     let cam = Camera { projection: Projection::Orthographic { height: 2.0 }, ..camera(DVec3::new(0.0, 0.0, 3.0)) };
     let cam = Camera { up: DVec3::Y, ..cam };
-    let seen = fragments(&mesh, &cam, 400, 400);
+    let seen = fragments(&mesh, &cam, 400, 400, MemoryBudget::default()).unwrap();
     let covered = seen.iter().filter(|f| f.is_some()).count() as f64;
     let disc = std::f64::consts::PI * (0.8 * 200.0f64).powi(2);
     assert!((covered / disc - 1.0).abs() < 0.01, "{covered} pixels vs {disc}");
@@ -99,9 +105,9 @@ fn flat_shading_gives_one_colour_a_triangle_and_phong_finds_the_highlight() {
     };
     let scene = lit(&mesh, l);
     let (w, h) = (200u32, 200u32);
-    let seen = fragments(&mesh, &cam, w, h);
-    let flat = render_mesh(&scene, &cam, w, h, 1, Interpolation::Flat).unwrap();
-    let gouraud = render_mesh(&scene, &cam, w, h, 1, Interpolation::Gouraud).unwrap();
+    let seen = fragments(&mesh, &cam, w, h, MemoryBudget::default()).unwrap();
+    let flat = render_mesh(&scene, &cam, &options(w, h, Interpolation::Flat)).unwrap();
+    let gouraud = render_mesh(&scene, &cam, &options(w, h, Interpolation::Gouraud)).unwrap();
     let mut colour_of = std::collections::HashMap::new();
     let mut varies = 0;
     for (i, f) in seen.iter().enumerate() {
@@ -115,7 +121,7 @@ fn flat_shading_gives_one_colour_a_triangle_and_phong_finds_the_highlight() {
     // Phong on a fine sphere: the brightest pixel is where the analytic highlight is,
     // the normal halfway between the light and the viewer (+z).
     let fine = icosphere(DVec3::ZERO, 0.8, 5);
-    let phong = render_mesh(&lit(&fine, l), &cam, w, h, 1, Interpolation::Phong).unwrap();
+    let phong = render_mesh(&lit(&fine, l), &cam, &options(w, h, Interpolation::Phong)).unwrap();
     let (mut best, mut at) = (0u32, (0u32, 0u32));
     for (x, y, p) in phong.enumerate_pixels() {
         let s = p.0.iter().map(|&c| u32::from(c)).sum::<u32>();

@@ -54,19 +54,19 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_vec3)]
     pub target: Option<[f64; 3]>,
     /// Vertical field of view in degrees (default: the scene's, or 35).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::args::parse_finite)]
     pub fov: Option<f64>,
     /// A named view in the up axis's frame (front looks from -y in a z-up world).
     #[arg(long, conflicts_with_all = ["azimuth", "elevation"])]
     pub view: Option<NamedView>,
     /// Orbit: degrees around the up axis from the front view, towards the right.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::parse_finite)]
     pub azimuth: Option<f64>,
     /// Orbit: degrees above the horizon.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::parse_finite)]
     pub elevation: Option<f64>,
     /// Magnify by F (the eye moves F times closer; orthographic: F times less shown).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::args::parse_finite)]
     pub zoom: Option<f64>,
     /// Orthographic projection instead of perspective.
     #[arg(long)]
@@ -274,7 +274,7 @@ fn polygon_command(
     } else {
         let mesh = match load_input(input)? {
             Input::Mesh(mesh) => mesh,
-            Input::Patches(patches) => octsolid::patch::tessellate(&patches, 16),
+            Input::Patches(patches) => octsolid::patch::tessellate_within(&patches, 16, budget)?,
         };
         (mesh, None)
     };
@@ -294,7 +294,8 @@ fn polygon_command(
         ambient: DVec3::ONE,
         background: Scene::new().background,
     };
-    let img = render::polygon::render_mesh(&scene, &camera, width, height, a.spp.unwrap_or(2), interpolation)
+    let options = render::polygon::MeshRenderOptions { width, height, spp: a.spp.unwrap_or(2), interpolation, budget };
+    let img = render::polygon::render_mesh(&scene, &camera, &options)
         .with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("drawing");
     out!("drew {} triangles with {interpolation:?} shading", mesh.triangles.len());

@@ -17,7 +17,7 @@ pub struct SliceArgs {
     #[arg(long, default_value = "z")]
     pub axis: Axis,
     /// World coordinate of the plane along the axis (default: the domain's middle).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::parse_finite)]
     pub at: Option<f64>,
     /// Image edge in pixels.
     #[arg(long, default_value_t = 768)]
@@ -31,6 +31,7 @@ pub struct SliceArgs {
 pub fn run(a: &SliceArgs, budget: MemoryBudget) -> Result<()> {
     let (file, axis, size, output) = (&a.file, a.axis, a.size, &a.output);
     check_extension(output, &["png"])?;
+    budget.check(format!("a {size}x{size} slice"), octsolid::slice::estimate_bytes(size))?;
     let tree = oct::load(file, budget)?;
     let d = tree.domain();
     let at = a.at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());

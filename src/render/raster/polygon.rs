@@ -23,10 +23,12 @@ use glam::DVec3;
 use image::RgbImage;
 use rayon::prelude::*;
 
+use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::mesh::TriangleMesh;
 use crate::render::film::resolve::resolve;
 use crate::render::film::{Camera, Projection};
+use crate::render::pipeline::MAX_IMAGE_SIZE;
 use crate::render::scene::{Light, Material};
 use crate::render::shade::phong;
 
@@ -89,9 +91,17 @@ struct Projected {
 }
 
 /// The triangle seen at every pixel centre of a `width x height` image, row-major.
-/// Triangles with a corner behind a perspective camera are skipped.
-#[must_use]
-pub fn fragments(mesh: &TriangleMesh, camera: &Camera, width: u32, height: u32) -> Vec<Option<Fragment>> {
+/// Triangles with a corner behind a perspective camera are skipped. Refused when the
+/// rows' triangle lists (8 bytes for every row a triangle covers, counted after
+/// projecting and before listing) exceed `budget`: a few thousand triangles that each
+/// span the picture would otherwise list millions of entries.
+pub fn fragments(
+    mesh: &TriangleMesh,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    budget: MemoryBudget,
+) -> Result<Vec<Option<Fragment>>> {
     let aspect = f64::from(width) / f64::from(height);
     let forward = (camera.target - camera.eye).normalize();
     // Polygon table: the projected triangles, and for each row the ones covering it.
@@ -113,21 +123,25 @@ pub fn fragments(mesh: &TriangleMesh, camera: &Camera, width: u32, height: u32) 
         })
         .collect();
     let rows = height as usize;
-    let mut by_row: Vec<Vec<usize>> = vec![Vec::new(); rows];
-    for (i, p) in projected.iter().enumerate() {
-        let Some(p) = p else { continue };
+    let row_span = |p: &Projected| {
         let ys = p.screen.map(|s| s.1);
         let first = (ys.iter().copied().fold(f64::INFINITY, f64::min) - 0.5).ceil().max(0.0);
         let last = (ys.iter().copied().fold(f64::NEG_INFINITY, f64::max) - 0.5).floor().min(rows as f64 - 1.0);
-        if first <= last {
-            for row in &mut by_row[first as usize..=last as usize] {
+        (first <= last).then_some(first as usize..=last as usize)
+    };
+    let entries: u64 = projected.iter().flatten().filter_map(row_span).map(|r| r.count() as u64).sum();
+    budget.check(format!("listing triangles on {rows} rows"), entries.saturating_mul(8))?;
+    let mut by_row: Vec<Vec<usize>> = vec![Vec::new(); rows];
+    for (i, p) in projected.iter().enumerate() {
+        if let Some(span) = p.as_ref().and_then(row_span) {
+            for row in &mut by_row[span] {
                 row.push(i);
             }
         }
     }
     let perspective = matches!(camera.projection, Projection::Perspective { .. });
     // Each row: the active triangles' spans, kept where nearest.
-    by_row
+    let seen = by_row
         .par_iter()
         .enumerate()
         .flat_map_iter(|(row, active)| {
@@ -156,7 +170,8 @@ pub fn fragments(mesh: &TriangleMesh, camera: &Camera, width: u32, height: u32) 
             }
             line
         })
-        .collect()
+        .collect::<Vec<_>>();
+    Ok(seen)
 }
 
 /// The columns `[x0, x1]` where the row `y` crosses the projected triangle.
@@ -197,22 +212,55 @@ pub fn vertex_normals(mesh: &TriangleMesh) -> Vec<DVec3> {
     normals.iter().map(|n| n.normalize_or_zero()).collect()
 }
 
+/// The picture [`render_mesh`] makes.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshRenderOptions {
+    /// Image width in pixels, `1..=`[`MAX_IMAGE_SIZE`].
+    pub width: u32,
+    /// Image height in pixels, `1..=`[`MAX_IMAGE_SIZE`].
+    pub height: u32,
+    /// `spp x spp` samples a pixel, `1..=16`.
+    pub spp: u32,
+    /// How colours are interpolated across a triangle.
+    pub interpolation: Interpolation,
+    /// Refuse pictures whose estimated memory ([`estimate_mesh_render_bytes`]) exceeds this.
+    pub budget: MemoryBudget,
+}
+
+/// Estimated peak bytes of [`render_mesh`]: a fragment (48 bytes) and a linear colour
+/// (24 bytes) for each of the `(width spp) x (height spp)` samples, a scan line of
+/// fragments, the 3-byte pixels, and a normal and a colour (48 bytes) a vertex.
+#[must_use]
+pub fn estimate_mesh_render_bytes(options: &MeshRenderOptions, vertices: usize) -> u64 {
+    let (w, h) =
+        (u64::from(options.width) * u64::from(options.spp), u64::from(options.height) * u64::from(options.spp));
+    let per_sample = (std::mem::size_of::<Option<Fragment>>() + std::mem::size_of::<DVec3>()) as u64;
+    (w * h).saturating_mul(per_sample)
+        + w * 48
+        + u64::from(options.width) * u64::from(options.height) * 3
+        + 48 * vertices as u64
+}
+
 /// Renders `scene` through `camera` to a `width x height` image with `spp x spp`
-/// samples a pixel (a box filter over the supersampled image).
-pub fn render_mesh(
-    scene: &MeshScene,
-    camera: &Camera,
-    width: u32,
-    height: u32,
-    spp: u32,
-    interpolation: Interpolation,
-) -> Result<RgbImage> {
-    if width == 0 || height == 0 || !(1..=16).contains(&spp) {
-        return Err(Error::invalid("image", format!("{width}x{height} at {spp}x{spp} samples a pixel")));
+/// samples a pixel (a box filter over the supersampled image). Refused before any
+/// work when the size or samples are out of range, the camera cannot make a picture
+/// ([`Camera::check`]) or the estimate exceeds the budget.
+pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptions) -> Result<RgbImage> {
+    let MeshRenderOptions { width, height, spp, interpolation, budget } = *options;
+    if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
+        return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
+    if !(1..=16).contains(&spp) {
+        return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
+    }
+    camera.check()?;
+    budget.check(
+        format!("a {width}x{height} polygon picture at {spp}x{spp} samples a pixel"),
+        estimate_mesh_render_bytes(options, scene.mesh.vertices.len()),
+    )?;
     scene.material.check()?;
     let (w, h) = (width * spp, height * spp);
-    let seen = fragments(scene.mesh, camera, w, h);
+    let seen = fragments(scene.mesh, camera, w, h, budget)?;
     let normals = vertex_normals(scene.mesh);
     let shader = Shader { scene, camera };
     // Gouraud: the vertex colours, once.
@@ -239,7 +287,7 @@ pub fn render_mesh(
                 Interpolation::Gouraud => (0..3).map(|k| vertex_colors[t[k] as usize] * f.weights[k]).sum(),
                 Interpolation::Phong => {
                     let n: DVec3 = (0..3).map(|k| normals[t[k] as usize] * f.weights[k]).sum();
-                    let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+                    let (x, y) = ((i % w as usize) as f64 + 0.5, (i / w as usize) as f64 + 0.5);
                     let ray = camera.ray(2.0 * x / f64::from(w) - 1.0, 1.0 - 2.0 * y / f64::from(h), aspect);
                     let forward = (camera.target - camera.eye).normalize();
                     let p = ray.at(f.depth / ray.dir.dot(forward));
@@ -253,7 +301,7 @@ pub fn render_mesh(
         let mut sum = DVec3::ZERO;
         for sy in 0..spp {
             for sx in 0..spp {
-                sum += linear[((y * spp + sy) * w + x * spp + sx) as usize];
+                sum += linear[(y * spp + sy) as usize * w as usize + (x * spp + sx) as usize];
             }
         }
         *px = resolve(sum, spp * spp);
