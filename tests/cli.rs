@@ -195,6 +195,37 @@ fn bad_input_gives_one_line_errors() {
 }
 
 #[test]
+fn non_finite_numbers_on_the_command_line_are_refused_naming_the_flag() {
+    let dir = scratch("finite");
+    ok(&dir, &["shape", "sphere", "--depth", "4", "-o", "a.oct"]);
+    for args in [
+        &["shape", "sphere", "--radius", "nan", "-o", "x.oct"][..],
+        &["shape", "torus", "--tube", "inf", "-o", "x.oct"],
+        &["shape", "box", "--size", "1,nan,1", "-o", "x.oct"],
+        &["shape", "sphere", "--domain", "0,0,0,inf", "-o", "x.oct"],
+        &["slice", "a.oct", "--at", "NaN", "-o", "s.png"],
+        &["transform", "a.oct", "--scale", "inf", "-o", "t.oct"],
+        &["transform", "a.oct", "--rotate", "z,nan", "-o", "t.oct"],
+        &["render", "a.oct", "--fov", "nan", "-o", "r.png"],
+        &["render", "a.oct", "--elevation", "-inf", "-o", "r.png"],
+        &["render", "a.oct", "--eye", "1,1,1e999", "-o", "r.png"],
+    ] {
+        // The argument parser's error: its first line names the flag and the value.
+        let out = octsolid(&dir, args);
+        let e = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(!out.status.success() && !e.contains("panicked"), "{args:?}: {e}");
+        let flag = args.iter().find(|a| a.starts_with("--")).unwrap();
+        let first = e.lines().next().unwrap_or_default();
+        assert!(first.contains(flag) && first.contains("not a finite number"), "{args:?}: {e}");
+    }
+    // Finite values past what the command can use are refused by the command.
+    let e = fails(&dir, &["transform", "a.oct", "--scale", "1e300", "-o", "t.oct"]);
+    assert!(e.contains("not finite and invertible"), "{e}");
+    let e = fails(&dir, &["render", "a.oct", "--fov", "180", "-o", "r.png"]);
+    assert!(e.contains("--fov 180"), "{e}");
+}
+
+#[test]
 fn demo_writes_its_picture() {
     let dir = scratch("demo");
     let out = ok(&dir, &["demo", "--depth", "7"]);
