@@ -19,7 +19,7 @@ use crate::io::write_atomic;
 ///
 /// A closed mesh ([`TriangleMesh::is_watertight`]) goes to STL with the copies of each
 /// shared position moved apart ([`super::separate_sheets`]: by a thousandth of the
-/// shortest edge there, into the solid), so that a reader welding by position gets
+/// shortest edge there, towards its own faces), so that a reader welding by position gets
 /// the same closed, manifold mesh back; a mesh without shared positions is written as
 /// it is. Other meshes (open ones, triangle soups meant to be welded) are written as
 /// they are.

@@ -58,17 +58,17 @@ pub const SEPARATION_LIMIT: f64 = 1.0 / 16.0;
 /// The least step in units in the last place of `f32` at the vertex's coordinates.
 const STEP_ULPS: f64 = 4.0;
 
-/// `mesh` with the copies of each shared position moved apart into the solid behind
-/// their own sheets, so that STL's `f32` corners, welded by position, give back the
-/// same vertices and triangles (module doc). Meant for closed, outward-oriented
-/// meshes ([`TriangleMesh::is_watertight`]); a mesh without shared positions comes
-/// back unchanged.
+/// `mesh` with the copies of each shared position moved apart, each towards its own
+/// faces and away from the others', so that STL's `f32` corners, welded by position,
+/// give back the same vertices and triangles (module doc). Meant for closed,
+/// outward-oriented meshes ([`TriangleMesh::is_watertight`]); a mesh without shared
+/// positions comes back unchanged.
 ///
 /// # Errors
-/// When the mesh fails [`TriangleMesh::check`], a copy's faces have no direction
-/// (their pseudo-normal vanishes), `f32` cannot separate the copies of a position
-/// within [`SEPARATION_LIMIT`] of the shortest edge, or two vertices round to the same
-/// `f32` point.
+/// When the mesh fails [`TriangleMesh::check`], `f32` cannot separate the copies of a
+/// position within [`SEPARATION_LIMIT`] of the shortest edge, or two vertices round to
+/// the same `f32` point (copies that could not be moved apart, or distinct points
+/// where the coordinates are too large for the distances between them).
 pub fn separate_sheets(mesh: &TriangleMesh) -> Result<TriangleMesh> {
     mesh.check()?;
     separate(mesh).map_err(|reason| Error::invalid("mesh for STL", reason))
