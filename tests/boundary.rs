@@ -309,8 +309,8 @@ fn files_reload_with_the_same_volume() {
     let mut rng = Rng(4242);
     let mut cases = vec![("ball", ball.unwrap()), ("contacts", contacts)];
     cases.extend((0..4).map(|i| ("random", random_octree(&mut rng, domain(4 + i % 2)))));
+    assert!(cases.iter().all(|(what, t)| *what == "ball" || edge_contacts(&Dense::new(t)) > 0));
     for (what, tree) in &cases {
-        let contacts = edge_contacts(&Dense::new(tree));
         for options in MODES {
             let mesh = boundary_mesh(tree, &options);
             for ext in ["obj", "stl", "ply"] {
@@ -319,21 +319,21 @@ fn files_reload_with_the_same_volume() {
                 let loaded = load_mesh(&path).unwrap();
                 let report = PolygonTables::new(&loaded).report();
                 let volume = tree.volume();
-                assert!((report.volume - volume).abs() <= 1e-6 * volume, "{what}.{ext}: {}", report.volume);
-                // OBJ and PLY keep the mesh's indices, so they reload watertight. STL
-                // has no indices: the loader welds equal positions, which joins the
-                // vertices the mesh duplicates where voxels touch only along an edge;
-                // those edges come back with four faces, all else is closed.
-                assert_eq!(report.boundary_edges + report.misoriented_edges, 0, "{what}.{ext} {options:?}");
-                if ext == "stl" {
-                    assert_eq!(loaded.is_watertight(), contacts == 0, "{what}.{ext} {options:?}");
-                    if options.unit_faces {
-                        assert_eq!(report.non_manifold_edges, contacts, "{what}.{ext} {options:?}");
-                    }
-                } else {
-                    assert!(loaded.is_watertight() && report.watertight, "{what}.{ext} {options:?}: {report:?}");
-                    assert_eq!(loaded.triangles.len(), mesh.triangles.len());
-                }
+                // STL moves the copies by a thousandth of an edge: a few 10^-4 voxel
+                // volumes each (the bound is checked in tests/stl_export.rs).
+                let tolerance = if ext == "stl" { 1e-3 } else { 1e-6 };
+                assert!((report.volume - volume).abs() <= tolerance * volume, "{what}.{ext}: {}", report.volume);
+                // OBJ and PLY keep the mesh's indices. STL has none: the loader welds
+                // equal positions, so the copies the mesh keeps where voxels touch only
+                // along an edge or at a corner are written moved apart
+                // (mesh::separate_sheets, tested in tests/stl_export.rs) and come back
+                // as they were.
+                assert!(loaded.is_watertight() && report.watertight, "{what}.{ext} {options:?}: {report:?}");
+                assert_eq!(report.non_manifold_edges + report.boundary_edges + report.misoriented_edges, 0);
+                assert_eq!(
+                    (loaded.vertices.len(), loaded.triangles.len()),
+                    (mesh.vertices.len(), mesh.triangles.len())
+                );
             }
         }
     }

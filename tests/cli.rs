@@ -335,6 +335,35 @@ fn export_writes_closed_meshes_with_the_octree_volume() {
         let enclosed = report["volume"].as_f64().unwrap();
         assert!((enclosed / volume - 1.0).abs() < 1e-6, "{name}: {enclosed} vs {volume}");
     }
+    // Two boxes touching along an edge: STL moves the shared corners apart and reads
+    // back closed, with as many vertices as the OBJ keeps.
+    for (name, center) in [("a.oct", "0.5,0.5,0.5"), ("b.oct", "1.5,1.5,0.5")] {
+        ok(
+            &dir,
+            &[
+                "shape",
+                "box",
+                "--size",
+                "1,1,1",
+                "--center",
+                center,
+                "--domain",
+                "-2,-2,-2,4",
+                "--depth",
+                "3",
+                "-o",
+                name,
+            ],
+        );
+    }
+    ok(&dir, &["csg", "union", "a.oct", "b.oct", "-o", "touch.oct"]);
+    let out = ok(&dir, &["export", "touch.oct", "-o", "touch.stl"]);
+    assert!(out.contains("stl        4 vertices where voxels touch moved apart"), "{out}");
+    ok(&dir, &["export", "touch.oct", "-o", "touch.obj"]);
+    let [stl, obj] = ["touch.stl", "touch.obj"]
+        .map(|f| serde_json::from_str::<serde_json::Value>(&ok(&dir, &["mesh-info", f, "--json"])).unwrap());
+    assert_eq!((stl["watertight"].clone(), stl["non_manifold_edges"].clone()), (true.into(), 0.into()), "{stl}");
+    assert_eq!(stl["vertices"], obj["vertices"]);
     let e = fails(&dir, &["export", "ring.oct", "-o", "ring.xyz"]);
     assert!(e.contains("ring.xyz") && e.contains(".obj"), "{e}");
     let e = fails(&dir, &["export", "missing.oct", "-o", "m.obj"]);

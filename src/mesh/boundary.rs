@@ -38,7 +38,9 @@
 //! Output: world coordinates (`domain.lattice_point`), triangles counter-clockwise seen
 //! from outside, so the signed-tetrahedron volume is the octree's volume. Every step
 //! runs in parallel over fixed chunks joined in order, and ties are broken by sorted
-//! keys, so the mesh is the same for any number of threads.
+//! keys, so the mesh is the same for any number of threads. The vertices a point keeps
+//! for its sheets share one position; STL, which stores positions only, gets them
+//! moved apart ([`super::separate_sheets`], through [`super::save_mesh`]).
 
 use rayon::prelude::*;
 use smallvec::SmallVec;

@@ -1,17 +1,46 @@
 //! Writing meshes: OBJ (text), STL (binary) and PLY (binary little-endian), chosen by
 //! extension, written atomically.
+//!
+//! OBJ and PLY store the vertex table and the triangles' indices, so a mesh reloads
+//! with the same vertices. STL stores three `f32` corners a triangle and readers weld
+//! them by position, so vertices that share a position (a boundary mesh's sheets
+//! where voxels touch only along an edge or at a corner) would come back as one;
+//! [`save_mesh`] therefore writes a closed mesh through [`super::separate_sheets`].
 
 use std::io::Write;
 use std::path::Path;
 
+use super::separate::separate;
 use super::{MeshFormat, TriangleMesh};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::io::write_atomic;
 
 /// Writes `mesh` to `path` in the format its extension names; returns the bytes written.
+///
+/// A closed mesh ([`TriangleMesh::is_watertight`]) goes to STL with the copies of each
+/// shared position moved apart ([`super::separate_sheets`]: by a thousandth of the
+/// shortest edge there, towards its own faces), so that a reader welding by position gets
+/// the same closed, manifold mesh back; a mesh without shared positions is written as
+/// it is. Other meshes (open ones, triangle soups meant to be welded) are written as
+/// they are.
+///
+/// # Errors
+/// The extension names no mesh format; writing fails; an STL of a closed mesh whose
+/// vertices `f32` cannot keep apart (coordinates far larger than the edges; the
+/// error names the vertices and suggests OBJ or PLY).
 pub fn save_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
     let path = path.as_ref();
     let format = MeshFormat::of(path)?;
+    let separated;
+    let mesh = if format == MeshFormat::Stl && !mesh.triangles.is_empty() && mesh.is_watertight() {
+        mesh.check()?;
+        separated = separate(mesh).map_err(|reason| {
+            Error::invalid("STL output", format!("{}: {reason}; write .obj or .ply instead", path.display()))
+        })?;
+        &separated
+    } else {
+        mesh
+    };
     write_atomic(path, |w| match format {
         MeshFormat::Obj => write_obj(mesh, w),
         MeshFormat::Stl => write_stl(mesh, w),
@@ -32,7 +61,8 @@ pub fn write_obj(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> 
     Ok(())
 }
 
-/// Binary STL (coordinates as `f32`, facet normals from the corners).
+/// Binary STL (coordinates as `f32`, facet normals from the corners), every corner as
+/// it is: vertices that share a position stay together (see [`save_mesh`]).
 pub fn write_stl(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
     let mut header = [0u8; 80];
     header[..20].copy_from_slice(b"octsolid binary STL ");

@@ -1,0 +1,185 @@
+//! Sheets moved apart: a closed mesh whose vertex table holds one position more than
+//! once, changed so that no two vertices share a position even in `f32`, for formats
+//! that store positions only (STL), whose readers weld corners by position.
+//!
+//! A boundary mesh ([`super::boundary_mesh`]) keeps one vertex a sheet where voxels
+//! touch only along an edge or at a corner: the copies share a position but no edge,
+//! and every edge has two faces. Welded by position, the copies become one vertex and
+//! the edges along a contact get four faces. So each copy `v` of a shared position `p`
+//! is moved a small step towards its own faces and away from the other copies':
+//!
+//! `t_v = unit(sum over the triangles at v of alpha_t unit(c_t - p))`,
+//! `d_v = t_v - sum over the other copies u at p of t_u`,   `q_v = p + delta_v unit(d_v)`,
+//!
+//! `alpha_t` the angle of triangle `t` at `v` and `c_t` its centroid. Two voxels
+//! touching at a corner or along an edge each take their own copy into themselves, so
+//! a gap opens between them; two empty corners touching in a solid each take theirs
+//! into the empty corner, so solid closes between them; where one sheet wraps around
+//! another (a full corner whose three neighbours are empty), `t` of the outer one
+//! vanishes and `d` takes it away from the inner one. The moved sheets do not cross
+//! (tests/stl_export.rs checks the winding number around every configuration of the
+//! eight voxels at a point, and random ones). Pseudo-normals would not do: at a
+//! concave corner the inward normal points into the other sheet, and the two sheets
+//! of a wrapped corner have the same one.
+//!
+//! The step is `delta_v = max(l_v / 1024, 4 ulp(m))`, `l_v` the shortest edge at `v`
+//! (at least one voxel in a boundary mesh), `ulp(m)` the spacing of `f32` at `m`, the
+//! largest coordinate magnitude of `p`: a thousandth of a voxel where `f32` resolves
+//! it, else as many units in the last place as keep the copies apart after rounding
+//! (the unit directions of two copies at a point differ by more than 1 in some
+//! component, 1.06 at least over the configurations the tests try, so the moved
+//! copies differ there by more than 4 ulp, and rounding moves each by half of one).
+//! A step above `l_v / 16` is refused: that is coordinates beyond about `2^17` voxels
+//! from the origin, where `f32` cannot separate the sheets without moving them visibly.
+//! Readers that weld within a tolerance rather than exactly (trimesh: `10^-8`) keep
+//! the copies apart when the step exceeds it, so for voxels above `10^-5`.
+//!
+//! Volume: moving one vertex by `d` changes the signed-tetrahedron volume by exactly
+//! `d . A_v / 3`, `A_v` the sum of the area vectors of its triangles, so the enclosed
+//! volume changes by at most `sum_v delta_v |A_v| / 3` (plus terms in `delta^2` where
+//! moved vertices share a triangle). At `l_v / 1024` that is under `6 * 10^-4` voxel
+//! volumes a copy at a voxel corner of a unit-face mesh.
+//!
+//! Then every used vertex is rounded to `f32` as STL stores it, and two vertices that
+//! round to one point (the copies above, or distinct points that `f32` cannot tell
+//! apart) are refused, naming them. Vertices at a position of their own keep their
+//! coordinates bit for bit.
+
+use glam::DVec3;
+use rustc_hash::FxHashMap;
+
+use super::TriangleMesh;
+use crate::error::{Error, Result};
+
+/// The step as a fraction of the shortest edge at a vertex.
+pub const SEPARATION_STEP: f64 = 1.0 / 1024.0;
+/// The largest step accepted, as a fraction of the shortest edge at a vertex.
+pub const SEPARATION_LIMIT: f64 = 1.0 / 16.0;
+/// The least step in units in the last place of `f32` at the vertex's coordinates.
+const STEP_ULPS: f64 = 4.0;
+
+/// `mesh` with the copies of each shared position moved apart, each towards its own
+/// faces and away from the others', so that STL's `f32` corners, welded by position,
+/// give back the same vertices and triangles (module doc). Meant for closed,
+/// outward-oriented meshes ([`TriangleMesh::is_watertight`]); a mesh without shared
+/// positions comes back unchanged.
+///
+/// # Errors
+/// When the mesh fails [`TriangleMesh::check`], `f32` cannot separate the copies of a
+/// position within [`SEPARATION_LIMIT`] of the shortest edge, or two vertices round to
+/// the same `f32` point (copies that could not be moved apart, or distinct points
+/// where the coordinates are too large for the distances between them).
+pub fn separate_sheets(mesh: &TriangleMesh) -> Result<TriangleMesh> {
+    mesh.check()?;
+    separate(mesh).map_err(|reason| Error::invalid("mesh for STL", reason))
+}
+
+/// [`separate_sheets`] after the check, with the reason of a refusal.
+pub(crate) fn separate(mesh: &TriangleMesh) -> std::result::Result<TriangleMesh, String> {
+    let n = mesh.vertices.len();
+    let mut used = vec![false; n];
+    mesh.triangles.iter().flatten().for_each(|&i| used[i as usize] = true);
+
+    // Copies: vertices whose exact position another vertex has (+0.0 and -0.0 alike),
+    // each with the first vertex at its position.
+    let exact = |v: DVec3| (v + DVec3::ZERO).to_array().map(f64::to_bits);
+    let mut first: FxHashMap<[u64; 3], u32> = FxHashMap::default();
+    first.reserve(n);
+    let mut group = vec![u32::MAX; n];
+    let mut shared = vec![false; n];
+    for i in (0..n).filter(|&i| used[i]) {
+        let j = *first.entry(exact(mesh.vertices[i])).or_insert(i as u32);
+        group[i] = j;
+        if j as usize != i {
+            shared[i] = true;
+            shared[j as usize] = true;
+        }
+    }
+    drop(first);
+
+    let mut out = mesh.clone();
+    if shared.iter().any(|&s| s) {
+        // Where each copy's faces lie, seen from its position (angle-weighted directions
+        // to its triangles' centroids, summed to unit length), and its shortest edge.
+        let mut toward = vec![DVec3::ZERO; n];
+        let mut shortest = vec![f64::INFINITY; n];
+        for t in 0..mesh.triangles.len() {
+            let ids = mesh.triangles[t];
+            let c = mesh.corners(t);
+            for k in 0..3 {
+                let v = ids[k] as usize;
+                if !shared[v] {
+                    continue;
+                }
+                let (a, b) = (c[(k + 1) % 3] - c[k], c[(k + 2) % 3] - c[k]);
+                let angle = a.cross(b).length().atan2(a.dot(b));
+                toward[v] += angle * (a + b).normalize_or_zero();
+                shortest[v] = shortest[v].min(a.length()).min(b.length());
+            }
+        }
+        let mut all = vec![DVec3::ZERO; n];
+        for v in (0..n).filter(|&v| shared[v]) {
+            toward[v] = toward[v].normalize_or_zero();
+            all[group[v] as usize] += toward[v];
+        }
+        for v in (0..n).filter(|&v| shared[v]) {
+            let p = mesh.vertices[v];
+            // Towards its own faces, away from the other copies' faces.
+            let away = (2.0 * toward[v] - all[group[v] as usize]).normalize_or_zero();
+            let ulp = f32_spacing(p.abs().max_element());
+            let step = (shortest[v] * SEPARATION_STEP).max(STEP_ULPS * ulp);
+            if step > shortest[v] * SEPARATION_LIMIT {
+                return Err(format!(
+                    "vertex {v} at {p} shares its position with another sheet's, and f32 (spacing {ulp:e} there) \
+                     cannot move them apart by {:e} or less ({SEPARATION_LIMIT} of their shortest edge)",
+                    shortest[v] * SEPARATION_LIMIT
+                ));
+            }
+            out.vertices[v] = p + step * away;
+        }
+    }
+
+    // Every used vertex distinct in f32, as STL stores it.
+    let stored = |v: DVec3| (v.as_vec3() + glam::Vec3::ZERO).to_array().map(f32::to_bits);
+    let mut seen: FxHashMap<[u32; 3], u32> = FxHashMap::default();
+    seen.reserve(n);
+    for i in (0..n).filter(|&i| used[i]) {
+        let v = out.vertices[i];
+        if !v.as_vec3().is_finite() {
+            return Err(format!("vertex {i} at {} does not fit in f32", mesh.vertices[i]));
+        }
+        let j = *seen.entry(stored(v)).or_insert(i as u32) as usize;
+        if j != i {
+            let (p, q) = (mesh.vertices[j], mesh.vertices[i]);
+            return Err(if exact(p) == exact(q) {
+                format!("vertices {j} and {i} at {p} are sheets that cannot be moved apart ({} in f32)", v.as_vec3())
+            } else {
+                format!(
+                    "vertices {j} at {p} and {i} at {q} are both {} in f32; the coordinates are too large for \
+                     the distances between them",
+                    v.as_vec3()
+                )
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The distance from `x >= 0` (rounded to `f32`) to the next larger `f32`.
+fn f32_spacing(x: f64) -> f64 {
+    let f = x as f32;
+    f64::from(f.next_up()) - f64::from(f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spacing_of_f32() {
+        assert_eq!(f32_spacing(1.0), 2f64.powi(-23));
+        assert_eq!(f32_spacing(1.5), 2f64.powi(-23));
+        assert_eq!(f32_spacing(1e6), 0.0625);
+        assert_eq!(f32_spacing(0.0), f64::from(f32::from_bits(1)));
+    }
+}
