@@ -58,7 +58,8 @@ use crate::mesh::{InsideRule, MeshShape, load_mesh};
 use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
 use crate::render::{
-    Bump, Camera, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection, RenderOptions, Scene, Texture,
+    AntiAliasing, Bump, Camera, DEFAULT_AA_THRESHOLD, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection,
+    RenderOptions, Scene, Texture,
 };
 use crate::shape::{Axis, Csg, FileLeaves, Shape, ShapeSpec, TransformSpec, Transformed};
 use crate::warning::Warning;
@@ -93,6 +94,20 @@ struct ImageSpec {
     normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays.
     max_depth: Option<u32>,
+    /// Uniform (the default) or adaptive anti-aliasing.
+    aa: Option<AaSpec>,
+    /// Contrast at which adaptive anti-aliasing supersamples (implies adaptive).
+    aa_threshold: Option<f64>,
+}
+
+/// How the `samples x samples` grid is used.
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+enum AaSpec {
+    /// In every pixel.
+    Uniform,
+    /// Where a pixel differs from a neighbour by `aa_threshold`.
+    Adaptive,
 }
 
 fn default_size() -> [u32; 2] {
@@ -114,6 +129,8 @@ impl Default for ImageSpec {
             background: None,
             normals: None,
             max_depth: None,
+            aa: None,
+            aa_threshold: None,
         }
     }
 }
@@ -676,6 +693,12 @@ impl ImageSpec {
             shadows: self.shadows,
             normals: self.normals.unwrap_or(d.normals),
             max_depth: self.max_depth.unwrap_or(d.max_depth),
+            aa: match (self.aa, self.aa_threshold) {
+                (Some(AaSpec::Uniform), _) | (None, None) => AntiAliasing::Uniform,
+                (Some(AaSpec::Adaptive), t) | (None, t @ Some(_)) => {
+                    AntiAliasing::Adaptive { threshold: t.unwrap_or(DEFAULT_AA_THRESHOLD) }
+                }
+            },
             ..d
         }
     }

@@ -109,6 +109,63 @@ fn same_image_for_any_thread_count() {
     assert!(run(1) == run(2));
 }
 
+#[test]
+fn adaptive_anti_aliasing_at_threshold_zero_is_the_uniform_picture() {
+    // Every contrast is at least 0: every pixel takes the uniform n x n samples, with
+    // the same rays in the same order, whatever the first pass's method.
+    let file = load_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
+    let uniform = RenderOptions { width: 96, height: 72, spp: 3, ..file.options };
+    let (want, _) = render(&file.scene, &file.camera, &uniform, &NoProgress).unwrap();
+    for method in [Method::Trace, Method::FrontToBack] {
+        let adaptive = RenderOptions { aa: AntiAliasing::Adaptive { threshold: 0.0 }, method, ..uniform };
+        let (got, stats) = render(&file.scene, &file.camera, &adaptive, &NoProgress).unwrap();
+        assert!(got == want, "{method:?}");
+        assert_eq!(stats.supersampled, 96 * 72);
+    }
+    // Adaptive at one sample a pixel is the one-sample picture; bad thresholds are refused.
+    let one = RenderOptions { spp: 1, ..uniform };
+    let adaptive_one = RenderOptions { aa: AntiAliasing::Adaptive { threshold: 0.3 }, ..one };
+    let (a, _) = render(&file.scene, &file.camera, &one, &NoProgress).unwrap();
+    let (b, _) = render(&file.scene, &file.camera, &adaptive_one, &NoProgress).unwrap();
+    assert!(a == b);
+    for threshold in [-0.1, f64::NAN] {
+        let bad = RenderOptions { aa: AntiAliasing::Adaptive { threshold }, ..uniform };
+        assert!(render(&file.scene, &file.camera, &bad, &NoProgress).is_err(), "{threshold}");
+    }
+}
+
+#[test]
+fn adaptive_anti_aliasing_supersamples_the_edges_and_matches_the_reference_there() {
+    // A sphere against the background, lit: at a threshold of 0.1 the pixels that get
+    // 8 x 8 samples are the edge pixels and a few on the shading's steepest slopes; they
+    // equal the uniform 8 x 8 reference exactly, and the picture is far nearer to it
+    // than the one-sample picture is.
+    let scene = sphere_scene(8, 0.8);
+    let camera = Camera::look_at(DVec3::new(0.4, -3.0, 1.5), DVec3::ZERO, DVec3::Z, 40.0);
+    let base = RenderOptions { width: 120, height: 90, spp: 8, ..RenderOptions::default() };
+    let (reference, _) = render(&scene, &camera, &base, &NoProgress).unwrap();
+    let (one, _) = render(&scene, &camera, &RenderOptions { spp: 1, ..base }, &NoProgress).unwrap();
+    let adaptive = RenderOptions { aa: AntiAliasing::Adaptive { threshold: 0.1 }, ..base };
+    let (got, stats) = render(&scene, &camera, &adaptive, &NoProgress).unwrap();
+    let pixels = u64::from(base.width * base.height);
+    assert!(stats.supersampled > 0 && stats.supersampled < pixels / 4, "{} of {pixels}", stats.supersampled);
+    let error = |img: &image::RgbImage| -> f64 {
+        img.pixels()
+            .zip(reference.pixels())
+            .map(|(a, b)| (0..3).map(|c| a.0[c].abs_diff(b.0[c]) as f64).sum::<f64>())
+            .sum()
+    };
+    assert!(error(&got) < 0.25 * error(&one), "{} vs {}", error(&got), error(&one));
+    // Every pixel that differs from the one-sample picture was supersampled, and a
+    // supersampled pixel is the reference's; the rest are the one-sample picture's.
+    let mut same_as_reference = 0;
+    for ((g, r), o) in got.pixels().zip(reference.pixels()).zip(one.pixels()) {
+        assert!(g == o || g == r);
+        same_as_reference += u64::from(g == r && g != o);
+    }
+    assert!(same_as_reference > stats.supersampled / 2, "{same_as_reference} of {}", stats.supersampled);
+}
+
 /// A random scene of up to three CSG solids sharing one small domain.
 fn random_scene(rng: &mut common::Rng, depth: u8) -> Scene {
     use octsolid::shape::{Axis, Csg, Cuboid, Cylinder, Torus};

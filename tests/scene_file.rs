@@ -14,7 +14,7 @@ use octsolid::io::oct;
 use octsolid::mesh::generate::cuboid;
 use octsolid::mesh::save_mesh;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use octsolid::render::Light;
+use octsolid::render::{AntiAliasing, DEFAULT_AA_THRESHOLD, Light};
 use octsolid::scene_file::{SceneFile, load_scene};
 use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Error, Result};
@@ -453,4 +453,22 @@ fn a_csg_scene_of_a_shape_a_mesh_and_an_oct_is_the_predicate_voxel_by_voxel() {
     let want = LinearOctree::from_voxels(domain, voxels).unwrap();
     assert!(want.voxel_count() > 5000, "{}", want.voxel_count());
     assert_eq!(got, want, "{} voxels differ", (&got ^ &want).voxel_count());
+}
+
+#[test]
+fn anti_aliasing_keys_choose_uniform_or_adaptive() {
+    let dir = scratch("aa");
+    let scene = |image: &str| {
+        format!("[image]\n{image}\n\n[[solid]]\nshape = {{ sphere = {{ center = [0, 0, 0], radius = 1 }} }}\n")
+    };
+    let aa = |image: &str| load(&dir, "aa.toml", &scene(image), MemoryBudget::default()).1.unwrap().options.aa;
+    assert_eq!(aa(""), AntiAliasing::Uniform);
+    assert_eq!(aa("aa = \"adaptive\""), AntiAliasing::Adaptive { threshold: DEFAULT_AA_THRESHOLD });
+    assert_eq!(aa("aa_threshold = 0.1"), AntiAliasing::Adaptive { threshold: 0.1 });
+    assert_eq!(aa("aa = \"adaptive\"\naa_threshold = 0"), AntiAliasing::Adaptive { threshold: 0.0 });
+    assert_eq!(aa("aa = \"uniform\"\naa_threshold = 0.1"), AntiAliasing::Uniform);
+    let text = scene("aa = \"jittered\"");
+    let (path, e) = error(&dir, "aa.toml", &text);
+    let cause = scene_cause(e, &path, &text, Some("\"jittered\""), None);
+    assert!(cause.to_string().contains("uniform") && cause.to_string().contains("adaptive"), "{cause}");
 }

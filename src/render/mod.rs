@@ -12,8 +12,9 @@
 //! - `visibility`: which solid, voxel and face each sample sees, by any [`Method`]
 //!   (the ray walk or a raster method: the same hits, bit for bit).
 //! - `pipeline`: [`render`]: visibility, then shading, averaged over each pixel's
-//!   samples; [`quick`]: a solid to a PNG file in one call.
+//!   samples, in every pixel or where adaptive anti-aliasing asks (`adaptive`); [`quick`]: a solid to a PNG file in one call.
 
+mod adaptive;
 mod film;
 mod pipeline;
 mod quick;
@@ -27,7 +28,10 @@ pub use film::{
     Camera, DEFAULT_VIEW, NamedView, Projection, SampleGrid, View, default_orbit, from_srgb8, orbit_direction,
     silhouette_points, to_srgb8, up_for,
 };
-pub use pipeline::{MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats, estimate_bytes, render};
+pub use pipeline::{
+    AntiAliasing, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats, estimate_bytes,
+    render,
+};
 pub use quick::quick;
 pub use raster::polygon;
 pub use scene::{Bump, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};

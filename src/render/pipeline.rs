@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use glam::DVec3;
 
+use super::adaptive;
 use super::film::resolve::resolve;
 use super::film::{Camera, SampleGrid};
 use super::scene::{Scene, SceneHit};
@@ -22,15 +23,36 @@ pub const MAX_IMAGE_SIZE: u32 = 16_384;
 /// hall of mirrors cannot overflow a thread's stack.
 pub const MAX_RAY_DEPTH: u32 = 64;
 
+/// The adaptive anti-aliasing threshold when none is given: POV-Ray's common `+A0.3`.
+pub const DEFAULT_AA_THRESHOLD: f64 = 0.3;
+
+/// How a pixel's samples are chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AntiAliasing {
+    /// `spp x spp` samples in every pixel.
+    #[default]
+    Uniform,
+    /// One sample a pixel, then `spp x spp` where the contrast with a neighbour is at
+    /// least `threshold` (see the `adaptive` module: POV-Ray's `+A` method 1).
+    Adaptive {
+        /// Contrast that triggers supersampling: the sum of the red, green and blue
+        /// differences of two neighbouring pixels, displayed values in `[0, 1]`.
+        threshold: f64,
+    },
+}
+
 /// Image size and quality.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderOptions {
     /// Width in pixels.
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
-    /// Samples a pixel side: `spp x spp` stratified samples.
+    /// Samples a pixel side: `spp x spp` stratified samples (in every pixel, or in the
+    /// pixels adaptive anti-aliasing picks).
     pub spp: u32,
+    /// Uniform or adaptive supersampling.
+    pub aa: AntiAliasing,
     /// Trace shadow rays.
     pub shadows: bool,
     /// Which normal shades surfaces (default [`Normals::Smooth`]).
@@ -49,6 +71,7 @@ impl Default for RenderOptions {
             width: 960,
             height: 720,
             spp: 2,
+            aa: AntiAliasing::Uniform,
             shadows: true,
             normals: Normals::default(),
             max_depth: ShadeOptions::default().max_depth,
@@ -70,6 +93,9 @@ pub struct RenderStats {
     /// Rays cast by the shading stage: reflected, refracted and shadow rays (the
     /// samples are the primary rays).
     pub secondary_rays: u64,
+    /// Pixels given `spp x spp` samples by adaptive anti-aliasing (every pixel when
+    /// uniform).
+    pub supersampled: u64,
 }
 
 /// The memory a picture's buffers take: a hit record and a depth a sample (what
@@ -89,7 +115,7 @@ pub fn render(
     options: &RenderOptions,
     progress: &dyn Progress,
 ) -> Result<(RgbImage, RenderStats)> {
-    let RenderOptions { width, height, spp, shadows, normals, max_depth, method, budget } = *options;
+    let RenderOptions { width, height, spp, aa, shadows, normals, max_depth, .. } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
@@ -100,9 +126,43 @@ pub fn render(
         return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
     }
     camera.check()?;
+    let shading = ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() };
+    match aa {
+        AntiAliasing::Adaptive { threshold } if !(threshold.is_finite() && threshold >= 0.0) => {
+            Err(Error::invalid("anti-aliasing threshold", format!("{threshold} must be finite and at least 0")))
+        }
+        AntiAliasing::Adaptive { threshold } if spp > 1 => {
+            // One sample a pixel, then the pixels that differ from a neighbour.
+            let first = RenderOptions { spp: 1, aa: AntiAliasing::Uniform, ..*options };
+            let (mut img, stats) = uniform(scene, camera, &first, &shading, &crate::NoProgress)?;
+            let refine = adaptive::needs_samples(&img, threshold);
+            let samples = SampleGrid { width, height, spp };
+            let (hits, rays) = adaptive::supersample(scene, camera, &samples, &shading, &refine, &mut img, progress);
+            let supersampled = refine.iter().filter(|&&r| r).count() as u64;
+            let stats = RenderStats {
+                samples: stats.samples + supersampled * u64::from(spp * spp),
+                hits: stats.hits + hits,
+                secondary_rays: stats.secondary_rays + rays,
+                supersampled,
+                ..stats
+            };
+            Ok((img, stats))
+        }
+        _ => uniform(scene, camera, options, &shading, progress),
+    }
+}
+
+/// `spp x spp` samples in every pixel: the visibility of every sample, then shading.
+fn uniform(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    shading: &ShadeOptions,
+    progress: &dyn Progress,
+) -> Result<(RgbImage, RenderStats)> {
+    let RenderOptions { width, height, spp, method, budget, .. } = *options;
     let samples = SampleGrid { width, height, spp };
     budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
-    let shading = ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() };
     // Step 1: what each sample sees.
     let (seen, visible) = visibility(scene, camera, &samples, method);
     // Step 2: shading, the same for every method, averaged over each pixel's samples.
@@ -122,7 +182,7 @@ pub fn render(
                             let (x, y) = samples.point(c, r);
                             sum += match &seen[r as usize * columns + c as usize] {
                                 Some(h) => {
-                                    let (light, cast) = radiance(scene, &camera.ray(x, y, aspect), h, &shading);
+                                    let (light, cast) = radiance(scene, &camera.ray(x, y, aspect), h, shading);
                                     rays += cast;
                                     light
                                 }
@@ -150,6 +210,7 @@ pub fn render(
         hits: seen.iter().filter(|s| s.is_some()).count() as u64,
         faces_drawn: visible.faces_drawn,
         secondary_rays,
+        supersampled: if spp > 1 { u64::from(width) * u64::from(height) } else { 0 },
     };
     Ok((img, stats))
 }

@@ -105,12 +105,20 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
         }
         _ => format!("{} faces drawn, {secondary} secondary and shadow rays", stats.faces_drawn),
     };
+    let sampling = match options.aa {
+        octsolid::render::AntiAliasing::Uniform => format!("{}x{} samples a pixel", options.spp, options.spp),
+        octsolid::render::AntiAliasing::Adaptive { threshold } => format!(
+            "adaptive anti-aliasing (threshold {threshold}: {}x{} samples in {} of {} pixels)",
+            options.spp,
+            options.spp,
+            stats.supersampled,
+            u64::from(options.width) * u64::from(options.height)
+        ),
+    };
     out!(
-        "rendered {}x{} at {}x{} samples a pixel by {:?} in {:.2} s ({:.2} M samples/s; {visibility})",
+        "rendered {}x{} at {sampling} by {:?} in {:.2} s ({:.2} M samples/s; {visibility})",
         options.width,
         options.height,
-        options.spp,
-        options.spp,
         options.method,
         seconds,
         stats.samples as f64 / seconds / 1e6,

@@ -10,7 +10,10 @@ use glam::DVec3;
 use octsolid::import::{self, ImportOptions, Input};
 use octsolid::io::{oct, png};
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
-use octsolid::render::{self, Camera, Light, Material, NamedView, RenderOptions, Scene, silhouette_points};
+use octsolid::render::{
+    self, AntiAliasing, Camera, DEFAULT_AA_THRESHOLD, Light, Material, NamedView, RenderOptions, Scene,
+    silhouette_points,
+};
 use octsolid::scene_file;
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget};
@@ -82,6 +85,16 @@ pub struct RenderArgs {
     /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
     #[arg(long)]
     pub max_depth: Option<u32>,
+    /// Anti-aliasing: uniform (--spp N x N samples in every pixel) or adaptive (one
+    /// sample a pixel, N x N where a neighbour differs by --aa-threshold; POV-Ray's +A)
+    /// (default: the scene's, or uniform).
+    #[arg(long)]
+    pub aa: Option<Aa>,
+    /// Contrast that makes adaptive anti-aliasing supersample a pixel: the sum of the
+    /// red, green and blue differences with a neighbour, 0 to 3 (default: the scene's,
+    /// or 0.3; implies --aa adaptive unless --aa uniform is given).
+    #[arg(long, value_parser = crate::args::parse_finite)]
+    pub aa_threshold: Option<f64>,
     /// Render a mesh (or Bezier patches, tessellated) as polygons with this
     /// interpolation shading instead of voxelizing it.
     #[arg(long)]
@@ -106,6 +119,31 @@ impl From<Shading> for octsolid::render::polygon::Interpolation {
             Shading::Gouraud => Self::Gouraud,
             Shading::Phong => Self::Phong,
         }
+    }
+}
+
+/// Anti-aliasing.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Aa {
+    /// N x N samples in every pixel.
+    Uniform,
+    /// N x N samples where a pixel differs from a neighbour.
+    Adaptive,
+}
+
+/// The anti-aliasing `--aa` and `--aa-threshold` ask for over the scene's `scene`.
+fn anti_aliasing(a: &RenderArgs, scene: AntiAliasing) -> AntiAliasing {
+    let scene_threshold = match scene {
+        AntiAliasing::Adaptive { threshold } => Some(threshold),
+        AntiAliasing::Uniform => None,
+    };
+    let threshold = a.aa_threshold.or(scene_threshold).unwrap_or(DEFAULT_AA_THRESHOLD);
+    match (a.aa, a.aa_threshold, scene) {
+        (Some(Aa::Uniform), ..) => AntiAliasing::Uniform,
+        (Some(Aa::Adaptive), ..) | (None, Some(_), _) | (None, None, AntiAliasing::Adaptive { .. }) => {
+            AntiAliasing::Adaptive { threshold }
+        }
+        (None, None, AntiAliasing::Uniform) => AntiAliasing::Uniform,
     }
 }
 
@@ -196,6 +234,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     options.shadows &= !a.no_shadows;
     options.normals = a.normals.map_or(options.normals, Into::into);
     options.max_depth = a.max_depth.unwrap_or(options.max_depth);
+    options.aa = anti_aliasing(a, options.aa);
     options.method = a.method.into();
     options.budget = budget;
     let img =
