@@ -8,10 +8,11 @@
 //! 1. loads the target's corpus (`corpus/DIR/*` for each of its folders) into the
 //!    pool and runs every file once as it is;
 //! 2. then, until its time or case count is up, makes a case from the pool
-//!    ([`crate::mutate`]; a quarter of the cases from a seed) and runs it; a case whose outcome (the target's summary or
-//!    error text, digits folded to `#`) was not seen before joins the pool (up to
+//!    ([`crate::mutate`]; a quarter of the cases from a seed) and runs it; a case
+//!    whose outcome ([`signature`]: the words of the target's summary or error, with
+//!    numbers and quoted input left out) was not seen before joins the pool (up to
 //!    [`POOL_CAP`] entries besides the seeds; past that it replaces a random one), a
-//!    cheap stand-in for coverage feedback that stable Rust cannot have;
+//!    cheap stand-in for the coverage feedback stable Rust cannot have;
 //! 3. runs each case under `catch_unwind`, with the case written first to
 //!    `artifacts/TARGET/.current`, the memory ceiling of [`crate::guard`] and the
 //!    watchdog (its main thread; the cases run on a thread with an 8 MiB stack, as a
@@ -121,14 +122,15 @@ pub fn corpus_files(target: &Target, root: &Path) -> Vec<PathBuf> {
 
 /// A target's outcome folded for comparison: what stands between quotes (`'`, `"`,
 /// a backtick) dropped, then only the words of 1 to 12 ASCII letters kept (no
-/// numbers, file names, escaped bytes or long runs of the input's own text), at most 24 of them. So "line 7: 'x1' is not a number"
-/// and "line 9: 'q' is not a number" are one outcome, and a checksum mismatch is one
-/// whatever the sums.
+/// numbers, file names or escaped bytes), all of them for a summary and the first
+/// five for an error (error messages go on to echo the input, as in "malformed header
+/// line" and the line). So "line 7: 'x1' is not a number" and "line 9: 'q' is not a
+/// number" are one outcome, and a checksum mismatch is one whatever the sums.
 #[must_use]
 pub fn signature(outcome: &octsolid::Result<String>) -> String {
-    let text = match outcome {
-        Ok(s) => format!("ok {s}"),
-        Err(e) => format!("err {e}"),
+    let (text, most) = match outcome {
+        Ok(s) => (format!("ok {s}"), 64),
+        Err(e) => (format!("err {e}"), 5),
     };
     let mut unquoted = String::new();
     let mut quote = None;
@@ -144,9 +146,26 @@ pub fn signature(outcome: &octsolid::Result<String>) -> String {
         .split_whitespace()
         .map(|w| w.trim_matches(|c: char| c.is_ascii_punctuation()))
         .filter(|w| (1..=12).contains(&w.len()) && w.chars().all(|c| c.is_ascii_alphabetic()))
-        .take(24)
+        .take(most)
         .collect();
     words.join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn signatures_leave_out_numbers_quotes_and_echoed_input() {
+        let err = |reason: &str| -> octsolid::Result<String> {
+            Err(octsolid::Error::Parse { path: "/tmp/x-12/case-7.obj".into(), line: 3, reason: reason.into() })
+        };
+        assert_eq!(signature(&err("'x1' is not a number")), signature(&err("'q' is not a number")));
+        assert_eq!(signature(&err("vertex 12 has 2 coordinates")), signature(&err("vertex 0 has 9 coordinates")));
+        assert_ne!(signature(&err("'x1' is not a number")), signature(&err("'x1' is not an index")));
+        assert_eq!(signature(&err("malformed header line abc def ghi")), signature(&err("malformed header line q")));
+        assert_ne!(signature(&Ok("solid true closed false".into())), signature(&Ok("solid false closed false".into())));
+    }
 }
 
 /// What the panic hook saw last: the place, and the report (message, place and
