@@ -61,7 +61,13 @@ pub struct Target {
 
 /// Every target, parsers first.
 pub const TARGETS: &[Target] = &[
-    Target { name: "oct", corpus: &["oct"], ext: "oct", about: "io::oct::decode_with", run: oct_target },
+    Target {
+        name: "oct",
+        corpus: &["oct"],
+        ext: "oct",
+        about: "io::oct::decode_with, as given and with the length and CRC-32 fixed",
+        run: oct_target,
+    },
     Target { name: "obj", corpus: &["obj"], ext: "obj", about: "mesh_from_bytes as OBJ", run: obj },
     Target { name: "stl", corpus: &["stl"], ext: "stl", about: "mesh_from_bytes as STL", run: stl },
     Target { name: "ply", corpus: &["ply"], ext: "ply", about: "mesh_from_bytes as PLY", run: ply },
@@ -122,9 +128,34 @@ fn bucket(n: u64) -> u64 {
     if n == 0 { 0 } else { 1 << n.ilog2() }
 }
 
+/// Where the `.oct` header keeps the payload length and the CRC-32 (`docs/FORMAT.md`).
+const OCT_PAYLOAD_LEN_AT: usize = 64;
+const OCT_CRC_AT: usize = 72;
+
+/// `bytes` with the `.oct` header's payload length and CRC-32 made to match the file
+/// (the CRC covers the header before it and the payload), so that a mutated file gets
+/// past those two checks to the fields and nodes behind them; shorter than a header,
+/// unchanged.
+#[must_use]
+pub fn oct_fixed(bytes: &[u8]) -> Vec<u8> {
+    let mut fixed = bytes.to_vec();
+    if fixed.len() >= oct::HEADER_BYTES {
+        let payload = (fixed.len() - oct::HEADER_BYTES) as u64;
+        fixed[OCT_PAYLOAD_LEN_AT..OCT_PAYLOAD_LEN_AT + 8].copy_from_slice(&payload.to_le_bytes());
+        let mut crc = crc32fast::Hasher::new();
+        crc.update(&fixed[..OCT_CRC_AT]);
+        crc.update(&fixed[oct::HEADER_BYTES..]);
+        fixed[OCT_CRC_AT..OCT_CRC_AT + 4].copy_from_slice(&crc.finalize().to_le_bytes());
+    }
+    fixed
+}
+
+/// Decodes the file as it is, then with its length and checksum fixed
+/// ([`oct_fixed`]); the outcome is the second's.
 fn oct_target(bytes: &[u8]) -> Result<String> {
-    let (tree, meta) = oct::decode_with(bytes, Path::new("fuzz.oct"), BUDGET)?;
-    Ok(format!("depth {} nodes ~{} {meta:?}", tree.depth(), bucket(tree.node_count() as u64)))
+    let raw = oct::decode_with(bytes, Path::new("fuzz.oct"), BUDGET);
+    let (tree, meta) = oct::decode_with(&oct_fixed(bytes), Path::new("fuzz.oct"), BUDGET)?;
+    Ok(format!("depth {} nodes ~{} {meta:?} as given {}", tree.depth(), bucket(tree.node_count() as u64), raw.is_ok()))
 }
 
 fn mesh(bytes: &[u8], name: &str) -> Result<String> {
@@ -211,10 +242,11 @@ fn vdb_target(bytes: &[u8]) -> Result<String> {
     Ok(summary(&vdb::decode(bytes, Path::new("fuzz.vdb"), &read_options())?))
 }
 
-/// Decodes a solid file of any format octsolid reads, told by its first bytes.
+/// Decodes a solid file of any format octsolid reads, told by its first bytes (an
+/// `.oct` file with its length and checksum fixed, [`oct_fixed`]).
 fn decode_solids(bytes: &[u8]) -> Result<Solids> {
     if bytes.starts_with(&oct::MAGIC) {
-        let tree = oct::decode(bytes, Path::new("fuzz.oct"), BUDGET)?;
+        let tree = oct::decode(&oct_fixed(bytes), Path::new("fuzz.oct"), BUDGET)?;
         Ok(Solids { domain: *tree.domain(), solids: vec![octsolid::io::ColouredSolid::new("oct", None, tree)] })
     } else if bytes.starts_with(b"VOX ") {
         vox::decode(bytes, Path::new("fuzz.vox"), &read_options())
@@ -224,6 +256,14 @@ fn decode_solids(bytes: &[u8]) -> Result<Solids> {
     } else {
         vdb::decode(bytes, Path::new("fuzz.vdb"), &read_options())
     }
+}
+
+/// Whether `domain` is one whose round trips are asserted: its far corner finite and
+/// its voxel edge a normal float. The `.oct` and other readers still accept domains
+/// past these (an edge of `5e-324` whose voxels are 0 wide, a corner at `1e308` whose
+/// far corner is infinite: an open issue), which `.vdb` then cannot read back.
+fn proper_domain(domain: &octsolid::octree::Domain) -> bool {
+    (domain.min() + glam::DVec3::splat(domain.edge())).is_finite() && domain.voxel_size() >= f64::MIN_POSITIVE
 }
 
 /// The deepest solid the `solid_export` target measures.
@@ -245,15 +285,23 @@ fn solid_export(bytes: &[u8]) -> Result<String> {
     } else {
         0
     };
-    let again = oct::decode(&oct::encode(&union), Path::new("again.oct"), MemoryBudget::unlimited())?;
-    assert!(again == union, ".oct round trip changed the solid");
+    // What octsolid writes it must read back, as it was: asserted for proper domains.
+    let proper = proper_domain(&solids.domain);
+    match oct::decode(&oct::encode(&union), Path::new("again.oct"), MemoryBudget::unlimited()) {
+        Ok(again) => assert!(again == union, ".oct round trip changed the solid"),
+        Err(e) => assert!(!proper, ".oct cannot read what it wrote: {e}"),
+    }
     let vdb_bytes = vdb::encode(&solids, vdb::Compression::Zip);
     for solid in solids.solids.iter().take(4) {
         let options =
             ReadOptions { budget: MemoryBudget::unlimited(), grid: Some(solid.name.clone()), ..ReadOptions::default() };
-        let read_back = vdb::decode(&vdb_bytes, Path::new("again.vdb"), &options)?;
-        assert!(read_back.solids.len() == 1, ".vdb read {} grids by the name {:?}", read_back.solids.len(), solid.name);
-        assert!(read_back.solids[0].tree == solid.tree, ".vdb round trip changed solid {:?}", solid.name);
+        match vdb::decode(&vdb_bytes, Path::new("again.vdb"), &options) {
+            Ok(back) => {
+                assert!(back.solids.len() == 1, ".vdb read {} grids by the name {:?}", back.solids.len(), solid.name);
+                assert!(back.solids[0].tree == solid.tree || !proper, ".vdb round trip changed solid {:?}", solid.name);
+            }
+            Err(e) => assert!(!proper, ".vdb cannot read what it wrote: {e}"),
+        }
     }
     let mesh = try_boundary_mesh(&union, &BoundaryOptions::default(), BUDGET, &NoProgress);
     let glb = gltf::encode(&solids, BUDGET).map(|b| b.len());
