@@ -1,27 +1,35 @@
 //! The fuzz targets: one function a parser, each taking a whole file as `&[u8]` and
-//! reading it through the library's public API, plus three that go on past parsing
-//! (measure and export a solid, voxelize a mesh, voxelize patches).
+//! reading it through the library's public API, plus four that go on past parsing
+//! (a solid measured, exported and read back; a mesh voxelized; patches voxelized; a
+//! scene rendered by two visibility methods).
 //!
 //! A target returns `Ok` with a short summary of what it read, or the library's
-//! `Err`: both are fine (bad input must be refused with an error, and is); only a
-//! panic, a hang or a memory blow-up is a finding. The summary and the error's text
-//! are what the driver's novelty feedback compares. Every job runs under a small
-//! [`MemoryBudget`] ([`BUDGET`], the scene target [`SCENE_BUDGET`]), so input that
-//! asks for too much is refused cleanly, and whatever escapes the budget shows as a
-//! memory blow-up.
+//! `Err`: both are fine (bad input must be refused with an error, and is); a panic, a
+//! hang or a memory blow-up is a finding, and so is a broken promise the targets
+//! assert (a round trip that changes a solid, two visibility methods that disagree).
+//! The summary and the error's text are what the driver's novelty feedback compares.
+//! Every job runs under a small [`MemoryBudget`] ([`BUDGET`], the scene targets
+//! [`SCENE_BUDGET`]), so input that asks for too much is refused cleanly, and whatever
+//! escapes the budget shows as a memory blow-up.
 //!
-//! Departures from "just call the parser", each to keep one case short:
-//! - voxelizing targets use depth 4 or 5, and the scene target a 16 MiB budget (a scene
+//! Departures from "just call the parser", each to keep one case short or to step
+//! past what is known and open:
+//! - the `.oct` targets decode the case with its length and checksum fixed
+//!   ([`oct_fixed`]);
+//! - voxelizing targets use depth 4 or 5, and the scene targets a 16 MiB budget (a scene
 //!   may ask for depth 21 and is refused or small under it);
 //! - `mesh_voxelize` voxelizes meshes of at most [`MAX_VOXELIZED_TRIANGLES`]: the
 //!   solid voxelizer's work grows with the triangles meeting each node, so a file of
 //!   one face repeated thousands of times (what duplicating a line makes) takes
 //!   seconds at depth 5, which is slow, not stuck;
 //! - `solid_export` writes binvox only up to resolution 256 (binvox output is a dense
-//!   run-length grid of `resolution^3` voxels, with no budget), and measures solids
-//!   only up to depth [`MAX_MEASURED_DEPTH`]: the boundary area's time grows with the
-//!   size of the boundary in 16^3 bricks, not with the nodes (a one-node full solid
-//!   takes 0.3 s at depth 12, about twice as long each level deeper);
+//!   run-length grid of `resolution^3` voxels, with no budget), measures solids only
+//!   up to depth [`MAX_MEASURED_DEPTH`] (the boundary area's time grows with the size
+//!   of the boundary in 16^3 bricks, not with the nodes: a one-node full solid takes
+//!   0.3 s at depth 12, about twice as long each level deeper), and asserts its round
+//!   trips only over proper domains (`proper_domain`);
+//! - `scene_render` compares the two pictures only through a proper camera
+//!   (`proper_camera`);
 //! - `patches_voxelize` does not ask for the patch set's report, which tessellates at
 //!   1/1000 of its size (a third of a second for the teapot).
 
