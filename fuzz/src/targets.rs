@@ -19,9 +19,10 @@
 //! - voxelizing targets use depth 4 or 5, and the scene targets a 16 MiB budget (a scene
 //!   may ask for depth 21 and is refused or small under it);
 //! - `mesh_voxelize` voxelizes meshes of at most [`MAX_VOXELIZED_TRIANGLES`]: the
-//!   solid voxelizer's work grows with the triangles meeting each node, so a file of
-//!   one face repeated thousands of times (what duplicating a line makes) takes
-//!   seconds at depth 5, which is slow, not stuck;
+//!   solid voxelizer's work grows with the triangles meeting each node (coincident
+//!   ones go to the exact predicates' slow path), so a file of one face repeated
+//!   hundreds of times (what duplicating a line makes) takes half a second at depth 5
+//!   and one repeated thousands of times seconds, which is slow, not stuck;
 //! - `solid_export` writes binvox only up to resolution 256 (binvox output is a dense
 //!   run-length grid of `resolution^3` voxels, with no budget), measures solids only
 //!   up to depth [`MAX_MEASURED_DEPTH`] (the boundary area's time grows with the size
@@ -344,7 +345,7 @@ fn sniff_mesh(bytes: &[u8]) -> &'static str {
 }
 
 /// The most triangles the `mesh_voxelize` target voxelizes.
-pub const MAX_VOXELIZED_TRIANGLES: usize = 1000;
+pub const MAX_VOXELIZED_TRIANGLES: usize = 256;
 
 /// Loads a mesh, reports it, and when it has at most [`MAX_VOXELIZED_TRIANGLES`]
 /// voxelizes it as a solid (depth 5), a surface and a thin shell (depth 4), and, when
