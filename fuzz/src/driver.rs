@@ -134,8 +134,13 @@ pub fn signature(outcome: &octsolid::Result<String>) -> String {
     };
     let mut unquoted = String::new();
     let mut quote = None;
-    for c in text.chars() {
+    let mut chars = text.chars();
+    while let Some(c) = chars.next() {
         match quote {
+            // A backslash escapes the next character (an escaped quote in the input).
+            Some(_) if c == '\\' => {
+                chars.next();
+            }
             Some(q) if c == q => quote = None,
             Some(_) => {}
             None if matches!(c, '\'' | '"' | '`') => quote = Some(c),
@@ -161,6 +166,7 @@ mod tests {
             Err(octsolid::Error::Parse { path: "/tmp/x-12/case-7.obj".into(), line: 3, reason: reason.into() })
         };
         assert_eq!(signature(&err("'x1' is not a number")), signature(&err("'q' is not a number")));
+        assert_eq!(signature(&err(r"'a\'b c' is not a number")), signature(&err("'q' is not a number")));
         assert_eq!(signature(&err("vertex 12 has 2 coordinates")), signature(&err("vertex 0 has 9 coordinates")));
         assert_ne!(signature(&err("'x1' is not a number")), signature(&err("'x1' is not an index")));
         assert_eq!(signature(&err("malformed header line abc def ghi")), signature(&err("malformed header line q")));
