@@ -53,17 +53,25 @@ pub fn load_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh> {
 pub fn load_mesh_with_warnings(path: impl AsRef<Path>) -> Result<(TriangleMesh, Vec<Warning>)> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    mesh_from_bytes(&bytes, path)
+}
+
+/// [`load_mesh_with_warnings`] of a file already in memory: `bytes` are the file's
+/// contents and `path` stands for the file (its extension picks the format, it names
+/// the file in errors and warnings, and an OBJ's `mtllib` names are looked up beside
+/// it).
+pub fn mesh_from_bytes(bytes: &[u8], path: &Path) -> Result<(TriangleMesh, Vec<Warning>)> {
     let mut warnings = Vec::new();
     let mut mesh = match MeshFormat::of(path)? {
         MeshFormat::Obj => {
-            let obj = super::obj::parse(&bytes, path, &mut warnings)?;
+            let obj = super::obj::parse(bytes, path, &mut warnings)?;
             for (line, name) in &obj.material_libraries {
                 super::mtl::check(path, *line, name, &mut warnings);
             }
             obj.mesh
         }
-        MeshFormat::Stl => super::stl::parse(&bytes, path, &mut warnings)?,
-        MeshFormat::Ply => super::ply::parse(&bytes, path, &mut warnings)?,
+        MeshFormat::Stl => super::stl::parse(bytes, path, &mut warnings)?,
+        MeshFormat::Ply => super::ply::parse(bytes, path, &mut warnings)?,
     };
     mesh.check().map_err(|e| Error::Format { path: path.to_path_buf(), offset: 0, reason: e.to_string() })?;
     if !mesh.is_watertight() {

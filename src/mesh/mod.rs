@@ -34,7 +34,7 @@ use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
 pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
-pub use load::{MeshFormat, load_mesh, load_mesh_with_warnings};
+pub use load::{MeshFormat, load_mesh, load_mesh_with_warnings, mesh_from_bytes};
 pub use parity::ParityGrid;
 pub use save::{save_mesh, write_obj, write_ply, write_stl};
 pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};

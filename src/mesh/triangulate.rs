@@ -138,9 +138,14 @@ impl EarClipper {
             return Triangulation::FanNoArea;
         }
         self.start();
+        // Before any ear is looked for: queueing the ears alone is n tests of r corners.
         if n.saturating_mul(self.reflex.len()) > WORK_LIMIT {
             fan(polygon.iter().copied(), out);
             return Triangulation::FanTooLarge;
+        }
+        self.queue.clear();
+        for i in 0..n {
+            self.queue_if_ear(i);
         }
         let mut left = n;
         while left > 3 {
@@ -181,7 +186,7 @@ impl EarClipper {
         true
     }
 
-    /// Links the corners in a ring, finds the reflex ones and queues every ear.
+    /// Links the corners in a ring and finds the reflex ones.
     fn start(&mut self) {
         let n = self.points.len();
         self.prev.clear();
@@ -196,10 +201,6 @@ impl EarClipper {
         reflex.clear();
         reflex.extend((0..n).filter(|&i| self.turn(i) <= 0.0));
         self.reflex = reflex;
-        self.queue.clear();
-        for i in 0..n {
-            self.queue_if_ear(i);
-        }
     }
 
     /// Removes ear `i`; its neighbours may stop being reflex and become ears.
@@ -326,6 +327,21 @@ mod tests {
             assert!(out.iter().all(|&t| sign * area2(&l, t) > 0.0), "{out:?}");
             assert_eq!(out.iter().map(|&t| area2(&l, t).abs()).sum::<f64>(), 6.0);
         }
+    }
+
+    #[test]
+    fn a_polygon_too_large_to_clip_is_fanned_before_any_ear_is_looked_for() {
+        // One OBJ face of 40 000 corners on the same vertex (what a fuzzer made of a
+        // face line): every corner is straight, so not strictly convex, and each ear
+        // test would scan all of them. Queueing the ears before the work limit was
+        // checked took n^2 tests (5.6 s) and then fanned anyway.
+        let v = [DVec3::ZERO, DVec3::Y, DVec3::X];
+        let polygon: Vec<u32> = [0, 1].into_iter().chain(std::iter::repeat_n(2, 40_000)).collect();
+        let mut clipper = EarClipper::default();
+        let mut out = Vec::new();
+        assert_eq!(clipper.triangulate(&v, &polygon, &mut out), Triangulation::FanTooLarge);
+        assert_eq!(out.len(), polygon.len() - 2);
+        assert!(clipper.queue.is_empty(), "{} ears were queued before the limit was checked", clipper.queue.len());
     }
 
     #[test]

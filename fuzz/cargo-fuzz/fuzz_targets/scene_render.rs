@@ -1,0 +1,8 @@
+//! The `scene_render` target (octsolid_fuzz::targets) under libFuzzer: a panic is a finding, an
+//! error is not.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let target = octsolid_fuzz::targets::by_name("scene_render").expect("a target of that name");
+    let _ = (target.run)(data);
+});
