@@ -385,6 +385,7 @@ fn patches_voxelize(bytes: &[u8]) -> Result<String> {
     let surface = voxelize_input(&input, default_domain(&input, 5)?, &options(Fill::Surface));
     let domain = default_domain(&input, 4)?;
     let solid = voxelize_input(&input, domain, &options(Fill::Solid));
-    let report = PolygonTables::new(&input.triangles(domain.voxel_size())).report();
+    let mesh = input.triangles(domain.voxel_size(), BUDGET)?;
+    let report = PolygonTables::new(&mesh).report();
     Ok(format!("surface {} solid {} closed {}", surface.is_ok(), solid.is_ok(), report.watertight))
 }
