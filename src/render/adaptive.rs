@@ -48,6 +48,10 @@ pub(crate) fn needs_samples(first: &RgbImage, threshold: f64) -> Vec<bool> {
         .collect()
 }
 
+/// One row's supersampled pixels (column and colour), the samples that saw a solid
+/// and the secondary rays cast.
+type Row = (Vec<(u32, Rgb<u8>)>, u64, u64);
+
 /// The pixels of `refine` (row-major over `samples`' pixels) shaded from their
 /// `samples.spp^2` samples into `img`; returns the samples that saw a solid and the
 /// secondary rays cast. `progress` counts rows.
@@ -64,7 +68,7 @@ pub(crate) fn supersample(
     let aspect = samples.aspect();
     let view = camera.view(aspect);
     progress.start(u64::from(samples.height));
-    let rows: Vec<(Vec<(u32, Rgb<u8>)>, u64, u64)> = (0..samples.height)
+    let rows: Vec<Row> = (0..samples.height)
         .into_par_iter()
         .map(|row| {
             let (mut hits_seen, mut rays_cast) = (0, 0);
