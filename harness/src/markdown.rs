@@ -74,11 +74,22 @@ fn findings(r: &MatrixResults) -> String {
         tracing_finding(r, kind, &mut out);
     }
     bunny_findings(r, &mut out);
+    packet_finding(r, &mut out);
     out
 }
 
-/// The BVHs over the octree's own boundary faces.
-const FACES: [ContenderKind; 2] = [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces];
+/// The BVHs over the octree's own boundary faces that trace one ray a call, as the
+/// octree does (Embree's 8-ray packets have their own finding).
+const FACES: [ContenderKind; 3] = [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces, ContenderKind::EmbreeFaces];
+
+/// The BVHs over the original mesh that trace one ray a call.
+const MESH: [ContenderKind; 3] = [ContenderKind::ObvhsMesh, ContenderKind::BvhMesh, ContenderKind::EmbreeMesh];
+
+/// Embree traced 8 rays a call, and the same structure one ray a call.
+const PACKETS: [(ContenderKind, ContenderKind); 2] = [
+    (ContenderKind::EmbreePacketsFaces, ContenderKind::EmbreeFaces),
+    (ContenderKind::EmbreePacketsMesh, ContenderKind::EmbreeMesh),
+];
 
 /// Build: octree build speed and memory against each BVH over the same boundary faces.
 fn build_finding(r: &MatrixResults, out: &mut String) {
@@ -160,7 +171,7 @@ fn tracing_finding(r: &MatrixResults, kind: RayKind, out: &mut String) {
 fn bunny_findings(r: &MatrixResults, out: &mut String) {
     let threads = r.options.threads;
     for case in r.cases.iter().filter(|c| c.scene == SceneKind::Bunny) {
-        for k in [ContenderKind::ObvhsMesh, ContenderKind::BvhMesh] {
+        for k in MESH {
             let (Some(x), Some(mesh)) =
                 (speed_ratio(case, ContenderKind::Octree, k, RayKind::Primary, threads), case.contender(k))
             else {
@@ -189,6 +200,32 @@ fn bunny_findings(r: &MatrixResults, out: &mut String) {
             );
         }
     }
+}
+
+/// Embree's 8-ray packets against its own one ray a call, each ray kind, all threads.
+fn packet_finding(r: &MatrixResults, out: &mut String) {
+    let threads = r.options.threads;
+    let mut parts = Vec::new();
+    for kind in RayKind::ALL {
+        let ratios: Vec<f64> = r
+            .cases
+            .iter()
+            .flat_map(|case| PACKETS.iter().filter_map(move |&(p, one)| speed_ratio(case, p, one, kind, threads)))
+            .collect();
+        if !ratios.is_empty() {
+            parts.push(format!("{} rays {}", kind.name(), range(&ratios)));
+        }
+    }
+    if parts.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "- **Embree's 8-ray packets, {threads} threads.** Against the same Embree scene traced one ray a call, \
+         8 consecutive rays a call ran at {} its rays a second. The other contenders, the octree included, \
+         trace one ray a call.",
+        parts.join(", ")
+    );
 }
 
 /// The whole section, markers included; `images` is the folder of the plots relative
@@ -226,6 +263,18 @@ pub fn render_section(r: &MatrixResults, images: &str, plots: &[String]) -> Stri
          coplanar faces merged); *original mesh* = the triangles the bunny was voxelized from. Bytes: the \
          octree's traversal nodes; a BVH's node array plus the primitive data it keeps.\n"
     );
+    if let Some(version) = &r.embree {
+        let _ = writeln!(
+            s,
+            "**embree** = Embree {version}, the system library through the `embree` crate's bindings \
+             (`harness/src/embree_contender.rs`; `--features embree`): its BVH at the default build quality \
+             (medium), f32, one ray a call (`rtcIntersect1`, `rtcOccluded1`); *embree 8-ray packets* = the same \
+             scene traced 8 consecutive rays a call (`rtcIntersect8`, `rtcOccluded8`; for primary rays 8 \
+             neighbouring pixels of a row, with the coherent flag). Its build time includes creating the Embree \
+             device; its bytes are what Embree's memory monitor counts once the scene is committed (BVH, \
+             triangle data, vertex and index buffers).\n"
+        );
+    }
     let _ = writeln!(s, "### Findings\n\n{}", findings(r));
     for scene in &o.scenes {
         let _ = writeln!(s, "### {} ({})\n", scene.name(), scene.description());
