@@ -16,7 +16,7 @@
 //!   other contenders over the same triangles, bytes at least its vertex and index
 //!   buffers, and its version in the report.
 //!
-//! Runs with `cargo test --release -p octsolid-harness --features embree --test embree`
+//! Runs with `cargo test --release --features embree --test embree`
 //! (declared in `harness/Cargo.toml`, where the feature is).
 
 use glam::DVec3;
@@ -283,4 +283,5 @@ fn the_matrix_runs_embree_on_the_same_rays() {
         assert!(section.contains(kind.label()), "no {} row in the report", kind.label());
     }
     assert!(section.contains(&format!("Embree {}", results.embree.unwrap())));
+    assert!(section.contains("- **Agreement.** On the same rays"), "no agreement line in the report");
 }

@@ -75,6 +75,7 @@ fn findings(r: &MatrixResults) -> String {
     }
     bunny_findings(r, &mut out);
     packet_finding(r, &mut out);
+    agreement_finding(r, &mut out);
     out
 }
 
@@ -228,6 +229,67 @@ fn packet_finding(r: &MatrixResults, out: &mut String) {
     );
 }
 
+/// Hit counts over the same surface: each contender over the boundary faces against the
+/// octree on the same rays, and Embree against obvhs over the original mesh (both
+/// `f32`, neither culls back faces; the `bvh` crate culls them, which the open bunny
+/// shows through its base).
+fn agreement_finding(r: &MatrixResults, out: &mut String) {
+    const OVER_FACES: [ContenderKind; 4] = [
+        ContenderKind::ObvhsFaces,
+        ContenderKind::BvhFaces,
+        ContenderKind::EmbreeFaces,
+        ContenderKind::EmbreePacketsFaces,
+    ];
+    let mut pairs = Vec::new();
+    for case in &r.cases {
+        for k in OVER_FACES {
+            pairs.push((case, k, ContenderKind::Octree));
+        }
+        for k in [ContenderKind::EmbreeMesh, ContenderKind::EmbreePacketsMesh] {
+            pairs.push((case, k, ContenderKind::ObvhsMesh));
+        }
+    }
+    // Ray sets compared; the worst: its difference in rays, the fraction of its set, where.
+    let mut sets = 0;
+    let mut worst: Option<(u64, f64, String)> = None;
+    for (case, k, reference) in pairs {
+        let (Some(c), Some(o)) = (case.contender(k), case.contender(reference)) else { continue };
+        for s in &c.speeds {
+            let Some(os) = o.speed(s.kind, s.threads) else { continue };
+            sets += 1;
+            let diff = s.hits.abs_diff(os.hits);
+            let fraction = diff as f64 / s.rays.max(1) as f64;
+            if diff > 0 && worst.as_ref().is_none_or(|w| fraction > w.1) {
+                let at = format!(
+                    "{} against {}, {} at depth {}, {} rays",
+                    k.label(),
+                    reference.label(),
+                    case.scene.name(),
+                    case.depth,
+                    s.kind.name()
+                );
+                worst = Some((diff, fraction, at));
+            }
+        }
+    }
+    if sets == 0 {
+        return;
+    }
+    let what = "the hit counts of the BVHs over the boundary faces (against the octree's) and of Embree over \
+                the original mesh (against obvhs's)";
+    let Some((diff, fraction, at)) = worst else {
+        let _ = writeln!(out, "- **Agreement.** On the same rays, {what} were equal in all {sets} ray sets.");
+        return;
+    };
+    let _ = writeln!(
+        out,
+        "- **Agreement.** On the same rays, {what} differed by at most {diff} rays in {sets} ray sets ({:.3}% of \
+         the set: {at}). Such rays pass through voxel or triangle edges, where an f32 triangle test can slip \
+         between two triangles; `tests/bvh.rs` and `tests/embree.rs` compare every ray.",
+        100.0 * fraction
+    );
+}
+
 /// The whole section, markers included; `images` is the folder of the plots relative
 /// to the Markdown file, `plots` their file names.
 #[must_use]
@@ -331,6 +393,39 @@ mod tests {
         let old = format!("# Title\n\nbefore\n{BEGIN}\nold\n{END}\nafter\n");
         let new = splice_section(&old, &format!("{BEGIN}\nnew\n{END}\n"), Path::new("B.md")).unwrap();
         assert_eq!(new, format!("# Title\n\nbefore\n{BEGIN}\nnew\n{END}\nafter\n"));
+    }
+
+    /// A contender row with `hits` of 1,000 primary rays on 1 thread.
+    fn row(kind: ContenderKind, hits: u64) -> ContenderResult {
+        let speed = crate::matrix::Speed { kind: RayKind::Primary, threads: 1, rays: 1000, hits, seconds: 1.0 };
+        ContenderResult { kind, skipped: None, triangles: 0, build_ms: 1.0, bytes: 1, nodes: 0, speeds: vec![speed] }
+    }
+
+    #[test]
+    fn agreement_names_the_largest_difference_in_hits() {
+        let case = |depth, contenders| CaseResult {
+            scene: SceneKind::Sphere,
+            depth,
+            octree_nodes: 1,
+            face_triangles: 1,
+            faces_ms: 0.0,
+            rays: vec![(RayKind::Primary, 1000)],
+            contenders,
+        };
+        let cases = vec![
+            case(8, vec![row(ContenderKind::Octree, 500), row(ContenderKind::ObvhsFaces, 498)]),
+            case(10, vec![row(ContenderKind::Octree, 400), row(ContenderKind::EmbreeFaces, 407)]),
+        ];
+        let machine = crate::Machine::current();
+        let mut r = MatrixResults { machine, options: crate::MatrixOptions::quick(), embree: None, cases };
+        let mut out = String::new();
+        agreement_finding(&r, &mut out);
+        assert!(out.contains("at most 7 rays in 2 ray sets (0.700% of the set: embree, boundary faces"), "{out}");
+        r.cases[1].contenders[1] = row(ContenderKind::EmbreeFaces, 400);
+        r.cases[0].contenders[1] = row(ContenderKind::ObvhsFaces, 500);
+        out.clear();
+        agreement_finding(&r, &mut out);
+        assert!(out.contains("were equal in all 2 ray sets"), "{out}");
     }
 
     #[test]
