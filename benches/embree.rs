@@ -7,7 +7,7 @@
 //! Ids: `bvh/{scene}_d{depth}/{embree|embree_packets}_{faces|mesh}/{build|primary|shadow|random}_{threads}t`,
 //! the group and naming of `benches/bvh.rs`, so criterion's reports put them beside the
 //! octree's and the other BVHs'. Run with
-//! `cargo bench -p octsolid-harness --features embree --bench embree`, e.g.
+//! `cargo bench --features embree --bench embree`, e.g.
 //! `... -- 'bunny_d10/.*/primary'`. Depth 12 is left out, as in `benches/bvh.rs` for
 //! every BVH (its boundary meshes exceed the matrix's 4 million triangle limit).
 
