@@ -237,10 +237,14 @@ impl EmbreeBvh {
     /// occluded when `any`).
     fn packet(&self, rays: &[Ray], any: bool, coherent: bool) -> u64 {
         debug_assert!(!rays.is_empty() && rays.len() <= PACKET);
-        let mut valid = [0i32; PACKET];
+        // The packet's lane mask, aligned as the packet (Embree documents the packet's
+        // alignment, not the mask's; aligning it costs nothing).
+        #[repr(C, align(32))]
+        struct Valid([i32; PACKET]);
+        let mut valid = Valid([0; PACKET]);
         // SAFETY: all-zero bits are a valid RTCRayHit8 (plain f32 and u32 arrays).
         let mut p: sys::RTCRayHit8 = unsafe { std::mem::zeroed() };
-        for (k, lane) in valid.iter_mut().enumerate() {
+        for (k, lane) in valid.0.iter_mut().enumerate() {
             // Inactive lanes still get finite values (a copy of the first ray).
             let one = ray_hit(rays.get(k).unwrap_or(&rays[0]));
             *lane = if k < rays.len() { -1 } else { 0 };
@@ -256,9 +260,9 @@ impl EmbreeBvh {
         // outlive the call.
         unsafe {
             if any {
-                sys::rtcOccluded8(valid.as_ptr(), self.scene, &mut ctx, &mut p.ray);
+                sys::rtcOccluded8(valid.0.as_ptr(), self.scene, &mut ctx, &mut p.ray);
             } else {
-                sys::rtcIntersect8(valid.as_ptr(), self.scene, &mut ctx, &mut p);
+                sys::rtcIntersect8(valid.0.as_ptr(), self.scene, &mut ctx, &mut p);
             }
         }
         (0..rays.len())
