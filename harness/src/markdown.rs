@@ -74,11 +74,23 @@ fn findings(r: &MatrixResults) -> String {
         tracing_finding(r, kind, &mut out);
     }
     bunny_findings(r, &mut out);
+    packet_finding(r, &mut out);
+    agreement_finding(r, &mut out);
     out
 }
 
-/// The BVHs over the octree's own boundary faces.
-const FACES: [ContenderKind; 2] = [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces];
+/// The BVHs over the octree's own boundary faces that trace one ray a call, as the
+/// octree does (Embree's 8-ray packets have their own finding).
+const FACES: [ContenderKind; 3] = [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces, ContenderKind::EmbreeFaces];
+
+/// The BVHs over the original mesh that trace one ray a call.
+const MESH: [ContenderKind; 3] = [ContenderKind::ObvhsMesh, ContenderKind::BvhMesh, ContenderKind::EmbreeMesh];
+
+/// Embree traced 8 rays a call, and the same structure one ray a call.
+const PACKETS: [(ContenderKind, ContenderKind); 2] = [
+    (ContenderKind::EmbreePacketsFaces, ContenderKind::EmbreeFaces),
+    (ContenderKind::EmbreePacketsMesh, ContenderKind::EmbreeMesh),
+];
 
 /// Build: octree build speed and memory against each BVH over the same boundary faces.
 fn build_finding(r: &MatrixResults, out: &mut String) {
@@ -160,7 +172,7 @@ fn tracing_finding(r: &MatrixResults, kind: RayKind, out: &mut String) {
 fn bunny_findings(r: &MatrixResults, out: &mut String) {
     let threads = r.options.threads;
     for case in r.cases.iter().filter(|c| c.scene == SceneKind::Bunny) {
-        for k in [ContenderKind::ObvhsMesh, ContenderKind::BvhMesh] {
+        for k in MESH {
             let (Some(x), Some(mesh)) =
                 (speed_ratio(case, ContenderKind::Octree, k, RayKind::Primary, threads), case.contender(k))
             else {
@@ -189,6 +201,108 @@ fn bunny_findings(r: &MatrixResults, out: &mut String) {
             );
         }
     }
+}
+
+/// Embree's 8-ray packets against its own one ray a call, each ray kind, all threads.
+fn packet_finding(r: &MatrixResults, out: &mut String) {
+    let threads = r.options.threads;
+    let mut parts = Vec::new();
+    for kind in RayKind::ALL {
+        let ratios: Vec<f64> = r
+            .cases
+            .iter()
+            .flat_map(|case| PACKETS.iter().filter_map(move |&(p, one)| speed_ratio(case, p, one, kind, threads)))
+            .collect();
+        if !ratios.is_empty() {
+            parts.push(format!("{} rays {}", kind.name(), range(&ratios)));
+        }
+    }
+    if parts.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "- **Embree's 8-ray packets, {threads} threads.** Against the same Embree scene traced one ray a call, \
+         8 consecutive rays a call ran at {} its rays a second. The other contenders, the octree included, \
+         trace one ray a call.",
+        parts.join(", ")
+    );
+}
+
+/// Over `pairs` (a case, a contender, the contender it is compared with), the ray sets
+/// compared and the largest difference in hits: rays, fraction of its set, and where.
+fn largest_difference(pairs: &[(&CaseResult, ContenderKind, ContenderKind)]) -> (usize, Option<(u64, f64, String)>) {
+    let mut sets = 0;
+    let mut worst: Option<(u64, f64, String)> = None;
+    for &(case, k, reference) in pairs {
+        let (Some(c), Some(o)) = (case.contender(k), case.contender(reference)) else { continue };
+        for s in &c.speeds {
+            let Some(os) = o.speed(s.kind, s.threads) else { continue };
+            sets += 1;
+            let diff = s.hits.abs_diff(os.hits);
+            let fraction = diff as f64 / s.rays.max(1) as f64;
+            if diff > 0 && worst.as_ref().is_none_or(|w| fraction > w.1) {
+                let at =
+                    format!("{}, {} at depth {}, {} rays", k.label(), case.scene.name(), case.depth, s.kind.name());
+                worst = Some((diff, fraction, at));
+            }
+        }
+    }
+    (sets, worst)
+}
+
+/// `what` and the result of [`largest_difference`] in words.
+fn difference_words(what: &str, (sets, worst): (usize, Option<(u64, f64, String)>)) -> String {
+    match worst {
+        None => format!("{what} were equal in all {sets} ray sets"),
+        Some((diff, fraction, at)) => {
+            format!(
+                "{what} differed by at most {diff} rays in {sets} ray sets ({:.3}% of the set: {at})",
+                100.0 * fraction
+            )
+        }
+    }
+}
+
+/// Hit counts on the same rays: each contender over the boundary faces against the
+/// octree (the same surface), and Embree against obvhs over the original mesh (both
+/// `f32`, neither culls back faces; the `bvh` crate culls them, which the open bunny
+/// shows through its base).
+fn agreement_finding(r: &MatrixResults, out: &mut String) {
+    const OVER_FACES: [ContenderKind; 4] = [
+        ContenderKind::ObvhsFaces,
+        ContenderKind::BvhFaces,
+        ContenderKind::EmbreeFaces,
+        ContenderKind::EmbreePacketsFaces,
+    ];
+    let faces: Vec<_> = r.cases.iter().flat_map(|c| OVER_FACES.map(|k| (c, k, ContenderKind::Octree))).collect();
+    let mesh: Vec<_> = r
+        .cases
+        .iter()
+        .flat_map(|c| {
+            [ContenderKind::EmbreeMesh, ContenderKind::EmbreePacketsMesh].map(|k| (c, k, ContenderKind::ObvhsMesh))
+        })
+        .collect();
+    let (faces, mesh) = (largest_difference(&faces), largest_difference(&mesh));
+    let mut parts = Vec::new();
+    if faces.0 > 0 {
+        parts.push(difference_words("the hit counts of the BVHs over the boundary faces and the octree's", faces));
+    }
+    if mesh.0 > 0 {
+        parts.push(difference_words("Embree's and obvhs's over the original mesh", mesh));
+    }
+    if parts.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "- **Agreement.** On the same rays, {}. A difference is a ray that one hits and the other misses: one \
+         through an edge shared by two triangles, which an f32 test can slip through, or, for shadow rays over \
+         the original mesh, one that starts within a voxel of the mesh (its origin is on the octree's surface), \
+         whose hit at a distance near 0 one of them can miss. `tests/bvh.rs` and `tests/embree.rs` compare every \
+         ray with exact references.",
+        parts.join("; ")
+    );
 }
 
 /// The whole section, markers included; `images` is the folder of the plots relative
@@ -226,6 +340,18 @@ pub fn render_section(r: &MatrixResults, images: &str, plots: &[String]) -> Stri
          coplanar faces merged); *original mesh* = the triangles the bunny was voxelized from. Bytes: the \
          octree's traversal nodes; a BVH's node array plus the primitive data it keeps.\n"
     );
+    if let Some(version) = &r.embree {
+        let _ = writeln!(
+            s,
+            "**embree** = Embree {version}, the system library through the `embree` crate's bindings \
+             (`harness/src/embree_contender.rs`; `--features embree`): its BVH at the default build quality \
+             (medium), f32, one ray a call (`rtcIntersect1`, `rtcOccluded1`); *embree 8-ray packets* = the same \
+             scene traced 8 consecutive rays a call (`rtcIntersect8`, `rtcOccluded8`; for primary rays 8 \
+             neighbouring pixels of a row, with the coherent flag). Its build time includes creating the Embree \
+             device; its bytes are what Embree's memory monitor counts once the scene is committed (BVH, \
+             triangle data, vertex and index buffers).\n"
+        );
+    }
     let _ = writeln!(s, "### Findings\n\n{}", findings(r));
     for scene in &o.scenes {
         let _ = writeln!(s, "### {} ({})\n", scene.name(), scene.description());
@@ -282,6 +408,40 @@ mod tests {
         let old = format!("# Title\n\nbefore\n{BEGIN}\nold\n{END}\nafter\n");
         let new = splice_section(&old, &format!("{BEGIN}\nnew\n{END}\n"), Path::new("B.md")).unwrap();
         assert_eq!(new, format!("# Title\n\nbefore\n{BEGIN}\nnew\n{END}\nafter\n"));
+    }
+
+    /// A contender row with `hits` of 1,000 primary rays on 1 thread.
+    fn row(kind: ContenderKind, hits: u64) -> ContenderResult {
+        let speed = crate::matrix::Speed { kind: RayKind::Primary, threads: 1, rays: 1000, hits, seconds: 1.0 };
+        ContenderResult { kind, skipped: None, triangles: 0, build_ms: 1.0, bytes: 1, nodes: 0, speeds: vec![speed] }
+    }
+
+    #[test]
+    fn agreement_names_the_largest_difference_in_hits() {
+        let case = |depth, contenders| CaseResult {
+            scene: SceneKind::Sphere,
+            depth,
+            octree_nodes: 1,
+            face_triangles: 1,
+            faces_ms: 0.0,
+            rays: vec![(RayKind::Primary, 1000)],
+            contenders,
+        };
+        let cases = vec![
+            case(8, vec![row(ContenderKind::Octree, 500), row(ContenderKind::ObvhsFaces, 498)]),
+            case(10, vec![row(ContenderKind::Octree, 400), row(ContenderKind::EmbreeFaces, 407)]),
+        ];
+        let machine = crate::Machine::current();
+        let mut r = MatrixResults { machine, options: crate::MatrixOptions::quick(), embree: None, cases };
+        let mut out = String::new();
+        agreement_finding(&r, &mut out);
+        assert!(out.contains("octree's differed by at most 7 rays in 2 ray sets (0.700% of the set: embree, boundary faces, sphere at depth 10, primary rays)"), "{out}");
+        assert!(!out.contains("Embree's and obvhs's"), "{out}");
+        r.cases[1].contenders[1] = row(ContenderKind::EmbreeFaces, 400);
+        r.cases[0].contenders[1] = row(ContenderKind::ObvhsFaces, 500);
+        out.clear();
+        agreement_finding(&r, &mut out);
+        assert!(out.contains("octree's were equal in all 2 ray sets."), "{out}");
     }
 
     #[test]

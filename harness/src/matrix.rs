@@ -4,14 +4,17 @@
 //! Fairness rules: every contender traces the same [`RaySet`]s (made once a scene and
 //! depth), in the same rayon pools (a 1-thread pool and an `threads`-thread pool, chunks
 //! of 256 rays a task); builds run in the all-threads pool (the BVH builders use rayon,
-//! the octree's build is sequential). Times are medians of `repeats` runs after one
-//! warm-up run; a run longer than a second is not repeated.
+//! Embree's is given the pool's thread count, the octree's build is sequential). Times
+//! are medians of `repeats` runs after one warm-up run; a run longer than a second is
+//! not repeated.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use super::bvh_contender::BvhCrateBvh;
 use super::contender::Contender;
+#[cfg(feature = "embree")]
+use super::embree_contender::{self, EmbreeBvh, EmbreePackets};
 use super::machine::Machine;
 use super::obvhs_contender::ObvhsBvh;
 use super::rays::{RayKind, RaySet, light_position, primary_rays, random_rays, shadow_rays};
@@ -19,7 +22,7 @@ use super::scenes::{BenchScene, SceneKind, build_scene};
 use octsolid::MemoryBudget;
 use octsolid::NoProgress;
 use octsolid::Progress;
-use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
+use octsolid::mesh::{BoundaryOptions, TriangleMesh, try_boundary_mesh};
 use octsolid::render::Traversal;
 use octsolid::{Error, Result};
 
@@ -32,21 +35,67 @@ pub enum ContenderKind {
     ObvhsFaces,
     /// `bvh` crate BVH over the octree's boundary faces.
     BvhFaces,
+    /// Embree 3 over the octree's boundary faces, one ray a call (`embree` feature).
+    EmbreeFaces,
+    /// Embree 3 over the octree's boundary faces, 8-ray packets (`embree` feature).
+    EmbreePacketsFaces,
     /// `obvhs` CWBVH over the original triangle mesh.
     ObvhsMesh,
     /// `bvh` crate BVH over the original triangle mesh.
     BvhMesh,
+    /// Embree 3 over the original triangle mesh, one ray a call (`embree` feature).
+    EmbreeMesh,
+    /// Embree 3 over the original triangle mesh, 8-ray packets (`embree` feature).
+    EmbreePacketsMesh,
 }
 
+/// The contenders over boundary faces that this build measures.
+#[cfg(not(feature = "embree"))]
+const OVER_FACES: &[ContenderKind] = &[ContenderKind::ObvhsFaces, ContenderKind::BvhFaces];
+/// The contenders over boundary faces that this build measures.
+#[cfg(feature = "embree")]
+const OVER_FACES: &[ContenderKind] = &[
+    ContenderKind::ObvhsFaces,
+    ContenderKind::BvhFaces,
+    ContenderKind::EmbreeFaces,
+    ContenderKind::EmbreePacketsFaces,
+];
+/// The contenders over the original mesh that this build measures.
+#[cfg(not(feature = "embree"))]
+const OVER_MESH: &[ContenderKind] = &[ContenderKind::ObvhsMesh, ContenderKind::BvhMesh];
+/// The contenders over the original mesh that this build measures.
+#[cfg(feature = "embree")]
+const OVER_MESH: &[ContenderKind] =
+    &[ContenderKind::ObvhsMesh, ContenderKind::BvhMesh, ContenderKind::EmbreeMesh, ContenderKind::EmbreePacketsMesh];
+
 impl ContenderKind {
-    /// All contenders, in report order.
-    pub const ALL: [ContenderKind; 5] = [
+    /// All contenders, in report order (Embree's are measured only with the `embree`
+    /// feature).
+    pub const ALL: [ContenderKind; 9] = [
         ContenderKind::Octree,
         ContenderKind::ObvhsFaces,
         ContenderKind::BvhFaces,
+        ContenderKind::EmbreeFaces,
+        ContenderKind::EmbreePacketsFaces,
         ContenderKind::ObvhsMesh,
         ContenderKind::BvhMesh,
+        ContenderKind::EmbreeMesh,
+        ContenderKind::EmbreePacketsMesh,
     ];
+
+    /// The contenders built over the octree's boundary faces that this build measures,
+    /// in report order: the BVH crates', then, with the `embree` feature, Embree's.
+    #[must_use]
+    pub fn over_faces() -> &'static [ContenderKind] {
+        OVER_FACES
+    }
+
+    /// The contenders built over the original triangle mesh that this build measures,
+    /// in report order.
+    #[must_use]
+    pub fn over_mesh() -> &'static [ContenderKind] {
+        OVER_MESH
+    }
 
     /// Name in tables and plots.
     #[must_use]
@@ -55,8 +104,12 @@ impl ContenderKind {
             ContenderKind::Octree => "octree (ours)",
             ContenderKind::ObvhsFaces => "obvhs, boundary faces",
             ContenderKind::BvhFaces => "bvh, boundary faces",
+            ContenderKind::EmbreeFaces => "embree, boundary faces",
+            ContenderKind::EmbreePacketsFaces => "embree 8-ray packets, boundary faces",
             ContenderKind::ObvhsMesh => "obvhs, original mesh",
             ContenderKind::BvhMesh => "bvh, original mesh",
+            ContenderKind::EmbreeMesh => "embree, original mesh",
+            ContenderKind::EmbreePacketsMesh => "embree 8-ray packets, original mesh",
         }
     }
 }
@@ -122,7 +175,9 @@ impl MatrixOptions {
     #[must_use]
     pub fn work_units(&self) -> u64 {
         let per_contender = 1 + 2 * RayKind::ALL.len() as u64;
-        let contenders = |s: SceneKind| if s == SceneKind::Bunny { 5 } else { 3 };
+        let mesh = ContenderKind::over_mesh().len();
+        let faces = 1 + ContenderKind::over_faces().len();
+        let contenders = |s: SceneKind| (if s == SceneKind::Bunny { faces + mesh } else { faces }) as u64;
         self.scenes.iter().map(|&s| contenders(s) * per_contender * self.depths_of(s).count() as u64).sum()
     }
 }
@@ -211,6 +266,8 @@ pub struct MatrixResults {
     pub machine: Machine,
     /// What was run.
     pub options: MatrixOptions,
+    /// Embree's version, when Embree ran (the `embree` feature).
+    pub embree: Option<String>,
     /// One entry a scene and depth, scenes in order, then depths.
     pub cases: Vec<CaseResult>,
 }
@@ -287,6 +344,45 @@ fn measure<C: Contender>(
     }
 }
 
+/// Builds contender `kind` over `mesh` and measures it (see [`measure`]); Embree's are
+/// skipped with the reason when no Embree device can be made.
+fn measure_mesh(
+    kind: ContenderKind,
+    mesh: &TriangleMesh,
+    ray_sets: &[RaySet],
+    pools: &Pools,
+    repeats: usize,
+    progress: &dyn Progress,
+) -> ContenderResult {
+    let n = mesh.triangles.len();
+    match kind {
+        ContenderKind::ObvhsFaces | ContenderKind::ObvhsMesh => {
+            measure::<ObvhsBvh>(kind, mesh, n, ray_sets, pools, repeats, progress)
+        }
+        ContenderKind::BvhFaces | ContenderKind::BvhMesh => {
+            measure::<BvhCrateBvh>(kind, mesh, n, ray_sets, pools, repeats, progress)
+        }
+        #[cfg(feature = "embree")]
+        ContenderKind::EmbreeFaces
+        | ContenderKind::EmbreeMesh
+        | ContenderKind::EmbreePacketsFaces
+        | ContenderKind::EmbreePacketsMesh => match embree_contender::available() {
+            Err(why) => {
+                progress.advance(1 + 2 * RayKind::ALL.len() as u64);
+                skipped(kind, n, why.clone())
+            }
+            Ok(_) if matches!(kind, ContenderKind::EmbreeFaces | ContenderKind::EmbreeMesh) => {
+                measure::<EmbreeBvh>(kind, mesh, n, ray_sets, pools, repeats, progress)
+            }
+            Ok(_) => measure::<EmbreePackets>(kind, mesh, n, ray_sets, pools, repeats, progress),
+        },
+        other => {
+            progress.advance(1 + 2 * RayKind::ALL.len() as u64);
+            skipped(other, n, format!("{} is not built over a mesh in this binary", other.label()))
+        }
+    }
+}
+
 /// A contender that did not run, and why.
 fn skipped(kind: ContenderKind, triangles: usize, reason: String) -> ContenderResult {
     ContenderResult { kind, skipped: Some(reason), triangles, build_ms: 0.0, bytes: 0, nodes: 0, speeds: Vec::new() }
@@ -320,7 +416,7 @@ fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress
         Err(e) => return Err(e),
     };
     let n = faces.as_ref().map_or(0, |f| f.triangles.len());
-    for kind in [ContenderKind::ObvhsFaces, ContenderKind::BvhFaces] {
+    for &kind in ContenderKind::over_faces() {
         match &faces {
             Err(why) => {
                 contenders.push(skipped(kind, n, why.clone()));
@@ -331,17 +427,14 @@ fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress
                 contenders.push(skipped(kind, n, reason));
                 progress.advance(per_contender);
             }
-            Ok(f) if kind == ContenderKind::ObvhsFaces => {
-                contenders.push(measure::<ObvhsBvh>(kind, f, n, &ray_sets, pools, repeats, progress));
-            }
-            Ok(f) => contenders.push(measure::<BvhCrateBvh>(kind, f, n, &ray_sets, pools, repeats, progress)),
+            Ok(f) => contenders.push(measure_mesh(kind, f, &ray_sets, pools, repeats, progress)),
         }
     }
     drop(faces);
     if let Some(mesh) = &scene.mesh {
-        let n = mesh.triangles.len();
-        contenders.push(measure::<ObvhsBvh>(ContenderKind::ObvhsMesh, mesh, n, &ray_sets, pools, repeats, progress));
-        contenders.push(measure::<BvhCrateBvh>(ContenderKind::BvhMesh, mesh, n, &ray_sets, pools, repeats, progress));
+        for &kind in ContenderKind::over_mesh() {
+            contenders.push(measure_mesh(kind, mesh, &ray_sets, pools, repeats, progress));
+        }
     }
     Ok(CaseResult {
         scene: scene.kind,
@@ -372,5 +465,9 @@ pub fn run_matrix(options: &MatrixOptions, progress: &dyn Progress) -> Result<Ma
         }
     }
     progress.finish();
-    Ok(MatrixResults { machine: Machine::current(), options: options.clone(), cases })
+    #[cfg(feature = "embree")]
+    let embree = embree_contender::available().clone().ok();
+    #[cfg(not(feature = "embree"))]
+    let embree = None;
+    Ok(MatrixResults { machine: Machine::current(), options: options.clone(), embree, cases })
 }

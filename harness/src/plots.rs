@@ -34,6 +34,10 @@ fn color(kind: ContenderKind) -> RGBColor {
         ContenderKind::BvhFaces => RGBColor(20, 150, 90),
         ContenderKind::ObvhsMesh => RGBColor(120, 60, 180),
         ContenderKind::BvhMesh => RGBColor(150, 130, 20),
+        ContenderKind::EmbreeFaces => RGBColor(0, 160, 200),
+        ContenderKind::EmbreePacketsFaces => RGBColor(110, 200, 230),
+        ContenderKind::EmbreeMesh => RGBColor(200, 40, 140),
+        ContenderKind::EmbreePacketsMesh => RGBColor(235, 130, 190),
     }
 }
 
