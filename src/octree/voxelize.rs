@@ -26,7 +26,7 @@ pub fn estimate_bytes(shape: &dyn Shape, domain: &Domain) -> u64 {
         None => domain_box.area(),
     };
     let faces = area / domain.voxel_size().powi(2);
-    (2.0 * faces * 8.0 * 2.0).min(u64::MAX as f64) as u64 + 4096
+    ((2.0 * faces * 8.0 * 2.0).min(u64::MAX as f64) as u64).saturating_add(4096)
 }
 
 /// Voxelizes `shape` into the canonical linear octree of `domain`.

@@ -55,8 +55,8 @@ impl FaceDrawer<'_> {
             for &id in &active_polygons {
                 let (x0, x1) = span[id];
                 span[id] = (f64::INFINITY, f64::NEG_INFINITY);
-                let c0 = (x0.floor() as i64 - 1).clamp(0, columns as i64 - 1) as usize;
-                let c1 = (x1.ceil() as i64 + 1).clamp(0, columns as i64 - 1) as usize;
+                let c0 = (x0.floor() as i64).saturating_sub(1).clamp(0, columns as i64 - 1) as usize;
+                let c1 = (x1.ceil() as i64).saturating_add(1).clamp(0, columns as i64 - 1) as usize;
                 let face = &polygons[id];
                 for c in c0..=c1 {
                     let i = r as usize * columns + c;
