@@ -218,6 +218,13 @@ fn non_finite_numbers_on_the_command_line_are_refused_naming_the_flag() {
         let first = e.lines().next().unwrap_or_default();
         assert!(first.contains(flag) && first.contains("not a finite number"), "{args:?}: {e}");
     }
+    // A mesh past the supported scale: refused with the range, naming the file.
+    let tiny = "v 0 0 0\nv 1e-200 0 0\nv 0 1e-200 0\nv 0 0 1e-200\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    std::fs::write(dir.join("tiny.obj"), tiny).unwrap();
+    for (command, out) in [("voxelize", "tiny.oct"), ("render", "tiny.png")] {
+        let e = fails(&dir, &[command, "tiny.obj", "-o", out]);
+        assert!(e.contains("tiny.obj: cannot voxelize: invalid domain: edge"), "{command}: {e}");
+    }
     // Finite values past what the command can use are refused by the command.
     let e = fails(&dir, &["transform", "a.oct", "--scale", "1e300", "-o", "t.oct"]);
     assert!(e.contains("not finite and invertible"), "{e}");

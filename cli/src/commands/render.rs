@@ -269,7 +269,8 @@ fn solid_scene(
     } else {
         let loaded = load_input(input)?;
         stages.done("loading");
-        let domain = import::default_domain(&loaded, a.depth.unwrap_or(9))?;
+        let domain = import::default_domain(&loaded, a.depth.unwrap_or(9))
+            .with_context(|| format!("{}: cannot voxelize", input.display()))?;
         let bar = Bar::new("voxelizing");
         let tree =
             import::voxelize_input(&loaded, domain, &ImportOptions { budget, progress: &bar, ..Default::default() })

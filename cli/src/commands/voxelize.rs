@@ -58,7 +58,9 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     let loaded = load_input(input)?;
     let domain = match a.domain {
         Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth)?,
-        None => import::default_domain(&loaded, depth)?,
+        None => {
+            import::default_domain(&loaded, depth).with_context(|| format!("{}: cannot voxelize", input.display()))?
+        }
     };
     let bar = Bar::new("voxelizing");
     let (tree, summary) =
