@@ -193,7 +193,7 @@ impl Traversal {
             };
             for (hit, ray) in hits.iter_mut().zip(rays) {
                 let r = &VoxelRay::scaled(min, scale, ray);
-                *hit = self.first_full_after(r, ray.t_max, start, from).map(|entry| r.entry(&entry));
+                *hit = self.first_full_after::<true>(r, ray.t_max, start, from).map(|entry| r.entry(&entry));
             }
         }
     }

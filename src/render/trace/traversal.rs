@@ -8,6 +8,7 @@
 //! `first + popcount(inner & ((1 << i) - 1))`. Built by one recursive partition of the
 //! sorted keys, O(n * depth).
 
+use super::lanes::Isa;
 use crate::octree::{Domain, LinearOctree, NodeKey};
 
 /// One inner node of the traversal octree.
@@ -37,6 +38,8 @@ pub(super) enum Root {
 #[derive(Clone, Debug)]
 pub struct Traversal {
     pub(super) domain: Domain,
+    /// The instruction set the walk runs on (the best this CPU has).
+    pub(super) isa: Isa,
     pub(super) root: Root,
     pub(super) nodes: Vec<Inner>,
 }
@@ -53,7 +56,7 @@ impl Traversal {
             [k] if *k == root_key => Root::Full,
             _ => Root::Inner,
         };
-        let mut t = Traversal { domain, root, nodes: Vec::new() };
+        let mut t = Traversal { domain, isa: Isa::detect(), root, nodes: Vec::new() };
         if root == Root::Inner {
             t.nodes.push(Inner { first: 0, valid: 0, full: 0, _pad: 0 });
             t.build(0, root_key, keys);

@@ -10,6 +10,10 @@
 //! lowest axis.
 //!
 //! Precision: coordinates are in voxel units of the domain (`0..2^depth`), so every
+//! plane is an integer below 2^21, exact in f64, at any depth. A hit's voxel inside a
+//! full node is placed by the same plane times as the walk (planes crossed by the entry
+//! time lie behind it), not by the rounded entry point alone, so a ray whose rounded
+//! position and plane times disagree by an ulp still gets the brute force's voxel.
 
 use glam::DVec3;
 
@@ -112,7 +116,27 @@ impl VoxelRay {
                 // Just inside along the ray: nudge by the direction's sign on ties.
                 let f = p.floor();
                 let c = if p == f && self.d[a] < 0.0 { f - 1.0 } else { f };
-                (c.max(f64::from(lo)).min(f64::from(hi))) as u32
+                let mut v = (c.max(f64::from(lo)).min(f64::from(hi))) as u32;
+                // The position is rounded apart from the plane times: the voxel is
+                // the one the plane times place the ray in at `t` (planes crossed by `t`
+                // are behind it), as the walk places it in a node.
+                let time = |p: u32| (f64::from(p) - self.o[a]) * self.inv[a];
+                if self.d[a] > 0.0 && self.inv[a].is_finite() {
+                    while v < hi && time(v + 1) <= t {
+                        v += 1;
+                    }
+                    while v > lo && time(v) > t {
+                        v -= 1;
+                    }
+                } else if self.d[a] < 0.0 && self.inv[a].is_finite() {
+                    while v > lo && time(v) <= t {
+                        v -= 1;
+                    }
+                    while v < hi && time(v + 1) > t {
+                        v += 1;
+                    }
+                }
+                v
             }
         });
         // A voxel plane inside the node crossed at the same time is entered too: the

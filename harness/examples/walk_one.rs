@@ -1,0 +1,97 @@
+//! One kind of ray traced through the octree on one thread, for profiles of the walk
+//! (BENCHMARKS.md, "Incoherent rays"): `walk_one MODEL DEPTH KIND N` with KIND one of
+//! `primary` (512x512 camera rays at the framed model), `packet` (the same in 8x8
+//! packets), `shadow` (N shadow rays from primary hits to a light), `random` (N random
+//! rays, the harness's set). Prints the hit count, and on stderr the best CPU time a
+//! ray over `REPEAT` runs (default 1). Under callgrind, collect only the tracing:
+//! `valgrind --tool=callgrind --branch-sim=yes --toggle-collect='walk_one::trace*'`.
+use glam::DVec3;
+use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::octree::Domain;
+use octsolid::render::{Camera, PACKET, TILE, Traversal};
+use octsolid::{MemoryBudget, Ray, RayCast};
+use octsolid_harness::rays::random_rays;
+
+/// CPU time of this thread, ns (schedstat), so a loaded machine does not count.
+fn cpu_ns() -> u64 {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").unwrap();
+    s.split_whitespace().next().unwrap().parse().unwrap()
+}
+
+#[inline(never)]
+fn trace_packets(t: &Traversal, tiles: &[Ray]) -> usize {
+    let mut hits = [None; PACKET];
+    tiles
+        .chunks(PACKET)
+        .map(|tile| {
+            t.hit_packet(tile, &mut hits);
+            hits.iter().filter(|h| h.is_some()).count()
+        })
+        .sum()
+}
+
+#[inline(never)]
+fn trace(t: &Traversal, rays: &[Ray], any: bool) -> usize {
+    rays.iter().filter(|r| if any { t.occluded(r) } else { t.hit(r).is_some() }).count()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let depth: u8 = args[2].parse().unwrap();
+    let kind = args[3].as_str();
+    let n: usize = args[4].parse().unwrap();
+    let mesh = load_mesh(&args[1]).unwrap();
+    let bounds = mesh.bounds();
+    let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
+    let (tree, _) = voxelize_mesh(&mesh, Domain::around(&bounds, 0.02, depth).unwrap(), &options).unwrap();
+    let t = Traversal::new(&tree);
+    let size = 512u32;
+    let camera = Camera::look_at(DVec3::new(8.0, 9.0, 22.0), bounds.center(), DVec3::Y, 30.0);
+    let primary: Vec<Ray> = (0..size * size)
+        .map(|i| {
+            let (x, y) = (f64::from(i % size) + 0.5, f64::from(i / size) + 0.5);
+            camera.ray(2.0 * x / f64::from(size) - 1.0, 1.0 - 2.0 * y / f64::from(size), 1.0)
+        })
+        .collect();
+    let diag = bounds.size().length();
+    let light = bounds.center() + DVec3::new(2.0, 3.0, 4.0) * diag;
+    let primary_all = primary.clone();
+    let rays: Vec<Ray> = match kind {
+        "primary" | "packet" => primary,
+        "shadow" => primary
+            .iter()
+            .filter_map(|r| {
+                let h = t.hit(r)?;
+                let origin = r.origin + r.dir * (h.t - 1e-4 * diag);
+                let to = light - origin;
+                Some(Ray { origin, dir: to.normalize(), t_max: to.length() })
+            })
+            .take(n)
+            .collect(),
+        _ => random_rays(&bounds, n, 1).rays,
+    };
+    let repeat: usize = std::env::var("REPEAT").map_or(1, |v| v.parse().unwrap());
+    let mut best = f64::INFINITY;
+    let mut hits = 0;
+    for _ in 0..repeat {
+        let start = cpu_ns();
+        hits = if kind == "packet" {
+            let s = size as usize;
+            let mut tiles = Vec::new();
+            for r0 in (0..s).step_by(TILE) {
+                for c0 in (0..s).step_by(TILE) {
+                    for r in r0..r0 + TILE {
+                        tiles.extend_from_slice(&primary_all[r * s + c0..][..TILE]);
+                    }
+                }
+            }
+            trace_packets(&t, &tiles)
+        } else {
+            trace(&t, &rays, kind == "shadow")
+        };
+        best = best.min((cpu_ns() - start) as f64 * 1e-9);
+    }
+    let count = if kind == "packet" { primary_all.len() } else { rays.len() };
+    eprintln!("{kind}: {:.1} ns/ray (best of {repeat})", best * 1e9 / count as f64);
+    println!("{kind}: {hits} of {}", rays.len());
+}
