@@ -229,15 +229,16 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
         FileKind::Scene => {
             if a.clear_cache {
                 let removed = scene_file::clear_cache(input)?;
-                out!("cleared    {removed} cached solids of {}", input.display());
+                out!("cleared    {removed} cached solid{} of {}", if removed == 1 { "" } else { "s" }, input.display());
             }
             let cache = if a.no_cache { CachePolicy::Off } else { CachePolicy::ReadWrite };
             let file = scene_file::load_scene_with(input, &LoadOptions { budget, cache })?;
             print_warnings(&file.warnings);
+            let solids = |n: usize| if n == 1 { "1 solid".to_owned() } else { format!("{n} solids") };
             stages.done(match (file.cache.hits, file.cache.misses) {
                 (0, _) => "loading and voxelizing the scene".to_owned(),
-                (hits, 0) => format!("loading the scene ({hits} solids from its cache)"),
-                (hits, misses) => format!("loading the scene ({hits} solids from its cache, {misses} voxelized)"),
+                (hits, 0) => format!("loading the scene ({} from its cache)", solids(hits)),
+                (hits, misses) => format!("loading the scene ({} from its cache, {misses} voxelized)", solids(hits)),
             });
             let framing = Framing::of_scene(&file.scene, file.camera, a);
             let aspect = size_aspect(a.size, &file.options);
