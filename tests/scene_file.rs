@@ -607,7 +607,9 @@ fn a_corrupt_cache_entry_is_ignored_and_rewritten() {
     let path = write_cached_scene(&dir, "cached.toml");
     let want = trees(&load_scene(&path, MemoryBudget::default()).unwrap());
     load_cached(&path, MemoryBudget::default()).unwrap();
-    let corruptions: [(&str, fn(&mut Vec<u8>)); 5] = [
+    /// What a corruption does to an entry's bytes.
+    type Corrupt = fn(&mut Vec<u8>);
+    let corruptions: [(&str, Corrupt); 5] = [
         ("a payload byte flipped", |b| *b.last_mut().unwrap() ^= 0x40),
         ("a key byte flipped", |b| b[20] ^= 1),
         ("truncated", |b| b.truncate(b.len() / 2)),
