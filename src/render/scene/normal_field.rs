@@ -115,9 +115,9 @@ fn corner(lowest: [i64; 3], i: usize) -> [i64; 3] {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Plane {
     /// The axis the plane is normal to.
-    axis: usize,
+    axis: u8,
     /// The window index of the first voxel past the plane.
-    at: usize,
+    at: u8,
     /// Whether the voxels below the plane (indices `< at`) are the full ones.
     full_below: bool,
 }
@@ -137,7 +137,8 @@ impl Plane {
             let ones = if full_below { first } else { !first & all };
             if ones & ones.wrapping_add(1) == 0 {
                 let at = ones.count_ones() as usize;
-                return Some(Plane { axis: 0, at: if first == 0 || first == all { 0 } else { at }, full_below });
+                let at = if first == 0 || first == all { 0 } else { at as u8 };
+                return Some(Plane { axis: 0, at, full_below });
             }
             return None;
         }
@@ -154,7 +155,8 @@ impl Plane {
             });
             let changes = (1..n).filter(|&i| layer(axis, i) != layer(axis, i - 1)).count();
             let at = (1..n).find(|&i| layer(axis, i) != layer(axis, i - 1))?;
-            (same_across && changes == 1).then(|| Plane { axis, at, full_below: layer(axis, 0) == all })
+            let full_below = layer(axis, 0) == all;
+            (same_across && changes == 1).then_some(Plane { axis: axis as u8, at: at as u8, full_below })
         })
     }
 
@@ -162,19 +164,20 @@ impl Plane {
     /// the plane's axis (see the module doc): the axis normal where the plane cuts the
     /// window, none where the window lies on one side of it.
     fn centre(self, lo: i64) -> Vec3 {
-        let full = if self.full_below { self.at as i64 - lo } else { lo + WINDOW as i64 - self.at as i64 };
+        let at = i64::from(self.at);
+        let full = if self.full_below { at - lo } else { lo + WINDOW as i64 - at };
         if self.at == 0 || full <= 0 || full >= WINDOW as i64 {
             return Vec3::NAN;
         }
         // The estimate negates the gradient, whose other components are +0: -0 here.
         let mut n = Vec3::splat(-0.0);
-        n[self.axis] = if self.full_below { 1.0 } else { -1.0 };
+        n[usize::from(self.axis)] = if self.full_below { 1.0 } else { -1.0 };
         n
     }
 
     /// The cell whose lowest centre lies `offset` voxels above the tile's lowest voxel.
     fn cell(self, offset: [i64; 3]) -> Cell {
-        std::array::from_fn(|i| self.centre(corner(offset, i)[self.axis]))
+        std::array::from_fn(|i| self.centre(corner(offset, i)[usize::from(self.axis)]))
     }
 }
 
@@ -197,9 +200,9 @@ thread_local! {
     static CENTRES: RefCell<DirectMapped<Vec3>> = RefCell::new(DirectMapped::new(14));
     /// Each thread's tile windows, by owner and tile (256 of 1.2 KB).
     static TILES: RefCell<DirectMapped<Window>> = RefCell::new(DirectMapped::new(8));
-    /// Each thread's flat tiles, by owner and tile (8192 of 48 bytes; `None`: not
-    /// flat).
-    static PLANES: RefCell<DirectMapped<Option<Plane>>> = RefCell::new(DirectMapped::new(13));
+    /// Each thread's flat tiles, by owner and tile (32768 of 40 bytes; `None`: not
+    /// flat). A tile's face is 8 x 8 voxels: a depth-10 floor has 16384 of them.
+    static PLANES: RefCell<DirectMapped<Option<Plane>>> = RefCell::new(DirectMapped::new(15));
 }
 
 impl NormalField {
