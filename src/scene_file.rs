@@ -613,22 +613,19 @@ impl SolidBuild<'_> {
         Ok((Some(tree), files.read.into_inner()))
     }
 
-    /// The scene's text of the value `span`.
-    fn text_of(&self, span: Range<usize>) -> &str {
-        &self.cx.text[span]
-    }
-
-    /// The cache key of the solid (see the `cache` module): a shape solid's tree
-    /// text, the files its leaves read (`leaf_files`) and the domain; a mesh solid's
+    /// The cache key of the solid (see the `cache` module): a shape solid's tree (its
+    /// spec as read, in `Debug` form: every kind, field and float to the bit, however
+    /// the scene writes it: inline or as sub-tables, whose spans would not cover
+    /// their values), the files its leaves read (`leaf_files`) and the domain; a mesh solid's
     /// file, depth and inside rule; a moved `.oct` solid's file. Every kind adds its
-    /// `transform`'s text. `None` for an `.oct` solid that is not moved (loading it is
+    /// `transform`, in the same form. `None` for an `.oct` solid that is not moved (loading it is
     /// as fast as loading an entry).
     fn cache_key(&self, leaf_files: &[PathBuf], domain: Option<&Domain>, depth: u8) -> Result<Option<SolidKey>> {
         let s = self.spec;
         let mut key = match (&s.shape, &s.mesh, &s.oct) {
             (Some(shape), _, _) => {
                 let mut key = SolidKey::new("shape");
-                key.line("shape", self.text_of(shape.span()));
+                key.line("shape", &format!("{:?}", shape.get_ref()));
                 for file in leaf_files {
                     key.file(file).map_err(self.at(Some(shape.span())))?;
                 }
@@ -649,7 +646,7 @@ impl SolidBuild<'_> {
             }
             _ => return Ok(None),
         };
-        key.line("transform", self.transform_span().map_or("", |span| self.text_of(span)));
+        key.line("transform", &format!("{:?}", s.transform.as_ref().map(Spanned::get_ref)));
         Ok(Some(key))
     }
 

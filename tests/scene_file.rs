@@ -602,6 +602,32 @@ fn a_changed_input_is_built_again() {
 }
 
 #[test]
+fn a_shape_written_as_sub_tables_is_built_again_when_a_value_changes() {
+    // Regression: the key once held the scene's text of the `shape` value, and the span
+    // of a shape written as `[solid.shape.sphere]` sub-tables does not cover its keys,
+    // so a changed radius read the old solid (with a fixed [domain], which does not
+    // change with it).
+    let dir = scratch("cache-sub-tables");
+    let path = dir.join("ball.toml");
+    let text = "[domain]\nmin = [-2, -2, -2]\nedge = 4\ndepth = 6\n\n[[solid]]\nname = \"b\"\n\n\
+                [solid.shape.sphere]\ncenter = [0, 0, 0]\nradius = 1\n\n[solid.transform]\ntranslate = [0.5, 0, 0]\n";
+    std::fs::write(&path, text).unwrap();
+    assert_eq!(load_cached(&path, MemoryBudget::default()).unwrap().cache.misses, 1);
+    for (from, to) in [("radius = 1", "radius = 0.5"), ("translate = [0.5, 0, 0]", "translate = [0.25, 0, 0]")] {
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::write(&path, text.replace(from, to)).unwrap();
+        let got = load_cached(&path, MemoryBudget::default()).unwrap();
+        assert_eq!((got.cache.hits, got.cache.misses), (0, 1), "{to}");
+        assert_eq!(trees(&got), trees(&load_scene(&path, MemoryBudget::default()).unwrap()), "{to}");
+    }
+    // Written inline instead, the same values: the same key.
+    let inline = "[domain]\nmin = [-2, -2, -2]\nedge = 4\ndepth = 6\n\n[[solid]]\nname = \"b\"\n\
+                  shape = { sphere = { center = [0, 0, 0], radius = 0.5 } }\ntransform = { translate = [0.25, 0, 0] }\n";
+    std::fs::write(&path, inline).unwrap();
+    assert_eq!(load_cached(&path, MemoryBudget::default()).unwrap().cache.hits, 1);
+}
+
+#[test]
 fn a_corrupt_cache_entry_is_ignored_and_rewritten() {
     let dir = scratch("cache-corrupt");
     let path = write_cached_scene(&dir, "cached.toml");

@@ -9,8 +9,8 @@
 //! entries of the same scene that the load did not use are removed.
 //!
 //! The key of a solid ([`SolidKey`]) is the text of everything that decides its
-//! octree: the crate's version and the entry format's, the solid's kind, the scene's
-//! text of its `shape` and `transform` values, the domain it is voxelized into (the
+//! octree: the crate's version and the entry format's, the solid's kind, its `shape`
+//! and `transform` as read (their specs in `Debug` form, exact to the bit), the domain it is voxelized into (the
 //! bits of its floats) or the depth and inside rule of a mesh, and each file it reads
 //! (its path, length, CRC-32 and 64-bit FNV-1a of its bytes, so an edit that keeps the
 //! length and the modification time still changes the key). `HASH` is the FNV-1a of
