@@ -49,6 +49,9 @@ run voxelize models/teapot.patches --depth 8 --fill surface -o teapot-surface.oc
 run mesh-info models/stanford-bunny.obj
 run mesh-info models/spot.obj --json
 run mesh-info models/teapot.patches --json
+# The bundled scenes' solid caches are cleared, so the first render of each voxelizes
+# and the second render of the classic scene reads its solids from the cache.
+rm -rf "$root/scenes/.octsolid-cache"
 for scene in "$root"/scenes/*.toml; do
   name=$(basename "$scene" .toml)
   run render "$scene" --size 480x360 -o "scene-$name.png"

@@ -39,7 +39,15 @@
 //!   the same depth otherwise.
 //!
 //! Relative paths inside a scene are relative to the scene file's folder.
+//!
+//! Caching ([`load_scene_with`] and [`LoadOptions::cache`]): the octrees of `shape` and
+//! `mesh` solids and of moved `oct` solids can be read from and stored in the scene's
+//! solid cache ([`CACHE_DIR`] beside the scene; its layout and keys in `docs/FORMAT.md`), keyed
+//! by everything that decides them, so loading an unchanged scene again voxelizes
+//! nothing. [`load_scene`] leaves the cache alone. A mesh solid read from the cache
+//! does not read its mesh, so the mesh's warnings come with the load that voxelized it.
 
+use std::cell::RefCell;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -63,6 +71,11 @@ use crate::render::{
 };
 use crate::shape::{Axis, Csg, FileLeaves, Shape, ShapeSpec, TransformSpec, Transformed};
 use crate::warning::Warning;
+
+mod cache;
+
+pub use cache::{CACHE_DIR, CachePolicy, CacheReport, clear_cache};
+use cache::{SceneCache, SolidKey};
 
 /// The whole file.
 #[derive(Deserialize, Debug)]
@@ -315,8 +328,20 @@ pub struct SceneFile {
     pub camera: Camera,
     /// Image size and samples.
     pub options: RenderOptions,
-    /// What loading its meshes read past without refusing them.
+    /// What loading its meshes read past without refusing them, and cache entries
+    /// that could not be used or written.
     pub warnings: Vec<Warning>,
+    /// What the solid cache did (all zero under [`CachePolicy::Off`]).
+    pub cache: CacheReport,
+}
+
+/// How [`load_scene_with`] loads a scene.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LoadOptions {
+    /// Every voxelization and load is checked against it.
+    pub budget: MemoryBudget,
+    /// Whether solids are read from and stored in the scene's solid cache.
+    pub cache: CachePolicy,
 }
 
 /// Reads, checks and builds the scene at `path` (voxelizing its shapes and meshes).
@@ -325,10 +350,20 @@ pub struct SceneFile {
 /// text (syntax, an unknown key or value, a value out of range), around the cause when
 /// the scene cannot be built.
 pub fn load_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneFile> {
+    load_scene_with(path, &LoadOptions { budget, cache: CachePolicy::Off })
+}
+
+/// [`load_scene`] with the solid cache of `options` (see the module doc): under
+/// [`CachePolicy::ReadWrite`] a solid whose inputs are unchanged since it was stored
+/// is read, not built, and the others are built and stored. The cache never turns a
+/// load into an error: an entry that cannot be used or written is a warning and the
+/// solid is built.
+pub fn load_scene_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<SceneFile> {
     let path = path.as_ref();
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let folder = path.parent().unwrap_or(Path::new("."));
-    let cx = Context { path, text: &text, folder, budget };
+    let cache = RefCell::new(SceneCache::new(path, options.cache));
+    let cx = Context { path, text: &text, folder, budget: options.budget, cache };
     let spec: SceneSpec = toml::from_str(&text).map_err(|e| cx.refused(&e))?;
     if let Some((span, key, literal)) = first_non_finite(&text) {
         let solid = solid_at(&text, span.start);
@@ -401,6 +436,8 @@ struct Context<'a> {
     folder: &'a Path,
     /// Every voxelization and load is checked against it.
     budget: MemoryBudget,
+    /// The solid cache, when the load uses one.
+    cache: RefCell<Option<SceneCache>>,
 }
 
 impl Context<'_> {
@@ -447,15 +484,18 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
         .iter()
         .map(|l| l.get_ref().light().map_err(|e| cx.error(None, Some(&l.span()), e)))
         .collect::<Result<_>>()?;
-    let shapes: Vec<Option<Csg>> = solids.iter().map(SolidBuild::shape).collect::<Result<_>>()?;
+    let (shapes, leaf_files): (Vec<Option<Csg>>, Vec<Vec<PathBuf>>) =
+        solids.iter().map(SolidBuild::shape).collect::<Result<Vec<_>>>()?.into_iter().unzip();
     let depth = spec.domain.as_ref().map_or(9, |d| d.get_ref().depth);
     let domain = shape_domain(spec.domain.as_ref(), depth, &solids, &shapes, cx)?;
-    // Step 2: every solid to an octree, with its material.
+    // Step 2: every solid to an octree (from the cache when it holds it), with its
+    // material.
     let mut scene = Scene::new();
     let mut warnings = Vec::new();
-    for (solid, shape) in solids.iter().zip(&shapes) {
-        warnings.extend(solid.add_to(&mut scene, shape.as_ref(), domain, depth)?);
+    for ((solid, shape), files) in solids.iter().zip(&shapes).zip(&leaf_files) {
+        warnings.extend(solid.add_to(&mut scene, shape.as_ref().map(|s| (s, &files[..])), domain, depth)?);
     }
+    let cache = cx.cache.take().map(SceneCache::finish).unwrap_or_default();
     // Step 3: lights, image and camera, from the solids' bounds.
     let bounds = scene.bounds().ok_or_else(|| whole(Error::invalid("scene", "every solid is empty")))?;
     scene.lights = lights;
@@ -472,7 +512,7 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
     let aspect = f64::from(options.width.max(1)) / f64::from(options.height.max(1));
     let camera = spec.camera.camera(&bounds, aspect);
     camera.check().map_err(|e| cx.error(None, None, e))?;
-    Ok(SceneFile { scene, camera, options, warnings })
+    Ok(SceneFile { scene, camera, options, warnings, cache })
 }
 
 /// The domain every `shape` solid is voxelized in: the `[domain]`'s when it gives `min`
@@ -502,15 +542,18 @@ fn shape_domain(
     bounds.map(|b| Domain::around(&b, 0.02, depth)).transpose().map_err(at_domain)
 }
 
-/// The leaves of a scene's shape trees that name files, read relative to its folder.
+/// The leaves of a scene's shape trees that name files, read relative to its folder;
+/// remembers the files it read (they are part of the solid's cache key).
 struct SceneFiles<'a> {
     cx: &'a Context<'a>,
+    read: RefCell<Vec<PathBuf>>,
 }
 
 impl FileLeaves for SceneFiles<'_> {
     /// The mesh as a [`MeshShape`]; a refusal (not closed) names the file.
     fn mesh(&self, file: &Path) -> Result<Csg> {
         let path = self.cx.folder.join(file);
+        self.read.borrow_mut().push(path.clone());
         let mesh = load_mesh(&path)?;
         match MeshShape::new(&mesh) {
             Ok(shape) => Ok(shape.into()),
@@ -523,7 +566,9 @@ impl FileLeaves for SceneFiles<'_> {
 
     /// The octree as an [`OctreeShape`] where it lies.
     fn oct(&self, file: &Path) -> Result<Csg> {
-        let tree = oct::load(self.cx.folder.join(file), self.cx.budget)?;
+        let path = self.cx.folder.join(file);
+        self.read.borrow_mut().push(path.clone());
+        let tree = oct::load(path, self.cx.budget)?;
         Ok(Csg::leaf(OctreeShape::new(Arc::new(tree), DAffine3::IDENTITY)?))
     }
 }
@@ -555,23 +600,64 @@ impl SolidBuild<'_> {
         map.transpose().map_err(self.at(self.transform_span()))
     }
 
-    /// The solid's shape tree moved by its transform; `None` unless it is a `shape` solid.
-    fn shape(&self) -> Result<Option<Csg>> {
-        let Some(shape) = &self.spec.shape else { return Ok(None) };
-        let tree = shape.get_ref().build_with(&SceneFiles { cx: self.cx }).map_err(self.at(Some(shape.span())))?;
-        Ok(Some(match self.transform()? {
+    /// The solid's shape tree moved by its transform, `None` unless it is a `shape`
+    /// solid; and the files its leaves read.
+    fn shape(&self) -> Result<(Option<Csg>, Vec<PathBuf>)> {
+        let Some(shape) = &self.spec.shape else { return Ok((None, Vec::new())) };
+        let files = SceneFiles { cx: self.cx, read: RefCell::new(Vec::new()) };
+        let tree = shape.get_ref().build_with(&files).map_err(self.at(Some(shape.span())))?;
+        let tree = match self.transform()? {
             Some(map) => Transformed::new(tree, map).map_err(self.at(self.transform_span()))?.into(),
             None => tree,
-        }))
+        };
+        Ok((Some(tree), files.read.into_inner()))
     }
 
-    /// Voxelizes or loads the solid and adds it to `scene` with its material: a shape
-    /// (its tree `shape`) into `shape_domain`, a mesh at its depth or `depth`. Returns
-    /// the warnings of loading its mesh.
+    /// The cache key of the solid (see the `cache` module): a shape solid's tree (its
+    /// spec as read, in `Debug` form: every kind, field and float to the bit, however
+    /// the scene writes it: inline or as sub-tables, whose spans would not cover
+    /// their values), the files its leaves read (`leaf_files`) and the domain; a mesh solid's
+    /// file, depth and inside rule; a moved `.oct` solid's file. Every kind adds its
+    /// `transform`, in the same form. `None` for an `.oct` solid that is not moved (loading it is
+    /// as fast as loading an entry).
+    fn cache_key(&self, leaf_files: &[PathBuf], domain: Option<&Domain>, depth: u8) -> Result<Option<SolidKey>> {
+        let s = self.spec;
+        let mut key = match (&s.shape, &s.mesh, &s.oct) {
+            (Some(shape), _, _) => {
+                let mut key = SolidKey::new("shape");
+                key.line("shape", &format!("{:?}", shape.get_ref()));
+                for file in leaf_files {
+                    key.file(file).map_err(self.at(Some(shape.span())))?;
+                }
+                key.domain(domain.expect("shapes have a domain"));
+                key
+            }
+            (None, Some(mesh), _) => {
+                let mut key = SolidKey::new("mesh");
+                key.file(&self.cx.folder.join(mesh.get_ref())).map_err(self.at(Some(mesh.span())))?;
+                key.line("depth", &s.depth.unwrap_or(depth).to_string());
+                key.line("inside", &format!("{:?}", s.inside.unwrap_or(InsideSpec::Auto)));
+                key
+            }
+            (None, None, Some(file)) if s.transform.is_some() => {
+                let mut key = SolidKey::new("oct");
+                key.file(&self.cx.folder.join(file.get_ref())).map_err(self.at(Some(file.span())))?;
+                key
+            }
+            _ => return Ok(None),
+        };
+        key.line("transform", &format!("{:?}", s.transform.as_ref().map(Spanned::get_ref)));
+        Ok(Some(key))
+    }
+
+    /// Voxelizes or loads the solid (from the cache when the load uses one and it
+    /// holds the solid) and adds it to `scene` with its material: a shape (its tree and
+    /// the files its leaves read, `shape`) into `shape_domain`, a mesh at its depth or
+    /// `depth`. Returns the warnings of loading its mesh and of the cache.
     fn add_to(
         &self,
         scene: &mut Scene,
-        shape: Option<&Csg>,
+        shape: Option<(&Csg, &[PathBuf])>,
         shape_domain: Option<Domain>,
         depth: u8,
     ) -> Result<Vec<Warning>> {
@@ -581,26 +667,54 @@ impl SolidBuild<'_> {
             return Err(self.at(None)(Error::invalid("solid", "give exactly one of shape, mesh or oct")));
         }
         let mut warnings = Vec::new();
-        let tree = match (shape, &s.mesh, &s.oct) {
-            (Some(shape), _, _) => {
-                let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
-                let domain = shape_domain.expect("shapes have a domain");
-                voxelize(shape, domain, &options).map_err(self.at(s.shape.as_ref().map(Spanned::span)))?
-            }
-            (None, Some(mesh), _) => {
-                let tree;
-                (tree, warnings) = self.mesh_tree(mesh, depth)?;
+        let leaf_files = shape.map_or(&[][..], |(_, files)| files);
+        let shape = shape.map(|(shape, _)| shape);
+        let build = |warnings: &mut Vec<Warning>| self.tree(shape, shape_domain, depth, warnings);
+        let mut cache = self.cx.cache.borrow_mut();
+        let tree = match (cache.as_mut(), self.cache_key(leaf_files, shape_domain.as_ref(), depth)?) {
+            (Some(cache), Some(key)) => {
+                let mut built = Vec::new();
+                let domain = shape.and(shape_domain.as_ref());
+                let tree = cache.solid(&key, domain, self.cx.budget, &mut warnings, || build(&mut built))?;
+                warnings.extend(built);
                 tree
             }
-            (None, None, Some(file)) => self.oct_tree(file)?,
-            (None, None, None) => unreachable!("one source"),
+            _ => build(&mut warnings)?,
         };
+        drop(cache);
         let material = self.material()?;
         match shape {
             Some(shape) => scene.add_shaped(&self.name, tree, material, Arc::new(shape.clone())),
             None => scene.add(&self.name, tree, material),
         }
         Ok(warnings)
+    }
+
+    /// Builds the solid's octree: a shape (its tree `shape`) voxelized into
+    /// `shape_domain`, a mesh at its depth or `depth` (its warnings pushed onto
+    /// `warnings`), an `.oct` file loaded and moved.
+    fn tree(
+        &self,
+        shape: Option<&Csg>,
+        shape_domain: Option<Domain>,
+        depth: u8,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<LinearOctree> {
+        let s = self.spec;
+        Ok(match (shape, &s.mesh, &s.oct) {
+            (Some(shape), _, _) => {
+                let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
+                let domain = shape_domain.expect("shapes have a domain");
+                voxelize(shape, domain, &options).map_err(self.at(s.shape.as_ref().map(Spanned::span)))?
+            }
+            (None, Some(mesh), _) => {
+                let (tree, read) = self.mesh_tree(mesh, depth)?;
+                warnings.extend(read);
+                tree
+            }
+            (None, None, Some(file)) => self.oct_tree(file)?,
+            (None, None, None) => unreachable!("one source"),
+        })
     }
 
     /// The mesh (or patch) file moved by the solid's transform, voxelized in its own

@@ -330,6 +330,42 @@ fn render_solids_meshes_and_scenes_by_every_method() {
 }
 
 #[test]
+fn render_keeps_a_scenes_solids_in_its_cache_unless_told_not_to() {
+    let dir = scratch("scene-cache");
+    let scene = "[image]\nsize = [48, 36]\n\n[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = 1 } }\n";
+    std::fs::write(dir.join("ball.toml"), scene).unwrap();
+    let cache = dir.join(".octsolid-cache");
+    let entries = || -> Vec<PathBuf> {
+        let Ok(read) = std::fs::read_dir(&cache) else { return Vec::new() };
+        read.map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|x| x == "octcache")).collect()
+    };
+    let png = |name: &str| std::fs::read(dir.join(name)).unwrap();
+    let out = ok(&dir, &["render", "ball.toml", "--no-cache", "-o", "plain.png"]);
+    assert!(out.contains("loading and voxelizing the scene") && !cache.exists(), "{out}");
+    let out = ok(&dir, &["render", "ball.toml", "-o", "cold.png"]);
+    assert!(out.contains("loading and voxelizing the scene") && entries().len() == 1, "{out}");
+    let out = ok(&dir, &["render", "ball.toml", "-o", "warm.png"]);
+    assert!(out.contains("loading the scene (1 solid from its cache)"), "{out}");
+    assert!(png("cold.png") == png("plain.png") && png("warm.png") == png("plain.png"));
+    // A corrupt entry: a warning naming it, the same picture, the entry rewritten.
+    let entry = entries().remove(0);
+    std::fs::write(&entry, b"OCTCACHE garbage").unwrap();
+    let run = octsolid(&dir, &["render", "ball.toml", "-o", "rebuilt.png"]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let name = entry.file_name().unwrap().to_string_lossy();
+    assert!(
+        stderr.contains("warning: ") && stderr.contains(&*name) && stderr.contains("cache entry not used"),
+        "{stderr}"
+    );
+    assert!(png("rebuilt.png") == png("plain.png"));
+    let out = ok(&dir, &["render", "ball.toml", "-o", "warm.png"]);
+    assert!(out.contains("(1 solid from its cache)"), "{out}");
+    let out = ok(&dir, &["render", "ball.toml", "--clear-cache", "--no-cache", "-o", "cleared.png"]);
+    assert!(out.contains("cleared    1 cached solid of ball.toml") && !cache.exists(), "{out}");
+}
+
+#[test]
 fn export_writes_closed_meshes_with_the_octree_volume() {
     let dir = scratch("export");
     ok(&dir, &["shape", "torus", "--radius", "1", "--tube", "0.4", "--depth", "6", "-o", "ring.oct"]);

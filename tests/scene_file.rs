@@ -3,7 +3,9 @@
 //! (`line:column`, found here from the text) and the solid, keeping the cause's kind
 //! (I/O, format, over budget, refused value); colour forms against hand-computed RGB;
 //! transformed mesh and `.oct` solids against analytic volumes and exact moves; a CSG
-//! scene of a shape, a mesh and an `.oct` file against the brute-force predicate.
+//! scene of a shape, a mesh and an `.oct` file against the brute-force predicate; the
+//! solid cache against loads without it (the same solids bit for bit, read without
+//! voxelizing, rebuilt when an input changes or an entry is corrupt).
 
 use std::path::{Path, PathBuf};
 
@@ -13,9 +15,9 @@ use octsolid::color::COLOR_FORMS;
 use octsolid::io::oct;
 use octsolid::mesh::generate::cuboid;
 use octsolid::mesh::save_mesh;
-use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, estimate_bytes, voxelize};
 use octsolid::render::{AntiAliasing, DEFAULT_AA_THRESHOLD, Light};
-use octsolid::scene_file::{SceneFile, load_scene};
+use octsolid::scene_file::{CACHE_DIR, CachePolicy, LoadOptions, SceneFile, clear_cache, load_scene, load_scene_with};
 use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Error, Result};
 
@@ -471,4 +473,208 @@ fn anti_aliasing_keys_choose_uniform_or_adaptive() {
     let (path, e) = error(&dir, "aa.toml", &text);
     let cause = scene_cause(e, &path, &text, Some("\"jittered\""), None);
     assert!(cause.to_string().contains("uniform") && cause.to_string().contains("adaptive"), "{cause}");
+}
+
+/// Writes a scene of every kind of solid the cache keeps into `dir` as `name`: a shape
+/// whose CSG tree reads a mesh and an `.oct` file, a mesh solid, and a moved `.oct`
+/// solid. Returns its path.
+fn write_cached_scene(dir: &Path, name: &str) -> PathBuf {
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+    let slab = Cuboid::new(DVec3::new(-0.2, 0.1, -0.5), DVec3::new(1.4, 1.1, 0.3)).unwrap();
+    oct::save(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
+    write_box(dir, "cube.obj", DVec3::new(0.13, 0.07, 0.21), DVec3::new(0.9, 0.8, 0.7));
+    let text = "[domain]\nmin = [-1, -1, -1]\nedge = 2\ndepth = 6\n\n\
+        [[solid]]\nname = \"mixed\"\nshape = { difference = [\n  \
+        { union = [{ mesh = \"cube.obj\" }, { oct = \"slab.oct\" }] },\n  \
+        { sphere = { center = [0.3, 0.2, 0.1], radius = 0.45 } },\n] }\n\n\
+        [[solid]]\nname = \"meshed\"\nmesh = \"cube.obj\"\ndepth = 5\ntransform = { translate = [3, 0, 0] }\n\n\
+        [[solid]]\nname = \"moved\"\noct = \"slab.oct\"\ntransform = { rotate_axis = [0, 0, 1], rotate_degrees = 30 }\n";
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Loads `path` with the solid cache and `budget`.
+fn load_cached(path: &Path, budget: MemoryBudget) -> Result<SceneFile> {
+    load_scene_with(path, &LoadOptions { budget, cache: CachePolicy::ReadWrite })
+}
+
+/// The solids' octrees of a loaded scene.
+fn trees(file: &SceneFile) -> Vec<LinearOctree> {
+    file.scene.solids.iter().map(|s| s.tree.clone()).collect()
+}
+
+/// The cache entries in `dir`'s cache folder, sorted.
+fn entries(dir: &Path) -> Vec<PathBuf> {
+    let Ok(read) = std::fs::read_dir(dir.join(CACHE_DIR)) else { return Vec::new() };
+    let mut found: Vec<PathBuf> =
+        read.map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|x| x == "octcache")).collect();
+    found.sort();
+    found
+}
+
+#[test]
+fn a_second_load_reads_every_solid_from_the_cache_bit_for_bit() {
+    let dir = scratch("cache-hit");
+    let path = write_cached_scene(&dir, "cached.toml");
+    // The oracle: the scene built without the cache.
+    let want = trees(&load_scene(&path, MemoryBudget::default()).unwrap());
+    assert!(entries(&dir).is_empty(), "load_scene writes no cache");
+    let first = load_cached(&path, MemoryBudget::default()).unwrap();
+    assert_eq!((first.cache.hits, first.cache.misses), (0, 3));
+    assert_eq!(entries(&dir).len(), 3);
+    assert!(dir.join(CACHE_DIR).join("CACHEDIR.TAG").is_file());
+    let second = load_cached(&path, MemoryBudget::default()).unwrap();
+    assert_eq!((second.cache.hits, second.cache.misses), (3, 0));
+    assert!(second.warnings.is_empty(), "{:?}", second.warnings);
+    assert_eq!(trees(&first), want);
+    assert_eq!(trees(&second), want);
+    for tree in trees(&second) {
+        tree.validate().unwrap();
+    }
+}
+
+#[test]
+fn a_solid_read_from_the_cache_is_not_voxelized() {
+    // A budget below the voxelizer's estimate but above what reading the entry needs:
+    // a load without the cache is refused before voxelizing, one from the cache works.
+    let dir = scratch("cache-no-voxelizing");
+    let path = dir.join("ball.toml");
+    let text = "[domain]\nmin = [-1, -1, -1]\nedge = 2\ndepth = 7\n\n[[solid]]\nshape = { sphere = { center = [0.1, 0, 0], radius = 0.5 } }\n";
+    std::fs::write(&path, text).unwrap();
+    let first = load_cached(&path, MemoryBudget::default()).unwrap();
+    let tree = first.scene.solids[0].tree.clone();
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let estimate = estimate_bytes(&Sphere::new(DVec3::new(0.1, 0.0, 0.0), 0.5).unwrap(), &domain);
+    let tight = MemoryBudget(estimate - 1);
+    let entry_bytes = std::fs::metadata(&entries(&dir)[0]).unwrap().len();
+    assert!(tree.node_count() as u64 * 8 < tight.0 && entry_bytes < tight.0, "the test needs room to read the entry");
+    match load_scene(&path, tight) {
+        Err(Error::Scene { source, .. }) => assert!(matches!(*source, Error::OverBudget { .. }), "{source}"),
+        other => panic!("voxelizing under the tight budget should be refused: {:?}", other.err()),
+    }
+    let cached = load_cached(&path, tight).unwrap();
+    assert_eq!(cached.cache.hits, 1);
+    assert_eq!(cached.scene.solids[0].tree, tree);
+}
+
+#[test]
+fn a_changed_input_is_built_again() {
+    let dir = scratch("cache-invalidated");
+    let path = write_cached_scene(&dir, "cached.toml");
+    load_cached(&path, MemoryBudget::default()).unwrap();
+    let check = |misses: usize, what: &str| {
+        let got = load_cached(&path, MemoryBudget::default()).unwrap();
+        assert_eq!((got.cache.hits, got.cache.misses), (3 - misses, misses), "{what}");
+        assert_eq!(trees(&got), trees(&load_scene(&path, MemoryBudget::default()).unwrap()), "{what}");
+        // Entries of the earlier inputs are gone: one a solid.
+        assert_eq!(entries(&dir).len(), 3, "{what}");
+    };
+    // The mesh edited in place to the same length (one vertex coordinate's digit):
+    // the shape reading it and the mesh solid.
+    let obj = std::fs::read_to_string(dir.join("cube.obj")).unwrap();
+    let at = obj.find("\nv ").unwrap()
+        + 3
+        + obj[obj.find("\nv ").unwrap() + 3..].find(|c: char| c.is_ascii_digit()).unwrap();
+    let mut edited = obj.clone().into_bytes();
+    edited[at] = if edited[at] == b'1' { b'2' } else { b'1' };
+    std::fs::write(dir.join("cube.obj"), &edited).unwrap();
+    assert_eq!(edited.len(), obj.len());
+    check(2, "mesh edited");
+    // The .oct file: the shape reading it and the moved solid.
+    let slab = Cuboid::new(DVec3::new(-0.1, 0.1, -0.5), DVec3::new(1.4, 1.1, 0.3)).unwrap();
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+    oct::save(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
+    check(2, "oct file rewritten");
+    // The scene's text of one solid: that solid only; of the domain every shape shares:
+    // the shape solid; of what does not decide a solid (a material, a name): none.
+    let edits = [
+        ("radius = 0.45", "radius = 0.4", 1),
+        ("rotate_degrees = 30", "rotate_degrees = 31", 1),
+        ("edge = 2\n", "edge = 2.5\n", 1),
+        ("name = \"meshed\"", "name = \"renamed\"\nmaterial = { kd = 0.5 }", 0),
+    ];
+    for (from, to, misses) in edits {
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::write(&path, text.replace(from, to)).unwrap();
+        check(misses, from);
+    }
+}
+
+#[test]
+fn a_shape_written_as_sub_tables_is_built_again_when_a_value_changes() {
+    // Regression: the key once held the scene's text of the `shape` value, and the span
+    // of a shape written as `[solid.shape.sphere]` sub-tables does not cover its keys,
+    // so a changed radius read the old solid (with a fixed [domain], which does not
+    // change with it).
+    let dir = scratch("cache-sub-tables");
+    let path = dir.join("ball.toml");
+    let text = "[domain]\nmin = [-2, -2, -2]\nedge = 4\ndepth = 6\n\n[[solid]]\nname = \"b\"\n\n\
+                [solid.shape.sphere]\ncenter = [0, 0, 0]\nradius = 1\n\n[solid.transform]\ntranslate = [0.5, 0, 0]\n";
+    std::fs::write(&path, text).unwrap();
+    assert_eq!(load_cached(&path, MemoryBudget::default()).unwrap().cache.misses, 1);
+    for (from, to) in [("radius = 1", "radius = 0.5"), ("translate = [0.5, 0, 0]", "translate = [0.25, 0, 0]")] {
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::write(&path, text.replace(from, to)).unwrap();
+        let got = load_cached(&path, MemoryBudget::default()).unwrap();
+        assert_eq!((got.cache.hits, got.cache.misses), (0, 1), "{to}");
+        assert_eq!(trees(&got), trees(&load_scene(&path, MemoryBudget::default()).unwrap()), "{to}");
+    }
+    // Written inline instead, the same values: the same key.
+    let inline = "[domain]\nmin = [-2, -2, -2]\nedge = 4\ndepth = 6\n\n[[solid]]\nname = \"b\"\n\
+                  shape = { sphere = { center = [0, 0, 0], radius = 0.5 } }\ntransform = { translate = [0.25, 0, 0] }\n";
+    std::fs::write(&path, inline).unwrap();
+    assert_eq!(load_cached(&path, MemoryBudget::default()).unwrap().cache.hits, 1);
+}
+
+#[test]
+fn a_corrupt_cache_entry_is_ignored_and_rewritten() {
+    let dir = scratch("cache-corrupt");
+    let path = write_cached_scene(&dir, "cached.toml");
+    let want = trees(&load_scene(&path, MemoryBudget::default()).unwrap());
+    load_cached(&path, MemoryBudget::default()).unwrap();
+    /// What a corruption does to an entry's bytes.
+    type Corrupt = fn(&mut Vec<u8>);
+    let corruptions: [(&str, Corrupt); 5] = [
+        ("a payload byte flipped", |b| *b.last_mut().unwrap() ^= 0x40),
+        ("a key byte flipped", |b| b[20] ^= 1),
+        ("truncated", |b| b.truncate(b.len() / 2)),
+        ("empty", Vec::clear),
+        ("another file", |b| *b = b"OCTSOLID not an entry".to_vec()),
+    ];
+    for (what, corrupt) in corruptions {
+        for entry in entries(&dir) {
+            let mut bytes = std::fs::read(&entry).unwrap();
+            corrupt(&mut bytes);
+            std::fs::write(&entry, bytes).unwrap();
+        }
+        let got = load_cached(&path, MemoryBudget::default()).unwrap();
+        assert_eq!((got.cache.hits, got.cache.misses), (0, 3), "{what}");
+        assert_eq!(trees(&got), want, "{what}");
+        assert_eq!(got.warnings.len(), 3, "{what}: {:?}", got.warnings);
+        let mut named: Vec<PathBuf> = got.warnings.iter().map(|w| w.path.clone()).collect();
+        named.sort();
+        assert_eq!(named, entries(&dir), "{what}: each warning names its entry");
+        for w in &got.warnings {
+            assert!(w.to_string().contains("cache entry not used"), "{what}: {w}");
+        }
+        // Rewritten: the next load reads them.
+        let again = load_cached(&path, MemoryBudget::default()).unwrap();
+        assert_eq!((again.cache.hits, again.cache.misses), (3, 0), "{what}");
+        assert_eq!(trees(&again), want, "{what}");
+    }
+}
+
+#[test]
+fn clearing_a_scenes_cache_leaves_the_other_scenes() {
+    let dir = scratch("cache-clear");
+    let (a, b) = (write_cached_scene(&dir, "a.toml"), write_cached_scene(&dir, "a.b.toml"));
+    load_cached(&a, MemoryBudget::default()).unwrap();
+    load_cached(&b, MemoryBudget::default()).unwrap();
+    assert_eq!(entries(&dir).len(), 6);
+    assert_eq!(clear_cache(&a).unwrap(), 3);
+    assert_eq!(load_cached(&b, MemoryBudget::default()).unwrap().cache.hits, 3);
+    assert_eq!(clear_cache(&b).unwrap(), 3);
+    assert!(!dir.join(CACHE_DIR).exists(), "an empty cache folder is removed");
+    assert_eq!(clear_cache(&b).unwrap(), 0);
 }

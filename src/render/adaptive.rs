@@ -85,19 +85,17 @@ pub(crate) fn supersample(
                 }
                 scene.hit_packet(&rays, &mut hits);
                 let mut sum = DVec3::ZERO;
-                for sy in 0..spp {
-                    for sx in 0..spp {
-                        let (x, y) = samples.point(col * spp + sx, row * spp + sy);
-                        sum += match &hits[(sy * spp + sx) as usize] {
-                            Some(h) => {
-                                hits_seen += 1;
-                                let (light, cast) = radiance(scene, &camera.ray(x, y, aspect), h, shading);
-                                rays_cast += cast;
-                                light
-                            }
-                            None => scene.background,
-                        };
-                    }
+                // The rays just walked, in the same order (`Camera::ray` is `view.ray`).
+                for (ray, hit) in rays.iter().zip(&hits) {
+                    sum += match hit {
+                        Some(h) => {
+                            hits_seen += 1;
+                            let (light, cast) = radiance(scene, ray, h, shading);
+                            rays_cast += cast;
+                            light
+                        }
+                        None => scene.background,
+                    };
                 }
                 pixels.push((col, resolve(sum, spp * spp)));
             }

@@ -168,7 +168,8 @@ fn uniform(
     // Step 2: shading, the same for every method, averaged over each pixel's samples.
     progress.start(u64::from(height));
     let columns = samples.columns() as usize;
-    let aspect = samples.aspect();
+    // The camera's frame once, not once a sample (`Camera::ray` is `view(aspect).ray`).
+    let view = camera.view(samples.aspect());
     let rows: Vec<(Vec<Rgb<u8>>, u64)> = (0..height)
         .into_par_iter()
         .map(|row| {
@@ -182,7 +183,7 @@ fn uniform(
                             let (x, y) = samples.point(c, r);
                             sum += match &seen[r as usize * columns + c as usize] {
                                 Some(h) => {
-                                    let (light, cast) = radiance(scene, &camera.ray(x, y, aspect), h, shading);
+                                    let (light, cast) = radiance(scene, &view.ray(x, y), h, shading);
                                     rays += cast;
                                     light
                                 }

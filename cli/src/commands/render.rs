@@ -14,7 +14,7 @@ use octsolid::render::{
     self, AntiAliasing, Camera, DEFAULT_AA_THRESHOLD, Light, Material, NamedView, RenderOptions, Scene,
     silhouette_points,
 };
-use octsolid::scene_file;
+use octsolid::scene_file::{self, CachePolicy, LoadOptions};
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget};
 
@@ -95,6 +95,15 @@ pub struct RenderArgs {
     /// or 0.3; implies --aa adaptive unless --aa uniform is given).
     #[arg(long, value_parser = crate::args::parse_finite)]
     pub aa_threshold: Option<f64>,
+    /// Scenes: voxelize every solid, neither reading nor writing the scene's solid
+    /// cache (.octsolid-cache beside the scene, which otherwise holds the solids of the
+    /// last render so an unchanged scene is not voxelized again).
+    #[arg(long)]
+    pub no_cache: bool,
+    /// Scenes: remove the scene's cached solids first (the render then stores fresh
+    /// ones unless --no-cache is given).
+    #[arg(long)]
+    pub clear_cache: bool,
     /// Render a mesh (or Bezier patches, tessellated) as polygons with this
     /// interpolation shading instead of voxelizing it.
     #[arg(long)]
@@ -213,11 +222,24 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     if a.depth.is_some() && matches!(kind, FileKind::Oct | FileKind::Scene) {
         warn!("--depth is ignored for {}: its solids already have their depths", input.display());
     }
+    if (a.no_cache || a.clear_cache) && kind != FileKind::Scene {
+        warn!("--no-cache and --clear-cache are for scenes: {} is not one", input.display());
+    }
     let (scene, camera, mut options) = match kind {
         FileKind::Scene => {
-            let file = scene_file::load_scene(input, budget)?;
+            if a.clear_cache {
+                let removed = scene_file::clear_cache(input)?;
+                out!("cleared    {removed} cached solid{} of {}", if removed == 1 { "" } else { "s" }, input.display());
+            }
+            let cache = if a.no_cache { CachePolicy::Off } else { CachePolicy::ReadWrite };
+            let file = scene_file::load_scene_with(input, &LoadOptions { budget, cache })?;
             print_warnings(&file.warnings);
-            stages.done("loading and voxelizing the scene");
+            let solids = |n: usize| if n == 1 { "1 solid".to_owned() } else { format!("{n} solids") };
+            stages.done(match (file.cache.hits, file.cache.misses) {
+                (0, _) => "loading and voxelizing the scene".to_owned(),
+                (hits, 0) => format!("loading the scene ({} from its cache)", solids(hits)),
+                (hits, misses) => format!("loading the scene ({} from its cache, {misses} voxelized)", solids(hits)),
+            });
             let framing = Framing::of_scene(&file.scene, file.camera, a);
             let aspect = size_aspect(a.size, &file.options);
             (file.scene, camera_flags::camera(a, &framing, aspect)?, file.options)
@@ -239,9 +261,9 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     options.budget = budget;
     let img =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
-    stages.done("rendering");
+    stages.done("rendering".to_owned());
     png::save(&img, &output)?;
-    stages.done("writing");
+    stages.done("writing".to_owned());
     out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     stages.report();
     Ok(())
@@ -264,11 +286,11 @@ fn solid_scene(
     let input = &a.input;
     let (tree, recorded_up) = if kind == FileKind::Oct {
         let (tree, meta) = oct::load_with(input, budget)?;
-        stages.done("loading");
+        stages.done("loading".to_owned());
         (tree, meta.up)
     } else {
         let loaded = load_input(input)?;
-        stages.done("loading");
+        stages.done("loading".to_owned());
         let domain = import::default_domain(&loaded, a.depth.unwrap_or(9))
             .with_context(|| format!("{}: cannot voxelize", input.display()))?;
         let bar = Bar::new("voxelizing");
@@ -276,7 +298,7 @@ fn solid_scene(
             import::voxelize_input(&loaded, domain, &ImportOptions { budget, progress: &bar, ..Default::default() })
                 .with_context(|| format!("{}: cannot voxelize", input.display()))?
                 .0;
-        stages.done("voxelizing");
+        stages.done("voxelizing".to_owned());
         (tree, None)
     };
     let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
@@ -286,7 +308,7 @@ fn solid_scene(
     let camera = camera_flags::camera(a, &framing, size_aspect(a.size, &options))?;
     let mut scene = Scene::from_solid(tree);
     scene.solids[0].name = input.display().to_string();
-    stages.done("building the traversal");
+    stages.done("building the traversal".to_owned());
     if up.axis() != Axis::Z {
         let c = bounds.center();
         let r = bounds.size().length();
@@ -318,7 +340,7 @@ fn polygon_command(
         };
         (mesh, None)
     };
-    stages.done("loading");
+    stages.done("loading".to_owned());
     if mesh.triangles.is_empty() {
         bail!("{}: nothing to draw", input.display());
     }
@@ -337,10 +359,10 @@ fn polygon_command(
     let options = render::polygon::MeshRenderOptions { width, height, spp: a.spp.unwrap_or(2), interpolation, budget };
     let img = render::polygon::render_mesh(&scene, &camera, &options)
         .with_context(|| format!("{}: cannot render", input.display()))?;
-    stages.done("drawing");
+    stages.done("drawing".to_owned());
     out!("drew {} triangles with {interpolation:?} shading", mesh.triangles.len());
     png::save(&img, output)?;
-    stages.done("writing");
+    stages.done("writing".to_owned());
     out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     stages.report();
     Ok(())
@@ -350,7 +372,7 @@ fn polygon_command(
 struct Stages {
     started: Instant,
     last: Instant,
-    done: Vec<(&'static str, f64)>,
+    done: Vec<(String, f64)>,
 }
 
 impl Stages {
@@ -359,7 +381,7 @@ impl Stages {
         Stages { started: now, last: now, done: Vec::new() }
     }
 
-    fn done(&mut self, stage: &'static str) {
+    fn done(&mut self, stage: String) {
         let now = Instant::now();
         self.done.push((stage, (now - self.last).as_secs_f64()));
         self.last = now;
