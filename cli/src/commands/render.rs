@@ -213,32 +213,11 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     if a.depth.is_some() && matches!(kind, FileKind::Oct | FileKind::Scene) {
         warn!("--depth is ignored for {}: its solids already have their depths", input.display());
     }
-    let (scene, camera, mut options) = match kind {
-        FileKind::Scene => {
-            let file = scene_file::load_scene(input, budget)?;
-            print_warnings(&file.warnings);
-            stages.done("loading and voxelizing the scene");
-            let framing = Framing::of_scene(&file.scene, file.camera, a);
-            let aspect = size_aspect(a.size, &file.options);
-            (file.scene, camera_flags::camera(a, &framing, aspect)?, file.options)
-        }
-        kind => solid_scene(a, kind, budget, &mut stages)?,
-    };
-    if let Some([w, h]) = a.size {
-        options.width = w;
-        options.height = h;
-    }
-    if let Some(n) = a.spp {
-        options.spp = n;
-    }
-    options.shadows &= !a.no_shadows;
-    options.normals = a.normals.map_or(options.normals, Into::into);
-    options.max_depth = a.max_depth.unwrap_or(options.max_depth);
-    options.aa = anti_aliasing(a, options.aa);
-    options.method = a.method.into();
-    options.budget = budget;
-    let img =
-        render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
+    let drawn = Drawn::load(input, kind, a.depth, a.up, budget, &mut stages)?;
+    let camera = drawn.camera(a)?;
+    let options = drawn.options(a, budget);
+    let img = render_with_bar(&drawn.scene, &camera, &options)
+        .with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("rendering");
     png::save(&img, &output)?;
     stages.done("writing");
@@ -247,21 +226,89 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     Ok(())
 }
 
+/// What `render` draws (and `view` shows): a scene, or one solid file with the default
+/// lights, with what frames it and the options its file gives.
+pub(crate) struct Drawn {
+    pub scene: Scene,
+    framed: Framed,
+    /// The scene file's options, or the defaults for a solid.
+    options: RenderOptions,
+}
+
+impl Drawn {
+    /// Loads a scene file, an `.oct` file or a mesh (voxelized at `depth`, default 9)
+    /// as `render` does; `up` is `--up` (it turns a solid's default light).
+    pub(crate) fn load(
+        input: &Path,
+        kind: FileKind,
+        depth: Option<u8>,
+        up: Option<Up>,
+        budget: MemoryBudget,
+        stages: &mut Stages,
+    ) -> Result<Drawn> {
+        if kind == FileKind::Scene {
+            let file = scene_file::load_scene(input, budget)?;
+            print_warnings(&file.warnings);
+            stages.done("loading and voxelizing the scene");
+            return Ok(Drawn { scene: file.scene, framed: Framed::Scene(file.camera), options: file.options });
+        }
+        solid_scene(input, kind, depth, up, budget, stages)
+    }
+
+    /// The camera the flags ask for, at the flags' (or the options') aspect.
+    pub(crate) fn camera(&self, a: &RenderArgs) -> Result<Camera> {
+        let aspect = size_aspect(a.size, &self.options);
+        match &self.framed {
+            Framed::Solid(framing) => camera_flags::camera(a, framing, aspect),
+            Framed::Scene(camera) => camera_flags::camera(a, &Framing::of_scene(&self.scene, *camera, a), aspect),
+        }
+    }
+
+    /// The render options: the file's, with the flags' changes.
+    pub(crate) fn options(&self, a: &RenderArgs, budget: MemoryBudget) -> RenderOptions {
+        let mut options = self.options;
+        if let Some([w, h]) = a.size {
+            options.width = w;
+            options.height = h;
+        }
+        if let Some(n) = a.spp {
+            options.spp = n;
+        }
+        options.shadows &= !a.no_shadows;
+        options.normals = a.normals.map_or(options.normals, Into::into);
+        options.max_depth = a.max_depth.unwrap_or(options.max_depth);
+        options.aa = anti_aliasing(a, options.aa);
+        options.method = a.method.into();
+        options.budget = budget;
+        options
+    }
+}
+
+/// How the camera frames what is drawn (see [`camera_flags::camera`]).
+enum Framed {
+    /// A scene file's camera (its framing is worked out for the flags: the solids'
+    /// silhouettes only when they re-frame it).
+    Scene(Camera),
+    /// A solid's silhouette and up.
+    Solid(Framing),
+}
+
 /// Image width / height: `--size`, else the options'.
 fn size_aspect(size: Option<[u32; 2]>, options: &RenderOptions) -> f64 {
     let [w, h] = size.unwrap_or([options.width, options.height]);
     f64::from(w) / f64::from(h.max(1))
 }
 
-/// The scene of one solid file (`.oct`, or a mesh or patches voxelized at `--depth`)
-/// with the default lights, and the camera the flags ask for.
+/// The scene of one solid file (`.oct`, or a mesh or patches voxelized at `depth`)
+/// with the default lights.
 fn solid_scene(
-    a: &RenderArgs,
+    input: &Path,
     kind: FileKind,
+    depth: Option<u8>,
+    up: Option<Up>,
     budget: MemoryBudget,
     stages: &mut Stages,
-) -> Result<(Scene, Camera, RenderOptions)> {
-    let input = &a.input;
+) -> Result<Drawn> {
     let (tree, recorded_up) = if kind == FileKind::Oct {
         let (tree, meta) = oct::load_with(input, budget)?;
         stages.done("loading");
@@ -269,7 +316,7 @@ fn solid_scene(
     } else {
         let loaded = load_input(input)?;
         stages.done("loading");
-        let domain = import::default_domain(&loaded, a.depth.unwrap_or(9))
+        let domain = import::default_domain(&loaded, depth.unwrap_or(9))
             .with_context(|| format!("{}: cannot voxelize", input.display()))?;
         let bar = Bar::new("voxelizing");
         let tree =
@@ -280,10 +327,8 @@ fn solid_scene(
         (tree, None)
     };
     let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
-    let options = RenderOptions::default();
-    let up = a.up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
+    let up = up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
     let framing = Framing { points: silhouette_points(&tree), up, scene_camera: None };
-    let camera = camera_flags::camera(a, &framing, size_aspect(a.size, &options))?;
     let mut scene = Scene::from_solid(tree);
     scene.solids[0].name = input.display().to_string();
     stages.done("building the traversal");
@@ -293,7 +338,7 @@ fn solid_scene(
         let view = Camera::default_view(up.axis());
         scene.lights[0] = Light::Point { position: c + (view + up.vector() * 1.5) * r, color: DVec3::splat(0.85) };
     }
-    Ok((scene, camera, options))
+    Ok(Drawn { scene, framed: Framed::Solid(framing), options: RenderOptions::default() })
 }
 
 /// `octsolid render IN --shading flat|gouraud|phong`: a mesh drawn as polygons
@@ -347,19 +392,19 @@ fn polygon_command(
 }
 
 /// Wall-clock time of each stage of a command, printed at the end with the total.
-struct Stages {
+pub(crate) struct Stages {
     started: Instant,
     last: Instant,
     done: Vec<(&'static str, f64)>,
 }
 
 impl Stages {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         let now = Instant::now();
         Stages { started: now, last: now, done: Vec::new() }
     }
 
-    fn done(&mut self, stage: &'static str) {
+    pub(crate) fn done(&mut self, stage: &'static str) {
         let now = Instant::now();
         self.done.push((stage, (now - self.last).as_secs_f64()));
         self.last = now;
