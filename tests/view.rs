@@ -96,6 +96,8 @@ fn frames_are_the_files_render_writes() {
         "eye=0.5,-3,2&target=0.1,0,0&up=z&fov=40&size=80x80&spp=2&normals=axis&no-shadows=1",
         "eye=-2,-2,2&target=0,0,0&up=z&fov=35&size=120x90&spp=1&method=front-to-back&ortho=1",
         "view=top&size=64x48&spp=1",
+        "eye=2,3,2&target=0,0,0&up=z&fov=35&size=72x54&spp=1&section=y,0.1",
+        "eye=2,3,2&target=0,0,0&up=z&fov=35&size=72x54&spp=1&section=x,-0.2&method=front-to-back",
     ];
     for (i, query) in cameras.iter().enumerate() {
         let (status, frame) = get(&viewer.address, &format!("/frame?{query}"));
@@ -112,6 +114,10 @@ fn frames_are_the_files_render_writes() {
         octsolid(d, &args.iter().map(String::as_str).collect::<Vec<_>>());
         assert!(frame == std::fs::read(d.join(format!("r{i}.png"))).unwrap(), "{query}: the frame differs");
     }
+    // A section view shows less of the solid than the whole (and is not the whole).
+    let whole = get(&viewer.address, "/frame?eye=2,3,2&target=0,0,0&up=z&fov=35&size=72x54&spp=1").1;
+    let cut = get(&viewer.address, "/frame?eye=2,3,2&target=0,0,0&up=z&fov=35&size=72x54&spp=1&section=y,0.1").1;
+    assert!(whole != cut, "the section changes the picture");
     // The camera endpoint gives the camera of a named view, which renders the same.
     let (status, camera) = get(&viewer.address, "/camera?view=front&size=64x48");
     assert_eq!(status, 200);

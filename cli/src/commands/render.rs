@@ -1,6 +1,7 @@
 //! `octsolid render IN [-o OUT] [...]`: a scene file, a solid, or a mesh (voxelized
 //! first, or drawn as polygons with `--shading`) rendered to a PNG.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -95,6 +96,10 @@ pub struct RenderArgs {
     /// or 0.3; implies --aa adaptive unless --aa uniform is given).
     #[arg(long, value_parser = crate::args::parse_finite)]
     pub aa_threshold: Option<f64>,
+    /// A section view: cut every solid at AXIS,POS (e.g. x,0.25) and keep what lies at
+    /// or below the plane (snapped to the voxel lattice); the cut shows as a filled cap.
+    #[arg(long, value_parser = parse_section, allow_hyphen_values = true)]
+    pub section: Option<Section>,
     /// Render a mesh (or Bezier patches, tessellated) as polygons with this
     /// interpolation shading instead of voxelizing it.
     #[arg(long)]
@@ -216,7 +221,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let drawn = Drawn::load(input, kind, a.depth, a.up, budget, &mut stages)?;
     let camera = drawn.camera(a)?;
     let options = drawn.options(a, budget);
-    let img = render_with_bar(&drawn.scene, &camera, &options)
+    let img = render_with_bar(&drawn.scene_for(a.section), &camera, &options)
         .with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("rendering");
     png::save(&img, &output)?;
@@ -264,6 +269,14 @@ impl Drawn {
         }
     }
 
+    /// The scene to draw: cut by `--section` when it is given.
+    pub(crate) fn scene_for(&self, section: Option<Section>) -> Cow<'_, Scene> {
+        match section {
+            Some(Section { axis, at }) => Cow::Owned(self.scene.sectioned(axis, at)),
+            None => Cow::Borrowed(&self.scene),
+        }
+    }
+
     /// The render options: the file's, with the flags' changes.
     pub(crate) fn options(&self, a: &RenderArgs, budget: MemoryBudget) -> RenderOptions {
         let mut options = self.options;
@@ -282,6 +295,21 @@ impl Drawn {
         options.budget = budget;
         options
     }
+}
+
+/// A section plane: `--section AXIS,POS`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Section {
+    pub axis: Axis,
+    pub at: f64,
+}
+
+/// Parses `AXIS,POS` (x, y or z and a finite coordinate).
+fn parse_section(s: &str) -> Result<Section, String> {
+    let (axis, at) = s.split_once(',').ok_or_else(|| format!("'{s}' is not AXIS,POS like x,0.25"))?;
+    let axis = axis.trim().parse::<Axis>().map_err(|e| format!("'{s}': {e}"))?;
+    let at = crate::args::parse_finite(at.trim())?;
+    Ok(Section { axis, at })
 }
 
 /// How the camera frames what is drawn (see [`camera_flags::camera`]).

@@ -9,7 +9,7 @@
 //! - `/frame?QUERY`: a PNG, the bytes `octsolid render INPUT` writes with the flags the
 //!   query names (`eye=X,Y,Z`, `target=X,Y,Z`, `up=z`, `fov=35`, `size=1280x720`,
 //!   `method=front-to-back`, `spp=1`, `normals=axis`, `no-shadows=1`, `ortho=1`,
-//!   `view=front`, `zoom=2`, `aa=adaptive`, `max-depth=3`): the query is turned into
+//!   `view=front`, `zoom=2`, `aa=adaptive`, `max-depth=3`, `section=x,0.25`): the query is turned into
 //!   those flags and parsed by `render`'s own parser, so a frame and a rendered file of
 //!   the same flags are the same bytes.
 //! - `/camera?QUERY`: the camera those flags give, as JSON (the page orbits from it).
@@ -30,11 +30,11 @@ use std::time::{Duration, SystemTime};
 use anyhow::{Context, Result, anyhow};
 use clap::Parser;
 use octsolid::io::png;
-use octsolid::render::{Camera, Projection};
+use octsolid::render::{Camera, Projection, Scene};
 use octsolid::{FileKind, MemoryBudget, NoProgress};
 use tiny_http::{Header, Method, Request, Response, Server};
 
-use super::render::{Drawn, RenderArgs, Stages};
+use super::render::{Drawn, RenderArgs, Section, Stages};
 use crate::args::{Up, parse_up};
 
 /// Arguments of `octsolid view`.
@@ -76,13 +76,21 @@ struct Viewed {
     version: u64,
     error: Option<String>,
     figures: serde_json::Value,
+    /// The last section view asked for, cut once for all its frames.
+    cut: Option<(Section, Scene)>,
 }
 
 /// `octsolid view INPUT [--port N] [--bind ADDR] [--watch]`
 pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
     let kind = FileKind::of(&a.input, FileKind::ALL)?;
     let drawn = load(a, kind, budget)?;
-    let viewed = Arc::new(Mutex::new(Viewed { figures: figures(&drawn), drawn: Some(drawn), version: 1, error: None }));
+    let viewed = Arc::new(Mutex::new(Viewed {
+        figures: figures(&drawn),
+        drawn: Some(drawn),
+        version: 1,
+        error: None,
+        cut: None,
+    }));
     let server = Server::http((a.bind, a.port.unwrap_or(0)))
         .map_err(|e| anyhow!("cannot listen on {}:{}: {e}", a.bind, a.port.unwrap_or(0)))?;
     let address = server.server_addr().to_ip().context("the server has no IP address")?;
@@ -129,7 +137,7 @@ fn answer(viewed: &Mutex<Viewed>, input: &Path, request: &Request) -> Reply {
     }
     let url = request.url();
     let (path, query) = url.split_once('?').unwrap_or((url, ""));
-    let viewed = viewed.lock().unwrap_or_else(PoisonError::into_inner);
+    let mut viewed = viewed.lock().unwrap_or_else(PoisonError::into_inner);
     match path {
         "/" => Ok((200, "text/html; charset=utf-8", PAGE.as_bytes().to_vec())),
         "/state" => {
@@ -142,14 +150,24 @@ fn answer(viewed: &Mutex<Viewed>, input: &Path, request: &Request) -> Reply {
             Ok((200, "application/json", state.to_string().into_bytes()))
         }
         "/frame" | "/camera" => {
-            let drawn = viewed.drawn.as_ref().ok_or_else(|| Refusal(503, "nothing loaded\n".into()))?;
             let args = frame_args(input, query).map_err(|e| Refusal(400, format!("{e}\n")))?;
+            let viewed = &mut *viewed;
+            let drawn = viewed.drawn.as_ref().ok_or_else(|| Refusal(503, "nothing loaded\n".into()))?;
+            let scene = match args.section {
+                None => &drawn.scene,
+                Some(section) => {
+                    if viewed.cut.as_ref().is_none_or(|(s, _)| *s != section) {
+                        viewed.cut = Some((section, drawn.scene_for(Some(section)).into_owned()));
+                    }
+                    &viewed.cut.as_ref().expect("just cut").1
+                }
+            };
             let camera = drawn.camera(&args).map_err(|e| Refusal(400, format!("{e}\n")))?;
             if path == "/camera" {
                 return Ok((200, "application/json", camera_json(&camera).to_string().into_bytes()));
             }
             let options = drawn.options(&args, MemoryBudget::default());
-            let (img, _) = octsolid::render::render(&drawn.scene, &camera, &options, &NoProgress)
+            let (img, _) = octsolid::render::render(scene, &camera, &options, &NoProgress)
                 .map_err(|e| Refusal(400, format!("cannot render: {e}\n")))?;
             let bytes = png::encode(&img).map_err(|e| Refusal(500, format!("{e}\n")))?;
             Ok((200, "image/png", bytes))
@@ -168,7 +186,7 @@ struct Frame {
 
 /// The query keys a frame takes: those with values, and the switches (`KEY=1`).
 const VALUED: &[&str] =
-    &["eye", "target", "up", "fov", "size", "method", "spp", "normals", "view", "zoom", "aa", "max-depth"];
+    &["eye", "target", "up", "fov", "size", "method", "spp", "normals", "view", "zoom", "aa", "max-depth", "section"];
 const SWITCHES: &[&str] = &["no-shadows", "ortho"];
 
 fn frame_args(input: &Path, query: &str) -> Result<RenderArgs> {
@@ -277,6 +295,7 @@ fn watch(
             Ok(drawn) => {
                 v.figures = figures(&drawn);
                 v.drawn = Some(drawn);
+                v.cut = None;
                 v.error = None;
                 out!("reloaded {}", input.display());
             }
