@@ -8,8 +8,13 @@
 //! and with the octree's estimated normals, each iteration on a fresh scene (cold
 //! normal caches, as one CLI run). Target: the estimate costs at most 1.5x the axis
 //! render.
+//!
+//! `viewer_frame`: what `octsolid view` does for a moving frame, server side: the bunny
+//! at depth 10 rendered at 1280x720 by the front-to-back display (1 sample a pixel,
+//! axis normals, no shadows) and encoded as the PNG it sends. Target: 40 ms.
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
+use octsolid::io::png;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree};
 use octsolid::render::{
@@ -69,5 +74,33 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, shading_normals);
+fn viewer_frame(c: &mut Criterion) {
+    let mut group = c.benchmark_group("viewer_frame");
+    group.sample_size(10);
+    let tree = bunny(10);
+    let bounds = tree.bounds().unwrap();
+    let scene = Scene::from_solid(tree);
+    let (width, height) = (1280, 720);
+    let camera = Camera::frame(&bounds, Camera::default_view(Axis::Y), Axis::Y.unit(), 1280.0 / 720.0);
+    let options = RenderOptions {
+        width,
+        height,
+        spp: 1,
+        shadows: false,
+        normals: Normals::Axis,
+        method: Method::FrontToBack,
+        ..RenderOptions::default()
+    };
+    group.bench_function(BenchmarkId::new("moving", "bunny_d10_1280x720"), |b| {
+        b.iter(|| {
+            let (img, _) = render(&scene, &camera, &options, &NoProgress).unwrap();
+            png::encode(&img).unwrap()
+        })
+    });
+    let (img, _) = render(&scene, &camera, &options, &NoProgress).unwrap();
+    group.bench_function(BenchmarkId::new("png_only", "bunny_d10_1280x720"), |b| b.iter(|| png::encode(&img).unwrap()));
+    group.finish();
+}
+
+criterion_group!(benches, bench, shading_normals, viewer_frame);
 criterion_main!(benches);

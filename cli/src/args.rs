@@ -7,7 +7,7 @@ use glam::DVec3;
 use octsolid::octree::Turn;
 use octsolid::shape::Axis;
 
-use crate::commands::{bench, csg, demo, export, info, mesh_info, render, shape, slice, transform, voxelize};
+use crate::commands::{bench, csg, demo, export, info, mesh_info, render, shape, slice, transform, view, voxelize};
 
 /// octsolid: solid modeling on linear octrees.
 #[derive(Parser, Debug)]
@@ -51,6 +51,9 @@ pub enum Command {
     MeshInfo(mesh_info::MeshInfoArgs),
     /// Render a scene file (.toml), an .oct file, or a mesh (voxelized first) to a PNG.
     Render(render::RenderArgs),
+    /// Show a scene, solid or mesh in the browser: orbit, zoom, pan, and a ray-traced
+    /// still when the view rests (a server on 127.0.0.1; --watch reloads on save).
+    View(view::ViewArgs),
     /// Octree traversal against the BVH crates obvhs and bvh: build time, bytes, rays a second.
     Bench(bench::BenchArgs),
     /// Build the bundled showcase scene and render it to demo.png.

@@ -25,6 +25,7 @@ mod neighbourhood;
 mod node;
 mod ranges;
 mod resample;
+mod section;
 mod transform;
 mod voxelize;
 mod window;

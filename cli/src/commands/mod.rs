@@ -12,6 +12,7 @@ pub mod render;
 pub mod shape;
 pub mod slice;
 pub mod transform;
+pub mod view;
 pub mod voxelize;
 
 use std::time::Instant;
@@ -42,6 +43,7 @@ pub fn run(args: Args) -> Result<()> {
         Command::MeshInfo(a) => mesh_info::run(&a, budget),
         Command::Export(a) => export::run(&a, budget),
         Command::Render(a) => render::run(&a, budget),
+        Command::View(a) => view::run(&a, budget),
         Command::Demo(a) => demo::run(&a, budget),
         Command::Bench(a) => bench::run(&a, budget),
     }

@@ -1,6 +1,7 @@
 //! `octsolid render IN [-o OUT] [...]`: a scene file, a solid, or a mesh (voxelized
 //! first, or drawn as polygons with `--shading`) rendered to a PNG.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -104,6 +105,10 @@ pub struct RenderArgs {
     /// ones unless --no-cache is given).
     #[arg(long)]
     pub clear_cache: bool,
+    /// A section view: cut every solid at AXIS,POS (e.g. x,0.25) and keep what lies at
+    /// or below the plane (snapped to the voxel lattice); the cut shows as a filled cap.
+    #[arg(long, value_parser = parse_section, allow_hyphen_values = true)]
+    pub section: Option<Section>,
     /// Render a mesh (or Bezier patches, tessellated) as polygons with this
     /// interpolation shading instead of voxelizing it.
     #[arg(long)]
@@ -225,14 +230,47 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     if (a.no_cache || a.clear_cache) && kind != FileKind::Scene {
         warn!("--no-cache and --clear-cache are for scenes: {} is not one", input.display());
     }
-    let (scene, camera, mut options) = match kind {
-        FileKind::Scene => {
-            if a.clear_cache {
-                let removed = scene_file::clear_cache(input)?;
-                out!("cleared    {removed} cached solid{} of {}", if removed == 1 { "" } else { "s" }, input.display());
-            }
-            let cache = if a.no_cache { CachePolicy::Off } else { CachePolicy::ReadWrite };
-            let file = scene_file::load_scene_with(input, &LoadOptions { budget, cache })?;
+    if a.clear_cache && kind == FileKind::Scene {
+        let removed = scene_file::clear_cache(input)?;
+        out!("cleared    {removed} cached solid{} of {}", if removed == 1 { "" } else { "s" }, input.display());
+    }
+    let cache = if a.no_cache { CachePolicy::Off } else { CachePolicy::ReadWrite };
+    let drawn = Drawn::load(input, kind, a.depth, a.up, LoadOptions { budget, cache }, &mut stages)?;
+    let camera = drawn.camera(a)?;
+    let options = drawn.options(a, budget);
+    let img = render_with_bar(&drawn.scene_for(a.section), &camera, &options)
+        .with_context(|| format!("{}: cannot render", input.display()))?;
+    stages.done("rendering");
+    png::save(&img, &output)?;
+    stages.done("writing");
+    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    stages.report();
+    Ok(())
+}
+
+/// What `render` draws (and `view` shows): a scene, or one solid file with the default
+/// lights, with what frames it and the options its file gives.
+pub(crate) struct Drawn {
+    pub scene: Scene,
+    framed: Framed,
+    /// The scene file's options, or the defaults for a solid.
+    options: RenderOptions,
+}
+
+impl Drawn {
+    /// Loads a scene file (through its solid cache as `load` says), an `.oct` file or
+    /// a mesh (voxelized at `depth`, default 9) as `render` does; `up` is `--up` (it
+    /// turns a solid's default light).
+    pub(crate) fn load(
+        input: &Path,
+        kind: FileKind,
+        depth: Option<u8>,
+        up: Option<Up>,
+        load: LoadOptions,
+        stages: &mut Stages,
+    ) -> Result<Drawn> {
+        if kind == FileKind::Scene {
+            let file = scene_file::load_scene_with(input, &load)?;
             print_warnings(&file.warnings);
             let solids = |n: usize| if n == 1 { "1 solid".to_owned() } else { format!("{n} solids") };
             stages.done(match (file.cache.hits, file.cache.misses) {
@@ -240,33 +278,70 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
                 (hits, 0) => format!("loading the scene ({} from its cache)", solids(hits)),
                 (hits, misses) => format!("loading the scene ({} from its cache, {misses} voxelized)", solids(hits)),
             });
-            let framing = Framing::of_scene(&file.scene, file.camera, a);
-            let aspect = size_aspect(a.size, &file.options);
-            (file.scene, camera_flags::camera(a, &framing, aspect)?, file.options)
+            return Ok(Drawn { scene: file.scene, framed: Framed::Scene(file.camera), options: file.options });
         }
-        kind => solid_scene(a, kind, budget, &mut stages)?,
-    };
-    if let Some([w, h]) = a.size {
-        options.width = w;
-        options.height = h;
+        solid_scene(input, kind, depth, up, load.budget, stages)
     }
-    if let Some(n) = a.spp {
-        options.spp = n;
+
+    /// The camera the flags ask for, at the flags' (or the options') aspect.
+    pub(crate) fn camera(&self, a: &RenderArgs) -> Result<Camera> {
+        let aspect = size_aspect(a.size, &self.options);
+        match &self.framed {
+            Framed::Solid(framing) => camera_flags::camera(a, framing, aspect),
+            Framed::Scene(camera) => camera_flags::camera(a, &Framing::of_scene(&self.scene, *camera, a), aspect),
+        }
     }
-    options.shadows &= !a.no_shadows;
-    options.normals = a.normals.map_or(options.normals, Into::into);
-    options.max_depth = a.max_depth.unwrap_or(options.max_depth);
-    options.aa = anti_aliasing(a, options.aa);
-    options.method = a.method.into();
-    options.budget = budget;
-    let img =
-        render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
-    stages.done("rendering".to_owned());
-    png::save(&img, &output)?;
-    stages.done("writing".to_owned());
-    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
-    stages.report();
-    Ok(())
+
+    /// The scene to draw: cut by `--section` when it is given.
+    pub(crate) fn scene_for(&self, section: Option<Section>) -> Cow<'_, Scene> {
+        match section {
+            Some(Section { axis, at }) => Cow::Owned(self.scene.sectioned(axis, at)),
+            None => Cow::Borrowed(&self.scene),
+        }
+    }
+
+    /// The render options: the file's, with the flags' changes.
+    pub(crate) fn options(&self, a: &RenderArgs, budget: MemoryBudget) -> RenderOptions {
+        let mut options = self.options;
+        if let Some([w, h]) = a.size {
+            options.width = w;
+            options.height = h;
+        }
+        if let Some(n) = a.spp {
+            options.spp = n;
+        }
+        options.shadows &= !a.no_shadows;
+        options.normals = a.normals.map_or(options.normals, Into::into);
+        options.max_depth = a.max_depth.unwrap_or(options.max_depth);
+        options.aa = anti_aliasing(a, options.aa);
+        options.method = a.method.into();
+        options.budget = budget;
+        options
+    }
+}
+
+/// A section plane: `--section AXIS,POS`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Section {
+    pub axis: Axis,
+    pub at: f64,
+}
+
+/// Parses `AXIS,POS` (x, y or z and a finite coordinate).
+fn parse_section(s: &str) -> Result<Section, String> {
+    let (axis, at) = s.split_once(',').ok_or_else(|| format!("'{s}' is not AXIS,POS like x,0.25"))?;
+    let axis = axis.trim().parse::<Axis>().map_err(|e| format!("'{s}': {e}"))?;
+    let at = crate::args::parse_finite(at.trim())?;
+    Ok(Section { axis, at })
+}
+
+/// How the camera frames what is drawn (see [`camera_flags::camera`]).
+enum Framed {
+    /// A scene file's camera (its framing is worked out for the flags: the solids'
+    /// silhouettes only when they re-frame it).
+    Scene(Camera),
+    /// A solid's silhouette and up.
+    Solid(Framing),
 }
 
 /// Image width / height: `--size`, else the options'.
@@ -275,47 +350,46 @@ fn size_aspect(size: Option<[u32; 2]>, options: &RenderOptions) -> f64 {
     f64::from(w) / f64::from(h.max(1))
 }
 
-/// The scene of one solid file (`.oct`, or a mesh or patches voxelized at `--depth`)
-/// with the default lights, and the camera the flags ask for.
+/// The scene of one solid file (`.oct`, or a mesh or patches voxelized at `depth`)
+/// with the default lights.
 fn solid_scene(
-    a: &RenderArgs,
+    input: &Path,
     kind: FileKind,
+    depth: Option<u8>,
+    up: Option<Up>,
     budget: MemoryBudget,
     stages: &mut Stages,
-) -> Result<(Scene, Camera, RenderOptions)> {
-    let input = &a.input;
+) -> Result<Drawn> {
     let (tree, recorded_up) = if kind == FileKind::Oct {
         let (tree, meta) = oct::load_with(input, budget)?;
-        stages.done("loading".to_owned());
+        stages.done("loading");
         (tree, meta.up)
     } else {
         let loaded = load_input(input)?;
-        stages.done("loading".to_owned());
-        let domain = import::default_domain(&loaded, a.depth.unwrap_or(9))
+        stages.done("loading");
+        let domain = import::default_domain(&loaded, depth.unwrap_or(9))
             .with_context(|| format!("{}: cannot voxelize", input.display()))?;
         let bar = Bar::new("voxelizing");
         let tree =
             import::voxelize_input(&loaded, domain, &ImportOptions { budget, progress: &bar, ..Default::default() })
                 .with_context(|| format!("{}: cannot voxelize", input.display()))?
                 .0;
-        stages.done("voxelizing".to_owned());
+        stages.done("voxelizing");
         (tree, None)
     };
     let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
-    let options = RenderOptions::default();
-    let up = a.up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
+    let up = up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
     let framing = Framing { points: silhouette_points(&tree), up, scene_camera: None };
-    let camera = camera_flags::camera(a, &framing, size_aspect(a.size, &options))?;
     let mut scene = Scene::from_solid(tree);
     scene.solids[0].name = input.display().to_string();
-    stages.done("building the traversal".to_owned());
+    stages.done("building the traversal");
     if up.axis() != Axis::Z {
         let c = bounds.center();
         let r = bounds.size().length();
         let view = Camera::default_view(up.axis());
         scene.lights[0] = Light::Point { position: c + (view + up.vector() * 1.5) * r, color: DVec3::splat(0.85) };
     }
-    Ok((scene, camera, options))
+    Ok(Drawn { scene, framed: Framed::Solid(framing), options: RenderOptions::default() })
 }
 
 /// `octsolid render IN --shading flat|gouraud|phong`: a mesh drawn as polygons
@@ -340,7 +414,7 @@ fn polygon_command(
         };
         (mesh, None)
     };
-    stages.done("loading".to_owned());
+    stages.done("loading");
     if mesh.triangles.is_empty() {
         bail!("{}: nothing to draw", input.display());
     }
@@ -359,31 +433,31 @@ fn polygon_command(
     let options = render::polygon::MeshRenderOptions { width, height, spp: a.spp.unwrap_or(2), interpolation, budget };
     let img = render::polygon::render_mesh(&scene, &camera, &options)
         .with_context(|| format!("{}: cannot render", input.display()))?;
-    stages.done("drawing".to_owned());
+    stages.done("drawing");
     out!("drew {} triangles with {interpolation:?} shading", mesh.triangles.len());
     png::save(&img, output)?;
-    stages.done("writing".to_owned());
+    stages.done("writing");
     out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     stages.report();
     Ok(())
 }
 
 /// Wall-clock time of each stage of a command, printed at the end with the total.
-struct Stages {
+pub(crate) struct Stages {
     started: Instant,
     last: Instant,
     done: Vec<(String, f64)>,
 }
 
 impl Stages {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         let now = Instant::now();
         Stages { started: now, last: now, done: Vec::new() }
     }
 
-    fn done(&mut self, stage: String) {
+    pub(crate) fn done(&mut self, stage: impl Into<String>) {
         let now = Instant::now();
-        self.done.push((stage, (now - self.last).as_secs_f64()));
+        self.done.push((stage.into(), (now - self.last).as_secs_f64()));
         self.last = now;
     }
 

@@ -1,0 +1,316 @@
+//! `octsolid view INPUT [--port N] [--watch] [--bind ADDR]`: an interactive viewer in
+//! the browser. A small HTTP server (bound to 127.0.0.1 unless `--bind` says
+//! otherwise) serves one page, shipped inside the binary (`view_page.html`), and the
+//! frames it asks for.
+//!
+//! Routes, all `GET`; anything else is a 404 (paths are never files), other methods
+//! 405:
+//! - `/`: the page.
+//! - `/frame?QUERY`: a PNG, the bytes `octsolid render INPUT` writes with the flags the
+//!   query names (`eye=X,Y,Z`, `target=X,Y,Z`, `up=z`, `fov=35`, `size=1280x720`,
+//!   `method=front-to-back`, `spp=1`, `normals=axis`, `no-shadows=1`, `ortho=1`,
+//!   `view=front`, `zoom=2`, `aa=adaptive`, `max-depth=3`, `section=x,0.25`): the query is turned into
+//!   those flags and parsed by `render`'s own parser, so a frame and a rendered file of
+//!   the same flags are the same bytes.
+//! - `/camera?QUERY`: the camera those flags give, as JSON (the page orbits from it).
+//! - `/state`: JSON with a version counter (raised by each reload under `--watch`), the
+//!   last load's error (with its file, line and column) and the solids' figures.
+//!
+//! Bounds: a query of at most 2,048 bytes with known keys and plain characters, at
+//! most 4,096 pixels a side and 4x4 samples, coordinates within 1e9 and zooms in
+//! 1e-6..1e6: anything else is a 400 with the reason, and the server goes on.
+//! Frames are rendered one at a time (each on every core), in request order; the page
+//! keeps at most one request in flight and asks only for the newest camera.
+
+use std::net::IpAddr;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, SystemTime};
+
+use anyhow::{Context, Result, anyhow};
+use clap::Parser;
+use octsolid::io::png;
+use octsolid::render::{Camera, Projection, Scene};
+use octsolid::scene_file::{CachePolicy, LoadOptions};
+use octsolid::{FileKind, MemoryBudget, NoProgress};
+use tiny_http::{Header, Method, Request, Response, Server};
+
+use super::render::{Drawn, RenderArgs, Section, Stages};
+use crate::args::{Up, parse_up};
+
+/// Arguments of `octsolid view`.
+#[derive(clap::Args, Debug)]
+pub struct ViewArgs {
+    /// Scene (.toml), solid (.oct) or mesh (.obj, .stl, .ply, .patches; voxelized first).
+    pub input: PathBuf,
+    /// Port to listen on (default: a free one).
+    #[arg(long)]
+    pub port: Option<u16>,
+    /// Address to listen on; anything but a loopback address lets other machines in.
+    #[arg(long, default_value = "127.0.0.1")]
+    pub bind: IpAddr,
+    /// Reload when the input (or a file in a scene's folder) is saved.
+    #[arg(long)]
+    pub watch: bool,
+    /// Depth to voxelize a mesh at (default 9).
+    #[arg(long)]
+    pub depth: Option<u8>,
+    /// The world's up, as for `render`.
+    #[arg(long, value_parser = parse_up)]
+    pub up: Option<Up>,
+}
+
+/// The page, served at `/`.
+const PAGE: &str = include_str!("view_page.html");
+/// Longest query accepted, in bytes.
+const MAX_QUERY: usize = 2048;
+/// Largest frame side and samples a side.
+const MAX_SIDE: u32 = 4096;
+const MAX_SPP: u32 = 4;
+/// Largest coordinate of an eye or target.
+const MAX_COORDINATE: f64 = 1e9;
+
+/// What the server shows: the last good load, its figures, and the last error.
+struct Viewed {
+    drawn: Option<Drawn>,
+    /// Raised at every (re)load, good or bad, so the page knows to redraw.
+    version: u64,
+    error: Option<String>,
+    figures: serde_json::Value,
+    /// The last section view asked for, cut once for all its frames.
+    cut: Option<(Section, Scene)>,
+}
+
+/// `octsolid view INPUT [--port N] [--bind ADDR] [--watch]`
+pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
+    let kind = FileKind::of(&a.input, FileKind::ALL)?;
+    let drawn = load(a, kind, budget)?;
+    let viewed = Arc::new(Mutex::new(Viewed {
+        figures: figures(&drawn),
+        drawn: Some(drawn),
+        version: 1,
+        error: None,
+        cut: None,
+    }));
+    let server = Server::http((a.bind, a.port.unwrap_or(0)))
+        .map_err(|e| anyhow!("cannot listen on {}:{}: {e}", a.bind, a.port.unwrap_or(0)))?;
+    let address = server.server_addr().to_ip().context("the server has no IP address")?;
+    if !a.bind.is_loopback() {
+        warn!("listening on {}: other machines can reach this viewer", a.bind);
+    }
+    out!("viewing {} at http://{address}/ (Ctrl-C stops)", a.input.display());
+    if a.watch {
+        let (viewed, input, up, depth) = (Arc::clone(&viewed), a.input.clone(), a.up, a.depth);
+        std::thread::spawn(move || watch(&viewed, &input, kind, depth, up, budget));
+    }
+    for request in server.incoming_requests() {
+        let reply = answer(&viewed, &a.input, &request);
+        let (status, kind, body) = match reply {
+            Ok(reply) => reply,
+            Err(Refusal(status, reason)) => (status, "text/plain; charset=utf-8", reason.into_bytes()),
+        };
+        let response = Response::from_data(body)
+            .with_status_code(status)
+            .with_header(header("Content-Type", kind))
+            .with_header(header("Cache-Control", "no-store"));
+        // A client that went away is no concern of the server's.
+        let _ = request.respond(response);
+    }
+    Ok(())
+}
+
+fn load(a: &ViewArgs, kind: FileKind, budget: MemoryBudget) -> Result<Drawn> {
+    Drawn::load(&a.input, kind, a.depth, a.up, cached(budget), &mut Stages::new())
+}
+
+/// A scene's solids through its cache, as `render` loads them: a reload under
+/// `--watch` voxelizes only the solids whose inputs changed.
+fn cached(budget: MemoryBudget) -> LoadOptions {
+    LoadOptions { budget, cache: CachePolicy::ReadWrite }
+}
+
+fn header(name: &str, value: &str) -> Header {
+    Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("a valid header")
+}
+
+/// A request refused: its status and why.
+struct Refusal(u16, String);
+
+type Reply = std::result::Result<(u16, &'static str, Vec<u8>), Refusal>;
+
+fn answer(viewed: &Mutex<Viewed>, input: &Path, request: &Request) -> Reply {
+    if *request.method() != Method::Get {
+        return Err(Refusal(405, "only GET is served\n".into()));
+    }
+    let url = request.url();
+    let (path, query) = url.split_once('?').unwrap_or((url, ""));
+    let mut viewed = viewed.lock().unwrap_or_else(PoisonError::into_inner);
+    match path {
+        "/" => Ok((200, "text/html; charset=utf-8", PAGE.as_bytes().to_vec())),
+        "/state" => {
+            let state = serde_json::json!({
+                "version": viewed.version,
+                "error": viewed.error,
+                "input": input.display().to_string(),
+                "solids": viewed.figures,
+            });
+            Ok((200, "application/json", state.to_string().into_bytes()))
+        }
+        "/frame" | "/camera" => {
+            let args = frame_args(input, query).map_err(|e| Refusal(400, format!("{e}\n")))?;
+            let viewed = &mut *viewed;
+            let drawn = viewed.drawn.as_ref().ok_or_else(|| Refusal(503, "nothing loaded\n".into()))?;
+            let scene = match args.section {
+                None => &drawn.scene,
+                Some(section) => {
+                    if viewed.cut.as_ref().is_none_or(|(s, _)| *s != section) {
+                        viewed.cut = Some((section, drawn.scene_for(Some(section)).into_owned()));
+                    }
+                    &viewed.cut.as_ref().expect("just cut").1
+                }
+            };
+            let camera = drawn.camera(&args).map_err(|e| Refusal(400, format!("{e}\n")))?;
+            if path == "/camera" {
+                return Ok((200, "application/json", camera_json(&camera).to_string().into_bytes()));
+            }
+            let options = drawn.options(&args, MemoryBudget::default());
+            let (img, _) = octsolid::render::render(scene, &camera, &options, &NoProgress)
+                .map_err(|e| Refusal(400, format!("cannot render: {e}\n")))?;
+            let bytes = png::encode(&img).map_err(|e| Refusal(500, format!("{e}\n")))?;
+            Ok((200, "image/png", bytes))
+        }
+        _ => Err(Refusal(404, "not found\n".into())),
+    }
+}
+
+/// `render`'s flags for a frame query, parsed by `render`'s parser and bounded.
+#[derive(Parser, Debug)]
+#[command(no_binary_name = true)]
+struct Frame {
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// The query keys a frame takes: those with values, and the switches (`KEY=1`).
+const VALUED: &[&str] =
+    &["eye", "target", "up", "fov", "size", "method", "spp", "normals", "view", "zoom", "aa", "max-depth", "section"];
+const SWITCHES: &[&str] = &["no-shadows", "ortho"];
+
+fn frame_args(input: &Path, query: &str) -> Result<RenderArgs> {
+    if query.len() > MAX_QUERY {
+        anyhow::bail!("the query is longer than {MAX_QUERY} bytes");
+    }
+    let mut argv: Vec<String> = vec![input.display().to_string()];
+    for pair in query.split('&').filter(|p| !p.is_empty()) {
+        let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
+        if !value.bytes().all(|b| b.is_ascii_alphanumeric() || b".,-+_".contains(&b)) {
+            anyhow::bail!("{key}: '{value}' has characters no value needs");
+        }
+        if VALUED.contains(&key) {
+            argv.push(format!("--{key}={value}"));
+        } else if SWITCHES.contains(&key) {
+            if value != "0" {
+                argv.push(format!("--{key}"));
+            }
+        } else {
+            anyhow::bail!("unknown key '{key}'");
+        }
+    }
+    let args = Frame::try_parse_from(&argv).map_err(|e| {
+        // clap's message without its pointer to --help.
+        let text = e.render().to_string();
+        anyhow!("{}", text.split("\n\n").next().unwrap_or_default().trim_start_matches("error: "))
+    })?;
+    let args = args.render;
+    if let Some([w, h]) = args.size.filter(|&[w, h]| w > MAX_SIDE || h > MAX_SIDE) {
+        anyhow::bail!("size {w}x{h}: at most {MAX_SIDE} pixels a side");
+    }
+    if let Some(spp) = args.spp.filter(|&n| n > MAX_SPP) {
+        anyhow::bail!("spp {spp}: at most {MAX_SPP}");
+    }
+    for p in [args.eye, args.target].into_iter().flatten() {
+        if p.iter().any(|c| c.abs() > MAX_COORDINATE) {
+            anyhow::bail!("{p:?}: coordinates within {MAX_COORDINATE:e}");
+        }
+    }
+    if let Some(zoom) = args.zoom.filter(|z| !(1e-6..=1e6).contains(z)) {
+        anyhow::bail!("zoom {zoom:e}: between 1e-6 and 1e6");
+    }
+    Ok(args)
+}
+
+fn camera_json(c: &Camera) -> serde_json::Value {
+    let (fov, ortho_height) = match c.projection {
+        Projection::Perspective { fov_y } => (Some(fov_y), None),
+        Projection::Orthographic { height } => (None, Some(height)),
+    };
+    serde_json::json!({
+        "eye": c.eye.to_array(), "target": c.target.to_array(), "up": c.up.to_array(),
+        "fov": fov, "ortho_height": ortho_height,
+    })
+}
+
+/// The panel's figures of each solid: nodes, voxels, volume, bounds, depth.
+fn figures(drawn: &Drawn) -> serde_json::Value {
+    drawn
+        .scene
+        .solids
+        .iter()
+        .map(|s| {
+            let bounds = s.tree.bounds().map(|b| [b.min.to_array(), b.max.to_array()]);
+            serde_json::json!({
+                "name": s.name, "nodes": s.tree.node_count(), "voxels": s.tree.voxel_count(),
+                "volume": s.tree.volume(), "bounds": bounds, "depth": s.tree.domain().depth(),
+            })
+        })
+        .collect()
+}
+
+/// Reloads when a watched file's modification time changes: the input, and for a
+/// scene every file in its folder (the meshes and solids it names usually live there).
+fn watch(
+    viewed: &Mutex<Viewed>,
+    input: &Path,
+    kind: FileKind,
+    depth: Option<u8>,
+    up: Option<Up>,
+    budget: MemoryBudget,
+) {
+    let watched = || -> Vec<(PathBuf, Option<SystemTime>)> {
+        let mut files = vec![input.to_path_buf()];
+        if kind == FileKind::Scene {
+            let folder = input.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            if let Ok(entries) = std::fs::read_dir(folder) {
+                files.extend(entries.filter_map(|e| Some(e.ok()?.path())).filter(|p| p.is_file()));
+            }
+        }
+        files.sort();
+        files.into_iter().map(|f| (f.clone(), std::fs::metadata(&f).and_then(|m| m.modified()).ok())).collect()
+    };
+    let mut seen = watched();
+    loop {
+        std::thread::sleep(Duration::from_millis(250));
+        let now = watched();
+        if now == seen {
+            continue;
+        }
+        seen = now;
+        let loaded = Drawn::load(input, kind, depth, up, cached(budget), &mut Stages::new());
+        let mut v = viewed.lock().unwrap_or_else(PoisonError::into_inner);
+        v.version += 1;
+        match loaded {
+            Ok(drawn) => {
+                v.figures = figures(&drawn);
+                v.drawn = Some(drawn);
+                v.cut = None;
+                v.error = None;
+                out!("reloaded {}", input.display());
+            }
+            Err(e) => {
+                let message = format!("{e:#}");
+                warn!("{message} (showing the last good load)");
+                v.error = Some(message);
+            }
+        }
+    }
+}

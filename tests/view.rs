@@ -1,0 +1,210 @@
+//! `octsolid view`: the server's frames against `octsolid render`'s files for the same
+//! flags, byte for byte; bad requests refused with 4xx while the server goes on; live
+//! reload under `--watch`, a scene with an error keeping the last good picture.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, ChildStdout, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A scratch folder of its own, removed when dropped.
+struct Scratch(std::path::PathBuf);
+
+impl Scratch {
+    fn new() -> Scratch {
+        static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("octsolid-view-{}-{n}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        Scratch(dir)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// A running `octsolid view`, killed when dropped.
+struct Viewer {
+    child: Child,
+    address: String,
+    _stdout: BufReader<ChildStdout>,
+}
+
+impl Drop for Viewer {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn octsolid(dir: &Path, args: &[&str]) -> std::process::Output {
+    let out = Command::new(env!("CARGO_BIN_EXE_octsolid")).current_dir(dir).args(args).output().unwrap();
+    assert!(out.status.success(), "octsolid {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    out
+}
+
+/// Starts `octsolid view ARGS` and reads the address it prints.
+fn view(dir: &Path, args: &[&str]) -> Viewer {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_octsolid"))
+        .current_dir(dir)
+        .arg("view")
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    stdout.read_line(&mut line).unwrap();
+    let address = line.split("http://").nth(1).and_then(|s| s.split('/').next()).unwrap_or_default().to_string();
+    assert!(address.starts_with("127.0.0.1:"), "binds the loopback address by default: {line}");
+    Viewer { child, address, _stdout: stdout }
+}
+
+/// One HTTP request: the status and the body.
+fn request(address: &str, method: &str, target: &str) -> (u16, Vec<u8>) {
+    let mut stream = TcpStream::connect(address).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(120))).unwrap();
+    write!(stream, "{method} {target} HTTP/1.0\r\nHost: {address}\r\n\r\n").unwrap();
+    let mut response = Vec::new();
+    stream.read_to_end(&mut response).unwrap();
+    let split = response.windows(4).position(|w| w == b"\r\n\r\n").expect("a header") + 4;
+    let head = String::from_utf8_lossy(&response[..split]).to_string();
+    let status = head.split(' ').nth(1).unwrap().parse().unwrap();
+    (status, response[split..].to_vec())
+}
+
+fn get(address: &str, target: &str) -> (u16, Vec<u8>) {
+    request(address, "GET", target)
+}
+
+#[test]
+fn frames_are_the_files_render_writes() {
+    let dir = Scratch::new();
+    let d = dir.0.as_path();
+    octsolid(d, &["shape", "torus", "--depth", "6", "-o", "ring.oct"]);
+    let viewer = view(d, &["ring.oct"]);
+    let (status, page) = get(&viewer.address, "/");
+    assert_eq!(status, 200);
+    assert!(String::from_utf8_lossy(&page).contains("/frame?"), "the page asks for frames");
+    let cameras = [
+        "eye=3,-2,1.5&target=0,0,0&up=z&fov=30&size=96x64&spp=1",
+        "eye=0.5,-3,2&target=0.1,0,0&up=z&fov=40&size=80x80&spp=2&normals=axis&no-shadows=1",
+        "eye=-2,-2,2&target=0,0,0&up=z&fov=35&size=120x90&spp=1&method=front-to-back&ortho=1",
+        "view=top&size=64x48&spp=1",
+        "eye=2,3,2&target=0,0,0&up=z&fov=35&size=72x54&spp=1&section=y,0.1",
+        "eye=2,3,2&target=0,0,0&up=z&fov=35&size=72x54&spp=1&section=x,-0.2&method=front-to-back",
+    ];
+    for (i, query) in cameras.iter().enumerate() {
+        let (status, frame) = get(&viewer.address, &format!("/frame?{query}"));
+        assert_eq!(status, 200, "{query}: {}", String::from_utf8_lossy(&frame));
+        let mut args = vec!["render".to_string(), "ring.oct".into(), "-o".into(), format!("r{i}.png")];
+        for pair in query.split('&') {
+            let (key, value) = pair.split_once('=').unwrap();
+            args.push(if ["no-shadows", "ortho"].contains(&key) {
+                format!("--{key}")
+            } else {
+                format!("--{key}={value}")
+            });
+        }
+        octsolid(d, &args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(frame == std::fs::read(d.join(format!("r{i}.png"))).unwrap(), "{query}: the frame differs");
+    }
+    // A section view shows less of the solid than the whole (and is not the whole).
+    let whole = get(&viewer.address, "/frame?eye=2,3,2&target=0,0,0&up=z&fov=35&size=72x54&spp=1").1;
+    let cut = get(&viewer.address, "/frame?eye=2,3,2&target=0,0,0&up=z&fov=35&size=72x54&spp=1&section=y,0.1").1;
+    assert!(whole != cut, "the section changes the picture");
+    // The camera endpoint gives the camera of a named view, which renders the same.
+    let (status, camera) = get(&viewer.address, "/camera?view=front&size=64x48");
+    assert_eq!(status, 200);
+    let camera: serde_json::Value = serde_json::from_slice(&camera).unwrap();
+    assert!(camera["eye"][1].as_f64().unwrap() < 0.0, "front looks from -y: {camera}");
+}
+
+#[test]
+fn bad_requests_get_4xx_and_the_server_goes_on() {
+    let dir = Scratch::new();
+    let d = dir.0.as_path();
+    octsolid(d, &["shape", "sphere", "--depth", "5", "-o", "ball.oct"]);
+    let viewer = view(d, &["ball.oct"]);
+    let a = &viewer.address;
+    let long = format!("/frame?eye={}", "1".repeat(3000));
+    let refused = [
+        ("GET", "/ball.oct"),
+        ("GET", "/../ball.oct"),
+        ("GET", "/%2e%2e/ball.oct"),
+        ("GET", "/frame?eye=nan,1,1"),
+        ("GET", "/frame?eye=1,2"),
+        ("GET", "/frame?fov=400"),
+        ("GET", "/frame?zoom=1e300"),
+        ("GET", "/frame?eye=1e300,0,0"),
+        ("GET", "/frame?size=100000x10"),
+        ("GET", "/frame?spp=16"),
+        ("GET", "/frame?output=x.png"),
+        ("GET", "/frame?eye=1%2C2%2C3"),
+        ("GET", long.as_str()),
+        ("POST", "/frame"),
+    ];
+    for (method, target) in refused {
+        let (status, body) = request(a, method, target);
+        assert!((400..500).contains(&status), "{method} {}: {status} {}", &target[..target.len().min(40)], {
+            String::from_utf8_lossy(&body)
+        });
+    }
+    assert!(!d.join("x.png").exists(), "a request never writes a file");
+    let (status, body) = get(a, "/frame?eye=2,2,2&target=0,0,0&size=32x32&spp=1");
+    assert_eq!(status, 200, "{}", String::from_utf8_lossy(&body));
+    assert_eq!(&body[1..4], b"PNG");
+}
+
+/// Polls `/state` until its version passes `after`.
+fn wait_for_version(address: &str, after: u64) -> serde_json::Value {
+    let started = Instant::now();
+    loop {
+        let state: serde_json::Value = serde_json::from_slice(&get(address, "/state").1).unwrap();
+        if state["version"].as_u64().unwrap() > after {
+            return state;
+        }
+        assert!(started.elapsed() < Duration::from_secs(60), "no reload: {state}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn watch_reloads_and_keeps_the_last_good_picture_on_an_error() {
+    let dir = Scratch::new();
+    let d = dir.0.as_path();
+    let scene = |radius: &str| {
+        format!(
+            "[image]\nsize = [64, 48]\nsamples = 1\n\n[camera]\neye = [3, -2, 1.5]\ntarget = [0, 0, 0]\n\n\
+             [domain]\nmin = [-1, -1, -1]\nedge = 2\ndepth = 5\n\n\
+             [[solid]]\nname = \"ball\"\nshape = {{ sphere = {{ center = [0, 0, 0], radius = {radius} }} }}\n"
+        )
+    };
+    std::fs::write(d.join("s.toml"), scene("0.5")).unwrap();
+    let viewer = view(d, &["s.toml", "--watch"]);
+    let a = &viewer.address;
+    let state = wait_for_version(a, 0);
+    let (version, voxels) = (state["version"].as_u64().unwrap(), state["solids"][0]["voxels"].as_u64().unwrap());
+    let small = get(a, "/frame?spp=1").1;
+    // The file's time must move on for the watcher to see it.
+    std::thread::sleep(Duration::from_millis(1100));
+    std::fs::write(d.join("s.toml"), scene("0.9")).unwrap();
+    let state = wait_for_version(a, version);
+    assert!(state["error"].is_null(), "{state}");
+    assert!(state["solids"][0]["voxels"].as_u64().unwrap() > voxels, "the bigger ball is shown: {state}");
+    let large = get(a, "/frame?spp=1").1;
+    assert!(large != small, "the frame follows the file");
+    std::thread::sleep(Duration::from_millis(1100));
+    let broken = scene("\"big\"");
+    let line = 1 + broken.lines().position(|l| l.contains("big")).unwrap();
+    std::fs::write(d.join("s.toml"), &broken).unwrap();
+    let state = wait_for_version(a, state["version"].as_u64().unwrap());
+    let error = state["error"].as_str().expect("the error is shown");
+    assert!(error.contains(&format!("s.toml:{line}:")), "the error has its line and column: {error}");
+    assert!(get(a, "/frame?spp=1").1 == large, "the last good picture stays");
+}
