@@ -4,6 +4,8 @@
 #   independent reader of the .vdb files octsolid writes (tests/data/vdb_probe.py);
 # - libembree-dev (Embree 3), the system library the harness's `embree` feature links
 #   (tests/embree.rs, benches/embree.rs, `octsolid bench` with `--features embree`).
+# - chromium, the headless browser tests/view_browser.rs drives over the DevTools
+#   protocol (the viewer's page: orbit, section, screenshot).
 # Idempotent: installs only what is missing, and nothing when all is there. Needs root (apt).
 set -euo pipefail
 missing=()
@@ -12,6 +14,9 @@ if ! /usr/bin/python3 -c "import pyopenvdb, numpy" 2>/dev/null; then
 fi
 if ! dpkg-query -W -f='${Status}' libembree-dev 2>/dev/null | grep -q "install ok installed"; then
   missing+=(libembree-dev)
+fi
+if ! [ -x /usr/bin/chromium ]; then
+  missing+=(chromium)
 fi
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
