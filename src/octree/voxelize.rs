@@ -6,6 +6,14 @@
 //! not the volume. The walk itself (Morton order, the merge of eight full children,
 //! the parallel top levels, progress, the budget check) is the [`super::driver`]'s; a
 //! shape carries no state down the tree.
+//!
+//! A CSG tree ([`Shape::as_csg`]) is voxelized pruned instead ([`PrunedCsg`]): each
+//! node carries down the residual of the tree its parent's box left (the subtrees
+//! still undecided there, n-ary unions and intersections culled to the children
+//! whose bounds meet the box), reduces it for its own box, and decides its voxels by
+//! the residual. A node then costs what the few primitives near it cost, not the
+//! whole tree, and the voxels are the same (see [`PrunedCsg`] for why), so the keys
+//! are the same as the unpruned walk's.
 
 use super::domain::Domain;
 use super::driver::{Decision, Plan, VoxelizeOptions, Voxelizer};
@@ -13,7 +21,7 @@ use super::linear::LinearOctree;
 use super::node::NodeKey;
 use crate::error::Result;
 use crate::morton;
-use crate::shape::{Class, Shape};
+use crate::shape::{Class, PrunedCsg, Reduced, Residual, Shape};
 
 /// Estimated peak bytes to voxelize `shape` in `domain`: nodes near the surface,
 /// taken as twice the area of the shape's box (clipped to the domain) in voxel faces,
@@ -34,7 +42,14 @@ pub fn estimate_bytes(shape: &dyn Shape, domain: &Domain) -> u64 {
 /// Refuses (before any work) when [`estimate_bytes`] exceeds `options.budget`.
 pub fn voxelize(shape: &dyn Shape, domain: Domain, options: &VoxelizeOptions) -> Result<LinearOctree> {
     let plan = Plan::new("voxelizing", estimate_bytes(shape, &domain), domain, options)?;
-    Ok(plan.run(&ShapeVoxelizer { shape, domain }, ()).0)
+    match shape.as_csg() {
+        Some(tree) => {
+            let pruned = PrunedCsg::new(tree);
+            let root = pruned.root();
+            Ok(plan.run(&PrunedVoxelizer { pruned, domain }, root).0)
+        }
+        None => Ok(plan.run(&ShapeVoxelizer { shape, domain }, ()).0),
+    }
 }
 
 /// A shape's decisions: its classification of node boxes, voxels by their centre.
@@ -62,6 +77,33 @@ impl Voxelizer for ShapeVoxelizer<'_> {
             Class::Inside => Decision::Full,
             Class::Outside => Decision::Empty,
             Class::Boundary => Decision::Split([(); 8]),
+        }
+    }
+}
+
+/// A CSG tree's decisions: each node reduces the residual its parent handed down.
+struct PrunedVoxelizer {
+    pruned: PrunedCsg,
+    domain: Domain,
+}
+
+impl Voxelizer for PrunedVoxelizer {
+    type Node = Residual;
+    type Counters = ();
+
+    fn decide(&self, key: NodeKey, residual: Residual, _: &mut ()) -> Decision<Residual> {
+        let min = morton::decode(key.start());
+        // Step 1: a voxel is decided by its centre, by the residual of its parent's box.
+        if key.k() == 0 {
+            let inside = self.pruned.contains(&residual, self.domain.voxel_center(min));
+            return if inside { Decision::Full } else { Decision::Empty };
+        }
+        // Step 2: reduce the residual for the node's box; recurse where it is undecided.
+        match self.pruned.reduce(&residual, &self.domain.cube_box(min, 1 << key.k())) {
+            Reduced::Inside => Decision::Full,
+            Reduced::Outside => Decision::Empty,
+            Reduced::Same => Decision::Split(std::array::from_fn(|_| residual.clone())),
+            Reduced::Smaller(smaller) => Decision::Split(std::array::from_fn(|_| smaller.clone())),
         }
     }
 }
