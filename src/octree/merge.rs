@@ -1,0 +1,241 @@
+//! The k-way merge: one set operation over any number of linear octrees in one pass,
+//! in parallel over Morton ranges.
+//!
+//! A chain of binary merges re-reads the accumulated result once per operand (a plate
+//! minus 400 holes reads the plate 400 times); the k-way merge reads every operand
+//! once. It sweeps the run boundaries of all `k` operands in Morton order, keeping
+//! how many operands hold the current position (and whether the first does); between
+//! two boundaries membership is constant, and the segments where the operator holds
+//! are the result's runs, cut into the canonical node list by [`ranges::cut_runs`]:
+//!
+//! - union: in at least one operand; intersection: in all `k`;
+//! - difference: in the first and in none of the others (`a - b - c ...`);
+//! - symmetric difference: in an odd number (what the pairwise fold `a ^ b ^ c` gives).
+//!
+//! The next boundary comes from a binary heap of the operands' next boundaries,
+//! `O(log k)` a boundary; two operands take [`super::csg`]'s two-cursor sweep instead.
+//! Time `O(n log k + output)` for `n` input nodes.
+//!
+//! **Parallelism.** The Morton range `[0, 8^depth)` is cut into chunks at key starts of
+//! the largest operand (equal shares of its keys, several a thread), each chunk is
+//! swept and cut on its own (rayon), and the chunks' node lists are joined in order.
+//! A run of the result that crosses a chunk boundary comes out cut in two, which may
+//! not be canonical (two halves of a node), so at each join the maximal run across
+//! the boundary (the contiguous keys before and after it) is cut again. The canonical
+//! form of a voxel set is unique, so the result is bit-identical to the pairwise fold
+//! and to one sequential sweep, on any number of threads.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use rayon::prelude::*;
+
+use super::csg::{SetOp, sweep};
+use super::linear::LinearOctree;
+use super::node::NodeKey;
+use super::ranges::{self, Runs};
+use crate::error::{Error, Result};
+
+/// Input nodes below which a merge runs as one sweep (threads would cost more).
+const PARALLEL_MIN_NODES: usize = 1 << 15;
+
+/// Chunks a thread, so that uneven chunks still balance.
+const CHUNKS_PER_THREAD: usize = 8;
+
+impl LinearOctree {
+    /// `op` over all `operands` (see the module doc for what each operator keeps),
+    /// canonical; fails for no operands or operands over different domains or depths.
+    pub fn combine_all(operands: &[&LinearOctree], op: SetOp) -> Result<LinearOctree> {
+        let (first, rest) =
+            operands.split_first().ok_or_else(|| Error::invalid("operands", "a set operation needs a solid"))?;
+        for other in rest {
+            first.check_same_domain(other)?;
+        }
+        let domain = *first.domain();
+        if rest.is_empty() {
+            return Ok((*first).clone());
+        }
+        let keys: Vec<&[NodeKey]> = operands.iter().map(|t| t.keys()).collect();
+        let max_k = u32::from(domain.depth());
+        let chunks = chunk_bounds(&keys, domain.voxel_total());
+        let parts: Vec<Vec<NodeKey>> = chunks
+            .par_windows(2)
+            .map(|w| {
+                let (lo, hi) = (w[0], w[1]);
+                let clipped: Vec<&[NodeKey]> = keys.iter().map(|k| overlapping(k, lo, hi)).collect();
+                ranges::cut_runs(segments(&clipped, op, lo, hi), max_k)
+            })
+            .collect();
+        Ok(LinearOctree::from_canonical(domain, join(parts, max_k)))
+    }
+}
+
+/// Chunk boundaries `0 = b0 < b1 < ... = total`: equal shares of the largest operand's
+/// keys, one chunk when the inputs are small or there is one thread.
+fn chunk_bounds(keys: &[&[NodeKey]], total: u64) -> Vec<u64> {
+    let inputs: usize = keys.iter().map(|k| k.len()).sum();
+    let threads = rayon::current_num_threads();
+    let largest = keys.iter().max_by_key(|k| k.len()).expect("at least one operand");
+    let mut bounds = vec![0];
+    if inputs >= PARALLEL_MIN_NODES && threads > 1 {
+        let chunks = threads * CHUNKS_PER_THREAD;
+        bounds.extend((1..chunks).map(|c| largest[c * largest.len() / chunks].start()));
+        bounds.dedup();
+    }
+    if bounds.last() != Some(&total) {
+        bounds.push(total);
+    }
+    bounds
+}
+
+/// The keys of a sorted disjoint list that meet `[lo, hi)`.
+fn overlapping(keys: &[NodeKey], lo: u64, hi: u64) -> &[NodeKey] {
+    let from = keys.partition_point(|k| k.end() <= lo);
+    let to = keys.partition_point(|k| k.start() < hi);
+    &keys[from..to.max(from)]
+}
+
+/// The segments of `[lo, hi)` where `op` holds over the operands (keys meeting the range).
+fn segments<'a>(operands: &[&'a [NodeKey]], op: SetOp, lo: u64, hi: u64) -> Box<dyn Iterator<Item = (u64, u64)> + 'a> {
+    match operands {
+        [a, b] => Box::new(sweep(Runs::new(a), Runs::new(b), op, lo, hi)),
+        _ => Box::new(HeapSweep::new(operands, op, lo, hi)),
+    }
+}
+
+/// One operand's runs and where it stands in the sweep.
+struct Operand<'a> {
+    runs: Runs<'a>,
+    /// The current run (the one holding or after the sweep's position).
+    run: Option<(u64, u64)>,
+    inside: bool,
+}
+
+/// The k-way sweep over `[lo, hi)` with a heap of next boundaries.
+struct HeapSweep<'a> {
+    operands: Vec<Operand<'a>>,
+    /// `(next boundary, operand)`, smallest first.
+    heap: BinaryHeap<Reverse<(u64, usize)>>,
+    op: SetOp,
+    /// Operands holding the current position.
+    count: usize,
+    pos: u64,
+    hi: u64,
+}
+
+impl<'a> HeapSweep<'a> {
+    fn new(keys: &[&'a [NodeKey]], op: SetOp, lo: u64, hi: u64) -> Self {
+        let mut sweep =
+            HeapSweep { operands: Vec::with_capacity(keys.len()), heap: BinaryHeap::new(), op, count: 0, pos: lo, hi };
+        for (i, k) in keys.iter().enumerate() {
+            let mut runs = Runs::new(k);
+            let run = runs.next();
+            // A run that starts at or before `lo` holds it (the keys meet the range).
+            let inside = run.is_some_and(|(s, _)| s <= lo);
+            sweep.count += usize::from(inside);
+            sweep.operands.push(Operand { runs, run, inside });
+            sweep.schedule(i);
+        }
+        sweep
+    }
+
+    /// Pushes operand `i`'s next boundary: the end of its run when inside, else the
+    /// start of its run.
+    fn schedule(&mut self, i: usize) {
+        let o = &self.operands[i];
+        if let Some((s, e)) = o.run {
+            let next = if o.inside { e } else { s };
+            if next < self.hi {
+                self.heap.push(Reverse((next, i)));
+            }
+        }
+    }
+
+    /// Whether the operator holds with the current memberships.
+    fn holds(&self) -> bool {
+        let k = self.operands.len();
+        match self.op {
+            SetOp::Union => self.count > 0,
+            SetOp::Intersection => self.count == k,
+            SetOp::Difference => self.operands[0].inside && self.count == 1,
+            SetOp::SymmetricDifference => self.count % 2 == 1,
+        }
+    }
+}
+
+impl Iterator for HeapSweep<'_> {
+    type Item = (u64, u64);
+
+    fn next(&mut self) -> Option<(u64, u64)> {
+        while self.pos < self.hi {
+            // Step 1: membership is constant up to the next boundary.
+            let next = self.heap.peek().map_or(self.hi, |Reverse((b, _))| *b);
+            let segment = (self.pos, next);
+            let holds = self.holds();
+            self.pos = next;
+            // Step 2: operands whose boundary this is step in or out.
+            while let Some(&Reverse((b, i))) = self.heap.peek() {
+                if b != next {
+                    break;
+                }
+                self.heap.pop();
+                let o = &mut self.operands[i];
+                if o.inside {
+                    o.inside = false;
+                    self.count -= 1;
+                    o.run = o.runs.next();
+                } else {
+                    o.inside = true;
+                    self.count += 1;
+                }
+                self.schedule(i);
+            }
+            if holds && segment.0 < segment.1 {
+                return Some(segment);
+            }
+        }
+        None
+    }
+}
+
+/// The chunks' node lists in order, each maximal run across a join cut again.
+fn join(parts: Vec<Vec<NodeKey>>, max_k: u32) -> Vec<NodeKey> {
+    let mut out: Vec<NodeKey> = Vec::with_capacity(parts.iter().map(Vec::len).sum());
+    for part in parts {
+        let touching = matches!((out.last(), part.first()), (Some(l), Some(f)) if l.end() == f.start());
+        if !touching {
+            out.extend(part);
+            continue;
+        }
+        // The run ending at the join: contiguous keys back from the end of `out` ...
+        let mut from = out.len() - 1;
+        while from > 0 && out[from - 1].end() == out[from].start() {
+            from -= 1;
+        }
+        // ... and on into `part`.
+        let mut to = 0;
+        while to + 1 < part.len() && part[to].end() == part[to + 1].start() {
+            to += 1;
+        }
+        let (start, end) = (out[from].start(), part[to].end());
+        out.truncate(from);
+        ranges::cut_run(start, end, max_k, &mut out);
+        out.extend_from_slice(&part[to + 1..]);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_cut_at_a_join_is_cut_again() {
+        // [0, 64) at depth 2 cut in two chunks at 8: one node, not eight.
+        let mut left = Vec::new();
+        ranges::cut_run(0, 8, 2, &mut left);
+        let mut right = Vec::new();
+        ranges::cut_run(8, 64, 2, &mut right);
+        assert_eq!(join(vec![left, right], 2), vec![NodeKey::new(0, 2)]);
+    }
+}
