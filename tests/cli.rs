@@ -444,5 +444,5 @@ fn build_voxelizes_scene_solids_and_csg_merges_any_number_of_operands() {
     assert!(e.contains("three.toml") && e.contains("no solid is named 'd'") && e.contains("a, b, c"), "{e}");
     std::fs::write(dir.join("none.toml"), scene.replace("count = 3", "count = 0")).unwrap();
     let e = fails(&dir, &["build", "none.toml", "-o", "none.oct"]);
-    assert!(e.contains("none.toml") && e.contains("line 16") && e.contains("0 copies"), "{e}");
+    assert!(e.contains("none.toml") && e.contains("none.toml:16:") && e.contains("0 copies"), "{e}");
 }

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use octsolid::io::oct::Metadata;
 use octsolid::octree::VoxelizeOptions;
 use octsolid::scene_file::build_solid;
@@ -35,8 +35,8 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     let bar = Bar::new("voxelizing");
     let started = Instant::now();
     let options = VoxelizeOptions { budget, progress: &bar };
-    let tree = build_solid(&a.scene, a.solid.as_deref(), &options)
-        .with_context(|| format!("{}: cannot build", a.scene.display()))?;
+    // The library's errors name the scene file and the place in it.
+    let tree = build_solid(&a.scene, a.solid.as_deref(), &options)?;
     let what = a.solid.as_deref().map_or_else(|| "the shape solids".to_owned(), |n| format!("solid '{n}'"));
     out!("built {what} at depth {} in {:.1} ms", tree.depth(), started.elapsed().as_secs_f64() * 1e3);
     if tree.is_empty() {
