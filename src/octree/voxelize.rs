@@ -98,12 +98,19 @@ impl Voxelizer for PrunedVoxelizer {
             let inside = self.pruned.contains(&residual, self.domain.voxel_center(min));
             return if inside { Decision::Full } else { Decision::Empty };
         }
-        // Step 2: reduce the residual for the node's box; recurse where it is undecided.
-        match self.pruned.reduce(&residual, &self.domain.cube_box(min, 1 << key.k())) {
-            Reduced::Inside => Decision::Full,
-            Reduced::Outside => Decision::Empty,
-            Reduced::Same => Decision::Split(std::array::from_fn(|_| residual.clone())),
-            Reduced::Smaller(smaller) => Decision::Split(std::array::from_fn(|_| smaller.clone())),
+        // Step 2: reduce the residual for the node's box; recurse where it is undecided,
+        // deciding the voxels of a 2-voxel node at once.
+        let residual = match self.pruned.reduce(&residual, &self.domain.cube_box(min, 1 << key.k())) {
+            Reduced::Inside => return Decision::Full,
+            Reduced::Outside => return Decision::Empty,
+            Reduced::Same => residual,
+            Reduced::Smaller(smaller) => smaller,
+        };
+        if key.k() == 1 {
+            let voxel = |i: u64| morton::decode(key.start() + i);
+            let full = (0..8).filter(|&i| self.pruned.contains(&residual, self.domain.voxel_center(voxel(i))));
+            return Decision::Children(full.fold(0, |bits, i| bits | 1 << i));
         }
+        Decision::Split(std::array::from_fn(|_| residual.clone()))
     }
 }

@@ -115,7 +115,7 @@ pub use displaced::DisplacedSphere;
 pub use half_space::HalfSpace;
 pub use menger::Menger;
 pub use pattern::{linear_array, mirrored, polar_array};
-pub use pruned::{PrunedCsg, Reduced, Residual, ResidualNode};
+pub use pruned::{PrunedCsg, Reduced, Residual};
 pub use spec::{FileLeaves, ShapeSpec, TransformSpec};
 pub use sphere::{Ellipsoid, Sphere};
 pub use surface::Surface;

@@ -7,15 +7,18 @@
 //!   `step` defaulting to `360 / n` degrees (a bolt circle, gear teeth).
 //! - [`mirrored`]: the shape and its reflection in a plane, `p - 2 ((p - o) . n) n`.
 //!
-//! Copy 0 is the shape itself; copy `i > 0` is a [`super::Transformed`] of it, so a
-//! pattern is exactly the union of the same copies placed one by one, and a voxelizer
+//! Copy 0 is the shape itself; copy `i > 0` is a [`super::Transformed`] of it (a
+//! linear array's, a translation computed as `Transformed`'s translation does, to
+//! the same bits, without mapping eight corners), so a pattern is exactly the union
+//! of the same copies placed one by one, and a voxelizer
 //! that prunes CSG trees ([`super::PrunedCsg`]) culls copies by their bounds. Copies
 //! may overlap (the union is taken); at most [`MAX_COPIES`] a pattern.
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::bounds::finite;
-use super::{Axis, Csg, Transformed};
+use super::{Axis, Class, Csg, Shape, Surface, Transformed};
+use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
 /// The most copies one pattern makes.
@@ -28,8 +31,36 @@ pub fn linear_array(shape: impl Into<Csg>, count: [u32; 3], step: DVec3) -> Resu
     check_linear(count, step)?;
     let offsets = (0..count[2])
         .flat_map(move |k| (0..count[1]).flat_map(move |j| (0..count[0]).map(move |i| [i, j, k].map(f64::from))));
-    let maps = offsets.map(|[i, j, k]| DAffine3::from_translation(DVec3::new(i, j, k) * step));
-    copies(shape.into(), maps)
+    let shape = shape.into();
+    let mut offsets = offsets.map(|[i, j, k]| DVec3::new(i, j, k) * step);
+    debug_assert_eq!(offsets.next(), Some(DVec3::ZERO));
+    Ok(offsets.fold(shape.clone(), |union, offset| union | Csg::leaf(Translated { inner: shape.clone(), offset })))
+}
+
+/// A copy of a linear array: the shape moved by `offset`. The same arithmetic as a
+/// [`Transformed`] translation (`p - offset`, and a box's corners moved, whose bounds
+/// are the box moved), so the same bits, without the eight corners and their hull.
+struct Translated {
+    inner: Csg,
+    offset: DVec3,
+}
+
+impl Shape for Translated {
+    fn classify(&self, b: &Aabb) -> Class {
+        self.inner.classify(&Aabb { min: b.min - self.offset, max: b.max - self.offset })
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        self.inner.contains(p - self.offset)
+    }
+
+    fn bounds(&self) -> Option<Aabb> {
+        self.inner.bounds().map(|b| Aabb { min: b.min + self.offset, max: b.max + self.offset })
+    }
+
+    fn surface(&self, p: DVec3) -> Option<Surface> {
+        self.inner.surface(p - self.offset)
+    }
 }
 
 /// The union of `count` copies of `shape` turned by `i * step_degrees` (default

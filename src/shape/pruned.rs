@@ -43,22 +43,27 @@ use super::csg::{Csg, CsgNode};
 use super::{Class, Shape};
 use crate::aabb::Aabb;
 
-/// A reduced CSG tree (cheap to clone: shared).
-pub type Residual = Arc<ResidualNode>;
-
-/// A node of a residual tree; leaves index [`PrunedCsg`]'s leaf table.
-#[derive(Debug)]
-pub enum ResidualNode {
-    /// The leaf of this index.
-    Leaf(u32),
-    /// Points not in the child.
-    Not(Residual),
+/// A CSG tree reduced for a box; leaves index [`PrunedCsg`]'s leaf table. Cheap to
+/// clone: a leaf (or its complement, the commonest residual deep in the octree) is
+/// two words with no reference count, so the walk's threads share no counter for it;
+/// inner nodes are shared.
+#[derive(Clone, Debug)]
+pub enum Residual {
+    /// The leaf of this index, or its complement.
+    Leaf {
+        /// Index into the leaf table.
+        index: u32,
+        /// Whether the points are those not in the leaf.
+        complement: bool,
+    },
+    /// Points not in the child (not a leaf).
+    Not(Arc<Residual>),
     /// Points in any child (at least two).
-    Union(Vec<Residual>),
+    Union(Arc<[Residual]>),
     /// Points in every child (at least two).
-    Intersection(Vec<Residual>),
+    Intersection(Arc<[Residual]>),
     /// Points in an odd number of children (at least two).
-    Xor(Vec<Residual>),
+    Xor(Arc<[Residual]>),
 }
 
 /// What a residual becomes in a box.
@@ -98,7 +103,7 @@ impl PrunedCsg {
     /// Flattens `tree` (step 1 of the module doc).
     #[must_use]
     pub fn new(tree: &Csg) -> PrunedCsg {
-        let mut pruned = PrunedCsg { leaves: Vec::new(), root: Arc::new(ResidualNode::Leaf(0)) };
+        let mut pruned = PrunedCsg { leaves: Vec::new(), root: Residual::Leaf { index: 0, complement: false } };
         pruned.root = pruned.flatten(tree);
         pruned
     }
@@ -120,7 +125,7 @@ impl PrunedCsg {
             CsgNode::Leaf(shape) => {
                 let index = u32::try_from(self.leaves.len()).expect("fewer than 2^32 leaves");
                 self.leaves.push((shape.clone(), shape.bounds().map(widened)));
-                Arc::new(ResidualNode::Leaf(index))
+                Residual::Leaf { index, complement: false }
             }
             CsgNode::Union(a, b) => self.nary(Nary::Union, [a, b]),
             CsgNode::Intersection(a, b) => self.nary(Nary::Intersection, [a, b]),
@@ -131,7 +136,7 @@ impl PrunedCsg {
                 for part in [a, not_b] {
                     splice(Nary::Intersection, part, &mut parts);
                 }
-                Arc::new(ResidualNode::Intersection(parts))
+                Residual::Intersection(parts.into())
             }
             CsgNode::Complement(a) => not(self.flatten(a)),
         }
@@ -158,21 +163,21 @@ impl PrunedCsg {
     /// Step 2 of the module doc: `residual` reduced for the closed box `b`.
     #[must_use]
     pub fn reduce(&self, residual: &Residual, b: &Aabb) -> Reduced {
-        match &**residual {
-            ResidualNode::Leaf(i) => match self.classify_leaf(*i, b) {
-                Class::Inside => Reduced::Inside,
-                Class::Outside => Reduced::Outside,
-                Class::Boundary => Reduced::Same,
+        match residual {
+            Residual::Leaf { index, complement } => match (self.classify_leaf(*index, b), complement) {
+                (Class::Inside, false) | (Class::Outside, true) => Reduced::Inside,
+                (Class::Outside, false) | (Class::Inside, true) => Reduced::Outside,
+                (Class::Boundary, _) => Reduced::Same,
             },
-            ResidualNode::Not(a) => match self.reduce(a, b) {
+            Residual::Not(a) => match self.reduce(a, b) {
                 Reduced::Inside => Reduced::Outside,
                 Reduced::Outside => Reduced::Inside,
                 Reduced::Same => Reduced::Same,
                 Reduced::Smaller(r) => Reduced::Smaller(not(r)),
             },
-            ResidualNode::Union(parts) => self.reduce_nary(Nary::Union, parts, b),
-            ResidualNode::Intersection(parts) => self.reduce_nary(Nary::Intersection, parts, b),
-            ResidualNode::Xor(parts) => self.reduce_nary(Nary::Xor, parts, b),
+            Residual::Union(parts) => self.reduce_nary(Nary::Union, parts, b),
+            Residual::Intersection(parts) => self.reduce_nary(Nary::Intersection, parts, b),
+            Residual::Xor(parts) => self.reduce_nary(Nary::Xor, parts, b),
         }
     }
 
@@ -241,12 +246,12 @@ impl PrunedCsg {
     /// reduced for) is in the solid.
     #[must_use]
     pub fn contains(&self, residual: &Residual, p: DVec3) -> bool {
-        match &**residual {
-            ResidualNode::Leaf(i) => self.leaves[*i as usize].0.contains(p),
-            ResidualNode::Not(a) => !self.contains(a, p),
-            ResidualNode::Union(parts) => parts.iter().any(|r| self.contains(r, p)),
-            ResidualNode::Intersection(parts) => parts.iter().all(|r| self.contains(r, p)),
-            ResidualNode::Xor(parts) => parts.iter().fold(false, |odd, r| odd ^ self.contains(r, p)),
+        match residual {
+            Residual::Leaf { index, complement } => self.leaves[*index as usize].0.contains(p) != *complement,
+            Residual::Not(a) => !self.contains(a, p),
+            Residual::Union(parts) => parts.iter().any(|r| self.contains(r, p)),
+            Residual::Intersection(parts) => parts.iter().all(|r| self.contains(r, p)),
+            Residual::Xor(parts) => parts.iter().fold(false, |odd, r| odd ^ self.contains(r, p)),
         }
     }
 }
@@ -264,27 +269,28 @@ fn same_op(op: Nary, tree: &Csg) -> Option<(&Csg, &Csg)> {
 /// Appends `part` to the children of an `op` node, splicing in its children when it
 /// is an `op` node itself.
 fn splice(op: Nary, part: Residual, parts: &mut Vec<Residual>) {
-    match (op, &*part) {
-        (Nary::Union, ResidualNode::Union(inner))
-        | (Nary::Intersection, ResidualNode::Intersection(inner))
-        | (Nary::Xor, ResidualNode::Xor(inner)) => parts.extend(inner.iter().cloned()),
+    match (op, &part) {
+        (Nary::Union, Residual::Union(inner))
+        | (Nary::Intersection, Residual::Intersection(inner))
+        | (Nary::Xor, Residual::Xor(inner)) => parts.extend(inner.iter().cloned()),
         _ => parts.push(part),
     }
 }
 
 fn make(op: Nary, parts: Vec<Residual>) -> Residual {
-    Arc::new(match op {
-        Nary::Union => ResidualNode::Union(parts),
-        Nary::Intersection => ResidualNode::Intersection(parts),
-        Nary::Xor => ResidualNode::Xor(parts),
-    })
+    match op {
+        Nary::Union => Residual::Union(parts.into()),
+        Nary::Intersection => Residual::Intersection(parts.into()),
+        Nary::Xor => Residual::Xor(parts.into()),
+    }
 }
 
 /// `!a`, with `!!a = a`.
 fn not(a: Residual) -> Residual {
-    match &*a {
-        ResidualNode::Not(inner) => inner.clone(),
-        _ => Arc::new(ResidualNode::Not(a)),
+    match a {
+        Residual::Leaf { index, complement } => Residual::Leaf { index, complement: !complement },
+        Residual::Not(inner) => (*inner).clone(),
+        other => Residual::Not(Arc::new(other)),
     }
 }
 
@@ -310,12 +316,10 @@ mod tests {
     use crate::shape::{Axis, Cuboid, Cylinder, Sphere};
 
     fn leaves_of(r: &Residual) -> usize {
-        match &**r {
-            ResidualNode::Leaf(_) => 1,
-            ResidualNode::Not(a) => leaves_of(a),
-            ResidualNode::Union(p) | ResidualNode::Intersection(p) | ResidualNode::Xor(p) => {
-                p.iter().map(leaves_of).sum()
-            }
+        match r {
+            Residual::Leaf { .. } => 1,
+            Residual::Not(a) => leaves_of(a),
+            Residual::Union(p) | Residual::Intersection(p) | Residual::Xor(p) => p.iter().map(leaves_of).sum(),
         }
     }
 
@@ -331,12 +335,12 @@ mod tests {
         let pruned = PrunedCsg::new(&plate);
         assert_eq!(pruned.leaf_count(), 101);
         let root = pruned.root();
-        assert!(matches!(&*root, ResidualNode::Intersection(p) if p.len() == 101), "{root:?}");
+        assert!(matches!(&root, Residual::Intersection(p) if p.len() == 101), "{root:?}");
         // A box around one hole's wall, inside the plate: only that hole is left, negated.
         let b = Aabb::new(DVec3::new(7.5, 4.0, 4.0), DVec3::new(8.5, 6.0, 6.0));
         match pruned.reduce(&root, &b) {
             Reduced::Smaller(r) => {
-                assert!(matches!(&*r, ResidualNode::Not(_)), "{r:?}");
+                assert!(matches!(r, Residual::Leaf { complement: true, .. }), "{r:?}");
                 assert_eq!(leaves_of(&r), 1);
                 // The residual decides points of the box as the whole tree does.
                 for p in [DVec3::new(7.9, 5.0, 5.0), DVec3::new(8.1, 5.0, 5.0), DVec3::new(8.0, 4.1, 4.5)] {
@@ -366,7 +370,7 @@ mod tests {
         let edge = Aabb::new(DVec3::new(-1.6, -0.1, -0.1), DVec3::new(-1.4, 0.1, 0.1));
         match pruned.reduce(&pruned.root(), &edge) {
             Reduced::Smaller(r) => {
-                assert!(matches!(&*r, ResidualNode::Not(_)), "{r:?}");
+                assert!(matches!(r, Residual::Leaf { complement: true, .. }), "{r:?}");
                 for x in [-1.55, -1.45] {
                     let p = DVec3::new(x, 0.0, 0.0);
                     assert_eq!(pruned.contains(&r, p), tree.contains(p), "{p}");
