@@ -93,6 +93,42 @@ fn pruned_voxelization_is_the_unpruned_walk_on_random_trees() {
     assert!(solid > 30, "{solid} of 60");
 }
 
+/// A random tree of boxes and cylinders whose faces, axes and radii lie on the
+/// half-voxel lattice of the depth-6 domain over [-1, 1]^3: faces on voxel
+/// boundaries and through voxel centres, where rounding decides.
+fn lattice_tree(rng: &mut Rng, leaves: usize) -> Csg {
+    let snap = |x: f64| (x * 64.0).round() / 64.0;
+    let mut tree: Option<Csg> = None;
+    for _ in 0..leaves {
+        let c = rng.vec(-0.8, 0.8).map(snap);
+        let leaf: Csg = if rng.below(2) == 0 {
+            Cuboid::new(c, rng.vec(0.1, 0.9).map(snap)).unwrap().into()
+        } else {
+            let axis = [Axis::X, Axis::Y, Axis::Z][rng.below(3) as usize];
+            Cylinder::new(c, axis, snap(rng.range(0.1, 0.5)), snap(rng.range(0.2, 1.2))).unwrap().into()
+        };
+        tree = Some(match (tree, rng.below(3)) {
+            (None, _) => leaf,
+            (Some(t), 0) => t | leaf,
+            (Some(t), 1) => t - leaf,
+            (Some(t), _) => t & !leaf,
+        });
+    }
+    tree.expect("at least one leaf")
+}
+
+#[test]
+fn pruned_voxelization_is_the_unpruned_walk_with_faces_on_the_lattice() {
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+    let mut rng = Rng(0x1a77_1ce5);
+    for case in 0..40 {
+        let leaves = 1 + rng.below(24) as usize;
+        let tree = lattice_tree(&mut rng, leaves);
+        let unpruned = voxelize(&opaque(&tree), domain, &options()).unwrap();
+        assert_eq!(voxelize(&tree, domain, &options()).unwrap(), unpruned, "case {case}: {tree:?}");
+    }
+}
+
 #[test]
 fn pruned_voxelization_matches_a_dense_grid_and_any_thread_count() {
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 5).unwrap();

@@ -14,11 +14,20 @@
 //! the residual. A node then costs what the few primitives near it cost, not the
 //! whole tree, and the voxels are the same (see [`PrunedCsg`] for why), so the keys
 //! are the same as the unpruned walk's.
+//!
+//! Departure: the pruned walk classifies the box of a node's voxel *centres*, half a
+//! voxel inside its cube, not the cube. Voxels are decided by their centres, so a
+//! class for that box decides the node's voxels exactly as well (the soundness
+//! contract covers any box), and a face lying on voxel boundaries (a plate whose
+//! faces are on the lattice) is then half a voxel from every box, decided at the
+//! coarsest level that fits, instead of a sliver of `Boundary` down to the voxels on
+//! each side of it.
 
 use super::domain::Domain;
 use super::driver::{Decision, Plan, VoxelizeOptions, Voxelizer};
 use super::linear::LinearOctree;
 use super::node::NodeKey;
+use crate::aabb::Aabb;
 use crate::error::Result;
 use crate::morton;
 use crate::shape::{Class, PrunedCsg, Reduced, Residual, Shape};
@@ -98,18 +107,26 @@ impl Voxelizer for PrunedVoxelizer {
             let inside = self.pruned.contains(&residual, self.domain.voxel_center(min));
             return if inside { Decision::Full } else { Decision::Empty };
         }
-        // Step 2: reduce the residual for the node's box; recurse where it is undecided,
-        // deciding the voxels of a 2-voxel node at once.
-        let residual = match self.pruned.reduce(&residual, &self.domain.cube_box(min, 1 << key.k())) {
+        // Step 2: reduce the residual for the box of the node's voxel centres (its first
+        // and last centre, computed as the voxels' own: the lattice is monotone, so it
+        // holds every centre); recurse where it is undecided, deciding the voxels of a
+        // 2-voxel node at once.
+        let last = min.map(|c| c + (1 << key.k()) - 1);
+        let centres = Aabb { min: self.domain.voxel_center(min), max: self.domain.voxel_center(last) };
+        let residual = match self.pruned.reduce(&residual, &centres) {
             Reduced::Inside => return Decision::Full,
             Reduced::Outside => return Decision::Empty,
             Reduced::Same => residual,
             Reduced::Smaller(smaller) => smaller,
         };
         if key.k() == 1 {
-            let voxel = |i: u64| morton::decode(key.start() + i);
-            let full = (0..8).filter(|&i| self.pruned.contains(&residual, self.domain.voxel_center(voxel(i))));
-            return Decision::Children(full.fold(0, |bits, i| bits | 1 << i));
+            // Child i of a node lies at its corner plus bits (0, 1, 2) of i (Morton order).
+            let mut full = 0u8;
+            for i in 0..8u32 {
+                let voxel = [min[0] + (i & 1), min[1] + (i >> 1 & 1), min[2] + (i >> 2)];
+                full |= u8::from(self.pruned.contains(&residual, self.domain.voxel_center(voxel))) << i;
+            }
+            return Decision::Children(full);
         }
         Decision::Split(std::array::from_fn(|_| residual.clone()))
     }
