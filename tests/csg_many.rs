@@ -166,12 +166,21 @@ fn k_way_merge_is_the_pairwise_fold_for_every_operator() {
             merged.validate().unwrap();
             assert_eq!(merged, pairwise(&refs, op), "case {case}: {op:?} of {k}");
         }
-        // Dense oracle of the symmetric difference: voxels in an odd number of operands.
-        let odd = (0..domain.voxel_total())
-            .map(morton::decode)
-            .filter(|&v| trees.iter().filter(|t| t.contains_voxel(v)).count() % 2 == 1);
-        let want = LinearOctree::from_voxels(domain, odd).unwrap();
-        assert_eq!(LinearOctree::combine_all(&refs, SetOp::SymmetricDifference).unwrap(), want, "case {case}");
+        // Dense oracle: each voxel by how many operands hold it (and whether the first does).
+        for op in [SetOp::Union, SetOp::Intersection, SetOp::Difference, SetOp::SymmetricDifference] {
+            let holds = |v: [u32; 3]| {
+                let count = trees.iter().filter(|t| t.contains_voxel(v)).count();
+                match op {
+                    SetOp::Union => count > 0,
+                    SetOp::Intersection => count == k,
+                    SetOp::Difference => trees[0].contains_voxel(v) && count == 1,
+                    SetOp::SymmetricDifference => count % 2 == 1,
+                }
+            };
+            let want =
+                LinearOctree::from_voxels(domain, (0..domain.voxel_total()).map(morton::decode).filter(|&v| holds(v)));
+            assert_eq!(LinearOctree::combine_all(&refs, op).unwrap(), want.unwrap(), "case {case}: {op:?} of {k}");
+        }
     }
     assert!(LinearOctree::combine_all(&[], SetOp::Union).is_err());
     let other = LinearOctree::empty(Domain::new(DVec3::ZERO, 1.0, 4).unwrap());

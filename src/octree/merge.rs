@@ -13,8 +13,11 @@
 //! - symmetric difference: in an odd number (what the pairwise fold `a ^ b ^ c` gives).
 //!
 //! The next boundary comes from a binary heap of the operands' next boundaries,
-//! `O(log k)` a boundary; two operands take [`super::csg`]'s two-cursor sweep instead.
-//! Time `O(n log k + output)` for `n` input nodes.
+//! `O(log k)` a boundary. Two operands take the textbook interval merges instead: a
+//! union is the runs of both merged by start (overlaps joined by the cut), an
+//! intersection the overlaps of two pointers, a difference each run with the other's
+//! runs cut out; a symmetric difference [`super::csg`]'s two-cursor sweep. Time
+//! `O(n log k + output)` for `n` input nodes.
 //!
 //! **Parallelism.** The Morton range `[0, 8^depth)` is cut into chunks at key starts of
 //! the largest operand (equal shares of its keys, several a thread), each chunk is
@@ -63,7 +66,7 @@ impl LinearOctree {
             .map(|w| {
                 let (lo, hi) = (w[0], w[1]);
                 let clipped: Vec<&[NodeKey]> = keys.iter().map(|k| overlapping(k, lo, hi)).collect();
-                ranges::cut_runs(segments(&clipped, op, lo, hi), max_k)
+                cut_chunk(&clipped, op, lo, hi, max_k)
             })
             .collect();
         Ok(LinearOctree::from_canonical(domain, join(parts, max_k)))
@@ -95,11 +98,120 @@ fn overlapping(keys: &[NodeKey], lo: u64, hi: u64) -> &[NodeKey] {
     &keys[from..to.max(from)]
 }
 
-/// The segments of `[lo, hi)` where `op` holds over the operands (keys meeting the range).
-fn segments<'a>(operands: &[&'a [NodeKey]], op: SetOp, lo: u64, hi: u64) -> Box<dyn Iterator<Item = (u64, u64)> + 'a> {
-    match operands {
-        [a, b] => Box::new(sweep(Runs::new(a), Runs::new(b), op, lo, hi)),
-        _ => Box::new(HeapSweep::new(operands, op, lo, hi)),
+/// The canonical keys of `op` over the operands (keys meeting `[lo, hi)`) in `[lo, hi)`.
+fn cut_chunk(operands: &[&[NodeKey]], op: SetOp, lo: u64, hi: u64, max_k: u32) -> Vec<NodeKey> {
+    let clipped = |keys| Runs::new(keys).map(move |(s, e): (u64, u64)| (s.max(lo), e.min(hi)));
+    match (operands, op) {
+        ([a, b], SetOp::Union) => ranges::cut_runs(UnionRuns::new(clipped(a), clipped(b)), max_k),
+        ([a, b], SetOp::Intersection) => ranges::cut_runs(IntersectionRuns::new(clipped(a), clipped(b)), max_k),
+        ([a, b], SetOp::Difference) => ranges::cut_runs(DifferenceRuns::new(clipped(a), clipped(b)), max_k),
+        ([a, b], SetOp::SymmetricDifference) => ranges::cut_runs(sweep(Runs::new(a), Runs::new(b), op, lo, hi), max_k),
+        _ => ranges::cut_runs(HeapSweep::new(operands, op, lo, hi), max_k),
+    }
+}
+
+/// Two sorted run lists merged by start: their union, as runs that may overlap or
+/// touch ([`ranges::cut_runs`] joins them).
+struct UnionRuns<A: Iterator, B: Iterator> {
+    a: std::iter::Peekable<A>,
+    b: std::iter::Peekable<B>,
+}
+
+impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> UnionRuns<A, B> {
+    fn new(a: A, b: B) -> Self {
+        UnionRuns { a: a.peekable(), b: b.peekable() }
+    }
+}
+
+impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> Iterator for UnionRuns<A, B> {
+    type Item = (u64, u64);
+
+    #[inline]
+    fn next(&mut self) -> Option<(u64, u64)> {
+        match (self.a.peek(), self.b.peek()) {
+            (Some(x), Some(y)) if y.0 < x.0 => self.b.next(),
+            (Some(_), _) => self.a.next(),
+            (None, _) => self.b.next(),
+        }
+    }
+}
+
+/// The overlaps of two sorted run lists: the later start to the earlier end, then
+/// the run that ends first is done.
+struct IntersectionRuns<A, B> {
+    a: A,
+    b: B,
+    x: Option<(u64, u64)>,
+    y: Option<(u64, u64)>,
+}
+
+impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> IntersectionRuns<A, B> {
+    fn new(mut a: A, mut b: B) -> Self {
+        let (x, y) = (a.next(), b.next());
+        IntersectionRuns { a, b, x, y }
+    }
+}
+
+impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> Iterator for IntersectionRuns<A, B> {
+    type Item = (u64, u64);
+
+    #[inline]
+    fn next(&mut self) -> Option<(u64, u64)> {
+        while let (Some(x), Some(y)) = (self.x, self.y) {
+            let overlap = (x.0.max(y.0), x.1.min(y.1));
+            if x.1 <= y.1 {
+                self.x = self.a.next();
+            } else {
+                self.y = self.b.next();
+            }
+            if overlap.0 < overlap.1 {
+                return Some(overlap);
+            }
+        }
+        None
+    }
+}
+
+/// The runs of the first list with the second's cut out.
+struct DifferenceRuns<A, B> {
+    a: A,
+    b: B,
+    /// What is left of the first list's current run.
+    x: Option<(u64, u64)>,
+    y: Option<(u64, u64)>,
+}
+
+impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> DifferenceRuns<A, B> {
+    fn new(mut a: A, mut b: B) -> Self {
+        let (x, y) = (a.next(), b.next());
+        DifferenceRuns { a, b, x, y }
+    }
+}
+
+impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> Iterator for DifferenceRuns<A, B> {
+    type Item = (u64, u64);
+
+    #[inline]
+    fn next(&mut self) -> Option<(u64, u64)> {
+        while let Some((s, e)) = self.x {
+            match self.y {
+                // The cut ends before the run: the next cut.
+                Some((_, ce)) if ce <= s => self.y = self.b.next(),
+                // The cut starts within the run: the part before it, the rest after it.
+                Some((cs, ce)) if cs < e => {
+                    self.x = if ce < e { Some((ce, e)) } else { self.a.next() };
+                    if s < cs {
+                        return Some((s, cs));
+                    }
+                }
+                // No cut meets the run: all of it.
+                _ => {
+                    self.x = self.a.next();
+                    return Some((s, e));
+                }
+            }
+        }
+        None
     }
 }
 
