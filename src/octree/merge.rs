@@ -100,13 +100,19 @@ fn overlapping(keys: &[NodeKey], lo: u64, hi: u64) -> &[NodeKey] {
 
 /// The canonical keys of `op` over the operands (keys meeting `[lo, hi)`) in `[lo, hi)`.
 fn cut_chunk(operands: &[&[NodeKey]], op: SetOp, lo: u64, hi: u64, max_k: u32) -> Vec<NodeKey> {
+    // About as many nodes out as in: reserved once (pages are only touched as written).
+    let out = Vec::with_capacity(operands.iter().map(|k| k.len()).sum());
     let clipped = |keys| Runs::new(keys).map(move |(s, e): (u64, u64)| (s.max(lo), e.min(hi)));
     match (operands, op) {
-        ([a, b], SetOp::Union) => ranges::cut_runs(UnionRuns::new(clipped(a), clipped(b)), max_k),
-        ([a, b], SetOp::Intersection) => ranges::cut_runs(IntersectionRuns::new(clipped(a), clipped(b)), max_k),
-        ([a, b], SetOp::Difference) => ranges::cut_runs(DifferenceRuns::new(clipped(a), clipped(b)), max_k),
-        ([a, b], SetOp::SymmetricDifference) => ranges::cut_runs(sweep(Runs::new(a), Runs::new(b), op, lo, hi), max_k),
-        _ => ranges::cut_runs(HeapSweep::new(operands, op, lo, hi), max_k),
+        ([a, b], SetOp::Union) => ranges::cut_runs_into(UnionRuns::new(clipped(a), clipped(b)), max_k, out),
+        ([a, b], SetOp::Intersection) => {
+            ranges::cut_runs_into(IntersectionRuns::new(clipped(a), clipped(b)), max_k, out)
+        }
+        ([a, b], SetOp::Difference) => ranges::cut_runs_into(DifferenceRuns::new(clipped(a), clipped(b)), max_k, out),
+        ([a, b], SetOp::SymmetricDifference) => {
+            ranges::cut_runs_into(sweep(Runs::new(a), Runs::new(b), op, lo, hi), max_k, out)
+        }
+        _ => ranges::cut_runs_into(HeapSweep::new(operands, op, lo, hi), max_k, out),
     }
 }
 
@@ -312,7 +318,11 @@ impl Iterator for HeapSweep<'_> {
 
 /// The chunks' node lists in order, each maximal run across a join cut again.
 fn join(parts: Vec<Vec<NodeKey>>, max_k: u32) -> Vec<NodeKey> {
-    let mut out: Vec<NodeKey> = Vec::with_capacity(parts.iter().map(Vec::len).sum());
+    let total: usize = parts.iter().map(Vec::len).sum();
+    let mut parts = parts.into_iter();
+    // The first part is the start of the output: no copy.
+    let mut out = parts.next().unwrap_or_default();
+    out.reserve_exact(total - out.len());
     for part in parts {
         let touching = matches!((out.last(), part.first()), (Some(l), Some(f)) if l.end() == f.start());
         if !touching {
