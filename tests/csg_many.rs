@@ -20,9 +20,9 @@ fn options() -> VoxelizeOptions<'static> {
     VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress }
 }
 
-/// A CSG tree seen only as a shape, through the identity map (exact: `1 x + 0 y + 0 z
-/// + 0 = x`), so it has no [`Shape::as_csg`]: what the unpruned walk voxelizes,
-/// asking the whole tree at every node.
+/// A CSG tree seen only as a shape, through the identity map (exact: `x + 0 y + 0 z`
+/// is `x`), so it has no [`Shape::as_csg`]: what the unpruned walk voxelizes, asking
+/// the whole tree at every node.
 fn opaque(tree: &Csg) -> Transformed<Csg> {
     let opaque = Transformed::new(tree.clone(), DAffine3::IDENTITY).unwrap();
     assert!(opaque.as_csg().is_none() && tree.as_csg().is_some());

@@ -114,7 +114,7 @@ pub use cylinder::Cylinder;
 pub use displaced::DisplacedSphere;
 pub use half_space::HalfSpace;
 pub use menger::Menger;
-pub use pattern::{linear_array, mirrored, polar_array};
+pub use pattern::{MAX_COPIES, linear_array, mirrored, polar_array};
 pub use pruned::{PrunedCsg, Reduced, Residual};
 pub use spec::{FileLeaves, ShapeSpec, TransformSpec};
 pub use sphere::{Ellipsoid, Sphere};
