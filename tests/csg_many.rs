@@ -12,7 +12,8 @@ use octsolid::morton;
 use octsolid::octree::{Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
 use octsolid::prelude::ShapeExt;
 use octsolid::shape::{
-    Axis, Cone, Csg, Cuboid, Cylinder, Shape, Sphere, Torus, Transformed, linear_array, mirrored, polar_array,
+    Axis, Cone, Csg, Cuboid, Cylinder, Shape, ShapeSpec, Sphere, Torus, Transformed, linear_array, mirrored,
+    polar_array,
 };
 use octsolid::{MemoryBudget, NoProgress};
 
@@ -295,4 +296,40 @@ fn a_hole_grid_has_the_plate_minus_the_holes_volume_and_equals_the_octree_differ
     }
     let refs: Vec<&LinearOctree> = operands.iter().collect();
     assert_eq!(LinearOctree::combine_all(&refs, SetOp::Difference).unwrap(), got);
+}
+
+#[test]
+fn scene_pattern_nodes_build_the_library_patterns() {
+    #[derive(serde::Deserialize)]
+    struct Doc {
+        shape: ShapeSpec,
+    }
+    let read = |text: &str| toml::from_str::<Doc>(text).map(|d| d.shape);
+    let peg = "{ cylinder = { center = [-4, -4, 0], axis = \"z\", radius = 0.6, height = 2 } }";
+    let domain = Domain::new(DVec3::new(-6.0, -6.0, -6.0), 12.0, 6).unwrap();
+    let voxels = |tree: &Csg| voxelize(tree, domain, &options()).unwrap();
+    let peg_shape = || Cylinder::new(DVec3::new(-4.0, -4.0, 0.0), Axis::Z, 0.6, 2.0).unwrap();
+
+    let array = read(&format!("shape = {{ array = {{ shape = {peg}, count = [3, 4, 1], step = [3, 2.5, 0] }} }}"));
+    let want = linear_array(peg_shape(), [3, 4, 1], DVec3::new(3.0, 2.5, 0.0)).unwrap();
+    assert_eq!(voxels(&array.unwrap().build().unwrap()), voxels(&want));
+
+    let polar = read(&format!(
+        "shape = {{ polar = {{ shape = {peg}, count = 5, axis = \"z\", center = [1, 0, 0], step_degrees = 30 }} }}"
+    ));
+    let want = polar_array(peg_shape(), Axis::Z, DVec3::X, 5, Some(30.0)).unwrap();
+    assert_eq!(voxels(&polar.unwrap().build().unwrap()), voxels(&want));
+
+    let mirror = read(&format!("shape = {{ mirror = {{ shape = {peg}, normal = [1, 1, 0] }} }}"));
+    let want = mirrored(peg_shape(), DVec3::new(1.0, 1.0, 0.0), DVec3::ZERO).unwrap();
+    let got = voxels(&mirror.unwrap().build().unwrap());
+    assert_eq!(got, voxels(&want));
+    // The plane x + y = 0 maps the peg at (-4, -4) to (4, 4): two pegs, one each side.
+    assert!(got.contains_point(DVec3::new(-4.0, -4.0, 0.0)) && got.contains_point(DVec3::new(4.0, 4.0, 0.0)));
+
+    // Refused where they are read, with the constructor's reason.
+    let e = read(&format!("shape = {{ array = {{ shape = {peg}, count = [3, 0, 1], step = [1, 1, 1] }} }}"));
+    assert!(e.unwrap_err().to_string().contains("0 copies"));
+    let e = read(&format!("shape = {{ mirror = {{ shape = {peg}, normal = [0, 0, 0] }} }}"));
+    assert!(e.unwrap_err().to_string().contains("non-zero"));
 }

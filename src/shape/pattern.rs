@@ -22,7 +22,7 @@ use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
 /// The most copies one pattern makes.
-pub const MAX_COPIES: u64 = 1_000_000;
+pub const MAX_COPIES: u64 = 100_000;
 
 /// The union of the copies of `shape` at `(i step.x, j step.y, k step.z)` for
 /// `[i, j, k] < count`; fails for a count of zero, more than [`MAX_COPIES`] copies
@@ -153,7 +153,7 @@ mod tests {
     fn bad_counts_and_steps_are_refused() {
         let cube = || Cuboid::new(DVec3::ZERO, DVec3::ONE).unwrap();
         assert!(linear_array(cube(), [0, 1, 1], DVec3::ONE).unwrap_err().to_string().contains("0 copies"));
-        assert!(linear_array(cube(), [1000, 1000, 2], DVec3::ONE).is_err());
+        assert!(linear_array(cube(), [1000, 101, 1], DVec3::ONE).unwrap_err().to_string().contains("101000 copies"));
         assert!(linear_array(cube(), [2, 1, 1], DVec3::new(f64::NAN, 0.0, 0.0)).is_err());
         assert!(polar_array(cube(), Axis::X, DVec3::ZERO, 0, None).is_err());
         assert!(polar_array(cube(), Axis::X, DVec3::ZERO, 3, Some(f64::INFINITY)).is_err());
