@@ -34,6 +34,13 @@
 //! form being unique) the same keys, as the unpruned walk, while the classes of
 //! intermediate boxes may be more decided than [`Csg::classify`]'s (the bounds test),
 //! which only saves work.
+//!
+//! Departure: no bounds hierarchy over an n-ary node's children is built up front (a
+//! BVH would answer the first query in `O(log n)`); the descent's own culling costs
+//! `O(children meeting the parent's box)` a node, which is the same order after the
+//! top levels and needs no build. Limits: a leaf is whatever is not a [`Csg`], so a
+//! tree inside a [`super::Transformed`] (a rotated subtree, a scene solid's
+//! `transform`, a polar copy) is one leaf classified as a whole.
 
 use std::sync::Arc;
 
