@@ -40,7 +40,10 @@ def ensure_manifold():
 
 
 def json_lines(cmd):
-    out = subprocess.run(cmd, check=True, capture_output=True, text=True, cwd=ROOT).stdout
+    # The example writes example-output/ where it runs: under target/, not the checkout.
+    work = os.path.join(ROOT, "target", "plate-side-by-side")
+    os.makedirs(work, exist_ok=True)
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True, cwd=work).stdout
     return [json.loads(line) for line in out.splitlines() if line.startswith("{")]
 
 
