@@ -14,9 +14,12 @@
 //!
 //! The next boundary comes from a binary heap of the operands' next boundaries,
 //! `O(log k)` a boundary. Two operands take the textbook interval merges instead: a
-//! union is the runs of both merged by start (overlaps joined by the cut), an
-//! intersection the overlaps of two pointers, a difference each run with the other's
-//! runs cut out; a symmetric difference [`super::csg`]'s two-cursor sweep. Time
+//! union is the runs of both merged by start (overlapping or touching runs cut as one),
+//! an intersection the overlaps of two pointers, a difference each run with the
+//! other's runs cut out; a symmetric difference [`super::csg`]'s two-cursor sweep. A
+//! union's or difference's run that comes out as it went in (no run of the other
+//! operand meets it) is copied key for key instead of cut again: the greedy cut of a
+//! maximal run is the canonical list's own keys for it. Time
 //! `O(n log k + output)` for `n` input nodes.
 //!
 //! **Parallelism.** The Morton range `[0, 8^depth)` is cut into chunks at key starts of
@@ -104,41 +107,23 @@ fn cut_chunk(operands: &[&[NodeKey]], op: SetOp, lo: u64, hi: u64, max_k: u32) -
     let out = Vec::with_capacity(operands.iter().map(|k| k.len()).sum());
     let clipped = |keys| Runs::new(keys).map(move |(s, e): (u64, u64)| (s.max(lo), e.min(hi)));
     match (operands, op) {
-        ([a, b], SetOp::Union) => ranges::cut_runs_into(UnionRuns::new(clipped(a), clipped(b)), max_k, out),
+        ([a, b], SetOp::Union) => {
+            let mut out = out;
+            union_into(a, b, lo, hi, max_k, &mut out);
+            out
+        }
         ([a, b], SetOp::Intersection) => {
             ranges::cut_runs_into(IntersectionRuns::new(clipped(a), clipped(b)), max_k, out)
         }
-        ([a, b], SetOp::Difference) => ranges::cut_runs_into(DifferenceRuns::new(clipped(a), clipped(b)), max_k, out),
+        ([a, b], SetOp::Difference) => {
+            let mut out = out;
+            difference_into(a, b, lo, hi, max_k, &mut out);
+            out
+        }
         ([a, b], SetOp::SymmetricDifference) => {
             ranges::cut_runs_into(sweep(Runs::new(a), Runs::new(b), op, lo, hi), max_k, out)
         }
         _ => ranges::cut_runs_into(HeapSweep::new(operands, op, lo, hi), max_k, out),
-    }
-}
-
-/// Two sorted run lists merged by start: their union, as runs that may overlap or
-/// touch ([`ranges::cut_runs`] joins them).
-struct UnionRuns<A: Iterator, B: Iterator> {
-    a: std::iter::Peekable<A>,
-    b: std::iter::Peekable<B>,
-}
-
-impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> UnionRuns<A, B> {
-    fn new(a: A, b: B) -> Self {
-        UnionRuns { a: a.peekable(), b: b.peekable() }
-    }
-}
-
-impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> Iterator for UnionRuns<A, B> {
-    type Item = (u64, u64);
-
-    #[inline]
-    fn next(&mut self) -> Option<(u64, u64)> {
-        match (self.a.peek(), self.b.peek()) {
-            (Some(x), Some(y)) if y.0 < x.0 => self.b.next(),
-            (Some(_), _) => self.a.next(),
-            (None, _) => self.b.next(),
-        }
     }
 }
 
@@ -178,46 +163,101 @@ impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> Iterator fo
     }
 }
 
-/// The runs of the first list with the second's cut out.
-struct DifferenceRuns<A, B> {
-    a: A,
-    b: B,
-    /// What is left of the first list's current run.
-    x: Option<(u64, u64)>,
-    y: Option<(u64, u64)>,
+/// A maximal run of a canonical key list with the keys that make it, clipped to a
+/// chunk: `verbatim` when the clip left it whole, so that its keys are its greedy cut.
+#[derive(Clone, Copy)]
+struct KeyRun<'a> {
+    start: u64,
+    end: u64,
+    keys: &'a [NodeKey],
+    verbatim: bool,
 }
 
-impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> DifferenceRuns<A, B> {
-    fn new(mut a: A, mut b: B) -> Self {
-        let (x, y) = (a.next(), b.next());
-        DifferenceRuns { a, b, x, y }
+/// The maximal runs of a sorted disjoint key list, clipped to `[lo, hi)`.
+struct KeyRuns<'a> {
+    keys: &'a [NodeKey],
+    lo: u64,
+    hi: u64,
+}
+
+impl<'a> Iterator for KeyRuns<'a> {
+    type Item = KeyRun<'a>;
+
+    #[inline]
+    fn next(&mut self) -> Option<KeyRun<'a>> {
+        let first = self.keys.first()?;
+        let (start, mut end, mut n) = (first.start(), first.end(), 1);
+        while let Some(k) = self.keys.get(n).filter(|k| k.start() == end) {
+            end = k.end();
+            n += 1;
+        }
+        let (keys, rest) = self.keys.split_at(n);
+        self.keys = rest;
+        let verbatim = start >= self.lo && end <= self.hi;
+        Some(KeyRun { start: start.max(self.lo), end: end.min(self.hi), keys, verbatim })
     }
 }
 
-impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> Iterator for DifferenceRuns<A, B> {
-    type Item = (u64, u64);
-
-    #[inline]
-    fn next(&mut self) -> Option<(u64, u64)> {
-        while let Some((s, e)) = self.x {
-            match self.y {
-                // The cut ends before the run: the next cut.
-                Some((_, ce)) if ce <= s => self.y = self.b.next(),
-                // The cut starts within the run: the part before it, the rest after it.
-                Some((cs, ce)) if cs < e => {
-                    self.x = if ce < e { Some((ce, e)) } else { self.a.next() };
-                    if s < cs {
-                        return Some((s, cs));
-                    }
-                }
-                // No cut meets the run: all of it.
-                _ => {
-                    self.x = self.a.next();
-                    return Some((s, e));
-                }
-            }
+/// Appends the union of two canonical key lists (meeting `[lo, hi)`) in `[lo, hi)`: the
+/// runs by start, each group of overlapping or touching runs cut as one run, except a
+/// run that meets no other, whose keys are copied as they are (the greedy cut of a
+/// maximal run is the canonical list's own keys for it).
+fn union_into(a: &[NodeKey], b: &[NodeKey], lo: u64, hi: u64, max_k: u32, out: &mut Vec<NodeKey>) {
+    let mut a = KeyRuns { keys: a, lo, hi }.peekable();
+    let mut b = KeyRuns { keys: b, lo, hi }.peekable();
+    // The run that starts first of the two lists' next runs.
+    let mut earliest = move || match (a.peek(), b.peek()) {
+        (Some(x), Some(y)) if y.start < x.start => b.next(),
+        (Some(_), _) => a.next(),
+        (None, _) => b.next(),
+    };
+    let mut next = earliest();
+    while let Some(run) = next {
+        let (start, mut end, mut alone) = (run.start, run.end, true);
+        next = earliest();
+        while let Some(other) = next.filter(|o| o.start <= end) {
+            end = end.max(other.end);
+            alone = false;
+            next = earliest();
         }
-        None
+        if alone && run.verbatim {
+            out.extend_from_slice(run.keys);
+        } else {
+            ranges::cut_run(start, end, max_k, out);
+        }
+    }
+}
+
+/// Appends `a - b` of two canonical key lists (meeting `[lo, hi)`) in `[lo, hi)`: each
+/// run of `a` with `b`'s runs cut out, a run that no run of `b` overlaps copied as it is.
+fn difference_into(a: &[NodeKey], b: &[NodeKey], lo: u64, hi: u64, max_k: u32, out: &mut Vec<NodeKey>) {
+    let mut cuts = KeyRuns { keys: b, lo, hi }.peekable();
+    for run in (KeyRuns { keys: a, lo, hi }) {
+        let (mut pos, mut cut) = (run.start, false);
+        while let Some(c) = cuts.peek().copied() {
+            if c.end <= pos {
+                cuts.next();
+                continue;
+            }
+            if c.start >= run.end {
+                break;
+            }
+            // The cut overlaps what is left of the run: keep the part before it.
+            cut = true;
+            if pos < c.start {
+                ranges::cut_run(pos, c.start, max_k, out);
+            }
+            pos = c.end;
+            if c.end > run.end {
+                break; // It reaches into the next run too.
+            }
+            cuts.next();
+        }
+        if !cut && run.verbatim {
+            out.extend_from_slice(run.keys);
+        } else if pos < run.end {
+            ranges::cut_run(pos, run.end, max_k, out);
+        }
     }
 }
 
