@@ -359,18 +359,78 @@ pub fn load_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneF
 /// load into an error: an entry that cannot be used or written is a warning and the
 /// solid is built.
 pub fn load_scene_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<SceneFile> {
-    let path = path.as_ref();
+    read_scene(path.as_ref(), options.budget, options.cache, build)
+}
+
+/// Reads and checks the scene at `path` (its errors as [`load_scene`]'s) and voxelizes
+/// one solid without rendering: the `[[solid]]` named `solid`, else the union of the
+/// scene's `shape` solids (one CSG tree, voxelized in one pass into the shapes' shared
+/// domain, exactly the union of their octrees there). A named `mesh` or `oct` solid
+/// comes in its own domain, as [`load_scene`] makes it. Progress goes to
+/// `options.progress` and every voxelization is checked against `options.budget`.
+pub fn build_solid(path: impl AsRef<Path>, solid: Option<&str>, options: &VoxelizeOptions) -> Result<LinearOctree> {
+    read_scene(path.as_ref(), options.budget, CachePolicy::Off, |spec, cx| solid_octree(spec, cx, solid, options))
+}
+
+/// Reads the scene at `path` with the solid cache `cache`, checks its text, and hands
+/// the spec to `then`.
+fn read_scene<T>(
+    path: &Path,
+    budget: MemoryBudget,
+    cache: CachePolicy,
+    then: impl FnOnce(&SceneSpec, &Context) -> Result<T>,
+) -> Result<T> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let folder = path.parent().unwrap_or(Path::new("."));
-    let cache = RefCell::new(SceneCache::new(path, options.cache));
-    let cx = Context { path, text: &text, folder, budget: options.budget, cache };
+    let cache = RefCell::new(SceneCache::new(path, cache));
+    let cx = Context { path, text: &text, folder, budget, cache };
     let spec: SceneSpec = toml::from_str(&text).map_err(|e| cx.refused(&e))?;
     if let Some((span, key, literal)) = first_non_finite(&text) {
         let solid = solid_at(&text, span.start);
         let reason = format!("{key} = {literal} is not a finite number");
         return Err(cx.error(solid.as_deref(), Some(&span), Error::Toml { reason }));
     }
-    build(&spec, &cx)
+    then(&spec, &cx)
+}
+
+/// The solid [`build_solid`] makes from the parsed file.
+fn solid_octree(spec: &SceneSpec, cx: &Context, name: Option<&str>, options: &VoxelizeOptions) -> Result<LinearOctree> {
+    let whole = |e| cx.error(None, None, e);
+    let solids = solid_builds(spec, cx)?;
+    let shapes: Vec<Option<Csg>> = solids.iter().map(|s| Ok(s.shape()?.0)).collect::<Result<_>>()?;
+    let depth = spec.domain.as_ref().map_or(9, |d| d.get_ref().depth);
+    let domain = shape_domain(spec.domain.as_ref(), depth, &solids, &shapes, cx)?;
+    let Some(name) = name else {
+        let union = shapes.iter().flatten().cloned().reduce(|a, b| a | b);
+        let union =
+            union.ok_or_else(|| whole(Error::invalid("scene", "it has no shape solid; name the solid to build")))?;
+        return voxelize(&union, domain.expect("shapes have a domain"), options).map_err(whole);
+    };
+    let Some(i) = solids.iter().position(|s| s.name == name) else {
+        let names: Vec<&str> = solids.iter().map(|s| s.name.as_str()).collect();
+        let reason = format!("no solid is named '{name}' (its solids: {})", names.join(", "));
+        return Err(whole(Error::invalid("solid", reason)));
+    };
+    Ok(solids[i].octree(shapes[i].as_ref(), domain, depth, options)?.0)
+}
+
+/// The scene's solids to build, named (`solid N` when the file gives no name); fails
+/// when there is none.
+fn solid_builds<'a>(spec: &'a SceneSpec, cx: &'a Context) -> Result<Vec<SolidBuild<'a>>> {
+    if spec.solids.is_empty() {
+        return Err(cx.error(None, None, Error::invalid("scene", "it has no [[solid]]")));
+    }
+    Ok(spec
+        .solids
+        .iter()
+        .enumerate()
+        .map(|(i, s)| SolidBuild {
+            spec: s.get_ref(),
+            name: s.get_ref().name.clone().unwrap_or_else(|| format!("solid {}", i + 1)),
+            header: s.span(),
+            cx,
+        })
+        .collect())
 }
 
 /// The first float of the TOML `text` that is not finite (`nan`, `inf`, or a literal
@@ -463,20 +523,7 @@ impl Context<'_> {
 /// The scene, its camera and image settings from the parsed file.
 fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
     let whole = |e| cx.error(None, None, e);
-    if spec.solids.is_empty() {
-        return Err(whole(Error::invalid("scene", "it has no [[solid]]")));
-    }
-    let solids: Vec<SolidBuild> = spec
-        .solids
-        .iter()
-        .enumerate()
-        .map(|(i, s)| SolidBuild {
-            spec: s.get_ref(),
-            name: s.get_ref().name.clone().unwrap_or_else(|| format!("solid {}", i + 1)),
-            header: s.span(),
-            cx,
-        })
-        .collect();
+    let solids = solid_builds(spec, cx)?;
     // Step 1: the lights (checked before any work), every shape solid's tree (moved by
     // its transform), and the shape solids' shared domain.
     let lights: Vec<Light> = spec
@@ -613,6 +660,16 @@ impl SolidBuild<'_> {
         Ok((Some(tree), files.read.into_inner()))
     }
 
+    /// Refuses a solid that gives none or several of `shape`, `mesh` and `oct`.
+    fn check_one_source(&self) -> Result<()> {
+        let s = self.spec;
+        let sources = usize::from(s.shape.is_some()) + usize::from(s.mesh.is_some()) + usize::from(s.oct.is_some());
+        if sources != 1 {
+            return Err(self.at(None)(Error::invalid("solid", "give exactly one of shape, mesh or oct")));
+        }
+        Ok(())
+    }
+
     /// The cache key of the solid (see the `cache` module): a shape solid's tree (its
     /// spec as read, in `Debug` form: every kind, field and float to the bit, however
     /// the scene writes it: inline or as sub-tables, whose spans would not cover
@@ -661,15 +718,16 @@ impl SolidBuild<'_> {
         shape_domain: Option<Domain>,
         depth: u8,
     ) -> Result<Vec<Warning>> {
-        let s = self.spec;
-        let sources = usize::from(s.shape.is_some()) + usize::from(s.mesh.is_some()) + usize::from(s.oct.is_some());
-        if sources != 1 {
-            return Err(self.at(None)(Error::invalid("solid", "give exactly one of shape, mesh or oct")));
-        }
+        self.check_one_source()?;
         let mut warnings = Vec::new();
         let leaf_files = shape.map_or(&[][..], |(_, files)| files);
         let shape = shape.map(|(shape, _)| shape);
-        let build = |warnings: &mut Vec<Warning>| self.tree(shape, shape_domain, depth, warnings);
+        let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
+        let build = |warnings: &mut Vec<Warning>| {
+            let (tree, read) = self.octree(shape, shape_domain, depth, &options)?;
+            warnings.extend(read);
+            Ok(tree)
+        };
         let mut cache = self.cx.cache.borrow_mut();
         let tree = match (cache.as_mut(), self.cache_key(leaf_files, shape_domain.as_ref(), depth)?) {
             (Some(cache), Some(key)) => {
@@ -690,29 +748,25 @@ impl SolidBuild<'_> {
         Ok(warnings)
     }
 
-    /// Builds the solid's octree: a shape (its tree `shape`) voxelized into
-    /// `shape_domain`, a mesh at its depth or `depth` (its warnings pushed onto
-    /// `warnings`), an `.oct` file loaded and moved.
-    fn tree(
+    /// Voxelizes or loads the solid: a shape (its tree `shape`) into `shape_domain`, a
+    /// mesh at its depth or `depth`; with the warnings of loading its mesh.
+    fn octree(
         &self,
         shape: Option<&Csg>,
         shape_domain: Option<Domain>,
         depth: u8,
-        warnings: &mut Vec<Warning>,
-    ) -> Result<LinearOctree> {
+        options: &VoxelizeOptions,
+    ) -> Result<(LinearOctree, Vec<Warning>)> {
+        self.check_one_source()?;
         let s = self.spec;
         Ok(match (shape, &s.mesh, &s.oct) {
             (Some(shape), _, _) => {
-                let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
                 let domain = shape_domain.expect("shapes have a domain");
-                voxelize(shape, domain, &options).map_err(self.at(s.shape.as_ref().map(Spanned::span)))?
+                let tree = voxelize(shape, domain, options).map_err(self.at(s.shape.as_ref().map(Spanned::span)))?;
+                (tree, Vec::new())
             }
-            (None, Some(mesh), _) => {
-                let (tree, read) = self.mesh_tree(mesh, depth)?;
-                warnings.extend(read);
-                tree
-            }
-            (None, None, Some(file)) => self.oct_tree(file)?,
+            (None, Some(mesh), _) => self.mesh_tree(mesh, depth, options)?,
+            (None, None, Some(file)) => (self.oct_tree(file)?, Vec::new()),
             (None, None, None) => unreachable!("one source"),
         })
     }
@@ -720,7 +774,12 @@ impl SolidBuild<'_> {
     /// The mesh (or patch) file moved by the solid's transform, voxelized in its own
     /// bounding cube at the solid's depth (else `depth`) by its inside rule; with the
     /// warnings of loading it.
-    fn mesh_tree(&self, file: &Spanned<PathBuf>, depth: u8) -> Result<(LinearOctree, Vec<Warning>)> {
+    fn mesh_tree(
+        &self,
+        file: &Spanned<PathBuf>,
+        depth: u8,
+        voxelize: &VoxelizeOptions,
+    ) -> Result<(LinearOctree, Vec<Warning>)> {
         let at_file = self.at(Some(file.span()));
         let (mut input, warnings) = Input::load_with_warnings(self.cx.folder.join(file.get_ref())).map_err(&at_file)?;
         if let Some(map) = self.transform()? {
@@ -728,7 +787,8 @@ impl SolidBuild<'_> {
         }
         let domain = import::default_domain(&input, self.spec.depth.unwrap_or(depth)).map_err(&at_file)?;
         let inside = self.spec.inside.map_or(InsideRule::Auto, InsideRule::from);
-        let options = ImportOptions { inside, budget: self.cx.budget, ..Default::default() };
+        let options =
+            ImportOptions { inside, budget: voxelize.budget, progress: voxelize.progress, ..Default::default() };
         Ok((import::voxelize_input(&input, domain, &options).map_err(at_file)?.0, warnings))
     }
 

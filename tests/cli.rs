@@ -444,3 +444,41 @@ fn render_meshes_as_polygons_with_each_shading() {
     let bad = octsolid(&dir, &["render", teapot.to_str().unwrap(), "--shading", "shiny"]);
     assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("shiny"));
 }
+
+#[test]
+fn build_voxelizes_scene_solids_and_csg_merges_any_number_of_operands() {
+    let dir = scratch("build");
+    let scene = "[domain]\nmin = [-2, -2, -2]\nedge = 4\ndepth = 6\n\n\
+        [[solid]]\nname = \"a\"\nshape = { sphere = { center = [-0.4, 0, 0], radius = 1 } }\n\n\
+        [[solid]]\nname = \"b\"\nshape = { sphere = { center = [0.4, 0, 0], radius = 1 } }\n\n\
+        [[solid]]\nname = \"c\"\nshape = { polar = { count = 3, axis = \"z\", shape = \
+        { sphere = { center = [0, 0.5, 0], radius = 0.6 } } } }\n";
+    std::fs::write(dir.join("three.toml"), scene).unwrap();
+    for name in ["a", "b", "c"] {
+        let out = ok(&dir, &["build", "three.toml", "--solid", name, "-o", &format!("{name}.oct")]);
+        assert!(out.contains(&format!("built solid '{name}' at depth 6")), "{out}");
+    }
+    // The union of the shape solids, one pruned tree, is the k-way union of the three.
+    ok(&dir, &["build", "three.toml", "-o", "all.oct"]);
+    ok(&dir, &["csg", "union", "a.oct", "b.oct", "c.oct", "-o", "merged.oct"]);
+    let voxels = |f: &str| info_json(&dir, f)["voxels"].as_u64().unwrap();
+    assert_eq!(voxels("all.oct"), voxels("merged.oct"));
+    assert_eq!(std::fs::read(dir.join("all.oct")).unwrap(), std::fs::read(dir.join("merged.oct")).unwrap());
+    // xor of three: |A ^ B ^ C| = sum |X| - 2 sum |X & Y| + 4 |A & B & C|.
+    ok(&dir, &["csg", "xor", "a.oct", "b.oct", "c.oct", "-o", "odd.oct"]);
+    ok(&dir, &["csg", "intersect", "a.oct", "b.oct", "c.oct", "-o", "abc.oct"]);
+    let mut pairs = 0;
+    for (x, y) in [("a", "b"), ("a", "c"), ("b", "c")] {
+        let name = format!("{x}{y}.oct");
+        ok(&dir, &["csg", "intersect", &format!("{x}.oct"), &format!("{y}.oct"), "-o", &name]);
+        pairs += voxels(&name);
+    }
+    let singles = voxels("a.oct") + voxels("b.oct") + voxels("c.oct");
+    assert_eq!(voxels("odd.oct") + 2 * pairs, singles + 4 * voxels("abc.oct"));
+    // Errors: an unknown solid, a pattern without copies, at their place.
+    let e = fails(&dir, &["build", "three.toml", "--solid", "d", "-o", "d.oct"]);
+    assert!(e.contains("three.toml") && e.contains("no solid is named 'd'") && e.contains("a, b, c"), "{e}");
+    std::fs::write(dir.join("none.toml"), scene.replace("count = 3", "count = 0")).unwrap();
+    let e = fails(&dir, &["build", "none.toml", "-o", "none.oct"]);
+    assert!(e.contains("none.toml") && e.contains("none.toml:16:") && e.contains("0 copies"), "{e}");
+}

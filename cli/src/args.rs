@@ -7,7 +7,9 @@ use glam::DVec3;
 use octsolid::octree::Turn;
 use octsolid::shape::Axis;
 
-use crate::commands::{bench, csg, demo, export, info, mesh_info, render, shape, slice, transform, view, voxelize};
+use crate::commands::{
+    bench, build, csg, demo, export, info, mesh_info, render, shape, slice, transform, view, voxelize,
+};
 
 /// octsolid: solid modeling on linear octrees.
 #[derive(Parser, Debug)]
@@ -28,6 +30,8 @@ pub enum Command {
     Shape(shape::ShapeArgs),
     /// Combine .oct files by a set operation (bringing them into one domain first).
     Csg(csg::CsgArgs),
+    /// Voxelize a scene file's solid (the named one, or the union of its shape solids) to an .oct file.
+    Build(build::BuildArgs),
     /// Move, turn or scale an .oct solid, or bring it into another domain or depth.
     Transform(transform::TransformArgs),
     /// Print what an .oct file holds and measure it (area, centre of mass, inertia, components).

@@ -6,6 +6,9 @@
 //! operator holds are the result's runs, which [`ranges::cut_runs`] turns into the
 //! canonical node list. Time and memory O(n + m + output); no sort, no tree.
 //!
+//! Many operands, and two large ones in parallel: [`super::merge`], which this
+//! sweep serves for two operands.
+//!
 //! The methods return an error for operands over different domains or depths; the
 //! operators (`|`, `&`, `-`, `^`, `!` on references) panic in that case instead.
 
@@ -72,15 +75,23 @@ impl<'a> Cursor<'a> {
     }
 }
 
-/// The sweep: runs of `op(a, b)` over the whole domain `[0, total)`.
-fn sweep<'a>(a: Runs<'a>, b: Runs<'a>, op: SetOp, total: u64) -> impl Iterator<Item = (u64, u64)> + 'a {
+/// The sweep: segments of `[lo, hi)` where `op(a, b)` holds (touching segments are
+/// not coalesced; [`ranges::cut_runs`] does that). The runs may start before `lo` and
+/// end after `hi`; only their parts in the range count.
+pub(super) fn sweep<'a>(
+    a: Runs<'a>,
+    b: Runs<'a>,
+    op: SetOp,
+    lo: u64,
+    hi: u64,
+) -> impl Iterator<Item = (u64, u64)> + 'a {
     let (mut ca, mut cb) = (Cursor::new(a), Cursor::new(b));
-    let mut pos = 0;
+    let mut pos = lo;
     std::iter::from_fn(move || {
-        while pos < total {
-            let (in_a, next_a) = ca.at(pos, total);
-            let (in_b, next_b) = cb.at(pos, total);
-            let next = next_a.min(next_b);
+        while pos < hi {
+            let (in_a, next_a) = ca.at(pos, hi);
+            let (in_b, next_b) = cb.at(pos, hi);
+            let next = next_a.min(next_b).min(hi);
             let segment = (pos, next);
             pos = next;
             if op.apply(in_a, in_b) {
@@ -93,11 +104,11 @@ fn sweep<'a>(a: Runs<'a>, b: Runs<'a>, op: SetOp, total: u64) -> impl Iterator<I
 
 impl LinearOctree {
     /// `self op other`, canonical; fails when the domains or depths differ.
+    ///
+    /// Runs as [`LinearOctree::combine_all`] of the two: in parallel over Morton
+    /// ranges when the operands are large.
     pub fn combine(&self, other: &LinearOctree, op: SetOp) -> Result<LinearOctree> {
-        self.check_same_domain(other)?;
-        let domain = *self.domain();
-        let runs = sweep(self.runs(), other.runs(), op, domain.voxel_total());
-        Ok(LinearOctree::from_canonical(domain, ranges::cut_runs(runs, u32::from(domain.depth()))))
+        LinearOctree::combine_all(&[self, other], op)
     }
 
     /// Voxels in either solid.
@@ -125,7 +136,7 @@ impl LinearOctree {
     pub fn complement(&self) -> LinearOctree {
         let domain = *self.domain();
         let full = LinearOctree::full(domain);
-        let runs = sweep(full.runs(), self.runs(), SetOp::Difference, domain.voxel_total());
+        let runs = sweep(full.runs(), self.runs(), SetOp::Difference, 0, domain.voxel_total());
         LinearOctree::from_canonical(domain, ranges::cut_runs(runs, u32::from(domain.depth())))
     }
 }

@@ -20,6 +20,7 @@ mod driver;
 mod fit;
 mod linear;
 mod measure;
+mod merge;
 mod motion;
 mod neighbourhood;
 mod node;

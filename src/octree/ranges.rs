@@ -59,7 +59,15 @@ pub(crate) fn cut_run(mut a: u64, b: u64, max_k: u32, out: &mut Vec<NodeKey>) {
 
 /// Canonical keys from sorted runs that may touch but not overlap.
 pub(crate) fn cut_runs(runs: impl IntoIterator<Item = (u64, u64)>, max_k: u32) -> Vec<NodeKey> {
-    let mut out = Vec::new();
+    cut_runs_into(runs, max_k, Vec::new())
+}
+
+/// [`cut_runs`] appending to `out` (reserve it for the expected node count).
+pub(crate) fn cut_runs_into(
+    runs: impl IntoIterator<Item = (u64, u64)>,
+    max_k: u32,
+    mut out: Vec<NodeKey>,
+) -> Vec<NodeKey> {
     let mut current: Option<(u64, u64)> = None;
     for (a, b) in runs {
         if a >= b {

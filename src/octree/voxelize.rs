@@ -6,14 +6,31 @@
 //! not the volume. The walk itself (Morton order, the merge of eight full children,
 //! the parallel top levels, progress, the budget check) is the [`super::driver`]'s; a
 //! shape carries no state down the tree.
+//!
+//! A CSG tree ([`Shape::as_csg`]) is voxelized pruned instead ([`PrunedCsg`]): each
+//! node carries down the residual of the tree its parent's box left (the subtrees
+//! still undecided there, n-ary unions and intersections culled to the children
+//! whose bounds meet the box), reduces it for its own box, and decides its voxels by
+//! the residual. A node then costs what the few primitives near it cost, not the
+//! whole tree, and the voxels are the same (see [`PrunedCsg`] for why), so the keys
+//! are the same as the unpruned walk's.
+//!
+//! Departure: the pruned walk classifies the box of a node's voxel *centres*, half a
+//! voxel inside its cube, not the cube. Voxels are decided by their centres, so a
+//! class for that box decides the node's voxels exactly as well (the soundness
+//! contract covers any box), and a face lying on voxel boundaries (a plate whose
+//! faces are on the lattice) is then half a voxel from every box, decided at the
+//! coarsest level that fits, instead of a sliver of `Boundary` down to the voxels on
+//! each side of it.
 
 use super::domain::Domain;
 use super::driver::{Decision, Plan, VoxelizeOptions, Voxelizer};
 use super::linear::LinearOctree;
 use super::node::NodeKey;
+use crate::aabb::Aabb;
 use crate::error::Result;
 use crate::morton;
-use crate::shape::{Class, Shape};
+use crate::shape::{Class, PrunedCsg, Reduced, Residual, Shape};
 
 /// Estimated peak bytes to voxelize `shape` in `domain`: nodes near the surface,
 /// taken as twice the area of the shape's box (clipped to the domain) in voxel faces,
@@ -34,7 +51,14 @@ pub fn estimate_bytes(shape: &dyn Shape, domain: &Domain) -> u64 {
 /// Refuses (before any work) when [`estimate_bytes`] exceeds `options.budget`.
 pub fn voxelize(shape: &dyn Shape, domain: Domain, options: &VoxelizeOptions) -> Result<LinearOctree> {
     let plan = Plan::new("voxelizing", estimate_bytes(shape, &domain), domain, options)?;
-    Ok(plan.run(&ShapeVoxelizer { shape, domain }, ()).0)
+    match shape.as_csg() {
+        Some(tree) => {
+            let pruned = PrunedCsg::new(tree);
+            let root = pruned.root();
+            Ok(plan.run(&PrunedVoxelizer { pruned, domain }, root).0)
+        }
+        None => Ok(plan.run(&ShapeVoxelizer { shape, domain }, ()).0),
+    }
 }
 
 /// A shape's decisions: its classification of node boxes, voxels by their centre.
@@ -63,5 +87,47 @@ impl Voxelizer for ShapeVoxelizer<'_> {
             Class::Outside => Decision::Empty,
             Class::Boundary => Decision::Split([(); 8]),
         }
+    }
+}
+
+/// A CSG tree's decisions: each node reduces the residual its parent handed down.
+struct PrunedVoxelizer {
+    pruned: PrunedCsg,
+    domain: Domain,
+}
+
+impl Voxelizer for PrunedVoxelizer {
+    type Node = Residual;
+    type Counters = ();
+
+    fn decide(&self, key: NodeKey, residual: Residual, _: &mut ()) -> Decision<Residual> {
+        let min = morton::decode(key.start());
+        // Step 1: a voxel is decided by its centre, by the residual of its parent's box.
+        if key.k() == 0 {
+            let inside = self.pruned.contains(&residual, self.domain.voxel_center(min));
+            return if inside { Decision::Full } else { Decision::Empty };
+        }
+        // Step 2: reduce the residual for the box of the node's voxel centres (its first
+        // and last centre, computed as the voxels' own: the lattice is monotone, so it
+        // holds every centre); recurse where it is undecided, deciding the voxels of a
+        // 2-voxel node at once.
+        let last = min.map(|c| c + (1 << key.k()) - 1);
+        let centres = Aabb { min: self.domain.voxel_center(min), max: self.domain.voxel_center(last) };
+        let residual = match self.pruned.reduce(&residual, &centres) {
+            Reduced::Inside => return Decision::Full,
+            Reduced::Outside => return Decision::Empty,
+            Reduced::Same => residual,
+            Reduced::Smaller(smaller) => smaller,
+        };
+        if key.k() == 1 {
+            // Child i of a node lies at its corner plus bits (0, 1, 2) of i (Morton order).
+            let mut full = 0u8;
+            for i in 0..8u32 {
+                let voxel = [min[0] + (i & 1), min[1] + (i >> 1 & 1), min[2] + (i >> 2)];
+                full |= u8::from(self.pruned.contains(&residual, self.domain.voxel_center(voxel))) << i;
+            }
+            return Decision::Children(full);
+        }
+        Decision::Split(std::array::from_fn(|_| residual.clone()))
     }
 }

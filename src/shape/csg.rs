@@ -127,6 +127,10 @@ impl Shape for Csg {
             CsgNode::Complement(_) => None,
         }
     }
+
+    fn as_csg(&self) -> Option<&Csg> {
+        Some(self)
+    }
 }
 
 macro_rules! csg_operators {

@@ -55,6 +55,13 @@ pub trait Shape: Send + Sync {
         let _ = p;
         None
     }
+
+    /// The CSG tree this shape is, if it is one: what lets a voxelizer see the tree's
+    /// leaves and their bounds and prune it ([`PrunedCsg`]); `None` (the default) for
+    /// a shape that is classified only as a whole.
+    fn as_csg(&self) -> Option<&Csg> {
+        None
+    }
 }
 
 /// Shapes behind references and smart pointers are shapes.
@@ -73,6 +80,9 @@ macro_rules! forward_shape {
             fn surface(&self, p: DVec3) -> Option<Surface> {
                 (**self).surface(p)
             }
+            fn as_csg(&self) -> Option<&Csg> {
+                (**self).as_csg()
+            }
         }
     )*};
 }
@@ -88,6 +98,8 @@ mod cylinder;
 mod displaced;
 mod half_space;
 mod menger;
+mod pattern;
+mod pruned;
 mod spec;
 mod sphere;
 mod surface;
@@ -102,6 +114,8 @@ pub use cylinder::Cylinder;
 pub use displaced::DisplacedSphere;
 pub use half_space::HalfSpace;
 pub use menger::Menger;
+pub use pattern::{MAX_COPIES, linear_array, mirrored, polar_array};
+pub use pruned::{PrunedCsg, Reduced, Residual};
 pub use spec::{FileLeaves, ShapeSpec, TransformSpec};
 pub use sphere::{Ellipsoid, Sphere};
 pub use surface::Surface;

@@ -22,6 +22,13 @@
 //! derived deserializer (of a private twin, see `shape_spec!`) and checks the result
 //! before returning, inside the reader's call for that node.
 //!
+//! Three nodes are patterns ([`super::linear_array`], [`super::polar_array`],
+//! [`super::mirrored`]): `{ array = { shape = ..., count = [20, 20, 1], step = [10, 10,
+//! 0] } }`, `{ polar = { shape = ..., count = 6, axis = "z", center = [0, 0, 0] } }`
+//! (`step_degrees` defaults to `360 / count`) and `{ mirror = { shape = ..., normal =
+//! [1, 0, 0], point = [0, 0, 0] } }`; their counts and planes are checked as they are
+//! read.
+//!
 //! Two leaves name files, `{ mesh = "part.obj" }` (a closed triangle mesh) and
 //! `{ oct = "part.oct" }` (a stored octree). The shape layer knows no mesh or octree:
 //! [`ShapeSpec::build_with`] asks a [`FileLeaves`] (the scene loader) for their shapes;
@@ -38,8 +45,10 @@ use glam::{DAffine3, DQuat, DVec3};
 use serde::Deserialize;
 use serde::de::{self, Deserializer, IgnoredAny, MapAccess, Visitor};
 
+use super::pattern::{check_linear, check_mirror, check_polar};
 use super::{
     Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Sphere, Torus, Transformed,
+    linear_array, mirrored, polar_array,
 };
 use crate::error::{Error, Result};
 
@@ -156,6 +165,38 @@ pub enum ShapeSpec {
     Xor(Vec<ShapeSpec>),
     /// Points not in the shape.
     Complement(Box<ShapeSpec>),
+    /// Copies of a shape on a grid ([`super::linear_array`]): `count` copies along x,
+    /// y and z, `step` apart.
+    Array {
+        /// The shape copied; copy `[0, 0, 0]` is where it is.
+        shape: Box<ShapeSpec>,
+        /// Copies along x, y and z (each at least 1).
+        count: [u32; 3],
+        /// The offset between neighbouring copies along x, y and z.
+        step: [f64; 3],
+    },
+    /// Copies of a shape turned about an axis ([`super::polar_array`]): a bolt circle.
+    Polar {
+        /// The shape copied; copy 0 is where it is.
+        shape: Box<ShapeSpec>,
+        /// Number of copies.
+        count: u32,
+        /// The axis turned about (through `center`).
+        axis: Axis,
+        /// A point of the axis (default the origin).
+        center: Option<[f64; 3]>,
+        /// The turn between neighbouring copies in degrees (default `360 / count`).
+        step_degrees: Option<f64>,
+    },
+    /// A shape and its mirror image in a plane ([`super::mirrored`]).
+    Mirror {
+        /// The shape mirrored.
+        shape: Box<ShapeSpec>,
+        /// The plane's normal (need not be unit).
+        normal: [f64; 3],
+        /// A point of the plane (default the origin).
+        point: Option<[f64; 3]>,
+    },
     /// A closed triangle mesh read from a file (OBJ, STL, PLY), built by a [`FileLeaves`].
     Mesh(PathBuf),
     /// A solid read from an `.oct` file, built by a [`FileLeaves`].
@@ -179,6 +220,11 @@ pub enum ShapeSpec {
 /// A `[x, y, z]` of a spec as a vector.
 fn v(a: [f64; 3]) -> DVec3 {
     DVec3::from_array(a)
+}
+
+/// An optional point, the origin when absent.
+fn origin(p: Option<[f64; 3]>) -> DVec3 {
+    p.map_or(DVec3::ZERO, v)
 }
 
 /// An affine map as data: `scale`, then the rotation of `rotate_degrees` about
@@ -259,6 +305,13 @@ impl ShapeSpec {
             ShapeSpec::Difference(parts) => fold(parts, files, |a, b| a - b)?,
             ShapeSpec::Xor(parts) => fold(parts, files, |a, b| a ^ b)?,
             ShapeSpec::Complement(inner) => !inner.build_with(files)?,
+            ShapeSpec::Array { shape, count, step } => linear_array(shape.build_with(files)?, *count, v(*step))?,
+            ShapeSpec::Polar { shape, count, axis, center, step_degrees } => {
+                polar_array(shape.build_with(files)?, *axis, origin(*center), *count, *step_degrees)?
+            }
+            ShapeSpec::Mirror { shape, normal, point } => {
+                mirrored(shape.build_with(files)?, v(*normal), origin(*point))?
+            }
             ShapeSpec::Transform { shape, .. } => Transformed::new(shape.build_with(files)?, self.transform()?)?.into(),
             ShapeSpec::Mesh(file) => files.mesh(file)?,
             ShapeSpec::Oct(file) => files.oct(file)?,
@@ -302,6 +355,11 @@ impl ShapeSpec {
                 Err(no_operands())
             }
             ShapeSpec::Transform { .. } => self.transform().map(drop),
+            ShapeSpec::Array { count, step, .. } => check_linear(*count, v(*step)),
+            ShapeSpec::Polar { count, center, step_degrees, .. } => {
+                check_polar(origin(*center), *count, *step_degrees).map(drop)
+            }
+            ShapeSpec::Mirror { normal, point, .. } => check_mirror(v(*normal), origin(*point)).map(drop),
             ShapeSpec::Union(_)
             | ShapeSpec::Intersection(_)
             | ShapeSpec::Difference(_)
@@ -342,6 +400,9 @@ impl ShapeSpec {
             | ShapeSpec::Difference(_)
             | ShapeSpec::Xor(_)
             | ShapeSpec::Complement(_)
+            | ShapeSpec::Array { .. }
+            | ShapeSpec::Polar { .. }
+            | ShapeSpec::Mirror { .. }
             | ShapeSpec::Mesh(_)
             | ShapeSpec::Oct(_) => None,
         }

@@ -1,5 +1,6 @@
 //! `octsolid csg OP A B [MORE...] -o OUT [--domain ...] [--depth D]`: solids combined
-//! by a set operation, after bringing them into one domain.
+//! by a set operation, after bringing them into one domain, then merged in one pass
+//! over all of them (`LinearOctree::combine_all`, parallel over Morton ranges).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -8,7 +9,7 @@ use anyhow::{Context, Result};
 use clap::ValueEnum;
 use glam::DVec3;
 use octsolid::io::oct;
-use octsolid::octree::{Domain, Fit, VoxelizeOptions, common_domain};
+use octsolid::octree::{Domain, Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
@@ -81,15 +82,13 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
         *tree = fitted;
     }
     let started = Instant::now();
-    let mut result = trees[0].clone();
-    for tree in &trees[1..] {
-        result = match op {
-            CsgOp::Union => result.union(tree),
-            CsgOp::Intersect => result.intersection(tree),
-            CsgOp::Difference => result.difference(tree),
-            CsgOp::Xor => result.symmetric_difference(tree),
-        }?;
-    }
+    let set_op = match op {
+        CsgOp::Union => SetOp::Union,
+        CsgOp::Intersect => SetOp::Intersection,
+        CsgOp::Difference => SetOp::Difference,
+        CsgOp::Xor => SetOp::SymmetricDifference,
+    };
+    let result = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), set_op)?;
     out!("{op:?} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
     if result.is_empty() {
         warn!("the {op:?} is empty: no voxel is in it");

@@ -3,6 +3,7 @@
 //! several commands share.
 
 pub mod bench;
+pub mod build;
 pub mod csg;
 pub mod demo;
 pub mod export;
@@ -36,6 +37,7 @@ pub fn run(args: Args) -> Result<()> {
     match args.command {
         Command::Shape(a) => shape::run(&a, budget),
         Command::Csg(a) => csg::run(&a, budget),
+        Command::Build(a) => build::run(&a, budget),
         Command::Transform(a) => transform::run(&a, budget),
         Command::Info(a) => info::run(&a, budget),
         Command::Slice(a) => slice::run(&a, budget),

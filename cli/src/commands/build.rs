@@ -1,0 +1,49 @@
+//! `octsolid build SCENE.toml -o OUT.oct [--solid NAME]`: a scene's solid voxelized to
+//! a file without rendering, so scene files are also a modeling language.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::Result;
+use octsolid::io::oct::Metadata;
+use octsolid::octree::VoxelizeOptions;
+use octsolid::scene_file::build_solid;
+use octsolid::{MemoryBudget, human_bytes};
+
+use super::print_summary;
+use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
+use crate::progress_bar::Bar;
+
+/// Arguments of `octsolid build`.
+#[derive(clap::Args, Debug)]
+pub struct BuildArgs {
+    /// The scene file (.toml).
+    pub scene: PathBuf,
+    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// The `[[solid]]` to build, by its name (default: the union of the scene's shape
+    /// solids, voxelized in one pass into their shared domain).
+    #[arg(long)]
+    pub solid: Option<String>,
+}
+
+/// `octsolid build SCENE.toml -o OUT.oct [--solid NAME]`
+pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
+    check_extension(&a.output, SOLID_EXTENSIONS)?;
+    check_not_an_input(&a.output, &[a.scene.as_path()])?;
+    let bar = Bar::new("voxelizing");
+    let started = Instant::now();
+    let options = VoxelizeOptions { budget, progress: &bar };
+    // The library's errors name the scene file and the place in it.
+    let tree = build_solid(&a.scene, a.solid.as_deref(), &options)?;
+    let what = a.solid.as_deref().map_or_else(|| "the shape solids".to_owned(), |n| format!("solid '{n}'"));
+    out!("built {what} at depth {} in {:.1} ms", tree.depth(), started.elapsed().as_secs_f64() * 1e3);
+    if tree.is_empty() {
+        warn!("the solid is empty: no voxel is in it");
+    }
+    let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), budget)?;
+    out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
+    print_summary(&tree, None);
+    Ok(())
+}
