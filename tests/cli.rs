@@ -180,11 +180,12 @@ fn bad_input_gives_one_line_errors() {
     assert!(e.contains("a.oct") && e.contains("99"), "{e}");
     // An unknown extension names the file and everything the command reads.
     let e = fails(&dir, &["render", "a.3ds"]);
-    assert!(e.contains("a.3ds") && e.contains("(use .toml, .oct, .obj, .stl, .ply or .patches)"), "{e}");
+    let all = "(use .toml, .oct, .vox, .binvox, .vdb, .obj, .stl, .ply or .patches)";
+    assert!(e.contains("a.3ds") && e.contains(all), "{e}");
     let e = fails(&dir, &["voxelize", "a.oct", "-o", "v.oct"]);
     assert!(e.contains("a.oct") && e.contains("(use .obj, .stl, .ply or .patches)"), "{e}");
     let e = fails(&dir, &["render", "scene.toml", "--shading", "flat"]);
-    assert!(e.contains("scene.toml") && e.contains("(use .oct, .obj, .stl, .ply or .patches)"), "{e}");
+    assert!(e.contains("scene.toml") && e.contains("not a scene"), "{e}");
     // A scene's build error: the scene, the place, the solid and the cause, on one line.
     std::fs::write(dir.join("scene.toml"), "[[solid]]\nname = \"part\"\nmesh = \"gone.obj\"\n").unwrap();
     let e = fails(&dir, &["render", "scene.toml"]);

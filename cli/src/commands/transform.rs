@@ -7,20 +7,21 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use glam::DVec3;
-use octsolid::io::oct;
 use octsolid::octree::{Domain, Motion, Turn, VoxelizeOptions};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
-use crate::args::{parse_domain, parse_turn, parse_vec3};
+use crate::args::{TargetFlags, parse_turn, parse_vec3};
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
+use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid transform`.
 #[derive(clap::Args, Debug)]
 #[command(allow_negative_numbers = true)]
 pub struct TransformArgs {
-    /// The .oct file.
+    /// The solid file: .oct, .vox, .binvox or .vdb (a file of several solids moves
+    /// as their union).
     pub input: PathBuf,
     /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
@@ -35,29 +36,24 @@ pub struct TransformArgs {
     /// Uniform scale about the origin (applied first), positive.
     #[arg(long, default_value_t = 1.0, value_parser = crate::args::parse_finite)]
     pub scale: f64,
-    /// Target domain MINX,MINY,MINZ,EDGE (default: the moved domain when the move is
-    /// exact, else the cube around the moved solid).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
-    pub domain: Option<[f64; 4]>,
-    /// Target depth (default: the input's).
-    #[arg(long)]
-    pub depth: Option<u8>,
+    // The target domain and depth (default: the moved domain when the move is exact,
+    // else the cube around the moved solid, at the input's depth).
+    #[command(flatten)]
+    pub target: TargetFlags,
+    #[command(flatten)]
+    pub read: ReadFlags,
 }
 
 /// `octsolid transform IN -o OUT [...]`
 pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&a.output, SOLID_EXTENSIONS)?;
     check_not_an_input(&a.output, &[&a.input])?;
-    let (tree, meta) = oct::load_with(&a.input, budget)?;
+    let file = read_solid_file(&a.input, &a.read, budget)?;
+    let meta = file.meta;
+    let tree = file.into_union();
     let motion =
         Motion { scale: a.scale, turns: a.rotate.clone(), translate: a.translate.map_or(DVec3::ZERO, DVec3::from) };
-    let target = |default: Domain| -> octsolid::Result<Domain> {
-        let depth = a.depth.unwrap_or(default.depth());
-        match a.domain {
-            Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth),
-            None => default.with_depth(depth),
-        }
-    };
+    let target = |default: Domain| a.target.target(default);
     let started = Instant::now();
     let bar = Bar::new("resampling");
     let (moved, fit) = tree
