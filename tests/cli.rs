@@ -512,6 +512,16 @@ fn vox_samples_are_read_by_every_command_with_their_counts_and_colours() {
     assert_eq!(info_json(&dir, "axes.oct")["voxels"].as_u64().unwrap(), total);
     ok(&dir, &["transform", &axes, "--translate", "3,0,0", "-o", "moved.oct"]);
     assert_eq!(info_json(&dir, "moved.oct")["voxels"].as_u64().unwrap(), total);
+    // To .vox, each colour moves on its own, the same voxels in the same colours.
+    ok(&dir, &["transform", &axes, "--translate", "3,0,0", "-o", "moved.vox"]);
+    let moved = info_json(&dir, "moved.vox");
+    let moved_solids = moved["solids"].as_array().unwrap();
+    assert_eq!(moved_solids.len(), solids.len());
+    for (m, s) in moved_solids.iter().zip(solids) {
+        assert_eq!((&m["palette_index"], &m["voxels"], &m["color"]), (&s["palette_index"], &s["voxels"], &s["color"]));
+    }
+    let [x0, x1] = [&info, &moved].map(|i| i["bounds"]["min"][0].as_f64().unwrap());
+    assert_eq!(x1 - x0, 3.0);
     ok(&dir, &["csg", "difference", &axes, "moved.oct", "-o", "diff.oct"]);
     let diff = info_json(&dir, "diff.oct")["voxels"].as_u64().unwrap();
     assert!(diff > 0 && diff < total, "a move of 3 voxels along x leaves part of the model");

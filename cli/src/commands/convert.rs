@@ -26,7 +26,7 @@ use octsolid::{MemoryBudget, human_bytes};
 use super::info::{print_solids, solid_infos};
 use super::print_summary;
 use crate::args::TargetFlags;
-use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
+use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
 
@@ -44,9 +44,6 @@ pub struct ConvertArgs {
     #[command(flatten)]
     pub read: ReadFlags,
 }
-
-/// Formats that hold several solids, each with its colour.
-const MANY_SOLIDS: &[&str] = &["vox", "vdb", "glb"];
 
 /// `octsolid convert IN OUT [...]`
 pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
@@ -71,14 +68,14 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     let union = solids.union();
     print_summary(&union, None);
 
-    let ext = output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
     let started = Instant::now();
-    let bytes_out = if MANY_SOLIDS.contains(&ext.as_str()) {
+    let bytes_out = if holds_many_solids(output) {
         write_solids(output, &solids, &WriteOptions { budget, ..WriteOptions::default() })
             .with_context(|| format!("{}: cannot write", output.display()))?
     } else {
         if solids.solids.len() > 1 {
-            out!("joined     {} solids into one: .{ext} holds one solid and no colour", solids.solids.len());
+            let n = solids.solids.len();
+            out!("joined     {n} solids into one: {} holds one solid and no colour", output.display());
         }
         write_solid_file(output, &union, &meta, budget)?
     };

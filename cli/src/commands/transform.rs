@@ -1,18 +1,21 @@
 //! `octsolid transform IN -o OUT [--translate X,Y,Z] [--rotate AXIS,DEG]... [--scale S]
 //! [--domain ...] [--depth D]`: a solid moved by the library's exact transforms where
-//! the move maps voxels to voxels, resampled otherwise.
+//! the move maps voxels to voxels, resampled otherwise. A file of several solids (a
+//! `.vox` file's colours) written to `.vox`, `.vdb` or `.glb` keeps them apart, each
+//! moved into the domain of the moved union; other outputs get the union.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use glam::DVec3;
+use octsolid::io::{ColouredSolid, Solids, WriteOptions, write_solids};
 use octsolid::octree::{Domain, Motion, Turn, VoxelizeOptions};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
 use crate::args::{TargetFlags, parse_turn, parse_vec3};
-use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
+use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
 
@@ -50,20 +53,42 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
     check_not_an_input(&a.output, &[&a.input])?;
     let file = read_solid_file(&a.input, &a.read, budget)?;
     let meta = file.meta;
-    let tree = file.into_union();
+    // Several solids going to a format that keeps them apart move one by one into the
+    // domain their union moves into; else the union moves.
+    let (tree, apart) = if file.solids.solids.len() > 1 && holds_many_solids(&a.output) {
+        (file.solids.union(), Some(file.solids))
+    } else {
+        (file.into_union(), None)
+    };
     let motion =
         Motion { scale: a.scale, turns: a.rotate.clone(), translate: a.translate.map_or(DVec3::ZERO, DVec3::from) };
+    let map = motion.checked_affine()?;
     let target = |default: Domain| a.target.target(default);
     let started = Instant::now();
     let bar = Bar::new("resampling");
     let (moved, fit) = tree
-        .transformed(motion.checked_affine()?, target, &VoxelizeOptions { budget, progress: &bar })
+        .transformed(map, target, &VoxelizeOptions { budget, progress: &bar })
         .with_context(|| format!("{}: cannot transform", a.input.display()))?;
     out!("{}: {fit} into {} in {:.1} ms", a.input.display(), moved.domain(), started.elapsed().as_secs_f64() * 1e3);
     if moved.is_empty() && !tree.is_empty() {
         warn!("the result is empty: the moved solid lies outside the target domain");
     }
-    let bytes = write_solid_file(&a.output, &moved, &meta, budget)?;
+    let bytes = match apart {
+        Some(solids) => {
+            let domain = *moved.domain();
+            let mut each = Vec::with_capacity(solids.solids.len());
+            for solid in solids.solids {
+                let (tree, _) = solid
+                    .tree
+                    .transformed(map, |_| Ok(domain), &VoxelizeOptions { budget, progress: &bar })
+                    .with_context(|| format!("{}: {}: cannot transform", a.input.display(), solid.name))?;
+                each.push(ColouredSolid { tree, ..solid });
+            }
+            let moved = Solids { domain, solids: each };
+            write_solids(&a.output, &moved, &WriteOptions { budget, ..WriteOptions::default() })?
+        }
+        None => write_solid_file(&a.output, &moved, &meta, budget)?,
+    };
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&moved, None);
     Ok(())
