@@ -669,6 +669,9 @@ fn damaged_interchange_files_are_refused_by_name_and_place() {
             assert!(!dir.join("out.oct").exists() || kind == "corrupt");
         }
     }
+    // dot_vox's sample of a file that is not a .vox file.
+    let e = fails(&dir, &["convert", &data("vox/not_a.vox"), "n.oct"]);
+    assert!(e.contains("not_a.vox: byte 0: not a MagicaVoxel file"), "{e}");
     // A header's claim is checked against the budget before anything is allocated.
     let e = fails(&dir, &["--memory-budget", "4KiB", "convert", &data("vox/axes.vox"), "a.oct"]);
     assert!(e.contains("axes.vox") && e.contains("memory budget"), "{e}");
