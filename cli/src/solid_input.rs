@@ -16,6 +16,8 @@ use octsolid::io::{ColouredSolid, ReadOptions, Solids, read_solids};
 use octsolid::octree::LinearOctree;
 use octsolid::{FileKind, MemoryBudget};
 
+use crate::progress_bar::Spinner;
+
 /// How solid files are read: flags for the formats that need them.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct ReadFlags {
@@ -89,6 +91,7 @@ impl SolidFile {
 pub fn read_solid_file(path: &Path, flags: &ReadFlags, budget: MemoryBudget) -> Result<SolidFile> {
     let kind = FileKind::of(path, FileKind::SOLIDS)?;
     let options = flags.options(path, kind, budget)?;
+    let _spinner = Spinner::new("reading");
     if kind == FileKind::Oct {
         let (tree, meta) = oct::load_with(path, budget)?;
         let name = path.file_stem().map_or_else(|| "solid".into(), |s| s.to_string_lossy().into_owned());

@@ -21,13 +21,13 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use octsolid::io::{ColouredSolid, Solids, WriteOptions, write_solids};
 use octsolid::octree::{Fit, VoxelizeOptions};
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::info::{print_solids, solid_infos};
 use super::print_summary;
 use crate::args::TargetFlags;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
-use crate::progress_bar::Bar;
+use crate::progress_bar::{Bar, Spinner};
 use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid convert`.
@@ -69,6 +69,10 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     print_summary(&union, None);
 
     let started = Instant::now();
+    // A mesh shows its own bar while it is meshed.
+    let mesh =
+        FileKind::MESHES.iter().any(|k| output.extension().is_some_and(|e| e.eq_ignore_ascii_case(k.extension())));
+    let spinner = (!mesh).then(|| Spinner::new("writing"));
     let bytes_out = if holds_many_solids(output) {
         write_solids(output, &solids, &WriteOptions { budget, ..WriteOptions::default() })
             .with_context(|| format!("{}: cannot write", output.display()))?
@@ -79,6 +83,7 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
         }
         write_solid_file(output, &union, &meta, budget)?
     };
+    drop(spinner);
     let write_ms = started.elapsed().as_secs_f64() * 1e3;
     let ratio = bytes_out as f64 / bytes_in.max(1) as f64;
     out!("wrote      {} ({}, {ratio:.2}x the input) in {write_ms:.1} ms", output.display(), human_bytes(bytes_out));
