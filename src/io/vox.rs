@@ -48,6 +48,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use glam::DVec3;
+use rayon::slice::ParallelSliceMut;
 
 use super::solids::{ColouredSolid, ReadOptions, Solids};
 use crate::budget::MemoryBudget;
@@ -194,7 +195,8 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
         })
         .collect();
     drop(placed);
-    records.sort_unstable();
+    // A total order (every sequence number is distinct): the same on any thread count.
+    records.par_sort_unstable();
     let mut codes: Vec<Vec<u64>> = vec![Vec::new(); 256];
     for (i, r) in records.iter().enumerate() {
         if records.get(i + 1).is_none_or(|next| next.0 != r.0) {
