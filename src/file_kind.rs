@@ -2,15 +2,18 @@
 //! extensions.
 //!
 //! [`FileKind::of`] maps a path to one of the kinds a caller accepts, case-insensitively:
-//! `.toml` scenes, `.oct` solids, `.obj` / `.stl` / `.ply` meshes and `.patches` Bezier
-//! patch sets. A missing extension, or one the caller does not accept, is
+//! `.toml` scenes, `.oct` solids, the voxel formats of other tools (`.vox`, `.binvox`,
+//! `.vdb`, read by [`crate::io::read_solids`]), `.obj` / `.stl` / `.ply` meshes and
+//! `.patches` Bezier patch sets. A missing extension, or one the caller does not accept, is
 //! [`Error::UnknownExtension`], which names the file and lists every extension the
 //! caller accepts, so a command's error says all it reads (a mesh loader's, for one,
 //! names `.patches` only when it reads patches too).
 //!
 //! The file's kind also implies its up axis ([`FileKind::default_up`]): OBJ and PLY
 //! meshes are y-up by convention (the Stanford bunny, Spot); STL, patches (the Utah
-//! teapot), scenes and octsolid's own `.oct` solids are z-up.
+//! teapot), scenes, octsolid's own `.oct` solids and the voxel formats are z-up
+//! (MagicaVoxel's editor is; binvox and `.vdb` record no up axis, and z keeps a solid
+//! converted to and from `.oct` looking the same).
 
 use std::path::Path;
 
@@ -24,6 +27,12 @@ pub enum FileKind {
     Scene,
     /// A solid in octsolid's own format, `.oct`.
     Oct,
+    /// MagicaVoxel voxels, one solid a palette colour, `.vox`.
+    Vox,
+    /// A binvox voxel grid, `.binvox`.
+    Binvox,
+    /// An OpenVDB grid, `.vdb`.
+    Vdb,
     /// A Wavefront OBJ mesh, `.obj`.
     Obj,
     /// An STL mesh (ASCII or binary), `.stl`.
@@ -36,8 +45,20 @@ pub enum FileKind {
 
 impl FileKind {
     /// Every kind, in the order errors list them.
-    pub const ALL: &'static [FileKind] =
-        &[FileKind::Scene, FileKind::Oct, FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::Patches];
+    pub const ALL: &'static [FileKind] = &[
+        FileKind::Scene,
+        FileKind::Oct,
+        FileKind::Vox,
+        FileKind::Binvox,
+        FileKind::Vdb,
+        FileKind::Obj,
+        FileKind::Stl,
+        FileKind::Ply,
+        FileKind::Patches,
+    ];
+
+    /// The voxel solids: what [`crate::io::read_solids`] reads.
+    pub const SOLIDS: &'static [FileKind] = &[FileKind::Oct, FileKind::Vox, FileKind::Binvox, FileKind::Vdb];
 
     /// The triangle meshes.
     pub const MESHES: &'static [FileKind] = &[FileKind::Obj, FileKind::Stl, FileKind::Ply];
@@ -51,6 +72,9 @@ impl FileKind {
         match self {
             FileKind::Scene => "toml",
             FileKind::Oct => "oct",
+            FileKind::Vox => "vox",
+            FileKind::Binvox => "binvox",
+            FileKind::Vdb => "vdb",
             FileKind::Obj => "obj",
             FileKind::Stl => "stl",
             FileKind::Ply => "ply",
@@ -74,13 +98,19 @@ impl FileKind {
     }
 
     /// The world's up axis a file of this kind implies: y for OBJ and PLY meshes (y-up
-    /// by convention), z for everything else (octsolid's own convention, and STL's and
-    /// the teapot's).
+    /// by convention), z for everything else (octsolid's own convention, and STL's,
+    /// MagicaVoxel's and the teapot's).
     #[must_use]
     pub fn default_up(self) -> Axis {
         match self {
             FileKind::Obj | FileKind::Ply => Axis::Y,
-            FileKind::Scene | FileKind::Oct | FileKind::Stl | FileKind::Patches => Axis::Z,
+            FileKind::Scene
+            | FileKind::Oct
+            | FileKind::Vox
+            | FileKind::Binvox
+            | FileKind::Vdb
+            | FileKind::Stl
+            | FileKind::Patches => Axis::Z,
         }
     }
 }
@@ -116,13 +146,13 @@ mod tests {
         );
         assert_eq!(
             FileKind::of(Path::new("dir.d/model"), FileKind::ALL).unwrap_err().to_string(),
-            "dir.d/model: no extension (use .toml, .oct, .obj, .stl, .ply or .patches)"
+            "dir.d/model: no extension (use .toml, .oct, .vox, .binvox, .vdb, .obj, .stl, .ply or .patches)"
         );
     }
 
     #[test]
     fn obj_and_ply_are_y_up_and_the_rest_z_up() {
         let up: Vec<Axis> = FileKind::ALL.iter().map(|k| k.default_up()).collect();
-        assert_eq!(up, [Axis::Z, Axis::Z, Axis::Y, Axis::Z, Axis::Y, Axis::Z]);
+        assert_eq!(up, [Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Y, Axis::Z, Axis::Y, Axis::Z]);
     }
 }

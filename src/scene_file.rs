@@ -1,4 +1,5 @@
-//! Scene files (TOML): solids from shape CSG trees, mesh files and `.oct` files, their
+//! Scene files (TOML): solids from shape CSG trees, mesh files and solid files (`.oct`,
+//! and `.vox`, `.binvox`, `.vdb` through [`crate::io::read_solids`]), their
 //! materials, lights, camera and image settings. The format is described in
 //! `docs/SCENES.md`; bundled scenes are in `scenes/`.
 //!
@@ -21,7 +22,8 @@
 //! Solids, and where their octrees come from:
 //! - `shape`: a CSG tree ([`ShapeSpec`]) whose leaves may also be `{ mesh = "..." }`
 //!   (a closed mesh, as a [`MeshShape`]) and `{ oct = "..." }` (a stored octree, as an
-//!   [`OctreeShape`]: nearest sampling through the tree's transforms). The whole tree,
+//!   [`OctreeShape`]: nearest sampling through the tree's transforms; any solid file,
+//!   see `oct` below). The whole tree,
 //!   moved by the solid's `transform`, is one [`Shape`], voxelized once into the
 //!   domain every `shape` solid shares. By the soundness contract of [`Shape`] this is
 //!   exactly the octree CSG of the leaves voxelized into that domain, an `.oct` leaf
@@ -33,7 +35,10 @@
 //! - `mesh`: the mesh file voxelized alone in its own bounding cube at its `depth`,
 //!   with its `inside` rule (meshes need not be closed here); a `transform` moves the
 //!   vertices (or patch control points) first, so it is exact.
-//! - `oct`: the stored octree; a `transform` moves it by
+//! - `oct`: the stored octree of a solid file, `.oct`, `.vox`, `.binvox` or `.vdb` by
+//!   extension (a file of several solids, such as a `.vox` file's palette colours, is
+//!   their union, in the solid's material; a `.vdb` fog volume is read at the default
+//!   threshold, 0.5); a `transform` moves it by
 //!   [`LinearOctree::transformed`]: exactly (the keys permuted and mirrored, the domain
 //!   moved) for translations, uniform scales, quarter turns and mirrors, resampled at
 //!   the same depth otherwise.
@@ -61,7 +66,7 @@ use crate::budget::MemoryBudget;
 use crate::color::ColorSpec;
 use crate::error::{Error, Result};
 use crate::import::{self, ImportOptions, Input};
-use crate::io::oct;
+use crate::io::{ReadOptions, read_solids};
 use crate::mesh::{InsideRule, MeshShape, load_mesh};
 use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
@@ -615,9 +620,15 @@ impl FileLeaves for SceneFiles<'_> {
     fn oct(&self, file: &Path) -> Result<Csg> {
         let path = self.cx.folder.join(file);
         self.read.borrow_mut().push(path.clone());
-        let tree = oct::load(path, self.cx.budget)?;
+        let tree = load_solid(&path, self.cx.budget)?;
         Ok(Csg::leaf(OctreeShape::new(Arc::new(tree), DAffine3::IDENTITY)?))
     }
+}
+
+/// The union of the solids of a solid file (one octree for `.oct` and `.binvox`).
+fn load_solid(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
+    let mut read = read_solids(path, &ReadOptions { budget, ..ReadOptions::default() })?;
+    Ok(if read.solids.len() == 1 { read.solids.remove(0).tree } else { read.union() })
 }
 
 /// One solid being built: its spec, its name, the span of its `[[solid]]` header, and
@@ -795,7 +806,7 @@ impl SolidBuild<'_> {
     /// The `.oct` file's octree moved by the solid's transform.
     fn oct_tree(&self, file: &Spanned<PathBuf>) -> Result<LinearOctree> {
         let tree =
-            oct::load(self.cx.folder.join(file.get_ref()), self.cx.budget).map_err(self.at(Some(file.span())))?;
+            load_solid(&self.cx.folder.join(file.get_ref()), self.cx.budget).map_err(self.at(Some(file.span())))?;
         match self.transform()? {
             Some(map) => {
                 let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };

@@ -180,11 +180,12 @@ fn bad_input_gives_one_line_errors() {
     assert!(e.contains("a.oct") && e.contains("99"), "{e}");
     // An unknown extension names the file and everything the command reads.
     let e = fails(&dir, &["render", "a.3ds"]);
-    assert!(e.contains("a.3ds") && e.contains("(use .toml, .oct, .obj, .stl, .ply or .patches)"), "{e}");
+    let all = "(use .toml, .oct, .vox, .binvox, .vdb, .obj, .stl, .ply or .patches)";
+    assert!(e.contains("a.3ds") && e.contains(all), "{e}");
     let e = fails(&dir, &["voxelize", "a.oct", "-o", "v.oct"]);
     assert!(e.contains("a.oct") && e.contains("(use .obj, .stl, .ply or .patches)"), "{e}");
     let e = fails(&dir, &["render", "scene.toml", "--shading", "flat"]);
-    assert!(e.contains("scene.toml") && e.contains("(use .oct, .obj, .stl, .ply or .patches)"), "{e}");
+    assert!(e.contains("scene.toml") && e.contains("not a scene"), "{e}");
     // A scene's build error: the scene, the place, the solid and the cause, on one line.
     std::fs::write(dir.join("scene.toml"), "[[solid]]\nname = \"part\"\nmesh = \"gone.obj\"\n").unwrap();
     let e = fails(&dir, &["render", "scene.toml"]);
@@ -481,4 +482,271 @@ fn build_voxelizes_scene_solids_and_csg_merges_any_number_of_operands() {
     std::fs::write(dir.join("none.toml"), scene.replace("count = 3", "count = 0")).unwrap();
     let e = fails(&dir, &["build", "none.toml", "-o", "none.oct"]);
     assert!(e.contains("none.toml") && e.contains("none.toml:16:") && e.contains("0 copies"), "{e}");
+}
+
+// ---------------------------------------------------------------------------------
+// The voxel interchange formats on the command line: `convert`, and every command
+// that reads a solid reading `.vox`, `.binvox` and `.vdb`, against files other tools
+// wrote (tests/data: dot_vox's MagicaVoxel samples, OpenVDB 10, the PyPI binvox
+// package) and what they or their makers say of them.
+
+/// A file of tests/data, as an argument.
+fn data(path: &str) -> String {
+    repo().join("tests/data").join(path).to_str().unwrap().to_string()
+}
+
+fn read_json(path: &str) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(data(path)).unwrap()).unwrap()
+}
+
+/// sRGB byte to linear, the IEC 61966-2-1 formula.
+fn srgb_to_linear(c: u8) -> f64 {
+    let c = f64::from(c) / 255.0;
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+#[test]
+fn convert_oct_through_every_voxel_format_and_back_is_bit_identical() {
+    let dir = scratch("convert-round-trip");
+    // Off-origin domains at depths 3, 6 and 9; the rod spans 486 voxels, so .vox
+    // writes it as several models of at most 256 a side placed by the scene graph.
+    let solids: [(&str, &[&str]); 3] = [
+        ("block", &["box", "--size", "1,2,0.5", "--depth", "3"]),
+        ("ball", &["sphere", "--radius", "1.3", "--depth", "6", "--domain", "-0.7,-2.1,0.35,2.9"]),
+        ("rod", &["box", "--size", "1.9,0.05,0.05", "--depth", "9", "--domain", "-1,-1,-1,2"]),
+    ];
+    for (name, shape) in solids {
+        let oct = format!("{name}.oct");
+        ok(&dir, &[&["shape"], shape, &["-o", oct.as_str()]].concat());
+        let original = std::fs::read(dir.join(&oct)).unwrap();
+        let voxels = info_json(&dir, &oct)["voxels"].clone();
+        for ext in ["vox", "binvox", "vdb"] {
+            let (there, back) = (format!("{name}.{ext}"), format!("{name}-from-{ext}.oct"));
+            let out = ok(&dir, &["convert", &oct, &there]);
+            assert!(out.contains(&format!("wrote      {there}")), "{out}");
+            assert_eq!(info_json(&dir, &there)["voxels"], voxels, "{there}");
+            ok(&dir, &["convert", &there, &back]);
+            assert!(
+                std::fs::read(dir.join(&back)).unwrap() == original,
+                "{name}: .oct -> .{ext} -> .oct changed the file"
+            );
+        }
+    }
+    // --depth brings the solid to another depth first: one level finer nests exactly,
+    // eight voxels a voxel.
+    let out = ok(&dir, &["convert", "ball.oct", "ball7.vdb", "--depth", "7"]);
+    assert!(out.contains("exact"), "{out}");
+    let fine = info_json(&dir, "ball7.vdb");
+    assert_eq!(fine["voxels"].as_u64().unwrap(), 8 * info_json(&dir, "ball.oct")["voxels"].as_u64().unwrap());
+    assert_eq!(fine["depth"], 7);
+    // The output may not be the input, and a format written only is not read.
+    let e = fails(&dir, &["convert", "ball.oct", "./ball.oct"]);
+    assert!(e.contains("the output is the input"), "{e}");
+    ok(&dir, &["convert", "ball.oct", "ball.glb"]);
+    let e = fails(&dir, &["convert", "ball.glb", "b.oct"]);
+    assert!(e.contains("ball.glb") && e.contains("(use .oct, .vox, .binvox or .vdb)"), "{e}");
+}
+
+#[test]
+fn vox_samples_are_read_by_every_command_with_their_counts_and_colours() {
+    let dir = scratch("vox-samples");
+    let axes = data("vox/axes.vox");
+    // The oracle: dot_vox's parse of the file, each model's voxels by palette index
+    // once for every shape node placing it (the sample's placed models do not overlap).
+    let file = dot_vox::load(&axes).unwrap();
+    let mut expected = std::collections::BTreeMap::<u64, u64>::new();
+    for node in &file.scenes {
+        if let dot_vox::SceneNode::Shape { models, .. } = node {
+            for v in &file.models[models[0].model_id as usize].voxels {
+                *expected.entry(u64::from(v.i) + 1).or_default() += 1;
+            }
+        }
+    }
+    assert_eq!(expected.len(), 4, "axes.vox: red x, green y, blue z and a dark origin");
+    let info = info_json(&dir, &axes);
+    assert_eq!(info["format"], "vox");
+    let solids = info["solids"].as_array().unwrap();
+    let counts: std::collections::BTreeMap<u64, u64> =
+        solids.iter().map(|s| (s["palette_index"].as_u64().unwrap(), s["voxels"].as_u64().unwrap())).collect();
+    assert_eq!(counts, expected);
+    let total: u64 = expected.values().sum();
+    assert_eq!(info["voxels"].as_u64().unwrap(), total);
+    for s in solids {
+        let c = file.palette[s["palette_index"].as_u64().unwrap() as usize - 1];
+        let want = [c.r, c.g, c.b].map(srgb_to_linear);
+        for (got, want) in s["color"].as_array().unwrap().iter().zip(want) {
+            assert!((got.as_f64().unwrap() - want).abs() < 1e-12, "{s}: {want}");
+        }
+    }
+    let text = ok(&dir, &["info", &axes]);
+    assert!(text.contains("format     .vox, 4 solids") && text.contains("sRGB #dd0000"), "{text}");
+
+    // Every command that reads a solid reads it: the union of its colours.
+    ok(&dir, &["convert", &axes, "axes.oct"]);
+    assert_eq!(info_json(&dir, "axes.oct")["voxels"].as_u64().unwrap(), total);
+    ok(&dir, &["transform", &axes, "--translate", "3,0,0", "-o", "moved.oct"]);
+    assert_eq!(info_json(&dir, "moved.oct")["voxels"].as_u64().unwrap(), total);
+    // To .vox, each colour moves on its own, the same voxels in the same colours.
+    ok(&dir, &["transform", &axes, "--translate", "3,0,0", "-o", "moved.vox"]);
+    let moved = info_json(&dir, "moved.vox");
+    let moved_solids = moved["solids"].as_array().unwrap();
+    assert_eq!(moved_solids.len(), solids.len());
+    for (m, s) in moved_solids.iter().zip(solids) {
+        assert_eq!((&m["palette_index"], &m["voxels"], &m["color"]), (&s["palette_index"], &s["voxels"], &s["color"]));
+    }
+    let [x0, x1] = [&info, &moved].map(|i| i["bounds"]["min"][0].as_f64().unwrap());
+    assert_eq!(x1 - x0, 3.0);
+    ok(&dir, &["csg", "difference", &axes, "moved.oct", "-o", "diff.oct"]);
+    let diff = info_json(&dir, "diff.oct")["voxels"].as_u64().unwrap();
+    assert!(diff > 0 && diff < total, "a move of 3 voxels along x leaves part of the model");
+    let out = ok(&dir, &["slice", &axes, "--axis", "z", "--at", "1.5", "--size", "64", "-o", "slice.png"]);
+    assert!(out.contains("slice.png"), "{out}");
+
+    // export .glb: one mesh and one material a colour, the palette's colour.
+    ok(&dir, &["export", &axes, "-o", "axes.glb"]);
+    let glb = std::fs::read(dir.join("axes.glb")).unwrap();
+    assert_eq!(&glb[..4], b"glTF");
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let gltf: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    assert_eq!(gltf["meshes"].as_array().unwrap().len(), 4);
+    for (material, (index, _)) in gltf["materials"].as_array().unwrap().iter().zip(&expected) {
+        let c = file.palette[*index as usize - 1];
+        let base = &material["pbrMetallicRoughness"]["baseColorFactor"];
+        for (got, want) in base.as_array().unwrap().iter().zip([c.r, c.g, c.b].map(srgb_to_linear)) {
+            assert!((got.as_f64().unwrap() - want).abs() < 1e-6, "{material}");
+        }
+    }
+    // OBJ holds one mesh: the union, whose enclosed volume is the voxels'.
+    let out = ok(&dir, &["export", &axes, "-o", "axes.obj"]);
+    assert!(out.contains(&format!("{total}.000000 octree")), "{out}");
+}
+
+/// Pixels where channel `c` stands out: above twice the other two and 40.
+fn dominant(img: &image::RgbImage, c: usize) -> usize {
+    let stands_out = |p: &image::Rgb<u8>| {
+        let v = p.0.map(u32::from);
+        v[c] > 40 && (0..3).filter(|&o| o != c).all(|o| v[c] > 2 * v[o].max(4))
+    };
+    img.pixels().filter(|p| stands_out(p)).count()
+}
+
+#[test]
+fn render_shows_a_vox_model_in_its_palette_colours() {
+    let dir = scratch("vox-render");
+    let axes = data("vox/axes.vox");
+    ok(&dir, &["render", &axes, "--size", "160x120", "--spp", "1", "-o", "axes.png"]);
+    let img = image::open(dir.join("axes.png")).unwrap().to_rgb8();
+    // The palette's red x, green y and blue z (sRGB dd0000, 00aa00, 0000aa) all show.
+    for c in 0..3 {
+        assert!(dominant(&img, c) > 20, "channel {c}: {} pixels", dominant(&img, c));
+    }
+    // The same voxels as one .oct solid are drawn in the default orange: no green, no blue.
+    ok(&dir, &["convert", &axes, "axes.oct"]);
+    ok(&dir, &["render", "axes.oct", "--size", "160x120", "--spp", "1", "-o", "plain.png"]);
+    let plain = image::open(dir.join("plain.png")).unwrap().to_rgb8();
+    assert_eq!((dominant(&plain, 1), dominant(&plain, 2)), (0, 0));
+    // A scene's `oct =` reads the .vox file as the union of its solids: the same
+    // picture as the .oct file's.
+    for (scene, file) in [("vox.toml", axes.as_str()), ("oct.toml", "axes.oct")] {
+        std::fs::write(dir.join(scene), format!("[[solid]]\noct = {file:?}\n")).unwrap();
+        ok(&dir, &["render", scene, "--size", "80x60", "--spp", "1", "-o", &format!("{scene}.png")]);
+    }
+    let [a, b] = ["vox.toml.png", "oct.toml.png"].map(|f| std::fs::read(dir.join(f)).unwrap());
+    assert!(a == b, "the scene's .vox and .oct solids differ");
+}
+
+#[test]
+fn vdb_and_binvox_files_of_the_reference_tools_read_as_their_makers_say() {
+    let dir = scratch("vdb-binvox");
+    let vdb = data("vdb/fog_and_mask.vdb");
+    let shapes = read_json("vdb/shapes.json");
+    // OpenVDB's own count of the fog volume's active voxels: every one of them is
+    // inside at a threshold below all values; above, the changed voxels at or below the
+    // threshold leave.
+    let grids = &shapes["grids"]["fog_and_mask.vdb"];
+    let active = grids[0]["active_voxels"].as_u64().unwrap();
+    let changed: Vec<f64> =
+        shapes["density"]["voxels"].as_array().unwrap().iter().map(|v| v[1].as_f64().unwrap()).collect();
+    for threshold in [0.1, 0.3, 0.5, 0.65] {
+        let out_file = format!("fog-{threshold}.oct");
+        ok(&dir, &["convert", &vdb, &out_file, "--threshold", &threshold.to_string()]);
+        let below = changed.iter().filter(|&&v| v <= threshold).count() as u64;
+        assert_eq!(info_json(&dir, &out_file)["voxels"].as_u64().unwrap(), active - below, "threshold {threshold}");
+    }
+    // The bool grid by name: OpenVDB's active (true) voxels.
+    let mask: serde_json::Value = serde_json::from_str(&ok(&dir, &["info", &vdb, "--grid", "mask", "--json"])).unwrap();
+    assert_eq!(mask["voxels"], grids[1]["active_voxels"]);
+    assert_eq!(mask["solids"][0]["name"], "mask");
+    let e = fails(&dir, &["info", &vdb, "--grid", "nope"]);
+    assert!(e.contains("fog_and_mask.vdb") && e.contains("density") && e.contains("mask"), "{e}");
+    // A flag for another format is said to be ignored, and does nothing.
+    let out = octsolid(&dir, &["info", &data("binvox/torus64.binvox"), "--threshold", "0.9", "--json"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--threshold is for .vdb files"));
+
+    // binvox: the voxel count the PyPI tool's grid had, and the world placement kept
+    // (translate and scale are the domain's corner and edge).
+    let binvox = read_json("binvox/shapes.json");
+    for name in ["torus64.binvox", "ellipsoid50.binvox"] {
+        let (want, info) = (&binvox[name], info_json(&dir, &data(&format!("binvox/{name}"))));
+        assert_eq!(info["voxels"], want["voxels"], "{name}");
+        assert_eq!(info["domain"]["min"], want["translate"], "{name}");
+        assert_eq!(info["format"], "binvox");
+    }
+    let info = info_json(&dir, &data("binvox/torus64.binvox"));
+    assert_eq!((info["depth"].as_u64(), info["domain"]["edge"].as_f64()), (Some(6), Some(3.0)));
+    // voxelize -o writes any format: the same voxels as its .oct.
+    let block = repo().join("tests/data/boundary/block-unit.obj");
+    let block = block.to_str().unwrap();
+    ok(&dir, &["voxelize", block, "--depth", "5", "-o", "block.oct"]);
+    let want = info_json(&dir, "block.oct")["voxels"].clone();
+    for ext in ["vox", "binvox", "vdb"] {
+        let name = format!("block.{ext}");
+        ok(&dir, &["voxelize", block, "--depth", "5", "-o", &name]);
+        assert_eq!(info_json(&dir, &name)["voxels"], want, "{name}");
+    }
+}
+
+#[test]
+fn damaged_interchange_files_are_refused_by_name_and_place() {
+    let dir = scratch("interchange-damage");
+    let sources = ["vox/axes.vox", "binvox/torus64.binvox", "vdb/sphere.vdb"];
+    for source in sources {
+        let bytes = std::fs::read(data(source)).unwrap();
+        let ext = source.rsplit('.').next().unwrap();
+        let mut corrupt = bytes.clone();
+        for b in corrupt.iter_mut().skip(8).step_by(97) {
+            *b ^= 0xa5;
+        }
+        let random: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8).collect();
+        let cases = [
+            ("truncated", bytes[..bytes.len() / 3].to_vec()),
+            ("corrupt", corrupt),
+            ("random", random),
+            ("empty", Vec::new()),
+        ];
+        for (kind, damaged) in cases {
+            let name = format!("{kind}.{ext}");
+            std::fs::write(dir.join(&name), &damaged).unwrap();
+            for command in [&["convert", &name, "out.oct"][..], &["info", &name], &["render", &name, "-o", "r.png"]] {
+                let out = octsolid(&dir, command);
+                let stderr = String::from_utf8_lossy(&out.stderr);
+                assert!(!stderr.contains("panicked"), "{command:?}: {stderr}");
+                if out.status.success() {
+                    // A flipped byte may land in a voxel's value: still a solid file.
+                    assert_eq!(kind, "corrupt", "{command:?} read a {kind} file");
+                    continue;
+                }
+                assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+                assert!(stderr.contains(&name), "{command:?}: {stderr}");
+                assert!(stderr.contains("byte") || stderr.contains("chunk"), "{command:?}: no place: {stderr}");
+            }
+            assert!(!dir.join("out.oct").exists() || kind == "corrupt");
+        }
+    }
+    // dot_vox's sample of a file that is not a .vox file.
+    let e = fails(&dir, &["convert", &data("vox/not_a.vox"), "n.oct"]);
+    assert!(e.contains("not_a.vox: byte 0: not a MagicaVoxel file"), "{e}");
+    // A header's claim is checked against the budget before anything is allocated.
+    let e = fails(&dir, &["--memory-budget", "4KiB", "convert", &data("vox/axes.vox"), "a.oct"]);
+    assert!(e.contains("axes.vox") && e.contains("memory budget"), "{e}");
 }

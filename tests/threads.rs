@@ -253,6 +253,15 @@ fn every_command_writes_the_same_bytes_with_one_and_two_threads() {
         same(s, &["voxelize", &teapot, "--depth", "6", "--fill", fill, "-o", &out]);
     }
     same(s, &["voxelize", &bunny, "--depth", "5", "--up", "y", "--units", "mm", "-o", "bunny.vox"]);
+    // The interchange formats read and converted: every solid file to every format,
+    // a file of several colours kept apart, and read by the other commands.
+    for (from, to) in [("bunny.vox", "bunny-vox.oct"), ("t4.binvox", "t4.vdb"), ("union.vdb", "union.vox")] {
+        same(s, &["convert", from, to]);
+    }
+    same(s, &["convert", "bunny.vox", "bunny-d6.binvox", "--depth", "6"]);
+    same(s, &["info", "bunny.vox", "--json"]);
+    same(s, &["render", "bunny.vox", "--size", "48x36", "--spp", "1", "-o", "bunny-vox.png"]);
+    same(s, &["export", "t4.binvox", "-o", "t4.glb"]);
 
     // mesh-info: every input kind.
     for input in [bunny.as_str(), "part.stl", "part-unit.ply", "part.obj", teapot.as_str()] {

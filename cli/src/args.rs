@@ -4,11 +4,11 @@
 
 use clap::{Parser, Subcommand};
 use glam::DVec3;
-use octsolid::octree::Turn;
+use octsolid::octree::{Domain, Turn};
 use octsolid::shape::Axis;
 
 use crate::commands::{
-    bench, build, csg, demo, export, info, mesh_info, render, shape, slice, transform, view, voxelize,
+    bench, build, convert, csg, demo, export, info, mesh_info, render, shape, slice, transform, view, voxelize,
 };
 
 /// octsolid: solid modeling on linear octrees.
@@ -28,19 +28,35 @@ pub struct Args {
 pub enum Command {
     /// Voxelize a primitive shape into an .oct file.
     Shape(shape::ShapeArgs),
-    /// Combine .oct files by a set operation (bringing them into one domain first).
+    /// Combine solid files by a set operation (bringing them into one domain first).
+    ///
+    /// The common domain is --domain, else the smallest cube holding every input's
+    /// domain; its depth --depth, else the deepest input's, or deeper where an input's
+    /// voxels nest only at a finer level.
     Csg(csg::CsgArgs),
-    /// Voxelize a scene file's solid (the named one, or the union of its shape solids) to an .oct file.
+    /// Voxelize a scene file's solid (the named one, or the union of its shape solids) to a solid file.
     Build(build::BuildArgs),
-    /// Move, turn or scale an .oct solid, or bring it into another domain or depth.
+    /// Move, turn or scale a solid, or bring it into another domain or depth.
+    ///
+    /// The result's domain is --domain, else the moved domain when the move is exact
+    /// (keys permuted, mirrored or scaled), else the cube around the moved solid; its
+    /// depth --depth, else the input's.
     Transform(transform::TransformArgs),
-    /// Print what an .oct file holds and measure it (area, centre of mass, inertia, components).
+    /// Print what a solid file holds and measure it (area, centre of mass, inertia, components).
     Info(info::InfoArgs),
-    /// Draw a cross-section of an .oct file as a PNG.
+    /// Convert a solid file between .oct, MagicaVoxel .vox, .binvox and OpenVDB .vdb
+    /// (also to .glb or a mesh), each format by its extension.
+    ///
+    /// The solids keep their domain unless --domain or --depth is given; then each is
+    /// brought into that domain (exactly where the voxels nest, else resampled).
+    /// .vox, .vdb and .glb keep several solids (a palette colour, a grid, a mesh each);
+    /// .oct, .binvox and the meshes get their union.
+    Convert(convert::ConvertArgs),
+    /// Draw a cross-section of a solid file as a PNG.
     Slice(slice::SliceArgs),
-    /// Voxelize a mesh (OBJ, STL, PLY) or a Bezier patch set (.patches) into an .oct file.
+    /// Voxelize a mesh (OBJ, STL, PLY) or a Bezier patch set (.patches) into a solid file.
     Voxelize(voxelize::VoxelizeArgs),
-    /// Write the boundary of an .oct solid as a closed, manifold triangle mesh (OBJ, STL, PLY).
+    /// Write the boundary of a solid as a closed, manifold triangle mesh (OBJ, STL, PLY, GLB).
     ///
     /// Where voxels touch only along an edge or at a corner the mesh keeps one vertex
     /// for each sheet of the surface. OBJ and PLY store those vertices as they are. STL
@@ -53,7 +69,7 @@ pub enum Command {
     Export(export::ExportArgs),
     /// Print a mesh's polygon-table diagnostics: edges, holes, non-manifold edges, volume.
     MeshInfo(mesh_info::MeshInfoArgs),
-    /// Render a scene file (.toml), an .oct file, or a mesh (voxelized first) to a PNG.
+    /// Render a scene file (.toml), a solid file, or a mesh (voxelized first) to a PNG.
     Render(render::RenderArgs),
     /// Show a scene, solid or mesh in the browser: orbit, zoom, pan, and a ray-traced
     /// still when the view rests (a server on 127.0.0.1; --watch reloads on save).
@@ -62,6 +78,38 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Build the bundled showcase scene and render it to demo.png.
     Demo(demo::DemoArgs),
+}
+
+/// Where a command that resamples solids puts its result: `--domain` and `--depth`
+/// over the command's own default domain (`csg`: the smallest cube holding every
+/// input's domain at the deepest depth; `transform`: the moved domain when the move is
+/// exact, else the cube around the moved solid, at the input's depth; `convert`: the
+/// input's).
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct TargetFlags {
+    /// The target domain MINX,MINY,MINZ,EDGE (default: the command's, see its help).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
+    pub domain: Option<[f64; 4]>,
+    /// The target depth (default: the command's domain's).
+    #[arg(long)]
+    pub depth: Option<u8>,
+}
+
+impl TargetFlags {
+    /// Whether either flag was given.
+    pub(crate) fn given(&self) -> bool {
+        self.domain.is_some() || self.depth.is_some()
+    }
+
+    /// The target: `--domain` (at `--depth`, else `default`'s depth), else `default` at
+    /// `--depth`.
+    pub(crate) fn target(&self, default: Domain) -> octsolid::Result<Domain> {
+        let depth = self.depth.unwrap_or(default.depth());
+        match self.domain {
+            Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth),
+            None => default.with_depth(depth),
+        }
+    }
 }
 
 /// Parses `X,Y,Z`.

@@ -20,6 +20,12 @@ fn extension(path: &Path) -> String {
     path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default()
 }
 
+/// Whether the format `path` names holds several solids, each with its colour (`.vox`,
+/// `.vdb`, `.glb`); the others hold one, and get the union.
+pub(crate) fn holds_many_solids(path: &Path) -> bool {
+    ["vox", "vdb", "glb"].contains(&extension(path).as_str())
+}
+
 /// Refuses `path` unless its extension is one of `accepted`.
 pub(crate) fn check_extension(path: &Path, accepted: &[&str]) -> Result<()> {
     let found = extension(path);

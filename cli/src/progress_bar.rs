@@ -102,3 +102,29 @@ impl Progress for Bar {
         }
     }
 }
+
+/// A spinner with the elapsed time, for work whose library call reports no progress
+/// (reading or writing a whole file): on a terminal it ticks by itself until dropped
+/// and then clears; elsewhere it shows nothing (the command's summary gives the time).
+pub struct Spinner(Option<ProgressBar>);
+
+impl Spinner {
+    pub fn new(message: &'static str) -> Self {
+        if !std::io::stderr().is_terminal() {
+            return Spinner(None);
+        }
+        let bar = ProgressBar::new_spinner();
+        bar.set_style(ProgressStyle::with_template("{msg:>12} {spinner} {elapsed_precise}").expect("valid template"));
+        bar.set_message(message);
+        bar.enable_steady_tick(Duration::from_millis(120));
+        Spinner(Some(bar))
+    }
+}
+
+impl Drop for Spinner {
+    fn drop(&mut self) {
+        if let Some(bar) = &self.0 {
+            bar.finish_and_clear();
+        }
+    }
+}

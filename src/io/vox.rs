@@ -34,7 +34,10 @@
 //! solid without one is light grey), at most [`MAX_COLOURS`] solids (more are refused).
 //! The voxels' bounding box is cut into models of at most [`MAX_MODEL_SIDE`]^3 (the
 //! format's limit: coordinates are bytes), each placed by a transform under one group,
-//! so world voxel = the solid's lattice voxel. Where solids overlap the later one wins.
+//! so world voxel = the solid's lattice voxel. A model's voxels are painted node by node
+//! into a byte grid of the model (at most 16 MiB, reused), solid after solid, so where
+//! solids overlap the later one wins, and read out in the order `XYZI` lists them
+//! (x, then y, then z): no per-voxel sort or map.
 //! The bytes are a function of the solids alone (no map iteration order leaks out).
 //!
 //! Limits: `.vox` stores every voxel (4 bytes each), so reading and writing cost
@@ -45,6 +48,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use glam::DVec3;
+use rayon::slice::ParallelSliceMut;
 
 use super::solids::{ColouredSolid, ReadOptions, Solids};
 use crate::budget::MemoryBudget;
@@ -67,9 +71,6 @@ const VERSION: u32 = 200;
 const BYTES_PER_VOXEL: u64 = 48;
 /// Colour written for a solid without one (sRGB 204, 204, 204).
 const DEFAULT_GREY: f64 = 0.6;
-
-/// A voxel bound for a model: position in the model, sequence (later wins), palette index.
-type TileVoxel = ([u8; 3], u32, u8);
 
 /// A chunk found by the structure walk: id, offset of its 12-byte header, content bytes.
 struct Chunk {
@@ -194,7 +195,8 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
         })
         .collect();
     drop(placed);
-    records.sort_unstable();
+    // A total order (every sequence number is distinct): the same on any thread count.
+    records.par_sort_unstable();
     let mut codes: Vec<Vec<u64>> = vec![Vec::new(); 256];
     for (i, r) in records.iter().enumerate() {
         if records.get(i + 1).is_none_or(|next| next.0 != r.0) {
@@ -602,52 +604,44 @@ pub fn write(path: impl AsRef<Path>, solids: &Solids, budget: MemoryBudget) -> R
 pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
     // Step 1: a palette index a solid.
     let indices = palette_indices(&solids.solids)?;
-    let voxels: u64 = solids.solids.iter().map(|s| s.tree.voxel_count()).sum();
-    budget.check(format!("a .vox file of {voxels} voxels"), voxels.saturating_mul(12))?;
-    // Step 2: every voxel into its model of at most 256^3, from the bounding box's corner.
+    // Step 2: the voxels' bounding box cut into models of at most 256^3 from its low
+    // corner; a model with no voxel is left out.
     let bounds = solids
         .solids
         .iter()
         .filter_map(|s| s.tree.voxel_bounds())
         .reduce(|a, b| (std::array::from_fn(|i| a.0[i].min(b.0[i])), std::array::from_fn(|i| a.1[i].max(b.1[i]))));
-    let lo = bounds.map_or([0; 3], |b| b.0);
-    let mut tiles: BTreeMap<[u32; 3], Vec<TileVoxel>> = BTreeMap::new();
-    let mut seq = 0u32;
-    for (solid, &index) in solids.solids.iter().zip(&indices) {
-        for node in solid.tree.nodes() {
-            for x in node.min[0]..node.min[0] + node.size {
-                for y in node.min[1]..node.min[1] + node.size {
-                    for z in node.min[2]..node.min[2] + node.size {
-                        let r = [x - lo[0], y - lo[1], z - lo[2]];
-                        let tile = r.map(|c| c / MAX_MODEL_SIDE);
-                        let local = r.map(|c| (c % MAX_MODEL_SIDE) as u8);
-                        tiles.entry(tile).or_default().push((local, seq, index));
-                        seq = seq.wrapping_add(1);
-                    }
-                }
-            }
-        }
-    }
+    let (lo, hi) = bounds.unwrap_or(([0; 3], [0; 3]));
+    // Memory: 4 bytes a voxel in the file, at most 8 more while a model is listed, and
+    // the byte grid of one model.
+    let voxels: u64 = solids.solids.iter().map(|s| s.tree.voxel_count()).sum();
+    let grid: u64 = (0..3).map(|a| u64::from((hi[a] - lo[a]).min(MAX_MODEL_SIDE))).product();
+    budget.check(format!("a .vox file of {voxels} voxels"), voxels.saturating_mul(12).saturating_add(grid))?;
+    let tiles = [0, 1, 2].map(|a| (hi[a] - lo[a]).div_ceil(MAX_MODEL_SIDE));
     // Step 3: chunks. Models first, then the scene graph, layer, palette, materials.
     let mut main = Vec::new();
     let mut placements = Vec::new();
-    for (tile, list) in &mut tiles {
-        // Later solids win: sort by position then sequence, keep each position's last.
-        list.sort_unstable_by_key(|&(p, s, _)| (p, s));
-        let mut kept: Vec<[u8; 4]> = Vec::with_capacity(list.len());
-        for (i, &(p, _, index)) in list.iter().enumerate() {
-            if list.get(i + 1).is_none_or(|n| n.0 != p) {
-                kept.push([p[0], p[1], p[2], index]);
+    let mut grid = Vec::new();
+    for tx in 0..tiles[0] {
+        for ty in 0..tiles[1] {
+            for tz in 0..tiles[2] {
+                let corner = [tx, ty, tz].map(|t| t * MAX_MODEL_SIDE);
+                let start = [0, 1, 2].map(|a| lo[a] + corner[a]);
+                let end = [0, 1, 2].map(|a| (start[a] + MAX_MODEL_SIDE).min(hi[a]));
+                let kept = model_voxels(solids, &indices, start, end, &mut grid);
+                if kept.is_empty() {
+                    continue;
+                }
+                let size = [0, 1, 2].map(|a| kept.iter().map(|v| u32::from(v[a]) + 1).max().unwrap_or(1));
+                chunk(&mut main, b"SIZE", &[size[0], size[1], size[2]].map(u32::to_le_bytes).concat());
+                let mut xyzi = (kept.len() as u32).to_le_bytes().to_vec();
+                xyzi.extend(kept.iter().flatten());
+                chunk(&mut main, b"XYZI", &xyzi);
+                // World voxel = lattice voxel: v - floor(s/2) + t with v local, so t = corner + floor(s/2).
+                let t = [0, 1, 2].map(|a| i64::from(start[a]) + i64::from(size[a] / 2));
+                placements.push(t);
             }
         }
-        let size = [0, 1, 2].map(|a| kept.iter().map(|v| u32::from(v[a]) + 1).max().unwrap_or(1));
-        chunk(&mut main, b"SIZE", &[size[0], size[1], size[2]].map(u32::to_le_bytes).concat());
-        let mut xyzi = (kept.len() as u32).to_le_bytes().to_vec();
-        xyzi.extend(kept.iter().flatten());
-        chunk(&mut main, b"XYZI", &xyzi);
-        // World voxel = lattice voxel: v - floor(s/2) + t with v local, so t = corner + floor(s/2).
-        let t = [0, 1, 2].map(|a| i64::from(lo[a] + tile[a] * MAX_MODEL_SIDE) + i64::from(size[a] / 2));
-        placements.push(t);
     }
     let d = solids.domain;
     let domain_value = format!("{} {} {} {} {}", d.min().x, d.min().y, d.min().z, d.edge(), d.depth());
@@ -696,6 +690,40 @@ pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
     out.extend([0, main.len() as u32].map(u32::to_le_bytes).concat());
     out.extend(main);
     Ok(out)
+}
+
+/// The voxels of the model covering lattice voxels `start..end` as XYZI lists them:
+/// `[x, y, z, palette index]` in the model, in x, then y, then z order. Each solid's
+/// nodes are painted into `grid` (a byte a voxel of the model, reused from model to
+/// model) in the solids' order, so where solids overlap the later one wins, then the
+/// grid is read out in that order.
+fn model_voxels(solids: &Solids, indices: &[u8], start: [u32; 3], end: [u32; 3], grid: &mut Vec<u8>) -> Vec<[u8; 4]> {
+    let ext = [0, 1, 2].map(|a| (end[a] - start[a]) as usize);
+    grid.clear();
+    grid.resize(ext[0] * ext[1] * ext[2], 0);
+    for (solid, &index) in solids.solids.iter().zip(indices) {
+        for node in solid.tree.nodes() {
+            let from = [0, 1, 2].map(|a| node.min[a].max(start[a]) - start[a]);
+            let to = [0, 1, 2].map(|a| (node.min[a] + node.size).min(end[a]).saturating_sub(start[a]));
+            if (0..3).any(|a| from[a] >= to[a]) {
+                continue;
+            }
+            for x in from[0]..to[0] {
+                for y in from[1]..to[1] {
+                    let row = (x as usize * ext[1] + y as usize) * ext[2];
+                    grid[row + from[2] as usize..row + to[2] as usize].fill(index);
+                }
+            }
+        }
+    }
+    let mut kept = Vec::new();
+    for (i, &index) in grid.iter().enumerate() {
+        if index != 0 {
+            let (x, y, z) = (i / (ext[1] * ext[2]), i / ext[2] % ext[1], i % ext[2]);
+            kept.push([x as u8, y as u8, z as u8, index]);
+        }
+    }
+    kept
 }
 
 /// A palette index for each solid: its own when free, else the lowest free one.

@@ -7,36 +7,35 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::ValueEnum;
-use glam::DVec3;
-use octsolid::io::oct;
-use octsolid::octree::{Domain, Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
+use octsolid::octree::{Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
-use crate::args::parse_domain;
+use crate::args::TargetFlags;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
+use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid csg`.
 #[derive(clap::Args, Debug)]
 pub struct CsgArgs {
     /// The operation (difference: the first minus all the others).
     pub op: CsgOp,
-    /// Input .oct files (at least two). Inputs over other domains or depths are
-    /// brought into one: exactly where their voxels nest, else resampled.
+    /// Input solid files, .oct, .vox, .binvox or .vdb (at least two; a file of several
+    /// solids counts as their union). Inputs over other domains or depths are brought
+    /// into one: exactly where their voxels nest, else resampled.
     #[arg(required = true, num_args = 2..)]
     pub inputs: Vec<PathBuf>,
     /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// The common domain MINX,MINY,MINZ,EDGE (default: the smallest cube holding
-    /// every input's domain).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
-    pub domain: Option<[f64; 4]>,
-    /// The common depth (default: the deepest, or deeper where an input's voxels nest
-    /// only at a finer level).
-    #[arg(long)]
-    pub depth: Option<u8>,
+    // The common domain and depth (default: the smallest cube holding every input's
+    // domain, at the deepest depth, or deeper where an input's voxels nest only at a
+    // finer level).
+    #[command(flatten)]
+    pub target: TargetFlags,
+    #[command(flatten)]
+    pub read: ReadFlags,
 }
 
 /// A set operation over files.
@@ -60,15 +59,12 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     let mut trees = Vec::with_capacity(inputs.len());
     let mut meta = None;
     for path in inputs {
-        let (tree, m) = oct::load_with(path, budget)?;
-        meta.get_or_insert(m);
-        trees.push(tree);
+        let file = read_solid_file(path, &a.read, budget)?;
+        meta.get_or_insert(file.meta);
+        trees.push(file.into_union());
     }
     let common = common_domain(&trees.iter().map(|t| *t.domain()).collect::<Vec<_>>())?;
-    let target = match a.domain {
-        Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, a.depth.unwrap_or(common.depth()))?,
-        None => common.with_depth(a.depth.unwrap_or(common.depth()))?,
-    };
+    let target = a.target.target(common)?;
     let bar = Bar::new("fitting");
     let options = VoxelizeOptions { budget, progress: &bar };
     for (tree, path) in trees.iter_mut().zip(inputs) {

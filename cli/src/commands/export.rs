@@ -1,5 +1,10 @@
-//! `octsolid export FILE.oct -o OUT.(obj|stl|ply) [--unit-faces]`: the boundary of a
-//! solid as a closed, manifold triangle mesh.
+//! `octsolid export FILE -o OUT.(obj|stl|ply|glb) [--unit-faces]`: the boundary of a
+//! solid (`.oct`, `.vox`, `.binvox`, `.vdb`) as a closed, manifold triangle mesh.
+//!
+//! OBJ, STL and PLY hold one mesh: a file of several solids (a `.vox` palette colour
+//! each) is written as their union. Binary glTF (`.glb`, [`octsolid::io::gltf`]) keeps
+//! them apart: one mesh a solid with its vertex normals and its colour as the
+//! material's base colour, for web viewers and Blender.
 //!
 //! STL has no vertex indices, so the vertices the mesh keeps apart where voxels touch
 //! only along an edge or at a corner are written moved apart
@@ -9,35 +14,53 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use octsolid::io::oct;
+use octsolid::io::{WriteOptions, write_solids};
 use octsolid::mesh::{BoundaryOptions, MeshFormat, save_mesh, separate_sheets, try_boundary_mesh};
 use octsolid::{MemoryBudget, human_bytes};
 
 use crate::output::check_not_an_input;
 use crate::progress_bar::Bar;
+use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid export`.
 #[derive(clap::Args, Debug)]
 pub struct ExportArgs {
-    /// The .oct file.
+    /// The solid file: .oct, .vox, .binvox or .vdb.
     pub file: PathBuf,
-    /// Output mesh: .obj, .stl or .ply (STL: vertices where voxels touch moved apart).
+    /// Output mesh: .obj, .stl or .ply (STL: vertices where voxels touch moved apart),
+    /// or .glb (binary glTF: a mesh with normals and colour a solid).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// One voxel face = two triangles (default: coplanar faces merged into rectangles).
+    /// One voxel face = two triangles (default: coplanar faces merged into rectangles;
+    /// .glb always merges).
     #[arg(long)]
     pub unit_faces: bool,
+    #[command(flatten)]
+    pub read: ReadFlags,
 }
 
-/// `octsolid export FILE.oct -o OUT.(obj|stl|ply) [--unit-faces]`
+/// `octsolid export FILE -o OUT.(obj|stl|ply|glb) [--unit-faces]`
 pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let (file, output, unit_faces) = (&a.file, &a.output, a.unit_faces);
-    let format = MeshFormat::of(output)?;
+    let glb = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    let format = if glb {
+        None
+    } else {
+        let found =
+            output.extension().map_or_else(|| "no extension".into(), |e| format!("extension .{}", e.to_string_lossy()));
+        Some(MeshFormat::of(output).map_err(|_| {
+            anyhow::anyhow!("{}: {found} names no mesh format (use .obj, .stl, .ply or .glb)", output.display())
+        })?)
+    };
     check_not_an_input(output, &[file])?;
-    let tree = oct::load(file, budget)?;
-    if tree.is_empty() {
+    let read = read_solid_file(file, &a.read, budget)?;
+    if read.solids.solids.iter().all(|s| s.tree.is_empty()) {
         bail!("{}: the solid is empty; there is no boundary to export", file.display());
     }
+    let Some(format) = format else {
+        return export_glb(a, &read.solids, budget);
+    };
+    let tree = read.into_union();
     let started = Instant::now();
     let bar = Bar::new("meshing");
     let mesh = try_boundary_mesh(&tree, &BoundaryOptions { unit_faces }, budget, &bar)
@@ -63,6 +86,23 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let (enclosed, volume) = (written.volume(), tree.volume());
     out!("volume     {enclosed:.6} enclosed, {volume:.6} octree ({:+.1e} relative)", enclosed / volume - 1.0);
     out!("time       {:.1} ms (boundary mesh)", elapsed * 1e3);
+    out!("wrote {} ({})", output.display(), human_bytes(bytes));
+    Ok(())
+}
+
+/// `export FILE -o OUT.glb`: one mesh a solid, with its colour.
+fn export_glb(a: &ExportArgs, solids: &octsolid::io::Solids, budget: MemoryBudget) -> Result<()> {
+    let (file, output) = (&a.file, &a.output);
+    if a.unit_faces {
+        warn!("--unit-faces is for OBJ, STL and PLY; .glb is written with merged faces");
+    }
+    let started = Instant::now();
+    let bytes = write_solids(output, solids, &WriteOptions { budget, ..WriteOptions::default() })
+        .with_context(|| format!("{}: cannot export", file.display()))?;
+    let meshed = solids.solids.iter().filter(|s| !s.tree.is_empty()).count();
+    out!("read       {} ({} solids, depth {})", file.display(), solids.solids.len(), solids.domain.depth());
+    out!("glb        {meshed} meshes with normals and a base colour each (merged faces)");
+    out!("time       {:.1} ms (boundary meshes and the file)", started.elapsed().as_secs_f64() * 1e3);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     Ok(())
 }

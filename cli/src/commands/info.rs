@@ -1,23 +1,29 @@
-//! `octsolid info FILE [--json]`: what an .oct file holds, and its measurements
-//! (boundary area, centre of mass, inertia tensor, connected components).
+//! `octsolid info FILE [--json]`: what a solid file (`.oct`, `.vox`, `.binvox`, `.vdb`)
+//! holds, and its measurements (boundary area, centre of mass, inertia tensor,
+//! connected components) of the union of its solids. A file of another tool also lists
+//! its solids (a `.vox` palette colour or a `.vdb` grid each) with their colours; an
+//! `.oct` file's output is what it always was.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use octsolid::io::oct;
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::io::{Solids, oct};
+use octsolid::{FileKind, MemoryBudget, human_bytes};
 use serde::Serialize;
 
 use super::print_summary;
+use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid info`.
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// The .oct file.
+    /// The solid file: .oct, .vox, .binvox or .vdb.
     pub file: PathBuf,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub read: ReadFlags,
 }
 
 /// What `octsolid info --json` prints; the key names are a contract.
@@ -45,6 +51,54 @@ struct Info {
     inertia: [[f64; 3]; 3],
     /// Face-connected components.
     components: u64,
+    /// The format ("vox", "binvox", "vdb"); absent for .oct.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    format: Option<&'static str>,
+    /// The file's solids; absent for .oct (one solid, no colour).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    solids: Option<Vec<SolidInfo>>,
+}
+
+/// One solid of a file of another tool.
+#[derive(Serialize)]
+pub(crate) struct SolidInfo {
+    /// `colour N` for a .vox palette index, the grid's name for .vdb, the file's stem
+    /// for binvox.
+    pub(crate) name: String,
+    /// Linear RGB, or null.
+    pub(crate) color: Option<[f64; 3]>,
+    /// The .vox palette index, or null.
+    pub(crate) palette_index: Option<u8>,
+    pub(crate) voxels: u64,
+}
+
+/// The solids of `solids`, for the summaries.
+pub(crate) fn solid_infos(solids: &Solids) -> Vec<SolidInfo> {
+    solids
+        .solids
+        .iter()
+        .map(|s| SolidInfo {
+            name: s.name.clone(),
+            color: s.color.map(|c| c.to_array()),
+            palette_index: s.palette_index,
+            voxels: s.tree.voxel_count(),
+        })
+        .collect()
+}
+
+/// Prints one line a solid: name, voxels, colour (as sRGB bytes, as palettes say it).
+pub(crate) fn print_solids(solids: &[SolidInfo]) {
+    for (i, s) in solids.iter().enumerate() {
+        let label = if i == 0 { "solids" } else { "" };
+        let colour = s.color.map_or_else(
+            || "no colour".to_string(),
+            |c| {
+                let [r, g, b] = c.map(octsolid::render::to_srgb8);
+                format!("sRGB #{r:02x}{g:02x}{b:02x}")
+            },
+        );
+        out!("{label:<10} {}: {} voxels, {colour}", s.name, s.voxels);
+    }
 }
 
 #[derive(Serialize)]
@@ -62,7 +116,10 @@ struct BoundsInfo {
 /// `octsolid info FILE [--json]`
 pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     let (file, json) = (&a.file, a.json);
-    let (tree, meta) = oct::load_with(file, budget)?;
+    let read = read_solid_file(file, &a.read, budget)?;
+    let (kind, meta) = (read.kind, read.meta);
+    let solids = (kind != FileKind::Oct).then(|| solid_infos(&read.solids));
+    let tree = read.into_union();
     let bytes_file = std::fs::metadata(file).with_context(|| format!("{}", file.display()))?.len();
     let d = tree.domain();
     let measures = tree.measure();
@@ -82,6 +139,8 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
         centre_of_mass: measures.centre_of_mass.map(|c| c.to_array()),
         inertia: std::array::from_fn(|i| measures.inertia.row(i).to_array()),
         components: measures.components,
+        format: (kind != FileKind::Oct).then(|| kind.extension()),
+        solids,
     };
     if json {
         out!("{}", serde_json::to_string(&info)?);
@@ -91,6 +150,14 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     out!("depth      {} ({} voxels a side, voxel edge {})", info.depth, d.resolution(), d.voxel_size());
     out!("domain     min {:?} edge {}", info.domain.min, info.domain.edge);
     out!("up         {} (units {})", info.up.unwrap_or("not recorded: z"), info.units.unwrap_or("not recorded"));
+    if let (Some(format), Some(solids)) = (info.format, &info.solids) {
+        out!(
+            "format     .{format}, {} solid{} (measured together)",
+            solids.len(),
+            if solids.len() == 1 { "" } else { "s" }
+        );
+        print_solids(solids);
+    }
     print_summary(&tree, None);
     let per_node = |b: f64| if info.nodes == 0 { 0.0 } else { b / info.nodes as f64 };
     out!("on disk    {} ({:.2} bytes a node)", human_bytes(bytes_file), per_node(bytes_file as f64));

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod build;
+pub mod convert;
 pub mod csg;
 pub mod demo;
 pub mod export;
@@ -40,6 +41,7 @@ pub fn run(args: Args) -> Result<()> {
         Command::Build(a) => build::run(&a, budget),
         Command::Transform(a) => transform::run(&a, budget),
         Command::Info(a) => info::run(&a, budget),
+        Command::Convert(a) => convert::run(&a, budget),
         Command::Slice(a) => slice::run(&a, budget),
         Command::Voxelize(a) => voxelize::run(&a, budget),
         Command::MeshInfo(a) => mesh_info::run(&a, budget),

@@ -1,5 +1,10 @@
 //! `octsolid render IN [-o OUT] [...]`: a scene file, a solid, or a mesh (voxelized
 //! first, or drawn as polygons with `--shading`) rendered to a PNG.
+//!
+//! A solid file of several coloured solids (a `.vox` file's palette colours, a `.vdb`
+//! grid) is rendered as a scene of those solids, each in its file's colour (sRGB
+//! decoded to linear) with the default material otherwise; a solid without a colour
+//! has the default material's.
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
@@ -9,7 +14,7 @@ use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use glam::DVec3;
 use octsolid::import::{self, ImportOptions, Input};
-use octsolid::io::{oct, png};
+use octsolid::io::png;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
 use octsolid::render::{
     self, AntiAliasing, Camera, DEFAULT_AA_THRESHOLD, Light, Material, NamedView, RenderOptions, Scene,
@@ -24,12 +29,14 @@ use crate::args::{Up, parse_size, parse_up, parse_vec3};
 use crate::camera_flags::{self, Framing};
 use crate::output::check_extension;
 use crate::progress_bar::Bar;
+use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid render`.
 #[derive(clap::Args, Debug)]
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
-    /// Scene (.toml), solid (.oct) or mesh (.obj, .stl, .ply, .patches).
+    /// Scene (.toml), solid (.oct, .vox, .binvox, .vdb) or mesh (.obj, .stl, .ply,
+    /// .patches).
     pub input: PathBuf,
     /// Output PNG (default: the input's name with .png, in the current folder).
     #[arg(short, long)]
@@ -43,7 +50,7 @@ pub struct RenderArgs {
     /// How primary visibility is decided.
     #[arg(long, default_value = "trace")]
     pub method: Method,
-    /// Depth to voxelize a mesh at (default 9; not for .oct files or scenes).
+    /// Depth to voxelize a mesh at (default 9; not for solid files or scenes).
     #[arg(long)]
     pub depth: Option<u8>,
     /// The world's up: an axis (x, y, z) or a vector X,Y,Z (default: the scene's
@@ -113,6 +120,8 @@ pub struct RenderArgs {
     /// interpolation shading instead of voxelizing it.
     #[arg(long)]
     pub shading: Option<Shading>,
+    #[command(flatten)]
+    pub read: ReadFlags,
 }
 
 /// Polygon interpolation shading.
@@ -208,10 +217,6 @@ impl From<Method> for octsolid::render::Method {
     }
 }
 
-/// What `render --shading` draws as polygons: meshes, patch sets (tessellated) and
-/// solids (their boundary); not scenes.
-const POLYGON_INPUTS: &[FileKind] = &[FileKind::Oct, FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::Patches];
-
 /// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method M] [--depth D] [camera flags] [--shading S]`
 pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let input = &a.input;
@@ -220,11 +225,15 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&output, &["png"])?;
     let mut stages = Stages::new();
     if let Some(interpolation) = a.shading {
-        let kind = FileKind::of(input, POLYGON_INPUTS)?;
+        // Meshes, patch sets (tessellated) and solids (their boundary); not scenes.
+        let kind = FileKind::of(input, FileKind::ALL)?;
+        if kind == FileKind::Scene {
+            bail!("{}: --shading draws a mesh or a solid as polygons, not a scene", input.display());
+        }
         return polygon_command(a, kind, &output, interpolation.into(), budget);
     }
     let kind = FileKind::of(input, FileKind::ALL)?;
-    if a.depth.is_some() && matches!(kind, FileKind::Oct | FileKind::Scene) {
+    if a.depth.is_some() && (kind == FileKind::Scene || FileKind::SOLIDS.contains(&kind)) {
         warn!("--depth is ignored for {}: its solids already have their depths", input.display());
     }
     if (a.no_cache || a.clear_cache) && kind != FileKind::Scene {
@@ -235,7 +244,8 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
         out!("cleared    {removed} cached solid{} of {}", if removed == 1 { "" } else { "s" }, input.display());
     }
     let cache = if a.no_cache { CachePolicy::Off } else { CachePolicy::ReadWrite };
-    let drawn = Drawn::load(input, kind, a.depth, a.up, LoadOptions { budget, cache }, &mut stages)?;
+    let source = Source { depth: a.depth, up: a.up, read: a.read.clone() };
+    let drawn = Drawn::load(input, kind, &source, LoadOptions { budget, cache }, &mut stages)?;
     let camera = drawn.camera(a)?;
     let options = drawn.options(a, budget);
     let img = render_with_bar(&drawn.scene_for(a.section), &camera, &options)
@@ -264,8 +274,7 @@ impl Drawn {
     pub(crate) fn load(
         input: &Path,
         kind: FileKind,
-        depth: Option<u8>,
-        up: Option<Up>,
+        source: &Source,
         load: LoadOptions,
         stages: &mut Stages,
     ) -> Result<Drawn> {
@@ -280,7 +289,7 @@ impl Drawn {
             });
             return Ok(Drawn { scene: file.scene, framed: Framed::Scene(file.camera), options: file.options });
         }
-        solid_scene(input, kind, depth, up, load.budget, stages)
+        solid_scene(input, kind, source, load.budget, stages)
     }
 
     /// The camera the flags ask for, at the flags' (or the options') aspect.
@@ -335,6 +344,15 @@ fn parse_section(s: &str) -> Result<Section, String> {
     Ok(Section { axis, at })
 }
 
+/// How a solid file or mesh is read for drawing: `--depth` (meshes), `--up` (it turns
+/// a solid's default light) and the formats' read flags.
+#[derive(Clone, Debug)]
+pub(crate) struct Source {
+    pub depth: Option<u8>,
+    pub up: Option<Up>,
+    pub read: ReadFlags,
+}
+
 /// How the camera frames what is drawn (see [`camera_flags::camera`]).
 enum Framed {
     /// A scene file's camera (its framing is worked out for the flags: the solids'
@@ -350,20 +368,26 @@ fn size_aspect(size: Option<[u32; 2]>, options: &RenderOptions) -> f64 {
     f64::from(w) / f64::from(h.max(1))
 }
 
-/// The scene of one solid file (`.oct`, or a mesh or patches voxelized at `depth`)
-/// with the default lights.
+/// The scene of one solid file (`.oct`, `.vox`, `.binvox`, `.vdb`, or a mesh or patches
+/// voxelized at `depth`) with the default lights.
 fn solid_scene(
     input: &Path,
     kind: FileKind,
-    depth: Option<u8>,
-    up: Option<Up>,
+    source: &Source,
     budget: MemoryBudget,
     stages: &mut Stages,
 ) -> Result<Drawn> {
-    let (tree, recorded_up) = if kind == FileKind::Oct {
-        let (tree, meta) = oct::load_with(input, budget)?;
+    let Source { depth, up, read } = source;
+    let (tree, recorded_up, coloured) = if FileKind::SOLIDS.contains(&kind) {
+        let file = read_solid_file(input, read, budget)?;
         stages.done("loading");
-        (tree, meta.up)
+        let up = file.meta.up;
+        // One solid without a colour is drawn as it always was; else each in its colour.
+        if matches!(file.solids.solids.as_slice(), [one] if one.color.is_none()) {
+            (file.into_union(), up, None)
+        } else {
+            (file.union(), up, Some(file.solids))
+        }
     } else {
         let loaded = load_input(input)?;
         stages.done("loading");
@@ -375,13 +399,19 @@ fn solid_scene(
                 .with_context(|| format!("{}: cannot voxelize", input.display()))?
                 .0;
         stages.done("voxelizing");
-        (tree, None)
+        (tree, None, None)
     };
     let bounds = tree.bounds().with_context(|| format!("{}: the solid is empty", input.display()))?;
     let up = up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
     let framing = Framing { points: silhouette_points(&tree), up, scene_camera: None };
-    let mut scene = Scene::from_solid(tree);
-    scene.solids[0].name = input.display().to_string();
+    let mut scene = match coloured {
+        None => {
+            let mut scene = Scene::from_solid(tree);
+            scene.solids[0].name = input.display().to_string();
+            scene
+        }
+        Some(solids) => coloured_scene(input, solids, &bounds),
+    };
     stages.done("building the traversal");
     if up.axis() != Axis::Z {
         let c = bounds.center();
@@ -390,6 +420,19 @@ fn solid_scene(
         scene.lights[0] = Light::Point { position: c + (view + up.vector() * 1.5) * r, color: DVec3::splat(0.85) };
     }
     Ok(Drawn { scene, framed: Framed::Solid(framing), options: RenderOptions::default() })
+}
+
+/// The solids of a file, each in its colour (the default material's where it has
+/// none), under the default lights around `bounds`.
+fn coloured_scene(input: &Path, solids: octsolid::io::Solids, bounds: &octsolid::Aabb) -> Scene {
+    let mut scene = Scene::new();
+    scene.lights = Scene::default_lights(bounds);
+    for solid in solids.solids.into_iter().filter(|s| !s.tree.is_empty()) {
+        let default = Material::default();
+        let material = Material { color: solid.color.unwrap_or(default.color), ..default };
+        scene.add(format!("{}: {}", input.display(), solid.name), solid.tree, material);
+    }
+    scene
 }
 
 /// `octsolid render IN --shading flat|gouraud|phong`: a mesh drawn as polygons
@@ -403,10 +446,13 @@ fn polygon_command(
 ) -> Result<()> {
     let input = &a.input;
     let mut stages = Stages::new();
-    let (mesh, recorded_up) = if kind == FileKind::Oct {
-        // The solid's boundary, in unit faces so that vertex normals average locally.
-        let (tree, meta) = oct::load_with(input, budget)?;
-        (try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?, meta.up)
+    let (mesh, recorded_up) = if FileKind::SOLIDS.contains(&kind) {
+        // The solid's boundary (several solids': their union's), in unit faces so that
+        // vertex normals average locally.
+        let file = read_solid_file(input, &a.read, budget)?;
+        let up = file.meta.up;
+        let tree = file.into_union();
+        (try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?, up)
     } else {
         let mesh = match load_input(input)? {
             Input::Mesh(mesh) => mesh,

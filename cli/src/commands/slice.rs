@@ -2,16 +2,18 @@
 
 use std::path::PathBuf;
 
-use crate::output::check_extension;
 use anyhow::{Context, Result};
 use octsolid::MemoryBudget;
-use octsolid::io::{oct, png};
+use octsolid::io::png;
 use octsolid::shape::Axis;
+
+use crate::output::check_extension;
+use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid slice`.
 #[derive(clap::Args, Debug)]
 pub struct SliceArgs {
-    /// The .oct file.
+    /// The solid file: .oct, .vox, .binvox or .vdb (several solids: their union).
     pub file: PathBuf,
     /// Axis the cutting plane is perpendicular to.
     #[arg(long, default_value = "z")]
@@ -25,6 +27,8 @@ pub struct SliceArgs {
     /// Output PNG file.
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub read: ReadFlags,
 }
 
 /// `octsolid slice FILE --axis A --at V [--size N] -o OUT.png`
@@ -32,7 +36,7 @@ pub fn run(a: &SliceArgs, budget: MemoryBudget) -> Result<()> {
     let (file, axis, size, output) = (&a.file, a.axis, a.size, &a.output);
     check_extension(output, &["png"])?;
     budget.check(format!("a {size}x{size} slice"), octsolid::slice::estimate_bytes(size))?;
-    let tree = oct::load(file, budget)?;
+    let tree = read_solid_file(file, &a.read, budget)?.into_union();
     let d = tree.domain();
     let at = a.at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
     let img = octsolid::slice::slice_image(&tree, axis, at, size)

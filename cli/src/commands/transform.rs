@@ -1,26 +1,30 @@
 //! `octsolid transform IN -o OUT [--translate X,Y,Z] [--rotate AXIS,DEG]... [--scale S]
 //! [--domain ...] [--depth D]`: a solid moved by the library's exact transforms where
-//! the move maps voxels to voxels, resampled otherwise.
+//! the move maps voxels to voxels, resampled otherwise. A file of several solids (a
+//! `.vox` file's colours) written to `.vox`, `.vdb` or `.glb` keeps them apart, each
+//! moved into the domain of the moved union; other outputs get the union.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use glam::DVec3;
-use octsolid::io::oct;
+use octsolid::io::{ColouredSolid, Solids, WriteOptions, write_solids};
 use octsolid::octree::{Domain, Motion, Turn, VoxelizeOptions};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
-use crate::args::{parse_domain, parse_turn, parse_vec3};
-use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
+use crate::args::{TargetFlags, parse_turn, parse_vec3};
+use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
 use crate::progress_bar::Bar;
+use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid transform`.
 #[derive(clap::Args, Debug)]
 #[command(allow_negative_numbers = true)]
 pub struct TransformArgs {
-    /// The .oct file.
+    /// The solid file: .oct, .vox, .binvox or .vdb (a file of several solids moves
+    /// as their union).
     pub input: PathBuf,
     /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
@@ -35,39 +39,56 @@ pub struct TransformArgs {
     /// Uniform scale about the origin (applied first), positive.
     #[arg(long, default_value_t = 1.0, value_parser = crate::args::parse_finite)]
     pub scale: f64,
-    /// Target domain MINX,MINY,MINZ,EDGE (default: the moved domain when the move is
-    /// exact, else the cube around the moved solid).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
-    pub domain: Option<[f64; 4]>,
-    /// Target depth (default: the input's).
-    #[arg(long)]
-    pub depth: Option<u8>,
+    // The target domain and depth (default: the moved domain when the move is exact,
+    // else the cube around the moved solid, at the input's depth).
+    #[command(flatten)]
+    pub target: TargetFlags,
+    #[command(flatten)]
+    pub read: ReadFlags,
 }
 
 /// `octsolid transform IN -o OUT [...]`
 pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&a.output, SOLID_EXTENSIONS)?;
     check_not_an_input(&a.output, &[&a.input])?;
-    let (tree, meta) = oct::load_with(&a.input, budget)?;
+    let file = read_solid_file(&a.input, &a.read, budget)?;
+    let meta = file.meta;
+    // Several solids going to a format that keeps them apart move one by one into the
+    // domain their union moves into; else the union moves.
+    let (tree, apart) = if file.solids.solids.len() > 1 && holds_many_solids(&a.output) {
+        (file.solids.union(), Some(file.solids))
+    } else {
+        (file.into_union(), None)
+    };
     let motion =
         Motion { scale: a.scale, turns: a.rotate.clone(), translate: a.translate.map_or(DVec3::ZERO, DVec3::from) };
-    let target = |default: Domain| -> octsolid::Result<Domain> {
-        let depth = a.depth.unwrap_or(default.depth());
-        match a.domain {
-            Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth),
-            None => default.with_depth(depth),
-        }
-    };
+    let map = motion.checked_affine()?;
+    let target = |default: Domain| a.target.target(default);
     let started = Instant::now();
     let bar = Bar::new("resampling");
     let (moved, fit) = tree
-        .transformed(motion.checked_affine()?, target, &VoxelizeOptions { budget, progress: &bar })
+        .transformed(map, target, &VoxelizeOptions { budget, progress: &bar })
         .with_context(|| format!("{}: cannot transform", a.input.display()))?;
     out!("{}: {fit} into {} in {:.1} ms", a.input.display(), moved.domain(), started.elapsed().as_secs_f64() * 1e3);
     if moved.is_empty() && !tree.is_empty() {
         warn!("the result is empty: the moved solid lies outside the target domain");
     }
-    let bytes = write_solid_file(&a.output, &moved, &meta, budget)?;
+    let bytes = match apart {
+        Some(solids) => {
+            let domain = *moved.domain();
+            let mut each = Vec::with_capacity(solids.solids.len());
+            for solid in solids.solids {
+                let (tree, _) = solid
+                    .tree
+                    .transformed(map, |_| Ok(domain), &VoxelizeOptions { budget, progress: &bar })
+                    .with_context(|| format!("{}: {}: cannot transform", a.input.display(), solid.name))?;
+                each.push(ColouredSolid { tree, ..solid });
+            }
+            let moved = Solids { domain, solids: each };
+            write_solids(&a.output, &moved, &WriteOptions { budget, ..WriteOptions::default() })?
+        }
+        None => write_solid_file(&a.output, &moved, &meta, budget)?,
+    };
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&moved, None);
     Ok(())

@@ -35,8 +35,9 @@ use octsolid::scene_file::{CachePolicy, LoadOptions};
 use octsolid::{FileKind, MemoryBudget, NoProgress};
 use tiny_http::{Header, Method, Request, Response, Server};
 
-use super::render::{Drawn, RenderArgs, Section, Stages};
+use super::render::{Drawn, RenderArgs, Section, Source, Stages};
 use crate::args::{Up, parse_up};
+use crate::solid_input::ReadFlags;
 
 /// Arguments of `octsolid view`.
 #[derive(clap::Args, Debug)]
@@ -58,6 +59,8 @@ pub struct ViewArgs {
     /// The world's up, as for `render`.
     #[arg(long, value_parser = parse_up)]
     pub up: Option<Up>,
+    #[command(flatten)]
+    pub read: ReadFlags,
 }
 
 /// The page, served at `/`.
@@ -100,8 +103,8 @@ pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
     }
     out!("viewing {} at http://{address}/ (Ctrl-C stops)", a.input.display());
     if a.watch {
-        let (viewed, input, up, depth) = (Arc::clone(&viewed), a.input.clone(), a.up, a.depth);
-        std::thread::spawn(move || watch(&viewed, &input, kind, depth, up, budget));
+        let (viewed, input, source) = (Arc::clone(&viewed), a.input.clone(), source(a));
+        std::thread::spawn(move || watch(&viewed, &input, kind, &source, budget));
     }
     for request in server.incoming_requests() {
         let reply = answer(&viewed, &a.input, &request);
@@ -120,7 +123,11 @@ pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
 }
 
 fn load(a: &ViewArgs, kind: FileKind, budget: MemoryBudget) -> Result<Drawn> {
-    Drawn::load(&a.input, kind, a.depth, a.up, cached(budget), &mut Stages::new())
+    Drawn::load(&a.input, kind, &source(a), cached(budget), &mut Stages::new())
+}
+
+fn source(a: &ViewArgs) -> Source {
+    Source { depth: a.depth, up: a.up, read: a.read.clone() }
 }
 
 /// A scene's solids through its cache, as `render` loads them: a reload under
@@ -268,14 +275,7 @@ fn figures(drawn: &Drawn) -> serde_json::Value {
 
 /// Reloads when a watched file's modification time changes: the input, and for a
 /// scene every file in its folder (the meshes and solids it names usually live there).
-fn watch(
-    viewed: &Mutex<Viewed>,
-    input: &Path,
-    kind: FileKind,
-    depth: Option<u8>,
-    up: Option<Up>,
-    budget: MemoryBudget,
-) {
+fn watch(viewed: &Mutex<Viewed>, input: &Path, kind: FileKind, source: &Source, budget: MemoryBudget) {
     let watched = || -> Vec<(PathBuf, Option<SystemTime>)> {
         let mut files = vec![input.to_path_buf()];
         if kind == FileKind::Scene {
@@ -295,7 +295,7 @@ fn watch(
             continue;
         }
         seen = now;
-        let loaded = Drawn::load(input, kind, depth, up, cached(budget), &mut Stages::new());
+        let loaded = Drawn::load(input, kind, source, cached(budget), &mut Stages::new());
         let mut v = viewed.lock().unwrap_or_else(PoisonError::into_inner);
         v.version += 1;
         match loaded {

@@ -1,5 +1,6 @@
 //! `octsolid voxelize IN --depth D [--fill F] [--inside R] [--domain ...] -o OUT`: a
-//! mesh or patch set voxelized into an .oct file.
+//! mesh or patch set voxelized into a solid file (`.oct`, `.vox`, `.binvox`, `.vdb`, `.glb`
+//! or a mesh, by the extension of `-o`).
 
 use std::path::PathBuf;
 use std::time::Instant;

@@ -1,0 +1,112 @@
+//! `octsolid convert IN OUT [--depth D] [--domain MINX,MINY,MINZ,EDGE] [--threshold T]
+//! [--grid NAME] [--voxel-size S]`: a solid file in another format, each chosen by its
+//! extension.
+//!
+//! Reads `.oct`, MagicaVoxel `.vox`, `.binvox` and OpenVDB `.vdb`
+//! ([`crate::solid_input`]); writes those, `.glb`, or the boundary as a mesh (`.obj`,
+//! `.stl`, `.ply`). A file's solids go over as they are: `.vox` and `.vdb` keep one solid
+//! a colour or grid and `.glb` one mesh a solid with its colour; `.oct`, `.binvox` and
+//! the meshes hold one solid, so several are written as their union (said on stdout).
+//! With `--domain` or `--depth` every solid is first brought into that domain (exactly
+//! where the voxels nest, resampled at the target's voxel centres otherwise, as `csg`
+//! and `transform` do); without them the solids keep their domain, so `.oct -> X ->
+//! .oct` gives back the same file for what X can hold (`docs/FORMAT.md`).
+//!
+//! The summary is `info`'s: the file read (format, solids, colours), the domain, nodes,
+//! voxels, volume, bounds, then the file written with its size and the times.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use octsolid::io::{ColouredSolid, Solids, WriteOptions, write_solids};
+use octsolid::octree::{Fit, VoxelizeOptions};
+use octsolid::{FileKind, MemoryBudget, human_bytes};
+
+use super::info::{print_solids, solid_infos};
+use super::print_summary;
+use crate::args::TargetFlags;
+use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
+use crate::progress_bar::{Bar, Spinner};
+use crate::solid_input::{ReadFlags, read_solid_file};
+
+/// Arguments of `octsolid convert`.
+#[derive(clap::Args, Debug)]
+pub struct ConvertArgs {
+    /// The solid file read: .oct, .vox, .binvox or .vdb.
+    pub input: PathBuf,
+    /// The file written: .oct, .vox, .binvox, .vdb, .glb, or the boundary as .obj,
+    /// .stl or .ply.
+    pub output: PathBuf,
+    // Bring the solids into this domain and depth first (default: the input's).
+    #[command(flatten)]
+    pub target: TargetFlags,
+    #[command(flatten)]
+    pub read: ReadFlags,
+}
+
+/// `octsolid convert IN OUT [...]`
+pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
+    let (input, output) = (&a.input, &a.output);
+    check_extension(output, SOLID_EXTENSIONS)?;
+    check_not_an_input(output, &[input])?;
+    let started = Instant::now();
+    let file = read_solid_file(input, &a.read, budget)?;
+    let read_ms = started.elapsed().as_secs_f64() * 1e3;
+    let bytes_in = std::fs::metadata(input).with_context(|| format!("{}", input.display()))?.len();
+    let (kind, meta) = (file.kind, file.meta);
+    let mut solids = file.solids;
+    out!("read       {} (.{}, {}) in {read_ms:.1} ms", input.display(), kind.extension(), human_bytes(bytes_in));
+    print_solids(&solid_infos(&solids));
+
+    if a.target.given() {
+        solids = fitted(a, solids, budget)?;
+    }
+    let d = solids.domain;
+    out!("depth      {} ({} voxels a side, voxel edge {})", d.depth(), d.resolution(), d.voxel_size());
+    out!("domain     min {:?} edge {}", d.min().to_array(), d.edge());
+    let union = solids.union();
+    print_summary(&union, None);
+
+    let started = Instant::now();
+    // A mesh shows its own bar while it is meshed.
+    let mesh =
+        FileKind::MESHES.iter().any(|k| output.extension().is_some_and(|e| e.eq_ignore_ascii_case(k.extension())));
+    let spinner = (!mesh).then(|| Spinner::new("writing"));
+    let bytes_out = if holds_many_solids(output) {
+        write_solids(output, &solids, &WriteOptions { budget, ..WriteOptions::default() })
+            .with_context(|| format!("{}: cannot write", output.display()))?
+    } else {
+        if solids.solids.len() > 1 {
+            let n = solids.solids.len();
+            out!("joined     {n} solids into one: {} holds one solid and no colour", output.display());
+        }
+        write_solid_file(output, &union, &meta, budget)?
+    };
+    drop(spinner);
+    let write_ms = started.elapsed().as_secs_f64() * 1e3;
+    let ratio = bytes_out as f64 / bytes_in.max(1) as f64;
+    out!("wrote      {} ({}, {ratio:.2}x the input) in {write_ms:.1} ms", output.display(), human_bytes(bytes_out));
+    Ok(())
+}
+
+/// Every solid brought into the `--domain` and `--depth` target, each fit said.
+fn fitted(a: &ConvertArgs, solids: Solids, budget: MemoryBudget) -> Result<Solids> {
+    let target = a.target.target(solids.domain)?;
+    let bar = Bar::new("fitting");
+    let options = VoxelizeOptions { budget, progress: &bar };
+    let mut out = Vec::with_capacity(solids.solids.len());
+    for solid in solids.solids {
+        let started = Instant::now();
+        let (tree, fit) = solid
+            .tree
+            .fit_to(target, &options)
+            .with_context(|| format!("{}: {}: cannot bring into {target}", a.input.display(), solid.name))?;
+        if fit != Fit::Same {
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            out!("fitted     {}: {fit} into {target} in {ms:.1} ms", solid.name);
+        }
+        out.push(ColouredSolid { tree, ..solid });
+    }
+    Ok(Solids { domain: target, solids: out })
+}
