@@ -235,6 +235,7 @@ struct MaterialSpec {
     ior: Option<f64>,
     texture: Option<TextureSpec>,
     bump: Option<BumpSpec>,
+    emission: Option<[f64; 3]>,
 }
 
 #[derive(Deserialize, Debug)]
@@ -659,6 +660,7 @@ impl MaterialSpec {
             reflectance: self.reflectance.unwrap_or(d.reflectance),
             transmittance: self.transmittance.unwrap_or(d.transmittance),
             ior: self.ior.unwrap_or(d.ior),
+            emission: self.emission.map_or(d.emission, DVec3::from_array),
         })
     }
 }

@@ -7,7 +7,9 @@ use glam::DVec3;
 use octsolid::octree::Turn;
 use octsolid::shape::Axis;
 
-use crate::commands::{bench, csg, demo, export, info, mesh_info, render, shape, slice, transform, voxelize};
+use crate::commands::{
+    bench, csg, demo, export, info, mesh_info, radiosity, render, shape, slice, transform, voxelize,
+};
 
 /// octsolid: solid modeling on linear octrees.
 #[derive(Parser, Debug)]
@@ -51,6 +53,8 @@ pub enum Command {
     MeshInfo(mesh_info::MeshInfoArgs),
     /// Render a scene file (.toml), an .oct file, or a mesh (voxelized first) to a PNG.
     Render(render::RenderArgs),
+    /// Solve a scene's diffuse interreflection (radiosity) and save the solution (.rad).
+    Radiosity(radiosity::RadiosityArgs),
     /// Octree traversal against the BVH crates obvhs and bvh: build time, bytes, rays a second.
     Bench(bench::BenchArgs),
     /// Build the bundled showcase scene and render it to demo.png.

@@ -8,6 +8,7 @@ pub mod demo;
 pub mod export;
 pub mod info;
 pub mod mesh_info;
+pub mod radiosity;
 pub mod render;
 pub mod shape;
 pub mod slice;
@@ -42,6 +43,7 @@ pub fn run(args: Args) -> Result<()> {
         Command::MeshInfo(a) => mesh_info::run(&a, budget),
         Command::Export(a) => export::run(&a, budget),
         Command::Render(a) => render::run(&a, budget),
+        Command::Radiosity(a) => radiosity::run(&a, budget),
         Command::Demo(a) => demo::run(&a, budget),
         Command::Bench(a) => bench::run(&a, budget),
     }

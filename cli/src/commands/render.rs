@@ -2,6 +2,7 @@
 //! first, or drawn as polygons with `--shading`) rendered to a PNG.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
@@ -10,6 +11,7 @@ use glam::DVec3;
 use octsolid::import::{self, ImportOptions, Input};
 use octsolid::io::{oct, png};
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
+use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
     self, AntiAliasing, Camera, DEFAULT_AA_THRESHOLD, Light, Material, NamedView, RenderOptions, Scene,
     silhouette_points,
@@ -99,6 +101,23 @@ pub struct RenderArgs {
     /// interpolation shading instead of voxelizing it.
     #[arg(long)]
     pub shading: Option<Shading>,
+    /// How surfaces are lit: direct (Phong with shadows, Whitted's mirrors and glass)
+    /// or radiosity (diffuse interreflection solved first, mirrors and glass traced on
+    /// top) (default: radiosity with --radiosity, else direct).
+    #[arg(long)]
+    pub illumination: Option<Illumination>,
+    /// Show this saved radiosity solution of the scene (from `octsolid radiosity`).
+    #[arg(long, value_name = "SOLUTION.rad", conflicts_with = "shading")]
+    pub radiosity: Option<PathBuf>,
+}
+
+/// How surfaces are lit.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Illumination {
+    /// Phong with shadows, and Whitted's reflected and refracted rays.
+    Direct,
+    /// A radiosity solution (saved with --radiosity, else solved first).
+    Radiosity,
 }
 
 /// Polygon interpolation shading.
@@ -237,6 +256,8 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     options.aa = anti_aliasing(a, options.aa);
     options.method = a.method.into();
     options.budget = budget;
+    let mut scene = scene;
+    light_by_radiosity(a, &mut scene, budget, &mut stages)?;
     let img =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("rendering");
@@ -244,6 +265,39 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     stages.done("writing");
     out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
     stages.report();
+    Ok(())
+}
+
+/// Attaches the radiosity solution `--radiosity` and `--illumination` ask for, if any:
+/// loaded (and checked against the scene) or solved now.
+fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, stages: &mut Stages) -> Result<()> {
+    let solution = match (a.illumination, &a.radiosity) {
+        (Some(Illumination::Direct), Some(_)) => {
+            bail!("--radiosity needs --illumination radiosity (or no --illumination)")
+        }
+        (Some(Illumination::Direct), None) | (None, None) => return Ok(()),
+        (_, Some(path)) => {
+            let solution = Radiosity::load(path, scene, budget)
+                .with_context(|| format!("{}: cannot use the solution for {}", path.display(), a.input.display()))?;
+            stages.done("loading the radiosity solution");
+            solution
+        }
+        (Some(Illumination::Radiosity), None) => {
+            let options = RadiosityOptions { budget, ..Default::default() };
+            let solution = super::radiosity::solve(scene, &options, &a.input)?;
+            let s = solution.stats();
+            out!(
+                "radiosity: {} patches, {} elements, {} shots, unshot {:.4}",
+                s.patches,
+                s.elements,
+                s.shots,
+                s.unshot_fraction
+            );
+            stages.done("solving radiosity");
+            solution
+        }
+    };
+    scene.illumination = Some(Arc::new(solution));
     Ok(())
 }
 
