@@ -53,10 +53,10 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_up)]
     pub up: Option<Up>,
     /// Eye position X,Y,Z (looking at --target, default the object's centre).
-    #[arg(long, value_parser = parse_vec3, conflicts_with_all = ["view", "azimuth", "elevation"])]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, conflicts_with_all = ["view", "azimuth", "elevation"])]
     pub eye: Option<[f64; 3]>,
     /// Point looked at X,Y,Z (default: the middle of the object's silhouette).
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3)]
     pub target: Option<[f64; 3]>,
     /// Vertical field of view in degrees (default: the scene's, or 35).
     #[arg(long, value_parser = crate::args::parse_finite)]

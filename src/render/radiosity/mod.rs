@@ -97,7 +97,9 @@ pub struct RadiosityStats {
     pub emitted: f64,
     /// Power absorbed by the elements.
     pub absorbed: f64,
-    /// Power that reached no element (left the environment).
+    /// Power shot that reached no element (left the environment): what shots sent
+    /// less what elements received, so slightly negative where the estimated form
+    /// factors of a shooter add up to a little more than one.
     pub escaped: f64,
     /// The unshot fraction before the first shot and after each (empty for a loaded
     /// solution).

@@ -192,7 +192,7 @@ impl<'a> Shooter<'a> {
             received += power;
             self.absorbed += power - PI * e.area * total(reflected);
         }
-        self.escaped += (shot_power - received).max(0.0);
+        self.escaped += shot_power - received;
         self.shots += 1;
     }
 
