@@ -228,13 +228,19 @@ fn scratch(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// The lit room solved for `shots` shots and saved as `name`.
+fn saved(name: &str, shots: u64) -> (Scene, Radiosity, PathBuf) {
+    let scene = lit_room();
+    let options = RadiosityOptions { max_shots: Some(shots), ..options(0.25, 4) };
+    let r = Radiosity::solve(&scene, &options, &NoProgress).unwrap();
+    let path = scratch(name);
+    r.save(&path).unwrap();
+    (scene, r, path)
+}
+
 #[test]
 fn a_saved_solution_reloads_bit_for_bit_and_shows_the_same_light() {
-    let scene = lit_room();
-    let r =
-        Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(30), ..options(0.25, 4) }, &NoProgress).unwrap();
-    let path = scratch("reload.rad");
-    r.save(&path).unwrap();
+    let (scene, r, path) = saved("reload.rad", 30);
     let back = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap();
     let bits = |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
     assert_eq!(bits(&r), bits(&back));
@@ -247,11 +253,7 @@ fn a_saved_solution_reloads_bit_for_bit_and_shows_the_same_light() {
 
 #[test]
 fn a_solution_of_another_scene_is_refused_by_name() {
-    let scene = lit_room();
-    let r =
-        Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(3), ..options(0.25, 4) }, &NoProgress).unwrap();
-    let path = scratch("other.rad");
-    r.save(&path).unwrap();
+    let (_, _, path) = saved("other.rad", 3);
     let mut other = lit_room();
     other.solids[1].material.emission = DVec3::splat(3.0);
     let e = Radiosity::load(&path, &other, MemoryBudget::default()).unwrap_err();
@@ -262,11 +264,7 @@ fn a_solution_of_another_scene_is_refused_by_name() {
 
 #[test]
 fn damaged_solution_files_are_refused_by_name_never_a_panic() {
-    let scene = lit_room();
-    let r =
-        Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(3), ..options(0.25, 4) }, &NoProgress).unwrap();
-    let path = scratch("good.rad");
-    r.save(&path).unwrap();
+    let (scene, _, path) = saved("good.rad", 3);
     let good = std::fs::read(&path).unwrap();
     let mut cases: Vec<(&str, Vec<u8>, &str)> = Vec::new();
     let mut flipped = good.clone();

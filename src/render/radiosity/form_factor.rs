@@ -119,19 +119,6 @@ pub(crate) fn element_to_patch(scene: &Scene, e: &Element, shooter: &Patch) -> (
 mod tests {
     use super::*;
 
-    /// The parallel unit squares one apart, centre to centre: Siegel and Howell's
-    /// closed form, F = 0.1998.
-    fn parallel_squares(a: f64, b: f64, c: f64) -> f64 {
-        let (x, y) = (a / c, b / c);
-        let (x1, y1) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
-        2.0 / (std::f64::consts::PI * x * y)
-            * (((1.0 + x * x) * (1.0 + y * y) / (1.0 + x * x + y * y)).sqrt().ln()
-                + x * y1 * (x / y1).atan()
-                + y * x1 * (y / x1).atan()
-                - x * x.atan()
-                - y * y.atan())
-    }
-
     #[test]
     fn a_point_under_a_disc_like_polygon_matches_the_closed_form() {
         // A differential area facing a coaxial disc of radius R at height H: R^2 / (H^2 + R^2).
@@ -145,11 +132,6 @@ mod tests {
         let f = point_to_polygon(DVec3::ZERO, DVec3::Z, &corners);
         let want = radius * radius / (height * height + radius * radius);
         assert!((f - want).abs() < 1e-4 * want, "{f} against {want}");
-    }
-
-    #[test]
-    fn the_unit_square_closed_form_is_0_1998() {
-        assert!((parallel_squares(1.0, 1.0, 1.0) - 0.19982).abs() < 1e-4);
     }
 
     #[test]
