@@ -1,5 +1,5 @@
 //! `octsolid radiosity SCENE.toml -o SOLUTION.rad [--until F] [--max-shots N]
-//! [--json]`: solves a scene's diffuse interreflection by progressive refinement and
+//! [--patch-size S] [--plot PLOT.png] [--json]`: solves a scene's diffuse interreflection by progressive refinement and
 //! saves the view-independent solution (render it with `render --radiosity`).
 
 use std::path::PathBuf;
@@ -32,6 +32,9 @@ pub struct RadiosityArgs {
     /// Longest patch edge in world units (default: an eighth of the scene's extent).
     #[arg(long, value_parser = crate::args::parse_finite)]
     pub patch_size: Option<f64>,
+    /// Also draw the unshot energy against shots and seconds into this PNG.
+    #[arg(long, value_name = "PLOT.png")]
+    pub plot: Option<PathBuf>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
@@ -64,6 +67,10 @@ pub(crate) fn solve(scene: &Scene, options: &RadiosityOptions, path: &std::path:
 pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&a.output, &["rad"])?;
     check_not_an_input(&a.output, &[&a.scene])?;
+    if let Some(plot) = &a.plot {
+        check_extension(plot, &["png"])?;
+        check_not_an_input(plot, &[&a.scene])?;
+    }
     if !(0.0..1.0).contains(&a.until) {
         bail!("--until {}: the unshot fraction must be at least 0 and below 1", a.until);
     }
@@ -80,6 +87,10 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
     let seconds = started.elapsed().as_secs_f64();
     solution.save(&a.output)?;
     let s = solution.stats();
+    if let Some(plot) = &a.plot {
+        let title = a.scene.file_stem().unwrap_or_default().to_string_lossy();
+        octsolid_harness::plots::convergence_plot(&s.history, solution.timeline(), &title, plot)?;
+    }
     let summary = Summary {
         patches: s.patches,
         elements: s.elements,

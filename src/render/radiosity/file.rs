@@ -129,7 +129,7 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     }
     let patch_size = r.f64("patch size")?;
     let elements = r.u32("elements a side")?;
-    if !(patch_size.is_finite() && patch_size > 0.0) || !(1..=64).contains(&elements) {
+    if !(patch_size.is_finite() && patch_size > 0.0 && (1..=64).contains(&elements)) {
         return Err(r.error(20, format!("invalid settings: patch size {patch_size}, {elements} elements a side")));
     }
     let patches = r.u64("patch count")?;
@@ -189,5 +189,5 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
         escaped: 0.0,
         history: Vec::new(),
     };
-    Ok(Radiosity { mesh, radiosity, ambient, fingerprint: own, patch_size, elements, stats })
+    Ok(Radiosity { mesh, radiosity, ambient, fingerprint: own, patch_size, elements, stats, timeline: Vec::new() })
 }

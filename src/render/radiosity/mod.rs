@@ -118,6 +118,9 @@ pub struct Radiosity {
     patch_size: f64,
     elements: u32,
     stats: RadiosityStats,
+    /// Seconds from the start of refinement to each entry of `stats.history` (empty for
+    /// a loaded solution): timing, so not part of the stats two runs share.
+    timeline: Vec<f64>,
 }
 
 /// The patch size `options` ask for in `scene`.
@@ -153,6 +156,7 @@ impl Radiosity {
             escaped: shooter.escaped,
             history: std::mem::take(&mut shooter.history),
         };
+        let timeline = std::mem::take(&mut shooter.timeline);
         let ambient = shooter.ambient();
         let radiosity = std::mem::take(&mut shooter.radiosity);
         Ok(Radiosity {
@@ -163,6 +167,7 @@ impl Radiosity {
             patch_size: size,
             elements: options.elements,
             stats,
+            timeline,
         })
     }
 
@@ -170,6 +175,13 @@ impl Radiosity {
     #[must_use]
     pub fn stats(&self) -> &RadiosityStats {
         &self.stats
+    }
+
+    /// Seconds from the start of refinement to each entry of [`RadiosityStats::history`]
+    /// (empty for a loaded solution).
+    #[must_use]
+    pub fn timeline(&self) -> &[f64] {
+        &self.timeline
     }
 
     /// The ambient term added (times each element's reflectance) for display.

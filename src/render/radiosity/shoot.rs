@@ -68,6 +68,8 @@ pub(crate) struct Shooter<'a> {
     pub escaped: f64,
     /// The unshot fraction after each shot (index 0: before any).
     pub history: Vec<f64>,
+    /// Seconds since refinement started after each shot (index 0: 0).
+    pub timeline: Vec<f64>,
 }
 
 /// Sum of a colour's channels.
@@ -100,6 +102,7 @@ impl<'a> Shooter<'a> {
             absorbed: 0.0,
             escaped: 0.0,
             history: Vec::new(),
+            timeline: vec![0.0],
         };
         s.history.push(s.unshot_fraction_with(from_lights));
         s
@@ -123,6 +126,7 @@ impl<'a> Shooter<'a> {
     /// from all unshot to `until`.
     pub fn run(&mut self, stop: Stop, progress: &dyn Progress) {
         progress.start(1000);
+        let started = std::time::Instant::now();
         let mut shown = 0u64;
         let allowed = |shots: u64| stop.max_shots.is_none_or(|m| shots < m);
         let lights = self.scene.lights.clone();
@@ -139,6 +143,7 @@ impl<'a> Shooter<'a> {
                 pending -= 4.0 * PI * total(*color);
             }
             self.history.push(self.unshot_fraction_with(pending.max(0.0)));
+            self.timeline.push(started.elapsed().as_secs_f64());
         }
         loop {
             let fraction = self.unshot_fraction();
@@ -157,6 +162,7 @@ impl<'a> Shooter<'a> {
             let Some(i) = self.brightest() else { break };
             self.shoot_patch(i);
             self.history.push(self.unshot_fraction());
+            self.timeline.push(started.elapsed().as_secs_f64());
         }
         progress.finish();
     }
