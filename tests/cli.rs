@@ -468,6 +468,11 @@ fn radiosity_solves_saves_and_renders_from_any_camera() {
             .collect::<Vec<_>>(),
     );
     assert_ne!(std::fs::read(dir.join("saved.png")).unwrap(), std::fs::read(dir.join("turned.png")).unwrap());
+    // The elements picture: flat elements with their borders, another picture.
+    ok(&dir, &["render", "room.toml", "--radiosity", "room.rad", "--show-elements", "-o", "elements.png"]);
+    assert_ne!(std::fs::read(dir.join("saved.png")).unwrap(), std::fs::read(dir.join("elements.png")).unwrap());
+    let e = fails(&dir, &["render", "room.toml", "--show-elements", "-o", "x.png"]);
+    assert!(e.contains("--show-elements"), "{e}");
     // Refused: another scene's solution, a damaged one, and direct with a solution.
     let e = fails(&dir, &["render", "other.toml", "--radiosity", "room.rad", "-o", "x.png"]);
     assert!(e.contains("room.rad") && e.contains("another scene"), "{e}");

@@ -109,6 +109,10 @@ pub struct RenderArgs {
     /// Show this saved radiosity solution of the scene (from `octsolid radiosity`).
     #[arg(long, value_name = "SOLUTION.rad", conflicts_with = "shading")]
     pub radiosity: Option<PathBuf>,
+    /// With radiosity: show each element flat with its borders drawn (patch borders
+    /// darker) instead of interpolating, a picture of the patches and elements.
+    #[arg(long)]
+    pub show_elements: bool,
 }
 
 /// How surfaces are lit.
@@ -275,6 +279,9 @@ fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, s
         (Some(Illumination::Direct), Some(_)) => {
             bail!("--radiosity needs --illumination radiosity (or no --illumination)")
         }
+        (Some(Illumination::Direct), None) | (None, None) if a.show_elements => {
+            bail!("--show-elements needs radiosity: --radiosity SOLUTION.rad or --illumination radiosity")
+        }
         (Some(Illumination::Direct), None) | (None, None) => return Ok(()),
         (_, Some(path)) => {
             let solution = Radiosity::load(path, scene, budget)
@@ -297,7 +304,7 @@ fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, s
             solution
         }
     };
-    scene.illumination = Some(Arc::new(solution));
+    scene.illumination = Some(Arc::new(solution.showing_elements(a.show_elements)));
     Ok(())
 }
 

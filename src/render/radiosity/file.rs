@@ -189,5 +189,15 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
         escaped: 0.0,
         history: Vec::new(),
     };
-    Ok(Radiosity { mesh, radiosity, ambient, fingerprint: own, patch_size, elements, stats, timeline: Vec::new() })
+    Ok(Radiosity {
+        mesh,
+        radiosity,
+        ambient,
+        fingerprint: own,
+        patch_size,
+        elements,
+        stats,
+        timeline: Vec::new(),
+        show_elements: false,
+    })
 }

@@ -121,6 +121,9 @@ pub struct Radiosity {
     /// Seconds from the start of refinement to each entry of `stats.history` (empty for
     /// a loaded solution): timing, so not part of the stats two runs share.
     timeline: Vec<f64>,
+    /// Show each element flat with its borders drawn (patch borders darker), instead of
+    /// interpolating: a picture of the mesh the solution lives on.
+    show_elements: bool,
 }
 
 /// The patch size `options` ask for in `scene`.
@@ -168,6 +171,7 @@ impl Radiosity {
             elements: options.elements,
             stats,
             timeline,
+            show_elements: false,
         })
     }
 
@@ -182,6 +186,15 @@ impl Radiosity {
     #[must_use]
     pub fn timeline(&self) -> &[f64] {
         &self.timeline
+    }
+
+    /// This solution shown element by element, flat, with element borders darkened and
+    /// patch borders darker still (a picture of the patches and elements), or
+    /// interpolated (the default).
+    #[must_use]
+    pub fn showing_elements(mut self, show: bool) -> Self {
+        self.show_elements = show;
+        self
     }
 
     /// The ambient term added (times each element's reflectance) for display.
@@ -258,6 +271,28 @@ impl Radiosity {
         self.radiosity[(p.first + j * p.nu + k) as usize] + p.reflectance * self.ambient
     }
 
+    /// How much of its light a point keeps near element borders (a tenth of a voxel's
+    /// width of the line: 0.5) and patch borders (0.15); 1 elsewhere.
+    fn border_shade(&self, i: usize, s: f64, t: f64) -> f64 {
+        let p = &self.mesh.patches[i];
+        let (w, h) = (f64::from(p.rect.w), f64::from(p.rect.h));
+        let line = 0.1;
+        // Distances in voxels to the nearest patch and element border.
+        let patch = (s * w).min((1.0 - s) * w).min((t * h).min((1.0 - t) * h));
+        let to_grid = |x: f64, n: u32, len: f64| {
+            let f = x * f64::from(n);
+            (f - f.round()).abs() * len / f64::from(n)
+        };
+        let element = to_grid(s, p.nu, w).min(to_grid(t, p.nv, h));
+        if patch < 1.5 * line {
+            0.15
+        } else if element < line {
+            0.5
+        } else {
+            1.0
+        }
+    }
+
     /// The displayed radiance at `(s, t)` of patch `i` (on the face of outward normal
     /// `face` of solid `solid`): bilinear between the four element centres around the
     /// point. Centres beyond the patch's border are read from the element of the
@@ -290,6 +325,9 @@ impl Radiosity {
 impl Illumination for Radiosity {
     fn radiance(&self, solid: usize, p: DVec3, face: DVec3) -> Option<DVec3> {
         let (i, s, t) = self.mesh.find(solid, p, face)?;
+        if self.show_elements {
+            return Some(self.element_value(i, s, t) * self.border_shade(i, s, t));
+        }
         Some(self.interpolate(solid, face, i, s, t))
     }
 }
