@@ -103,7 +103,8 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
         return Ok(());
     }
     out!("patches    {} ({} elements)", s.patches, s.elements);
-    out!("shots      {} ({:.1} a second, {} rays)", s.shots, s.shots as f64 / seconds.max(1e-9), s.rays);
+    let per_shot = 1e3 * seconds / s.shots.max(1) as f64;
+    out!("shots      {} ({} rays; {per_shot:.2} ms a shot)", s.shots, s.rays);
     out!("unshot     {:.4} of the emitted energy", s.unshot_fraction);
     out!("time       {seconds:.2} s");
     out!("wrote {}", a.output.display());
