@@ -2,8 +2,9 @@
 //! perpendicular unit squares), reciprocity, form factors summing to one inside a
 //! closed box (visibility through the octree decides how an occluder shares it), the
 //! furnace (a closed box that emits E and reflects rho everywhere shows E / (1 - rho)),
-//! the energy book, the same bits on 1 and 2 threads, and `.rad` files: reloaded bit
-//! for bit, refused for another scene, refused when damaged.
+//! the energy book, the same bits on 1 and 2 threads, `.rad` files (reloaded bit for
+//! bit, refused for another scene, refused when damaged), and a sphere's elements
+//! taking the sphere's own normal.
 
 use std::path::PathBuf;
 
@@ -289,5 +290,34 @@ fn damaged_solution_files_are_refused_by_name_never_a_panic() {
         let e = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap_err();
         let text = e.to_string();
         assert!(text.contains(name) && text.contains(says), "{name}: {text}");
+    }
+}
+
+#[test]
+fn a_spheres_elements_take_the_spheres_normal_and_a_bare_octrees_the_faces() {
+    let center = DVec3::new(0.03, -0.02, 0.01);
+    let sphere = octsolid::shape::Sphere::new(center, 0.6).unwrap();
+    let ball = tree(&sphere);
+    for shaped in [true, false] {
+        let mut scene = Scene::new();
+        scene.lights = vec![Light::Point { position: DVec3::new(0.0, 0.0, 0.9), color: DVec3::ONE }];
+        if shaped {
+            scene.add_shaped("ball", ball.clone(), diffuse(0.5, 0.0), std::sync::Arc::new(sphere.clone()));
+        } else {
+            scene.add("ball", ball.clone(), diffuse(0.5, 0.0));
+        }
+        let r = Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(0), ..options(0.25, 4) }, &NoProgress)
+            .unwrap();
+        for (p, n, _, _) in r.elements() {
+            let radial = (p - center).normalize();
+            if shaped {
+                // The shape's normal at the element is the radial direction (its nearest
+                // sphere point lies on the ray from the centre).
+                assert!(n.angle_between(radial) < 1e-9, "{n} against {radial} at {p}");
+            } else {
+                assert_eq!(n.abs().max_element(), 1.0, "an axis normal: {n}");
+                assert!(n.dot(radial) > 0.0);
+            }
+        }
     }
 }
