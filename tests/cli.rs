@@ -486,4 +486,6 @@ fn radiosity_solves_saves_and_renders_from_any_camera() {
     assert!(e.contains("--radiosity"), "{e}");
     let e = fails(&dir, &["radiosity", "room.toml", "-o", "room.png"]);
     assert!(e.contains("room.png"), "{e}");
+    let e = fails(&dir, &["radiosity", "room.rad", "-o", "again.rad"]);
+    assert!(e.contains("room.rad") && e.contains("toml"), "{e}");
 }

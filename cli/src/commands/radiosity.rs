@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use octsolid::render::Scene;
 use octsolid::render::radiosity::{DEFAULT_UNTIL, Radiosity, RadiosityOptions};
-use octsolid::{MemoryBudget, scene_file};
+use octsolid::{FileKind, MemoryBudget, scene_file};
 use serde::Serialize;
 
 use super::print_warnings;
@@ -65,6 +65,7 @@ pub(crate) fn solve(scene: &Scene, options: &RadiosityOptions, path: &std::path:
 
 /// `octsolid radiosity SCENE.toml -o SOLUTION.rad [--until F] [--max-shots N] [--json]`
 pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
+    FileKind::of(&a.scene, &[FileKind::Scene])?;
     check_extension(&a.output, &["rad"])?;
     check_not_an_input(&a.output, &[&a.scene])?;
     if let Some(plot) = &a.plot {
