@@ -74,6 +74,9 @@ run export hollow.oct -o hollow-unit.obj --unit-faces
 run export bunny.oct -o bunny.ply
 run demo -o demo.png
 run demo --depth 7 -o demo-d7.png
+run radiosity "$root/scenes/cornell.toml" -o cornell.rad --until 0.05
+run render "$root/scenes/cornell.toml" --radiosity cornell.rad --size 240x240 -o cornell-radiosity.png
+run render "$root/scenes/cornell.toml" --radiosity cornell.rad --show-elements --size 240x240 -o cornell-elements.png
 
 # The examples write into example-output/NAME/ under the current folder.
 for ex in "$root"/examples/*.rs; do

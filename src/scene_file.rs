@@ -253,6 +253,7 @@ struct MaterialSpec {
     ior: Option<f64>,
     texture: Option<TextureSpec>,
     bump: Option<BumpSpec>,
+    emission: Option<[f64; 3]>,
 }
 
 #[derive(Deserialize, Debug)]
@@ -551,7 +552,10 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
     // Step 3: lights, image and camera, from the solids' bounds.
     let bounds = scene.bounds().ok_or_else(|| whole(Error::invalid("scene", "every solid is empty")))?;
     scene.lights = lights;
-    if scene.lights.is_empty() {
+    // A scene without lights gets the default ones, unless a solid emits: then it has
+    // its light (an area light for radiosity), and extra point lights would shoot too.
+    let emits = scene.solids.iter().any(|s| s.material.emission != DVec3::ZERO);
+    if scene.lights.is_empty() && !emits {
         scene.lights = Scene::default_lights(&bounds);
     }
     if let Some(a) = spec.ambient {
@@ -844,6 +848,7 @@ impl MaterialSpec {
             reflectance: self.reflectance.unwrap_or(d.reflectance),
             transmittance: self.transmittance.unwrap_or(d.transmittance),
             ior: self.ior.unwrap_or(d.ior),
+            emission: self.emission.map_or(d.emission, DVec3::from_array),
         })
     }
 }

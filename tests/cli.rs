@@ -750,3 +750,84 @@ fn damaged_interchange_files_are_refused_by_name_and_place() {
     let e = fails(&dir, &["--memory-budget", "4KiB", "convert", &data("vox/axes.vox"), "a.oct"]);
     assert!(e.contains("axes.vox") && e.contains("memory budget"), "{e}");
 }
+
+/// A closed room (depth 5) with an emissive lamp, as a scene file; `emission` the lamp's.
+fn room_scene(emission: f64) -> String {
+    format!(
+        r#"
+[image]
+size = [48, 48]
+samples = 1
+[domain]
+min = [-1, -1, -1]
+edge = 2
+depth = 5
+[camera]
+eye = [0, -0.4, 0]
+target = [0, 0.5, 0]
+fov = 80
+[[solid]]
+name = "room"
+material = {{ color = [0.7, 0.5, 0.3], kd = 1 }}
+shape = {{ difference = [ {{ box = {{ center = [0, 0, 0], size = [1.75, 1.75, 1.75] }} }}, {{ box = {{ center = [0, 0, 0], size = [1, 1, 1] }} }} ] }}
+[[solid]]
+name = "lamp"
+material = {{ color = [0.5, 0.5, 0.5], kd = 1, emission = [{emission}, {emission}, {emission}] }}
+shape = {{ box = {{ center = [0, 0, 0.45], size = [0.25, 0.25, 0.0625] }} }}
+"#
+    )
+}
+
+#[test]
+fn radiosity_solves_saves_and_renders_from_any_camera() {
+    let dir = scratch("radiosity");
+    std::fs::write(dir.join("room.toml"), room_scene(4.0)).unwrap();
+    std::fs::write(dir.join("other.toml"), room_scene(5.0)).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&ok(&dir, &["radiosity", "room.toml", "-o", "room.rad", "--json"])).unwrap();
+    let keys: Vec<&str> = json.as_object().unwrap().keys().map(String::as_str).collect();
+    assert_eq!(keys.len(), 5, "{json}");
+    for key in ["patches", "elements", "shots", "unshot_fraction", "seconds"] {
+        assert!(json.get(key).is_some(), "missing {key}: {json}");
+    }
+    assert!(json["unshot_fraction"].as_f64().unwrap() <= 0.01);
+    assert!(json["elements"].as_u64().unwrap() > json["patches"].as_u64().unwrap());
+    let capped: serde_json::Value =
+        serde_json::from_str(&ok(&dir, &["radiosity", "room.toml", "-o", "capped.rad", "--max-shots", "3", "--json"]))
+            .unwrap();
+    assert_eq!(capped["shots"], 3);
+    assert!(capped["unshot_fraction"].as_f64().unwrap() > 0.01);
+    // A saved solution and one solved on the spot give the same picture.
+    ok(&dir, &["render", "room.toml", "--radiosity", "room.rad", "-o", "saved.png"]);
+    ok(&dir, &["render", "room.toml", "--illumination", "radiosity", "-o", "solved.png"]);
+    assert_eq!(std::fs::read(dir.join("saved.png")).unwrap(), std::fs::read(dir.join("solved.png")).unwrap());
+    // Another camera: other pixels.
+    ok(
+        &dir,
+        &["render", "room.toml", "--radiosity", "room.rad", "--eye", "0.3,0.3,-0.3", "--target", "-0.5,-0.5,0.5"]
+            .into_iter()
+            .chain(["--fov", "60", "-o", "turned.png"])
+            .collect::<Vec<_>>(),
+    );
+    assert_ne!(std::fs::read(dir.join("saved.png")).unwrap(), std::fs::read(dir.join("turned.png")).unwrap());
+    // The elements picture: flat elements with their borders, another picture.
+    ok(&dir, &["render", "room.toml", "--radiosity", "room.rad", "--show-elements", "-o", "elements.png"]);
+    assert_ne!(std::fs::read(dir.join("saved.png")).unwrap(), std::fs::read(dir.join("elements.png")).unwrap());
+    let e = fails(&dir, &["render", "room.toml", "--show-elements", "-o", "x.png"]);
+    assert!(e.contains("--show-elements"), "{e}");
+    // Refused: another scene's solution, a damaged one, and direct with a solution.
+    let e = fails(&dir, &["render", "other.toml", "--radiosity", "room.rad", "-o", "x.png"]);
+    assert!(e.contains("room.rad") && e.contains("another scene"), "{e}");
+    let mut bytes = std::fs::read(dir.join("room.rad")).unwrap();
+    let middle = bytes.len() / 2;
+    bytes[middle] ^= 0x40;
+    std::fs::write(dir.join("damaged.rad"), bytes).unwrap();
+    let e = fails(&dir, &["render", "room.toml", "--radiosity", "damaged.rad", "-o", "x.png"]);
+    assert!(e.contains("damaged.rad") && e.contains("checksum"), "{e}");
+    let e = fails(&dir, &["render", "room.toml", "--radiosity", "room.rad", "--illumination", "direct"]);
+    assert!(e.contains("--radiosity"), "{e}");
+    let e = fails(&dir, &["radiosity", "room.toml", "-o", "room.png"]);
+    assert!(e.contains("room.png"), "{e}");
+    let e = fails(&dir, &["radiosity", "room.rad", "-o", "again.rad"]);
+    assert!(e.contains("room.rad") && e.contains("toml"), "{e}");
+}

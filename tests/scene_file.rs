@@ -1,7 +1,8 @@
 //! Scene files: every bundled scene loads; a misspelt key or value, a refused value and
 //! a file that cannot be built are errors that name the scene file, the place
 //! (`line:column`, found here from the text) and the solid, keeping the cause's kind
-//! (I/O, format, over budget, refused value); colour forms against hand-computed RGB;
+//! (I/O, format, over budget, refused value); emission read as given (emitters replace
+//! the default lights); colour forms against hand-computed RGB;
 //! transformed mesh and `.oct` solids against analytic volumes and exact moves; a CSG
 //! scene of a shape, a mesh and an `.oct` file against the brute-force predicate; the
 //! solid cache against loads without it (the same solids bit for bit, read without
@@ -219,6 +220,11 @@ fn value_errors_name_the_file_the_place_and_the_solid() {
             vec!["not finite and invertible"],
         ),
         ("[[solid]]\nname = \"part\"\nmesh = \"cube.obj\"\nmaterial = { ka = 2 }\n".into(), "{ ka", vec!["invalid ka"]),
+        (
+            "[[solid]]\nname = \"part\"\nmesh = \"cube.obj\"\nmaterial = { emission = [1, -0.5, 0] }\n".into(),
+            "{ emission",
+            vec!["invalid emission"],
+        ),
         (
             "[[solid]]\nname = \"part\"\nshape = { half_space = { normal = [0, 0, 1], offset = 0 } }\n".into(),
             "{ half_space",
@@ -677,4 +683,22 @@ fn clearing_a_scenes_cache_leaves_the_other_scenes() {
     assert_eq!(clear_cache(&b).unwrap(), 3);
     assert!(!dir.join(CACHE_DIR).exists(), "an empty cache folder is removed");
     assert_eq!(clear_cache(&b).unwrap(), 0);
+}
+
+#[test]
+fn emission_is_read_as_given_and_emitters_replace_the_default_lights() {
+    let dir = scratch("emission");
+    let lamp = format!(
+        "[[solid]]\nname = \"lamp\"\n{BALL}\nmaterial = {{ color = [0.5, 0.25, 1], kd = 0.8, emission = [12, 3.5, 0] }}\n"
+    );
+    let (_, lit) = load(&dir, "lamp.toml", &lamp, MemoryBudget::default());
+    let lit = lit.unwrap();
+    let m = &lit.scene.solids[0].material;
+    assert_eq!(m.emission, DVec3::new(12.0, 3.5, 0.0));
+    assert_eq!(m.diffuse_reflectance(), DVec3::new(0.4, 0.2, 0.8));
+    assert!(lit.scene.lights.is_empty(), "an emitter is the scene's light");
+    let (_, dark) = load(&dir, "dark.toml", &format!("[[solid]]\n{BALL}\n"), MemoryBudget::default());
+    let dark = dark.unwrap();
+    assert_eq!(dark.scene.solids[0].material.emission, DVec3::ZERO);
+    assert_eq!(dark.scene.lights.len(), 2, "no light and no emitter: the default lights");
 }

@@ -10,8 +10,9 @@
 //! `voxelize` (OBJ, STL, PLY and `.patches`; every fill and inside rule), `export`
 //! (each mesh format, both face modes), `mesh-info`, `render` (a Whitted scene with
 //! every texture, mesh, `.oct` and CSG leaves; an `.oct` by every method and normal
-//! kind; a mesh voxelized; a mesh and patches as polygons by every shading) and `demo`
-//! (in optimized builds only).
+//! kind; a mesh voxelized; a mesh and patches as polygons by every shading),
+//! `radiosity` (the Cornell box, saved and rendered) and `demo` (in optimized builds
+//! only).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -291,6 +292,11 @@ fn every_command_writes_the_same_bytes_with_one_and_two_threads() {
         same(s, &["render", &bunny, "--shading", shading, "--size", "64x48", "-o", &mesh]);
         same(s, &["render", &teapot, "--shading", shading, "--size", "64x48", "-o", &patches]);
     }
+
+    // radiosity: 60 shots of the Cornell box, saved and rendered.
+    let cornell = root.join("scenes").join("cornell.toml").display().to_string();
+    same(s, &["radiosity", &cornell, "-o", "cornell.rad", "--max-shots", "60"]);
+    same(s, &["render", &cornell, "--radiosity", "cornell.rad", "--size", "48x48", "-o", "cornell.png"]);
 
     // And every file the two sessions wrote, whatever wrote it.
     let mut names: Vec<_> = std::fs::read_dir(&s[0].dir).unwrap().map(|e| e.unwrap().file_name()).collect();

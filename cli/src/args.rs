@@ -8,7 +8,8 @@ use octsolid::octree::{Domain, Turn};
 use octsolid::shape::Axis;
 
 use crate::commands::{
-    bench, build, convert, csg, demo, export, info, mesh_info, render, shape, slice, transform, view, voxelize,
+    bench, build, convert, csg, demo, export, info, mesh_info, radiosity, render, shape, slice, transform, view,
+    voxelize,
 };
 
 /// octsolid: solid modeling on linear octrees.
@@ -74,6 +75,8 @@ pub enum Command {
     /// Show a scene, solid or mesh in the browser: orbit, zoom, pan, and a ray-traced
     /// still when the view rests (a server on 127.0.0.1; --watch reloads on save).
     View(view::ViewArgs),
+    /// Solve a scene's diffuse interreflection (radiosity) and save the solution (.rad).
+    Radiosity(radiosity::RadiosityArgs),
     /// Octree traversal against the BVH crates obvhs and bvh: build time, bytes, rays a second.
     Bench(bench::BenchArgs),
     /// Build the bundled showcase scene and render it to demo.png.

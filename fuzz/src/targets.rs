@@ -37,14 +37,19 @@
 //!   sets within [`MAX_PATCH_COORDINATE`].
 
 use std::path::Path;
+use std::sync::OnceLock;
+
+use glam::DVec3;
 
 use octsolid::import::{Fill, ImportOptions, Input, default_domain, voxelize_input};
 use octsolid::io::{ReadOptions, Solids, binvox, gltf, oct, vdb, vox};
 use octsolid::mesh::{BoundaryOptions, MeshShape, PolygonTables, mesh_from_bytes, try_boundary_mesh};
-use octsolid::octree::{VoxelizeOptions, voxelize};
+use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
 use octsolid::patch::load_patches;
-use octsolid::render::{Camera, Method, Projection, RenderOptions, render};
+use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
+use octsolid::render::{Camera, Material, Method, Projection, RenderOptions, Scene, render};
 use octsolid::scene_file::load_scene;
+use octsolid::shape::Cuboid;
 use octsolid::{MemoryBudget, NoProgress, Result};
 
 use crate::scratch;
@@ -100,6 +105,13 @@ pub const TARGETS: &[Target] = &[
         ext: "toml",
         about: "a scene loaded and rendered at 8x6 by ray tracing and by a raster method, which must agree",
         run: scene_render,
+    },
+    Target {
+        name: "rad",
+        corpus: &["rad"],
+        ext: "rad",
+        about: "render::radiosity::Radiosity::load against a fixed small room, as given and with the CRC-32 fixed",
+        run: rad_target,
     },
     Target { name: "vox", corpus: &["vox"], ext: "vox", about: "io::vox::decode", run: vox_target },
     Target { name: "binvox", corpus: &["binvox"], ext: "binvox", about: "io::binvox::decode", run: binvox_target },
@@ -215,6 +227,52 @@ fn too_deep(bytes: &[u8]) -> bool {
     }
     let table = std::str::from_utf8(bytes).ok().and_then(|text| text.parse::<toml::Table>().ok());
     table.is_some_and(|t| deep(&toml::Value::Table(t)))
+}
+
+/// The scene `.rad` cases are read against: a closed emitting room at depth 3 (its
+/// solution's seeds are [`rad_seed`]s), built once.
+pub fn rad_scene() -> &'static Scene {
+    static SCENE: OnceLock<Scene> = OnceLock::new();
+    SCENE.get_or_init(|| {
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 3).expect("a valid domain");
+        let cube = |edge: f64| Cuboid::new(DVec3::ZERO, DVec3::splat(edge)).expect("a valid box");
+        let tree = voxelize(&(cube(1.5) - cube(1.0)), domain, &VoxelizeOptions::default()).expect("a small room");
+        let mut scene = Scene::new();
+        scene.lights.clear();
+        scene.add("room", tree, Material { kd: 1.0, emission: DVec3::ONE, ..Material::default() });
+        scene
+    })
+}
+
+/// A `.rad` file of [`rad_scene`] after `shots` shots (the corpus's seeds).
+pub fn rad_seed(shots: u64) -> Result<Vec<u8>> {
+    let options = RadiosityOptions { max_shots: Some(shots), budget: BUDGET, ..RadiosityOptions::default() };
+    let solution = Radiosity::solve(rad_scene(), &options, &NoProgress)?;
+    let path = scratch::case_path("rad");
+    solution.save(&path)?;
+    std::fs::read(&path).map_err(|source| octsolid::Error::Io { path, source })
+}
+
+/// `bytes` with its last four bytes the CRC-32 of the rest (a `.rad` file's checksum),
+/// so that a mutated solution gets past it to the values; shorter than 4, unchanged.
+#[must_use]
+pub fn rad_fixed(bytes: &[u8]) -> Vec<u8> {
+    let mut fixed = bytes.to_vec();
+    if let Some(body) = fixed.len().checked_sub(4) {
+        let crc = crc32fast::hash(&fixed[..body]);
+        fixed[body..].copy_from_slice(&crc.to_le_bytes());
+    }
+    fixed
+}
+
+/// Loads the solution as it is, then with its checksum fixed ([`rad_fixed`]), for
+/// [`rad_scene`]; the outcome is the second's.
+fn rad_target(bytes: &[u8]) -> Result<String> {
+    let load = |b: &[u8]| scratch::with_file(b, "rad", |path| Radiosity::load(path, rad_scene(), BUDGET));
+    let raw = load(bytes).is_ok();
+    let solution = load(&rad_fixed(bytes))?;
+    let s = solution.stats();
+    Ok(format!("elements {} shots ~{} as given {raw}", s.elements, bucket(s.shots)))
 }
 
 fn scene(bytes: &[u8]) -> Result<String> {

@@ -179,3 +179,46 @@ pub fn build_plot(r: &MatrixResults, path: &Path) -> Result<()> {
         Ok(())
     })
 }
+
+/// A radiosity solution's convergence: the unshot fraction (log) against shots (left)
+/// and against seconds (right); `history` and `seconds` as
+/// `RadiosityStats::history` and `Radiosity::timeline` give them, `title` the caption.
+pub fn convergence_plot(history: &[f64], seconds: &[f64], title: &str, path: &Path) -> Result<()> {
+    let points: Vec<(f64, f64, f64)> = history
+        .iter()
+        .zip(seconds)
+        .enumerate()
+        .filter(|(_, (f, _))| **f > 0.0)
+        .map(|(i, (f, s))| (i as f64, *s, *f))
+        .collect();
+    let low = points.iter().map(|p| p.2).fold(1.0, f64::min).max(1e-9);
+    let high = points.iter().map(|p| p.2).fold(1e-9, f64::max).max(low * 10.0);
+    let shots = points.last().map_or(1.0, |p| p.0.max(1.0));
+    let time = points.last().map_or(1.0, |p| p.1.max(1e-3));
+    render_png(path, (1200, 460), |root| {
+        let panels = root.split_evenly((1, 2));
+        for (panel, by_time) in panels.iter().zip([false, true]) {
+            let (x_end, x_desc) = if by_time { (time, "seconds") } else { (shots, "shots") };
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("{title}: unshot energy against {x_desc}"), ("sans-serif", 18))
+                .margin(12)
+                .x_label_area_size(36)
+                .y_label_area_size(64)
+                .build_cartesian_2d(0.0..x_end * 1.02, (low * 0.7..high * 1.4).log_scale())
+                .map_err(|e| e.to_string())?;
+            chart
+                .configure_mesh()
+                .x_desc(x_desc)
+                .y_desc("unshot / emitted")
+                .y_label_formatter(&|y| format!("{y:.0e}"))
+                .label_style(("sans-serif", 14))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            let line = points.iter().map(|p| (if by_time { p.1 } else { p.0 }, p.2));
+            chart
+                .draw_series(LineSeries::new(line, RGBColor(200, 60, 20).stroke_width(2)))
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    })
+}

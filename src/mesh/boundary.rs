@@ -80,20 +80,20 @@ type Point = [u32; 3];
 
 /// An exposed rectangle of the boundary (a node face or part of one, or coplanar
 /// ones merged), in lattice units.
-#[derive(Clone, Copy, Debug)]
-struct Rect {
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Rect {
     /// Axis of the outward normal.
-    axis: u8,
+    pub axis: u8,
     /// Whether the outward normal points to `+axis`.
-    positive: bool,
+    pub positive: bool,
     /// Coordinate of the rectangle's plane along `axis`.
-    plane: u32,
+    pub plane: u32,
     /// Lowest corner along the in-plane axes `(axis + 1) % 3` and `(axis + 2) % 3`.
-    u: u32,
-    v: u32,
+    pub u: u32,
+    pub v: u32,
     /// Extent along the in-plane axes `(axis + 1) % 3` and `(axis + 2) % 3`.
-    w: u32,
-    h: u32,
+    pub w: u32,
+    pub h: u32,
 }
 
 impl Rect {
@@ -139,20 +139,7 @@ pub fn try_boundary_mesh(
 ) -> Result<TriangleMesh> {
     progress.start(4);
     // 1. Exposed squares, then merged or cut.
-    let keys = tree.keys();
-    let depth = tree.depth();
-    let mut rects: Vec<Rect> = keys
-        .par_chunks(CHUNK)
-        .enumerate()
-        .map(|(c, chunk)| {
-            let mut out = Vec::new();
-            for i in c * CHUNK..c * CHUNK + chunk.len() {
-                node_squares(keys, depth, i, &mut out);
-            }
-            out
-        })
-        .collect::<Vec<_>>()
-        .concat();
+    let mut rects = exposed_squares(tree);
     let unit_faces: u128 = rects.iter().map(|s| u128::from(s.w) * u128::from(s.h)).sum();
     let (count, per) =
         if options.unit_faces { (unit_faces, BYTES_PER_UNIT_FACE) } else { (rects.len() as u128, BYTES_PER_SQUARE) };
@@ -203,6 +190,32 @@ pub fn try_boundary_mesh(
     progress.advance(1);
     progress.finish();
     Ok(TriangleMesh { vertices, triangles, groups: Vec::new() })
+}
+
+/// The exposed squares of the faces of `tree`'s full nodes (step 1 of the module doc,
+/// before merging), in key order.
+fn exposed_squares(tree: &LinearOctree) -> Vec<Rect> {
+    let keys = tree.keys();
+    let depth = tree.depth();
+    keys.par_chunks(CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let mut out = Vec::new();
+            for i in c * CHUNK..c * CHUNK + chunk.len() {
+                node_squares(keys, depth, i, &mut out);
+            }
+            out
+        })
+        .collect::<Vec<_>>()
+        .concat()
+}
+
+/// The boundary of `tree` as coplanar rectangles in lattice units (the exposed parts
+/// of its full nodes' faces, merged; step 1 of the module doc): they tile the voxel
+/// boundary without overlap, in an order that does not depend on the thread count.
+/// Radiosity's patches are cut from them.
+pub(crate) fn boundary_rects(tree: &LinearOctree) -> Vec<Rect> {
+    merge_coplanar(exposed_squares(tree))
 }
 
 /// Appends the exposed squares of the six faces of node `keys[index]` to `out`.

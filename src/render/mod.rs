@@ -8,6 +8,9 @@
 //!   lights.
 //! - `raster`: object-order visibility: front-to-back, painter's, Z-buffer and
 //!   scan-line over voxel faces, and triangle meshes as polygons ([`polygon`]).
+//! - [`radiosity`]: diffuse interreflection solved on the solids' boundary patches
+//!   (form factors by rays through the octree, progressive refinement), saved as
+//!   `.rad` files and shown through [`Scene::illumination`].
 //! - `shade`: the shading stage: normals, Phong with shadows, Whitted ([`radiance`]).
 //! - `visibility`: which solid, voxel and face each sample sees, by any [`Method`]
 //!   (the ray walk or a raster method: the same hits, bit for bit).
@@ -18,6 +21,7 @@ mod adaptive;
 mod film;
 mod pipeline;
 mod quick;
+pub mod radiosity;
 mod raster;
 mod scene;
 mod shade;
@@ -34,7 +38,7 @@ pub use pipeline::{
 };
 pub use quick::quick;
 pub use raster::polygon;
-pub use scene::{Bump, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};
+pub use scene::{Bump, Illumination, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};
 pub use shade::{Normals, ShadeOptions, radiance, reflect, refract};
 pub use trace::{Hit, PACKET, TILE, Traversal};
 pub use visibility::{Method, VisibilityStats, visibility, visibility_into};

@@ -10,6 +10,7 @@ pub mod demo;
 pub mod export;
 pub mod info;
 pub mod mesh_info;
+pub mod radiosity;
 pub mod render;
 pub mod shape;
 pub mod slice;
@@ -48,6 +49,7 @@ pub fn run(args: Args) -> Result<()> {
         Command::Export(a) => export::run(&a, budget),
         Command::Render(a) => render::run(&a, budget),
         Command::View(a) => view::run(&a, budget),
+        Command::Radiosity(a) => radiosity::run(&a, budget),
         Command::Demo(a) => demo::run(&a, budget),
         Command::Bench(a) => bench::run(&a, budget),
     }

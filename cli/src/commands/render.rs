@@ -8,6 +8,7 @@
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
@@ -16,6 +17,7 @@ use glam::DVec3;
 use octsolid::import::{self, ImportOptions, Input};
 use octsolid::io::png;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
+use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
     self, AntiAliasing, Camera, DEFAULT_AA_THRESHOLD, Light, Material, NamedView, RenderOptions, Scene,
     silhouette_points,
@@ -59,10 +61,10 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_up)]
     pub up: Option<Up>,
     /// Eye position X,Y,Z (looking at --target, default the object's centre).
-    #[arg(long, value_parser = parse_vec3, conflicts_with_all = ["view", "azimuth", "elevation"])]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, conflicts_with_all = ["view", "azimuth", "elevation"])]
     pub eye: Option<[f64; 3]>,
     /// Point looked at X,Y,Z (default: the middle of the object's silhouette).
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3)]
     pub target: Option<[f64; 3]>,
     /// Vertical field of view in degrees (default: the scene's, or 35).
     #[arg(long, value_parser = crate::args::parse_finite)]
@@ -122,6 +124,27 @@ pub struct RenderArgs {
     pub shading: Option<Shading>,
     #[command(flatten)]
     pub read: ReadFlags,
+    /// How surfaces are lit: direct (Phong with shadows, Whitted's mirrors and glass)
+    /// or radiosity (diffuse interreflection solved first, mirrors and glass traced on
+    /// top) (default: radiosity with --radiosity, else direct).
+    #[arg(long)]
+    pub illumination: Option<Illumination>,
+    /// Show this saved radiosity solution of the scene (from `octsolid radiosity`).
+    #[arg(long, value_name = "SOLUTION.rad", conflicts_with = "shading")]
+    pub radiosity: Option<PathBuf>,
+    /// With radiosity: show each element flat with its borders drawn (patch borders
+    /// darker) instead of interpolating, a picture of the patches and elements.
+    #[arg(long)]
+    pub show_elements: bool,
+}
+
+/// How surfaces are lit.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Illumination {
+    /// Phong with shadows, and Whitted's reflected and refracted rays.
+    Direct,
+    /// A radiosity solution (saved with --radiosity, else solved first).
+    Radiosity,
 }
 
 /// Polygon interpolation shading.
@@ -248,8 +271,10 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let drawn = Drawn::load(input, kind, &source, LoadOptions { budget, cache }, &mut stages)?;
     let camera = drawn.camera(a)?;
     let options = drawn.options(a, budget);
-    let img = render_with_bar(&drawn.scene_for(a.section), &camera, &options)
-        .with_context(|| format!("{}: cannot render", input.display()))?;
+    let mut scene = drawn.into_scene(a.section);
+    light_by_radiosity(a, &mut scene, budget, &mut stages)?;
+    let img =
+        render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("rendering");
     png::save(&img, &output)?;
     stages.done("writing");
@@ -309,6 +334,14 @@ impl Drawn {
         }
     }
 
+    /// The scene to draw, cut by `--section` when it is given.
+    pub(crate) fn into_scene(self, section: Option<Section>) -> Scene {
+        match section {
+            Some(Section { axis, at }) => self.scene.sectioned(axis, at),
+            None => self.scene,
+        }
+    }
+
     /// The render options: the file's, with the flags' changes.
     pub(crate) fn options(&self, a: &RenderArgs, budget: MemoryBudget) -> RenderOptions {
         let mut options = self.options;
@@ -360,6 +393,42 @@ enum Framed {
     Scene(Camera),
     /// A solid's silhouette and up.
     Solid(Framing),
+}
+
+/// Attaches the radiosity solution `--radiosity` and `--illumination` ask for, if any:
+/// loaded (and checked against the scene) or solved now.
+fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, stages: &mut Stages) -> Result<()> {
+    let solution = match (a.illumination, &a.radiosity) {
+        (Some(Illumination::Direct), Some(_)) => {
+            bail!("--radiosity needs --illumination radiosity (or no --illumination)")
+        }
+        (Some(Illumination::Direct), None) | (None, None) if a.show_elements => {
+            bail!("--show-elements needs radiosity: --radiosity SOLUTION.rad or --illumination radiosity")
+        }
+        (Some(Illumination::Direct), None) | (None, None) => return Ok(()),
+        (_, Some(path)) => {
+            let solution = Radiosity::load(path, scene, budget)
+                .with_context(|| format!("{}: cannot use the solution for {}", path.display(), a.input.display()))?;
+            stages.done("loading the radiosity solution");
+            solution
+        }
+        (Some(Illumination::Radiosity), None) => {
+            let options = RadiosityOptions { budget, ..Default::default() };
+            let solution = super::radiosity::solve(scene, &options, &a.input)?;
+            let s = solution.stats();
+            out!(
+                "radiosity: {} patches, {} elements, {} shots, unshot {:.4}",
+                s.patches,
+                s.elements,
+                s.shots,
+                s.unshot_fraction
+            );
+            stages.done("solving radiosity");
+            solution
+        }
+    };
+    scene.illumination = Some(Arc::new(solution.showing_elements(a.show_elements)));
+    Ok(())
 }
 
 /// Image width / height: `--size`, else the options'.

@@ -1,5 +1,5 @@
 //! Materials: the Phong coefficients, a colour or texture, a bump map, and Whitted's
-//! reflectance, transmittance and index of refraction.
+//! reflectance, transmittance and index of refraction; emission for area lights.
 
 use glam::DVec3;
 
@@ -34,6 +34,10 @@ pub struct Material {
     pub transmittance: f64,
     /// Index of refraction (the surroundings have 1).
     pub ior: f64,
+    /// Emitted radiance of a Lambertian emitter (linear RGB, not bounded by 1): the
+    /// solid is an area light for radiosity (`render::radiosity`), and shows this
+    /// radiance plus its local term under direct illumination.
+    pub emission: DVec3,
 }
 
 impl Default for Material {
@@ -49,6 +53,7 @@ impl Default for Material {
             reflectance: 0.0,
             transmittance: 0.0,
             ior: 1.0,
+            emission: DVec3::ZERO,
         }
     }
 }
@@ -77,6 +82,9 @@ impl Material {
         if !(self.ior.is_finite() && self.ior > 0.0) {
             return Err(Error::invalid("ior", format!("{} must be a finite positive number", self.ior)));
         }
+        if !(self.emission.is_finite() && self.emission.min_element() >= 0.0) {
+            return Err(Error::invalid("emission", format!("{} must be finite and not negative", self.emission)));
+        }
         if !(self.shininess.is_finite() && self.shininess >= 0.0 && self.color.is_finite()) {
             return Err(Error::invalid("material", "shininess and colour must be finite"));
         }
@@ -86,6 +94,13 @@ impl Material {
             return Err(Error::invalid("bump", "amplitude must be finite and not negative, scale positive"));
         }
         Ok(())
+    }
+
+    /// The diffuse reflectance radiosity uses: `color` times `kd` (each component at
+    /// most 1 for a checked material).
+    #[must_use]
+    pub fn diffuse_reflectance(&self) -> DVec3 {
+        self.color * self.kd
     }
 
     /// The surface colour at `p`: the texture's, else the flat colour.

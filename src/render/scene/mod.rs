@@ -79,6 +79,16 @@ impl SceneSolid {
     }
 }
 
+/// Light already worked out on the solids' surfaces, view-independent (a radiosity
+/// solution, `render::radiosity`): where a scene has one, the shading stage shows it
+/// in place of the local Phong term, and mirrors and glass still trace on top of it.
+pub trait Illumination: Send + Sync + std::fmt::Debug {
+    /// The outgoing radiance (linear RGB) at the surface point `p` of solid `solid`,
+    /// on the voxel face of outward unit axis normal `face`; `None` where it knows
+    /// none.
+    fn radiance(&self, solid: usize, p: DVec3, face: DVec3) -> Option<DVec3>;
+}
+
 /// Everything a picture shows (the camera is separate).
 #[derive(Clone, Debug)]
 pub struct Scene {
@@ -90,6 +100,8 @@ pub struct Scene {
     pub ambient: DVec3,
     /// Colour where rays hit nothing (linear RGB).
     pub background: DVec3,
+    /// Precomputed diffuse light shown in place of the local term (radiosity), if any.
+    pub illumination: Option<Arc<dyn Illumination>>,
 }
 
 /// What a primary ray sees: the solid, and the hit.
@@ -110,6 +122,7 @@ impl Scene {
             lights: Vec::new(),
             ambient: DVec3::splat(1.0),
             background: DVec3::new(0.92, 0.93, 0.95),
+            illumination: None,
         }
     }
 
@@ -153,7 +166,8 @@ impl Scene {
 
     /// A section view: every solid cut to its part at or below `at` along `axis` (the
     /// plane snapped to the nearest plane of each solid's voxel lattice), so the cut
-    /// face shows as a filled cap; lights, ambient light and background unchanged.
+    /// face shows as a filled cap; lights, ambient light and background unchanged, and
+    /// no precomputed illumination (a radiosity solution is of the whole solids).
     /// Smooth normals still come from a solid's shape near its surface, and from the
     /// cut octree's estimate (the plane's exact normal on the flat cap) elsewhere.
     #[must_use]
@@ -177,7 +191,14 @@ impl Scene {
                 }
             })
             .collect();
-        Scene { solids, lights: self.lights.clone(), ambient: self.ambient, background: self.background }
+        // A light solution belongs to the whole solids: the cut scene has none.
+        Scene {
+            solids,
+            lights: self.lights.clone(),
+            ambient: self.ambient,
+            background: self.background,
+            illumination: None,
+        }
     }
 
     /// Bounds of all solids, `None` when every solid is empty.

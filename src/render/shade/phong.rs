@@ -56,9 +56,14 @@ fn specular(m: &Material, n: DVec3, l: DVec3, v: DVec3, cos_alpha: f64) -> f64 {
     m.ks * cos_theta.powf(m.shininess)
 }
 
-/// The local (Phong) term at `s` (see the module doc), and the shadow rays cast.
+/// The local term at `s`, and the shadow rays cast: the scene's precomputed
+/// illumination where it has one (radiosity: emitted plus diffusely reflected light),
+/// else the Phong term (see the module doc) plus the material's emission.
 #[must_use]
 pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
+    if let Some(light) = scene.illumination.as_ref().and_then(|i| i.radiance(s.solid, s.p, s.geometric)) {
+        return (light, 0);
+    }
     let solid = &scene.solids[s.solid];
     let m = &solid.material;
     let (p, geometric, n) = (s.p, s.geometric, s.normal);
@@ -77,5 +82,5 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
         rays += 1;
         scene.transmittance(&light.shadow_ray(start))
     });
-    (color, rays)
+    (color + m.emission, rays)
 }

@@ -1,0 +1,113 @@
+//! `octsolid radiosity SCENE.toml -o SOLUTION.rad [--until F] [--max-shots N]
+//! [--patch-size S] [--plot PLOT.png] [--json]`: solves a scene's diffuse interreflection by progressive refinement and
+//! saves the view-independent solution (render it with `render --radiosity`).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use octsolid::render::Scene;
+use octsolid::render::radiosity::{DEFAULT_UNTIL, Radiosity, RadiosityOptions};
+use octsolid::{FileKind, MemoryBudget, scene_file};
+use serde::Serialize;
+
+use super::print_warnings;
+use crate::output::{check_extension, check_not_an_input};
+use crate::progress_bar::Bar;
+
+/// Arguments of `octsolid radiosity`.
+#[derive(clap::Args, Debug)]
+pub struct RadiosityArgs {
+    /// The scene (.toml).
+    pub scene: PathBuf,
+    /// The solution file to write (.rad).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Stop when the unshot energy is at most this fraction of the emitted energy.
+    #[arg(long, default_value_t = DEFAULT_UNTIL, value_parser = crate::args::parse_finite)]
+    pub until: f64,
+    /// Stop after N shots (lights included) even if --until is not reached.
+    #[arg(long)]
+    pub max_shots: Option<u64>,
+    /// Longest patch edge in world units (default: an eighth of the scene's extent).
+    #[arg(long, value_parser = crate::args::parse_finite)]
+    pub patch_size: Option<f64>,
+    /// Also draw the unshot energy against shots and seconds into this PNG.
+    #[arg(long, value_name = "PLOT.png")]
+    pub plot: Option<PathBuf>,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `octsolid radiosity --json` prints; the key names are a contract.
+#[derive(Serialize)]
+struct Summary {
+    patches: usize,
+    elements: usize,
+    shots: u64,
+    unshot_fraction: f64,
+    seconds: f64,
+}
+
+/// Loads a scene file for radiosity, printing its warnings.
+pub(crate) fn load(path: &std::path::Path, budget: MemoryBudget) -> Result<scene_file::SceneFile> {
+    let file = scene_file::load_scene(path, budget)?;
+    print_warnings(&file.warnings);
+    Ok(file)
+}
+
+/// Solves `scene` with a progress bar, the error naming `path`.
+pub(crate) fn solve(scene: &Scene, options: &RadiosityOptions, path: &std::path::Path) -> Result<Radiosity> {
+    let bar = Bar::new("radiosity");
+    Radiosity::solve(scene, options, &bar).with_context(|| format!("{}: cannot solve radiosity", path.display()))
+}
+
+/// `octsolid radiosity SCENE.toml -o SOLUTION.rad [--until F] [--max-shots N] [--json]`
+pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
+    FileKind::of(&a.scene, &[FileKind::Scene])?;
+    check_extension(&a.output, &["rad"])?;
+    check_not_an_input(&a.output, &[&a.scene])?;
+    if let Some(plot) = &a.plot {
+        check_extension(plot, &["png"])?;
+        check_not_an_input(plot, &[&a.scene])?;
+    }
+    if !(0.0..1.0).contains(&a.until) {
+        bail!("--until {}: the unshot fraction must be at least 0 and below 1", a.until);
+    }
+    let file = load(&a.scene, budget)?;
+    let options = RadiosityOptions {
+        until: a.until,
+        max_shots: a.max_shots,
+        patch_size: a.patch_size,
+        budget,
+        ..Default::default()
+    };
+    let started = Instant::now();
+    let solution = solve(&file.scene, &options, &a.scene)?;
+    let seconds = started.elapsed().as_secs_f64();
+    solution.save(&a.output)?;
+    let s = solution.stats();
+    if let Some(plot) = &a.plot {
+        let title = a.scene.file_stem().unwrap_or_default().to_string_lossy();
+        octsolid_harness::plots::convergence_plot(&s.history, solution.timeline(), &title, plot)?;
+    }
+    let summary = Summary {
+        patches: s.patches,
+        elements: s.elements,
+        shots: s.shots,
+        unshot_fraction: s.unshot_fraction,
+        seconds,
+    };
+    if a.json {
+        out!("{}", serde_json::to_string(&summary)?);
+        return Ok(());
+    }
+    out!("patches    {} ({} elements)", s.patches, s.elements);
+    let per_shot = 1e3 * seconds / s.shots.max(1) as f64;
+    out!("shots      {} ({} rays; {per_shot:.2} ms a shot)", s.shots, s.rays);
+    out!("unshot     {:.4} of the emitted energy", s.unshot_fraction);
+    out!("time       {seconds:.2} s");
+    out!("wrote {}", a.output.display());
+    Ok(())
+}

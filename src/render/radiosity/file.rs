@@ -1,0 +1,203 @@
+//! The `.rad` file: a radiosity solution, versioned, checksummed and tied to its
+//! scene (docs/FORMAT.md).
+//!
+//! Little-endian, in order: the magic `OCTSRAD\0` (8 bytes), the version `u32` (1),
+//! the scene fingerprint `u64` ([`super::fingerprint`]), the patch size `f64` and the
+//! elements a patch side `u32` it was solved with, the patch and element counts
+//! (`u64` each), the shots `u64`, the unshot fraction `f64`, the ambient term (3
+//! `f64`), then each element's radiosity (3 `f64`, radiance units, element order), and
+//! last the CRC-32 of every byte before it.
+//!
+//! Reading: the header is checked field by field (magic, version, fingerprint against
+//! the scene's), the patches are rebuilt from the scene with the file's settings (the
+//! memory budget applies there), their counts must equal the file's, and only then is
+//! the file's length checked against the size they give and the body read: no
+//! allocation is ever sized by the header. Values are stored as their bits, so a
+//! solution reloads bit for bit.
+
+use std::io::Write;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::patches::Patches;
+use super::{Radiosity, RadiosityStats, fingerprint};
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::io::write_atomic;
+use crate::render::scene::Scene;
+
+/// The magic bytes.
+pub(crate) const MAGIC: &[u8; 8] = b"OCTSRAD\0";
+/// The format version this build writes and reads.
+pub(crate) const VERSION: u32 = 1;
+/// Bytes before the element values.
+const HEADER: usize = 8 + 4 + 8 + 8 + 4 + 8 + 8 + 8 + 8 + 24;
+
+/// Writes `r` to `path` (see the module doc).
+pub(super) fn save(r: &Radiosity, path: &Path) -> Result<u64> {
+    let mut bytes = Vec::with_capacity(HEADER + r.radiosity.len() * 24 + 4);
+    bytes.extend_from_slice(MAGIC);
+    bytes.extend_from_slice(&VERSION.to_le_bytes());
+    bytes.extend_from_slice(&r.fingerprint.to_le_bytes());
+    bytes.extend_from_slice(&r.patch_size.to_le_bytes());
+    bytes.extend_from_slice(&r.elements.to_le_bytes());
+    bytes.extend_from_slice(&(r.mesh.patches.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(&(r.mesh.elements.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(&r.stats.shots.to_le_bytes());
+    bytes.extend_from_slice(&r.stats.unshot_fraction.to_le_bytes());
+    for v in std::iter::once(&r.ambient).chain(&r.radiosity) {
+        for c in v.to_array() {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    write_atomic(path, |out: &mut dyn Write| out.write_all(&bytes))
+}
+
+/// A reader of a file's bytes that names the file and offset in its errors.
+struct Reader<'a> {
+    path: &'a Path,
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn error(&self, offset: usize, reason: impl Into<String>) -> Error {
+        Error::Format { path: self.path.to_path_buf(), offset: offset as u64, reason: reason.into() }
+    }
+
+    fn take<const N: usize>(&mut self, what: &str) -> Result<[u8; N]> {
+        let b = self
+            .bytes
+            .get(self.at..self.at + N)
+            .ok_or_else(|| self.error(self.at, format!("the file ends inside the {what}")))?;
+        self.at += N;
+        Ok(b.try_into().expect("N bytes"))
+    }
+
+    fn u32(&mut self, what: &str) -> Result<u32> {
+        self.take::<4>(what).map(u32::from_le_bytes)
+    }
+
+    fn u64(&mut self, what: &str) -> Result<u64> {
+        self.take::<8>(what).map(u64::from_le_bytes)
+    }
+
+    fn f64(&mut self, what: &str) -> Result<f64> {
+        self.take::<8>(what).map(f64::from_le_bytes)
+    }
+
+    fn vec3(&mut self, what: &str) -> Result<DVec3> {
+        Ok(DVec3::new(self.f64(what)?, self.f64(what)?, self.f64(what)?))
+    }
+}
+
+/// Reads the header (at most `HEADER` bytes) of the file.
+fn read_head(path: &Path) -> Result<(Vec<u8>, u64)> {
+    use std::io::Read;
+    let io = |source| Error::Io { path: path.to_path_buf(), source };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    let mut head = Vec::with_capacity(HEADER);
+    file.take(HEADER as u64).read_to_end(&mut head).map_err(io)?;
+    Ok((head, len))
+}
+
+/// Reads `path` for `scene` (see the module doc).
+pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<Radiosity> {
+    let (head, len) = read_head(path)?;
+    let mut r = Reader { path, bytes: &head, at: 0 };
+    if r.take::<8>("magic").ok().as_ref() != Some(MAGIC) {
+        return Err(r.error(0, "not a radiosity solution (.rad): the magic bytes differ"));
+    }
+    let version = r.u32("version")?;
+    if version != VERSION {
+        return Err(r.error(8, format!("format version {version}, this build reads version {VERSION}")));
+    }
+    let stored = r.u64("scene fingerprint")?;
+    let own = fingerprint(scene);
+    if stored != own {
+        return Err(r.error(
+            12,
+            format!(
+                "the solution belongs to another scene (fingerprint {stored:016x}, this scene's is {own:016x}: \
+                 its solids, materials or lights differ); solve this scene with `octsolid radiosity`"
+            ),
+        ));
+    }
+    let patch_size = r.f64("patch size")?;
+    let elements = r.u32("elements a side")?;
+    if !(patch_size.is_finite() && patch_size > 0.0 && (1..=64).contains(&elements)) {
+        return Err(r.error(20, format!("invalid settings: patch size {patch_size}, {elements} elements a side")));
+    }
+    let patches = r.u64("patch count")?;
+    let element_count = r.u64("element count")?;
+    let shots = r.u64("shot count")?;
+    let unshot_fraction = r.f64("unshot fraction")?;
+    let ambient = r.vec3("ambient term")?;
+    if !(ambient.is_finite() && ambient.min_element() >= 0.0) {
+        return Err(r.error(r.at - 24, format!("ambient term {ambient} is not finite and non-negative")));
+    }
+    let mesh = Patches::build(scene, patch_size, elements, budget)?;
+    if (patches, element_count) != (mesh.patches.len() as u64, mesh.elements.len() as u64) {
+        return Err(r.error(
+            32,
+            format!(
+                "{patches} patches of {element_count} elements, but the scene has {} of {}",
+                mesh.patches.len(),
+                mesh.elements.len()
+            ),
+        ));
+    }
+    let want = (HEADER + mesh.elements.len() * 24 + 4) as u64;
+    if len != want {
+        return Err(r.error(
+            len.min(want) as usize,
+            format!("the file has {len} bytes, {want} expected for {element_count} elements (truncated or damaged)"),
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    if bytes.len() as u64 != want {
+        return Err(r.error(0, "the file changed while it was read"));
+    }
+    let body = bytes.len() - 4;
+    let stored_crc = u32::from_le_bytes(bytes[body..].try_into().expect("4 bytes"));
+    let crc = crc32fast::hash(&bytes[..body]);
+    if crc != stored_crc {
+        return Err(r.error(body, format!("checksum mismatch (stored {stored_crc:08x}, computed {crc:08x}): damaged")));
+    }
+    let mut r = Reader { path, bytes: &bytes, at: HEADER };
+    let mut radiosity = Vec::with_capacity(mesh.elements.len());
+    for _ in 0..mesh.elements.len() {
+        let at = r.at;
+        let v = r.vec3("radiosities")?;
+        if !(v.is_finite() && v.min_element() >= 0.0) {
+            return Err(r.error(at, format!("radiosity {v} is not finite and non-negative")));
+        }
+        radiosity.push(v);
+    }
+    let stats = RadiosityStats {
+        patches: mesh.patches.len(),
+        elements: mesh.elements.len(),
+        shots,
+        unshot_fraction,
+        rays: 0,
+        emitted: 0.0,
+        absorbed: 0.0,
+        escaped: 0.0,
+        history: Vec::new(),
+    };
+    Ok(Radiosity {
+        mesh,
+        radiosity,
+        ambient,
+        fingerprint: own,
+        patch_size,
+        elements,
+        stats,
+        timeline: Vec::new(),
+        show_elements: false,
+    })
+}

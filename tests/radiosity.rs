@@ -1,0 +1,323 @@
+//! Radiosity against independent oracles: closed-form form factors (parallel and
+//! perpendicular unit squares), reciprocity, form factors summing to one inside a
+//! closed box (visibility through the octree decides how an occluder shares it), the
+//! furnace (a closed box that emits E and reflects rho everywhere shows E / (1 - rho)),
+//! the energy book, the same bits on 1 and 2 threads, `.rad` files (reloaded bit for
+//! bit, refused for another scene, refused when damaged), and a sphere's elements
+//! taking the sphere's own normal.
+
+use std::path::PathBuf;
+
+use glam::DVec3;
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
+use octsolid::render::{Illumination, Light, Material, Scene};
+use octsolid::shape::{Cuboid, Shape};
+use octsolid::{Error, MemoryBudget, NoProgress};
+
+/// The domain of every scene here: the cube [-1, 1]^3 at depth 6 (voxels of 1/32, so
+/// every box below lies on the lattice and is voxelized exactly).
+fn domain() -> Domain {
+    Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap()
+}
+
+fn cuboid(min: [f64; 3], max: [f64; 3]) -> Cuboid {
+    let (min, max) = (DVec3::from(min), DVec3::from(max));
+    Cuboid::new((min + max) * 0.5, max - min).unwrap()
+}
+
+fn tree(shape: &dyn Shape) -> LinearOctree {
+    voxelize(shape, domain(), &VoxelizeOptions::default()).unwrap()
+}
+
+/// A diffuse material of reflectance `rho` (grey) emitting `emission` (grey).
+fn diffuse(rho: f64, emission: f64) -> Material {
+    Material { color: DVec3::splat(rho), kd: 1.0, emission: DVec3::splat(emission), ..Material::default() }
+}
+
+fn options(patch_size: f64, elements: u32) -> RadiosityOptions {
+    RadiosityOptions { patch_size: Some(patch_size), elements, ..RadiosityOptions::default() }
+}
+
+/// The closed form for parallel coaxial rectangles `a x b`, `c` apart (Siegel and Howell).
+fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
+    let (x, y) = (a / c, b / c);
+    let (x1, y1) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+    2.0 / (std::f64::consts::PI * x * y)
+        * (((1.0 + x * x) * (1.0 + y * y) / (1.0 + x * x + y * y)).sqrt().ln()
+            + x * y1 * (x / y1).atan()
+            + y * x1 * (y / x1).atan()
+            - x * x.atan()
+            - y * y.atan())
+}
+
+/// The closed form for perpendicular rectangles sharing an edge of length `l`, widths
+/// `w` (the emitter's, from the edge) and `h` (Siegel and Howell; 0.20004 for unit
+/// squares).
+fn perpendicular_rectangles(w: f64, h: f64, l: f64) -> f64 {
+    let (hh, ww) = (h / l, w / l);
+    let pi = std::f64::consts::PI;
+    let a = ((1.0 + ww * ww) * (1.0 + hh * hh)) / (1.0 + ww * ww + hh * hh);
+    let b = (ww * ww * (1.0 + ww * ww + hh * hh)) / ((1.0 + ww * ww) * (ww * ww + hh * hh));
+    let c = (hh * hh * (1.0 + hh * hh + ww * ww)) / ((1.0 + hh * hh) * (hh * hh + ww * ww));
+    1.0 / (pi * ww)
+        * (ww * (1.0 / ww).atan() + hh * (1.0 / hh).atan()
+            - (hh * hh + ww * ww).sqrt() * (1.0 / (hh * hh + ww * ww).sqrt()).atan()
+            + 0.25 * (a * b.powf(ww * ww) * c.powf(hh * hh)).ln())
+}
+
+/// Two plates whose facing faces are the unit square at z = -0.5 (facing +z) and the
+/// square of side `side` centred over it at z = 0.5 (facing -z), and the patch of each.
+fn facing_plates(side: f64) -> (Scene, Radiosity, usize, usize) {
+    let mut scene = Scene::new();
+    scene.lights.clear();
+    scene.add("lower", tree(&cuboid([-0.5, -0.5, -0.75], [0.5, 0.5, -0.5])), diffuse(0.5, 1.0));
+    let h = side / 2.0;
+    scene.add("upper", tree(&cuboid([-h, -h, 0.5], [h, h, 0.75])), diffuse(0.5, 0.0));
+    let r =
+        Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(0), ..options(1.0, 16) }, &NoProgress).unwrap();
+    let lower = r.patch_at(0, DVec3::new(0.0, 0.0, -0.5), DVec3::Z).unwrap();
+    let upper = r.patch_at(1, DVec3::new(0.0, 0.0, 0.5), -DVec3::Z).unwrap();
+    (scene, r, lower, upper)
+}
+
+#[test]
+fn parallel_unit_squares_one_apart_have_the_closed_form_factor_both_ways() {
+    let (scene, r, lower, upper) = facing_plates(1.0);
+    let want = parallel_rectangles(1.0, 1.0, 1.0);
+    assert!((want - 0.1998).abs() < 1e-4, "the closed form itself: {want}");
+    for (i, j) in [(lower, upper), (upper, lower)] {
+        let f = r.form_factor(&scene, i, j);
+        assert!((f - want).abs() < 0.02 * want, "F = {f}, closed form {want}");
+    }
+}
+
+#[test]
+fn form_factors_of_unequal_squares_are_reciprocal() {
+    let (scene, r, lower, upper) = facing_plates(0.5);
+    let (a1, a2) = (r.patch_area(lower), r.patch_area(upper));
+    assert!((a1 - 1.0).abs() < 1e-12 && (a2 - 0.25).abs() < 1e-12);
+    let (f12, f21) = (r.form_factor(&scene, lower, upper), r.form_factor(&scene, upper, lower));
+    assert!(f12 > 0.0 && f21 > 0.0);
+    let (left, right) = (a1 * f12, a2 * f21);
+    assert!((left - right).abs() < 0.02 * right, "A1 F12 = {left}, A2 F21 = {right}");
+}
+
+#[test]
+fn perpendicular_unit_squares_sharing_an_edge_have_the_closed_form_factor() {
+    // An L: a floor whose top face x in [0, 1] meets a wall's face x = 0, z in [0, 1].
+    let shape = cuboid([-0.25, 0.0, -0.25], [1.0, 1.0, 0.0]) | cuboid([-0.25, 0.0, 0.0], [0.0, 1.0, 1.0]);
+    let mut scene = Scene::new();
+    scene.lights.clear();
+    scene.add("corner", tree(&shape), diffuse(0.5, 1.0));
+    let r =
+        Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(0), ..options(1.0, 32) }, &NoProgress).unwrap();
+    let floor = r.patch_at(0, DVec3::new(0.5, 0.5, 0.0), DVec3::Z).unwrap();
+    let wall = r.patch_at(0, DVec3::new(0.0, 0.5, 0.5), DVec3::X).unwrap();
+    assert!((r.patch_area(floor) - 1.0).abs() < 1e-12 && (r.patch_area(wall) - 1.0).abs() < 1e-12);
+    let want = perpendicular_rectangles(1.0, 1.0, 1.0);
+    assert!((want - 0.2000).abs() < 2e-4, "the closed form itself: {want}");
+    for (i, j) in [(floor, wall), (wall, floor)] {
+        let f = r.form_factor(&scene, i, j);
+        assert!((f - want).abs() < 0.02 * want, "F = {f}, closed form {want}");
+    }
+}
+
+/// A closed room: the hollow between [-0.5, 0.5]^3 and [-0.875, 0.875]^3.
+fn room() -> LinearOctree {
+    tree(&(cuboid([-0.875; 3], [0.875; 3]) - cuboid([-0.5; 3], [0.5; 3])))
+}
+
+/// Whether `p` lies on the room's inner walls (not its outside).
+fn inside_room(p: DVec3) -> bool {
+    p.abs().max_element() <= 0.5 + 1e-9
+}
+
+#[test]
+fn form_factors_from_a_wall_of_a_closed_box_sum_to_one_with_and_without_an_occluder() {
+    for occluder in [false, true] {
+        let mut scene = Scene::new();
+        scene.lights.clear();
+        scene.add("room", room(), diffuse(0.5, 1.0));
+        if occluder {
+            // A block in the middle of the room takes its share of every wall's view.
+            scene.add("block", tree(&cuboid([-0.25, -0.25, -0.5], [0.25, 0.25, 0.0])), diffuse(0.5, 0.0));
+        }
+        let r = Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(0), ..options(0.25, 4) }, &NoProgress)
+            .unwrap();
+        // A patch of the wall x = -0.5 (facing +x), and every patch any element can see.
+        let wall = r.patch_at(0, DVec3::new(-0.5, 0.1, 0.1), DVec3::X).unwrap();
+        let patches = r.stats().patches;
+        let sum: f64 = (0..patches).filter(|&j| j != wall).map(|j| r.form_factor(&scene, wall, j)).sum();
+        assert!((sum - 1.0).abs() < 0.02, "occluder {occluder}: sum of form factors {sum}");
+    }
+}
+
+#[test]
+fn the_furnace_shows_e_over_one_minus_rho_and_exactly_e_without_reflection() {
+    let emission = 0.8;
+    for rho in [0.0, 0.5] {
+        let mut scene = Scene::new();
+        scene.lights.clear();
+        scene.add("room", room(), diffuse(rho, emission));
+        let r = Radiosity::solve(&scene, &RadiosityOptions { until: 1e-4, ..options(0.25, 4) }, &NoProgress).unwrap();
+        let want = emission / (1.0 - rho);
+        let mut seen = 0;
+        for (center, _, _, shown) in r.elements().filter(|e| inside_room(e.0)) {
+            seen += 1;
+            for c in shown.to_array() {
+                if rho == 0.0 {
+                    assert_eq!(c, emission, "at {center}");
+                } else {
+                    assert!((c - want).abs() < 0.01 * want, "{c} at {center}, want {want}");
+                }
+            }
+        }
+        assert_eq!(seen, 6 * 16 * 16, "the inner walls' elements");
+    }
+}
+
+/// A closed room lit by an emissive block and a point light, with an occluder.
+fn lit_room() -> Scene {
+    let mut scene = Scene::new();
+    scene.lights = vec![Light::Point { position: DVec3::new(0.3, 0.3, 0.3), color: DVec3::new(0.05, 0.04, 0.03) }];
+    scene.add("room", room(), Material { color: DVec3::new(0.7, 0.5, 0.3), ..diffuse(0.0, 0.0) });
+    scene.add("lamp", tree(&cuboid([-0.125, -0.125, 0.375], [0.125, 0.125, 0.4375])), diffuse(0.6, 2.0));
+    scene.add("block", tree(&cuboid([-0.3125, -0.3125, -0.5], [0.0, 0.0, -0.125])), diffuse(0.6, 0.0));
+    scene
+}
+
+#[test]
+fn unshot_energy_never_grows_and_the_energy_book_balances() {
+    let scene = lit_room();
+    let r = Radiosity::solve(&scene, &options(0.25, 4), &NoProgress).unwrap();
+    let s = r.stats();
+    assert!(s.unshot_fraction <= 0.01 && s.shots > 2);
+    assert_eq!(s.history.len() as u64, s.shots + 1);
+    for pair in s.history.windows(2) {
+        assert!(pair[1] <= pair[0] * (1.0 + 1e-12), "unshot grew: {pair:?}");
+    }
+    // Emitted = absorbed + escaped + unshot; at the end, absorbed + escaped within 1%
+    // of emitted, and in a closed room next to nothing escapes.
+    let unshot = s.unshot_fraction * s.emitted;
+    let book = (s.absorbed, s.escaped, unshot, s.emitted);
+    assert!((s.absorbed + s.escaped + unshot - s.emitted).abs() < 1e-9 * s.emitted, "{book:?}");
+    assert!((s.absorbed + s.escaped - s.emitted).abs() <= 0.01 * s.emitted);
+    assert!(s.escaped < 0.02 * s.emitted, "escaped {} of {}", s.escaped, s.emitted);
+}
+
+#[test]
+fn the_solution_is_the_same_bits_on_one_and_two_threads() {
+    let scene = lit_room();
+    let solve = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(40), ..options(0.25, 4) }, &NoProgress)
+        })
+        .unwrap()
+    };
+    let (one, two) = (solve(1), solve(2));
+    let bits = |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+    assert_eq!(bits(&one), bits(&two));
+    assert_eq!(one.ambient().to_array().map(f64::to_bits), two.ambient().to_array().map(f64::to_bits));
+    assert_eq!(one.stats(), two.stats());
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("octsolid-radiosity-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// The lit room solved for `shots` shots and saved as `name`.
+fn saved(name: &str, shots: u64) -> (Scene, Radiosity, PathBuf) {
+    let scene = lit_room();
+    let options = RadiosityOptions { max_shots: Some(shots), ..options(0.25, 4) };
+    let r = Radiosity::solve(&scene, &options, &NoProgress).unwrap();
+    let path = scratch(name);
+    r.save(&path).unwrap();
+    (scene, r, path)
+}
+
+#[test]
+fn a_saved_solution_reloads_bit_for_bit_and_shows_the_same_light() {
+    let (scene, r, path) = saved("reload.rad", 30);
+    let back = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap();
+    let bits = |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+    assert_eq!(bits(&r), bits(&back));
+    assert_eq!(r.ambient(), back.ambient());
+    assert_eq!((back.stats().shots, back.stats().unshot_fraction), (r.stats().shots, r.stats().unshot_fraction));
+    let p = DVec3::new(-0.5, 0.2, 0.1);
+    assert_eq!(r.radiance(0, p, DVec3::X), back.radiance(0, p, DVec3::X));
+    assert!(r.radiance(0, p, DVec3::X).unwrap().min_element() > 0.0);
+}
+
+#[test]
+fn a_solution_of_another_scene_is_refused_by_name() {
+    let (_, _, path) = saved("other.rad", 3);
+    let mut other = lit_room();
+    other.solids[1].material.emission = DVec3::splat(3.0);
+    let e = Radiosity::load(&path, &other, MemoryBudget::default()).unwrap_err();
+    let text = e.to_string();
+    assert!(matches!(e, Error::Format { .. }), "{e:?}");
+    assert!(text.contains("other.rad") && text.contains("another scene"), "{text}");
+}
+
+#[test]
+fn damaged_solution_files_are_refused_by_name_never_a_panic() {
+    let (scene, _, path) = saved("good.rad", 3);
+    let good = std::fs::read(&path).unwrap();
+    let mut cases: Vec<(&str, Vec<u8>, &str)> = Vec::new();
+    let mut flipped = good.clone();
+    let middle = good.len() / 2;
+    flipped[middle] ^= 0x10;
+    cases.push(("flipped.rad", flipped, "checksum"));
+    cases.push(("truncated.rad", good[..good.len() - 9].to_vec(), "truncated"));
+    cases.push(("empty.rad", Vec::new(), "magic"));
+    cases.push(("text.rad", b"this is not a solution at all, only words".to_vec(), "magic"));
+    let mut version = good.clone();
+    version[8] = 9;
+    cases.push(("version.rad", version, "version"));
+    let mut counts = good.clone();
+    counts[36] ^= 1;
+    cases.push(("counts.rad", counts, "patches"));
+    let mut huge = good[..88].to_vec();
+    huge[40..48].copy_from_slice(&u64::MAX.to_le_bytes());
+    cases.push(("huge.rad", huge, "elements"));
+    for (name, bytes, says) in cases {
+        let path = scratch(name);
+        std::fs::write(&path, bytes).unwrap();
+        let e = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap_err();
+        let text = e.to_string();
+        assert!(text.contains(name) && text.contains(says), "{name}: {text}");
+    }
+}
+
+#[test]
+fn a_spheres_elements_take_the_spheres_normal_and_a_bare_octrees_the_faces() {
+    let center = DVec3::new(0.03, -0.02, 0.01);
+    let sphere = octsolid::shape::Sphere::new(center, 0.6).unwrap();
+    let ball = tree(&sphere);
+    for shaped in [true, false] {
+        let mut scene = Scene::new();
+        scene.lights = vec![Light::Point { position: DVec3::new(0.0, 0.0, 0.9), color: DVec3::ONE }];
+        if shaped {
+            scene.add_shaped("ball", ball.clone(), diffuse(0.5, 0.0), std::sync::Arc::new(sphere.clone()));
+        } else {
+            scene.add("ball", ball.clone(), diffuse(0.5, 0.0));
+        }
+        let r = Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(0), ..options(0.25, 4) }, &NoProgress)
+            .unwrap();
+        for (p, n, _, _) in r.elements() {
+            let radial = (p - center).normalize();
+            if shaped {
+                // The shape's normal at the element is the radial direction (its nearest
+                // sphere point lies on the ray from the centre).
+                assert!(n.angle_between(radial) < 1e-9, "{n} against {radial} at {p}");
+            } else {
+                assert_eq!(n.abs().max_element(), 1.0, "an axis normal: {n}");
+                assert!(n.dot(radial) > 0.0);
+            }
+        }
+    }
+}
