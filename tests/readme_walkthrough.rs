@@ -34,6 +34,31 @@ fn output_of(args: &[String]) -> Option<String> {
     (args[1] == "render").then(|| format!("{}.png", Path::new(&args[2]).file_stem().unwrap().to_string_lossy()))
 }
 
+/// `octsolid view ...` serves until stopped: it must print its loopback address and
+/// serve its page there; then it is stopped.
+fn serves_its_page(dir: &Path, args: &[String]) {
+    use std::io::{BufRead, BufReader, Read, Write};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_octsolid"))
+        .current_dir(dir)
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let address = line.split("http://").nth(1).and_then(|s| s.split('/').next()).unwrap_or_default().to_string();
+    let mut page = Vec::new();
+    if let Ok(mut stream) = std::net::TcpStream::connect(&address) {
+        write!(stream, "GET / HTTP/1.0\r\n\r\n").unwrap();
+        stream.read_to_end(&mut page).unwrap();
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(address.starts_with("127.0.0.1:"), "README command {args:?} printed {line}");
+    assert!(page.starts_with(b"HTTP/1.0 200"), "README command {args:?} serves no page at {address}");
+}
+
 #[test]
 fn every_readme_command_runs_in_order() {
     let commands = walkthrough();
@@ -49,6 +74,10 @@ fn every_readme_command_runs_in_order() {
         assert_eq!(args[0], "octsolid", "a walkthrough line is an octsolid command: {args:?}");
         if let Some(out) = output_of(args) {
             assert!(written.insert(out.clone()), "{args:?} overwrites {out}, written by an earlier command");
+        }
+        if args[1] == "view" {
+            serves_its_page(&dir, &args[1..]);
+            continue;
         }
         let out = Command::new(env!("CARGO_BIN_EXE_octsolid")).current_dir(&dir).args(&args[1..]).output().unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
