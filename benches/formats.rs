@@ -12,6 +12,7 @@ use octsolid::NoProgress;
 use octsolid::io::{ColouredSolid, ReadOptions, Solids, binvox, gltf, oct, vdb, vox};
 use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
+use octsolid::shape::Axis;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("formats");
@@ -31,7 +32,7 @@ fn bench(c: &mut Criterion) {
     binvox::encode_to(&tree, &mut binvox_bytes).unwrap();
     let vdb_zip = vdb::encode(&solids, vdb::Compression::Zip);
     let vdb_raw = vdb::encode(&solids, vdb::Compression::None);
-    let glb = gltf::encode(&solids, MemoryBudget::unlimited()).unwrap();
+    let glb = gltf::encode(&solids, Axis::Z, MemoryBudget::unlimited()).unwrap();
     eprintln!(
         "stats: bunny depth 10: {} nodes, {} voxels; .oct {} B, .vox {} B, .binvox {} B, .vdb zip {} B ({:.2}x .oct), \
          .vdb raw {} B ({:.2}x .oct), .glb {} B",
@@ -76,7 +77,11 @@ fn bench(c: &mut Criterion) {
             binvox_bytes.len(),
             Box::new(|| drop(binvox::decode(&binvox_bytes, path, MemoryBudget::unlimited()).unwrap())),
         ),
-        ("glb_write".into(), glb.len(), Box::new(|| drop(gltf::encode(&solids, MemoryBudget::unlimited()).unwrap()))),
+        (
+            "glb_write".into(),
+            glb.len(),
+            Box::new(|| drop(gltf::encode(&solids, Axis::Z, MemoryBudget::unlimited()).unwrap())),
+        ),
     ];
     for (name, compression, bytes) in
         [("vdb_zip", vdb::Compression::Zip, &vdb_zip), ("vdb_raw", vdb::Compression::None, &vdb_raw)]

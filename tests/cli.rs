@@ -616,6 +616,22 @@ fn vox_samples_are_read_by_every_command_with_their_counts_and_colours() {
             assert!((got.as_f64().unwrap() - want).abs() < 1e-6, "{material}");
         }
     }
+    // A .vox world is z-up: each node turns it to glTF's +Y (a quarter turn about x).
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    for node in gltf["nodes"].as_array().unwrap() {
+        let q: Vec<f64> = node["rotation"].as_array().unwrap().iter().map(|c| c.as_f64().unwrap()).collect();
+        assert_eq!(q, [-h, 0.0, 0.0, h], "{node}");
+    }
+    // A y-up solid (voxelized from an OBJ, its up recorded in the .oct) needs no turn.
+    ok(
+        &dir,
+        &["voxelize", &repo().join("models/bunny-watertight.obj").to_string_lossy(), "--depth", "5", "-o", "bunny.oct"],
+    );
+    ok(&dir, &["export", "bunny.oct", "-o", "bunny.glb"]);
+    let glb = std::fs::read(dir.join("bunny.glb")).unwrap();
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let gltf: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    assert!(gltf["nodes"][0]["rotation"].is_null(), "{}", gltf["nodes"]);
     // OBJ holds one mesh: the union, whose enclosed volume is the voxels'.
     let out = ok(&dir, &["export", &axes, "-o", "axes.obj"]);
     assert!(out.contains(&format!("{total}.000000 octree")), "{out}");

@@ -15,6 +15,7 @@ use octsolid::MemoryBudget;
 use octsolid::io::{self, ColouredSolid, ReadOptions, Solids, WriteOptions, binvox, gltf, vdb, vox};
 use octsolid::octree::{Domain, LinearOctree, Node};
 use octsolid::render::{from_srgb8, to_srgb8};
+use octsolid::shape::Axis;
 use serde_json::Value;
 
 fn data(path: &str) -> PathBuf {
@@ -626,7 +627,7 @@ fn glb_structure_matches_the_boundary_mesh() {
             ColouredSolid::new("b", None, b.clone()),
         ],
     };
-    let bytes = gltf::encode(&solids, MemoryBudget::unlimited()).unwrap();
+    let bytes = gltf::encode(&solids, Axis::Z, MemoryBudget::unlimited()).unwrap();
     let u32_at = |o: usize| u32::from_le_bytes(bytes[o..o + 4].try_into().unwrap()) as usize;
     assert_eq!(&bytes[..4], b"glTF");
     assert_eq!((u32_at(4), u32_at(8)), (2, bytes.len()));

@@ -49,7 +49,7 @@ use octsolid::patch::load_patches;
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{Camera, Material, Method, Projection, RenderOptions, Scene, render};
 use octsolid::scene_file::load_scene;
-use octsolid::shape::Cuboid;
+use octsolid::shape::{Axis, Cuboid};
 use octsolid::{MemoryBudget, NoProgress, Result};
 
 use crate::scratch;
@@ -405,7 +405,7 @@ fn solid_export(bytes: &[u8]) -> Result<String> {
         }
     }
     let mesh = try_boundary_mesh(&union, &BoundaryOptions::default(), EXPORT_BUDGET, &NoProgress);
-    let glb = gltf::encode(&solids, EXPORT_BUDGET).map(|b| b.len());
+    let glb = gltf::encode(&solids, Axis::Z, EXPORT_BUDGET).map(|b| b.len());
     let vox = vox::encode(&solids, EXPORT_BUDGET).map(|b| b.len());
     if union.domain().resolution() <= 256 {
         binvox::encode_to(&union, &mut std::io::sink()).expect("writing to a sink cannot fail");

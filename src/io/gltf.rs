@@ -8,7 +8,10 @@
 //! node, one mesh of one triangle primitive (`POSITION` and `NORMAL` as `f32` VEC3,
 //! indices as `u32`) and one material (`baseColorFactor` = the solid's linear colour,
 //! light grey without one; metallic 0, roughness 0.8). Coordinates are world
-//! coordinates as they are (no axis swap: glTF's +Y up is octsolid's +Y), in `f32`.
+//! coordinates as they are, in `f32`; glTF's up is +Y, so a solid whose world is z-up
+//! (octsolid's own convention) or x-up stands upright by its node's `rotation`: a
+//! quarter turn about x (z-up: `(x, y, z) -> (x, z, -y)`) or about z (x-up:
+//! `(x, y, z) -> (-y, x, z)`); a y-up solid (from an OBJ) has none.
 //!
 //! Normals: every face of the boundary is axis-aligned, so a vertex shared by faces of
 //! different directions is written once a direction with that direction as its
@@ -28,6 +31,7 @@ use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use crate::mesh::{BoundaryOptions, TriangleMesh, try_boundary_mesh};
 use crate::progress::NoProgress;
+use crate::shape::Axis;
 
 /// Colour of a solid without one (linear).
 const DEFAULT_COLOR: DVec3 = DVec3::splat(0.6);
@@ -94,14 +98,28 @@ fn json_number(v: f32) -> String {
 }
 
 /// Writes `solids` to `path` as one GLB, atomically; returns the bytes written.
-pub fn write(path: impl AsRef<Path>, solids: &Solids, budget: MemoryBudget) -> Result<u64> {
+pub fn write(path: impl AsRef<Path>, solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<u64> {
     let path = path.as_ref();
-    let bytes = encode(solids, budget)?;
+    let bytes = encode(solids, up, budget)?;
     write_atomic(path, |w| w.write_all(&bytes))
 }
 
-/// The whole `.glb` for `solids` (module doc).
-pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
+/// The node rotation (a unit quaternion `[x, y, z, w]`) that turns a world whose up is
+/// `up` to glTF's +Y; `None` for +Y itself.
+#[must_use]
+pub fn up_rotation(up: Axis) -> Option<[f64; 4]> {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    match up {
+        Axis::X => Some([0.0, 0.0, h, h]),
+        Axis::Y => None,
+        Axis::Z => Some([-h, 0.0, 0.0, h]),
+    }
+}
+
+/// The whole `.glb` for `solids`, whose world's up is `up` (module doc).
+pub fn encode(solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<Vec<u8>> {
+    let rotation = up_rotation(up)
+        .map_or_else(String::new, |q| format!(",\"rotation\":[{}]", q.map(|c| format!("{c}")).join(",")));
     let mut bin: Vec<u8> = Vec::new();
     let (mut nodes, mut meshes, mut materials, mut views, mut accessors) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -164,7 +182,7 @@ pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
             first_accessor + 1,
             first_accessor + 2
         ));
-        nodes.push(format!("{{\"name\":{},\"mesh\":{}}}", json_string(&solid.name), meshes.len() - 1));
+        nodes.push(format!("{{\"name\":{},\"mesh\":{}{rotation}}}", json_string(&solid.name), meshes.len() - 1));
     }
     // Step 5: the JSON document, then the GLB container.
     let mut json = String::from("{\"asset\":{\"version\":\"2.0\",\"generator\":\"octsolid\"},\"scene\":0,");
@@ -202,4 +220,20 @@ pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
         out.extend(bin);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DQuat;
+
+    /// Each rotation takes its world's up to glTF's +Y and is a unit quaternion.
+    #[test]
+    fn up_rotations_stand_solids_upright() {
+        for axis in [Axis::X, Axis::Y, Axis::Z] {
+            let up = axis.unit();
+            let turned = up_rotation(axis).map_or(up, |[x, y, z, w]| DQuat::from_xyzw(x, y, z, w) * up);
+            assert!((turned - DVec3::Y).length() < 1e-12, "{axis:?}: {turned}");
+        }
+    }
 }

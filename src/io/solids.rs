@@ -24,6 +24,7 @@ use super::{binvox, gltf, oct, vdb, vox};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::{Domain, LinearOctree};
+use crate::shape::Axis;
 
 /// A solid with what the file says about its look.
 #[derive(Clone, Debug, PartialEq)]
@@ -120,11 +121,13 @@ pub struct WriteOptions {
     pub budget: MemoryBudget,
     /// `.vdb`: compression of the value buffers.
     pub vdb_compression: vdb::Compression,
+    /// The world's up axis (`.glb` turns it to glTF's +Y; default z, octsolid's own).
+    pub up: Axis,
 }
 
 impl Default for WriteOptions {
     fn default() -> Self {
-        WriteOptions { budget: MemoryBudget::default(), vdb_compression: vdb::Compression::Zip }
+        WriteOptions { budget: MemoryBudget::default(), vdb_compression: vdb::Compression::Zip, up: Axis::Z }
     }
 }
 
@@ -227,7 +230,7 @@ pub fn write_solids(path: impl AsRef<Path>, solids: &Solids, options: &WriteOpti
         SolidFormat::Binvox => binvox::write(path, single()?),
         SolidFormat::Vox => vox::write(path, solids, options.budget),
         SolidFormat::Vdb => vdb::write(path, solids, options.vdb_compression),
-        SolidFormat::Glb => gltf::write(path, solids, options.budget),
+        SolidFormat::Glb => gltf::write(path, solids, options.up, options.budget),
     }
 }
 

@@ -74,7 +74,8 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
         FileKind::MESHES.iter().any(|k| output.extension().is_some_and(|e| e.eq_ignore_ascii_case(k.extension())));
     let spinner = (!mesh).then(|| Spinner::new("writing"));
     let bytes_out = if holds_many_solids(output) {
-        write_solids(output, &solids, &WriteOptions { budget, ..WriteOptions::default() })
+        let up = file.meta.up.unwrap_or(file.kind.default_up());
+        write_solids(output, &solids, &WriteOptions { budget, up, ..WriteOptions::default() })
             .with_context(|| format!("{}: cannot write", output.display()))?
     } else {
         if solids.solids.len() > 1 {

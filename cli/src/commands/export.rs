@@ -16,6 +16,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use octsolid::io::{WriteOptions, write_solids};
 use octsolid::mesh::{BoundaryOptions, MeshFormat, save_mesh, separate_sheets, try_boundary_mesh};
+use octsolid::shape::Axis;
 use octsolid::{MemoryBudget, human_bytes};
 
 use crate::output::check_not_an_input;
@@ -58,7 +59,8 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
         bail!("{}: the solid is empty; there is no boundary to export", file.display());
     }
     let Some(format) = format else {
-        return export_glb(a, &read.solids, budget);
+        let up = read.meta.up.unwrap_or(read.kind.default_up());
+        return export_glb(a, &read.solids, up, budget);
     };
     let tree = read.into_union();
     let started = Instant::now();
@@ -91,13 +93,13 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
 }
 
 /// `export FILE -o OUT.glb`: one mesh a solid, with its colour.
-fn export_glb(a: &ExportArgs, solids: &octsolid::io::Solids, budget: MemoryBudget) -> Result<()> {
+fn export_glb(a: &ExportArgs, solids: &octsolid::io::Solids, up: Axis, budget: MemoryBudget) -> Result<()> {
     let (file, output) = (&a.file, &a.output);
     if a.unit_faces {
         warn!("--unit-faces is for OBJ, STL and PLY; .glb is written with merged faces");
     }
     let started = Instant::now();
-    let bytes = write_solids(output, solids, &WriteOptions { budget, ..WriteOptions::default() })
+    let bytes = write_solids(output, solids, &WriteOptions { budget, up, ..WriteOptions::default() })
         .with_context(|| format!("{}: cannot export", file.display()))?;
     let meshed = solids.solids.iter().filter(|s| !s.tree.is_empty()).count();
     out!("read       {} ({} solids, depth {})", file.display(), solids.solids.len(), solids.domain.depth());
