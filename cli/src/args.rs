@@ -1,16 +1,15 @@
 //! The command line: global flags and the subcommands (each defined with its flags in
-//! `commands/`), and the parsers of values that several subcommands take. The help
-//! text comes from these definitions.
+//! `commands/`, the values they take parsed in `values`), and [`run`], which hands the
+//! parsed line to its subcommand. The help text comes from these definitions.
 
 use clap::{Parser, Subcommand};
-use glam::DVec3;
-use octsolid::octree::{Domain, Turn};
-use octsolid::shape::Axis;
+use octsolid::MemoryBudget;
 
 use crate::commands::{
     bench, build, convert, csg, demo, export, info, mesh_info, radiosity, render, shape, slice, transform, view,
     voxelize,
 };
+use crate::values::parse_bytes;
 
 /// octsolid: solid modeling on linear octrees.
 #[derive(Parser, Debug)]
@@ -83,145 +82,24 @@ pub enum Command {
     Demo(demo::DemoArgs),
 }
 
-/// Where a command that resamples solids puts its result: `--domain` and `--depth`
-/// over the command's own default domain (`csg`: the smallest cube holding every
-/// input's domain at the deepest depth; `transform`: the moved domain when the move is
-/// exact, else the cube around the moved solid, at the input's depth; `convert`: the
-/// input's).
-#[derive(clap::Args, Debug, Clone, Default)]
-pub struct TargetFlags {
-    /// The target domain MINX,MINY,MINZ,EDGE (default: the command's, see its help).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
-    pub domain: Option<[f64; 4]>,
-    /// The target depth (default: the command's domain's).
-    #[arg(long)]
-    pub depth: Option<u8>,
-}
-
-impl TargetFlags {
-    /// Whether either flag was given.
-    pub(crate) fn given(&self) -> bool {
-        self.domain.is_some() || self.depth.is_some()
+/// Runs the parsed command line.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let budget = args.memory_budget.map_or_else(MemoryBudget::default, MemoryBudget);
+    match args.command {
+        Command::Shape(a) => shape::run(&a, budget),
+        Command::Csg(a) => csg::run(&a, budget),
+        Command::Build(a) => build::run(&a, budget),
+        Command::Transform(a) => transform::run(&a, budget),
+        Command::Info(a) => info::run(&a, budget),
+        Command::Convert(a) => convert::run(&a, budget),
+        Command::Slice(a) => slice::run(&a, budget),
+        Command::Voxelize(a) => voxelize::run(&a, budget),
+        Command::MeshInfo(a) => mesh_info::run(&a, budget),
+        Command::Export(a) => export::run(&a, budget),
+        Command::Render(a) => render::run(&a, budget),
+        Command::View(a) => view::run(&a, budget),
+        Command::Radiosity(a) => radiosity::run(&a, budget),
+        Command::Demo(a) => demo::run(&a, budget),
+        Command::Bench(a) => bench::run(&a, budget),
     }
-
-    /// The target: `--domain` (at `--depth`, else `default`'s depth), else `default` at
-    /// `--depth`.
-    pub(crate) fn target(&self, default: Domain) -> octsolid::Result<Domain> {
-        let depth = self.depth.unwrap_or(default.depth());
-        match self.domain {
-            Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth),
-            None => default.with_depth(depth),
-        }
-    }
-}
-
-/// Parses `X,Y,Z`.
-pub(crate) fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
-    let v = parse_floats(s, 3)?;
-    Ok([v[0], v[1], v[2]])
-}
-
-/// Parses `AXIS,DEG` (x, y or z, and an angle in degrees).
-pub(crate) fn parse_turn(s: &str) -> Result<Turn, String> {
-    let (axis, degrees) = s.split_once(',').ok_or_else(|| format!("'{s}' is not AXIS,DEG like z,90"))?;
-    let axis = axis.trim().parse::<Axis>().map_err(|e| format!("'{s}': {e}"))?;
-    let degrees = parse_floats(degrees, 1)?[0];
-    Ok(Turn { axis, degrees })
-}
-
-/// Parses the up direction: an axis (`x`, `y`, `z`) or a vector `X,Y,Z`.
-pub(crate) fn parse_up(s: &str) -> Result<Up, String> {
-    if let Ok(axis) = s.trim().parse::<Axis>() {
-        return Ok(Up::Axis(axis));
-    }
-    let v = DVec3::from(parse_vec3(s).map_err(|e| format!("'{s}' is neither x, y, z nor X,Y,Z: {e}"))?);
-    if v.length() < 1e-12 {
-        return Err(format!("'{s}': the up vector is zero"));
-    }
-    Ok(Up::Vector(v))
-}
-
-/// An up direction from the command line.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Up {
-    /// A coordinate axis: also names the frame of `--view` and the orbit angles.
-    Axis(Axis),
-    /// Any vector: views are named in the frame of the axis nearest to it.
-    Vector(DVec3),
-}
-
-impl Up {
-    /// The nearest coordinate axis (the frame views are named in).
-    pub(crate) fn axis(self) -> Axis {
-        match self {
-            Up::Axis(a) => a,
-            Up::Vector(v) => {
-                let a = v.abs();
-                if a.x >= a.y && a.x >= a.z {
-                    Axis::X
-                } else if a.y >= a.z {
-                    Axis::Y
-                } else {
-                    Axis::Z
-                }
-            }
-        }
-    }
-
-    /// The up vector.
-    pub(crate) fn vector(self) -> DVec3 {
-        match self {
-            Up::Axis(a) => a.unit(),
-            Up::Vector(v) => v.normalize(),
-        }
-    }
-}
-
-/// Parses `WIDTHxHEIGHT`.
-pub(crate) fn parse_size(s: &str) -> Result<[u32; 2], String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("'{s}' is not a size like 960x720"))?;
-    let parse = |t: &str| t.trim().parse::<u32>().map_err(|_| format!("'{t}' is not a whole number of pixels"));
-    Ok([parse(w)?, parse(h)?])
-}
-
-/// Parses one finite number (`nan` and `inf` are refused where they enter).
-pub(crate) fn parse_finite(s: &str) -> Result<f64, String> {
-    Ok(parse_floats(s, 1)?[0])
-}
-
-/// Parses `MINX,MINY,MINZ,EDGE`.
-pub(crate) fn parse_domain(s: &str) -> Result<[f64; 4], String> {
-    let v = parse_floats(s, 4)?;
-    Ok([v[0], v[1], v[2], v[3]])
-}
-
-fn parse_floats(s: &str, n: usize) -> Result<Vec<f64>, String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f64>().map_err(|_| format!("'{t}' is not a number")))
-        .collect::<Result<_, _>>()?;
-    if v.len() != n {
-        return Err(format!("expected {n} comma-separated numbers, got {}", v.len()));
-    }
-    if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
-        return Err(format!("{bad} is not a finite number"));
-    }
-    Ok(v)
-}
-
-/// Parses a byte size such as `4096`, `512MiB`, `8GiB`, `2G`.
-pub(crate) fn parse_bytes(s: &str) -> Result<u64, String> {
-    let s = s.trim();
-    let split = s.find(|c: char| !c.is_ascii_digit() && c != '.').unwrap_or(s.len());
-    let (num, unit) = s.split_at(split);
-    let num: f64 = num.parse().map_err(|_| format!("'{s}' is not a size like 512MiB or 8GiB"))?;
-    let scale: u64 = match unit.trim().to_ascii_lowercase().as_str() {
-        "" | "b" => 1,
-        "k" | "kb" | "kib" => 1 << 10,
-        "m" | "mb" | "mib" => 1 << 20,
-        "g" | "gb" | "gib" => 1 << 30,
-        "t" | "tb" | "tib" => 1 << 40,
-        other => return Err(format!("unknown unit '{other}' (use B, KiB, MiB, GiB or TiB)")),
-    };
-    Ok((num * scale as f64) as u64)
 }

@@ -12,8 +12,8 @@ use anyhow::{Result, bail};
 use glam::DVec3;
 use octsolid::render::{Camera, Projection, Scene, default_orbit, orbit_direction, silhouette_points, up_for};
 
-use crate::args::Up;
 use crate::commands::render::RenderArgs;
+use crate::values::Up;
 
 /// What the camera frames: the object's silhouette points and up, and a scene's own
 /// camera when there is one.

@@ -38,6 +38,7 @@ mod commands;
 mod output;
 mod progress_bar;
 mod solid_input;
+mod values;
 
 use std::process::ExitCode;
 
@@ -45,7 +46,7 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     let args = args::Args::parse();
-    let result = commands::run(args).and_then(|()| {
+    let result = args::run(args).and_then(|()| {
         use std::io::Write as _;
         if let Err(e) = std::io::stdout().flush() {
             stdout_failed(e);

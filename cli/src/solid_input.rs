@@ -23,13 +23,13 @@ use crate::progress_bar::Spinner;
 pub struct ReadFlags {
     /// .vdb fog volumes: a voxel is inside where its value is above this (default
     /// 0.5; level sets are inside where negative, bool grids where true).
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::parse_finite)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
     pub threshold: Option<f64>,
     /// .vdb: the grid to read, by name (default: the first float, double or bool grid).
     #[arg(long)]
     pub grid: Option<String>,
     /// .vox: the world edge of one voxel (default 1: a voxel is one world unit).
-    #[arg(long, value_parser = crate::args::parse_finite)]
+    #[arg(long, value_parser = crate::values::parse_finite)]
     pub voxel_size: Option<f64>,
 }
 

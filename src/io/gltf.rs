@@ -25,7 +25,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::solids::Solids;
+use super::solid_set::Solids;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;

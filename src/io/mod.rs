@@ -10,11 +10,11 @@ mod blosc;
 pub mod gltf;
 pub mod oct;
 pub mod png;
+mod solid_set;
 mod solids;
 pub mod vdb;
 pub mod vox;
 
 pub use atomic::{same_file, write_atomic};
-pub use solids::{
-    ColouredSolid, ReadOptions, SolidFormat, Solids, WriteOptions, read_solids, write_solid, write_solids,
-};
+pub use solid_set::{ColouredSolid, ReadOptions, Solids};
+pub use solids::{SolidFormat, WriteOptions, read_solids, write_solid, write_solids};

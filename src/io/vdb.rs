@@ -54,7 +54,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::blosc;
-use super::solids::{ColouredSolid, ReadOptions, Solids};
+use super::solid_set::{ColouredSolid, ReadOptions, Solids};
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};

@@ -50,7 +50,7 @@ use std::path::Path;
 use glam::DVec3;
 use rayon::slice::ParallelSliceMut;
 
-use super::solids::{ColouredSolid, ReadOptions, Solids};
+use super::solid_set::{ColouredSolid, ReadOptions, Solids};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;

@@ -25,10 +25,10 @@ use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::info::{print_solids, solid_infos};
 use super::print_summary;
-use crate::args::TargetFlags;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
 use crate::progress_bar::{Bar, Spinner};
 use crate::solid_input::{ReadFlags, read_solid_file};
+use crate::values::TargetFlags;
 
 /// Arguments of `octsolid convert`.
 #[derive(clap::Args, Debug)]

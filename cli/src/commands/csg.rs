@@ -11,10 +11,10 @@ use octsolid::octree::{Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain}
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
-use crate::args::TargetFlags;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
+use crate::values::TargetFlags;
 
 /// Arguments of `octsolid csg`.
 #[derive(clap::Args, Debug)]

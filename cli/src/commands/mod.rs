@@ -30,30 +30,7 @@ use octsolid::render::{Camera, RenderOptions, Scene};
 use octsolid::shape::Shape;
 use octsolid::{MemoryBudget, human_bytes};
 
-use crate::args::{Args, Command};
 use crate::progress_bar::Bar;
-
-/// Runs the parsed command line.
-pub fn run(args: Args) -> Result<()> {
-    let budget = args.memory_budget.map_or_else(MemoryBudget::default, MemoryBudget);
-    match args.command {
-        Command::Shape(a) => shape::run(&a, budget),
-        Command::Csg(a) => csg::run(&a, budget),
-        Command::Build(a) => build::run(&a, budget),
-        Command::Transform(a) => transform::run(&a, budget),
-        Command::Info(a) => info::run(&a, budget),
-        Command::Convert(a) => convert::run(&a, budget),
-        Command::Slice(a) => slice::run(&a, budget),
-        Command::Voxelize(a) => voxelize::run(&a, budget),
-        Command::MeshInfo(a) => mesh_info::run(&a, budget),
-        Command::Export(a) => export::run(&a, budget),
-        Command::Render(a) => render::run(&a, budget),
-        Command::View(a) => view::run(&a, budget),
-        Command::Radiosity(a) => radiosity::run(&a, budget),
-        Command::Demo(a) => demo::run(&a, budget),
-        Command::Bench(a) => bench::run(&a, budget),
-    }
-}
 
 /// Loads a mesh or patch set, printing what the loader read past to stderr.
 pub(crate) fn load_input(path: &Path) -> Result<Input> {

@@ -24,13 +24,13 @@ pub struct RadiosityArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Stop when the unshot energy is at most this fraction of the emitted energy.
-    #[arg(long, default_value_t = DEFAULT_UNTIL, value_parser = crate::args::parse_finite)]
+    #[arg(long, default_value_t = DEFAULT_UNTIL, value_parser = crate::values::parse_finite)]
     pub until: f64,
     /// Stop after N shots (lights included) even if --until is not reached.
     #[arg(long)]
     pub max_shots: Option<u64>,
     /// Longest patch edge in world units (default: an eighth of the scene's extent).
-    #[arg(long, value_parser = crate::args::parse_finite)]
+    #[arg(long, value_parser = crate::values::parse_finite)]
     pub patch_size: Option<f64>,
     /// Also draw the unshot energy against shots and seconds into this PNG.
     #[arg(long, value_name = "PLOT.png")]

@@ -27,11 +27,11 @@ use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget};
 
 use super::{load_input, print_warnings, render_with_bar};
-use crate::args::{Up, parse_size, parse_up, parse_vec3};
 use crate::camera_flags::{self, Framing};
 use crate::output::check_extension;
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
+use crate::values::{Up, parse_size, parse_up, parse_vec3};
 
 /// Arguments of `octsolid render`.
 #[derive(clap::Args, Debug)]
@@ -67,19 +67,19 @@ pub struct RenderArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3)]
     pub target: Option<[f64; 3]>,
     /// Vertical field of view in degrees (default: the scene's, or 35).
-    #[arg(long, value_parser = crate::args::parse_finite)]
+    #[arg(long, value_parser = crate::values::parse_finite)]
     pub fov: Option<f64>,
     /// A named view in the up axis's frame (front looks from -y in a z-up world).
     #[arg(long, conflicts_with_all = ["azimuth", "elevation"])]
     pub view: Option<NamedView>,
     /// Orbit: degrees around the up axis from the front view, towards the right.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::parse_finite)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
     pub azimuth: Option<f64>,
     /// Orbit: degrees above the horizon.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::parse_finite)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
     pub elevation: Option<f64>,
     /// Magnify by F (the eye moves F times closer; orthographic: F times less shown).
-    #[arg(long, value_parser = crate::args::parse_finite)]
+    #[arg(long, value_parser = crate::values::parse_finite)]
     pub zoom: Option<f64>,
     /// Orthographic projection instead of perspective.
     #[arg(long)]
@@ -103,7 +103,7 @@ pub struct RenderArgs {
     /// Contrast that makes adaptive anti-aliasing supersample a pixel: the sum of the
     /// red, green and blue differences with a neighbour, 0 to 3 (default: the scene's,
     /// or 0.3; implies --aa adaptive unless --aa uniform is given).
-    #[arg(long, value_parser = crate::args::parse_finite)]
+    #[arg(long, value_parser = crate::values::parse_finite)]
     pub aa_threshold: Option<f64>,
     /// Scenes: voxelize every solid, neither reading nor writing the scene's solid
     /// cache (.octsolid-cache beside the scene, which otherwise holds the solids of the
@@ -373,7 +373,7 @@ pub struct Section {
 fn parse_section(s: &str) -> Result<Section, String> {
     let (axis, at) = s.split_once(',').ok_or_else(|| format!("'{s}' is not AXIS,POS like x,0.25"))?;
     let axis = axis.trim().parse::<Axis>().map_err(|e| format!("'{s}': {e}"))?;
-    let at = crate::args::parse_finite(at.trim())?;
+    let at = crate::values::parse_finite(at.trim())?;
     Ok(Section { axis, at })
 }
 

@@ -11,8 +11,8 @@ use octsolid::shape::{Shape, ShapeSpec};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::{print_summary, voxelize_with_bar};
-use crate::args::{parse_domain, parse_vec3};
 use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
+use crate::values::{parse_domain, parse_vec3};
 
 /// The primitive kinds of `octsolid shape`.
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -38,16 +38,16 @@ pub struct ShapeArgs {
     /// Which shape.
     pub kind: ShapeKind,
     /// Radius (sphere, cylinder, cone base, torus centre line).
-    #[arg(long, default_value_t = 1.0, value_parser = crate::args::parse_finite)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::values::parse_finite)]
     pub radius: f64,
     /// Box edge lengths, or the ellipsoid's bounding box.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, default_value = "2,2,2")]
     pub size: [f64; 3],
     /// Height of a cylinder or cone.
-    #[arg(long, default_value_t = 2.0, value_parser = crate::args::parse_finite)]
+    #[arg(long, default_value_t = 2.0, value_parser = crate::values::parse_finite)]
     pub height: f64,
     /// Tube radius of a torus.
-    #[arg(long, default_value_t = 0.25, value_parser = crate::args::parse_finite)]
+    #[arg(long, default_value_t = 0.25, value_parser = crate::values::parse_finite)]
     pub tube: f64,
     /// Axis of a cylinder, cone or torus.
     #[arg(long, default_value = "z")]

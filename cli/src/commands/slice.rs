@@ -19,7 +19,7 @@ pub struct SliceArgs {
     #[arg(long, default_value = "z")]
     pub axis: Axis,
     /// World coordinate of the plane along the axis (default: the domain's middle).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::parse_finite)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::values::parse_finite)]
     pub at: Option<f64>,
     /// Image edge in pixels.
     #[arg(long, default_value_t = 768)]

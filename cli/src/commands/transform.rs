@@ -14,10 +14,10 @@ use octsolid::octree::{Domain, Motion, Turn, VoxelizeOptions};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
-use crate::args::{TargetFlags, parse_turn, parse_vec3};
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
+use crate::values::{TargetFlags, parse_turn, parse_vec3};
 
 /// Arguments of `octsolid transform`.
 #[derive(clap::Args, Debug)]
@@ -37,7 +37,7 @@ pub struct TransformArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = parse_turn)]
     pub rotate: Vec<Turn>,
     /// Uniform scale about the origin (applied first), positive.
-    #[arg(long, default_value_t = 1.0, value_parser = crate::args::parse_finite)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::values::parse_finite)]
     pub scale: f64,
     // The target domain and depth (default: the moved domain when the move is exact,
     // else the cube around the moved solid, at the input's depth).

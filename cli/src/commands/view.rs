@@ -36,8 +36,8 @@ use octsolid::{FileKind, MemoryBudget, NoProgress};
 use tiny_http::{Header, Method, Request, Response, Server};
 
 use super::render::{Drawn, RenderArgs, Section, Source, Stages};
-use crate::args::{Up, parse_up};
 use crate::solid_input::ReadFlags;
+use crate::values::{Up, parse_up};
 
 /// Arguments of `octsolid view`.
 #[derive(clap::Args, Debug)]

@@ -15,9 +15,9 @@ use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::{load_input, print_summary};
-use crate::args::parse_domain;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
+use crate::values::parse_domain;
 
 /// Arguments of `octsolid voxelize`.
 #[derive(clap::Args, Debug)]

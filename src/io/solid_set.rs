@@ -1,0 +1,99 @@
+//! What a solid file holds once read, whatever its format: [`Solids`], one domain and
+//! the [`ColouredSolid`]s over it, and the [`ReadOptions`] every reader takes. The
+//! format modules (`vox`, `vdb`, `gltf`, ...) build and take these; `solids` picks the
+//! format by extension above them all.
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::octree::{Domain, LinearOctree};
+
+/// A solid with what the file says about its look.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ColouredSolid {
+    /// A name: the grid's in `.vdb`, `colour N` for palette index `N` in `.vox`, the
+    /// file's stem otherwise.
+    pub name: String,
+    /// Linear RGB in `[0, 1]`, when the file gives one.
+    pub color: Option<DVec3>,
+    /// The `.vox` palette index (1..=255) the solid came from or should go to.
+    pub palette_index: Option<u8>,
+    /// Material properties as the file names them (`.vox` MATL: `_type`, `_rough`,
+    /// `_metal`, `_ior`, ...); empty when the file has none.
+    pub material: BTreeMap<String, String>,
+    /// The solid, over the shared domain.
+    pub tree: LinearOctree,
+}
+
+impl ColouredSolid {
+    /// A solid with a name and an optional colour, no palette index or material.
+    #[must_use]
+    pub fn new(name: impl Into<String>, color: Option<DVec3>, tree: LinearOctree) -> Self {
+        ColouredSolid { name: name.into(), color, palette_index: None, material: BTreeMap::new(), tree }
+    }
+}
+
+/// What [`super::read_solids`] returns: one domain and the solids over it (each `tree`'s
+/// domain is `domain`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solids {
+    /// The shared domain.
+    pub domain: Domain,
+    /// The solids, in the file's order (`.vox`: ascending palette index).
+    pub solids: Vec<ColouredSolid>,
+}
+
+impl Solids {
+    /// Checks every solid's invariants and that all share `domain`.
+    pub fn validate(&self) -> Result<()> {
+        for s in &self.solids {
+            s.tree.validate()?;
+            if *s.tree.domain() != self.domain {
+                return Err(Error::DomainMismatch {
+                    left: self.domain.to_string(),
+                    right: s.tree.domain().to_string(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The union of all solids.
+    #[must_use]
+    pub fn union(&self) -> LinearOctree {
+        self.solids.iter().fold(LinearOctree::empty(self.domain), |acc, s| &acc | &s.tree)
+    }
+}
+
+/// How files are read. `Default` is the documented behaviour of each format.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReadOptions {
+    /// Memory limit for what a file's header claims (checked before allocating).
+    pub budget: MemoryBudget,
+    /// `.vox`: world edge of one voxel (1 by default: a voxel is one world unit).
+    pub voxel_size: f64,
+    /// `.vox` and `.vdb`: use the domain octsolid stored in the file (so a written
+    /// solid reads back with its exact domain) when it holds every voxel; `false`
+    /// always fits the domain to the voxels.
+    pub stored_domain: bool,
+    /// `.vdb` fog volumes: a voxel is inside when its value is above this.
+    pub fog_threshold: f64,
+    /// `.vdb`: the grid to read by name; `None` reads the first float, double or
+    /// bool grid.
+    pub grid: Option<String>,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        ReadOptions {
+            budget: MemoryBudget::default(),
+            voxel_size: 1.0,
+            stored_domain: true,
+            fog_threshold: 0.5,
+            grid: None,
+        }
+    }
+}
