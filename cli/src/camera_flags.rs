@@ -10,10 +10,45 @@
 
 use anyhow::{Result, bail};
 use glam::DVec3;
-use octsolid::render::{Camera, Projection, Scene, default_orbit, orbit_direction, silhouette_points, up_for};
+use octsolid::render::{
+    Camera, NamedView, Projection, Scene, default_orbit, orbit_direction, silhouette_points, up_for,
+};
 
-use crate::commands::render::RenderArgs;
 use crate::values::Up;
+
+/// The flags that place the camera (`render`'s, flattened into its arguments).
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct CameraFlags {
+    /// The world's up: an axis (x, y, z) or a vector X,Y,Z (default: the scene's
+    /// camera's; an .oct file's recorded axis; by extension for meshes: y for .obj and
+    /// .ply, y-up by convention; z otherwise, octsolid's own).
+    #[arg(long, value_parser = crate::values::parse_up)]
+    pub up: Option<Up>,
+    /// Eye position X,Y,Z (looking at --target, default the object's centre).
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_vec3, conflicts_with_all = ["view", "azimuth", "elevation"])]
+    pub eye: Option<[f64; 3]>,
+    /// Point looked at X,Y,Z (default: the middle of the object's silhouette).
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_vec3)]
+    pub target: Option<[f64; 3]>,
+    /// Vertical field of view in degrees (default: the scene's, or 35).
+    #[arg(long, value_parser = crate::values::parse_finite)]
+    pub fov: Option<f64>,
+    /// A named view in the up axis's frame (front looks from -y in a z-up world).
+    #[arg(long, conflicts_with_all = ["azimuth", "elevation"])]
+    pub view: Option<NamedView>,
+    /// Orbit: degrees around the up axis from the front view, towards the right.
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
+    pub azimuth: Option<f64>,
+    /// Orbit: degrees above the horizon.
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
+    pub elevation: Option<f64>,
+    /// Magnify by F (the eye moves F times closer; orthographic: F times less shown).
+    #[arg(long, value_parser = crate::values::parse_finite)]
+    pub zoom: Option<f64>,
+    /// Orthographic projection instead of perspective.
+    #[arg(long)]
+    pub ortho: bool,
+}
 
 /// What the camera frames: the object's silhouette points and up, and a scene's own
 /// camera when there is one.
@@ -26,7 +61,7 @@ pub(crate) struct Framing {
 impl Framing {
     /// A scene's framing: its camera's up, and its solids' silhouettes when the
     /// flags re-frame it (only then are they computed).
-    pub(crate) fn of_scene(scene: &Scene, camera: Camera, a: &RenderArgs) -> Framing {
+    pub(crate) fn of_scene(scene: &Scene, camera: Camera, a: &CameraFlags) -> Framing {
         let points = if reframes(a) {
             scene.solids.iter().flat_map(|s| silhouette_points(&s.tree)).collect()
         } else {
@@ -39,12 +74,12 @@ impl Framing {
 const DEFAULT_FOV: f64 = 35.0;
 
 /// Whether the flags ask for a new viewing direction (a view or orbit angles).
-fn reframes(a: &RenderArgs) -> bool {
+fn reframes(a: &CameraFlags) -> bool {
     a.view.is_some() || a.azimuth.is_some() || a.elevation.is_some()
 }
 
 /// The camera for an image of `aspect` = width / height.
-pub(crate) fn camera(a: &RenderArgs, framing: &Framing, aspect: f64) -> Result<Camera> {
+pub(crate) fn camera(a: &CameraFlags, framing: &Framing, aspect: f64) -> Result<Camera> {
     if let Some(fov) = a.fov.filter(|f| !(f.is_finite() && *f > 0.0 && *f < 180.0)) {
         bail!("--fov {fov}: the field of view must be between 0 and 180 degrees");
     }

@@ -19,19 +19,18 @@ use octsolid::io::png;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
-    self, AntiAliasing, Camera, DEFAULT_AA_THRESHOLD, Light, Material, NamedView, RenderOptions, Scene,
-    silhouette_points,
+    self, AntiAliasing, Camera, DEFAULT_AA_THRESHOLD, Light, Material, RenderOptions, Scene, silhouette_points,
 };
 use octsolid::scene_file::{self, CachePolicy, LoadOptions};
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget};
 
 use super::{load_input, print_warnings, render_with_bar};
-use crate::camera_flags::{self, Framing};
+use crate::camera_flags::{self, CameraFlags, Framing};
 use crate::output::check_extension;
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
-use crate::values::{Up, parse_size, parse_up, parse_vec3};
+use crate::values::{Up, parse_size};
 
 /// Arguments of `octsolid render`.
 #[derive(clap::Args, Debug)]
@@ -55,35 +54,8 @@ pub struct RenderArgs {
     /// Depth to voxelize a mesh at (default 9; not for solid files or scenes).
     #[arg(long)]
     pub depth: Option<u8>,
-    /// The world's up: an axis (x, y, z) or a vector X,Y,Z (default: the scene's
-    /// camera's; an .oct file's recorded axis; by extension for meshes: y for .obj and
-    /// .ply, y-up by convention; z otherwise, octsolid's own).
-    #[arg(long, value_parser = parse_up)]
-    pub up: Option<Up>,
-    /// Eye position X,Y,Z (looking at --target, default the object's centre).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, conflicts_with_all = ["view", "azimuth", "elevation"])]
-    pub eye: Option<[f64; 3]>,
-    /// Point looked at X,Y,Z (default: the middle of the object's silhouette).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3)]
-    pub target: Option<[f64; 3]>,
-    /// Vertical field of view in degrees (default: the scene's, or 35).
-    #[arg(long, value_parser = crate::values::parse_finite)]
-    pub fov: Option<f64>,
-    /// A named view in the up axis's frame (front looks from -y in a z-up world).
-    #[arg(long, conflicts_with_all = ["azimuth", "elevation"])]
-    pub view: Option<NamedView>,
-    /// Orbit: degrees around the up axis from the front view, towards the right.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
-    pub azimuth: Option<f64>,
-    /// Orbit: degrees above the horizon.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
-    pub elevation: Option<f64>,
-    /// Magnify by F (the eye moves F times closer; orthographic: F times less shown).
-    #[arg(long, value_parser = crate::values::parse_finite)]
-    pub zoom: Option<f64>,
-    /// Orthographic projection instead of perspective.
-    #[arg(long)]
-    pub ortho: bool,
+    #[command(flatten)]
+    pub camera: CameraFlags,
     /// Skip shadow rays.
     #[arg(long)]
     pub no_shadows: bool,
@@ -267,7 +239,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
         out!("cleared    {removed} cached solid{} of {}", if removed == 1 { "" } else { "s" }, input.display());
     }
     let cache = if a.no_cache { CachePolicy::Off } else { CachePolicy::ReadWrite };
-    let source = Source { depth: a.depth, up: a.up, read: a.read.clone() };
+    let source = Source { depth: a.depth, up: a.camera.up, read: a.read.clone() };
     let drawn = Drawn::load(input, kind, &source, LoadOptions { budget, cache }, &mut stages)?;
     let camera = drawn.camera(a)?;
     let options = drawn.options(a, budget);
@@ -321,8 +293,10 @@ impl Drawn {
     pub(crate) fn camera(&self, a: &RenderArgs) -> Result<Camera> {
         let aspect = size_aspect(a.size, &self.options);
         match &self.framed {
-            Framed::Solid(framing) => camera_flags::camera(a, framing, aspect),
-            Framed::Scene(camera) => camera_flags::camera(a, &Framing::of_scene(&self.scene, *camera, a), aspect),
+            Framed::Solid(framing) => camera_flags::camera(&a.camera, framing, aspect),
+            Framed::Scene(camera) => {
+                camera_flags::camera(&a.camera, &Framing::of_scene(&self.scene, *camera, &a.camera), aspect)
+            }
         }
     }
 
@@ -535,9 +509,9 @@ fn polygon_command(
     }
     let bounds = mesh.bounds();
     let [width, height] = a.size.unwrap_or([960, 720]);
-    let up = a.up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
+    let up = a.camera.up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
     let framing = Framing { points: mesh.vertices.clone(), up, scene_camera: None };
-    let camera = camera_flags::camera(a, &framing, f64::from(width) / f64::from(height.max(1)))?;
+    let camera = camera_flags::camera(&a.camera, &framing, f64::from(width) / f64::from(height.max(1)))?;
     let scene = render::polygon::MeshScene {
         mesh: &mesh,
         material: Material::default(),

@@ -235,12 +235,12 @@ fn frame_args(input: &Path, query: &str) -> Result<RenderArgs> {
     if let Some(spp) = args.spp.filter(|&n| n > MAX_SPP) {
         anyhow::bail!("spp {spp}: at most {MAX_SPP}");
     }
-    for p in [args.eye, args.target].into_iter().flatten() {
+    for p in [args.camera.eye, args.camera.target].into_iter().flatten() {
         if p.iter().any(|c| c.abs() > MAX_COORDINATE) {
             anyhow::bail!("{p:?}: coordinates within {MAX_COORDINATE:e}");
         }
     }
-    if let Some(zoom) = args.zoom.filter(|z| !(1e-6..=1e6).contains(z)) {
+    if let Some(zoom) = args.camera.zoom.filter(|z| !(1e-6..=1e6).contains(z)) {
         anyhow::bail!("zoom {zoom:e}: between 1e-6 and 1e6");
     }
     Ok(args)
