@@ -6,7 +6,6 @@
 //! decoded to linear) with the default material otherwise; a solid without a colour
 //! has the default material's.
 
-use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
@@ -300,18 +299,10 @@ impl Drawn {
         }
     }
 
-    /// The scene to draw: cut by `--section` when it is given.
-    pub(crate) fn scene_for(&self, section: Option<Section>) -> Cow<'_, Scene> {
-        match section {
-            Some(Section { axis, at }) => Cow::Owned(self.scene.sectioned(axis, at)),
-            None => Cow::Borrowed(&self.scene),
-        }
-    }
-
     /// The scene to draw, cut by `--section` when it is given.
     pub(crate) fn into_scene(self, section: Option<Section>) -> Scene {
         match section {
-            Some(Section { axis, at }) => self.scene.sectioned(axis, at),
+            Some(section) => section.cut(&self.scene),
             None => self.scene,
         }
     }
@@ -341,6 +332,13 @@ impl Drawn {
 pub struct Section {
     pub axis: Axis,
     pub at: f64,
+}
+
+impl Section {
+    /// The scene cut by this plane.
+    pub(crate) fn cut(self, scene: &Scene) -> Scene {
+        scene.sectioned(self.axis, self.at)
+    }
 }
 
 /// Parses `AXIS,POS` (x, y or z and a finite coordinate).

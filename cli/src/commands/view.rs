@@ -171,7 +171,7 @@ fn answer(viewed: &Mutex<Viewed>, input: &Path, request: &Request) -> Reply {
                 None => &drawn.scene,
                 Some(section) => {
                     if viewed.cut.as_ref().is_none_or(|(s, _)| *s != section) {
-                        viewed.cut = Some((section, drawn.scene_for(Some(section)).into_owned()));
+                        viewed.cut = Some((section, section.cut(&drawn.scene)));
                     }
                     &viewed.cut.as_ref().expect("just cut").1
                 }
