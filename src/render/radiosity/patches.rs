@@ -143,8 +143,9 @@ impl Patches {
             for r in rects {
                 let (nu, nv) = (r.w.div_ceil(cell), r.h.div_ceil(cell));
                 patch_count += u64::from(nu) * u64::from(nv);
-                let per = u64::from(elements.min(r.w / nu).max(1)) * u64::from(elements.min(r.h / nv).max(1));
-                element_count += u64::from(nu) * u64::from(nv) * per;
+                // The tiles of the build below, each with up to `elements` a side.
+                let side = |len: u32, n: u32| split(len, n).map(|(_, w)| u64::from(elements.min(w))).sum::<u64>();
+                element_count += side(r.w, nu) * side(r.h, nv);
             }
         }
         let job = format!("radiosity on {patch_count} patches of {element_count} elements");
@@ -197,6 +198,7 @@ impl Patches {
             p.first = first;
             first += p.nu * p.nv;
         }
+        debug_assert_eq!(u64::from(first), element_count, "the count before building is the build's");
         let elements: Vec<Element> = patches
             .par_iter()
             .enumerate()
