@@ -42,6 +42,7 @@ mod budget;
 pub mod color;
 mod error;
 mod file_kind;
+mod fnv;
 pub mod import;
 pub mod io;
 pub mod mesh;

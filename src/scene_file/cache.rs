@@ -31,6 +31,7 @@
 //! bounds the shared domain), and the traversal octree is built from the loaded
 //! octree, which is `O(n depth)` and a small share of a load (see BENCHMARKS.md).
 
+use crate::fnv::fnv1a;
 use std::path::{Path, PathBuf};
 
 use crate::budget::MemoryBudget;
@@ -124,14 +125,6 @@ impl SolidKey {
     fn hash(&self) -> u64 {
         fnv1a(self.text.as_bytes())
     }
-}
-
-/// 64-bit FNV-1a of `bytes` (Fowler, Noll, Vo): stable across builds and platforms,
-/// unlike the standard library's seeded hashers.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
-    const PRIME: u64 = 0x0000_0100_0000_01b3;
-    bytes.iter().fold(OFFSET, |h, &b| (h ^ u64::from(b)).wrapping_mul(PRIME))
 }
 
 /// The cache of one scene file during one load.
@@ -325,14 +318,6 @@ fn read_entry(path: &Path, key: &SolidKey, budget: MemoryBudget) -> std::result:
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn fnv1a_matches_the_published_test_vectors() {
-        // From the FNV reference (isthe.com/chongo/tech/comp/fnv): "", "a", "foobar".
-        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
-        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
-        assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
-    }
 
     #[test]
     fn entries_are_told_apart_by_their_scene_stem() {

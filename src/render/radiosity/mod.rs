@@ -39,6 +39,7 @@ use glam::DVec3;
 
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
+use crate::fnv::Fnv1a;
 use crate::progress::Progress;
 use crate::render::scene::{Illumination, Light, Scene};
 use patches::Patches;
@@ -337,15 +338,13 @@ impl Illumination for Radiosity {
 /// textures and Phong's other coefficients do not change a solution and are left out.
 #[must_use]
 pub fn fingerprint(scene: &Scene) -> u64 {
-    struct Fnv(u64);
+    struct Fnv(Fnv1a);
     impl Fnv {
         fn bytes(&mut self, b: &[u8]) {
-            for &x in b {
-                self.0 = (self.0 ^ u64::from(x)).wrapping_mul(0x0000_0100_0000_01b3);
-            }
+            self.0.write(b);
         }
         fn f(&mut self, v: f64) {
-            self.bytes(&v.to_bits().to_le_bytes());
+            self.0.write_f64(v);
         }
         fn v(&mut self, v: DVec3) {
             self.f(v.x);
@@ -353,7 +352,7 @@ pub fn fingerprint(scene: &Scene) -> u64 {
             self.f(v.z);
         }
     }
-    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    let mut h = Fnv(Fnv1a::new());
     h.bytes(&(scene.solids.len() as u64).to_le_bytes());
     for s in &scene.solids {
         let d = s.tree.domain();
@@ -382,5 +381,5 @@ pub fn fingerprint(scene: &Scene) -> u64 {
             }
         }
     }
-    h.0
+    h.0.finish()
 }
