@@ -77,20 +77,22 @@ fn total(c: DVec3) -> f64 {
     c.x + c.y + c.z
 }
 
+/// The power a point light emits, `4 pi I` summed over the channels; 0 for a
+/// directional light (its power is what the scene's patches receive of it).
+fn point_power(light: &Light) -> f64 {
+    match light {
+        Light::Point { color, .. } => 4.0 * PI * total(*color),
+        Light::Directional { .. } => 0.0,
+    }
+}
+
 impl<'a> Shooter<'a> {
     /// Every element at its patch's emission, every patch's emission unshot.
     pub fn new(scene: &'a Scene, patches: &'a Patches) -> Self {
         let radiosity = patches.elements.iter().map(|e| patches.patches[e.patch as usize].emission).collect();
         let unshot: Vec<DVec3> = patches.patches.iter().map(|p| p.emission).collect();
         let from_patches: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
-        let from_lights: f64 = scene
-            .lights
-            .iter()
-            .map(|l| match l {
-                Light::Point { color, .. } => 4.0 * PI * total(*color),
-                Light::Directional { .. } => 0.0,
-            })
-            .sum();
+        let from_lights: f64 = scene.lights.iter().map(point_power).sum();
         let mut s = Shooter {
             scene,
             patches,
@@ -130,17 +132,14 @@ impl<'a> Shooter<'a> {
         let mut shown = 0u64;
         let allowed = |shots: u64| stop.max_shots.is_none_or(|m| shots < m);
         let lights = self.scene.lights.clone();
-        let mut pending: f64 = lights
-            .iter()
-            .map(|l| if let Light::Point { color, .. } = l { 4.0 * PI * total(*color) } else { 0.0 })
-            .sum();
+        let mut pending: f64 = lights.iter().map(point_power).sum();
         for light in &lights {
             if !allowed(self.shots) {
                 break;
             }
             self.shoot_light(light);
-            if let Light::Point { color, .. } = light {
-                pending -= 4.0 * PI * total(*color);
+            if let Light::Point { .. } = light {
+                pending -= point_power(light);
             }
             self.history.push(self.unshot_fraction_with(pending.max(0.0)));
             self.timeline.push(started.elapsed().as_secs_f64());
@@ -250,7 +249,7 @@ impl<'a> Shooter<'a> {
             .collect();
         self.rays += self.patches.elements.len() as u64;
         let power = match light {
-            Light::Point { color, .. } => 4.0 * PI * total(*color),
+            Light::Point { .. } => point_power(light),
             Light::Directional { .. } => {
                 incident.iter().zip(&self.patches.elements).map(|(l, e)| PI * e.area * total(*l)).sum()
             }
