@@ -55,6 +55,7 @@ pub mod render;
 pub mod samples;
 pub mod scene_file;
 pub mod shape;
+pub mod sharded;
 pub mod slice;
 #[cfg(test)]
 mod test_util;

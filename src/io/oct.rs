@@ -102,6 +102,25 @@ impl std::fmt::Display for Units {
     }
 }
 
+impl Metadata {
+    /// The header bytes of the up axis and the unit (0 where not recorded).
+    pub(crate) fn codes(&self) -> [u8; 2] {
+        [axis_code(self.up), self.units.map_or(0, Units::code)]
+    }
+
+    /// The metadata the header bytes `codes` record; the error names which byte (0 the
+    /// up axis, 1 the unit) is refused and why.
+    pub(crate) fn from_codes(codes: [u8; 2]) -> std::result::Result<Metadata, (usize, String)> {
+        let up = axis_from_code(codes[0])
+            .ok_or_else(|| (0, format!("up axis code {} is not 0 (none), 1 (x), 2 (y) or 3 (z)", codes[0])))?;
+        let units = match codes[1] {
+            0 => None,
+            code => Some(Units::from_code(code).ok_or_else(|| (1, format!("unit code {code} is unknown")))?),
+        };
+        Ok(Metadata { up, units })
+    }
+}
+
 fn axis_code(up: Option<Axis>) -> u8 {
     up.map_or(0, |a| a.index() as u8 + 1)
 }
@@ -139,7 +158,8 @@ pub fn encode_with(tree: &LinearOctree, meta: &Metadata) -> Vec<u8> {
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&version.to_le_bytes());
     out.extend_from_slice(&0u16.to_le_bytes());
-    out.extend_from_slice(&[d.depth(), axis_code(meta.up), meta.units.map_or(0, Units::code), 0]);
+    let [up, units] = meta.codes();
+    out.extend_from_slice(&[d.depth(), up, units, 0]);
     for v in [d.min().x, d.min().y, d.min().z, d.edge()] {
         out.extend_from_slice(&v.to_le_bytes());
     }
@@ -270,12 +290,8 @@ fn decode_header(bytes: &[u8], path: &Path) -> Result<Header> {
     if u16_at(10) != 0 || reserved_v2.iter().any(|&b| b != 0) || bytes[76..80] != [0; 4] {
         return Err(fail(10, "reserved header fields are not zero".into()));
     }
-    let up = axis_from_code(bytes[UP_OFFSET])
-        .ok_or_else(|| fail(UP_OFFSET, format!("up axis code {} is not 0 (none), 1 (x), 2 (y) or 3 (z)", bytes[13])))?;
-    let units = match bytes[UNITS_OFFSET] {
-        0 => None,
-        code => Some(Units::from_code(code).ok_or_else(|| fail(UNITS_OFFSET, format!("unit code {code} is unknown")))?),
-    };
+    let Metadata { up, units } = Metadata::from_codes([bytes[UP_OFFSET], bytes[UNITS_OFFSET]])
+        .map_err(|(byte, reason)| fail(UP_OFFSET + byte, reason))?;
     let depth = bytes[12];
     if !(1..=MAX_DEPTH).contains(&depth) {
         return Err(fail(12, format!("depth {depth} is outside 1..={MAX_DEPTH}")));

@@ -40,7 +40,7 @@ pub use parity::ParityGrid;
 pub use save::{save_mesh, write_obj, write_ply, write_stl};
 pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};
 pub use shape::MeshShape;
-pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh};
+pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh, voxelize_mesh_cells};
 pub use surface::{SurfaceKind, estimate_surface_bytes, voxelize_surface};
 pub use tables::{Edge, MeshReport, PolygonTables};
 pub use winding::WindingNumber;

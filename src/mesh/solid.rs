@@ -48,7 +48,9 @@ use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::morton;
-use crate::octree::{Counters, Decision, Domain, LinearOctree, NodeKey, Plan, VoxelizeOptions, Voxelizer};
+use crate::octree::{
+    CellSink, Cells, Counters, Decision, Domain, LinearOctree, NodeKey, Plan, VoxelizeOptions, Voxelizer, check_level,
+};
 use crate::progress::{NoProgress, Progress};
 
 /// Children of at least this many voxels a side get the exact separating-axis test;
@@ -162,8 +164,13 @@ impl Oracle {
 /// grid's bound, [`ParityGrid::max_bytes`], when the rule may be parity; the winding
 /// hierarchy is within the 200 bytes a triangle).
 fn estimate_bytes(mesh: &TriangleMesh, domain: &Domain, inside: InsideRule) -> u64 {
+    estimate_bytes_capped(mesh, domain, inside, f64::INFINITY)
+}
+
+/// [`estimate_bytes`] with the surface capped at `max_faces` voxel faces.
+fn estimate_bytes_capped(mesh: &TriangleMesh, domain: &Domain, inside: InsideRule, max_faces: f64) -> u64 {
     let area = mesh.bounds().intersection(&domain.aabb()).map_or(0.0, |b| b.area());
-    let faces = area / domain.voxel_size().powi(2);
+    let faces = (area / domain.voxel_size().powi(2)).min(max_faces);
     let oracle = match inside {
         InsideRule::Winding => 0.0,
         InsideRule::Parity | InsideRule::Auto => ParityGrid::max_bytes(mesh.triangles.len()) as f64,
@@ -180,10 +187,43 @@ pub fn voxelize_mesh(
     mesh.check()?;
     let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
     let plan = Plan::new("voxelizing a mesh", estimate_bytes(mesh, &domain, options.inside), domain, &driver)?;
+    let (rule, job, root) = prepare(mesh, domain, options.inside);
+    let (tree, mut stats) = plan.run(&job, root);
+    stats.rule = Some(rule);
+    Ok((tree, stats))
+}
+
+/// Voxelizes the solid bounded by `mesh` in `domain` cell by cell: the cells of
+/// `cells` that hold voxels go to `sink` in Morton order, with exactly the keys
+/// [`voxelize_mesh`] gives in each cell (see [`crate::octree::Cells`]). The estimate
+/// checked against the budget is one cell's (its surface capped at the cell's box)
+/// plus the mesh's tables and inside oracle, which every cell shares.
+pub fn voxelize_mesh_cells(
+    mesh: &TriangleMesh,
+    domain: Domain,
+    options: &MeshVoxelizeOptions,
+    cells: &Cells,
+    sink: &mut dyn CellSink,
+) -> Result<MeshVoxelizeStats> {
+    mesh.check()?;
+    check_level(cells, &domain)?;
+    let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
+    let cell_edge = f64::from(domain.resolution() >> cells.level);
+    let estimate = estimate_bytes_capped(mesh, &domain, options.inside, 6.0 * cell_edge * cell_edge);
+    let plan = Plan::new("voxelizing a cell of a mesh", estimate, domain, &driver)?;
+    let (rule, job, root) = prepare(mesh, domain, options.inside);
+    let mut stats = plan.run_cells(&job, root, cells, sink)?;
+    stats.rule = Some(rule);
+    Ok(stats)
+}
+
+/// The rule `inside` resolves to, the job (tables and inside oracle) and the root's
+/// state.
+fn prepare(mesh: &TriangleMesh, domain: Domain, inside: InsideRule) -> (InsideRule, Job<'_>, MeshNode) {
     // The oracle (and the watertight check it may need) and the per-triangle tables
     // are independent: built side by side.
     let oracle = || {
-        let rule = match options.inside {
+        let rule = match inside {
             InsideRule::Auto if mesh.is_watertight() => InsideRule::Parity,
             InsideRule::Auto => InsideRule::Winding,
             r => r,
@@ -203,9 +243,7 @@ pub fn voxelize_mesh(
     let ((rule, oracle), (corners, boxes, planes)) = rayon::join(oracle, tables);
     let job = Job { mesh, corners, boxes, planes, domain, oracle };
     let root = MeshNode { triangles: (0..mesh.triangles.len() as u32).collect(), reference: None };
-    let (tree, mut stats) = plan.run(&job, root);
-    stats.rule = Some(rule);
-    Ok((tree, stats))
+    (rule, job, root)
 }
 
 /// Children on the low side of axis `a` (bit `a` of the child's index clear).

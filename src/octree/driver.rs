@@ -21,12 +21,24 @@
 //!   level `l <= P` that is not split reports its `8^(P - l)` level-`P` nodes when
 //!   decided, and a split node at level `P` reports its one unit before its subtree
 //!   runs, so the units add up to `8^P` whatever the shape of the tree.
+//! - **Cells.** [`Plan::run_cells`] runs the same walk for the aligned cells `L` levels
+//!   below the root in a range of their Morton numbers ([`Cells`]), handing each
+//!   cell's keys to a [`CellSink`] as soon as the cell is done, so a solid larger than
+//!   memory streams out cell by cell (`crate::sharded` writes each cell as a shard).
+//!   The top `L` levels are walked once, only into subtrees that meet the range; each
+//!   cell's subtree is the same walk as above (its top levels in parallel), and a
+//!   cell's keys are exactly the whole walk's keys in its range, except that a full
+//!   cell comes out as itself even where its full siblings would merge into a parent:
+//!   joining those is the sink's (a canonical cut of the runs of full cells).
+
+use std::ops::Range;
 
 use rayon::prelude::*;
 
 use super::domain::Domain;
 use super::linear::LinearOctree;
 use super::node::NodeKey;
+use super::ranges;
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::progress::{NoProgress, Progress};
@@ -107,6 +119,150 @@ impl<'a> Plan<'a> {
         walk.node(NodeKey::new(0, u32::from(self.domain.depth())), root, &mut keys, &mut counters);
         self.progress.finish();
         (LinearOctree::from_canonical(self.domain, keys), counters)
+    }
+
+    /// Runs `voxelizer` from the root (which starts from `root`) over the cells of
+    /// `cells` only, handing each cell that holds a voxel to `sink` in Morton order;
+    /// stops at the sink's first error. Progress counts cells.
+    pub(crate) fn run_cells<V: Voxelizer>(
+        self,
+        voxelizer: &V,
+        root: V::Node,
+        cells: &Cells,
+        sink: &mut dyn CellSink,
+    ) -> Result<V::Counters> {
+        let depth = self.domain.depth();
+        let parallel_levels = cells.level.saturating_add(PARALLEL_LEVELS).min(depth);
+        self.progress.start(cells.range.end.saturating_sub(cells.range.start));
+        let walk = Walk { voxelizer, depth, parallel_levels, progress: &NoProgress };
+        let mut top = TopWalk { walk, cells, progress: self.progress, sink, counters: V::Counters::default() };
+        top.node(NodeKey::new(0, u32::from(depth)), root)?;
+        self.progress.finish();
+        Ok(top.counters)
+    }
+}
+
+/// The aligned cells `level` levels below the root (cubes of `2^(depth - level)`
+/// voxels a side), numbered `0..8^level` in Morton order, and the range of them a
+/// job makes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Cells {
+    /// The cells' level: 0 is the whole domain as one cell.
+    pub level: u8,
+    /// The cells to make, by number.
+    pub range: Range<u64>,
+}
+
+impl Cells {
+    /// Every cell at `level`.
+    #[must_use]
+    pub fn all(level: u8) -> Cells {
+        Cells { level, range: 0..Cells::count(level) }
+    }
+
+    /// How many cells there are at `level`: `8^level`.
+    #[must_use]
+    pub fn count(level: u8) -> u64 {
+        1u64 << (3 * u32::from(level))
+    }
+
+    /// The canonical nodes of a set of full cells at `level` (cell numbers in
+    /// increasing order) in a domain of depth `depth`: runs of consecutive cells cut
+    /// into the largest aligned nodes, so eight full sibling cells become their parent.
+    #[must_use]
+    pub fn join_full(level: u8, depth: u8, full: impl IntoIterator<Item = u64>) -> Vec<NodeKey> {
+        let shift = 3 * u32::from(depth - level);
+        let mut runs: Vec<(u64, u64)> = Vec::new();
+        for cell in full {
+            let (start, end) = (cell << shift, (cell + 1) << shift);
+            match runs.last_mut() {
+                Some(last) if last.1 == start => last.1 = end,
+                _ => runs.push((start, end)),
+            }
+        }
+        ranges::cut_runs(runs, u32::from(depth))
+    }
+
+    /// The key of cell `index` in a domain of depth `depth`.
+    #[must_use]
+    pub fn key(&self, index: u64, depth: u8) -> NodeKey {
+        let k = u32::from(depth - self.level);
+        NodeKey::new(index << (3 * k), k)
+    }
+}
+
+/// What a cell that holds voxels holds.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum CellNodes {
+    /// Every voxel of the cell.
+    Full,
+    /// Some voxels: the canonical keys of the solid in the cell, none of them the
+    /// cell itself.
+    Nodes(Vec<NodeKey>),
+}
+
+/// Where a cell-by-cell voxelization puts each cell.
+pub trait CellSink {
+    /// Takes cell `index` (never empty); cells come in increasing order.
+    fn cell(&mut self, index: u64, nodes: CellNodes) -> Result<()>;
+}
+
+/// The walk over the levels above the cells.
+struct TopWalk<'a, 's, V: Voxelizer> {
+    walk: Walk<'a, V>,
+    cells: &'a Cells,
+    progress: &'a dyn Progress,
+    sink: &'s mut dyn CellSink,
+    counters: V::Counters,
+}
+
+impl<V: Voxelizer> TopWalk<'_, '_, V> {
+    /// The cells of `key` (a node at or above the cells' level) in the range.
+    fn cells_of(&self, key: NodeKey) -> Range<u64> {
+        let k_cell = u32::from(self.walk.depth - self.cells.level);
+        let (first, last) = (key.start() >> (3 * k_cell), key.end() >> (3 * k_cell));
+        first.max(self.cells.range.start)..last.min(self.cells.range.end)
+    }
+
+    fn node(&mut self, key: NodeKey, node: V::Node) -> Result<()> {
+        let cells = self.cells_of(key);
+        if cells.is_empty() {
+            return Ok(());
+        }
+        if key.level(self.walk.depth) == self.cells.level {
+            let mut keys = Vec::new();
+            self.walk.node(key, node, &mut keys, &mut self.counters);
+            self.progress.advance(1);
+            return match keys.as_slice() {
+                [] => Ok(()),
+                [one] if *one == key => self.sink.cell(cells.start, CellNodes::Full),
+                _ => self.sink.cell(cells.start, CellNodes::Nodes(keys)),
+            };
+        }
+        let decided = self.walk.voxelizer.decide(key, node, &mut self.counters);
+        let full_children = match decided {
+            Decision::Empty => 0,
+            Decision::Full => 0xff,
+            Decision::Children(full) => full,
+            Decision::Split(children) => {
+                for (i, child) in children.into_iter().enumerate() {
+                    self.node(key.child(i as u64).expect("a split node is not a voxel"), child)?;
+                }
+                return Ok(());
+            }
+        };
+        // Decided above the cells: `Children` only comes from a 2-voxel node, whose
+        // children are the cells (level = depth).
+        let k_cell = u32::from(self.walk.depth - self.cells.level);
+        for index in cells {
+            let full = full_children == 0xff
+                || (key.k() == 1 && full_children >> ((index << (3 * k_cell)) - key.start()) & 1 == 1);
+            if full {
+                self.sink.cell(index, CellNodes::Full)?;
+            }
+            self.progress.advance(1);
+        }
+        Ok(())
     }
 }
 
@@ -276,6 +432,55 @@ mod tests {
                 assert_eq!(units.total.load(Ordering::SeqCst), total, "depth {depth}");
                 assert_eq!(units.done.load(Ordering::SeqCst), total, "depth {depth}, {threads} threads");
                 assert_eq!(*first.get_or_insert(decided.0), decided.0, "decisions counted on {threads} threads");
+            }
+        }
+    }
+
+    /// Collects cells, checking their order.
+    #[derive(Default)]
+    struct Collect(Vec<(u64, CellNodes)>);
+
+    impl CellSink for Collect {
+        fn cell(&mut self, index: u64, nodes: CellNodes) -> Result<()> {
+            assert!(self.0.last().is_none_or(|(last, _)| *last < index), "cells out of order");
+            self.0.push((index, nodes));
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn cells_in_any_split_of_their_range_give_the_whole_walks_keys() {
+        for depth in 1..=5u8 {
+            let domain = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
+            let n = f64::from(domain.resolution());
+            // A ball large enough that whole cells are inside at every level.
+            let ball = Ball { center: [0.5 * n, 0.45 * n, 0.5 * n], radius: 0.47 * n };
+            let options = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };
+            let root = NodeKey::new(0, u32::from(depth));
+            let whole = Plan::new("test", 0, domain, &options).unwrap().run(&ball, root).0;
+            for level in 0..=depth {
+                let total = Cells::count(level);
+                // One job, and the range cut in three uneven jobs.
+                for cuts in [vec![0, total], vec![0, total / 3, total / 2 + 1, total]] {
+                    let mut sink = Collect::default();
+                    for w in cuts.windows(2) {
+                        let cells = Cells { level, range: w[0]..w[1] };
+                        let plan = Plan::new("test", 0, domain, &options).unwrap();
+                        plan.run_cells(&ball, NodeKey::new(0, u32::from(depth)), &cells, &mut sink).unwrap();
+                    }
+                    let full = sink.0.iter().filter(|(_, c)| *c == CellNodes::Full).map(|(i, _)| *i);
+                    let mut keys = Cells::join_full(level, depth, full);
+                    for (index, nodes) in &sink.0 {
+                        if let CellNodes::Nodes(nodes) = nodes {
+                            let cell = Cells::all(level).key(*index, depth);
+                            assert!(nodes.iter().all(|k| k.start() >= cell.start() && k.end() <= cell.end()));
+                            assert!(!nodes.contains(&cell), "a full cell came as its nodes");
+                            keys.extend_from_slice(nodes);
+                        }
+                    }
+                    keys.sort_unstable();
+                    assert_eq!(keys, whole.keys(), "depth {depth}, level {level}, cuts {cuts:?}");
+                }
             }
         }
     }

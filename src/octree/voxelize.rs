@@ -24,7 +24,7 @@
 //! each side of it.
 
 use super::domain::Domain;
-use super::driver::{Decision, Plan, VoxelizeOptions, Voxelizer};
+use super::driver::{CellSink, Cells, Decision, Plan, VoxelizeOptions, Voxelizer};
 use super::linear::LinearOctree;
 use super::node::NodeKey;
 use crate::aabb::Aabb;
@@ -37,12 +37,30 @@ use crate::shape::{Class, PrunedCsg, Reduced, Residual, Shape};
 /// at 8 bytes a node, doubled for the per-task buffers joined at the end.
 #[must_use]
 pub fn estimate_bytes(shape: &dyn Shape, domain: &Domain) -> u64 {
+    bytes_for_faces(shape_faces(shape, domain))
+}
+
+/// Estimated peak bytes to voxelize one cell at `level` of a cell-by-cell
+/// voxelization: [`estimate_bytes`] with the area capped at the cell's own box.
+#[must_use]
+pub fn estimate_cell_bytes(shape: &dyn Shape, domain: &Domain, level: u8) -> u64 {
+    let cell_edge = f64::from(domain.resolution() >> level);
+    bytes_for_faces(shape_faces(shape, domain).min(6.0 * cell_edge * cell_edge))
+}
+
+/// The area of the shape's box clipped to the domain, in voxel faces.
+fn shape_faces(shape: &dyn Shape, domain: &Domain) -> f64 {
     let domain_box = domain.aabb();
     let area = match shape.bounds() {
         Some(b) => b.intersection(&domain_box).map_or(0.0, |b| b.area()),
         None => domain_box.area(),
     };
-    let faces = area / domain.voxel_size().powi(2);
+    area / domain.voxel_size().powi(2)
+}
+
+/// Nodes near a surface of `faces` voxel faces (two a face), at 8 bytes a node,
+/// doubled for the per-task buffers joined at the end.
+fn bytes_for_faces(faces: f64) -> u64 {
     ((2.0 * faces * 8.0 * 2.0).min(u64::MAX as f64) as u64).saturating_add(4096)
 }
 
@@ -59,6 +77,53 @@ pub fn voxelize(shape: &dyn Shape, domain: Domain, options: &VoxelizeOptions) ->
         }
         None => Ok(plan.run(&ShapeVoxelizer { shape, domain }, ()).0),
     }
+}
+
+/// Voxelizes `shape` in `domain` cell by cell: the cells of `cells` that hold voxels
+/// go to `sink` in Morton order, each as soon as it is done, with exactly the keys
+/// [`voxelize`] gives in the cell (a full cell as [`super::CellNodes::Full`]).
+///
+/// Refuses (before any work) when [`estimate_cell_bytes`] exceeds `options.budget`;
+/// fails with the sink's first error.
+pub fn voxelize_cells(
+    shape: &dyn Shape,
+    domain: Domain,
+    options: &VoxelizeOptions,
+    cells: &Cells,
+    sink: &mut dyn CellSink,
+) -> Result<()> {
+    check_level(cells, &domain)?;
+    let estimate = estimate_cell_bytes(shape, &domain, cells.level);
+    let plan = Plan::new("voxelizing a cell", estimate, domain, options)?;
+    match shape.as_csg() {
+        Some(tree) => {
+            let pruned = PrunedCsg::new(tree);
+            let root = pruned.root();
+            plan.run_cells(&PrunedVoxelizer { pruned, domain }, root, cells, sink)
+        }
+        None => plan.run_cells(&ShapeVoxelizer { shape, domain }, (), cells, sink),
+    }
+}
+
+/// Refuses cells below the voxels or a range beyond the last cell.
+pub(crate) fn check_level(cells: &Cells, domain: &Domain) -> Result<()> {
+    if cells.level > domain.depth() {
+        return Err(crate::Error::invalid(
+            "cell level",
+            format!("{} is below the voxels of depth {}", cells.level, domain.depth()),
+        ));
+    }
+    let count = Cells::count(cells.level);
+    if cells.range.start > cells.range.end || cells.range.end > count {
+        return Err(crate::Error::invalid(
+            "cells",
+            format!(
+                "{}..{} is not a range of the {count} cells at level {}",
+                cells.range.start, cells.range.end, cells.level
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// A shape's decisions: its classification of node boxes, voxels by their centre.

@@ -1,0 +1,237 @@
+//! A sharded solid on disk: its index, read on open, and its shards, read one at a
+//! time and checked against the index (length, CRC-32, counts, every node inside its
+//! cell), so a corrupted or swapped shard is refused by name.
+
+use std::path::{Path, PathBuf};
+
+use super::index::{ShardEntry, ShardIndex};
+use super::layout::Layout;
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::io::oct;
+use crate::octree::{CoarsenRule, LinearOctree, NodeKey};
+
+/// Bytes a node takes in memory once loaded.
+const NODE_BYTES: u64 = 8;
+
+/// A sharded solid: the folder and its checked index. Opening reads only the index.
+#[derive(Clone, Debug)]
+pub struct ShardedSolid {
+    dir: PathBuf,
+    index: ShardIndex,
+}
+
+impl ShardedSolid {
+    /// Opens the sharded solid in folder `dir`, reading and checking its index.
+    pub fn open(dir: impl AsRef<Path>) -> Result<ShardedSolid> {
+        let dir = dir.as_ref().to_path_buf();
+        let index = ShardIndex::load(&dir)?;
+        Ok(ShardedSolid { dir, index })
+    }
+
+    /// The folder.
+    #[must_use]
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The index.
+    #[must_use]
+    pub fn index(&self) -> &ShardIndex {
+        &self.index
+    }
+
+    /// The path of the `i`-th shard's file.
+    #[must_use]
+    pub fn shard_path(&self, i: usize) -> PathBuf {
+        self.dir.join(self.index.layout().shard_file(self.index.shards[i].cell))
+    }
+
+    /// The bytes of the `i`-th shard's nodes once loaded.
+    #[must_use]
+    pub fn shard_bytes(&self, i: usize) -> u64 {
+        self.index.shards[i].nodes.saturating_mul(NODE_BYTES)
+    }
+
+    /// Reads and checks the `i`-th shard: its file's length and CRC-32 as the index
+    /// records them, then the `.oct` checks, its domain and metadata equal to the
+    /// index's, its counts, and every node inside its cell and smaller than it.
+    pub fn load_shard(&self, i: usize, budget: MemoryBudget) -> Result<Vec<NodeKey>> {
+        let entry: &ShardEntry = &self.index.shards[i];
+        let path = self.shard_path(i);
+        let fail = |offset: u64, reason: String| Error::Format { path: path.clone(), offset, reason };
+        let meta = std::fs::metadata(&path).map_err(|source| Error::Io { path: path.clone(), source })?;
+        if meta.len() != entry.bytes {
+            return Err(fail(0, format!("the shard is {} bytes, the index says {}", meta.len(), entry.bytes)));
+        }
+        budget.check(format!("reading shard {}", path.display()), entry.bytes.saturating_add(self.shard_bytes(i)))?;
+        let bytes = std::fs::read(&path).map_err(|source| Error::Io { path: path.clone(), source })?;
+        let crc = crc32fast::hash(&bytes);
+        if crc != entry.crc32 {
+            return Err(fail(
+                0,
+                format!("checksum mismatch with the index: file {crc:08x}, index {:08x}", entry.crc32),
+            ));
+        }
+        let (tree, meta) = oct::decode_with(&bytes, &path, budget)?;
+        if *tree.domain() != self.index.domain || meta != self.index.meta {
+            return Err(fail(12, "the shard's domain or metadata differ from the index's".into()));
+        }
+        if tree.node_count() as u64 != entry.nodes || tree.voxel_count() != entry.voxels {
+            return Err(fail(
+                48,
+                format!(
+                    "{} nodes of {} voxels, the index says {} of {}",
+                    tree.node_count(),
+                    tree.voxel_count(),
+                    entry.nodes,
+                    entry.voxels
+                ),
+            ));
+        }
+        let cell = self.index.layout().cell_key(entry.cell);
+        if let Some((n, key)) = tree
+            .keys()
+            .iter()
+            .enumerate()
+            .find(|(_, k)| k.start() < cell.start() || k.end() > cell.end() || **k == cell)
+        {
+            let reason = if *key == cell {
+                "is the whole cell (a full cell belongs in the index)"
+            } else {
+                "reaches beyond its cell"
+            };
+            return Err(fail(
+                oct::HEADER_BYTES as u64,
+                format!("node {n} (start {}, k {}) {reason}", key.start(), key.k()),
+            ));
+        }
+        Ok(tree.keys().to_vec())
+    }
+
+    /// The whole solid in memory (refused when its nodes exceed `budget`).
+    pub fn load(&self, budget: MemoryBudget) -> Result<LinearOctree> {
+        let total = self.index.nodes.saturating_mul(NODE_BYTES);
+        budget.check(format!("loading {}", self.dir.display()), total)?;
+        let mut keys = Vec::with_capacity(self.index.nodes as usize);
+        self.for_each_part(budget, |part| {
+            keys.extend_from_slice(part);
+            Ok(())
+        })?;
+        LinearOctree::from_keys(self.index.domain, keys)
+            .map_err(|e| Error::invalid("sharded solid", format!("{}: {e}", self.dir.display())))
+    }
+
+    /// The solid at the finest depth whose nodes fit `budget` (estimated at a quarter
+    /// of the nodes a level coarser, a surface's rate), at least the cell level's;
+    /// each shard is coarsened on its own as it is read ([`CoarsenRule::Any`]: the
+    /// result holds the solid), so only one shard at a time is held at full depth.
+    /// Returns the solid and its depth.
+    pub fn load_within(&self, budget: MemoryBudget) -> Result<LinearOctree> {
+        let depth = self.index.domain.depth();
+        let mut target = depth;
+        let mut nodes = self.index.nodes as f64;
+        while target > self.index.level.max(1) && nodes * NODE_BYTES as f64 > budget.0 as f64 {
+            target -= 1;
+            nodes /= 4.0;
+        }
+        if target == depth {
+            return self.load(budget);
+        }
+        let coarse = self.index.domain.with_depth(target)?;
+        let shift = 3 * u32::from(depth - target);
+        let mut runs: Vec<(u64, u64)> = Vec::new();
+        let mut push = |start: u64, end: u64| match runs.last_mut() {
+            Some(last) if last.1 >= start => last.1 = last.1.max(end),
+            _ => runs.push((start, end)),
+        };
+        self.for_each_part(budget, |part| {
+            if let [one] = part
+                && one.k() >= u32::from(depth - self.index.level)
+            {
+                push(one.start() >> shift, one.end() >> shift);
+                return Ok(());
+            }
+            let fine = LinearOctree::from_keys(self.index.domain, part.to_vec())?;
+            for key in fine.coarsen(target, CoarsenRule::Any)?.keys() {
+                push(key.start(), key.end());
+            }
+            Ok(())
+        })?;
+        let total: u64 = runs.iter().map(|(a, b)| b - a).sum();
+        let tree = LinearOctree::from_sorted_runs(coarse, runs);
+        debug_assert_eq!(tree.voxel_count(), total);
+        budget.check(
+            format!("loading {} at depth {target}", self.dir.display()),
+            tree.node_count() as u64 * NODE_BYTES,
+        )?;
+        Ok(tree)
+    }
+
+    /// Hands the solid's nodes to `f` in Morton order, a full node or a shard at a time.
+    fn for_each_part(&self, budget: MemoryBudget, mut f: impl FnMut(&[NodeKey]) -> Result<()>) -> Result<()> {
+        let layout = self.index.layout();
+        let mut full = self.index.full.iter().peekable();
+        for (i, shard) in self.index.shards.iter().enumerate() {
+            let start = layout.cell_key(shard.cell).start();
+            while let Some(key) = full.next_if(|k| k.start() < start) {
+                f(std::slice::from_ref(key))?;
+            }
+            f(&self.load_shard(i, budget)?)?;
+        }
+        for key in full {
+            f(std::slice::from_ref(key))?;
+        }
+        Ok(())
+    }
+
+    /// A reader of the solid's nodes range by range ([`Cursor::nodes_in`]).
+    #[must_use]
+    pub fn cursor(&self, budget: MemoryBudget) -> Cursor<'_> {
+        Cursor { solid: self, budget, cached: None }
+    }
+}
+
+/// Reads a sharded solid's nodes in aligned ranges, keeping the last shard read.
+pub struct Cursor<'a> {
+    solid: &'a ShardedSolid,
+    budget: MemoryBudget,
+    cached: Option<(usize, Vec<NodeKey>)>,
+}
+
+impl Cursor<'_> {
+    /// The solid's canonical nodes in the aligned node `range` (a node of the solid
+    /// holding all of it comes back as `range` itself).
+    pub fn nodes_in(&mut self, range: NodeKey) -> Result<Vec<NodeKey>> {
+        let index = &self.solid.index;
+        let layout: Layout = index.layout();
+        let (lo, hi) = (range.start(), range.end());
+        let mut out = Vec::new();
+        // Full nodes meeting the range: one holding it, or several inside it.
+        let first = index.full.partition_point(|k| k.end() <= lo);
+        for key in index.full[first..].iter().take_while(|k| k.start() < hi) {
+            if key.start() <= lo && key.end() >= hi {
+                return Ok(vec![range]);
+            }
+            out.push(*key);
+        }
+        // Shards meeting the range.
+        let (cell_lo, cell_hi) = (layout.cell_of(lo), layout.cell_of(hi - 1));
+        let first = index.shards.partition_point(|s| s.cell < cell_lo);
+        for i in (first..index.shards.len()).take_while(|&i| index.shards[i].cell <= cell_hi) {
+            if self.cached.as_ref().is_none_or(|(c, _)| *c != i) {
+                self.cached = Some((i, self.solid.load_shard(i, self.budget)?));
+            }
+            let keys = &self.cached.as_ref().expect("just loaded").1;
+            let from = keys.partition_point(|k| k.end() <= lo);
+            for key in keys[from..].iter().take_while(|k| k.start() < hi) {
+                if key.start() <= lo && key.end() >= hi {
+                    return Ok(vec![range]);
+                }
+                out.push(*key);
+            }
+        }
+        out.sort_unstable_by_key(|k| k.start());
+        Ok(out)
+    }
+}
