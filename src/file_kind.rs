@@ -27,6 +27,9 @@ pub enum FileKind {
     Scene,
     /// A solid in octsolid's own format, `.oct`.
     Oct,
+    /// A sharded solid, a folder `.octs` of `.oct` shards and an index
+    /// ([`crate::sharded`]).
+    Octs,
     /// MagicaVoxel voxels, one solid a palette colour, `.vox`.
     Vox,
     /// A binvox voxel grid, `.binvox`.
@@ -48,6 +51,7 @@ impl FileKind {
     pub const ALL: &'static [FileKind] = &[
         FileKind::Scene,
         FileKind::Oct,
+        FileKind::Octs,
         FileKind::Vox,
         FileKind::Binvox,
         FileKind::Vdb,
@@ -57,8 +61,10 @@ impl FileKind {
         FileKind::Patches,
     ];
 
-    /// The voxel solids: what [`crate::io::read_solids`] reads.
-    pub const SOLIDS: &'static [FileKind] = &[FileKind::Oct, FileKind::Vox, FileKind::Binvox, FileKind::Vdb];
+    /// The voxel solids: what [`crate::io::read_solids`] reads, and sharded solids
+    /// ([`crate::sharded::ShardedSolid`]).
+    pub const SOLIDS: &'static [FileKind] =
+        &[FileKind::Oct, FileKind::Octs, FileKind::Vox, FileKind::Binvox, FileKind::Vdb];
 
     /// The triangle meshes.
     pub const MESHES: &'static [FileKind] = &[FileKind::Obj, FileKind::Stl, FileKind::Ply];
@@ -72,6 +78,7 @@ impl FileKind {
         match self {
             FileKind::Scene => "toml",
             FileKind::Oct => "oct",
+            FileKind::Octs => "octs",
             FileKind::Vox => "vox",
             FileKind::Binvox => "binvox",
             FileKind::Vdb => "vdb",
@@ -106,6 +113,7 @@ impl FileKind {
             FileKind::Obj | FileKind::Ply => Axis::Y,
             FileKind::Scene
             | FileKind::Oct
+            | FileKind::Octs
             | FileKind::Vox
             | FileKind::Binvox
             | FileKind::Vdb

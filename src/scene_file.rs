@@ -378,6 +378,27 @@ pub fn build_solid(path: impl AsRef<Path>, solid: Option<&str>, options: &Voxeli
     read_scene(path.as_ref(), options.budget, CachePolicy::Off, |spec, cx| solid_octree(spec, cx, solid, options))
 }
 
+/// The shape and domain [`build_solid`] would voxelize, without voxelizing: for
+/// streaming the solid out cell by cell (`crate::sharded`). Refuses a named solid
+/// that is a `mesh` or an `oct` (those are voxelized or read whole).
+pub fn build_shape(path: impl AsRef<Path>, solid: Option<&str>, budget: MemoryBudget) -> Result<(Csg, Domain)> {
+    read_scene(path.as_ref(), budget, CachePolicy::Off, |spec, cx| {
+        let whole = |e| cx.error(None, None, e);
+        let solids = solid_builds(spec, cx)?;
+        let shapes: Vec<Option<Csg>> = solids.iter().map(|s| Ok(s.shape()?.0)).collect::<Result<_>>()?;
+        let depth = spec.domain.as_ref().map_or(9, |d| d.get_ref().depth);
+        let domain = shape_domain(spec.domain.as_ref(), depth, &solids, &shapes, cx)?;
+        let shape = match solid {
+            None => shapes.iter().flatten().cloned().reduce(|a, b| a | b),
+            Some(name) => shapes[named(&solids, name, cx)?].clone(),
+        };
+        let shape = shape.ok_or_else(|| {
+            whole(Error::invalid("solid", "it is no shape solid (only shape solids stream cell by cell)"))
+        })?;
+        Ok((shape, domain.expect("shapes have a domain")))
+    })
+}
+
 /// Reads the scene at `path` with the solid cache `cache`, checks its text, and hands
 /// the spec to `then`.
 fn read_scene<T>(
@@ -412,12 +433,17 @@ fn solid_octree(spec: &SceneSpec, cx: &Context, name: Option<&str>, options: &Vo
             union.ok_or_else(|| whole(Error::invalid("scene", "it has no shape solid; name the solid to build")))?;
         return voxelize(&union, domain.expect("shapes have a domain"), options).map_err(whole);
     };
-    let Some(i) = solids.iter().position(|s| s.name == name) else {
+    let i = named(&solids, name, cx)?;
+    Ok(solids[i].octree(shapes[i].as_ref(), domain, depth, options)?.0)
+}
+
+/// The position of the solid named `name`; fails listing the names there are.
+fn named(solids: &[SolidBuild], name: &str, cx: &Context) -> Result<usize> {
+    solids.iter().position(|s| s.name == name).ok_or_else(|| {
         let names: Vec<&str> = solids.iter().map(|s| s.name.as_str()).collect();
         let reason = format!("no solid is named '{name}' (its solids: {})", names.join(", "));
-        return Err(whole(Error::invalid("solid", reason)));
-    };
-    Ok(solids[i].octree(shapes[i].as_ref(), domain, depth, options)?.0)
+        cx.error(None, None, Error::invalid("solid", reason))
+    })
 }
 
 /// The scene's solids to build, named (`solid N` when the file gives no name); fails

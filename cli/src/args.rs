@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use octsolid::MemoryBudget;
 
 use crate::commands::{
-    bench, build, convert, csg, demo, export, info, mesh_info, radiosity, render, shape, slice, transform, view,
+    bench, build, convert, csg, demo, export, info, join, mesh_info, radiosity, render, shape, slice, transform, view,
     voxelize,
 };
 use crate::values::parse_bytes;
@@ -44,6 +44,9 @@ pub enum Command {
     Transform(transform::TransformArgs),
     /// Print what a solid file holds and measure it (area, centre of mass, inertia, components).
     Info(info::InfoArgs),
+    /// Finish a sharded job run as tasks (`--cells`): check that their parts cover
+    /// every cell and write the solid's index.
+    Join(join::JoinArgs),
     /// Convert a solid file between .oct, MagicaVoxel .vox, .binvox and OpenVDB .vdb
     /// (also to .glb or a mesh), each format by its extension.
     ///
@@ -91,6 +94,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Command::Build(a) => build::run(&a, budget),
         Command::Transform(a) => transform::run(&a, budget),
         Command::Info(a) => info::run(&a, budget),
+        Command::Join(a) => join::run(&a),
         Command::Convert(a) => convert::run(&a, budget),
         Command::Slice(a) => slice::run(&a, budget),
         Command::Voxelize(a) => voxelize::run(&a, budget),

@@ -37,6 +37,7 @@ mod camera_flags;
 mod commands;
 mod output;
 mod progress_bar;
+mod sharded_output;
 mod solid_input;
 mod values;
 

@@ -9,12 +9,13 @@ use octsolid::io::oct::{self, Metadata};
 use octsolid::io::{WriteOptions, write_solid};
 use octsolid::mesh::{BoundaryOptions, save_mesh, try_boundary_mesh};
 use octsolid::octree::LinearOctree;
+use octsolid::sharded::{self, StreamOptions};
 use octsolid::{FileKind, MemoryBudget};
 
 use crate::progress_bar::Bar;
 
 /// What a solid can be written as, by extension.
-pub(crate) const SOLID_EXTENSIONS: &[&str] = &["oct", "vox", "binvox", "vdb", "glb", "obj", "stl", "ply"];
+pub(crate) const SOLID_EXTENSIONS: &[&str] = &["oct", "octs", "vox", "binvox", "vdb", "glb", "obj", "stl", "ply"];
 
 fn extension(path: &Path) -> String {
     path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default()
@@ -53,6 +54,12 @@ pub(crate) fn write_solid_file(path: &Path, tree: &LinearOctree, meta: &Metadata
     let ext = extension(path);
     if ext == "oct" {
         return Ok(oct::save_with(tree, meta, path)?);
+    }
+    if ext == "octs" {
+        // At the default cell level; commands with --shard-level write their own.
+        let options = StreamOptions { budget, ..StreamOptions::default() };
+        let index = sharded::save(tree, *meta, path, &options)?.expect("every cell: an index");
+        return Ok(index.shards.iter().map(|s| s.bytes).sum());
     }
     if FileKind::MESHES.iter().any(|k| k.extension() == ext) {
         if tree.is_empty() {

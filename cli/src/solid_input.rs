@@ -14,6 +14,7 @@ use anyhow::{Result, bail};
 use octsolid::io::oct::{self, Metadata};
 use octsolid::io::{ColouredSolid, ReadOptions, Solids, read_solids};
 use octsolid::octree::LinearOctree;
+use octsolid::sharded::ShardedSolid;
 use octsolid::{FileKind, MemoryBudget};
 
 use crate::progress_bar::Spinner;
@@ -86,17 +87,58 @@ impl SolidFile {
     }
 }
 
-/// Reads the solid file at `path`: `.oct`, `.vox`, `.binvox` or `.vdb` by extension
-/// (any other is refused, listing these).
+/// Reads the solid file at `path`: `.oct`, a sharded `.octs` (whole, within the
+/// budget), `.vox`, `.binvox` or `.vdb` by extension (any other is refused, listing
+/// these).
 pub fn read_solid_file(path: &Path, flags: &ReadFlags, budget: MemoryBudget) -> Result<SolidFile> {
     let kind = FileKind::of(path, FileKind::SOLIDS)?;
     let options = flags.options(path, kind, budget)?;
     let _spinner = Spinner::new("reading");
     if kind == FileKind::Oct {
         let (tree, meta) = oct::load_with(path, budget)?;
-        let name = path.file_stem().map_or_else(|| "solid".into(), |s| s.to_string_lossy().into_owned());
-        let solids = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new(name, None, tree)] };
-        return Ok(SolidFile { kind, solids, meta });
+        return Ok(SolidFile::one(path, kind, tree, meta));
+    }
+    if kind == FileKind::Octs {
+        let solid = ShardedSolid::open(path)?;
+        let tree = solid.load(budget).map_err(|e| over_budget_hint(e, path))?;
+        return Ok(SolidFile::one(path, kind, tree, solid.index().meta));
     }
     Ok(SolidFile { kind, solids: read_solids(path, &options)?, meta: Metadata::default() })
+}
+
+/// Reads the solid file at `path` to be drawn: as [`read_solid_file`], but a sharded
+/// solid larger than `budget` comes at the finest level of detail that fits it (said
+/// on stderr).
+pub fn read_for_display(path: &Path, flags: &ReadFlags, budget: MemoryBudget) -> Result<SolidFile> {
+    if FileKind::of(path, FileKind::SOLIDS)? != FileKind::Octs {
+        return read_solid_file(path, flags, budget);
+    }
+    let _spinner = Spinner::new("reading");
+    let solid = ShardedSolid::open(path)?;
+    let tree = solid.load_within(budget)?;
+    let depth = solid.index().domain.depth();
+    if tree.depth() < depth {
+        warn!("{}: drawn at depth {} (its {depth} does not fit the memory budget)", path.display(), tree.depth());
+    }
+    Ok(SolidFile::one(path, FileKind::Octs, tree, solid.index().meta))
+}
+
+/// Says what to do when a sharded solid does not fit the budget.
+fn over_budget_hint(e: octsolid::Error, path: &Path) -> anyhow::Error {
+    match e {
+        octsolid::Error::OverBudget { .. } => anyhow::anyhow!(
+            "{e}\n{}: a sharded solid larger than memory streams through `csg` to a .octs output, and `render` draws it at a coarser level",
+            path.display()
+        ),
+        e => e.into(),
+    }
+}
+
+impl SolidFile {
+    /// A file of one solid without a colour, named by the file's stem.
+    fn one(path: &Path, kind: FileKind, tree: LinearOctree, meta: Metadata) -> SolidFile {
+        let name = path.file_stem().map_or_else(|| "solid".into(), |s| s.to_string_lossy().into_owned());
+        let solids = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new(name, None, tree)] };
+        SolidFile { kind, solids, meta }
+    }
 }

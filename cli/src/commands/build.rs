@@ -7,31 +7,46 @@ use std::time::Instant;
 use anyhow::Result;
 use octsolid::io::oct::Metadata;
 use octsolid::octree::VoxelizeOptions;
-use octsolid::scene_file::build_solid;
+use octsolid::scene_file::{build_shape, build_solid};
+use octsolid::sharded;
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
+use crate::sharded_output::{ShardFlags, is_sharded, print_written};
 
 /// Arguments of `octsolid build`.
 #[derive(clap::Args, Debug)]
 pub struct BuildArgs {
     /// The scene file (.toml).
     pub scene: PathBuf,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
+    /// Output file: .oct, a sharded solid (.octs, voxelized cell by cell: shape
+    /// solids only), or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
     pub output: PathBuf,
     /// The `[[solid]]` to build, by its name (default: the union of the scene's shape
     /// solids, voxelized in one pass into their shared domain).
     #[arg(long)]
     pub solid: Option<String>,
+    #[command(flatten)]
+    pub shards: ShardFlags,
 }
 
 /// `octsolid build SCENE.toml -o OUT.oct [--solid NAME]`
 pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&a.output, SOLID_EXTENSIONS)?;
     check_not_an_input(&a.output, &[a.scene.as_path()])?;
+    a.shards.check_for(&a.output)?;
+    if is_sharded(&a.output) {
+        let (shape, domain) = build_shape(&a.scene, a.solid.as_deref(), budget)?;
+        let (bar, started) = (Bar::new("cells"), Instant::now());
+        let options = a.shards.options(budget, &bar);
+        let written = sharded::voxelize_shape(&shape, domain, Metadata::default(), &a.output, &options)?;
+        drop(bar);
+        print_written(&a.output, written.as_ref(), started);
+        return Ok(());
+    }
     let bar = Bar::new("voxelizing");
     let started = Instant::now();
     let options = VoxelizeOptions { budget, progress: &bar };

@@ -21,12 +21,14 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use octsolid::io::{ColouredSolid, Solids, WriteOptions, write_solids};
 use octsolid::octree::{Fit, VoxelizeOptions};
+use octsolid::sharded;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::info::{print_solids, solid_infos};
 use super::print_summary;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
 use crate::progress_bar::{Bar, Spinner};
+use crate::sharded_output::{ShardFlags, is_sharded, print_written};
 use crate::solid_input::{ReadFlags, read_solid_file};
 use crate::values::TargetFlags;
 
@@ -43,6 +45,8 @@ pub struct ConvertArgs {
     pub target: TargetFlags,
     #[command(flatten)]
     pub read: ReadFlags,
+    #[command(flatten)]
+    pub shards: ShardFlags,
 }
 
 /// `octsolid convert IN OUT [...]`
@@ -50,6 +54,7 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     let (input, output) = (&a.input, &a.output);
     check_extension(output, SOLID_EXTENSIONS)?;
     check_not_an_input(output, &[input])?;
+    a.shards.check_for(output)?;
     let started = Instant::now();
     let file = read_solid_file(input, &a.read, budget)?;
     let read_ms = started.elapsed().as_secs_f64() * 1e3;
@@ -73,7 +78,14 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     let mesh =
         FileKind::MESHES.iter().any(|k| output.extension().is_some_and(|e| e.eq_ignore_ascii_case(k.extension())));
     let spinner = (!mesh).then(|| Spinner::new("writing"));
-    let bytes_out = if holds_many_solids(output) {
+    let bytes_out = if is_sharded(output) {
+        drop(spinner);
+        let bar = Bar::new("cells");
+        let index = sharded::save(&union, meta, output, &a.shards.options(budget, &bar))?;
+        drop(bar);
+        print_written(output, index.as_ref(), started);
+        return Ok(());
+    } else if holds_many_solids(output) {
         let up = file.meta.up.unwrap_or(file.kind.default_up());
         write_solids(output, &solids, &WriteOptions { budget, up, ..WriteOptions::default() })
             .with_context(|| format!("{}: cannot write", output.display()))?

@@ -8,11 +8,13 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use octsolid::octree::{Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
+use octsolid::sharded::{self, ShardedSolid};
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::print_summary;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
+use crate::sharded_output::{ShardFlags, is_sharded, print_written};
 use crate::solid_input::{ReadFlags, read_solid_file};
 use crate::values::TargetFlags;
 
@@ -36,6 +38,8 @@ pub struct CsgArgs {
     pub target: TargetFlags,
     #[command(flatten)]
     pub read: ReadFlags,
+    #[command(flatten)]
+    pub shards: ShardFlags,
 }
 
 /// A set operation over files.
@@ -56,6 +60,22 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     let (op, inputs, output) = (a.op, &a.inputs, &a.output);
     check_extension(output, SOLID_EXTENSIONS)?;
     check_not_an_input(output, &inputs.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
+    a.shards.check_for(output)?;
+    let set_op = match op {
+        CsgOp::Union => SetOp::Union,
+        CsgOp::Intersect => SetOp::Intersection,
+        CsgOp::Difference => SetOp::Difference,
+        CsgOp::Xor => SetOp::SymmetricDifference,
+    };
+    if is_sharded(output) && inputs.iter().all(|p| is_sharded(p)) && !a.target.given() {
+        // Sharded into sharded: merged cell by cell, never whole in memory.
+        let solids = inputs.iter().map(ShardedSolid::open).collect::<octsolid::Result<Vec<_>>>()?;
+        let (bar, started) = (Bar::new("cells"), Instant::now());
+        let written = sharded::combine(&solids, set_op, output, &a.shards.options(budget, &bar))?;
+        drop(bar);
+        print_written(output, written.as_ref(), started);
+        return Ok(());
+    }
     let mut trees = Vec::with_capacity(inputs.len());
     let mut meta = None;
     for path in inputs {
@@ -78,16 +98,17 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
         *tree = fitted;
     }
     let started = Instant::now();
-    let set_op = match op {
-        CsgOp::Union => SetOp::Union,
-        CsgOp::Intersect => SetOp::Intersection,
-        CsgOp::Difference => SetOp::Difference,
-        CsgOp::Xor => SetOp::SymmetricDifference,
-    };
     let result = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), set_op)?;
     out!("{op:?} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
     if result.is_empty() {
         warn!("the {op:?} is empty: no voxel is in it");
+    }
+    if is_sharded(output) {
+        let (bar, started) = (Bar::new("cells"), Instant::now());
+        let written = sharded::save(&result, meta.unwrap_or_default(), output, &a.shards.options(budget, &bar))?;
+        drop(bar);
+        print_written(output, written.as_ref(), started);
+        return Ok(());
     }
     let bytes = write_solid_file(output, &result, &meta.unwrap_or_default(), budget)?;
     out!("wrote {} ({})", output.display(), human_bytes(bytes));

@@ -116,6 +116,9 @@ struct BoundsInfo {
 /// `octsolid info FILE [--json]`
 pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     let (file, json) = (&a.file, a.json);
+    if FileKind::of(file, FileKind::SOLIDS)? == FileKind::Octs {
+        return sharded_info(file, json);
+    }
     let read = read_solid_file(file, &a.read, budget)?;
     let (kind, meta) = (read.kind, read.meta);
     let solids = (kind != FileKind::Oct).then(|| solid_infos(&read.solids));
@@ -162,6 +165,78 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     let per_node = |b: f64| if info.nodes == 0 { 0.0 } else { b / info.nodes as f64 };
     out!("on disk    {} ({:.2} bytes a node)", human_bytes(bytes_file), per_node(bytes_file as f64));
     print_measures(&info);
+    Ok(())
+}
+
+/// What `octsolid info --json` prints of a sharded solid; the key names are a contract.
+#[derive(Serialize)]
+struct ShardedInfo {
+    depth: u8,
+    domain: DomainInfo,
+    nodes: u64,
+    voxels: u64,
+    volume: f64,
+    bounds: Option<BoundsInfo>,
+    /// The shard files' bytes together.
+    bytes_file: u64,
+    up: Option<&'static str>,
+    units: Option<&'static str>,
+    /// "octs".
+    format: &'static str,
+    /// The cells' level: the domain is cut into 8^level cells.
+    shard_level: u8,
+    /// Shards: cells the surface passes through, a file each.
+    shards: usize,
+    /// Nodes of a cell or larger, kept in the index.
+    full_nodes: usize,
+    /// The largest shard's nodes.
+    largest_shard_nodes: u64,
+}
+
+/// `info` of a sharded solid: what its index says, without reading a shard (the
+/// measurements, which need every node, are left out).
+fn sharded_info(dir: &std::path::Path, json: bool) -> Result<()> {
+    let solid = octsolid::sharded::ShardedSolid::open(dir)?;
+    let index = solid.index();
+    let d = index.domain;
+    let bounds = index
+        .voxel_bounds()
+        .map(|(lo, hi)| BoundsInfo { min: d.lattice_point(lo).to_array(), max: d.lattice_point(hi).to_array() });
+    let info = ShardedInfo {
+        depth: d.depth(),
+        domain: DomainInfo { min: d.min().to_array(), edge: d.edge() },
+        nodes: index.nodes,
+        voxels: index.voxels,
+        volume: index.voxels as f64 * d.voxel_size().powi(3),
+        bounds,
+        bytes_file: index.shards.iter().map(|s| s.bytes).sum(),
+        up: index.meta.up.map(|a| ["x", "y", "z"][a.index()]),
+        units: index.meta.units.map(oct::Units::name),
+        format: "octs",
+        shard_level: index.level,
+        shards: index.shards.len(),
+        full_nodes: index.full.len(),
+        largest_shard_nodes: index.shards.iter().map(|s| s.nodes).max().unwrap_or(0),
+    };
+    if json {
+        out!("{}", serde_json::to_string(&info)?);
+        return Ok(());
+    }
+    out!("file       {} (sharded: index read, no shard)", dir.display());
+    out!("depth      {} ({} voxels a side, voxel edge {})", info.depth, d.resolution(), d.voxel_size());
+    out!("domain     min {:?} edge {}", info.domain.min, info.domain.edge);
+    out!("up         {} (units {})", info.up.unwrap_or("not recorded: z"), info.units.unwrap_or("not recorded"));
+    out!(
+        "shards     {} at cell level {} ({} cells), the largest {} nodes; {} full nodes in the index",
+        info.shards,
+        info.shard_level,
+        index.layout().cell_count(),
+        info.largest_shard_nodes,
+        info.full_nodes
+    );
+    crate::sharded_output::print_index_summary(index);
+    let per_node = if info.nodes == 0 { 0.0 } else { info.bytes_file as f64 / info.nodes as f64 };
+    out!("on disk    {} ({per_node:.2} bytes a node)", human_bytes(info.bytes_file));
     Ok(())
 }
 

@@ -9,6 +9,7 @@ pub mod csg;
 pub mod demo;
 pub mod export;
 pub mod info;
+pub mod join;
 pub mod mesh_info;
 pub mod radiosity;
 pub mod render;

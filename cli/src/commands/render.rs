@@ -28,7 +28,7 @@ use super::{load_input, print_warnings, render_with_bar};
 use crate::camera_flags::{self, CameraFlags, Framing};
 use crate::output::check_extension;
 use crate::progress_bar::Bar;
-use crate::solid_input::{ReadFlags, read_solid_file};
+use crate::solid_input::{ReadFlags, read_for_display, read_solid_file};
 use crate::values::{Up, parse_size};
 
 /// Arguments of `octsolid render`.
@@ -420,7 +420,8 @@ fn solid_scene(
 ) -> Result<Drawn> {
     let Source { depth, up, read } = source;
     let (tree, recorded_up, coloured) = if FileKind::SOLIDS.contains(&kind) {
-        let file = read_solid_file(input, read, budget)?;
+        // A sharded solid gets a quarter of the budget: the picture needs the rest.
+        let file = read_for_display(input, read, MemoryBudget(budget.0 / 4))?;
         stages.done("loading");
         let up = file.meta.up;
         // One solid without a colour is drawn as it always was; else each in its colour.

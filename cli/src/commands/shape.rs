@@ -1,6 +1,7 @@
 //! `octsolid shape KIND ...`: a primitive voxelized into an .oct file.
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::ValueEnum;
@@ -8,10 +9,13 @@ use glam::DVec3;
 use octsolid::io::oct::Metadata;
 use octsolid::octree::Domain;
 use octsolid::shape::{Shape, ShapeSpec};
+use octsolid::sharded;
 use octsolid::{MemoryBudget, human_bytes};
 
 use super::{print_summary, voxelize_with_bar};
 use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
+use crate::progress_bar::Bar;
+use crate::sharded_output::{ShardFlags, is_sharded, print_written};
 use crate::values::{parse_domain, parse_vec3};
 
 /// The primitive kinds of `octsolid shape`.
@@ -61,9 +65,12 @@ pub struct ShapeArgs {
     /// Domain cube MINX,MINY,MINZ,EDGE (default: a cube around the shape).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
     pub domain: Option<[f64; 4]>,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
+    /// Output file: .oct, a sharded solid (.octs, voxelized cell by cell), or .vox,
+    /// .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub shards: ShardFlags,
 }
 
 impl ShapeArgs {
@@ -97,6 +104,15 @@ pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
         Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, a.depth)?,
         None => Domain::around(&shape.bounds().context("the shape is unbounded; give --domain")?, 0.02, a.depth)?,
     };
+    a.shards.check_for(&a.output)?;
+    if is_sharded(&a.output) {
+        let (bar, started) = (Bar::new("cells"), Instant::now());
+        let options = a.shards.options(budget, &bar);
+        let written = sharded::voxelize_shape(&shape, domain, Metadata::default(), &a.output, &options)?;
+        drop(bar);
+        print_written(&a.output, written.as_ref(), started);
+        return Ok(());
+    }
     let tree = voxelize_with_bar(&shape, domain, budget)?;
     let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), budget)?;
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));

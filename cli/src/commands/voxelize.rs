@@ -9,14 +9,16 @@ use anyhow::{Context, Result};
 use glam::DVec3;
 use octsolid::import::{self, Fill, ImportOptions};
 use octsolid::io::oct::{Metadata, Units};
-use octsolid::mesh::InsideRule;
+use octsolid::mesh::{InsideRule, MeshVoxelizeOptions};
 use octsolid::octree::Domain;
 use octsolid::shape::Axis;
+use octsolid::sharded;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::{load_input, print_summary};
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
+use crate::sharded_output::{ShardFlags, is_sharded, print_written};
 use crate::values::parse_domain;
 
 /// Arguments of `octsolid voxelize`.
@@ -47,6 +49,8 @@ pub struct VoxelizeArgs {
     /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub shards: ShardFlags,
 }
 
 /// `octsolid voxelize IN --depth D [--fill F] [--inside R] [--domain ...] -o OUT`
@@ -54,6 +58,7 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     let (input, depth, fill, inside, output) = (&a.input, a.depth, a.fill, a.inside, &a.output);
     check_extension(output, SOLID_EXTENSIONS)?;
     check_not_an_input(output, &[input])?;
+    a.shards.check_for(output)?;
     let up = a.up.unwrap_or(FileKind::of(input, FileKind::SURFACES)?.default_up());
     let started = Instant::now();
     let loaded = load_input(input)?;
@@ -63,12 +68,16 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
             import::default_domain(&loaded, depth).with_context(|| format!("{}: cannot voxelize", input.display()))?
         }
     };
+    let meta = Metadata { up: Some(up), units: a.units };
+    if is_sharded(output) {
+        return sharded_solid(a, &loaded, domain, meta, budget, started);
+    }
     let bar = Bar::new("voxelizing");
     let (tree, summary) =
         import::voxelize_input(&loaded, domain, &ImportOptions { fill, inside, budget, progress: &bar })
             .with_context(|| format!("{}: cannot voxelize", input.display()))?;
     let elapsed = started.elapsed().as_secs_f64();
-    let bytes = write_solid_file(output, &tree, &Metadata { up: Some(up), units: a.units }, budget)?;
+    let bytes = write_solid_file(output, &tree, &meta, budget)?;
     out!("read       {} ({} triangles)", input.display(), summary.triangles);
     if let Some(rule) = summary.rule {
         out!("inside     {rule:?} rule{}", if inside == InsideRule::Auto { " (auto)" } else { "" });
@@ -83,5 +92,35 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     }
     out!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
+    Ok(())
+}
+
+/// A sharded output: a solid voxelized cell by cell (patch sets tessellated first, as
+/// in memory); surfaces voxelized whole, then cut into shards.
+fn sharded_solid(
+    a: &VoxelizeArgs,
+    loaded: &import::Input,
+    domain: Domain,
+    meta: Metadata,
+    budget: MemoryBudget,
+    started: Instant,
+) -> Result<()> {
+    let bar = Bar::new("cells");
+    let options = a.shards.options(budget, &bar);
+    let cannot = || format!("{}: cannot voxelize", a.input.display());
+    let written = match a.fill {
+        Fill::Solid => {
+            let mesh = loaded.triangles(domain.voxel_size(), budget).with_context(cannot)?;
+            let mesh_options = MeshVoxelizeOptions { inside: a.inside, budget, progress: &bar };
+            sharded::voxelize_mesh(&mesh, domain, meta, &mesh_options, &a.output, &options).with_context(cannot)?
+        }
+        _ => {
+            let import = ImportOptions { fill: a.fill, inside: a.inside, budget, progress: &bar };
+            let (tree, _) = import::voxelize_input(loaded, domain, &import).with_context(cannot)?;
+            sharded::save(&tree, meta, &a.output, &options)?
+        }
+    };
+    drop(bar);
+    print_written(&a.output, written.as_ref(), started);
     Ok(())
 }
