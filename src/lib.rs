@@ -14,7 +14,7 @@
 //! Whitted, textures) from code or from scene files ([`scene_file`]).
 //!
 //! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`], [`io`],
-//! [`slice`](mod@slice), [`render`], [`import`], [`scene_file`], [`samples`]. Across them: one
+//! [`slice`](mod@slice), [`render`], [`import`], [`sharded`], [`scene_file`], [`samples`]. Across them: one
 //! [`Error`] with the file and place of every failure, [`Warning`]s as values for what
 //! a loader read past, a [`MemoryBudget`] every large
 //! job is checked against before it allocates, [`Progress`] for long jobs (the library

@@ -847,3 +847,88 @@ fn radiosity_solves_saves_and_renders_from_any_camera() {
     let e = fails(&dir, &["radiosity", "room.rad", "-o", "again.rad"]);
     assert!(e.contains("room.rad") && e.contains("toml"), "{e}");
 }
+
+#[test]
+fn sharded_solids_made_combined_converted_and_read_by_every_command() {
+    let dir = scratch("sharded");
+    let scene = repo().join("scenes/large_part.toml");
+    let scene = scene.to_str().unwrap();
+    // Built cell by cell (--depth overrides the scene's), and whole for comparison.
+    for (solid, level) in [("body", "2"), ("bores", "1")] {
+        let octs = format!("{solid}.octs");
+        let out = ok(&dir, &["build", scene, "--solid", solid, "--depth", "7", "--shard-level", level, "-o", &octs]);
+        assert!(out.contains("shards") && out.contains("peak mem."), "{out}");
+        ok(&dir, &["build", scene, "--solid", solid, "--depth", "7", "-o", &format!("{solid}.oct")]);
+    }
+    // `info` of a sharded solid: its index, the same counts and bounds as the file's.
+    let sharded = info_json(&dir, "body.octs");
+    let single = info_json(&dir, "body.oct");
+    for key in ["depth", "domain", "nodes", "voxels", "bounds"] {
+        assert_eq!(sharded[key], single[key], "{key}");
+    }
+    assert_eq!((sharded["format"].as_str(), sharded["shard_level"].as_u64()), (Some("octs"), Some(2)));
+    assert!(sharded["shards"].as_u64().unwrap() > 1);
+    // A set operation merged cell by cell, against the one in memory.
+    ok(&dir, &["csg", "difference", "body.octs", "bores.octs", "-o", "part.octs"]);
+    ok(&dir, &["csg", "difference", "body.oct", "bores.oct", "-o", "part.oct"]);
+    ok(&dir, &["convert", "part.octs", "back.oct"]);
+    let read = |f: &str| std::fs::read(dir.join(f)).unwrap();
+    assert_eq!(read("back.oct"), read("part.oct"), "the sharded difference is the in-memory one");
+    // One file into shards and back: the same bytes.
+    ok(&dir, &["convert", "part.oct", "cut.octs", "--shard-level", "3"]);
+    ok(&dir, &["convert", "cut.octs", "again.oct"]);
+    assert_eq!(read("again.oct"), read("part.oct"));
+    // Tasks over ranges of cells, then the join: the same folder.
+    for cells in ["0..100", "100..512"] {
+        let out = ok(
+            &dir,
+            &[
+                "build",
+                scene,
+                "--solid",
+                "body",
+                "--depth",
+                "7",
+                "--shard-level",
+                "3",
+                "--cells",
+                cells,
+                "-o",
+                "tasks.octs",
+            ],
+        );
+        assert!(out.contains("wrote a part"), "{out}");
+    }
+    ok(&dir, &["join", "tasks.octs"]);
+    ok(&dir, &["build", scene, "--solid", "body", "--depth", "7", "--shard-level", "3", "-o", "one.octs"]);
+    for entry in std::fs::read_dir(dir.join("one.octs")).unwrap() {
+        let name = entry.unwrap().file_name();
+        assert_eq!(
+            read(&format!("tasks.octs/{}", name.to_string_lossy())),
+            read(&format!("one.octs/{}", name.to_string_lossy()))
+        );
+    }
+    // Drawn and sliced like any solid.
+    ok(&dir, &["render", "part.octs", "-o", "part.png", "--size", "64x48", "--spp", "1"]);
+    ok(&dir, &["slice", "part.octs", "--axis", "z", "--at", "0", "-o", "slice.png"]);
+    // Errors: a flag for another output, a missing part, a damaged shard (named).
+    assert!(
+        fails(&dir, &["build", scene, "--solid", "body", "--shard-level", "2", "-o", "x.oct"])
+            .contains("--shard-level")
+    );
+    ok(
+        &dir,
+        &["build", scene, "--solid", "body", "--depth", "7", "--shard-level", "3", "--cells", "0..7", "-o", "gap.octs"],
+    );
+    assert!(fails(&dir, &["join", "gap.octs"]).contains("no part covers cells 7..512"));
+    let shard = std::fs::read_dir(dir.join("part.octs"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .find(|n| n.ends_with(".oct"))
+        .unwrap();
+    let mut bytes = read(&format!("part.octs/{shard}"));
+    bytes[90] ^= 0xff;
+    std::fs::write(dir.join("part.octs").join(&shard), bytes).unwrap();
+    assert!(fails(&dir, &["convert", "part.octs", "broken.oct"]).contains(&shard));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

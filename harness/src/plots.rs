@@ -222,3 +222,88 @@ pub fn convergence_plot(history: &[f64], seconds: &[f64], title: &str, path: &Pa
         Ok(())
     })
 }
+
+/// One step of a large job at one depth: what [`large_plot`] draws.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LargeStep {
+    /// The octree depth.
+    pub depth: u8,
+    /// The step ("build body", "difference", ...).
+    pub step: String,
+    /// Wall time in seconds.
+    pub seconds: f64,
+    /// Peak resident memory in bytes.
+    pub peak_bytes: f64,
+}
+
+/// Time and peak memory of each step against depth, both on log axes, with the
+/// memory budget drawn as a line: two panels.
+pub fn large_plot(steps: &[LargeStep], budget_bytes: f64, path: &Path) -> Result<()> {
+    const MIB: f64 = 1024.0 * 1024.0;
+    let mut names: Vec<&str> = Vec::new();
+    for s in steps {
+        if !names.contains(&s.step.as_str()) {
+            names.push(&s.step);
+        }
+    }
+    let (d0, d1) = steps.iter().fold((u8::MAX, 0), |(a, b), s| (a.min(s.depth), b.max(s.depth)));
+    let palette = [RGBColor(200, 60, 20), RGBColor(30, 90, 200), RGBColor(20, 150, 90), RGBColor(120, 60, 180)];
+    render_png(path, (1200, 460), |root| {
+        let panels = root.split_evenly((1, 2));
+        for (panel, memory) in panels.iter().zip([false, true]) {
+            let value = |s: &LargeStep| if memory { s.peak_bytes / MIB } else { s.seconds };
+            let low = steps.iter().map(value).fold(f64::INFINITY, f64::min).max(1e-3);
+            let mut high = steps.iter().map(value).fold(0.0, f64::max).max(low * 10.0);
+            if memory {
+                high = high.max(budget_bytes / MIB);
+            }
+            let (caption, y_desc) =
+                if memory { ("peak memory against depth", "MiB") } else { ("time against depth", "seconds") };
+            let mut chart = ChartBuilder::on(panel)
+                .caption(caption, ("sans-serif", 18))
+                .margin(12)
+                .x_label_area_size(36)
+                .y_label_area_size(64)
+                .build_cartesian_2d(f64::from(d0) - 0.3..f64::from(d1) + 0.3, (low * 0.7..high * 1.5).log_scale())
+                .map_err(|e| e.to_string())?;
+            chart
+                .configure_mesh()
+                .x_desc("depth")
+                .y_desc(y_desc)
+                .x_labels(usize::from(d1 - d0) + 1)
+                .x_label_formatter(&|x| format!("{x:.0}"))
+                .label_style(("sans-serif", 14))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            for (name, color) in names.iter().zip(palette.iter().cycle()) {
+                let points: Vec<(f64, f64)> =
+                    steps.iter().filter(|s| s.step == *name).map(|s| (f64::from(s.depth), value(s))).collect();
+                chart
+                    .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
+                    .map_err(|e| e.to_string())?
+                    .label(*name)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+                chart
+                    .draw_series(points.into_iter().map(|p| Circle::new(p, 3, color.filled())))
+                    .map_err(|e| e.to_string())?;
+            }
+            if memory {
+                let line = [(f64::from(d0) - 0.3, budget_bytes / MIB), (f64::from(d1) + 0.3, budget_bytes / MIB)];
+                chart
+                    .draw_series(LineSeries::new(line, BLACK.stroke_width(1)))
+                    .map_err(|e| e.to_string())?
+                    .label("budget")
+                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(1)));
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 13))
+                .draw()
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    })
+}

@@ -148,6 +148,12 @@ impl LinearOctree {
         &self.keys
     }
 
+    /// The sorted, canonical node keys, taken out.
+    #[must_use]
+    pub fn into_keys(self) -> Vec<NodeKey> {
+        self.keys
+    }
+
     /// Number of nodes.
     #[must_use]
     pub fn node_count(&self) -> usize {

@@ -186,7 +186,7 @@ pub fn combine(
             parts.push(cursor.nodes_in(key)?);
         }
         options.progress.advance(1);
-        let keys = merge_cell(&parts, op, domain)?;
+        let keys = merge_cell(parts, op, domain)?;
         match keys.as_slice() {
             [] => {}
             [one] if *one == key => writer.cell(cell, CellNodes::Full)?,
@@ -198,7 +198,7 @@ pub fn combine(
 }
 
 /// `op` over one cell's nodes of each operand.
-fn merge_cell(parts: &[Vec<NodeKey>], op: SetOp, domain: Domain) -> Result<Vec<NodeKey>> {
+fn merge_cell(parts: Vec<Vec<NodeKey>>, op: SetOp, domain: Domain) -> Result<Vec<NodeKey>> {
     let nonempty = parts.iter().filter(|p| !p.is_empty()).count();
     let trivially_empty = match op {
         SetOp::Union | SetOp::SymmetricDifference => nonempty == 0,
@@ -208,6 +208,6 @@ fn merge_cell(parts: &[Vec<NodeKey>], op: SetOp, domain: Domain) -> Result<Vec<N
     if trivially_empty {
         return Ok(Vec::new());
     }
-    let trees: Vec<LinearOctree> = parts.iter().map(|p| LinearOctree::from_canonical(domain, p.clone())).collect();
-    Ok(LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), op)?.keys().to_vec())
+    let trees: Vec<LinearOctree> = parts.into_iter().map(|p| LinearOctree::from_canonical(domain, p)).collect();
+    Ok(LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), op)?.into_keys())
 }

@@ -11,7 +11,7 @@ use octsolid::scene_file::{build_shape, build_solid};
 use octsolid::sharded;
 use octsolid::{MemoryBudget, human_bytes};
 
-use super::print_summary;
+use super::{print_summary, voxelize_with_bar};
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded, print_written};
@@ -29,6 +29,10 @@ pub struct BuildArgs {
     /// solids, voxelized in one pass into their shared domain).
     #[arg(long)]
     pub solid: Option<String>,
+    /// Voxelize at this depth (1..=21) instead of the scene's `[domain]` depth, in the
+    /// same cube (shape solids only).
+    #[arg(long)]
+    pub depth: Option<u8>,
     #[command(flatten)]
     pub shards: ShardFlags,
 }
@@ -38,8 +42,19 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&a.output, SOLID_EXTENSIONS)?;
     check_not_an_input(&a.output, &[a.scene.as_path()])?;
     a.shards.check_for(&a.output)?;
-    if is_sharded(&a.output) {
+    if is_sharded(&a.output) || a.depth.is_some() {
         let (shape, domain) = build_shape(&a.scene, a.solid.as_deref(), budget)?;
+        let domain = match a.depth {
+            Some(depth) => domain.with_depth(depth)?,
+            None => domain,
+        };
+        if !is_sharded(&a.output) {
+            let tree = voxelize_with_bar(&shape, domain, budget)?;
+            let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), budget)?;
+            out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
+            print_summary(&tree, None);
+            return Ok(());
+        }
         let (bar, started) = (Bar::new("cells"), Instant::now());
         let options = a.shards.options(budget, &bar);
         let written = sharded::voxelize_shape(&shape, domain, Metadata::default(), &a.output, &options)?;
