@@ -35,8 +35,8 @@
 //! - `mesh`: the mesh file voxelized alone in its own bounding cube at its `depth`,
 //!   with its `inside` rule (meshes need not be closed here); a `transform` moves the
 //!   vertices (or patch control points) first, so it is exact.
-//! - `oct`: the stored octree of a solid file, `.oct`, `.vox`, `.binvox` or `.vdb` by
-//!   extension (a file of several solids, such as a `.vox` file's palette colours, is
+//! - `oct`: the stored octree of a solid file, `.oct`, a sharded `.octs` (whole, within
+//!   the budget), `.vox`, `.binvox` or `.vdb` by extension (a file of several solids, such as a `.vox` file's palette colours, is
 //!   their union, in the solid's material; a `.vdb` fog volume is read at the default
 //!   threshold, 0.5); a `transform` moves it by
 //!   [`LinearOctree::transformed`]: exactly (the keys permuted and mirrored, the domain
@@ -657,6 +657,9 @@ impl FileLeaves for SceneFiles<'_> {
 
 /// The union of the solids of a solid file (one octree for `.oct` and `.binvox`).
 fn load_solid(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
+    if crate::FileKind::of(path, &[crate::FileKind::Octs]).is_ok() {
+        return crate::sharded::ShardedSolid::open(path)?.load(budget);
+    }
     let mut read = read_solids(path, &ReadOptions { budget, ..ReadOptions::default() })?;
     Ok(if read.solids.len() == 1 { read.solids.remove(0).tree } else { read.union() })
 }

@@ -289,3 +289,16 @@ fn a_shard_with_a_node_reaching_out_of_its_cell_is_refused() {
     assert_refused(&out, &shard, "reaches beyond its cell");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_scene_names_a_sharded_solid_like_any_solid_file() {
+    let dir = scratch("scene");
+    let domain = showcase_domain(6).unwrap();
+    let whole = voxelize(&classic_csg(), domain, &VoxelizeOptions::default()).unwrap();
+    sharded::save(&whole, Metadata::default(), &dir.join("part.octs"), &at_level(2)).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, "[[solid]]\nname = \"part\"\noct = \"part.octs\"\n").unwrap();
+    let loaded = octsolid::scene_file::load_scene(&scene, MemoryBudget::unlimited()).unwrap();
+    assert_eq!(loaded.scene.solids[0].tree, whole);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -112,9 +112,12 @@ impl SolidKey {
         self.line("domain", &value);
     }
 
-    /// Adds the file at `path`: its length and two checksums of its bytes.
+    /// Adds the file at `path`: its length and two checksums of its bytes (of a
+    /// sharded solid's index, which holds every shard's length and checksum).
     pub(crate) fn file(&mut self, path: &Path) -> Result<()> {
-        let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+        let index = path.join(crate::sharded::INDEX_FILE);
+        let read = if path.is_dir() { index.as_path() } else { path };
+        let bytes = std::fs::read(read).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
         let value =
             format!("{} {} {:08x} {:016x}", path.display(), bytes.len(), crc32fast::hash(&bytes), fnv1a(&bytes));
         self.line("file", &value);
