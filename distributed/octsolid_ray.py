@@ -18,8 +18,8 @@ bytes. Once every task is done, `octsolid join OUT.octs` runs here, once: it che
 that the parts cover every cell exactly once and writes the index. Any T and any
 number of workers give the same bytes as the job run in one process.
 
-Without --address, a Ray instance of N worker processes is started on this machine
-(127.0.0.1, no dashboard) and stopped at the end. With --address (`HEAD:6379`, or
+Without --address, a Ray instance of N worker processes is started on this machine,
+listening on 127.0.0.1 only, without a dashboard, and stopped at the end. With --address (`HEAD:6379`, or
 `auto` on a machine of the cluster) the tasks run on an existing cluster: every
 machine needs the same octsolid binary at the same path (--octsolid) and the job's
 files, inputs and output, in a folder shared at the same path (tasks run in this
@@ -51,7 +51,7 @@ def parse_args(argv):
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
                         help="worker processes of the local Ray instance (default: the cores); ignored with --address")
     parser.add_argument("--tasks", type=int, default=None,
-                        help="ranges of cells a job, one task each (default: 4 a worker, at most the cells)")
+                        help="ranges of cells a job, one task each (default: 4 for each task Ray runs at once)")
     parser.add_argument("--octsolid", default=None,
                         help="the octsolid binary, at this path on every machine (default: `octsolid` on PATH)")
     parser.add_argument("--threads-per-task", type=int, default=1,
@@ -194,6 +194,11 @@ def main(argv):
     kill_marker = os.environ.get("OCTSOLID_RAY_KILL_ONCE")
     if kill_marker:
         kill_marker = os.path.abspath(kill_marker)
+    if not args.address:
+        # A local Ray only on the loopback: Ray's own switch for single-machine use
+        # (its default on macOS and Windows) makes every server of it listen on and
+        # announce 127.0.0.1 rather than this machine's network address.
+        os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
     try:
         import ray
     except ImportError:
