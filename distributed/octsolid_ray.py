@@ -211,7 +211,8 @@ def main(argv):
     else:
         ray.init(num_cpus=args.workers, include_dashboard=False, _node_ip_address="127.0.0.1",
                  log_to_driver=False)
-        where = f"{args.workers} local worker{'s' if args.workers > 1 else ''}"
+        address = ray.nodes()[0]["NodeManagerAddress"]
+        where = f"{args.workers} local worker{'s' if args.workers > 1 else ''} on {address}"
     print(f"Ray up in {time.monotonic() - started:.1f} s: {where}", flush=True)
     workers = max(1, int(ray.cluster_resources().get("CPU", 1)) // args.threads_per_task)
     tasks = args.tasks or 4 * workers

@@ -114,6 +114,7 @@ fn jobs_on_one_worker_with_a_killed_task_and_on_four_workers_equal_one_process()
     let marker = w1.join("killed");
     let output = driver(&python, &w1, &["--workers", "1"], &jobs, &[("OCTSOLID_RAY_KILL_ONCE", &marker)]);
     let stdout = succeeded(&output, "the driver on 1 worker");
+    assert!(stdout.contains("1 local worker on 127.0.0.1"), "a local Ray is on the loopback only:\n{stdout}");
     assert!(marker.exists(), "no task killed its worker:\n{stdout}");
     assert_eq!(stdout.matches("tasks done 4/4").count(), jobs.len(), "{stdout}");
 
@@ -129,6 +130,7 @@ fn jobs_on_one_worker_with_a_killed_task_and_on_four_workers_equal_one_process()
     let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
     assert!(!output.status.success(), "a job with a missing input succeeded:\n{stdout}");
+    assert!(stdout.contains("4 local workers on 127.0.0.1"), "{stdout}");
     assert_eq!(stdout.matches("tasks done 16/16").count(), jobs.len(), "{stdout}\n{stderr}");
     assert!(stderr.contains("a task failed after 1 retries") && stderr.contains("missing.octs"), "{stderr}");
     assert!(!w4.join("bad.octs").exists());
