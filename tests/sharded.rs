@@ -104,6 +104,14 @@ fn tasks_over_any_split_of_the_cells_joined_give_the_same_bytes_as_one_job() {
     sharded::join(&split).unwrap();
     assert_eq!(folder_files(&split), folder_files(&one));
     assert!(!sharded::staging_dir(&split).exists());
+    // One task over every cell is still a task: it leaves its part for the join.
+    let single = dir.join("single.octs");
+    let every = 0..512u64;
+    let options = StreamOptions { cells: Some(&every), ..at_level(3) };
+    let written = sharded::voxelize_shape(&classic_csg(), domain, Metadata::default(), &single, &options).unwrap();
+    assert!(written.is_none() && !single.exists(), "a task over every cell writes a part, not the index");
+    sharded::join(&single).unwrap();
+    assert_eq!(folder_files(&single), folder_files(&one));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

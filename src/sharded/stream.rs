@@ -60,7 +60,8 @@ impl StreamOptions<'_> {
 }
 
 /// A job's writer: its cells at `level` (or the default level of the depth), and
-/// whether they are every cell.
+/// whether it is the whole job (no `cells` asked for) rather than a task, which
+/// leaves a part even when its range is every cell.
 struct Job {
     writer: ShardWriter,
     cells: Cells,
@@ -71,7 +72,7 @@ impl Job {
     fn start(domain: Domain, meta: Metadata, level: Option<u8>, out: &Path, options: &StreamOptions) -> Result<Job> {
         let level = level.unwrap_or_else(|| Layout::default_level(domain.depth()));
         let cells = options.cells(level, domain.depth())?;
-        let whole = cells == Cells::all(level);
+        let whole = options.cells.is_none();
         let writer = ShardWriter::create(out, domain, meta, cells.clone())?;
         Ok(Job { writer, cells, whole })
     }
