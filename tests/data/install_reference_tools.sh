@@ -5,7 +5,9 @@
 # - libembree-dev (Embree 3), the system library the harness's `embree` feature links
 #   (tests/embree.rs, benches/embree.rs, `octsolid bench` with `--features embree`).
 # - chromium, the headless browser tests/view_browser.rs drives over the DevTools
-#   protocol (the viewer's page: orbit, section, screenshot).
+#   protocol (the viewer's page: orbit, section, screenshot);
+# - python3-venv, when python3 cannot make a venv: distributed/install_ray.sh puts Ray
+#   in one (tests/distributed.rs).
 # Idempotent: installs only what is missing, and nothing when all is there. Needs root (apt).
 set -euo pipefail
 missing=()
@@ -17,6 +19,9 @@ if ! dpkg-query -W -f='${Status}' libembree-dev 2>/dev/null | grep -q "install o
 fi
 if ! [ -x /usr/bin/chromium ]; then
   missing+=(chromium)
+fi
+if ! python3 -c "import ensurepip, venv" 2>/dev/null; then
+  missing+=(python3-venv)
 fi
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
