@@ -4,6 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
+use rayon::prelude::*;
+
 use super::index::{ShardEntry, ShardIndex};
 use super::layout::Layout;
 use crate::budget::MemoryBudget;
@@ -140,27 +142,33 @@ impl ShardedSolid {
         }
         let coarse = self.index.domain.with_depth(target)?;
         let shift = 3 * u32::from(depth - target);
+        // Each shard read and coarsened on its own, on every thread (one shard a
+        // thread in memory at full depth), the coarse keys kept in shard order.
+        let shards: Vec<Vec<NodeKey>> = (0..self.index.shards.len())
+            .into_par_iter()
+            .map(|i| {
+                let fine = LinearOctree::from_canonical(self.index.domain, self.load_shard(i, budget)?);
+                Ok(fine.coarsen(target, CoarsenRule::Any)?.into_keys())
+            })
+            .collect::<Result<_>>()?;
+        // The full nodes map whole (they are at least a cell, and the target at least
+        // the cell level); merged with the shards' coarse keys by position.
+        let layout = self.index.layout();
         let mut runs: Vec<(u64, u64)> = Vec::new();
         let mut push = |start: u64, end: u64| match runs.last_mut() {
             Some(last) if last.1 >= start => last.1 = last.1.max(end),
             _ => runs.push((start, end)),
         };
-        self.for_each_part(budget, |part| {
-            if let [one] = part
-                && one.k() >= u32::from(depth - self.index.level)
-            {
-                push(one.start() >> shift, one.end() >> shift);
-                return Ok(());
+        let mut full = self.index.full.iter().peekable();
+        for (entry, keys) in self.index.shards.iter().zip(&shards) {
+            let start = layout.cell_key(entry.cell).start();
+            while let Some(key) = full.next_if(|k| k.start() < start) {
+                push(key.start() >> shift, key.end() >> shift);
             }
-            let fine = LinearOctree::from_keys(self.index.domain, part.to_vec())?;
-            for key in fine.coarsen(target, CoarsenRule::Any)?.keys() {
-                push(key.start(), key.end());
-            }
-            Ok(())
-        })?;
-        let total: u64 = runs.iter().map(|(a, b)| b - a).sum();
+            keys.iter().for_each(|k| push(k.start(), k.end()));
+        }
+        full.for_each(|k| push(k.start() >> shift, k.end() >> shift));
         let tree = LinearOctree::from_sorted_runs(coarse, runs);
-        debug_assert_eq!(tree.voxel_count(), total);
         budget.check(
             format!("loading {} at depth {target}", self.dir.display()),
             tree.node_count() as u64 * NODE_BYTES,
