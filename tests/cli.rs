@@ -872,6 +872,20 @@ fn radiosity_solves_saves_and_renders_from_any_camera() {
             .unwrap();
     assert_eq!(capped["shots"], 3);
     assert!(capped["unshot_fraction"].as_f64().unwrap() > 0.01);
+    // Adaptive subdivision: more elements where the light changes, and a solution that
+    // renders like any other.
+    let count = |extra: &[&str]| -> u64 {
+        let args = [&["radiosity", "room.toml", "--patch-size", "0.5", "--json"][..], extra].concat();
+        let json: serde_json::Value = serde_json::from_str(&ok(&dir, &args)).unwrap();
+        json["elements"].as_u64().unwrap()
+    };
+    let (base, subdivided) = (count(&["-o", "base.rad"]), count(&["-o", "sub.rad", "--subdivide", "0.3"]));
+    assert!(subdivided > base, "{subdivided} against {base} elements");
+    let capped = count(&["-o", "capped-sub.rad", "--subdivide", "0.3", "--max-elements", &(base + 30).to_string()]);
+    assert!(capped > base && capped <= base + 30, "{capped} elements, at most {}", base + 30);
+    ok(&dir, &["render", "room.toml", "--radiosity", "sub.rad", "-o", "sub.png"]);
+    let e = fails(&dir, &["radiosity", "room.toml", "-o", "x.rad", "--subdivide", "0"]);
+    assert!(e.contains("subdivision threshold"), "{e}");
     // A saved solution and one solved on the spot give the same picture.
     ok(&dir, &["render", "room.toml", "--radiosity", "room.rad", "-o", "saved.png"]);
     ok(&dir, &["render", "room.toml", "--illumination", "radiosity", "-o", "solved.png"]);
