@@ -211,18 +211,20 @@ fn unshot_energy_never_grows_and_the_energy_book_balances() {
 #[test]
 fn the_solution_is_the_same_bits_on_one_and_two_threads() {
     let scene = lit_room();
-    let solve = |threads| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
-            Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(40), ..options(0.25, 4) }, &NoProgress)
-        })
-        .unwrap()
-    };
-    let (one, two) = (solve(1), solve(2));
-    let bits = |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
-    assert_eq!(bits(&one), bits(&two));
-    assert_eq!(one.ambient().to_array().map(f64::to_bits), two.ambient().to_array().map(f64::to_bits));
-    assert_eq!(one.stats(), two.stats());
+    for subdivide in [None, Some(0.25)] {
+        let solve = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let options = RadiosityOptions { max_shots: Some(40), subdivide, ..options(0.25, 4) };
+            pool.install(|| Radiosity::solve(&scene, &options, &NoProgress)).unwrap()
+        };
+        let (one, two) = (solve(1), solve(2));
+        let bits =
+            |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&one), bits(&two));
+        assert_eq!(one.ambient().to_array().map(f64::to_bits), two.ambient().to_array().map(f64::to_bits));
+        assert_eq!(one.stats(), two.stats());
+        assert_eq!(one.stats().splits > 0, subdivide.is_some());
+    }
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -360,6 +362,11 @@ fn adaptive_subdivision_comes_closer_to_a_fine_solution_on_the_same_base_element
         adaptive_error < 0.5 * coarse_error,
         "mean display error: subdivided {adaptive_error}, base elements only {coarse_error}"
     );
+    // And closer than uniform elements of at least as many (4 a patch side, 2 voxels).
+    let uniform = solve(4, None);
+    assert!(uniform.stats().elements >= a.elements);
+    let uniform_error = display_error(&scene, &uniform, &fine);
+    assert!(adaptive_error < uniform_error, "subdivided {adaptive_error}, uniform {uniform_error}");
     // The energy book still balances, to 0.5% at the end: what is neither absorbed nor
     // escaped is unshot (some of it negative after the splits, so at most the unshot
     // power's magnitude, which the unshot fraction counts).
