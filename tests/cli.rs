@@ -884,6 +884,10 @@ fn radiosity_solves_saves_and_renders_from_any_camera() {
     let capped = count(&["-o", "capped-sub.rad", "--subdivide", "0.3", "--max-elements", &(base + 30).to_string()]);
     assert!(capped > base && capped <= base + 30, "{capped} elements, at most {}", base + 30);
     ok(&dir, &["render", "room.toml", "--radiosity", "sub.rad", "-o", "sub.png"]);
+    let out = ok(&dir, &["render", "room.toml", "--illumination", "radiosity", "--subdivide", "0.3", "-o", "x.png"]);
+    assert!(out.contains("radiosity:"), "{out}");
+    let e = fails(&dir, &["render", "room.toml", "--subdivide", "0.3", "-o", "x.png"]);
+    assert!(e.contains("--subdivide"), "{e}");
     let e = fails(&dir, &["radiosity", "room.toml", "-o", "x.rad", "--subdivide", "0"]);
     assert!(e.contains("subdivision threshold"), "{e}");
     // A saved solution and one solved on the spot give the same picture.

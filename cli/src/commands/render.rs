@@ -109,6 +109,10 @@ pub struct RenderArgs {
     /// Show this saved radiosity solution of the scene (from `octsolid radiosity`).
     #[arg(long, value_name = "SOLUTION.rad", conflicts_with = "shading")]
     pub radiosity: Option<PathBuf>,
+    /// With --illumination radiosity (solved here): adaptive subdivision, as
+    /// `octsolid radiosity --subdivide THRESHOLD` (a saved solution has its elements).
+    #[arg(long, value_name = "THRESHOLD", value_parser = crate::values::parse_finite, conflicts_with = "radiosity")]
+    pub subdivide: Option<f64>,
     /// With radiosity: show each element flat with its borders drawn (patch borders
     /// darker) instead of interpolating, a picture of the patches and elements.
     #[arg(long)]
@@ -384,6 +388,9 @@ fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, s
         (Some(Illumination::Direct), None) | (None, None) if a.show_elements => {
             bail!("--show-elements needs radiosity: --radiosity SOLUTION.rad or --illumination radiosity")
         }
+        (Some(Illumination::Direct), None) | (None, None) if a.subdivide.is_some() => {
+            bail!("--subdivide needs a radiosity solution solved here: --illumination radiosity")
+        }
         (Some(Illumination::Direct), None) | (None, None) => return Ok(()),
         (_, Some(path)) => {
             let solution = Radiosity::load(path, scene, budget)
@@ -392,7 +399,7 @@ fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, s
             solution
         }
         (Some(Illumination::Radiosity), None) => {
-            let options = RadiosityOptions { budget, ..Default::default() };
+            let options = RadiosityOptions { subdivide: a.subdivide, budget, ..Default::default() };
             let solution = super::radiosity::solve(scene, &options, &a.input)?;
             let s = solution.stats();
             out!(
