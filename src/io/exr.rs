@@ -3,13 +3,15 @@
 //!
 //! One layer of three 32-bit float channels R, G and B (full `f32`, not `half`: half's
 //! largest value, 65504, and its 11-bit mantissa would cut what a picture of bright
-//! emitters holds), scan lines with OpenEXR's lossless run-length compression, written
-//! by the `exr` crate. The picture's `f64` values are rounded to the nearest `f32`.
+//! emitters holds), in scan lines, increasing, ZIP-compressed 16 lines a block (lossless,
+//! the compression every OpenEXR reader has), written by the `exr` crate on all cores
+//! (blocks in order: the same bytes on any number of threads). The picture's `f64`
+//! values are rounded to the nearest `f32`.
 
 use std::io::Cursor;
 use std::path::Path;
 
-use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
+use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage};
 
 use super::atomic::write_atomic;
 use crate::error::{Error, Result};
@@ -34,10 +36,8 @@ pub fn encode(picture: &Picture) -> Result<Vec<u8>> {
         (c.x as f32, c.y as f32, c.z as f32)
     });
     let mut bytes = Vec::new();
-    Image::from_channels((width as usize, height as usize), channels)
+    Image::from_encoded_channels((width as usize, height as usize), Encoding::SMALL_LOSSLESS, channels)
         .write()
-        // One thread: a new pool for a picture's few run-length blocks costs more than it saves.
-        .non_parallel()
         .to_buffered(Cursor::new(&mut bytes))
         .map_err(|e| Error::invalid("image", format!("cannot encode OpenEXR: {e}")))?;
     Ok(bytes)
