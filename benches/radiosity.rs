@@ -1,7 +1,8 @@
 //! Radiosity on the bundled Cornell box (scenes/cornell.toml, depth 8): the solve by
 //! progressive refinement to 1% unshot energy (patches, elements and shots printed as
 //! `stats:`), and a 512x512 render from a camera the scene does not have, with the
-//! solved light (2x2 samples a pixel). Targets: the solve in at most 20 s with at
+//! solved light (2x2 samples a pixel); and the solve with adaptive subdivision at
+//! threshold 0.5 (`--subdivide 0.5`). Targets: the solve in at most 20 s with at
 //! least 5,000 elements, the re-render in at most 1 s.
 
 use std::sync::Arc;
@@ -27,10 +28,19 @@ fn bench(c: &mut Criterion) {
         "stats: {} patches, {} elements, {} shots, unshot {:.4}",
         s.patches, s.elements, s.shots, s.unshot_fraction
     );
+    let subdivided = RadiosityOptions { subdivide: Some(0.5), ..options };
+    let s = Radiosity::solve(&file.scene, &subdivided, &NoProgress).unwrap().stats().clone();
+    println!(
+        "stats: subdivided at 0.5: {} patches, {} elements ({} split), {} shots, unshot {:.4}",
+        s.patches, s.elements, s.splits, s.shots, s.unshot_fraction
+    );
     let mut group = c.benchmark_group("radiosity");
     group.sample_size(10);
     group.bench_function("cornell_solve_to_1_percent", |b| {
         b.iter(|| Radiosity::solve(&file.scene, &options, &NoProgress).unwrap().stats().shots)
+    });
+    group.bench_function("cornell_solve_to_1_percent_subdivided_0_5", |b| {
+        b.iter(|| Radiosity::solve(&file.scene, &subdivided, &NoProgress).unwrap().stats().shots)
     });
     file.scene.illumination = Some(Arc::new(solution));
     let camera = Camera::look_at(DVec3::new(0.8, -2.5, 1.7), DVec3::new(-0.2, 0.4, 0.6), DVec3::Z, 50.0);

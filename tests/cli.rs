@@ -233,6 +233,65 @@ fn non_finite_numbers_on_the_command_line_are_refused_naming_the_flag() {
     assert!(e.contains("--fov 180"), "{e}");
 }
 
+/// The RGB pixels of an OpenEXR file as the `exr` crate reads them, row-major.
+fn exr_pixels(path: &Path) -> Vec<[f32; 3]> {
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        path,
+        |size, _| (size.width(), vec![[0.0f32; 3]; size.width() * size.height()]),
+        |(w, pixels): &mut (usize, Vec<[f32; 3]>), at, (r, g, b, _): (f32, f32, f32, f32)| {
+            pixels[at.y() * *w + at.x()] = [r, g, b];
+        },
+    )
+    .unwrap();
+    image.layer_data.channel_data.pixels.1
+}
+
+#[test]
+fn render_writes_linear_exr_and_exposes_png_and_exr_alike() {
+    let dir = scratch("exr");
+    ok(&dir, &["shape", "sphere", "--depth", "5", "-o", "a.oct"]);
+    let size = ["--size", "40x30", "--spp", "1"];
+    let render = |extra: &[&str]| ok(&dir, &[&["render", "a.oct"][..], &size, extra].concat());
+    render(&["-o", "plain.png"]);
+    render(&["-o", "zero.png", "--exposure", "0"]);
+    render(&["-o", "plain.exr"]);
+    render(&["-o", "up.EXR", "--exposure", "1"]);
+    let out = render(&["-o", "down.png", "--exposure", "-1.5"]);
+    assert!(out.contains("exposure -1.5 stops"), "{out}");
+    // --exposure 0 is no exposure at all, to the byte.
+    assert_eq!(std::fs::read(dir.join("plain.png")).unwrap(), std::fs::read(dir.join("zero.png")).unwrap());
+    // The EXR is the PNG's radiance before encoding: it encodes to the PNG's pixels.
+    let (plain, up) = (exr_pixels(&dir.join("plain.exr")), exr_pixels(&dir.join("up.EXR")));
+    let png = image::open(dir.join("plain.png")).unwrap().to_rgb8();
+    assert_eq!(plain.len(), 40 * 30);
+    for (p, q) in plain.iter().zip(png.pixels()) {
+        assert_eq!(p.map(|c| octsolid::render::to_srgb8(f64::from(c))), q.0, "{p:?}");
+    }
+    // One stop up doubles every value exactly; the darker PNG is darker.
+    assert!(plain.iter().zip(&up).all(|(a, b)| a.map(|c| 2.0 * c) == *b));
+    let down = image::open(dir.join("down.png")).unwrap().to_rgb8();
+    let sum = |img: &image::RgbImage| img.pixels().map(|p| p.0.iter().map(|&c| u64::from(c)).sum::<u64>()).sum::<u64>();
+    assert!(sum(&down) < sum(&png));
+    // Polygons write EXR too.
+    ok(&dir, &["render", "a.oct", "--shading", "gouraud", "--size", "40x30", "-o", "poly.exr"]);
+    assert_eq!(exr_pixels(&dir.join("poly.exr")).len(), 40 * 30);
+    // Refused: a format that is not a picture, and exposures that are not numbers.
+    let e = fails(&dir, &["render", "a.oct", "-o", "a.jpg"]);
+    assert!(e.contains("a.jpg") && e.contains("png, exr"), "{e}");
+    assert!(!dir.join("a.jpg").exists());
+    let e = fails(&dir, &["demo", "-o", "demo.tiff"]);
+    assert!(e.contains("demo.tiff") && e.contains("png, exr"), "{e}");
+    for bad in ["nan", "inf", "x"] {
+        let out = octsolid(&dir, &["render", "a.oct", "--exposure", bad, "-o", "x.png"]);
+        let e = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(!out.status.success() && !e.contains("panicked"), "{bad}: {e}");
+        assert!(e.lines().next().unwrap_or_default().contains("--exposure"), "{bad}: {e}");
+    }
+    let e = fails(&dir, &["render", "a.oct", "--exposure", "100", "-o", "x.exr"]);
+    assert!(e.contains("exposure") && e.contains("100"), "{e}");
+    assert!(!dir.join("x.exr").exists() && !dir.join("x.png").exists());
+}
+
 #[test]
 fn demo_writes_its_picture() {
     let dir = scratch("demo");
@@ -813,6 +872,24 @@ fn radiosity_solves_saves_and_renders_from_any_camera() {
             .unwrap();
     assert_eq!(capped["shots"], 3);
     assert!(capped["unshot_fraction"].as_f64().unwrap() > 0.01);
+    // Adaptive subdivision: more elements where the light changes, and a solution that
+    // renders like any other.
+    let count = |extra: &[&str]| -> u64 {
+        let args = [&["radiosity", "room.toml", "--patch-size", "0.5", "--json"][..], extra].concat();
+        let json: serde_json::Value = serde_json::from_str(&ok(&dir, &args)).unwrap();
+        json["elements"].as_u64().unwrap()
+    };
+    let (base, subdivided) = (count(&["-o", "base.rad"]), count(&["-o", "sub.rad", "--subdivide", "0.3"]));
+    assert!(subdivided > base, "{subdivided} against {base} elements");
+    let capped = count(&["-o", "capped-sub.rad", "--subdivide", "0.3", "--max-elements", &(base + 30).to_string()]);
+    assert!(capped > base && capped <= base + 30, "{capped} elements, at most {}", base + 30);
+    ok(&dir, &["render", "room.toml", "--radiosity", "sub.rad", "-o", "sub.png"]);
+    let out = ok(&dir, &["render", "room.toml", "--illumination", "radiosity", "--subdivide", "0.3", "-o", "x.png"]);
+    assert!(out.contains("radiosity:"), "{out}");
+    let e = fails(&dir, &["render", "room.toml", "--subdivide", "0.3", "-o", "x.png"]);
+    assert!(e.contains("--subdivide"), "{e}");
+    let e = fails(&dir, &["radiosity", "room.toml", "-o", "x.rad", "--subdivide", "0"]);
+    assert!(e.contains("subdivision threshold"), "{e}");
     // A saved solution and one solved on the spot give the same picture.
     ok(&dir, &["render", "room.toml", "--radiosity", "room.rad", "-o", "saved.png"]);
     ok(&dir, &["render", "room.toml", "--illumination", "radiosity", "-o", "solved.png"]);

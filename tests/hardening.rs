@@ -260,6 +260,7 @@ fn polygon_pictures_are_checked_for_size_and_memory_before_drawing() {
         spp,
         interpolation: Interpolation::Flat,
         budget: MemoryBudget(budget),
+        exposure: 0.0,
     };
     let e = render_mesh(&scene, &camera, &options(60_000, 100, 1, u64::MAX)).unwrap_err().to_string();
     assert!(e.contains("60000x100 is outside"), "{e}");

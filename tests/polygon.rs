@@ -14,7 +14,7 @@ use common::Rng;
 
 /// One sample a pixel under the default budget.
 fn options(width: u32, height: u32, interpolation: Interpolation) -> MeshRenderOptions {
-    MeshRenderOptions { width, height, spp: 1, interpolation, budget: MemoryBudget::default() }
+    MeshRenderOptions { width, height, spp: 1, interpolation, budget: MemoryBudget::default(), exposure: 0.0 }
 }
 
 /// Nearest hit distance of the ray over all triangles (Moller-Trumbore), brute force.
@@ -106,8 +106,8 @@ fn flat_shading_gives_one_colour_a_triangle_and_phong_finds_the_highlight() {
     let scene = lit(&mesh, l);
     let (w, h) = (200u32, 200u32);
     let seen = fragments(&mesh, &cam, w, h, MemoryBudget::default()).unwrap();
-    let flat = render_mesh(&scene, &cam, &options(w, h, Interpolation::Flat)).unwrap();
-    let gouraud = render_mesh(&scene, &cam, &options(w, h, Interpolation::Gouraud)).unwrap();
+    let flat = render_mesh(&scene, &cam, &options(w, h, Interpolation::Flat)).unwrap().to_srgb8();
+    let gouraud = render_mesh(&scene, &cam, &options(w, h, Interpolation::Gouraud)).unwrap().to_srgb8();
     let mut colour_of = std::collections::HashMap::new();
     let mut varies = 0;
     for (i, f) in seen.iter().enumerate() {
@@ -121,7 +121,7 @@ fn flat_shading_gives_one_colour_a_triangle_and_phong_finds_the_highlight() {
     // Phong on a fine sphere: the brightest pixel is where the analytic highlight is,
     // the normal halfway between the light and the viewer (+z).
     let fine = icosphere(DVec3::ZERO, 0.8, 5);
-    let phong = render_mesh(&lit(&fine, l), &cam, &options(w, h, Interpolation::Phong)).unwrap();
+    let phong = render_mesh(&lit(&fine, l), &cam, &options(w, h, Interpolation::Phong)).unwrap().to_srgb8();
     let (mut best, mut at) = (0u32, (0u32, 0u32));
     for (x, y, p) in phong.enumerate_pixels() {
         let s = p.0.iter().map(|&c| u32::from(c)).sum::<u32>();

@@ -3,8 +3,10 @@
 //! closed box (visibility through the octree decides how an occluder shares it), the
 //! furnace (a closed box that emits E and reflects rho everywhere shows E / (1 - rho)),
 //! the energy book, the same bits on 1 and 2 threads, `.rad` files (reloaded bit for
-//! bit, refused for another scene, refused when damaged), and a sphere's elements
-//! taking the sphere's own normal.
+//! bit, refused for another scene, refused when damaged), a sphere's elements
+//! taking the sphere's own normal, and adaptive subdivision (closer to a solution on
+//! much finer uniform elements than the base elements alone, the furnace still exact,
+//! the energy book balanced).
 
 use std::path::PathBuf;
 
@@ -209,18 +211,20 @@ fn unshot_energy_never_grows_and_the_energy_book_balances() {
 #[test]
 fn the_solution_is_the_same_bits_on_one_and_two_threads() {
     let scene = lit_room();
-    let solve = |threads| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
-            Radiosity::solve(&scene, &RadiosityOptions { max_shots: Some(40), ..options(0.25, 4) }, &NoProgress)
-        })
-        .unwrap()
-    };
-    let (one, two) = (solve(1), solve(2));
-    let bits = |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
-    assert_eq!(bits(&one), bits(&two));
-    assert_eq!(one.ambient().to_array().map(f64::to_bits), two.ambient().to_array().map(f64::to_bits));
-    assert_eq!(one.stats(), two.stats());
+    for subdivide in [None, Some(0.25)] {
+        let solve = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let options = RadiosityOptions { max_shots: Some(40), subdivide, ..options(0.25, 4) };
+            pool.install(|| Radiosity::solve(&scene, &options, &NoProgress)).unwrap()
+        };
+        let (one, two) = (solve(1), solve(2));
+        let bits =
+            |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&one), bits(&two));
+        assert_eq!(one.ambient().to_array().map(f64::to_bits), two.ambient().to_array().map(f64::to_bits));
+        assert_eq!(one.stats(), two.stats());
+        assert_eq!(one.stats().splits > 0, subdivide.is_some());
+    }
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -320,4 +324,111 @@ fn a_spheres_elements_take_the_spheres_normal_and_a_bare_octrees_the_faces() {
             }
         }
     }
+}
+
+/// The lit room's inner surface seen by `r`, against the reference `fine`: the
+/// area-weighted mean over `fine`'s elements of the difference (red + green + blue)
+/// between the two displays (both interpolated) at each fine element's centre.
+fn display_error(scene: &Scene, r: &Radiosity, fine: &Radiosity) -> f64 {
+    let (mut sum, mut area) = (0.0, 0.0);
+    for (center, normal, a, want) in fine.elements() {
+        if fine.patch_at(0, center, normal).is_none() || !inside_room(center) {
+            continue;
+        }
+        let got = r.radiance(0, center, normal).unwrap();
+        sum += a * (got - want).abs().element_sum();
+        area += a;
+    }
+    assert!(area > 0.0 && scene.solids.len() == 3);
+    sum / area
+}
+
+#[test]
+fn adaptive_subdivision_comes_closer_to_a_fine_solution_on_the_same_base_elements() {
+    let scene = lit_room();
+    let solve = |elements, subdivide| {
+        let options = RadiosityOptions { until: 1e-3, subdivide, ..options(0.25, elements) };
+        Radiosity::solve(&scene, &options, &NoProgress).unwrap()
+    };
+    // Base elements of 4 voxels; the reference has 1-voxel elements everywhere.
+    let (coarse, adaptive, fine) = (solve(2, None), solve(2, Some(0.25)), solve(8, None));
+    let (c, a, f) = (coarse.stats(), adaptive.stats(), fine.stats());
+    assert_eq!(c.splits, 0);
+    assert!(a.splits > 0 && a.elements == c.elements + 3 * a.splits, "{} splits, {} elements", a.splits, a.elements);
+    assert!(a.elements < f.elements / 2, "adaptive {} against uniform {} elements", a.elements, f.elements);
+    let (coarse_error, adaptive_error) =
+        (display_error(&scene, &coarse, &fine), display_error(&scene, &adaptive, &fine));
+    assert!(
+        adaptive_error < 0.5 * coarse_error,
+        "mean display error: subdivided {adaptive_error}, base elements only {coarse_error}"
+    );
+    // And closer than uniform elements of at least as many (4 a patch side, 2 voxels).
+    let uniform = solve(4, None);
+    assert!(uniform.stats().elements >= a.elements);
+    let uniform_error = display_error(&scene, &uniform, &fine);
+    assert!(adaptive_error < uniform_error, "subdivided {adaptive_error}, uniform {uniform_error}");
+    // The energy book still balances, to 0.5% at the end: what is neither absorbed nor
+    // escaped is unshot (some of it negative after the splits, so at most the unshot
+    // power's magnitude, which the unshot fraction counts).
+    let unshot = a.unshot_fraction * a.emitted;
+    assert!((a.absorbed + a.escaped - a.emitted).abs() <= unshot + 1e-9 * a.emitted, "{a:?}");
+    assert!((a.absorbed + a.escaped - a.emitted).abs() <= 0.005 * a.emitted, "{a:?}");
+    assert!(a.unshot_fraction <= 1e-3);
+    // A subdivided solution saves (version 2) and reloads bit for bit, splits and all.
+    let path = scratch("subdivided.rad");
+    adaptive.save(&path).unwrap();
+    assert_eq!(std::fs::read(&path).unwrap()[8], 2, "version 2");
+    let back = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap();
+    let bits = |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+    assert_eq!(bits(&adaptive), bits(&back));
+    assert_eq!((back.stats().elements, back.stats().splits), (a.elements, a.splits));
+    for (x, y) in adaptive.elements().zip(back.elements()) {
+        assert_eq!(x, y);
+    }
+    // A damaged split list is refused by name, never a panic.
+    let mut bytes = std::fs::read(&path).unwrap();
+    let at = 88 + 8;
+    bytes[at..at + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+    let body = bytes.len() - 4;
+    let crc = crc32fast::hash(&bytes[..body]);
+    bytes[body..].copy_from_slice(&crc.to_le_bytes());
+    std::fs::write(&path, &bytes).unwrap();
+    let e = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap_err().to_string();
+    assert!(e.contains("subdivided.rad") && e.contains("cannot be split"), "{e}");
+    // An unsubdivided solution is still version 1.
+    coarse.save(&path).unwrap();
+    assert_eq!(std::fs::read(&path).unwrap()[8], 1, "version 1");
+}
+
+#[test]
+fn subdivision_leaves_the_furnace_exact_and_refuses_bad_thresholds() {
+    let emission = 0.8;
+    for rho in [0.0, 0.5] {
+        let mut scene = Scene::new();
+        scene.lights.clear();
+        scene.add("room", room(), diffuse(rho, emission));
+        let options = RadiosityOptions { until: 1e-4, subdivide: Some(0.01), ..options(0.25, 4) };
+        let r = Radiosity::solve(&scene, &options, &NoProgress).unwrap();
+        assert_eq!(r.stats().splits, 0, "an even light splits nothing");
+        let want = emission / (1.0 - rho);
+        for (center, _, _, shown) in r.elements().filter(|e| inside_room(e.0)) {
+            for c in shown.to_array() {
+                if rho == 0.0 {
+                    assert_eq!(c, emission, "at {center}");
+                } else {
+                    assert!((c - want).abs() < 0.01 * want, "{c} at {center}, want {want}");
+                }
+            }
+        }
+    }
+    let scene = lit_room();
+    for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let e = Radiosity::solve(&scene, &RadiosityOptions { subdivide: Some(t), ..options(0.25, 2) }, &NoProgress)
+            .unwrap_err();
+        assert!(e.to_string().contains("subdivision threshold"), "{e}");
+    }
+    // The element budget holds.
+    let capped = RadiosityOptions { subdivide: Some(0.05), max_elements: Some(2000), ..options(0.25, 2) };
+    let r = Radiosity::solve(&scene, &capped, &NoProgress).unwrap();
+    assert!(r.stats().splits > 0 && r.stats().elements <= 2000, "{}", r.stats().elements);
 }

@@ -22,14 +22,14 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::film::resolve::resolve;
-use super::film::{Camera, SampleGrid};
+use super::film::{Camera, Picture, SampleGrid};
 use super::scene::{Scene, SceneHit};
 use super::shade::{ShadeOptions, radiance};
 use crate::progress::Progress;
 use crate::ray::Ray;
 
-/// Whether each pixel of `first` (one sample a pixel) needs supersampling at
-/// `threshold`, row-major.
+/// Whether each pixel of `first` (one sample a pixel, displayed: the exposed picture
+/// in 8-bit sRGB) needs supersampling at `threshold`, row-major.
 pub(crate) fn needs_samples(first: &RgbImage, threshold: f64) -> Vec<bool> {
     let (w, h) = first.dimensions();
     let contrast =
@@ -48,22 +48,30 @@ pub(crate) fn needs_samples(first: &RgbImage, threshold: f64) -> Vec<bool> {
         .collect()
 }
 
-/// One row's supersampled pixels (column and colour), the samples that saw a solid
+/// One row's supersampled pixels (column and radiance), the samples that saw a solid
 /// and the secondary rays cast.
-type Row = (Vec<(u32, Rgb<u8>)>, u64, u64);
+type Row = (Vec<(u32, DVec3)>, u64, u64);
 
-/// The pixels of `refine` (row-major over `samples`' pixels) shaded from their
-/// `samples.spp^2` samples into `img`; returns the samples that saw a solid and the
-/// secondary rays cast. `progress` counts rows.
+/// The samples of a supersampled pixel and the exposure's scale of its mean.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Film {
+    pub samples: SampleGrid,
+    pub scale: f64,
+}
+
+/// The pixels of `refine` (row-major over the film's pixels) shaded from their
+/// `spp^2` samples into `picture` (each mean times the film's scale); returns the
+/// samples that saw a solid and the secondary rays cast. `progress` counts rows.
 pub(crate) fn supersample(
     scene: &Scene,
     camera: &Camera,
-    samples: &SampleGrid,
+    film: Film,
     shading: &ShadeOptions,
     refine: &[bool],
-    img: &mut RgbImage,
+    picture: &mut Picture,
     progress: &dyn Progress,
 ) -> (u64, u64) {
+    let Film { samples, scale } = film;
     let (width, spp) = (samples.width, samples.spp);
     let aspect = samples.aspect();
     let view = camera.view(aspect);
@@ -97,7 +105,7 @@ pub(crate) fn supersample(
                         None => scene.background,
                     };
                 }
-                pixels.push((col, resolve(sum, spp * spp)));
+                pixels.push((col, resolve(sum, spp * spp, scale)));
             }
             progress.advance(1);
             (pixels, hits_seen, rays_cast)
@@ -107,7 +115,7 @@ pub(crate) fn supersample(
     let (mut hits_seen, mut rays_cast) = (0, 0);
     for (row, (pixels, seen, cast)) in rows.into_iter().enumerate() {
         for (col, p) in pixels {
-            img.put_pixel(col, row as u32, p);
+            picture.set(col, row as u32, p);
         }
         hits_seen += seen;
         rays_cast += cast;

@@ -1,7 +1,8 @@
 //! Rendering octree solids. Read bottom-up, each layer using only those below it:
 //!
 //! - `film`: cameras ([`Camera`]), the sample grid ([`SampleGrid`]), camera rays of a
-//!   grid, the pixel average and sRGB.
+//!   grid, the pixel average, exposure and sRGB, the picture of linear radiance a
+//!   render makes ([`Picture`]).
 //! - `trace`: the traversal octree ([`Traversal`]) and its exact ray walk, with the
 //!   beam pre-pass for packets of primary rays.
 //! - `scene`: what a picture shows ([`Scene`]): solids with materials and textures,
@@ -14,8 +15,10 @@
 //! - `shade`: the shading stage: normals, Phong with shadows, Whitted ([`radiance`]).
 //! - `visibility`: which solid, voxel and face each sample sees, by any [`Method`]
 //!   (the ray walk or a raster method: the same hits, bit for bit).
-//! - `pipeline`: [`render`]: visibility, then shading, averaged over each pixel's
-//!   samples, in every pixel or where adaptive anti-aliasing asks (`adaptive`); [`quick`]: a solid to a PNG file in one call.
+//! - `pipeline`: [`render_picture`]: visibility, then shading, averaged over each
+//!   pixel's samples, in every pixel or where adaptive anti-aliasing asks
+//!   (`adaptive`), to linear radiance; [`render`]: the same as 8-bit sRGB; [`quick`]:
+//!   a solid to a PNG file in one call.
 
 mod adaptive;
 mod film;
@@ -29,12 +32,12 @@ mod trace;
 mod visibility;
 
 pub use film::{
-    Camera, DEFAULT_VIEW, NamedView, Projection, SampleGrid, View, default_orbit, from_srgb8, orbit_direction,
-    silhouette_points, to_srgb8, up_for,
+    Camera, DEFAULT_VIEW, MAX_EXPOSURE_STOPS, NamedView, Picture, Projection, SampleGrid, View, default_orbit,
+    exposure_scale, from_srgb8, orbit_direction, silhouette_points, to_srgb8, up_for,
 };
 pub use pipeline::{
     AntiAliasing, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats, estimate_bytes,
-    render,
+    render, render_picture,
 };
 pub use quick::quick;
 pub use raster::polygon;

@@ -1,15 +1,17 @@
 //! Making a picture: primary visibility of every sample (by any [`Method`]), then the
 //! one shading stage (local Phong and Whitted's secondary rays), with `n x n` stratified
-//! supersampling (sample centres of an `n x n` grid in the pixel).
+//! supersampling (sample centres of an `n x n` grid in the pixel). A render makes a
+//! [`Picture`] of linear radiance (each pixel's mean times the exposure's `2^stops`);
+//! [`render`] gives it as the 8-bit sRGB picture a PNG holds.
 
-use image::{Rgb, RgbImage};
+use image::RgbImage;
 use rayon::prelude::*;
 
 use glam::DVec3;
 
 use super::adaptive;
-use super::film::resolve::resolve;
-use super::film::{Camera, SampleGrid};
+use super::film::resolve::{exposure_scale, resolve};
+use super::film::{Camera, Picture, SampleGrid};
 use super::scene::{Scene, SceneHit};
 use super::shade::{Normals, ShadeOptions, radiance};
 use super::visibility::{Method, visibility};
@@ -63,6 +65,10 @@ pub struct RenderOptions {
     pub method: Method,
     /// Refuse a picture whose sample buffers would exceed this, before allocating.
     pub budget: MemoryBudget,
+    /// Exposure in stops: every pixel's radiance is scaled by `2^exposure` (finite,
+    /// within [`MAX_EXPOSURE_STOPS`](super::film::MAX_EXPOSURE_STOPS); default 0, no
+    /// change). Adaptive anti-aliasing compares the exposed pixels.
+    pub exposure: f64,
 }
 
 impl Default for RenderOptions {
@@ -77,6 +83,7 @@ impl Default for RenderOptions {
             max_depth: ShadeOptions::default().max_depth,
             method: Method::Trace,
             budget: MemoryBudget::default(),
+            exposure: 0.0,
         }
     }
 }
@@ -99,23 +106,37 @@ pub struct RenderStats {
 }
 
 /// The memory a picture's buffers take: a hit record and a depth a sample (what
-/// every visibility method keeps), and the finished rows.
+/// every visibility method keeps), and the finished rows of linear radiance.
 #[must_use]
 pub fn estimate_bytes(samples: &SampleGrid) -> u64 {
     let count = u64::from(samples.columns()) * u64::from(samples.rows());
     let per_sample = (std::mem::size_of::<Option<SceneHit>>() + std::mem::size_of::<f64>()) as u64;
-    count.saturating_mul(per_sample) + u64::from(samples.width) * u64::from(samples.height) * 3
+    let per_pixel = std::mem::size_of::<DVec3>() as u64;
+    count.saturating_mul(per_sample) + u64::from(samples.width) * u64::from(samples.height) * per_pixel
 }
 
-/// Renders `scene` through `camera`: visibility of every sample by `options.method`,
-/// then the shading stage; progress counts shaded rows.
+/// Renders `scene` through `camera` as [`render_picture`] does, encoded as 8-bit sRGB
+/// ([`Picture::to_srgb8`]): the picture a PNG holds.
 pub fn render(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
     progress: &dyn Progress,
 ) -> Result<(RgbImage, RenderStats)> {
-    let RenderOptions { width, height, spp, aa, shadows, normals, max_depth, .. } = *options;
+    let (picture, stats) = render_picture(scene, camera, options, progress)?;
+    Ok((picture.to_srgb8(), stats))
+}
+
+/// Renders `scene` through `camera` to linear radiance: visibility of every sample by
+/// `options.method`, then the shading stage, each pixel the mean of its samples times
+/// `2^options.exposure`; progress counts shaded rows.
+pub fn render_picture(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    progress: &dyn Progress,
+) -> Result<(Picture, RenderStats)> {
+    let RenderOptions { width, height, spp, aa, shadows, normals, max_depth, exposure, .. } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
@@ -126,6 +147,7 @@ pub fn render(
         return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
     }
     camera.check()?;
+    let scale = exposure_scale(exposure)?;
     let shading = ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() };
     match aa {
         AntiAliasing::Adaptive { threshold } if !(threshold.is_finite() && threshold >= 0.0) => {
@@ -134,10 +156,10 @@ pub fn render(
         AntiAliasing::Adaptive { threshold } if spp > 1 => {
             // One sample a pixel, then the pixels that differ from a neighbour.
             let first = RenderOptions { spp: 1, aa: AntiAliasing::Uniform, ..*options };
-            let (mut img, stats) = uniform(scene, camera, &first, &shading, &crate::NoProgress)?;
-            let refine = adaptive::needs_samples(&img, threshold);
-            let samples = SampleGrid { width, height, spp };
-            let (hits, rays) = adaptive::supersample(scene, camera, &samples, &shading, &refine, &mut img, progress);
+            let (mut picture, stats) = uniform(scene, camera, &first, &shading, scale, &crate::NoProgress)?;
+            let refine = adaptive::needs_samples(&picture.to_srgb8(), threshold);
+            let film = adaptive::Film { samples: SampleGrid { width, height, spp }, scale };
+            let (hits, rays) = adaptive::supersample(scene, camera, film, &shading, &refine, &mut picture, progress);
             let supersampled = refine.iter().filter(|&&r| r).count() as u64;
             let stats = RenderStats {
                 samples: stats.samples + supersampled * u64::from(spp * spp),
@@ -146,20 +168,22 @@ pub fn render(
                 supersampled,
                 ..stats
             };
-            Ok((img, stats))
+            Ok((picture, stats))
         }
-        _ => uniform(scene, camera, options, &shading, progress),
+        _ => uniform(scene, camera, options, &shading, scale, progress),
     }
 }
 
-/// `spp x spp` samples in every pixel: the visibility of every sample, then shading.
+/// `spp x spp` samples in every pixel: the visibility of every sample, then shading;
+/// each pixel's mean times `scale`.
 fn uniform(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
     shading: &ShadeOptions,
+    scale: f64,
     progress: &dyn Progress,
-) -> Result<(RgbImage, RenderStats)> {
+) -> Result<(Picture, RenderStats)> {
     let RenderOptions { width, height, spp, method, budget, .. } = *options;
     let samples = SampleGrid { width, height, spp };
     budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
@@ -170,7 +194,7 @@ fn uniform(
     let columns = samples.columns() as usize;
     // The camera's frame once, not once a sample (`Camera::ray` is `view(aspect).ray`).
     let view = camera.view(samples.aspect());
-    let rows: Vec<(Vec<Rgb<u8>>, u64)> = (0..height)
+    let rows: Vec<(Vec<DVec3>, u64)> = (0..height)
         .into_par_iter()
         .map(|row| {
             let mut rays = 0;
@@ -191,7 +215,7 @@ fn uniform(
                             };
                         }
                     }
-                    resolve(sum, spp * spp)
+                    resolve(sum, spp * spp, scale)
                 })
                 .collect();
             progress.advance(1);
@@ -200,10 +224,10 @@ fn uniform(
         .collect();
     progress.finish();
     let secondary_rays = rows.iter().map(|(_, rays)| rays).sum();
-    let mut img = RgbImage::new(width, height);
+    let mut picture = Picture::new(width, height);
     for (row, (pixels, _)) in rows.into_iter().enumerate() {
         for (col, p) in pixels.into_iter().enumerate() {
-            img.put_pixel(col as u32, row as u32, p);
+            picture.set(col as u32, row as u32, p);
         }
     }
     let stats = RenderStats {
@@ -213,5 +237,5 @@ fn uniform(
         secondary_rays,
         supersampled: if spp > 1 { u64::from(width) * u64::from(height) } else { 0 },
     };
-    Ok((img, stats))
+    Ok((picture, stats))
 }

@@ -1,25 +1,32 @@
-//! `octsolid demo`: the bundled showcase scene, voxelized and ray-traced.
+//! `octsolid demo`: the bundled showcase scene, voxelized and ray-traced, to a PNG or
+//! an OpenEXR file (by `-o`'s extension).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use glam::DVec3;
 use octsolid::MemoryBudget;
-use octsolid::io::png;
+use octsolid::io::{PictureFormat, save_picture};
 use octsolid::octree::VoxelizeOptions;
 use octsolid::render::{Camera, DEFAULT_VIEW, RenderOptions};
 use octsolid::samples;
 
 use super::render_with_bar;
+use crate::output::check_extension;
 use crate::progress_bar::Bar;
 
 /// Arguments of `octsolid demo`.
 #[derive(clap::Args, Debug)]
 pub struct DemoArgs {
-    /// Output image.
+    /// Output picture: .png (8-bit sRGB) or .exr (linear radiance, 32-bit float).
     #[arg(short, long, default_value = "demo.png")]
     pub output: PathBuf,
+    /// Exposure in stops: every pixel's radiance is scaled by 2^STOPS before it is
+    /// written (default 0).
+    #[arg(long, value_name = "STOPS", default_value_t = 0.0, allow_negative_numbers = true,
+          value_parser = crate::values::parse_finite)]
+    pub exposure: f64,
     /// Octree depth of the showcase solid.
     #[arg(long, default_value_t = 9)]
     pub depth: u8,
@@ -28,9 +35,7 @@ pub struct DemoArgs {
 /// `octsolid demo`: the showcase scene, voxelized and ray-traced.
 pub fn run(a: &DemoArgs, budget: MemoryBudget) -> Result<()> {
     let (output, depth) = (&a.output, a.depth);
-    if output.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
-        bail!("{}: the demo writes a PNG image; give a .png path", output.display());
-    }
+    check_extension(output, PictureFormat::EXTENSIONS)?;
     out!("showcase: {}", samples::SCENE_DESCRIPTION);
     let started = Instant::now();
     let bar = Bar::new("voxelizing");
@@ -42,10 +47,11 @@ pub fn run(a: &DemoArgs, budget: MemoryBudget) -> Result<()> {
         started.elapsed().as_secs_f64() * 1e3
     );
     let bounds = scene.bounds().context("the showcase is empty")?;
-    let options = RenderOptions { width: 1200, height: 720, spp: 3, budget, ..Default::default() };
+    let options =
+        RenderOptions { width: 1200, height: 720, spp: 3, budget, exposure: a.exposure, ..Default::default() };
     let camera = Camera::frame(&bounds, DEFAULT_VIEW, DVec3::Z, f64::from(options.width) / f64::from(options.height));
-    let img = render_with_bar(&scene, &camera, &options)?;
-    png::save(&img, output)?;
-    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    let picture = render_with_bar(&scene, &camera, &options)?;
+    save_picture(&picture, output)?;
+    out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());
     Ok(())
 }

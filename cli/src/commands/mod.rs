@@ -27,7 +27,7 @@ use anyhow::Result;
 use octsolid::Warning;
 use octsolid::import::Input;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use octsolid::render::{Camera, RenderOptions, Scene};
+use octsolid::render::{Camera, Picture, RenderOptions, Scene};
 use octsolid::shape::Shape;
 use octsolid::{MemoryBudget, human_bytes};
 
@@ -76,10 +76,10 @@ pub(crate) fn print_summary(tree: &LinearOctree, exact_volume: Option<f64>) {
 
 /// Renders with a progress bar and prints samples and rays a second (and faces drawn by
 /// a raster method).
-pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<image::RgbImage> {
+pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<Picture> {
     let bar = Bar::new("rendering");
     let started = Instant::now();
-    let (img, stats) = octsolid::render::render(scene, camera, options, &bar)?;
+    let (picture, stats) = octsolid::render::render_picture(scene, camera, options, &bar)?;
     let seconds = started.elapsed().as_secs_f64();
     let secondary = stats.secondary_rays;
     let visibility = match options.method {
@@ -109,5 +109,8 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
         seconds,
         stats.samples as f64 / seconds / 1e6,
     );
-    Ok(img)
+    if options.exposure != 0.0 {
+        out!("exposure {:+} stops (radiance times {})", options.exposure, options.exposure.exp2());
+    }
+    Ok(picture)
 }

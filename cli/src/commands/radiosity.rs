@@ -1,5 +1,5 @@
 //! `octsolid radiosity SCENE.toml -o SOLUTION.rad [--until F] [--max-shots N]
-//! [--patch-size S] [--plot PLOT.png] [--json]`: solves a scene's diffuse interreflection by progressive refinement and
+//! [--patch-size S] [--subdivide T [--max-elements N]] [--plot PLOT.png] [--json]`: solves a scene's diffuse interreflection by progressive refinement and
 //! saves the view-independent solution (render it with `render --radiosity`).
 
 use std::path::PathBuf;
@@ -32,6 +32,16 @@ pub struct RadiosityArgs {
     /// Longest patch edge in world units (default: an eighth of the scene's extent).
     #[arg(long, value_parser = crate::values::parse_finite)]
     pub patch_size: Option<f64>,
+    /// Adaptive subdivision: split an element into four where its radiosity differs
+    /// from a neighbour's by more than THRESHOLD times the scene's mean radiosity (e.g.
+    /// 0.5), and refine on the finer elements, up to four levels deeper (default: off,
+    /// the base elements only).
+    #[arg(long, value_name = "THRESHOLD", value_parser = crate::values::parse_finite)]
+    pub subdivide: Option<f64>,
+    /// With --subdivide: most elements to end with (default: four times the base
+    /// elements).
+    #[arg(long, requires = "subdivide")]
+    pub max_elements: Option<usize>,
     /// Also draw the unshot energy against shots and seconds into this PNG.
     #[arg(long, value_name = "PLOT.png")]
     pub plot: Option<PathBuf>,
@@ -80,6 +90,8 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
         until: a.until,
         max_shots: a.max_shots,
         patch_size: a.patch_size,
+        subdivide: a.subdivide,
+        max_elements: a.max_elements,
         budget,
         ..Default::default()
     };
@@ -103,7 +115,11 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
         out!("{}", serde_json::to_string(&summary)?);
         return Ok(());
     }
-    out!("patches    {} ({} elements)", s.patches, s.elements);
+    if s.splits > 0 {
+        out!("patches    {} ({} elements; {} split into four)", s.patches, s.elements, s.splits);
+    } else {
+        out!("patches    {} ({} elements)", s.patches, s.elements);
+    }
     let per_shot = 1e3 * seconds / s.shots.max(1) as f64;
     out!("shots      {} ({} rays; {per_shot:.2} ms a shot)", s.shots, s.rays);
     out!("unshot     {:.4} of the emitted energy", s.unshot_fraction);

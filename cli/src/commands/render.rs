@@ -1,5 +1,6 @@
 //! `octsolid render IN [-o OUT] [...]`: a scene file, a solid, or a mesh (voxelized
-//! first, or drawn as polygons with `--shading`) rendered to a PNG.
+//! first, or drawn as polygons with `--shading`) rendered to a PNG (8-bit sRGB) or an
+//! OpenEXR file (linear radiance), by `-o`'s extension.
 //!
 //! A solid file of several coloured solids (a `.vox` file's palette colours, a `.vdb`
 //! grid) is rendered as a scene of those solids, each in its file's colour (sRGB
@@ -14,7 +15,7 @@ use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use glam::DVec3;
 use octsolid::import::{self, ImportOptions, Input};
-use octsolid::io::png;
+use octsolid::io::{PictureFormat, save_picture};
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
@@ -38,9 +39,14 @@ pub struct RenderArgs {
     /// Scene (.toml), solid (.oct, .vox, .binvox, .vdb) or mesh (.obj, .stl, .ply,
     /// .patches).
     pub input: PathBuf,
-    /// Output PNG (default: the input's name with .png, in the current folder).
+    /// Output picture: .png (8-bit sRGB, clamped) or .exr (linear radiance, 32-bit
+    /// float, unclamped) (default: the input's name with .png, in the current folder).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Exposure in stops: every pixel's radiance is scaled by 2^STOPS before it is
+    /// written (PNG and EXR alike; +1 doubles, -1 halves; default 0).
+    #[arg(long, value_name = "STOPS", value_parser = crate::values::parse_finite)]
+    pub exposure: Option<f64>,
     /// Image size WIDTHxHEIGHT (default: the scene's, or 960x720).
     #[arg(long, value_parser = parse_size)]
     pub size: Option<[u32; 2]>,
@@ -103,6 +109,10 @@ pub struct RenderArgs {
     /// Show this saved radiosity solution of the scene (from `octsolid radiosity`).
     #[arg(long, value_name = "SOLUTION.rad", conflicts_with = "shading")]
     pub radiosity: Option<PathBuf>,
+    /// With --illumination radiosity (solved here): adaptive subdivision, as
+    /// `octsolid radiosity --subdivide THRESHOLD` (a saved solution has its elements).
+    #[arg(long, value_name = "THRESHOLD", value_parser = crate::values::parse_finite, conflicts_with = "radiosity")]
+    pub subdivide: Option<f64>,
     /// With radiosity: show each element flat with its borders drawn (patch borders
     /// darker) instead of interpolating, a picture of the patches and elements.
     #[arg(long)]
@@ -216,7 +226,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let input = &a.input;
     let output =
         a.output.clone().unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
-    check_extension(&output, &["png"])?;
+    check_extension(&output, PictureFormat::EXTENSIONS)?;
     let mut stages = Stages::new();
     if let Some(interpolation) = a.shading {
         // Meshes, patch sets (tessellated) and solids (their boundary); not scenes.
@@ -244,12 +254,12 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let options = drawn.options(a, budget);
     let mut scene = drawn.into_scene(a.section);
     light_by_radiosity(a, &mut scene, budget, &mut stages)?;
-    let img =
+    let picture =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("rendering");
-    png::save(&img, &output)?;
+    save_picture(&picture, &output)?;
     stages.done("writing");
-    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());
     stages.report();
     Ok(())
 }
@@ -323,6 +333,7 @@ impl Drawn {
         options.aa = anti_aliasing(a, options.aa);
         options.method = a.method.into();
         options.budget = budget;
+        options.exposure = a.exposure.unwrap_or(options.exposure);
         options
     }
 }
@@ -377,6 +388,9 @@ fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, s
         (Some(Illumination::Direct), None) | (None, None) if a.show_elements => {
             bail!("--show-elements needs radiosity: --radiosity SOLUTION.rad or --illumination radiosity")
         }
+        (Some(Illumination::Direct), None) | (None, None) if a.subdivide.is_some() => {
+            bail!("--subdivide needs a radiosity solution solved here: --illumination radiosity")
+        }
         (Some(Illumination::Direct), None) | (None, None) => return Ok(()),
         (_, Some(path)) => {
             let solution = Radiosity::load(path, scene, budget)
@@ -385,7 +399,7 @@ fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, s
             solution
         }
         (Some(Illumination::Radiosity), None) => {
-            let options = RadiosityOptions { budget, ..Default::default() };
+            let options = RadiosityOptions { subdivide: a.subdivide, budget, ..Default::default() };
             let solution = super::radiosity::solve(scene, &options, &a.input)?;
             let s = solution.stats();
             out!(
@@ -518,14 +532,16 @@ fn polygon_command(
         ambient: DVec3::ONE,
         background: Scene::new().background,
     };
-    let options = render::polygon::MeshRenderOptions { width, height, spp: a.spp.unwrap_or(2), interpolation, budget };
-    let img = render::polygon::render_mesh(&scene, &camera, &options)
+    let spp = a.spp.unwrap_or(2);
+    let exposure = a.exposure.unwrap_or(0.0);
+    let options = render::polygon::MeshRenderOptions { width, height, spp, interpolation, budget, exposure };
+    let picture = render::polygon::render_mesh(&scene, &camera, &options)
         .with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("drawing");
     out!("drew {} triangles with {interpolation:?} shading", mesh.triangles.len());
-    png::save(&img, output)?;
+    save_picture(&picture, output)?;
     stages.done("writing");
-    out!("wrote {} ({}x{})", output.display(), img.width(), img.height());
+    out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());
     stages.report();
     Ok(())
 }

@@ -1,16 +1,20 @@
 //! The `.rad` file: a radiosity solution, versioned, checksummed and tied to its
 //! scene (docs/FORMAT.md).
 //!
-//! Little-endian, in order: the magic `OCTSRAD\0` (8 bytes), the version `u32` (1),
-//! the scene fingerprint `u64` ([`super::fingerprint`]), the patch size `f64` and the
-//! elements a patch side `u32` it was solved with, the patch and element counts
-//! (`u64` each), the shots `u64`, the unshot fraction `f64`, the ambient term (3
-//! `f64`), then each element's radiosity (3 `f64`, radiance units, element order), and
-//! last the CRC-32 of every byte before it.
+//! Little-endian, in order: the magic `OCTSRAD\0` (8 bytes), the version `u32` (1, or
+//! 2 for a subdivided solution), the scene fingerprint `u64` ([`super::fingerprint`]),
+//! the patch size `f64` and the elements a patch side `u32` it was solved with, the
+//! patch and element counts (`u64` each; elements split by subdivision included), the
+//! shots `u64`, the unshot fraction `f64`, the ambient term (3 `f64`); version 2 only:
+//! the count of elements split `u64` and each split element's index `u32`, in the
+//! order they were split; then each element's radiosity (3 `f64`, radiance units,
+//! element order), and last the CRC-32 of every byte before it. A solution without
+//! subdivision is written as version 1, the same bytes as before version 2 existed.
 //!
 //! Reading: the header is checked field by field (magic, version, fingerprint against
 //! the scene's), the patches are rebuilt from the scene with the file's settings (the
-//! memory budget applies there), their counts must equal the file's, and only then is
+//! memory budget applies there, and to the elements the splits add), their counts must
+//! equal the file's (the splits' count included), and only then is
 //! the file's length checked against the size they give and the body read: no
 //! allocation is ever sized by the header. Values are stored as their bits, so a
 //! solution reloads bit for bit.
@@ -20,7 +24,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::patches::Patches;
+use super::patches::{self, Patches};
 use super::{Radiosity, RadiosityStats, fingerprint};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
@@ -29,16 +33,19 @@ use crate::render::scene::Scene;
 
 /// The magic bytes.
 pub(crate) const MAGIC: &[u8; 8] = b"OCTSRAD\0";
-/// The format version this build writes and reads.
-pub(crate) const VERSION: u32 = 1;
+/// The newest format version, which this build writes for a subdivided solution (and
+/// version 1 otherwise); it reads both.
+pub(crate) const VERSION: u32 = 2;
 /// Bytes before the element values.
 const HEADER: usize = 8 + 4 + 8 + 8 + 4 + 8 + 8 + 8 + 8 + 24;
 
 /// Writes `r` to `path` (see the module doc).
 pub(super) fn save(r: &Radiosity, path: &Path) -> Result<u64> {
-    let mut bytes = Vec::with_capacity(HEADER + r.radiosity.len() * 24 + 4);
+    let splits = &r.mesh.splits;
+    let version: u32 = if splits.is_empty() { 1 } else { 2 };
+    let mut bytes = Vec::with_capacity(HEADER + 8 + splits.len() * 4 + r.radiosity.len() * 24 + 4);
     bytes.extend_from_slice(MAGIC);
-    bytes.extend_from_slice(&VERSION.to_le_bytes());
+    bytes.extend_from_slice(&version.to_le_bytes());
     bytes.extend_from_slice(&r.fingerprint.to_le_bytes());
     bytes.extend_from_slice(&r.patch_size.to_le_bytes());
     bytes.extend_from_slice(&r.elements.to_le_bytes());
@@ -46,7 +53,16 @@ pub(super) fn save(r: &Radiosity, path: &Path) -> Result<u64> {
     bytes.extend_from_slice(&(r.mesh.elements.len() as u64).to_le_bytes());
     bytes.extend_from_slice(&r.stats.shots.to_le_bytes());
     bytes.extend_from_slice(&r.stats.unshot_fraction.to_le_bytes());
-    for v in std::iter::once(&r.ambient).chain(&r.radiosity) {
+    for c in r.ambient.to_array() {
+        bytes.extend_from_slice(&c.to_le_bytes());
+    }
+    if version == 2 {
+        bytes.extend_from_slice(&(splits.len() as u64).to_le_bytes());
+        for e in splits {
+            bytes.extend_from_slice(&e.to_le_bytes());
+        }
+    }
+    for v in &r.radiosity {
         for c in v.to_array() {
             bytes.extend_from_slice(&c.to_le_bytes());
         }
@@ -94,14 +110,15 @@ impl Reader<'_> {
     }
 }
 
-/// Reads the header (at most `HEADER` bytes) of the file.
+/// Reads the header (at most `HEADER` bytes, and the split count of version 2) of the
+/// file.
 fn read_head(path: &Path) -> Result<(Vec<u8>, u64)> {
     use std::io::Read;
     let io = |source| Error::Io { path: path.to_path_buf(), source };
     let file = std::fs::File::open(path).map_err(io)?;
     let len = file.metadata().map_err(io)?.len();
-    let mut head = Vec::with_capacity(HEADER);
-    file.take(HEADER as u64).read_to_end(&mut head).map_err(io)?;
+    let mut head = Vec::with_capacity(HEADER + 8);
+    file.take(HEADER as u64 + 8).read_to_end(&mut head).map_err(io)?;
     Ok((head, len))
 }
 
@@ -113,8 +130,8 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
         return Err(r.error(0, "not a radiosity solution (.rad): the magic bytes differ"));
     }
     let version = r.u32("version")?;
-    if version != VERSION {
-        return Err(r.error(8, format!("format version {version}, this build reads version {VERSION}")));
+    if !(1..=VERSION).contains(&version) {
+        return Err(r.error(8, format!("format version {version}, this build reads versions 1 to {VERSION}")));
     }
     let stored = r.u64("scene fingerprint")?;
     let own = fingerprint(scene);
@@ -140,18 +157,30 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     if !(ambient.is_finite() && ambient.min_element() >= 0.0) {
         return Err(r.error(r.at - 24, format!("ambient term {ambient} is not finite and non-negative")));
     }
-    let mesh = Patches::build(scene, patch_size, elements, budget)?;
-    if (patches, element_count) != (mesh.patches.len() as u64, mesh.elements.len() as u64) {
+    let split_count = if version == 2 { r.u64("split count")? } else { 0 };
+    let mut mesh = Patches::build(scene, patch_size, elements, budget)?;
+    let counts =
+        (mesh.patches.len() as u64, (mesh.elements.len() as u64).saturating_add(split_count.saturating_mul(4)));
+    if (patches, element_count) != counts {
         return Err(r.error(
             32,
             format!(
-                "{patches} patches of {element_count} elements, but the scene has {} of {}",
-                mesh.patches.len(),
-                mesh.elements.len()
+                "{patches} patches of {element_count} elements ({split_count} split), but the scene has {} of {} \
+                 with {split_count} split",
+                counts.0, counts.1
             ),
         ));
     }
-    let want = (HEADER + mesh.elements.len() * 24 + 4) as u64;
+    if element_count > mesh.elements_within(budget) as u64 {
+        return Err(Error::OverBudget {
+            job: format!("a radiosity solution of {element_count} elements"),
+            estimate: element_count.saturating_mul(patches::BYTES_PER_ELEMENT),
+            budget: budget.0,
+        });
+    }
+    let splits_at = if version == 2 { HEADER + 8 } else { HEADER };
+    let values_at = splits_at + split_count as usize * 4;
+    let want = (values_at + element_count as usize * 24 + 4) as u64;
     if len != want {
         return Err(r.error(
             len.min(want) as usize,
@@ -168,7 +197,15 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     if crc != stored_crc {
         return Err(r.error(body, format!("checksum mismatch (stored {stored_crc:08x}, computed {crc:08x}): damaged")));
     }
-    let mut r = Reader { path, bytes: &bytes, at: HEADER };
+    let mut r = Reader { path, bytes: &bytes, at: splits_at };
+    for _ in 0..split_count {
+        let at = r.at;
+        let e = r.u32("splits")? as usize;
+        if e >= mesh.elements.len() || !mesh.can_split(e) {
+            return Err(r.error(at, format!("element {e} cannot be split here (no such leaf, or too small)")));
+        }
+        mesh.split(scene, e);
+    }
     let mut radiosity = Vec::with_capacity(mesh.elements.len());
     for _ in 0..mesh.elements.len() {
         let at = r.at;
@@ -180,7 +217,8 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     }
     let stats = RadiosityStats {
         patches: mesh.patches.len(),
-        elements: mesh.elements.len(),
+        elements: mesh.leaf_count(),
+        splits: mesh.splits.len(),
         shots,
         unshot_fraction,
         rays: 0,

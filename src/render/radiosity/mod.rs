@@ -10,6 +10,9 @@
 //! ray-traced form factors after Wallace et al. 1989, on all cores). The system is
 //! solved by progressive refinement (`shoot`, Cohen et al. 1988), stopped at a
 //! fraction of unshot energy or a shot count, with the ambient correction for display.
+//! Optionally ([`RadiosityOptions::subdivide`]), elements are split where the solution
+//! varies (adaptive subdivision, Cohen et al. 1986): once refinement reaches
+//! [`SUBDIVIDE_AT`], round after round, then refinement goes on to `until`.
 //!
 //! Units: radiance throughout (`B` is the radiosity over pi), so a material's
 //! `emission` is its emitted radiance and a surface's `B` is the radiance it shows;
@@ -17,7 +20,9 @@
 //!
 //! Display ([`Illumination`]): a surface point finds its patch and interpolates the
 //! displayed values (`B_j + rho_j ambient`) of the four element centres around it
-//! bilinearly (Gouraud's interpolation on the element grid), reading centres beyond
+//! bilinearly (Gouraud's interpolation on the element grid; after subdivision, on the
+//! grid of the level of the leaf holding the point, each centre taking the value of
+//! the leaf holding it), reading centres beyond
 //! the patch's border from the coplanar patch there, so values run on smoothly across
 //! the patches of one face (they step only where element sizes change). The shading
 //! stage shows it in place of the Phong term, and Whitted's mirrors and glass trace on
@@ -51,6 +56,12 @@ pub const DEFAULT_UNTIL: f64 = 0.01;
 pub const DEFAULT_ELEMENTS: u32 = 4;
 /// Default patch edge as a fraction of the scene's longest extent.
 pub const DEFAULT_PATCH_FRACTION: f64 = 1.0 / 8.0;
+/// The unshot fraction at which adaptive subdivision looks for elements to split (or
+/// `until`, if larger): the direct light and the first bounces are laid down, and the
+/// rest of the refinement goes to the finer elements.
+pub const SUBDIVIDE_AT: f64 = 0.1;
+/// Most elements adaptive subdivision may make, as a multiple of the base elements.
+pub const DEFAULT_MAX_ELEMENTS_FACTOR: usize = 4;
 
 /// How to solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,6 +75,14 @@ pub struct RadiosityOptions {
     pub patch_size: Option<f64>,
     /// Elements along a patch side (at most one a voxel).
     pub elements: u32,
+    /// Adaptive subdivision: split an element into four where its radiosity differs
+    /// from an edge neighbour's by more than this times the scene's mean radiosity,
+    /// and refine on the finer elements (`None`: the base elements only). Round after
+    /// round, one level deeper each, up to four levels below the base grid.
+    pub subdivide: Option<f64>,
+    /// Most elements (leaves) subdivision may leave (default:
+    /// [`DEFAULT_MAX_ELEMENTS_FACTOR`] times the base elements).
+    pub max_elements: Option<usize>,
     /// Refuse a solution whose patches and elements would exceed this.
     pub budget: MemoryBudget,
 }
@@ -75,6 +94,8 @@ impl Default for RadiosityOptions {
             max_shots: None,
             patch_size: None,
             elements: DEFAULT_ELEMENTS,
+            subdivide: None,
+            max_elements: None,
             budget: MemoryBudget::default(),
         }
     }
@@ -85,8 +106,10 @@ impl Default for RadiosityOptions {
 pub struct RadiosityStats {
     /// Patches (shooters).
     pub patches: usize,
-    /// Elements (receivers).
+    /// Elements (receivers: the leaves, after any subdivision).
     pub elements: usize,
+    /// Elements split by adaptive subdivision (each into four).
+    pub splits: usize,
     /// Shots made, lights included.
     pub shots: u64,
     /// Unshot power over emitted power at the end.
@@ -145,24 +168,47 @@ impl Radiosity {
         if !(options.until.is_finite() && (0.0..1.0).contains(&options.until)) {
             return Err(Error::invalid("until", format!("{} is outside [0, 1)", options.until)));
         }
+        if let Some(t) = options.subdivide
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(Error::invalid("subdivision threshold", format!("{t} must be a finite positive number")));
+        }
         let size = patch_size(scene, options)?;
         let mesh = Patches::build(scene, size, options.elements, options.budget)?;
-        let mut shooter = Shooter::new(scene, &mesh);
-        shooter.run(Stop { until: options.until, max_shots: options.max_shots }, progress);
+        let base = mesh.elements.len();
+        let mut shooter = Shooter::new(scene, mesh);
+        let stop = Stop { until: options.until, max_shots: options.max_shots };
+        if let Some(threshold) = options.subdivide {
+            // Split where the light has been laid down (most of it: the lights and the
+            // brightest patches have shot), then refine on the finer elements.
+            let first = Stop { until: options.until.max(SUBDIVIDE_AT), ..stop };
+            shooter.run(first, &crate::NoProgress);
+            let max_leaves = options.max_elements.unwrap_or(base.saturating_mul(DEFAULT_MAX_ELEMENTS_FACTOR));
+            let max_total = shooter.patches.elements_within(options.budget);
+            for _ in 0..patches::MAX_LEVEL {
+                if shooter.subdivide(threshold, max_leaves, max_total) == 0 {
+                    break;
+                }
+                shooter.run(first, &crate::NoProgress);
+            }
+        }
+        shooter.run(stop, progress);
+        let ambient = shooter.ambient();
+        let unshot_fraction = shooter.unshot_fraction();
+        let Shooter { patches: mesh, radiosity, shots, rays, emitted, absorbed, escaped, history, timeline, .. } =
+            shooter;
         let stats = RadiosityStats {
             patches: mesh.patches.len(),
-            elements: mesh.elements.len(),
-            shots: shooter.shots,
-            unshot_fraction: shooter.unshot_fraction(),
-            rays: shooter.rays,
-            emitted: shooter.emitted,
-            absorbed: shooter.absorbed,
-            escaped: shooter.escaped,
-            history: std::mem::take(&mut shooter.history),
+            elements: mesh.leaf_count(),
+            splits: mesh.splits.len(),
+            shots,
+            unshot_fraction,
+            rays,
+            emitted,
+            absorbed,
+            escaped,
+            history,
         };
-        let timeline = std::mem::take(&mut shooter.timeline);
-        let ambient = shooter.ambient();
-        let radiosity = std::mem::take(&mut shooter.radiosity);
         Ok(Radiosity {
             mesh,
             radiosity,
@@ -210,17 +256,17 @@ impl Radiosity {
         self.fingerprint
     }
 
-    /// Each element as (centre, unit normal, area, displayed radiance `B + rho
+    /// Each element (leaf) as (centre, unit normal, area, displayed radiance `B + rho
     /// ambient`), in element order.
-    pub fn elements(&self) -> impl ExactSizeIterator<Item = (DVec3, DVec3, f64, DVec3)> + '_ {
-        self.mesh.elements.iter().zip(&self.radiosity).map(|(e, b)| {
+    pub fn elements(&self) -> impl Iterator<Item = (DVec3, DVec3, f64, DVec3)> + '_ {
+        self.mesh.elements.iter().zip(&self.radiosity).filter(|(e, _)| e.is_leaf()).map(|(e, b)| {
             let rho = self.mesh.patches[e.patch as usize].reflectance;
             (e.center, e.normal, e.area, *b + rho * self.ambient)
         })
     }
 
-    /// The raw radiosities (without the ambient term), element order: what the `.rad`
-    /// file stores.
+    /// The raw radiosities (without the ambient term), element order, split elements
+    /// (their values when they were split) included: what the `.rad` file stores.
     #[must_use]
     pub fn radiosities(&self) -> &[DVec3] {
         &self.radiosity
@@ -245,9 +291,9 @@ impl Radiosity {
     #[must_use]
     pub fn form_factor(&self, scene: &Scene, i: usize, j: usize) -> f64 {
         let p = &self.mesh.patches[i];
-        let elements = &self.mesh.elements[p.first as usize..(p.first + p.nu * p.nv) as usize];
+        let elements = self.mesh.elements.iter().filter(|e| e.patch as usize == i && e.is_leaf());
         let sum: f64 =
-            elements.iter().map(|e| e.area * form_factor::element_to_patch(scene, e, &self.mesh.patches[j]).0).sum();
+            elements.map(|e| e.area * form_factor::element_to_patch(scene, e, &self.mesh.patches[j]).0).sum();
         sum / p.area
     }
 
@@ -263,13 +309,18 @@ impl Radiosity {
         file::load(path.as_ref(), scene, budget)
     }
 
-    /// The displayed value (`B + rho ambient`) of the element holding `(s, t)` of
+    /// The displayed value (`B + rho ambient`) of the leaf element holding `(s, t)` of
     /// patch `i`.
     fn element_value(&self, i: usize, s: f64, t: f64) -> DVec3 {
         let p = &self.mesh.patches[i];
-        let k = ((s * f64::from(p.nu)) as u32).min(p.nu - 1);
-        let j = ((t * f64::from(p.nv)) as u32).min(p.nv - 1);
-        self.radiosity[(p.first + j * p.nu + k) as usize] + p.reflectance * self.ambient
+        self.radiosity[self.mesh.leaf_at(i, s, t)] + p.reflectance * self.ambient
+    }
+
+    /// The element grid `(nu, nv)` of patch `i` at the level of the leaf holding `(s, t)`.
+    fn grid_at(&self, i: usize, s: f64, t: f64) -> (u32, u32) {
+        let p = &self.mesh.patches[i];
+        let level = self.mesh.elements[self.mesh.leaf_at(i, s, t)].level;
+        (p.nu << level, p.nv << level)
     }
 
     /// How much of its light a point keeps near element borders (a tenth of a voxel's
@@ -284,7 +335,8 @@ impl Radiosity {
             let f = x * f64::from(n);
             (f - f.round()).abs() * len / f64::from(n)
         };
-        let element = to_grid(s, p.nu, w).min(to_grid(t, p.nv, h));
+        let (nu, nv) = self.grid_at(i, s, t);
+        let element = to_grid(s, nu, w).min(to_grid(t, nv, h));
         if patch < 1.5 * line {
             0.15
         } else if element < line {
@@ -296,12 +348,15 @@ impl Radiosity {
 
     /// The displayed radiance at `(s, t)` of patch `i` (on the face of outward normal
     /// `face` of solid `solid`): bilinear between the four element centres around the
-    /// point. Centres beyond the patch's border are read from the element of the
-    /// coplanar patch there (so values run on across patches of one face), or, where
-    /// no patch is, from the patch's own border element.
+    /// point, on the grid of the level of the leaf holding it (the centres' values are
+    /// those of the leaves holding them, coarser or finer). Centres beyond the patch's
+    /// border are read from the element of the coplanar patch there (so values run on
+    /// across patches of one face), or, where no patch is, from the patch's own border
+    /// element.
     fn interpolate(&self, solid: usize, face: DVec3, i: usize, s: f64, t: f64) -> DVec3 {
         let p = &self.mesh.patches[i];
-        let (nu, nv) = (f64::from(p.nu), f64::from(p.nv));
+        let (nu, nv) = self.grid_at(i, s, t);
+        let (nu, nv) = (f64::from(nu), f64::from(nv));
         let (x, y) = (s * nu - 0.5, t * nv - 0.5);
         let (k0, j0) = (x.floor(), y.floor());
         let (fx, fy) = (x - k0, y - j0);

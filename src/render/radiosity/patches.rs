@@ -11,6 +11,14 @@
 //! voxels), which receive: an element's radiosity is the value at its centre, and a
 //! patch's unshot light is the area-weighted sum of what its elements received.
 //!
+//! Adaptive subdivision (Cohen, Greenberg, Immel and Brock 1986, substructuring, as
+//! the progressive method of Cohen et al. 1988 uses it): an element can be split into
+//! four equal children ([`Patches::split`]), and those again: a quadtree over each
+//! element of the base grid. Split elements stay in the list (their children follow
+//! at the end, in the order they were split), so indices never move; only the leaves
+//! receive and are shown. An element at level `L` is cell `(k, j)` of the patch's
+//! `(nu 2^L) x (nv 2^L)` grid. Children are never narrower than a voxel.
+//!
 //! Normals: an element's normal is its face's outward axis normal, or the source
 //! shape's smooth normal at the element's centre where the solid came from a shape
 //! whose surface lies within two voxels of it ([`SceneSolid::shape_surface`]), so a
@@ -91,7 +99,24 @@ pub(crate) struct Element {
     pub area: f64,
     /// Its patch.
     pub patch: u32,
+    /// Its first child (the four follow in the order `(0, 0), (1, 0), (0, 1), (1, 1)`
+    /// of `(k, j)`), or 0 for a leaf (element 0 is nobody's child).
+    pub children: u32,
+    /// Its level below the base grid (0: a base element).
+    pub level: u8,
+    /// Its cell `(k, j)` in the patch's grid at its level.
+    pub cell: [u32; 2],
 }
+
+impl Element {
+    /// Whether it receives and is shown (it is not split).
+    pub fn is_leaf(&self) -> bool {
+        self.children == 0
+    }
+}
+
+/// Deepest level of subdivision below the base grid.
+pub(crate) const MAX_LEVEL: u8 = 4;
 
 /// Key of a lookup cell: solid, face axis, outward sign, plane, and the cell of the
 /// in-plane grid.
@@ -107,17 +132,34 @@ pub(crate) struct Patches {
     /// Each solid's domain.
     domains: Vec<Domain>,
     lookup: FxHashMap<CellKey, SmallVec<[u32; 2]>>,
+    /// The elements split, in order (what a `.rad` file stores to rebuild them).
+    pub splits: Vec<u32>,
 }
 
 /// Estimated bytes a patch and an element take while solving (records, lookup,
 /// radiosity and the shot's increments).
 const BYTES_PER_PATCH: u64 = 256;
-const BYTES_PER_ELEMENT: u64 = 160;
+pub(crate) const BYTES_PER_ELEMENT: u64 = 160;
 
 /// Sizes `n` equal-as-possible whole parts of `len` voxels: `(offset, size)` of each.
 fn split(len: u32, n: u32) -> impl Iterator<Item = (u32, u32)> {
     let (base, extra) = (len / n, len % n);
     (0..n).map(move |i| (i * base + i.min(extra), base + u32::from(i < extra)))
+}
+
+/// Element `cell` of patch `p` (index `patch`) at `level`: its centre on the face, the
+/// smooth shape normal there (else the axis normal) and its area.
+fn element(scene: &Scene, p: &Patch, patch: u32, level: u8, cell: [u32; 2]) -> Element {
+    let (nu, nv) = (p.nu << level, p.nv << level);
+    let [k, j] = cell;
+    let center = p.point((f64::from(k) + 0.5) / f64::from(nu), (f64::from(j) + 0.5) / f64::from(nv));
+    let normal = scene.solids[p.solid as usize]
+        .shape_surface(center)
+        .map(|s| s.normal)
+        .filter(|n| n.is_finite() && n.dot(p.normal) > 0.0)
+        .unwrap_or(p.normal);
+    let area = p.area / f64::from(p.nu * p.nv) / f64::from(1u32 << (2 * level));
+    Element { center, origin: center + p.normal * p.lift, normal, area, patch, children: 0, level, cell }
 }
 
 impl Patches {
@@ -203,20 +245,7 @@ impl Patches {
             .par_iter()
             .enumerate()
             .flat_map_iter(|(i, p)| {
-                let solid = &scene.solids[p.solid as usize];
-                let area = p.area / f64::from(p.nu * p.nv);
-                (0..p.nv).flat_map(move |j| {
-                    (0..p.nu).map(move |k| {
-                        let center =
-                            p.point((f64::from(k) + 0.5) / f64::from(p.nu), (f64::from(j) + 0.5) / f64::from(p.nv));
-                        let normal = solid
-                            .shape_surface(center)
-                            .map(|s| s.normal)
-                            .filter(|n| n.is_finite() && n.dot(p.normal) > 0.0)
-                            .unwrap_or(p.normal);
-                        Element { center, origin: center + p.normal * p.lift, normal, area, patch: i as u32 }
-                    })
-                })
+                (0..p.nv).flat_map(move |j| (0..p.nu).map(move |k| element(scene, p, i as u32, 0, [k, j])))
             })
             .collect();
         let mut lookup: FxHashMap<CellKey, SmallVec<[u32; 2]>> = FxHashMap::default();
@@ -230,7 +259,84 @@ impl Patches {
             }
         }
         let domains = scene.solids.iter().map(|s| *s.tree.domain()).collect();
-        Ok(Patches { patches, elements, cells, domains, lookup })
+        Ok(Patches { patches, elements, cells, domains, lookup, splits: Vec::new() })
+    }
+
+    /// Most elements (split ones included) whose estimated memory, with the patches',
+    /// fits `budget`.
+    pub fn elements_within(&self, budget: MemoryBudget) -> usize {
+        let patches = self.patches.len() as u64 * BYTES_PER_PATCH;
+        (budget.0.saturating_sub(patches) / BYTES_PER_ELEMENT).min(u64::from(u32::MAX)) as usize
+    }
+
+    /// Elements that receive and are shown (not split).
+    pub fn leaf_count(&self) -> usize {
+        self.elements.len() - self.splits.len()
+    }
+
+    /// The leaf element holding `(s, t)` of patch `i`.
+    pub fn leaf_at(&self, i: usize, s: f64, t: f64) -> usize {
+        let p = &self.patches[i];
+        let k = ((s * f64::from(p.nu)) as u32).min(p.nu - 1);
+        let j = ((t * f64::from(p.nv)) as u32).min(p.nv - 1);
+        let mut e = (p.first + j * p.nu + k) as usize;
+        while !self.elements[e].is_leaf() {
+            let child = &self.elements[e];
+            let level = u32::from(child.level) + 1;
+            let (nu, nv) = (p.nu << level, p.nv << level);
+            let k = ((s * f64::from(nu)) as u32).min(nu - 1);
+            let j = ((t * f64::from(nv)) as u32).min(nv - 1);
+            e = (child.children + (k & 1) + 2 * (j & 1)) as usize;
+        }
+        e
+    }
+
+    /// The leaves just beyond the middle of each edge of element `e`, on its face
+    /// plane (in the coplanar patch there across a patch border; none off the face).
+    pub fn edge_neighbours(&self, e: usize) -> impl Iterator<Item = usize> + '_ {
+        let el = &self.elements[e];
+        let i = el.patch as usize;
+        let p = &self.patches[i];
+        let (nu, nv) = (f64::from(p.nu << el.level), f64::from(p.nv << el.level));
+        let [k, j] = el.cell;
+        let (cs, ct) = ((f64::from(k) + 0.5) / nu, (f64::from(j) + 0.5) / nv);
+        [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)].into_iter().filter_map(move |(dk, dj)| {
+            let (s, t) = (cs + dk / nu, ct + dj / nv);
+            if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
+                return Some(self.leaf_at(i, s, t));
+            }
+            let (n, ns, nt) = self.find(p.solid as usize, p.point(s, t), p.normal)?;
+            Some(self.leaf_at(n, ns, nt))
+        })
+    }
+
+    /// Whether element `e` may be split: a leaf above [`MAX_LEVEL`] whose children are
+    /// at least a voxel wide.
+    pub fn can_split(&self, e: usize) -> bool {
+        let el = &self.elements[e];
+        let p = &self.patches[el.patch as usize];
+        let h = self.domains[p.solid as usize].voxel_size();
+        let scale = f64::from(1u32 << (el.level + 1));
+        el.is_leaf()
+            && el.level < MAX_LEVEL
+            && p.du.length() / (f64::from(p.nu) * scale) >= h * (1.0 - 1e-9)
+            && p.dv.length() / (f64::from(p.nv) * scale) >= h * (1.0 - 1e-9)
+    }
+
+    /// Splits leaf `e` into its four children (appended); returns the first child's
+    /// index. `e` must pass [`Patches::can_split`].
+    pub fn split(&mut self, scene: &Scene, e: usize) -> u32 {
+        debug_assert!(self.can_split(e), "element {e} cannot be split");
+        let el = self.elements[e];
+        let p = &self.patches[el.patch as usize];
+        let first = self.elements.len() as u32;
+        let [k, j] = el.cell;
+        for (dk, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            self.elements.push(element(scene, p, el.patch, el.level + 1, [2 * k + dk, 2 * j + dj]));
+        }
+        self.elements[e].children = first;
+        self.splits.push(e as u32);
+        first
     }
 
     /// The patch holding the point `p` on the face of outward axis normal `face` of

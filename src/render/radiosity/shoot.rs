@@ -26,7 +26,25 @@
 //!
 //! Ambient term for display (Cohen et al. 1988): `ambient = R sum_i dB_i A_i / sum_i
 //! A_i`, `R = 1 / (1 - rho_avg)` with the area-averaged reflectance, each element then
-//! showing `B_j + rho_j ambient`, so early pictures are not too dark.
+//! showing `B_j + rho_j ambient`, so early pictures are not too dark (never below
+//! zero: the negative unshot light subdivision can leave darkens nothing).
+//!
+//! Adaptive subdivision ([`Shooter::subdivide`], after Cohen, Greenberg, Immel and
+//! Brock 1986): once refinement has stopped, a leaf element whose radiosity differs
+//! from an edge neighbour's (the leaf just beyond the middle of each of its edges, on
+//! its own face plane, across patch borders too) by more than `threshold` times the
+//! scene's mean radiosity (area-weighted, red + green + blue, over the elements of
+//! patches that do not emit) is split into four, where it may be (see `patches`).
+//! Each child gathers what the element would have received had it been there from
+//! the start: from every light already shot, and from every patch `j` the radiance
+//! `S_j` it has shot in all, `dB_c = rho_c (sum_lights E / pi + sum_j S_j F(dA_c -> A_j))`
+//! (form factors are fixed, so the order of shots does not matter). The parent's
+//! share of the energy book is replaced by its children's: the change of received
+//! power moves between escaped and received, the change of reflected power goes into
+//! the patch's unshot light (which can so grow, or fall below zero: a patch that has
+//! shot more than its finer elements reflect then shoots negative light, chosen by the
+//! magnitude of its unshot power). Refinement then goes on to `until` on the finer
+//! elements, and subdivision is tried again, one level deeper each round.
 //!
 //! Threads: each shot computes the elements' increments in parallel into a vector in
 //! element order and adds them up in that order, so the solution is the same bits on
@@ -36,7 +54,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::form_factor::element_to_patch;
-use super::patches::Patches;
+use super::patches::{Element, Patches};
 use crate::progress::Progress;
 use crate::ray::RayCast;
 use crate::render::scene::{Light, Scene};
@@ -53,11 +71,18 @@ pub(crate) struct Stop {
 /// The state of a progressive solution.
 pub(crate) struct Shooter<'a> {
     scene: &'a Scene,
-    patches: &'a Patches,
+    /// The patches and elements (owned: subdivision adds elements).
+    pub patches: Patches,
     /// Each element's radiosity (radiance units, without the ambient term).
     pub radiosity: Vec<DVec3>,
+    /// Each element's received radiance before reflection (irradiance over pi).
+    incident: Vec<DVec3>,
     /// Each patch's unshot radiance.
     pub unshot: Vec<DVec3>,
+    /// Each patch's radiance shot so far, all its shots added.
+    shot: Vec<DVec3>,
+    /// The scene's lights shot so far (they shoot first, in order, once each).
+    lights_shot: usize,
     /// Shots so far (lights included).
     pub shots: u64,
     /// Rays cast.
@@ -70,6 +95,24 @@ pub(crate) struct Shooter<'a> {
     pub history: Vec<f64>,
     /// Seconds since refinement started after each shot (index 0: 0).
     pub timeline: Vec<f64>,
+    /// When refinement started.
+    started: std::time::Instant,
+}
+
+/// The radiance a light gives element `e` before reflection (irradiance over pi: what
+/// a white Lambertian surface would reflect), 0 where its shadow ray is blocked.
+fn from_light(scene: &Scene, patches: &Patches, e: &Element, light: &Light) -> DVec3 {
+    let ray = light.shadow_ray(e.origin);
+    let cos = e.normal.dot(ray.dir);
+    let face = patches.patches[e.patch as usize].normal.dot(ray.dir);
+    if cos <= 0.0 || face <= 0.0 || scene.occluded(&ray) {
+        return DVec3::ZERO;
+    }
+    let falloff = match light {
+        Light::Point { .. } => 1.0 / (ray.t_max * ray.t_max),
+        Light::Directional { .. } => 1.0,
+    };
+    light.color() * (cos * falloff / PI)
 }
 
 /// Sum of a colour's channels.
@@ -88,16 +131,20 @@ fn point_power(light: &Light) -> f64 {
 
 impl<'a> Shooter<'a> {
     /// Every element at its patch's emission, every patch's emission unshot.
-    pub fn new(scene: &'a Scene, patches: &'a Patches) -> Self {
+    pub fn new(scene: &'a Scene, patches: Patches) -> Self {
         let radiosity = patches.elements.iter().map(|e| patches.patches[e.patch as usize].emission).collect();
         let unshot: Vec<DVec3> = patches.patches.iter().map(|p| p.emission).collect();
+        let (incident, shot) = (vec![DVec3::ZERO; patches.elements.len()], vec![DVec3::ZERO; patches.patches.len()]);
         let from_patches: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
         let from_lights: f64 = scene.lights.iter().map(point_power).sum();
         let mut s = Shooter {
             scene,
             patches,
             radiosity,
+            incident,
             unshot,
+            shot,
+            lights_shot: 0,
             shots: 0,
             rays: 0,
             emitted: from_patches + from_lights,
@@ -105,14 +152,16 @@ impl<'a> Shooter<'a> {
             escaped: 0.0,
             history: Vec::new(),
             timeline: vec![0.0],
+            started: std::time::Instant::now(),
         };
         s.history.push(s.unshot_fraction_with(from_lights));
         s
     }
 
-    /// The patches' unshot power.
+    /// The patches' unshot power (its magnitude: negative light after a subdivision
+    /// counts as much as positive).
     fn unshot_power(&self) -> f64 {
-        self.patches.patches.iter().zip(&self.unshot).map(|(p, u)| PI * p.area * total(*u)).sum()
+        self.patches.patches.iter().zip(&self.unshot).map(|(p, u)| PI * p.area * total(*u).abs()).sum()
     }
 
     fn unshot_fraction_with(&self, pending: f64) -> f64 {
@@ -128,21 +177,21 @@ impl<'a> Shooter<'a> {
     /// from all unshot to `until`.
     pub fn run(&mut self, stop: Stop, progress: &dyn Progress) {
         progress.start(1000);
-        let started = std::time::Instant::now();
         let mut shown = 0u64;
         let allowed = |shots: u64| stop.max_shots.is_none_or(|m| shots < m);
-        let lights = self.scene.lights.clone();
+        let lights: Vec<Light> = self.scene.lights[self.lights_shot..].to_vec();
         let mut pending: f64 = lights.iter().map(point_power).sum();
         for light in &lights {
             if !allowed(self.shots) {
                 break;
             }
             self.shoot_light(light);
+            self.lights_shot += 1;
             if let Light::Point { .. } = light {
                 pending -= point_power(light);
             }
             self.history.push(self.unshot_fraction_with(pending.max(0.0)));
-            self.timeline.push(started.elapsed().as_secs_f64());
+            self.timeline.push(self.started.elapsed().as_secs_f64());
         }
         loop {
             let fraction = self.unshot_fraction();
@@ -161,17 +210,17 @@ impl<'a> Shooter<'a> {
             let Some(i) = self.brightest() else { break };
             self.shoot_patch(i);
             self.history.push(self.unshot_fraction());
-            self.timeline.push(started.elapsed().as_secs_f64());
+            self.timeline.push(self.started.elapsed().as_secs_f64());
         }
         progress.finish();
     }
 
-    /// The patch of most unshot power, `None` when none has any.
+    /// The patch of most unshot power (in magnitude), `None` when none has any.
     fn brightest(&self) -> Option<usize> {
         let mut best = None;
         let mut most = 0.0;
         for (i, (p, u)) in self.patches.patches.iter().zip(&self.unshot).enumerate() {
-            let power = p.area * total(*u);
+            let power = p.area * total(*u).abs();
             if power > most {
                 most = power;
                 best = Some(i);
@@ -192,6 +241,7 @@ impl<'a> Shooter<'a> {
             let patch = &self.patches.patches[e.patch as usize];
             let reflected = *inc * patch.reflectance;
             self.radiosity[j] += reflected;
+            self.incident[j] += *inc;
             self.unshot[e.patch as usize] += reflected * (e.area / patch.area);
             let power = PI * e.area * total(*inc);
             received += power;
@@ -205,6 +255,7 @@ impl<'a> Shooter<'a> {
     pub fn shoot_patch(&mut self, i: usize) {
         let shooter = &self.patches.patches[i];
         let light = std::mem::take(&mut self.unshot[i]);
+        self.shot[i] += light;
         let scene = self.scene;
         let found: Vec<(DVec3, u32)> = self
             .patches
@@ -212,7 +263,7 @@ impl<'a> Shooter<'a> {
             .par_iter()
             .with_min_len(64)
             .map(|e| {
-                if e.patch as usize == i {
+                if e.patch as usize == i || !e.is_leaf() {
                     return (DVec3::ZERO, 0);
                 }
                 let (f, rays) = element_to_patch(scene, e, shooter);
@@ -232,22 +283,9 @@ impl<'a> Shooter<'a> {
             .elements
             .par_iter()
             .with_min_len(64)
-            .map(|e| {
-                let ray = light.shadow_ray(e.origin);
-                let cos = e.normal.dot(ray.dir);
-                let face = self.patches.patches[e.patch as usize].normal.dot(ray.dir);
-                if cos <= 0.0 || face <= 0.0 || scene.occluded(&ray) {
-                    return DVec3::ZERO;
-                }
-                let falloff = match light {
-                    Light::Point { .. } => 1.0 / (ray.t_max * ray.t_max),
-                    Light::Directional { .. } => 1.0,
-                };
-                // Irradiance over pi: the radiance a white Lambertian surface would reflect.
-                light.color() * (cos * falloff / PI)
-            })
+            .map(|e| if e.is_leaf() { from_light(scene, &self.patches, e, light) } else { DVec3::ZERO })
             .collect();
-        self.rays += self.patches.elements.len() as u64;
+        self.rays += self.patches.leaf_count() as u64;
         let power = match light {
             Light::Point { .. } => point_power(light),
             Light::Directional { .. } => {
@@ -260,6 +298,87 @@ impl<'a> Shooter<'a> {
         self.receive(&incident, power);
     }
 
+    /// One round of adaptive subdivision (see the module doc): splits the leaves whose
+    /// radiosity differs from a neighbour's by more than `threshold` times the mean,
+    /// while the leaves stay at most `max_elements`; each child gathers its light.
+    /// Returns the elements split.
+    /// `max_total` bounds all elements, split ones included (the memory budget's).
+    pub fn subdivide(&mut self, threshold: f64, max_elements: usize, max_total: usize) -> usize {
+        let mesh = &self.patches;
+        let (mut weighted, mut area) = (0.0, 0.0);
+        for (e, b) in mesh.elements.iter().zip(&self.radiosity) {
+            if e.is_leaf() && mesh.patches[e.patch as usize].emission == DVec3::ZERO {
+                weighted += e.area * total(*b);
+                area += e.area;
+            }
+        }
+        if area <= 0.0 || weighted <= 0.0 {
+            return 0;
+        }
+        let limit = threshold * weighted / area;
+        let radiosity = &self.radiosity;
+        let candidates: Vec<usize> = (0..mesh.elements.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .filter(|&e| {
+                mesh.can_split(e) && mesh.edge_neighbours(e).any(|n| total((radiosity[n] - radiosity[e]).abs()) > limit)
+            })
+            .collect();
+        // A split adds four elements, three leaves.
+        let room =
+            (max_elements.saturating_sub(mesh.leaf_count()) / 3).min(max_total.saturating_sub(mesh.elements.len()) / 4);
+        let split: Vec<usize> = candidates.into_iter().take(room).collect();
+        let scene = self.scene;
+        let mut parents = Vec::with_capacity(split.len());
+        for &e in &split {
+            parents.push((e, self.patches.split(scene, e) as usize));
+        }
+        // What each child would have received from the start: the lights shot and every
+        // patch's light shot so far (each child in parallel, its sum in patch order).
+        let lights = &scene.lights[..self.lights_shot];
+        let (mesh, shot) = (&self.patches, &self.shot);
+        let gathered: Vec<(DVec3, u64)> = parents
+            .par_iter()
+            .flat_map_iter(|&(_, first)| first..first + 4)
+            .map(|c| {
+                let child = &mesh.elements[c];
+                let mut inc: DVec3 = lights.iter().map(|l| from_light(scene, mesh, child, l)).sum();
+                let mut rays = lights.len() as u64;
+                for (j, (patch, s)) in mesh.patches.iter().zip(shot).enumerate() {
+                    if *s == DVec3::ZERO || j == child.patch as usize {
+                        continue;
+                    }
+                    let (f, r) = element_to_patch(scene, child, patch);
+                    inc += *s * f;
+                    rays += u64::from(r);
+                }
+                (inc, rays)
+            })
+            .collect();
+        // The parents' share of the book replaced by the children's.
+        for (n, &(parent, first)) in parents.iter().enumerate() {
+            let e = self.patches.elements[parent];
+            let patch = &self.patches.patches[e.patch as usize];
+            let (rho, emission, patch_area) = (patch.reflectance, patch.emission, patch.area);
+            let old = self.incident[parent];
+            let (mut received, mut reflected) = (-PI * e.area * total(old), -PI * e.area * total(old * rho));
+            let mut unshot = -old * rho * (e.area / patch_area);
+            for (c, (inc, rays)) in (first..first + 4).zip(&gathered[4 * n..4 * n + 4]) {
+                let area = self.patches.elements[c].area;
+                self.radiosity.push(emission + *inc * rho);
+                self.incident.push(*inc);
+                self.rays += rays;
+                received += PI * area * total(*inc);
+                reflected += PI * area * total(*inc * rho);
+                unshot += *inc * rho * (area / patch_area);
+            }
+            self.unshot[e.patch as usize] += unshot;
+            self.absorbed += received - reflected;
+            self.escaped -= received;
+        }
+        split.len()
+    }
+
     /// The ambient term of the module doc.
     pub fn ambient(&self) -> DVec3 {
         let area: f64 = self.patches.patches.iter().map(|p| p.area).sum();
@@ -269,6 +388,7 @@ impl<'a> Shooter<'a> {
         let rho: DVec3 = self.patches.patches.iter().map(|p| p.reflectance * p.area).sum::<DVec3>() / area;
         let unshot: DVec3 =
             self.patches.patches.iter().zip(&self.unshot).map(|(p, u)| *u * p.area).sum::<DVec3>() / area;
-        unshot / (DVec3::ONE - rho.min(DVec3::splat(0.999)))
+        // Never below zero: negative unshot light (after subdivision) darkens nothing.
+        (unshot / (DVec3::ONE - rho.min(DVec3::splat(0.999)))).max(DVec3::ZERO)
     }
 }

@@ -20,13 +20,13 @@
 //!   evaluated at every pixel at the (perspective-correct) surface point.
 
 use glam::DVec3;
-use image::RgbImage;
 use rayon::prelude::*;
 
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::mesh::TriangleMesh;
-use crate::render::film::resolve::resolve;
+use crate::render::film::Picture;
+use crate::render::film::resolve::{exposure_scale, resolve};
 use crate::render::film::{Camera, Projection};
 use crate::render::pipeline::MAX_IMAGE_SIZE;
 use crate::render::scene::{Light, Material};
@@ -225,11 +225,14 @@ pub struct MeshRenderOptions {
     pub interpolation: Interpolation,
     /// Refuse pictures whose estimated memory ([`estimate_mesh_render_bytes`]) exceeds this.
     pub budget: MemoryBudget,
+    /// Exposure in stops: every pixel's radiance times `2^exposure` (as
+    /// [`RenderOptions::exposure`](crate::render::RenderOptions::exposure)).
+    pub exposure: f64,
 }
 
 /// Estimated peak bytes of [`render_mesh`]: a fragment (48 bytes) and a linear colour
 /// (24 bytes) for each of the `(width spp) x (height spp)` samples, a scan line of
-/// fragments, the 3-byte pixels, and a normal and a colour (48 bytes) a vertex.
+/// fragments, the 24-byte linear pixels, and a normal and a colour (48 bytes) a vertex.
 #[must_use]
 pub fn estimate_mesh_render_bytes(options: &MeshRenderOptions, vertices: usize) -> u64 {
     let (w, h) =
@@ -237,16 +240,17 @@ pub fn estimate_mesh_render_bytes(options: &MeshRenderOptions, vertices: usize) 
     let per_sample = (std::mem::size_of::<Option<Fragment>>() + std::mem::size_of::<DVec3>()) as u64;
     (w * h).saturating_mul(per_sample)
         + w * 48
-        + u64::from(options.width) * u64::from(options.height) * 3
+        + u64::from(options.width) * u64::from(options.height) * std::mem::size_of::<DVec3>() as u64
         + 48 * vertices as u64
 }
 
-/// Renders `scene` through `camera` to a `width x height` image with `spp x spp`
-/// samples a pixel (a box filter over the supersampled image). Refused before any
-/// work when the size or samples are out of range, the camera cannot make a picture
-/// ([`Camera::check`]) or the estimate exceeds the budget.
-pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptions) -> Result<RgbImage> {
-    let MeshRenderOptions { width, height, spp, interpolation, budget } = *options;
+/// Renders `scene` through `camera` to a `width x height` picture of linear radiance
+/// with `spp x spp` samples a pixel (a box filter over the supersampled image, times
+/// the exposure's `2^stops`; [`Picture::to_srgb8`] for a PNG). Refused before any
+/// work when the size, samples or exposure are out of range, the camera cannot make a
+/// picture ([`Camera::check`]) or the estimate exceeds the budget.
+pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptions) -> Result<Picture> {
+    let MeshRenderOptions { width, height, spp, interpolation, budget, exposure } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
@@ -254,6 +258,7 @@ pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptio
         return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
     }
     camera.check()?;
+    let scale = exposure_scale(exposure)?;
     budget.check(
         format!("a {width}x{height} polygon picture at {spp}x{spp} samples a pixel"),
         estimate_mesh_render_bytes(options, scene.mesh.vertices.len()),
@@ -296,17 +301,19 @@ pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptio
             }
         })
         .collect();
-    let mut img = RgbImage::new(width, height);
-    for (x, y, px) in img.enumerate_pixels_mut() {
-        let mut sum = DVec3::ZERO;
-        for sy in 0..spp {
-            for sx in 0..spp {
-                sum += linear[(y * spp + sy) as usize * w as usize + (x * spp + sx) as usize];
+    let mut picture = Picture::new(width, height);
+    for y in 0..height {
+        for x in 0..width {
+            let mut sum = DVec3::ZERO;
+            for sy in 0..spp {
+                for sx in 0..spp {
+                    sum += linear[(y * spp + sy) as usize * w as usize + (x * spp + sx) as usize];
+                }
             }
+            picture.set(x, y, resolve(sum, spp * spp, scale));
         }
-        *px = resolve(sum, spp * spp);
     }
-    Ok(img)
+    Ok(picture)
 }
 
 /// The Phong model for a mesh scene.
