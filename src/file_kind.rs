@@ -154,13 +154,13 @@ mod tests {
         );
         assert_eq!(
             FileKind::of(Path::new("dir.d/model"), FileKind::ALL).unwrap_err().to_string(),
-            "dir.d/model: no extension (use .toml, .oct, .vox, .binvox, .vdb, .obj, .stl, .ply or .patches)"
+            "dir.d/model: no extension (use .toml, .oct, .octs, .vox, .binvox, .vdb, .obj, .stl, .ply or .patches)"
         );
     }
 
     #[test]
     fn obj_and_ply_are_y_up_and_the_rest_z_up() {
         let up: Vec<Axis> = FileKind::ALL.iter().map(|k| k.default_up()).collect();
-        assert_eq!(up, [Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Y, Axis::Z, Axis::Y, Axis::Z]);
+        assert_eq!(up, [Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Y, Axis::Z, Axis::Y, Axis::Z]);
     }
 }

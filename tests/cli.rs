@@ -180,7 +180,7 @@ fn bad_input_gives_one_line_errors() {
     assert!(e.contains("a.oct") && e.contains("99"), "{e}");
     // An unknown extension names the file and everything the command reads.
     let e = fails(&dir, &["render", "a.3ds"]);
-    let all = "(use .toml, .oct, .vox, .binvox, .vdb, .obj, .stl, .ply or .patches)";
+    let all = "(use .toml, .oct, .octs, .vox, .binvox, .vdb, .obj, .stl, .ply or .patches)";
     assert!(e.contains("a.3ds") && e.contains(all), "{e}");
     let e = fails(&dir, &["voxelize", "a.oct", "-o", "v.oct"]);
     assert!(e.contains("a.oct") && e.contains("(use .obj, .stl, .ply or .patches)"), "{e}");
@@ -603,7 +603,7 @@ fn convert_oct_through_every_voxel_format_and_back_is_bit_identical() {
     assert!(e.contains("the output is the input"), "{e}");
     ok(&dir, &["convert", "ball.oct", "ball.glb"]);
     let e = fails(&dir, &["convert", "ball.glb", "b.oct"]);
-    assert!(e.contains("ball.glb") && e.contains("(use .oct, .vox, .binvox or .vdb)"), "{e}");
+    assert!(e.contains("ball.glb") && e.contains("(use .oct, .octs, .vox, .binvox or .vdb)"), "{e}");
 }
 
 #[test]

@@ -271,7 +271,7 @@ fn outputs_are_written_as_their_extension_says_or_refused() {
     let v: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
     assert!((v - oct_volume).abs() < 1e-9 * oct_volume, "{line} vs {oct_volume}");
     for (args, accepted) in [
-        (vec!["shape", "sphere", "-o", "x.txt"], "oct, vox, binvox, vdb, glb, obj, stl, ply"),
+        (vec!["shape", "sphere", "-o", "x.txt"], "oct, octs, vox, binvox, vdb, glb, obj, stl, ply"),
         (vec!["render", "ball.oct", "-o", "x.jpg"], "accepted: png"),
         (vec!["slice", "ball.oct", "-o", "x.bmp"], "accepted: png"),
         (vec!["csg", "union", "ball.oct", "ball.oct", "-o", "x"], "has no extension"),
