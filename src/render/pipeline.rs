@@ -2,7 +2,7 @@
 //! one shading stage (local Phong and Whitted's secondary rays), with `n x n` stratified
 //! supersampling (sample centres of an `n x n` grid in the pixel).
 
-use image::{Rgb, RgbImage};
+use image::RgbImage;
 use rayon::prelude::*;
 
 use glam::DVec3;
@@ -170,42 +170,40 @@ fn uniform(
     let columns = samples.columns() as usize;
     // The camera's frame once, not once a sample (`Camera::ray` is `view(aspect).ray`).
     let view = camera.view(samples.aspect());
-    let rows: Vec<(Vec<Rgb<u8>>, u64)> = (0..height)
-        .into_par_iter()
-        .map(|row| {
-            let mut rays = 0;
-            let pixels = (0..width)
-                .map(|col| {
-                    let mut sum = DVec3::ZERO;
-                    for sy in 0..spp {
-                        for sx in 0..spp {
-                            let (c, r) = (col * spp + sx, row * spp + sy);
-                            let (x, y) = samples.point(c, r);
-                            sum += match &seen[r as usize * columns + c as usize] {
-                                Some(h) => {
-                                    let (light, cast) = radiance(scene, &view.ray(x, y), h, shading);
-                                    rays += cast;
-                                    light
-                                }
-                                None => scene.background,
-                            };
-                        }
-                    }
-                    resolve(sum, spp * spp)
-                })
-                .collect();
-            progress.advance(1);
-            (pixels, rays)
-        })
-        .collect();
-    progress.finish();
-    let secondary_rays = rows.iter().map(|(_, rays)| rays).sum();
+    // A pixel whose samples all miss: the background's sum resolved, worked out once
+    // (the same additions in the same order as a pixel's).
+    let missed = resolve((0..spp * spp).fold(DVec3::ZERO, |sum, _| sum + scene.background), spp * spp);
     let mut img = RgbImage::new(width, height);
-    for (row, (pixels, _)) in rows.into_iter().enumerate() {
-        for (col, p) in pixels.into_iter().enumerate() {
-            img.put_pixel(col as u32, row as u32, p);
-        }
-    }
+    let secondary_rays = img
+        .par_chunks_mut(3 * width as usize)
+        .zip(0..height)
+        .map(|(out, row)| {
+            let mut rays = 0;
+            for (col, pixel) in (0..width).zip(out.chunks_exact_mut(3)) {
+                let mut sum = DVec3::ZERO;
+                let mut hit = false;
+                for sy in 0..spp {
+                    for sx in 0..spp {
+                        let (c, r) = (col * spp + sx, row * spp + sy);
+                        sum += match &seen[r as usize * columns + c as usize] {
+                            Some(h) => {
+                                hit = true;
+                                let (x, y) = samples.point(c, r);
+                                let (light, cast) = radiance(scene, &view.ray(x, y), h, shading);
+                                rays += cast;
+                                light
+                            }
+                            None => scene.background,
+                        };
+                    }
+                }
+                pixel.copy_from_slice(&if hit { resolve(sum, spp * spp) } else { missed }.0);
+            }
+            progress.advance(1);
+            rays
+        })
+        .sum();
+    progress.finish();
     let stats = RenderStats {
         samples: seen.len() as u64,
         hits: seen.iter().filter(|s| s.is_some()).count() as u64,

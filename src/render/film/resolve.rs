@@ -37,9 +37,16 @@ const WINDOW: f64 = 1e-12;
 /// [`srgb8_formula`], by table.
 #[must_use]
 pub fn to_srgb8(linear: f64) -> u8 {
-    let c = linear.clamp(0.0, 1.0);
-    // NaN (which the clamp keeps) indexes bucket 0 and fails both tests below.
-    let bucket = &SRGB8[(c * BUCKETS as f64) as usize];
+    encode(&SRGB8, linear)
+}
+
+/// [`to_srgb8`] by the table `table` ([`SRGB8`], fetched once for several channels).
+#[inline]
+fn encode(table: &[Bucket], linear: f64) -> u8 {
+    // Clamped to [0, 1], NaN to 0 (the formula's code for both).
+    let c = if linear >= 0.0 { linear.min(1.0) } else { 0.0 };
+    // The bucket `floor(c * BUCKETS)` (exact: a power of two; at most BUCKETS).
+    let bucket = &table[(c * BUCKETS as f64) as u32 as usize];
     if c < bucket.below {
         bucket.code
     } else if c >= bucket.above {
@@ -113,9 +120,12 @@ pub fn from_srgb8(c: u8) -> f64 {
 /// The pixel of `count` samples whose linear colours add up to `sum`: their mean,
 /// sRGB-encoded.
 #[must_use]
+#[inline]
 pub fn resolve(sum: DVec3, count: u32) -> Rgb<u8> {
-    let c = sum / f64::from(count);
-    Rgb([to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)])
+    // The mean of one sample is the sample (`x / 1` is `x`, bit for bit).
+    let c = if count == 1 { sum } else { sum / f64::from(count) };
+    let table = &*SRGB8;
+    Rgb([encode(table, c.x), encode(table, c.y), encode(table, c.z)])
 }
 
 #[cfg(test)]
