@@ -316,7 +316,9 @@ impl Pass<'_> {
             let ray = VoxelRay::new(solid.domain, &rays.ray(col, row0 + row));
             let Some(hit) = faces.clone().find_map(|face| face.enters(&ray)) else { return false };
             let i = row * columns + col;
-            if out[i].is_none_or(|old| hit.t < old.hit.t) {
+            // The first solid draws into samples that are all None (no load of what
+            // is there: a cache miss a sample of the 32-byte-a-sample frame).
+            if index == 0 || out[i].is_none_or(|old| hit.t < old.hit.t) {
                 out[i] = Some(SceneHit { solid: index, hit });
             }
             true
