@@ -2,14 +2,15 @@
 //! one shading stage (local Phong and Whitted's secondary rays), with `n x n` stratified
 //! supersampling (sample centres of an `n x n` grid in the pixel).
 
-use image::RgbImage;
+use image::{Rgb, RgbImage};
 use rayon::prelude::*;
 
 use glam::DVec3;
 
 use super::adaptive;
 use super::film::resolve::resolve;
-use super::film::{Camera, SampleGrid};
+use super::film::{Camera, SampleGrid, View};
+use super::raster::{Display, STRIP_ROWS, Strip};
 use super::scene::{Scene, SceneHit};
 use super::shade::{Normals, ShadeOptions, radiance};
 use super::visibility::{Method, visibility};
@@ -153,6 +154,10 @@ pub fn render(
 }
 
 /// `spp x spp` samples in every pixel: the visibility of every sample, then shading.
+/// The front-to-back display goes a strip at a time (when a strip's sample rows are
+/// whole pixel rows): each task draws a strip into a strip-sized buffer of its own
+/// and shades it at once, so the frame's samples (32 bytes each) are never all held,
+/// filled and read back; the pixels are the same.
 fn uniform(
     scene: &Scene,
     camera: &Camera,
@@ -163,29 +168,94 @@ fn uniform(
     let RenderOptions { width, height, spp, method, budget, .. } = *options;
     let samples = SampleGrid { width, height, spp };
     budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
-    // Step 1: what each sample sees.
-    let (seen, visible) = visibility(scene, camera, &samples, method);
-    // Step 2: shading, the same for every method, averaged over each pixel's samples.
-    progress.start(u64::from(height));
     let columns = samples.columns() as usize;
     // The camera's frame once, not once a sample (`Camera::ray` is `view(aspect).ray`).
     let view = camera.view(samples.aspect());
-    // A pixel whose samples all miss: the background's sum resolved, worked out once
-    // (the same additions in the same order as a pixel's).
-    let missed = resolve((0..spp * spp).fold(DVec3::ZERO, |sum, _| sum + scene.background), spp * spp);
+    let shader = Shader::new(scene, &view, &samples, shading, progress);
     let mut img = RgbImage::new(width, height);
-    let secondary_rays = img
-        .par_chunks_mut(3 * width as usize)
-        .zip(0..height)
-        .map(|(out, row)| {
-            let mut rays = 0;
+    let pixel_row = 3 * width as usize;
+    let (hits, faces_drawn, secondary_rays) =
+        if method == Method::FrontToBack && STRIP_ROWS.is_multiple_of(spp as usize) {
+            let display = Display::new(scene, &view, &samples);
+            progress.start(u64::from(height));
+            img.par_chunks_mut(pixel_row * (STRIP_ROWS / spp as usize))
+                .enumerate()
+                .map_init(
+                    || (Strip::new(columns), Vec::new()),
+                    |(strip, seen), (k, out)| {
+                        seen.clear();
+                        seen.resize(out.len() / pixel_row * spp as usize * columns, None);
+                        let faces = display.draw_strip(k, strip, seen);
+                        let hits = seen.iter().filter(|s| s.is_some()).count() as u64;
+                        (hits, faces, shader.rows(seen, (k * STRIP_ROWS) as u32 / spp, out))
+                    },
+                )
+                .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
+        } else {
+            // Step 1: what each sample sees.
+            let (seen, visible) = visibility(scene, camera, &samples, method);
+            // Step 2: shading, the same for every method, averaged over each pixel's samples.
+            progress.start(u64::from(height));
+            let rays = img
+                .par_chunks_mut(pixel_row)
+                .zip(seen.par_chunks(spp as usize * columns))
+                .zip(0..height)
+                .map(|((out, seen), row)| shader.rows(seen, row, out))
+                .sum();
+            (seen.iter().filter(|s| s.is_some()).count() as u64, visible.faces_drawn, rays)
+        };
+    progress.finish();
+    let stats = RenderStats {
+        samples: u64::from(samples.columns()) * u64::from(samples.rows()),
+        hits,
+        faces_drawn,
+        secondary_rays,
+        supersampled: if spp > 1 { u64::from(width) * u64::from(height) } else { 0 },
+    };
+    Ok((img, stats))
+}
+
+/// Step 2, the shading of whole pixel rows.
+struct Shader<'a> {
+    scene: &'a Scene,
+    view: &'a View,
+    samples: &'a SampleGrid,
+    shading: &'a ShadeOptions,
+    progress: &'a dyn Progress,
+    /// A pixel whose samples all miss: the background's sum resolved, worked out once
+    /// (the same additions in the same order as a pixel's).
+    missed: Rgb<u8>,
+}
+
+impl<'a> Shader<'a> {
+    fn new(
+        scene: &'a Scene,
+        view: &'a View,
+        samples: &'a SampleGrid,
+        shading: &'a ShadeOptions,
+        progress: &'a dyn Progress,
+    ) -> Self {
+        let n = samples.spp * samples.spp;
+        let missed = resolve((0..n).fold(DVec3::ZERO, |sum, _| sum + scene.background), n);
+        Shader { scene, view, samples, shading, progress, missed }
+    }
+
+    /// Shades the pixel rows from `first` into `out` (RGB bytes) from `seen`, their
+    /// samples (row-major from the first's first sample row); returns the secondary
+    /// rays cast. Each pixel is the mean of its `spp x spp` samples' radiance.
+    fn rows(&self, seen: &[Option<SceneHit>], first: u32, out: &mut [u8]) -> u64 {
+        let Shader { scene, view, samples, shading, .. } = *self;
+        let (width, spp) = (samples.width, samples.spp);
+        let columns = samples.columns() as usize;
+        let mut rays = 0;
+        for (row, out) in (first..).zip(out.chunks_exact_mut(3 * width as usize)) {
             for (col, pixel) in (0..width).zip(out.chunks_exact_mut(3)) {
                 let mut sum = DVec3::ZERO;
                 let mut hit = false;
                 for sy in 0..spp {
                     for sx in 0..spp {
                         let (c, r) = (col * spp + sx, row * spp + sy);
-                        sum += match &seen[r as usize * columns + c as usize] {
+                        sum += match &seen[(r - first * spp) as usize * columns + c as usize] {
                             Some(h) => {
                                 hit = true;
                                 let (x, y) = samples.point(c, r);
@@ -197,19 +267,10 @@ fn uniform(
                         };
                     }
                 }
-                pixel.copy_from_slice(&if hit { resolve(sum, spp * spp) } else { missed }.0);
+                pixel.copy_from_slice(&if hit { resolve(sum, spp * spp) } else { self.missed }.0);
             }
-            progress.advance(1);
-            rays
-        })
-        .sum();
-    progress.finish();
-    let stats = RenderStats {
-        samples: seen.len() as u64,
-        hits: seen.iter().filter(|s| s.is_some()).count() as u64,
-        faces_drawn: visible.faces_drawn,
-        secondary_rays,
-        supersampled: if spp > 1 { u64::from(width) * u64::from(height) } else { 0 },
-    };
-    Ok((img, stats))
+            self.progress.advance(1);
+        }
+        rays
+    }
 }

@@ -65,36 +65,54 @@ const MARGIN: f64 = 1e-2;
 /// Returns the faces drawn: the visible faces of the full nodes with an uncovered
 /// sample in their footprint (a node split between strips counts once a strip).
 pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &SampleGrid, seen: &mut [Option<SceneHit>]) -> u64 {
+    let display = Display::new(scene, view, samples);
     let columns = samples.columns() as usize;
-    let solids: Vec<Solid> = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
-    let rays = RayGrid::new(view, samples);
     seen.par_chunks_mut(STRIP_ROWS * columns)
         .enumerate()
-        .map_init(
-            || Strip::new(columns),
-            |strip, (k, out)| {
-                let rows = out.len() / columns;
-                let mut faces = 0;
-                for (index, solid) in solids.iter().enumerate() {
-                    strip.reset(rows);
-                    let mut pass = Pass {
-                        solid,
-                        index,
-                        rays: &rays,
-                        row0: k * STRIP_ROWS,
-                        rows,
-                        columns,
-                        tiles: Tiles { covered: &mut strip.covered, tiles_x: strip.tiles_x },
-                        out: &mut *out,
-                        faces: 0,
-                    };
-                    pass.draw();
-                    faces += pass.faces;
-                }
-                faces
-            },
-        )
+        .map_init(|| Strip::new(columns), |strip, (k, out)| display.draw_strip(k, strip, out))
         .sum()
+}
+
+/// The display of a scene through a view, prepared once a frame; its strips are drawn
+/// one at a time by [`Display::draw_strip`], on any thread, in any order (the
+/// pipeline shades each strip's samples as soon as they are drawn).
+pub(crate) struct Display<'a> {
+    solids: Vec<Solid<'a>>,
+    rays: RayGrid,
+    columns: usize,
+}
+
+impl<'a> Display<'a> {
+    pub(crate) fn new(scene: &'a Scene, view: &View, samples: &SampleGrid) -> Self {
+        let solids = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
+        Display { solids, rays: RayGrid::new(view, samples), columns: samples.columns() as usize }
+    }
+
+    /// Draws strip `k` (sample rows from `k STRIP_ROWS`) into `out`, its samples
+    /// (row-major, all `None` on entry), with the coverage `strip` (any strip's: it is
+    /// reset here); returns the faces drawn.
+    pub(crate) fn draw_strip(&self, k: usize, strip: &mut Strip, out: &mut [Option<SceneHit>]) -> u64 {
+        let columns = self.columns;
+        let rows = out.len() / columns;
+        let mut faces = 0;
+        for (index, solid) in self.solids.iter().enumerate() {
+            strip.reset(rows);
+            let mut pass = Pass {
+                solid,
+                index,
+                rays: &self.rays,
+                row0: k * STRIP_ROWS,
+                rows,
+                columns,
+                tiles: Tiles { covered: &mut strip.covered, tiles_x: strip.tiles_x },
+                out: &mut *out,
+                faces: 0,
+            };
+            pass.draw();
+            faces += pass.faces;
+        }
+        faces
+    }
 }
 
 /// A projective map from voxel units to the sample grid: `column = X / W`, `row = Y / W`,
@@ -386,7 +404,7 @@ fn round_to_integer(v: f64) -> i64 {
 }
 
 /// A strip's coverage, reused for every solid and strip a task draws.
-struct Strip {
+pub(crate) struct Strip {
     /// One 8x8 tile a `u64` (bit `8 row + col`), tiles row-major.
     covered: Vec<u64>,
     /// Tiles a row.
@@ -396,7 +414,8 @@ struct Strip {
 }
 
 impl Strip {
-    fn new(columns: usize) -> Self {
+    /// Coverage for strips of `columns` sample columns.
+    pub(crate) fn new(columns: usize) -> Self {
         let tiles_x = columns.div_ceil(8);
         Strip { covered: vec![0; tiles_x * STRIP_ROWS / 8], tiles_x, columns }
     }
