@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::adaptive;
+use super::film::ray_grid::RayGrid;
 use super::film::resolve::resolve;
 use super::film::{Camera, SampleGrid, View};
 use super::raster::{Display, STRIP_ROWS, Strip};
@@ -218,7 +219,8 @@ fn uniform(
 /// Step 2, the shading of whole pixel rows.
 struct Shader<'a> {
     scene: &'a Scene,
-    view: &'a View,
+    /// The samples' camera rays (`View::ray` at `SampleGrid::point`, bit for bit).
+    rays: RayGrid,
     samples: &'a SampleGrid,
     shading: &'a ShadeOptions,
     progress: &'a dyn Progress,
@@ -237,14 +239,14 @@ impl<'a> Shader<'a> {
     ) -> Self {
         let n = samples.spp * samples.spp;
         let missed = resolve((0..n).fold(DVec3::ZERO, |sum, _| sum + scene.background), n);
-        Shader { scene, view, samples, shading, progress, missed }
+        Shader { scene, rays: RayGrid::new(view, samples), samples, shading, progress, missed }
     }
 
     /// Shades the pixel rows from `first` into `out` (RGB bytes) from `seen`, their
     /// samples (row-major from the first's first sample row); returns the secondary
     /// rays cast. Each pixel is the mean of its `spp x spp` samples' radiance.
     fn rows(&self, seen: &[Option<SceneHit>], first: u32, out: &mut [u8]) -> u64 {
-        let Shader { scene, view, samples, shading, .. } = *self;
+        let Shader { scene, samples, shading, .. } = *self;
         let (width, spp) = (samples.width, samples.spp);
         let columns = samples.columns() as usize;
         let mut rays = 0;
@@ -258,8 +260,8 @@ impl<'a> Shader<'a> {
                         sum += match &seen[(r - first * spp) as usize * columns + c as usize] {
                             Some(h) => {
                                 hit = true;
-                                let (x, y) = samples.point(c, r);
-                                let (light, cast) = radiance(scene, &view.ray(x, y), h, shading);
+                                let ray = self.rays.ray(c as usize, r as usize);
+                                let (light, cast) = radiance(scene, &ray, h, shading);
                                 rays += cast;
                                 light
                             }

@@ -180,6 +180,9 @@ struct Solid<'a> {
     /// The inner nodes, root first; `Some([])` when the root is full, `None` when empty.
     nodes: Option<&'a [Inner]>,
     domain: &'a Domain,
+    /// The domain's [`Domain::voxels_per_unit`], divided out once (a sample's voxel
+    /// ray is [`VoxelRay::scaled`] by it: [`VoxelRay::new`]'s bits).
+    scale: f64,
     viewer: Viewer,
     projector: Projector,
     /// `X, Y, W` of the root's centre.
@@ -203,7 +206,8 @@ impl<'a> Solid<'a> {
         }
         let half = 0.5 * f64::from(domain.resolution());
         let root = projector.per_voxel.iter().fold(projector.base, |sum, &p| sum + p * half);
-        Solid { nodes: traversal.inner_nodes(), domain, viewer: Viewer::new(view, domain), projector, root, levels }
+        let (nodes, viewer, scale) = (traversal.inner_nodes(), Viewer::new(view, domain), domain.voxels_per_unit());
+        Solid { nodes, domain, scale, viewer, projector, root, levels }
     }
 }
 
@@ -331,7 +335,7 @@ impl Pass<'_> {
         let faces = Face::visible(&solid.viewer, min, 1 << shift);
         self.faces += faces.clone().count() as u64;
         tiles.for_each_uncovered(rect, |row, col| {
-            let ray = VoxelRay::new(solid.domain, &rays.ray(col, row0 + row));
+            let ray = VoxelRay::scaled(solid.domain.min(), solid.scale, &rays.ray(col, row0 + row));
             let Some(hit) = faces.clone().find_map(|face| face.enters(&ray)) else { return false };
             let i = row * columns + col;
             // The first solid draws into samples that are all None (no load of what
