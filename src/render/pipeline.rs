@@ -1,6 +1,10 @@
 //! Making a picture: primary visibility of every sample (by any [`Method`]), then the
 //! one shading stage (local Phong and Whitted's secondary rays), with `n x n` stratified
 //! supersampling (sample centres of an `n x n` grid in the pixel).
+//!
+//! The front-to-back display goes a strip of sample rows at a time (visibility of the
+//! strip, then its shading, in one task), so a frame never holds every sample's hit;
+//! the other methods decide every sample first. The pixels are the same either way.
 
 use image::{Rgb, RgbImage};
 use rayon::prelude::*;

@@ -33,8 +33,9 @@ const BUCKETS: usize = 4096;
 /// formula decides.
 const WINDOW: f64 = 1e-12;
 
-/// sRGB encoding of a linear value in `[0, 1]` (clamped), to 8 bits: the value of
-/// [`srgb8_formula`], by table.
+/// sRGB encoding of a linear value `c` in `[0, 1]` (clamped; NaN gives 0), to 8 bits:
+/// `s = 12.92 c` for `c <= 0.0031308`, else `1.055 c^(1/2.4) - 0.055`, then
+/// `(255 s + 0.5)` truncated, as computed in `f64` but looked up in a table.
 #[must_use]
 pub fn to_srgb8(linear: f64) -> u8 {
     encode(&SRGB8, linear)

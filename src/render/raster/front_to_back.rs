@@ -5,7 +5,8 @@
 //!
 //! Steps, per screen strip of [`STRIP_ROWS`] sample rows (strips are independent rayon
 //! tasks, each walking the octree culled to its rows, so the result does not depend on
-//! the thread count):
+//! the thread count; [`Display`] draws one strip, so that the render pipeline can shade
+//! a strip as soon as it is drawn):
 //! 1. Walk the traversal octree's nodes front to back (`Pass::inner`, recursive: in
 //!    every inner node the child on the viewer's side of all three mid planes first,
 //!    then those across one plane, two, three). A node can only hide nodes visited
