@@ -183,8 +183,11 @@ fn uniform(
         if method == Method::FrontToBack && STRIP_ROWS.is_multiple_of(spp as usize) {
             let display = Display::new(scene, &view, &samples);
             progress.start(u64::from(height));
+            // A strip a task: a frame has few strips (12 at 720 rows) of unequal work,
+            // and rayon's default split would leave runs of three to one thread.
             img.par_chunks_mut(pixel_row * (STRIP_ROWS / spp as usize))
                 .enumerate()
+                .with_max_len(1)
                 .map_init(
                     || (Strip::new(columns), Vec::new()),
                     |(strip, seen), (k, out)| {
