@@ -68,8 +68,11 @@ const MARGIN: f64 = 1e-2;
 pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &SampleGrid, seen: &mut [Option<SceneHit>]) -> u64 {
     let display = Display::new(scene, view, samples);
     let columns = samples.columns() as usize;
+    // A strip a task (rayon's default split leaves runs of several strips of unequal
+    // work to one thread).
     seen.par_chunks_mut(STRIP_ROWS * columns)
         .enumerate()
+        .with_max_len(1)
         .map_init(|| Strip::new(columns), |strip, (k, out)| display.draw_strip(k, strip, out))
         .sum()
 }
