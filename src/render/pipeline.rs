@@ -3,6 +3,10 @@
 //! supersampling (sample centres of an `n x n` grid in the pixel). A render makes a
 //! [`Picture`] of linear radiance (each pixel's mean times the exposure's `2^stops`);
 //! [`render`] gives it as the 8-bit sRGB picture a PNG holds.
+//!
+//! The front-to-back display goes a strip of sample rows at a time (visibility of the
+//! strip, then its shading, in one task), so a frame never holds every sample's hit;
+//! the other methods decide every sample first. The pixels are the same either way.
 
 use image::RgbImage;
 use rayon::prelude::*;
@@ -10,8 +14,10 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::adaptive;
+use super::film::ray_grid::RayGrid;
 use super::film::resolve::{exposure_scale, resolve};
-use super::film::{Camera, Picture, SampleGrid};
+use super::film::{Camera, Picture, SampleGrid, View};
+use super::raster::{Display, STRIP_ROWS, Strip};
 use super::scene::{Scene, SceneHit};
 use super::shade::{Normals, ShadeOptions, radiance};
 use super::visibility::{Method, visibility};
@@ -175,7 +181,10 @@ pub fn render_picture(
 }
 
 /// `spp x spp` samples in every pixel: the visibility of every sample, then shading;
-/// each pixel's mean times `scale`.
+/// each pixel's mean times `scale`. The front-to-back display goes a strip at a time
+/// (when a strip's sample rows are whole pixel rows): each task draws a strip into a
+/// strip-sized buffer of its own and shades it at once, so the frame's samples (32
+/// bytes each) are never all held, filled and read back; the pixels are the same.
 fn uniform(
     scene: &Scene,
     camera: &Camera,
@@ -187,55 +196,120 @@ fn uniform(
     let RenderOptions { width, height, spp, method, budget, .. } = *options;
     let samples = SampleGrid { width, height, spp };
     budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
-    // Step 1: what each sample sees.
-    let (seen, visible) = visibility(scene, camera, &samples, method);
-    // Step 2: shading, the same for every method, averaged over each pixel's samples.
-    progress.start(u64::from(height));
     let columns = samples.columns() as usize;
     // The camera's frame once, not once a sample (`Camera::ray` is `view(aspect).ray`).
     let view = camera.view(samples.aspect());
-    let rows: Vec<(Vec<DVec3>, u64)> = (0..height)
-        .into_par_iter()
-        .map(|row| {
-            let mut rays = 0;
-            let pixels = (0..width)
-                .map(|col| {
-                    let mut sum = DVec3::ZERO;
-                    for sy in 0..spp {
-                        for sx in 0..spp {
-                            let (c, r) = (col * spp + sx, row * spp + sy);
-                            let (x, y) = samples.point(c, r);
-                            sum += match &seen[r as usize * columns + c as usize] {
-                                Some(h) => {
-                                    let (light, cast) = radiance(scene, &view.ray(x, y), h, shading);
-                                    rays += cast;
-                                    light
-                                }
-                                None => scene.background,
-                            };
-                        }
-                    }
-                    resolve(sum, spp * spp, scale)
-                })
-                .collect();
-            progress.advance(1);
-            (pixels, rays)
-        })
-        .collect();
-    progress.finish();
-    let secondary_rays = rows.iter().map(|(_, rays)| rays).sum();
+    let shader = Shader::new(scene, &view, &samples, shading, scale, progress);
     let mut picture = Picture::new(width, height);
-    for (row, (pixels, _)) in rows.into_iter().enumerate() {
-        for (col, p) in pixels.into_iter().enumerate() {
-            picture.set(col as u32, row as u32, p);
-        }
-    }
+    let pixel_row = width as usize;
+    let (hits, faces_drawn, secondary_rays) =
+        if method == Method::FrontToBack && STRIP_ROWS.is_multiple_of(spp as usize) {
+            let display = Display::new(scene, &view, &samples);
+            progress.start(u64::from(height));
+            // A strip a task: a frame has few strips (12 at 720 rows) of unequal work,
+            // and rayon's default split would leave runs of three to one thread.
+            picture
+                .pixels_mut()
+                .par_chunks_mut(pixel_row * (STRIP_ROWS / spp as usize))
+                .enumerate()
+                .with_max_len(1)
+                .map_init(
+                    || (Strip::new(columns), Vec::new()),
+                    |(strip, seen), (k, out)| {
+                        seen.clear();
+                        seen.resize(out.len() / pixel_row * spp as usize * columns, None);
+                        let faces = display.draw_strip(k, strip, seen);
+                        let hits = seen.iter().filter(|s| s.is_some()).count() as u64;
+                        (hits, faces, shader.rows(seen, (k * STRIP_ROWS) as u32 / spp, out))
+                    },
+                )
+                .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
+        } else {
+            // Step 1: what each sample sees.
+            let (seen, visible) = visibility(scene, camera, &samples, method);
+            // Step 2: shading, the same for every method, averaged over each pixel's samples.
+            progress.start(u64::from(height));
+            let rays = picture
+                .pixels_mut()
+                .par_chunks_mut(pixel_row)
+                .zip(seen.par_chunks(spp as usize * columns))
+                .zip(0..height)
+                .map(|((out, seen), row)| shader.rows(seen, row, out))
+                .sum();
+            (seen.iter().filter(|s| s.is_some()).count() as u64, visible.faces_drawn, rays)
+        };
+    progress.finish();
     let stats = RenderStats {
-        samples: seen.len() as u64,
-        hits: seen.iter().filter(|s| s.is_some()).count() as u64,
-        faces_drawn: visible.faces_drawn,
+        samples: u64::from(samples.columns()) * u64::from(samples.rows()),
+        hits,
+        faces_drawn,
         secondary_rays,
         supersampled: if spp > 1 { u64::from(width) * u64::from(height) } else { 0 },
     };
     Ok((picture, stats))
+}
+
+/// Step 2, the shading of whole pixel rows.
+struct Shader<'a> {
+    scene: &'a Scene,
+    /// The samples' camera rays (`View::ray` at `SampleGrid::point`, bit for bit).
+    rays: RayGrid,
+    samples: &'a SampleGrid,
+    shading: &'a ShadeOptions,
+    progress: &'a dyn Progress,
+    /// The exposure's factor.
+    scale: f64,
+    /// A pixel whose samples all miss: the background's sum resolved, worked out once
+    /// (the same additions in the same order as a pixel's).
+    missed: DVec3,
+}
+
+impl<'a> Shader<'a> {
+    fn new(
+        scene: &'a Scene,
+        view: &'a View,
+        samples: &'a SampleGrid,
+        shading: &'a ShadeOptions,
+        scale: f64,
+        progress: &'a dyn Progress,
+    ) -> Self {
+        let n = samples.spp * samples.spp;
+        let missed = resolve((0..n).fold(DVec3::ZERO, |sum, _| sum + scene.background), n, scale);
+        Shader { scene, rays: RayGrid::new(view, samples), samples, shading, progress, scale, missed }
+    }
+
+    /// Shades the pixel rows from `first` into `out` (a picture's rows) from `seen`,
+    /// their samples (row-major from the first's first sample row); returns the
+    /// secondary rays cast. Each pixel is the mean of its `spp x spp` samples'
+    /// radiance times the exposure's factor.
+    fn rows(&self, seen: &[Option<SceneHit>], first: u32, out: &mut [DVec3]) -> u64 {
+        let Shader { scene, samples, shading, .. } = *self;
+        let (width, spp) = (samples.width, samples.spp);
+        let columns = samples.columns() as usize;
+        let mut rays = 0;
+        for (row, out) in (first..).zip(out.chunks_exact_mut(width as usize)) {
+            for (col, pixel) in (0..width).zip(out.iter_mut()) {
+                let mut sum = DVec3::ZERO;
+                let mut hit = false;
+                for sy in 0..spp {
+                    for sx in 0..spp {
+                        let (c, r) = (col * spp + sx, row * spp + sy);
+                        sum += match &seen[(r - first * spp) as usize * columns + c as usize] {
+                            Some(h) => {
+                                hit = true;
+                                let ray = self.rays.ray(c as usize, r as usize);
+                                let (light, cast) = radiance(scene, &ray, h, shading);
+                                rays += cast;
+                                light
+                            }
+                            None => scene.background,
+                        };
+                    }
+                }
+                *pixel = if hit { resolve(sum, spp * spp, self.scale) } else { self.missed };
+            }
+            self.progress.advance(1);
+        }
+        rays
+    }
 }

@@ -10,9 +10,9 @@
 //! value across an 8-bit step).
 
 use glam::DVec3;
-use image::{Rgb, RgbImage};
+use image::RgbImage;
 
-use super::resolve::to_srgb8;
+use super::resolve::srgb8_pixel;
 
 /// A picture of linear radiance, row-major from the top-left pixel.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,12 +67,17 @@ impl Picture {
         &self.pixels
     }
 
+    /// Every pixel, row-major, to write.
+    pub fn pixels_mut(&mut self) -> &mut [DVec3] {
+        &mut self.pixels
+    }
+
     /// The picture as 8-bit sRGB (each channel clamped to `[0, 1]`): what a PNG shows.
     #[must_use]
     pub fn to_srgb8(&self) -> RgbImage {
         let mut img = RgbImage::new(self.width, self.height);
         for (px, c) in img.pixels_mut().zip(&self.pixels) {
-            *px = Rgb([to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)]);
+            *px = srgb8_pixel(*c);
         }
         img
     }

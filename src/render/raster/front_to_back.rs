@@ -5,7 +5,8 @@
 //!
 //! Steps, per screen strip of [`STRIP_ROWS`] sample rows (strips are independent rayon
 //! tasks, each walking the octree culled to its rows, so the result does not depend on
-//! the thread count):
+//! the thread count; [`Display`] draws one strip, so that the render pipeline can shade
+//! a strip as soon as it is drawn):
 //! 1. Walk the traversal octree's nodes front to back (`Pass::inner`, recursive: in
 //!    every inner node the child on the viewer's side of all three mid planes first,
 //!    then those across one plane, two, three). A node can only hide nodes visited
@@ -65,36 +66,57 @@ const MARGIN: f64 = 1e-2;
 /// Returns the faces drawn: the visible faces of the full nodes with an uncovered
 /// sample in their footprint (a node split between strips counts once a strip).
 pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &SampleGrid, seen: &mut [Option<SceneHit>]) -> u64 {
+    let display = Display::new(scene, view, samples);
     let columns = samples.columns() as usize;
-    let solids: Vec<Solid> = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
-    let rays = RayGrid::new(view, samples);
+    // A strip a task (rayon's default split leaves runs of several strips of unequal
+    // work to one thread).
     seen.par_chunks_mut(STRIP_ROWS * columns)
         .enumerate()
-        .map_init(
-            || Strip::new(columns),
-            |strip, (k, out)| {
-                let rows = out.len() / columns;
-                let mut faces = 0;
-                for (index, solid) in solids.iter().enumerate() {
-                    strip.reset(rows);
-                    let mut pass = Pass {
-                        solid,
-                        index,
-                        rays: &rays,
-                        row0: k * STRIP_ROWS,
-                        rows,
-                        columns,
-                        tiles: Tiles { covered: &mut strip.covered, tiles_x: strip.tiles_x },
-                        out: &mut *out,
-                        faces: 0,
-                    };
-                    pass.draw();
-                    faces += pass.faces;
-                }
-                faces
-            },
-        )
+        .with_max_len(1)
+        .map_init(|| Strip::new(columns), |strip, (k, out)| display.draw_strip(k, strip, out))
         .sum()
+}
+
+/// The display of a scene through a view, prepared once a frame; its strips are drawn
+/// one at a time by [`Display::draw_strip`], on any thread, in any order (the
+/// pipeline shades each strip's samples as soon as they are drawn).
+pub(crate) struct Display<'a> {
+    solids: Vec<Solid<'a>>,
+    rays: RayGrid,
+    columns: usize,
+}
+
+impl<'a> Display<'a> {
+    pub(crate) fn new(scene: &'a Scene, view: &View, samples: &SampleGrid) -> Self {
+        let solids = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
+        Display { solids, rays: RayGrid::new(view, samples), columns: samples.columns() as usize }
+    }
+
+    /// Draws strip `k` (sample rows from `k STRIP_ROWS`) into `out`, its samples
+    /// (row-major, all `None` on entry), with the coverage `strip` (any strip's: it is
+    /// reset here); returns the faces drawn.
+    pub(crate) fn draw_strip(&self, k: usize, strip: &mut Strip, out: &mut [Option<SceneHit>]) -> u64 {
+        let columns = self.columns;
+        let rows = out.len() / columns;
+        let mut faces = 0;
+        for (index, solid) in self.solids.iter().enumerate() {
+            strip.reset(rows);
+            let mut pass = Pass {
+                solid,
+                index,
+                rays: &self.rays,
+                row0: k * STRIP_ROWS,
+                rows,
+                columns,
+                tiles: Tiles { covered: &mut strip.covered, tiles_x: strip.tiles_x },
+                out: &mut *out,
+                faces: 0,
+            };
+            pass.draw();
+            faces += pass.faces;
+        }
+        faces
+    }
 }
 
 /// A projective map from voxel units to the sample grid: `column = X / W`, `row = Y / W`,
@@ -162,6 +184,9 @@ struct Solid<'a> {
     /// The inner nodes, root first; `Some([])` when the root is full, `None` when empty.
     nodes: Option<&'a [Inner]>,
     domain: &'a Domain,
+    /// The domain's [`Domain::voxels_per_unit`], divided out once (a sample's voxel
+    /// ray is [`VoxelRay::scaled`] by it: [`VoxelRay::new`]'s bits).
+    scale: f64,
     viewer: Viewer,
     projector: Projector,
     /// `X, Y, W` of the root's centre.
@@ -185,7 +210,8 @@ impl<'a> Solid<'a> {
         }
         let half = 0.5 * f64::from(domain.resolution());
         let root = projector.per_voxel.iter().fold(projector.base, |sum, &p| sum + p * half);
-        Solid { nodes: traversal.inner_nodes(), domain, viewer: Viewer::new(view, domain), projector, root, levels }
+        let (nodes, viewer, scale) = (traversal.inner_nodes(), Viewer::new(view, domain), domain.voxels_per_unit());
+        Solid { nodes, domain, scale, viewer, projector, root, levels }
     }
 }
 
@@ -313,10 +339,12 @@ impl Pass<'_> {
         let faces = Face::visible(&solid.viewer, min, 1 << shift);
         self.faces += faces.clone().count() as u64;
         tiles.for_each_uncovered(rect, |row, col| {
-            let ray = VoxelRay::new(solid.domain, &rays.ray(col, row0 + row));
+            let ray = VoxelRay::scaled(solid.domain.min(), solid.scale, &rays.ray(col, row0 + row));
             let Some(hit) = faces.clone().find_map(|face| face.enters(&ray)) else { return false };
             let i = row * columns + col;
-            if out[i].is_none_or(|old| hit.t < old.hit.t) {
+            // The first solid draws into samples that are all None (no load of what
+            // is there: a cache miss a sample of the 32-byte-a-sample frame).
+            if index == 0 || out[i].is_none_or(|old| hit.t < old.hit.t) {
                 out[i] = Some(SceneHit { solid: index, hit });
             }
             true
@@ -384,7 +412,7 @@ fn round_to_integer(v: f64) -> i64 {
 }
 
 /// A strip's coverage, reused for every solid and strip a task draws.
-struct Strip {
+pub(crate) struct Strip {
     /// One 8x8 tile a `u64` (bit `8 row + col`), tiles row-major.
     covered: Vec<u64>,
     /// Tiles a row.
@@ -394,7 +422,8 @@ struct Strip {
 }
 
 impl Strip {
-    fn new(columns: usize) -> Self {
+    /// Coverage for strips of `columns` sample columns.
+    pub(crate) fn new(columns: usize) -> Self {
         let tiles_x = columns.div_ceil(8);
         Strip { covered: vec![0; tiles_x * STRIP_ROWS / 8], tiles_x, columns }
     }

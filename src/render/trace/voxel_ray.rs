@@ -91,7 +91,7 @@ impl VoxelRay {
     /// [`VoxelRay::new`] with the domain's corner and scale given (a packet's rays
     /// share them): three divisions a ray, not ten.
     #[inline]
-    pub(super) fn scaled(min: DVec3, scale: f64, ray: &Ray) -> Self {
+    pub(crate) fn scaled(min: DVec3, scale: f64, ray: &Ray) -> Self {
         let d = ray.dir * scale;
         VoxelRay { o: (ray.origin - min) * scale, d, inv: DVec3::ONE / d }
     }
