@@ -15,7 +15,7 @@ use glam::DVec3;
 
 use super::adaptive;
 use super::film::ray_grid::RayGrid;
-use super::film::resolve::{exposure_scale, resolve};
+use super::film::resolve::{exposure_scale, resolve, srgb8_pixel};
 use super::film::{Camera, Picture, SampleGrid, View};
 use super::raster::{Display, STRIP_ROWS, Strip};
 use super::scene::{Scene, SceneHit};
@@ -129,8 +129,43 @@ pub fn render(
     options: &RenderOptions,
     progress: &dyn Progress,
 ) -> Result<(RgbImage, RenderStats)> {
+    if options.aa == AntiAliasing::Uniform || options.spp == 1 {
+        // Encoded as each row is shaded: no picture of linear radiance in between (the
+        // same bytes as its encoding, `srgb8_pixel` of the same values).
+        let (width, height) = (options.width, options.height);
+        let (scale, shading) = check(camera, options)?;
+        let mut img = RgbImage::new(width, height);
+        let (pixels, []) = img.as_mut().as_chunks_mut::<3>() else { unreachable!("3 bytes a pixel") };
+        let stats = uniform(scene, camera, options, &shading, scale, progress, |c| srgb8_pixel(c).0, pixels)?;
+        return Ok((img, stats));
+    }
     let (picture, stats) = render_picture(scene, camera, options, progress)?;
     Ok((picture.to_srgb8(), stats))
+}
+
+/// Checks `options` and `camera`, and the picture's memory against the budget before
+/// anything is allocated; gives the exposure's factor and the shading options.
+fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)> {
+    let RenderOptions { width, height, spp, aa, shadows, normals, max_depth, exposure, budget, .. } = *options;
+    if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
+        return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
+    }
+    if !(1..=16).contains(&spp) {
+        return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
+    }
+    if max_depth > MAX_RAY_DEPTH {
+        return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
+    }
+    if let AntiAliasing::Adaptive { threshold } = aa
+        && !(threshold.is_finite() && threshold >= 0.0)
+    {
+        return Err(Error::invalid("anti-aliasing threshold", format!("{threshold} must be finite and at least 0")));
+    }
+    camera.check()?;
+    let scale = exposure_scale(exposure)?;
+    let samples = SampleGrid { width, height, spp };
+    budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
+    Ok((scale, ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() }))
 }
 
 /// Renders `scene` through `camera` to linear radiance: visibility of every sample by
@@ -142,27 +177,16 @@ pub fn render_picture(
     options: &RenderOptions,
     progress: &dyn Progress,
 ) -> Result<(Picture, RenderStats)> {
-    let RenderOptions { width, height, spp, aa, shadows, normals, max_depth, exposure, .. } = *options;
-    if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
-        return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
-    }
-    if !(1..=16).contains(&spp) {
-        return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
-    }
-    if max_depth > MAX_RAY_DEPTH {
-        return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
-    }
-    camera.check()?;
-    let scale = exposure_scale(exposure)?;
-    let shading = ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() };
+    let RenderOptions { width, height, spp, aa, .. } = *options;
+    let (scale, shading) = check(camera, options)?;
+    let linear = |c: DVec3| c;
     match aa {
-        AntiAliasing::Adaptive { threshold } if !(threshold.is_finite() && threshold >= 0.0) => {
-            Err(Error::invalid("anti-aliasing threshold", format!("{threshold} must be finite and at least 0")))
-        }
         AntiAliasing::Adaptive { threshold } if spp > 1 => {
             // One sample a pixel, then the pixels that differ from a neighbour.
             let first = RenderOptions { spp: 1, aa: AntiAliasing::Uniform, ..*options };
-            let (mut picture, stats) = uniform(scene, camera, &first, &shading, scale, &crate::NoProgress)?;
+            let mut picture = Picture::new(width, height);
+            let stats =
+                uniform(scene, camera, &first, &shading, scale, &crate::NoProgress, linear, picture.pixels_mut())?;
             let refine = adaptive::needs_samples(&picture.to_srgb8(), threshold);
             let film = adaptive::Film { samples: SampleGrid { width, height, spp }, scale };
             let (hits, rays) = adaptive::supersample(scene, camera, film, &shading, &refine, &mut picture, progress);
@@ -176,7 +200,11 @@ pub fn render_picture(
             };
             Ok((picture, stats))
         }
-        _ => uniform(scene, camera, options, &shading, scale, progress),
+        _ => {
+            let mut picture = Picture::new(width, height);
+            let stats = uniform(scene, camera, options, &shading, scale, progress, linear, picture.pixels_mut())?;
+            Ok((picture, stats))
+        }
     }
 }
 
@@ -185,22 +213,26 @@ pub fn render_picture(
 /// (when a strip's sample rows are whole pixel rows): each task draws a strip into a
 /// strip-sized buffer of its own and shades it at once, so the frame's samples (32
 /// bytes each) are never all held, filled and read back; the pixels are the same.
-fn uniform(
+/// Each pixel goes into `out` (row-major, `width x height`) as `encode` makes it of
+/// the linear value.
+#[allow(clippy::too_many_arguments)]
+fn uniform<P: Send>(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
     shading: &ShadeOptions,
     scale: f64,
     progress: &dyn Progress,
-) -> Result<(Picture, RenderStats)> {
-    let RenderOptions { width, height, spp, method, budget, .. } = *options;
+    encode: impl Fn(DVec3) -> P + Sync,
+    out: &mut [P],
+) -> Result<RenderStats> {
+    let RenderOptions { width, height, spp, method, .. } = *options;
     let samples = SampleGrid { width, height, spp };
-    budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
     let columns = samples.columns() as usize;
     // The camera's frame once, not once a sample (`Camera::ray` is `view(aspect).ray`).
     let view = camera.view(samples.aspect());
     let shader = Shader::new(scene, &view, &samples, shading, scale, progress);
-    let mut picture = Picture::new(width, height);
+    debug_assert_eq!(out.len(), width as usize * height as usize);
     let pixel_row = width as usize;
     let (hits, faces_drawn, secondary_rays) =
         if method == Method::FrontToBack && STRIP_ROWS.is_multiple_of(spp as usize) {
@@ -208,9 +240,7 @@ fn uniform(
             progress.start(u64::from(height));
             // A strip a task: a frame has few strips (12 at 720 rows) of unequal work,
             // and rayon's default split would leave runs of three to one thread.
-            picture
-                .pixels_mut()
-                .par_chunks_mut(pixel_row * (STRIP_ROWS / spp as usize))
+            out.par_chunks_mut(pixel_row * (STRIP_ROWS / spp as usize))
                 .enumerate()
                 .with_max_len(1)
                 .map_init(
@@ -220,7 +250,7 @@ fn uniform(
                         seen.resize(out.len() / pixel_row * spp as usize * columns, None);
                         let faces = display.draw_strip(k, strip, seen);
                         let hits = seen.iter().filter(|s| s.is_some()).count() as u64;
-                        (hits, faces, shader.rows(seen, (k * STRIP_ROWS) as u32 / spp, out))
+                        (hits, faces, shader.rows(seen, (k * STRIP_ROWS) as u32 / spp, &encode, out))
                     },
                 )
                 .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
@@ -229,12 +259,11 @@ fn uniform(
             let (seen, visible) = visibility(scene, camera, &samples, method);
             // Step 2: shading, the same for every method, averaged over each pixel's samples.
             progress.start(u64::from(height));
-            let rays = picture
-                .pixels_mut()
+            let rays = out
                 .par_chunks_mut(pixel_row)
                 .zip(seen.par_chunks(spp as usize * columns))
                 .zip(0..height)
-                .map(|((out, seen), row)| shader.rows(seen, row, out))
+                .map(|((out, seen), row)| shader.rows(seen, row, &encode, out))
                 .sum();
             (seen.iter().filter(|s| s.is_some()).count() as u64, visible.faces_drawn, rays)
         };
@@ -246,7 +275,7 @@ fn uniform(
         secondary_rays,
         supersampled: if spp > 1 { u64::from(width) * u64::from(height) } else { 0 },
     };
-    Ok((picture, stats))
+    Ok(stats)
 }
 
 /// Step 2, the shading of whole pixel rows.
@@ -278,11 +307,11 @@ impl<'a> Shader<'a> {
         Shader { scene, rays: RayGrid::new(view, samples), samples, shading, progress, scale, missed }
     }
 
-    /// Shades the pixel rows from `first` into `out` (a picture's rows) from `seen`,
-    /// their samples (row-major from the first's first sample row); returns the
-    /// secondary rays cast. Each pixel is the mean of its `spp x spp` samples'
-    /// radiance times the exposure's factor.
-    fn rows(&self, seen: &[Option<SceneHit>], first: u32, out: &mut [DVec3]) -> u64 {
+    /// Shades the pixel rows from `first` into `out` (as `encode` makes each pixel)
+    /// from `seen`, their samples (row-major from the first's first sample row);
+    /// returns the secondary rays cast. Each pixel is the mean of its `spp x spp`
+    /// samples' radiance times the exposure's factor.
+    fn rows<P>(&self, seen: &[Option<SceneHit>], first: u32, encode: &impl Fn(DVec3) -> P, out: &mut [P]) -> u64 {
         let Shader { scene, samples, shading, .. } = *self;
         let (width, spp) = (samples.width, samples.spp);
         let columns = samples.columns() as usize;
@@ -306,7 +335,7 @@ impl<'a> Shader<'a> {
                         };
                     }
                 }
-                *pixel = if hit { resolve(sum, spp * spp, self.scale) } else { self.missed };
+                *pixel = encode(if hit { resolve(sum, spp * spp, self.scale) } else { self.missed });
             }
             self.progress.advance(1);
         }
