@@ -10,6 +10,8 @@ use anyhow::{Result, bail};
 use octsolid::sharded::{ShardIndex, StreamOptions};
 use octsolid::{MemoryBudget, Progress, human_bytes};
 
+use crate::progress_bar::Bar;
+
 /// Flags of a sharded output.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct ShardFlags {
@@ -29,6 +31,23 @@ impl ShardFlags {
     /// The library's options for these flags.
     pub fn options<'a>(&'a self, budget: MemoryBudget, progress: &'a dyn Progress) -> StreamOptions<'a> {
         StreamOptions { level: self.shard_level, cells: self.cells.as_ref(), budget, progress }
+    }
+
+    /// Runs the sharded job `job` writing `output` with these flags' options and a
+    /// progress bar of cells, then prints what it wrote (from `started`: the job's
+    /// reading counts too).
+    pub fn write(
+        &self,
+        output: &Path,
+        budget: MemoryBudget,
+        started: Instant,
+        job: impl FnOnce(&StreamOptions) -> Result<Option<ShardIndex>>,
+    ) -> Result<()> {
+        let bar = Bar::new("cells");
+        let written = job(&self.options(budget, &bar))?;
+        drop(bar);
+        print_written(output, written.as_ref(), started);
+        Ok(())
     }
 
     /// Refuses the flags for an output that is not sharded.
@@ -63,9 +82,10 @@ pub fn print_written(out: &Path, written: Option<&ShardIndex>, started: Instant)
         Some(index) => {
             let on_disk: u64 = index.shards.iter().map(|s| s.bytes).sum();
             out!(
-                "wrote {} in {seconds:.2} s: {} shards ({}) and {} full nodes at cell level {}",
+                "wrote {} in {seconds:.2} s: {} shard{} ({}) and {} full nodes at cell level {}",
                 out.display(),
                 index.shards.len(),
+                if index.shards.len() == 1 { "" } else { "s" },
                 human_bytes(on_disk),
                 index.full.len(),
                 index.level

@@ -14,7 +14,7 @@ use octsolid::{MemoryBudget, human_bytes};
 use super::{print_summary, voxelize_with_bar};
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
-use crate::sharded_output::{ShardFlags, is_sharded, print_written};
+use crate::sharded_output::{ShardFlags, is_sharded};
 
 /// Arguments of `octsolid build`.
 #[derive(clap::Args, Debug)]
@@ -55,12 +55,9 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
             print_summary(&tree, None);
             return Ok(());
         }
-        let (bar, started) = (Bar::new("cells"), Instant::now());
-        let options = a.shards.options(budget, &bar);
-        let written = sharded::voxelize_shape(&shape, domain, Metadata::default(), &a.output, &options)?;
-        drop(bar);
-        print_written(&a.output, written.as_ref(), started);
-        return Ok(());
+        return a.shards.write(&a.output, budget, Instant::now(), |options| {
+            Ok(sharded::voxelize_shape(&shape, domain, Metadata::default(), &a.output, options)?)
+        });
     }
     let bar = Bar::new("voxelizing");
     let started = Instant::now();

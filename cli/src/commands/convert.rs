@@ -28,7 +28,7 @@ use super::info::{print_solids, solid_infos};
 use super::print_summary;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
 use crate::progress_bar::{Bar, Spinner};
-use crate::sharded_output::{ShardFlags, is_sharded, print_written};
+use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::solid_input::{ReadFlags, read_solid_file};
 use crate::values::TargetFlags;
 
@@ -80,11 +80,7 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     let spinner = (!mesh).then(|| Spinner::new("writing"));
     let bytes_out = if is_sharded(output) {
         drop(spinner);
-        let bar = Bar::new("cells");
-        let index = sharded::save(&union, meta, output, &a.shards.options(budget, &bar))?;
-        drop(bar);
-        print_written(output, index.as_ref(), started);
-        return Ok(());
+        return a.shards.write(output, budget, started, |options| Ok(sharded::save(&union, meta, output, options)?));
     } else if holds_many_solids(output) {
         let up = file.meta.up.unwrap_or(file.kind.default_up());
         write_solids(output, &solids, &WriteOptions { budget, up, ..WriteOptions::default() })

@@ -14,7 +14,7 @@ use octsolid::{MemoryBudget, human_bytes};
 use super::print_summary;
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
-use crate::sharded_output::{ShardFlags, is_sharded, print_written};
+use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::solid_input::{ReadFlags, read_solid_file};
 use crate::values::TargetFlags;
 
@@ -70,11 +70,9 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     if is_sharded(output) && inputs.iter().all(|p| is_sharded(p)) && !a.target.given() {
         // Sharded into sharded: merged cell by cell, never whole in memory.
         let solids = inputs.iter().map(ShardedSolid::open).collect::<octsolid::Result<Vec<_>>>()?;
-        let (bar, started) = (Bar::new("cells"), Instant::now());
-        let written = sharded::combine(&solids, set_op, output, &a.shards.options(budget, &bar))?;
-        drop(bar);
-        print_written(output, written.as_ref(), started);
-        return Ok(());
+        return a
+            .shards
+            .write(output, budget, Instant::now(), |options| Ok(sharded::combine(&solids, set_op, output, options)?));
     }
     let mut trees = Vec::with_capacity(inputs.len());
     let mut meta = None;
@@ -104,11 +102,9 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
         warn!("the {op:?} is empty: no voxel is in it");
     }
     if is_sharded(output) {
-        let (bar, started) = (Bar::new("cells"), Instant::now());
-        let written = sharded::save(&result, meta.unwrap_or_default(), output, &a.shards.options(budget, &bar))?;
-        drop(bar);
-        print_written(output, written.as_ref(), started);
-        return Ok(());
+        return a.shards.write(output, budget, Instant::now(), |options| {
+            Ok(sharded::save(&result, meta.unwrap_or_default(), output, options)?)
+        });
     }
     let bytes = write_solid_file(output, &result, &meta.unwrap_or_default(), budget)?;
     out!("wrote {} ({})", output.display(), human_bytes(bytes));

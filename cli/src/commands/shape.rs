@@ -14,8 +14,7 @@ use octsolid::{MemoryBudget, human_bytes};
 
 use super::{print_summary, voxelize_with_bar};
 use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
-use crate::progress_bar::Bar;
-use crate::sharded_output::{ShardFlags, is_sharded, print_written};
+use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::values::{parse_domain, parse_vec3};
 
 /// The primitive kinds of `octsolid shape`.
@@ -106,12 +105,9 @@ pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
     };
     a.shards.check_for(&a.output)?;
     if is_sharded(&a.output) {
-        let (bar, started) = (Bar::new("cells"), Instant::now());
-        let options = a.shards.options(budget, &bar);
-        let written = sharded::voxelize_shape(&shape, domain, Metadata::default(), &a.output, &options)?;
-        drop(bar);
-        print_written(&a.output, written.as_ref(), started);
-        return Ok(());
+        return a.shards.write(&a.output, budget, Instant::now(), |options| {
+            Ok(sharded::voxelize_shape(&shape, domain, Metadata::default(), &a.output, options)?)
+        });
     }
     let tree = voxelize_with_bar(&shape, domain, budget)?;
     let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), budget)?;

@@ -18,7 +18,7 @@ use octsolid::{FileKind, MemoryBudget, human_bytes};
 use super::{load_input, print_summary};
 use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
-use crate::sharded_output::{ShardFlags, is_sharded, print_written};
+use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::values::parse_domain;
 
 /// Arguments of `octsolid voxelize`.
@@ -105,22 +105,19 @@ fn sharded_solid(
     budget: MemoryBudget,
     started: Instant,
 ) -> Result<()> {
-    let bar = Bar::new("cells");
-    let options = a.shards.options(budget, &bar);
     let cannot = || format!("{}: cannot voxelize", a.input.display());
-    let written = match a.fill {
-        Fill::Solid => {
-            let mesh = loaded.triangles(domain.voxel_size(), budget).with_context(cannot)?;
-            let mesh_options = MeshVoxelizeOptions { inside: a.inside, budget, progress: &bar };
-            sharded::voxelize_mesh(&mesh, domain, meta, &mesh_options, &a.output, &options).with_context(cannot)?
-        }
-        _ => {
-            let import = ImportOptions { fill: a.fill, inside: a.inside, budget, progress: &bar };
-            let (tree, _) = import::voxelize_input(loaded, domain, &import).with_context(cannot)?;
-            sharded::save(&tree, meta, &a.output, &options)?
-        }
-    };
-    drop(bar);
-    print_written(&a.output, written.as_ref(), started);
-    Ok(())
+    a.shards.write(&a.output, budget, started, |options| {
+        Ok(match a.fill {
+            Fill::Solid => {
+                let mesh = loaded.triangles(domain.voxel_size(), budget).with_context(cannot)?;
+                let mesh_options = MeshVoxelizeOptions { inside: a.inside, budget, progress: options.progress };
+                sharded::voxelize_mesh(&mesh, domain, meta, &mesh_options, &a.output, options).with_context(cannot)?
+            }
+            _ => {
+                let import = ImportOptions { fill: a.fill, inside: a.inside, budget, progress: options.progress };
+                let (tree, _) = import::voxelize_input(loaded, domain, &import).with_context(cannot)?;
+                sharded::save(&tree, meta, &a.output, options)?
+            }
+        })
+    })
 }
