@@ -216,7 +216,7 @@ pub fn render_picture(
 /// Each pixel goes into `out` (row-major, `width x height`) as `encode` makes it of
 /// the linear value.
 #[allow(clippy::too_many_arguments)]
-fn uniform<P: Send>(
+fn uniform<P: Send + Clone>(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
@@ -311,8 +311,15 @@ impl<'a> Shader<'a> {
     /// from `seen`, their samples (row-major from the first's first sample row);
     /// returns the secondary rays cast. Each pixel is the mean of its `spp x spp`
     /// samples' radiance times the exposure's factor.
-    fn rows<P>(&self, seen: &[Option<SceneHit>], first: u32, encode: &impl Fn(DVec3) -> P, out: &mut [P]) -> u64 {
+    fn rows<P: Clone>(
+        &self,
+        seen: &[Option<SceneHit>],
+        first: u32,
+        encode: &impl Fn(DVec3) -> P,
+        out: &mut [P],
+    ) -> u64 {
         let Shader { scene, samples, shading, .. } = *self;
+        let missed = encode(self.missed);
         let (width, spp) = (samples.width, samples.spp);
         let columns = samples.columns() as usize;
         let mut rays = 0;
@@ -335,7 +342,7 @@ impl<'a> Shader<'a> {
                         };
                     }
                 }
-                *pixel = encode(if hit { resolve(sum, spp * spp, self.scale) } else { self.missed });
+                *pixel = if hit { encode(resolve(sum, spp * spp, self.scale)) } else { missed.clone() };
             }
             self.progress.advance(1);
         }

@@ -53,6 +53,10 @@ fn specular(m: &Material, n: DVec3, l: DVec3, v: DVec3, cos_alpha: f64) -> f64 {
     }
     let r = n * (2.0 * cos_alpha) - l;
     let cos_theta = r.dot(v).max(0.0);
+    if cos_theta == 0.0 && m.shininess > 0.0 {
+        // `0^n` is `+0` for every `n > 0`: the same bits without `powf`.
+        return m.ks * 0.0;
+    }
     m.ks * cos_theta.powf(m.shininess)
 }
 
