@@ -2,13 +2,16 @@
 //! (BENCHMARKS.md, "Incoherent rays"): `walk_one MODEL DEPTH KIND N` with KIND one of
 //! `primary` (512x512 camera rays at the framed model), `packet` (the same in 8x8
 //! packets), `shadow` (N shadow rays from primary hits to a light), `random` (N random
-//! rays, the harness's set). Prints the hit count, and on stderr the best CPU time a
-//! ray over `REPEAT` runs (default 1). Under callgrind, collect only the tracing:
+//! rays, the harness's set), `display` (the primary rays answered by the front-to-back
+//! display, a frustum walk for the rays of one eye, checked hit for hit against the
+//! walk). `SIZE` (default 512) sets the primary rays' image edge. Prints the hit count,
+//! and on stderr the best CPU time a ray over `REPEAT` runs (default 1); for `display`
+//! also the best wall time a ray on 2 threads. Under callgrind, collect only the tracing:
 //! `valgrind --tool=callgrind --branch-sim=yes --toggle-collect='walk_one::trace*'`.
 use glam::DVec3;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
-use octsolid::render::{Camera, PACKET, TILE, Traversal};
+use octsolid::render::{Camera, Method, PACKET, SampleGrid, Scene, TILE, Traversal, visibility_into};
 use octsolid::{MemoryBudget, Ray, RayCast};
 use octsolid_harness::rays::random_rays;
 
@@ -45,7 +48,7 @@ fn main() {
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     let (tree, _) = voxelize_mesh(&mesh, Domain::around(&bounds, 0.02, depth).unwrap(), &options).unwrap();
     let t = Traversal::new(&tree);
-    let size = 512u32;
+    let size: u32 = std::env::var("SIZE").map_or(512, |v| v.parse().unwrap());
     let camera = Camera::look_at(DVec3::new(8.0, 9.0, 22.0), bounds.center(), DVec3::Y, 30.0);
     let primary: Vec<Ray> = (0..size * size)
         .map(|i| {
@@ -71,6 +74,10 @@ fn main() {
         _ => random_rays(&bounds, n, 1).rays,
     };
     let repeat: usize = std::env::var("REPEAT").map_or(1, |v| v.parse().unwrap());
+    if kind == "display" {
+        display(tree, &t, &camera, &primary_all, size, repeat);
+        return;
+    }
     let mut best = f64::INFINITY;
     let mut hits = 0;
     for _ in 0..repeat {
@@ -94,4 +101,48 @@ fn main() {
     let count = if kind == "packet" { primary_all.len() } else { rays.len() };
     eprintln!("{kind}: {:.1} ns/ray (best of {repeat})", best * 1e9 / count as f64);
     println!("{kind}: {hits} of {}", rays.len());
+}
+
+/// The primary rays of `camera` (`primary`, row by row) answered by the front-to-back
+/// display: every hit checked against the walk's, then the best thread CPU time a ray
+/// on a pool of 1 thread and the best wall time a ray on 2 threads over `repeat` frames.
+fn display(
+    tree: octsolid::octree::LinearOctree,
+    t: &Traversal,
+    camera: &Camera,
+    primary: &[Ray],
+    size: u32,
+    repeat: usize,
+) {
+    let scene = Scene::from_solid(tree);
+    let samples = SampleGrid { width: size, height: size, spp: 1 };
+    let mut seen = Vec::new();
+    visibility_into(&scene, camera, &samples, Method::FrontToBack, &mut seen);
+    for (i, (ray, sample)) in primary.iter().zip(&seen).enumerate() {
+        assert_eq!(sample.map(|s| s.hit), t.hit(ray), "ray {i}: the display and the walk differ");
+    }
+    let hits = seen.iter().filter(|s| s.is_some()).count();
+    let pool = |n| rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
+    let (one, two) = (pool(1), pool(2));
+    let mut cpu = f64::INFINITY;
+    let mut wall = f64::INFINITY;
+    for _ in 0..repeat {
+        cpu = cpu.min(one.install(|| {
+            let start = cpu_ns();
+            visibility_into(&scene, camera, &samples, Method::FrontToBack, &mut seen);
+            (cpu_ns() - start) as f64 * 1e-9
+        }));
+        wall = wall.min(two.install(|| {
+            let start = std::time::Instant::now();
+            visibility_into(&scene, camera, &samples, Method::FrontToBack, &mut seen);
+            start.elapsed().as_secs_f64()
+        }));
+    }
+    let n = primary.len() as f64;
+    eprintln!(
+        "display: {:.1} ns/ray on 1 thread (CPU), {:.1} ns/ray on 2 threads (wall), best of {repeat}",
+        cpu * 1e9 / n,
+        wall * 1e9 / n
+    );
+    println!("display: {hits} of {} (every hit the walk's)", primary.len());
 }
