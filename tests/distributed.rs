@@ -8,8 +8,12 @@
 //! says so and passes, unless `OCTSOLID_REQUIRE_RAY=1` (set by `.ci/run`) makes a
 //! missing Ray a failure.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+use common::folder_files;
 
 /// The repository's top folder (this test belongs to the cli package in `cli/`).
 fn repo() -> PathBuf {
@@ -56,19 +60,6 @@ fn jobs() -> Vec<Vec<String>> {
 }
 
 const OUTPUTS: [&str; 4] = ["part.octs", "bunny.octs", "ball.octs", "carved.octs"];
-
-/// Every file of a folder, by name, with its bytes.
-fn folder_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| {
-            let e = e.unwrap();
-            (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap())
-        })
-        .collect();
-    files.sort();
-    files
-}
 
 /// The driver script over `jobs` in `dir`.
 fn driver(python: &Path, dir: &Path, options: &[&str], jobs: &[Vec<String>], env: &[(&str, &Path)]) -> Output {

@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{Rng, random_octree};
+use common::{Rng, folder_files, random_octree};
 use glam::DVec3;
 use octsolid::io::oct::{self, Metadata};
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
@@ -55,19 +55,6 @@ fn shapes_voxelized_cell_by_cell_are_the_single_file_solid_bit_for_bit_at_every_
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// Every file of a folder, by name, with its bytes.
-fn folder_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| {
-            let e = e.unwrap();
-            (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap())
-        })
-        .collect();
-    files.sort();
-    files
 }
 
 #[test]

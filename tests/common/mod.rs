@@ -1,4 +1,4 @@
-//! Generators shared by the test suites: a seeded generator and random solids.
+//! Shared by the test suites: a seeded generator, random solids, a folder's files.
 #![allow(dead_code)]
 
 use glam::DVec3;
@@ -91,4 +91,17 @@ impl octsolid::Progress for Recorder {
     fn finish(&self) {
         self.finishes.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
     }
+}
+
+/// Every file of a folder, by name, with its bytes.
+pub fn folder_files(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| {
+            let e = e.unwrap();
+            (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap())
+        })
+        .collect();
+    files.sort();
+    files
 }
