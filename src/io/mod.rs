@@ -9,6 +9,7 @@ pub mod binvox;
 mod bitgrid;
 mod blosc;
 pub mod exr;
+pub(crate) mod fields;
 pub mod gltf;
 pub mod oct;
 mod picture;

@@ -54,6 +54,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::blosc;
+use super::fields::Fields;
 use super::solid_set::{ColouredSolid, ReadOptions, Solids};
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
@@ -372,52 +373,7 @@ enum ValueType {
     Bool,
 }
 
-/// Reads fields at a byte offset, naming the file and the offset in errors.
-struct Reader<'a> {
-    bytes: &'a [u8],
-    pos: usize,
-    path: &'a Path,
-}
-
-impl<'a> Reader<'a> {
-    fn err(&self, at: usize, reason: impl Into<String>) -> Error {
-        Error::Format { path: self.path.to_path_buf(), offset: at as u64, reason: reason.into() }
-    }
-
-    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8]> {
-        if n > self.bytes.len() - self.pos {
-            return Err(
-                self.err(self.pos, format!("truncated: {what} needs {n} bytes, {} left", self.bytes.len() - self.pos))
-            );
-        }
-        let s = &self.bytes[self.pos..self.pos + n];
-        self.pos += n;
-        Ok(s)
-    }
-
-    fn array<const N: usize>(&mut self, what: &str) -> Result<[u8; N]> {
-        Ok(self.take(N, what)?.try_into().expect("N bytes"))
-    }
-
-    fn u32(&mut self, what: &str) -> Result<u32> {
-        Ok(u32::from_le_bytes(self.array(what)?))
-    }
-
-    fn i64(&mut self, what: &str) -> Result<i64> {
-        Ok(i64::from_le_bytes(self.array(what)?))
-    }
-
-    fn f64(&mut self, what: &str) -> Result<f64> {
-        Ok(f64::from_le_bytes(self.array(what)?))
-    }
-
-    fn string(&mut self, what: &str) -> Result<String> {
-        let n = self.u32(what)? as usize;
-        let at = self.pos;
-        let s = self.take(n, what)?;
-        String::from_utf8(s.to_vec()).map_err(|_| self.err(at, format!("{what} is not UTF-8")))
-    }
-
+impl<'a> Fields<'a> {
     fn coord(&mut self, what: &str) -> Result<[i64; 3]> {
         let b: [u8; 12] = self.array(what)?;
         Ok([0, 4, 8].map(|o| i64::from(i32::from_le_bytes(b[o..o + 4].try_into().expect("4 bytes")))))
@@ -428,16 +384,12 @@ impl<'a> Reader<'a> {
         Ok(Mask(b.chunks_exact(8).map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes"))).collect()))
     }
 
-    fn vec3d(&mut self, what: &str) -> Result<DVec3> {
-        Ok(DVec3::new(self.f64(what)?, self.f64(what)?, self.f64(what)?))
-    }
-
     /// A metadata map: name, type and value of each entry (values as raw bytes).
     fn meta_map(&mut self, what: &str) -> Result<Vec<(String, String, &'a [u8])>> {
         let at = self.pos;
         let n = self.u32(what)?;
         // Each entry takes at least 12 bytes.
-        if u64::from(n) * 12 > (self.bytes.len() - self.pos) as u64 {
+        if u64::from(n) * 12 > self.left() as u64 {
             return Err(self.err(at, format!("{what}: {n} entries cannot fit in the file")));
         }
         (0..n)
@@ -524,7 +476,7 @@ fn half_to_f32(h: u16) -> f32 {
     }
 }
 
-impl Reader<'_> {
+impl Fields<'_> {
     /// OpenVDB's `readData`: `count` values of `size` bytes, raw, zlib or Blosc.
     fn data(&mut self, grid: &Grid, count: usize, size: usize) -> Result<Vec<u8>> {
         let len = count * size;
@@ -607,7 +559,7 @@ pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
 
 /// Parses a whole `.vdb` file; `path` names it in errors.
 pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids> {
-    let mut r = Reader { bytes, pos: 0, path };
+    let mut r = Fields::new(path, bytes, 0);
     // Step 1: header and file metadata.
     let magic = r.i64("magic")?;
     if magic as u64 != MAGIC {
@@ -679,7 +631,7 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
     ))
 }
 
-fn read_grid(r: &mut Reader<'_>, name: String, value: ValueType, half: bool, options: &ReadOptions) -> Result<Solids> {
+fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, options: &ReadOptions) -> Result<Solids> {
     // Step 3: compression, metadata, transform.
     let at = r.pos;
     let compression = r.u32("compression flags")?;
@@ -723,7 +675,7 @@ fn read_grid(r: &mut Reader<'_>, name: String, value: ValueType, half: bool, opt
     }
     let at = r.pos;
     let (tiles, children) = (r.u32("tile count")? as u64, r.u32("child count")? as u64);
-    let left = (r.bytes.len() - r.pos) as u64;
+    let left = r.left() as u64;
     if tiles * (13 + vs as u64) + children * (12 + 8192) > left {
         return Err(r.err(at, format!("{tiles} tiles and {children} children cannot fit in the {left} bytes left")));
     }
@@ -785,7 +737,7 @@ fn child_origin(origin: [i64; 3], i: usize, log2: u32, child_log2: u32) -> [i64;
     [0, 1, 2].map(|a| origin[a] + ((c[a] as i64) << child_log2))
 }
 
-fn read_upper(r: &mut Reader<'_>, grid: &Grid, origin: [i64; 3]) -> Result<ReadUpper> {
+fn read_upper(r: &mut Fields<'_>, grid: &Grid, origin: [i64; 3]) -> Result<ReadUpper> {
     let n = 1 << (3 * UPPER_LOG2);
     let child = r.mask(n, "upper child mask")?;
     let value = r.mask(n, "upper value mask")?;
@@ -809,7 +761,7 @@ fn read_upper(r: &mut Reader<'_>, grid: &Grid, origin: [i64; 3]) -> Result<ReadU
 
 /// A leaf's buffer: its value mask and values (bools: its origin and a value mask).
 fn read_leaf_buffer(
-    r: &mut Reader<'_>,
+    r: &mut Fields<'_>,
     grid: &Grid,
     origin: [i64; 3],
     blocks: &mut Vec<([i64; 3], i64)>,
@@ -836,22 +788,22 @@ fn read_leaf_buffer(
     Ok(())
 }
 
-fn read_transform(r: &mut Reader<'_>, grid: &mut Grid) -> Result<()> {
+fn read_transform(r: &mut Fields<'_>, grid: &mut Grid) -> Result<()> {
     let at = r.pos;
     let kind = r.string("transform type")?;
     let (scale, t) = match kind.as_str() {
         "UniformScaleMap" | "ScaleMap" => {
-            let s = r.vec3d("scale")?;
-            (0..4).try_for_each(|_| r.vec3d("scale terms").map(drop))?;
+            let s = r.vec3("scale")?;
+            (0..4).try_for_each(|_| r.vec3("scale terms").map(drop))?;
             (s, DVec3::ZERO)
         }
         "UniformScaleTranslateMap" | "ScaleTranslateMap" => {
-            let t = r.vec3d("translation")?;
-            let s = r.vec3d("scale")?;
-            (0..4).try_for_each(|_| r.vec3d("scale terms").map(drop))?;
+            let t = r.vec3("translation")?;
+            let s = r.vec3("scale")?;
+            (0..4).try_for_each(|_| r.vec3("scale terms").map(drop))?;
             (s, t)
         }
-        "TranslationMap" => (DVec3::ONE, r.vec3d("translation")?),
+        "TranslationMap" => (DVec3::ONE, r.vec3("translation")?),
         "AffineMap" | "UnitaryMap" => {
             let m: Vec<f64> = (0..16).map(|_| r.f64("matrix")).collect::<Result<_>>()?;
             let off_diagonal = [1, 2, 4, 6, 8, 9, 3, 7, 11].iter().any(|&i| m[i] != 0.0);
@@ -878,7 +830,7 @@ fn parse_domain(value: &str) -> Option<Domain> {
 }
 
 /// The domain and the solid from the inside blocks (module doc, "Reading").
-fn build_solids(grid: Grid, blocks: Vec<([i64; 3], i64)>, options: &ReadOptions, r: &Reader<'_>) -> Result<Solids> {
+fn build_solids(grid: Grid, blocks: Vec<([i64; 3], i64)>, options: &ReadOptions, r: &Fields<'_>) -> Result<Solids> {
     let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
     let mut align = 1;
     for (o, s) in &blocks {

@@ -22,12 +22,11 @@
 use std::io::Write;
 use std::path::Path;
 
-use glam::DVec3;
-
 use super::patches::{self, Patches};
 use super::{Radiosity, RadiosityStats, fingerprint};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
+use crate::io::fields::Fields;
 use crate::io::write_atomic;
 use crate::render::scene::Scene;
 
@@ -72,44 +71,6 @@ pub(super) fn save(r: &Radiosity, path: &Path) -> Result<u64> {
     write_atomic(path, |out: &mut dyn Write| out.write_all(&bytes))
 }
 
-/// A reader of a file's bytes that names the file and offset in its errors.
-struct Reader<'a> {
-    path: &'a Path,
-    bytes: &'a [u8],
-    at: usize,
-}
-
-impl Reader<'_> {
-    fn error(&self, offset: usize, reason: impl Into<String>) -> Error {
-        Error::Format { path: self.path.to_path_buf(), offset: offset as u64, reason: reason.into() }
-    }
-
-    fn take<const N: usize>(&mut self, what: &str) -> Result<[u8; N]> {
-        let b = self
-            .bytes
-            .get(self.at..self.at + N)
-            .ok_or_else(|| self.error(self.at, format!("the file ends inside the {what}")))?;
-        self.at += N;
-        Ok(b.try_into().expect("N bytes"))
-    }
-
-    fn u32(&mut self, what: &str) -> Result<u32> {
-        self.take::<4>(what).map(u32::from_le_bytes)
-    }
-
-    fn u64(&mut self, what: &str) -> Result<u64> {
-        self.take::<8>(what).map(u64::from_le_bytes)
-    }
-
-    fn f64(&mut self, what: &str) -> Result<f64> {
-        self.take::<8>(what).map(f64::from_le_bytes)
-    }
-
-    fn vec3(&mut self, what: &str) -> Result<DVec3> {
-        Ok(DVec3::new(self.f64(what)?, self.f64(what)?, self.f64(what)?))
-    }
-}
-
 /// Reads the header (at most `HEADER` bytes, and the split count of version 2) of the
 /// file.
 fn read_head(path: &Path) -> Result<(Vec<u8>, u64)> {
@@ -125,18 +86,18 @@ fn read_head(path: &Path) -> Result<(Vec<u8>, u64)> {
 /// Reads `path` for `scene` (see the module doc).
 pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<Radiosity> {
     let (head, len) = read_head(path)?;
-    let mut r = Reader { path, bytes: &head, at: 0 };
-    if r.take::<8>("magic").ok().as_ref() != Some(MAGIC) {
-        return Err(r.error(0, "not a radiosity solution (.rad): the magic bytes differ"));
+    let mut r = Fields::new(path, &head, 0);
+    if r.array::<8>("magic").ok().as_ref() != Some(MAGIC) {
+        return Err(r.err(0, "not a radiosity solution (.rad): the magic bytes differ"));
     }
     let version = r.u32("version")?;
     if !(1..=VERSION).contains(&version) {
-        return Err(r.error(8, format!("format version {version}, this build reads versions 1 to {VERSION}")));
+        return Err(r.err(8, format!("format version {version}, this build reads versions 1 to {VERSION}")));
     }
     let stored = r.u64("scene fingerprint")?;
     let own = fingerprint(scene);
     if stored != own {
-        return Err(r.error(
+        return Err(r.err(
             12,
             format!(
                 "the solution belongs to another scene (fingerprint {stored:016x}, this scene's is {own:016x}: \
@@ -147,7 +108,7 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     let patch_size = r.f64("patch size")?;
     let elements = r.u32("elements a side")?;
     if !(patch_size.is_finite() && patch_size > 0.0 && (1..=64).contains(&elements)) {
-        return Err(r.error(20, format!("invalid settings: patch size {patch_size}, {elements} elements a side")));
+        return Err(r.err(20, format!("invalid settings: patch size {patch_size}, {elements} elements a side")));
     }
     let patches = r.u64("patch count")?;
     let element_count = r.u64("element count")?;
@@ -155,14 +116,14 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     let unshot_fraction = r.f64("unshot fraction")?;
     let ambient = r.vec3("ambient term")?;
     if !(ambient.is_finite() && ambient.min_element() >= 0.0) {
-        return Err(r.error(r.at - 24, format!("ambient term {ambient} is not finite and non-negative")));
+        return Err(r.err(r.pos - 24, format!("ambient term {ambient} is not finite and non-negative")));
     }
     let split_count = if version == 2 { r.u64("split count")? } else { 0 };
     let mut mesh = Patches::build(scene, patch_size, elements, budget)?;
     let counts =
         (mesh.patches.len() as u64, (mesh.elements.len() as u64).saturating_add(split_count.saturating_mul(4)));
     if (patches, element_count) != counts {
-        return Err(r.error(
+        return Err(r.err(
             32,
             format!(
                 "{patches} patches of {element_count} elements ({split_count} split), but the scene has {} of {} \
@@ -182,36 +143,36 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     let values_at = splits_at + split_count as usize * 4;
     let want = (values_at + element_count as usize * 24 + 4) as u64;
     if len != want {
-        return Err(r.error(
+        return Err(r.err(
             len.min(want) as usize,
             format!("the file has {len} bytes, {want} expected for {element_count} elements (truncated or damaged)"),
         ));
     }
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     if bytes.len() as u64 != want {
-        return Err(r.error(0, "the file changed while it was read"));
+        return Err(r.err(0, "the file changed while it was read"));
     }
     let body = bytes.len() - 4;
     let stored_crc = u32::from_le_bytes(bytes[body..].try_into().expect("4 bytes"));
     let crc = crc32fast::hash(&bytes[..body]);
     if crc != stored_crc {
-        return Err(r.error(body, format!("checksum mismatch (stored {stored_crc:08x}, computed {crc:08x}): damaged")));
+        return Err(r.err(body, format!("checksum mismatch (stored {stored_crc:08x}, computed {crc:08x}): damaged")));
     }
-    let mut r = Reader { path, bytes: &bytes, at: splits_at };
+    let mut r = Fields::new(path, &bytes, splits_at);
     for _ in 0..split_count {
-        let at = r.at;
+        let at = r.pos;
         let e = r.u32("splits")? as usize;
         if e >= mesh.elements.len() || !mesh.can_split(e) {
-            return Err(r.error(at, format!("element {e} cannot be split here (no such leaf, or too small)")));
+            return Err(r.err(at, format!("element {e} cannot be split here (no such leaf, or too small)")));
         }
         mesh.split(scene, e);
     }
     let mut radiosity = Vec::with_capacity(mesh.elements.len());
     for _ in 0..mesh.elements.len() {
-        let at = r.at;
+        let at = r.pos;
         let v = r.vec3("radiosities")?;
         if !(v.is_finite() && v.min_element() >= 0.0) {
-            return Err(r.error(at, format!("radiosity {v} is not finite and non-negative")));
+            return Err(r.err(at, format!("radiosity {v} is not finite and non-negative")));
         }
         radiosity.push(v);
     }
