@@ -3,7 +3,8 @@
 //!
 //! A face covers a sample when the sample's ray crosses the face's plane at the time
 //! `t = (plane - o) * (1 / d)` (the ray walk's formula, voxel units), `t > 0`, moving
-//! inwards, and is inside the face there by the walk's half-open rule; the hit is then
+//! inwards, and is inside the face there as the walk decides it (by the times of the
+//! face's edge planes, not by the position at `t`: see `within`); the hit is then
 //! [`VoxelRay::entry`], as in the walk, so every method gives the walk's bits.
 
 use glam::DVec3;
@@ -92,12 +93,30 @@ impl Face {
             return None;
         }
         for b in (0..3).filter(|&b| b != axis) {
-            let q = ray.o[b] + ray.d[b] * t;
-            let inside = if ray.d[b] < 0.0 { q > lo[b] && q <= hi[b] } else { q >= lo[b] && q < hi[b] };
-            if !inside {
+            if !within(ray, b, lo[b], hi[b], t) {
                 return None;
             }
         }
         Some(ray.entry(&Entry { min: self.min, size: self.size, t, face: Some(axis) }))
     }
+}
+
+/// Whether the ray is between the planes `lo` and `hi` of axis `b` at time `t` as the
+/// walk places it: past a plane once its time `(plane - o) * inv` is at or before `t`,
+/// so inside `[lo, hi)` moving up (`(lo, hi]` moving down) from the time it crosses
+/// the plane it enters by until the time it crosses the other. Comparing times, not
+/// the position `o + d t`, is what makes a ray through an edge or corner enter the
+/// node the walk enters: the two are roundings of the same geometry that can fall on
+/// either side of a plane crossed at `t`. A ray parallel to the axis (or with a
+/// subnormal direction, whose reciprocal is infinite) is placed by its origin, moved
+/// off the lattice as the walk moves it (`walk::off_lattice`): inside `[lo, hi)` when
+/// parallel, `(lo, hi]` when subnormal.
+#[inline]
+fn within(ray: &VoxelRay, b: usize, lo: f64, hi: f64, t: f64) -> bool {
+    let (o, d, inv) = (ray.o[b], ray.d[b], ray.inv[b]);
+    if !inv.is_finite() {
+        return if d == 0.0 { o >= lo && o < hi } else { o > lo && o <= hi };
+    }
+    let (t_lo, t_hi) = ((lo - o) * inv, (hi - o) * inv);
+    if d > 0.0 { t_lo <= t && t < t_hi } else { t_hi <= t && t < t_lo }
 }
