@@ -67,7 +67,8 @@ pub struct RenderOptions {
     pub normals: Normals,
     /// Longest chain of reflected and refracted rays (0: local shading only).
     pub max_depth: u32,
-    /// How primary visibility is decided.
+    /// How primary visibility is decided (default [`Method::FrontToBack`]: every
+    /// method finds the same hits, and the display finds a whole image's fastest).
     pub method: Method,
     /// Refuse a picture whose sample buffers would exceed this, before allocating.
     pub budget: MemoryBudget,
@@ -87,7 +88,7 @@ impl Default for RenderOptions {
             shadows: true,
             normals: Normals::default(),
             max_depth: ShadeOptions::default().max_depth,
-            method: Method::Trace,
+            method: Method::FrontToBack,
             budget: MemoryBudget::default(),
             exposure: 0.0,
         }

@@ -82,13 +82,17 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
     let (picture, stats) = octsolid::render::render_picture(scene, camera, options, &bar)?;
     let seconds = started.elapsed().as_secs_f64();
     let secondary = stats.secondary_rays;
+    // Every sample is a primary ray: walked, or answered by the front-to-back display.
+    let rays = stats.samples + secondary;
+    let rate = rays as f64 / seconds / 1e6;
     let visibility = match options.method {
-        // Every sample is a primary ray.
         octsolid::render::Method::Trace => {
-            let rays = stats.samples + secondary;
-            let rate = rays as f64 / seconds / 1e6;
             format!("{rays} rays: {} primary, {secondary} secondary and shadow; {rate:.2} M rays/s", stats.samples)
         }
+        octsolid::render::Method::FrontToBack => format!(
+            "{rays} rays: {} primary ({} faces drawn), {secondary} secondary and shadow; {rate:.2} M rays/s",
+            stats.samples, stats.faces_drawn
+        ),
         _ => format!("{} faces drawn, {secondary} secondary and shadow rays", stats.faces_drawn),
     };
     let sampling = match options.aa {

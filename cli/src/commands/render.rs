@@ -53,8 +53,9 @@ pub struct RenderArgs {
     /// Samples a pixel side: N x N stratified samples (default: the scene's, or 2).
     #[arg(long)]
     pub spp: Option<u32>,
-    /// How primary visibility is decided.
-    #[arg(long, default_value = "trace")]
+    /// How primary visibility is decided (every method finds the same hits; the
+    /// front-to-back display finds a whole image's fastest).
+    #[arg(long, default_value = "front-to-back")]
     pub method: Method,
     /// Depth to voxelize a mesh at (default 9; not for solid files or scenes).
     #[arg(long)]
