@@ -9,39 +9,19 @@
 //! scene and builds every structure once, about a minute). At depth 12 only the octree
 //! runs: its boundary meshes exceed the matrix's 4 million triangle limit for BVHs.
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+#[path = "common/contender.rs"]
+mod common_contender;
+
+use common_contender::contender;
+use criterion::{Criterion, criterion_group, criterion_main};
 use octsolid::MemoryBudget;
 use octsolid::mesh::{BoundaryOptions, TriangleMesh, boundary_mesh};
 use octsolid::render::Traversal;
 use octsolid_harness::rays::{light_position, primary_rays, random_rays, shadow_rays};
-use octsolid_harness::{BvhCrateBvh, Contender, ObvhsBvh, RaySet, SceneKind, build_scene};
+use octsolid_harness::{BvhCrateBvh, ObvhsBvh, SceneKind, build_scene};
 
 const IMAGE: u32 = 256;
 const RANDOM: usize = 1 << 16;
-
-/// Build and trace benchmarks of contender `C`.
-fn contender<C: Contender>(
-    c: &mut Criterion,
-    id: &str,
-    input: &C::Input,
-    rays: &[RaySet],
-    pools: &[rayon::ThreadPool],
-) {
-    let mut group = c.benchmark_group("bvh");
-    group.sample_size(10);
-    group.bench_function(BenchmarkId::new(id, "build"), |b| {
-        b.iter(|| pools[pools.len() - 1].install(|| C::build(input)))
-    });
-    let structure = pools[pools.len() - 1].install(|| C::build(input));
-    for set in rays {
-        group.throughput(Throughput::Elements(set.rays.len() as u64));
-        for pool in pools {
-            let name = format!("{}_{}t", set.kind.name(), pool.current_num_threads());
-            group.bench_function(BenchmarkId::new(id, name), |b| b.iter(|| pool.install(|| structure.trace(set))));
-        }
-    }
-    group.finish();
-}
 
 fn bench(c: &mut Criterion) {
     let all = std::thread::available_parallelism().map_or(1, usize::from);

@@ -11,7 +11,11 @@
 //! `... -- 'bunny_d10/.*/primary'`. Depth 12 is left out, as in `benches/bvh.rs` for
 //! every BVH (its boundary meshes exceed the matrix's 4 million triangle limit).
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+#[path = "common/contender.rs"]
+mod common_contender;
+
+use common_contender::contender;
+use criterion::{Criterion, criterion_group, criterion_main};
 use octsolid::MemoryBudget;
 use octsolid::mesh::{BoundaryOptions, TriangleMesh, boundary_mesh};
 use octsolid::render::Traversal;
@@ -20,30 +24,6 @@ use octsolid_harness::{Contender, EmbreeBvh, EmbreePackets, RaySet, SceneKind, b
 
 const IMAGE: u32 = 256;
 const RANDOM: usize = 1 << 16;
-
-/// Build and trace benchmarks of contender `C` (as in `benches/bvh.rs`).
-fn contender<C: Contender>(
-    c: &mut Criterion,
-    id: &str,
-    input: &C::Input,
-    rays: &[RaySet],
-    pools: &[rayon::ThreadPool],
-) {
-    let mut group = c.benchmark_group("bvh");
-    group.sample_size(10);
-    group.bench_function(BenchmarkId::new(id, "build"), |b| {
-        b.iter(|| pools[pools.len() - 1].install(|| C::build(input)))
-    });
-    let structure = pools[pools.len() - 1].install(|| C::build(input));
-    for set in rays {
-        group.throughput(Throughput::Elements(set.rays.len() as u64));
-        for pool in pools {
-            let name = format!("{}_{}t", set.kind.name(), pool.current_num_threads());
-            group.bench_function(BenchmarkId::new(id, name), |b| b.iter(|| pool.install(|| structure.trace(set))));
-        }
-    }
-    group.finish();
-}
 
 /// Both of Embree's contenders over `mesh`.
 fn embree(
