@@ -137,7 +137,7 @@ impl LinearOctree {
         let domain = *self.domain();
         let full = LinearOctree::full(domain);
         let runs = sweep(full.runs(), self.runs(), SetOp::Difference, 0, domain.voxel_total());
-        LinearOctree::from_canonical(domain, ranges::cut_runs(runs, u32::from(domain.depth())))
+        LinearOctree::from_canonical(domain, ranges::cut_runs(runs))
     }
 }
 

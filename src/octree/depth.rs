@@ -70,6 +70,6 @@ impl LinearOctree {
             }
         }
         flush(&mut pending, &mut runs);
-        Ok(LinearOctree::from_canonical(domain, ranges::cut_runs(runs, u32::from(depth))))
+        Ok(LinearOctree::from_canonical(domain, ranges::cut_runs(runs)))
     }
 }

@@ -180,7 +180,7 @@ impl Cells {
                 _ => runs.push((start, end)),
             }
         }
-        ranges::cut_runs(runs, u32::from(depth))
+        ranges::cut_runs(runs)
     }
 
     /// The key of cell `index` in a domain of depth `depth`.

@@ -78,7 +78,7 @@ impl LinearOctree {
 
     /// Canonical octree from runs sorted by start (they may overlap or touch).
     pub(crate) fn from_sorted_runs(domain: Domain, runs: impl IntoIterator<Item = (u64, u64)>) -> Self {
-        Self::from_canonical(domain, ranges::cut_runs(runs, u32::from(domain.depth())))
+        Self::from_canonical(domain, ranges::cut_runs(runs))
     }
 
     /// Wraps keys already known to be canonical (debug builds check), trimming spare capacity.

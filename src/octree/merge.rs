@@ -13,23 +13,22 @@
 //! - symmetric difference: in an odd number (what the pairwise fold `a ^ b ^ c` gives).
 //!
 //! The next boundary comes from a binary heap of the operands' next boundaries,
-//! `O(log k)` a boundary. Two operands take the textbook interval merges instead: a
-//! union is the runs of both merged by start (overlapping or touching runs cut as one),
-//! an intersection the overlaps of two pointers, a difference each run with the
-//! other's runs cut out; a symmetric difference [`super::csg`]'s two-cursor sweep. A
-//! union's or difference's run that comes out as it went in (no run of the other
-//! operand meets it) is copied key for key instead of cut again: the greedy cut of a
-//! maximal run is the canonical list's own keys for it. Time
-//! `O(n log k + output)` for `n` input nodes.
+//! `O(log k)` a boundary. Two operands take specialized merges instead: a union or a
+//! difference [`super::two_way`]'s stretches of keys (runs the other operand leaves
+//! alone are copied as they are, only where the runs meet is a run cut), an
+//! intersection the overlaps of two pointers, a symmetric difference [`super::csg`]'s
+//! two-cursor sweep. Time `O(n log k + output)` for `n` input nodes.
 //!
-//! **Parallelism.** The Morton range `[0, 8^depth)` is cut into chunks at key starts of
-//! the largest operand (equal shares of its keys, several a thread), each chunk is
-//! swept and cut on its own (rayon), and the chunks' node lists are joined in order.
-//! A run of the result that crosses a chunk boundary comes out cut in two, which may
-//! not be canonical (two halves of a node), so at each join the maximal run across
-//! the boundary (the contiguous keys before and after it) is cut again. The canonical
-//! form of a voxel set is unique, so the result is bit-identical to the pairwise fold
-//! and to one sequential sweep, on any number of threads.
+//! **Parallelism.** The Morton range `[0, 8^depth)` is cut into chunks at equal shares
+//! of the largest operand's keys (several a thread), and at the start and the end of
+//! any key that holds such a cut inside it. So in each chunk an operand either has its
+//! keys inside the chunk, a slice of its list that the merge takes as it is (an
+//! operand's keys up to a boundary are the canonical keys of its part there), or one
+//! key that holds the whole chunk, whose part in the chunk is cut to stand for it. The
+//! chunks merge on their own (rayon) into plans, which [`plan::assemble`] writes into
+//! the result in place, cutting again each run of the result that crosses a boundary.
+//! The canonical form of a voxel set is unique, so the result is bit-identical to the
+//! pairwise fold and to one sequential sweep, on any number of threads.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -39,7 +38,9 @@ use rayon::prelude::*;
 use super::csg::{SetOp, sweep};
 use super::linear::LinearOctree;
 use super::node::NodeKey;
-use super::ranges::{self, Runs};
+use super::plan::{self, Plan};
+use super::ranges::{self, Emit, Runs};
+use super::two_way;
 use crate::error::{Error, Result};
 
 /// Input nodes below which a merge runs as one sweep (threads would cost more).
@@ -62,68 +63,98 @@ impl LinearOctree {
             return Ok((*first).clone());
         }
         let keys: Vec<&[NodeKey]> = operands.iter().map(|t| t.keys()).collect();
-        let max_k = u32::from(domain.depth());
-        let chunks = chunk_bounds(&keys, domain.voxel_total());
-        let parts: Vec<Vec<NodeKey>> = chunks
-            .par_windows(2)
-            .map(|w| {
-                let (lo, hi) = (w[0], w[1]);
-                let clipped: Vec<&[NodeKey]> = keys.iter().map(|k| overlapping(k, lo, hi)).collect();
-                cut_chunk(&clipped, op, lo, hi, max_k)
-            })
-            .collect();
-        Ok(LinearOctree::from_canonical(domain, join(parts, max_k)))
+        let bounds = chunk_bounds(&keys, domain.voxel_total());
+        Ok(LinearOctree::from_canonical(domain, merge_chunks(&keys, op, &bounds)))
     }
 }
 
-/// Chunk boundaries `0 = b0 < b1 < ... = total`: equal shares of the largest operand's
-/// keys, one chunk when the inputs are small or there is one thread.
+/// `op` over the operands' keys, each chunk between consecutive `bounds` (see
+/// [`chunk_bounds`]) on its own: one chunk straight into the result, more in parallel
+/// as plans written in place by [`plan::assemble`].
+fn merge_chunks(keys: &[&[NodeKey]], op: SetOp, bounds: &[u64]) -> Vec<NodeKey> {
+    if let [lo, hi] = *bounds {
+        // About as many nodes out as in: reserved once (pages are only touched as written).
+        let mut out = Vec::with_capacity(keys.iter().map(|k| k.len()).sum());
+        merge_range(keys, op, lo, hi, &mut out);
+        return out;
+    }
+    let plans: Vec<Plan> = bounds.par_windows(2).map(|w| plan_chunk(keys, op, w[0], w[1])).collect();
+    plan::assemble(&plans)
+}
+
+/// The plan of `op` in the chunk `[lo, hi)`. An operand's keys there are the slice of
+/// its keys that start in it, unless one of its keys holds more than the chunk: then
+/// the chunk's part of that key, cut, stands for it, and the chunk's keys go into the
+/// plan's own list (a copy, for the chunks inside a large key).
+fn plan_chunk<'a>(keys: &[&'a [NodeKey]], op: SetOp, lo: u64, hi: u64) -> Plan<'a> {
+    let holds_more = |k: &[NodeKey]| holding(k, lo).is_some_and(|key| key.start() < lo || key.end() > hi);
+    if keys.iter().any(|k| holds_more(k)) {
+        let mut part = Vec::new();
+        ranges::cut_run(lo, hi, &mut part);
+        let parts: Vec<&[NodeKey]> =
+            keys.iter().map(|&k| if holds_more(k) { &part[..] } else { starting_in(k, lo, hi) }).collect();
+        let mut own = Vec::new();
+        merge_range(&parts, op, lo, hi, &mut own);
+        return Plan::owning(own);
+    }
+    let parts: Vec<&[NodeKey]> = keys.iter().map(|k| starting_in(k, lo, hi)).collect();
+    let mut plan = Plan::default();
+    merge_range(&parts, op, lo, hi, &mut plan);
+    plan
+}
+
+/// Chunk boundaries `0 = b0 < b1 < ... = total`, one chunk when the inputs are small
+/// or there is one thread: equal shares of the largest operand's keys, refined so
+/// that no key crosses a boundary without holding the chunks on both sides whole
+/// ([`refined`]).
 fn chunk_bounds(keys: &[&[NodeKey]], total: u64) -> Vec<u64> {
     let inputs: usize = keys.iter().map(|k| k.len()).sum();
     let threads = rayon::current_num_threads();
     let largest = keys.iter().max_by_key(|k| k.len()).expect("at least one operand");
-    let mut bounds = vec![0];
-    if inputs >= PARALLEL_MIN_NODES && threads > 1 {
-        let chunks = threads * CHUNKS_PER_THREAD;
-        bounds.extend((1..chunks).map(|c| largest[c * largest.len() / chunks].start()));
-        bounds.dedup();
+    if inputs < PARALLEL_MIN_NODES || threads < 2 {
+        return vec![0, total];
     }
-    if bounds.last() != Some(&total) {
-        bounds.push(total);
+    let chunks = threads * CHUNKS_PER_THREAD;
+    refined(keys, (1..chunks).map(|c| largest[c * largest.len() / chunks].start()), total)
+}
+
+/// The boundaries `0`, `cuts` and `total`, and the start and the end of every key that
+/// holds a cut inside it, sorted. In each chunk between them an operand then has
+/// either all its keys that meet the chunk inside it, or one key that holds the chunk:
+/// aligned keys nest or are disjoint, so a key that crosses a boundary holds the cut
+/// that the boundary came from, and its own start and end are boundaries.
+fn refined(keys: &[&[NodeKey]], cuts: impl IntoIterator<Item = u64>, total: u64) -> Vec<u64> {
+    let mut bounds = vec![0, total];
+    for at in cuts {
+        bounds.push(at);
+        for key in keys.iter().filter_map(|k| holding(k, at)).filter(|key| key.start() < at) {
+            bounds.extend([key.start(), key.end()]);
+        }
     }
+    bounds.sort_unstable();
+    bounds.dedup();
     bounds
 }
 
-/// The keys of a sorted disjoint list that meet `[lo, hi)`.
-fn overlapping(keys: &[NodeKey], lo: u64, hi: u64) -> &[NodeKey] {
-    let from = keys.partition_point(|k| k.end() <= lo);
-    let to = keys.partition_point(|k| k.start() < hi);
-    &keys[from..to.max(from)]
+/// The key of a sorted disjoint list that holds voxel `code`, if any.
+fn holding(keys: &[NodeKey], code: u64) -> Option<NodeKey> {
+    let i = keys.partition_point(|k| k.start() <= code).checked_sub(1)?;
+    Some(keys[i]).filter(|k| k.end() > code)
 }
 
-/// The canonical keys of `op` over the operands (keys meeting `[lo, hi)`) in `[lo, hi)`.
-fn cut_chunk(operands: &[&[NodeKey]], op: SetOp, lo: u64, hi: u64, max_k: u32) -> Vec<NodeKey> {
-    // About as many nodes out as in: reserved once (pages are only touched as written).
-    let out = Vec::with_capacity(operands.iter().map(|k| k.len()).sum());
-    let clipped = |keys| Runs::new(keys).map(move |(s, e): (u64, u64)| (s.max(lo), e.min(hi)));
+/// The keys of a sorted disjoint list that start in `[lo, hi)`.
+fn starting_in(keys: &[NodeKey], lo: u64, hi: u64) -> &[NodeKey] {
+    &keys[keys.partition_point(|k| k.start() < lo)..keys.partition_point(|k| k.start() < hi)]
+}
+
+/// Emits `op` over the operands' keys that lie in `[lo, hi)`.
+fn merge_range<'a>(operands: &[&'a [NodeKey]], op: SetOp, lo: u64, hi: u64, out: &mut impl Emit<'a>) {
     match (operands, op) {
-        ([a, b], SetOp::Union) => {
-            let mut out = out;
-            union_into(a, b, lo, hi, max_k, &mut out);
-            out
-        }
-        ([a, b], SetOp::Intersection) => {
-            ranges::cut_runs_into(IntersectionRuns::new(clipped(a), clipped(b)), max_k, out)
-        }
-        ([a, b], SetOp::Difference) => {
-            let mut out = out;
-            difference_into(a, b, lo, hi, max_k, &mut out);
-            out
-        }
-        ([a, b], SetOp::SymmetricDifference) => {
-            ranges::cut_runs_into(sweep(Runs::new(a), Runs::new(b), op, lo, hi), max_k, out)
-        }
-        _ => ranges::cut_runs_into(HeapSweep::new(operands, op, lo, hi), max_k, out),
+        ([a, b], SetOp::Union) => two_way::union(a, b, out),
+        ([a, b], SetOp::Difference) => two_way::difference(a, b, out),
+        ([a, b], SetOp::Intersection) => ranges::emit_runs(IntersectionRuns::new(Runs::new(a), Runs::new(b)), out),
+        ([a, b], SetOp::SymmetricDifference) => ranges::emit_runs(sweep(Runs::new(a), Runs::new(b), op, lo, hi), out),
+        _ => ranges::emit_runs(HeapSweep::new(operands, op, lo, hi), out),
     }
 }
 
@@ -160,104 +191,6 @@ impl<A: Iterator<Item = (u64, u64)>, B: Iterator<Item = (u64, u64)>> Iterator fo
             }
         }
         None
-    }
-}
-
-/// A maximal run of a canonical key list with the keys that make it, clipped to a
-/// chunk: `verbatim` when the clip left it whole, so that its keys are its greedy cut.
-#[derive(Clone, Copy)]
-struct KeyRun<'a> {
-    start: u64,
-    end: u64,
-    keys: &'a [NodeKey],
-    verbatim: bool,
-}
-
-/// The maximal runs of a sorted disjoint key list, clipped to `[lo, hi)`.
-struct KeyRuns<'a> {
-    keys: &'a [NodeKey],
-    lo: u64,
-    hi: u64,
-}
-
-impl<'a> Iterator for KeyRuns<'a> {
-    type Item = KeyRun<'a>;
-
-    #[inline]
-    fn next(&mut self) -> Option<KeyRun<'a>> {
-        let first = self.keys.first()?;
-        let (start, mut end, mut n) = (first.start(), first.end(), 1);
-        while let Some(k) = self.keys.get(n).filter(|k| k.start() == end) {
-            end = k.end();
-            n += 1;
-        }
-        let (keys, rest) = self.keys.split_at(n);
-        self.keys = rest;
-        let verbatim = start >= self.lo && end <= self.hi;
-        Some(KeyRun { start: start.max(self.lo), end: end.min(self.hi), keys, verbatim })
-    }
-}
-
-/// Appends the union of two canonical key lists (meeting `[lo, hi)`) in `[lo, hi)`: the
-/// runs by start, each group of overlapping or touching runs cut as one run, except a
-/// run that meets no other, whose keys are copied as they are (the greedy cut of a
-/// maximal run is the canonical list's own keys for it).
-fn union_into(a: &[NodeKey], b: &[NodeKey], lo: u64, hi: u64, max_k: u32, out: &mut Vec<NodeKey>) {
-    let mut a = KeyRuns { keys: a, lo, hi }.peekable();
-    let mut b = KeyRuns { keys: b, lo, hi }.peekable();
-    // The run that starts first of the two lists' next runs.
-    let mut earliest = move || match (a.peek(), b.peek()) {
-        (Some(x), Some(y)) if y.start < x.start => b.next(),
-        (Some(_), _) => a.next(),
-        (None, _) => b.next(),
-    };
-    let mut next = earliest();
-    while let Some(run) = next {
-        let (start, mut end, mut alone) = (run.start, run.end, true);
-        next = earliest();
-        while let Some(other) = next.filter(|o| o.start <= end) {
-            end = end.max(other.end);
-            alone = false;
-            next = earliest();
-        }
-        if alone && run.verbatim {
-            out.extend_from_slice(run.keys);
-        } else {
-            ranges::cut_run(start, end, max_k, out);
-        }
-    }
-}
-
-/// Appends `a - b` of two canonical key lists (meeting `[lo, hi)`) in `[lo, hi)`: each
-/// run of `a` with `b`'s runs cut out, a run that no run of `b` overlaps copied as it is.
-fn difference_into(a: &[NodeKey], b: &[NodeKey], lo: u64, hi: u64, max_k: u32, out: &mut Vec<NodeKey>) {
-    let mut cuts = KeyRuns { keys: b, lo, hi }.peekable();
-    for run in (KeyRuns { keys: a, lo, hi }) {
-        let (mut pos, mut cut) = (run.start, false);
-        while let Some(c) = cuts.peek().copied() {
-            if c.end <= pos {
-                cuts.next();
-                continue;
-            }
-            if c.start >= run.end {
-                break;
-            }
-            // The cut overlaps what is left of the run: keep the part before it.
-            cut = true;
-            if pos < c.start {
-                ranges::cut_run(pos, c.start, max_k, out);
-            }
-            pos = c.end;
-            if c.end > run.end {
-                break; // It reaches into the next run too.
-            }
-            cuts.next();
-        }
-        if !cut && run.verbatim {
-            out.extend_from_slice(run.keys);
-        } else if pos < run.end {
-            ranges::cut_run(pos, run.end, max_k, out);
-        }
     }
 }
 
@@ -356,48 +289,52 @@ impl Iterator for HeapSweep<'_> {
     }
 }
 
-/// The chunks' node lists in order, each maximal run across a join cut again.
-fn join(parts: Vec<Vec<NodeKey>>, max_k: u32) -> Vec<NodeKey> {
-    let total: usize = parts.iter().map(Vec::len).sum();
-    let mut parts = parts.into_iter();
-    // The first part is the start of the output: no copy.
-    let mut out = parts.next().unwrap_or_default();
-    out.reserve_exact(total - out.len());
-    for part in parts {
-        let touching = matches!((out.last(), part.first()), (Some(l), Some(f)) if l.end() == f.start());
-        if !touching {
-            out.extend(part);
-            continue;
-        }
-        // The run ending at the join: contiguous keys back from the end of `out` ...
-        let mut from = out.len() - 1;
-        while from > 0 && out[from - 1].end() == out[from].start() {
-            from -= 1;
-        }
-        // ... and on into `part`.
-        let mut to = 0;
-        while to + 1 < part.len() && part[to].end() == part[to + 1].start() {
-            to += 1;
-        }
-        let (start, end) = (out[from].start(), part[to].end());
-        out.truncate(from);
-        ranges::cut_run(start, end, max_k, &mut out);
-        out.extend_from_slice(&part[to + 1..]);
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_util::Rng;
+
+    /// A canonical key list in `[0, total)`: random runs of 1 to 512 voxels (nodes of
+    /// every size, ragged ends), some touching.
+    fn random_keys(rng: &mut Rng, total: u64) -> Vec<NodeKey> {
+        let mut runs: Vec<(u64, u64)> = (0..rng.below(30))
+            .map(|_| {
+                let start = rng.below(total);
+                (start, (start + (1 << rng.below(10))).min(total))
+            })
+            .collect();
+        runs.sort_unstable();
+        ranges::cut_runs(runs)
+    }
 
     #[test]
-    fn a_run_cut_at_a_join_is_cut_again() {
-        // [0, 64) at depth 2 cut in two chunks at 8: one node, not eight.
-        let mut left = Vec::new();
-        ranges::cut_run(0, 8, 2, &mut left);
-        let mut right = Vec::new();
-        ranges::cut_run(8, 64, 2, &mut right);
-        assert_eq!(join(vec![left, right], 2), vec![NodeKey::new(0, 2)]);
+    fn chunked_merges_are_the_voxelwise_operation_wherever_the_chunks_fall() {
+        let total = 8u64.pow(4);
+        let mut rng = Rng(0x5eed_c0de);
+        for case in 0..300 {
+            let lists: Vec<Vec<NodeKey>> = (0..2 + rng.below(2)).map(|_| random_keys(&mut rng, total)).collect();
+            let keys: Vec<&[NodeKey]> = lists.iter().map(Vec::as_slice).collect();
+            let cuts: Vec<u64> = (0..rng.below(40)).map(|_| rng.below(total)).collect();
+            let bounds = refined(&keys, cuts, total);
+            // Oracle: voxel by voxel, how many operands hold it and whether the first does.
+            let inside: Vec<Vec<bool>> = keys
+                .iter()
+                .map(|k| (0..total).map(|v| k.iter().any(|key| (key.start()..key.end()).contains(&v))).collect())
+                .collect();
+            for op in [SetOp::Union, SetOp::Intersection, SetOp::Difference, SetOp::SymmetricDifference] {
+                let holds = |v: usize| {
+                    let count = inside.iter().filter(|i| i[v]).count();
+                    match op {
+                        SetOp::Union => count > 0,
+                        SetOp::Intersection => count == keys.len(),
+                        SetOp::Difference => inside[0][v] && count == 1,
+                        SetOp::SymmetricDifference => count % 2 == 1,
+                    }
+                };
+                let want = ranges::cut_runs((0..total).filter(|&v| holds(v as usize)).map(|v| (v, v + 1)));
+                assert_eq!(merge_chunks(&keys, op, &[0, total]), want, "case {case}: {op:?} of {}", keys.len());
+                assert_eq!(merge_chunks(&keys, op, &bounds), want, "case {case}: {op:?} in chunks {bounds:?}");
+            }
+        }
     }
 }

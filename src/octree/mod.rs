@@ -24,10 +24,12 @@ mod merge;
 mod motion;
 mod neighbourhood;
 mod node;
+mod plan;
 mod ranges;
 mod resample;
 mod section;
 mod transform;
+mod two_way;
 mod voxelize;
 mod window;
 

@@ -63,11 +63,11 @@ impl NodeKey {
         (self.0 & (self.0 - 1)) >> 1
     }
 
-    /// Number of voxels, `8^k`.
+    /// Number of voxels, `8^k`: the marker bit `1 << 3k`, the key's lowest set bit.
     #[inline]
     #[must_use]
     pub fn len(self) -> u64 {
-        1u64 << (3 * self.k())
+        self.0 & self.0.wrapping_neg()
     }
 
     /// Keys are never empty; present for API symmetry with `len`.
@@ -81,7 +81,15 @@ impl NodeKey {
     #[inline]
     #[must_use]
     pub fn end(self) -> u64 {
-        self.start() + self.len()
+        self.last() + 1
+    }
+
+    /// Morton code of the last voxel, `start + 8^k - 1`: `key | (key - 1)` sets every
+    /// bit below the marker, which shifted down are the start's `3k` low bits, all set.
+    #[inline]
+    #[must_use]
+    pub fn last(self) -> u64 {
+        (self.0 | (self.0 - 1)) >> 1
     }
 
     /// Level in an octree of depth `depth` (0 = root).
@@ -164,5 +172,20 @@ mod tests {
         assert_eq!(n.key().unwrap().node(5), n);
         assert!(Node { level: 0, min: [1 << 21, 0, 0], size: 1 }.key().is_none(), "beyond 2^21 voxels");
         assert!(Node { level: 0, min: [0, 0, 0], size: 1 << 22 }.key().is_none());
+    }
+
+    #[test]
+    fn range_from_the_bits_is_the_range_from_start_and_level() {
+        // The bit tricks of `len`, `end` and `last` against `8^k` counted from `k`.
+        for k in 0..=21u32 {
+            let len = 8u64.pow(k);
+            // Starts whose node ends by 2^63 (the last one ends there).
+            let starts = [0, 1, 5, (1u64 << 63) / len - 1].map(|i| i.saturating_mul(len));
+            for start in starts.into_iter().filter(|&s| s <= (1u64 << 63) - len) {
+                let key = NodeKey::new(start, k);
+                assert_eq!((key.start(), key.k(), key.len()), (start, k, len), "{start} at k = {k}");
+                assert_eq!((key.last(), key.end()), (start + (len - 1), start + len), "{start} at k = {k}");
+            }
+        }
     }
 }

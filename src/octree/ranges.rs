@@ -42,14 +42,14 @@ impl Iterator for Runs<'_> {
     }
 }
 
-/// Appends the greedy cut of `[a, b)` into maximal aligned nodes to `out`
-/// (`max_k` = the domain depth caps the node size at the root).
+/// Appends the greedy cut of `[a, b)` into maximal aligned nodes to `out`. The
+/// alignment of `a = 0` counts as the largest node, so a run inside a domain of depth
+/// `d` (`b <= 8^d`) gives nodes of at most `8^d` voxels.
 #[inline]
-pub(crate) fn cut_run(mut a: u64, b: u64, max_k: u32, out: &mut Vec<NodeKey>) {
+pub(crate) fn cut_run(mut a: u64, b: u64, out: &mut Vec<NodeKey>) {
     while a < b {
-        // Largest k with a aligned to 8^k ...
-        let align_k = if a == 0 { max_k } else { (a.trailing_zeros() / 3).min(max_k) };
-        // ... and 8^k <= b - a.
+        // The largest k with a aligned to 8^k and 8^k <= b - a.
+        let align_k = a.trailing_zeros() / 3;
         let fit_k = (63 - (b - a).leading_zeros()) / 3;
         let k = align_k.min(fit_k);
         out.push(NodeKey::new(a, k));
@@ -57,17 +57,38 @@ pub(crate) fn cut_run(mut a: u64, b: u64, max_k: u32, out: &mut Vec<NodeKey>) {
     }
 }
 
-/// Canonical keys from sorted runs that may touch but not overlap.
-pub(crate) fn cut_runs(runs: impl IntoIterator<Item = (u64, u64)>, max_k: u32) -> Vec<NodeKey> {
-    cut_runs_into(runs, max_k, Vec::new())
+/// Where canonical keys go, in Morton order: keys that are canonical already, and runs
+/// to be cut into canonical nodes. Each call holds whole maximal runs of the result,
+/// apart from the first and the last call of a merge over a Morton range, whose runs
+/// may go on in the ranges before and after it.
+pub(crate) trait Emit<'a> {
+    /// Keys that go out as they are.
+    fn keys(&mut self, keys: &'a [NodeKey]);
+    /// The run `[start, end)`, to be cut.
+    fn run(&mut self, start: u64, end: u64);
 }
 
-/// [`cut_runs`] appending to `out` (reserve it for the expected node count).
-pub(crate) fn cut_runs_into(
-    runs: impl IntoIterator<Item = (u64, u64)>,
-    max_k: u32,
-    mut out: Vec<NodeKey>,
-) -> Vec<NodeKey> {
+impl<'a> Emit<'a> for Vec<NodeKey> {
+    #[inline]
+    fn keys(&mut self, keys: &'a [NodeKey]) {
+        self.extend_from_slice(keys);
+    }
+
+    #[inline]
+    fn run(&mut self, start: u64, end: u64) {
+        cut_run(start, end, self);
+    }
+}
+
+/// Canonical keys from sorted runs that may touch but not overlap.
+pub(crate) fn cut_runs(runs: impl IntoIterator<Item = (u64, u64)>) -> Vec<NodeKey> {
+    let mut out = Vec::new();
+    emit_runs(runs, &mut out);
+    out
+}
+
+/// Emits sorted runs that may touch but not overlap, touching runs as one.
+pub(crate) fn emit_runs<'a>(runs: impl IntoIterator<Item = (u64, u64)>, out: &mut impl Emit<'a>) {
     let mut current: Option<(u64, u64)> = None;
     for (a, b) in runs {
         if a >= b {
@@ -76,16 +97,15 @@ pub(crate) fn cut_runs_into(
         match current {
             Some((s, e)) if a <= e => current = Some((s, e.max(b))),
             Some((s, e)) => {
-                cut_run(s, e, max_k, &mut out);
+                out.run(s, e);
                 current = Some((a, b));
             }
             None => current = Some((a, b)),
         }
     }
     if let Some((s, e)) = current {
-        cut_run(s, e, max_k, &mut out);
+        out.run(s, e);
     }
-    out
 }
 
 #[cfg(test)]
@@ -96,7 +116,7 @@ mod tests {
     fn cut_is_maximal_and_covers_exactly() {
         for (a, b) in [(0u64, 512u64), (1, 100), (7, 9), (63, 65), (8, 72), (0, 1)] {
             let mut out = Vec::new();
-            cut_run(a, b, 3, &mut out);
+            cut_run(a, b, &mut out);
             assert_eq!(out.first().unwrap().start(), a);
             assert_eq!(out.last().unwrap().end(), b);
             for w in out.windows(2) {
