@@ -24,7 +24,7 @@ log="$out/log.txt"
 export OCTSOLID_PROGRESS_SECONDS=1000000
 
 # Timings and rates differ run to run; everything else printed must not.
-mask() { sed -E 's/[0-9]+(\.[0-9]+)? ?(ms|s|M rays\/s|M samples\/s|µs)\b/<t>/g; s/in <t>/in <t>/g'; }
+mask() { sed -E 's/[0-9]+(\.[0-9]+)? ?(ms|s|M rays\/s|M samples\/s|M input nodes\/s|µs)\b/<t>/g; s/in <t>/in <t>/g'; }
 run() { echo "\$ octsolid $*" >>"$log"; "$bin" "$@" 2>&1 | mask >>"$log" || echo "exit $?" >>"$log"; }
 
 # The README walkthrough, then every command kind with every option that changes bytes.
