@@ -1,6 +1,8 @@
 //! The `octsolid` binary end to end: exact command forms, JSON keys, and one-line
 //! errors with a non-zero exit and no panic.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -31,10 +33,7 @@ fn fails(dir: &Path, args: &[&str]) -> String {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("cli", name)
 }
 
 fn info_json(dir: &Path, file: &str) -> serde_json::Value {

@@ -4,6 +4,8 @@
 //! results said, stage timings and plain progress lines. Oracles: analytic volumes,
 //! the library's own exact operations, pixel counts of the pictures.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -33,10 +35,7 @@ fn fails(dir: &Path, args: &[&str]) -> String {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-first-hour-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("first-hour", name)
 }
 
 fn json(dir: &Path, file: &str) -> serde_json::Value {

@@ -5,6 +5,8 @@
 //! exposure scales by `2^stops` in both formats; bad exposures and unknown extensions
 //! are refused by name before anything is written.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
@@ -43,10 +45,7 @@ fn black_emitter(emission: DVec3) -> Scene {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-picture-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("picture", name)
 }
 
 /// The pixels of an OpenEXR file as the `exr` crate reads them: width, height and

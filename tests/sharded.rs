@@ -17,10 +17,7 @@ use octsolid::{Error, MemoryBudget};
 
 /// A fresh folder for one test's files.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-sharded-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("sharded", name)
 }
 
 fn at_level(level: u8) -> StreamOptions<'static> {

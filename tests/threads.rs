@@ -14,6 +14,8 @@
 //! `radiosity` (the Cornell box, saved and rendered) and `demo` (in optimized builds
 //! only).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -23,10 +25,7 @@ fn repo() -> PathBuf {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-threads-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("threads", name)
 }
 
 /// `stdout` with every number that a time unit or a rate follows replaced by `#`:

@@ -1,4 +1,5 @@
-//! Shared by the test suites: a seeded generator, random solids, a folder's files.
+//! Shared by the test suites: a seeded generator, random solids, scratch folders and
+//! a folder's files.
 #![allow(dead_code)]
 
 use glam::DVec3;
@@ -104,4 +105,13 @@ pub fn folder_files(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
         .collect();
     files.sort();
     files
+}
+
+/// An empty folder `octsolid-{suite}-{name}-{pid}` in the temporary directory (emptied
+/// if an earlier run left it).
+pub fn scratch_dir(suite: &str, name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("octsolid-{suite}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
 }
