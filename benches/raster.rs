@@ -92,10 +92,7 @@ fn viewer_frame(c: &mut Criterion) {
         ..RenderOptions::default()
     };
     group.bench_function(BenchmarkId::new("moving", "bunny_d10_1280x720"), |b| {
-        b.iter(|| {
-            let (img, _) = render(&scene, &camera, &options, &NoProgress).unwrap();
-            png::encode(&img).unwrap()
-        })
+        b.iter(|| png::render_png(&scene, &camera, &options, &NoProgress).unwrap().0)
     });
     let (img, _) = render(&scene, &camera, &options, &NoProgress).unwrap();
     group.bench_function(BenchmarkId::new("png_only", "bunny_d10_1280x720"), |b| b.iter(|| png::encode(&img).unwrap()));

@@ -110,6 +110,38 @@ fn same_image_for_any_thread_count() {
 }
 
 #[test]
+fn streamed_rows_are_the_picture_in_order_and_encode_to_its_png() {
+    // Strips drawn in order by the pool while this thread takes them (front-to-back at
+    // 1 and 2 samples a pixel), and the paths that hand every row over at the end (3
+    // samples: strips are not whole pixel rows; adaptive; the tracer): the rows are the
+    // one-thread `render`'s picture, and `render_png` its PNG. 150 rows: two whole
+    // strips and a part.
+    let file = load_scene("scenes/classic.toml", MemoryBudget::default()).unwrap();
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let adaptive = AntiAliasing::Adaptive { threshold: 0.3 };
+    for (spp, aa, method) in [
+        (1, AntiAliasing::Uniform, Method::FrontToBack),
+        (2, AntiAliasing::Uniform, Method::FrontToBack),
+        (3, AntiAliasing::Uniform, Method::FrontToBack),
+        (2, adaptive, Method::FrontToBack),
+        (1, AntiAliasing::Uniform, Method::Trace),
+    ] {
+        let options = RenderOptions { width: 130, height: 150, spp, aa, method, ..Default::default() };
+        let (reference, stats) =
+            one_thread.install(|| render(&file.scene, &file.camera, &options, &NoProgress).unwrap());
+        let mut rows = Vec::new();
+        let mut sink = |r: &[[u8; 3]]| rows.extend_from_slice(r.as_flattened());
+        let (img, streamed) =
+            render_streamed(&file.scene, &file.camera, &options, &NoProgress, Some(&mut sink)).unwrap();
+        assert!(img == reference, "{options:?}: the picture differs");
+        assert!(rows == *reference.as_raw(), "{options:?}: the rows differ from the picture's");
+        assert_eq!(streamed, stats);
+        let (png, _) = octsolid::io::png::render_png(&file.scene, &file.camera, &options, &NoProgress).unwrap();
+        assert!(png == octsolid::io::png::encode(&reference).unwrap(), "{options:?}: the PNG differs");
+    }
+}
+
+#[test]
 fn adaptive_anti_aliasing_at_threshold_zero_is_the_uniform_picture() {
     // Every contrast is at least 0: every pixel takes the uniform n x n samples, with
     // the same rays in the same order, whatever the first pass's method.

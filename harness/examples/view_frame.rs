@@ -6,14 +6,13 @@
 use octsolid::io::png;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
-use octsolid::render::{Camera, Method, Normals, RenderOptions, Scene, render};
+use octsolid::render::{Camera, Method, Normals, RenderOptions, Scene};
 use octsolid::shape::Axis;
 use octsolid::{MemoryBudget, NoProgress};
 
 #[inline(never)]
 fn frame(scene: &Scene, camera: &Camera, options: &RenderOptions) -> usize {
-    let (img, _) = render(scene, camera, options, &NoProgress).unwrap();
-    png::encode(&img).unwrap().len()
+    png::render_png(scene, camera, options, &NoProgress).unwrap().0.len()
 }
 
 fn main() {

@@ -36,8 +36,8 @@ pub use film::{
     exposure_scale, from_srgb8, orbit_direction, silhouette_points, to_srgb8, up_for,
 };
 pub use pipeline::{
-    AntiAliasing, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats, estimate_bytes,
-    render, render_picture,
+    AntiAliasing, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats, RowSink,
+    estimate_bytes, render, render_picture, render_streamed,
 };
 pub use quick::quick;
 pub use raster::polygon;

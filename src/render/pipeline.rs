@@ -7,6 +7,10 @@
 //! The front-to-back display goes a strip of sample rows at a time (visibility of the
 //! strip, then its shading, in one task), so a frame never holds every sample's hit;
 //! the other methods decide every sample first. The pixels are the same either way.
+//! [`render_streamed`] hands the finished rows over as strips finish, in order, so a
+//! caller can encode a picture while the rest is drawn.
+
+use std::sync::{Mutex, mpsc};
 
 use image::RgbImage;
 use rayon::prelude::*;
@@ -130,6 +134,27 @@ pub fn render(
     options: &RenderOptions,
     progress: &dyn Progress,
 ) -> Result<(RgbImage, RenderStats)> {
+    render_streamed(scene, camera, options, progress, None)
+}
+
+/// Takes the pixels of whole rows of a picture, top to bottom (RGB, 8 bits a channel).
+pub type RowSink<'a> = Rows<'a, [u8; 3]>;
+
+/// Takes the pixels of whole rows of a picture, top to bottom.
+type Rows<'a, P> = &'a mut dyn FnMut(&[P]);
+
+/// [`render`], handing the picture's rows to `rows` top to bottom, every row once, as
+/// they are finished: with the front-to-back display at uniform sampling, strips are
+/// drawn in order by every thread and `rows` takes each strip on the calling thread
+/// while later strips are drawn (a viewer encodes its frame meanwhile); otherwise all
+/// rows at the end. The picture is [`render`]'s.
+pub fn render_streamed(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    progress: &dyn Progress,
+    mut rows: Option<RowSink<'_>>,
+) -> Result<(RgbImage, RenderStats)> {
     if options.aa == AntiAliasing::Uniform || options.spp == 1 {
         // Encoded as each row is shaded: no picture of linear radiance in between (the
         // same bytes as its encoding, `srgb8_pixel` of the same values).
@@ -137,11 +162,17 @@ pub fn render(
         let (scale, shading) = check(camera, options)?;
         let mut img = RgbImage::new(width, height);
         let (pixels, []) = img.as_mut().as_chunks_mut::<3>() else { unreachable!("3 bytes a pixel") };
-        let stats = uniform(scene, camera, options, &shading, scale, progress, |c| srgb8_pixel(c).0, pixels)?;
+        let encode = |c| srgb8_pixel(c).0;
+        let stats = uniform(scene, camera, options, &shading, scale, progress, encode, pixels, rows.take())?;
         return Ok((img, stats));
     }
     let (picture, stats) = render_picture(scene, camera, options, progress)?;
-    Ok((picture.to_srgb8(), stats))
+    let img = picture.to_srgb8();
+    if let Some(rows) = rows {
+        let (pixels, []) = img.as_chunks::<3>() else { unreachable!("3 bytes a pixel") };
+        rows(pixels);
+    }
+    Ok((img, stats))
 }
 
 /// Checks `options` and `camera`, and the picture's memory against the budget before
@@ -186,8 +217,17 @@ pub fn render_picture(
             // One sample a pixel, then the pixels that differ from a neighbour.
             let first = RenderOptions { spp: 1, aa: AntiAliasing::Uniform, ..*options };
             let mut picture = Picture::new(width, height);
-            let stats =
-                uniform(scene, camera, &first, &shading, scale, &crate::NoProgress, linear, picture.pixels_mut())?;
+            let stats = uniform(
+                scene,
+                camera,
+                &first,
+                &shading,
+                scale,
+                &crate::NoProgress,
+                linear,
+                picture.pixels_mut(),
+                None,
+            )?;
             let refine = adaptive::needs_samples(&picture.to_srgb8(), threshold);
             let film = adaptive::Film { samples: SampleGrid { width, height, spp }, scale };
             let (hits, rays) = adaptive::supersample(scene, camera, film, &shading, &refine, &mut picture, progress);
@@ -203,7 +243,7 @@ pub fn render_picture(
         }
         _ => {
             let mut picture = Picture::new(width, height);
-            let stats = uniform(scene, camera, options, &shading, scale, progress, linear, picture.pixels_mut())?;
+            let stats = uniform(scene, camera, options, &shading, scale, progress, linear, picture.pixels_mut(), None)?;
             Ok((picture, stats))
         }
     }
@@ -215,9 +255,10 @@ pub fn render_picture(
 /// strip-sized buffer of its own and shades it at once, so the frame's samples (32
 /// bytes each) are never all held, filled and read back; the pixels are the same.
 /// Each pixel goes into `out` (row-major, `width x height`) as `encode` makes it of
-/// the linear value.
+/// the linear value; `rows`, when given, gets every row of `out` once, top to bottom
+/// (as strips finish, see [`strips_in_order`], or at the end).
 #[allow(clippy::too_many_arguments)]
-fn uniform<P: Send + Clone>(
+fn uniform<P: Send + Sync + Clone>(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
@@ -226,6 +267,7 @@ fn uniform<P: Send + Clone>(
     progress: &dyn Progress,
     encode: impl Fn(DVec3) -> P + Sync,
     out: &mut [P],
+    rows: Option<Rows<'_, P>>,
 ) -> Result<RenderStats> {
     let RenderOptions { width, height, spp, method, .. } = *options;
     let samples = SampleGrid { width, height, spp };
@@ -239,22 +281,36 @@ fn uniform<P: Send + Clone>(
         if method == Method::FrontToBack && STRIP_ROWS.is_multiple_of(spp as usize) {
             let display = Display::new(scene, &view, &samples);
             progress.start(u64::from(height));
-            // A strip a task: a frame has few strips (12 at 720 rows) of unequal work,
-            // and rayon's default split would leave runs of three to one thread.
-            out.par_chunks_mut(pixel_row * (STRIP_ROWS / spp as usize))
-                .enumerate()
-                .with_max_len(1)
-                .map_init(
-                    || (Strip::new(columns), Vec::new()),
-                    |(strip, seen), (k, out)| {
-                        seen.clear();
-                        seen.resize(out.len() / pixel_row * spp as usize * columns, None);
-                        let faces = display.draw_strip(k, strip, seen);
-                        let hits = seen.iter().filter(|s| s.is_some()).count() as u64;
-                        (hits, faces, shader.rows(seen, (k * STRIP_ROWS) as u32 / spp, &encode, out))
-                    },
-                )
-                .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
+            let strip_pixels = pixel_row * (STRIP_ROWS / spp as usize);
+            let init = || (Strip::new(columns), Vec::new());
+            let draw = |(strip, seen): &mut (Strip, Vec<_>), k: usize, out: &mut [P]| {
+                seen.clear();
+                seen.resize(out.len() / pixel_row * spp as usize * columns, None);
+                let faces = display.draw_strip(k, strip, seen);
+                let hits = seen.iter().filter(|s| s.is_some()).count() as u64;
+                Counts(hits, faces, shader.rows(seen, (k * STRIP_ROWS) as u32 / spp, &encode, out))
+            };
+            match rows {
+                // Not from within the pool: the calling thread waits on the strips.
+                Some(rows) if rayon::current_thread_index().is_none() => {
+                    strips_in_order(out, strip_pixels, init, draw, rows)
+                }
+                rows => {
+                    // A strip a task: a frame has few strips (12 at 720 rows) of unequal
+                    // work, and rayon's default split would leave runs of three to one thread.
+                    let counts = out
+                        .par_chunks_mut(strip_pixels)
+                        .enumerate()
+                        .with_max_len(1)
+                        .map_init(init, |state, (k, out)| draw(state, k, out))
+                        .reduce(Counts::default, Counts::add);
+                    if let Some(rows) = rows {
+                        rows(out);
+                    }
+                    counts
+                }
+            }
+            .into()
         } else {
             // Step 1: what each sample sees.
             let (seen, visible) = visibility(scene, camera, &samples, method);
@@ -266,6 +322,9 @@ fn uniform<P: Send + Clone>(
                 .zip(0..height)
                 .map(|((out, seen), row)| shader.rows(seen, row, &encode, out))
                 .sum();
+            if let Some(rows) = rows {
+                rows(out);
+            }
             (seen.iter().filter(|s| s.is_some()).count() as u64, visible.faces_drawn, rays)
         };
     progress.finish();
@@ -277,6 +336,68 @@ fn uniform<P: Send + Clone>(
         supersampled: if spp > 1 { u64::from(width) * u64::from(height) } else { 0 },
     };
     Ok(stats)
+}
+
+/// A strip's hits, faces drawn and secondary rays.
+#[derive(Clone, Copy, Default)]
+struct Counts(u64, u64, u64);
+
+impl Counts {
+    fn add(self, other: Counts) -> Counts {
+        Counts(self.0 + other.0, self.1 + other.1, self.2 + other.2)
+    }
+}
+
+impl From<Counts> for (u64, u64, u64) {
+    fn from(Counts(hits, faces, rays): Counts) -> Self {
+        (hits, faces, rays)
+    }
+}
+
+/// Draws the strips `out.chunks_mut(len)` (strip `k` by `draw(state, k, strip)`, a
+/// `state` made by `init` a thread) on every thread of rayon's pool, each taking the
+/// first strip not yet taken, so that strips finish about in order; the calling thread
+/// hands each finished strip to `rows`, in order, while the later ones are drawn.
+/// Sums the strips' counts. (The pixels do not depend on the order: strips are
+/// independent.)
+fn strips_in_order<P: Send + Sync, S>(
+    out: &mut [P],
+    len: usize,
+    init: impl Fn() -> S + Sync,
+    draw: impl Fn(&mut S, usize, &mut [P]) -> Counts + Sync,
+    rows: &mut dyn FnMut(&[P]),
+) -> Counts {
+    let strips = out.len().div_ceil(len);
+    let queue = Mutex::new(out.chunks_mut(len).enumerate());
+    let (finished, arrivals) = mpsc::channel::<(usize, &[P], Counts)>();
+    let (queue, init, draw) = (&queue, &init, &draw);
+    let mut total = Counts::default();
+    rayon::in_place_scope(|scope| {
+        for _ in 0..rayon::current_num_threads().min(strips) {
+            let finished = finished.clone();
+            scope.spawn(move |_| {
+                let mut state = init();
+                // A poisoned lock means a strip panicked: that panic is the scope's.
+                while let Some((k, strip)) = queue.lock().map_or(None, |mut q| q.next()) {
+                    let counts = draw(&mut state, k, strip);
+                    // The receiver outlives the scope's tasks.
+                    let _ = finished.send((k, strip, counts));
+                }
+            });
+        }
+        drop(finished);
+        let mut waiting: Vec<Option<&[P]>> = vec![None; strips];
+        let mut next = 0;
+        for (k, strip, counts) in arrivals {
+            total = total.add(counts);
+            waiting[k] = Some(strip);
+            while let Some(strip) = waiting.get_mut(next).and_then(Option::take) {
+                rows(strip);
+                next += 1;
+            }
+        }
+    });
+    total
 }
 
 /// Step 2, the shading of whole pixel rows.

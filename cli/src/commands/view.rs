@@ -181,9 +181,8 @@ fn answer(viewed: &Mutex<Viewed>, input: &Path, request: &Request) -> Reply {
                 return Ok((200, "application/json", camera_json(&camera).to_string().into_bytes()));
             }
             let options = drawn.options(&args, MemoryBudget::default());
-            let (img, _) = octsolid::render::render(scene, &camera, &options, &NoProgress)
+            let (bytes, _) = png::render_png(scene, &camera, &options, &NoProgress)
                 .map_err(|e| Refusal(400, format!("cannot render: {e}\n")))?;
-            let bytes = png::encode(&img).map_err(|e| Refusal(500, format!("{e}\n")))?;
             Ok((200, "image/png", bytes))
         }
         _ => Err(Refusal(404, "not found\n".into())),
