@@ -146,6 +146,51 @@ fn traversal_matches_brute_force_on_random_solids() {
 }
 
 #[test]
+fn traversal_matches_brute_force_on_solids_in_a_corner_of_their_domain() {
+    // The walk starts where a ray enters the box of the full voxels and skips rays that
+    // miss it: random solids cut to a random box, rays of every kind and rays from and
+    // along that box's planes.
+    let mut rng = Rng(0x0cc0_b1ed);
+    for depth in 3..=6 {
+        for _ in 0..8 {
+            let d = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
+            let n = d.resolution();
+            let lo = [0; 3].map(|_| rng.below(u64::from(n / 2)) as u32);
+            let hi = lo.map(|l| l + 1 + rng.below(u64::from(n - l)) as u32);
+            let cells =
+                (lo[0]..hi[0]).flat_map(|x| (lo[1]..hi[1]).flat_map(move |y| (lo[2]..hi[2]).map(move |z| [x, y, z])));
+            let window = LinearOctree::from_voxels(d, cells).unwrap();
+            let tree = random_octree(&mut rng, d).intersection(&window).unwrap();
+            check(&tree, &mut rng, 400);
+            let Some((blo, bhi)) = tree.voxel_bounds() else { continue };
+            let t = Traversal::new(&tree);
+            for _ in 0..400 {
+                // From a point of one of the box's planes, or a lattice point beside it.
+                let a = rng.below(3) as usize;
+                let mut o = rng.vec(-1.0, f64::from(n) + 1.0);
+                o[a] = f64::from(if rng.below(2) == 0 { blo[a] } else { bhi[a] });
+                if rng.below(2) == 0 {
+                    o = o.round();
+                }
+                let mut dir = rng.vec(-1.0, 1.0);
+                if rng.below(3) == 0 {
+                    dir[a] = 0.0; // along the plane
+                }
+                if dir == DVec3::ZERO {
+                    continue;
+                }
+                let got = t.hit_voxel_units(&Ray::new(o, dir)).map(|h| (h.voxel, h.axis.map(usize::from)));
+                let want = brute_force(&tree, o, dir).map(|(_, v, f)| (v, f));
+                assert_eq!(got, want, "ray {o} {dir}, box {blo:?}..{bhi:?}");
+                // The world ray of the unit domain (scaled by a power of two: the same walk).
+                let world = Ray::new(o / f64::from(n), dir);
+                assert_eq!(t.occluded(&world), want.is_some(), "any hit, ray {o} {dir}");
+            }
+        }
+    }
+}
+
+#[test]
 fn traversal_matches_brute_force_on_the_showcase_at_depth_6() {
     let mut rng = Rng(42);
     let d = samples::showcase_domain(6).unwrap();

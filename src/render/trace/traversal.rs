@@ -42,6 +42,9 @@ pub struct Traversal {
     pub(super) isa: Isa,
     pub(super) root: Root,
     pub(super) nodes: Vec<Inner>,
+    /// The planes bounding the full voxels, `[low, high)` in voxel units (all 0 when
+    /// empty): a walk meets no full voxel outside them (see `walk`).
+    pub(super) occupied: [[f64; 3]; 2],
 }
 
 impl Traversal {
@@ -56,7 +59,8 @@ impl Traversal {
             [k] if *k == root_key => Root::Full,
             _ => Root::Inner,
         };
-        let mut t = Traversal { domain, isa: Isa::detect(), root, nodes: Vec::new() };
+        let occupied = tree.voxel_bounds().map_or([[0.0; 3]; 2], |(lo, hi)| [lo.map(f64::from), hi.map(f64::from)]);
+        let mut t = Traversal { domain, isa: Isa::detect(), root, nodes: Vec::new(), occupied };
         if root == Root::Inner {
             t.nodes.push(Inner { first: 0, valid: 0, full: 0, _pad: 0 });
             t.build(0, root_key, keys);

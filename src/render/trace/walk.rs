@@ -114,14 +114,42 @@ impl Traversal {
             let n = self.domain.resolution();
             return (ta.max(0.0) < t_max).then_some(Entry { min: [0, 0, 0], size: n, t: ta, face });
         }
+        let enter = self.occupied_entry(r, t_max)?;
         let ray = Lattice::new(r);
         // Two builds of the walk: the one from the root (single rays) carries no
-        // subtree logic.
-        if from.above.is_empty() || ta > start {
+        // subtree logic; it starts where the ray enters the full voxels' box.
+        if from.above.is_empty() {
+            self.walk::<false, FACE>(&ray, t_max, span, start.max(enter), Subtree::ROOT)
+        } else if ta > start {
             self.walk::<false, FACE>(&ray, t_max, span, start, Subtree::ROOT)
         } else {
             self.walk::<true, FACE>(&ray, t_max, span, start, from)
         }
+    }
+
+    /// The time a ray enters the box of the full voxels ([`Traversal::occupied`]),
+    /// `None` when it cannot hit a full voxel there before `t_max` (it misses the box,
+    /// leaves it before 0, or enters it at `t_max` or later); `-inf` for a ray with an
+    /// infinite reciprocal on some axis (moved off the lattice by the walk: no test).
+    ///
+    /// Exact: the walk places the ray in the cell `[m, m + 1)` of an axis at time `t`
+    /// when the computed times of the cell's near and far planes satisfy `near <= t <
+    /// far` (`(plane - o) inv`, the same formula here), and a plane's computed time is
+    /// monotone in the plane; a full voxel's cells lie within the box's planes, so a hit
+    /// at `t` has `enter <= t < exit`, with `0 <= t < t_max`.
+    #[inline(always)]
+    fn occupied_entry(&self, r: &VoxelRay, t_max: f64) -> Option<f64> {
+        if !r.inv.is_finite() {
+            return Some(f64::NEG_INFINITY);
+        }
+        let [low, high] = self.occupied;
+        let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
+        for a in 0..3 {
+            let (near, far) = if r.d[a] > 0.0 { (low[a], high[a]) } else { (high[a], low[a]) };
+            enter = enter.max((near - r.o[a]) * r.inv[a]);
+            exit = exit.min((far - r.o[a]) * r.inv[a]);
+        }
+        (enter < exit && exit > 0.0 && enter < t_max).then_some(enter)
     }
 
     /// Entry and exit times of the root's slabs, with the lowest axis of the entry
