@@ -21,7 +21,7 @@ use super::adaptive;
 use super::film::ray_grid::RayGrid;
 use super::film::resolve::{exposure_scale, resolve, srgb8_pixel};
 use super::film::{Camera, Picture, SampleGrid, View};
-use super::raster::{Display, STRIP_ROWS, Strip};
+use super::raster::{Display, Strip};
 use super::scene::{Scene, SceneHit};
 use super::shade::{Normals, ShadeOptions, radiance};
 use super::visibility::{Method, visibility};
@@ -250,10 +250,10 @@ pub fn render_picture(
 }
 
 /// `spp x spp` samples in every pixel: the visibility of every sample, then shading;
-/// each pixel's mean times `scale`. The front-to-back display goes a strip at a time
-/// (when a strip's sample rows are whole pixel rows): each task draws a strip into a
-/// strip-sized buffer of its own and shades it at once, so the frame's samples (32
-/// bytes each) are never all held, filled and read back; the pixels are the same.
+/// each pixel's mean times `scale`. The front-to-back display goes a strip of whole
+/// pixel rows at a time: each task draws a strip into a strip-sized buffer of its own
+/// and shades it at once, so the frame's samples (32 bytes each) are never all held,
+/// filled and read back; the pixels are the same.
 /// Each pixel goes into `out` (row-major, `width x height`) as `encode` makes it of
 /// the linear value; `rows`, when given, gets every row of `out` once, top to bottom
 /// (as strips finish, see [`strips_in_order`], or at the end).
@@ -277,56 +277,57 @@ fn uniform<P: Send + Sync + Clone>(
     let shader = Shader::new(scene, &view, &samples, shading, scale, progress);
     debug_assert_eq!(out.len(), width as usize * height as usize);
     let pixel_row = width as usize;
-    let (hits, faces_drawn, secondary_rays) =
-        if method == Method::FrontToBack && STRIP_ROWS.is_multiple_of(spp as usize) {
-            let display = Display::new(scene, &view, &samples);
-            progress.start(u64::from(height));
-            let strip_pixels = pixel_row * (STRIP_ROWS / spp as usize);
-            let init = || (Strip::new(columns), Vec::new());
-            let draw = |(strip, seen): &mut (Strip, Vec<_>), k: usize, out: &mut [P]| {
-                seen.clear();
-                seen.resize(out.len() / pixel_row * spp as usize * columns, None);
-                let faces = display.draw_strip(k, strip, seen);
-                let hits = seen.iter().filter(|s| s.is_some()).count() as u64;
-                Counts(hits, faces, shader.rows(seen, (k * STRIP_ROWS) as u32 / spp, &encode, out))
-            };
-            match rows {
-                // Not from within the pool: the calling thread waits on the strips.
-                Some(rows) if rayon::current_thread_index().is_none() => {
-                    strips_in_order(out, strip_pixels, init, draw, rows)
-                }
-                rows => {
-                    // A strip a task: a frame has few strips (12 at 720 rows) of unequal
-                    // work, and rayon's default split would leave runs of three to one thread.
-                    let counts = out
-                        .par_chunks_mut(strip_pixels)
-                        .enumerate()
-                        .with_max_len(1)
-                        .map_init(init, |state, (k, out)| draw(state, k, out))
-                        .reduce(Counts::default, Counts::add);
-                    if let Some(rows) = rows {
-                        rows(out);
-                    }
-                    counts
-                }
-            }
-            .into()
-        } else {
-            // Step 1: what each sample sees.
-            let (seen, visible) = visibility(scene, camera, &samples, method);
-            // Step 2: shading, the same for every method, averaged over each pixel's samples.
-            progress.start(u64::from(height));
-            let rays = out
-                .par_chunks_mut(pixel_row)
-                .zip(seen.par_chunks(spp as usize * columns))
-                .zip(0..height)
-                .map(|((out, seen), row)| shader.rows(seen, row, &encode, out))
-                .sum();
-            if let Some(rows) = rows {
-                rows(out);
-            }
-            (seen.iter().filter(|s| s.is_some()).count() as u64, visible.faces_drawn, rays)
+    let (hits, faces_drawn, secondary_rays) = if method == Method::FrontToBack {
+        let display = Display::new(scene, &view, &samples);
+        progress.start(u64::from(height));
+        // Strips of whole pixel rows.
+        let strip_rows = display.strip_rows;
+        let strip_pixels = pixel_row * (strip_rows / spp as usize);
+        let init = || (display.strip(), Vec::new());
+        let draw = |(strip, seen): &mut (Strip, Vec<_>), k: usize, out: &mut [P]| {
+            seen.clear();
+            seen.resize(out.len() / pixel_row * spp as usize * columns, None);
+            let faces = display.draw_strip(k, strip, seen);
+            let hits = seen.iter().filter(|s| s.is_some()).count() as u64;
+            Counts(hits, faces, shader.rows(seen, (k * strip_rows) as u32 / spp, &encode, out))
         };
+        match rows {
+            // Not from within the pool: the calling thread waits on the strips.
+            Some(rows) if rayon::current_thread_index().is_none() => {
+                strips_in_order(out, strip_pixels, init, draw, rows)
+            }
+            rows => {
+                // A strip a task: a frame has few strips (12 at 720 rows) of unequal
+                // work, and rayon's default split would leave runs of three to one thread.
+                let counts = out
+                    .par_chunks_mut(strip_pixels)
+                    .enumerate()
+                    .with_max_len(1)
+                    .map_init(init, |state, (k, out)| draw(state, k, out))
+                    .reduce(Counts::default, Counts::add);
+                if let Some(rows) = rows {
+                    rows(out);
+                }
+                counts
+            }
+        }
+        .into()
+    } else {
+        // Step 1: what each sample sees.
+        let (seen, visible) = visibility(scene, camera, &samples, method);
+        // Step 2: shading, the same for every method, averaged over each pixel's samples.
+        progress.start(u64::from(height));
+        let rays = out
+            .par_chunks_mut(pixel_row)
+            .zip(seen.par_chunks(spp as usize * columns))
+            .zip(0..height)
+            .map(|((out, seen), row)| shader.rows(seen, row, &encode, out))
+            .sum();
+        if let Some(rows) = rows {
+            rows(out);
+        }
+        (seen.iter().filter(|s| s.is_some()).count() as u64, visible.faces_drawn, rays)
+    };
     progress.finish();
     let stats = RenderStats {
         samples: u64::from(samples.columns()) * u64::from(samples.rows()),

@@ -3,10 +3,10 @@
 //! drawn only into samples not yet covered, a subtree skipped when every sample of its
 //! screen footprint is covered. No depth buffer within a solid.
 //!
-//! Steps, per screen strip of [`STRIP_ROWS`] sample rows (strips are independent rayon
-//! tasks, each walking the octree culled to its rows, so the result does not depend on
-//! the thread count; [`Display`] draws one strip, so that the render pipeline can shade
-//! a strip as soon as it is drawn):
+//! Steps, per screen strip of [`strip_rows`] sample rows (strips are independent rayon
+//! tasks, each walking the octree culled to its rows, so the hits do not depend on the
+//! thread count or the strips; [`Display`] draws one strip, so that the render pipeline
+//! can shade a strip as soon as it is drawn):
 //! 1. Walk the traversal octree's nodes front to back (`Pass::inner`, recursive: in
 //!    every inner node the child on the viewer's side of all three mid planes first,
 //!    then those across one plane, two, three). A node can only hide nodes visited
@@ -55,8 +55,21 @@ use crate::render::film::{Projection, SampleGrid, View};
 use crate::render::scene::{Scene, SceneHit};
 use crate::render::trace::{Inner, Traversal, VoxelRay};
 
-/// Sample rows a strip (one parallel task); a multiple of the tile height 8.
-pub const STRIP_ROWS: usize = 64;
+/// Sample rows a strip (one parallel task) at least; a multiple of the tile height 8.
+const STRIP_ROWS: usize = 64;
+
+/// Sample rows a strip at `spp x spp` samples a pixel: the least multiple of both the
+/// tile height 8 and `spp` (so that a strip is whole pixel rows, which the pipeline
+/// shades at once) that is at least [`STRIP_ROWS`]: 64 for 1, 2, 4, 8 and 16, 72 for 3.
+pub(crate) fn strip_rows(spp: u32) -> usize {
+    let spp = spp.max(1) as usize;
+    let (mut a, mut b) = (8, spp);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    let lcm = 8 * spp / a;
+    STRIP_ROWS.div_ceil(lcm) * lcm
+}
 
 /// SampleGrid by which a projected footprint is widened on every side.
 const MARGIN: f64 = 1e-2;
@@ -70,10 +83,10 @@ pub(crate) fn front_to_back(scene: &Scene, view: &View, samples: &SampleGrid, se
     let columns = samples.columns() as usize;
     // A strip a task (rayon's default split leaves runs of several strips of unequal
     // work to one thread).
-    seen.par_chunks_mut(STRIP_ROWS * columns)
+    seen.par_chunks_mut(display.strip_rows * columns)
         .enumerate()
         .with_max_len(1)
-        .map_init(|| Strip::new(columns), |strip, (k, out)| display.draw_strip(k, strip, out))
+        .map_init(|| display.strip(), |strip, (k, out)| display.draw_strip(k, strip, out))
         .sum()
 }
 
@@ -84,15 +97,24 @@ pub(crate) struct Display<'a> {
     solids: Vec<Solid<'a>>,
     rays: RayGrid,
     columns: usize,
+    /// Sample rows a strip ([`strip_rows`]).
+    pub(crate) strip_rows: usize,
 }
 
 impl<'a> Display<'a> {
     pub(crate) fn new(scene: &'a Scene, view: &View, samples: &SampleGrid) -> Self {
         let solids = scene.solids.iter().map(|s| Solid::new(&s.traversal, view, samples)).collect();
-        Display { solids, rays: RayGrid::new(view, samples), columns: samples.columns() as usize }
+        let (rays, columns, strip_rows) =
+            (RayGrid::new(view, samples), samples.columns() as usize, strip_rows(samples.spp));
+        Display { solids, rays, columns, strip_rows }
     }
 
-    /// Draws strip `k` (sample rows from `k STRIP_ROWS`) into `out`, its samples
+    /// Coverage for this display's strips.
+    pub(crate) fn strip(&self) -> Strip {
+        Strip::new(self.columns, self.strip_rows)
+    }
+
+    /// Draws strip `k` (sample rows from `k strip_rows`) into `out`, its samples
     /// (row-major, all `None` on entry), with the coverage `strip` (any strip's: it is
     /// reset here); returns the faces drawn.
     pub(crate) fn draw_strip(&self, k: usize, strip: &mut Strip, out: &mut [Option<SceneHit>]) -> u64 {
@@ -105,7 +127,7 @@ impl<'a> Display<'a> {
                 solid,
                 index,
                 rays: &self.rays,
-                row0: k * STRIP_ROWS,
+                row0: k * self.strip_rows,
                 rows,
                 columns,
                 tiles: Tiles { covered: &mut strip.covered, tiles_x: strip.tiles_x },
@@ -422,10 +444,10 @@ pub(crate) struct Strip {
 }
 
 impl Strip {
-    /// Coverage for strips of `columns` sample columns.
-    pub(crate) fn new(columns: usize) -> Self {
+    /// Coverage for strips of `columns` sample columns and `rows` rows (a multiple of 8).
+    fn new(columns: usize, rows: usize) -> Self {
         let tiles_x = columns.div_ceil(8);
-        Strip { covered: vec![0; tiles_x * STRIP_ROWS / 8], tiles_x, columns }
+        Strip { covered: vec![0; tiles_x * rows / 8], tiles_x, columns }
     }
 
     /// Nothing covered; samples outside the strip's `rows` and the

@@ -21,7 +21,7 @@ mod scan_line;
 
 use glam::DVec3;
 
-pub(crate) use front_to_back::{Display, STRIP_ROWS, Strip, front_to_back};
+pub(crate) use front_to_back::{Display, Strip, front_to_back};
 
 use super::film::{SampleGrid, View};
 use super::trace::{Hit, Traversal, VoxelRay};
