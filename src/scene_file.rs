@@ -112,6 +112,8 @@ struct ImageSpec {
     normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays.
     max_depth: Option<u32>,
+    /// Share of a pixel below which a secondary ray is not traced.
+    cutoff: Option<f64>,
     /// Uniform (the default) or adaptive anti-aliasing.
     aa: Option<AaSpec>,
     /// Contrast at which adaptive anti-aliasing supersamples (implies adaptive).
@@ -147,6 +149,7 @@ impl Default for ImageSpec {
             background: None,
             normals: None,
             max_depth: None,
+            cutoff: None,
             aa: None,
             aa_threshold: None,
         }
@@ -912,6 +915,7 @@ impl ImageSpec {
             shadows: self.shadows,
             normals: self.normals.unwrap_or(d.normals),
             max_depth: self.max_depth.unwrap_or(d.max_depth),
+            cutoff: self.cutoff.unwrap_or(d.cutoff),
             aa: match (self.aa, self.aa_threshold) {
                 (Some(AaSpec::Uniform), _) | (None, None) => AntiAliasing::Uniform,
                 (Some(AaSpec::Adaptive), t) | (None, t @ Some(_)) => {

@@ -17,7 +17,7 @@ use octsolid::io::oct;
 use octsolid::mesh::generate::cuboid;
 use octsolid::mesh::save_mesh;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, estimate_bytes, voxelize};
-use octsolid::render::{AntiAliasing, DEFAULT_AA_THRESHOLD, Light};
+use octsolid::render::{AntiAliasing, DEFAULT_AA_THRESHOLD, Light, RenderOptions};
 use octsolid::scene_file::{CACHE_DIR, CachePolicy, LoadOptions, SceneFile, clear_cache, load_scene, load_scene_with};
 use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Error, Result};
@@ -479,6 +479,18 @@ fn anti_aliasing_keys_choose_uniform_or_adaptive() {
     let (path, e) = error(&dir, "aa.toml", &text);
     let cause = scene_cause(e, &path, &text, Some("\"jittered\""), None);
     assert!(cause.to_string().contains("uniform") && cause.to_string().contains("adaptive"), "{cause}");
+}
+
+#[test]
+fn the_cutoff_key_sets_the_share_below_which_rays_stop() {
+    let dir = scratch("cutoff");
+    let scene = |image: &str| {
+        format!("[image]\n{image}\n\n[[solid]]\nshape = {{ sphere = {{ center = [0, 0, 0], radius = 1 }} }}\n")
+    };
+    let cutoff =
+        |image: &str| load(&dir, "cutoff.toml", &scene(image), MemoryBudget::default()).1.unwrap().options.cutoff;
+    assert_eq!(cutoff(""), RenderOptions::default().cutoff);
+    assert_eq!(cutoff("cutoff = 0.0039"), 0.0039);
 }
 
 /// Writes a scene of every kind of solid the cache keeps into `dir` as `name`: a shape

@@ -106,15 +106,10 @@ fn materials_out_of_range_are_refused() {
     assert!(Material::default().check().is_ok());
 }
 
-#[test]
-fn a_voxelized_mirror_ball_reflects_only_the_background() {
-    // A mirror ball (reflectance 0.9, no local light) alone in the scene: every ray
-    // reflected off a convex surface escapes, so with the sphere's own normals every
-    // pixel shows the background B or 0.9 B exactly. A ray caught on the voxel
-    // staircase (reflected into a neighbouring step) would show 0.81 B or less.
-    use octsolid::NoProgress;
-    use octsolid::render::to_srgb8;
-    use octsolid::render::{Camera, RenderOptions, render};
+/// A mirror ball (reflectance 0.9, no local light) alone before a blue background,
+/// seen by a 160x160 camera.
+fn mirror_ball() -> (Scene, octsolid::render::Camera) {
+    use octsolid::render::Camera;
     use std::sync::Arc;
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 8).unwrap();
     let sphere = Sphere::new(DVec3::new(0.03, -0.02, 0.01), 0.7).unwrap();
@@ -124,7 +119,18 @@ fn a_voxelized_mirror_ball_reflects_only_the_background() {
     scene.add_shaped("mirror", tree, mirror, Arc::new(sphere));
     scene.background = DVec3::new(0.2, 0.5, 0.8);
     scene.lights = vec![Light::Directional { direction: DVec3::new(-1.0, -0.5, -1.0), color: DVec3::ONE }];
-    let camera = Camera::look_at(DVec3::new(0.4, -3.0, 1.2), DVec3::ZERO, DVec3::Z, 35.0);
+    (scene, Camera::look_at(DVec3::new(0.4, -3.0, 1.2), DVec3::ZERO, DVec3::Z, 35.0))
+}
+
+#[test]
+fn a_voxelized_mirror_ball_reflects_only_the_background() {
+    // Every ray reflected off a convex surface escapes, so with the sphere's own
+    // normals every pixel shows the background B or 0.9 B exactly. A ray caught on the
+    // voxel staircase (reflected into a neighbouring step) would show 0.81 B or less.
+    use octsolid::NoProgress;
+    use octsolid::render::to_srgb8;
+    use octsolid::render::{RenderOptions, render};
+    let (scene, camera) = mirror_ball();
     let options = RenderOptions { width: 160, height: 160, spp: 1, normals: Normals::Smooth, ..Default::default() };
     let (img, stats) = render(&scene, &camera, &options, &NoProgress).unwrap();
     let srgb = |c: DVec3| [to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)];
@@ -133,4 +139,36 @@ fn a_voxelized_mirror_ball_reflects_only_the_background() {
     let wrong = img.pixels().filter(|p| p.0 != background && p.0 != reflected).count();
     assert!(on_ball > 8_000 && on_ball as u64 <= stats.hits, "{on_ball} pixels show the reflection");
     assert_eq!(wrong, 0, "{wrong} pixels are neither the background nor its reflection");
+}
+
+#[test]
+fn a_reflection_whose_share_is_at_the_cutoff_is_not_traced() {
+    // The ball's reflected rays carry 0.9 of their pixel: traced with a cutoff just
+    // below (0.9 B on the ball), not at 0.9 (the ball black: it has no local light),
+    // and a cutoff outside 0..=1 is refused. (A primary ray through a sliver of the
+    // staircase at the silhouette passes on to the background.)
+    use octsolid::NoProgress;
+    use octsolid::render::to_srgb8;
+    use octsolid::render::{RenderOptions, render};
+    let (scene, camera) = mirror_ball();
+    let srgb = |c: DVec3| [to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)];
+    let base = RenderOptions { width: 64, height: 64, spp: 1, normals: Normals::Smooth, ..Default::default() };
+    let ball = |cutoff: f64| {
+        let (img, stats) = render(&scene, &camera, &RenderOptions { cutoff, ..base }, &NoProgress).unwrap();
+        let on_ball = img.pixels().filter(|p| p.0 != srgb(scene.background)).map(|p| p.0).collect::<Vec<_>>();
+        (on_ball, stats.hits)
+    };
+    let (traced, hits) = ball(0.899);
+    let most = |pixels: &[[u8; 3]], hits: u64| {
+        hits > 1000 && pixels.len() as u64 <= hits && pixels.len() as u64 > hits * 99 / 100
+    };
+    assert!(most(&traced, hits), "{} of {hits}", traced.len());
+    assert!(traced.iter().all(|&p| p == srgb(scene.background * 0.9)));
+    let (cut, hits) = ball(0.9);
+    assert!(most(&cut, hits), "{} of {hits}", cut.len());
+    assert!(cut.iter().all(|&p| p == [0, 0, 0]));
+    for cutoff in [-0.1, 1.5, f64::NAN] {
+        let err = render(&scene, &camera, &RenderOptions { cutoff, ..base }, &NoProgress).unwrap_err();
+        assert!(err.to_string().contains("ray cutoff"), "{err}");
+    }
 }

@@ -15,6 +15,7 @@ global_settings {
     assumed_gamma 1.0
     ambient_light rgb <1, 1, 1>
     max_trace_level 6           // the primary ray + octsolid's max_depth = 5
+    adc_bailout 1/255           // the default, and the scene's cutoff
 }
 
 #declare Eye = <3.4, -5.6, 2.9>;

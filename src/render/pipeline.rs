@@ -71,6 +71,9 @@ pub struct RenderOptions {
     pub normals: Normals,
     /// Longest chain of reflected and refracted rays (0: local shading only).
     pub max_depth: u32,
+    /// A reflected or refracted ray whose share of its pixel is below this is not
+    /// traced (POV-Ray's `adc_bailout`, 1/255 there; default 0.001).
+    pub cutoff: f64,
     /// How primary visibility is decided (default [`Method::FrontToBack`]: every
     /// method finds the same hits, and the display finds a whole image's fastest).
     pub method: Method,
@@ -92,6 +95,7 @@ impl Default for RenderOptions {
             shadows: true,
             normals: Normals::default(),
             max_depth: ShadeOptions::default().max_depth,
+            cutoff: ShadeOptions::default().cutoff,
             method: Method::FrontToBack,
             budget: MemoryBudget::default(),
             exposure: 0.0,
@@ -178,7 +182,7 @@ pub fn render_streamed(
 /// Checks `options` and `camera`, and the picture's memory against the budget before
 /// anything is allocated; gives the exposure's factor and the shading options.
 fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)> {
-    let RenderOptions { width, height, spp, aa, shadows, normals, max_depth, exposure, budget, .. } = *options;
+    let RenderOptions { width, height, spp, aa, shadows, normals, max_depth, cutoff, exposure, budget, .. } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
@@ -187,6 +191,9 @@ fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)
     }
     if max_depth > MAX_RAY_DEPTH {
         return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
+    }
+    if !(0.0..=1.0).contains(&cutoff) {
+        return Err(Error::invalid("ray cutoff", format!("{cutoff} is outside 0..=1")));
     }
     if let AntiAliasing::Adaptive { threshold } = aa
         && !(threshold.is_finite() && threshold >= 0.0)
@@ -197,7 +204,7 @@ fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)
     let scale = exposure_scale(exposure)?;
     let samples = SampleGrid { width, height, spp };
     budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
-    Ok((scale, ShadeOptions { shadows, normals, max_depth, ..ShadeOptions::default() }))
+    Ok((scale, ShadeOptions { shadows, normals, max_depth, cutoff }))
 }
 
 /// Renders `scene` through `camera` to linear radiance: visibility of every sample by

@@ -73,6 +73,10 @@ pub struct RenderArgs {
     /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
     #[arg(long)]
     pub max_depth: Option<u32>,
+    /// Share of a pixel below which a reflected or refracted ray is not traced
+    /// (POV-Ray's adc_bailout; default: the scene's, or 0.001).
+    #[arg(long)]
+    pub cutoff: Option<f64>,
     /// Anti-aliasing: uniform (--spp N x N samples in every pixel) or adaptive (one
     /// sample a pixel, N x N where a neighbour differs by --aa-threshold; POV-Ray's +A)
     /// (default: the scene's, or uniform).
@@ -331,6 +335,7 @@ impl Drawn {
         options.shadows &= !a.no_shadows;
         options.normals = a.normals.map_or(options.normals, Into::into);
         options.max_depth = a.max_depth.unwrap_or(options.max_depth);
+        options.cutoff = a.cutoff.unwrap_or(options.cutoff);
         options.aa = anti_aliasing(a, options.aa);
         options.method = a.method.into();
         options.budget = budget;
