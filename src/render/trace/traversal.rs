@@ -9,6 +9,7 @@
 //! sorted keys, O(n * depth).
 
 use super::lanes::Isa;
+use super::reach::Reach;
 use crate::octree::{Domain, LinearOctree, NodeKey};
 
 /// One inner node of the traversal octree.
@@ -45,6 +46,9 @@ pub struct Traversal {
     /// The planes bounding the full voxels, `[low, high)` in voxel units (all 0 when
     /// empty): a walk meets no full voxel outside them (see `walk`).
     pub(super) occupied: [[f64; 3]; 2],
+    /// The full voxels' box in world space, grown by a voxel: a ray that cannot meet
+    /// it is not walked.
+    pub(super) reach: Reach,
 }
 
 impl Traversal {
@@ -59,8 +63,10 @@ impl Traversal {
             [k] if *k == root_key => Root::Full,
             _ => Root::Inner,
         };
-        let occupied = tree.voxel_bounds().map_or([[0.0; 3]; 2], |(lo, hi)| [lo.map(f64::from), hi.map(f64::from)]);
-        let mut t = Traversal { domain, isa: Isa::detect(), root, nodes: Vec::new(), occupied };
+        let bounds = tree.voxel_bounds().unwrap_or(([0; 3], [0; 3]));
+        let occupied = [bounds.0.map(f64::from), bounds.1.map(f64::from)];
+        let reach = Reach::around(&domain, bounds.0, bounds.1);
+        let mut t = Traversal { domain, isa: Isa::detect(), root, nodes: Vec::new(), occupied, reach };
         if root == Root::Inner {
             t.nodes.push(Inner { first: 0, valid: 0, full: 0, _pad: 0 });
             t.build(0, root_key, keys);

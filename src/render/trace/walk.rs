@@ -61,12 +61,18 @@ impl RayCast for Traversal {
     type Hit = Hit;
 
     fn hit(&self, ray: &Ray) -> Option<Hit> {
+        if !self.reach.may_meet(ray) {
+            return None;
+        }
         let r = VoxelRay::new(&self.domain, ray);
         Some(r.entry(&self.first_full(&r, ray.t_max)?))
     }
 
     /// The walk of [`RayCast::hit`] without working out the voxel and face.
     fn occluded(&self, ray: &Ray) -> bool {
+        if !self.reach.may_meet(ray) {
+            return false;
+        }
         let r = VoxelRay::new(&self.domain, ray);
         self.first_full_after::<false>(&r, ray.t_max, 0.0, Subtree::ROOT).is_some()
     }
