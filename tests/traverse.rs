@@ -122,6 +122,13 @@ fn check(tree: &LinearOctree, rng: &mut Rng, count: usize) {
     for (o, d) in rays(rng, n, count) {
         let got = t.hit_voxel_units(&Ray::new(o, d));
         let want = brute_force(tree, o, d);
+        // The same ray in world units (a power-of-two scale: the same walk), which is
+        // first tested against the full voxels' box in world space.
+        if tree.domain().min() == DVec3::ZERO && tree.domain().edge() == 1.0 {
+            let world = Ray::new(o / n, d);
+            assert_eq!(t.hit(&world).map(|h| (h.voxel, h.axis)), got.map(|h| (h.voxel, h.axis)), "world ray {o} {d}");
+            assert_eq!(t.occluded(&world), got.is_some(), "world ray {o} {d}");
+        }
         match (got, want) {
             (None, None) => {}
             (Some(h), Some((tw, vw, fw))) => {

@@ -15,11 +15,18 @@
 //! No other axis can separate a box from a line (the ray's own direction is parallel
 //! to it), so a ray no axis separates meets the box.
 //!
-//! Conservative, not exact: the box is the full voxels' box grown by a voxel on every
-//! side, far more than the rounding of the few operations here or of the lattice
-//! conversion (for origins within a million box sizes; farther ones are not judged),
-//! so a ray the walk would find a hit for always passes. The ray's `t_max` is not
-//! used: the walk itself ends a segment that stops short.
+//! Conservative, not exact: the box is the full voxels' box grown by a margin `g`
+//! larger than any rounding here or in the lattice conversion, so a ray the walk would
+//! find a hit for always passes. A walk's hit means the ray as rounded into the lattice
+//! enters the box; that ray is the world ray moved by at most a few ulps of `|o| +
+//! |min| + |w| + diagonal` (the origin, the domain's corner, the distance travelled),
+//! and each quantity compared here is off by a few ulps of `|d| (|w| + |h|)`. With
+//! origins no farther than `far` (1024 box sizes; farther ones are not judged), `g =
+//! 2^-40 (|c| + |min| + edge + far + |h|) + voxel / 4096` exceeds both a thousandfold
+//! while staying below the thousandth of a voxel by which secondary rays leave a
+//! face (`shade::whitted`): the rays a floor casts up from its top are told apart from
+//! its box. The ray's `t_max` is not used: the walk itself ends a segment that stops
+//! short.
 
 use glam::DVec3;
 
@@ -32,22 +39,26 @@ pub(super) struct Reach {
     center: DVec3,
     half: DVec3,
     /// Origins farther than this from the centre on some axis are not judged (always
-    /// may meet): there the rounding of `w` could approach the margin of a voxel.
+    /// may meet): the margin is sized for the rounding of nearer ones.
     far: f64,
 }
 
 impl Reach {
-    /// The box of the voxels `[lo, hi)` of `domain`, grown by a voxel on every side.
+    /// The box of the voxels `[lo, hi)` of `domain`, grown by the margin `g` (see the
+    /// module doc).
     pub(super) fn around(domain: &Domain, lo: [u32; 3], hi: [u32; 3]) -> Reach {
         let (min, max) = (domain.lattice_point(lo), domain.lattice_point(hi));
-        let grow = DVec3::splat(domain.voxel_size());
-        let half = (max - min) * 0.5 + grow;
-        Reach { center: (min + max) * 0.5, half, far: 1e6 * half.max_element() }
+        let (center, half) = ((min + max) * 0.5, (max - min) * 0.5);
+        let voxel = domain.voxel_size();
+        let far = 1024.0 * half.max_element().max(voxel);
+        let scale = center.abs().max_element() + domain.min().abs().max_element() + domain.edge() + far;
+        let grow = (scale + half.max_element()) * 2f64.powi(-40) + voxel / 4096.0;
+        Reach { center, half: half + DVec3::splat(grow), far }
     }
 
     /// Whether the ray may enter the box (`false` only when an axis separates them;
     /// `true` for a ray with a non-finite origin or direction, which the walk refuses).
-    #[inline]
+    #[inline(always)]
     pub(super) fn may_meet(&self, ray: &Ray) -> bool {
         let (d, h) = (ray.dir, self.half);
         let w = ray.origin - self.center;
@@ -83,7 +94,7 @@ mod tests {
         };
         let (mut met, mut missed) = (0, 0);
         for _ in 0..200_000 {
-            let o = reach.center + (DVec3::new(unit(), unit(), unit()) * 2.0 - DVec3::ONE) * 3.0;
+            let o = reach.center + (DVec3::new(unit(), unit(), unit()) * 2.0 - DVec3::ONE) * 1.5;
             let mut d = DVec3::new(unit(), unit(), unit()) * 2.0 - DVec3::ONE;
             if unit() < 0.1 {
                 d[(unit() * 3.0) as usize] = 0.0;

@@ -113,9 +113,14 @@ impl VoxelRay {
                 hi
             } else {
                 let p = self.o[a] + self.d[a] * t;
+                // The voxel is clamped to the node, so the position may be clamped to
+                // a voxel beyond it first (NaN goes to the low end, as it would): then
+                // its floor is a conversion to an integer and back, no library call.
+                let q = p.max(f64::from(lo) - 1.0).min(f64::from(hi) + 1.0);
+                let f = q as i64 as f64;
+                let f = if f > q { f - 1.0 } else { f };
                 // Just inside along the ray: nudge by the direction's sign on ties.
-                let f = p.floor();
-                let c = if p == f && self.d[a] < 0.0 { f - 1.0 } else { f };
+                let c = if q == f && self.d[a] < 0.0 { f - 1.0 } else { f };
                 let mut v = (c.max(f64::from(lo)).min(f64::from(hi))) as u32;
                 // The position is rounded apart from the plane times: the voxel is
                 // the one the plane times place the ray in at `t` (planes crossed by `t`
