@@ -119,6 +119,13 @@ impl VoxelRay {
                 let q = p.max(f64::from(lo) - 1.0).min(f64::from(hi) + 1.0);
                 let f = q as i64 as f64;
                 let f = if f > q { f - 1.0 } else { f };
+                // A position inside a voxel of the node, a millionth of a voxel or more
+                // from its planes, is that voxel: the plane times and the position agree
+                // to a few ulps of 2^22 (below 1e-9), whatever the depth.
+                let frac = q - f;
+                if frac > 1e-6 && frac < 1.0 - 1e-6 && f >= f64::from(lo) && f <= f64::from(hi) {
+                    return f as u32;
+                }
                 // Just inside along the ray: nudge by the direction's sign on ties.
                 let c = if q == f && self.d[a] < 0.0 { f - 1.0 } else { f };
                 let mut v = (c.max(f64::from(lo)).min(f64::from(hi))) as u32;
