@@ -61,7 +61,11 @@ impl Shape for Cylinder {
     /// normal) and the slab between the caps (`d = |w| - H / 2`, axial normal).
     fn surface(&self, p: DVec3) -> Option<Surface> {
         let (w, [u, v]) = self.axis.split(p - self.center);
-        let caps = Surface::exact(w.abs() - self.height * 0.5, self.axis.unit() * w.signum())?;
+        if w.is_nan() {
+            return None;
+        }
+        // The axial normal is a unit vector already (what normalizing it would give).
+        let caps = Surface { distance: w.abs() - self.height * 0.5, normal: self.axis.unit() * w.signum() };
         match Surface::exact(u.hypot(v) - self.radius, self.axis.join(0.0, [u, v])) {
             Some(side) => Some(side.intersection(caps)),
             // On the axis: no radial direction, and the caps are nearer anyway.
