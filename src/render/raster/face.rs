@@ -70,12 +70,12 @@ pub(crate) struct Face {
 impl Face {
     /// The faces of the full node `[min, min + size)` that look at `viewer`, by axis.
     #[inline]
+    /// The viewer's tests are made here, once: a copy of the iterator (one a sample
+    /// in the front-to-back display) carries their planes.
     pub(crate) fn visible(viewer: &Viewer, min: [u32; 3], size: u32) -> impl Iterator<Item = Face> + Clone {
         let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
-        let viewer = *viewer;
-        (0..3).filter_map(move |axis| {
-            viewer.visible_plane(axis, lo, hi).map(|plane| Face { axis, plane, lo, hi, min, size })
-        })
+        let planes: [Option<f64>; 3] = std::array::from_fn(|axis| viewer.visible_plane(axis, lo, hi));
+        (0..3).filter_map(move |axis| planes[axis].map(|plane| Face { axis, plane, lo, hi, min, size }))
     }
 
     /// The hit when `ray` crosses the face's plane and enters the node's interior there

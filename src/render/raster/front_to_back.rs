@@ -358,18 +358,11 @@ impl Pass<'_> {
         }
         let Pass { solid, index, rays, row0, columns, tiles, out, .. } = self;
         let (solid, index, rays, row0, columns) = (*solid, *index, *rays, *row0, *columns);
-        // The visible faces, in axis order, worked out once for the node's samples.
-        let mut faces = [None; 3];
-        let mut count = 0;
-        for face in Face::visible(&solid.viewer, min, 1 << shift) {
-            faces[count] = Some(face);
-            count += 1;
-        }
-        let faces = &faces[..count];
-        self.faces += count as u64;
+        let faces = Face::visible(&solid.viewer, min, 1 << shift);
+        self.faces += faces.clone().count() as u64;
         tiles.for_each_uncovered(rect, |row, col| {
             let ray = VoxelRay::scaled(solid.domain.min(), solid.scale, &rays.ray(col, row0 + row));
-            let Some(hit) = faces.iter().flatten().find_map(|face| face.enters(&ray)) else { return false };
+            let Some(hit) = faces.clone().find_map(|face| face.enters(&ray)) else { return false };
             let i = row * columns + col;
             // The first solid draws into samples that are all None (no load of what
             // is there: a cache miss a sample of the 32-byte-a-sample frame).
