@@ -63,38 +63,19 @@ impl Traversal {
             [k] if *k == root_key => Root::Full,
             _ => Root::Inner,
         };
-        let n = domain.resolution();
-        let mut t = Traversal {
-            domain,
-            isa: Isa::detect(),
-            root,
-            nodes: Vec::new(),
-            occupied: [[0.0; 3]; 2],
-            reach: Reach::around(&domain, [0; 3], [0; 3]),
-        };
-        let (lo, hi) = match root {
-            Root::Empty => ([0; 3], [0; 3]),
-            Root::Full => ([0; 3], [n; 3]),
-            Root::Inner => {
-                t.nodes.push(Inner { first: 0, valid: 0, full: 0, _pad: 0 });
-                t.build(0, root_key, [0; 3], n, keys)
-            }
-        };
-        t.occupied = [lo.map(f64::from), hi.map(f64::from)];
-        t.reach = Reach::around(&domain, lo, hi);
+        let bounds = tree.voxel_bounds().unwrap_or(([0; 3], [0; 3]));
+        let occupied = [bounds.0.map(f64::from), bounds.1.map(f64::from)];
+        let reach = Reach::around(&domain, bounds.0, bounds.1);
+        let mut t = Traversal { domain, isa: Isa::detect(), root, nodes: Vec::new(), occupied, reach };
+        if root == Root::Inner {
+            t.nodes.push(Inner { first: 0, valid: 0, full: 0, _pad: 0 });
+            t.build(0, root_key, keys);
+        }
         t
     }
 
-    /// Fills inner node `index` for `key` (the node `[min, min + size)`), whose solid
-    /// is `keys`, and gives the box of its full voxels, `[lo, hi)`.
-    fn build(
-        &mut self,
-        index: usize,
-        key: NodeKey,
-        min: [u32; 3],
-        size: u32,
-        keys: &[NodeKey],
-    ) -> ([u32; 3], [u32; 3]) {
+    /// Fills inner node `index` for `key`, whose solid is `keys`.
+    fn build(&mut self, index: usize, key: NodeKey, keys: &[NodeKey]) {
         let mut ranges = [(0usize, 0usize); 8];
         let mut pos = 0;
         let (mut valid, mut full) = (0u8, 0u8);
@@ -117,22 +98,13 @@ impl Traversal {
         self.nodes[index] = Inner { first: first as u32, valid, full, _pad: 0 };
         self.nodes
             .extend(std::iter::repeat_n(Inner { first: 0, valid: 0, full: 0, _pad: 0 }, inner.count_ones() as usize));
-        let (half, mut slot) = (size / 2, first);
-        let (mut lo, mut hi) = ([u32::MAX; 3], [0; 3]);
+        let mut slot = first;
         for (i, &(a, b)) in ranges.iter().enumerate() {
-            let cmin: [u32; 3] = std::array::from_fn(|axis| min[axis] + if i >> axis & 1 == 1 { half } else { 0 });
-            let (clo, chi) = if inner >> i & 1 == 1 {
+            if inner >> i & 1 == 1 {
+                self.build(slot, key.child(i as u64).expect("inner"), &keys[a..b]);
                 slot += 1;
-                self.build(slot - 1, key.child(i as u64).expect("inner"), cmin, half, &keys[a..b])
-            } else if full >> i & 1 == 1 {
-                (cmin, cmin.map(|m| m + half))
-            } else {
-                continue;
-            };
-            lo = std::array::from_fn(|axis| lo[axis].min(clo[axis]));
-            hi = std::array::from_fn(|axis| hi[axis].max(chi[axis]));
+            }
         }
-        (lo, hi)
     }
 
     /// The domain.
@@ -210,36 +182,6 @@ impl Traversal {
                 let slot = inner.first + (inner.valid & !inner.full & ((1u8 << child) - 1)).count_ones();
                 self.front_to_back_node(slot, cmin, half, eye_high, enter, full);
             }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use glam::DVec3;
-
-    use super::*;
-    use crate::octree::{Domain, VoxelizeOptions, voxelize};
-    use crate::samples;
-
-    /// The box of the full voxels gathered by the build is the linear octree's own
-    /// (every full node visited once, its corner from its parent's).
-    #[test]
-    fn the_build_finds_the_box_of_the_full_voxels() {
-        let mut trees = Vec::new();
-        for depth in [1, 4, 6] {
-            let d = samples::showcase_domain(depth).unwrap();
-            trees.push(voxelize(&samples::showcase(), d, &VoxelizeOptions::default()).unwrap());
-        }
-        let d = Domain::new(DVec3::ZERO, 1.0, 5).unwrap();
-        for voxels in [vec![[3, 7, 30]], vec![[0, 0, 0], [31, 31, 31]], vec![[5, 9, 2], [6, 9, 2], [17, 1, 29]]] {
-            trees.push(LinearOctree::from_voxels(d, voxels).unwrap());
-        }
-        trees.push(LinearOctree::full(d));
-        trees.push(LinearOctree::from_voxels(d, Vec::<[u32; 3]>::new()).unwrap());
-        for tree in &trees {
-            let want = tree.voxel_bounds().map_or([[0.0; 3]; 2], |(lo, hi)| [lo.map(f64::from), hi.map(f64::from)]);
-            assert_eq!(Traversal::new(tree).occupied, want, "{} voxels", tree.voxel_count());
         }
     }
 }
