@@ -118,6 +118,14 @@ fn point_queries_and_bounds_match_dense_grid() {
         assert_eq!(tree.voxel_bounds(), (!tree.is_empty()).then_some((lo, hi)));
         assert!(!tree.contains_point(d.min() - DVec3::splat(0.1)));
     }
+    // A few scattered voxels at depth 7: bounds from the list itself.
+    for count in 1..40 {
+        let voxels: Vec<[u32; 3]> = (0..count).map(|_| [0; 3].map(|_| rng.below(128) as u32)).collect();
+        let tree = LinearOctree::from_voxels(domain(7), voxels.iter().copied()).unwrap();
+        let lo = std::array::from_fn(|a| voxels.iter().map(|v| v[a]).min().unwrap());
+        let hi = std::array::from_fn(|a| voxels.iter().map(|v| v[a] + 1).max().unwrap());
+        assert_eq!(tree.voxel_bounds(), Some((lo, hi)), "{voxels:?}");
+    }
 }
 
 #[test]

@@ -226,14 +226,30 @@ impl LinearOctree {
     }
 
     /// Integer bounds `[min, max)` of the full voxels, `None` when empty.
+    ///
+    /// Without decoding a key: a coordinate is the Morton code's bits of its axis
+    /// (`code & mask`) moved together, which keeps their order, so the least `x` of
+    /// the nodes' first voxels is the `x` of the least `first & mask_x`, and the
+    /// greatest `x + 1` of their last voxels that of the greatest `last & mask_x`.
     #[must_use]
     pub fn voxel_bounds(&self) -> Option<([u32; 3], [u32; 3])> {
-        let mut it = self.nodes();
-        let first = it.next()?;
-        let init = (first.min, first.min.map(|c| c + first.size));
-        Some(it.fold(init, |(lo, hi), n| {
-            (std::array::from_fn(|a| lo[a].min(n.min[a])), std::array::from_fn(|a| hi[a].max(n.min[a] + n.size)))
-        }))
+        if self.keys.is_empty() {
+            return None;
+        }
+        const X: u64 = 0x1249_2492_4924_9249; // bits 0, 3, 6, ...
+        let masks = [X, X << 1, X << 2];
+        let (mut lo, mut hi) = ([u64::MAX; 3], [0u64; 3]);
+        for k in &self.keys {
+            let (first, last) = (k.start(), k.last());
+            for a in 0..3 {
+                lo[a] = lo[a].min(first & masks[a]);
+                hi[a] = hi[a].max(last & masks[a]);
+            }
+        }
+        Some((
+            std::array::from_fn(|a| morton::compact(lo[a] >> a)),
+            std::array::from_fn(|a| morton::compact(hi[a] >> a) + 1),
+        ))
     }
 
     /// World bounding box of the full voxels, `None` when empty.
