@@ -463,19 +463,21 @@ fn a_csg_scene_of_a_shape_a_mesh_and_an_oct_is_the_predicate_voxel_by_voxel() {
     assert_eq!(got, want, "{} voxels differ", (&got ^ &want).voxel_count());
 }
 
+/// A scene of one ball whose `[image]` table holds `image`.
+fn ball_scene(image: &str) -> String {
+    format!("[image]\n{image}\n\n[[solid]]\nshape = {{ sphere = {{ center = [0, 0, 0], radius = 1 }} }}\n")
+}
+
 #[test]
 fn anti_aliasing_keys_choose_uniform_or_adaptive() {
     let dir = scratch("aa");
-    let scene = |image: &str| {
-        format!("[image]\n{image}\n\n[[solid]]\nshape = {{ sphere = {{ center = [0, 0, 0], radius = 1 }} }}\n")
-    };
-    let aa = |image: &str| load(&dir, "aa.toml", &scene(image), MemoryBudget::default()).1.unwrap().options.aa;
+    let aa = |image: &str| load(&dir, "aa.toml", &ball_scene(image), MemoryBudget::default()).1.unwrap().options.aa;
     assert_eq!(aa(""), AntiAliasing::Uniform);
     assert_eq!(aa("aa = \"adaptive\""), AntiAliasing::Adaptive { threshold: DEFAULT_AA_THRESHOLD });
     assert_eq!(aa("aa_threshold = 0.1"), AntiAliasing::Adaptive { threshold: 0.1 });
     assert_eq!(aa("aa = \"adaptive\"\naa_threshold = 0"), AntiAliasing::Adaptive { threshold: 0.0 });
     assert_eq!(aa("aa = \"uniform\"\naa_threshold = 0.1"), AntiAliasing::Uniform);
-    let text = scene("aa = \"jittered\"");
+    let text = ball_scene("aa = \"jittered\"");
     let (path, e) = error(&dir, "aa.toml", &text);
     let cause = scene_cause(e, &path, &text, Some("\"jittered\""), None);
     assert!(cause.to_string().contains("uniform") && cause.to_string().contains("adaptive"), "{cause}");
@@ -484,11 +486,8 @@ fn anti_aliasing_keys_choose_uniform_or_adaptive() {
 #[test]
 fn the_cutoff_key_sets_the_share_below_which_rays_stop() {
     let dir = scratch("cutoff");
-    let scene = |image: &str| {
-        format!("[image]\n{image}\n\n[[solid]]\nshape = {{ sphere = {{ center = [0, 0, 0], radius = 1 }} }}\n")
-    };
     let cutoff =
-        |image: &str| load(&dir, "cutoff.toml", &scene(image), MemoryBudget::default()).1.unwrap().options.cutoff;
+        |image: &str| load(&dir, "cutoff.toml", &ball_scene(image), MemoryBudget::default()).1.unwrap().options.cutoff;
     assert_eq!(cutoff(""), RenderOptions::default().cutoff);
     assert_eq!(cutoff("cutoff = 0.0039"), 0.0039);
 }

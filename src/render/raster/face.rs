@@ -69,9 +69,9 @@ pub(crate) struct Face {
 
 impl Face {
     /// The faces of the full node `[min, min + size)` that look at `viewer`, by axis.
-    #[inline]
     /// The viewer's tests are made here, once: a copy of the iterator (one a sample
     /// in the front-to-back display) carries their planes.
+    #[inline]
     pub(crate) fn visible(viewer: &Viewer, min: [u32; 3], size: u32) -> impl Iterator<Item = Face> + Clone {
         let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
         let planes: [Option<f64>; 3] = std::array::from_fn(|axis| viewer.visible_plane(axis, lo, hi));

@@ -46,8 +46,8 @@ pub struct Traversal {
     /// The planes bounding the full voxels, `[low, high)` in voxel units (all 0 when
     /// empty): a walk meets no full voxel outside them (see `walk`).
     pub(super) occupied: [[f64; 3]; 2],
-    /// The full voxels' box in world space, grown by a voxel: a ray that cannot meet
-    /// it is not walked.
+    /// The full voxels' box in world space, grown by more than any rounding: a ray
+    /// that cannot meet it is not walked.
     pub(super) reach: Reach,
 }
 
