@@ -104,53 +104,10 @@ impl VoxelRay {
         let Entry { min, size, t: ta, face } = *entry;
         let t = ta.max(0.0);
         let inside = ta <= 0.0;
-        let voxel: [u32; 3] = std::array::from_fn(|a| {
-            let lo = min[a];
-            let hi = min[a] + size - 1;
-            if self.d[a] > 0.0 && !inside && face == Some(a) {
-                lo
-            } else if self.d[a] < 0.0 && !inside && face == Some(a) {
-                hi
-            } else {
-                let p = self.o[a] + self.d[a] * t;
-                // The voxel is clamped to the node, so the position may be clamped to
-                // a voxel beyond it first (NaN goes to the low end, as it would): then
-                // its floor is a conversion to an integer and back, no library call.
-                let q = p.max(f64::from(lo) - 1.0).min(f64::from(hi) + 1.0);
-                let f = q as i64 as f64;
-                let f = if f > q { f - 1.0 } else { f };
-                // A position inside a voxel of the node, a millionth of a voxel or more
-                // from its planes, is that voxel: the plane times and the position agree
-                // to a few ulps of 2^22 (below 1e-9), whatever the depth.
-                let frac = q - f;
-                if frac > 1e-6 && frac < 1.0 - 1e-6 && f >= f64::from(lo) && f <= f64::from(hi) {
-                    return f as u32;
-                }
-                // Just inside along the ray: nudge by the direction's sign on ties.
-                let c = if q == f && self.d[a] < 0.0 { f - 1.0 } else { f };
-                let mut v = (c.max(f64::from(lo)).min(f64::from(hi))) as u32;
-                // The position is rounded apart from the plane times: the voxel is
-                // the one the plane times place the ray in at `t` (planes crossed by `t`
-                // are behind it), as the walk places it in a node.
-                let time = |p: u32| (f64::from(p) - self.o[a]) * self.inv[a];
-                if self.d[a] > 0.0 && self.inv[a].is_finite() {
-                    while v < hi && time(v + 1) <= t {
-                        v += 1;
-                    }
-                    while v > lo && time(v) > t {
-                        v -= 1;
-                    }
-                } else if self.d[a] < 0.0 && self.inv[a].is_finite() {
-                    while v > lo && time(v) <= t {
-                        v -= 1;
-                    }
-                    while v < hi && time(v + 1) > t {
-                        v += 1;
-                    }
-                }
-                v
-            }
-        });
+        // A voxel node (most hits at a surface) is its own voxel: every rule below
+        // clamps to it.
+        let voxel: [u32; 3] =
+            if size == 1 { min } else { std::array::from_fn(|a| self.voxel_in(min, size, a, t, inside, face)) };
         // A voxel plane inside the node crossed at the same time is entered too: the
         // face is the lowest axis among them.
         let face = face.map(|f| {
@@ -162,5 +119,56 @@ impl VoxelRay {
                 .unwrap_or(f)
         });
         Hit { t, voxel, axis: if inside { None } else { face.map(|a| a as u8) } }
+    }
+
+    /// The coordinate on axis `a` of the voxel of the node `[min, min + size)` the ray
+    /// is in just after time `t` (see [`VoxelRay::entry`]).
+    #[inline(always)]
+    fn voxel_in(&self, min: [u32; 3], size: u32, a: usize, t: f64, inside: bool, face: Option<usize>) -> u32 {
+        let lo = min[a];
+        let hi = min[a] + size - 1;
+        if self.d[a] > 0.0 && !inside && face == Some(a) {
+            lo
+        } else if self.d[a] < 0.0 && !inside && face == Some(a) {
+            hi
+        } else {
+            let p = self.o[a] + self.d[a] * t;
+            // The voxel is clamped to the node, so the position may be clamped to
+            // a voxel beyond it first (NaN goes to the low end, as it would): then
+            // its floor is a conversion to an integer and back, no library call.
+            let q = p.max(f64::from(lo) - 1.0).min(f64::from(hi) + 1.0);
+            let f = q as i64 as f64;
+            let f = if f > q { f - 1.0 } else { f };
+            // A position inside a voxel of the node, a millionth of a voxel or more
+            // from its planes, is that voxel: the plane times and the position agree
+            // to a few ulps of 2^22 (below 1e-9), whatever the depth.
+            let frac = q - f;
+            if frac > 1e-6 && frac < 1.0 - 1e-6 && f >= f64::from(lo) && f <= f64::from(hi) {
+                return f as u32;
+            }
+            // Just inside along the ray: nudge by the direction's sign on ties.
+            let c = if q == f && self.d[a] < 0.0 { f - 1.0 } else { f };
+            let mut v = (c.max(f64::from(lo)).min(f64::from(hi))) as u32;
+            // The position is rounded apart from the plane times: the voxel is
+            // the one the plane times place the ray in at `t` (planes crossed by `t`
+            // are behind it), as the walk places it in a node.
+            let time = |p: u32| (f64::from(p) - self.o[a]) * self.inv[a];
+            if self.d[a] > 0.0 && self.inv[a].is_finite() {
+                while v < hi && time(v + 1) <= t {
+                    v += 1;
+                }
+                while v > lo && time(v) > t {
+                    v -= 1;
+                }
+            } else if self.d[a] < 0.0 && self.inv[a].is_finite() {
+                while v > lo && time(v) <= t {
+                    v -= 1;
+                }
+                while v < hi && time(v + 1) > t {
+                    v += 1;
+                }
+            }
+            v
+        }
     }
 }
