@@ -43,7 +43,10 @@
 //! it); starting shadow rays at the node holding their origin (the search down costs
 //! more than the skipped levels: 2,629 to 3,972 instructions a shadow ray); a 64-ary
 //! tree of 4x4x4 cells stepped by a DDA (1.49 against 4.85 MB at depth 10, but 4,235
-//! instructions and 46.7 mispredictions a random ray against 3,374 and 32.7).
+//! instructions and 46.7 mispredictions a random ray against 3,374 and 32.7); the
+//! first non-empty child of a node chosen without a branch a child, from the pieces
+//! the ray's mid-plane crossings cut (a third fewer mispredictions, 1.6x the
+//! instructions, 1.5x the time).
 
 use std::mem::MaybeUninit;
 
