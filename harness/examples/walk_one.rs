@@ -1,7 +1,10 @@
 //! One kind of ray traced through the octree on one thread, for profiles of the walk
 //! (BENCHMARKS.md, "Incoherent rays"): `walk_one MODEL DEPTH KIND N` with KIND one of
 //! `primary` (512x512 camera rays at the framed model), `packet` (the same in 8x8
-//! packets), `shadow` (N shadow rays from primary hits to a light), `random` (N random
+//! packets), `shadow` (N shadow rays from primary hits to a light), `lights` (the
+//! shadow rays from every primary hit to two lights, in the order a renderer casts
+//! them: both of a hit, hit after hit; `lights-batched` all of the first light's,
+//! then the second's; `lights-shuffled` in random order; N unused), `random` (N random
 //! rays, the harness's set), `display` (the primary rays answered by the front-to-back
 //! display, a frustum walk for the rays of one eye, checked hit for hit against the
 //! walk). `SIZE` (default 512) sets the primary rays' image edge. Prints the hit count,
@@ -71,6 +74,10 @@ fn main() {
             })
             .take(n)
             .collect(),
+        "lights" | "lights-batched" | "lights-shuffled" => {
+            let second = bounds.center() + DVec3::new(-3.0, 2.0, 1.0) * diag;
+            two_lights(&t, &primary, [light, second], diag, kind)
+        }
         _ => random_rays(&bounds, n, 1).rays,
     };
     let repeat: usize = std::env::var("REPEAT").map_or(1, |v| v.parse().unwrap());
@@ -94,7 +101,7 @@ fn main() {
             }
             trace_packets(&t, &tiles)
         } else {
-            trace(&t, &rays, kind == "shadow")
+            trace(&t, &rays, kind == "shadow" || kind.starts_with("lights"))
         };
         best = best.min((cpu_ns() - start) as f64 * 1e-9);
     }
@@ -145,4 +152,40 @@ fn display(
         wall * 1e9 / n
     );
     println!("display: {hits} of {} (every hit the walk's)", primary.len());
+}
+
+/// The shadow rays from every primary hit (a ten-thousandth of the model's diagonal in
+/// front of it) to each of `lights`, in the order `kind` names (see the module doc).
+fn two_lights(t: &Traversal, primary: &[Ray], lights: [DVec3; 2], diag: f64, kind: &str) -> Vec<Ray> {
+    let mut rays: Vec<Ray> = primary
+        .iter()
+        .filter_map(|r| {
+            let h = t.hit(r)?;
+            Some(r.origin + r.dir * (h.t - 1e-4 * diag))
+        })
+        .flat_map(|origin| {
+            lights.map(|light| {
+                let to = light - origin;
+                Ray { origin, dir: to.normalize(), t_max: to.length() }
+            })
+        })
+        .collect();
+    match kind {
+        "lights-batched" => {
+            let (first, second): (Vec<_>, Vec<_>) = rays.chunks(2).map(|pair| (pair[0], pair[1])).unzip();
+            rays = first.into_iter().chain(second).collect();
+        }
+        "lights-shuffled" => {
+            // Fisher-Yates with a fixed xorshift, so every run has the same order.
+            let mut x = 0x9e37_79b9_7f4a_7c15u64;
+            for i in (1..rays.len()).rev() {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                rays.swap(i, (x % (i as u64 + 1)) as usize);
+            }
+        }
+        _ => {}
+    }
+    rays
 }
