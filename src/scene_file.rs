@@ -71,8 +71,8 @@ use crate::mesh::{InsideRule, MeshShape, load_mesh};
 use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
 use crate::render::{
-    AntiAliasing, Bump, Camera, DEFAULT_AA_THRESHOLD, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection,
-    RenderOptions, Scene, Texture,
+    AntiAliasing, Bump, Camera, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, DEFAULT_VIEW, Light, Mapping, Material,
+    Normals, Projection, RenderOptions, Scene, Texture,
 };
 use crate::shape::{Axis, Csg, FileLeaves, Shape, ShapeSpec, TransformSpec, Transformed};
 use crate::warning::Warning;
@@ -114,10 +114,14 @@ struct ImageSpec {
     max_depth: Option<u32>,
     /// Share of a pixel below which a secondary ray is not traced.
     cutoff: Option<f64>,
-    /// Uniform (the default) or adaptive anti-aliasing.
+    /// Uniform (the default), adaptive or recursive anti-aliasing.
     aa: Option<AaSpec>,
-    /// Contrast at which adaptive anti-aliasing supersamples (implies adaptive).
+    /// Contrast at which adaptive anti-aliasing supersamples, recursive splits
+    /// (implies adaptive when `aa` is not given).
     aa_threshold: Option<f64>,
+    /// Most splits of a pixel's square by recursive anti-aliasing (implies recursive
+    /// when `aa` is not given).
+    aa_depth: Option<u32>,
 }
 
 /// How the `samples x samples` grid is used.
@@ -128,6 +132,9 @@ enum AaSpec {
     Uniform,
     /// Where a pixel differs from a neighbour by `aa_threshold`.
     Adaptive,
+    /// Corner samples, a square split where its corners differ by `aa_threshold`, up
+    /// to `aa_depth` times.
+    Recursive,
 }
 
 fn default_size() -> [u32; 2] {
@@ -152,6 +159,7 @@ impl Default for ImageSpec {
             cutoff: None,
             aa: None,
             aa_threshold: None,
+            aa_depth: None,
         }
     }
 }
@@ -916,10 +924,13 @@ impl ImageSpec {
             normals: self.normals.unwrap_or(d.normals),
             max_depth: self.max_depth.unwrap_or(d.max_depth),
             cutoff: self.cutoff.unwrap_or(d.cutoff),
-            aa: match (self.aa, self.aa_threshold) {
-                (Some(AaSpec::Uniform), _) | (None, None) => AntiAliasing::Uniform,
-                (Some(AaSpec::Adaptive), t) | (None, t @ Some(_)) => {
-                    AntiAliasing::Adaptive { threshold: t.unwrap_or(DEFAULT_AA_THRESHOLD) }
+            aa: {
+                let threshold = self.aa_threshold.unwrap_or(DEFAULT_AA_THRESHOLD);
+                let depth = self.aa_depth.unwrap_or(DEFAULT_AA_DEPTH);
+                match (self.aa, self.aa_threshold, self.aa_depth) {
+                    (Some(AaSpec::Uniform), ..) | (None, None, None) => AntiAliasing::Uniform,
+                    (Some(AaSpec::Recursive), ..) | (None, _, Some(_)) => AntiAliasing::Recursive { threshold, depth },
+                    (Some(AaSpec::Adaptive), ..) | (None, Some(_), None) => AntiAliasing::Adaptive { threshold },
                 }
             },
             ..d

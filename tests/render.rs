@@ -113,7 +113,8 @@ fn same_image_for_any_thread_count() {
 fn streamed_rows_are_the_picture_in_order_and_encode_to_its_png() {
     // Strips drawn in order by the pool while this thread takes them (front-to-back at
     // 1 and 2 samples a pixel), and the paths that hand every row over at the end (3
-    // samples: strips are not whole pixel rows; adaptive; the tracer): the rows are the
+    // samples: strips are not whole pixel rows; adaptive; recursive, even at one sample
+    // a pixel; the tracer): the rows are the
     // one-thread `render`'s picture, and `render_png` its PNG. 150 rows: two whole
     // strips and a part.
     let file = load_scene("scenes/classic.toml", MemoryBudget::default()).unwrap();
@@ -124,6 +125,7 @@ fn streamed_rows_are_the_picture_in_order_and_encode_to_its_png() {
         (2, AntiAliasing::Uniform, Method::FrontToBack),
         (3, AntiAliasing::Uniform, Method::FrontToBack),
         (2, adaptive, Method::FrontToBack),
+        (1, AntiAliasing::Recursive { threshold: 0.3, depth: 2 }, Method::FrontToBack),
         (1, AntiAliasing::Uniform, Method::Trace),
     ] {
         let options = RenderOptions { width: 130, height: 150, spp, aa, method, ..Default::default() };
@@ -196,6 +198,130 @@ fn adaptive_anti_aliasing_supersamples_the_edges_and_matches_the_reference_there
         same_as_reference += u64::from(g == r && g != o);
     }
     assert!(same_as_reference > stats.supersampled / 2, "{same_as_reference} of {}", stats.supersampled);
+}
+
+/// The radiance at the image point `(px, py)` pixels from the top-left corner, traced
+/// here by the public API alone: the oracle of the recursive anti-aliasing tests.
+fn radiance_at(file: &octsolid::scene_file::SceneFile, (w, h): (u32, u32), px: f64, py: f64) -> DVec3 {
+    let view = file.camera.view(f64::from(w) / f64::from(h));
+    let ray = view.ray(2.0 * px / f64::from(w) - 1.0, 1.0 - 2.0 * py / f64::from(h));
+    let o = &file.options;
+    let shading = ShadeOptions { shadows: o.shadows, normals: o.normals, max_depth: o.max_depth, cutoff: o.cutoff };
+    match file.scene.hit(&ray) {
+        Some(hit) => radiance(&file.scene, &ray, &hit, &shading).0,
+        None => file.scene.background,
+    }
+}
+
+#[test]
+fn recursive_anti_aliasing_at_threshold_zero_weights_the_whole_lattice() {
+    // Every square splits `depth` times: a pixel is the mean of its 4^depth smallest
+    // squares, each the mean of its corners, so lattice point (i, j) of the pixel's
+    // (2^depth + 1)^2 weighs a_i a_j / 4^(depth + 1), a = 1 at the pixel's edges and 2
+    // inside. Each point traced here by the public API; every corner of every pixel
+    // traced once for the picture, the other points of a pixel once for the pixel.
+    let file = load_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
+    let (w, h) = (20, 15);
+    for depth in [1, 2] {
+        let options = RenderOptions {
+            width: w,
+            height: h,
+            aa: AntiAliasing::Recursive { threshold: 0.0, depth },
+            ..file.options
+        };
+        let (picture, stats) = render_picture(&file.scene, &file.camera, &options, &NoProgress).unwrap();
+        let n = 1u32 << depth;
+        let weight = |i: u32| if i == 0 || i == n { 1.0 } else { 2.0 };
+        let mut worst: f64 = 0.0;
+        for row in 0..h {
+            for col in 0..w {
+                let mut want = DVec3::ZERO;
+                for j in 0..=n {
+                    for i in 0..=n {
+                        let (px, py) = (
+                            f64::from(col) + f64::from(i) / f64::from(n),
+                            f64::from(row) + f64::from(j) / f64::from(n),
+                        );
+                        want += radiance_at(&file, (w, h), px, py) * (weight(i) * weight(j));
+                    }
+                }
+                want /= f64::from(4 * n * n);
+                worst = worst.max((picture.get(col, row) - want).abs().max_element());
+            }
+        }
+        assert!(worst < 1e-12, "depth {depth}: off by {worst}");
+        let per_pixel = u64::from((n + 1) * (n + 1) - 4);
+        let corners = u64::from((w + 1) * (h + 1));
+        assert_eq!(stats.samples, corners + u64::from(w * h) * per_pixel, "depth {depth}");
+        assert_eq!(stats.supersampled, u64::from(w * h));
+    }
+}
+
+#[test]
+fn recursive_anti_aliasing_above_every_contrast_is_the_mean_of_the_corners() {
+    // No two samples differ by more than 3 (the sum of three full channels): no square
+    // splits, every pixel is the mean of its four corner samples, one ray a corner.
+    let file = load_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
+    let (w, h) = (24, 18);
+    let options = RenderOptions {
+        width: w,
+        height: h,
+        aa: AntiAliasing::Recursive { threshold: 3.01, depth: 3 },
+        ..file.options
+    };
+    let (picture, stats) = render_picture(&file.scene, &file.camera, &options, &NoProgress).unwrap();
+    for row in 0..h {
+        for col in 0..w {
+            let (x, y) = (f64::from(col), f64::from(row));
+            let want = (radiance_at(&file, (w, h), x, y)
+                + radiance_at(&file, (w, h), x + 1.0, y)
+                + radiance_at(&file, (w, h), x, y + 1.0)
+                + radiance_at(&file, (w, h), x + 1.0, y + 1.0))
+                * 0.25;
+            assert!((picture.get(col, row) - want).abs().max_element() < 1e-12, "pixel {col}, {row}");
+        }
+    }
+    assert_eq!(stats.samples, u64::from((w + 1) * (h + 1)));
+    assert_eq!(stats.supersampled, 0);
+    // Bad depths and thresholds are refused.
+    for aa in [
+        AntiAliasing::Recursive { threshold: 0.3, depth: 0 },
+        AntiAliasing::Recursive { threshold: 0.3, depth: MAX_AA_DEPTH + 1 },
+        AntiAliasing::Recursive { threshold: -0.1, depth: 3 },
+        AntiAliasing::Recursive { threshold: f64::NAN, depth: 3 },
+    ] {
+        let bad = RenderOptions { aa, ..options };
+        assert!(render(&file.scene, &file.camera, &bad, &NoProgress).is_err(), "{aa:?}");
+    }
+}
+
+#[test]
+fn recursive_anti_aliasing_splits_the_edges_and_nears_the_reference_there() {
+    // The lit sphere of the adaptive test: at a threshold of 0.1 and depth 3 the split
+    // pixels are few (edges and the shading's steepest slopes), and the picture is far
+    // nearer to the uniform 8 x 8 reference than the one-sample picture is, and nearer
+    // than at depth 1.
+    let scene = sphere_scene(8, 0.8);
+    let camera = Camera::look_at(DVec3::new(0.4, -3.0, 1.5), DVec3::ZERO, DVec3::Z, 40.0);
+    let base = RenderOptions { width: 120, height: 90, spp: 8, ..RenderOptions::default() };
+    let (reference, _) = render(&scene, &camera, &base, &NoProgress).unwrap();
+    let (one, _) = render(&scene, &camera, &RenderOptions { spp: 1, ..base }, &NoProgress).unwrap();
+    let error = |img: &image::RgbImage| -> f64 {
+        img.pixels()
+            .zip(reference.pixels())
+            .map(|(a, b)| (0..3).map(|c| a.0[c].abs_diff(b.0[c]) as f64).sum::<f64>())
+            .sum()
+    };
+    let pixels = u64::from(base.width * base.height);
+    let mut errors = Vec::new();
+    for depth in [1, 3] {
+        let options = RenderOptions { aa: AntiAliasing::Recursive { threshold: 0.1, depth }, ..base };
+        let (got, stats) = render(&scene, &camera, &options, &NoProgress).unwrap();
+        assert!(stats.supersampled > 0 && stats.supersampled < pixels / 4, "{} of {pixels}", stats.supersampled);
+        errors.push(error(&got));
+    }
+    assert!(errors[1] < 0.25 * error(&one), "{errors:?} vs {}", error(&one));
+    assert!(errors[1] < errors[0], "{errors:?}");
 }
 
 /// A random scene of up to three CSG solids sharing one small domain.

@@ -17,7 +17,7 @@ use octsolid::io::oct;
 use octsolid::mesh::generate::cuboid;
 use octsolid::mesh::save_mesh;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, estimate_bytes, voxelize};
-use octsolid::render::{AntiAliasing, DEFAULT_AA_THRESHOLD, Light, RenderOptions};
+use octsolid::render::{AntiAliasing, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, Light, RenderOptions};
 use octsolid::scene_file::{CACHE_DIR, CachePolicy, LoadOptions, SceneFile, clear_cache, load_scene, load_scene_with};
 use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Error, Result};
@@ -469,7 +469,7 @@ fn ball_scene(image: &str) -> String {
 }
 
 #[test]
-fn anti_aliasing_keys_choose_uniform_or_adaptive() {
+fn anti_aliasing_keys_choose_uniform_adaptive_or_recursive() {
     let dir = scratch("aa");
     let aa = |image: &str| load(&dir, "aa.toml", &ball_scene(image), MemoryBudget::default()).1.unwrap().options.aa;
     assert_eq!(aa(""), AntiAliasing::Uniform);
@@ -477,10 +477,16 @@ fn anti_aliasing_keys_choose_uniform_or_adaptive() {
     assert_eq!(aa("aa_threshold = 0.1"), AntiAliasing::Adaptive { threshold: 0.1 });
     assert_eq!(aa("aa = \"adaptive\"\naa_threshold = 0"), AntiAliasing::Adaptive { threshold: 0.0 });
     assert_eq!(aa("aa = \"uniform\"\naa_threshold = 0.1"), AntiAliasing::Uniform);
+    let recursive = |threshold, depth| AntiAliasing::Recursive { threshold, depth };
+    assert_eq!(aa("aa = \"recursive\""), recursive(DEFAULT_AA_THRESHOLD, DEFAULT_AA_DEPTH));
+    assert_eq!(aa("aa_depth = 2"), recursive(DEFAULT_AA_THRESHOLD, 2));
+    assert_eq!(aa("aa_depth = 4\naa_threshold = 0.2"), recursive(0.2, 4));
+    assert_eq!(aa("aa = \"adaptive\"\naa_depth = 4"), AntiAliasing::Adaptive { threshold: DEFAULT_AA_THRESHOLD });
     let text = ball_scene("aa = \"jittered\"");
     let (path, e) = error(&dir, "aa.toml", &text);
     let cause = scene_cause(e, &path, &text, Some("\"jittered\""), None);
-    assert!(cause.to_string().contains("uniform") && cause.to_string().contains("adaptive"), "{cause}");
+    let cause = cause.to_string();
+    assert!(["uniform", "adaptive", "recursive"].iter().all(|k| cause.contains(k)), "{cause}");
 }
 
 #[test]

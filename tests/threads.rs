@@ -276,6 +276,7 @@ fn every_command_writes_the_same_bytes_with_one_and_two_threads() {
     same(s, &["render", "scene.toml", "-o", "scene.png"]);
     same(s, &["render", "scene.toml", "--normals", "axis", "--spp", "1", "-o", "scene-axis.png"]);
     same(s, &["render", "scene.toml", "--aa", "adaptive", "--spp", "3", "-o", "scene-adaptive.png"]);
+    same(s, &["render", "scene.toml", "--aa-depth", "2", "--size", "160x120", "-o", "scene-recursive.png"]);
     for method in ["trace", "front-to-back", "painter", "zbuffer", "scanline"] {
         let out = format!("part-{method}.png");
         same(s, &["render", "difference.oct", "--method", method, "--size", "64x48", "--spp", "2", "-o", &out]);

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # POV-Ray 3.7 renders whitted_classic.pov (the scene of scenes/whitted-classic.toml)
-# at 800x600 on both cores (+WT2), with adaptive anti-aliasing (+A0.3 +R3) and
+# at 800x600 on both cores (+WT2), with adaptive anti-aliasing (+A0.3 +R3), with
+# recursive adaptive anti-aliasing (+A0.3 +AM2 +R3 -J: method 2, unjittered) and
 # without, and prints one JSON line each: median wall seconds of RUNS renders, and
 # POV-Ray's own trace seconds and ray count from its statistics. The pictures go to
-# OUT_DIR (povray-aa.png, povray-noaa.png).
+# OUT_DIR (povray-aa.png, povray-am2.png, povray-noaa.png).
 #
 #   benches/peers/povray_whitted.sh [RUNS=3] [OUT_DIR=target/peers] [WIDTHxHEIGHT=800x600]
 set -euo pipefail
@@ -42,4 +43,5 @@ render() { # name, AA options...
 }
 
 render aa +A0.3 +R3
+render am2 +A0.3 +AM2 +R3 -J
 render noaa -A

@@ -5,7 +5,9 @@
 # a side-by-side picture (octsolid adaptive | POV-Ray +A0.3 +R3) in OUT_DIR.
 #
 # octsolid: 3x3 samples in every pixel (uniform), 3x3 where neighbours differ by 0.3
-# (--aa adaptive, POV-Ray's +A0.3 +R3), and one sample a pixel (POV-Ray's -A).
+# (--aa adaptive, POV-Ray's +A0.3 +R3), corner samples split where they differ by 0.3
+# up to 3 times (--aa recursive, POV-Ray's +A0.3 +AM2 +R3 -J), and one sample a pixel
+# (POV-Ray's -A). The recursive pictures are compared too.
 #
 #   benches/peers/whitted_side_by_side.sh [RUNS=3] [OUT_DIR=target/peers]
 set -euo pipefail
@@ -38,12 +40,14 @@ octsolid() { # name, flags...
 
 octsolid uniform --spp 3
 octsolid adaptive --spp 3 --aa adaptive --aa-threshold 0.3
+octsolid recursive --aa recursive --aa-threshold 0.3 --aa-depth 3
 octsolid one --spp 1
 "$here/povray_whitted.sh" "$runs" "$out"
 
 py="$root/target/peers-venv/bin/python"
 if [ -x "$py" ]; then
     "$py" "$here/compare_images.py" "$out/octsolid-adaptive.png" "$out/povray-aa.png"
+    "$py" "$here/compare_images.py" "$out/octsolid-recursive.png" "$out/povray-am2.png"
     "$py" - "$out" <<'EOF'
 import sys
 from PIL import Image, ImageDraw

@@ -73,7 +73,7 @@ pub enum Command {
     /// Print a mesh's polygon-table diagnostics: edges, holes, non-manifold edges, volume.
     MeshInfo(mesh_info::MeshInfoArgs),
     /// Render a scene file (.toml), a solid file, or a mesh (voxelized first) to a PNG.
-    Render(render::RenderArgs),
+    Render(Box<render::RenderArgs>),
     /// Show a scene, solid or mesh in the browser: orbit, zoom, pan, and a ray-traced
     /// still when the view rests (a server on 127.0.0.1; --watch reloads on save).
     View(view::ViewArgs),

@@ -17,8 +17,9 @@
 //!   (the ray walk or a raster method: the same hits, bit for bit).
 //! - `pipeline`: [`render_picture`]: visibility, then shading, averaged over each
 //!   pixel's samples, in every pixel or where adaptive anti-aliasing asks
-//!   (`adaptive`), to linear radiance; [`render`]: the same as 8-bit sRGB; [`quick`]:
-//!   a solid to a PNG file in one call.
+//!   (`adaptive`), or by recursive adaptive anti-aliasing (`recursive_aa`), to
+//!   linear radiance; [`render`]: the same as 8-bit sRGB; [`quick`]: a solid to a PNG
+//!   file in one call.
 
 mod adaptive;
 mod film;
@@ -26,6 +27,7 @@ mod pipeline;
 mod quick;
 pub mod radiosity;
 mod raster;
+mod recursive_aa;
 mod scene;
 mod shade;
 mod trace;
@@ -36,11 +38,12 @@ pub use film::{
     exposure_scale, from_srgb8, orbit_direction, silhouette_points, to_srgb8, up_for,
 };
 pub use pipeline::{
-    AntiAliasing, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats, RowSink,
-    estimate_bytes, render, render_picture, render_streamed,
+    AntiAliasing, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats,
+    RowSink, estimate_bytes, render, render_picture, render_streamed,
 };
 pub use quick::quick;
 pub use raster::polygon;
+pub use recursive_aa::MAX_AA_DEPTH;
 pub use scene::{Bump, Illumination, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};
 pub use shade::{Normals, ShadeOptions, radiance, reflect, refract};
 pub use trace::{Hit, PACKET, TILE, Traversal};

@@ -1,6 +1,8 @@
 //! Making a picture: primary visibility of every sample (by any [`Method`]), then the
 //! one shading stage (local Phong and Whitted's secondary rays), with `n x n` stratified
-//! supersampling (sample centres of an `n x n` grid in the pixel). A render makes a
+//! supersampling (sample centres of an `n x n` grid in the pixel), in every pixel or
+//! where neighbours differ (`adaptive`), or by recursive adaptive sampling of the
+//! pixels' corners (`recursive_aa`). A render makes a
 //! [`Picture`] of linear radiance (each pixel's mean times the exposure's `2^stops`);
 //! [`render`] gives it as the 8-bit sRGB picture a PNG holds.
 //!
@@ -22,6 +24,7 @@ use super::film::ray_grid::RayGrid;
 use super::film::resolve::{exposure_scale, resolve, srgb8_pixel};
 use super::film::{Camera, Picture, SampleGrid, View};
 use super::raster::{Display, Strip};
+use super::recursive_aa::{self, MAX_AA_DEPTH};
 use super::scene::{Scene, SceneHit};
 use super::shade::{Normals, ShadeOptions, radiance};
 use super::visibility::{Method, visibility};
@@ -51,7 +54,20 @@ pub enum AntiAliasing {
         /// differences of two neighbouring pixels, displayed values in `[0, 1]`.
         threshold: f64,
     },
+    /// Samples at the pixels' corners, and a square split in four where its corners
+    /// differ by at least `threshold`, up to `depth` times (see the `recursive_aa`
+    /// module: POV-Ray's `+AM2`); `spp` is not used.
+    Recursive {
+        /// Contrast that splits a square: the sum of the red, green and blue
+        /// differences of two of its corners, displayed values in `[0, 1]`.
+        threshold: f64,
+        /// Most times a square is split, 1 to [`MAX_AA_DEPTH`].
+        depth: u32,
+    },
 }
+
+/// The recursive anti-aliasing depth when none is given: POV-Ray's common `+R3`.
+pub const DEFAULT_AA_DEPTH: u32 = 3;
 
 /// Image size and quality.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -159,7 +175,12 @@ pub fn render_streamed(
     progress: &dyn Progress,
     mut rows: Option<RowSink<'_>>,
 ) -> Result<(RgbImage, RenderStats)> {
-    if options.aa == AntiAliasing::Uniform || options.spp == 1 {
+    let uniform_samples = match options.aa {
+        AntiAliasing::Uniform => true,
+        AntiAliasing::Adaptive { .. } => options.spp == 1,
+        AntiAliasing::Recursive { .. } => false,
+    };
+    if uniform_samples {
         // Encoded as each row is shaded: no picture of linear radiance in between (the
         // same bytes as its encoding, `srgb8_pixel` of the same values).
         let (width, height) = (options.width, options.height);
@@ -195,13 +216,20 @@ fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)
     if !(0.0..=1.0).contains(&cutoff) {
         return Err(Error::invalid("ray cutoff", format!("{cutoff} is outside 0..=1")));
     }
-    if let AntiAliasing::Adaptive { threshold } = aa
+    if let AntiAliasing::Adaptive { threshold } | AntiAliasing::Recursive { threshold, .. } = aa
         && !(threshold.is_finite() && threshold >= 0.0)
     {
         return Err(Error::invalid("anti-aliasing threshold", format!("{threshold} must be finite and at least 0")));
     }
+    if let AntiAliasing::Recursive { depth, .. } = aa
+        && !(1..=MAX_AA_DEPTH).contains(&depth)
+    {
+        return Err(Error::invalid("anti-aliasing depth", format!("{depth} is outside 1..={MAX_AA_DEPTH}")));
+    }
     camera.check()?;
     let scale = exposure_scale(exposure)?;
+    // Recursive sampling keeps a sample a pixel corner, within one sample a pixel's.
+    let spp = if matches!(aa, AntiAliasing::Recursive { .. }) { 1 } else { spp };
     let samples = SampleGrid { width, height, spp };
     budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
     Ok((scale, ShadeOptions { shadows, normals, max_depth, cutoff }))
@@ -245,6 +273,19 @@ pub fn render_picture(
                 secondary_rays: stats.secondary_rays + rays,
                 supersampled,
                 ..stats
+            };
+            Ok((picture, stats))
+        }
+        AntiAliasing::Recursive { threshold, depth } => {
+            let mut picture = Picture::new(width, height);
+            let film = recursive_aa::Film { width, height, depth, threshold, scale };
+            let counts = recursive_aa::render(scene, camera, film, &shading, &mut picture, progress);
+            let stats = RenderStats {
+                samples: counts.samples,
+                hits: counts.hits,
+                faces_drawn: 0,
+                secondary_rays: counts.secondary_rays,
+                supersampled: counts.split,
             };
             Ok((picture, stats))
         }

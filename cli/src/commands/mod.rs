@@ -85,7 +85,12 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
     // Every sample is a primary ray: walked, or answered by the front-to-back display.
     let rays = stats.samples + secondary;
     let rate = rays as f64 / seconds / 1e6;
+    let recursive = matches!(options.aa, octsolid::render::AntiAliasing::Recursive { .. });
     let visibility = match options.method {
+        // Recursive anti-aliasing walks every primary ray, whatever the method.
+        _ if recursive => {
+            format!("{rays} rays: {} primary, {secondary} secondary and shadow; {rate:.2} M rays/s", stats.samples)
+        }
         octsolid::render::Method::Trace => {
             format!("{rays} rays: {} primary, {secondary} secondary and shadow; {rate:.2} M rays/s", stats.samples)
         }
@@ -104,12 +109,17 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
             stats.supersampled,
             u64::from(options.width) * u64::from(options.height)
         ),
+        octsolid::render::AntiAliasing::Recursive { threshold, depth } => format!(
+            "recursive anti-aliasing (threshold {threshold}, depth {depth}: {} of {} pixels split)",
+            stats.supersampled,
+            u64::from(options.width) * u64::from(options.height)
+        ),
     };
     out!(
         "rendered {}x{} at {sampling} by {:?} in {:.2} s ({:.2} M samples/s; {visibility})",
         options.width,
         options.height,
-        options.method,
+        if recursive { octsolid::render::Method::Trace } else { options.method },
         seconds,
         stats.samples as f64 / seconds / 1e6,
     );

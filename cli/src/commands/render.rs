@@ -19,7 +19,8 @@ use octsolid::io::{PictureFormat, save_picture};
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
-    self, AntiAliasing, Camera, DEFAULT_AA_THRESHOLD, Light, Material, RenderOptions, Scene, silhouette_points,
+    self, AntiAliasing, Camera, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, Light, Material, RenderOptions, Scene,
+    silhouette_points,
 };
 use octsolid::scene_file::{self, CachePolicy, LoadOptions};
 use octsolid::shape::Axis;
@@ -77,16 +78,24 @@ pub struct RenderArgs {
     /// (POV-Ray's adc_bailout; default: the scene's, or 0.001).
     #[arg(long)]
     pub cutoff: Option<f64>,
-    /// Anti-aliasing: uniform (--spp N x N samples in every pixel) or adaptive (one
+    /// Anti-aliasing: uniform (--spp N x N samples in every pixel), adaptive (one
     /// sample a pixel, N x N where a neighbour differs by --aa-threshold; POV-Ray's +A)
+    /// or recursive (samples at the pixels' corners, a square split in four where its
+    /// corners differ by --aa-threshold, up to --aa-depth times; POV-Ray's +AM2)
     /// (default: the scene's, or uniform).
     #[arg(long)]
     pub aa: Option<Aa>,
-    /// Contrast that makes adaptive anti-aliasing supersample a pixel: the sum of the
-    /// red, green and blue differences with a neighbour, 0 to 3 (default: the scene's,
-    /// or 0.3; implies --aa adaptive unless --aa uniform is given).
+    /// Contrast that makes adaptive anti-aliasing supersample a pixel (recursive: split
+    /// a square): the sum of the red, green and blue differences with a neighbour (a
+    /// corner), 0 to 3 (default: the scene's, or 0.3; implies --aa adaptive unless
+    /// --aa is given or the scene's is recursive).
     #[arg(long, value_parser = crate::values::parse_finite)]
     pub aa_threshold: Option<f64>,
+    /// Recursive anti-aliasing: the most times a pixel's square is split, 1 to 6
+    /// (POV-Ray's +R; default: the scene's, or 3; implies --aa recursive unless --aa is
+    /// given).
+    #[arg(long)]
+    pub aa_depth: Option<u32>,
     /// Scenes: voxelize every solid, neither reading nor writing the scene's solid
     /// cache (.octsolid-cache beside the scene, which otherwise holds the solids of the
     /// last render so an unchanged scene is not voxelized again).
@@ -161,21 +170,34 @@ pub enum Aa {
     Uniform,
     /// N x N samples where a pixel differs from a neighbour.
     Adaptive,
+    /// Corner samples, squares split where their corners differ.
+    Recursive,
 }
 
-/// The anti-aliasing `--aa` and `--aa-threshold` ask for over the scene's `scene`.
+/// The anti-aliasing `--aa`, `--aa-threshold` and `--aa-depth` ask for over the
+/// scene's `scene`: without `--aa`, a depth asks for recursive sampling and a
+/// threshold for adaptive (unless the scene's is recursive); what is not given is the
+/// scene's, or the default.
 fn anti_aliasing(a: &RenderArgs, scene: AntiAliasing) -> AntiAliasing {
-    let scene_threshold = match scene {
-        AntiAliasing::Adaptive { threshold } => Some(threshold),
-        AntiAliasing::Uniform => None,
+    let (scene_threshold, scene_depth) = match scene {
+        AntiAliasing::Uniform => (None, None),
+        AntiAliasing::Adaptive { threshold } => (Some(threshold), None),
+        AntiAliasing::Recursive { threshold, depth } => (Some(threshold), Some(depth)),
     };
     let threshold = a.aa_threshold.or(scene_threshold).unwrap_or(DEFAULT_AA_THRESHOLD);
-    match (a.aa, a.aa_threshold, scene) {
-        (Some(Aa::Uniform), ..) => AntiAliasing::Uniform,
-        (Some(Aa::Adaptive), ..) | (None, Some(_), _) | (None, None, AntiAliasing::Adaptive { .. }) => {
-            AntiAliasing::Adaptive { threshold }
-        }
-        (None, None, AntiAliasing::Uniform) => AntiAliasing::Uniform,
+    let depth = a.aa_depth.or(scene_depth).unwrap_or(DEFAULT_AA_DEPTH);
+    let kind = match (a.aa, scene) {
+        (Some(kind), _) => kind,
+        (None, _) if a.aa_depth.is_some() => Aa::Recursive,
+        (None, AntiAliasing::Recursive { .. }) => Aa::Recursive,
+        (None, AntiAliasing::Adaptive { .. }) => Aa::Adaptive,
+        (None, AntiAliasing::Uniform) if a.aa_threshold.is_some() => Aa::Adaptive,
+        (None, AntiAliasing::Uniform) => Aa::Uniform,
+    };
+    match kind {
+        Aa::Uniform => AntiAliasing::Uniform,
+        Aa::Adaptive => AntiAliasing::Adaptive { threshold },
+        Aa::Recursive => AntiAliasing::Recursive { threshold, depth },
     }
 }
 
