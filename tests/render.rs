@@ -168,32 +168,56 @@ fn adaptive_anti_aliasing_at_threshold_zero_is_the_uniform_picture() {
     }
 }
 
+/// A lit sphere against the background at 120 x 90 (8 x 8 samples a pixel), with its
+/// uniform 8 x 8 picture (the reference) and its one-sample picture: the edges that
+/// anti-aliasing tests measure.
+struct EdgeScene {
+    scene: Scene,
+    camera: Camera,
+    base: RenderOptions,
+    reference: image::RgbImage,
+    one: image::RgbImage,
+}
+
+impl EdgeScene {
+    fn new() -> Self {
+        let scene = sphere_scene(8, 0.8);
+        let camera = Camera::look_at(DVec3::new(0.4, -3.0, 1.5), DVec3::ZERO, DVec3::Z, 40.0);
+        let base = RenderOptions { width: 120, height: 90, spp: 8, ..RenderOptions::default() };
+        let (reference, _) = render(&scene, &camera, &base, &NoProgress).unwrap();
+        let (one, _) = render(&scene, &camera, &RenderOptions { spp: 1, ..base }, &NoProgress).unwrap();
+        EdgeScene { scene, camera, base, reference, one }
+    }
+
+    /// The picture and stats with anti-aliasing `aa`.
+    fn render(&self, aa: AntiAliasing) -> (image::RgbImage, RenderStats) {
+        render(&self.scene, &self.camera, &RenderOptions { aa, ..self.base }, &NoProgress).unwrap()
+    }
+
+    /// The sum of `img`'s channel differences from the reference.
+    fn error(&self, img: &image::RgbImage) -> f64 {
+        img.pixels()
+            .zip(self.reference.pixels())
+            .map(|(a, b)| (0..3).map(|c| f64::from(a.0[c].abs_diff(b.0[c]))).sum::<f64>())
+            .sum()
+    }
+}
+
 #[test]
 fn adaptive_anti_aliasing_supersamples_the_edges_and_matches_the_reference_there() {
     // A sphere against the background, lit: at a threshold of 0.1 the pixels that get
     // 8 x 8 samples are the edge pixels and a few on the shading's steepest slopes; they
     // equal the uniform 8 x 8 reference exactly, and the picture is far nearer to it
     // than the one-sample picture is.
-    let scene = sphere_scene(8, 0.8);
-    let camera = Camera::look_at(DVec3::new(0.4, -3.0, 1.5), DVec3::ZERO, DVec3::Z, 40.0);
-    let base = RenderOptions { width: 120, height: 90, spp: 8, ..RenderOptions::default() };
-    let (reference, _) = render(&scene, &camera, &base, &NoProgress).unwrap();
-    let (one, _) = render(&scene, &camera, &RenderOptions { spp: 1, ..base }, &NoProgress).unwrap();
-    let adaptive = RenderOptions { aa: AntiAliasing::Adaptive { threshold: 0.1 }, ..base };
-    let (got, stats) = render(&scene, &camera, &adaptive, &NoProgress).unwrap();
-    let pixels = u64::from(base.width * base.height);
+    let edges = EdgeScene::new();
+    let (got, stats) = edges.render(AntiAliasing::Adaptive { threshold: 0.1 });
+    let pixels = u64::from(edges.base.width * edges.base.height);
     assert!(stats.supersampled > 0 && stats.supersampled < pixels / 4, "{} of {pixels}", stats.supersampled);
-    let error = |img: &image::RgbImage| -> f64 {
-        img.pixels()
-            .zip(reference.pixels())
-            .map(|(a, b)| (0..3).map(|c| a.0[c].abs_diff(b.0[c]) as f64).sum::<f64>())
-            .sum()
-    };
-    assert!(error(&got) < 0.25 * error(&one), "{} vs {}", error(&got), error(&one));
+    assert!(edges.error(&got) < 0.25 * edges.error(&edges.one), "{} vs {}", edges.error(&got), edges.error(&edges.one));
     // Every pixel that differs from the one-sample picture was supersampled, and a
     // supersampled pixel is the reference's; the rest are the one-sample picture's.
     let mut same_as_reference = 0;
-    for ((g, r), o) in got.pixels().zip(reference.pixels()).zip(one.pixels()) {
+    for ((g, r), o) in got.pixels().zip(edges.reference.pixels()).zip(edges.one.pixels()) {
         assert!(g == o || g == r);
         same_as_reference += u64::from(g == r && g != o);
     }
@@ -301,26 +325,16 @@ fn recursive_anti_aliasing_splits_the_edges_and_nears_the_reference_there() {
     // pixels are few (edges and the shading's steepest slopes), and the picture is far
     // nearer to the uniform 8 x 8 reference than the one-sample picture is, and nearer
     // than at depth 1.
-    let scene = sphere_scene(8, 0.8);
-    let camera = Camera::look_at(DVec3::new(0.4, -3.0, 1.5), DVec3::ZERO, DVec3::Z, 40.0);
-    let base = RenderOptions { width: 120, height: 90, spp: 8, ..RenderOptions::default() };
-    let (reference, _) = render(&scene, &camera, &base, &NoProgress).unwrap();
-    let (one, _) = render(&scene, &camera, &RenderOptions { spp: 1, ..base }, &NoProgress).unwrap();
-    let error = |img: &image::RgbImage| -> f64 {
-        img.pixels()
-            .zip(reference.pixels())
-            .map(|(a, b)| (0..3).map(|c| a.0[c].abs_diff(b.0[c]) as f64).sum::<f64>())
-            .sum()
-    };
-    let pixels = u64::from(base.width * base.height);
+    let edges = EdgeScene::new();
+    let pixels = u64::from(edges.base.width * edges.base.height);
     let mut errors = Vec::new();
     for depth in [1, 3] {
-        let options = RenderOptions { aa: AntiAliasing::Recursive { threshold: 0.1, depth }, ..base };
-        let (got, stats) = render(&scene, &camera, &options, &NoProgress).unwrap();
+        let (got, stats) = edges.render(AntiAliasing::Recursive { threshold: 0.1, depth });
         assert!(stats.supersampled > 0 && stats.supersampled < pixels / 4, "{} of {pixels}", stats.supersampled);
-        errors.push(error(&got));
+        errors.push(edges.error(&got));
     }
-    assert!(errors[1] < 0.25 * error(&one), "{errors:?} vs {}", error(&one));
+    let one = edges.error(&edges.one);
+    assert!(errors[1] < 0.25 * one, "{errors:?} vs {one}");
     assert!(errors[1] < errors[0], "{errors:?}");
 }
 
