@@ -29,10 +29,11 @@ use rayon::prelude::*;
 
 use super::film::resolve::srgb8_pixel;
 use super::film::{Camera, Picture, View};
-use super::scene::Scene;
+use super::scene::{Scene, SceneHit};
+use super::trace::PACKET;
 use super::shade::{ShadeOptions, radiance};
 use crate::progress::Progress;
-use crate::ray::RayCast;
+use crate::ray::{Ray, RayCast};
 
 /// The most times a square of a pixel may be split: 65 x 65 points a pixel at most.
 pub const MAX_AA_DEPTH: u32 = 6;
@@ -115,22 +116,46 @@ struct Sampler<'a> {
 }
 
 impl Sampler<'_> {
-    /// The sample at `(px, py)` pixels from the image's top-left corner (x right, y
-    /// down).
-    fn trace(&self, px: f64, py: f64, counts: &mut Counts) -> Sample {
+    /// The primary ray through `(px, py)` pixels from the image's top-left corner (x
+    /// right, y down).
+    fn ray(&self, px: f64, py: f64) -> Ray {
         let (width, height) = (f64::from(self.film.width), f64::from(self.film.height));
-        let ray = self.view.ray(2.0 * px / width - 1.0, 1.0 - 2.0 * py / height);
+        self.view.ray(2.0 * px / width - 1.0, 1.0 - 2.0 * py / height)
+    }
+
+    /// The sample at `(px, py)` (see [`Sampler::ray`]).
+    fn trace(&self, px: f64, py: f64, counts: &mut Counts) -> Sample {
+        let ray = self.ray(px, py);
+        self.shade(&ray, self.scene.hit(&ray).as_ref(), counts)
+    }
+
+    /// The sample of the primary ray `ray` whose first hit is `hit`.
+    fn shade(&self, ray: &Ray, hit: Option<&SceneHit>, counts: &mut Counts) -> Sample {
         counts.samples += 1;
-        let light = match self.scene.hit(&ray) {
+        let light = match hit {
             Some(hit) => {
                 counts.hits += 1;
-                let (light, cast) = radiance(self.scene, &ray, &hit, self.shading);
+                let (light, cast) = radiance(self.scene, ray, hit, self.shading);
                 counts.secondary_rays += cast;
                 light
             }
             None => self.scene.background,
         };
         Sample { light, shown: srgb8_pixel(light * self.film.scale) }
+    }
+
+    /// The samples at the corners `0..=width` of the pixels of row `row` (its top
+    /// edge), their rays walked as packets of [`PACKET`].
+    fn corner_row(&self, row: u32, counts: &mut Counts) -> Vec<Sample> {
+        let rays: Vec<Ray> = (0..=self.film.width).map(|col| self.ray(f64::from(col), f64::from(row))).collect();
+        let mut hits = [None; PACKET];
+        let mut samples = Vec::with_capacity(rays.len());
+        for packet in rays.chunks(PACKET) {
+            let hits = &mut hits[..packet.len()];
+            self.scene.hit_packet(packet, hits);
+            samples.extend(packet.iter().zip(hits.iter()).map(|(ray, hit)| self.shade(ray, hit.as_ref(), counts)));
+        }
+        samples
     }
 
     /// Whether some two of `corners` differ by at least the threshold.
@@ -208,7 +233,7 @@ pub(crate) fn render(
         .into_par_iter()
         .map(|row| {
             let mut counts = Counts::default();
-            let samples = (0..=width).map(|col| sampler.trace(f64::from(col), f64::from(row), &mut counts)).collect();
+            let samples = sampler.corner_row(row, &mut counts);
             progress.advance(1);
             (samples, counts)
         })
