@@ -30,8 +30,8 @@ use rayon::prelude::*;
 use super::film::resolve::srgb8_pixel;
 use super::film::{Camera, Picture, View};
 use super::scene::{Scene, SceneHit};
-use super::trace::PACKET;
 use super::shade::{ShadeOptions, radiance};
+use super::trace::PACKET;
 use crate::progress::Progress;
 use crate::ray::{Ray, RayCast};
 
