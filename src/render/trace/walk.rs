@@ -511,6 +511,7 @@ const INNER_BEFORE: [[u8; 8]; 256] = {
 /// above `Q` has a mid plane at `t` (the child of such a node would be entered at
 /// `t`, and `Q` inside it), and the nodes below `Q` are entered at `t` through it, so
 /// their mid planes at `t` are entered at once too.
+#[inline(always)]
 fn entered_face(path: impl Iterator<Item = [f64; 3]>, t: f64, ta: f64, root_face: Option<usize>) -> Option<usize> {
     let mut face = if t == ta { root_face } else { None };
     for tm in path {
