@@ -28,12 +28,16 @@ use super::shade::{ShadeOptions, radiance};
 use crate::progress::Progress;
 use crate::ray::Ray;
 
+/// The contrast of two displayed colours (see the module doc): the sum of their red,
+/// green and blue differences, over 255.
+pub(crate) fn contrast(a: &Rgb<u8>, b: &Rgb<u8>) -> f64 {
+    (0..3).map(|c| f64::from(a.0[c].abs_diff(b.0[c]))).sum::<f64>() / 255.0
+}
+
 /// Whether each pixel of `first` (one sample a pixel, displayed: the exposed picture
 /// in 8-bit sRGB) needs supersampling at `threshold`, row-major.
 pub(crate) fn needs_samples(first: &RgbImage, threshold: f64) -> Vec<bool> {
     let (w, h) = first.dimensions();
-    let contrast =
-        |a: &Rgb<u8>, b: &Rgb<u8>| -> f64 { (0..3).map(|c| f64::from(a.0[c].abs_diff(b.0[c]))).sum::<f64>() / 255.0 };
     (0..h)
         .flat_map(|y| (0..w).map(move |x| (x, y)))
         .map(|(x, y)| {

@@ -4,8 +4,8 @@
 //! its centre, up to `depth` times. A square that is not split is the mean of its
 //! four corners; a split one, the mean of its four quarters.
 //!
-//! Contrast of two samples: as for the `adaptive` method, the sum over red, green and
-//! blue of the difference of their displayed (exposed, 8-bit sRGB) values, over 255.
+//! Contrast of two samples: the `adaptive` method's, the sum over red, green and blue
+//! of the difference of their displayed (exposed, 8-bit sRGB) values, over 255.
 //! A square is split when some pair of its corners differs by at least the threshold.
 //!
 //! Samples are shared. The corners of the pixels are traced once for the picture
@@ -27,6 +27,7 @@ use glam::DVec3;
 use image::Rgb;
 use rayon::prelude::*;
 
+use super::adaptive::contrast;
 use super::film::resolve::srgb8_pixel;
 use super::film::{Camera, Picture, View};
 use super::scene::{Scene, SceneHit};
@@ -160,9 +161,6 @@ impl Sampler<'_> {
 
     /// Whether some two of `corners` differ by at least the threshold.
     fn differ(&self, corners: &[Sample; 4]) -> bool {
-        let contrast = |a: &Rgb<u8>, b: &Rgb<u8>| -> f64 {
-            (0..3).map(|c| f64::from(a.0[c].abs_diff(b.0[c]))).sum::<f64>() / 255.0
-        };
         (0..4).any(|a| (a + 1..4).any(|b| contrast(&corners[a].shown, &corners[b].shown) >= self.film.threshold))
     }
 

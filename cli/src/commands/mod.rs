@@ -85,12 +85,12 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
     // Every sample is a primary ray: walked, or answered by the front-to-back display.
     let rays = stats.samples + secondary;
     let rate = rays as f64 / seconds / 1e6;
-    let recursive = matches!(options.aa, octsolid::render::AntiAliasing::Recursive { .. });
-    let visibility = match options.method {
-        // Recursive anti-aliasing walks every primary ray, whatever the method.
-        _ if recursive => {
-            format!("{rays} rays: {} primary, {secondary} secondary and shadow; {rate:.2} M rays/s", stats.samples)
-        }
+    // Recursive anti-aliasing walks every primary ray, whatever the method.
+    let method = match options.aa {
+        octsolid::render::AntiAliasing::Recursive { .. } => octsolid::render::Method::Trace,
+        _ => options.method,
+    };
+    let visibility = match method {
         octsolid::render::Method::Trace => {
             format!("{rays} rays: {} primary, {secondary} secondary and shadow; {rate:.2} M rays/s", stats.samples)
         }
@@ -119,7 +119,7 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
         "rendered {}x{} at {sampling} by {:?} in {:.2} s ({:.2} M samples/s; {visibility})",
         options.width,
         options.height,
-        if recursive { octsolid::render::Method::Trace } else { options.method },
+        method,
         seconds,
         stats.samples as f64 / seconds / 1e6,
     );
