@@ -187,11 +187,21 @@ fn traversal_matches_brute_force_on_solids_in_a_corner_of_their_domain() {
                     continue;
                 }
                 let got = t.hit_voxel_units(&Ray::new(o, dir)).map(|h| (h.voxel, h.axis.map(usize::from)));
-                let want = brute_force(&tree, o, dir).map(|(_, v, f)| (v, f));
+                let brute = brute_force(&tree, o, dir);
+                let want = brute.map(|(_, v, f)| (v, f));
                 assert_eq!(got, want, "ray {o} {dir}, box {blo:?}..{bhi:?}");
                 // The world ray of the unit domain (scaled by a power of two: the same walk).
                 let world = Ray::new(o / f64::from(n), dir);
                 assert_eq!(t.occluded(&world), want.is_some(), "any hit, ray {o} {dir}");
+                // Limited rays (the walk stops at the box's exit or the limit, whichever
+                // comes first): a hit only before the limit (world time = voxel time / n).
+                let limit = rng.range(0.0, 3.0);
+                let hit_t = brute.map(|(tv, _, _)| tv / f64::from(n));
+                if hit_t.is_none_or(|th| (th - limit).abs() > 1e-9) {
+                    let want = hit_t.is_some_and(|th| th < limit);
+                    assert_eq!(t.occluded(&world.until(limit)), want, "ray {o} {dir} until {limit}");
+                    assert_eq!(t.hit(&world.until(limit)).is_some(), want, "ray {o} {dir} until {limit}");
+                }
             }
         }
     }

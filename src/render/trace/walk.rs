@@ -123,7 +123,10 @@ impl Traversal {
             let n = self.domain.resolution();
             return (ta.max(0.0) < t_max).then_some(Entry { min: [0, 0, 0], size: n, t: ta, face });
         }
-        let enter = self.occupied_entry(r, t_max)?;
+        let (enter, exit) = self.occupied_span(r, t_max)?;
+        // No hit after the box's exit: the walk stops at the first non-empty node it
+        // would enter from there on.
+        let t_max = t_max.min(exit);
         let ray = Lattice::new(r);
         // Two builds of the walk: the one from the root (single rays) carries no
         // subtree logic; it starts where the ray enters the full voxels' box.
@@ -136,10 +139,11 @@ impl Traversal {
         }
     }
 
-    /// The time a ray enters the box of the full voxels ([`Traversal::occupied`]),
-    /// `None` when it cannot hit a full voxel there before `t_max` (it misses the box,
-    /// leaves it before 0, or enters it at `t_max` or later); `-inf` for a ray with an
-    /// infinite reciprocal on some axis (moved off the lattice by the walk: no test).
+    /// The times a ray enters and leaves the box of the full voxels
+    /// ([`Traversal::occupied`]), `None` when it cannot hit a full voxel there before
+    /// `t_max` (it misses the box, leaves it before 0, or enters it at `t_max` or
+    /// later); `(-inf, +inf)` for a ray with an infinite reciprocal on some axis (moved
+    /// off the lattice by the walk: no test).
     ///
     /// Exact: the walk places the ray in the cell `[m, m + 1)` of an axis at time `t`
     /// when the computed times of the cell's near and far planes satisfy `near <= t <
@@ -147,9 +151,9 @@ impl Traversal {
     /// monotone in the plane; a full voxel's cells lie within the box's planes, so a hit
     /// at `t` has `enter <= t < exit`, with `0 <= t < t_max`.
     #[inline(always)]
-    fn occupied_entry(&self, r: &VoxelRay, t_max: f64) -> Option<f64> {
+    fn occupied_span(&self, r: &VoxelRay, t_max: f64) -> Option<(f64, f64)> {
         if !r.inv.is_finite() {
-            return Some(f64::NEG_INFINITY);
+            return Some((f64::NEG_INFINITY, f64::INFINITY));
         }
         let [low, high] = self.occupied;
         let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
@@ -158,7 +162,7 @@ impl Traversal {
             enter = enter.max((near - r.o[a]) * r.inv[a]);
             exit = exit.min((far - r.o[a]) * r.inv[a]);
         }
-        (enter < exit && exit > 0.0 && enter < t_max).then_some(enter)
+        (enter < exit && exit > 0.0 && enter < t_max).then_some((enter, exit))
     }
 
     /// Entry and exit times of the root's slabs, with the lowest axis of the entry
