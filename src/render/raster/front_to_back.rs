@@ -28,7 +28,10 @@
 //!    faces in axis order by the exact face rule (`Face::enters`); the first face it
 //!    enters covers the sample, with that face's [`VoxelRay::entry`] as the hit. (One
 //!    ray a sample and node, not one a face: the ray, a square root and ten divisions,
-//!    is the dear part of a test.)
+//!    is the dear part of a test. The rays of a tile's uncovered samples are made
+//!    first, then tested: with no branch between them their square roots and
+//!    divisions overlap; Whitted classic, uniform 3x3: 1.09-1.10 s to 1.06-1.07 s,
+//!    with the faces read in place rather than copied a sample.)
 //!
 //! Tie-breaking: a sample takes the first face in visiting order (nodes front to back,
 //! faces of a node by axis) whose exact test it passes. Since the footprints only ever
@@ -358,18 +361,44 @@ impl Pass<'_> {
         }
         let Pass { solid, index, rays, row0, columns, tiles, out, .. } = self;
         let (solid, index, rays, row0, columns) = (*solid, *index, *rays, *row0, *columns);
-        let faces = Face::visible(&solid.viewer, min, 1 << shift);
+        // The faces once, in an array each sample's test reads in place (a copy of
+        // the faces' iterator a sample stalled on its stores).
+        let mut visible = [None; 3];
+        for (slot, face) in visible.iter_mut().zip(Face::visible(&solid.viewer, min, 1 << shift)) {
+            *slot = Some(face);
+        }
+        let faces = visible.iter().map_while(Option::as_ref);
         self.faces += faces.clone().count() as u64;
-        tiles.for_each_uncovered(rect, |row, col| {
-            let ray = VoxelRay::scaled(solid.domain.min(), solid.scale, &rays.ray(col, row0 + row));
-            let Some(hit) = faces.clone().find_map(|face| face.enters(&ray)) else { return false };
-            let i = row * columns + col;
-            // The first solid draws into samples that are all None (no load of what
-            // is there: a cache miss a sample of the 32-byte-a-sample frame).
-            if index == 0 || out[i].is_none_or(|old| hit.t < old.hit.t) {
-                out[i] = Some(SceneHit { solid: index, hit });
+        let mut batch = [const { std::mem::MaybeUninit::<VoxelRay>::uninit() }; 64];
+        tiles.for_each_uncovered_tile(rect, |ty, tx, open| {
+            // The rays of the tile's open samples first (no branch: their square roots
+            // and divisions overlap), then the tests.
+            let mut bits = open;
+            let mut n = 0;
+            while bits != 0 {
+                let bit = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let (row, col) = (8 * ty + bit / 8, 8 * tx + bit % 8);
+                batch[n].write(VoxelRay::scaled(solid.domain.min(), solid.scale, &rays.ray(col, row0 + row)));
+                n += 1;
             }
-            true
+            let (mut bits, mut covered) = (open, 0);
+            for ray in &batch[..n] {
+                // SAFETY: the first `n` were written above.
+                let ray = unsafe { ray.assume_init_ref() };
+                let bit = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let (row, col) = (8 * ty + bit / 8, 8 * tx + bit % 8);
+                let Some(hit) = faces.clone().find_map(|face| face.enters(ray)) else { continue };
+                let i = row * columns + col;
+                // The first solid draws into samples that are all None (no load of what
+                // is there: a cache miss a sample of the 32-byte-a-sample frame).
+                if index == 0 || out[i].is_none_or(|old| hit.t < old.hit.t) {
+                    out[i] = Some(SceneHit { solid: index, hit });
+                }
+                covered |= 1 << bit;
+            }
+            covered
         });
     }
 
@@ -555,18 +584,14 @@ impl Tiles<'_> {
         })
     }
 
-    /// Calls `test(row, col)` for each uncovered sample of `rect`; a sample becomes
-    /// covered when `test` says so.
+    /// Calls `each(tile row, tile column, uncovered samples of rect in the tile)` for
+    /// the tiles `rect` touches, and covers the samples it returns.
     #[inline]
-    fn for_each_uncovered(&mut self, rect: Rect, mut test: impl FnMut(usize, usize) -> bool) {
+    fn for_each_uncovered_tile(&mut self, rect: Rect, mut each: impl FnMut(usize, usize, u64) -> u64) {
         let mut tile = |covered: &mut u64, ty: usize, tx: usize, mask: u64| {
-            let mut open = !*covered & mask;
-            while open != 0 {
-                let bit = open.trailing_zeros();
-                open &= open - 1;
-                if test(8 * ty + (bit / 8) as usize, 8 * tx + (bit % 8) as usize) {
-                    *covered |= 1 << bit;
-                }
+            let open = !*covered & mask;
+            if open != 0 {
+                *covered |= each(ty, tx, open);
             }
         };
         if let Some((t, mask)) = self.single_tile(rect) {
