@@ -68,11 +68,10 @@ pub(crate) struct Face {
 }
 
 impl Face {
-    /// The faces of the full node `[min, min + size)` that look at `viewer`, by axis.
-    /// The viewer's tests are made here, once: a copy of the iterator (one a sample
-    /// in the front-to-back display) carries their planes.
+    /// The faces of the full node `[min, min + size)` that look at `viewer`, by axis
+    /// (the viewer's tests made once a node).
     #[inline]
-    pub(crate) fn visible(viewer: &Viewer, min: [u32; 3], size: u32) -> impl Iterator<Item = Face> + Clone {
+    pub(crate) fn visible(viewer: &Viewer, min: [u32; 3], size: u32) -> impl Iterator<Item = Face> {
         let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
         let planes: [Option<f64>; 3] = std::array::from_fn(|axis| viewer.visible_plane(axis, lo, hi));
         (0..3).filter_map(move |axis| planes[axis].map(|plane| Face { axis, plane, lo, hi, min, size }))

@@ -30,7 +30,7 @@
 //!    ray a sample and node, not one a face: the ray, a square root and ten divisions,
 //!    is the dear part of a test. The rays of a tile's uncovered samples are made
 //!    first, then tested: with no branch between them their square roots and
-//!    divisions overlap; Whitted classic, uniform 3x3: 1.09-1.10 s to 1.06-1.07 s,
+//!    divisions overlap; Whitted classic, uniform 3x3: 1.09-1.11 s to 1.05-1.07 s,
 //!    with the faces read in place rather than copied a sample.)
 //!
 //! Tie-breaking: a sample takes the first face in visiting order (nodes front to back,
