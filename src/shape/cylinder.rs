@@ -66,7 +66,9 @@ impl Shape for Cylinder {
         }
         // The axial normal is a unit vector already (what normalizing it would give).
         let caps = Surface { distance: w.abs() - self.height * 0.5, normal: self.axis.unit() * w.signum() };
-        match Surface::exact(u.hypot(v) - self.radius, self.axis.join(0.0, [u, v])) {
+        // `sqrt(u^2 + v^2)`, not `hypot` (whose care for overflow no cylinder needs: it
+        // was 2% of a Whitted render with three cylinders).
+        match Surface::exact((u * u + v * v).sqrt() - self.radius, self.axis.join(0.0, [u, v])) {
             Some(side) => Some(side.intersection(caps)),
             // On the axis: no radial direction, and the caps are nearer anyway.
             None => Some(caps),
