@@ -334,7 +334,7 @@ pub fn render_section(r: &MatrixResults, images: &str, plots: &[String]) -> Stri
     );
     let _ = writeln!(
         s,
-        "Contenders: **octree** = our traversal octree (`src/render/traverse.rs`, f64); **obvhs** = \
+        "Contenders: **octree** = our traversal octree (`src/render/trace/`, f64); **obvhs** = \
          obvhs CWBVH (`medium_build` preset, f32, SIMD); **bvh** = bvh crate binary SAH BVH (f64, \
          best-first traversal). *Boundary faces* = the octree's boundary mesh (`mesh::boundary_mesh`, \
          coplanar faces merged); *original mesh* = the triangles the bunny was voxelized from. Bytes: the \
