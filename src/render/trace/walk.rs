@@ -155,7 +155,7 @@ impl Traversal {
     /// monotone in the plane; a full voxel's cells lie within the box's planes, so a hit
     /// at `t` has `enter <= t < exit`, with `0 <= t < t_max`.
     #[inline(always)]
-    fn occupied_span(&self, r: &VoxelRay, t_max: f64) -> Option<(f64, f64)> {
+    pub(super) fn occupied_span(&self, r: &VoxelRay, t_max: f64) -> Option<(f64, f64)> {
         if !r.inv.is_finite() {
             return Some((f64::NEG_INFINITY, f64::INFINITY));
         }
@@ -173,7 +173,7 @@ impl Traversal {
     /// plane; an axis the ray is parallel to only says whether the origin is in
     /// (`None` when it is not).
     #[inline(always)]
-    fn root_span(&self, r: &VoxelRay) -> Option<RootSpan> {
+    pub(super) fn root_span(&self, r: &VoxelRay) -> Option<RootSpan> {
         let n = f64::from(self.domain.resolution());
         let (mut ta, mut tb, mut face) = (f64::NEG_INFINITY, f64::INFINITY, None);
         let mut outside = false;
@@ -200,7 +200,7 @@ impl Traversal {
 
 /// Where a ray crosses the root: entered at `ta` through `face`, left at `tb`.
 #[derive(Clone, Copy)]
-struct RootSpan {
+pub(super) struct RootSpan {
     pub ta: f64,
     pub tb: f64,
     pub face: Option<usize>,
@@ -209,14 +209,14 @@ struct RootSpan {
 /// The ray as the walk reads it: origin and reciprocal direction in voxel units (moved
 /// off the lattice where the reciprocal is infinite, see `off_lattice`) and the mirror
 /// bits (bit `a` set when the ray runs to lower coordinates on axis `a`).
-struct Lattice {
+pub(super) struct Lattice {
     pub o: [f64; 3],
     pub inv: [f64; 3],
     pub mirror: usize,
 }
 
 impl Lattice {
-    fn new(r: &VoxelRay) -> Self {
+    pub(super) fn new(r: &VoxelRay) -> Self {
         let mirror = (0..3).fold(0usize, |m, a| m | usize::from(r.d[a] < 0.0) << a);
         let (mut o, mut inv) = (r.o.to_array(), r.inv.to_array());
         if !r.inv.is_finite() {
@@ -273,17 +273,74 @@ impl Subtree<'_> {
 
 /// Most inner nodes a walk can be below: the root is at level 0 and the last inner
 /// nodes at level `MAX_DEPTH - 1`.
-const STACK: usize = MAX_DEPTH as usize;
+pub(super) const STACK: usize = MAX_DEPTH as usize;
 
 /// An inner node the walk went down from: what it needs to go on there (its node
 /// record, corner, mid-plane times and exit time).
 #[derive(Clone, Copy)]
-struct Frame<L> {
-    tm: L,
-    min: L,
-    tb: f64,
-    index: u32,
-    node: Inner,
+pub(super) struct Frame<L> {
+    pub tm: L,
+    pub min: L,
+    pub tb: f64,
+    pub index: u32,
+    pub node: Inner,
+}
+
+/// The ray in lanes, as the walk's step reads it: origin, reciprocal direction, the
+/// mirror bits, and the lanes to flip (all ones where the ray runs to lower
+/// coordinates).
+///
+/// No mid-plane time is NaN (see `off_lattice`), so "past the mid plane" is `tm <= t`
+/// on every axis and the child is those bits flipped by the mirror bits. The idle lane
+/// (AVX2) has `o = -1`, `inv = +inf` and corner 0: its time is `+inf`, never past,
+/// never the next.
+#[derive(Clone, Copy)]
+pub(super) struct RayLanes<L> {
+    pub o: L,
+    pub inv: L,
+    pub mirror: usize,
+    pub flip: L,
+}
+
+impl<L: Lanes> RayLanes<L> {
+    #[inline(always)]
+    pub(super) fn new(ray: &Lattice) -> Self {
+        let ones = f64::from_bits(u64::MAX);
+        let flip = std::array::from_fn(|a| if ray.mirror >> a & 1 == 1 { ones } else { 0.0 });
+        RayLanes {
+            o: L::new(ray.o, -1.0),
+            inv: L::new(ray.inv, f64::INFINITY),
+            mirror: ray.mirror,
+            flip: L::new(flip, 0.0),
+        }
+    }
+}
+
+/// A ray as the walk's loop takes it: in the lattice and in lanes, where it crosses
+/// the root, and its limit.
+#[derive(Clone, Copy)]
+pub(super) struct Course<'a, L> {
+    pub lattice: &'a Lattice,
+    pub lanes: RayLanes<L>,
+    pub span: RootSpan,
+    pub t_max: f64,
+}
+
+/// Where a walk is: at time `t` in the inner node `index` (record `node`, corner
+/// `min`, half its edge `half`, mid-plane times `tm`, left at `tb`), below the frames
+/// `stack[..depth]` of its stack (those below `base` not filled yet, for a walk begun
+/// below the root).
+#[derive(Clone, Copy)]
+pub(super) struct Place<L> {
+    pub base: usize,
+    pub depth: usize,
+    pub index: u32,
+    pub node: Inner,
+    pub min: L,
+    pub half: f64,
+    pub tb: f64,
+    pub tm: L,
+    pub t: f64,
 }
 
 impl Traversal {
@@ -293,7 +350,7 @@ impl Traversal {
     /// the root alone (single rays), `FACE` false the walk that needs no entered face
     /// (any-hit queries).
     #[inline]
-    fn walk<const BELOW_ROOT: bool, const FACE: bool>(
+    pub(super) fn walk<const BELOW_ROOT: bool, const FACE: bool>(
         &self,
         ray: &Lattice,
         t_max: f64,
@@ -356,24 +413,12 @@ impl Traversal {
         start: f64,
         from: Subtree,
     ) -> Option<Entry> {
-        // No mid-plane time is NaN (see `off_lattice`), so "past the mid plane" is
-        // `tm <= t` on every axis and the child is those bits flipped by the mirror
-        // bits. The idle lane (AVX2) has `o = -1`, `inv = +inf` and corner 0: its time
-        // is `+inf`, never past, never the next.
-        let RootSpan { ta, tb: root_tb, face } = span;
-        let o = L::new(ray.o, -1.0);
-        let inv = L::new(ray.inv, f64::INFINITY);
-        let mirror = ray.mirror;
-        let ones = f64::from_bits(u64::MAX);
-        let flip = L::new(std::array::from_fn(|a| if mirror >> a & 1 == 1 { ones } else { 0.0 }), 0.0);
-        let infinity = L::splat(f64::INFINITY);
-        let mut stack = [const { MaybeUninit::<Frame<L>>::uninit() }; STACK];
-        let mut t = ta.max(start);
+        let lanes = RayLanes::new(ray);
+        let t = span.ta.max(start);
         // Frames below `base` are not filled yet (a walk begun below the root).
-        let mut base = if BELOW_ROOT { from.above.len() } else { 0 };
-        let mut depth = base;
-        let (mut index, mut min, mut half, mut tb) = if base == 0 {
-            (0u32, L::splat(0.0), f64::from(self.domain.resolution() / 2), root_tb)
+        let base = if BELOW_ROOT { from.above.len() } else { 0 };
+        let (index, min, half, tb) = if base == 0 {
+            (0u32, L::splat(0.0), f64::from(self.domain.resolution() / 2), span.tb)
         } else {
             if t >= t_max {
                 return None;
@@ -381,8 +426,28 @@ impl Traversal {
             let corner = L::new(from.min.map(f64::from), 0.0);
             (from.index, corner, f64::from(from.size / 2), ray.exit_time(from.min, from.size))
         };
-        let mut node = self.nodes[index as usize];
-        let mut tm = min.add(L::splat(half)).sub(o).mul(inv);
+        let node = self.nodes[index as usize];
+        let tm = min.add(L::splat(half)).sub(lanes.o).mul(lanes.inv);
+        let mut stack = [const { MaybeUninit::<Frame<L>>::uninit() }; STACK];
+        let place = Place { base, depth: base, index, node, min, half, tb, tm, t };
+        self.walk_on::<L, BELOW_ROOT, FACE>(&mut stack, place, &Course { lattice: ray, lanes, span, t_max }, from)
+    }
+
+    /// The walk's loop from `place` on (see [`Traversal::walk_lanes`]): the first full
+    /// node the ray enters before its limit.
+    #[inline(always)]
+    pub(super) fn walk_on<L: Lanes, const BELOW_ROOT: bool, const FACE: bool>(
+        &self,
+        stack: &mut [MaybeUninit<Frame<L>>; STACK],
+        place: Place<L>,
+        course: &Course<L>,
+        from: Subtree,
+    ) -> Option<Entry> {
+        let Course { lattice: ray, lanes, span, t_max } = *course;
+        let RootSpan { ta, tb: root_tb, face } = span;
+        let RayLanes { o, inv, mirror, flip } = lanes;
+        let infinity = L::splat(f64::INFINITY);
+        let Place { mut base, mut depth, mut index, mut node, mut min, mut half, mut tb, mut tm, mut t } = place;
         loop {
             // Step 1: the child the ray is in just after t, and the next mid plane.
             let past = tm.le(L::splat(t));
@@ -494,7 +559,7 @@ fn off_lattice(r: &VoxelRay, o: &mut [f64; 3], inv: &mut [f64; 3]) {
 
 /// `INNER_BEFORE[mask][i]`: how many of the children in `mask` come before child `i`
 /// (`popcount(mask & ((1 << i) - 1))`, a table lookup where the CPU has no popcount).
-const INNER_BEFORE: [[u8; 8]; 256] = {
+pub(super) const INNER_BEFORE: [[u8; 8]; 256] = {
     let mut table = [[0u8; 8]; 256];
     let mut mask = 0;
     while mask < 256 {
