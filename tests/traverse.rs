@@ -310,3 +310,87 @@ fn packets_match_single_rays() {
         }
     }
 }
+
+/// Shadow rays of one origin walked together (`occluded_each`) against the brute
+/// force and against `occluded` one by one: groups of one to six rays from origins
+/// inside and outside the solid and its box, on lattice planes and mid planes (where
+/// rays of opposite senses take different children), along axes, with limits.
+#[test]
+fn rays_of_one_origin_walked_together_match_brute_force() {
+    let mut rng = Rng(0x5a_d0_5a_d0);
+    let mut trees = Vec::new();
+    for depth in 1..=6 {
+        for _ in 0..3 {
+            trees.push(random_octree(&mut rng, Domain::new(DVec3::ZERO, 1.0, depth).unwrap()));
+        }
+    }
+    let d6 = samples::showcase_domain(6).unwrap();
+    trees.push(voxelize(&samples::showcase(), d6, &VoxelizeOptions::default()).unwrap());
+    let unit = Domain::new(DVec3::ZERO, 1.0, 6).unwrap();
+    trees.push(LinearOctree::full(unit));
+    trees.push(LinearOctree::empty(unit));
+    let (mut groups, mut blocked_total, mut rays_total) = (0, 0, 0);
+    for tree in &trees {
+        let t = Traversal::new(tree);
+        let domain = tree.domain();
+        let n = f64::from(domain.resolution());
+        // In the unit cube a world ray scaled by 1 / n is the voxel ray (a power of two):
+        // the brute force's ray exactly. Elsewhere only `occluded` is the oracle.
+        let unit = domain.min() == DVec3::ZERO && domain.edge() == 1.0;
+        for g in 0..300 {
+            let mut o = match g % 5 {
+                0 => rng.vec(0.0, n),
+                1 => rng.vec(0.0, n).round(), // a lattice point: on mid planes
+                2 => rng.vec(-0.5 * n, 1.5 * n),
+                3 => {
+                    let mut o = rng.vec(0.0, n);
+                    o[g % 3] = o[g % 3].round();
+                    o
+                }
+                _ => DVec3::splat(n / 2.0) + rng.vec(-1e-9, 1e-9),
+            };
+            if g % 7 == 0 {
+                o = o.round() + DVec3::splat(0.5); // a voxel centre: inside a full voxel, or beside one
+            }
+            let count = 1 + rng.below(6) as usize;
+            let rays: Vec<(DVec3, f64)> = (0..count)
+                .map(|_| {
+                    let mut d = rng.vec(-1.0, 1.0);
+                    if rng.below(4) == 0 {
+                        d[rng.below(3) as usize] = 0.0;
+                    }
+                    if rng.below(8) == 0 {
+                        d = DVec3::ZERO;
+                        d[rng.below(3) as usize] = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+                    }
+                    if d == DVec3::ZERO {
+                        d = DVec3::X;
+                    }
+                    let limit = if rng.below(3) == 0 { rng.range(-0.1, 2.0) } else { f64::INFINITY };
+                    (d, limit)
+                })
+                .collect();
+            let origin = domain.min() + o * domain.voxel_size();
+            let world: Vec<Ray> = rays.iter().map(|&(d, limit)| Ray::new(origin, d).until(limit)).collect();
+            let mut blocked = vec![false; world.len()];
+            t.occluded_each(&world, &mut blocked);
+            for ((&(d, limit), ray), &got) in rays.iter().zip(&world).zip(&blocked) {
+                assert_eq!(got, t.occluded(ray), "ray {o} {d} until {limit}, one by one");
+                blocked_total += usize::from(got);
+                if !unit {
+                    continue;
+                }
+                let hit_t = brute_force(tree, o, d).map(|(tv, _, _)| tv / n);
+                if hit_t.is_none_or(|th| (th - limit).abs() > 1e-9) {
+                    let want = hit_t.is_some_and(|th| th < limit);
+                    assert_eq!(got, want, "ray {o} {d} until {limit}, brute force");
+                }
+            }
+            groups += 1;
+            rays_total += rays.len();
+        }
+    }
+    // Both answers are common, so neither is taken for granted.
+    assert!(blocked_total > rays_total / 5 && blocked_total < rays_total * 4 / 5, "{blocked_total} of {rays_total}");
+    assert!(groups > 5000);
+}

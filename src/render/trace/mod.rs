@@ -10,6 +10,7 @@
 mod beam;
 mod lanes;
 mod reach;
+mod together;
 mod traversal;
 mod voxel_ray;
 mod walk;
