@@ -12,7 +12,7 @@
 //! multiply-add is ever formed: the intrinsics name each operation.
 //!
 //! The idle fourth lane (AVX2) is kept at `+inf` by the walk's inputs (see
-//! `walk::LaneRay`), so it is never crossed and never the minimum.
+//! `walk::RayLanes`), so it is never crossed and never the minimum.
 
 /// The smaller of two times that are not NaN, `if x < y { x } else { y }` (so of two
 /// zeros, `y`): the order every minimum of plane times is taken in.

@@ -6,8 +6,9 @@
 //! A ray whose walk starts at `t = 0` (its origin inside the root and inside the box
 //! of the full voxels) goes down from the root, in each inner node, to the child that
 //! holds it at `t = 0` (`tm <= 0` per axis, flipped by its mirror bits) while that
-//! child is inner. Rays from one origin take the same children, unless the origin lies
-//! on a mid plane their directions cross in opposite senses. So the joint walk goes
+//! child is inner. Rays from one origin typically take the same children (not when
+//! the origin lies on a mid plane their directions cross in opposite senses, or a
+//! plane time underflows to 0 for a huge direction). So the joint walk goes
 //! down once for the group: at every level it reads one node record, decides one
 //! child and its kind (the walk's data-dependent branches), and works out each ray's
 //! frame (its mid-plane times and exit time, which depend on its direction) in a
@@ -59,9 +60,10 @@ struct Member {
 }
 
 impl Traversal {
-    /// `blocked[i] = self.occluded(&rays[i])` for every ray, the rays of one origin
-    /// (a hit's shadow rays to several lights) walked together, four at a time (see
-    /// the module doc).
+    /// `blocked[i] = self.occluded(&rays[i])` for every ray, walked together four at
+    /// a time (see the module doc). Exact for any rays; faster than one by one only
+    /// for rays of one origin inside the box of the full voxels (a hit's shadow rays
+    /// to several lights).
     ///
     /// # Panics
     /// When `rays` and `blocked` differ in length.
@@ -89,8 +91,8 @@ impl Traversal {
 
     /// [`Traversal::occluded_each`] of at most [`TOGETHER`] rays, those that may meet
     /// the full voxels' box (bit `k` of `meeting` for ray `k`): each walked from the
-    /// root at once, unless it starts at its origin; those walked together when there
-    /// are two or more.
+    /// root straight away, unless it starts at its origin; those walked together when
+    /// there are two or more.
     fn occluded_group(&self, rays: &[Ray], blocked: &mut [bool], meeting: u32) {
         let mut members = [const { MaybeUninit::<Member>::uninit() }; TOGETHER];
         let mut count = 0;
@@ -138,7 +140,7 @@ impl Traversal {
     /// at `t = 0` from the root (it may join a group). The same tests and values as
     /// `Traversal::first_full_after`, in its order.
     fn start(&self, r: &VoxelRay, t_max: f64) -> Start {
-        if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) {
+        if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) || t_max <= 0.0 || t_max.is_nan() {
             return Start::Never;
         }
         let Some(span) = self.root_span(r) else { return Start::Never };
@@ -152,10 +154,6 @@ impl Traversal {
         let t_max = t_max.min(exit);
         if !r.inv.is_finite() || span.ta > 0.0 || enter > 0.0 {
             return Start::FromRoot(span, t_max, 0.0f64.max(enter));
-        }
-        // The walk would stop at its first non-empty child: no hit at t = 0 or later.
-        if t_max <= 0.0 {
-            return Start::Never;
         }
         Start::AtOrigin(span, t_max)
     }

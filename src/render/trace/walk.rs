@@ -114,7 +114,8 @@ impl Traversal {
         start: f64,
         from: Subtree,
     ) -> Option<Entry> {
-        if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) {
+        // No hit before a limit of 0 or less, or NaN (whatever the ray's axes).
+        if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) || t_max <= 0.0 || t_max.is_nan() {
             return None;
         }
         let span = self.root_span(r)?;
@@ -434,7 +435,11 @@ impl Traversal {
     }
 
     /// The walk's loop from `place` on (see [`Traversal::walk_lanes`]): the first full
-    /// node the ray enters before its limit.
+    /// node the ray enters before its limit. `place` must be where the walk from the
+    /// root (or from `from`, frames below `base` not filled) would be at the top of its
+    /// loop at time `t`: frames `base..depth` written on the way down, `tb` the node's
+    /// exit as carried down (`earlier` of the parent's and the next mid plane's), `tm`
+    /// the node's mid-plane times by the same formula.
     #[inline(always)]
     pub(super) fn walk_on<L: Lanes, const BELOW_ROOT: bool, const FACE: bool>(
         &self,
