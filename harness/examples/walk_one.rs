@@ -8,9 +8,10 @@
 //! first light's, then the second's; `lights-shuffled` in random order; N unused),
 //! `random` (N random rays, the harness's set), `display` (the primary rays answered
 //! by the front-to-back display, a frustum walk for the rays of one eye, checked hit
-//! for hit against the walk). `SIZE` (default 512) sets the primary rays' image edge. Prints the hit count,
-//! and on stderr the best CPU time a ray over `REPEAT` runs (default 1); for `display`
-//! also the best wall time a ray on 2 threads. Under callgrind, collect only the tracing:
+//! for hit against the walk). `SIZE` (default 512) sets the primary rays' image edge.
+//! Prints the hit count, and on stderr the best CPU time a ray over `REPEAT` runs
+//! (default 1); for `display` also the best wall time a ray on 2 threads. Under
+//! callgrind, collect only the tracing:
 //! `valgrind --tool=callgrind --branch-sim=yes --toggle-collect='walk_one::trace*'`.
 use glam::DVec3;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};

@@ -373,12 +373,13 @@ impl Pass<'_> {
         tiles.for_each_uncovered_tile(rect, |ty, tx, open| {
             // The rays of the tile's open samples first (no branch: their square roots
             // and divisions overlap), then the tests.
+            let sample = |bit: usize| (8 * ty + bit / 8, 8 * tx + bit % 8);
             let mut bits = open;
             let mut n = 0;
             while bits != 0 {
                 let bit = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                let (row, col) = (8 * ty + bit / 8, 8 * tx + bit % 8);
+                let (row, col) = sample(bit);
                 batch[n].write(VoxelRay::scaled(solid.domain.min(), solid.scale, &rays.ray(col, row0 + row)));
                 n += 1;
             }
@@ -388,7 +389,7 @@ impl Pass<'_> {
                 let ray = unsafe { ray.assume_init_ref() };
                 let bit = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                let (row, col) = (8 * ty + bit / 8, 8 * tx + bit % 8);
+                let (row, col) = sample(bit);
                 let Some(hit) = faces.clone().find_map(|face| face.enters(ray)) else { continue };
                 let i = row * columns + col;
                 // The first solid draws into samples that are all None (no load of what

@@ -42,9 +42,9 @@ use std::mem::MaybeUninit;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::{Avx2, Sse2};
 use super::lanes::{Isa, Lanes, Scalar, earlier};
-use super::traversal::{Root, Traversal};
+use super::traversal::Traversal;
 use super::voxel_ray::VoxelRay;
-use super::walk::{Course, Frame, INNER_BEFORE, Lattice, Place, RayLanes, RootSpan, STACK, Subtree};
+use super::walk::{Course, Frame, INNER_BEFORE, Lattice, Opening, Place, RayLanes, RootSpan, STACK, Subtree};
 use crate::ray::Ray;
 
 /// Most rays walked as one group.
@@ -102,18 +102,16 @@ impl Traversal {
                 continue;
             }
             let r = VoxelRay::new(&self.domain, ray);
-            match self.start(&r, ray.t_max) {
-                Start::Never => {}
-                Start::RootFull => {
-                    *blocked = self.first_full_after::<false>(&r, ray.t_max, 0.0, Subtree::ROOT).is_some()
-                }
-                Start::FromRoot(span, t_max, start) => {
-                    *blocked =
-                        self.walk::<false, false>(&Lattice::new(&r), t_max, span, start, Subtree::ROOT).is_some();
-                }
-                Start::AtOrigin(span, t_max) => {
+            match self.opening(&r, ray.t_max, 0.0) {
+                Err(full) => *blocked = full.is_some(),
+                // At its origin (t = 0): it may join the group.
+                Ok(Opening { span, t_max, enter }) if r.inv.is_finite() && span.ta <= 0.0 && enter <= 0.0 => {
                     members[count].write(Member { lattice: Lattice::new(&r), span, t_max, slot });
                     count += 1;
+                }
+                Ok(Opening { span, t_max, enter }) => {
+                    let ray = Lattice::new(&r);
+                    *blocked = self.walk::<false, false>(&ray, t_max, span, 0.0f64.max(enter), Subtree::ROOT).is_some();
                 }
             }
         }
@@ -133,29 +131,6 @@ impl Traversal {
                 _ => self.together_apart::<Scalar>(members, blocked),
             },
         }
-    }
-
-    /// How the any-hit walk of `r` (limit `t_max`) starts: never (it cannot hit), in
-    /// a full root, from the root at `start` (clamped limit `t_max`), or at its origin
-    /// at `t = 0` from the root (it may join a group). The same tests and values as
-    /// `Traversal::first_full_after`, in its order.
-    fn start(&self, r: &VoxelRay, t_max: f64) -> Start {
-        if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) || t_max <= 0.0 || t_max.is_nan() {
-            return Start::Never;
-        }
-        let Some(span) = self.root_span(r) else { return Start::Never };
-        if span.ta >= span.tb || span.tb <= 0.0 || span.ta >= t_max {
-            return Start::Never;
-        }
-        if self.root == Root::Full {
-            return Start::RootFull;
-        }
-        let Some((enter, exit)) = self.occupied_span(r, t_max) else { return Start::Never };
-        let t_max = t_max.min(exit);
-        if !r.inv.is_finite() || span.ta > 0.0 || enter > 0.0 {
-            return Start::FromRoot(span, t_max, 0.0f64.max(enter));
-        }
-        Start::AtOrigin(span, t_max)
     }
 
     /// [`Traversal::together`] in a build without AVX2, kept out of its caller (whose
@@ -231,14 +206,6 @@ impl Traversal {
             blocked[m.slot] = hit.is_some();
         }
     }
-}
-
-/// How a ray's any-hit walk starts (see [`Traversal::start`]).
-enum Start {
-    Never,
-    RootFull,
-    FromRoot(RootSpan, f64, f64),
-    AtOrigin(RootSpan, f64),
 }
 
 #[cfg(test)]
