@@ -12,6 +12,12 @@
 //! `viewer_frame`: what `octsolid view` does for a moving frame, server side: the bunny
 //! at depth 10 rendered at 1280x720 by the front-to-back display (1 sample a pixel,
 //! axis normals, no shadows) and encoded as the PNG it sends. Target: 40 ms.
+//!
+//! `hard_views`: primary visibility (800x600, one sample a pixel) of views an
+//! object-order display finds hard (`common/hard_views.rs`: the eye inside a large
+//! floor's domain, a grazing floor, the eye inside a bore, a narrow close-up) by the
+//! default front-to-back display and by the ray walk. Target: the default within 25%
+//! of the faster of the two on every view.
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use octsolid::io::png;
@@ -22,6 +28,9 @@ use octsolid::render::{
 };
 use octsolid::shape::Axis;
 use octsolid::{MemoryBudget, NoProgress};
+
+#[path = "common/hard_views.rs"]
+mod hard_views;
 
 /// The bunny voxelized at `depth` in its bounding cube (2% margin), as the CLI does.
 fn bunny(depth: u8) -> LinearOctree {
@@ -99,5 +108,20 @@ fn viewer_frame(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, shading_normals, viewer_frame);
+fn hard_views(c: &mut Criterion) {
+    let mut group = c.benchmark_group("hard_views");
+    group.sample_size(10);
+    let samples = SampleGrid { width: 800, height: 600, spp: 1 };
+    let mut frame = Vec::new();
+    for view in hard_views::hard_views(10) {
+        for method in [Method::FrontToBack, Method::Trace] {
+            group.bench_function(BenchmarkId::new(format!("{method:?}"), view.name), |b| {
+                b.iter(|| visibility_into(&view.scene, &view.camera, &samples, method, &mut frame))
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, shading_normals, viewer_frame, hard_views);
 criterion_main!(benches);

@@ -548,3 +548,26 @@ fn quick_writes_a_default_size_picture_of_the_solid() {
     assert!(quick(&empty, dir.join("empty.png")).is_err());
     assert!(!dir.join("empty.png").exists());
 }
+
+#[path = "../benches/common/hard_views.rs"]
+mod hard_views;
+
+/// Views with the eye inside a solid's domain (a large floor behind and below it, a
+/// grazing floor, the eye inside a bore, a close-up): the display gives the walk's
+/// hits and draws a few faces a sample. Before it culled boxes behind the eye and
+/// outside the strip's planes it drew 95 faces a sample over the floor (2.86 M for
+/// 30,000 samples, at 200x150).
+#[test]
+fn front_to_back_draws_a_few_faces_a_sample_with_the_eye_inside_a_domain() {
+    let samples = SampleGrid { width: 200, height: 150, spp: 1 };
+    for view in hard_views::hard_views(9) {
+        let (trace, _) = visibility(&view.scene, &view.camera, &samples, Method::Trace);
+        let (seen, stats) = visibility(&view.scene, &view.camera, &samples, Method::FrontToBack);
+        let hits = trace.iter().filter(|s| s.is_some()).count();
+        assert!(hits > 10_000, "{}: the view should see the solids ({hits} samples hit)", view.name);
+        assert!(seen == trace, "{}: front-to-back differs from the tracer", view.name);
+        let count = f64::from(samples.columns() * samples.rows());
+        let per_sample = stats.faces_drawn as f64 / count;
+        assert!(per_sample < 4.0, "{}: {} faces drawn for {count} samples", view.name, stats.faces_drawn);
+    }
+}

@@ -15,7 +15,14 @@
 //!    (`column = X(p) / W(p)`, `row = Y(p) / W(p)`, `X, Y, W` affine in the voxel point
 //!    `p`), bounded from its centre (see `Pass::footprint`: two divisions, no corners),
 //!    widened by [`MARGIN`] samples and cut to the parent's footprint (the child's box
-//!    is in the parent's); all of the parent's when the box reaches behind the eye.
+//!    is in the parent's). The centre's bound grows without limit as the box nears the
+//!    eye's plane: a box whose nearest point is less than half as far as its centre
+//!    takes the rectangle of its eight projected corners instead (`Pass::near_footprint`);
+//!    a box reaching behind the eye's plane has no bounded projection, and is dropped
+//!    when it lies wholly behind the eye or outside one of the planes through the eye
+//!    and the parent footprint's edges, else takes all of the parent's footprint
+//!    (`Pass::across_eye_plane`: without it, every node of a floor reaching behind the
+//!    eye was drawn against every sample of its strip, 95 faces a sample).
 //!    A child's `X, Y, W` is its parent's plus a per-size offset (no products). A node
 //!    whose footprint has no uncovered sample is skipped, an inner node with its
 //!    subtree; the remaining children of a node whose footprint lies in one tile are
@@ -216,6 +223,9 @@ struct Solid<'a> {
     projector: Projector,
     /// `X, Y, W` of the root's centre.
     root: DVec3,
+    /// The largest `|X|, |Y|, |W|` of any term a node's centre is summed from (the
+    /// root's centre, the offsets to children): the scale of their rounding.
+    magnitude: DVec3,
     /// `levels[s]`: nodes of `2^s` voxels a side.
     levels: [Level; MAX_DEPTH as usize + 1],
 }
@@ -235,8 +245,9 @@ impl<'a> Solid<'a> {
         }
         let half = 0.5 * f64::from(domain.resolution());
         let root = projector.per_voxel.iter().fold(projector.base, |sum, &p| sum + p * half);
+        let magnitude = projector.per_voxel.iter().fold(root.abs(), |sum, &p| sum + p.abs() * half);
         let (nodes, viewer, scale) = (traversal.inner_nodes(), Viewer::new(view, domain), domain.voxels_per_unit());
-        Solid { nodes, domain, scale, viewer, projector, root, levels }
+        Solid { nodes, domain, scale, viewer, projector, root, magnitude, levels }
     }
 }
 
@@ -405,7 +416,8 @@ impl Pass<'_> {
 
     /// Step 2: the rectangle within `within` holding the projection of the box of
     /// centre `centre` (its `X, Y, W`) and half edge `level.half`, widened by
-    /// [`MARGIN`]; all of `within` when the box reaches behind the eye; `None` when empty.
+    /// [`MARGIN`]; for boxes near or across the eye's plane, [`Pass::near_footprint`]
+    /// and [`Pass::across_eye_plane`]; `None` when empty.
     ///
     /// Bound: for a point `c + e` of the box, `x(c + e) - x(c) = ((dX - x(c) dW) . e) /
     /// (W(c) + dW . e)`, so `|x(c + e) - x(c)| <= sum |dX - x(c) dW| half / (W(c) - sum
@@ -417,7 +429,10 @@ impl Pass<'_> {
         let p = &self.solid.projector;
         let nearest = centre.z - level.reach;
         if nearest <= 0.0 {
-            return Some(within);
+            return self.across_eye_plane(centre, level, within);
+        }
+        if nearest < 0.5 * centre.z {
+            return self.near_footprint(centre, level, within);
         }
         let (w, k) = (1.0 / centre.z, level.half / nearest);
         let y = centre.y * w;
@@ -436,6 +451,67 @@ impl Pass<'_> {
             return None;
         }
         Some(Rect { c0: c0 as usize, c1: c1 as usize, r0: r0 as usize, r1: r1 as usize })
+    }
+}
+
+impl Pass<'_> {
+    /// [`Pass::footprint`] of a box near the eye (its nearest point less than half as
+    /// far as its centre, where the centre's bound grows without limit): the rectangle
+    /// of its eight corners' projections, which bound the projection of the whole box
+    /// (a box in front of the eye projects to the convex hull of its corners). A corner
+    /// nearly on the eye's plane, where its projection is ill-conditioned, leaves the
+    /// box to [`Pass::across_eye_plane`].
+    #[inline(never)]
+    fn near_footprint(&self, centre: DVec3, level: &Level, within: Rect) -> Option<Rect> {
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for offset in &level.to_child {
+            let corner = centre + *offset;
+            if corner.z <= 1e-6 * level.reach {
+                return self.across_eye_plane(centre, level, within);
+            }
+            let w = 1.0 / corner.z;
+            let (x, y) = (corner.x * w, corner.y * w);
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+        let (columns, rows, row0) = (self.columns as i64, self.rows as i64, self.row0 as f64);
+        let r0 = first_at_or_after(y0 - MARGIN - row0, rows).max(within.r0 as i64);
+        let r1 = last_at_or_before(y1 + MARGIN - row0, rows).min(within.r1 as i64);
+        let c0 = first_at_or_after(x0 - MARGIN, columns).max(within.c0 as i64);
+        let c1 = last_at_or_before(x1 + MARGIN, columns).min(within.c1 as i64);
+        (r0 <= r1 && c0 <= c1).then_some(Rect { c0: c0 as usize, c1: c1 as usize, r0: r0 as usize, r1: r1 as usize })
+    }
+
+    /// [`Pass::footprint`] of a box that reaches behind the eye's plane (`W <= 0`), whose
+    /// projection has no bound: `None` when the box lies wholly behind the eye or wholly
+    /// outside one of the four planes through the eye and the edges of `within` (widened
+    /// by [`MARGIN`]), else all of `within`. A sample's hit point `p` has `W(p) > 0` and
+    /// projects onto its sample, so for a sample of `within` every plane's function
+    /// (`X - c W` for the left edge `c`, and so on) is positive at `p`: its maximum over
+    /// the box, `value at the centre + sum |per voxel| half`, is too. The maxima are
+    /// compared with a slack of `1e-9` of the magnitudes the centre was summed from,
+    /// far above their rounding, so a box is dropped only when it is sure.
+    #[inline(never)]
+    fn across_eye_plane(&self, centre: DVec3, level: &Level, within: Rect) -> Option<Rect> {
+        let solid = self.solid;
+        let p = &solid.projector;
+        let size = solid.magnitude;
+        let slack = |a: f64, along: f64| 1e-9 * (along + a.abs() * size.z);
+        if centre.z + level.reach < -slack(0.0, 0.0) {
+            return None;
+        }
+        // The plane `U = sign (V - a W)` (`V` the column's `X` or the row's `Y`) leaves
+        // the box outside when its maximum over the box is negative.
+        let outside = |v: f64, dv: DVec3, a: f64, sign: f64, along: f64| {
+            let most = sign * (v - a * centre.z) + (dv - p.dw * a).abs().element_sum() * level.half;
+            most < -slack(a, along)
+        };
+        let (row0, c0, c1) = (self.row0 as f64, within.c0 as f64 - MARGIN, within.c1 as f64 + MARGIN);
+        let (r0, r1) = (row0 + within.r0 as f64 - MARGIN, row0 + within.r1 as f64 + MARGIN);
+        let dropped = outside(centre.y, p.dy, r0, 1.0, size.y)
+            || outside(centre.y, p.dy, r1, -1.0, size.y)
+            || outside(centre.x, p.dx, c0, 1.0, size.x)
+            || outside(centre.x, p.dx, c1, -1.0, size.x);
+        (!dropped).then_some(within)
     }
 }
 

@@ -23,7 +23,7 @@ use glam::DVec3;
 
 pub(crate) use front_to_back::{Display, Strip, front_to_back};
 
-use super::film::{SampleGrid, View};
+use super::film::{Projection, SampleGrid, View};
 use super::trace::{Hit, Traversal, VoxelRay};
 use crate::octree::Domain;
 use crate::ray::Ray;
@@ -75,17 +75,27 @@ impl<'a> FaceDrawer<'a> {
         (hits, faces)
     }
 
-    /// The sample-grid rectangle (inclusive) that the box `[min, min + size]` may cover.
+    /// The sample-grid rectangle (inclusive) that the box `[min, min + size]` may cover:
+    /// none when the box lies behind the eye (no primary ray meets it), the whole grid
+    /// when it reaches behind the eye.
     fn footprint(&self, lo: DVec3, hi: DVec3) -> (u32, u32, u32, u32) {
+        const EMPTY: (u32, u32, u32, u32) = (1, 0, 1, 0);
         let full = (0, self.samples.columns() - 1, 0, self.samples.rows() - 1);
         let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
-        for i in 0..8 {
-            let p = DVec3::new(
+        let corner = |i: usize| {
+            DVec3::new(
                 if i & 1 == 0 { lo.x } else { hi.x },
                 if i & 2 == 0 { lo.y } else { hi.y },
                 if i & 4 == 0 { lo.z } else { hi.z },
-            );
-            let Some((x, y)) = self.view.project(p) else { return full };
+            )
+        };
+        if (0..8).all(|i| (corner(i) - self.view.eye).dot(self.view.forward) < 0.0)
+            && matches!(self.view.projection, Projection::Perspective { .. })
+        {
+            return EMPTY;
+        }
+        for i in 0..8 {
+            let Some((x, y)) = self.view.project(corner(i)) else { return full };
             let (c, r) = (self.samples.column_of(x), self.samples.row_of(y));
             x0 = x0.min(c);
             x1 = x1.max(c);
@@ -94,7 +104,7 @@ impl<'a> FaceDrawer<'a> {
         }
         let clamp = |v: f64, n: u32| (v.max(0.0) as u32).min(n - 1);
         if x1 < -1.0 || y1 < -1.0 || x0 > f64::from(self.samples.columns()) || y0 > f64::from(self.samples.rows()) {
-            return (1, 0, 1, 0); // empty
+            return EMPTY;
         }
         (
             clamp(x0.floor() - 1.0, self.samples.columns()),
