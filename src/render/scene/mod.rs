@@ -234,23 +234,6 @@ impl Scene {
         }
     }
 
-    /// The fraction of light that passes along `ray` before its `t_max`: the product
-    /// of the transmittances of the solids it crosses, each counted once (no
-    /// refraction of shadow rays); 0 when an opaque solid blocks it.
-    #[must_use]
-    pub fn transmittance(&self, ray: &Ray) -> f64 {
-        let mut passed = 1.0;
-        for s in &self.solids {
-            if s.traversal.occluded(ray) {
-                passed *= s.material.transmittance;
-                if passed == 0.0 {
-                    break;
-                }
-            }
-        }
-        passed
-    }
-
     /// Two white lights (a key light from the default view side and a dim fill light
     /// from the other side), for solids rendered without a scene file.
     #[must_use]

@@ -1,11 +1,13 @@
 //! The shading stage, the same for every visibility method: the shading normal
 //! (`normals`), the local Phong term with shadows (`phong`), and Whitted's reflected
 //! and transmitted rays (`whitted`, with the laws of reflection and refraction in
-//! `optics`).
+//! `optics`); secondary rays pass the voxel staircase a smooth surface leaves out
+//! (`slivers`).
 
 mod normals;
 mod optics;
 mod phong;
+mod slivers;
 mod whitted;
 
 pub use normals::Normals;

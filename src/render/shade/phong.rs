@@ -5,14 +5,16 @@
 //! `cos(alpha) = N . L`, `R = 2 N (N . L) - L`, `cos(theta) = R . V`, `C` the
 //! material's colour or texture at the point, and `f_i` the fraction of light `i`
 //! reaching the point: 1 without shadows, else the transmittance of what lies between
-//! ([`Scene::transmittance`]). Shadow rays leave the surface a thousandth of a voxel
-//! along the face's axis normal; with smooth normals, two voxels along the shading
-//! normal from the smooth surface's point ([`SurfacePoint::texture_at`]), clear of the
-//! voxel staircase (which would shadow it at grazing light).
+//! (`slivers::transmittance`). Shadow rays leave the surface a thousandth of a voxel
+//! along the face's axis normal; with smooth normals, a thousandth of a voxel along
+//! the shading normal from the smooth surface's point ([`SurfacePoint::texture_at`]),
+//! and walk their own solid from clear of its voxel staircase (which would shadow
+//! the surface at grazing light), every other solid from the surface.
 
 use glam::DVec3;
 
 use super::normals::SurfacePoint;
+use super::slivers;
 use crate::render::scene::{Light, Material, Scene};
 
 /// The Phong model at a point of normal `n` seen along `v` (both unit, from the
@@ -60,9 +62,10 @@ fn specular(m: &Material, n: DVec3, l: DVec3, v: DVec3, cos_alpha: f64) -> f64 {
     m.ks * cos_theta.powf(m.shininess)
 }
 
-/// The local term at `s`, and the shadow rays cast: the scene's precomputed
-/// illumination where it has one (radiosity: emitted plus diffusely reflected light),
-/// else the Phong term (see the module doc) plus the material's emission.
+/// The local term at `s`, and the shadow rays cast (when `shadows`): the scene's
+/// precomputed illumination where it has one (radiosity: emitted plus diffusely
+/// reflected light), else the Phong term (see the module doc) plus the material's
+/// emission.
 #[must_use]
 pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
     if let Some(light) = scene.illumination.as_ref().and_then(|i| i.radiance(s.solid, s.p, s.geometric)) {
@@ -71,12 +74,12 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
     let solid = &scene.solids[s.solid];
     let m = &solid.material;
     let (p, geometric, n) = (s.p, s.geometric, s.normal);
+    // From a thousandth of a voxel off the surface; with smooth normals its own octree
+    // from clear of its staircase.
     let h = solid.tree.domain().voxel_size();
-    // With smooth normals the staircase next to the point would shadow a surface the
-    // smooth normal turns to the light: shadow rays start clear of it.
-    let start = match s.smooth {
-        Some(_) => s.texture_at + n * (2.0 * h),
-        None => p + geometric * (1e-3 * h),
+    let (start, lift) = match s.smooth {
+        Some(_) => (s.texture_at + n * (1e-3 * h), n * slivers::clear_of_staircase(h, s.on_shape)),
+        None => (p + geometric * (1e-3 * h), DVec3::ZERO),
     };
     let mut rays = 0;
     let color = phong(m, m.color_at(s.texture_at), scene.ambient, (p, n, -s.dir), &scene.lights, |light| {
@@ -84,7 +87,7 @@ pub fn local(scene: &Scene, s: &SurfacePoint, shadows: bool) -> (DVec3, u64) {
             return 1.0;
         }
         rays += 1;
-        scene.transmittance(&light.shadow_ray(start))
+        slivers::transmittance(scene, s.solid, &light.shadow_ray(start), lift)
     });
     (color + m.emission, rays)
 }

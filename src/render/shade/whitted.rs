@@ -16,10 +16,11 @@
 //! Smooth normals on a voxel staircase: directions follow the smooth normal, even where
 //! that sends a ray back through the voxel face it starts on. The staircase then shows
 //! slivers (voxels outside the smooth surface: a ray meets one where the smooth normal
-//! says it is leaving) and notches (empty voxels inside it: a ray inside the solid
-//! leaves into one where the smooth normal says it is entering); rays pass both as if
-//! the smooth surface were the solid's, up to `MAX_SLIVERS` (256) a sample, without using up
-//! the recursion depth.
+//! says it is leaving, `super::slivers`; a ray that starts inside one is the same case)
+//! and notches (empty voxels inside it: a ray inside the solid leaves into one where
+//! the smooth normal says it is entering); rays pass both as if the smooth surface were
+//! the solid's, up to `MAX_SLIVERS` (256) a sample, without using up the recursion
+//! depth.
 
 use std::cell::Cell;
 
@@ -29,6 +30,7 @@ use super::ShadeOptions;
 use super::normals::{SurfacePoint, smooth_at};
 use super::optics::{reflect, refract};
 use super::phong::local;
+use super::slivers::{self, MAX_SLIVERS};
 use crate::ray::{Ray, RayCast};
 use crate::render::scene::{Scene, SceneHit, SceneSolid};
 use crate::render::trace::Hit;
@@ -53,21 +55,23 @@ struct Tracer<'a> {
     slivers: Cell<u32>,
 }
 
-/// Most staircase slivers one sample's rays pass through (a ray grazing a voxelized
-/// surface meets one a step); they do not count against the recursion depth.
-const MAX_SLIVERS: u32 = 256;
-
 impl Tracer<'_> {
     /// Light along a secondary ray, `depth` rays deep, `weight` its share of the pixel.
     fn trace(&self, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
         self.count(1);
         match self.scene.hit(&Ray::new(origin, dir)) {
-            // The origin lies inside a solid (a ray started at a voxel's edge or corner):
-            // light passes on through a transparent one, an opaque one shows nothing.
+            // The origin lies inside a solid (a ray started at a voxel's edge or corner,
+            // or under a sliver of the staircase): light passes on through a
+            // transparent one and out of a sliver; an opaque one shows nothing.
             Some(sh) if sh.hit.axis.is_none() => {
                 let solid = &self.scene.solids[sh.solid];
                 if solid.material.transmittance > 0.0 && depth < self.options.max_depth {
                     self.through(solid, origin, dir, depth + 1, weight)
+                } else if self.slivers.get() < MAX_SLIVERS
+                    && slivers::is_sliver(solid, origin, dir, self.options.normals)
+                {
+                    self.slivers.set(self.slivers.get() + 1);
+                    self.pass_through(solid, origin, dir, depth, weight)
                 } else {
                     DVec3::ZERO
                 }
@@ -129,19 +133,13 @@ impl Tracer<'_> {
 
     /// Rays start this far off a surface of `solid`.
     fn eps(&self, solid: &SceneSolid) -> f64 {
-        1e-3 * solid.tree.domain().voxel_size()
+        slivers::eps(solid)
     }
 
     /// Light along a ray that starts inside `solid` and crosses it without refraction.
     fn pass_through(&self, solid: &SceneSolid, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
         self.count(1);
-        match solid.exit(&Ray::new(origin, dir)) {
-            Some(exit) if exit.axis.is_some() => {
-                let p = origin + dir * exit.t;
-                self.trace(p - exit.normal(dir) * self.eps(solid), dir, depth, weight)
-            }
-            _ => self.trace(origin, dir, depth, weight),
-        }
+        self.trace(slivers::past(solid, origin, dir), dir, depth, weight)
     }
 
     /// Light carried by a ray that travels inside `solid` from `origin`.
