@@ -24,10 +24,10 @@ pub struct HardView {
     pub camera: Camera,
 }
 
-/// The classic part turned 20 degrees about z, voxelized at `depth` in `[-1.1, 1.1]^3`.
+/// The classic part turned 20 degrees about z, voxelized at `depth` in `[-1.4, 1.4]^3`.
 fn turned_part(depth: u8) -> LinearOctree {
     let turned = Transformed::new(classic_csg(), DAffine3::from_rotation_z(20f64.to_radians())).unwrap();
-    voxelize(&turned, Domain::new(DVec3::splat(-1.1), 2.2, depth).unwrap(), &VoxelizeOptions::default()).unwrap()
+    voxelize(&turned, Domain::new(DVec3::splat(-1.4), 2.8, depth).unwrap(), &VoxelizeOptions::default()).unwrap()
 }
 
 /// A 40 x 40 x 0.2 floor under z = -1, voxelized at `depth` in its own cube

@@ -18,9 +18,12 @@ global_settings {
     adc_bailout 1/255           // the default, and the scene's cutoff
 }
 
-#declare Eye = <3.4, -5.6, 2.9>;
-#declare Target = <0, 0, -0.35>;
-#declare FovY = 38;             // vertical, degrees, as octsolid's camera
+// A scene that includes this file may declare these first (turned_classic.pov).
+#ifndef (Eye) #declare Eye = <3.4, -5.6, 2.9>; #end
+#ifndef (Target) #declare Target = <0, 0, -0.35>; #end
+#ifndef (FovY) #declare FovY = 38; #end          // vertical, degrees, as octsolid's camera
+#ifndef (FloorHalf) #declare FloorHalf = 3.9; #end
+#ifndef (Turn) #declare Turn = 0; #end           // the part turned about z, degrees
 #declare Aspect = image_width / image_height;
 
 camera {
@@ -57,6 +60,7 @@ difference {
         phong_size 40
         reflection { PartKr }
     }
+    rotate <0, 0, Turn>
 }
 
 // The floor: checker cubes of 0.6 (POV's checker, like octsolid's, is the parity of
@@ -64,7 +68,7 @@ difference {
 // ka 0.15, kd 0.75, no highlight, kr 0.35.
 #declare FloorKr = 0.35;
 box {
-    <-3.9, -3.9, -1.2>, <3.9, 3.9, -1.0>
+    <-FloorHalf, -FloorHalf, -1.2>, <FloorHalf, FloorHalf, -1.0>
     pigment { checker color rgb <0.9, 0.85, 0.2> color rgb <0.75, 0.1, 0.1> scale 0.6 }
     finish {
         ambient (1 - FloorKr) * 0.15
