@@ -37,6 +37,12 @@
 
 #![deny(missing_docs)]
 
+// Every Rust block of the README compiles (`cargo test --doc`; its shell commands are
+// run in order by tests/readme_walkthrough.rs).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeRustBlocks;
+
 mod aabb;
 mod budget;
 pub mod color;
