@@ -192,8 +192,14 @@ enum ProjectionSpec {
 struct DomainSpec {
     min: Option<[f64; 3]>,
     edge: Option<f64>,
-    depth: u8,
+    /// Default 9; with `voxel_size`, the least that holds the shapes.
+    depth: Option<u8>,
+    /// A voxel's edge instead of `min` and `edge` (`Domain::on_grid`).
+    voxel_size: Option<f64>,
 }
+
+/// The depth of a scene without `[domain] depth`.
+const DEFAULT_DEPTH: u8 = 9;
 
 /// A light: a struct with its `type` rather than an internally tagged enum, which
 /// serde reads from a buffered copy without the reader's spans; whether `position` or
@@ -397,7 +403,7 @@ pub fn build_shape(path: impl AsRef<Path>, solid: Option<&str>, budget: MemoryBu
         let whole = |e| cx.error(None, None, e);
         let solids = solid_builds(spec, cx)?;
         let shapes: Vec<Option<Csg>> = solids.iter().map(|s| Ok(s.shape()?.0)).collect::<Result<_>>()?;
-        let depth = spec.domain.as_ref().map_or(9, |d| d.get_ref().depth);
+        let depth = spec.domain.as_ref().and_then(|d| d.get_ref().depth).unwrap_or(DEFAULT_DEPTH);
         let domain = shape_domain(spec.domain.as_ref(), depth, &solids, &shapes, cx)?;
         let shape = match solid {
             None => shapes.iter().flatten().cloned().reduce(|a, b| a | b),
@@ -436,7 +442,7 @@ fn solid_octree(spec: &SceneSpec, cx: &Context, name: Option<&str>, options: &Vo
     let whole = |e| cx.error(None, None, e);
     let solids = solid_builds(spec, cx)?;
     let shapes: Vec<Option<Csg>> = solids.iter().map(|s| Ok(s.shape()?.0)).collect::<Result<_>>()?;
-    let depth = spec.domain.as_ref().map_or(9, |d| d.get_ref().depth);
+    let depth = spec.domain.as_ref().and_then(|d| d.get_ref().depth).unwrap_or(DEFAULT_DEPTH);
     let domain = shape_domain(spec.domain.as_ref(), depth, &solids, &shapes, cx)?;
     let Some(name) = name else {
         let union = shapes.iter().flatten().cloned().reduce(|a, b| a | b);
@@ -576,7 +582,7 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
         .collect::<Result<_>>()?;
     let (shapes, leaf_files): (Vec<Option<Csg>>, Vec<Vec<PathBuf>>) =
         solids.iter().map(SolidBuild::shape).collect::<Result<Vec<_>>>()?.into_iter().unzip();
-    let depth = spec.domain.as_ref().map_or(9, |d| d.get_ref().depth);
+    let depth = spec.domain.as_ref().and_then(|d| d.get_ref().depth).unwrap_or(DEFAULT_DEPTH);
     let domain = shape_domain(spec.domain.as_ref(), depth, &solids, &shapes, cx)?;
     // Step 2: every solid to an octree (from the cache when it holds it), with its
     // material.
@@ -609,8 +615,9 @@ fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
 }
 
 /// The domain every `shape` solid is voxelized in: the `[domain]`'s when it gives `min`
-/// and `edge`, else the cube around all shapes with a 2% margin at `depth`; `None`
-/// when no solid is a shape. An unbounded shape needs the former.
+/// and `edge`; with `voxel_size`, the cube on that grid around all shapes
+/// (`Domain::on_grid`); else the cube around all shapes with a 2% margin at `depth`;
+/// `None` when no solid is a shape. An unbounded shape needs the first.
 fn shape_domain(
     spec: Option<&Spanned<DomainSpec>>,
     depth: u8,
@@ -620,8 +627,12 @@ fn shape_domain(
 ) -> Result<Option<Domain>> {
     let span = spec.map(Spanned::span);
     let at_domain = |e| cx.error(None, span.as_ref(), e);
-    if let Some(DomainSpec { min: Some(min), edge: Some(edge), depth }) = spec.map(Spanned::get_ref) {
-        return Domain::new(DVec3::from_array(*min), *edge, *depth).map(Some).map_err(at_domain);
+    let given = spec.map(Spanned::get_ref);
+    if let Some(DomainSpec { min: Some(min), edge: Some(edge), voxel_size, .. }) = given {
+        if voxel_size.is_some() {
+            return Err(at_domain(Error::invalid("domain", "give either min and edge or voxel_size, not both")));
+        }
+        return Domain::new(DVec3::from_array(*min), *edge, depth).map(Some).map_err(at_domain);
     }
     let mut bounds: Option<Aabb> = None;
     for (shape, solid) in shapes.iter().zip(solids) {
@@ -632,7 +643,15 @@ fn shape_domain(
         })?;
         bounds = Some(bounds.map_or(b, |a| a.union(&b)));
     }
-    bounds.map(|b| Domain::around(&b, 0.02, depth)).transpose().map_err(at_domain)
+    let voxel_size = given.and_then(|d| d.voxel_size);
+    let explicit_depth = given.and_then(|d| d.depth);
+    bounds
+        .map(|b| match voxel_size {
+            Some(voxel) => Domain::on_grid(&b, voxel, explicit_depth),
+            None => Domain::around(&b, 0.02, depth),
+        })
+        .transpose()
+        .map_err(at_domain)
 }
 
 /// The leaves of a scene's shape trees that name files, read relative to its folder;

@@ -1008,3 +1008,32 @@ fn sharded_solids_made_combined_converted_and_read_by_every_command() {
     assert!(fails(&dir, &["convert", "part.octs", "broken.oct"]).contains(&shard));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--voxel-size S`: the domain's lattice on the multiples of S, so a box and a mesh
+/// whose faces lie on them keep their dimensions; `info` reports the voxel's edge; a
+/// depth too small for the grid, or a voxel size with a domain, is refused.
+#[test]
+fn voxel_size_keeps_round_dimensions_exact() {
+    let dir = scratch("voxel-size");
+    ok(&dir, &["shape", "box", "--size", "80,40,30", "--center", "40,20,15", "--voxel-size", "0.5", "-o", "b.oct"]);
+    let info = info_json(&dir, "b.oct");
+    let v = |key: &str, i: usize| info["bounds"][key][i].as_f64().unwrap();
+    assert_eq!(
+        [v("min", 0), v("min", 1), v("min", 2), v("max", 0), v("max", 1), v("max", 2)],
+        [0.0, 0.0, 0.0, 80.0, 40.0, 30.0]
+    );
+    assert_eq!(info["domain"]["voxel_size"].as_f64(), Some(0.5));
+    assert_eq!(info["volume"].as_f64(), Some(96_000.0));
+    // The same box as a mesh (OBJ), voxelized on the grid.
+    let obj = "v 0 0 0\nv 80 0 0\nv 80 40 0\nv 0 40 0\nv 0 0 30\nv 80 0 30\nv 80 40 30\nv 0 40 30\n\
+               f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    std::fs::write(dir.join("b.obj"), obj).unwrap();
+    ok(&dir, &["voxelize", "b.obj", "--voxel-size", "2", "-o", "m.oct"]);
+    let mesh = info_json(&dir, "m.oct");
+    assert_eq!(mesh["volume"].as_f64(), Some(96_000.0));
+    assert_eq!(mesh["domain"]["voxel_size"].as_f64(), Some(2.0));
+    let e = fails(&dir, &["shape", "box", "--size", "80,40,30", "--voxel-size", "0.1", "--depth", "8", "-o", "x.oct"]);
+    assert!(e.contains("use depth 10 or more"), "{e}");
+    let out = octsolid(&dir, &["shape", "box", "--voxel-size", "0.5", "--domain", "0,0,0,100", "-o", "x.oct"]);
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("cannot be used with"));
+}

@@ -719,3 +719,26 @@ fn emission_is_read_as_given_and_emitters_replace_the_default_lights() {
     assert_eq!(dark.scene.solids[0].material.emission, DVec3::ZERO);
     assert_eq!(dark.scene.lights.len(), 2, "no light and no emitter: the default lights");
 }
+
+/// `[domain] voxel_size`: the shapes' shared domain on that grid, so dimensions on its
+/// multiples are exact; refused beside `min` and `edge`, and when the depth is too small.
+#[test]
+fn a_scene_domain_by_voxel_size_keeps_dimensions_exact() {
+    let dir = scratch("voxel-size");
+    let scene = |domain: &str| {
+        format!(
+            "[domain]\n{domain}\n\n[[solid]]\nshape = {{ box = {{ center = [40, 20, 15], size = [80, 40, 30] }} }}\n"
+        )
+    };
+    let (_, loaded) = load(&dir, "grid.toml", &scene("voxel_size = 0.5"), MemoryBudget::default());
+    let file = loaded.unwrap();
+    let tree = &file.scene.solids[0].tree;
+    assert_eq!(tree.domain().voxel_size(), 0.5);
+    let b = tree.bounds().unwrap();
+    assert_eq!((b.min, b.max), (DVec3::ZERO, DVec3::new(80.0, 40.0, 30.0)));
+    let (path, e) = error(&dir, "both.toml", &scene("voxel_size = 0.5\nmin = [0, 0, 0]\nedge = 100\ndepth = 8"));
+    assert!(e.to_string().contains("either min and edge or voxel_size"), "{e}");
+    assert!(e.to_string().starts_with(&path.display().to_string()), "{e}");
+    let (_, e) = error(&dir, "shallow.toml", &scene("voxel_size = 0.1\ndepth = 8"));
+    assert!(e.to_string().contains("use depth 10 or more"), "{e}");
+}

@@ -124,3 +124,46 @@ fn progress_reaches_its_total() {
         assert_eq!(count.done.load(Ordering::SeqCst), count.total.load(Ordering::SeqCst), "depth {depth}");
     }
 }
+
+/// A new user's bracket: an L of two 80 mm plates, 6 mm thick, with a 10 mm hole. On a
+/// grid of 0.5 mm (`Domain::on_grid`) its voxels span exactly 80 x 40 x 30 mm, and its
+/// volume is the analytic one to the hole's staircase (any voxel that divides the
+/// dimensions); the default domain (its bounds
+/// alone) rounds each face to its nearest voxel plane.
+#[test]
+fn dimensions_are_exact_on_a_grid_of_the_shapes_round_coordinates() {
+    use octsolid::shape::{Axis, Cuboid, Cylinder};
+    let base = Cuboid::from_corners(DVec3::ZERO, DVec3::new(80.0, 40.0, 6.0)).unwrap();
+    let wall = Cuboid::from_corners(DVec3::ZERO, DVec3::new(80.0, 6.0, 30.0)).unwrap();
+    let hole = Cylinder::new(DVec3::new(40.0, 23.0, 3.0), Axis::Z, 5.0, 8.0).unwrap();
+    let bracket = (base | wall) - hole;
+    let bounds = bracket.bounds().unwrap();
+    for voxel in [0.5, 0.25, 0.1, 2.0] {
+        let domain = Domain::on_grid(&bounds, voxel, None).unwrap();
+        assert_eq!(domain.voxel_size(), voxel);
+        // Every lattice plane on a multiple of the voxel, the bounds inside with room.
+        let k = domain.min() / voxel;
+        assert!((k - k.round()).abs().max_element() < 1e-9, "{voxel}: min {} is off the grid", domain.min());
+        let tree = voxelize(&bracket, domain, &VoxelizeOptions::default()).unwrap();
+        let got = tree.bounds().unwrap();
+        assert!(
+            (got.min - bounds.min).abs().max_element() < 1e-9 && (got.max - bounds.max).abs().max_element() < 1e-9,
+            "{voxel}: voxels span {:?}..{:?}",
+            got.min,
+            got.max
+        );
+        // Plates exact; the hole within its staircase of one voxel around.
+        let plates = 80.0 * 40.0 * 6.0 + 80.0 * 6.0 * 24.0;
+        let hole_volume = std::f64::consts::PI * 25.0 * 6.0;
+        let staircase = 2.0 * std::f64::consts::PI * 5.0 * 6.0 * voxel;
+        assert!((tree.volume() - (plates - hole_volume)).abs() < staircase, "{voxel}: volume {}", tree.volume());
+    }
+    // The default domain at a comparable voxel puts the faces off the planes.
+    let around = Domain::around(&bounds, 0.02, 8).unwrap();
+    let got = voxelize(&bracket, around, &VoxelizeOptions::default()).unwrap().bounds().unwrap();
+    assert!((got.max.x - got.min.x - 80.0).abs() > 1e-6, "the default domain happens to fit: {:?}", got);
+    // A depth too small for the grid is refused, naming what is needed.
+    let err = Domain::on_grid(&bounds, 0.1, Some(8)).unwrap_err().to_string();
+    assert!(err.contains("use depth 10 or more"), "{err}");
+    assert!(Domain::on_grid(&bounds, 0.0, None).is_err() && Domain::on_grid(&bounds, f64::NAN, None).is_err());
+}

@@ -93,6 +93,57 @@ impl Domain {
         Domain::new(bounds.center() - DVec3::splat(edge * 0.5), edge, depth)
     }
 
+    /// The cube of voxels of edge `voxel` whose lattice falls on the multiples of
+    /// `voxel`, holding `bounds` with at least one voxel to spare on every side, the
+    /// bounds centred to a whole voxel: the domain for dimensions that come out exact.
+    /// A voxel is full when its centre is inside, so a face of a shape on a multiple of
+    /// `voxel` is a voxel plane, and a box from 0 to 80 voxelized on a grid of 0.5 is
+    /// 80 long, where a domain chosen by the bounds alone rounds each face to its
+    /// nearest voxel plane (up to half a voxel off). The depth is the least that holds
+    /// the bounds; with `depth`, that one, refused when too small to hold them.
+    ///
+    /// Fails when `voxel` is not a finite positive number, the bounds are not finite,
+    /// or they need more than [`MAX_DEPTH`] levels, and as [`Domain::new`].
+    pub fn on_grid(bounds: &Aabb, voxel: f64, depth: Option<u8>) -> Result<Self> {
+        if !(voxel.is_finite() && voxel > 0.0) {
+            return Err(Error::invalid("voxel size", format!("{voxel} must be a finite positive number")));
+        }
+        if !bounds.is_finite() {
+            return Err(Error::invalid("bounds", "shape bounds are not finite; give a domain"));
+        }
+        // Lattice indices of the bounds, a voxel to spare each side.
+        let lo = (bounds.min / voxel).floor() - DVec3::ONE;
+        let hi = (bounds.max / voxel).ceil() + DVec3::ONE;
+        let span = (hi - lo).max_element();
+        let needed = (span.max(1.0)).log2().ceil().max(1.0);
+        if needed > f64::from(MAX_DEPTH) {
+            return Err(Error::invalid(
+                "voxel size",
+                format!(
+                    "{voxel}: the shapes span {span} voxels, more than the {} of depth {MAX_DEPTH}",
+                    1u32 << MAX_DEPTH
+                ),
+            ));
+        }
+        let depth = match depth {
+            None => needed as u8,
+            Some(d) if f64::from(d) >= needed => d,
+            Some(d) => {
+                return Err(Error::invalid(
+                    "depth",
+                    format!(
+                        "{d} holds {} voxels of {voxel} a side; the shapes span {span}: use depth {needed} or more",
+                        1u64 << d
+                    ),
+                ));
+            }
+        };
+        let side = f64::from(1u32 << depth);
+        // Centred: the spare voxels split evenly (to a whole voxel) on each axis.
+        let min = (lo - ((DVec3::splat(side) - (hi - lo)) * 0.5).floor()) * voxel;
+        Domain::new(min, side * voxel, depth)
+    }
+
     /// Lowest corner.
     #[must_use]
     pub fn min(&self) -> DVec3 {

@@ -105,6 +105,8 @@ pub(crate) fn print_solids(solids: &[SolidInfo]) {
 struct DomainInfo {
     min: [f64; 3],
     edge: f64,
+    /// A voxel's edge: `edge / 2^depth`.
+    voxel_size: f64,
 }
 
 #[derive(Serialize)]
@@ -128,7 +130,7 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     let measures = tree.measure();
     let info = Info {
         depth: d.depth(),
-        domain: DomainInfo { min: d.min().to_array(), edge: d.edge() },
+        domain: DomainInfo { min: d.min().to_array(), edge: d.edge(), voxel_size: d.voxel_size() },
         nodes: tree.node_count(),
         voxels: tree.voxel_count(),
         volume: tree.volume(),
@@ -204,7 +206,7 @@ fn sharded_info(dir: &std::path::Path, json: bool) -> Result<()> {
         .map(|(lo, hi)| BoundsInfo { min: d.lattice_point(lo).to_array(), max: d.lattice_point(hi).to_array() });
     let info = ShardedInfo {
         depth: d.depth(),
-        domain: DomainInfo { min: d.min().to_array(), edge: d.edge() },
+        domain: DomainInfo { min: d.min().to_array(), edge: d.edge(), voxel_size: d.voxel_size() },
         nodes: index.nodes,
         voxels: index.voxels,
         volume: index.voxels as f64 * d.voxel_size().powi(3),

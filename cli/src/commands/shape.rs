@@ -17,6 +17,9 @@ use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
 use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::values::{parse_domain, parse_vec3};
 
+/// The depth without `--depth` or `--voxel-size`.
+const DEFAULT_DEPTH: u8 = 8;
+
 /// The primitive kinds of `octsolid shape`.
 #[derive(ValueEnum, Clone, Copy, Debug)]
 pub enum ShapeKind {
@@ -58,12 +61,18 @@ pub struct ShapeArgs {
     /// Centre of the shape's bounding box.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, default_value = "0,0,0")]
     pub center: [f64; 3],
-    /// Octree depth (1..=21): 2^depth voxels a side.
-    #[arg(long, default_value_t = 8)]
-    pub depth: u8,
+    /// Octree depth (1..=21): 2^depth voxels a side (default 8; with --voxel-size the
+    /// least that holds the shape).
+    #[arg(long)]
+    pub depth: Option<u8>,
     /// Domain cube MINX,MINY,MINZ,EDGE (default: a cube around the shape).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
     pub domain: Option<[f64; 4]>,
+    /// A voxel's edge S instead of a domain: voxel planes on the multiples of S, so a
+    /// shape whose faces lie on them keeps its dimensions exactly (a 80 mm box at
+    /// --voxel-size 0.5 is 80 mm, not 80 give or take half a voxel).
+    #[arg(long, conflicts_with = "domain", value_parser = crate::values::parse_finite)]
+    pub voxel_size: Option<f64>,
     /// Output file: .oct, a sharded solid (.octs, voxelized cell by cell), or .vox,
     /// .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
     #[arg(short, long)]
@@ -99,9 +108,12 @@ pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&a.output, SOLID_EXTENSIONS)?;
     let spec = a.spec();
     let shape = spec.build()?;
-    let domain = match a.domain {
-        Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, a.depth)?,
-        None => Domain::around(&shape.bounds().context("the shape is unbounded; give --domain")?, 0.02, a.depth)?,
+    let bounds = || shape.bounds().context("the shape is unbounded; give --domain");
+    let depth = a.depth.unwrap_or(DEFAULT_DEPTH);
+    let domain = match (a.domain, a.voxel_size) {
+        (Some([x, y, z, edge]), _) => Domain::new(DVec3::new(x, y, z), edge, depth)?,
+        (None, Some(voxel)) => Domain::on_grid(&bounds()?, voxel, a.depth)?,
+        (None, None) => Domain::around(&bounds()?, 0.02, depth)?,
     };
     a.shards.check_for(&a.output)?;
     if is_sharded(&a.output) {

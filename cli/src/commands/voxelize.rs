@@ -1,4 +1,4 @@
-//! `octsolid voxelize IN --depth D [--fill F] [--inside R] [--domain ...] -o OUT`: a
+//! `octsolid voxelize IN --depth D [--fill F] [--inside R] [--domain ... | --voxel-size S] -o OUT`: a
 //! mesh or patch set voxelized into a solid file (`.oct`, `.vox`, `.binvox`, `.vdb`, `.glb`
 //! or a mesh, by the extension of `-o`).
 
@@ -27,9 +27,9 @@ use crate::values::parse_domain;
 pub struct VoxelizeArgs {
     /// Input file: .obj, .stl, .ply or .patches.
     pub input: PathBuf,
-    /// Octree depth (1..=21).
-    #[arg(long, default_value_t = 8)]
-    pub depth: u8,
+    /// Octree depth (1..=21; default 8; with --voxel-size the least that holds the input).
+    #[arg(long)]
+    pub depth: Option<u8>,
     /// What to keep: the enclosed solid, every voxel the surface touches, or a thin shell.
     #[arg(long, default_value = "solid")]
     pub fill: Fill,
@@ -39,6 +39,10 @@ pub struct VoxelizeArgs {
     /// Domain cube MINX,MINY,MINZ,EDGE (default: the input's bounding cube with a 2% margin).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_domain)]
     pub domain: Option<[f64; 4]>,
+    /// A voxel's edge S instead of a domain: voxel planes on the multiples of S, so a
+    /// model whose faces lie on them keeps its dimensions exactly.
+    #[arg(long, conflicts_with = "domain", value_parser = crate::values::parse_finite)]
+    pub voxel_size: Option<f64>,
     /// The source's up axis, recorded in the .oct file so `render` shows it upright
     /// (default by extension: y for .obj and .ply, z otherwise).
     #[arg(long)]
@@ -55,18 +59,18 @@ pub struct VoxelizeArgs {
 
 /// `octsolid voxelize IN --depth D [--fill F] [--inside R] [--domain ...] -o OUT`
 pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
-    let (input, depth, fill, inside, output) = (&a.input, a.depth, a.fill, a.inside, &a.output);
+    let (input, depth, fill, inside, output) = (&a.input, a.depth.unwrap_or(8), a.fill, a.inside, &a.output);
     check_extension(output, SOLID_EXTENSIONS)?;
     check_not_an_input(output, &[input])?;
     a.shards.check_for(output)?;
     let up = a.up.unwrap_or(FileKind::of(input, FileKind::SURFACES)?.default_up());
     let started = Instant::now();
     let loaded = load_input(input)?;
-    let domain = match a.domain {
-        Some([x, y, z, edge]) => Domain::new(DVec3::new(x, y, z), edge, depth)?,
-        None => {
-            import::default_domain(&loaded, depth).with_context(|| format!("{}: cannot voxelize", input.display()))?
-        }
+    let cannot = || format!("{}: cannot voxelize", input.display());
+    let domain = match (a.domain, a.voxel_size) {
+        (Some([x, y, z, edge]), _) => Domain::new(DVec3::new(x, y, z), edge, depth)?,
+        (None, Some(voxel)) => Domain::on_grid(&loaded.bounds(), voxel, a.depth).with_context(cannot)?,
+        (None, None) => import::default_domain(&loaded, depth).with_context(cannot)?,
     };
     let meta = Metadata { up: Some(up), units: a.units };
     if is_sharded(output) {
