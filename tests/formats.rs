@@ -447,6 +447,50 @@ fn binvox_reads_non_cubic_grids_padded_into_the_cube() {
     assert!(tree.contains_voxel([1, 4, 0]) && tree.contains_voxel([2, 0, 1]));
 }
 
+/// A ball written by trimesh's own binvox writer (tests/data/make_reference_files.py):
+/// its comment line is read past, and its grid is where trimesh has it (trimesh's
+/// `translate` is the first voxel's centre, its `scale` the centres' span), every voxel
+/// decided as the analytic ball decides its centre.
+#[test]
+fn binvox_files_written_by_trimesh_are_read_where_trimesh_has_them() {
+    let s = &json("binvox/shapes.json")["ball40-trimesh.binvox"];
+    let tree = binvox::read(data("binvox/ball40-trimesh.binvox"), MemoryBudget::unlimited()).unwrap();
+    tree.validate().unwrap();
+    let (pitch, dim) = (f(&s["pitch"]), s["dim"].as_u64().unwrap() as u32);
+    let first = DVec3::new(f(&s["first_centre"][0]), f(&s["first_centre"][1]), f(&s["first_centre"][2]));
+    let center = DVec3::new(f(&s["center"][0]), f(&s["center"][1]), f(&s["center"][2]));
+    let d = tree.domain();
+    assert!((d.voxel_size() - pitch).abs() < 1e-12 && (d.voxel_center([0, 0, 0]) - first).length() < 1e-12, "{d:?}");
+    assert_eq!(tree.voxel_count(), s["voxels"].as_u64().unwrap());
+    let r = f(&s["radius"]);
+    for i in 0..dim {
+        for j in 0..dim {
+            for k in 0..dim {
+                let p = d.voxel_center([i, j, k]);
+                assert_eq!(tree.contains_voxel([i, j, k]), (p - center).length() < r, "voxel {i} {j} {k}");
+            }
+        }
+    }
+}
+
+#[test]
+fn binvox_headers_may_hold_comments_blank_lines_and_crlf() {
+    let file = |header: &str| {
+        let mut bytes = header.as_bytes().to_vec();
+        bytes.extend([1u8, 8]);
+        binvox::decode(&bytes, Path::new("c.binvox"), MemoryBudget::unlimited())
+    };
+    let plain = file("#binvox 1\ndim 2 2 2\ntranslate 0 0 0\nscale 1\ndata\n").unwrap();
+    for header in [
+        "#binvox 1\n# a comment\n\ndim 2 2 2\ntranslate 0 0 0   # the corner\nscale 1\ndata\n",
+        "#binvox 1\r\ndim 2 2 2\r\n\r\nTranslate 0 0 0\r\nSCALE 1\r\ndata\r\n",
+    ] {
+        assert_eq!(file(header).unwrap(), plain, "{header:?}");
+    }
+    let e = file("#binvox 1\ndim 2 2 2\ncolour red\ndata\n").unwrap_err().to_string();
+    assert!(e.contains("c.binvox") && e.contains("byte 20") && e.contains("unknown header line"), "{e}");
+}
+
 // ---------------------------------------------------------------------------------
 // OpenVDB
 

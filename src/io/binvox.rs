@@ -10,6 +10,14 @@
 //! along x, z and y. Voxel `(i, j, k)` has its centre at
 //! `translate + scale * ((i, j, k) + 1/2) / d`.
 //!
+//! **Header lines** besides those: blank lines and `#` comments are read past (trimesh
+//! writes `# generated in \`trimesh\`` on the second line; the reference reader skips
+//! what it does not know), keys in any case. A file with trimesh's comment is read in
+//! trimesh's own convention, which its reader and writer share and the spec does not:
+//! `translate` the first voxel's centre and `scale` the distance from the first centre
+//! to the last, `pitch (n - 1)`; so a grid goes from trimesh to octsolid where trimesh
+//! has it.
+//!
 //! **Domain.** `translate` is the domain's lowest corner, `scale / n` the voxel edge,
 //! with `n` the largest of the three dims; the depth is the smallest with
 //! `2^depth >= n` (at most 21). A cubic power-of-two grid is the domain exactly
@@ -63,14 +71,20 @@ struct Header {
     dims: [u64; 3],
     translate: DVec3,
     scale: f64,
+    /// Written by trimesh (its comment line `# generated in \`trimesh\``): `translate`
+    /// is the first voxel's centre and `scale` the span of the centres, `pitch (n - 1)`.
+    trimesh: bool,
     /// Offset of the first data byte.
     data: usize,
 }
 
+/// The comment trimesh's writer puts on the second line.
+const TRIMESH_COMMENT: &str = "# generated in `trimesh`";
+
 fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
     let mut pos = 0;
     let mut line_no = 0;
-    let mut header = Header { version: 0, dims: [0; 3], translate: DVec3::ZERO, scale: 1.0, data: 0 };
+    let mut header = Header { version: 0, dims: [0; 3], translate: DVec3::ZERO, scale: 1.0, trimesh: false, data: 0 };
     let mut have_dims = false;
     loop {
         let at = pos;
@@ -80,8 +94,20 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
         let line =
             std::str::from_utf8(&bytes[pos..pos + len]).map_err(|_| fail(path, at, "header line is not ASCII"))?.trim();
         pos += len + 1;
+        if line_no > 0 && line.starts_with('#') {
+            // A comment line (trimesh writes one; the reference reader skips what it
+            // does not know).
+            header.trimesh |= line == TRIMESH_COMMENT;
+            continue;
+        }
+        // A comment after the values, as trimesh's reader allows.
+        let line = if line_no > 0 { line.split('#').next().unwrap_or("").trim() } else { line };
+        if line.is_empty() {
+            continue;
+        }
         let mut words = line.split_whitespace();
         let key = words.next().unwrap_or("");
+        let lower = key.to_ascii_lowercase();
         let values: Vec<&str> = words.collect();
         if line_no == 0 {
             header.version = match (key, values.as_slice()) {
@@ -103,7 +129,7 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
             }
             Ok(parsed)
         };
-        match key {
+        match lower.as_str() {
             "dim" => {
                 let dims: Vec<u64> = values.iter().filter_map(|v| v.parse().ok()).collect();
                 let limit = 1u64 << MAX_DEPTH;
@@ -133,7 +159,13 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
                 header.data = pos;
                 return Ok(header);
             }
-            _ => return Err(fail(path, at, format!("unknown header line {line:?}"))),
+            _ => {
+                return Err(fail(
+                    path,
+                    at,
+                    format!("unknown header line {line:?} (dim, translate, scale, data or a # comment)"),
+                ));
+            }
         }
         line_no += 1;
     }
@@ -146,8 +178,18 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
     let [nx, nz, ny] = header.dims;
     let n = nx.max(ny).max(nz);
     let depth = n.next_power_of_two().trailing_zeros().max(1) as u8;
-    let edge = header.scale / n as f64 * f64::from(1u32 << depth);
-    let domain = Domain::new(header.translate, edge, depth).map_err(|e| fail(path, 0, e.to_string()))?;
+    let (min, voxel) = if header.trimesh {
+        // trimesh's grid: voxel i's centre at translate + i scale / (n - 1).
+        if n < 2 {
+            return Err(fail(path, 0, "a one-voxel grid written by trimesh does not record its voxel size"));
+        }
+        let pitch = header.scale / (n - 1) as f64;
+        (header.translate - DVec3::splat(0.5 * pitch), pitch)
+    } else {
+        (header.translate, header.scale / n as f64)
+    };
+    let edge = voxel * f64::from(1u32 << depth);
+    let domain = Domain::new(min, edge, depth).map_err(|e| fail(path, 0, e.to_string()))?;
     // Step 2: the runs must cover the dims exactly; nothing is allocated yet.
     let data = &bytes[header.data..];
     if !data.len().is_multiple_of(2) {

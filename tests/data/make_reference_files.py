@@ -1,7 +1,7 @@
 """Reference files for tests/formats.rs, written by independent tools.
 
     make_reference_files.py vdb OUT_DIR      # needs pyopenvdb (Debian python3-openvdb)
-    make_reference_files.py binvox OUT_DIR   # needs the PyPI `binvox` package, numpy >= 2
+    make_reference_files.py binvox OUT_DIR   # needs the PyPI `binvox` and `trimesh` packages, numpy >= 2
 
 Each set gets a `shapes.json` with the analytic shapes and transforms the tests
 rebuild the expected occupancy from; the files themselves are what the tools wrote.
@@ -116,8 +116,32 @@ def write_binvox(out):
         Binvox(data, [d, d, d], shape["translate"], shape["scale"], "xyz", "dense").write(os.path.join(out, name))
         shape["voxels"] = int(data.sum())
         shapes[name] = shape
+    shapes.update(write_trimesh_binvox(out))
     with open(os.path.join(out, "shapes.json"), "w") as f:
         json.dump(shapes, f, indent=1, sort_keys=True)
+
+
+def write_trimesh_binvox(out):
+    """A ball written by trimesh's own binvox writer, which adds a comment line to the
+    header and records its grid its own way: `translate` the first voxel's centre,
+    `scale` the distance between the first and last centres (`pitch (n - 1)`)."""
+    import numpy as np
+    import trimesh
+    from trimesh.exchange.binvox import export_binvox
+
+    ball = {"dim": 40, "pitch": 0.05, "first_centre": [-1.0, -0.5, 0.25], "radius": 0.83,
+            "writer": "trimesh " + trimesh.__version__}
+    d, pitch = ball["dim"], ball["pitch"]
+    ball["center"] = [c + pitch * (d - 1) / 2 for c in ball["first_centre"]]
+    idx = np.indices((d, d, d)).reshape(3, -1).T
+    centres = np.array(ball["first_centre"]) + pitch * idx
+    filled = (np.linalg.norm(centres - np.array(ball["center"]), axis=1) < ball["radius"]).reshape(d, d, d)
+    transform = trimesh.transformations.scale_and_translate(scale=pitch, translate=ball["first_centre"])
+    grid = trimesh.voxel.VoxelGrid(trimesh.voxel.encoding.DenseEncoding(filled), transform=transform)
+    with open(os.path.join(out, "ball40-trimesh.binvox"), "wb") as f:
+        f.write(export_binvox(grid))
+    ball["voxels"] = int(filled.sum())
+    return {"ball40-trimesh.binvox": ball}
 
 
 if __name__ == "__main__":

@@ -2,7 +2,8 @@
 # Writes the reference files the format tests read (tests/formats.rs), with tools
 # nobody on the team wrote:
 #   vdb/*.vdb      OpenVDB 10 through Debian's python3-openvdb (pyopenvdb),
-#   binvox/*.binvox  the PyPI `binvox` package (a binvox-rw-py descendant), in a venv,
+#   binvox/*.binvox  the PyPI `binvox` package (a binvox-rw-py descendant) and trimesh's
+#                  own writer, in a venv,
 # plus a JSON file beside each set naming the analytic shapes the tests check against.
 #   vox/*.vox      the sample files in the dot_vox crate's package (MagicaVoxel's),
 #                  copied with the crate's licence from cargo's own copy of the package.
@@ -15,7 +16,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 venv=$(mktemp -d)
 trap 'rm -rf "$venv"' EXIT
 "${PYTHON:-python3}" -m venv "$venv"
-"$venv/bin/pip" install --quiet "binvox==0.1.6" "numpy>=2"
+"$venv/bin/pip" install --quiet "binvox==0.1.6" "trimesh==5.2.0" "numpy>=2"
 "$venv/bin/python" "$here/make_reference_files.py" binvox "$here/binvox"
 
 # dot_vox is a dependency of the library: cargo has its package, wherever its registry is.
