@@ -115,10 +115,17 @@ impl Input {
 pub struct VoxelizeSummary {
     /// Triangles voxelized (0 for a patch surface, made from the patches directly).
     pub triangles: usize,
-    /// Exact signed-tetrahedron volume of the triangles (`None` for surfaces).
+    /// Exact signed-tetrahedron volume of the triangles, for a solid of a closed
+    /// mesh (`None` for surfaces and open meshes, whose signed sum depends on where
+    /// the origin is and measures nothing).
     pub mesh_volume: Option<f64>,
     /// The inside rule used, for solids.
     pub rule: Option<InsideRule>,
+    /// For solids: triangles left out because they bound nothing (a repeated corner,
+    /// or a copy facing the other way: `TriangleMesh::solid_boundary`).
+    pub void_triangles: usize,
+    /// For solids: whether the mesh is closed (every edge once each way).
+    pub closed: bool,
 }
 
 /// How an input is voxelized.
@@ -157,20 +164,35 @@ pub fn voxelize_input(
     let options = VoxelizeOptions { budget, progress };
     if let (Input::Patches(p), Fill::Surface) = (input, fill) {
         let tree = voxelize_patch_surface(p, domain, &options)?;
-        return Ok((tree, VoxelizeSummary { triangles: 0, mesh_volume: None, rule: None }));
+        let summary = VoxelizeSummary { triangles: 0, mesh_volume: None, rule: None, void_triangles: 0, closed: false };
+        return Ok((tree, summary));
     }
     let mesh = input.triangles(h, budget)?;
     match fill {
         Fill::Solid => {
             let options = MeshVoxelizeOptions { inside, budget, progress };
             let (tree, stats) = voxelize_mesh(&mesh, domain, &options)?;
-            let volume = mesh.volume();
-            Ok((tree, VoxelizeSummary { triangles: mesh.triangles.len(), mesh_volume: Some(volume), rule: stats.rule }))
+            let closed = mesh.is_watertight();
+            let summary = VoxelizeSummary {
+                triangles: mesh.triangles.len(),
+                mesh_volume: closed.then(|| mesh.volume()),
+                rule: stats.rule,
+                void_triangles: stats.void_triangles,
+                closed,
+            };
+            Ok((tree, summary))
         }
         Fill::Surface | Fill::Thin => {
             let kind = if fill == Fill::Thin { SurfaceKind::Thin } else { SurfaceKind::Conservative };
             let tree = voxelize_surface(&mesh, domain, kind, &options)?;
-            Ok((tree, VoxelizeSummary { triangles: mesh.triangles.len(), mesh_volume: None, rule: None }))
+            let summary = VoxelizeSummary {
+                triangles: mesh.triangles.len(),
+                mesh_volume: None,
+                rule: None,
+                void_triangles: 0,
+                closed: false,
+            };
+            Ok((tree, summary))
         }
     }
 }

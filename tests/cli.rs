@@ -1037,3 +1037,22 @@ fn voxel_size_keeps_round_dimensions_exact() {
     let out = octsolid(&dir, &["shape", "box", "--voxel-size", "0.5", "--domain", "0,0,0,100", "-o", "x.oct"]);
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("cannot be used with"));
 }
+
+/// A mesh that encloses nothing (a flat polygon) voxelizes to an empty solid with a
+/// warning that names the file and suggests a surface; an open mesh reports no volume
+/// of its own (its signed sum measured nothing), and what bounds nothing is counted.
+#[test]
+fn voxelizing_a_mesh_that_encloses_nothing_warns_and_an_open_mesh_reports_no_volume() {
+    let dir = scratch("encloses-nothing");
+    let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    std::fs::write(dir.join("flat.obj"), square).unwrap();
+    let out = octsolid(&dir, &["voxelize", "flat.obj", "--depth", "6", "-o", "flat.oct"]);
+    assert!(out.status.success());
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(stderr.contains("flat.obj: the solid is empty") && stderr.contains("--fill surface"), "{stderr}");
+    assert!(stdout.contains("mesh vol.  none: the mesh is open"), "{stdout}");
+    let revisits = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 1\nf 1 2 3 1 2 3 1 2 4 3 1 2 3 4\n";
+    std::fs::write(dir.join("revisits.obj"), revisits).unwrap();
+    let stdout = ok(&dir, &["voxelize", "revisits.obj", "--depth", "6", "-o", "r.oct"]);
+    assert!(stdout.contains("left out") && stdout.contains("bound nothing"), "{stdout}");
+}

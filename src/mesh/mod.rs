@@ -156,6 +156,49 @@ impl TriangleMesh {
         })
     }
 
+    /// The triangles that bound a solid, under either inside rule: the mesh without
+    /// the triangles that bound nothing, those with a repeated corner (no area) and
+    /// pairs on the same three corners facing opposite ways (a ray crosses both or
+    /// neither, so they cancel in a parity count and in the winding number alike);
+    /// borrowed when there are none, and the number left out. Such triangles come from
+    /// polygons that revisit their corners, fanned: a 1,000-corner face over 5
+    /// vertices made 998 triangles, half with a repeated corner, every one on every
+    /// node of its box and each a string of exact predicates on ties, 13 s at depth 8.
+    #[must_use]
+    pub fn solid_boundary(&self) -> (std::borrow::Cow<'_, TriangleMesh>, usize) {
+        use std::borrow::Cow;
+        // Each triangle's corners sorted, and whether that took an odd permutation.
+        let sorted = |t: [u32; 3]| {
+            let [a, b, c] = t;
+            let odd = (a > b) ^ (b > c) ^ (a > c);
+            let mut k = t;
+            k.sort_unstable();
+            (k, odd)
+        };
+        let void = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+        let mut net: HashMap<[u32; 3], i64> = HashMap::new();
+        for t in self.triangles.iter().filter(|t| !void(t)) {
+            let (k, odd) = sorted(*t);
+            *net.entry(k).or_default() += if odd { -1 } else { 1 };
+        }
+        let kept = net.values().map(|n| n.unsigned_abs() as usize).sum::<usize>();
+        if kept == self.triangles.len() {
+            return (Cow::Borrowed(self), 0);
+        }
+        // Keep the first |net| triangles of each set of corners that face its way.
+        let mut triangles = Vec::with_capacity(kept);
+        for t in self.triangles.iter().filter(|t| !void(t)) {
+            let (k, odd) = sorted(*t);
+            let n = net.get_mut(&k).expect("counted");
+            if *n != 0 && (*n < 0) == odd {
+                *n -= n.signum();
+                triangles.push(*t);
+            }
+        }
+        let left_out = self.triangles.len() - triangles.len();
+        (Cow::Owned(TriangleMesh { vertices: self.vertices.clone(), triangles, groups: Vec::new() }), left_out)
+    }
+
     /// Merges vertices with bit-identical coordinates and drops unused ones.
     pub fn weld(&mut self) {
         let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(self.vertices.len());

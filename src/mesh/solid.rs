@@ -118,6 +118,8 @@ pub struct MeshVoxelizeStats {
     pub triangle_box_tests: u64,
     /// Point queries made from scratch (ray casts or winding numbers).
     pub point_queries: u64,
+    /// Triangles left out because they bound nothing ([`TriangleMesh::solid_boundary`]).
+    pub void_triangles: usize,
 }
 
 impl Counters for MeshVoxelizeStats {
@@ -185,11 +187,17 @@ pub fn voxelize_mesh(
     options: &MeshVoxelizeOptions,
 ) -> Result<(LinearOctree, MeshVoxelizeStats)> {
     mesh.check()?;
+    let (mesh, void_triangles) = mesh.solid_boundary();
     let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
-    let plan = Plan::new("voxelizing a mesh", estimate_bytes(mesh, &domain, options.inside), domain, &driver)?;
-    let (rule, job, root) = prepare(mesh, domain, options.inside);
+    let plan = Plan::new("voxelizing a mesh", estimate_bytes(&mesh, &domain, options.inside), domain, &driver)?;
+    if mesh.triangles.is_empty() {
+        let stats = MeshVoxelizeStats { rule: Some(InsideRule::Winding), void_triangles, ..Default::default() };
+        return Ok((LinearOctree::empty(domain), stats));
+    }
+    let (rule, job, root) = prepare(&mesh, domain, options.inside);
     let (tree, mut stats) = plan.run(&job, root);
     stats.rule = Some(rule);
+    stats.void_triangles = void_triangles;
     Ok((tree, stats))
 }
 
@@ -207,13 +215,18 @@ pub fn voxelize_mesh_cells(
 ) -> Result<MeshVoxelizeStats> {
     mesh.check()?;
     check_level(cells, &domain)?;
+    let (mesh, void_triangles) = mesh.solid_boundary();
     let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
     let cell_edge = f64::from(domain.resolution() >> cells.level);
-    let estimate = estimate_bytes_capped(mesh, &domain, options.inside, 6.0 * cell_edge * cell_edge);
+    let estimate = estimate_bytes_capped(&mesh, &domain, options.inside, 6.0 * cell_edge * cell_edge);
     let plan = Plan::new("voxelizing a cell of a mesh", estimate, domain, &driver)?;
-    let (rule, job, root) = prepare(mesh, domain, options.inside);
+    if mesh.triangles.is_empty() {
+        return Ok(MeshVoxelizeStats { rule: Some(InsideRule::Winding), void_triangles, ..Default::default() });
+    }
+    let (rule, job, root) = prepare(&mesh, domain, options.inside);
     let mut stats = plan.run_cells(&job, root, cells, sink)?;
     stats.rule = Some(rule);
+    stats.void_triangles = void_triangles;
     Ok(stats)
 }
 
@@ -241,9 +254,31 @@ fn prepare(mesh: &TriangleMesh, domain: Domain, inside: InsideRule) -> (InsideRu
         (corners, boxes, planes)
     };
     let ((rule, oracle), (corners, boxes, planes)) = rayon::join(oracle, tables);
-    let job = Job { mesh, corners, boxes, planes, domain, oracle };
-    let root = MeshNode { triangles: (0..mesh.triangles.len() as u32).collect(), reference: None };
+    let (distinct, copies) = distinct_triangles(mesh);
+    let job = Job { mesh, corners, boxes, planes, copies, domain, oracle };
+    let root = MeshNode { triangles: distinct.into(), reference: None };
     (rule, job, root)
+}
+
+/// One triangle of each set of corners (the first), and each triangle's number of
+/// copies: the triangles handed down the tree are the distinct ones, each crossing
+/// counted as many times as it has copies (after [`TriangleMesh::solid_boundary`] the
+/// copies of a set of corners all face one way), so a face repeated a thousand times
+/// costs a node what one does. The oracle keeps every copy.
+fn distinct_triangles(mesh: &TriangleMesh) -> (Vec<u32>, Vec<i32>) {
+    let mut first: std::collections::HashMap<[u32; 3], u32> = std::collections::HashMap::new();
+    let mut copies = vec![0i32; mesh.triangles.len()];
+    let mut distinct = Vec::new();
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let mut key = *tri;
+        key.sort_unstable();
+        let rep = *first.entry(key).or_insert_with(|| {
+            distinct.push(t as u32);
+            t as u32
+        });
+        copies[rep as usize] += 1;
+    }
+    (distinct, copies)
 }
 
 /// Children on the low side of axis `a` (bit `a` of the child's index clear).
@@ -317,6 +352,8 @@ struct Job<'a> {
     boxes: Vec<Aabb>,
     /// Plane of each triangle, for fast side tests.
     planes: Vec<Plane>,
+    /// Copies of each handed-down triangle ([`distinct_triangles`]).
+    copies: Vec<i32>,
     domain: Domain,
     oracle: Oracle,
 }
@@ -383,7 +420,7 @@ impl Job<'_> {
                 let b = &self.boxes[t as usize];
                 b.min.cmple(hi).all() && b.max.cmpge(lo).all()
             })
-            .map(|&t| signed_crossing(self.mesh, &self.planes[t as usize], t, r.q, p))
+            .map(|&t| signed_crossing(self.mesh, &self.planes[t as usize], t, r.q, p) * self.copies[t as usize])
             .sum();
         self.oracle.carry(r.value, crossings)
     }
@@ -491,7 +528,8 @@ impl Job<'_> {
                 }
                 let front_p = plane.in_front(self.mesh, t, p);
                 if front_p != front_q {
-                    crossings[i] += signed_crossing_sides(self.mesh, t, q, front_q, p, front_p);
+                    crossings[i] +=
+                        signed_crossing_sides(self.mesh, t, q, front_q, p, front_p) * self.copies[t as usize];
                 }
             }
         }

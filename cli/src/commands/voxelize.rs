@@ -92,7 +92,22 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
             out!("mesh vol.  {v:.6} ({:+.3}% voxelized vs mesh)", 100.0 * (tree.volume() / v - 1.0))
         }
         Some(_) => out!("mesh vol.  0 (the mesh encloses no volume)"),
+        None if fill == Fill::Solid => out!("mesh vol.  none: the mesh is open (its solid is its winding number's)"),
         None => {}
+    }
+    if summary.void_triangles > 0 {
+        out!(
+            "left out   {} triangles that bound nothing (a repeated corner, or a copy facing the other way)",
+            summary.void_triangles
+        );
+    }
+    if fill == Fill::Solid && tree.is_empty() {
+        warn!(
+            "{}: the solid is empty: the mesh encloses nothing at depth {} (--fill surface keeps the voxels its \
+             surface touches)",
+            input.display(),
+            domain.depth()
+        );
     }
     out!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
