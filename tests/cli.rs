@@ -1056,3 +1056,17 @@ fn voxelizing_a_mesh_that_encloses_nothing_warns_and_an_open_mesh_reports_no_vol
     let stdout = ok(&dir, &["voxelize", "revisits.obj", "--depth", "6", "-o", "r.oct"]);
     assert!(stdout.contains("left out") && stdout.contains("bound nothing"), "{stdout}");
 }
+
+/// A mesh of one point-sized triangle gets a domain (the unit cube around the point),
+/// not an error about an edge of 1e-308: its surface is the voxels at the point.
+#[test]
+fn a_point_sized_mesh_voxelizes_round_its_point() {
+    let dir = scratch("point-mesh");
+    std::fs::write(dir.join("point.obj"), "v 3 4 5\nv 3 4 5\nv 3 4 5\nf 1 2 3\n").unwrap();
+    ok(&dir, &["voxelize", "point.obj", "--depth", "6", "--fill", "surface", "-o", "p.oct"]);
+    let info = info_json(&dir, "p.oct");
+    assert_eq!(info["domain"]["edge"].as_f64(), Some(1.0));
+    let b = |k: &str, i: usize| info["bounds"][k][i].as_f64().unwrap();
+    assert!((0..3).all(|i| b("min", i) <= [3.0, 4.0, 5.0][i] && b("max", i) >= [3.0, 4.0, 5.0][i]), "{info}");
+    assert!(info["voxels"].as_u64().unwrap() <= 8);
+}
