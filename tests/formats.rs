@@ -168,6 +168,60 @@ fn vox_materials_come_with_their_palette_index() {
     assert!(metal.solids.iter().any(|s| s.material.get("_type").is_some_and(|t| t == "_metal")));
 }
 
+/// MagicaVoxel materials reach the renderer: the files MagicaVoxel wrote (dot_vox's
+/// samples) give their metals' reflectance; glass and emitters written through
+/// octsolid's own `.vox` writer come back as Whitted's refraction and as emission, and
+/// a scene with an emitter is lit by its emitters alone.
+#[test]
+fn vox_materials_become_mirrors_glass_and_lights() {
+    use octsolid::render::Material;
+    let bounds = |s: &Solids| s.union().bounds().unwrap();
+    for (name, palette, reflectance) in [
+        ("metal-material.vox", 85, 0.526316),
+        ("placeholder-with-materials.vox", 216, 0.694737),
+        ("single-voxel-with-material.vox", 249, 1.0),
+    ] {
+        let solids = io::read_solids(data(&format!("vox/{name}")), &options()).unwrap();
+        let b = bounds(&solids);
+        let index = solids.solids.iter().position(|s| s.palette_index == Some(palette)).unwrap();
+        let scene = solids.scene(name, &b);
+        let m = &scene.solids[index].material;
+        assert_eq!((m.reflectance, m.transmittance), (reflectance, 0.0), "{name}");
+        m.check().unwrap();
+    }
+    // Glass and an emitter through octsolid's writer and reader.
+    let d = Domain::new(DVec3::ZERO, 8.0, 3).unwrap();
+    let cube = |lo: u32| LinearOctree::from_voxels(d, (lo..lo + 2).flat_map(|x| [[x, 0, 0], [x, 1, 0]])).unwrap();
+    let with = |name: &str, tree, props: &[(&str, &str)]| ColouredSolid {
+        material: props.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect(),
+        ..ColouredSolid::new(name, Some(DVec3::new(0.5, 0.6, 0.7)), tree)
+    };
+    let written = Solids {
+        domain: d,
+        solids: vec![
+            with("glass", cube(0), &[("_type", "_glass"), ("_weight", "0.8"), ("_ior", "0.5"), ("_rough", "0.1")]),
+            with("lamp", cube(4), &[("_type", "_emit"), ("_weight", "0.5"), ("_flux", "2")]),
+        ],
+    };
+    let dir = scratch("vox-materials");
+    let path = dir.join("m.vox");
+    io::write_solids(&path, &written, &WriteOptions::default()).unwrap();
+    let back = io::read_solids(&path, &options()).unwrap();
+    let (b, colour) = (bounds(&back), back.solids[1].color.unwrap());
+    let scene = back.scene("m", &b);
+    let [glass, lamp] = [0, 1].map(|i| &scene.solids[i].material);
+    assert_eq!((glass.transmittance, glass.ior), (0.8, 1.5));
+    assert!((glass.reflectance - 0.04).abs() < 1e-12, "{glass:?}");
+    assert!((lamp.emission - colour * 2.0).length() < 1e-12, "{lamp:?}");
+    assert!(scene.lights.is_empty(), "an emitter lights the scene alone");
+    // Diffuse and unreadable values keep the default material.
+    let plain = Material::from_magicavoxel(
+        DVec3::ONE,
+        &[("_type", "_diffuse"), ("_weight", "x")].iter().map(|(k, v)| (k.to_string(), v.to_string())).collect(),
+    );
+    assert_eq!(plain, Material { color: DVec3::ONE, ..Material::default() });
+}
+
 /// A .vox written by dot_vox's own writer: one 3 x 2 x 1 model (an L of three colours)
 /// under the given transform frames (outermost first), each with a group between.
 fn dot_vox_scene(frames: &[&[(&str, String)]]) -> Vec<u8> {

@@ -7,9 +7,11 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
+use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::{Domain, LinearOctree};
+use crate::render::{Material, Scene};
 
 /// A solid with what the file says about its look.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,6 +49,25 @@ pub struct Solids {
 }
 
 impl Solids {
+    /// A scene of the solids that hold voxels, each named `"{name}: {solid}"` in its
+    /// colour (the default material's where the file gives none) and its material
+    /// where the file gives one (a `.vox` `MATL`: [`Material::from_magicavoxel`]),
+    /// lit by the default lights around `bounds`, or, when a solid emits, by its
+    /// emitters alone (as a scene file without lights).
+    #[must_use]
+    pub fn scene(self, name: &str, bounds: &Aabb) -> Scene {
+        let mut scene = Scene::new();
+        let mut emits = false;
+        for solid in self.solids.into_iter().filter(|s| !s.tree.is_empty()) {
+            let color = solid.color.unwrap_or(Material::default().color);
+            let material = Material::from_magicavoxel(color, &solid.material);
+            emits |= material.emission != DVec3::ZERO;
+            scene.add(format!("{name}: {}", solid.name), solid.tree, material);
+        }
+        scene.lights = if emits { Vec::new() } else { Scene::default_lights(bounds) };
+        scene
+    }
+
     /// Checks every solid's invariants and that all share `domain`.
     pub fn validate(&self) -> Result<()> {
         for s in &self.solids {

@@ -494,7 +494,7 @@ fn solid_scene(
             scene.solids[0].name = input.display().to_string();
             scene
         }
-        Some(solids) => coloured_scene(input, solids, &bounds),
+        Some(solids) => solids.scene(&input.display().to_string(), &bounds),
     };
     stages.done("building the traversal");
     if up.axis() != Axis::Z {
@@ -504,19 +504,6 @@ fn solid_scene(
         scene.lights[0] = Light::Point { position: c + (view + up.vector() * 1.5) * r, color: DVec3::splat(0.85) };
     }
     Ok(Drawn { scene, framed: Framed::Solid(framing), options: RenderOptions::default() })
-}
-
-/// The solids of a file, each in its colour (the default material's where it has
-/// none), under the default lights around `bounds`.
-fn coloured_scene(input: &Path, solids: octsolid::io::Solids, bounds: &octsolid::Aabb) -> Scene {
-    let mut scene = Scene::new();
-    scene.lights = Scene::default_lights(bounds);
-    for solid in solids.solids.into_iter().filter(|s| !s.tree.is_empty()) {
-        let default = Material::default();
-        let material = Material { color: solid.color.unwrap_or(default.color), ..default };
-        scene.add(format!("{}: {}", input.display(), solid.name), solid.tree, material);
-    }
-    scene
 }
 
 /// `octsolid render IN --shading flat|gouraud|phong`: a mesh drawn as polygons
