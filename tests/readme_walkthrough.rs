@@ -1,6 +1,6 @@
 //! README.md's walkthrough, run as written: every command of the first `sh` block
 //! under "## Use", in order, in a fresh folder holding the repository's `models/`
-//! and `scenes/`. Each must succeed, and no command may overwrite what an earlier one
+//! and a copy of its `scenes/` (nothing is written into the checkout). Each must succeed, and no command may overwrite what an earlier one
 //! wrote (every output name, given by `-o` or implied by `render`, is new), so the
 //! walkthrough cannot silently break again.
 
@@ -66,8 +66,15 @@ fn every_readme_command_runs_in_order() {
     let dir = std::env::temp_dir().join(format!("octsolid-readme-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    for folder in ["models", "scenes"] {
-        std::os::unix::fs::symlink(repo().join(folder), dir.join(folder)).unwrap();
+    // The models linked; the scenes copied, so their solid caches (written beside a
+    // scene) stay out of the checkout.
+    std::os::unix::fs::symlink(repo().join("models"), dir.join("models")).unwrap();
+    std::fs::create_dir_all(dir.join("scenes")).unwrap();
+    for entry in std::fs::read_dir(repo().join("scenes")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_file() {
+            std::fs::copy(&path, dir.join("scenes").join(path.file_name().unwrap())).unwrap();
+        }
     }
     let mut written = BTreeSet::new();
     for args in &commands {

@@ -571,3 +571,27 @@ fn front_to_back_draws_a_few_faces_a_sample_with_the_eye_inside_a_domain() {
         assert!(per_sample < 4.0, "{}: {} faces drawn for {count} samples", view.name, stats.faces_drawn);
     }
 }
+
+/// A section view keeps what lies below the plane and caps the cut; when none of the
+/// scene's lights reaches the cap's side (they lit the part the cut took away), one
+/// that does is added, so the cap is not left to the ambient light.
+#[test]
+fn a_section_view_lights_its_cap() {
+    use octsolid::shape::Axis;
+    let mut scene = sphere_scene(6, 0.8);
+    scene.lights = vec![
+        Light::Point { position: DVec3::new(1.0, -5.0, 2.0), color: DVec3::ONE },
+        Light::Directional { direction: DVec3::new(0.2, 1.0, -0.3), color: DVec3::ONE },
+    ];
+    let cut = scene.sectioned(Axis::Y, 0.1);
+    let reaches = |l: &Light| match *l {
+        Light::Point { position, .. } => position.y > 0.1,
+        Light::Directional { direction, .. } => direction.y < 0.0,
+    };
+    assert_eq!(cut.lights.len(), 3);
+    assert!(cut.lights.iter().filter(|l| reaches(l)).count() == 1 && reaches(&cut.lights[2]));
+    assert!(cut.solids[0].tree.bounds().unwrap().max.y <= 0.1 + scene.solids[0].tree.domain().voxel_size());
+    // A light already on the cap's side: nothing added.
+    scene.lights.push(Light::Point { position: DVec3::new(0.0, 4.0, 1.0), color: DVec3::ONE });
+    assert_eq!(scene.sectioned(Axis::Y, 0.1).lights, scene.lights);
+}

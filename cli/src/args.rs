@@ -26,26 +26,38 @@ pub struct Args {
 /// The subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Voxelize a primitive shape into an .oct file.
+    /// Voxelize a primitive shape into a solid file (.oct, .octs, .vox, .binvox, .vdb,
+    /// .glb, or its boundary as .obj, .stl, .ply).
+    #[command(after_help = "Examples:\n  octsolid shape sphere --radius 1 --depth 9 -o ball.oct\n  \
+octsolid shape box --size 80,40,30 --center 40,20,15 --voxel-size 0.5 -o bracket.oct")]
     Shape(shape::ShapeArgs),
     /// Combine solid files by a set operation (bringing them into one domain first).
     ///
     /// The common domain is --domain, else the smallest cube holding every input's
     /// domain; its depth --depth, else the deepest input's, or deeper where an input's
     /// voxels nest only at a finer level.
+    #[command(after_help = "Example:\n  octsolid csg difference cube.oct ball.oct -o hollow.oct")]
     Csg(csg::CsgArgs),
     /// Voxelize a scene file's solid (the named one, or the union of its shape solids) to a solid file.
+    #[command(after_help = "Example:\n  octsolid build scenes/gear.toml -o gear.oct")]
     Build(build::BuildArgs),
     /// Move, turn or scale a solid, or bring it into another domain or depth.
     ///
     /// The result's domain is --domain, else the moved domain when the move is exact
     /// (keys permuted, mirrored or scaled), else the cube around the moved solid; its
     /// depth --depth, else the input's.
+    #[command(after_help = "Example:\n  octsolid transform hollow.oct --rotate z,45 --translate 0,0,1 -o turned.oct")]
     Transform(transform::TransformArgs),
-    /// Print what a solid file holds and measure it (area, centre of mass, inertia, components).
+    /// Print what a solid file holds (.oct, .octs, .vox, .binvox, .vdb) and measure it
+    /// (area, centre of mass, inertia, components).
+    #[command(after_help = "Example:\n  octsolid info hollow.oct --json")]
     Info(info::InfoArgs),
     /// Finish a sharded job run as tasks (`--cells`): check that their parts cover
     /// every cell and write the solid's index.
+    #[command(
+        after_help = "Example:\n  octsolid voxelize bunny.obj --depth 11 --shard-level 3 -o bunny.octs --cells 0..256\n  \
+octsolid voxelize bunny.obj --depth 11 --shard-level 3 -o bunny.octs --cells 256..512\n  octsolid join bunny.octs"
+    )]
     Join(join::JoinArgs),
     /// Convert a solid file between .oct, MagicaVoxel .vox, .binvox and OpenVDB .vdb
     /// (also to .glb or a mesh), each format by its extension.
@@ -54,10 +66,14 @@ pub enum Command {
     /// brought into that domain (exactly where the voxels nest, else resampled).
     /// .vox, .vdb and .glb keep several solids (a palette colour, a grid, a mesh each);
     /// .oct, .binvox and the meshes get their union.
+    #[command(after_help = "Example:\n  octsolid convert hollow.oct hollow.vox")]
     Convert(convert::ConvertArgs),
-    /// Draw a cross-section of a solid file as a PNG.
+    /// Draw a cross-section of a solid file (any solid format) as a PNG.
+    #[command(after_help = "Example:\n  octsolid slice hollow.oct --axis z --at 0.5 --size 768 -o hollow-slice.png")]
     Slice(slice::SliceArgs),
     /// Voxelize a mesh (OBJ, STL, PLY) or a Bezier patch set (.patches) into a solid file.
+    #[command(after_help = "Examples:\n  octsolid voxelize models/stanford-bunny.obj --depth 10 -o bunny.oct\n  \
+octsolid voxelize part.stl --voxel-size 0.25 --units mm -o part.oct")]
     Voxelize(voxelize::VoxelizeArgs),
     /// Write the boundary of a solid as a closed, manifold triangle mesh (OBJ, STL, PLY, GLB).
     ///
@@ -69,19 +85,30 @@ pub enum Command {
     /// refused). The STL reads back closed and manifold; each moved vertex changes its
     /// volume by at most the step times a third of the area of its faces (under 6e-4
     /// voxel volumes at a voxel corner of --unit-faces).
+    #[command(after_help = "Example:\n  octsolid export hollow.oct -o hollow.stl")]
     Export(export::ExportArgs),
     /// Print a mesh's polygon-table diagnostics: edges, holes, non-manifold edges, volume.
+    #[command(after_help = "Example:\n  octsolid mesh-info models/spot.obj --json")]
     MeshInfo(mesh_info::MeshInfoArgs),
-    /// Render a scene file (.toml), a solid file, or a mesh (voxelized first) to a PNG.
+    /// Render a scene file (.toml), a solid file (any solid format), or a mesh
+    /// (voxelized first) to a picture: .png (8-bit sRGB) or .exr (linear radiance).
+    #[command(after_help = "Examples:\n  octsolid render scenes/classic.toml\n  \
+octsolid render models/spot.obj --front -z --view front -o spot.png\n  \
+octsolid render scenes/cornell.toml --illumination radiosity -o cornell.exr")]
     Render(Box<render::RenderArgs>),
-    /// Show a scene, solid or mesh in the browser: orbit, zoom, pan, and a ray-traced
-    /// still when the view rests (a server on 127.0.0.1; --watch reloads on save).
+    /// Show a scene, solid file (any solid format) or mesh in the browser: orbit, zoom,
+    /// pan, and a ray-traced still when the view rests (a server on 127.0.0.1; --watch
+    /// reloads on save).
+    #[command(after_help = "Example:\n  octsolid view scenes/classic.toml --watch")]
     View(view::ViewArgs),
     /// Solve a scene's diffuse interreflection (radiosity) and save the solution (.rad).
+    #[command(after_help = "Example:\n  octsolid radiosity scenes/cornell.toml -o cornell.rad --json")]
     Radiosity(radiosity::RadiosityArgs),
     /// Octree traversal against the BVH crates obvhs and bvh: build time, bytes, rays a second.
+    #[command(after_help = "Example:\n  octsolid bench --report")]
     Bench(bench::BenchArgs),
     /// Build the bundled showcase scene and render it to demo.png.
+    #[command(after_help = "Example:\n  octsolid demo -o demo.png")]
     Demo(demo::DemoArgs),
 }
 

@@ -15,6 +15,7 @@ use octsolid::render::{
 };
 
 use crate::values::Up;
+use octsolid::shape::Axis;
 
 /// The flags that place the camera (`render`'s, flattened into its arguments).
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -48,6 +49,11 @@ pub struct CameraFlags {
     /// Orthographic projection instead of perspective.
     #[arg(long)]
     pub ortho: bool,
+    /// The way the model's front faces, a signed axis across --up: the named views and
+    /// orbits turn about the up axis to match (default: -y for z-up, +z for y-up,
+    /// Blender's and glTF's front; Spot and assimp's Wuson face -z).
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_facing)]
+    pub front: Option<DVec3>,
 }
 
 /// What the camera frames: the object's silhouette points and up, and a scene's own
@@ -97,6 +103,10 @@ pub(crate) fn camera(a: &CameraFlags, framing: &Framing, aspect: f64) -> Result<
     } else {
         Camera::default_view(axis)
     };
+    let view = match a.front {
+        Some(front) => turned_to_front(view, front, axis)?,
+        None => view,
+    };
     let mut camera = match (framing.scene_camera, a.eye) {
         (_, Some(eye)) => {
             let eye = DVec3::from(eye);
@@ -142,6 +152,18 @@ pub(crate) fn camera(a: &CameraFlags, framing: &Framing, aspect: f64) -> Result<
         }
     }
     Ok(camera)
+}
+
+/// `view` turned about the up axis `up` by the quarter turns that take the default
+/// front (where [`NamedView::Front`] looks from) to `front`.
+fn turned_to_front(view: DVec3, front: DVec3, up: Axis) -> Result<DVec3> {
+    let up_vec = up.unit();
+    if front.dot(up_vec) != 0.0 {
+        bail!("--front must lie across the up axis {up:?}: a model's front is horizontal");
+    }
+    let from = NamedView::Front.direction(up);
+    let angle = from.cross(front).dot(up_vec).atan2(from.dot(front));
+    Ok(glam::DQuat::from_axis_angle(up_vec, angle) * view)
 }
 
 fn fov_of(c: Camera) -> Option<f64> {

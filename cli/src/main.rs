@@ -1,7 +1,7 @@
 //! The `octsolid` command line: a thin layer over the library.
 //!
 //! Raw arguments -> validated values -> one library call a subcommand. Every error is
-//! printed as one line and exits with status 1 (2 for bad usage, from clap).
+//! printed as one line and exits with status 1 (2 for a command line clap refuses).
 
 /// Prints a line to stdout. A closed pipe (`octsolid info x.oct | head -1`) is
 /// ignored; any other failure (`> /dev/full`) is remembered, and the command then
@@ -35,6 +35,7 @@ macro_rules! warn {
 mod args;
 mod camera_flags;
 mod commands;
+mod human;
 mod output;
 mod progress_bar;
 mod sharded_output;
@@ -46,7 +47,10 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
-    let args = args::Args::parse();
+    let args = match args::Args::try_parse() {
+        Ok(args) => args,
+        Err(e) => return usage_error(&e),
+    };
     let result = args::run(args).and_then(|()| {
         use std::io::Write as _;
         if let Err(e) = std::io::stdout().flush() {
@@ -60,19 +64,42 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            // One line: the context chain, each cause once (a library error already
-            // names its source).
-            let mut line = String::new();
-            for cause in e.chain().map(ToString::to_string) {
-                if !line.contains(&cause) {
-                    if !line.is_empty() {
-                        line.push_str(": ");
-                    }
-                    line.push_str(&cause);
-                }
-            }
-            eprintln!("octsolid: error: {line}");
+            eprintln!("octsolid: error: {}", one_line(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// An error as one line: the context chain, each cause once (a library error already
+/// names its source).
+pub(crate) fn one_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain().map(ToString::to_string) {
+        if !line.contains(&cause) {
+            if !line.is_empty() {
+                line.push_str(": ");
+            }
+            line.push_str(&cause);
+        }
+    }
+    line
+}
+
+/// A command line clap refuses, as one line with status 2 (help and the version are
+/// printed as clap prints them): clap's first paragraph, its lines joined, and where
+/// the usage is.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit();
+    }
+    let text = e.render().to_string();
+    let paragraph: Vec<&str> = text.lines().take_while(|l| !l.trim().is_empty()).map(str::trim).collect();
+    let message = paragraph.join(" ");
+    let message = message.strip_prefix("error: ").unwrap_or(&message);
+    eprintln!("octsolid: error: {message} (--help shows the usage)");
+    ExitCode::from(2)
 }

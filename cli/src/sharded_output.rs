@@ -112,7 +112,7 @@ pub fn print_index_summary(index: &ShardIndex) {
     match index.voxel_bounds() {
         Some((lo, hi)) => {
             let world = |c: [u32; 3]| d.lattice_point(c).to_array();
-            out!("bounds     {:?} .. {:?}", world(lo), world(hi));
+            out!("bounds     {} .. {}", crate::human::point(world(lo)), crate::human::point(world(hi)));
         }
         None => out!("bounds     (empty)"),
     }

@@ -102,6 +102,17 @@ impl Up {
 }
 
 /// Parses `WIDTHxHEIGHT`.
+/// Parses a signed axis, `+z`, `-x`, `y` (positive): the direction a model faces.
+pub(crate) fn parse_facing(s: &str) -> Result<DVec3, String> {
+    let t = s.trim();
+    let (sign, name) = match t.strip_prefix('-') {
+        Some(rest) => (-1.0, rest),
+        None => (1.0, t.strip_prefix('+').unwrap_or(t)),
+    };
+    let axis = name.parse::<Axis>().map_err(|_| format!("'{s}' is not a signed axis like -z or +x"))?;
+    Ok(axis.unit() * sign)
+}
+
 pub(crate) fn parse_size(s: &str) -> Result<[u32; 2], String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("'{s}' is not a size like 960x720"))?;
     let parse = |t: &str| t.trim().parse::<u32>().map_err(|_| format!("'{t}' is not a whole number of pixels"));

@@ -85,15 +85,14 @@ impl Domain {
 
     /// The cube of depth `depth` centred on `bounds`, with edge the longest side of
     /// `bounds` grown by `margin` (a fraction, e.g. 0.02) so the shape touches no face.
-    /// Bounds that are a point (a mesh of coincident vertices, whose longest side is
-    /// below a trillionth of its coordinates or of 1) get the unit cube around it.
+    /// Bounds that are a point (a mesh of coincident vertices) get the unit cube
+    /// around it.
     pub fn around(bounds: &Aabb, margin: f64, depth: u8) -> Result<Self> {
         if !bounds.is_finite() {
             return Err(Error::invalid("bounds", "shape bounds are not finite; give a domain"));
         }
         let longest = bounds.size().max_element();
-        let point_like = longest <= 1e-12 * bounds.center().abs().max_element().max(1.0);
-        let edge = if point_like { 1.0 } else { longest * (1.0 + 2.0 * margin) };
+        let edge = if longest == 0.0 { 1.0 } else { longest * (1.0 + 2.0 * margin) };
         Domain::new(bounds.center() - DVec3::splat(edge * 0.5), edge, depth)
     }
 

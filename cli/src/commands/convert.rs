@@ -68,8 +68,13 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
         solids = fitted(a, solids, budget)?;
     }
     let d = solids.domain;
-    out!("depth      {} ({} voxels a side, voxel edge {})", d.depth(), d.resolution(), d.voxel_size());
-    out!("domain     min {:?} edge {}", d.min().to_array(), d.edge());
+    out!(
+        "depth      {} ({} voxels a side, voxel edge {})",
+        d.depth(),
+        d.resolution(),
+        crate::human::num(d.voxel_size())
+    );
+    out!("domain     min {} edge {}", crate::human::point(d.min()), crate::human::num(d.edge()));
     let union = solids.union();
     print_summary(&union, None);
 

@@ -85,6 +85,7 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     let target = a.target.target(common)?;
     let bar = Bar::new("fitting");
     let options = VoxelizeOptions { budget, progress: &bar };
+    let mut resampled = false;
     for (tree, path) in trees.iter_mut().zip(inputs) {
         let started = Instant::now();
         let (fitted, fit) =
@@ -93,13 +94,21 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
             let ms = started.elapsed().as_secs_f64() * 1e3;
             out!("{}: {fit} into {target} in {ms:.1} ms", path.display());
         }
+        resampled |= fit == Fit::Resampled;
         *tree = fitted;
+    }
+    if resampled {
+        out!(
+            "note       resampling moves a surface by up to half a voxel diagonal; inputs made in one domain \
+             (or on one --voxel-size grid, or with domains whose voxels nest) combine exactly"
+        );
     }
     let started = Instant::now();
     let result = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), set_op)?;
-    out!("{op:?} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
+    let name = op.to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned());
+    out!("{name} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
     if result.is_empty() {
-        warn!("the {op:?} is empty: no voxel is in it");
+        warn!("the {name} is empty: no voxel is in it");
     }
     if is_sharded(output) {
         return a.shards.write(output, budget, Instant::now(), |options| {

@@ -152,8 +152,13 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
         return Ok(());
     }
     out!("file       {}", file.display());
-    out!("depth      {} ({} voxels a side, voxel edge {})", info.depth, d.resolution(), d.voxel_size());
-    out!("domain     min {:?} edge {}", info.domain.min, info.domain.edge);
+    out!(
+        "depth      {} ({} voxels a side, voxel edge {})",
+        info.depth,
+        d.resolution(),
+        crate::human::num(d.voxel_size())
+    );
+    out!("domain     min {} edge {}", crate::human::point(info.domain.min), crate::human::num(info.domain.edge));
     out!("up         {} (units {})", info.up.unwrap_or("not recorded: z"), info.units.unwrap_or("not recorded"));
     if let (Some(format), Some(solids)) = (info.format, &info.solids) {
         out!(
@@ -225,8 +230,13 @@ fn sharded_info(dir: &std::path::Path, json: bool) -> Result<()> {
         return Ok(());
     }
     out!("file       {} (sharded: index read, no shard)", dir.display());
-    out!("depth      {} ({} voxels a side, voxel edge {})", info.depth, d.resolution(), d.voxel_size());
-    out!("domain     min {:?} edge {}", info.domain.min, info.domain.edge);
+    out!(
+        "depth      {} ({} voxels a side, voxel edge {})",
+        info.depth,
+        d.resolution(),
+        crate::human::num(d.voxel_size())
+    );
+    out!("domain     min {} edge {}", crate::human::point(info.domain.min), crate::human::num(info.domain.edge));
     out!("up         {} (units {})", info.up.unwrap_or("not recorded: z"), info.units.unwrap_or("not recorded"));
     out!(
         "shards     {} at cell level {} ({} cells), the largest {} nodes; {} full nodes in the index",

@@ -40,7 +40,7 @@ pub fn run(a: &MeshInfoArgs, budget: MemoryBudget) -> Result<()> {
         if report.watertight { "" } else { "; not closed" }
     );
     out!("area               {:.6}", report.area);
-    out!("bounds             {:?} .. {:?}", report.bounds_min, report.bounds_max);
+    out!("bounds             {} .. {}", crate::human::point(report.bounds_min), crate::human::point(report.bounds_max));
     for (name, count) in &report.groups {
         out!("group              {name:?}: {count} triangles");
     }

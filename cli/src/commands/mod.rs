@@ -67,7 +67,7 @@ pub(crate) fn print_summary(tree: &LinearOctree, exact_volume: Option<f64>) {
         None => out!("volume     {:.6}", tree.volume()),
     }
     match tree.bounds() {
-        Some(b) => out!("bounds     {:?} .. {:?}", b.min.to_array(), b.max.to_array()),
+        Some(b) => out!("bounds     {} .. {}", crate::human::point(b.min), crate::human::point(b.max)),
         None => out!("bounds     (empty)"),
     }
     let per_node = if tree.node_count() == 0 { 0.0 } else { tree.bytes() as f64 / tree.node_count() as f64 };
@@ -90,6 +90,7 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
         octsolid::render::AntiAliasing::Recursive { .. } => octsolid::render::Method::Trace,
         _ => options.method,
     };
+    let walked = if method == options.method { "" } else { ", its corner samples traced whatever --method" };
     let visibility = match method {
         octsolid::render::Method::Trace => {
             format!("{rays} rays: {} primary, {secondary} secondary and shadow; {rate:.2} M rays/s", stats.samples)
@@ -116,10 +117,10 @@ pub(crate) fn render_with_bar(scene: &Scene, camera: &Camera, options: &RenderOp
         ),
     };
     out!(
-        "rendered {}x{} at {sampling} by {:?} in {:.2} s ({:.2} M samples/s; {visibility})",
+        "rendered {}x{} at {sampling}{walked} by {} in {:.2} s ({:.2} M samples/s; {visibility})",
         options.width,
         options.height,
-        method,
+        crate::human::method(method),
         seconds,
         stats.samples as f64 / seconds / 1e6,
     );

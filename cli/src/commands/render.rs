@@ -325,15 +325,17 @@ impl Drawn {
         solid_scene(input, kind, source, load.budget, stages)
     }
 
-    /// The camera the flags ask for, at the flags' (or the options') aspect.
+    /// The camera the flags ask for, at the flags' (or the options') aspect; for a
+    /// section view, turned to see the cap ([`Section::facing_the_cap`]).
     pub(crate) fn camera(&self, a: &RenderArgs) -> Result<Camera> {
         let aspect = size_aspect(a.size, &self.options);
-        match &self.framed {
+        let camera = match &self.framed {
             Framed::Solid(framing) => camera_flags::camera(&a.camera, framing, aspect),
             Framed::Scene(camera) => {
                 camera_flags::camera(&a.camera, &Framing::of_scene(&self.scene, *camera, &a.camera), aspect)
             }
-        }
+        }?;
+        Ok(a.section.map_or(camera, |s| s.facing_the_cap(camera, &a.camera)))
     }
 
     /// The scene to draw, cut by `--section` when it is given.
@@ -377,6 +379,20 @@ impl Section {
     /// The scene cut by this plane.
     pub(crate) fn cut(self, scene: &Scene) -> Scene {
         scene.sectioned(self.axis, self.at)
+    }
+
+    /// `camera` turned to see the cap (it faces `+axis`): an eye on the other side of
+    /// the plane through the target is mirrored across it, unless the flags placed it
+    /// (`--eye`, `--view`, `--azimuth`, `--elevation`).
+    pub(crate) fn facing_the_cap(self, camera: Camera, flags: &CameraFlags) -> Camera {
+        let placed =
+            flags.eye.is_some() || flags.view.is_some() || flags.azimuth.is_some() || flags.elevation.is_some();
+        let a = self.axis.index();
+        let mut camera = camera;
+        if !placed && camera.eye[a] < camera.target[a] {
+            camera.eye[a] = 2.0 * camera.target[a] - camera.eye[a];
+        }
+        camera
     }
 }
 
@@ -553,7 +569,8 @@ fn polygon_command(
     let picture = render::polygon::render_mesh(&scene, &camera, &options)
         .with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("drawing");
-    out!("drew {} triangles with {interpolation:?} shading", mesh.triangles.len());
+    let shading = format!("{interpolation:?}").to_lowercase();
+    out!("drew {} triangles with {shading} shading", mesh.triangles.len());
     save_picture(&picture, output)?;
     stages.done("writing");
     out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());

@@ -42,6 +42,6 @@ pub fn run(a: &SliceArgs, budget: MemoryBudget) -> Result<()> {
     let img = octsolid::slice::slice_image(&tree, axis, at, size)
         .with_context(|| format!("{}: cannot slice", file.display()))?;
     png::save(&img, output)?;
-    out!("wrote {} ({size}x{size}, {axis:?} = {at})", output.display());
+    out!("wrote {} ({size}x{size}, {} = {})", output.display(), crate::human::axis(axis), crate::human::num(at));
     Ok(())
 }

@@ -306,7 +306,7 @@ fn watch(viewed: &Mutex<Viewed>, input: &Path, kind: FileKind, source: &Source, 
                 out!("reloaded {}", input.display());
             }
             Err(e) => {
-                let message = format!("{e:#}");
+                let message = crate::one_line(&e);
                 warn!("{message} (showing the last good load)");
                 v.error = Some(message);
             }

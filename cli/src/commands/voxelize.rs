@@ -82,9 +82,14 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
             .with_context(|| format!("{}: cannot voxelize", input.display()))?;
     let elapsed = started.elapsed().as_secs_f64();
     let bytes = write_solid_file(output, &tree, &meta, budget)?;
-    out!("read       {} ({} triangles)", input.display(), summary.triangles);
+    out!(
+        "read       {} ({} triangle{})",
+        input.display(),
+        summary.triangles,
+        if summary.triangles == 1 { "" } else { "s" }
+    );
     if let Some(rule) = summary.rule {
-        out!("inside     {rule:?} rule{}", if inside == InsideRule::Auto { " (auto)" } else { "" });
+        out!("inside     {} rule{}", crate::human::rule(rule), if inside == InsideRule::Auto { " (auto)" } else { "" });
     }
     print_summary(&tree, None);
     match summary.mesh_volume {

@@ -166,8 +166,9 @@ impl Scene {
 
     /// A section view: every solid cut to its part at or below `at` along `axis` (the
     /// plane snapped to the nearest plane of each solid's voxel lattice), so the cut
-    /// face shows as a filled cap; lights, ambient light and background unchanged, and
-    /// no precomputed illumination (a radiosity solution is of the whole solids).
+    /// face shows as a filled cap; ambient light and background unchanged, the lights
+    /// too, and when none of them reaches the cap's side one more that does; no
+    /// precomputed illumination (a radiosity solution is of the whole solids).
     /// Smooth normals still come from a solid's shape near its surface, and from the
     /// cut octree's estimate (the plane's exact normal on the flat cap) elsewhere.
     #[must_use]
@@ -191,14 +192,21 @@ impl Scene {
                 }
             })
             .collect();
-        // A light solution belongs to the whole solids: the cut scene has none.
-        Scene {
-            solids,
-            lights: self.lights.clone(),
-            ambient: self.ambient,
-            background: self.background,
-            illumination: None,
+        // The cap faces +axis: when no light reaches that side (the scene's lights
+        // lit the part from where the cut took it away), one comes from the cap's
+        // side, a little from the side so the cut's steps show.
+        let cap = axis.unit();
+        let reaches_cap = |light: &Light| match *light {
+            Light::Point { position, .. } => position[axis.index()] > at,
+            Light::Directional { direction, .. } => direction.dot(cap) < 0.0,
+        };
+        let mut lights = self.lights.clone();
+        if !lights.iter().any(reaches_cap) {
+            let side = DVec3::new(cap.y + cap.z, cap.z + cap.x, cap.x + cap.y) * 0.35;
+            lights.push(Light::Directional { direction: -(cap + side), color: DVec3::splat(0.7) });
         }
+        // A light solution belongs to the whole solids: the cut scene has none.
+        Scene { solids, lights, ambient: self.ambient, background: self.background, illumination: None }
     }
 
     /// Bounds of all solids, `None` when every solid is empty.
