@@ -25,7 +25,7 @@ cp "$here/turned_classic.toml" "$out/turned_classic.toml"
 seconds() { # command...: wall seconds
     local start
     start=$(date +%s%N)
-    "$@" >/dev/null 2>&1
+    "$@" >/dev/null 2>&1 || { echo "turned_classic_side_by_side: $1 failed" >&2; exit 1; }
     local ms=$(( ($(date +%s%N) - start) / 1000000 ))
     printf '%d.%03d' $((ms / 1000)) $((ms % 1000))
 }
@@ -37,7 +37,7 @@ for method in front-to-back trace; do
     printf '{"peer": "octsolid", "scene": "turned_classic.toml", "size": [800, 600], "spp": 1, "method": "%s", "wall_s": %s, "image": "%s"}\n' \
         "$method" "$s" "$out/octsolid-turned-$method.png"
 done
-s=$(seconds povray "+I$here/turned_classic.pov" "+O$out/povray-turned.png" +FN +W800 +H600 +WT2 -D -V -A)
+s=$(seconds povray "+I$here/turned_classic.pov" "+L$here" "+O$out/povray-turned.png" +FN +W800 +H600 +WT2 -D -V -A)
 printf '{"peer": "povray", "scene": "turned_classic.pov", "size": [800, 600], "aa": "-A", "wall_s": %s, "image": "%s"}\n' \
     "$s" "$out/povray-turned.png"
 
