@@ -167,33 +167,33 @@ impl TriangleMesh {
     #[must_use]
     pub fn solid_boundary(&self) -> (std::borrow::Cow<'_, TriangleMesh>, usize) {
         use std::borrow::Cow;
-        // Each triangle's corners sorted, and whether that took an odd permutation.
-        let sorted = |t: [u32; 3]| {
-            let [a, b, c] = t;
-            let odd = (a > b) ^ (b > c) ^ (a > c);
-            let mut k = t;
-            k.sort_unstable();
-            (k, odd)
-        };
         let void = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-        let mut net: HashMap<[u32; 3], i64> = HashMap::new();
-        for t in self.triangles.iter().filter(|t| !void(t)) {
-            let (k, odd) = sorted(*t);
-            *net.entry(k).or_default() += if odd { -1 } else { 1 };
-        }
-        let kept = net.values().map(|n| n.unsigned_abs() as usize).sum::<usize>();
-        if kept == self.triangles.len() {
+        // Each triangle's corners sorted, its index, and whether sorting took an odd
+        // permutation; sorted, so the triangles of one set of corners are adjacent.
+        let mut sets = corner_sets(&self.triangles);
+        if !self.triangles.iter().any(void) && all_distinct(&sets) {
             return (Cow::Borrowed(self), 0);
         }
-        // Keep the first |net| triangles of each set of corners that face its way.
-        let mut triangles = Vec::with_capacity(kept);
-        for t in self.triangles.iter().filter(|t| !void(t)) {
-            let (k, odd) = sorted(*t);
-            let n = net.get_mut(&k).expect("counted");
-            if *n != 0 && (*n < 0) == odd {
-                *n -= n.signum();
-                triangles.push(*t);
+        // Keep the first |net| triangles of each set that face its way.
+        let mut keep = vec![false; self.triangles.len()];
+        sets.retain(|&(k, _, _)| !void(&k));
+        for group in sets.chunk_by(|a, b| a.0 == b.0) {
+            let net: i64 = group.iter().map(|&(_, _, odd)| if odd { -1 } else { 1 }).sum();
+            let mut left = net.unsigned_abs();
+            let mut members: Vec<u32> =
+                group.iter().filter(|&&(_, _, odd)| odd == (net < 0)).map(|&(_, t, _)| t).collect();
+            members.sort_unstable();
+            for t in members {
+                if left == 0 {
+                    break;
+                }
+                keep[t as usize] = true;
+                left -= 1;
             }
+        }
+        let triangles: Vec<[u32; 3]> = self.triangles.iter().zip(&keep).filter(|(_, k)| **k).map(|(t, _)| *t).collect();
+        if triangles.len() == self.triangles.len() {
+            return (Cow::Borrowed(self), 0);
         }
         let left_out = self.triangles.len() - triangles.len();
         (Cow::Owned(TriangleMesh { vertices: self.vertices.clone(), triangles, groups: Vec::new() }), left_out)
@@ -244,4 +244,28 @@ impl TriangleMesh {
         });
         self.groups.clear();
     }
+}
+
+/// Whether no two triangles of `sets` ([`corner_sets`]) are on the same corners.
+pub(crate) fn all_distinct(sets: &[([u32; 3], u32, bool)]) -> bool {
+    sets.windows(2).all(|w| w[0].0 != w[1].0)
+}
+
+/// Each triangle's corners sorted, its index, and whether sorting its corners took an
+/// odd permutation, sorted by corners (so the triangles on one set of corners are
+/// adjacent, in file order).
+pub(crate) fn corner_sets(triangles: &[[u32; 3]]) -> Vec<([u32; 3], u32, bool)> {
+    use rayon::slice::ParallelSliceMut;
+    let mut sets: Vec<([u32; 3], u32, bool)> = triangles
+        .iter()
+        .enumerate()
+        .map(|(t, &[a, b, c])| {
+            let odd = (a > b) ^ (b > c) ^ (a > c);
+            let mut k = [a, b, c];
+            k.sort_unstable();
+            (k, t as u32, odd)
+        })
+        .collect();
+    sets.par_sort_unstable();
+    sets
 }

@@ -187,14 +187,14 @@ pub fn voxelize_mesh(
     options: &MeshVoxelizeOptions,
 ) -> Result<(LinearOctree, MeshVoxelizeStats)> {
     mesh.check()?;
-    let (mesh, void_triangles) = mesh.solid_boundary();
+    let (mesh, void_triangles, copied) = solid_triangles(mesh);
     let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
     let plan = Plan::new("voxelizing a mesh", estimate_bytes(&mesh, &domain, options.inside), domain, &driver)?;
     if mesh.triangles.is_empty() {
         let stats = MeshVoxelizeStats { rule: Some(InsideRule::Winding), void_triangles, ..Default::default() };
         return Ok((LinearOctree::empty(domain), stats));
     }
-    let (rule, job, root) = prepare(&mesh, domain, options.inside);
+    let (rule, job, root) = prepare(&mesh, domain, options.inside, copied);
     let (tree, mut stats) = plan.run(&job, root);
     stats.rule = Some(rule);
     stats.void_triangles = void_triangles;
@@ -215,7 +215,7 @@ pub fn voxelize_mesh_cells(
 ) -> Result<MeshVoxelizeStats> {
     mesh.check()?;
     check_level(cells, &domain)?;
-    let (mesh, void_triangles) = mesh.solid_boundary();
+    let (mesh, void_triangles, copied) = solid_triangles(mesh);
     let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
     let cell_edge = f64::from(domain.resolution() >> cells.level);
     let estimate = estimate_bytes_capped(&mesh, &domain, options.inside, 6.0 * cell_edge * cell_edge);
@@ -223,7 +223,7 @@ pub fn voxelize_mesh_cells(
     if mesh.triangles.is_empty() {
         return Ok(MeshVoxelizeStats { rule: Some(InsideRule::Winding), void_triangles, ..Default::default() });
     }
-    let (rule, job, root) = prepare(&mesh, domain, options.inside);
+    let (rule, job, root) = prepare(&mesh, domain, options.inside, copied);
     let mut stats = plan.run_cells(&job, root, cells, sink)?;
     stats.rule = Some(rule);
     stats.void_triangles = void_triangles;
@@ -232,7 +232,19 @@ pub fn voxelize_mesh_cells(
 
 /// The rule `inside` resolves to, the job (tables and inside oracle) and the root's
 /// state.
-fn prepare(mesh: &TriangleMesh, domain: Domain, inside: InsideRule) -> (InsideRule, Job<'_>, MeshNode) {
+/// The triangles that bound the solid ([`TriangleMesh::solid_boundary`]), how many were
+/// left out, and whether some set of corners is still copied. One sort of the corner
+/// sets answers the usual mesh, every triangle on corners of its own.
+fn solid_triangles(mesh: &TriangleMesh) -> (std::borrow::Cow<'_, TriangleMesh>, usize, bool) {
+    let void = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+    if !mesh.triangles.iter().any(void) && super::all_distinct(&super::corner_sets(&mesh.triangles)) {
+        return (std::borrow::Cow::Borrowed(mesh), 0, false);
+    }
+    let (kept, void_triangles) = mesh.solid_boundary();
+    (kept, void_triangles, true)
+}
+
+fn prepare(mesh: &TriangleMesh, domain: Domain, inside: InsideRule, copied: bool) -> (InsideRule, Job<'_>, MeshNode) {
     // The oracle (and the watertight check it may need) and the per-triangle tables
     // are independent: built side by side.
     let oracle = || {
@@ -254,7 +266,11 @@ fn prepare(mesh: &TriangleMesh, domain: Domain, inside: InsideRule) -> (InsideRu
         (corners, boxes, planes)
     };
     let ((rule, oracle), (corners, boxes, planes)) = rayon::join(oracle, tables);
-    let (distinct, copies) = distinct_triangles(mesh);
+    let (distinct, copies) = if copied {
+        distinct_triangles(mesh)
+    } else {
+        ((0..mesh.triangles.len() as u32).collect(), vec![1; mesh.triangles.len()])
+    };
     let job = Job { mesh, corners, boxes, planes, copies, domain, oracle };
     let root = MeshNode { triangles: distinct.into(), reference: None };
     (rule, job, root)
@@ -266,18 +282,15 @@ fn prepare(mesh: &TriangleMesh, domain: Domain, inside: InsideRule) -> (InsideRu
 /// copies of a set of corners all face one way), so a face repeated a thousand times
 /// costs a node what one does. The oracle keeps every copy.
 fn distinct_triangles(mesh: &TriangleMesh) -> (Vec<u32>, Vec<i32>) {
-    let mut first: std::collections::HashMap<[u32; 3], u32> = std::collections::HashMap::new();
+    let sets = super::corner_sets(&mesh.triangles);
     let mut copies = vec![0i32; mesh.triangles.len()];
-    let mut distinct = Vec::new();
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        let mut key = *tri;
-        key.sort_unstable();
-        let rep = *first.entry(key).or_insert_with(|| {
-            distinct.push(t as u32);
-            t as u32
-        });
-        copies[rep as usize] += 1;
+    let mut distinct = Vec::with_capacity(sets.len());
+    for group in sets.chunk_by(|a, b| a.0 == b.0) {
+        let first = group.iter().map(|&(_, t, _)| t).min().expect("a group has a member");
+        distinct.push(first);
+        copies[first as usize] = group.len() as i32;
     }
+    distinct.sort_unstable();
     (distinct, copies)
 }
 
