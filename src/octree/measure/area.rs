@@ -55,10 +55,14 @@
 
 use rayon::prelude::*;
 
-use super::bricks::BoundaryBricks;
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use super::bricks::{BoundaryBricks, Pattern};
 use super::rows::{MAX_SIZE, Row, Rows};
 use crate::morton;
-use crate::octree::LinearOctree;
+use crate::octree::{Domain, LinearOctree, Node};
 
 /// Levels of a brick above the voxels: 64^3 voxels.
 const BRICK_K: u32 = 6;
@@ -112,11 +116,40 @@ impl LinearOctree {
                 brick.area()
             })
             .collect();
-        let faces = bricks.bulk_faces + per_brick.iter().map(|p| p.0).sum::<u64>();
-        let estimate = bricks.bulk_faces as f64 + per_brick.iter().map(|p| p.1).sum::<f64>();
+        // Each pattern measured once, on a brick with the same bricks around it.
+        let mut patterns: BTreeMap<Pattern, u64> = BTreeMap::new();
+        bricks.patterned.iter().for_each(|&(_, pattern)| *patterns.entry(pattern).or_default() += 1);
+        let per_pattern: Vec<(u64, f64)> = patterns
+            .into_par_iter()
+            .map(|(pattern, count)| {
+                let (faces, estimate) = pattern_area(pattern, k);
+                (faces * count, estimate * count as f64)
+            })
+            .collect();
+        let faces = bricks.bulk_faces + per_brick.iter().chain(&per_pattern).map(|p| p.0).sum::<u64>();
+        let estimate = bricks.bulk_faces as f64
+            + per_brick.iter().map(|p| p.1).sum::<f64>()
+            + per_pattern.iter().map(|p| p.1).sum::<f64>();
         let h2 = self.domain().voxel_size().powi(2);
         SurfaceArea { estimate: estimate * h2, voxel_faces: faces as f64 * h2 }
     }
+}
+
+/// The faces and estimate of a full brick of `2^k` voxels whose 27 bricks around (itself
+/// included) are full as `pattern` says: read from a solid of those bricks alone, in a
+/// domain of 4 bricks a side with the brick at brick `(1, 1, 1)`.
+fn pattern_area(pattern: Pattern, k: u32) -> (u64, f64) {
+    let domain = Domain::new(DVec3::ZERO, 1.0, k as u8 + 2).expect("a small domain");
+    let size = 1 << k;
+    let nodes = (0..27u32).filter(|bit| pattern & 1 << bit != 0).map(|bit| Node {
+        level: 2,
+        min: [bit % 3, bit / 3 % 3, bit / 9].map(|o| o * size),
+        size,
+    });
+    let solid = LinearOctree::from_nodes(domain, nodes).expect("aligned bricks");
+    let mut brick = Brick::default();
+    brick.read(&solid, [size; 3], size as usize);
+    brick.area()
 }
 
 /// One brick with its margin: the rows, and the faces of its blocks and of the ring of
@@ -247,10 +280,9 @@ impl Brick {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::octree::{Domain, Node, VoxelizeOptions, voxelize};
+    use crate::octree::{VoxelizeOptions, voxelize};
     use crate::shape::Sphere;
     use crate::test_util::Rng;
-    use glam::DVec3;
 
     /// The estimator of the module doc straight from a dense grid: per block of 4^3
     /// (from the lattice's origin), faces by axis and irregular edges voxel by voxel;
@@ -346,6 +378,13 @@ mod tests {
         let blocks = [cube([0, 0, 0], 256), cube([256, 0, 0], 128), cube([384, 128, 0], 64), cube([0, 256, 256], 256)];
         let ragged = (0..500).map(|i| cube([260 + i % 13, 130 + i / 13 % 7, 70 + i % 11], 1));
         trees.push(LinearOctree::from_nodes(domain, blocks.into_iter().chain(ragged)).unwrap());
+        // A ball of brick-sized voxels (depth 3 refined to 9): every boundary brick is
+        // measured by its pattern, staircases and concave steps included.
+        let coarse = Domain::new(DVec3::ZERO, 1.0, 3).unwrap();
+        let ball =
+            voxelize(&Sphere::new(DVec3::splat(0.45), 0.4).unwrap(), coarse, &VoxelizeOptions::default()).unwrap();
+        let fine = ball.nodes().map(|n| Node { level: n.level, min: n.min.map(|c| c << 6), size: n.size << 6 });
+        trees.push(LinearOctree::from_nodes(domain, fine).unwrap());
         for tree in &trees {
             let (faces, estimate) = dense_estimate(tree);
             let area = tree.surface_area();
