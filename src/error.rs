@@ -46,7 +46,7 @@ pub enum Error {
     /// A scene file could not be read or built: the cause as it was, with the scene
     /// file, the place in it the cause concerns (`file:line:column: ` when known) and,
     /// where it concerns one, the solid's name (its `name`, else `solid N`).
-    #[error("{}: {}{source}", scene_place(path, place), solid.as_ref().map_or(String::new(), |s| format!("{s}: ")))]
+    #[error("{}: {}{source}", scene_place(path, place), solid.as_ref().map_or(String::new(), |s| format!("{}: ", printable(s))))]
     Scene {
         /// The scene file.
         path: PathBuf,
@@ -183,18 +183,45 @@ pub(crate) fn quoted(bytes: &[u8]) -> String {
 
 /// One character of [`quoted`].
 fn push_escaped(out: &mut String, c: char) {
-    let invisible =
-        matches!(c, '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{2069}' | '\u{feff}');
     match c {
         '\'' => out.push_str("\\'"),
         '\\' => out.push_str("\\\\"),
+        c => push_printable(out, c),
+    }
+}
+
+/// Whether [`printable`] escapes `c`: control characters and the invisible format
+/// characters that reorder or hide text (bidirectional overrides, zero-width
+/// characters, the byte-order mark).
+fn is_unprintable(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{2069}' | '\u{feff}')
+}
+
+/// One character of [`printable`].
+fn push_printable(out: &mut String, c: char) {
+    match c {
         '\t' => out.push_str("\\t"),
         '\n' => out.push_str("\\n"),
         '\r' => out.push_str("\\r"),
         c if c.is_ascii_control() => out.push_str(&format!("\\x{:02x}", c as u32)),
-        c if c.is_control() || invisible => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+        c if is_unprintable(c) => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
         c => out.push(c),
     }
+}
+
+/// A name or message that came from a file (a solid's or a grid's name, a TOML
+/// reader's message quoting a value), safe to print on one line: control and invisible
+/// characters escaped as [`quoted`] escapes them, but without quotes and never cut, so
+/// an ordinary name prints as it is.
+#[must_use]
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(is_unprintable) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    text.chars().for_each(|c| push_printable(&mut out, c));
+    std::borrow::Cow::Owned(out)
 }
 
 /// Formats a byte count with a binary unit, e.g. `1.5 GiB`.
@@ -212,7 +239,7 @@ pub fn human_bytes(bytes: u64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::quoted;
+    use super::{printable, quoted};
 
     #[test]
     fn quoted_escapes_what_a_terminal_would_act_on() {
@@ -223,5 +250,12 @@ mod tests {
         assert_eq!(quoted("Größe \u{202e}txt\u{85}".as_bytes()), "'Größe \\u{202e}txt\\u{85}'");
         let long = quoted(&[b'a'; 200]);
         assert!(long.ends_with("...'") && long.len() == 1 + 80 + 4, "{long}");
+    }
+
+    #[test]
+    fn printable_escapes_control_characters_and_leaves_names_alone() {
+        assert_eq!(printable("gear's \\ part"), "gear's \\ part");
+        assert_eq!(printable("a\x1b[2Jb\u{7}\n\u{202e}"), "a\\x1b[2Jb\\x07\\n\\u{202e}");
+        assert_eq!(printable(&"x".repeat(200)).len(), 200);
     }
 }

@@ -70,7 +70,7 @@ mod warning;
 
 pub use aabb::Aabb;
 pub use budget::MemoryBudget;
-pub use error::{Error, Result, human_bytes};
+pub use error::{Error, Result, human_bytes, printable};
 pub use file_kind::FileKind;
 pub use progress::{NoProgress, Progress};
 pub use ray::{Ray, RayCast};

@@ -64,7 +64,7 @@ use toml::Spanned;
 use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
 use crate::color::ColorSpec;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, printable, quoted};
 use crate::import::{self, ImportOptions, Input};
 use crate::io::{ReadOptions, read_solids};
 use crate::mesh::{InsideRule, MeshShape, load_mesh};
@@ -457,8 +457,8 @@ fn solid_octree(spec: &SceneSpec, cx: &Context, name: Option<&str>, options: &Vo
 /// The position of the solid named `name`; fails listing the names there are.
 fn named(solids: &[SolidBuild], name: &str, cx: &Context) -> Result<usize> {
     solids.iter().position(|s| s.name == name).ok_or_else(|| {
-        let names: Vec<&str> = solids.iter().map(|s| s.name.as_str()).collect();
-        let reason = format!("no solid is named '{name}' (its solids: {})", names.join(", "));
+        let names: Vec<String> = solids.iter().map(|s| printable(&s.name).into_owned()).collect();
+        let reason = format!("no solid is named {} (its solids: {})", quoted(name.as_bytes()), names.join(", "));
         cx.error(None, None, Error::invalid("solid", reason))
     })
 }
@@ -565,7 +565,7 @@ impl Context<'_> {
     fn refused(&self, e: &toml::de::Error) -> Error {
         let span = e.span();
         let solid = span.as_ref().and_then(|s| solid_at(self.text, s.start));
-        self.error(solid.as_deref(), span.as_ref(), Error::Toml { reason: e.message().trim().to_owned() })
+        self.error(solid.as_deref(), span.as_ref(), Error::Toml { reason: printable(e.message().trim()).into_owned() })
     }
 }
 

@@ -565,6 +565,52 @@ fn error_messages_escape_control_characters() {
     }
 }
 
+/// `.vdb` grid, type and transform names, a scene's solid names and the values its
+/// TOML reader quotes reach messages escaped, as the mesh formats' do.
+#[test]
+fn solid_file_and_scene_errors_escape_control_characters() {
+    use octsolid::io::{ColouredSolid, ReadOptions, Solids, WriteOptions, read_solids, write_solids};
+    use octsolid::octree::{Domain, LinearOctree};
+    let dir = scratch("escape-solids");
+    let esc = "\x1b[2J\x1b]0;pwned\x07";
+    let domain = Domain::new(DVec3::ZERO, 1.0, 2).unwrap();
+    let solids =
+        Solids { domain, solids: vec![ColouredSolid::new(format!("part{esc}"), None, LinearOctree::full(domain))] };
+    let vdb = dir.join("named.vdb");
+    write_solids(&vdb, &solids, &WriteOptions::default()).unwrap();
+    let expect_escaped = |what: &str, e: String| {
+        assert!(!has_control(&e) && e.contains("\\x1b[2J\\x1b]0;pwned\\x07"), "{what}: {e:?}");
+    };
+    // The grid's name, listed when the asked grid is missing.
+    let e = read_solids(&vdb, &ReadOptions { grid: Some("other".into()), ..ReadOptions::default() }).unwrap_err();
+    expect_escaped("grid name", e.to_string());
+    // The transform's and the grid type's names, put there byte for byte.
+    let bytes = std::fs::read(&vdb).unwrap();
+    let transform = format!("Uniform{esc}Map");
+    let kind = format!("{esc}xx");
+    for (field, hostile) in [(&b"UniformScaleTranslateMap"[..], transform), (&b"Tree_float_5_4_3"[..], kind)] {
+        assert_eq!(field.len(), hostile.len());
+        let at = bytes.windows(field.len()).position(|w| w == field).expect("the writer's name is in the file");
+        let mut patched = bytes.clone();
+        patched[at..at + field.len()].copy_from_slice(hostile.as_bytes());
+        let path = dir.join("patched.vdb");
+        std::fs::write(&path, &patched).unwrap();
+        let options = ReadOptions { grid: Some(format!("part{esc}")), ..ReadOptions::default() };
+        expect_escaped(&hostile, read_solids(&path, &options).unwrap_err().to_string());
+    }
+    // A scene: a solid's name in front of its error, and a value the TOML reader quotes.
+    let toml_escaped: String = esc.chars().map(|c| format!("\\u{:04x}", c as u32)).collect();
+    let named = format!("[[solid]]\nname = \"{toml_escaped}\"\nshape = {{ sphere = {{ radius = -1 }} }}\n");
+    let unknown = format!("[[solid]]\nshape = {{ \"{toml_escaped}\" = {{ radius = 1 }} }}\n");
+    for (name, text) in [("named.toml", named), ("unknown.toml", unknown)] {
+        let path = write(&dir, name, text.as_bytes());
+        let Err(e) = octsolid::scene_file::load_scene(&path, octsolid::MemoryBudget::default()) else {
+            panic!("{name} loaded")
+        };
+        expect_escaped(name, e.to_string());
+    }
+}
+
 #[test]
 fn import_and_scene_files_pass_the_warnings_on() {
     let dir = scratch("pass-on");

@@ -56,7 +56,7 @@ use glam::DVec3;
 use super::blosc;
 use super::fields::Fields;
 use super::solid_set::{ColouredSolid, ReadOptions, Solids};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, quoted};
 use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 
@@ -594,9 +594,13 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
             && block_pos <= end_pos
             && end_pos as u64 <= bytes.len() as u64;
         if !ok {
-            return Err(
-                r.err(at, format!("grid {name:?}: offsets {grid_pos}, {block_pos}, {end_pos} do not fit the file"))
-            );
+            return Err(r.err(
+                at,
+                format!(
+                    "grid {}: offsets {grid_pos}, {block_pos}, {end_pos} do not fit the file",
+                    quoted(name.as_bytes())
+                ),
+            ));
         }
         let (value, half) = match kind.as_str() {
             "Tree_float_5_4_3" => (Some(ValueType::F32), false),
@@ -608,23 +612,34 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
         let wanted = options.grid.as_ref().is_none_or(|g| *g == name);
         if wanted && (value.is_some() || options.grid.is_some()) {
             let Some(value) = value else {
-                return Err(
-                    r.err(at, format!("grid {name:?} is of type {kind}; float, double and bool grids are read"))
-                );
+                return Err(r.err(
+                    at,
+                    format!(
+                        "grid {} is of type {}; float, double and bool grids are read",
+                        quoted(name.as_bytes()),
+                        quoted(kind.as_bytes())
+                    ),
+                ));
             };
             if !parent.is_empty() {
                 return Err(r.err(
                     at,
-                    format!("grid {name:?} is an instance of {parent:?}; instanced grids are not supported"),
+                    format!(
+                        "grid {} is an instance of {}; instanced grids are not supported",
+                        quoted(name.as_bytes()),
+                        quoted(parent.as_bytes())
+                    ),
                 ));
             }
             return read_grid(&mut r, name, value, half, options);
         }
-        found.push(format!("{name} ({kind})"));
+        found.push(format!("{} ({})", quoted(name.as_bytes()), quoted(kind.as_bytes())));
         r.pos = end_pos as usize;
     }
-    let what =
-        options.grid.as_ref().map_or("no float, double or bool grid".to_string(), |g| format!("no grid named {g:?}"));
+    let what = options
+        .grid
+        .as_ref()
+        .map_or("no float, double or bool grid".to_string(), |g| format!("no grid named {}", quoted(g.as_bytes())));
     Err(r.err(
         at,
         format!("{what}; the file has {}", if found.is_empty() { "no grids".into() } else { found.join(", ") }),
@@ -707,7 +722,7 @@ fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, opt
         .map(|u| u.inside_tiles.len() + u.lowers.iter().map(|l| l.inside_tiles.len()).sum::<usize>())
         .sum();
     let estimate = (leaves as u64 * 512 + tile_count as u64 + blocks.len() as u64) * 40;
-    options.budget.check(format!("reading grid {:?} of {}", grid.name, r.path.display()), estimate)?;
+    options.budget.check(format!("reading grid {} of {}", quoted(grid.name.as_bytes()), r.path.display()), estimate)?;
     // Step 5: inside tiles, then the buffers of every leaf in the root's origin order.
     for u in uppers.values() {
         for &i in &u.inside_tiles {
@@ -808,11 +823,19 @@ fn read_transform(r: &mut Fields<'_>, grid: &mut Grid) -> Result<()> {
             let m: Vec<f64> = (0..16).map(|_| r.f64("matrix")).collect::<Result<_>>()?;
             let off_diagonal = [1, 2, 4, 6, 8, 9, 3, 7, 11].iter().any(|&i| m[i] != 0.0);
             if off_diagonal || m[15] != 1.0 {
-                return Err(r.err(at, format!("{kind} with rotation, shear or projection is not supported")));
+                return Err(r.err(
+                    at,
+                    format!("{} with rotation, shear or projection is not supported", quoted(kind.as_bytes())),
+                ));
             }
             (DVec3::new(m[0], m[5], m[10]), DVec3::new(m[12], m[13], m[14]))
         }
-        _ => return Err(r.err(at, format!("{kind} transforms are not supported (uniform scale and translation are)"))),
+        _ => {
+            return Err(r.err(
+                at,
+                format!("{} transforms are not supported (uniform scale and translation are)", quoted(kind.as_bytes())),
+            ));
+        }
     };
     if !(scale.x == scale.y && scale.y == scale.z && scale.x > 0.0 && scale.x.is_finite() && t.is_finite()) {
         return Err(r.err(at, format!("voxels of {scale} are not uniform positive cubes")));
@@ -861,7 +884,10 @@ fn build_solids(grid: Grid, blocks: Vec<([i64; 3], i64)>, options: &ReadOptions,
         let extent = (0..3).map(|a| hi[a] - origin[a]).max().unwrap_or(1) as u64;
         let depth = extent.next_power_of_two().trailing_zeros().max(1);
         if depth > u32::from(MAX_DEPTH) {
-            return Err(r.err(0, format!("grid {:?} spans {extent} voxels a side, more than 2^{MAX_DEPTH}", grid.name)));
+            return Err(r.err(
+                0,
+                format!("grid {} spans {extent} voxels a side, more than 2^{MAX_DEPTH}", quoted(grid.name.as_bytes())),
+            ));
         }
         let min =
             grid.t + (DVec3::new(origin[0] as f64, origin[1] as f64, origin[2] as f64) - DVec3::splat(0.5)) * grid.h;

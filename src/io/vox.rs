@@ -81,7 +81,7 @@ struct Chunk {
 
 impl Chunk {
     fn name(&self) -> String {
-        String::from_utf8_lossy(&self.id).into_owned()
+        crate::error::printable(&String::from_utf8_lossy(&self.id)).into_owned()
     }
 }
 

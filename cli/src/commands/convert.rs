@@ -112,13 +112,12 @@ fn fitted(a: &ConvertArgs, solids: Solids, budget: MemoryBudget) -> Result<Solid
     let mut out = Vec::with_capacity(solids.solids.len());
     for solid in solids.solids {
         let started = Instant::now();
-        let (tree, fit) = solid
-            .tree
-            .fit_to(target, &options)
-            .with_context(|| format!("{}: {}: cannot bring into {target}", a.input.display(), solid.name))?;
+        let (tree, fit) = solid.tree.fit_to(target, &options).with_context(|| {
+            format!("{}: {}: cannot bring into {target}", a.input.display(), octsolid::printable(&solid.name))
+        })?;
         if fit != Fit::Same {
             let ms = started.elapsed().as_secs_f64() * 1e3;
-            out!("fitted     {}: {fit} into {target} in {ms:.1} ms", solid.name);
+            out!("fitted     {}: {fit} into {target} in {ms:.1} ms", octsolid::printable(&solid.name));
         }
         out.push(ColouredSolid { tree, ..solid });
     }

@@ -97,7 +97,7 @@ pub(crate) fn print_solids(solids: &[SolidInfo]) {
                 format!("sRGB #{r:02x}{g:02x}{b:02x}")
             },
         );
-        out!("{label:<10} {}: {} voxels, {colour}", s.name, s.voxels);
+        out!("{label:<10} {}: {} voxels, {colour}", octsolid::printable(&s.name), s.voxels);
     }
 }
 

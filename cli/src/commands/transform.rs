@@ -81,7 +81,9 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
                 let (tree, _) = solid
                     .tree
                     .transformed(map, |_| Ok(domain), &VoxelizeOptions { budget, progress: &bar })
-                    .with_context(|| format!("{}: {}: cannot transform", a.input.display(), solid.name))?;
+                    .with_context(|| {
+                        format!("{}: {}: cannot transform", a.input.display(), octsolid::printable(&solid.name))
+                    })?;
                 each.push(ColouredSolid { tree, ..solid });
             }
             let moved = Solids { domain, solids: each };
