@@ -3,10 +3,10 @@
 //! closed box (visibility through the octree decides how an occluder shares it), the
 //! furnace (a closed box that emits E and reflects rho everywhere shows E / (1 - rho)),
 //! the energy book, the same bits on 1 and 2 threads, `.rad` files (reloaded bit for
-//! bit, refused for another scene, refused when damaged), a sphere's elements
-//! taking the sphere's own normal, and adaptive subdivision (closer to a solution on
-//! much finer uniform elements than the base elements alone, the furnace still exact,
-//! the energy book balanced).
+//! bit, refused for another scene, refused when damaged or claiming what no solver
+//! writes), a sphere's elements taking the sphere's own normal, and adaptive
+//! subdivision (closer to a solution on much finer uniform elements than the base
+//! elements alone, the furnace still exact, the energy book balanced).
 
 use std::path::PathBuf;
 
@@ -288,6 +288,23 @@ fn damaged_solution_files_are_refused_by_name_never_a_panic() {
     let mut huge = good[..88].to_vec();
     huge[40..48].copy_from_slice(&u64::MAX.to_le_bytes());
     cases.push(("huge.rad", huge, "elements"));
+    // Header values no solver writes, under a checksum that matches (as a writer of
+    // damaged files would compute it).
+    let with_crc = |mut bytes: Vec<u8>| {
+        let body = bytes.len() - 4;
+        let crc = crc32fast::hash(&bytes[..body]);
+        bytes[body..].copy_from_slice(&crc.to_le_bytes());
+        bytes
+    };
+    let mut nan = good.clone();
+    nan[56..64].copy_from_slice(&f64::NAN.to_le_bytes());
+    cases.push(("nan-unshot.rad", with_crc(nan), "unshot fraction NaN"));
+    let mut negative = good.clone();
+    negative[56..64].copy_from_slice(&(-0.5f64).to_le_bytes());
+    cases.push(("negative-unshot.rad", with_crc(negative), "unshot fraction -0.5"));
+    let mut shots = good.clone();
+    shots[48..56].copy_from_slice(&u64::MAX.to_le_bytes());
+    cases.push(("shots.rad", with_crc(shots), "18446744073709551615 shots"));
     for (name, bytes, says) in cases {
         let path = scratch(name);
         std::fs::write(&path, bytes).unwrap();

@@ -12,7 +12,8 @@
 //! subdivision is written as version 1, the same bytes as before version 2 existed.
 //!
 //! Reading: the header is checked field by field (magic, version, fingerprint against
-//! the scene's), the patches are rebuilt from the scene with the file's settings (the
+//! the scene's, a shot count no run reaches, an unshot fraction that is not finite and
+//! non-negative), the patches are rebuilt from the scene with the file's settings (the
 //! memory budget applies there, and to the elements the splits add), their counts must
 //! equal the file's (the splits' count included), and only then is
 //! the file's length checked against the size they give and the body read: no
@@ -35,6 +36,9 @@ pub(crate) const MAGIC: &[u8; 8] = b"OCTSRAD\0";
 /// The newest format version, which this build writes for a subdivided solution (and
 /// version 1 otherwise); it reads both.
 pub(crate) const VERSION: u32 = 2;
+/// The most shots a file may claim: about a year of shooting at ten million shots a
+/// second, far beyond any solver run; a larger count is damage, not a solution.
+const MAX_SHOTS: u64 = 1 << 48;
 /// Bytes before the element values.
 const HEADER: usize = 8 + 4 + 8 + 8 + 4 + 8 + 8 + 8 + 8 + 24;
 
@@ -113,7 +117,13 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     let patches = r.u64("patch count")?;
     let element_count = r.u64("element count")?;
     let shots = r.u64("shot count")?;
+    if shots > MAX_SHOTS {
+        return Err(r.err(r.pos - 8, format!("{shots} shots, more than any solver run makes ({MAX_SHOTS})")));
+    }
     let unshot_fraction = r.f64("unshot fraction")?;
+    if !(unshot_fraction.is_finite() && unshot_fraction >= 0.0) {
+        return Err(r.err(r.pos - 8, format!("unshot fraction {unshot_fraction} is not finite and non-negative")));
+    }
     let ambient = r.vec3("ambient term")?;
     if !(ambient.is_finite() && ambient.min_element() >= 0.0) {
         return Err(r.err(r.pos - 24, format!("ambient term {ambient} is not finite and non-negative")));
