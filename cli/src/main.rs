@@ -35,6 +35,7 @@ macro_rules! warn {
 mod args;
 mod camera_flags;
 mod commands;
+mod http;
 mod human;
 mod output;
 mod progress_bar;

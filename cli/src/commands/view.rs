@@ -18,11 +18,16 @@
 //!
 //! Bounds: a query of at most 2,048 bytes with known keys and plain characters, at
 //! most 4,096 pixels a side and 4x4 samples, coordinates within 1e9 and zooms in
-//! 1e-6..1e6: anything else is a 400 with the reason, and the server goes on.
-//! Frames are rendered one at a time (each on every core), in request order; the page
-//! keeps at most one request in flight and asks only for the newest camera.
+//! 1e-6..1e6: anything else is a 400 with the reason, and the server goes on. A frame
+//! whose estimated memory exceeds `--memory-budget` (as `render` estimates it, before
+//! drawing) is a 507 with the estimate. Frames are rendered one at a time (each on
+//! every core); `/state` and the page are answered meanwhile. The page keeps at most
+//! one request in flight and asks only for the newest camera.
+//!
+//! The server (`crate::http`) answers only requests naming this machine as their host,
+//! and stays up whatever clients send: its limits are in its module docs.
 
-use std::net::IpAddr;
+use std::net::{IpAddr, SocketAddr};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, SystemTime};
@@ -33,9 +38,9 @@ use octsolid::io::png;
 use octsolid::render::{Camera, Projection, Scene};
 use octsolid::scene_file::{CachePolicy, LoadOptions};
 use octsolid::{FileKind, MemoryBudget, NoProgress};
-use tiny_http::{Header, Method, Request, Response, Server};
 
 use super::render::{Drawn, RenderArgs, Section, Source, Stages};
+use crate::http::{Request, Response, Server};
 use crate::solid_input::ReadFlags;
 use crate::values::{Up, parse_up};
 
@@ -75,14 +80,17 @@ const MAX_COORDINATE: f64 = 1e9;
 
 /// What the server shows: the last good load, its figures, and the last error.
 struct Viewed {
-    drawn: Option<Drawn>,
+    drawn: Option<Arc<Drawn>>,
     /// Raised at every (re)load, good or bad, so the page knows to redraw.
     version: u64,
     error: Option<String>,
     figures: serde_json::Value,
-    /// The last section view asked for, cut once for all its frames.
-    cut: Option<(Section, Scene)>,
 }
+
+/// The last section view asked for, cut once for all its frames: its load's version,
+/// the section and the cut scene. Its lock is held while a frame is drawn, so frames
+/// are drawn one at a time.
+type Cut = Option<(u64, Section, Scene)>;
 
 /// `octsolid view INPUT [--port N] [--bind ADDR] [--watch]`
 pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
@@ -90,36 +98,27 @@ pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
     let drawn = load(a, kind, budget)?;
     let viewed = Arc::new(Mutex::new(Viewed {
         figures: figures(&drawn),
-        drawn: Some(drawn),
+        drawn: Some(Arc::new(drawn)),
         version: 1,
         error: None,
-        cut: None,
     }));
-    let server = Server::http((a.bind, a.port.unwrap_or(0)))
-        .map_err(|e| anyhow!("cannot listen on {}:{}: {e}", a.bind, a.port.unwrap_or(0)))?;
-    let address = server.server_addr().to_ip().context("the server has no IP address")?;
+    let server = Server::bind(SocketAddr::new(a.bind, a.port.unwrap_or(0)))?;
+    let address = server.address();
     if !a.bind.is_loopback() {
         warn!("listening on {}: other machines can reach this viewer", a.bind);
     }
     out!("viewing {} at http://{address}/ (Ctrl-C stops)", a.input.display());
     if a.watch {
         let (viewed, input, source) = (Arc::clone(&viewed), a.input.clone(), source(a));
-        std::thread::spawn(move || watch(&viewed, &input, kind, &source, budget));
+        std::thread::Builder::new()
+            .spawn(move || watch(&viewed, &input, kind, &source, budget))
+            .context("cannot start watching the input")?;
     }
-    for request in server.incoming_requests() {
-        let reply = answer(&viewed, &a.input, &request);
-        let (status, kind, body) = match reply {
-            Ok(reply) => reply,
-            Err(Refusal(status, reason)) => (status, "text/plain; charset=utf-8", reason.into_bytes()),
-        };
-        let response = Response::from_data(body)
-            .with_status_code(status)
-            .with_header(header("Content-Type", kind))
-            .with_header(header("Cache-Control", "no-store"));
-        // A client that went away is no concern of the server's.
-        let _ = request.respond(response);
-    }
-    Ok(())
+    let (input, cut) = (a.input.clone(), Mutex::new(None));
+    server.serve(move |request| {
+        answer(&viewed, &cut, &input, budget, request)
+            .unwrap_or_else(|Refusal(status, reason)| Response::text(status, reason))
+    })
 }
 
 fn load(a: &ViewArgs, kind: FileKind, budget: MemoryBudget) -> Result<Drawn> {
@@ -136,54 +135,56 @@ fn cached(budget: MemoryBudget) -> LoadOptions {
     LoadOptions { budget, cache: CachePolicy::ReadWrite }
 }
 
-fn header(name: &str, value: &str) -> Header {
-    Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("a valid header")
-}
-
 /// A request refused: its status and why.
 struct Refusal(u16, String);
 
-type Reply = std::result::Result<(u16, &'static str, Vec<u8>), Refusal>;
+type Reply = std::result::Result<Response, Refusal>;
 
-fn answer(viewed: &Mutex<Viewed>, input: &Path, request: &Request) -> Reply {
-    if *request.method() != Method::Get {
+fn answer(viewed: &Mutex<Viewed>, cut: &Mutex<Cut>, input: &Path, budget: MemoryBudget, request: &Request) -> Reply {
+    if request.method != "GET" {
         return Err(Refusal(405, "only GET is served\n".into()));
     }
-    let url = request.url();
-    let (path, query) = url.split_once('?').unwrap_or((url, ""));
-    let mut viewed = viewed.lock().unwrap_or_else(PoisonError::into_inner);
+    let ok = |content_type, body| Ok(Response { status: 200, content_type, body });
+    let (path, query) = request.path_and_query();
     match path {
-        "/" => Ok((200, "text/html; charset=utf-8", PAGE.as_bytes().to_vec())),
+        "/" => ok("text/html; charset=utf-8", PAGE.as_bytes().to_vec()),
         "/state" => {
+            let viewed = viewed.lock().unwrap_or_else(PoisonError::into_inner);
             let state = serde_json::json!({
                 "version": viewed.version,
                 "error": viewed.error,
                 "input": input.display().to_string(),
                 "solids": viewed.figures,
             });
-            Ok((200, "application/json", state.to_string().into_bytes()))
+            ok("application/json", state.to_string().into_bytes())
         }
         "/frame" | "/camera" => {
             let args = frame_args(input, query).map_err(|e| Refusal(400, format!("{e}\n")))?;
-            let viewed = &mut *viewed;
-            let drawn = viewed.drawn.as_ref().ok_or_else(|| Refusal(503, "nothing loaded\n".into()))?;
+            let (drawn, version) = {
+                let viewed = viewed.lock().unwrap_or_else(PoisonError::into_inner);
+                (viewed.drawn.clone(), viewed.version)
+            };
+            let drawn = drawn.ok_or_else(|| Refusal(503, "nothing loaded\n".into()))?;
+            let camera = drawn.camera(&args).map_err(|e| Refusal(400, format!("{e}\n")))?;
+            if path == "/camera" {
+                return ok("application/json", camera_json(&camera).to_string().into_bytes());
+            }
+            let mut cut = cut.lock().unwrap_or_else(PoisonError::into_inner);
             let scene = match args.section {
                 None => &drawn.scene,
                 Some(section) => {
-                    if viewed.cut.as_ref().is_none_or(|(s, _)| *s != section) {
-                        viewed.cut = Some((section, section.cut(&drawn.scene)));
+                    if cut.as_ref().is_none_or(|(v, s, _)| (*v, *s) != (version, section)) {
+                        *cut = Some((version, section, section.cut(&drawn.scene)));
                     }
-                    &viewed.cut.as_ref().expect("just cut").1
+                    &cut.as_ref().expect("just cut").2
                 }
             };
-            let camera = drawn.camera(&args).map_err(|e| Refusal(400, format!("{e}\n")))?;
-            if path == "/camera" {
-                return Ok((200, "application/json", camera_json(&camera).to_string().into_bytes()));
-            }
-            let options = drawn.options(&args, MemoryBudget::default());
-            let (bytes, _) = png::render_png(scene, &camera, &options, &NoProgress)
-                .map_err(|e| Refusal(400, format!("cannot render: {e}\n")))?;
-            Ok((200, "image/png", bytes))
+            let options = drawn.options(&args, budget);
+            let (bytes, _) = png::render_png(scene, &camera, &options, &NoProgress).map_err(|e| match e {
+                octsolid::Error::OverBudget { .. } => Refusal(507, format!("{e}\n")),
+                e => Refusal(400, format!("cannot render: {e}\n")),
+            })?;
+            ok("image/png", bytes)
         }
         _ => Err(Refusal(404, "not found\n".into())),
     }
@@ -300,8 +301,7 @@ fn watch(viewed: &Mutex<Viewed>, input: &Path, kind: FileKind, source: &Source, 
         match loaded {
             Ok(drawn) => {
                 v.figures = figures(&drawn);
-                v.drawn = Some(drawn);
-                v.cut = None;
+                v.drawn = Some(Arc::new(drawn));
                 v.error = None;
                 out!("reloaded {}", input.display());
             }
