@@ -247,6 +247,36 @@ fn stl_reloads_closed_for_every_configuration_around_a_point() {
     }
 }
 
+/// `.glb` stores `f32` coordinates too: a solid past `f32`'s range (which wrote `inf`
+/// into the JSON, invalid glTF) or so far out that neighbouring voxel corners round to
+/// one `f32` is refused, naming the file, and nothing is written; the same solid nearer
+/// the origin is written with its corners exact.
+#[test]
+fn glb_of_coordinates_single_precision_cannot_hold_is_refused() {
+    use octsolid::io::{WriteOptions, write_solid};
+    let dir = scratch("glb-far");
+    let two = [[1, 1, 1], [2, 1, 1]];
+    for (name, min, edge) in [("beyond.glb", 1e39, 1e38), ("collapsed.glb", 1e9, 16.0)] {
+        let tree = LinearOctree::from_voxels(Domain::new(DVec3::splat(min), edge, 4).unwrap(), two).unwrap();
+        let path = dir.join(name);
+        let e = match write_solid(&path, &tree, None, &WriteOptions::default()) {
+            Ok(bytes) => panic!("{name}: written ({bytes} bytes)"),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.contains(name) && e.contains("f32"), "{name}: {e}");
+        assert!(!path.exists(), "{name}");
+    }
+    let near = LinearOctree::from_voxels(Domain::new(DVec3::splat(4096.0), 16.0, 4).unwrap(), two).unwrap();
+    let path = dir.join("near.glb");
+    write_solid(&path, &near, None, &WriteOptions::default()).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let position = &json["accessors"][0];
+    assert_eq!(position["min"], serde_json::json!([4097.0, 4097.0, 4097.0]), "{position}");
+    assert_eq!(position["max"], serde_json::json!([4099.0, 4098.0, 4098.0]), "{position}");
+}
+
 /// Far from the origin `f32` spacing grows past what a small step can bridge: the STL
 /// of a contact is refused, naming the file, and nothing is written; where the voxels
 /// do not touch, or the coordinates are smaller, it is written and reloads closed.

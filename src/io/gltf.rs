@@ -17,7 +17,9 @@
 //! different directions is written once a direction with that direction as its
 //! normal: shading is exactly flat, and welding the positions gives back the closed
 //! manifold mesh. Empty solids have no mesh (glTF forbids empty accessors) and are
-//! left out.
+//! left out. A solid whose coordinates `f32` cannot hold (past its range, or so far
+//! out that neighbouring voxel corners round to one value) is refused, as STL refuses
+//! vertices it cannot keep apart.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -97,9 +99,34 @@ fn json_number(v: f32) -> String {
     if v == v.trunc() && v.abs() < 1e15 { format!("{v:.1}") } else { format!("{v}") }
 }
 
+/// Refuses a solid whose corners `f32` cannot hold: a coordinate past `f32`'s range
+/// (glTF's JSON would get `inf`) or so far out that neighbouring voxel corners, `voxel`
+/// apart, round to one `f32` (faces would collapse). The rule: the spacing of `f32`
+/// values at the largest coordinate is at most half a voxel, so two corners a voxel
+/// apart stay apart after rounding to nearest.
+fn check_single_precision(bounds: Option<crate::aabb::Aabb>, voxel: f64) -> std::result::Result<(), String> {
+    let Some(bounds) = bounds else { return Ok(()) };
+    let far = bounds.min.abs().max(bounds.max.abs()).max_element();
+    let single = far as f32;
+    let spacing = f64::from(single.next_up() - single);
+    if single.is_finite() && spacing <= voxel / 2.0 {
+        return Ok(());
+    }
+    let why = if single.is_finite() {
+        format!("at {far:.3e} single precision steps by {spacing:.3e}, more than half the voxel size {voxel:.3e}")
+    } else {
+        format!("a coordinate of {far:.3e} is past single precision's range")
+    };
+    Err(format!("glTF stores coordinates as f32: {why}; write .oct or .vdb instead"))
+}
+
 /// Writes `solids` to `path` as one GLB, atomically; returns the bytes written.
 pub fn write(path: impl AsRef<Path>, solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<u64> {
     let path = path.as_ref();
+    for solid in &solids.solids {
+        check_single_precision(solid.tree.bounds(), solids.domain.voxel_size())
+            .map_err(|reason| Error::invalid("glTF output", format!("{}: {reason}", path.display())))?;
+    }
     let bytes = encode(solids, up, budget)?;
     write_atomic(path, |w| w.write_all(&bytes))
 }
@@ -124,6 +151,8 @@ pub fn encode(solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<Vec<u8>
     let (mut nodes, mut meshes, mut materials, mut views, mut accessors) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for solid in &solids.solids {
+        check_single_precision(solid.tree.bounds(), solids.domain.voxel_size())
+            .map_err(|reason| Error::invalid("glTF output", reason))?;
         // Step 1: the closed manifold boundary, vertices split by face direction.
         let mesh = try_boundary_mesh(&solid.tree, &BoundaryOptions::default(), budget, &NoProgress)?;
         if mesh.triangles.is_empty() {
