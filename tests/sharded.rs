@@ -308,10 +308,11 @@ fn job_folder(out: &Path) -> PathBuf {
 
 /// Runs the tasks `ranges` of the job voxelizing `shape` (told apart by `source`) at
 /// depth 6, level 2 (64 cells), into `out`.
-fn tasks(shape: &dyn octsolid::shape::Shape, source: &[u8], out: &Path, ranges: &[std::ops::Range<u64>]) {
+fn tasks(shape: &dyn octsolid::shape::Shape, source: &[u8], out: &Path, ranges: &[[u64; 2]]) {
     let domain = showcase_domain(6).unwrap();
-    for range in ranges {
-        let options = StreamOptions { cells: Some(range), source, ..at_level(2) };
+    for &[first, end] in ranges {
+        let range = first..end;
+        let options = StreamOptions { cells: Some(&range), source, ..at_level(2) };
         assert!(sharded::voxelize_shape(shape, domain, Metadata::default(), out, &options).unwrap().is_none());
     }
 }
@@ -329,13 +330,13 @@ fn loaded(out: &Path) -> LinearOctree {
 fn the_halves_of_two_jobs_over_one_domain_are_never_joined_into_one_solid() {
     let dir = scratch("two-jobs");
     let out = dir.join("mixed.octs");
-    tasks(&classic_csg(), b"classic", &out, &[0..32]);
-    tasks(&octsolid::samples::showcase(), b"showcase", &out, &[32..64]);
+    tasks(&classic_csg(), b"classic", &out, &[[0, 32]]);
+    tasks(&octsolid::samples::showcase(), b"showcase", &out, &[[32, 64]]);
     let err = sharded::join(&out).unwrap_err().to_string();
     assert!(err.contains("none covers every cell") && err.contains("job-"), "{err}");
     assert!(!out.exists());
     // The first job's other half: that job alone is joined, the other one's parts kept.
-    tasks(&classic_csg(), b"classic", &out, &[32..64]);
+    tasks(&classic_csg(), b"classic", &out, &[[32, 64]]);
     let index = sharded::join(&out).unwrap();
     assert_eq!(loaded(&out), classic_whole());
     assert_ne!(index.job, sharded::JobId::NONE);
@@ -358,7 +359,7 @@ fn staged(out: &Path) -> Vec<(String, Vec<u8>)> {
 fn a_join_checks_every_shard_and_publishes_or_deletes_nothing_until_all_are_right() {
     let dir = scratch("join-checks");
     let out = dir.join("part.octs");
-    tasks(&classic_csg(), b"classic", &out, &[0..20, 20..64]);
+    tasks(&classic_csg(), b"classic", &out, &[[0, 20], [20, 64]]);
     let before = staged(&out);
     let job = job_folder(&out);
     let shard = before.iter().find(|(n, _)| n.ends_with(".oct")).unwrap().0.clone();
@@ -544,7 +545,7 @@ fn folders_of_writers_killed_on_this_host_are_removed_by_the_next_and_others_kep
     want.sort();
     assert_eq!(left, want, "the dead writers' folders of this host are gone, the rest kept");
     // A join lock of a join killed here is taken over; one of a live join refuses.
-    tasks(&classic_csg(), b"classic", &out, &[0..64]);
+    tasks(&classic_csg(), b"classic", &out, &[[0, 64]]);
     let lock = job_folder(&out).join("join.lock");
     std::fs::write(
         &lock,

@@ -58,13 +58,17 @@ impl ShardedSolid {
         self.index.shards[i].nodes.saturating_mul(NODE_BYTES)
     }
 
-    /// Reads and checks the `i`-th shard ([`read_shard`]).
+    /// Reads and checks the `i`-th shard: a regular file (never a FIFO or device) of
+    /// the length the index records (checked before reading), its CRC-32, then the
+    /// `.oct` checks, its domain and metadata equal to the index's, its counts and
+    /// voxel bounds equal to the entry's, and every node inside its cell and smaller
+    /// than it.
     pub fn load_shard(&self, i: usize, budget: MemoryBudget) -> Result<Vec<NodeKey>> {
         let index = &self.index;
         read_shard(&self.shard_path(i), &index.shards[i], index.domain, index.meta, index.layout(), budget)
     }
 
-    /// Reads and checks every shard against the index, one at a time ([`read_shard`]),
+    /// Reads and checks every shard against the index ([`ShardedSolid::load_shard`]),
     /// so that what the index alone says (counts, bounds) is true of the solid.
     pub fn verify(&self, budget: MemoryBudget) -> Result<()> {
         (0..self.index.shards.len()).into_par_iter().try_for_each(|i| self.load_shard(i, budget).map(drop))

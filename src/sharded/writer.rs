@@ -56,8 +56,8 @@ pub struct ShardWriter {
 impl ShardWriter {
     /// A writer of the cells `cells` of job `job`, the solid going to folder `out`: a
     /// whole job (`task` false) in a `run-` folder of its own, a task in the job's
-    /// folder. Removes what killed writers of `out` provably left
-    /// ([`staging::remove_stale`]).
+    /// folder. Removes what killed writers of `out` provably left (the `run-` and
+    /// `old-` folders of dead processes of this host).
     pub fn create(
         out: &Path,
         domain: Domain,

@@ -201,7 +201,7 @@ struct ShardedInfo {
 }
 
 /// `info` of a sharded solid: what its index says, once every shard is checked
-/// against it (one at a time, within `budget`), so its counts and bounds are the
+/// against it (one a thread at a time, within `budget`), so its counts and bounds are the
 /// solid's (the measurements, which need every node, are left out).
 fn sharded_info(dir: &std::path::Path, json: bool, budget: MemoryBudget) -> Result<()> {
     let solid = octsolid::sharded::ShardedSolid::open(dir)?;
