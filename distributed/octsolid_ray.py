@@ -11,12 +11,13 @@ JOB is an octsolid command line writing a sharded solid (`shape`, `build`,
 output, as `csg` does). A job's 8^L cells (Morton order)
 are cut into T contiguous ranges; each range is one Ray task running
 `octsolid JOB... --cells FIRST..END`, which writes that range's shards and a part file
-into OUT.octs.partial/ (see src/sharded/writer.rs). A task whose process dies (a
-killed worker, a lost machine) or whose octsolid exits non-zero is run again by Ray,
-up to R times; a task's output depends on its cells only, so a retry writes the same
-bytes. Once every task is done, `octsolid join OUT.octs` runs here, once: it checks
-that the parts cover every cell exactly once and writes the index. Any T and any
-number of workers give the same bytes as the job run in one process.
+into OUT.octs.partial/job-ID/ (ID: the job's identity; see src/sharded/writer.rs).
+A task whose process dies (a killed worker, a lost machine) or whose octsolid exits
+non-zero is run again by Ray, up to R times; a task's output depends on its cells
+only, so a retry writes the same bytes. Once every task is done, `octsolid join
+OUT.octs` runs here, once: it checks that the parts cover every cell exactly once,
+checks every shard and writes the index. Any T and any number of workers give the
+same bytes as the job run in one process.
 
 Without --address, a Ray instance of N worker processes is started on this machine,
 listening on 127.0.0.1 only, without a dashboard, and stopped at the end. With --address (`HEAD:6379`, or
@@ -161,10 +162,13 @@ def run_job(ray, task, args, octsolid, job, tasks, kill_marker):
     cwd = os.getcwd()
     count = 8 ** level
     ranges = split(count, tasks)
-    # A staging folder left by an interrupted run may hold parts of another split.
+    # A job's folder left by an interrupted run may hold parts of another split, which
+    # the join would refuse as overlapping (the run- folders of writers are left alone).
     staging = os.path.join(cwd, out + ".partial")
-    if os.path.isdir(staging):
-        shutil.rmtree(staging)
+    if os.path.isdir(staging) and not os.path.islink(staging):
+        for name in os.listdir(staging):
+            if name.startswith("job-"):
+                shutil.rmtree(os.path.join(staging, name))
     print(f"octsolid {' '.join(job)}: {len(ranges)} tasks over {count} cells", flush=True)
     submitted = time.monotonic()
     pending = [task.remote(octsolid, job, r, cwd, args.threads_per_task, kill_marker) for r in ranges]

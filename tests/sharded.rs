@@ -294,3 +294,280 @@ fn a_scene_names_a_sharded_solid_like_any_solid_file() {
     assert_eq!(loaded.scene.solids[0].tree, whole);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The staging folder of the one job folder in `out`'s staging folder.
+fn job_folder(out: &Path) -> PathBuf {
+    let jobs: Vec<PathBuf> = std::fs::read_dir(sharded::staging_dir(out))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.file_name().unwrap().to_string_lossy().starts_with("job-"))
+        .collect();
+    assert_eq!(jobs.len(), 1, "{jobs:?}");
+    jobs[0].clone()
+}
+
+/// Runs the tasks `ranges` of the job voxelizing `shape` (told apart by `source`) at
+/// depth 6, level 2 (64 cells), into `out`.
+fn tasks(shape: &dyn octsolid::shape::Shape, source: &[u8], out: &Path, ranges: &[[u64; 2]]) {
+    let domain = showcase_domain(6).unwrap();
+    for &[first, end] in ranges {
+        let range = first..end;
+        let options = StreamOptions { cells: Some(&range), source, ..at_level(2) };
+        assert!(sharded::voxelize_shape(shape, domain, Metadata::default(), out, &options).unwrap().is_none());
+    }
+}
+
+/// The classic part at depth 6, in memory.
+fn classic_whole() -> LinearOctree {
+    voxelize(&classic_csg(), showcase_domain(6).unwrap(), &VoxelizeOptions::default()).unwrap()
+}
+
+fn loaded(out: &Path) -> LinearOctree {
+    ShardedSolid::open(out).unwrap().load(MemoryBudget::unlimited()).unwrap()
+}
+
+#[test]
+fn the_halves_of_two_jobs_over_one_domain_are_never_joined_into_one_solid() {
+    let dir = scratch("two-jobs");
+    let out = dir.join("mixed.octs");
+    tasks(&classic_csg(), b"classic", &out, &[[0, 32]]);
+    tasks(&octsolid::samples::showcase(), b"showcase", &out, &[[32, 64]]);
+    let err = sharded::join(&out).unwrap_err().to_string();
+    assert!(err.contains("none covers every cell") && err.contains("job-"), "{err}");
+    assert!(!out.exists());
+    // The first job's other half: that job alone is joined, the other one's parts kept.
+    tasks(&classic_csg(), b"classic", &out, &[[32, 64]]);
+    let index = sharded::join(&out).unwrap();
+    assert_eq!(loaded(&out), classic_whole());
+    assert_ne!(index.job, sharded::JobId::NONE);
+    let parts = |folder: &Path| {
+        std::fs::read_dir(folder)
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with("part-"))
+            .count()
+    };
+    assert_eq!(parts(&job_folder(&out)), 1, "the other job's part is left alone");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The part files and shards of a job's folder, by name, with their bytes.
+fn staged(out: &Path) -> Vec<(String, Vec<u8>)> {
+    folder_files(&job_folder(out))
+}
+
+#[test]
+fn a_join_checks_every_shard_and_publishes_or_deletes_nothing_until_all_are_right() {
+    let dir = scratch("join-checks");
+    let out = dir.join("part.octs");
+    tasks(&classic_csg(), b"classic", &out, &[[0, 20], [20, 64]]);
+    let before = staged(&out);
+    let job = job_folder(&out);
+    let shard = before.iter().find(|(n, _)| n.ends_with(".oct")).unwrap().0.clone();
+    let bytes = std::fs::read(job.join(&shard)).unwrap();
+    // Missing, damaged, a FIFO: each refused by name; nothing published or removed.
+    std::fs::remove_file(job.join(&shard)).unwrap();
+    let mut damaged = bytes.clone();
+    *damaged.last_mut().unwrap() ^= 1;
+    let fifo = |path: &Path| assert!(std::process::Command::new("mkfifo").arg(path).status().unwrap().success());
+    for (case, words) in [(0, "No such file"), (1, "checksum mismatch"), (2, "not a regular file")] {
+        let _ = std::fs::remove_file(job.join(&shard));
+        match case {
+            0 => {}
+            1 => std::fs::write(job.join(&shard), &damaged).unwrap(),
+            _ => fifo(&job.join(&shard)),
+        }
+        let err = sharded::join(&out).unwrap_err().to_string();
+        assert!(err.contains(&shard) && err.contains(words), "{err}");
+        assert!(!out.exists(), "nothing published");
+        let parts = std::fs::read_dir(&job)
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with("part-"));
+        assert_eq!(parts.count(), 2, "the parts are kept");
+    }
+    std::fs::remove_file(job.join(&shard)).unwrap();
+    std::fs::write(job.join(&shard), &bytes).unwrap();
+    // The output is a file, not a sharded solid: publishing fails, the parts stay.
+    std::fs::write(&out, b"not a solid").unwrap();
+    let err = sharded::join(&out).unwrap_err().to_string();
+    assert!(err.contains("not a sharded solid"), "{err}");
+    assert_eq!(staged(&out), before, "the job's files are all there after a failed join");
+    assert_eq!(std::fs::read(&out).unwrap(), b"not a solid");
+    std::fs::remove_file(&out).unwrap();
+    sharded::join(&out).unwrap();
+    assert_eq!(loaded(&out), classic_whole());
+    assert!(!sharded::staging_dir(&out).exists(), "the job's folder is removed once the solid is in place");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn staging_folders_that_are_links_to_other_folders_are_refused_and_left_untouched() {
+    let dir = scratch("symlinked-staging");
+    let victim = dir.join("victim");
+    std::fs::create_dir(&victim).unwrap();
+    std::fs::write(victim.join("precious.txt"), b"keep me").unwrap();
+    let out = dir.join("solid.octs");
+    std::os::unix::fs::symlink(&victim, sharded::staging_dir(&out)).unwrap();
+    // A task, then the join (which once removed every file no shard entry names),
+    // then a whole job: each refused, nothing written into the victim or removed.
+    let domain = showcase_domain(6).unwrap();
+    for range in [0..32u64, 32..64] {
+        let task = StreamOptions { cells: Some(&range), ..at_level(2) };
+        let err =
+            sharded::voxelize_shape(&classic_csg(), domain, Metadata::default(), &out, &task).unwrap_err().to_string();
+        assert!(err.contains("symbolic link"), "{err}");
+    }
+    let err = sharded::join(&out).unwrap_err().to_string();
+    assert!(err.contains("symbolic link"), "{err}");
+    let err = sharded::voxelize_shape(&classic_csg(), domain, Metadata::default(), &out, &at_level(2))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("symbolic link"), "{err}");
+    let kept = folder_files(&victim);
+    assert_eq!(kept, vec![("precious.txt".into(), b"keep me".to_vec())]);
+    assert!(!out.exists());
+    // A job's folder that is a link, in a plain staging folder.
+    std::fs::remove_file(sharded::staging_dir(&out)).unwrap();
+    std::fs::create_dir(sharded::staging_dir(&out)).unwrap();
+    let job = sharded::staging_dir(&out).join(format!("job-{}", "ab".repeat(16)));
+    std::os::unix::fs::symlink(&victim, &job).unwrap();
+    let err = sharded::join(&out).unwrap_err().to_string();
+    assert!(err.contains("symbolic link"), "{err}");
+    assert_eq!(folder_files(&victim), kept);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs `f` on another thread and waits for it, so that a read that blocks forever
+/// (a FIFO) fails the test instead of hanging it.
+fn without_hanging<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || send.send(f()).unwrap());
+    receive.recv_timeout(std::time::Duration::from_secs(120)).expect("the read blocked")
+}
+
+#[test]
+fn indexes_and_shards_that_are_fifos_or_devices_are_refused_without_reading_them() {
+    let dir = scratch("special-files");
+    let fifo = |path: &Path| assert!(std::process::Command::new("mkfifo").arg(path).status().unwrap().success());
+    for (what, case) in [("index", 0), ("index", 1), ("shard", 0), ("shard", 1)] {
+        let (out, index) = small_solid(&dir, &format!("{what}-{case}.octs"));
+        let target = if what == "index" {
+            out.join(sharded::INDEX_FILE)
+        } else {
+            out.join(index.layout().shard_file(index.shards[0].cell))
+        };
+        std::fs::remove_file(&target).unwrap();
+        if case == 0 {
+            fifo(&target);
+        } else {
+            std::os::unix::fs::symlink("/dev/zero", &target).unwrap();
+        }
+        let err = without_hanging(move || {
+            ShardedSolid::open(&out).and_then(|s| s.load(MemoryBudget::unlimited())).unwrap_err().to_string()
+        });
+        assert!(
+            err.contains("not a regular file") && err.contains(target.file_name().unwrap().to_str().unwrap()),
+            "{err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn shard_bounds_in_the_index_are_checked_against_the_shards() {
+    let dir = scratch("bounds");
+    let (out, mut index) = small_solid(&dir, "bounds.octs");
+    let whole = classic_whole();
+    // The first shard's recorded bounds shrunk to its lowest voxel: still inside its
+    // cell, so the index alone is consistent, but not what the shard holds.
+    let i = index.shards.iter().position(|s| s.min != s.max).unwrap();
+    index.shards[i].max = index.shards[i].min;
+    std::fs::write(out.join(sharded::INDEX_FILE), index.encode()).unwrap();
+    let solid = ShardedSolid::open(&out).unwrap();
+    let shard = index.layout().shard_file(index.shards[i].cell);
+    let err = solid.verify(MemoryBudget::unlimited()).unwrap_err().to_string();
+    assert!(err.contains(&shard) && err.contains("the index says"), "{err}");
+    assert_refused(&out, &shard, "the index says");
+    // Untouched, the index's bounds are the solid's and every shard passes.
+    let (out, _) = small_solid(&dir, "good.octs");
+    let solid = ShardedSolid::open(&out).unwrap();
+    solid.verify(MemoryBudget::unlimited()).unwrap();
+    assert_eq!(solid.index().voxel_bounds(), whole.voxel_bounds());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_version_1_index_is_still_read() {
+    let dir = scratch("v1");
+    let (out, index) = small_solid(&dir, "old.octs");
+    let v2 = index.encode();
+    // Version 1: the same fields without the job, an 80-byte header.
+    let mut v1 = v2[..80].to_vec();
+    v1[8..10].copy_from_slice(&1u16.to_le_bytes());
+    v1.extend_from_slice(&v2[96..v2.len() - 4]);
+    v1.extend_from_slice(&crc32fast::hash(&v1).to_le_bytes());
+    std::fs::write(out.join(sharded::INDEX_FILE), &v1).unwrap();
+    let solid = ShardedSolid::open(&out).unwrap();
+    assert_eq!(solid.index().job, sharded::JobId::NONE);
+    assert_eq!(solid.load(MemoryBudget::unlimited()).unwrap(), classic_whole());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// This host's name as the kernel gives it.
+fn host() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap().trim().to_owned()
+}
+
+/// The PID of a process that has ended.
+fn dead_pid() -> u32 {
+    let mut child = std::process::Command::new("true").spawn().unwrap();
+    child.wait().unwrap();
+    child.id()
+}
+
+#[test]
+fn folders_of_writers_killed_on_this_host_are_removed_by_the_next_and_others_kept() {
+    let dir = scratch("stale");
+    let out = dir.join("solid.octs");
+    let staging = sharded::staging_dir(&out);
+    let (host, dead, me) = (host(), dead_pid(), std::process::id());
+    let name = |kind: &str, host: &str, pid: u32| format!("{kind}-{host}-{pid}-0123456789abcdef");
+    let stale = [name("run", &host, dead), name("old", &host, dead)];
+    let kept = [name("run", &host, me), name("run", "another-host", dead), "notes".to_owned()];
+    for folder in stale.iter().chain(&kept) {
+        std::fs::create_dir_all(staging.join(folder)).unwrap();
+        std::fs::write(staging.join(folder).join("c0.oct"), b"shard").unwrap();
+    }
+    let domain = showcase_domain(6).unwrap();
+    sharded::voxelize_shape(&classic_csg(), domain, Metadata::default(), &out, &at_level(2)).unwrap();
+    assert_eq!(loaded(&out), classic_whole());
+    let mut left: Vec<String> =
+        std::fs::read_dir(&staging).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    left.sort();
+    let mut want = kept.to_vec();
+    want.sort();
+    assert_eq!(left, want, "the dead writers' folders of this host are gone, the rest kept");
+    // A join lock of a join killed here is taken over; one of a live join refuses.
+    tasks(&classic_csg(), b"classic", &out, &[[0, 64]]);
+    let lock = job_folder(&out).join("join.lock");
+    std::fs::write(
+        &lock,
+        format!(
+            "{host}-{me}-0123456789abcdef
+"
+        ),
+    )
+    .unwrap();
+    let err = sharded::join(&out).unwrap_err().to_string();
+    assert!(err.contains("another join of this job is running"), "{err}");
+    std::fs::write(
+        &lock,
+        format!(
+            "{host}-{dead}-0123456789abcdef
+"
+        ),
+    )
+    .unwrap();
+    sharded::join(&out).unwrap();
+    assert_eq!(loaded(&out), classic_whole());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -30,7 +30,7 @@ pub struct ShardFlags {
 impl ShardFlags {
     /// The library's options for these flags.
     pub fn options<'a>(&'a self, budget: MemoryBudget, progress: &'a dyn Progress) -> StreamOptions<'a> {
-        StreamOptions { level: self.shard_level, cells: self.cells.as_ref(), budget, progress }
+        StreamOptions { level: self.shard_level, cells: self.cells.as_ref(), budget, progress, source: job_source() }
     }
 
     /// Runs the sharded job `job` writing `output` with these flags' options and a
@@ -57,6 +57,27 @@ impl ShardFlags {
         }
         Ok(())
     }
+}
+
+/// What a sharded job makes, for its identity: this command line's arguments without
+/// `--cells` (what the tasks of a job differ in) and the output (where, not what),
+/// NUL-separated.
+fn job_source() -> &'static [u8] {
+    static SOURCE: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
+    SOURCE.get_or_init(|| {
+        let mut out = Vec::new();
+        let mut args = std::env::args_os().skip(1);
+        while let Some(arg) = args.next() {
+            let bytes = arg.as_encoded_bytes();
+            if ["--cells", "-o", "--output"].iter().any(|flag| bytes == flag.as_bytes()) {
+                args.next();
+            } else if !["--cells=", "--output=", "-o"].iter().any(|flag| bytes.starts_with(flag.as_bytes())) {
+                out.extend_from_slice(arg.as_encoded_bytes());
+                out.push(0);
+            }
+        }
+        out
+    })
 }
 
 /// `FIRST..END` with `FIRST <= END`.

@@ -5,7 +5,8 @@
 //! well under a millisecond) and between them touch every part of their format the
 //! readers know: written by the library itself (`.oct` with and without metadata,
 //! empty and full solids; OBJ, binary STL and PLY of an icosphere; `.vox`, binvox and
-//! `.vdb` of small solids), hand-written for what the library never writes (OBJ
+//! `.vdb` of small solids; shard indexes of versions 1 and 2 and the part files of
+//! the `join_part` fixture), hand-written for what the library never writes (OBJ
 //! quads, groups, negative indices, `mtllib`, a concave polygon, Latin-1 names; ASCII
 //! STL and PLY with extra properties and elements; scenes using every kind of solid,
 //! leaf, light and texture, with the fixtures of [`crate::scratch`]), and copied from
@@ -22,8 +23,10 @@ use octsolid::mesh::generate::icosphere;
 use octsolid::mesh::{write_obj, write_ply, write_stl};
 use octsolid::octree::{Domain, LinearOctree, voxelize};
 use octsolid::shape::{Axis, Cuboid, Menger, Sphere, Torus};
+use octsolid::sharded::{self, StreamOptions};
 
 use crate::scratch;
+use crate::targets::BUDGET;
 
 /// Seeds written as text.
 const TEXT_SEEDS: &[(&str, &str)] = &[
@@ -178,9 +181,36 @@ fn written_seeds() -> Vec<(String, Vec<u8>)> {
     }
     seeds.push(("vdb/two-solids-raw.vdb".into(), vdb::encode(&two, vdb::Compression::None)));
     seeds.push(("vdb/torus-zip.vdb".into(), vdb::encode(&one, vdb::Compression::Zip)));
+    seeds.extend(sharded_seeds(&ball, &sponge));
     seeds.extend(TEXT_SEEDS.iter().map(|(name, text)| ((*name).to_owned(), text.as_bytes().to_vec())));
     // A group name in Latin-1 (not UTF-8), which the reader warns about and keeps.
     seeds.push(("obj/latin1.obj".into(), b"v 0 0 0\nv 1 0 0\nv 0 1 0\ng caf\xe9 cr\xe8me\nf 1 2 3\n".to_vec()));
+    seeds
+}
+
+/// Shard indexes (of `ball` at cell level 1, `sponge` at level 2, and the ball's in
+/// version 1) and the part files of [`crate::targets::join_fixture`].
+fn sharded_seeds(ball: &LinearOctree, sponge: &LinearOctree) -> Vec<(String, Vec<u8>)> {
+    let mut seeds = Vec::new();
+    for (name, tree, level) in [("ball", ball, 1), ("sponge", sponge, 2)] {
+        let out = scratch::case_path("octs");
+        let options = StreamOptions { level: Some(level), budget: BUDGET, ..StreamOptions::default() };
+        sharded::save(tree, oct::Metadata::default(), &out, &options).expect("a small sharded solid");
+        let index = std::fs::read(out.join(sharded::INDEX_FILE)).expect("its index");
+        let _ = std::fs::remove_dir_all(&out);
+        if name == "ball" {
+            // Version 1: the same fields without the job, an 80-byte header.
+            let mut v1 = index[..80].to_vec();
+            v1[8..10].copy_from_slice(&1u16.to_le_bytes());
+            v1.extend_from_slice(&index[96..index.len() - 4]);
+            v1.extend_from_slice(&crc32fast::hash(&v1).to_le_bytes());
+            seeds.push(("octs/ball-v1.index".to_owned(), v1));
+        }
+        seeds.push((format!("octs/{name}.index"), index));
+    }
+    let fixture = crate::targets::join_fixture();
+    seeds.push(("part/job-a.part".to_owned(), fixture.parts[0].clone()));
+    seeds.push(("part/job-b.part".to_owned(), fixture.parts[1].clone()));
     seeds
 }
 

@@ -15,7 +15,11 @@
 //! Departures from "just call the parser", each to keep one case short or to step
 //! past what is known and open:
 //! - the `.oct` targets decode the case with its length and checksum fixed
-//!   ([`oct_fixed`]);
+//!   ([`oct_fixed`]), the `.rad`, `.octs` index and part targets with the checksum
+//!   fixed ([`rad_fixed`]);
+//! - `join_part` joins the case as the one part of a job beside the shards of two
+//!   fixed jobs ([`join_fixture`]), its folder named by the job in the case's header,
+//!   so that a mutated part reaches the join's checks of every shard;
 //! - voxelizing targets use depth 4 or 5, and the scene targets a 16 MiB budget (a scene
 //!   may ask for depth 21 and is refused or small under it);
 //! - `mesh_voxelize` voxelizes meshes of at most [`MAX_VOXELIZED_TRIANGLES`]: the
@@ -36,20 +40,22 @@
 //!   1/1000 of its size (a third of a second for the teapot), and voxelizes only patch
 //!   sets within [`MAX_PATCH_COORDINATE`].
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use glam::DVec3;
 
 use octsolid::import::{Fill, ImportOptions, Input, default_domain, voxelize_input};
+use octsolid::io::oct::Metadata;
 use octsolid::io::{ReadOptions, Solids, binvox, gltf, oct, vdb, vox};
 use octsolid::mesh::{BoundaryOptions, MeshShape, PolygonTables, mesh_from_bytes, try_boundary_mesh};
-use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+use octsolid::octree::{Cells, Domain, VoxelizeOptions, voxelize};
 use octsolid::patch::load_patches;
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{Camera, Material, Method, Projection, RenderOptions, Scene, render};
 use octsolid::scene_file::load_scene;
-use octsolid::shape::{Axis, Cuboid};
+use octsolid::shape::{Axis, Cuboid, Sphere};
+use octsolid::sharded::{self, ShardIndex, StreamOptions};
 use octsolid::{MemoryBudget, NoProgress, Result};
 
 use crate::scratch;
@@ -112,6 +118,20 @@ pub const TARGETS: &[Target] = &[
         ext: "rad",
         about: "render::radiosity::Radiosity::load against a fixed small room, as given and with the CRC-32 fixed",
         run: rad_target,
+    },
+    Target {
+        name: "octs_index",
+        corpus: &["octs"],
+        ext: "index",
+        about: "sharded::ShardIndex::decode, as given and with the CRC-32 fixed; what it reads encodes back to itself",
+        run: octs_index,
+    },
+    Target {
+        name: "join_part",
+        corpus: &["part"],
+        ext: "part",
+        about: "sharded::join of a job folder holding the case as its part file (CRC-32 fixed) beside two fixed jobs' shards",
+        run: join_part,
     },
     Target { name: "vox", corpus: &["vox"], ext: "vox", about: "io::vox::decode", run: vox_target },
     Target { name: "binvox", corpus: &["binvox"], ext: "binvox", about: "io::binvox::decode", run: binvox_target },
@@ -273,6 +293,109 @@ fn rad_target(bytes: &[u8]) -> Result<String> {
     let solution = load(&rad_fixed(bytes))?;
     let s = solution.stats();
     Ok(format!("elements {} shots ~{} as given {raw}", s.elements, bucket(s.shots)))
+}
+
+/// Decodes a shard index as it is, then with its checksum fixed ([`rad_fixed`]: the
+/// last four bytes, as in a `.rad` file); the outcome is the second's. An index read
+/// must encode to an index that reads back equal (version 1 in, version 2 out).
+fn octs_index(bytes: &[u8]) -> Result<String> {
+    let path = Path::new("fuzz.octs/index");
+    let raw = ShardIndex::decode(bytes, path).is_ok();
+    let index = ShardIndex::decode(&rad_fixed(bytes), path)?;
+    let again = ShardIndex::decode(&index.encode(), path).expect("an index read encodes to one that reads");
+    assert_eq!(again, index, "an index changed through encode and decode");
+    Ok(format!(
+        "level {} full ~{} shards ~{} bounds {} as given {raw}",
+        index.level,
+        bucket(index.full.len() as u64),
+        bucket(index.shards.len() as u64),
+        index.voxel_bounds().is_some()
+    ))
+}
+
+/// Two finished tasks, each over every cell of its job, in one domain at depth 4: job
+/// A at cell level 1, job B (a small ball in a corner) at level 2, so their shard
+/// files' names differ. Their part files are the `join_part` seeds.
+pub struct JoinFixture {
+    /// A folder holding both jobs' shard files (hard-linked into each case).
+    pub shards: PathBuf,
+    /// The shard files' names.
+    pub names: Vec<String>,
+    /// The part files of jobs A and B.
+    pub parts: [Vec<u8>; 2],
+}
+
+/// The fixture of `join_part`, made on first use in the scratch folder.
+pub fn join_fixture() -> &'static JoinFixture {
+    static FIXTURE: OnceLock<JoinFixture> = OnceLock::new();
+    FIXTURE.get_or_init(|| {
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 4).expect("a valid domain");
+        let ball = |r: f64, at: f64| Sphere::new(DVec3::splat(at), r).expect("a valid sphere");
+        let jobs: [(&dyn octsolid::shape::Shape, u8, &[u8]); 2] =
+            [(&ball(0.8, 0.0), 1, b"fixture A"), (&ball(0.3, -0.6), 2, b"fixture B")];
+        let shards = scratch::case_path("fixture");
+        std::fs::create_dir_all(&shards).expect("the fixture folder can be made");
+        let mut names = Vec::new();
+        let parts = jobs.map(|(shape, level, source)| {
+            let out = scratch::case_path("octs");
+            let all = 0..Cells::count(level);
+            let options =
+                StreamOptions { level: Some(level), cells: Some(&all), budget: BUDGET, progress: &NoProgress, source };
+            sharded::voxelize_shape(shape, domain, Metadata::default(), &out, &options).expect("a small job");
+            let staging = sharded::staging_dir(&out);
+            let job =
+                std::fs::read_dir(&staging).expect("a staging folder").next().expect("a job").expect("a job").path();
+            let mut part = Vec::new();
+            for entry in std::fs::read_dir(&job).expect("the job's folder") {
+                let entry = entry.expect("a file");
+                let name = entry.file_name().to_string_lossy().into_owned();
+                if name.starts_with("part-") {
+                    part = std::fs::read(entry.path()).expect("the part");
+                } else {
+                    std::fs::rename(entry.path(), shards.join(&name)).expect("a shard moved");
+                    names.push(name);
+                }
+            }
+            let _ = std::fs::remove_dir_all(&staging);
+            part
+        });
+        JoinFixture { shards, names, parts }
+    })
+}
+
+/// Joins a job folder holding the case as its only part file beside the fixture's
+/// shards; the folder is named by the job the case's header names (bytes 80..96).
+fn join_case(bytes: &[u8]) -> Result<ShardIndex> {
+    let fixture = join_fixture();
+    let out = scratch::case_path("octs");
+    let staging = sharded::staging_dir(&out);
+    let job: String = bytes.get(80..96).unwrap_or(&[0; 16]).iter().map(|b| format!("{b:02x}")).collect();
+    let folder = staging.join(format!("job-{job}"));
+    std::fs::create_dir_all(&folder).expect("a case folder can be made");
+    for name in &fixture.names {
+        let (from, to) = (fixture.shards.join(name), folder.join(name));
+        if std::fs::hard_link(&from, &to).is_err() {
+            std::fs::copy(&from, &to).expect("a shard can be copied");
+        }
+    }
+    std::fs::write(folder.join("part-case"), bytes).expect("a case can be written");
+    let joined = sharded::join(&out);
+    let _ = std::fs::remove_dir_all(&staging);
+    let _ = std::fs::remove_dir_all(&out);
+    joined
+}
+
+/// [`join_case`] with the CRC-32 fixed (a join writes and syncs files: one join a
+/// case; the checksum check itself is the index's, fuzzed by `octs_index`).
+fn join_part(bytes: &[u8]) -> Result<String> {
+    let fixed = rad_fixed(bytes);
+    let index = join_case(&fixed)?;
+    Ok(format!(
+        "level {} shards ~{} checksum as given {}",
+        index.level,
+        bucket(index.shards.len() as u64),
+        fixed == bytes
+    ))
 }
 
 fn scene(bytes: &[u8]) -> Result<String> {

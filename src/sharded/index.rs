@@ -2,30 +2,38 @@
 //! leaves for the join (`part-FIRST-END` beside the shards while a job runs): one
 //! binary layout for both, described in `docs/FORMAT.md`.
 //!
-//! Both start with an 80-byte header (magic, version, depth, up axis and unit, cell
+//! Both start with a 96-byte header (magic, version, depth, up axis and unit, cell
 //! level, domain, two counts that differ: the index's node and voxel totals, a part's
-//! range of cells; then how many full entries and shard entries follow), then the
-//! full entries, the shard entries, and a CRC-32 of everything before it. The file's
-//! length is checked against the counts before anything is allocated, and every entry
-//! against the domain, the level and its neighbours.
+//! range of cells; how many full entries and shard entries follow; the job's identity,
+//! [`JobId`]), then the full entries, the shard entries, and a CRC-32 of everything
+//! before it. The file's length is checked against the counts before anything is
+//! allocated (and read: [`ShardIndex::load`] reads the header first), and every entry
+//! against the domain, the level and its neighbours. Version 1 (an 80-byte header
+//! without the job) is still read for indexes, as of job [`JobId::NONE`]; a part of
+//! version 1 is refused (its tasks are run again).
 
 use std::path::Path;
 
 use glam::DVec3;
 
+use super::job::JobId;
 use super::layout::Layout;
+use super::staging;
 use crate::error::{Error, Result};
-use crate::io::oct::Metadata;
+use crate::io::oct::{self, Metadata};
 use crate::octree::{Cells, Domain, LinearOctree, MAX_DEPTH, NodeKey};
 
 /// The first eight bytes of a shard index.
 pub const INDEX_MAGIC: [u8; 8] = *b"OCTSHARD";
 /// The first eight bytes of a part file.
 pub(crate) const PART_MAGIC: [u8; 8] = *b"OCTSPART";
-/// The index and part format version this build writes and reads.
-pub const INDEX_VERSION: u16 = 1;
-/// Header bytes.
-const HEADER_BYTES: usize = 80;
+/// The index and part format version this build writes (it reads version 1 indexes
+/// too).
+pub const INDEX_VERSION: u16 = 2;
+/// Header bytes of version 2.
+const HEADER_BYTES: usize = 96;
+/// Header bytes of version 1 (no job).
+const HEADER_V1_BYTES: usize = 80;
 /// Bytes of a full entry in the index (start `u64`, `k` `u32`).
 const FULL_BYTES: usize = 12;
 /// Bytes of a full cell in a part (the cell's number).
@@ -57,6 +65,8 @@ pub struct ShardEntry {
 /// shard) and the shards, both in Morton order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShardIndex {
+    /// The job that made the solid ([`JobId::NONE`] for a version 1 index).
+    pub job: JobId,
     /// The domain every shard shares.
     pub domain: Domain,
     /// The up axis and unit recorded with the solid.
@@ -100,6 +110,8 @@ impl ShardIndex {
     #[must_use]
     pub fn encode(&self) -> Vec<u8> {
         let head = Head {
+            job: self.job,
+            header: HEADER_BYTES,
             domain: self.domain,
             meta: self.meta,
             level: self.level,
@@ -122,7 +134,7 @@ impl ShardIndex {
         let head = Head::decode(bytes, &INDEX_MAGIC, FULL_BYTES, path)?;
         let (domain, level) = (head.domain, head.level);
         let layout = Layout { depth: domain.depth(), level };
-        let mut at = HEADER_BYTES;
+        let mut at = head.header;
         let mut full = Vec::with_capacity(head.full);
         for i in 0..head.full {
             let start = u64_at(bytes, at);
@@ -146,9 +158,9 @@ impl ShardIndex {
         }
         // No eight full siblings: the full nodes alone are canonical.
         LinearOctree::from_keys(domain, full.clone())
-            .map_err(|e| fail(HEADER_BYTES, format!("the full nodes are not canonical: {e}")))?;
+            .map_err(|e| fail(head.header, format!("the full nodes are not canonical: {e}")))?;
         let shards = decode_shards(bytes, &mut at, head.shards, &layout, path)?;
-        check_disjoint(&full, &shards, &layout).map_err(|reason| fail(HEADER_BYTES, reason))?;
+        check_disjoint(&full, &shards, &layout).map_err(|reason| fail(head.header, reason))?;
         let nodes = shards.iter().try_fold(full.len() as u64, |n, s| n.checked_add(s.nodes));
         let voxels =
             full.iter().map(|k| k.len()).chain(shards.iter().map(|s| s.voxels)).try_fold(0u64, u64::checked_add);
@@ -161,20 +173,44 @@ impl ShardIndex {
                 ),
             ));
         }
-        Ok(ShardIndex { domain, meta: head.meta, level, nodes: want_nodes, voxels: want_voxels, full, shards })
+        Ok(ShardIndex {
+            job: head.job,
+            domain,
+            meta: head.meta,
+            level,
+            nodes: want_nodes,
+            voxels: want_voxels,
+            full,
+            shards,
+        })
     }
 
-    /// Reads and checks the index of the sharded solid in folder `dir`.
+    /// Reads and checks the index of the sharded solid in folder `dir`: a regular
+    /// file (never a FIFO or device), whose length its header gives before the rest
+    /// is read.
     pub fn load(dir: &Path) -> Result<ShardIndex> {
         let path = dir.join(super::INDEX_FILE);
-        let bytes = std::fs::read(&path).map_err(|source| Error::Io { path: path.clone(), source })?;
+        let bytes = read_file(&path, &INDEX_MAGIC, FULL_BYTES)?;
         ShardIndex::decode(&bytes, &path)
     }
+}
+
+/// Reads an index or part file: its header, then the rest once the length the header
+/// gives matches the file's.
+pub(crate) fn read_file(path: &Path, magic: &[u8; 8], full_bytes: usize) -> Result<Vec<u8>> {
+    staging::read_checked_len(path, HEADER_BYTES + 4, |head| Head::file_len(head, magic, full_bytes, path))
+}
+
+/// Reads a part file.
+pub(crate) fn read_part(path: &Path) -> Result<Part> {
+    let bytes = read_file(path, &PART_MAGIC, FULL_CELL_BYTES)?;
+    Part::decode(&bytes, path)
 }
 
 /// What one task made: its range of cells, the full cells and the shards in it.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Part {
+    pub(crate) job: JobId,
     pub(crate) domain: Domain,
     pub(crate) meta: Metadata,
     pub(crate) cells: Cells,
@@ -186,6 +222,8 @@ pub(crate) struct Part {
 impl Part {
     pub(crate) fn encode(&self) -> Vec<u8> {
         let head = Head {
+            job: self.job,
+            header: HEADER_BYTES,
             domain: self.domain,
             meta: self.meta,
             level: self.cells.level,
@@ -204,13 +242,16 @@ impl Part {
     pub(crate) fn decode(bytes: &[u8], path: &Path) -> Result<Part> {
         let fail = failure(path);
         let head = Head::decode(bytes, &PART_MAGIC, FULL_CELL_BYTES, path)?;
+        if head.header != HEADER_BYTES {
+            return Err(fail(8, "a part of version 1 (made by an older octsolid): run its task again".into()));
+        }
         let layout = Layout { depth: head.domain.depth(), level: head.level };
         let [first, end] = head.counts;
         if first > end || end > layout.cell_count() {
             return Err(fail(48, format!("cells {first}..{end} are not a range of the {} cells", layout.cell_count())));
         }
         let cells = Cells { level: head.level, range: first..end };
-        let mut at = HEADER_BYTES;
+        let mut at = head.header;
         let mut full = Vec::with_capacity(head.full);
         for i in 0..head.full {
             let cell = u64_at(bytes, at);
@@ -222,14 +263,17 @@ impl Part {
         }
         let shards = decode_shards(bytes, &mut at, head.shards, &layout, path)?;
         if let Some(s) = shards.iter().find(|s| !cells.range.contains(&s.cell) || full.binary_search(&s.cell).is_ok()) {
-            return Err(fail(HEADER_BYTES, format!("shard of cell {} is outside {first}..{end} or also full", s.cell)));
+            return Err(fail(head.header, format!("shard of cell {} is outside {first}..{end} or also full", s.cell)));
         }
-        Ok(Part { domain: head.domain, meta: head.meta, cells, full, shards })
+        Ok(Part { job: head.job, domain: head.domain, meta: head.meta, cells, full, shards })
     }
 }
 
 /// The header fields.
 struct Head {
+    job: JobId,
+    /// The header's length: [`HEADER_BYTES`], or [`HEADER_V1_BYTES`] for version 1.
+    header: usize,
     domain: Domain,
     meta: Metadata,
     level: u8,
@@ -254,28 +298,54 @@ impl Head {
         for v in [self.counts[0], self.counts[1], self.full as u64, self.shards as u64] {
             out.extend_from_slice(&v.to_le_bytes());
         }
+        out.extend_from_slice(&self.job.0);
         out
     }
 
-    /// Checks the header and the file's length against its counts (full entries of
-    /// `full_bytes` each) and its checksum.
-    fn decode(bytes: &[u8], magic: &[u8; 8], full_bytes: usize, path: &Path) -> Result<Head> {
+    /// The magic and version of `bytes`, and the header's length.
+    fn version(bytes: &[u8], magic: &[u8; 8], path: &Path) -> Result<usize> {
         let fail = failure(path);
         let what = if magic == &INDEX_MAGIC { "shard index" } else { "shard part file" };
-        if bytes.len() < HEADER_BYTES + 4 {
+        if bytes.len() < HEADER_V1_BYTES + 4 {
             return Err(fail(bytes.len(), format!("{} bytes is shorter than a {what}", bytes.len())));
         }
         if &bytes[..8] != magic {
             let name = String::from_utf8_lossy(magic).into_owned();
             return Err(fail(0, format!("not a {what} (bad magic; expected {name:?})")));
         }
-        let version = u16::from_le_bytes([bytes[8], bytes[9]]);
-        if version != INDEX_VERSION {
-            return Err(fail(
+        match u16::from_le_bytes([bytes[8], bytes[9]]) {
+            1 => Ok(HEADER_V1_BYTES),
+            2 if bytes.len() >= HEADER_BYTES + 4 => Ok(HEADER_BYTES),
+            2 => Err(fail(bytes.len(), format!("{} bytes is shorter than a {what}", bytes.len()))),
+            version => Err(fail(
                 8,
-                format!("{what} version {version} is not supported (this build reads {INDEX_VERSION})"),
-            ));
+                format!("{what} version {version} is not supported (this build reads 1 and {INDEX_VERSION})"),
+            )),
         }
+    }
+
+    /// The file's length its header gives (the first [`HEADER_BYTES`] + 4 bytes or all
+    /// of a shorter file), with entries of `full_bytes` each.
+    fn file_len(head: &[u8], magic: &[u8; 8], full_bytes: usize, path: &Path) -> Result<u64> {
+        // A file shorter than a header is refused by its length: as long as it is.
+        if head.len() < HEADER_V1_BYTES + 4 {
+            return Ok(head.len() as u64);
+        }
+        let header = Head::version(head, magic, path)?;
+        let (full, shards) = (u64_at(head, 64), u64_at(head, 72));
+        full.checked_mul(full_bytes as u64)
+            .and_then(|f| shards.checked_mul(SHARD_BYTES as u64).and_then(|s| s.checked_add(f)))
+            .and_then(|n| n.checked_add(header as u64 + 4))
+            .ok_or_else(|| {
+                failure(path)(64, format!("{full} full entries and {shards} shards cannot be the counts of a file"))
+            })
+    }
+
+    /// Checks the header and the file's length against its counts (full entries of
+    /// `full_bytes` each) and its checksum.
+    fn decode(bytes: &[u8], magic: &[u8; 8], full_bytes: usize, path: &Path) -> Result<Head> {
+        let fail = failure(path);
+        let header = Head::version(bytes, magic, path)?;
         if bytes[10..12] != [0, 0] {
             return Err(fail(10, "reserved flags are not zero".into()));
         }
@@ -296,7 +366,7 @@ impl Head {
         let want = full
             .checked_mul(full_bytes as u64)
             .and_then(|f| shards.checked_mul(SHARD_BYTES as u64).and_then(|s| s.checked_add(f)))
-            .and_then(|n| n.checked_add(HEADER_BYTES as u64 + 4));
+            .and_then(|n| n.checked_add(header as u64 + 4));
         if want != Some(bytes.len() as u64) {
             return Err(fail(
                 64,
@@ -309,7 +379,8 @@ impl Head {
         if stored != computed {
             return Err(fail(body, format!("checksum mismatch: stored {stored:08x}, computed {computed:08x}")));
         }
-        Ok(Head { domain, meta, level, counts, full: full as usize, shards: shards as usize })
+        let job = if header == HEADER_BYTES { JobId(bytes[80..96].try_into().expect("16 bytes")) } else { JobId::NONE };
+        Ok(Head { job, header, domain, meta, level, counts, full: full as usize, shards: shards as usize })
     }
 }
 
@@ -348,6 +419,16 @@ fn decode_shards(bytes: &[u8], at: &mut usize, count: usize, layout: &Layout, pa
             return Err(fail(
                 o,
                 format!("shard {i}: cell {} is out of order or beyond the {} cells", s.cell, layout.cell_count()),
+            ));
+        }
+        if s.bytes <= oct::HEADER_BYTES as u64 {
+            return Err(fail(
+                o + 24,
+                format!(
+                    "shard {i}: a shard file of {} bytes is impossible (an .oct header alone is {})",
+                    s.bytes,
+                    oct::HEADER_BYTES
+                ),
             ));
         }
         if s.nodes == 0 || s.voxels < s.nodes || s.voxels >= cell_voxels {

@@ -19,25 +19,32 @@
 //! - a set operation of sharded solids is, cell by cell, the k-way merge of their
 //!   nodes in that cell ([`combine`]); only a few shards are ever in memory;
 //! - a job's cells can be split among tasks on many machines, each writing its own
-//!   shards and a part file; [`join`] makes the index once all parts are there. The
-//!   output of a task depends on its cells only, so any split, any number of workers
-//!   and any retried task give the same bytes.
+//!   shards and a part file into the job's staging folder (named by its identity,
+//!   [`JobId`]); [`join`] checks every shard and makes the index once all parts are
+//!   there. The output of a task depends on its cells only, so any split, any number
+//!   of workers and any retried task give the same bytes;
+//! - every writer stages in a folder of its own and publishes the solid in one atomic
+//!   step, so concurrent writers of one output leave one complete solid.
 //!
 //! Reading: [`ShardedSolid::open`] reads only the index; [`ShardedSolid::load`] the
 //! whole solid within a memory budget, [`ShardedSolid::load_within`] the finest level
 //! of detail that fits one (for rendering), [`Cursor`] the nodes of a range.
 
 mod index;
+mod job;
 mod layout;
 mod solid;
+mod staging;
 mod stream;
 mod writer;
 
 pub use index::{INDEX_MAGIC, INDEX_VERSION, ShardEntry, ShardIndex};
+pub use job::JobId;
 pub use layout::Layout;
 pub use solid::{Cursor, ShardedSolid};
+pub use staging::staging_dir;
 pub use stream::{StreamOptions, combine, save, voxelize_mesh, voxelize_shape};
-pub use writer::{ShardWriter, join, staging_dir};
+pub use writer::{ShardWriter, join};
 
 /// The index's file name in a sharded solid's folder.
 pub const INDEX_FILE: &str = "index";

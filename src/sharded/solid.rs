@@ -1,6 +1,8 @@
 //! A sharded solid on disk: its index, read on open, and its shards, read one at a
-//! time and checked against the index (length, CRC-32, counts, every node inside its
-//! cell), so a corrupted or swapped shard is refused by name.
+//! time and checked against the index (file kind, length, CRC-32, counts, voxel
+//! bounds, every node inside its cell), so a corrupted or swapped shard is refused by
+//! name. [`ShardedSolid::verify`] checks every shard, so that what is said from the
+//! index alone holds.
 
 use std::path::{Path, PathBuf};
 
@@ -8,10 +10,11 @@ use rayon::prelude::*;
 
 use super::index::{ShardEntry, ShardIndex};
 use super::layout::Layout;
+use super::staging;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::oct;
-use crate::octree::{CoarsenRule, LinearOctree, NodeKey};
+use crate::io::oct::{self, Metadata};
+use crate::octree::{CoarsenRule, Domain, LinearOctree, NodeKey};
 
 /// Bytes a node takes in memory once loaded.
 const NODE_BYTES: u64 = 8;
@@ -55,60 +58,20 @@ impl ShardedSolid {
         self.index.shards[i].nodes.saturating_mul(NODE_BYTES)
     }
 
-    /// Reads and checks the `i`-th shard: its file's length and CRC-32 as the index
-    /// records them, then the `.oct` checks, its domain and metadata equal to the
-    /// index's, its counts, and every node inside its cell and smaller than it.
+    /// Reads and checks the `i`-th shard: a regular file (never a FIFO or device) of
+    /// the length the index records (checked before reading), its CRC-32, then the
+    /// `.oct` checks, its domain and metadata equal to the index's, its counts and
+    /// voxel bounds equal to the entry's, and every node inside its cell and smaller
+    /// than it.
     pub fn load_shard(&self, i: usize, budget: MemoryBudget) -> Result<Vec<NodeKey>> {
-        let entry: &ShardEntry = &self.index.shards[i];
-        let path = self.shard_path(i);
-        let fail = |offset: u64, reason: String| Error::Format { path: path.clone(), offset, reason };
-        let meta = std::fs::metadata(&path).map_err(|source| Error::Io { path: path.clone(), source })?;
-        if meta.len() != entry.bytes {
-            return Err(fail(0, format!("the shard is {} bytes, the index says {}", meta.len(), entry.bytes)));
-        }
-        budget.check(format!("reading shard {}", path.display()), entry.bytes.saturating_add(self.shard_bytes(i)))?;
-        let bytes = std::fs::read(&path).map_err(|source| Error::Io { path: path.clone(), source })?;
-        let crc = crc32fast::hash(&bytes);
-        if crc != entry.crc32 {
-            return Err(fail(
-                0,
-                format!("checksum mismatch with the index: file {crc:08x}, index {:08x}", entry.crc32),
-            ));
-        }
-        let (tree, meta) = oct::decode_with(&bytes, &path, budget)?;
-        if *tree.domain() != self.index.domain || meta != self.index.meta {
-            return Err(fail(12, "the shard's domain or metadata differ from the index's".into()));
-        }
-        if tree.node_count() as u64 != entry.nodes || tree.voxel_count() != entry.voxels {
-            return Err(fail(
-                48,
-                format!(
-                    "{} nodes of {} voxels, the index says {} of {}",
-                    tree.node_count(),
-                    tree.voxel_count(),
-                    entry.nodes,
-                    entry.voxels
-                ),
-            ));
-        }
-        let cell = self.index.layout().cell_key(entry.cell);
-        if let Some((n, key)) = tree
-            .keys()
-            .iter()
-            .enumerate()
-            .find(|(_, k)| k.start() < cell.start() || k.end() > cell.end() || **k == cell)
-        {
-            let reason = if *key == cell {
-                "is the whole cell (a full cell belongs in the index)"
-            } else {
-                "reaches beyond its cell"
-            };
-            return Err(fail(
-                oct::HEADER_BYTES as u64,
-                format!("node {n} (start {}, k {}) {reason}", key.start(), key.k()),
-            ));
-        }
-        Ok(tree.keys().to_vec())
+        let index = &self.index;
+        read_shard(&self.shard_path(i), &index.shards[i], index.domain, index.meta, index.layout(), budget)
+    }
+
+    /// Reads and checks every shard against the index ([`ShardedSolid::load_shard`]),
+    /// so that what the index alone says (counts, bounds) is true of the solid.
+    pub fn verify(&self, budget: MemoryBudget) -> Result<()> {
+        (0..self.index.shards.len()).into_par_iter().try_for_each(|i| self.load_shard(i, budget).map(drop))
     }
 
     /// The whole solid in memory (refused when its nodes exceed `budget`).
@@ -242,4 +205,69 @@ impl Cursor<'_> {
         out.sort_unstable_by_key(|k| k.start());
         Ok(out)
     }
+}
+
+/// Reads and checks the shard file `path` of `entry`: a regular file of the length
+/// the entry records (checked before reading), its CRC-32, then the `.oct` checks,
+/// its domain and metadata equal to the index's, its counts and voxel bounds equal
+/// to the entry's, and every node inside its cell and smaller than it.
+pub(crate) fn read_shard(
+    path: &Path,
+    entry: &ShardEntry,
+    domain: Domain,
+    meta: Metadata,
+    layout: Layout,
+    budget: MemoryBudget,
+) -> Result<Vec<NodeKey>> {
+    let fail = |offset: u64, reason: String| Error::Format { path: path.to_path_buf(), offset, reason };
+    budget.check(
+        format!("reading shard {}", path.display()),
+        entry.bytes.saturating_add(entry.nodes.saturating_mul(NODE_BYTES)),
+    )?;
+    let bytes = staging::read_exact_len(path, entry.bytes, "the index")?;
+    let crc = crc32fast::hash(&bytes);
+    if crc != entry.crc32 {
+        return Err(fail(0, format!("checksum mismatch with the index: file {crc:08x}, index {:08x}", entry.crc32)));
+    }
+    let (tree, shard_meta) = oct::decode_with(&bytes, path, budget)?;
+    if *tree.domain() != domain || shard_meta != meta {
+        return Err(fail(12, "the shard's domain or metadata differ from the index's".into()));
+    }
+    if tree.node_count() as u64 != entry.nodes || tree.voxel_count() != entry.voxels {
+        return Err(fail(
+            48,
+            format!(
+                "{} nodes of {} voxels, the index says {} of {}",
+                tree.node_count(),
+                tree.voxel_count(),
+                entry.nodes,
+                entry.voxels
+            ),
+        ));
+    }
+    let cell = layout.cell_key(entry.cell);
+    if let Some((n, key)) =
+        tree.keys().iter().enumerate().find(|(_, k)| k.start() < cell.start() || k.end() > cell.end() || **k == cell)
+    {
+        let reason = if *key == cell {
+            "is the whole cell (a full cell belongs in the index)"
+        } else {
+            "reaches beyond its cell"
+        };
+        return Err(fail(
+            oct::HEADER_BYTES as u64,
+            format!("node {n} (start {}, k {}) {reason}", key.start(), key.k()),
+        ));
+    }
+    let bounds = tree.voxel_bounds().map(|(lo, hi)| (lo, hi.map(|c| c - 1)));
+    if bounds != Some((entry.min, entry.max)) {
+        return Err(fail(
+            oct::HEADER_BYTES as u64,
+            format!(
+                "the shard's voxels span {bounds:?}, the index says {:?}..={:?} (lowest and highest voxel)",
+                entry.min, entry.max
+            ),
+        ));
+    }
+    Ok(tree.keys().to_vec())
 }

@@ -13,6 +13,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use super::index::ShardIndex;
+use super::job::JobHasher;
 use super::layout::Layout;
 use super::solid::ShardedSolid;
 use super::writer::ShardWriter;
@@ -39,11 +40,16 @@ pub struct StreamOptions<'a> {
     pub budget: MemoryBudget,
     /// Receives progress in cells.
     pub progress: &'a dyn Progress,
+    /// What the job makes, as the caller tells it, for the job's identity
+    /// ([`super::JobId`]): bytes that differ between jobs writing the same output
+    /// (the command line passes its arguments without `--cells`). Every task of one
+    /// job must pass the same.
+    pub source: &'a [u8],
 }
 
 impl Default for StreamOptions<'_> {
     fn default() -> Self {
-        StreamOptions { level: None, cells: None, budget: MemoryBudget::default(), progress: &NoProgress }
+        StreamOptions { level: None, cells: None, budget: MemoryBudget::default(), progress: &NoProgress, source: b"" }
     }
 }
 
@@ -61,7 +67,9 @@ impl StreamOptions<'_> {
 
 /// A job's writer: its cells at `level` (or the default level of the depth), and
 /// whether it is the whole job (no `cells` asked for) rather than a task, which
-/// leaves a part even when its range is every cell.
+/// leaves a part even when its range is every cell. The job's identity hashes the
+/// options' `source`, the domain, metadata and level, and what `input` adds (a
+/// mesh's triangles, the operands of a set operation).
 struct Job {
     writer: ShardWriter,
     cells: Cells,
@@ -69,11 +77,20 @@ struct Job {
 }
 
 impl Job {
-    fn start(domain: Domain, meta: Metadata, level: Option<u8>, out: &Path, options: &StreamOptions) -> Result<Job> {
+    fn start(
+        domain: Domain,
+        meta: Metadata,
+        level: Option<u8>,
+        out: &Path,
+        options: &StreamOptions,
+        input: impl FnOnce(&mut JobHasher),
+    ) -> Result<Job> {
         let level = level.unwrap_or_else(|| Layout::default_level(domain.depth()));
         let cells = options.cells(level, domain.depth())?;
         let whole = options.cells.is_none();
-        let writer = ShardWriter::create(out, domain, meta, cells.clone())?;
+        let mut hasher = JobHasher::new(options.source, domain, meta, level);
+        input(&mut hasher);
+        let writer = ShardWriter::create(out, domain, meta, cells.clone(), hasher.finish(), !whole)?;
         Ok(Job { writer, cells, whole })
     }
 
@@ -84,8 +101,10 @@ impl Job {
 }
 
 /// Writes `tree` as the sharded solid `out` (the index when every cell was asked for).
+/// The job's identity is the options' `source` with the domain, metadata and level
+/// (not the nodes): a task must say what it cuts.
 pub fn save(tree: &LinearOctree, meta: Metadata, out: &Path, options: &StreamOptions) -> Result<Option<ShardIndex>> {
-    let mut job = Job::start(*tree.domain(), meta, options.level, out, options)?;
+    let mut job = Job::start(*tree.domain(), meta, options.level, out, options, |_| {})?;
     let (cells, writer) = (job.cells.clone(), &mut job.writer);
     let layout = Layout { depth: tree.depth(), level: cells.level };
     options.progress.start(cells.range.end - cells.range.start);
@@ -125,7 +144,7 @@ pub fn voxelize_shape(
     out: &Path,
     options: &StreamOptions,
 ) -> Result<Option<ShardIndex>> {
-    let mut job = Job::start(domain, meta, options.level, out, options)?;
+    let mut job = Job::start(domain, meta, options.level, out, options, |_| {})?;
     let voxelize = VoxelizeOptions { budget: options.budget, progress: options.progress };
     voxelize_cells(shape, domain, &voxelize, &job.cells, &mut job.writer)?;
     job.finish()
@@ -141,7 +160,16 @@ pub fn voxelize_mesh(
     out: &Path,
     options: &StreamOptions,
 ) -> Result<Option<ShardIndex>> {
-    let mut job = Job::start(domain, meta, options.level, out, options)?;
+    let mut job = Job::start(domain, meta, options.level, out, options, |h| {
+        h.u64(mesh.vertices.len() as u64);
+        for v in &mesh.vertices {
+            v.to_array().iter().for_each(|c| h.u64(c.to_bits()));
+        }
+        for t in &mesh.triangles {
+            t.iter().for_each(|&i| h.u64(u64::from(i)));
+        }
+        h.bytes(format!("{:?}", mesh_options.inside).as_bytes());
+    })?;
     let mesh_options = MeshVoxelizeOptions { budget: options.budget, progress: options.progress, ..*mesh_options };
     voxelize_mesh_cells(mesh, domain, &mesh_options, &job.cells, &mut job.writer)?;
     job.finish()
@@ -175,7 +203,14 @@ pub fn combine(
     let largest: u64 =
         operands.iter().map(|s| (0..s.index().shards.len()).map(|i| s.shard_bytes(i)).max().unwrap_or(0)).sum();
     options.budget.check(format!("merging cells at level {level}"), largest.saturating_mul(4))?;
-    let mut job = Job::start(domain, meta, Some(level), out, options)?;
+    let mut job = Job::start(domain, meta, Some(level), out, options, |h| {
+        h.bytes(format!("{op:?}").as_bytes());
+        for solid in operands {
+            let index = solid.index().encode();
+            h.u64(index.len() as u64);
+            h.bytes(&index);
+        }
+    })?;
     let (cells, writer) = (job.cells.clone(), &mut job.writer);
     let layout = Layout { depth: domain.depth(), level };
     let mut cursors: Vec<_> = operands.iter().map(|s| s.cursor(options.budget)).collect();

@@ -1,42 +1,51 @@
 //! Writing a sharded solid: cells stream in ([`ShardWriter`] is a [`CellSink`]), each
 //! partly full cell is written at once as its shard file, and the full cells are
 //! only counted. A job is one or more tasks, each over a range of cells; a task ends
-//! by writing a part file (its range, its full cells, its shards' entries) and
-//! [`join`] turns the parts into the index once every cell is covered.
+//! by writing a part file (its job, its range, its full cells, its shards' entries)
+//! and [`join`] turns the parts into the index once every cell is covered.
 //!
-//! Everything is written into a staging folder beside the output (`OUT.partial`),
-//! each file atomically, and the staging folder becomes the output by a rename at
-//! the end of the join, so a reader never sees a solid half written, an interrupted
-//! job leaves the old solid in place, and a task run twice (a retry) writes the same
-//! bytes again. The join is where the cells meet: the full cells are cut into the
-//! largest aligned nodes ([`Cells::join_full`]), the only place eight cells can merge.
+//! Where things are written ([`super::staging`]): a whole job (one process, every
+//! cell) writes into a `run-` folder of its own in `OUT.partial/` and publishes it as
+//! `OUT` in one atomic step; the tasks of a job write into the job's folder
+//! `OUT.partial/job-ID/`, each file atomically, so a task run again (a retry) writes
+//! the same bytes again and the tasks of another job never mix in. The join takes the
+//! job's lock, reads and checks every shard the parts list (length, CRC-32, the
+//! `.oct` checks, counts, bounds: [`super::solid`]), links them into a `run-` folder
+//! of its own with the index, publishes that, and only then removes the job's folder:
+//! a join that fails or is killed leaves every part in place to join again. The join
+//! is where the cells meet: the full cells are cut into the largest aligned nodes
+//! ([`Cells::join_full`]), the only place eight cells can merge.
 
 use std::path::{Path, PathBuf};
 
 use super::INDEX_FILE;
-use super::index::{Part, ShardEntry, ShardIndex};
+use super::index::{Part, ShardEntry, ShardIndex, read_part};
+use super::job::JobId;
 use super::layout::Layout;
+use super::solid::read_shard;
+use super::staging::{self, JoinLock};
+use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::oct::{self, Metadata};
 use crate::io::write_atomic;
 use crate::morton;
 use crate::octree::{CellNodes, CellSink, Cells, Domain, LinearOctree, NodeKey, check_level};
 
-/// The prefix of part files in the staging folder.
+/// The prefix of part files in a job's folder.
 const PART_PREFIX: &str = "part-";
 
-/// The staging folder of output `out`: `OUT.partial` beside it.
-#[must_use]
-pub fn staging_dir(out: &Path) -> PathBuf {
-    let mut name = out.file_name().map(std::ffi::OsStr::to_os_string).unwrap_or_default();
-    name.push(".partial");
-    out.with_file_name(name)
+fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+    move |source| Error::Io { path: path.to_path_buf(), source }
 }
 
 /// Writes the cells of one task of a sharded solid (see the module doc).
 pub struct ShardWriter {
     out: PathBuf,
-    staging: PathBuf,
+    root: PathBuf,
+    /// The `run-` folder of a whole job, removed if the writer is dropped unfinished.
+    run: Option<PathBuf>,
+    folder: PathBuf,
+    job: JobId,
     domain: Domain,
     meta: Metadata,
     cells: Cells,
@@ -45,44 +54,103 @@ pub struct ShardWriter {
 }
 
 impl ShardWriter {
-    /// A writer of the cells `cells` of the solid going to folder `out`. A writer of
-    /// every cell starts from an empty staging folder; a task's writer adds to it.
-    pub fn create(out: &Path, domain: Domain, meta: Metadata, cells: Cells) -> Result<ShardWriter> {
+    /// A writer of the cells `cells` of job `job`, the solid going to folder `out`: a
+    /// whole job (`task` false) in a `run-` folder of its own, a task in the job's
+    /// folder. Removes what killed writers of `out` provably left (the `run-` and
+    /// `old-` folders of dead processes of this host).
+    pub fn create(
+        out: &Path,
+        domain: Domain,
+        meta: Metadata,
+        cells: Cells,
+        job: JobId,
+        task: bool,
+    ) -> Result<ShardWriter> {
         check_level(&cells, &domain)?;
-        let staging = staging_dir(out);
-        let io = |path: &Path| {
-            let path = path.to_path_buf();
-            move |source| Error::Io { path, source }
+        let root = staging::staging_dir(out);
+        staging::own_folder(&root)?;
+        staging::remove_stale(&root);
+        let (folder, run) = if task {
+            let folder = staging::job_dir(&root, job);
+            task_folder(&root, &folder)?;
+            (folder, None)
+        } else {
+            let run = staging::new_run_folder(&root)?;
+            (run.clone(), Some(run))
         };
-        if cells == Cells::all(cells.level) && staging.exists() {
-            std::fs::remove_dir_all(&staging).map_err(io(&staging))?;
-        }
-        std::fs::create_dir_all(&staging).map_err(io(&staging))?;
-        Ok(ShardWriter { out: out.to_path_buf(), staging, domain, meta, cells, full: Vec::new(), shards: Vec::new() })
+        Ok(ShardWriter {
+            out: out.to_path_buf(),
+            root,
+            run,
+            folder,
+            job,
+            domain,
+            meta,
+            cells,
+            full: Vec::new(),
+            shards: Vec::new(),
+        })
     }
 
     fn layout(&self) -> Layout {
         Layout { depth: self.domain.depth(), level: self.cells.level }
     }
 
+    fn part(&mut self) -> Part {
+        Part {
+            job: self.job,
+            domain: self.domain,
+            meta: self.meta,
+            cells: self.cells.clone(),
+            full: std::mem::take(&mut self.full),
+            shards: std::mem::take(&mut self.shards),
+        }
+    }
+
     /// Ends this task: writes its part file. The solid is complete once [`join`] has
     /// run over the parts of every task.
-    pub fn finish_part(self) -> Result<()> {
+    pub fn finish_part(mut self) -> Result<()> {
         let range = &self.cells.range;
         let name = format!("{PART_PREFIX}{:016x}-{:016x}", range.start, range.end);
-        let part =
-            Part { domain: self.domain, meta: self.meta, cells: self.cells, full: self.full, shards: self.shards };
-        let bytes = part.encode();
-        write_atomic(self.staging.join(name), |w| w.write_all(&bytes))?;
+        let bytes = self.part().encode();
+        write_atomic(self.folder.join(name), |w| w.write_all(&bytes))?;
         Ok(())
     }
 
-    /// Ends a job of one task over every cell: its part, then the join.
-    pub fn finish(self) -> Result<ShardIndex> {
-        let out = self.out.clone();
-        self.finish_part()?;
-        join(&out)
+    /// Ends a whole job: the index from its own cells into its folder, then the
+    /// folder published as the output.
+    pub fn finish(mut self) -> Result<ShardIndex> {
+        let part = self.part();
+        let index = index_of(&self.root, &[(part, self.folder.clone())])?;
+        let bytes = index.encode();
+        write_atomic(self.folder.join(INDEX_FILE), |w| w.write_all(&bytes))?;
+        staging::publish(&self.folder, &self.out, &self.root)?;
+        self.run = None;
+        staging::remove_if_empty(&self.root);
+        Ok(index)
     }
+}
+
+impl Drop for ShardWriter {
+    fn drop(&mut self) {
+        if let Some(run) = &self.run {
+            let _ = std::fs::remove_dir_all(run);
+            staging::remove_if_empty(&self.root);
+        }
+    }
+}
+
+/// Makes (or finds) a job's folder `folder` in staging folder `root`, both checked.
+fn task_folder(root: &Path, folder: &Path) -> Result<()> {
+    // Another writer may remove an empty staging folder between the two steps.
+    for _ in 0..8 {
+        staging::own_folder(root)?;
+        match staging::own_folder(folder) {
+            Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {}
+            other => return other,
+        }
+    }
+    staging::own_folder(folder)
 }
 
 impl CellSink for ShardWriter {
@@ -107,7 +175,7 @@ impl CellSink for ShardWriter {
         debug_assert!(keys.iter().all(|k| k.level(depth) > self.cells.level));
         let tree = LinearOctree::from_canonical(self.domain, keys);
         let bytes = oct::encode_with(&tree, &self.meta);
-        let path = self.staging.join(self.layout().shard_file(index));
+        let path = self.folder.join(self.layout().shard_file(index));
         write_atomic(&path, |w| w.write_all(&bytes))?;
         let entry = ShardEntry {
             cell: index,
@@ -123,40 +191,136 @@ impl CellSink for ShardWriter {
     }
 }
 
-/// Joins the parts in `out`'s staging folder into the sharded solid `out`: checks
-/// that they are of one solid and cover every cell exactly once, writes the index
-/// (full cells cut into the largest aligned nodes), removes the parts and any file
-/// no entry names, and puts the folder in place of `out` (replacing an earlier
-/// sharded solid there).
-pub fn join(out: &Path) -> Result<ShardIndex> {
-    let staging = staging_dir(out);
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| Error::Io { path, source }
-    };
+/// The parts of one job found in its folder.
+struct JobParts {
+    job: JobId,
+    folder: PathBuf,
+    parts: Vec<(Part, PathBuf)>,
+}
+
+/// Reads the parts in job folder `folder` (of job `job`), sorted by range.
+fn read_job(folder: PathBuf, job: JobId) -> Result<JobParts> {
+    staging::check_own_folder(&folder)?;
     let mut parts = Vec::new();
-    let mut others = Vec::new();
-    for entry in std::fs::read_dir(&staging).map_err(io(&staging))? {
-        let entry = entry.map_err(io(&staging))?;
-        let (path, name) = (entry.path(), entry.file_name().to_string_lossy().into_owned());
-        if name.starts_with(PART_PREFIX) {
-            let bytes = std::fs::read(&path).map_err(io(&path))?;
-            parts.push((Part::decode(&bytes, &path)?, path));
-        } else {
-            others.push((path, name));
+    for entry in std::fs::read_dir(&folder).map_err(io_error(&folder))? {
+        let entry = entry.map_err(io_error(&folder))?;
+        if entry.file_name().to_string_lossy().starts_with(PART_PREFIX) {
+            let path = entry.path();
+            let part = read_part(&path)?;
+            if part.job != job {
+                return Err(Error::invalid(
+                    "sharded job",
+                    format!("{}: a part of job {} in the folder of job {job}; not joined", path.display(), part.job),
+                ));
+            }
+            parts.push((part, path));
         }
     }
     parts.sort_by_key(|(p, _)| (p.cells.range.start, p.cells.range.end));
+    Ok(JobParts { job, folder, parts })
+}
+
+/// Joins the parts of the job in `out`'s staging folder into the sharded solid `out`:
+/// the one job whose parts cover every cell exactly once (parts of different jobs
+/// are never joined), under the job's lock, every shard read and checked against its
+/// part, the index written, the solid published in one atomic step (replacing an
+/// earlier sharded solid there), and only then the job's folder removed.
+pub fn join(out: &Path) -> Result<ShardIndex> {
+    let root = staging::staging_dir(out);
+    staging::check_own_folder(&root)?;
+    staging::remove_stale(&root);
+    let mut jobs = Vec::new();
+    for entry in std::fs::read_dir(&root).map_err(io_error(&root))? {
+        let entry = entry.map_err(io_error(&root))?;
+        if let Some(job) = staging::job_of(&entry.file_name().to_string_lossy()) {
+            jobs.push(read_job(entry.path(), job)?);
+        }
+    }
+    jobs.sort_by_key(|j| j.job.0);
+    let job = match jobs.len() {
+        0 => {
+            return Err(Error::invalid(
+                "sharded job",
+                format!("{}: no part to join (did any task finish?)", root.display()),
+            ));
+        }
+        1 => jobs.pop().expect("one"),
+        _ => {
+            let (complete, incomplete): (Vec<_>, Vec<_>) =
+                jobs.into_iter().partition(|j| !j.parts.is_empty() && index_of(&root, &j.parts).is_ok());
+            let names = |js: &[JobParts]| js.iter().map(|j| j.folder.display().to_string()).collect::<Vec<_>>();
+            match <[JobParts; 1]>::try_from(complete) {
+                Ok([one]) => one,
+                Err(complete) if complete.is_empty() => {
+                    return Err(Error::invalid(
+                        "sharded job",
+                        format!(
+                            "{}: the parts of {} jobs are there ({}) and none covers every cell; parts of different jobs are never joined",
+                            root.display(),
+                            incomplete.len(),
+                            names(&incomplete).join(", ")
+                        ),
+                    ));
+                }
+                Err(complete) => {
+                    return Err(Error::invalid(
+                        "sharded job",
+                        format!(
+                            "{}: {} complete jobs ({}); remove the folders of those not wanted",
+                            root.display(),
+                            complete.len(),
+                            names(&complete).join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
+    };
+    let index = index_of(&job.folder, &job.parts)?;
+    let _lock = JoinLock::acquire(&job.folder)?;
+    // Every shard read and checked before anything is published or removed.
+    let layout = index.layout();
+    let budget = MemoryBudget::default();
+    for entry in &index.shards {
+        read_shard(&job.folder.join(layout.shard_file(entry.cell)), entry, index.domain, index.meta, layout, budget)?;
+    }
+    let run = staging::new_run_folder(&root)?;
+    let assembled = (|| {
+        for entry in &index.shards {
+            let name = layout.shard_file(entry.cell);
+            let (from, to) = (job.folder.join(&name), run.join(&name));
+            if std::fs::hard_link(&from, &to).is_err() {
+                std::fs::copy(&from, &to).map_err(io_error(&from))?;
+            }
+        }
+        let bytes = index.encode();
+        write_atomic(run.join(INDEX_FILE), |w| w.write_all(&bytes))?;
+        staging::publish(&run, out, &root)
+    })();
+    if let Err(e) = assembled {
+        let _ = std::fs::remove_dir_all(&run);
+        return Err(e);
+    }
+    // The solid is in place: the job's folder can go.
+    std::fs::remove_dir_all(&job.folder).map_err(io_error(&job.folder))?;
+    staging::remove_if_empty(&root);
+    Ok(index)
+}
+
+/// The index of a job from its parts (sorted by range): checks that they are of one
+/// solid and cover every cell exactly once, and cuts the full cells into the largest
+/// aligned nodes. `folder` names the job in errors.
+fn index_of(folder: &Path, parts: &[(Part, PathBuf)]) -> Result<ShardIndex> {
     let Some((first, first_path)) = parts.first() else {
         return Err(Error::invalid(
             "sharded job",
-            format!("{}: no part to join (did any task finish?)", staging.display()),
+            format!("{}: no part to join (did any task finish?)", folder.display()),
         ));
     };
-    let (domain, meta, level) = (first.domain, first.meta, first.cells.level);
+    let (job, domain, meta, level) = (first.job, first.domain, first.meta, first.cells.level);
     let mut next = 0u64;
-    for (part, path) in &parts {
-        if part.domain != domain || part.meta != meta || part.cells.level != level {
+    for (part, path) in parts {
+        if part.job != job || part.domain != domain || part.meta != meta || part.cells.level != level {
             return Err(Error::invalid(
                 "sharded job",
                 format!("{} and {} are parts of different solids", first_path.display(), path.display()),
@@ -169,7 +333,7 @@ pub fn join(out: &Path) -> Result<ShardIndex> {
                 "sharded job",
                 format!(
                     "{}: {what} cells {}..{} (at {})",
-                    staging.display(),
+                    folder.display(),
                     next.min(range.start),
                     next.max(range.start),
                     path.display()
@@ -182,7 +346,7 @@ pub fn join(out: &Path) -> Result<ShardIndex> {
     if next != count {
         return Err(Error::invalid(
             "sharded job",
-            format!("{}: no part covers cells {next}..{count}", staging.display()),
+            format!("{}: no part covers cells {next}..{count}", folder.display()),
         ));
     }
     let full_cells = parts.iter().flat_map(|(p, _)| p.full.iter().copied());
@@ -190,47 +354,5 @@ pub fn join(out: &Path) -> Result<ShardIndex> {
     let shards: Vec<ShardEntry> = parts.iter().flat_map(|(p, _)| p.shards.iter().cloned()).collect();
     let nodes = full.len() as u64 + shards.iter().map(|s| s.nodes).sum::<u64>();
     let voxels = full.iter().map(|k| k.len()).sum::<u64>() + shards.iter().map(|s| s.voxels).sum::<u64>();
-    let index = ShardIndex { domain, meta, level, nodes, voxels, full, shards };
-    let bytes = index.encode();
-    write_atomic(staging.join(INDEX_FILE), |w| w.write_all(&bytes))?;
-    let layout = index.layout();
-    let named: std::collections::HashSet<String> = index.shards.iter().map(|s| layout.shard_file(s.cell)).collect();
-    for (_, path) in &parts {
-        std::fs::remove_file(path).map_err(io(path))?;
-    }
-    for (path, name) in others {
-        if name != INDEX_FILE && !named.contains(&name) {
-            std::fs::remove_file(&path).map_err(io(&path))?;
-        }
-    }
-    replace_folder(&staging, out)?;
-    Ok(index)
-}
-
-/// Renames folder `from` to `to`, moving an earlier sharded solid at `to` aside first
-/// and removing it after; refuses to replace anything else.
-fn replace_folder(from: &Path, to: &Path) -> Result<()> {
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| Error::Io { path, source }
-    };
-    if to.exists() {
-        let is_solid =
-            to.is_dir() && (to.join(INDEX_FILE).is_file() || std::fs::read_dir(to).map_err(io(to))?.next().is_none());
-        if !is_solid {
-            return Err(Error::invalid(
-                "output",
-                format!("{}: exists and is not a sharded solid; not replaced", to.display()),
-            ));
-        }
-        let mut name = to.file_name().map(std::ffi::OsStr::to_os_string).unwrap_or_default();
-        name.push(format!(".old-{}", std::process::id()));
-        let old = to.with_file_name(name);
-        std::fs::rename(to, &old).map_err(io(to))?;
-        std::fs::rename(from, to).map_err(io(from))?;
-        std::fs::remove_dir_all(&old).map_err(io(&old))?;
-    } else {
-        std::fs::rename(from, to).map_err(io(from))?;
-    }
-    Ok(())
+    Ok(ShardIndex { job, domain, meta, level, nodes, voxels, full, shards })
 }

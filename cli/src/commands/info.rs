@@ -119,7 +119,7 @@ struct BoundsInfo {
 pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     let (file, json) = (&a.file, a.json);
     if FileKind::of(file, FileKind::SOLIDS)? == FileKind::Octs {
-        return sharded_info(file, json);
+        return sharded_info(file, json, budget);
     }
     let read = read_solid_file(file, &a.read, budget)?;
     let (kind, meta) = (read.kind, read.meta);
@@ -200,10 +200,12 @@ struct ShardedInfo {
     largest_shard_nodes: u64,
 }
 
-/// `info` of a sharded solid: what its index says, without reading a shard (the
-/// measurements, which need every node, are left out).
-fn sharded_info(dir: &std::path::Path, json: bool) -> Result<()> {
+/// `info` of a sharded solid: what its index says, once every shard is checked
+/// against it (one a thread at a time, within `budget`), so its counts and bounds are the
+/// solid's (the measurements, which need every node, are left out).
+fn sharded_info(dir: &std::path::Path, json: bool, budget: MemoryBudget) -> Result<()> {
     let solid = octsolid::sharded::ShardedSolid::open(dir)?;
+    solid.verify(budget)?;
     let index = solid.index();
     let d = index.domain;
     let bounds = index
@@ -229,7 +231,7 @@ fn sharded_info(dir: &std::path::Path, json: bool) -> Result<()> {
         out!("{}", serde_json::to_string(&info)?);
         return Ok(());
     }
-    out!("file       {} (sharded: index read, no shard)", dir.display());
+    out!("file       {} (sharded: index and every shard checked)", dir.display());
     out!(
         "depth      {} ({} voxels a side, voxel edge {})",
         info.depth,

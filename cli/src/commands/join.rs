@@ -1,6 +1,7 @@
 //! `octsolid join OUT.octs`: the last step of a sharded job spread over workers:
-//! once every task (`--cells FIRST..END`) has left its part, the parts are checked to
-//! cover every cell once and joined into the solid's index.
+//! once every task (`--cells FIRST..END`) has left its part, the parts of the job are
+//! checked to cover every cell once, every shard is checked against them, and the
+//! solid (its index and shards) replaces `OUT.octs` in one step.
 
 use std::path::PathBuf;
 use std::time::Instant;
