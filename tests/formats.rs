@@ -651,6 +651,26 @@ fn vdb_round_trips_exactly_at_several_depths() {
     }
 }
 
+/// An empty `.vox` (no voxels, so no solids) converts to a `.vdb` that reads back: one
+/// empty grid, named by the file, over the `.vox`'s domain (it wrote a file of no grids,
+/// which nothing can place in space).
+#[test]
+fn an_empty_vox_converts_to_a_vdb_that_reads_back() {
+    let dir = scratch("empty-vox");
+    let domain = Domain::new(DVec3::ZERO, 16.0, 4).unwrap();
+    let empty = Solids { domain, solids: Vec::new() };
+    let vox_path = dir.join("empty.vox");
+    io::write_solids(&vox_path, &empty, &WriteOptions::default()).unwrap();
+    let from_vox = io::read_solids(&vox_path, &options()).unwrap();
+    assert!(from_vox.solids.is_empty());
+    let vdb_path = dir.join("empty.vdb");
+    io::write_solids(&vdb_path, &from_vox, &WriteOptions::default()).unwrap();
+    let back = io::read_solids(&vdb_path, &options()).unwrap();
+    assert_eq!(back.domain, from_vox.domain);
+    assert_eq!(back.solids.len(), 1);
+    assert_eq!((back.solids[0].name.as_str(), back.solids[0].tree.node_count()), ("empty", 0));
+}
+
 /// Runs the OpenVDB probe on `path` at index coordinates `points`.
 fn probe(path: &Path, points: &[[u32; 3]]) -> Value {
     let mut cmd = Command::new("/usr/bin/python3");

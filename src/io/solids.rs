@@ -119,12 +119,23 @@ pub fn write_solid(
 }
 
 /// Writes several solids over one domain to `path` (format by extension): `.vox` one
-/// palette colour each, `.vdb` one grid each, `.glb` one mesh each; `.oct` and
-/// `.binvox` hold one solid and refuse more. Returns the file size in bytes.
+/// palette colour each, `.vdb` one grid each (one empty grid when there are no solids),
+/// `.glb` one mesh each; `.oct` and `.binvox` hold one solid and refuse more. Returns
+/// the file size in bytes.
 pub fn write_solids(path: impl AsRef<Path>, solids: &Solids, options: &WriteOptions) -> Result<u64> {
     let path = path.as_ref();
     solids.validate()?;
     let format = SolidFormat::of(path)?;
+    // A .vdb keeps its domain in its grids: no solids (an empty .vox) are written as
+    // one empty grid named by the file, so the file reads back, as an empty .oct does.
+    let empty;
+    let solids = if format == SolidFormat::Vdb && solids.solids.is_empty() {
+        let domain = solids.domain;
+        empty = Solids { domain, solids: vec![ColouredSolid::new(stem(path), None, LinearOctree::empty(domain))] };
+        &empty
+    } else {
+        solids
+    };
     let single = || -> Result<&LinearOctree> {
         match solids.solids.as_slice() {
             [one] => Ok(&one.tree),
