@@ -738,8 +738,8 @@ fn vdb_round_trips_exactly_at_several_depths() {
     for tree in list {
         for compression in [vdb::Compression::None, vdb::Compression::Zip] {
             let solids = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new("s", None, tree.clone())] };
-            let bytes = vdb::encode(&solids, compression);
-            assert_eq!(bytes, vdb::encode(&solids, compression), "deterministic");
+            let bytes = vdb::encode(&solids, compression, MemoryBudget::unlimited()).unwrap();
+            assert_eq!(bytes, vdb::encode(&solids, compression, MemoryBudget::unlimited()).unwrap(), "deterministic");
             let back = vdb::decode(&bytes, Path::new("t.vdb"), &options()).unwrap();
             assert_eq!(back.domain, *tree.domain());
             assert_eq!(back.solids[0].tree, tree);
@@ -991,8 +991,7 @@ fn damaged_files_give_errors_never_panics() {
     let vox_decode = |b: &[u8]| vox::decode(b, Path::new("d.vox"), &o);
     damage("d.vox", &vox_bytes, 1, &vox_decode);
     damage("d.vox", &std::fs::read(data("vox/axes.vox")).unwrap(), 7, &vox_decode);
-    let mut binvox_bytes = Vec::new();
-    binvox::encode_to(&tree, &mut binvox_bytes).unwrap();
+    let binvox_bytes = binvox::encode(&tree, MemoryBudget::unlimited()).unwrap();
     let binvox_decode = |b: &[u8]| {
         binvox::decode(b, Path::new("d.binvox"), MemoryBudget(1 << 30))
             .map(|t| Solids { domain: *t.domain(), solids: vec![ColouredSolid::new("s", None, t)] })
@@ -1000,7 +999,8 @@ fn damaged_files_give_errors_never_panics() {
     damage("d.binvox", &binvox_bytes, 1, &binvox_decode);
     let vdb_decode =
         |b: &[u8]| vdb::decode(b, Path::new("d.vdb"), &ReadOptions { budget: MemoryBudget(1 << 30), ..o.clone() });
-    damage("d.vdb", &vdb::encode(&one, vdb::Compression::Zip), 3, &vdb_decode);
-    damage("d.vdb", &vdb::encode(&one, vdb::Compression::None), 5, &vdb_decode);
+    let vdb = |c| vdb::encode(&one, c, MemoryBudget::unlimited()).unwrap();
+    damage("d.vdb", &vdb(vdb::Compression::Zip), 3, &vdb_decode);
+    damage("d.vdb", &vdb(vdb::Compression::None), 5, &vdb_decode);
     damage("d.vdb", &std::fs::read(data("vdb/sphere.vdb")).unwrap(), 211, &vdb_decode);
 }
