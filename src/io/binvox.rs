@@ -233,14 +233,14 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
 
 /// Writes `tree` to `path` as a cubic binvox grid, atomically; returns the bytes
 /// written. Refused before anything is written when reading the file back would
-/// exceed `budget` ([`read_estimate`]).
+/// exceed `budget` (the bits and a node a set voxel).
 pub fn write(path: impl AsRef<Path>, tree: &LinearOctree, budget: MemoryBudget) -> Result<u64> {
     let path = path.as_ref();
     check_write(tree, budget, &path.display().to_string())?;
     write_atomic(path, |w| stream(tree, w))
 }
 
-/// The whole file for `tree` (module doc, "Writing"), refused as [`write`] refuses it.
+/// The whole file for `tree` (module doc, "Writing"), refused as [`write()`] refuses it.
 pub fn encode(tree: &LinearOctree, budget: MemoryBudget) -> Result<Vec<u8>> {
     check_write(tree, budget, "a .binvox file")?;
     let mut out = Vec::new();

@@ -130,7 +130,7 @@ pub fn boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions) -> Triangle
 
 /// [`boundary_mesh`], refused before anything is allocated when its estimated memory
 /// exceeds `budget` (the exposed squares are first counted in a pass that allocates
-/// nothing, [`BoundarySize`]) or it would need more than `2^32` vertex indices.
+/// nothing) or it would need more than `2^32` vertex indices.
 /// `progress` counts the four steps of the module doc.
 pub fn try_boundary_mesh(
     tree: &LinearOctree,
