@@ -1,17 +1,20 @@
 //! Voxel interchange formats: read and write of `.vox`, `.binvox`, `.vdb` (zip and
 //! uncompressed) and `.glb` (write only) for the Stanford bunny voxelized at depth 10
-//! (the mesh bench's solid), and `.oct` for reference; throughput in file bytes, with a
+//! (the mesh bench's solid), and `.oct` for reference; `.vox` of two voxels in opposite
+//! corners of a depth-12 domain (`vox_write_far_corners`: the writer's time follows the
+//! voxels, not their bounding box); throughput in file bytes, with a
 //! stats line of file sizes against `.oct` and the voxel count (voxels a second = the
 //! voxel count over a median time; BENCHMARKS.md).
 
 use std::path::Path;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use glam::DVec3;
 use octsolid::MemoryBudget;
 use octsolid::NoProgress;
 use octsolid::io::{ColouredSolid, ReadOptions, Solids, binvox, gltf, oct, vdb, vox};
 use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, load_mesh, voxelize_mesh};
-use octsolid::octree::Domain;
+use octsolid::octree::{Domain, LinearOctree, Node};
 use octsolid::shape::Axis;
 
 fn bench(c: &mut Criterion) {
@@ -28,10 +31,9 @@ fn bench(c: &mut Criterion) {
 
     let oct_bytes = oct::encode(&tree);
     let vox_bytes = vox::encode(&solids, MemoryBudget::unlimited()).unwrap();
-    let mut binvox_bytes = Vec::new();
-    binvox::encode_to(&tree, &mut binvox_bytes).unwrap();
-    let vdb_zip = vdb::encode(&solids, vdb::Compression::Zip);
-    let vdb_raw = vdb::encode(&solids, vdb::Compression::None);
+    let binvox_bytes = binvox::encode(&tree, MemoryBudget::unlimited()).unwrap();
+    let vdb_zip = vdb::encode(&solids, vdb::Compression::Zip, MemoryBudget::unlimited()).unwrap();
+    let vdb_raw = vdb::encode(&solids, vdb::Compression::None, MemoryBudget::unlimited()).unwrap();
     let glb = gltf::encode(&solids, Axis::Z, MemoryBudget::unlimited()).unwrap();
     eprintln!(
         "stats: bunny depth 10: {} nodes, {} voxels; .oct {} B, .vox {} B, .binvox {} B, .vdb zip {} B ({:.2}x .oct), \
@@ -47,6 +49,14 @@ fn bench(c: &mut Criterion) {
         vdb_raw.len() as f64 / oct_bytes.len() as f64,
         glb.len()
     );
+
+    // Two voxels in opposite corners of a depth-12 domain: a box of 4,096 models' room
+    // holding two (the writer's time follows the voxels, not the box).
+    let far = Domain::new(DVec3::ZERO, 1.0, 12).unwrap();
+    let corner = |min: [u32; 3]| Node { level: 12, min, size: 1 };
+    let corners = LinearOctree::from_nodes(far, [corner([0; 3]), corner([4095; 3])]).unwrap();
+    let corners = Solids { domain: far, solids: vec![ColouredSolid::new("corners", None, corners)] };
+    let corners_vox = vox::encode(&corners, MemoryBudget::unlimited()).unwrap();
 
     // Each job with the file size its throughput counts.
     type Job<'a> = (String, usize, Box<dyn Fn() + 'a>);
@@ -65,12 +75,14 @@ fn bench(c: &mut Criterion) {
         ),
         ("vox_read".into(), vox_bytes.len(), Box::new(|| drop(vox::decode(&vox_bytes, path, &read).unwrap()))),
         (
+            "vox_write_far_corners".into(),
+            corners_vox.len(),
+            Box::new(|| drop(vox::encode(&corners, MemoryBudget::unlimited()).unwrap())),
+        ),
+        (
             "binvox_write".into(),
             binvox_bytes.len(),
-            Box::new(|| {
-                let mut out = Vec::with_capacity(binvox_bytes.len());
-                binvox::encode_to(&tree, &mut out).unwrap();
-            }),
+            Box::new(|| drop(binvox::encode(&tree, MemoryBudget::unlimited()).unwrap())),
         ),
         (
             "binvox_read".into(),
@@ -87,7 +99,11 @@ fn bench(c: &mut Criterion) {
         [("vdb_zip", vdb::Compression::Zip, &vdb_zip), ("vdb_raw", vdb::Compression::None, &vdb_raw)]
     {
         let (solids, read) = (&solids, &read);
-        jobs.push((format!("{name}_write"), bytes.len(), Box::new(move || drop(vdb::encode(solids, compression)))));
+        jobs.push((
+            format!("{name}_write"),
+            bytes.len(),
+            Box::new(move || drop(vdb::encode(solids, compression, MemoryBudget::unlimited()).unwrap())),
+        ));
         jobs.push((
             format!("{name}_read"),
             bytes.len(),

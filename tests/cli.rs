@@ -1131,3 +1131,39 @@ fn front_turns_the_named_views_to_a_models_face() {
     let e = fails(&dir, &["render", spot, "--front", "y", "-o", "e.png"]);
     assert!(e.contains("--front must lie across the up axis"), "{e}");
 }
+
+/// `csg`'s memory budget is the whole job's, not each file's: four operands that each
+/// fit it alone but not together are refused, saying so; with room for all four and
+/// their result the output is the library's union of the four.
+#[test]
+fn csg_budget_is_for_the_whole_job() {
+    use octsolid::MemoryBudget;
+    use octsolid::octree::{LinearOctree, SetOp};
+    let dir = scratch("csg-job-budget");
+    let names: Vec<String> = (0..4).map(|i| format!("s{i}.oct")).collect();
+    for (i, name) in names.iter().enumerate() {
+        let center = format!("0.{i},0,0");
+        let args = ["shape", "sphere", "--depth", "8", "--domain=-2,-2,-2,4", "--radius", "1.5", "--center", &center];
+        ok(&dir, &[&args[..], &["-o", name]].concat());
+    }
+    let trees: Vec<LinearOctree> =
+        names.iter().map(|n| octsolid::io::oct::load(dir.join(n), MemoryBudget::unlimited()).unwrap()).collect();
+    let largest = trees.iter().map(LinearOctree::bytes).max().unwrap() as u64;
+    let all: u64 = trees.iter().map(|t| t.bytes() as u64).sum();
+    let csg = |budget: u64| -> Vec<String> {
+        let mut args: Vec<String> = vec!["--memory-budget".into(), format!("{budget}B"), "csg".into(), "union".into()];
+        args.extend(names.iter().cloned());
+        args.extend(["-o".into(), "u.oct".into()]);
+        args
+    };
+    let args = csg(largest * 3 / 2);
+    let e = fails(&dir, &args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(e.contains("whole job") && e.contains("needs an estimated"), "{e}");
+    assert!(!dir.join("u.oct").exists());
+    let args = csg(2 * all + (1 << 20));
+    ok(&dir, &args.iter().map(String::as_str).collect::<Vec<_>>());
+    let union = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), SetOp::Union).unwrap();
+    let pairwise = trees.iter().skip(1).fold(trees[0].clone(), |a, t| &a | t);
+    assert_eq!(union, pairwise);
+    assert_eq!(octsolid::io::oct::load(dir.join("u.oct"), MemoryBudget::unlimited()).unwrap(), union);
+}

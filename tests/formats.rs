@@ -417,6 +417,102 @@ fn vox_splits_large_solids_into_models_and_refuses_too_many_colours() {
     assert!(err.to_string().contains("255 colours"), "{err}");
 }
 
+/// The models a `.vox` file of `solids` must hold, worked out voxel by voxel: every
+/// voxel of every solid in order (a later solid's colour wins), cut into cubes of 256
+/// from the voxels' lowest corner, each cube's voxels in x, y, z order, its size their
+/// extent and its translation its corner plus half its size. Models by their cube's
+/// (x, y, z), as the file lists them; `(size, voxels as XYZI has them, translation)`.
+type VoxModel = ([u32; 3], Vec<[u8; 4]>, [i64; 3]);
+fn vox_models_voxel_by_voxel(solids: &Solids, indices: &[u8]) -> Vec<VoxModel> {
+    let mut colour = std::collections::BTreeMap::new();
+    for (solid, &index) in solids.solids.iter().zip(indices) {
+        for n in solid.tree.nodes() {
+            for i in 0..u64::from(n.size).pow(3) {
+                let s = u64::from(n.size);
+                let v = [i % s, i / s % s, i / (s * s)].map(|c| c as u32);
+                colour.insert([0, 1, 2].map(|a| n.min[a] + v[a]), index);
+            }
+        }
+    }
+    let lo = [0, 1, 2].map(|a| colour.keys().map(|v| v[a]).min().unwrap_or(0));
+    let mut models: std::collections::BTreeMap<[u32; 3], Vec<[u8; 4]>> = std::collections::BTreeMap::new();
+    for (v, &index) in &colour {
+        let local = [0, 1, 2].map(|a| v[a] - lo[a]);
+        models.entry(local.map(|c| c / 256)).or_default().push([local[0] as u8, local[1] as u8, local[2] as u8, index]);
+    }
+    models
+        .into_iter()
+        .map(|(m, mut voxels)| {
+            voxels.sort_by_key(|v| [v[0], v[1], v[2]]);
+            let size = [0, 1, 2].map(|a| voxels.iter().map(|v| u32::from(v[a]) + 1).max().unwrap());
+            let t = [0, 1, 2].map(|a| i64::from(lo[a] + 256 * m[a]) + i64::from(size[a] / 2));
+            (size, voxels, t)
+        })
+        .collect()
+}
+
+/// The writer visits only the models its nodes meet, listing a sparse one from its
+/// voxels and painting a dense one into a byte grid: both give the models an
+/// independent voxel-by-voxel walk gives, with overlapping solids (the later wins on
+/// either path) and nodes across model borders (the voxels' corner is not a multiple
+/// of 256).
+#[test]
+fn vox_models_match_a_voxel_by_voxel_walk() {
+    let d = Domain::new(DVec3::ZERO, 1.0, 10).unwrap();
+    let node = |size: u32, min: [u32; 3]| Node { level: 10 - size.trailing_zeros() as u8, min, size };
+    let mut rng = Rng(0x00f0_0d5e);
+    let mut scattered = |n: usize, lo: u32, span: u32| -> Vec<Node> {
+        (0..n).map(|_| node(1, [0; 3].map(|_| lo + rng.below(u64::from(span)) as u32))).collect()
+    };
+    // A dense block across four models, sparse voxels in far models, a lone corner.
+    let mut a = vec![node(128, [256, 128, 256]), node(1, [3, 5, 7]), node(64, [448, 448, 448])];
+    a.extend(scattered(300, 600, 400));
+    let mut b = vec![node(32, [352, 224, 352]), node(8, [0, 512, 8])];
+    b.extend(scattered(300, 600, 400));
+    // The first solid's own scattered voxels again (overlap on the sparse path).
+    b.extend(a[3..200].iter().copied());
+    let trees = [a, b].map(|nodes| LinearOctree::from_nodes(d, nodes).unwrap());
+    let solids = Solids {
+        domain: d,
+        solids: vec![
+            ColouredSolid::new("a", Some(DVec3::new(1.0, 0.0, 0.0)), trees[0].clone()),
+            ColouredSolid::new("b", Some(DVec3::new(0.0, 0.0, 1.0)), trees[1].clone()),
+        ],
+    };
+    let bytes = vox::encode(&solids, MemoryBudget::unlimited()).unwrap();
+    let file = dot_vox::load_bytes(&bytes).unwrap();
+    let places = translated_instances(&file);
+    let got: Vec<VoxModel> = (0..file.models.len())
+        .map(|m| {
+            let model = &file.models[m];
+            let voxels = model.voxels.iter().map(|v| [v.x, v.y, v.z, v.i + 1]).collect();
+            let t = places.iter().find(|(k, _)| *k == m).expect("placed").1;
+            ([model.size.x, model.size.y, model.size.z], voxels, t)
+        })
+        .collect();
+    let expected = vox_models_voxel_by_voxel(&solids, &[1, 2]);
+    assert!(expected.len() >= 8, "{} models", expected.len());
+    assert_eq!(got.len(), expected.len());
+    for (k, (g, e)) in got.iter().zip(&expected).enumerate() {
+        assert_eq!(g, e, "model {k}");
+    }
+}
+
+/// Two voxels in opposite corners of a depth-12 domain: two models of one voxel
+/// (the box holds 4,096 models' room), read back as they were.
+#[test]
+fn vox_of_two_far_corners_reads_back() {
+    let d = Domain::new(DVec3::ZERO, 1.0, 12).unwrap();
+    let node = |min: [u32; 3]| Node { level: 12, min, size: 1 };
+    let tree = LinearOctree::from_nodes(d, [node([0; 3]), node([4095; 3])]).unwrap();
+    let solids = Solids { domain: d, solids: vec![ColouredSolid::new("corners", None, tree.clone())] };
+    let bytes = vox::encode(&solids, MemoryBudget::unlimited()).unwrap();
+    assert_eq!(dot_vox::load_bytes(&bytes).unwrap().models.len(), 2);
+    let back = vox::decode(&bytes, Path::new("c.vox"), &options()).unwrap();
+    assert_eq!(back.domain, d);
+    assert_eq!(back.union(), tree);
+}
+
 // ---------------------------------------------------------------------------------
 // binvox
 
@@ -642,8 +738,8 @@ fn vdb_round_trips_exactly_at_several_depths() {
     for tree in list {
         for compression in [vdb::Compression::None, vdb::Compression::Zip] {
             let solids = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new("s", None, tree.clone())] };
-            let bytes = vdb::encode(&solids, compression);
-            assert_eq!(bytes, vdb::encode(&solids, compression), "deterministic");
+            let bytes = vdb::encode(&solids, compression, MemoryBudget::unlimited()).unwrap();
+            assert_eq!(bytes, vdb::encode(&solids, compression, MemoryBudget::unlimited()).unwrap(), "deterministic");
             let back = vdb::decode(&bytes, Path::new("t.vdb"), &options()).unwrap();
             assert_eq!(back.domain, *tree.domain());
             assert_eq!(back.solids[0].tree, tree);
@@ -915,8 +1011,7 @@ fn damaged_files_give_errors_never_panics() {
     let vox_decode = |b: &[u8]| vox::decode(b, Path::new("d.vox"), &o);
     damage("d.vox", &vox_bytes, 1, &vox_decode);
     damage("d.vox", &std::fs::read(data("vox/axes.vox")).unwrap(), 7, &vox_decode);
-    let mut binvox_bytes = Vec::new();
-    binvox::encode_to(&tree, &mut binvox_bytes).unwrap();
+    let binvox_bytes = binvox::encode(&tree, MemoryBudget::unlimited()).unwrap();
     let binvox_decode = |b: &[u8]| {
         binvox::decode(b, Path::new("d.binvox"), MemoryBudget(1 << 30))
             .map(|t| Solids { domain: *t.domain(), solids: vec![ColouredSolid::new("s", None, t)] })
@@ -924,7 +1019,8 @@ fn damaged_files_give_errors_never_panics() {
     damage("d.binvox", &binvox_bytes, 1, &binvox_decode);
     let vdb_decode =
         |b: &[u8]| vdb::decode(b, Path::new("d.vdb"), &ReadOptions { budget: MemoryBudget(1 << 30), ..o.clone() });
-    damage("d.vdb", &vdb::encode(&one, vdb::Compression::Zip), 3, &vdb_decode);
-    damage("d.vdb", &vdb::encode(&one, vdb::Compression::None), 5, &vdb_decode);
+    let vdb = |c| vdb::encode(&one, c, MemoryBudget::unlimited()).unwrap();
+    damage("d.vdb", &vdb(vdb::Compression::Zip), 3, &vdb_decode);
+    damage("d.vdb", &vdb(vdb::Compression::None), 5, &vdb_decode);
     damage("d.vdb", &std::fs::read(data("vdb/sphere.vdb")).unwrap(), 211, &vdb_decode);
 }

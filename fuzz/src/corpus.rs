@@ -175,12 +175,16 @@ fn written_seeds() -> Vec<(String, Vec<u8>)> {
     seeds.push(("vox/two-solids.vox".into(), vox::encode(&two, octsolid::MemoryBudget::unlimited()).expect("small")));
     seeds.push(("vox/torus.vox".into(), vox::encode(&one, octsolid::MemoryBudget::unlimited()).expect("small")));
     for (name, tree) in [("binvox/ball.binvox", &ball), ("binvox/block.binvox", &block)] {
-        let mut bytes = Vec::new();
-        binvox::encode_to(tree, &mut bytes).expect("in memory");
-        seeds.push((name.into(), bytes));
+        seeds.push((name.into(), binvox::encode(tree, octsolid::MemoryBudget::unlimited()).expect("small")));
     }
-    seeds.push(("vdb/two-solids-raw.vdb".into(), vdb::encode(&two, vdb::Compression::None)));
-    seeds.push(("vdb/torus-zip.vdb".into(), vdb::encode(&one, vdb::Compression::Zip)));
+    seeds.push((
+        "vdb/two-solids-raw.vdb".into(),
+        vdb::encode(&two, vdb::Compression::None, octsolid::MemoryBudget::unlimited()).expect("small"),
+    ));
+    seeds.push((
+        "vdb/torus-zip.vdb".into(),
+        vdb::encode(&one, vdb::Compression::Zip, octsolid::MemoryBudget::unlimited()).expect("small"),
+    ));
     seeds.extend(sharded_seeds(&ball, &sponge));
     seeds.extend(TEXT_SEEDS.iter().map(|(name, text)| ((*name).to_owned(), text.as_bytes().to_vec())));
     // A group name in Latin-1 (not UTF-8), which the reader warns about and keeps.

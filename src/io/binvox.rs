@@ -37,7 +37,8 @@
 //! `f64`, so `.oct -> .binvox -> .oct` is exact) and streams the runs slab by slab
 //! (x), row by row (z), from the octree's nodes, without a dense grid: work and
 //! memory follow the nodes and the output, which is at least two bytes a 255 voxels
-//! of the cube.
+//! of the cube. A grid our reader would refuse under the same budget is refused
+//! before a byte is written (a full depth-14 domain is a file of 34 GB at least).
 
 use std::io::Write;
 use std::path::Path;
@@ -215,8 +216,7 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
     if sum != total {
         return Err(fail(path, bytes.len(), format!("runs cover {sum} voxels, the dims hold {total}")));
     }
-    // At most a node a set voxel, 8 bytes each, beside the bits.
-    let estimate = BitGrid::estimate_bytes([nx, ny, nz]).saturating_add(set.saturating_mul(8));
+    let estimate = read_estimate([nx, ny, nz], set);
     budget.check(format!("reading {} ({nx} x {nz} x {ny} voxels)", path.display()), estimate)?;
     // Step 3: the bits (file order x, z, y = the grid's), then the octree.
     let mut grid = BitGrid::new([nx, ny, nz]);
@@ -231,14 +231,40 @@ pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearO
     grid.to_octree(domain)
 }
 
-/// Writes `tree` to `path` as a cubic binvox grid, atomically; returns the bytes written.
-pub fn write(path: impl AsRef<Path>, tree: &LinearOctree) -> Result<u64> {
+/// Writes `tree` to `path` as a cubic binvox grid, atomically; returns the bytes
+/// written. Refused before anything is written when reading the file back would
+/// exceed `budget` (the bits and a node a set voxel).
+pub fn write(path: impl AsRef<Path>, tree: &LinearOctree, budget: MemoryBudget) -> Result<u64> {
     let path = path.as_ref();
-    write_atomic(path, |w| encode_to(tree, w))
+    check_write(tree, budget, &path.display().to_string())?;
+    write_atomic(path, |w| stream(tree, w))
 }
 
-/// The whole file for `tree` into `w` (module doc, "Writing").
-pub fn encode_to(tree: &LinearOctree, w: &mut dyn Write) -> std::io::Result<()> {
+/// The whole file for `tree` (module doc, "Writing"), refused as [`write()`] refuses it.
+pub fn encode(tree: &LinearOctree, budget: MemoryBudget) -> Result<Vec<u8>> {
+    check_write(tree, budget, "a .binvox file")?;
+    let mut out = Vec::new();
+    stream(tree, &mut out).expect("writing to memory");
+    Ok(out)
+}
+
+/// Bytes our reader needs for a grid of `dims` with `set` voxels set: the bits, and a
+/// node a set voxel at most, 8 bytes each.
+fn read_estimate(dims: [u64; 3], set: u64) -> u64 {
+    BitGrid::estimate_bytes(dims).saturating_add(set.saturating_mul(8))
+}
+
+/// Refuses to write a file `output` of `tree` that [`decode`] would refuse under the
+/// same budget: a cube of `2^depth` voxels a side is at least two bytes a 255 voxels
+/// on disk, so the budget bounds the file too.
+fn check_write(tree: &LinearOctree, budget: MemoryBudget, output: &str) -> Result<()> {
+    let n = u64::from(tree.domain().resolution());
+    let job = format!("writing {output} ({n}^3 voxels, as much as reading it back needs)");
+    budget.check(job, read_estimate([n; 3], tree.voxel_count()))
+}
+
+/// Streams the file for `tree` into `w` (module doc, "Writing").
+fn stream(tree: &LinearOctree, w: &mut dyn Write) -> std::io::Result<()> {
     let d = tree.domain();
     let n = d.resolution();
     write!(

@@ -20,6 +20,11 @@
 //! left out. A solid whose coordinates `f32` cannot hold (past its range, or so far
 //! out that neighbouring voxel corners round to one value) is refused, as STL refuses
 //! vertices it cannot keep apart.
+//!
+//! Memory: every solid's boundary is counted first (exposed squares of node faces, a
+//! pass that allocates nothing), and the largest mesh being built plus every square's
+//! share of the file (split vertices, indices, the buffer and the file around it) is
+//! checked against the budget before any mesh is built.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -31,12 +36,21 @@ use super::solid_set::Solids;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
-use crate::mesh::{BoundaryOptions, TriangleMesh, try_boundary_mesh};
+use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, boundary_mesh_of_size};
 use crate::progress::NoProgress;
 use crate::shape::Axis;
 
 /// Colour of a solid without one (linear).
 const DEFAULT_COLOR: DVec3 = DVec3::splat(0.6);
+/// Estimated peak bytes an exposed square of the boundary takes in the file being
+/// built, beyond its mesh: split vertices and their map, indices, the buffer and the
+/// file around it.
+const BYTES_PER_SQUARE: u64 = 200;
+/// Estimated bytes of the JSON document a solid (its node, mesh, material, views and
+/// accessors, several times over as it is assembled).
+const BYTES_PER_SOLID: u64 = 16 << 10;
+/// Beside them: the small tables a mesh is built with, whatever its size.
+const FIXED_BYTES: u64 = 256 << 10;
 const GLB_MAGIC: u32 = 0x4654_6C67;
 const CHUNK_JSON: u32 = 0x4E4F_534A;
 const CHUNK_BIN: u32 = 0x004E_4942;
@@ -147,14 +161,25 @@ pub fn up_rotation(up: Axis) -> Option<[f64; 4]> {
 pub fn encode(solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<Vec<u8>> {
     let rotation = up_rotation(up)
         .map_or_else(String::new, |q| format!(",\"rotation\":[{}]", q.map(|c| format!("{c}")).join(",")));
+    // Step 0: the boundaries counted before anything is built; the largest mesh, and
+    // every solid's vertices, indices and bytes in the file, must fit the budget.
+    let options = BoundaryOptions::default();
+    let sizes: Vec<BoundarySize> = solids.solids.iter().map(|s| BoundarySize::of(&s.tree)).collect();
+    let squares: u128 = sizes.iter().map(|s| s.squares).sum();
+    let largest = sizes.iter().map(|s| s.mesh_bytes(&options)).max().unwrap_or(0);
+    let estimate = u64::try_from(squares * u128::from(BYTES_PER_SQUARE))
+        .unwrap_or(u64::MAX)
+        .saturating_add(largest)
+        .saturating_add(FIXED_BYTES + BYTES_PER_SOLID * solids.solids.len() as u64);
+    budget.check(format!("a .glb file of {squares} exposed squares of node faces"), estimate)?;
     let mut bin: Vec<u8> = Vec::new();
     let (mut nodes, mut meshes, mut materials, mut views, mut accessors) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for solid in &solids.solids {
+    for (solid, size) in solids.solids.iter().zip(sizes) {
         check_single_precision(solid.tree.bounds(), solids.domain.voxel_size())
             .map_err(|reason| Error::invalid("glTF output", reason))?;
         // Step 1: the closed manifold boundary, vertices split by face direction.
-        let mesh = try_boundary_mesh(&solid.tree, &BoundaryOptions::default(), budget, &NoProgress)?;
+        let mesh = boundary_mesh_of_size(&solid.tree, &options, size, &NoProgress)?;
         if mesh.triangles.is_empty() {
             continue;
         }

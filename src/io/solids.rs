@@ -29,8 +29,9 @@ use crate::shape::Axis;
 /// How files are written.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WriteOptions {
-    /// Memory limit for building the file (`.vox` and `.glb` are proportional to
-    /// voxels and faces).
+    /// Memory limit for building the file, checked before anything is built (`.vox`
+    /// follows the voxels, `.glb` the boundary, `.vdb` its tree's nodes; `.binvox` is
+    /// refused where reading it back would exceed the same limit).
     pub budget: MemoryBudget,
     /// `.vdb`: compression of the value buffers.
     pub vdb_compression: vdb::Compression,
@@ -151,9 +152,9 @@ pub fn write_solids(path: impl AsRef<Path>, solids: &Solids, options: &WriteOpti
     };
     match format {
         SolidFormat::Oct => oct::save(single()?, path),
-        SolidFormat::Binvox => binvox::write(path, single()?),
+        SolidFormat::Binvox => binvox::write(path, single()?, options.budget),
         SolidFormat::Vox => vox::write(path, solids, options.budget),
-        SolidFormat::Vdb => vdb::write(path, solids, options.vdb_compression),
+        SolidFormat::Vdb => vdb::write(path, solids, options.vdb_compression, options.budget),
         SolidFormat::Glb => gltf::write(path, solids, options.up, options.budget),
     }
 }

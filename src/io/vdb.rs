@@ -28,8 +28,13 @@
 //! .oct` is exact. Values are written with OpenVDB's active-mask compression and, by
 //! default, zlib (`Compression::Zip`); the UUID is derived from the content, so the
 //! same solids give the same bytes.
-//! Limit: a full node of side `2^k >= 4096` becomes `(2^k / 4096)^3` root tiles (a
-//! full depth-21 domain would be 2^27 of them).
+//! Before anything is built, one pass over the nodes counts the tree's root tiles,
+//! internal nodes, tiles, leaves and leaf voxels (`TreeCounts`), and the memory they
+//! take (each one's map entry and three times its bytes in the file) is checked
+//! against the budget; a refusal names the output and the counts.
+//! Limit: a full node of side `2^k >= 4096` becomes `(2^k / 4096)^3` root tiles, about
+//! 180 bytes each while written (a full depth-20 domain is 2^24 of them, about 3 GiB,
+//! a full depth-21 domain 2^27).
 //!
 //! **Reading**: float, half-float, double and bool grids (`Tree_{float,double,bool}_
 //! 5_4_3`, `_HalfFloat`); the grid named by [`ReadOptions::grid`] or else the first of
@@ -56,6 +61,7 @@ use glam::DVec3;
 use super::blosc;
 use super::fields::Fields;
 use super::solid_set::{ColouredSolid, ReadOptions, Solids};
+use crate::budget::MemoryBudget;
 use crate::error::{Error, Result, quoted};
 use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
@@ -138,6 +144,105 @@ struct Upper {
 
 /// Root entries by origin: a tile (`None`) or an upper node.
 type Root = BTreeMap<[i64; 3], Option<Upper>>;
+
+/// What the fog-volume tree of a solid holds, counted from its nodes before it is built.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct TreeCounts {
+    root_tiles: u64,
+    uppers: u64,
+    upper_tiles: u64,
+    lowers: u64,
+    lower_tiles: u64,
+    leaves: u64,
+    /// Active voxels of the leaves.
+    leaf_voxels: u64,
+}
+
+/// Estimated peak bytes of each part while a grid is written: its map entry in the
+/// tree being built (`BTreeMap`s about half full) and three times its bytes in the
+/// file (the grid's buffer as it grows, then the file's beside it), values apart
+/// ([`value_bytes`]).
+const ROOT_TILE_BYTES: u64 = 130 + 3 * 17;
+const UPPER_BYTES: u64 = 130 + 3 * (12 + 2 * 4096 + 1);
+const LOWER_BYTES: u64 = 100 + 3 * (2 * 512 + 1);
+const INNER_TILE_BYTES: u64 = 20;
+const LEAF_BYTES: u64 = 150 + 3 * (3 * 64 + 1);
+/// Beside them: zlib's state and the raw values of one node (at most 128 KiB).
+const FIXED_BYTES: u64 = 1 << 20;
+
+/// Bytes in the file of `n` values of 1 written by [`write_ones`] (three times, as
+/// above), at most: raw, or zlib's (at least 64 to 1 on a run of one value, plus its
+/// header and size).
+fn value_bytes(n: u64, compression: Compression) -> u64 {
+    3 * match compression {
+        Compression::None => 4 * n,
+        Compression::Zip => 8 + 32 + 4 * n / 64,
+    }
+}
+
+impl TreeCounts {
+    /// The counts of [`build_tree`]'s tree, in one pass over the nodes: a node is
+    /// tiles of the largest size that fits it, or voxels of a leaf; the nodes inside
+    /// one aligned block (an upper or lower node, a leaf) are consecutive in Morton
+    /// order, so a block is new when it differs from the last one seen.
+    fn of(tree: &LinearOctree) -> TreeCounts {
+        let mut c = TreeCounts::default();
+        let (mut upper, mut lower, mut leaf) = (None, None, None);
+        for node in tree.nodes() {
+            let s = i64::from(node.size);
+            let tiles = |side: i64| ((s / side) as u64).pow(3);
+            let block = |side: i64| node.min.map(|v| i64::from(v) & !(side - 1));
+            let new =
+                |last: &mut Option<[i64; 3]>, side: i64| u64::from(last.replace(block(side)) != Some(block(side)));
+            if s >= UPPER_SIDE {
+                c.root_tiles += tiles(UPPER_SIDE);
+                continue;
+            }
+            c.uppers += new(&mut upper, UPPER_SIDE);
+            if s >= LOWER_SIDE {
+                c.upper_tiles += tiles(LOWER_SIDE);
+                continue;
+            }
+            c.lowers += new(&mut lower, LOWER_SIDE);
+            if s >= LEAF_SIDE {
+                c.lower_tiles += tiles(LEAF_SIDE);
+                continue;
+            }
+            c.leaves += new(&mut leaf, LEAF_SIDE);
+            c.leaf_voxels += tiles(1);
+        }
+        c
+    }
+
+    fn add(self, o: TreeCounts) -> TreeCounts {
+        TreeCounts {
+            root_tiles: self.root_tiles + o.root_tiles,
+            uppers: self.uppers + o.uppers,
+            upper_tiles: self.upper_tiles + o.upper_tiles,
+            lowers: self.lowers + o.lowers,
+            lower_tiles: self.lower_tiles + o.lower_tiles,
+            leaves: self.leaves + o.leaves,
+            leaf_voxels: self.leaf_voxels + o.leaf_voxels,
+        }
+    }
+
+    /// Estimated peak bytes of writing these (the constants above).
+    fn bytes(&self, compression: Compression) -> u64 {
+        let blocks = self.uppers + self.lowers + self.leaves;
+        let values = value_bytes(self.upper_tiles + self.lower_tiles, compression)
+            .saturating_add(value_bytes(self.leaf_voxels, compression))
+            .saturating_add(blocks.saturating_mul(value_bytes(0, compression)));
+        [
+            (self.root_tiles, ROOT_TILE_BYTES),
+            (self.uppers, UPPER_BYTES),
+            (self.upper_tiles + self.lower_tiles, INNER_TILE_BYTES),
+            (self.lowers, LOWER_BYTES),
+            (self.leaves, LEAF_BYTES),
+        ]
+        .iter()
+        .fold(values.saturating_add(FIXED_BYTES), |sum, &(n, each)| sum.saturating_add(n.saturating_mul(each)))
+    }
+}
 
 /// The fog-volume tree of `tree` (module doc, "Writing").
 fn build_tree(tree: &LinearOctree) -> Root {
@@ -308,16 +413,32 @@ fn encode_grid(solid: &ColouredSolid, compression: Compression) -> (Vec<u8>, usi
     (out, block)
 }
 
-/// Writes `solids` to `path`, one fog-volume grid each, atomically; returns the bytes written.
-pub fn write(path: impl AsRef<Path>, solids: &Solids, compression: Compression) -> Result<u64> {
+/// Writes `solids` to `path`, one fog-volume grid each, atomically; returns the bytes
+/// written. Refused before anything is built when its estimated memory exceeds `budget`.
+pub fn write(path: impl AsRef<Path>, solids: &Solids, compression: Compression, budget: MemoryBudget) -> Result<u64> {
     let path = path.as_ref();
-    let bytes = encode(solids, compression);
+    let bytes = encode_named(solids, compression, budget, &path.display().to_string())?;
     write_atomic(path, |w| w.write_all(&bytes))
 }
 
-/// The whole `.vdb` file for `solids` (module doc, "Writing").
-#[must_use]
-pub fn encode(solids: &Solids, compression: Compression) -> Vec<u8> {
+/// The whole `.vdb` file for `solids` (module doc, "Writing"), refused before anything
+/// is built when its estimated memory exceeds `budget`.
+pub fn encode(solids: &Solids, compression: Compression, budget: MemoryBudget) -> Result<Vec<u8>> {
+    encode_named(solids, compression, budget, "a .vdb file")
+}
+
+/// [`encode`], the output called `output` in a refusal.
+fn encode_named(solids: &Solids, compression: Compression, budget: MemoryBudget, output: &str) -> Result<Vec<u8>> {
+    let c = solids.solids.iter().map(|s| TreeCounts::of(&s.tree)).fold(TreeCounts::default(), TreeCounts::add);
+    let job = format!(
+        "{output}: {} grid(s) of {} root tiles, {} upper and {} lower internal nodes, {} leaves",
+        solids.solids.len(),
+        c.root_tiles,
+        c.uppers,
+        c.lowers,
+        c.leaves
+    );
+    budget.check(job, c.bytes(compression))?;
     // Grids first, so the UUID can be derived from them.
     let mut names: BTreeMap<&str, usize> = BTreeMap::new();
     let mut grids = Vec::new();
@@ -341,7 +462,8 @@ pub fn encode(solids: &Solids, compression: Compression) -> Vec<u8> {
         let x: String = h.iter().map(|b| format!("{b:02x}")).collect();
         format!("{}-{}-{}-{}-{}", &x[..8], &x[8..12], &x[12..16], &x[16..20], &x[20..])
     };
-    let mut out = Vec::new();
+    let names: usize = grids.iter().map(|(n, _)| n.len() + 64).sum();
+    let mut out = Vec::with_capacity(256 + names + grids.iter().map(|(_, (g, _))| g.len()).sum::<usize>());
     out.extend(MAGIC.to_le_bytes());
     out.extend(FILE_VERSION.to_le_bytes());
     out.extend([10u32, 0].map(u32::to_le_bytes).concat());
@@ -359,7 +481,7 @@ pub fn encode(solids: &Solids, compression: Compression) -> Vec<u8> {
         }
         out.extend(grid);
     }
-    out
+    Ok(out)
 }
 
 // ------------------------------------------------------------------------------------
@@ -902,4 +1024,45 @@ fn build_solids(grid: Grid, blocks: Vec<([i64; 3], i64)>, options: &ReadOptions,
     let tree = LinearOctree::from_nodes(domain, nodes)?;
     tree.validate()?;
     Ok(Solids { domain, solids: vec![ColouredSolid::new(grid.name, None, tree)] })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::Rng;
+
+    /// The counts the estimate is made of, from the nodes alone, are those of the tree
+    /// [`build_tree`] builds: random nodes of every size, from voxels to several root
+    /// tiles, scattered over a depth-14 domain.
+    #[test]
+    fn counts_from_the_nodes_are_the_built_trees() {
+        let mut rng = Rng(0x0dbc_0075);
+        for round in 0..20 {
+            let depth = 14u8;
+            let domain = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
+            let nodes: Vec<Node> = (0..1 + rng.below(60))
+                .map(|_| {
+                    // Mostly small nodes, now and then one of 128 to 8192 voxels a side.
+                    let k = if rng.below(8) == 0 { 7 + rng.below(7) as u32 } else { rng.below(5) as u32 };
+                    let cells = domain.resolution() >> k;
+                    let min = [0; 3].map(|_| (rng.below(u64::from(cells)) as u32) << k);
+                    Node { level: depth - k as u8, min, size: 1 << k }
+                })
+                .collect();
+            let tree = LinearOctree::from_nodes(domain, nodes).unwrap();
+            let root = build_tree(&tree);
+            let uppers = || root.values().flatten();
+            let lowers = || uppers().flat_map(|u| u.lowers.values());
+            let built = TreeCounts {
+                root_tiles: root.values().filter(|e| e.is_none()).count() as u64,
+                uppers: uppers().count() as u64,
+                upper_tiles: uppers().map(|u| u.tiles.len() as u64).sum(),
+                lowers: lowers().count() as u64,
+                lower_tiles: lowers().map(|l| l.tiles.len() as u64).sum(),
+                leaves: lowers().map(|l| l.leaves.len() as u64).sum(),
+                leaf_voxels: lowers().flat_map(|l| l.leaves.values()).map(|m| m.count() as u64).sum(),
+            };
+            assert_eq!(TreeCounts::of(&tree), built, "round {round}");
+        }
+    }
 }

@@ -34,10 +34,15 @@
 //! solid without one is light grey), at most [`MAX_COLOURS`] solids (more are refused).
 //! The voxels' bounding box is cut into models of at most [`MAX_MODEL_SIDE`]^3 (the
 //! format's limit: coordinates are bytes), each placed by a transform under one group,
-//! so world voxel = the solid's lattice voxel. A model's voxels are painted node by node
+//! so world voxel = the solid's lattice voxel. Each node is put in the models it meets
+//! (one piece a model, sorted by model, then by solid), so only models holding voxels
+//! are visited and work follows the nodes and the voxels, not the box (two voxels in
+//! opposite corners of a depth-12 domain are two models, not 4,096 of which 4,094
+//! empty). A model whose pieces fill at least 1/16 of its box is painted piece by piece
 //! into a byte grid of the model (at most 16 MiB, reused), solid after solid, so where
-//! solids overlap the later one wins, and read out in the order `XYZI` lists them
-//! (x, then y, then z): no per-voxel sort or map.
+//! solids overlap the later one wins, and read out in the order `XYZI` lists them (x,
+//! then y, then z); a sparser one lists its voxels packed with their solid's place and
+//! sorts them, the last entry of a voxel (the latest solid's) winning: the same bytes.
 //! The bytes are a function of the solids alone (no map iteration order leaks out).
 //!
 //! Limits: `.vox` stores every voxel (4 bytes each), so reading and writing cost
@@ -55,7 +60,7 @@ use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use crate::morton;
-use crate::octree::{Domain, LinearOctree, MAX_DEPTH};
+use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 use crate::render::{from_srgb8, to_srgb8};
 
 /// Largest model side the format can address (voxel coordinates are bytes).
@@ -612,36 +617,38 @@ pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
         .filter_map(|s| s.tree.voxel_bounds())
         .reduce(|a, b| (std::array::from_fn(|i| a.0[i].min(b.0[i])), std::array::from_fn(|i| a.1[i].max(b.1[i]))));
     let (lo, hi) = bounds.unwrap_or(([0; 3], [0; 3]));
-    // Memory: 4 bytes a voxel in the file, at most 8 more while a model is listed, and
-    // the byte grid of one model.
+    let models = Models { lo, hi, count: [0, 1, 2].map(|a| (hi[a] - lo[a]).div_ceil(MAX_MODEL_SIDE)) };
+    // Memory: 4 bytes a voxel in the file, three times (the chunks' buffer as it grows,
+    // then the file beside it); the largest model's voxels listed, sorted and copied
+    // into its chunk (16 bytes each at most); the byte grid of one model; each node's
+    // pieces.
     let voxels: u64 = solids.solids.iter().map(|s| s.tree.voxel_count()).sum();
     let grid: u64 = (0..3).map(|a| u64::from((hi[a] - lo[a]).min(MAX_MODEL_SIDE))).product();
-    budget.check(format!("a .vox file of {voxels} voxels"), voxels.saturating_mul(12).saturating_add(grid))?;
-    let tiles = [0, 1, 2].map(|a| (hi[a] - lo[a]).div_ceil(MAX_MODEL_SIDE));
-    // Step 3: chunks. Models first, then the scene graph, layer, palette, materials.
+    let pieces: u64 = solids.solids.iter().flat_map(|s| s.tree.nodes()).map(|n| models.met_by(n).count() as u64).sum();
+    let estimate = voxels
+        .saturating_mul(12)
+        .saturating_add(voxels.min(grid).saturating_mul(16))
+        .saturating_add(grid)
+        .saturating_add(pieces.saturating_mul(PIECE_BYTES));
+    budget.check(format!("a .vox file of {voxels} voxels"), estimate)?;
+    // Step 3: chunks. Models first (those some node meets, in the file's order), then
+    // the scene graph, layer, palette, materials.
     let mut main = Vec::new();
     let mut placements = Vec::new();
     let mut grid = Vec::new();
-    for tx in 0..tiles[0] {
-        for ty in 0..tiles[1] {
-            for tz in 0..tiles[2] {
-                let corner = [tx, ty, tz].map(|t| t * MAX_MODEL_SIDE);
-                let start = [0, 1, 2].map(|a| lo[a] + corner[a]);
-                let end = [0, 1, 2].map(|a| (start[a] + MAX_MODEL_SIDE).min(hi[a]));
-                let kept = model_voxels(solids, &indices, start, end, &mut grid);
-                if kept.is_empty() {
-                    continue;
-                }
-                let size = [0, 1, 2].map(|a| kept.iter().map(|v| u32::from(v[a]) + 1).max().unwrap_or(1));
-                chunk(&mut main, b"SIZE", &[size[0], size[1], size[2]].map(u32::to_le_bytes).concat());
-                let mut xyzi = (kept.len() as u32).to_le_bytes().to_vec();
-                xyzi.extend(kept.iter().flatten());
-                chunk(&mut main, b"XYZI", &xyzi);
-                // World voxel = lattice voxel: v - floor(s/2) + t with v local, so t = corner + floor(s/2).
-                let t = [0, 1, 2].map(|a| i64::from(start[a]) + i64::from(size[a] / 2));
-                placements.push(t);
-            }
-        }
+    let pieces = models.pieces(solids, pieces as usize);
+    for pieces in pieces.chunk_by(|a, b| a.model == b.model) {
+        let (start, end) = models.span(pieces[0].model);
+        let kept = model_voxels(pieces, &indices, start, end, &mut grid);
+        let size = [0, 1, 2].map(|a| kept.iter().map(|v| u32::from(v[a]) + 1).max().unwrap_or(1));
+        chunk(&mut main, b"SIZE", &[size[0], size[1], size[2]].map(u32::to_le_bytes).concat());
+        let mut xyzi = Vec::with_capacity(4 + 4 * kept.len());
+        xyzi.extend((kept.len() as u32).to_le_bytes());
+        xyzi.extend(kept.iter().flatten());
+        chunk(&mut main, b"XYZI", &xyzi);
+        // World voxel = lattice voxel: v - floor(s/2) + t with v local, so t = corner + floor(s/2).
+        let t = [0, 1, 2].map(|a| i64::from(start[a]) + i64::from(size[a] / 2));
+        placements.push(t);
     }
     let d = solids.domain;
     let domain_value = format!("{} {} {} {} {}", d.min().x, d.min().y, d.min().z, d.edge(), d.depth());
@@ -692,27 +699,114 @@ pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
     Ok(out)
 }
 
-/// The voxels of the model covering lattice voxels `start..end` as XYZI lists them:
-/// `[x, y, z, palette index]` in the model, in x, then y, then z order. Each solid's
-/// nodes are painted into `grid` (a byte a voxel of the model, reused from model to
-/// model) in the solids' order, so where solids overlap the later one wins, then the
-/// grid is read out in that order.
-fn model_voxels(solids: &Solids, indices: &[u8], start: [u32; 3], end: [u32; 3], grid: &mut Vec<u8>) -> Vec<[u8; 4]> {
-    let ext = [0, 1, 2].map(|a| (end[a] - start[a]) as usize);
-    grid.clear();
-    grid.resize(ext[0] * ext[1] * ext[2], 0);
-    for (solid, &index) in solids.solids.iter().zip(indices) {
-        for node in solid.tree.nodes() {
-            let from = [0, 1, 2].map(|a| node.min[a].max(start[a]) - start[a]);
-            let to = [0, 1, 2].map(|a| (node.min[a] + node.size).min(end[a]).saturating_sub(start[a]));
-            if (0..3).any(|a| from[a] >= to[a]) {
-                continue;
+/// Bytes a piece (a node's part in one model) takes while the models are listed.
+const PIECE_BYTES: u64 = 32;
+/// A model is listed from its voxels, sorted, instead of from a byte grid of its box when
+/// its pieces hold fewer voxels than its box over this.
+const SPARSE_FRACTION: u64 = 16;
+
+/// The models the voxels' bounding box `lo..hi` is cut into: `count` a side, each
+/// [`MAX_MODEL_SIDE`] a side from `lo` (the last ones cut at `hi`). Model `(x, y, z)`
+/// is number `(x count_y + y) count_z + z`, its place in the file.
+struct Models {
+    lo: [u32; 3],
+    hi: [u32; 3],
+    count: [u32; 3],
+}
+
+/// A node's part in one model: the model's number, the solid's place among the solids.
+struct Piece {
+    model: u64,
+    solid: u8,
+    node: Node,
+}
+
+impl Models {
+    /// The numbers of the models `node` meets.
+    fn met_by(&self, node: Node) -> impl Iterator<Item = u64> + use<> {
+        let first = [0, 1, 2].map(|a| (node.min[a] - self.lo[a]) / MAX_MODEL_SIDE);
+        let last = [0, 1, 2].map(|a| (node.min[a] + node.size - 1 - self.lo[a]) / MAX_MODEL_SIDE);
+        let [_, cy, cz] = self.count.map(u64::from);
+        (first[0]..=last[0]).flat_map(move |x| {
+            (first[1]..=last[1]).flat_map(move |y| {
+                (first[2]..=last[2]).map(move |z| (u64::from(x) * cy + u64::from(y)) * cz + u64::from(z))
+            })
+        })
+    }
+
+    /// The lattice voxels `start..end` of model `model`.
+    fn span(&self, model: u64) -> ([u32; 3], [u32; 3]) {
+        let [_, cy, cz] = self.count.map(u64::from);
+        let m = [model / (cy * cz), model / cz % cy, model % cz];
+        let start = [0, 1, 2].map(|a| self.lo[a] + m[a] as u32 * MAX_MODEL_SIDE);
+        (start, [0, 1, 2].map(|a| (start[a] + MAX_MODEL_SIDE).min(self.hi[a])))
+    }
+
+    /// Every node's pieces (`total` of them), by model, then by solid.
+    fn pieces(&self, solids: &Solids, total: usize) -> Vec<Piece> {
+        let mut pieces = Vec::with_capacity(total);
+        for (solid, s) in solids.solids.iter().enumerate() {
+            for node in s.tree.nodes() {
+                pieces.extend(self.met_by(node).map(|model| Piece { model, solid: solid as u8, node }));
             }
+        }
+        // Nodes of one solid are disjoint, so their order within a model changes nothing.
+        pieces.par_sort_unstable_by_key(|p| (p.model, p.solid));
+        pieces
+    }
+}
+
+/// The voxels of the model covering lattice voxels `start..end` as XYZI lists them:
+/// `[x, y, z, palette index]` in the model, in x, then y, then z order; `pieces` are
+/// the nodes meeting it, by solid. Where solids overlap the later one wins. A model
+/// whose pieces hold few voxels for its box lists them and sorts them; any other is
+/// painted piece by piece into `grid` (a byte a voxel of the model, reused from model
+/// to model), which is then read out in that order.
+fn model_voxels(pieces: &[Piece], indices: &[u8], start: [u32; 3], end: [u32; 3], grid: &mut Vec<u8>) -> Vec<[u8; 4]> {
+    let ext = [0, 1, 2].map(|a| (end[a] - start[a]) as usize);
+    let clip = |p: &Piece| {
+        let from = [0, 1, 2].map(|a| p.node.min[a].max(start[a]) - start[a]);
+        let to = [0, 1, 2].map(|a| (p.node.min[a] + p.node.size).min(end[a]) - start[a]);
+        (from, to)
+    };
+    let voxels: u64 = pieces
+        .iter()
+        .map(|p| {
+            let (from, to) = clip(p);
+            (0..3).map(|a| u64::from(to[a] - from[a])).product::<u64>()
+        })
+        .sum();
+    let volume = ext.iter().map(|&e| e as u64).product::<u64>();
+    if voxels.saturating_mul(SPARSE_FRACTION) < volume {
+        // x, y, z and the solid's place in one u32 each, so that sorting orders them
+        // as XYZI does and the last of a voxel's entries is the latest solid's.
+        let mut packed = Vec::with_capacity(voxels as usize);
+        for p in pieces {
+            let (from, to) = clip(p);
             for x in from[0]..to[0] {
                 for y in from[1]..to[1] {
-                    let row = (x as usize * ext[1] + y as usize) * ext[2];
-                    grid[row + from[2] as usize..row + to[2] as usize].fill(index);
+                    packed.extend((from[2]..to[2]).map(|z| x << 24 | y << 16 | z << 8 | u32::from(p.solid)));
                 }
+            }
+        }
+        packed.sort_unstable();
+        return packed
+            .chunk_by(|a, b| a >> 8 == b >> 8)
+            .map(|same| {
+                let v = same[same.len() - 1];
+                [(v >> 24) as u8, (v >> 16) as u8, (v >> 8) as u8, indices[(v & 0xff) as usize]]
+            })
+            .collect();
+    }
+    grid.clear();
+    grid.resize(ext[0] * ext[1] * ext[2], 0);
+    for p in pieces {
+        let (from, to) = clip(p);
+        let index = indices[usize::from(p.solid)];
+        for x in from[0]..to[0] {
+            for y in from[1]..to[1] {
+                let row = (x as usize * ext[1] + y as usize) * ext[2];
+                grid[row + from[2] as usize..row + to[2] as usize].fill(index);
             }
         }
     }

@@ -128,30 +128,99 @@ pub fn boundary_mesh(tree: &LinearOctree, options: &BoundaryOptions) -> Triangle
     }
 }
 
-/// [`boundary_mesh`], refused before the triangles are built when its estimated memory
-/// exceeds `budget` or it would need more than `2^32` vertex indices. `progress`
-/// counts the four steps of the module doc.
+/// [`boundary_mesh`], refused before anything is allocated when its estimated memory
+/// exceeds `budget` (the exposed squares are first counted in a pass that allocates
+/// nothing) or it would need more than `2^32` vertex indices.
+/// `progress` counts the four steps of the module doc.
 pub fn try_boundary_mesh(
     tree: &LinearOctree,
     options: &BoundaryOptions,
     budget: MemoryBudget,
     progress: &dyn Progress,
 ) -> Result<TriangleMesh> {
+    let size = BoundarySize::of(tree);
+    let job = format!("the boundary mesh of {} exposed voxel faces", size.unit_faces);
+    budget.check(job, size.mesh_bytes(options))?;
+    boundary_mesh_of_size(tree, options, size, progress)
+}
+
+/// How large the boundary of a solid is, counted in a pass over its nodes that
+/// allocates nothing (step 1 of the module doc without its output).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct BoundarySize {
+    /// Exposed squares (node faces or parts of them) before merging.
+    pub squares: u128,
+    /// Exposed voxel faces.
+    pub unit_faces: u128,
+}
+
+impl BoundarySize {
+    /// Counts the exposed squares of `tree` (in parallel over chunks of its keys).
+    pub(crate) fn of(tree: &LinearOctree) -> BoundarySize {
+        let keys = tree.keys();
+        let depth = tree.depth();
+        keys.par_chunks(CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut size = BoundarySize::default();
+                for i in c * CHUNK..c * CHUNK + chunk.len() {
+                    node_squares(keys, depth, i, &mut size);
+                }
+                size
+            })
+            .reduce(BoundarySize::default, |a, b| BoundarySize {
+                squares: a.squares + b.squares,
+                unit_faces: a.unit_faces + b.unit_faces,
+            })
+    }
+
+    /// Estimated peak bytes of [`try_boundary_mesh`] with `options`.
+    pub(crate) fn mesh_bytes(&self, options: &BoundaryOptions) -> u64 {
+        let bytes = if options.unit_faces {
+            self.unit_faces * u128::from(BYTES_PER_UNIT_FACE)
+        } else {
+            self.squares * u128::from(BYTES_PER_SQUARE)
+        };
+        u64::try_from(bytes).unwrap_or(u64::MAX)
+    }
+}
+
+/// Where the exposed squares go: a list, or a count.
+trait Squares {
+    fn push(&mut self, rect: Rect);
+}
+
+impl Squares for Vec<Rect> {
+    fn push(&mut self, rect: Rect) {
+        Vec::push(self, rect);
+    }
+}
+
+impl Squares for BoundarySize {
+    fn push(&mut self, rect: Rect) {
+        self.squares += 1;
+        self.unit_faces += u128::from(rect.w) * u128::from(rect.h);
+    }
+}
+
+/// [`try_boundary_mesh`] after its budget check, `size` being [`BoundarySize::of`] `tree`.
+pub(crate) fn boundary_mesh_of_size(
+    tree: &LinearOctree,
+    options: &BoundaryOptions,
+    size: BoundarySize,
+    progress: &dyn Progress,
+) -> Result<TriangleMesh> {
     progress.start(4);
-    // 1. Exposed squares, then merged or cut.
-    let mut rects = exposed_squares(tree);
-    let unit_faces: u128 = rects.iter().map(|s| u128::from(s.w) * u128::from(s.h)).sum();
-    let (count, per) =
-        if options.unit_faces { (unit_faces, BYTES_PER_UNIT_FACE) } else { (rects.len() as u128, BYTES_PER_SQUARE) };
-    let job = format!("the boundary mesh of {unit_faces} exposed voxel faces");
-    budget.check(job, u64::try_from(count * u128::from(per)).unwrap_or(u64::MAX))?;
     // Polygon corners (4 a rectangle, more with T-junctions) must fit u32 vertex indices.
+    let count = if options.unit_faces { size.unit_faces } else { size.squares };
     if count * 4 > u128::from(u32::MAX) {
         return Err(Error::invalid(
             "boundary mesh",
             format!("{count} faces need more than 2^32 vertices; export at a lower depth"),
         ));
     }
+    // 1. Exposed squares, then merged or cut.
+    let mut rects = exposed_squares(tree);
     if options.unit_faces {
         rects = rects.par_chunks(CHUNK).map(unit_squares).collect::<Vec<_>>().concat();
     } else {
@@ -219,7 +288,7 @@ pub(crate) fn boundary_rects(tree: &LinearOctree) -> Vec<Rect> {
 }
 
 /// Appends the exposed squares of the six faces of node `keys[index]` to `out`.
-fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Rect>) {
+fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut impl Squares) {
     let key = keys[index];
     let node = key.node(depth);
     let resolution = 1u32 << depth;
@@ -252,7 +321,7 @@ fn node_squares(keys: &[NodeKey], depth: u8, index: usize, out: &mut Vec<Rect>) 
 /// Emits the parts of square `rect` (a face of a full node) that the cube `across` beyond it
 /// leaves uncovered; `keys` are the full nodes meeting `across` as `keys_meeting`
 /// gives them (the covering node alone when one covers it).
-fn expose(keys: &[NodeKey], across: NodeKey, rect: Rect, out: &mut Vec<Rect>) {
+fn expose(keys: &[NodeKey], across: NodeKey, rect: Rect, out: &mut impl Squares) {
     match keys {
         [] => out.push(rect),
         [key] if key.k() >= across.k() => {}

@@ -74,28 +74,48 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
             .shards
             .write(output, budget, Instant::now(), |options| Ok(sharded::combine(&solids, set_op, output, options)?));
     }
-    let mut trees = Vec::with_capacity(inputs.len());
+    // The budget is the job's: every operand is held while the next is read, and the
+    // result is made beside them all.
+    let held = |trees: &[LinearOctree]| trees.iter().map(|t| t.bytes() as u64).sum::<u64>();
+    let left = |trees: &[LinearOctree]| MemoryBudget(budget.0.saturating_sub(held(trees)));
+    // A refusal for memory after the first operand says what the others hold.
+    let whole_job = |e: anyhow::Error, trees: &[LinearOctree]| {
+        let over = e.chain().any(|c| matches!(c.downcast_ref(), Some(octsolid::Error::OverBudget { .. })));
+        if !over || trees.is_empty() {
+            return e;
+        }
+        e.context(format!(
+            "the memory budget of {} is the whole job's; the {} operands before hold {}",
+            human_bytes(budget.0),
+            trees.len(),
+            human_bytes(held(trees))
+        ))
+    };
+    let mut trees: Vec<LinearOctree> = Vec::with_capacity(inputs.len());
     let mut meta = None;
     for path in inputs {
-        let file = read_solid_file(path, &a.read, budget)?;
+        let file = read_solid_file(path, &a.read, left(&trees)).map_err(|e| whole_job(e, &trees))?;
         meta.get_or_insert(file.meta);
         trees.push(file.into_union());
     }
     let common = common_domain(&trees.iter().map(|t| *t.domain()).collect::<Vec<_>>())?;
     let target = a.target.target(common)?;
     let bar = Bar::new("fitting");
-    let options = VoxelizeOptions { budget, progress: &bar };
     let mut resampled = false;
-    for (tree, path) in trees.iter_mut().zip(inputs) {
-        let started = Instant::now();
-        let (fitted, fit) =
-            tree.fit_to(target, &options).with_context(|| format!("{}: cannot bring into {target}", path.display()))?;
-        if fit != Fit::Same {
-            let ms = started.elapsed().as_secs_f64() * 1e3;
-            out!("{}: {fit} into {target} in {ms:.1} ms", path.display());
+    for (i, path) in inputs.iter().enumerate() {
+        if *trees[i].domain() == target {
+            continue;
         }
+        let started = Instant::now();
+        let options = VoxelizeOptions { budget: left(&trees), progress: &bar };
+        let (fitted, fit) = trees[i]
+            .fit_to(target, &options)
+            .with_context(|| format!("{}: cannot bring into {target}", path.display()))
+            .map_err(|e| whole_job(e, &trees))?;
+        let ms = started.elapsed().as_secs_f64() * 1e3;
+        out!("{}: {fit} into {target} in {ms:.1} ms", path.display());
         resampled |= fit == Fit::Resampled;
-        *tree = fitted;
+        trees[i] = fitted;
     }
     if resampled {
         out!(
@@ -103,10 +123,17 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
              (or on one --voxel-size grid, or with domains whose voxels nest) combine exactly"
         );
     }
+    // The result: at most as many nodes as the operands together (what the merge reserves).
+    let nodes: u64 = trees.iter().map(|t| t.node_count() as u64).sum();
+    let job = format!("the {} of {} solids of {nodes} nodes beside them", set_op_name(op), trees.len());
+    budget.check(job, held(&trees).saturating_add(nodes.saturating_mul(8)))?;
     let started = Instant::now();
     let result = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), set_op)?;
-    let name = op.to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned());
-    out!("{name} of {} solids in {:.2} ms", trees.len(), started.elapsed().as_secs_f64() * 1e3);
+    let operands = trees.len();
+    drop(trees);
+    let budget = MemoryBudget(budget.0.saturating_sub(result.bytes() as u64));
+    let name = set_op_name(op);
+    out!("{name} of {operands} solids in {:.2} ms", started.elapsed().as_secs_f64() * 1e3);
     if result.is_empty() {
         warn!("the {name} is empty: no voxel is in it");
     }
@@ -119,4 +146,9 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     print_summary(&result, None);
     Ok(())
+}
+
+/// The operation's name on the command line.
+fn set_op_name(op: CsgOp) -> String {
+    op.to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned())
 }

@@ -1,0 +1,175 @@
+//! The writers' memory budgets, measured: a counting global allocator records the
+//! most heap each writer holds, so a refusal can be seen to come before the writer
+//! allocates, and an estimate can be seen to hold what the writer then allocates.
+//! The tests take turns (one lock), as the allocator's counts are the process's.
+
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+
+use common::{Rng, random_octree};
+use glam::DVec3;
+use octsolid::io::{self, ColouredSolid, Solids, WriteOptions, binvox, gltf, vdb, vox};
+use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::shape::{Axis, Sphere};
+use octsolid::{Error, MemoryBudget, NoProgress};
+
+/// The system allocator, counting the bytes it holds and the most it held.
+struct Counting;
+
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: every call goes to `System` unchanged; only counters are added.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            PEAK.fetch_max(LIVE.fetch_add(layout.size(), Relaxed) + layout.size(), Relaxed);
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) };
+        LIVE.fetch_sub(layout.size(), Relaxed);
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        // A moving realloc holds the old block and the new one at once.
+        PEAK.fetch_max(LIVE.load(Relaxed) + new_size, Relaxed);
+        let p = unsafe { System.realloc(ptr, layout, new_size) };
+        if !p.is_null() {
+            LIVE.fetch_add(new_size, Relaxed);
+            LIVE.fetch_sub(layout.size(), Relaxed);
+        }
+        p
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+static TURN: Mutex<()> = Mutex::new(());
+
+/// `f`'s result and the most heap it held beyond what was held before it.
+fn peak<T>(f: impl FnOnce() -> T) -> (T, u64) {
+    let base = LIVE.load(Relaxed);
+    PEAK.store(base, Relaxed);
+    let out = f();
+    (out, (PEAK.load(Relaxed) - base) as u64)
+}
+
+fn scratch(test: &str) -> std::path::PathBuf {
+    common::scratch_dir("writer_budgets", test)
+}
+
+fn one(tree: &LinearOctree) -> Solids {
+    Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new("s", None, tree.clone())] }
+}
+
+fn full(depth: u8) -> LinearOctree {
+    LinearOctree::full(Domain::new(DVec3::ZERO, 1.0, depth).unwrap())
+}
+
+fn sphere(depth: u8) -> LinearOctree {
+    let domain = Domain::new(DVec3::splat(-1.02), 2.04, depth).unwrap();
+    let options = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };
+    voxelize(&Sphere::new(DVec3::ZERO, 1.0).unwrap(), domain, &options).unwrap()
+}
+
+/// The estimate of a refusal, or `None` when it is not one for memory.
+fn estimate<T>(result: octsolid::Result<T>) -> Option<u64> {
+    match result {
+        Err(Error::OverBudget { estimate, .. }) => Some(estimate),
+        _ => None,
+    }
+}
+
+/// `.vdb` and `.binvox` used to write whatever they were given (a full domain of
+/// depth 20 took 2.7 GiB as `.vdb`, of depth 14 34 GB as `.binvox`), and `.glb`
+/// refused only after listing the boundary's squares: each is now refused, naming
+/// the output, before it allocates a fraction of the budget, and writes nothing.
+#[test]
+fn writers_refuse_over_budget_before_allocating() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = scratch("refuse");
+    let budget = MemoryBudget(1 << 20);
+    let options = WriteOptions { budget, ..WriteOptions::default() };
+    // A full domain of depth 17 is 32,768 root tiles; of depth 9 134 million voxels
+    // that a binvox reader holds at a bit and a node each; a sphere at depth 8 has
+    // 330,000 exposed squares.
+    for (name, tree) in [("full.vdb", full(17)), ("full.binvox", full(9)), ("ball.glb", sphere(8))] {
+        let path = dir.join(name);
+        let solids = one(&tree);
+        let (result, held) = peak(|| io::write_solids(&path, &solids, &options));
+        let e = result.expect_err(name);
+        assert!(matches!(e, Error::OverBudget { .. }), "{name}: {e}");
+        assert!(e.to_string().contains(name) || name.ends_with(".glb"), "{name}: the output is named: {e}");
+        assert!(held < budget.0 / 4, "{name}: {held} bytes held before the refusal");
+        assert!(!path.exists(), "{name}: nothing is written");
+    }
+}
+
+/// A writer into memory under a budget.
+type Encode<'a> = dyn Fn(MemoryBudget) -> octsolid::Result<Vec<u8>> + 'a;
+
+/// What each estimate is for: every writer allocates at most its estimate (measured),
+/// and not ten times less (the budget refuses no job it could do twice over).
+#[test]
+fn estimates_hold_what_the_writers_allocate() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let mut rng = Rng(0x5eed_b0d6);
+    let mut cases: Vec<(&str, Solids)> = vec![
+        ("sphere 7", one(&sphere(7))),
+        ("sphere 8", one(&sphere(8))),
+        ("full 15", one(&full(15))),
+        ("random 9", one(&random_octree(&mut rng, Domain::new(DVec3::ZERO, 1.0, 9).unwrap()))),
+    ];
+    let d = Domain::new(DVec3::splat(-1.02), 2.04, 8).unwrap();
+    let moved = sphere(8).translate([37, 5, 0]);
+    cases.push((
+        "two spheres",
+        Solids {
+            domain: d,
+            solids: vec![ColouredSolid::new("a", None, sphere(8)), ColouredSolid::new("b", None, moved)],
+        },
+    ));
+    let nothing = MemoryBudget(0);
+    for (name, solids) in &cases {
+        let checks: [(&str, &Encode); 4] = [
+            ("vdb zip", &|b| vdb::encode(solids, vdb::Compression::Zip, b)),
+            ("vdb raw", &|b| vdb::encode(solids, vdb::Compression::None, b)),
+            ("glb", &|b| gltf::encode(solids, Axis::Z, b)),
+            ("vox", &|b| vox::encode(solids, b)),
+        ];
+        // .vox stores every voxel: not the full domain's 2^45.
+        let voxels: u64 = solids.solids.iter().map(|s| s.tree.voxel_count()).sum();
+        for (format, encode) in checks.into_iter().filter(|(f, _)| *f != "vox" || voxels < 1 << 24) {
+            let Some(estimate) = estimate(encode(nothing)) else { panic!("{name} {format}: not refused") };
+            let (bytes, held) = peak(|| encode(MemoryBudget::unlimited()).unwrap());
+            assert!(held <= estimate, "{name} {format}: held {held} bytes, estimated {estimate}");
+            assert!(estimate <= 10 * held.max(1 << 20), "{name} {format}: estimated {estimate}, held {held}");
+            assert!(estimate >= bytes.len() as u64);
+        }
+    }
+}
+
+/// A `.binvox` file is written exactly when our reader reads it back under the same
+/// budget: the writer refuses at the reader's estimate, not a byte before or after.
+#[test]
+fn binvox_is_written_exactly_when_it_can_be_read_back() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let mut rng = Rng(0xb1_7b0c);
+    let trees = [sphere(6), full(7), random_octree(&mut rng, Domain::new(DVec3::ZERO, 1.0, 8).unwrap())];
+    for tree in &trees {
+        let need = estimate(binvox::encode(tree, MemoryBudget(0))).expect("refused with nothing");
+        let bytes = binvox::encode(tree, MemoryBudget(need)).unwrap();
+        let path = std::path::Path::new("t.binvox");
+        assert_eq!(binvox::decode(&bytes, path, MemoryBudget(need)).unwrap(), *tree);
+        assert!(estimate(binvox::decode(&bytes, path, MemoryBudget(need - 1))).is_some());
+        assert!(estimate(binvox::encode(tree, MemoryBudget(need - 1))).is_some());
+    }
+}
