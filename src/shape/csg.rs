@@ -655,7 +655,7 @@ mod tests {
 
     #[test]
     fn a_left_fold_is_one_node_and_a_shared_operand_is_not_changed() {
-        let fold = ball(0.0) | ball(1.0) | ball(2.0) - ball(3.0);
+        let fold = ball(0.0) | ball(1.0) | (ball(2.0) - ball(3.0));
         assert_eq!(format!("{fold:?}"), "(Leaf | Leaf | (Leaf - Leaf))");
         let shared = ball(0.0) - ball(1.0) - ball(2.0);
         let more = &shared - ball(3.0);
