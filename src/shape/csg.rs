@@ -63,6 +63,8 @@ struct Node {
     copies: u64,
     /// Edges on the longest path down to a leaf.
     height: u32,
+    /// [`Csg::instances`].
+    instances: u64,
 }
 
 /// A CSG tree of shapes; cheap to clone (shared nodes).
@@ -162,6 +164,13 @@ impl Csg {
         self.0.copies
     }
 
+    /// The leaves of the tree with every pattern's copies made one by one: what
+    /// [`super::PrunedCsg`] would flatten it into.
+    #[must_use]
+    pub fn instances(&self) -> u64 {
+        self.0.instances
+    }
+
     /// Edges on the longest path from the root to a leaf.
     #[must_use]
     pub fn height(&self) -> u32 {
@@ -175,7 +184,11 @@ impl Csg {
             copies = copies.saturating_mul(placements.len() as u64);
         }
         let height = children.iter().map(|c| c.height().saturating_add(1)).max().unwrap_or(0);
-        Csg(Arc::new(Node { node, copies, height }))
+        let mut instances = children.iter().fold(0u64, |n, c| n.saturating_add(c.instances())).max(1);
+        if let CsgNode::Placed(_, placements) = &node {
+            instances = instances.saturating_mul(placements.len() as u64);
+        }
+        Csg(Arc::new(Node { node, copies, height, instances }))
     }
 
     /// `self op rhs`: `rhs` joins `self`'s children when `self` is an `op` node held
@@ -192,6 +205,7 @@ impl Csg {
             if let Some(children) = children {
                 node.copies = node.copies.max(rhs.copies());
                 node.height = node.height.max(rhs.height().saturating_add(1));
+                node.instances = node.instances.saturating_add(rhs.instances());
                 children.push(rhs);
                 return self;
             }
@@ -482,7 +496,11 @@ fn placeholder() -> Csg {
         }
     }
     static NOTHING: OnceLock<Csg> = OnceLock::new();
-    NOTHING.get_or_init(|| Csg(Arc::new(Node { node: CsgNode::Leaf(Arc::new(Nothing)), copies: 1, height: 0 }))).clone()
+    NOTHING
+        .get_or_init(|| {
+            Csg(Arc::new(Node { node: CsgNode::Leaf(Arc::new(Nothing)), copies: 1, height: 0, instances: 1 }))
+        })
+        .clone()
 }
 
 /// Dropping the last reference to a node takes its children first and drops them one

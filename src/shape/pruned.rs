@@ -44,7 +44,10 @@
 //! `O(children meeting the parent's box)` a node, which is the same order after the
 //! top levels and needs no build. Limits: a leaf is whatever is not a [`Csg`] (a
 //! transformed tree is one: a placed node of one placement), and the table holds one
-//! leaf a copy, at most [`super::MAX_COPIES`] times the leaves written. A tree nested
+//! leaf a copy: a pattern whose copies would make more than [`MAX_LEAVES`] leaves
+//! (100,000 copies of a union of 20 shapes) is flattened one leaf a copy, its child
+//! classified as a whole, so the table holds at most about [`super::MAX_COPIES`] times
+//! the patterns written past that size. A tree nested
 //! deeper than [`MAX_RECURSION`] (only the library's API builds one) is not flattened:
 //! it is one leaf, classified as a whole by [`Csg`]'s own fold.
 
@@ -91,6 +94,10 @@ pub enum Reduced {
     /// Undecided: the smaller residual that decides the box's points.
     Smaller(Residual),
 }
+
+/// The most leaves a pattern is flattened into: past it, each copy of the pattern's
+/// child is one leaf (see the module doc).
+pub const MAX_LEAVES: u64 = 1 << 20;
 
 /// A CSG tree flattened for pruned classification (see the module doc).
 pub struct PrunedCsg {
@@ -146,17 +153,7 @@ impl PrunedCsg {
             return None;
         }
         Some(match tree.node() {
-            CsgNode::Leaf(shape) => {
-                let shape = if chain.is_empty() {
-                    shape.clone()
-                } else {
-                    Arc::new(PlacedLeaf { shape: shape.clone(), chain: chain.into() })
-                };
-                let index = u32::try_from(self.leaves.len()).expect("fewer than 2^32 leaves");
-                let bounds = shape.bounds().map(widened);
-                self.leaves.push((shape, bounds));
-                Residual::Leaf { index, complement: false }
-            }
+            CsgNode::Leaf(shape) => self.leaf(shape, chain),
             CsgNode::Union(children) => self.nary(Nary::Union, children, chain, depth)?,
             CsgNode::Intersection(children) => self.nary(Nary::Intersection, children, chain, depth)?,
             CsgNode::SymmetricDifference(children) => self.nary(Nary::Xor, children, chain, depth)?,
@@ -169,6 +166,20 @@ impl PrunedCsg {
                 make(Nary::Intersection, parts)
             }
             CsgNode::Complement(a) => not(self.flatten(a, chain, depth + 1)?),
+            CsgNode::Placed(child, placements) if tree.instances() > MAX_LEAVES && child.instances() > 1 => {
+                // Too many leaves to make one by one: each copy's child is one leaf.
+                let child: Arc<dyn Shape> = Arc::new(child.clone());
+                let mut parts = Vec::new();
+                let mut inner = chain.to_vec();
+                for placement in placements.iter() {
+                    if *placement != Placement::Identity {
+                        inner.push(placement.clone());
+                    }
+                    parts.push(self.leaf(&child, &inner));
+                    inner.truncate(chain.len());
+                }
+                make(Nary::Union, parts)
+            }
             CsgNode::Placed(child, placements) => {
                 let mut parts = Vec::new();
                 let mut inner = chain.to_vec();
@@ -183,6 +194,19 @@ impl PrunedCsg {
                 make(Nary::Union, parts)
             }
         })
+    }
+
+    /// `shape` under the placements `chain`, added to the leaf table.
+    fn leaf(&mut self, shape: &Arc<dyn Shape>, chain: &[Placement]) -> Residual {
+        let shape = if chain.is_empty() {
+            shape.clone()
+        } else {
+            Arc::new(PlacedLeaf { shape: shape.clone(), chain: chain.into() })
+        };
+        let index = u32::try_from(self.leaves.len()).expect("fewer than 2^32 leaves");
+        let bounds = shape.bounds().map(widened);
+        self.leaves.push((shape, bounds));
+        Residual::Leaf { index, complement: false }
     }
 
     /// The n-ary node of `op` over `children`, the children's own `op` nodes spliced in.
