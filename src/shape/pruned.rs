@@ -477,4 +477,21 @@ mod tests {
             other => panic!("{other:?}"),
         }
     }
+
+    #[test]
+    fn a_pattern_past_the_leaves_is_one_leaf_a_copy() {
+        let balls = (1..20).fold(Csg::from(Sphere::new(DVec3::ZERO, 0.01).unwrap()), |u, i| {
+            u | Sphere::new(DVec3::new(0.05 * f64::from(i), 0.0, 0.0), 0.01).unwrap()
+        });
+        let grid = crate::shape::linear_array(balls.clone(), [400, 250, 1], DVec3::new(1.0, 1.0, 0.0)).unwrap();
+        assert_eq!(grid.instances(), 2_000_000);
+        let pruned = PrunedCsg::new(&grid);
+        assert_eq!(pruned.leaf_count(), 100_000);
+        let small = crate::shape::linear_array(balls, [40, 25, 1], DVec3::new(1.0, 1.0, 0.0)).unwrap();
+        assert_eq!(PrunedCsg::new(&small).leaf_count(), 20_000);
+        for p in [DVec3::new(399.05, 249.0, 0.0), DVec3::new(399.025, 249.0, 0.0), DVec3::new(7.95, 3.0, 0.0)] {
+            assert_eq!(pruned.contains(&pruned.root(), p), grid.contains(p), "{p}");
+        }
+        assert!(grid.contains(DVec3::new(399.05, 249.0, 0.0)) && !grid.contains(DVec3::new(399.025, 249.0, 0.0)));
+    }
 }
