@@ -1,6 +1,10 @@
 //! CSG with many primitives: the pruned voxelization of CSG trees against the unpruned
 //! walk and a dense grid, the k-way octree merge against pairwise folds, patterns
-//! against their copies placed one by one, and a hole grid against its exact volume.
+//! against their copies placed one by one, and a hole grid against its exact volume;
+//! patterns in patterns against the unpruned walk, trees too high to recurse against
+//! the same trees evaluated by recursion, and patterns of 27,000 to 100,000 copies (and
+//! 200,000 nested complements) against their bounds, points and voxel counts, on the
+//! test threads' stacks; nested patterns refused past the copies with the count.
 
 mod common;
 
@@ -8,12 +12,13 @@ use std::f64::consts::PI;
 
 use common::{Rng, random_octree};
 use glam::{DAffine3, DQuat, DVec3};
+use octsolid::Aabb;
 use octsolid::morton;
 use octsolid::octree::{Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
 use octsolid::prelude::ShapeExt;
 use octsolid::shape::{
-    Axis, Cone, Csg, Cuboid, Cylinder, Shape, ShapeSpec, Sphere, Torus, Transformed, linear_array, mirrored,
-    polar_array,
+    Axis, Class, Cone, Csg, Cuboid, Cylinder, MAX_RECURSION, Shape, ShapeSpec, Sphere, Torus, Transformed,
+    linear_array, mirrored, polar_array,
 };
 use octsolid::{MemoryBudget, NoProgress};
 
@@ -332,4 +337,157 @@ fn scene_pattern_nodes_build_the_library_patterns() {
     assert!(e.unwrap_err().to_string().contains("0 copies"));
     let e = read(&format!("shape = {{ mirror = {{ shape = {peg}, normal = [0, 0, 0] }} }}"));
     assert!(e.unwrap_err().to_string().contains("non-zero"));
+}
+
+/// A random tree of at most `leaves` leaves whose nodes may be patterns (a linear
+/// array, a polar array, a mirror, a move) of random subtrees, nested in each other.
+fn random_patterned_tree(rng: &mut Rng, leaves: usize) -> Csg {
+    let size = 1 + rng.below(leaves as u64) as usize;
+    let tree = random_tree(rng, size);
+    let tree = match rng.below(5) {
+        0 => linear_array(tree, [2, 1 + rng.below(3) as u32, 1], rng.vec(-0.4, 0.4)).unwrap(),
+        1 => polar_array(tree, Axis::Y, rng.vec(-0.2, 0.2), 1 + rng.below(5) as u32, None).unwrap(),
+        2 => mirrored(tree, rng.vec(-1.0, 1.0), rng.vec(-0.2, 0.2)).unwrap(),
+        3 => tree.rotate(DVec3::Z, rng.range(0.0, PI)).into(),
+        _ => tree,
+    };
+    if leaves > 2 && rng.below(2) == 0 {
+        let other = random_patterned_tree(rng, leaves / 2);
+        match rng.below(3) {
+            0 => tree | other,
+            1 => tree - other,
+            _ => linear_array(tree ^ other, [1, 1, 2], rng.vec(-0.3, 0.3)).unwrap(),
+        }
+    } else {
+        tree
+    }
+}
+
+/// `tree`, united with a leaf outside `[-1, 1]^3` under `2 * pairs` complements: the
+/// same solid in the domain, in a tree higher than the recursion bound, which is
+/// evaluated by the fold on the heap and voxelized as one leaf.
+fn too_deep_to_recurse(tree: &Csg, pairs: usize) -> Csg {
+    let mut far: Csg = Sphere::new(DVec3::splat(10.0), 1.0).unwrap().into();
+    for _ in 0..2 * pairs {
+        far = !far;
+    }
+    let deep = tree.clone() | far;
+    assert!(deep.height() > MAX_RECURSION, "{}", deep.height());
+    deep
+}
+
+#[test]
+fn patterns_in_patterns_voxelize_as_the_unpruned_walk_and_the_heap_fold_answers_as_recursion() {
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 5).unwrap();
+    let mut rng = Rng(0x9a77_e125);
+    for case in 0..30 {
+        let tree = random_patterned_tree(&mut rng, 12);
+        let unpruned = voxelize(&opaque(&tree), domain, &options()).unwrap();
+        let pruned = voxelize(&tree, domain, &options()).unwrap();
+        assert_eq!(pruned, unpruned, "case {case}: {tree:?}");
+        let deep = too_deep_to_recurse(&tree, 150);
+        assert_eq!(voxelize(&deep, domain, &options()).unwrap(), pruned, "case {case}: deep");
+        for _ in 0..200 {
+            let p = rng.vec(-1.0, 1.0);
+            assert_eq!(deep.contains(p), tree.contains(p), "case {case} at {p}");
+            let b = Aabb::from_center_half(p, rng.vec(0.0, 0.3));
+            assert_eq!(deep.classify(&b), tree.classify(&b), "case {case} in {b:?}");
+            if let Some(s) = tree.surface(p) {
+                // The far leaf is at least 15 away: the union keeps the tree's surface.
+                assert_eq!(deep.surface(p), Some(s), "case {case} at {p}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_linear_array_of_45000_copies_has_its_bounds_and_its_voxels() {
+    // A cube of edge 0.6 in each unit cell (i, j, 0): on the lattice of voxels of 0.5
+    // from the origin, eight voxel centres a cube.
+    let cube = Cuboid::new(DVec3::splat(0.5), DVec3::splat(0.6)).unwrap();
+    let grid = linear_array(cube, [300, 150, 1], DVec3::new(1.0, 1.0, 0.0)).unwrap();
+    let b = grid.bounds().unwrap();
+    let want = Aabb::new(DVec3::splat(0.2), DVec3::new(299.8, 149.8, 0.8));
+    assert!(b.min.abs_diff_eq(want.min, 1e-9) && b.max.abs_diff_eq(want.max, 1e-9), "{b:?}");
+    assert!(grid.contains(DVec3::new(299.5, 149.5, 0.5)) && !grid.contains(DVec3::new(150.0, 75.0, 0.5)));
+    let domain = Domain::new(DVec3::ZERO, 512.0, 10).unwrap();
+    let voxels = voxelize(&grid, domain, &options()).unwrap();
+    assert_eq!(voxels.voxel_count(), 45_000 * 8);
+}
+
+#[test]
+fn a_polar_array_of_100000_copies_has_its_bounds_and_its_points() {
+    let ball = Sphere::new(DVec3::new(1000.0, 0.0, 0.0), 0.01).unwrap();
+    let ring = polar_array(ball, Axis::Z, DVec3::ZERO, 100_000, None).unwrap();
+    let b = ring.bounds().unwrap();
+    let want = Aabb::new(DVec3::new(-1000.01, -1000.01, -0.01), DVec3::new(1000.01, 1000.01, 0.01));
+    assert!(b.min.abs_diff_eq(want.min, 1e-6) && b.max.abs_diff_eq(want.max, 1e-6), "{b:?}");
+    // Copy k's centre is inside; halfway to copy k + 1 (3.1 apart from each) is not.
+    for k in [0.0, 1.0, 12_345.0, 99_999.0] {
+        let at = |turns: f64| {
+            let angle = (turns * 360.0 / 100_000.0).to_radians();
+            DVec3::new(1000.0 * angle.cos(), 1000.0 * angle.sin(), 0.0)
+        };
+        assert!(ring.contains(at(k)) && !ring.contains(at(k + 0.5)), "copy {k}");
+    }
+}
+
+#[test]
+fn a_transformed_array_of_27000_copies_answers_on_a_small_stack() {
+    let ball = Sphere::new(DVec3::splat(0.5), 0.3).unwrap();
+    let grid = linear_array(ball, [30, 30, 30], DVec3::ONE).unwrap();
+    let turn = DQuat::from_axis_angle(DVec3::Z, 0.3);
+    let turned: Csg = grid.rotate(DVec3::Z, 0.3).into();
+    // A render worker's stack is smaller than the main thread's: 256 KiB here.
+    let worker = std::thread::Builder::new().stack_size(256 << 10);
+    let answers = worker
+        .spawn(move || {
+            let centre = turn * DVec3::new(29.5, 0.5, 17.5);
+            let corner = turn * DVec3::new(29.0, 1.0, 17.0);
+            (turned.contains(centre), turned.contains(corner), turned.surface(centre).map(|s| s.distance))
+        })
+        .unwrap()
+        .join()
+        .unwrap();
+    assert!(answers.0 && !answers.1, "{answers:?}");
+    assert!((answers.2.unwrap() + 0.3).abs() < 1e-9, "{answers:?}");
+}
+
+#[test]
+fn nested_patterns_multiply_and_are_refused_past_the_copies() {
+    let ball = || Sphere::new(DVec3::splat(0.5), 0.3).unwrap();
+    let row = linear_array(ball(), [100, 1, 1], DVec3::X).unwrap();
+    let square = linear_array(row, [1, 100, 1], DVec3::Y).unwrap();
+    let e = linear_array(square.clone(), [1, 1, 100], DVec3::Z).unwrap_err().to_string();
+    assert!(e.contains("1000000 copies"), "{e}");
+    let e = polar_array(square.clone(), Axis::Z, DVec3::ZERO, 11, None).unwrap_err().to_string();
+    assert!(e.contains("110000 copies"), "{e}");
+    assert!(polar_array(square, Axis::Z, DVec3::ZERO, 10, None).is_ok());
+    // Mirrors double: the 17th of 30 nested makes 2^17 = 131072 copies.
+    let mut tree: Csg = ball().into();
+    for i in 1..=30 {
+        match mirrored(tree.clone(), DVec3::new(f64::from(i), 1.0, 0.0), DVec3::ZERO) {
+            Ok(more) => tree = more,
+            Err(e) => {
+                assert_eq!(i, 17, "{e}");
+                assert!(e.to_string().contains("131072 copies"), "{e}");
+                return;
+            }
+        }
+    }
+    panic!("30 nested mirrors were accepted");
+}
+
+#[test]
+fn a_tree_of_200000_nested_complements_is_asked_printed_and_dropped_without_recursion() {
+    let mut tree: Csg = Sphere::new(DVec3::ZERO, 1.0).unwrap().into();
+    for _ in 0..200_001 {
+        tree = !tree;
+    }
+    // An odd number of complements: the outside of the ball.
+    assert!(!tree.contains(DVec3::ZERO) && tree.contains(DVec3::splat(2.0)));
+    assert_eq!(tree.classify(&Aabb::from_center_half(DVec3::ZERO, DVec3::splat(0.1))), Class::Outside);
+    assert_eq!(tree.bounds(), None);
+    assert_eq!(format!("{tree:?}"), format!("{}Leaf", "!".repeat(200_001)));
+    drop(tree);
 }

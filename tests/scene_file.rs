@@ -1,7 +1,8 @@
 //! Scene files: every bundled scene loads; a misspelt key or value, a refused value and
 //! a file that cannot be built are errors that name the scene file, the place
 //! (`line:column`, found here from the text) and the solid, keeping the cause's kind
-//! (I/O, format, over budget, refused value); emission read as given (emitters replace
+//! (I/O, format, over budget, refused value), nested patterns past the copies and
+//! shapes past the nesting among them, at their node; emission read as given (emitters replace
 //! the default lights); colour forms against hand-computed RGB;
 //! transformed mesh and `.oct` solids against analytic volumes and exact moves; a CSG
 //! scene of a shape, a mesh and an `.oct` file against the brute-force predicate; the
@@ -741,4 +742,47 @@ fn a_scene_domain_by_voxel_size_keeps_dimensions_exact() {
     assert!(e.to_string().starts_with(&path.display().to_string()), "{e}");
     let (_, e) = error(&dir, "shallow.toml", &scene("voxel_size = 0.1\ndepth = 8"));
     assert!(e.to_string().contains("use depth 10 or more"), "{e}");
+}
+
+/// The one-based line and column of the `n`th (from 0) `needle` in `text`.
+fn place_of_nth(text: &str, needle: &str, n: usize) -> (usize, usize) {
+    let at = text.match_indices(needle).nth(n).unwrap_or_else(|| panic!("{needle:?} #{n} is not in the scene")).0;
+    let before = &text[..at];
+    (before.matches('\n').count() + 1, at - before.rfind('\n').map_or(0, |i| i + 1) + 1)
+}
+
+#[test]
+fn nested_patterns_past_the_copies_and_shapes_past_the_nesting_are_refused_at_their_node() {
+    let dir = scratch("nested");
+    let ball = "{ sphere = { center = [0.5, 0.5, 0.5], radius = 0.3 } }";
+    // Three nested arrays of 100: 1,000,000 copies, refused at the outermost.
+    let cubic = format!(
+        "[[solid]]\nname = \"balls\"\nshape = {{ array = {{ count = [1, 1, 100], step = [0, 0, 1], shape = {{ array = {{ \
+         count = [1, 100, 1], step = [0, 1, 0], shape = {{ array = {{ count = [100, 1, 1], step = [1, 0, 0], shape = \
+         {ball} }} }} }} }} }} }}\n"
+    );
+    let (path, e) = error(&dir, "cubic.toml", &cubic);
+    let message = e.to_string();
+    scene_cause(e, &path, &cubic, Some("{ array"), Some("balls"));
+    assert!(message.contains("1000000 copies"), "{message}");
+    // 30 nested mirrors: the 17th from the inside makes 2^17 = 131072 copies.
+    let mut shape = ball.to_owned();
+    for i in 1..=30 {
+        shape = format!("{{ mirror = {{ normal = [{i}, 1, 0], shape = {shape} }} }}");
+    }
+    let mirrors = format!("[[solid]]\nname = \"mirrors\"\nshape = {shape}\n");
+    let (path, e) = error(&dir, "mirrors.toml", &mirrors);
+    let message = e.to_string();
+    scene_cause_at(e, &path, Some(place_of_nth(&mirrors, "{ mirror", 30 - 17)), Some("mirrors"));
+    assert!(message.contains("131072 copies"), "{message}");
+    // 70 nested complements: the 65th node from the root is one too deep.
+    let mut shape = ball.to_owned();
+    for _ in 0..70 {
+        shape = format!("{{ complement = {shape} }}");
+    }
+    let deep = format!("[[solid]]\nname = \"deep\"\nshape = {{ union = [{ball}, {shape}] }}\n");
+    let (path, e) = error(&dir, "deep.toml", &deep);
+    let message = e.to_string();
+    scene_cause_at(e, &path, Some(place_of_nth(&deep, "{ complement", 63)), Some("deep"));
+    assert!(message.contains("nested 65 deep; at most 64"), "{message}");
 }

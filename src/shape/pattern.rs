@@ -7,65 +7,46 @@
 //!   `step` defaulting to `360 / n` degrees (a bolt circle, gear teeth).
 //! - [`mirrored`]: the shape and its reflection in a plane, `p - 2 ((p - o) . n) n`.
 //!
-//! Copy 0 is the shape itself; copy `i > 0` is a [`super::Transformed`] of it (a
-//! linear array's, a translation computed as `Transformed`'s translation does, to
-//! the same bits, without mapping eight corners), so a pattern is exactly the union
-//! of the same copies placed one by one, and a voxelizer
-//! that prunes CSG trees ([`super::PrunedCsg`]) culls copies by their bounds. Copies
-//! may overlap (the union is taken); at most [`MAX_COPIES`] a pattern.
+//! A pattern is one [`CsgNode::Placed`](super::CsgNode::Placed) node: the shape, shared,
+//! under one [`Placement`] a copy. Copy 0 is the shape itself; copy `i > 0` is a
+//! translation (a linear array's, `p - offset`) or the affine map of a
+//! [`super::Transformed`] (the same bits), so a pattern is exactly the union of the
+//! same copies placed one by one, and a voxelizer that prunes CSG trees
+//! ([`super::PrunedCsg`]) culls copies by their bounds. Copies may overlap (the union
+//! is taken).
+//!
+//! At most [`MAX_COPIES`] copies in all: patterns nested in patterns multiply
+//! ([`Csg::copies`]), so three nested arrays of 100 make 1,000,000 copies of their
+//! shape and are refused, with the count, before anything is built.
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::bounds::finite;
-use super::{Axis, Class, Csg, Shape, Surface, Transformed};
-use crate::aabb::Aabb;
+use super::{Axis, Csg, Placement};
 use crate::error::{Error, Result};
 
-/// The most copies one pattern makes.
+/// The most copies of any one shape: a pattern's count times the counts of the
+/// patterns it is nested in.
 pub const MAX_COPIES: u64 = 100_000;
 
 /// The union of the copies of `shape` at `(i step.x, j step.y, k step.z)` for
 /// `[i, j, k] < count`; fails for a count of zero, more than [`MAX_COPIES`] copies
-/// or a step that is not finite.
+/// (counting the copies `shape`'s own patterns make) or a step that is not finite.
 pub fn linear_array(shape: impl Into<Csg>, count: [u32; 3], step: DVec3) -> Result<Csg> {
-    check_linear(count, step)?;
+    let shape = shape.into();
+    check_linear(count, step, shape.copies())?;
     let offsets = (0..count[2])
         .flat_map(move |k| (0..count[1]).flat_map(move |j| (0..count[0]).map(move |i| [i, j, k].map(f64::from))));
-    let shape = shape.into();
-    let mut offsets = offsets.map(|[i, j, k]| DVec3::new(i, j, k) * step);
-    debug_assert_eq!(offsets.next(), Some(DVec3::ZERO));
-    Ok(offsets.fold(shape.clone(), |union, offset| union | Csg::leaf(Translated { inner: shape.clone(), offset })))
-}
-
-/// A copy of a linear array: the shape moved by `offset`. The same arithmetic as a
-/// [`Transformed`] translation (`p - offset`, and a box's corners moved, whose bounds
-/// are the box moved), so the same bits, without the eight corners and their hull.
-struct Translated {
-    inner: Csg,
-    offset: DVec3,
-}
-
-impl Shape for Translated {
-    fn classify(&self, b: &Aabb) -> Class {
-        self.inner.classify(&Aabb { min: b.min - self.offset, max: b.max - self.offset })
-    }
-
-    fn contains(&self, p: DVec3) -> bool {
-        self.inner.contains(p - self.offset)
-    }
-
-    fn bounds(&self) -> Option<Aabb> {
-        self.inner.bounds().map(|b| Aabb { min: b.min + self.offset, max: b.max + self.offset })
-    }
-
-    fn surface(&self, p: DVec3) -> Option<Surface> {
-        self.inner.surface(p - self.offset)
-    }
+    let placements = offsets.enumerate().map(|(n, [i, j, k])| {
+        if n == 0 { Placement::Identity } else { Placement::Translation(DVec3::new(i, j, k) * step) }
+    });
+    Csg::placed(shape, placements.collect())
 }
 
 /// The union of `count` copies of `shape` turned by `i * step_degrees` (default
 /// `360 / count`) about the line through `center` along `axis`; fails for a count of
-/// zero or over [`MAX_COPIES`], or a centre or step that is not finite.
+/// zero or over [`MAX_COPIES`] (with `shape`'s own copies), or a centre or step that
+/// is not finite.
 pub fn polar_array(
     shape: impl Into<Csg>,
     axis: Axis,
@@ -73,16 +54,18 @@ pub fn polar_array(
     count: u32,
     step_degrees: Option<f64>,
 ) -> Result<Csg> {
-    let step = check_polar(center, count, step_degrees)?;
+    let shape = shape.into();
+    let step = check_polar(center, count, step_degrees, shape.copies())?;
     let about_center = |i: u32| {
         let turn = DQuat::from_axis_angle(axis.unit(), (step * f64::from(i)).to_radians());
         DAffine3::from_translation(center) * DAffine3::from_quat(turn) * DAffine3::from_translation(-center)
     };
-    copies(shape.into(), (0..count).map(about_center))
+    copies(shape, (0..count).map(about_center))
 }
 
 /// The union of `shape` and its reflection in the plane through `point` with normal
-/// `normal` (need not be unit); fails for a zero or non-finite normal.
+/// `normal` (need not be unit); fails for a zero or non-finite normal, or over
+/// [`MAX_COPIES`] copies of `shape`'s leaves.
 pub fn mirrored(shape: impl Into<Csg>, normal: DVec3, point: DVec3) -> Result<Csg> {
     let (n, o) = check_mirror(normal, point)?;
     // Householder reflection I - 2 n n^T about the plane through o.
@@ -91,16 +74,18 @@ pub fn mirrored(shape: impl Into<Csg>, normal: DVec3, point: DVec3) -> Result<Cs
     copies(shape.into(), [DAffine3::IDENTITY, map].into_iter())
 }
 
-/// Checks a [`linear_array`]'s count and step.
-pub(crate) fn check_linear(count: [u32; 3], step: DVec3) -> Result<()> {
+/// Checks a [`linear_array`]'s count and step, for a shape whose own patterns make
+/// `inner` copies.
+pub(crate) fn check_linear(count: [u32; 3], step: DVec3, inner: u64) -> Result<()> {
     finite("step", step)?;
-    check_count("count", count.iter().map(|&n| u64::from(n)).product(), &format!("{count:?}"))
+    check_count(count.iter().map(|&n| u64::from(n)).product(), &format!("{count:?}"), inner)
 }
 
-/// Checks a [`polar_array`]'s centre, count and step; gives the step in degrees.
-pub(crate) fn check_polar(center: DVec3, count: u32, step_degrees: Option<f64>) -> Result<f64> {
+/// Checks a [`polar_array`]'s centre, count and step, for a shape whose own patterns
+/// make `inner` copies; gives the step in degrees.
+pub(crate) fn check_polar(center: DVec3, count: u32, step_degrees: Option<f64>, inner: u64) -> Result<f64> {
     finite("center", center)?;
-    check_count("count", u64::from(count), &count.to_string())?;
+    check_count(u64::from(count), &count.to_string(), inner)?;
     let step = step_degrees.unwrap_or(360.0 / f64::from(count));
     if step.is_finite() { Ok(step) } else { Err(Error::invalid("step_degrees", format!("{step} must be finite"))) }
 }
@@ -113,19 +98,37 @@ pub(crate) fn check_mirror(normal: DVec3, point: DVec3) -> Result<(DVec3, DVec3)
     Ok((n, finite("point", point)?))
 }
 
-fn check_count(what: &'static str, total: u64, given: &str) -> Result<()> {
+/// Checks the copies of a mirror of a shape whose own patterns make `inner` copies.
+pub(crate) fn check_mirror_copies(inner: u64) -> Result<()> {
+    check_count(2, "a mirror", inner)
+}
+
+/// Fails unless `count` copies of a shape whose patterns make `inner` copies are 1 to
+/// [`MAX_COPIES`] in all.
+fn check_count(count: u64, given: &str, inner: u64) -> Result<()> {
+    let total = count.saturating_mul(inner);
     if (1..=MAX_COPIES).contains(&total) {
         Ok(())
+    } else if inner == 1 {
+        Err(Error::invalid("count", format!("{given} makes {total} copies; a pattern makes 1 to {MAX_COPIES}")))
     } else {
-        Err(Error::invalid(what, format!("{given} makes {total} copies; a pattern makes 1 to {MAX_COPIES}")))
+        Err(Error::invalid(
+            "count",
+            format!(
+                "{given} makes {count} copies of a shape whose patterns make {inner}: {total} copies; nested \
+                 patterns make 1 to {MAX_COPIES} in all"
+            ),
+        ))
     }
 }
 
 /// The union of `shape` mapped by each of `maps`, the first of which must be the
-/// identity (the shape itself).
+/// identity (copy 0, the shape itself).
 fn copies(shape: Csg, mut maps: impl Iterator<Item = DAffine3>) -> Result<Csg> {
-    debug_assert_eq!(maps.next(), Some(DAffine3::IDENTITY));
-    maps.try_fold(shape.clone(), |union, map| Ok(union | Transformed::new(shape.clone(), map)?))
+    let first = maps.next();
+    debug_assert_eq!(first, Some(DAffine3::IDENTITY));
+    let placements = std::iter::once(Ok(Placement::Identity)).chain(maps.map(Placement::affine));
+    Csg::placed(shape, placements.collect::<Result<_>>()?)
 }
 
 #[cfg(test)]

@@ -9,11 +9,15 @@
 //! so going down the octree the tree shrinks to the few leaves near the node.
 //!
 //! Steps:
-//! 1. **Flatten** ([`PrunedCsg::new`]): nested binary unions become one n-ary union
+//! 1. **Flatten** ([`PrunedCsg::new`]): nested unions become one n-ary union
 //!    (likewise intersections and symmetric differences, which are associative), a
-//!    difference `a - b` becomes `a & !b`, `!!a` becomes `a`. Leaves keep their bounds
-//!    ([`Shape::bounds`]) widened by a relative `1e-9` so rounding can never cull a leaf
-//!    that reaches the box.
+//!    difference `a - b - c` becomes `a & !b & !c`, `!!a` becomes `a`, and a pattern
+//!    ([`CsgNode::Placed`]) the union of its copies: each leaf of its child once a
+//!    placement, the leaf under the chain of placements of the patterns above it
+//!    (outermost first, mapping points and boxes in as the nested copies do, hence
+//!    with their bits). Leaves keep their bounds ([`Shape::bounds`], through their
+//!    placements) widened by a relative `1e-9` so rounding can never cull a leaf that
+//!    reaches the box.
 //! 2. **Reduce** ([`PrunedCsg::reduce`]): a leaf whose bounds miss the box is
 //!    `Outside` without asking it, else its [`Shape::classify`]; an n-ary union drops
 //!    its `Outside` children and is `Inside` as soon as one child is (intersection the
@@ -38,16 +42,21 @@
 //! Departure: no bounds hierarchy over an n-ary node's children is built up front (a
 //! BVH would answer the first query in `O(log n)`); the descent's own culling costs
 //! `O(children meeting the parent's box)` a node, which is the same order after the
-//! top levels and needs no build. Limits: a leaf is whatever is not a [`Csg`], so a
-//! tree inside a [`super::Transformed`] (a rotated subtree, a scene solid's
-//! `transform`, a polar copy) is one leaf classified as a whole.
+//! top levels and needs no build. Limits: a leaf is whatever is not a [`Csg`] (a
+//! transformed tree is one: a placed node of one placement), and the table holds one
+//! leaf a copy: a pattern whose copies would make more than [`MAX_LEAVES`] leaves
+//! (100,000 copies of a union of 20 shapes) is flattened one leaf a copy, its child
+//! classified as a whole, so the table holds at most about [`super::MAX_COPIES`] times
+//! the patterns written past that size. A tree nested
+//! deeper than [`MAX_RECURSION`] (only the library's API builds one) is not flattened:
+//! it is one leaf, classified as a whole by [`Csg`]'s own fold.
 
 use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::csg::{Csg, CsgNode};
-use super::{Class, Shape};
+use super::csg::{Csg, CsgNode, MAX_RECURSION};
+use super::{Class, Placement, Shape};
 use crate::aabb::Aabb;
 
 /// A CSG tree reduced for a box; leaves index [`PrunedCsg`]'s leaf table. Cheap to
@@ -86,6 +95,10 @@ pub enum Reduced {
     Smaller(Residual),
 }
 
+/// The most leaves a pattern is flattened into: past it, each copy of the pattern's
+/// child is one leaf (see the module doc).
+pub const MAX_LEAVES: u64 = 1 << 20;
+
 /// A CSG tree flattened for pruned classification (see the module doc).
 pub struct PrunedCsg {
     leaves: Vec<(Arc<dyn Shape>, Option<Aabb>)>,
@@ -111,7 +124,13 @@ impl PrunedCsg {
     #[must_use]
     pub fn new(tree: &Csg) -> PrunedCsg {
         let mut pruned = PrunedCsg { leaves: Vec::new(), root: Residual::Leaf { index: 0, complement: false } };
-        pruned.root = pruned.flatten(tree);
+        match pruned.flatten(tree, &[], 0) {
+            Some(root) => pruned.root = root,
+            None => {
+                // Too deep to flatten by recursion: the whole tree is one leaf.
+                pruned.leaves = vec![(Arc::new(tree.clone()), tree.bounds().map(widened))];
+            }
+        }
         pruned
     }
 
@@ -127,44 +146,90 @@ impl PrunedCsg {
         self.leaves.len()
     }
 
-    fn flatten(&mut self, tree: &Csg) -> Residual {
-        match tree.node() {
-            CsgNode::Leaf(shape) => {
-                let index = u32::try_from(self.leaves.len()).expect("fewer than 2^32 leaves");
-                self.leaves.push((shape.clone(), shape.bounds().map(widened)));
-                Residual::Leaf { index, complement: false }
-            }
-            CsgNode::Union(a, b) => self.nary(Nary::Union, [a, b]),
-            CsgNode::Intersection(a, b) => self.nary(Nary::Intersection, [a, b]),
-            CsgNode::SymmetricDifference(a, b) => self.nary(Nary::Xor, [a, b]),
-            CsgNode::Difference(a, b) => {
-                let (a, not_b) = (self.flatten(a), not(self.flatten(b)));
-                let mut parts = Vec::new();
-                for part in [a, not_b] {
-                    splice(Nary::Intersection, part, &mut parts);
-                }
-                Residual::Intersection(parts.into())
-            }
-            CsgNode::Complement(a) => not(self.flatten(a)),
+    /// The residual of `tree` under the placements `chain` (outermost first), its
+    /// leaves added to the table; `None` past [`MAX_RECURSION`] nodes deep.
+    fn flatten(&mut self, tree: &Csg, chain: &[Placement], depth: u32) -> Option<Residual> {
+        if depth > MAX_RECURSION {
+            return None;
         }
+        Some(match tree.node() {
+            CsgNode::Leaf(shape) => self.leaf(shape, chain),
+            CsgNode::Union(children) => self.nary(Nary::Union, children, chain, depth)?,
+            CsgNode::Intersection(children) => self.nary(Nary::Intersection, children, chain, depth)?,
+            CsgNode::SymmetricDifference(children) => self.nary(Nary::Xor, children, chain, depth)?,
+            CsgNode::Difference(children) => {
+                let mut parts = Vec::new();
+                for (i, child) in children.iter().enumerate() {
+                    let part = self.flatten(child, chain, depth + 1)?;
+                    splice(Nary::Intersection, if i == 0 { part } else { not(part) }, &mut parts);
+                }
+                make(Nary::Intersection, parts)
+            }
+            CsgNode::Complement(a) => not(self.flatten(a, chain, depth + 1)?),
+            CsgNode::Placed(child, placements) if tree.instances() > MAX_LEAVES && child.instances() > 1 => {
+                // Too many leaves to make one by one: each copy's child is one leaf.
+                let child: Arc<dyn Shape> = Arc::new(child.clone());
+                let mut parts = Vec::new();
+                let mut inner = chain.to_vec();
+                for placement in placements.iter() {
+                    if *placement != Placement::Identity {
+                        inner.push(placement.clone());
+                    }
+                    parts.push(self.leaf(&child, &inner));
+                    inner.truncate(chain.len());
+                }
+                make(Nary::Union, parts)
+            }
+            CsgNode::Placed(child, placements) => {
+                let mut parts = Vec::new();
+                let mut inner = chain.to_vec();
+                for placement in placements.iter() {
+                    if *placement != Placement::Identity {
+                        inner.push(placement.clone());
+                    }
+                    let part = self.flatten(child, &inner, depth + 1)?;
+                    splice(Nary::Union, part, &mut parts);
+                    inner.truncate(chain.len());
+                }
+                make(Nary::Union, parts)
+            }
+        })
     }
 
-    /// The n-ary node of `op` over the operands, the operands' own `op` nodes spliced in.
-    fn nary(&mut self, op: Nary, operands: [&Csg; 2]) -> Residual {
+    /// `shape` under the placements `chain`, added to the leaf table.
+    fn leaf(&mut self, shape: &Arc<dyn Shape>, chain: &[Placement]) -> Residual {
+        let shape = if chain.is_empty() {
+            shape.clone()
+        } else {
+            Arc::new(PlacedLeaf { shape: shape.clone(), chain: chain.into() })
+        };
+        let index = u32::try_from(self.leaves.len()).expect("fewer than 2^32 leaves");
+        let bounds = shape.bounds().map(widened);
+        self.leaves.push((shape, bounds));
+        Residual::Leaf { index, complement: false }
+    }
+
+    /// The n-ary node of `op` over `children`, the children's own `op` nodes spliced in.
+    fn nary(&mut self, op: Nary, children: &[Csg], chain: &[Placement], depth: u32) -> Option<Residual> {
         let mut parts = Vec::new();
-        // A left fold of many operands nests on the left: walk down it without recursion.
-        let mut pending = vec![operands[1]];
-        let mut left = operands[0];
-        while let Some((a, b)) = same_op(op, left) {
-            pending.push(b);
-            left = a;
+        // A left fold of shared operands nests on the left: walk down it without recursion.
+        let mut pending: Vec<&Csg> = Vec::new();
+        let mut left = children;
+        loop {
+            pending.extend(left[1..].iter().rev());
+            match same_op(op, &left[0]) {
+                Some(inner) => left = inner,
+                None => {
+                    pending.push(&left[0]);
+                    break;
+                }
+            }
         }
-        pending.push(left);
         for operand in pending.into_iter().rev() {
-            let part = self.flatten(operand);
+            let part = self.flatten(operand, chain, depth + 1)?;
             splice(op, part, &mut parts);
         }
-        make(op, parts)
+        Some(make(op, parts))
     }
 
     /// Step 2 of the module doc: `residual` reduced for the closed box `b`.
@@ -263,12 +328,12 @@ impl PrunedCsg {
     }
 }
 
-/// The operands of `tree` when its root is the binary form of `op`.
-fn same_op(op: Nary, tree: &Csg) -> Option<(&Csg, &Csg)> {
+/// The children of `tree` when its root is an `op` node.
+fn same_op(op: Nary, tree: &Csg) -> Option<&[Csg]> {
     match (op, tree.node()) {
-        (Nary::Union, CsgNode::Union(a, b))
-        | (Nary::Intersection, CsgNode::Intersection(a, b))
-        | (Nary::Xor, CsgNode::SymmetricDifference(a, b)) => Some((a, b)),
+        (Nary::Union, CsgNode::Union(c))
+        | (Nary::Intersection, CsgNode::Intersection(c))
+        | (Nary::Xor, CsgNode::SymmetricDifference(c)) => Some(c),
         _ => None,
     }
 }
@@ -284,7 +349,11 @@ fn splice(op: Nary, part: Residual, parts: &mut Vec<Residual>) {
     }
 }
 
-fn make(op: Nary, parts: Vec<Residual>) -> Residual {
+/// The `op` node of `parts` (at least one), the part itself when it is one.
+fn make(op: Nary, mut parts: Vec<Residual>) -> Residual {
+    if parts.len() == 1 {
+        return parts.pop().expect("one part");
+    }
     match op {
         Nary::Union => Residual::Union(parts.into()),
         Nary::Intersection => Residual::Intersection(parts.into()),
@@ -306,6 +375,28 @@ fn complement(r: Reduced) -> Reduced {
         Reduced::Inside => Reduced::Outside,
         Reduced::Outside => Reduced::Inside,
         other => other,
+    }
+}
+
+/// A leaf of the tree under the placements of the patterns above it, outermost
+/// first: it maps points and boxes inward and bounds outward one placement at a time,
+/// as the nested copies it stands for do, so it answers with their bits.
+struct PlacedLeaf {
+    shape: Arc<dyn Shape>,
+    chain: Arc<[Placement]>,
+}
+
+impl Shape for PlacedLeaf {
+    fn classify(&self, b: &Aabb) -> Class {
+        self.shape.classify(&self.chain.iter().fold(*b, |b, p| p.local_box(&b)))
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        self.shape.contains(self.chain.iter().fold(p, |p, placement| placement.local_point(p)))
+    }
+
+    fn bounds(&self) -> Option<Aabb> {
+        Some(self.chain.iter().rev().fold(self.shape.bounds()?, |b, p| p.world_box(&b)))
     }
 }
 
@@ -385,5 +476,22 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
+    }
+
+    #[test]
+    fn a_pattern_past_the_leaves_is_one_leaf_a_copy() {
+        let balls = (1..20).fold(Csg::from(Sphere::new(DVec3::ZERO, 0.01).unwrap()), |u, i| {
+            u | Sphere::new(DVec3::new(0.05 * f64::from(i), 0.0, 0.0), 0.01).unwrap()
+        });
+        let grid = crate::shape::linear_array(balls.clone(), [400, 250, 1], DVec3::new(1.0, 1.0, 0.0)).unwrap();
+        assert_eq!(grid.instances(), 2_000_000);
+        let pruned = PrunedCsg::new(&grid);
+        assert_eq!(pruned.leaf_count(), 100_000);
+        let small = crate::shape::linear_array(balls, [40, 25, 1], DVec3::new(1.0, 1.0, 0.0)).unwrap();
+        assert_eq!(PrunedCsg::new(&small).leaf_count(), 20_000);
+        for p in [DVec3::new(399.05, 249.0, 0.0), DVec3::new(399.025, 249.0, 0.0), DVec3::new(7.95, 3.0, 0.0)] {
+            assert_eq!(pruned.contains(&pruned.root(), p), grid.contains(p), "{p}");
+        }
+        assert!(grid.contains(DVec3::new(399.05, 249.0, 0.0)) && !grid.contains(DVec3::new(399.025, 249.0, 0.0)));
     }
 }

@@ -27,7 +27,14 @@
 //! 0] } }`, `{ polar = { shape = ..., count = 6, axis = "z", center = [0, 0, 0] } }`
 //! (`step_degrees` defaults to `360 / count`) and `{ mirror = { shape = ..., normal =
 //! [1, 0, 0], point = [0, 0, 0] } }`; their counts and planes are checked as they are
-//! read.
+//! read, the counts multiplied by those of the patterns inside them (at most
+//! [`super::MAX_COPIES`] copies of any leaf in all, [`Csg::copies`]).
+//!
+//! Nesting: a spec is at most [`MAX_NESTING`] nodes deep. Reading counts the nodes open
+//! on the thread and refuses the first one past it before reading what it holds, so
+//! neither the reader nor the build recurses deeper; [`ShapeSpec::build_with`] counts a
+//! spec made in code (without recursion) before building it. Dropping, cloning or
+//! printing a spec made in code deeper than that still recurses.
 //!
 //! Two leaves name files, `{ mesh = "part.obj" }` (a closed triangle mesh) and
 //! `{ oct = "part.oct" }` (a stored octree). The shape layer knows no mesh or octree:
@@ -45,7 +52,7 @@ use glam::{DAffine3, DQuat, DVec3};
 use serde::Deserialize;
 use serde::de::{self, Deserializer, IgnoredAny, MapAccess, Visitor};
 
-use super::pattern::{check_linear, check_mirror, check_polar};
+use super::pattern::{check_linear, check_mirror, check_mirror_copies, check_polar};
 use super::{
     Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Sphere, Torus, Transformed,
     linear_array, mirrored, polar_array,
@@ -297,22 +304,34 @@ impl ShapeSpec {
         self.build_with(&NoFiles)
     }
 
-    /// [`ShapeSpec::build`] with the leaves that name files built by `files`.
+    /// [`ShapeSpec::build`] with the leaves that name files built by `files`; fails,
+    /// before building anything, for a spec nested deeper than [`MAX_NESTING`].
     pub fn build_with(&self, files: &dyn FileLeaves) -> Result<Csg> {
+        let nesting = self.nesting();
+        if nesting > MAX_NESTING {
+            return Err(too_deep(nesting));
+        }
+        self.build_nested(files)
+    }
+
+    /// [`ShapeSpec::build_with`] of a spec known to nest at most [`MAX_NESTING`] deep.
+    fn build_nested(&self, files: &dyn FileLeaves) -> Result<Csg> {
         Ok(match self {
             ShapeSpec::Union(parts) => fold(parts, files, |a, b| a | b)?,
             ShapeSpec::Intersection(parts) => fold(parts, files, |a, b| a & b)?,
             ShapeSpec::Difference(parts) => fold(parts, files, |a, b| a - b)?,
             ShapeSpec::Xor(parts) => fold(parts, files, |a, b| a ^ b)?,
-            ShapeSpec::Complement(inner) => !inner.build_with(files)?,
-            ShapeSpec::Array { shape, count, step } => linear_array(shape.build_with(files)?, *count, v(*step))?,
+            ShapeSpec::Complement(inner) => !inner.build_nested(files)?,
+            ShapeSpec::Array { shape, count, step } => linear_array(shape.build_nested(files)?, *count, v(*step))?,
             ShapeSpec::Polar { shape, count, axis, center, step_degrees } => {
-                polar_array(shape.build_with(files)?, *axis, origin(*center), *count, *step_degrees)?
+                polar_array(shape.build_nested(files)?, *axis, origin(*center), *count, *step_degrees)?
             }
             ShapeSpec::Mirror { shape, normal, point } => {
-                mirrored(shape.build_with(files)?, v(*normal), origin(*point))?
+                mirrored(shape.build_nested(files)?, v(*normal), origin(*point))?
             }
-            ShapeSpec::Transform { shape, .. } => Transformed::new(shape.build_with(files)?, self.transform()?)?.into(),
+            ShapeSpec::Transform { shape, .. } => {
+                Transformed::new(shape.build_nested(files)?, self.transform()?)?.into()
+            }
             ShapeSpec::Mesh(file) => files.mesh(file)?,
             ShapeSpec::Oct(file) => files.oct(file)?,
             primitive => primitive.primitive()?,
@@ -355,11 +374,14 @@ impl ShapeSpec {
                 Err(no_operands())
             }
             ShapeSpec::Transform { .. } => self.transform().map(drop),
-            ShapeSpec::Array { count, step, .. } => check_linear(*count, v(*step)),
-            ShapeSpec::Polar { count, center, step_degrees, .. } => {
-                check_polar(origin(*center), *count, *step_degrees).map(drop)
+            ShapeSpec::Array { shape, count, step } => check_linear(*count, v(*step), shape.copies()),
+            ShapeSpec::Polar { shape, count, center, step_degrees, .. } => {
+                check_polar(origin(*center), *count, *step_degrees, shape.copies()).map(drop)
             }
-            ShapeSpec::Mirror { normal, point, .. } => check_mirror(v(*normal), origin(*point)).map(drop),
+            ShapeSpec::Mirror { shape, normal, point } => {
+                check_mirror(v(*normal), origin(*point))?;
+                check_mirror_copies(shape.copies())
+            }
             ShapeSpec::Union(_)
             | ShapeSpec::Intersection(_)
             | ShapeSpec::Difference(_)
@@ -408,6 +430,48 @@ impl ShapeSpec {
         }
     }
 
+    /// The operands of a set operation, the shape of a pattern, a transform or a
+    /// complement; none for a leaf.
+    fn children(&self) -> &[ShapeSpec] {
+        match self {
+            ShapeSpec::Union(parts)
+            | ShapeSpec::Intersection(parts)
+            | ShapeSpec::Difference(parts)
+            | ShapeSpec::Xor(parts) => parts,
+            ShapeSpec::Complement(shape)
+            | ShapeSpec::Array { shape, .. }
+            | ShapeSpec::Polar { shape, .. }
+            | ShapeSpec::Mirror { shape, .. }
+            | ShapeSpec::Transform { shape, .. } => std::slice::from_ref(shape),
+            _ => &[],
+        }
+    }
+
+    /// Nodes on the longest path from this one to a leaf (1 for a leaf), counted
+    /// without recursion.
+    fn nesting(&self) -> usize {
+        let mut deepest = 0;
+        let mut pending = vec![(self, 1)];
+        while let Some((node, depth)) = pending.pop() {
+            deepest = deepest.max(depth);
+            pending.extend(node.children().iter().map(|c| (c, depth + 1)));
+        }
+        deepest
+    }
+
+    /// The most copies the patterns make of any leaf ([`Csg::copies`] of the tree
+    /// built); called on specs read, which nest at most [`MAX_NESTING`] deep.
+    fn copies(&self) -> u64 {
+        let inner = self.children().iter().map(ShapeSpec::copies).max().unwrap_or(1);
+        let count = match self {
+            ShapeSpec::Array { count, .. } => count.iter().map(|&n| u64::from(n)).product(),
+            ShapeSpec::Polar { count, .. } => u64::from(*count),
+            ShapeSpec::Mirror { .. } => 2,
+            _ => 1,
+        };
+        count.saturating_mul(inner)
+    }
+
     /// The map of a `transform` ([`TransformSpec::map`]); the identity for any other kind.
     fn transform(&self) -> Result<DAffine3> {
         let ShapeSpec::Transform { scale, rotate_axis, rotate_degrees, translate, .. } = self else {
@@ -446,6 +510,7 @@ impl<'de> Visitor<'de> for NodeVisitor {
         if map.size_hint() == Some(0) {
             return Err(one_kind());
         }
+        let _level = Reading::enter().map_err(de::Error::custom)?;
         let node = Derived::deserialize(de::value::MapAccessDeserializer::new(&mut map))?;
         if map.next_key::<IgnoredAny>()?.is_some() {
             return Err(one_kind());
@@ -453,6 +518,40 @@ impl<'de> Visitor<'de> for NodeVisitor {
         node.check_node().map_err(de::Error::custom)?;
         Ok(node)
     }
+}
+
+/// The most nodes on a path from a spec's root to a leaf (a leaf in 63 patterns,
+/// transforms or operations); a deeper spec is refused, as it is read.
+pub const MAX_NESTING: usize = 64;
+
+thread_local! {
+    /// The nodes being read on this thread, from the root to the one being read.
+    static READING: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// One node being read: counted in [`READING`] while it lives, so that a spec nested
+/// deeper than [`MAX_NESTING`] is refused before its reader recurses further.
+struct Reading;
+
+impl Reading {
+    fn enter() -> Result<Reading> {
+        let depth = READING.get() + 1;
+        if depth > MAX_NESTING {
+            return Err(too_deep(depth));
+        }
+        READING.set(depth);
+        Ok(Reading)
+    }
+}
+
+impl Drop for Reading {
+    fn drop(&mut self) {
+        READING.set(READING.get() - 1);
+    }
+}
+
+fn too_deep(depth: usize) -> Error {
+    Error::invalid("shape", format!("shapes nested {depth} deep; at most {MAX_NESTING}"))
 }
 
 fn no_operands() -> Error {
@@ -463,7 +562,7 @@ fn no_operands() -> Error {
 fn fold(parts: &[ShapeSpec], files: &dyn FileLeaves, op: fn(Csg, Csg) -> Csg) -> Result<Csg> {
     let mut it = parts.iter();
     let first = it.next().ok_or_else(no_operands)?;
-    it.try_fold(first.build_with(files)?, |acc, s| Ok(op(acc, s.build_with(files)?)))
+    it.try_fold(first.build_nested(files)?, |acc, s| Ok(op(acc, s.build_nested(files)?)))
 }
 
 #[cfg(test)]
@@ -547,5 +646,17 @@ mod tests {
         ]);
         let tree = xor.build().unwrap();
         assert!(tree.contains(DVec3::new(-0.9, 0.0, 0.0)) && !tree.contains(DVec3::new(0.5, 0.0, 0.0)));
+    }
+
+    #[test]
+    fn a_spec_past_the_nesting_is_refused_before_it_is_built() {
+        let mut deep = ShapeSpec::Sphere { center: [0.0; 3], radius: 1.0 };
+        for _ in 0..MAX_NESTING - 1 {
+            deep = ShapeSpec::Complement(Box::new(deep));
+        }
+        assert!(deep.build().is_ok());
+        let deeper = ShapeSpec::Complement(Box::new(deep));
+        let e = deeper.build().unwrap_err().to_string();
+        assert!(e.contains("nested 65 deep; at most 64"), "{e}");
     }
 }

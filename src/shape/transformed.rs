@@ -38,10 +38,16 @@ impl<S: Shape> Transformed<S> {
     pub fn to_world(&self) -> DAffine3 {
         self.to_world
     }
+
+    /// The map from the world to the inner shape's frame.
+    #[must_use]
+    pub fn to_local(&self) -> DAffine3 {
+        self.to_local
+    }
 }
 
 /// The bounding box of `b`'s corners mapped by `m`.
-fn map_box(m: &DAffine3, b: &Aabb) -> Aabb {
+pub(super) fn map_box(m: &DAffine3, b: &Aabb) -> Aabb {
     Aabb::from_points((0..8).map(|i| m.transform_point3(b.corner(i)))).expect("eight corners")
 }
 
