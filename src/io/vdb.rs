@@ -62,7 +62,7 @@ use super::blosc;
 use super::fields::Fields;
 use super::solid_set::{ColouredSolid, ReadOptions, Solids};
 use crate::budget::MemoryBudget;
-use crate::error::{Error, Result, quoted};
+use crate::error::{Error, Result, printable, quoted};
 use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 
@@ -755,7 +755,7 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
             }
             return read_grid(&mut r, name, value, half, options);
         }
-        found.push(format!("{} ({})", quoted(name.as_bytes()), quoted(kind.as_bytes())));
+        found.push(format!("{} ({})", printable(&name), printable(&kind)));
         r.pos = end_pos as usize;
     }
     let what = options
