@@ -54,6 +54,7 @@ pub mod io;
 pub mod mesh;
 pub mod morton;
 pub mod octree;
+mod owner;
 pub mod patch;
 mod progress;
 mod ray;

@@ -2,20 +2,18 @@
 //! destination. A crash or a full disk never leaves a half-written file and never
 //! destroys the old one.
 //!
-//! The temporary file is `.NAME.octsolid-tmp-PID-HOST-XXXXXXXXXXXXXXXX` in the
-//! destination's folder: the writer's process id and host name, then an unpredictable
-//! part (random bits from the standard library's hasher seeds, the time and a
-//! counter); it is created exclusively (`O_EXCL`), so a file or symlink planted under a
-//! guessed name is never written through.
+//! The temporary file is `.NAME.octsolid-tmp-HOST-PID-RANDOM` in the destination's
+//! folder, named by its writer ([`crate::owner`]: this host, this process, 64
+//! unpredictable bits) and created exclusively (`O_EXCL`), so a file or symlink planted
+//! under a guessed name is never written through.
 //!
 //! A write killed before its rename leaves its temporary file behind. Every later
-//! write into the same folder removes the ones it can prove stale: those of this host
-//! whose process is gone (no `/proc/PID`, Linux). Kept: those of a process still
-//! running (a write in progress, or a reused process id: kept, never wrongly removed)
-//! and those of another host sharing the folder, which cannot be checked from here,
-//! except when they are temporaries of the same destination older than an hour (as are
-//! temporaries in the older name form without process and host). On systems without
-//! `/proc` only that age rule applies.
+//! write into the same folder removes those it can prove stale: this host's whose
+//! process is gone, whatever their destination. Kept: a running process's (a write in
+//! progress, or a reused process id: the safe side) and another host's sharing the
+//! folder, which cannot be checked from here, except that temporaries of the same
+//! destination older than an hour are removed, as are those in the older name form
+//! without host and process.
 //!
 //! Destinations that are not regular files: a symlink is followed, and its target
 //! replaced atomically (the link stays); a device or fifo (`/dev/null`,
@@ -23,13 +21,12 @@
 //! device with a regular file.
 
 use std::fs::{File, OpenOptions};
-use std::hash::{BuildHasher, Hasher};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::{Duration, SystemTime};
+use std::time::Duration;
 
 use crate::error::{Error, Result};
+use crate::owner::{dead_here, host_name, owned_name, owner};
 
 /// The marker in every temporary file's name.
 const TEMP_MARKER: &str = ".octsolid-tmp-";
@@ -53,35 +50,11 @@ impl<W: Write> Write for Counting<W> {
     }
 }
 
-/// 64 unpredictable bits: a fresh randomly seeded std hasher over the time, the
-/// process and a counter.
-fn random_suffix() -> u64 {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
-    h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
-    h.write_u32(std::process::id());
-    h.write_u128(SystemTime::now().duration_since(SystemTime::UNIX_EPOCH).map_or(0, |d| d.as_nanos()));
-    h.finish()
-}
-
-/// This host's name as it goes into temporary names (letters, digits, `.` and `_`:
-/// the `-` that separates the name's parts is replaced); `unknown` when it cannot be
-/// read.
-fn host_name() -> String {
-    let name = std::fs::read_to_string("/proc/sys/kernel/hostname")
-        .or_else(|_| std::fs::read_to_string("/etc/hostname"))
-        .unwrap_or_default();
-    let name: String =
-        name.trim().chars().map(|c| if c.is_ascii_alphanumeric() || c == '.' { c } else { '_' }).take(64).collect();
-    if name.is_empty() { "unknown".into() } else { name }
-}
-
 /// Creates a new temporary sibling of `path`, exclusively.
 fn create_temporary(path: &Path) -> std::io::Result<(File, PathBuf)> {
     let name = path.file_name().map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
-    let (pid, host) = (std::process::id(), host_name());
     loop {
-        let temp = path.with_file_name(format!(".{name}{TEMP_MARKER}{pid}-{host}-{:016x}", random_suffix()));
+        let temp = path.with_file_name(format!(".{name}{}", owned_name(TEMP_MARKER)));
         match OpenOptions::new().write(true).create_new(true).open(&temp) {
             Ok(file) => return Ok((file, temp)),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
@@ -90,34 +63,19 @@ fn create_temporary(path: &Path) -> std::io::Result<(File, PathBuf)> {
     }
 }
 
-/// Who wrote a temporary file, read from its name (the part after [`TEMP_MARKER`]):
-/// `Some((pid, host))`, or `None` for the older form without them.
-fn writer_of(suffix: &str) -> Option<(u32, &str)> {
-    let (pid, rest) = suffix.split_once('-')?;
-    let (host, random) = rest.rsplit_once('-')?;
-    (random.len() == 16 && random.bytes().all(|b| b.is_ascii_hexdigit())).then_some(())?;
-    Some((pid.parse().ok()?, host))
-}
-
-/// Whether process `pid` of this host is gone, as far as `/proc` proves it: `false`
-/// when it runs or when there is no `/proc` to ask.
-fn process_gone(pid: u32) -> bool {
-    Path::new("/proc/self").exists() && !Path::new("/proc").join(pid.to_string()).exists()
-}
-
 /// Removes the temporary files in `path`'s folder that are provably stale (module
 /// doc); best effort.
 fn remove_stale_temporaries(path: &Path) {
     let own_prefix = path.file_name().map(|n| format!(".{}{TEMP_MARKER}", n.to_string_lossy()));
     let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let Ok(entries) = std::fs::read_dir(folder) else { return };
-    let host = host_name();
     for entry in entries.flatten() {
         let name = entry.file_name().to_string_lossy().into_owned();
         let Some((_, suffix)) = name.split_once(TEMP_MARKER).filter(|_| name.starts_with('.')) else { continue };
         let Some(meta) = entry.metadata().ok().filter(std::fs::Metadata::is_file) else { continue };
-        let stale = match writer_of(suffix) {
-            Some((pid, writer_host)) if writer_host == host => process_gone(pid),
+        let stale = match owner(suffix, "") {
+            Some((host, pid)) if dead_here(host, pid) => true,
+            Some((host, _)) if host == host_name() => false,
             _ => {
                 let old = meta.modified().ok().and_then(|t| t.elapsed().ok()).is_some_and(|age| age > STALE_AFTER);
                 old && own_prefix.as_ref().is_some_and(|p| name.starts_with(p.as_str()))
@@ -187,6 +145,8 @@ pub fn same_file(a: impl AsRef<Path>, b: impl AsRef<Path>) -> bool {
 
 #[cfg(test)]
 mod tests {
+    use std::time::SystemTime;
+
     use super::*;
 
     fn scratch(name: &str) -> PathBuf {
@@ -198,10 +158,8 @@ mod tests {
 
     #[test]
     fn a_planted_file_under_the_temporary_name_is_never_written_through() {
-        // Names are unpredictable: two calls never share one, so a planted symlink
-        // cannot be guessed; and creation is exclusive, so even a clash fails safe.
-        let names: std::collections::HashSet<u64> = (0..1000).map(|_| random_suffix()).collect();
-        assert_eq!(names.len(), 1000);
+        // Names are unpredictable (`owner::unpredictable`), so a planted symlink cannot
+        // be guessed; and creation is exclusive, so even a clash fails safe.
         let dir = scratch("planted");
         let victim = dir.join("victim");
         std::fs::write(&victim, b"keep").unwrap();
@@ -256,25 +214,19 @@ mod tests {
         child.wait().unwrap();
         let host = host_name();
         let name =
-            |dest: &str, pid: u32, host: &str| dir.join(format!(".{dest}{TEMP_MARKER}{pid}-{host}-00000000000000ab"));
+            |dest: &str, host: &str, pid: u32| dir.join(format!(".{dest}{TEMP_MARKER}{host}-{pid}-00000000000000ab"));
         // A killed write of another file in the folder: fresh, yet provably stale.
-        let killed = name("other.vdb", dead, &host);
+        let killed = name("other.vdb", &host, dead);
         // A write in progress (this process), hours old: kept.
-        let running = name("big.oct", std::process::id(), &host);
+        let running = name("big.oct", &host, std::process::id());
         // Another host's, fresh: cannot be checked, kept.
-        let remote = name("big.oct", dead, "elsewhere.example");
+        let remote = name("big.oct", "elsewhere.example", dead);
         for p in [&killed, &running, &remote] {
             std::fs::write(p, b"partial").unwrap();
         }
         let two_hours_ago = SystemTime::now() - Duration::from_secs(7200);
         File::options().write(true).open(&running).unwrap().set_modified(two_hours_ago).unwrap();
         write_atomic(dir.join("big.oct"), |w| w.write_all(b"done")).unwrap();
-        assert_eq!(process_gone(dead), Path::new("/proc/self").exists());
-        if process_gone(dead) {
-            assert!(!killed.exists());
-        }
-        assert!(running.exists() && remote.exists());
-        assert_eq!(writer_of(&format!("{dead}-{host}-00000000000000ab")), Some((dead, host.as_str())));
-        assert_eq!(writer_of("0000000000000001"), None);
+        assert!(!killed.exists() && running.exists() && remote.exists());
     }
 }

@@ -31,13 +31,13 @@
 //! octsolid before this layout.
 
 use std::fs::File;
-use std::hash::{BuildHasher, Hasher};
 use std::io::{ErrorKind, Read};
 use std::os::unix::fs::{MetadataExt, OpenOptionsExt};
 use std::path::{Path, PathBuf};
 
 use super::job::JobId;
 use crate::error::{Error, Result};
+use crate::owner::{dead_here, owned_name, owner};
 
 /// The prefix of a writer's own folder.
 const RUN_PREFIX: &str = "run-";
@@ -165,31 +165,6 @@ pub(crate) fn own_folder(path: &Path) -> Result<()> {
     check_own_folder(path)
 }
 
-/// This host's name, as `run-` and `old-` folder names record it ('-' kept).
-fn host_name() -> String {
-    let mut buf = [0u8; 256];
-    // SAFETY: the buffer is valid for its length; gethostname writes at most that.
-    let ok = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) } == 0;
-    let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
-    let name = if ok { String::from_utf8_lossy(&buf[..end]).into_owned() } else { String::new() };
-    let name: String =
-        name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect();
-    if name.is_empty() { "host".into() } else { name }
-}
-
-/// 64 unpredictable bits.
-fn random() -> u64 {
-    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
-    h.write_u32(std::process::id());
-    h.write_u128(std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos()));
-    h.finish()
-}
-
-/// A fresh name `PREFIXHOST-PID-RANDOM` of this process.
-fn owned_name(prefix: &str) -> String {
-    format!("{prefix}{}-{}-{:016x}", host_name(), std::process::id(), random())
-}
-
 /// Makes a new `run-` folder of this process in staging folder `root` (made if
 /// missing, and checked).
 pub(crate) fn new_run_folder(root: &Path) -> Result<PathBuf> {
@@ -204,27 +179,6 @@ pub(crate) fn new_run_folder(root: &Path) -> Result<PathBuf> {
         }
     }
     Err(Error::invalid("staging folder", format!("{}: could not make a folder of this process in it", root.display())))
-}
-
-/// Whether process `pid` exists on this host (one of another user counts).
-fn alive(pid: i32) -> bool {
-    // SAFETY: signal 0 only checks that the process exists.
-    pid > 0
-        && (unsafe { libc::kill(pid, 0) } == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM))
-}
-
-/// The owner `(HOST, PID)` of a folder named `PREFIXHOST-PID-RANDOM`.
-fn owner<'a>(name: &'a str, prefix: &str) -> Option<(&'a str, i32)> {
-    let rest = name.strip_prefix(prefix)?;
-    let (rest, random) = rest.rsplit_once('-')?;
-    let (host, pid) = rest.rsplit_once('-')?;
-    (random.len() == 16 && random.bytes().all(|b| b.is_ascii_hexdigit())).then_some(())?;
-    Some((host, pid.parse().ok()?))
-}
-
-/// Whether the owner (HOST, PID) is provably gone: this host, no such process.
-fn dead_here(host: &str, pid: i32) -> bool {
-    host == host_name() && !alive(pid)
 }
 
 /// Removes the `run-` and `old-` folders in staging folder `root` whose owner is
@@ -263,7 +217,7 @@ pub(crate) struct JoinLock(PathBuf);
 impl JoinLock {
     pub(crate) fn acquire(job: &Path) -> Result<JoinLock> {
         let path = job.join(LOCK_FILE);
-        let mine = format!("{}-{}-{:016x}\n", host_name(), std::process::id(), random());
+        let mine = format!("{}\n", owned_name(""));
         for _ in 0..2 {
             let created = std::fs::OpenOptions::new().write(true).create_new(true).mode(0o644).open(&path);
             match created {
@@ -273,8 +227,7 @@ impl JoinLock {
                 }
                 Err(e) if e.kind() == ErrorKind::AlreadyExists => {
                     let held = std::fs::read_to_string(&path).unwrap_or_default();
-                    let name = format!("{RUN_PREFIX}{}", held.trim());
-                    match owner(&name, RUN_PREFIX) {
+                    match owner(held.trim(), "") {
                         Some((host, pid)) if dead_here(host, pid) => {
                             let _ = std::fs::remove_file(&path);
                         }
@@ -381,17 +334,4 @@ pub(crate) fn publish(from: &Path, to: &Path, root: &Path) -> Result<()> {
         }
     }
     Err(Error::invalid("output", format!("{}: other writers kept replacing it; not published", to.display())))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn owners_are_parsed_from_the_right_so_hosts_may_hold_dashes() {
-        assert_eq!(owner("run-my-host-1234-00112233445566ff", RUN_PREFIX), Some(("my-host", 1234)));
-        assert_eq!(owner("run-host-12x-00112233445566ff", RUN_PREFIX), None);
-        assert_eq!(owner("old-h-1-0011", OLD_PREFIX), None);
-        assert!(!dead_here(&host_name(), std::process::id() as i32));
-    }
 }

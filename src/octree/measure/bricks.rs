@@ -221,7 +221,7 @@ mod tests {
         // inner squares counted in bulk.
         let side = 1u64 << 14;
         assert_eq!(bricks.patterned.len() as u64, side.pow(3) - (side - 2).pow(3) - 6 * (side - 2).pow(2));
-        assert_eq!(bricks.bulk_faces, 6 * (side - 2).pow(2) << 12);
+        assert_eq!(bricks.bulk_faces, (6 * (side - 2).pow(2)) << 12);
         // Boxes of big nodes side by side (their seams continue a face) and apart.
         let domain = Domain::new(DVec3::ZERO, 1.0, 18).unwrap();
         let cube = |min: [u32; 3], size| Node { level: 0, min, size };
