@@ -211,9 +211,11 @@ fn push_printable(out: &mut String, c: char) {
 }
 
 /// A name or message that came from a file (a solid's or a grid's name, a TOML
-/// reader's message quoting a value), safe to print on one line: control and invisible
-/// characters escaped as [`quoted`] escapes them, but without quotes and never cut, so
-/// an ordinary name prints as it is.
+/// reader's message quoting a value), safe to print on one line: tab, line feed and
+/// carriage return as `\t`, `\n`, `\r`, other control characters and the invisible
+/// format characters that reorder or hide text as `\x1b` or `\u{202e}`, as messages
+/// quote bytes from files; no quotes are added and nothing is cut, so an ordinary name
+/// prints as it is.
 #[must_use]
 pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
     if !text.chars().any(is_unprintable) {
