@@ -24,7 +24,7 @@ listening on 127.0.0.1 only, without a dashboard, and stopped at the end. With -
 `auto` on a machine of the cluster) the tasks run on an existing cluster: every
 machine needs the same octsolid binary at the same path (--octsolid) and the job's
 files, inputs and output, in a folder shared at the same path (tasks run in this
-script's working directory). ARCHITECTURE.md, "Many machines", has the steps.
+script's working directory). docs/DISTRIBUTED.md has the steps.
 
 For the tests only: OCTSOLID_RAY_KILL_ONCE=MARKER makes the first task to start
 create the file MARKER and kill its own worker process (SIGKILL) before running
