@@ -1,5 +1,5 @@
-//! The viewer's moving frame on one thread, for profiles (BENCHMARKS.md, "The viewer's
-//! moving frame"): the bunny at depth 10, 1280x720, the front-to-back display, 1 sample
+//! The viewer's moving frame on one thread, for profiles (BENCHMARKS.md and
+//! docs/benchmark-log/2026-12.md, "The viewer's moving frame"): the bunny at depth 10, 1280x720, the front-to-back display, 1 sample
 //! a pixel, axis normals, no shadows, encoded as PNG, `N` times (`view_frame N`).
 //! Under callgrind, collect only the frames:
 //! `valgrind --tool=callgrind --toggle-collect='view_frame::frame*'`.

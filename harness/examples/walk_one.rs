@@ -1,5 +1,5 @@
 //! One kind of ray traced through the octree on one thread, for profiles of the walk
-//! (BENCHMARKS.md, "Incoherent rays"): `walk_one MODEL DEPTH KIND N` with KIND one of
+//! (docs/benchmark-log/2026-12.md, "Incoherent rays"): `walk_one MODEL DEPTH KIND N` with KIND one of
 //! `primary` (512x512 camera rays at the framed model), `packet` (the same in 8x8
 //! packets), `shadow` (N shadow rays from primary hits to a light), `lights` (the
 //! shadow rays from every primary hit to two lights, in the order a renderer casts

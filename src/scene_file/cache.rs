@@ -29,7 +29,8 @@
 //! What a hit saves: the voxelization (or the resampling of a moved `.oct` file).
 //! The scene's shape trees are still built (their surfaces give smooth normals, their
 //! bounds the shared domain), and the traversal octree is built from the loaded
-//! octree, which is `O(n depth)` and a small share of a load (see BENCHMARKS.md).
+//! octree, which is `O(n depth)` and a small share of a load (see docs/benchmark-log/2026-12.md,
+//! "Fast pictures").
 
 use crate::fnv::fnv1a;
 use std::path::{Path, PathBuf};

@@ -25,8 +25,8 @@
 //! moves off the lattice) are walked alone, and so are all the rays of a group of
 //! which at most one may meet the box at all.
 //!
-//! Measured (BENCHMARKS.md, "Incoherent rays", "Shadow rays of one hit walked
-//! together"): the shadow rays of the bunny's 408,120 primary hits to two lights,
+//! Measured (docs/benchmark-log/2026-12.md, "Incoherent rays", "Shadow rays of one hit
+//! walked together"): the shadow rays of the bunny's 408,120 primary hits to two lights,
 //! every pair of one hit walked together, 269.5 -> 249.9 ns a ray (-7%), 2,275 ->
 //! 2,123 instructions and 22.1 -> 21.0 mispredictions a ray: each pair shares 8.6
 //! levels of the way down. The sizes of a group are constants (`together::<L, N>`):

@@ -36,7 +36,7 @@
 //! 33 mispredicted branches a random ray (about 30 steps), each child's kind (empty,
 //! inner, full) a coin toss, the same before and after.
 //!
-//! Measured and not kept (BENCHMARKS.md, "Incoherent rays"): a stackless walk of four
+//! Measured and not kept (docs/benchmark-log/2026-12.md, "Incoherent rays"): a stackless walk of four
 //! rays at once in AVX2 lanes, lanes refilled from a stream, going up by parent
 //! indices (a quarter of the mispredictions, a third more instructions, 1.6x slower on
 //! random rays: each step waits on the last, four lanes give no parallelism to hide
