@@ -15,14 +15,14 @@ use crate::progress_bar::Bar;
 /// Arguments of `octsolid bench`.
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
-    /// Write the report: the section of --out between its bvh-report markers, and plots in docs/images/ beside it.
+    /// Write the report: the section of --out between its bvh-report markers (the whole page for a new file), and plots in docs/images/.
     #[arg(long)]
     pub report: bool,
     /// A smaller matrix (depths 8 and 10, fewer rays, fewer runs).
     #[arg(long)]
     pub quick: bool,
     /// The Markdown file of the report.
-    #[arg(long, default_value = "BENCHMARKS.md")]
+    #[arg(long, default_value = "docs/bvh-report.md")]
     pub out: PathBuf,
     /// Threads of the "all threads" runs (default: all hardware threads).
     #[arg(long)]
