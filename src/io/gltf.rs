@@ -137,11 +137,7 @@ fn check_single_precision(bounds: Option<crate::aabb::Aabb>, voxel: f64) -> std:
 /// Writes `solids` to `path` as one GLB, atomically; returns the bytes written.
 pub fn write(path: impl AsRef<Path>, solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<u64> {
     let path = path.as_ref();
-    for solid in &solids.solids {
-        check_single_precision(solid.tree.bounds(), solids.domain.voxel_size())
-            .map_err(|reason| Error::invalid("glTF output", format!("{}: {reason}", path.display())))?;
-    }
-    let bytes = encode(solids, up, budget)?;
+    let bytes = encode_for(solids, up, budget, Some(path))?;
     write_atomic(path, |w| w.write_all(&bytes))
 }
 
@@ -159,6 +155,21 @@ pub fn up_rotation(up: Axis) -> Option<[f64; 4]> {
 
 /// The whole `.glb` for `solids`, whose world's up is `up` (module doc).
 pub fn encode(solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<Vec<u8>> {
+    encode_for(solids, up, budget, None)
+}
+
+/// [`encode`], naming `output` (when given) in a refusal of coordinates `f32` cannot
+/// hold.
+fn encode_for(solids: &Solids, up: Axis, budget: MemoryBudget, output: Option<&Path>) -> Result<Vec<u8>> {
+    for solid in &solids.solids {
+        check_single_precision(solid.tree.bounds(), solids.domain.voxel_size()).map_err(|reason| {
+            let reason = match output {
+                Some(path) => format!("{}: {reason}", path.display()),
+                None => reason,
+            };
+            Error::invalid("glTF output", reason)
+        })?;
+    }
     let rotation = up_rotation(up)
         .map_or_else(String::new, |q| format!(",\"rotation\":[{}]", q.map(|c| format!("{c}")).join(",")));
     // Step 0: the boundaries counted before anything is built; the largest mesh, and
@@ -176,8 +187,6 @@ pub fn encode(solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<Vec<u8>
     let (mut nodes, mut meshes, mut materials, mut views, mut accessors) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (solid, size) in solids.solids.iter().zip(sizes) {
-        check_single_precision(solid.tree.bounds(), solids.domain.voxel_size())
-            .map_err(|reason| Error::invalid("glTF output", reason))?;
         // Step 1: the closed manifold boundary, vertices split by face direction.
         let mesh = boundary_mesh_of_size(&solid.tree, &options, size, &NoProgress)?;
         if mesh.triangles.is_empty() {
