@@ -77,12 +77,37 @@ pub use progress::{NoProgress, Progress};
 pub use ray::{Ray, RayCast};
 pub use warning::{Place, Warning};
 
-/// Everything a CSG script needs, in one import.
+/// The two crates whose types octsolid's API uses, re-exported so a caller names the
+/// versions octsolid was built with: [`glam`]'s `DVec3`, `DMat3` and `DMat4` for
+/// points, vectors and maps (every geometric argument), and [`image`]'s `RgbImage` for
+/// 8-bit sRGB pictures (what [`slice::slice_image`], [`render::Picture::to_srgb8`] and
+/// the PNG writer take or give). Both are part of octsolid's API: a release that moves
+/// either to a new major version is a major release of octsolid.
+pub use glam;
+pub use image;
+
 pub mod prelude {
+    //! Everything a CSG script needs, in one import:
+    //!
+    //! - solids: [`Domain`], [`LinearOctree`] (with its set operators `|`, `&`, `-`, `^`),
+    //!   [`voxelize`] and its [`VoxelizeOptions`], [`SetOp`], [`CoarsenRule`];
+    //! - shapes: the primitives ([`Sphere`], [`Ellipsoid`], [`Cuboid`], [`Cylinder`], [`Cone`],
+    //!   [`Torus`], [`HalfSpace`], [`Menger`], [`DisplacedSphere`]), [`Csg`] trees and
+    //!   [`CsgNode`]s, [`Transformed`] and [`ShapeExt`] (`.translated()`, `.rotated()`, ...),
+    //!   the patterns ([`linear_array`], [`polar_array`], [`mirrored`], [`Placement`]), the
+    //!   [`Shape`] trait with [`Surface`] and [`Axis`], and [`MeshShape`] with
+    //!   [`load_mesh`] for a closed mesh as a shape;
+    //! - files and pictures: the [`oct`] and [`png`] modules, [`slice_image`];
+    //! - [`Aabb`], [`Error`], [`Result`], [`MemoryBudget`], and glam's [`DVec3`], [`DMat3`],
+    //!   [`DMat4`].
+
     pub use crate::io::{oct, png};
     pub use crate::mesh::{MeshShape, load_mesh};
     pub use crate::octree::{CoarsenRule, Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
-    pub use crate::shape::*;
+    pub use crate::shape::{
+        Axis, Cone, Csg, CsgNode, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Placement, Shape,
+        ShapeExt, Sphere, Surface, Torus, Transformed, linear_array, mirrored, polar_array,
+    };
     pub use crate::slice::slice_image;
     pub use crate::{Aabb, Error, MemoryBudget, Result};
     pub use glam::{DMat3, DMat4, DVec3};
