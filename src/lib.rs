@@ -93,7 +93,7 @@ pub mod prelude {
     //!   [`voxelize`] and its [`VoxelizeOptions`], [`SetOp`], [`CoarsenRule`];
     //! - shapes: the primitives ([`Sphere`], [`Ellipsoid`], [`Cuboid`], [`Cylinder`], [`Cone`],
     //!   [`Torus`], [`HalfSpace`], [`Menger`], [`DisplacedSphere`]), [`Csg`] trees and
-    //!   [`CsgNode`]s, [`Transformed`] and [`ShapeExt`] (`.translated()`, `.rotated()`, ...),
+    //!   [`CsgNode`]s, [`Transformed`] and [`ShapeExt`] (`.translate()`, `.rotate()`, `.scale()`, `.transform()`),
     //!   the patterns ([`linear_array`], [`polar_array`], [`mirrored`], [`Placement`]), the
     //!   [`Shape`] trait with [`Surface`] and [`Axis`], and [`MeshShape`] with
     //!   [`load_mesh`] for a closed mesh as a shape;
