@@ -44,9 +44,11 @@
 struct ReadmeRustBlocks;
 
 mod aabb;
+mod atomic;
 mod budget;
 pub mod color;
 mod error;
+mod fields;
 mod file_kind;
 mod fnv;
 pub mod import;

@@ -35,7 +35,7 @@ use glam::DVec3;
 use super::solid_set::Solids;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
+use crate::atomic::write_atomic;
 use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, boundary_mesh_of_size};
 use crate::progress::NoProgress;
 use crate::shape::Axis;

@@ -4,12 +4,10 @@
 //! OpenEXR for linear radiance), and the atomic write they all use. [`read_solids`],
 //! [`write_solids`] and [`save_picture`] pick the format by extension.
 
-mod atomic;
 pub mod binvox;
 mod bitgrid;
 mod blosc;
 pub mod exr;
-pub(crate) mod fields;
 pub mod gltf;
 pub mod oct;
 mod picture;
@@ -19,7 +17,7 @@ mod solids;
 pub mod vdb;
 pub mod vox;
 
-pub use atomic::{same_file, write_atomic};
+pub use crate::atomic::{same_file, write_atomic};
 pub use picture::{PictureFormat, save_picture};
 pub use solid_set::{ColouredSolid, ReadOptions, Solids};
 pub use solids::{SolidFormat, WriteOptions, read_solids, write_solid, write_solids};

@@ -59,11 +59,11 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::blosc;
-use super::fields::Fields;
+use crate::fields::Fields;
 use super::solid_set::{ColouredSolid, ReadOptions, Solids};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result, printable, quoted};
-use crate::io::write_atomic;
+use crate::atomic::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 
 /// The first 8 bytes: `0x56444220` as a little-endian i64.

@@ -58,7 +58,7 @@ use rayon::slice::ParallelSliceMut;
 use super::solid_set::{ColouredSolid, ReadOptions, Solids};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
+use crate::atomic::write_atomic;
 use crate::morton;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 use crate::render::{from_srgb8, to_srgb8};

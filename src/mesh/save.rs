@@ -13,7 +13,7 @@ use std::path::Path;
 use super::separate::separate;
 use super::{MeshFormat, TriangleMesh};
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
+use crate::atomic::write_atomic;
 
 /// Writes `mesh` to `path` in the format its extension names; returns the bytes written.
 ///

@@ -37,7 +37,8 @@ use std::path::{Path, PathBuf};
 
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::{oct, write_atomic};
+use crate::atomic::write_atomic;
+use crate::io::oct;
 use crate::octree::{Domain, LinearOctree};
 use crate::warning::{Place, Warning};
 

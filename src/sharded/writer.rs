@@ -27,7 +27,7 @@ use super::staging::{self, JoinLock};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::oct::{self, Metadata};
-use crate::io::write_atomic;
+use crate::atomic::write_atomic;
 use crate::morton;
 use crate::octree::{CellNodes, CellSink, Cells, Domain, LinearOctree, NodeKey, check_level};
 

@@ -27,8 +27,8 @@ use super::patches::{self, Patches};
 use super::{Radiosity, RadiosityStats, fingerprint};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::fields::Fields;
-use crate::io::write_atomic;
+use crate::fields::Fields;
+use crate::atomic::write_atomic;
 use crate::render::scene::Scene;
 
 /// The magic bytes.
