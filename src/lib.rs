@@ -66,6 +66,7 @@ pub mod scene_file;
 pub mod shape;
 pub mod sharded;
 pub mod slice;
+mod solid_file;
 #[cfg(test)]
 mod test_util;
 mod text;
@@ -77,6 +78,7 @@ pub use error::{Error, Result, human_bytes, printable};
 pub use file_kind::FileKind;
 pub use progress::{NoProgress, Progress};
 pub use ray::{Ray, RayCast};
+pub use solid_file::{SolidFile, write_solid_file};
 pub use warning::{Place, Warning};
 
 /// Everything a CSG script needs, in one import.
