@@ -13,8 +13,10 @@
 //! front-to-back display and the classic visibility algorithms, Phong, shadows,
 //! Whitted, textures) from code or from scene files ([`scene_file`]).
 //!
-//! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`], [`io`],
-//! [`slice`](mod@slice), [`render`], [`import`], [`sharded`], [`scene_file`], [`samples`]. Across them: one
+//! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`],
+//! [`slice`](mod@slice), [`render`], [`io`], [`import`], [`sharded`], the door for solid
+//! files ([`SolidFile::read`], [`write_solid_file`]), [`scene_file`], [`samples`];
+//! every file's kind is read off its extension by [`FileKind`]. Across them: one
 //! [`Error`] with the file and place of every failure, [`Warning`]s as values for what
 //! a loader read past, a [`MemoryBudget`] every large
 //! job is checked against before it allocates, [`Progress`] for long jobs (the library
