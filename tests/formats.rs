@@ -1061,27 +1061,33 @@ fn the_door_writes_and_reads_every_solid_kind_with_its_metadata() {
     let d = Domain::new(DVec3::new(-1.0, 0.5, 2.0), 4.0, 5).unwrap();
     let tree = random_octree(&mut rng, d);
     let meta = Metadata { up: Some(Axis::Y), units: Some(Units::Millimetre) };
-    let options = WriteOptions { meta, ..WriteOptions::default() };
+    let write = WriteOptions { meta, ..WriteOptions::default() };
     for &kind in FileKind::SOLIDS {
         let path = dir.join(format!("door.{}", kind.extension()));
-        let bytes = write_solid_file(&path, &SolidsRef::of_file(&path, &tree), &options, &NoProgress).unwrap();
+        let bytes = write_solid_file(&path, &SolidsRef::of_file(&path, &tree), &write, &NoProgress).unwrap();
         assert!(bytes > 0, "{kind:?}");
         let back = SolidFile::read(&path, &options()).unwrap();
         assert_eq!((back.kind, back.union(), back.coarsened_from), (kind, tree.clone(), None), "{kind:?}");
-        assert_eq!(back.solids.solids[0].name, "door", "{kind:?}");
+        // A file of one solid names it by its stem; .vox by its palette colour.
+        let name = if kind == FileKind::Vox { "colour 1" } else { "door" };
+        assert_eq!(back.solids.solids[0].name, name, "{kind:?}");
         let recorded = if matches!(kind, FileKind::Oct | FileKind::Octs) { meta } else { Metadata::default() };
         assert_eq!(back.meta, recorded, "{kind:?}");
         assert_eq!(SolidFile::read_to_draw(&path, &options()).unwrap(), back, "{kind:?}");
     }
     for kind in [FileKind::Obj, FileKind::Stl, FileKind::Ply] {
         let path = dir.join(format!("door.{}", kind.extension()));
-        write_solid_file(&path, &SolidsRef::of_file(&path, &tree), &options, &NoProgress).unwrap();
+        write_solid_file(&path, &SolidsRef::of_file(&path, &tree), &write, &NoProgress).unwrap();
         let mesh = octsolid::mesh::load_mesh(&path).unwrap();
-        assert!((mesh.volume() - tree.volume()).abs() < 1e-6 * tree.volume().max(1.0), "{kind:?}");
+        // STL's f32 corners and its sheets moved apart (a thousandth of an edge) move
+        // the enclosed volume a little; OBJ and PLY keep it exactly.
+        let tolerance = if kind == FileKind::Stl { 1e-2 } else { 1e-9 };
+        let (enclosed, volume) = (mesh.volume(), tree.volume());
+        assert!((enclosed - volume).abs() <= tolerance * volume, "{kind:?}: {enclosed} vs {volume}");
     }
     let empty = LinearOctree::empty(d);
     let path = dir.join("empty.stl");
-    let e = write_solid_file(&path, &SolidsRef::of_file(&path, &empty), &options, &NoProgress).unwrap_err();
+    let e = write_solid_file(&path, &SolidsRef::of_file(&path, &empty), &write, &NoProgress).unwrap_err();
     assert_eq!(
         e.to_string(),
         format!("{}: the solid is empty; there is no boundary to write as a mesh", path.display())
@@ -1092,11 +1098,10 @@ fn the_door_writes_and_reads_every_solid_kind_with_its_metadata() {
         solids: vec![ColouredSolid::new("a", None, tree.clone()), ColouredSolid::new("b", None, tree.clone())],
     };
     for name in ["two.oct", "two.octs", "two.obj"] {
-        let e = write_solid_file(dir.join(name), &two.borrowed(), &options, &NoProgress).unwrap_err();
+        let e = write_solid_file(dir.join(name), &two.borrowed(), &write, &NoProgress).unwrap_err();
         assert!(e.to_string().contains("holds one solid and 2 were given"), "{name}: {e}");
     }
-    let e =
-        write_solid_file(dir.join("s.png"), &SolidsRef::of_file("s.png", &tree), &options, &NoProgress).unwrap_err();
+    let e = write_solid_file(dir.join("s.png"), &SolidsRef::of_file("s.png", &tree), &write, &NoProgress).unwrap_err();
     assert!(e.to_string().ends_with("(use .oct, .octs, .vox, .binvox, .vdb, .glb, .obj, .stl or .ply)"), "{e}");
     let e = SolidFile::read(dir.join("door.glb"), &options()).unwrap_err();
     assert!(e.to_string().ends_with("unexpected extension '.glb' (use .oct, .octs, .vox, .binvox or .vdb)"), "{e}");
