@@ -99,7 +99,7 @@ impl<'a> SolidsRef<'a> {
     }
 }
 
-/// What [`super::read_solids`] returns: one domain and the solids over it (each `tree`'s
+/// What a solid file holds ([`crate::SolidFile::solids`]): one domain and the solids over it (each `tree`'s
 /// domain is `domain`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solids {
