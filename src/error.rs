@@ -61,6 +61,15 @@ pub enum Error {
         /// names, a refused value, ...
         source: Box<Error>,
     },
+    /// A solid cannot be written as the file its path names ([`crate::write_solid_file`]:
+    /// a mesh of an empty solid, a boundary the mesher refuses): the file and why.
+    #[error("{}: {reason}", path.display())]
+    Unwritable {
+        /// The file.
+        path: PathBuf,
+        /// Why, with the cause.
+        reason: String,
+    },
     /// A TOML document's reader refused it: a syntax error, an unknown key or value, a
     /// value of the wrong form or out of range. The message names the value and what
     /// was expected; the place is the wrapping [`Error::Scene`]'s.

@@ -1,13 +1,28 @@
 //! What a file holds, decided by its extension: the one place octsolid reads file
-//! extensions.
+//! extensions, for every file it reads or writes.
 //!
-//! [`FileKind::of`] maps a path to one of the kinds a caller accepts, case-insensitively:
-//! `.toml` scenes, `.oct` solids, the voxel formats of other tools (`.vox`, `.binvox`,
-//! `.vdb`, read by [`crate::io::read_solids`]), `.obj` / `.stl` / `.ply` meshes and
-//! `.patches` Bezier patch sets. A missing extension, or one the caller does not accept, is
+//! [`FileKind::of`] maps a path to one of the kinds a caller accepts, case-insensitively.
+//! A missing extension, or one the caller does not accept, is
 //! [`Error::UnknownExtension`], which names the file and lists every extension the
-//! caller accepts, so a command's error says all it reads (a mesh loader's, for one,
-//! names `.patches` only when it reads patches too).
+//! caller accepts, so a command's error says all it reads or writes (a mesh loader's,
+//! for one, names `.patches` only when it reads patches too). The kinds, with what
+//! octsolid does with each (the sets a caller passes to [`FileKind::of`]):
+//!
+//! | kind | extension | read as | written from | set |
+//! |------|-----------|---------|--------------|-----|
+//! | [`Scene`](FileKind::Scene) | `.toml` | a scene | | [`DRAWN`](FileKind::DRAWN) |
+//! | [`Oct`](FileKind::Oct) | `.oct` | a solid (with its metadata) | a solid | [`SOLIDS`](FileKind::SOLIDS), [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
+//! | [`Octs`](FileKind::Octs) | `.octs` | a sharded solid | a solid | both |
+//! | [`Vox`](FileKind::Vox), [`Binvox`](FileKind::Binvox), [`Vdb`](FileKind::Vdb) | `.vox`, `.binvox`, `.vdb` | solids | solids | both |
+//! | [`Glb`](FileKind::Glb) | `.glb` | | boundary meshes | [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
+//! | [`Obj`](FileKind::Obj), [`Stl`](FileKind::Stl), [`Ply`](FileKind::Ply) | `.obj`, `.stl`, `.ply` | a mesh | a mesh, a solid's boundary | [`MESHES`](FileKind::MESHES), [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
+//! | [`Patches`](FileKind::Patches) | `.patches` | Bezier patches | | [`SURFACES`](FileKind::SURFACES) |
+//! | [`Png`](FileKind::Png), [`Exr`](FileKind::Exr) | `.png`, `.exr` | | a picture | [`PICTURES`](FileKind::PICTURES) |
+//! | [`Rad`](FileKind::Rad) | `.rad` | a radiosity solution | a radiosity solution | |
+//!
+//! The capabilities ([`FileKind::reads_solid`], [`FileKind::writes_solid`],
+//! [`FileKind::is_mesh`], [`FileKind::is_picture`], [`FileKind::holds_many_solids`])
+//! are membership of those sets, so a set and its question never disagree.
 //!
 //! The file's kind also implies its up axis ([`FileKind::default_up`]): OBJ and PLY
 //! meshes are y-up by convention (the Stanford bunny, Spot); STL, patches (the Utah
@@ -20,7 +35,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::shape::Axis;
 
-/// The kinds of file octsolid reads, each with one extension.
+/// The kinds of file octsolid reads or writes, each with one extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum FileKind {
     /// A scene file, `.toml` (see `docs/SCENES.md`).
@@ -44,6 +59,14 @@ pub enum FileKind {
     Ply,
     /// A set of bicubic Bezier patches, `.patches`.
     Patches,
+    /// A glTF 2.0 binary, `.glb`: written only, one boundary mesh a solid.
+    Glb,
+    /// A PNG picture (8-bit sRGB), `.png`: written only.
+    Png,
+    /// An OpenEXR picture (32-bit float linear radiance), `.exr`: written only.
+    Exr,
+    /// A radiosity solution, `.rad` (`render::radiosity`).
+    Rad,
 }
 
 impl FileKind {
@@ -59,12 +82,52 @@ impl FileKind {
         FileKind::Stl,
         FileKind::Ply,
         FileKind::Patches,
+        FileKind::Glb,
+        FileKind::Png,
+        FileKind::Exr,
+        FileKind::Rad,
     ];
 
-    /// The voxel solids: what [`crate::io::read_solids`] reads, and sharded solids
-    /// ([`crate::sharded::ShardedSolid`]).
+    /// What a picture is drawn from (`render`, `view`): a scene, a solid, a mesh or a
+    /// patch set.
+    pub const DRAWN: &'static [FileKind] = &[
+        FileKind::Scene,
+        FileKind::Oct,
+        FileKind::Octs,
+        FileKind::Vox,
+        FileKind::Binvox,
+        FileKind::Vdb,
+        FileKind::Obj,
+        FileKind::Stl,
+        FileKind::Ply,
+        FileKind::Patches,
+    ];
+
+    /// The voxel solids: what [`crate::SolidFile::read`] reads (`.octs` too: sharded
+    /// solids, [`crate::sharded::ShardedSolid`]).
     pub const SOLIDS: &'static [FileKind] =
         &[FileKind::Oct, FileKind::Octs, FileKind::Vox, FileKind::Binvox, FileKind::Vdb];
+
+    /// What a solid can be written as ([`crate::write_solid_file`]): the voxel
+    /// solids, or its boundary as a `.glb` or a mesh.
+    pub const SOLID_OUTPUTS: &'static [FileKind] = &[
+        FileKind::Oct,
+        FileKind::Octs,
+        FileKind::Vox,
+        FileKind::Binvox,
+        FileKind::Vdb,
+        FileKind::Glb,
+        FileKind::Obj,
+        FileKind::Stl,
+        FileKind::Ply,
+    ];
+
+    /// The solid outputs that hold several solids, each with its colour (`.vox` one a
+    /// palette colour, `.vdb` one a grid, `.glb` one a mesh); the others hold one.
+    pub const MANY_SOLIDS: &'static [FileKind] = &[FileKind::Vox, FileKind::Vdb, FileKind::Glb];
+
+    /// The pictures ([`crate::io::save_picture`]).
+    pub const PICTURES: &'static [FileKind] = &[FileKind::Png, FileKind::Exr];
 
     /// The triangle meshes.
     pub const MESHES: &'static [FileKind] = &[FileKind::Obj, FileKind::Stl, FileKind::Ply];
@@ -86,7 +149,42 @@ impl FileKind {
             FileKind::Stl => "stl",
             FileKind::Ply => "ply",
             FileKind::Patches => "patches",
+            FileKind::Glb => "glb",
+            FileKind::Png => "png",
+            FileKind::Exr => "exr",
+            FileKind::Rad => "rad",
         }
+    }
+
+    /// Whether a solid is read from this kind ([`FileKind::SOLIDS`]).
+    #[must_use]
+    pub fn reads_solid(self) -> bool {
+        FileKind::SOLIDS.contains(&self)
+    }
+
+    /// Whether a solid can be written as this kind ([`FileKind::SOLID_OUTPUTS`]).
+    #[must_use]
+    pub fn writes_solid(self) -> bool {
+        FileKind::SOLID_OUTPUTS.contains(&self)
+    }
+
+    /// Whether this kind is a triangle mesh ([`FileKind::MESHES`]).
+    #[must_use]
+    pub fn is_mesh(self) -> bool {
+        FileKind::MESHES.contains(&self)
+    }
+
+    /// Whether this kind is a picture ([`FileKind::PICTURES`]).
+    #[must_use]
+    pub fn is_picture(self) -> bool {
+        FileKind::PICTURES.contains(&self)
+    }
+
+    /// Whether this kind holds several solids, each with its colour
+    /// ([`FileKind::MANY_SOLIDS`]).
+    #[must_use]
+    pub fn holds_many_solids(self) -> bool {
+        FileKind::MANY_SOLIDS.contains(&self)
     }
 
     /// The kind of `path` by its extension (case-insensitive), if it is one of
@@ -106,7 +204,8 @@ impl FileKind {
 
     /// The world's up axis a file of this kind implies: y for OBJ and PLY meshes (y-up
     /// by convention), z for everything else (octsolid's own convention, and STL's,
-    /// MagicaVoxel's and the teapot's).
+    /// MagicaVoxel's and the teapot's; the outputs only pictures and `.glb` are
+    /// written with an up axis of their own choosing).
     #[must_use]
     pub fn default_up(self) -> Axis {
         match self {
@@ -118,7 +217,11 @@ impl FileKind {
             | FileKind::Binvox
             | FileKind::Vdb
             | FileKind::Stl
-            | FileKind::Patches => Axis::Z,
+            | FileKind::Patches
+            | FileKind::Glb
+            | FileKind::Png
+            | FileKind::Exr
+            | FileKind::Rad => Axis::Z,
         }
     }
 }
@@ -153,14 +256,62 @@ mod tests {
             "model.3ds: unexpected extension '.3ds' (use .obj, .stl, .ply or .patches)"
         );
         assert_eq!(
-            FileKind::of(Path::new("dir.d/model"), FileKind::ALL).unwrap_err().to_string(),
+            FileKind::of(Path::new("dir.d/model"), FileKind::DRAWN).unwrap_err().to_string(),
             "dir.d/model: no extension (use .toml, .oct, .octs, .vox, .binvox, .vdb, .obj, .stl, .ply or .patches)"
+        );
+        assert_eq!(
+            FileKind::of(Path::new("a.jpg"), FileKind::ALL).unwrap_err().to_string(),
+            "a.jpg: unexpected extension '.jpg' (use .toml, .oct, .octs, .vox, .binvox, .vdb, .obj, .stl, .ply, \
+             .patches, .glb, .png, .exr or .rad)"
         );
     }
 
     #[test]
     fn obj_and_ply_are_y_up_and_the_rest_z_up() {
         let up: Vec<Axis> = FileKind::ALL.iter().map(|k| k.default_up()).collect();
-        assert_eq!(up, [Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Z, Axis::Y, Axis::Z, Axis::Y, Axis::Z]);
+        let mut expected = vec![Axis::Z; FileKind::ALL.len()];
+        expected[6] = Axis::Y;
+        expected[8] = Axis::Y;
+        assert_eq!(up, expected);
+        assert_eq!((FileKind::ALL[6], FileKind::ALL[8]), (FileKind::Obj, FileKind::Ply));
+    }
+
+    #[test]
+    fn every_kind_has_its_own_extension_and_every_set_lists_kinds_once() {
+        let mut extensions: Vec<&str> = FileKind::ALL.iter().map(|k| k.extension()).collect();
+        extensions.sort_unstable();
+        extensions.dedup();
+        assert_eq!(extensions.len(), FileKind::ALL.len());
+        let sets = [
+            FileKind::DRAWN,
+            FileKind::SOLIDS,
+            FileKind::SOLID_OUTPUTS,
+            FileKind::MANY_SOLIDS,
+            FileKind::MESHES,
+            FileKind::SURFACES,
+            FileKind::PICTURES,
+        ];
+        for set in sets {
+            let mut kinds = set.to_vec();
+            kinds.dedup();
+            assert_eq!(kinds.len(), set.len(), "{set:?}");
+            assert!(set.iter().all(|k| FileKind::ALL.contains(k)), "{set:?}");
+        }
+    }
+
+    #[test]
+    fn capabilities_are_the_sets() {
+        use FileKind::*;
+        let of = |test: fn(FileKind) -> bool| -> Vec<FileKind> {
+            FileKind::ALL.iter().copied().filter(|&k| test(k)).collect()
+        };
+        assert_eq!(of(FileKind::reads_solid), [Oct, Octs, Vox, Binvox, Vdb]);
+        assert_eq!(of(FileKind::writes_solid), [Oct, Octs, Vox, Binvox, Vdb, Obj, Stl, Ply, Glb]);
+        assert_eq!(of(FileKind::is_mesh), [Obj, Stl, Ply]);
+        assert_eq!(of(FileKind::is_picture), [Png, Exr]);
+        assert_eq!(of(FileKind::holds_many_solids), [Vox, Vdb, Glb]);
+        // Every solid that holds many is written; every solid read is written back.
+        assert!(FileKind::MANY_SOLIDS.iter().all(|k| k.writes_solid()));
+        assert!(FileKind::SOLIDS.iter().all(|k| k.writes_solid()));
     }
 }

@@ -13,8 +13,10 @@
 //! front-to-back display and the classic visibility algorithms, Phong, shadows,
 //! Whitted, textures) from code or from scene files ([`scene_file`]).
 //!
-//! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`], [`io`],
-//! [`slice`](mod@slice), [`render`], [`import`], [`sharded`], [`scene_file`], [`samples`]. Across them: one
+//! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`],
+//! [`slice`](mod@slice), [`render`], [`io`], [`import`], [`sharded`], the door for solid
+//! files ([`SolidFile::read`], [`write_solid_file`]), [`scene_file`], [`samples`];
+//! every file's kind is read off its extension by [`FileKind`]. Across them: one
 //! [`Error`] with the file and place of every failure, [`Warning`]s as values for what
 //! a loader read past, a [`MemoryBudget`] every large
 //! job is checked against before it allocates, [`Progress`] for long jobs (the library
@@ -44,9 +46,11 @@
 struct ReadmeRustBlocks;
 
 mod aabb;
+mod atomic;
 mod budget;
 pub mod color;
 mod error;
+mod fields;
 mod file_kind;
 mod fnv;
 pub mod import;
@@ -64,6 +68,7 @@ pub mod scene_file;
 pub mod shape;
 pub mod sharded;
 pub mod slice;
+mod solid_file;
 #[cfg(test)]
 mod test_util;
 mod text;
@@ -75,6 +80,7 @@ pub use error::{Error, Result, human_bytes, printable};
 pub use file_kind::FileKind;
 pub use progress::{NoProgress, Progress};
 pub use ray::{Ray, RayCast};
+pub use solid_file::{SolidFile, write_solid_file};
 pub use warning::{Place, Warning};
 
 /// The two crates whose types octsolid's API uses, re-exported so a caller names the

@@ -1,5 +1,5 @@
 //! Scene files (TOML): solids from shape CSG trees, mesh files and solid files (`.oct`,
-//! and `.vox`, `.binvox`, `.vdb` through [`crate::io::read_solids`]), their
+//! `.octs`, `.vox`, `.binvox`, `.vdb` through [`crate::SolidFile::read`]), their
 //! materials, lights, camera and image settings. The format is described in
 //! `docs/SCENES.md`; bundled scenes are in `scenes/`.
 //!
@@ -66,7 +66,7 @@ use crate::budget::MemoryBudget;
 use crate::color::ColorSpec;
 use crate::error::{Error, Result, printable, quoted};
 use crate::import::{self, ImportOptions, Input};
-use crate::io::{ReadOptions, read_solids};
+use crate::io::ReadOptions;
 use crate::mesh::{InsideRule, MeshShape, load_mesh};
 use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
@@ -75,6 +75,7 @@ use crate::render::{
     Normals, Projection, RenderOptions, Scene, Texture,
 };
 use crate::shape::{Axis, Csg, FileLeaves, Shape, ShapeSpec, TransformSpec, Transformed};
+use crate::solid_file::SolidFile;
 use crate::warning::Warning;
 
 mod cache;
@@ -685,13 +686,10 @@ impl FileLeaves for SceneFiles<'_> {
     }
 }
 
-/// The union of the solids of a solid file (one octree for `.oct` and `.binvox`).
+/// The union of the solids of a solid file (one octree for `.oct`, `.octs` and
+/// `.binvox`), read through the door for solid files.
 fn load_solid(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
-    if crate::FileKind::of(path, &[crate::FileKind::Octs]).is_ok() {
-        return crate::sharded::ShardedSolid::open(path)?.load(budget);
-    }
-    let mut read = read_solids(path, &ReadOptions { budget, ..ReadOptions::default() })?;
-    Ok(if read.solids.len() == 1 { read.solids.remove(0).tree } else { read.union() })
+    Ok(SolidFile::read(path, &ReadOptions { budget, ..ReadOptions::default() })?.into_union())
 }
 
 /// One solid being built: its spec, its name, the span of its `[[solid]]` header, and

@@ -11,11 +11,11 @@ use std::process::Command;
 
 use common::{Rng, random_octree};
 use glam::DVec3;
-use octsolid::MemoryBudget;
-use octsolid::io::{self, ColouredSolid, ReadOptions, Solids, WriteOptions, binvox, gltf, vdb, vox};
+use octsolid::io::{ColouredSolid, ReadOptions, Solids, SolidsRef, WriteOptions, binvox, gltf, vdb, vox};
 use octsolid::octree::{Domain, LinearOctree, Node};
 use octsolid::render::{from_srgb8, to_srgb8};
 use octsolid::shape::Axis;
+use octsolid::{MemoryBudget, NoProgress, SolidFile, write_solid_file};
 use serde_json::Value;
 
 fn data(path: &str) -> PathBuf {
@@ -27,6 +27,29 @@ fn scratch(test: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("octsolid-formats-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+/// The solids of a solid file, read through the door ([`SolidFile::read`]).
+fn read_solids(path: impl AsRef<Path>, options: &ReadOptions) -> octsolid::Result<Solids> {
+    SolidFile::read(path, options).map(|file| file.solids)
+}
+
+/// Writes `solids`, borrowed, through the door ([`write_solid_file`]).
+fn write_solids(path: impl AsRef<Path>, solids: &Solids, options: &WriteOptions) -> octsolid::Result<u64> {
+    write_solid_file(path, &solids.borrowed(), options, &NoProgress)
+}
+
+/// Writes one solid with a colour, named by the file's stem, through the door.
+fn write_solid(
+    path: impl AsRef<Path>,
+    tree: &LinearOctree,
+    color: Option<DVec3>,
+    options: &WriteOptions,
+) -> octsolid::Result<u64> {
+    let path = path.as_ref();
+    let mut solids = SolidsRef::of_file(path, tree);
+    solids.solids[0].color = color;
+    write_solid_file(path, &solids, options, &NoProgress)
 }
 
 fn options() -> ReadOptions {
@@ -77,7 +100,7 @@ fn vox_sample_places_its_voxels_by_the_pivot_convention() {
     // (0,0,0) 225, (0,1,1) 215, (1,0,1) 235, (1,1,0) 5 (zero-based indices), placed by
     // a transform of _t = (0, 0, 1): world = v - floor(2/2) + t.
     let path = data("vox/placeholder.vox");
-    let solids = io::read_solids(&path, &options()).unwrap();
+    let solids = read_solids(&path, &options()).unwrap();
     solids.validate().unwrap();
     assert_eq!(solids.domain.min(), DVec3::new(-1.0, -1.0, 0.0));
     assert_eq!((solids.domain.depth(), solids.domain.edge()), (1, 2.0));
@@ -92,7 +115,7 @@ fn vox_sample_places_its_voxels_by_the_pivot_convention() {
         assert_eq!(solid.color, Some(DVec3::new(from_srgb8(c[0]), from_srgb8(c[1]), from_srgb8(c[2]))));
     }
     // A voxel edge of 0.5 world units scales the domain, not the voxels.
-    let half = io::read_solids(&path, &ReadOptions { voxel_size: 0.5, ..options() }).unwrap();
+    let half = read_solids(&path, &ReadOptions { voxel_size: 0.5, ..options() }).unwrap();
     assert_eq!((half.domain.min(), half.domain.edge()), (DVec3::new(-0.5, -0.5, 0.0), 1.0));
     assert_eq!(half.solids[0].tree.keys(), solids.solids[0].tree.keys());
 }
@@ -119,7 +142,7 @@ fn translated_instances(data: &dot_vox::DotVoxData) -> Vec<(usize, [i64; 3])> {
 #[test]
 fn vox_scene_graph_of_several_models_matches_an_independent_walk() {
     let path = data("vox/axes.vox");
-    let solids = io::read_solids(&path, &options()).unwrap();
+    let solids = read_solids(&path, &options()).unwrap();
     solids.validate().unwrap();
     let file = dot_vox::load(path.to_str().unwrap()).unwrap();
     let instances = translated_instances(&file);
@@ -151,7 +174,7 @@ fn vox_scene_graph_of_several_models_matches_an_independent_walk() {
 fn vox_materials_come_with_their_palette_index() {
     for name in ["single-voxel-with-material.vox", "metal-material.vox", "placeholder-with-materials.vox"] {
         let path = data(&format!("vox/{name}"));
-        let solids = io::read_solids(&path, &options()).unwrap();
+        let solids = read_solids(&path, &options()).unwrap();
         let file = dot_vox::load(path.to_str().unwrap()).unwrap();
         let voxels: usize = file.models.iter().map(|m| m.voxels.len()).sum();
         assert_eq!(solids.solids.iter().map(|s| s.tree.voxel_count()).sum::<u64>(), voxels as u64, "{name}");
@@ -164,7 +187,7 @@ fn vox_materials_come_with_their_palette_index() {
             }
         }
     }
-    let metal = io::read_solids(data("vox/metal-material.vox"), &options()).unwrap();
+    let metal = read_solids(data("vox/metal-material.vox"), &options()).unwrap();
     assert!(metal.solids.iter().any(|s| s.material.get("_type").is_some_and(|t| t == "_metal")));
 }
 
@@ -181,7 +204,7 @@ fn vox_materials_become_mirrors_glass_and_lights() {
         ("placeholder-with-materials.vox", 216, 0.694737),
         ("single-voxel-with-material.vox", 249, 1.0),
     ] {
-        let solids = io::read_solids(data(&format!("vox/{name}")), &options()).unwrap();
+        let solids = read_solids(data(&format!("vox/{name}")), &options()).unwrap();
         let b = bounds(&solids);
         let index = solids.solids.iter().position(|s| s.palette_index == Some(palette)).unwrap();
         let scene = solids.scene(name, &b);
@@ -205,8 +228,8 @@ fn vox_materials_become_mirrors_glass_and_lights() {
     };
     let dir = scratch("vox-materials");
     let path = dir.join("m.vox");
-    io::write_solids(&path, &written, &WriteOptions::default()).unwrap();
-    let back = io::read_solids(&path, &options()).unwrap();
+    write_solids(&path, &written, &WriteOptions::default()).unwrap();
+    let back = read_solids(&path, &options()).unwrap();
     let (b, colour) = (bounds(&back), back.solids[1].color.unwrap());
     let scene = back.scene("m", &b);
     let [glass, lamp] = [0, 1].map(|i| &scene.solids[i].material);
@@ -348,8 +371,8 @@ fn vox_round_trips_exactly_and_dot_vox_reads_what_we_write() {
     let dir = scratch("vox-round");
     for tree in solids(&[1, 3, 5, 7], 0x51ed_2701) {
         let path = dir.join("t.vox");
-        io::write_solid(&path, &tree, Some(DVec3::new(0.2, 0.5, 0.9)), &WriteOptions::default()).unwrap();
-        let back = io::read_solids(&path, &options()).unwrap();
+        write_solid(&path, &tree, Some(DVec3::new(0.2, 0.5, 0.9)), &WriteOptions::default()).unwrap();
+        let back = read_solids(&path, &options()).unwrap();
         back.validate().unwrap();
         assert_eq!(back.domain, *tree.domain());
         assert_eq!(back.union(), tree);
@@ -572,7 +595,7 @@ fn binvox_round_trips_exactly() {
     let dir = scratch("binvox-round");
     for tree in solids(&[1, 2, 5, 8], 0x00b1_d0c5) {
         let path = dir.join("t.binvox");
-        io::write_solid(&path, &tree, None, &WriteOptions::default()).unwrap();
+        write_solid(&path, &tree, None, &WriteOptions::default()).unwrap();
         let back = binvox::read(&path, MemoryBudget::unlimited()).unwrap();
         assert_eq!(back.domain(), tree.domain());
         assert_eq!(back, tree);
@@ -756,12 +779,12 @@ fn an_empty_vox_converts_to_a_vdb_that_reads_back() {
     let domain = Domain::new(DVec3::ZERO, 16.0, 4).unwrap();
     let empty = Solids { domain, solids: Vec::new() };
     let vox_path = dir.join("empty.vox");
-    io::write_solids(&vox_path, &empty, &WriteOptions::default()).unwrap();
-    let from_vox = io::read_solids(&vox_path, &options()).unwrap();
+    write_solids(&vox_path, &empty, &WriteOptions::default()).unwrap();
+    let from_vox = read_solids(&vox_path, &options()).unwrap();
     assert!(from_vox.solids.is_empty());
     let vdb_path = dir.join("empty.vdb");
-    io::write_solids(&vdb_path, &from_vox, &WriteOptions::default()).unwrap();
-    let back = io::read_solids(&vdb_path, &options()).unwrap();
+    write_solids(&vdb_path, &from_vox, &WriteOptions::default()).unwrap();
+    let back = read_solids(&vdb_path, &options()).unwrap();
     assert_eq!(back.domain, from_vox.domain);
     assert_eq!(back.solids.len(), 1);
     assert_eq!((back.solids[0].name.as_str(), back.solids[0].tree.node_count()), ("empty", 0));
@@ -802,7 +825,7 @@ fn openvdb_reads_the_fog_volumes_we_write() {
     for compression in [vdb::Compression::None, vdb::Compression::Zip] {
         let path = dir.join("p.vdb");
         let options = WriteOptions { vdb_compression: compression, ..WriteOptions::default() };
-        io::write_solids(&path, &solids, &options).unwrap();
+        write_solids(&path, &solids, &options).unwrap();
         let grids = probe(&path, &points);
         assert_eq!(grids.as_array().unwrap().len(), 2);
         for (g, t) in grids.as_array().unwrap().iter().zip([&tree, &other]) {
@@ -938,19 +961,19 @@ fn read_solids_and_write_solid_agree_for_every_format() {
     let tree = random_octree(&mut rng, d);
     for ext in ["oct", "vox", "binvox", "vdb"] {
         let path = dir.join(format!("s.{ext}"));
-        io::write_solid(&path, &tree, Some(DVec3::new(1.0, 0.0, 0.0)), &WriteOptions::default()).unwrap();
-        let back = io::read_solids(&path, &options()).unwrap();
+        write_solid(&path, &tree, Some(DVec3::new(1.0, 0.0, 0.0)), &WriteOptions::default()).unwrap();
+        let back = read_solids(&path, &options()).unwrap();
         assert_eq!((back.domain, back.union()), (d, tree.clone()), "{ext}");
     }
     let glb = dir.join("s.glb");
-    assert!(io::write_solid(&glb, &tree, None, &WriteOptions::default()).unwrap() > 0);
-    assert!(io::read_solids(&glb, &options()).is_err());
-    assert!(io::read_solids(dir.join("s.xyz"), &options()).is_err());
+    assert!(write_solid(&glb, &tree, None, &WriteOptions::default()).unwrap() > 0);
+    assert!(read_solids(&glb, &options()).is_err());
+    assert!(read_solids(dir.join("s.xyz"), &options()).is_err());
     let two = Solids {
         domain: d,
         solids: vec![ColouredSolid::new("a", None, tree.clone()), ColouredSolid::new("b", None, tree)],
     };
-    let err = io::write_solids(dir.join("two.binvox"), &two, &WriteOptions::default()).unwrap_err();
+    let err = write_solids(dir.join("two.binvox"), &two, &WriteOptions::default()).unwrap_err();
     assert!(err.to_string().contains("holds one solid"), "{err}");
 }
 
@@ -958,7 +981,7 @@ fn read_solids_and_write_solid_agree_for_every_format() {
 fn headers_claiming_more_than_the_budget_are_refused_before_allocating() {
     let small = ReadOptions { budget: MemoryBudget(4096), ..ReadOptions::default() };
     for path in ["vox/axes.vox", "vdb/sphere.vdb", "binvox/torus64.binvox"] {
-        let err = io::read_solids(data(path), &small).unwrap_err();
+        let err = read_solids(data(path), &small).unwrap_err();
         assert!(matches!(err, octsolid::Error::OverBudget { .. }), "{path}: {err}");
     }
     // A binvox grid of 2^21 a side whose runs do not cover it: refused, nothing allocated.
@@ -1023,4 +1046,64 @@ fn damaged_files_give_errors_never_panics() {
     damage("d.vdb", &vdb(vdb::Compression::Zip), 3, &vdb_decode);
     damage("d.vdb", &vdb(vdb::Compression::None), 5, &vdb_decode);
     damage("d.vdb", &std::fs::read(data("vdb/sphere.vdb")).unwrap(), 211, &vdb_decode);
+}
+
+/// The door writes every solid output from a borrowed tree and reads every solid file
+/// back with what it records: `.oct` and `.octs` keep their metadata, a mesh is the
+/// boundary (refused for an empty solid, naming the file), formats of one solid refuse
+/// two, and an output kind that holds no solid is refused listing those that do.
+#[test]
+fn the_door_writes_and_reads_every_solid_kind_with_its_metadata() {
+    use octsolid::FileKind;
+    use octsolid::io::oct::{Metadata, Units};
+    let dir = scratch("door");
+    let mut rng = Rng(11);
+    let d = Domain::new(DVec3::new(-1.0, 0.5, 2.0), 4.0, 5).unwrap();
+    let tree = random_octree(&mut rng, d);
+    let meta = Metadata { up: Some(Axis::Y), units: Some(Units::Millimetre) };
+    let write = WriteOptions { meta, ..WriteOptions::default() };
+    for &kind in FileKind::SOLIDS {
+        let path = dir.join(format!("door.{}", kind.extension()));
+        let bytes = write_solid_file(&path, &SolidsRef::of_file(&path, &tree), &write, &NoProgress).unwrap();
+        assert!(bytes > 0, "{kind:?}");
+        let back = SolidFile::read(&path, &options()).unwrap();
+        assert_eq!((back.kind, back.union(), back.coarsened_from), (kind, tree.clone(), None), "{kind:?}");
+        // A file of one solid names it by its stem; .vox by its palette colour.
+        let name = if kind == FileKind::Vox { "colour 1" } else { "door" };
+        assert_eq!(back.solids.solids[0].name, name, "{kind:?}");
+        let recorded = if matches!(kind, FileKind::Oct | FileKind::Octs) { meta } else { Metadata::default() };
+        assert_eq!(back.meta, recorded, "{kind:?}");
+        assert_eq!(SolidFile::read_to_draw(&path, &options()).unwrap(), back, "{kind:?}");
+    }
+    for kind in [FileKind::Obj, FileKind::Stl, FileKind::Ply] {
+        let path = dir.join(format!("door.{}", kind.extension()));
+        write_solid_file(&path, &SolidsRef::of_file(&path, &tree), &write, &NoProgress).unwrap();
+        let mesh = octsolid::mesh::load_mesh(&path).unwrap();
+        // STL's f32 corners and its sheets moved apart (a thousandth of an edge) move
+        // the enclosed volume a little; OBJ and PLY keep it exactly.
+        let tolerance = if kind == FileKind::Stl { 1e-2 } else { 1e-9 };
+        let (enclosed, volume) = (mesh.volume(), tree.volume());
+        assert!((enclosed - volume).abs() <= tolerance * volume, "{kind:?}: {enclosed} vs {volume}");
+    }
+    let empty = LinearOctree::empty(d);
+    let path = dir.join("empty.stl");
+    let e = write_solid_file(&path, &SolidsRef::of_file(&path, &empty), &write, &NoProgress).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        format!("{}: the solid is empty; there is no boundary to write as a mesh", path.display())
+    );
+    assert!(!path.exists());
+    let two = Solids {
+        domain: d,
+        solids: vec![ColouredSolid::new("a", None, tree.clone()), ColouredSolid::new("b", None, tree.clone())],
+    };
+    for name in ["two.oct", "two.octs", "two.obj"] {
+        let e = write_solid_file(dir.join(name), &two.borrowed(), &write, &NoProgress).unwrap_err();
+        assert!(e.to_string().contains("holds one solid and 2 were given"), "{name}: {e}");
+    }
+    let e = write_solid_file(dir.join("s.png"), &SolidsRef::of_file("s.png", &tree), &write, &NoProgress).unwrap_err();
+    assert!(e.to_string().ends_with("(use .oct, .octs, .vox, .binvox, .vdb, .glb, .obj, .stl or .ply)"), "{e}");
+    let e = SolidFile::read(dir.join("door.glb"), &options()).unwrap_err();
+    assert!(e.to_string().ends_with("unexpected extension '.glb' (use .oct, .octs, .vox, .binvox or .vdb)"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
 }

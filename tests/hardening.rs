@@ -12,7 +12,7 @@
 //! | OBJ coordinates in single precision | `loaders.rs`: `obj_coordinates_keep_double_precision` |
 //! | 1000-vertex face | `loaders.rs`: `thousand_vertex_face_triangulates_to_n_minus_2_triangles_with_its_area` |
 //! | control characters in messages | `loaders.rs`: `error_messages_escape_control_characters` |
-//! | temporary files: exclusive, unpredictable, stale ones removed; devices and symlinks | `src/io/atomic.rs` unit tests |
+//! | temporary files: exclusive, unpredictable, stale ones removed; devices and symlinks | `src/atomic.rs` unit tests |
 //! | output that is an input, `info > /dev/full` | `first_hour.rs`: `outputs_never_replace_inputs_and_stdout_failures_are_errors` |
 //! | every parser under mutation | the fuzz crate (`fuzz/`) and its corpus replay test |
 

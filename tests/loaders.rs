@@ -569,20 +569,21 @@ fn error_messages_escape_control_characters() {
 /// TOML reader quotes reach messages escaped, as the mesh formats' do.
 #[test]
 fn solid_file_and_scene_errors_escape_control_characters() {
-    use octsolid::io::{ColouredSolid, ReadOptions, Solids, WriteOptions, read_solids, write_solids};
+    use octsolid::io::{ColouredSolid, ReadOptions, Solids, WriteOptions};
     use octsolid::octree::{Domain, LinearOctree};
+    use octsolid::{NoProgress, SolidFile, write_solid_file};
     let dir = scratch("escape-solids");
     let esc = "\x1b[2J\x1b]0;pwned\x07";
     let domain = Domain::new(DVec3::ZERO, 1.0, 2).unwrap();
     let solids =
         Solids { domain, solids: vec![ColouredSolid::new(format!("part{esc}"), None, LinearOctree::full(domain))] };
     let vdb = dir.join("named.vdb");
-    write_solids(&vdb, &solids, &WriteOptions::default()).unwrap();
+    write_solid_file(&vdb, &solids.borrowed(), &WriteOptions::default(), &NoProgress).unwrap();
     let expect_escaped = |what: &str, e: String| {
         assert!(!has_control(&e) && e.contains("\\x1b[2J\\x1b]0;pwned\\x07"), "{what}: {e:?}");
     };
     // The grid's name, listed when the asked grid is missing.
-    let e = read_solids(&vdb, &ReadOptions { grid: Some("other".into()), ..ReadOptions::default() }).unwrap_err();
+    let e = SolidFile::read(&vdb, &ReadOptions { grid: Some("other".into()), ..ReadOptions::default() }).unwrap_err();
     expect_escaped("grid name", e.to_string());
     // The transform's and the grid type's names, put there byte for byte.
     let bytes = std::fs::read(&vdb).unwrap();
@@ -596,7 +597,7 @@ fn solid_file_and_scene_errors_escape_control_characters() {
         let path = dir.join("patched.vdb");
         std::fs::write(&path, &patched).unwrap();
         let options = ReadOptions { grid: Some(format!("part{esc}")), ..ReadOptions::default() };
-        expect_escaped(&hostile, read_solids(&path, &options).unwrap_err().to_string());
+        expect_escaped(&hostile, SolidFile::read(&path, &options).unwrap_err().to_string());
     }
     // A scene: a solid's name in front of its error, and a value the TOML reader quotes.
     let toml_escaped: String = esc.chars().map(|c| format!("\\u{:04x}", c as u32)).collect();

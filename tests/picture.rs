@@ -10,12 +10,12 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use octsolid::io::{PictureFormat, save_picture};
+use octsolid::io::save_picture;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{Camera, Material, Picture, RenderOptions, Scene, render, render_picture, to_srgb8};
 use octsolid::shape::Cuboid;
-use octsolid::{Error, NoProgress};
+use octsolid::{Error, FileKind, NoProgress};
 
 /// A closed room: the hollow between [-0.5, 0.5]^3 and [-0.875, 0.875]^3, voxels of
 /// 1/32 (every face on the lattice).
@@ -158,11 +158,11 @@ fn bad_exposures_and_unknown_extensions_are_refused_by_name() {
     for name in ["room.jpg", "room", "room.exr.tmp"] {
         let path = dir.join(name);
         let e = save_picture(&picture, &path).unwrap_err().to_string();
-        assert!(e.contains(&path.display().to_string()) && e.contains("png, exr"), "{e}");
+        assert!(e.contains(&path.display().to_string()) && e.contains("(use .png or .exr)"), "{e}");
         assert!(!path.exists(), "{name} was written");
     }
-    assert_eq!(PictureFormat::of("ROOM.EXR").unwrap(), PictureFormat::Exr);
-    assert_eq!(PictureFormat::of("a.Png").unwrap(), PictureFormat::Png);
+    assert_eq!(FileKind::of("ROOM.EXR", FileKind::PICTURES).unwrap(), FileKind::Exr);
+    assert_eq!(FileKind::of("a.Png", FileKind::PICTURES).unwrap(), FileKind::Png);
     assert!(save_picture(&Picture::new(0, 0), dir.join("empty.exr")).is_err());
     assert!(!dir.join("empty.exr").exists());
     std::fs::remove_dir_all(&dir).ok();

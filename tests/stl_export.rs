@@ -253,13 +253,17 @@ fn stl_reloads_closed_for_every_configuration_around_a_point() {
 /// the origin is written with its corners exact.
 #[test]
 fn glb_of_coordinates_single_precision_cannot_hold_is_refused() {
-    use octsolid::io::{WriteOptions, write_solid};
+    use octsolid::io::{SolidsRef, WriteOptions};
+    use octsolid::{NoProgress, write_solid_file};
+    let write_solid = |path: &Path, tree: &LinearOctree| {
+        write_solid_file(path, &SolidsRef::of_file(path, tree), &WriteOptions::default(), &NoProgress)
+    };
     let dir = scratch("glb-far");
     let two = [[1, 1, 1], [2, 1, 1]];
     for (name, min, edge) in [("beyond.glb", 1e39, 1e38), ("collapsed.glb", 1e9, 16.0)] {
         let tree = LinearOctree::from_voxels(Domain::new(DVec3::splat(min), edge, 4).unwrap(), two).unwrap();
         let path = dir.join(name);
-        let e = match write_solid(&path, &tree, None, &WriteOptions::default()) {
+        let e = match write_solid(&path, &tree) {
             Ok(bytes) => panic!("{name}: written ({bytes} bytes)"),
             Err(e) => e.to_string(),
         };
@@ -268,7 +272,7 @@ fn glb_of_coordinates_single_precision_cannot_hold_is_refused() {
     }
     let near = LinearOctree::from_voxels(Domain::new(DVec3::splat(4096.0), 16.0, 4).unwrap(), two).unwrap();
     let path = dir.join("near.glb");
-    write_solid(&path, &near, None, &WriteOptions::default()).unwrap();
+    write_solid(&path, &near).unwrap();
     let bytes = std::fs::read(&path).unwrap();
     let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();

@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 use common::{Rng, random_octree};
 use glam::DVec3;
-use octsolid::io::{self, ColouredSolid, Solids, WriteOptions, binvox, gltf, vdb, vox};
+use octsolid::io::{ColouredSolid, Solids, WriteOptions, binvox, gltf, vdb, vox};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::shape::{Axis, Sphere};
 use octsolid::{Error, MemoryBudget, NoProgress};
@@ -104,7 +104,7 @@ fn writers_refuse_over_budget_before_allocating() {
     for (name, tree) in [("full.vdb", full(17)), ("full.binvox", full(9)), ("ball.glb", sphere(8))] {
         let path = dir.join(name);
         let solids = one(&tree);
-        let (result, held) = peak(|| io::write_solids(&path, &solids, &options));
+        let (result, held) = peak(|| octsolid::write_solid_file(&path, &solids.borrowed(), &options, &NoProgress));
         let e = result.expect_err(name);
         assert!(matches!(e, Error::OverBudget { .. }), "{name}: {e}");
         assert!(e.to_string().contains(name) || name.ends_with(".glb"), "{name}: the output is named: {e}");

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use octsolid::sharded::{ShardIndex, StreamOptions};
-use octsolid::{MemoryBudget, Progress, human_bytes};
+use octsolid::{FileKind, MemoryBudget, Progress, human_bytes};
 
 use crate::progress_bar::Bar;
 
@@ -91,9 +91,9 @@ fn parse_cells(s: &str) -> Result<Range<u64>, String> {
     Ok(a..b)
 }
 
-/// Whether `path` names a sharded solid (`.octs`).
+/// Whether `path` names a sharded solid (`.octs`, [`FileKind::Octs`]).
 pub fn is_sharded(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("octs"))
+    FileKind::of(path, &[FileKind::Octs]).is_ok()
 }
 
 /// Prints what a sharded job wrote: the solid (with the index) or a task's part.

@@ -46,9 +46,9 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::bitgrid::BitGrid;
+use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 
 /// Longest header accepted, in bytes (real headers are under 100).

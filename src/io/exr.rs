@@ -13,7 +13,7 @@ use std::path::Path;
 
 use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage};
 
-use super::atomic::write_atomic;
+use crate::atomic::write_atomic;
 use crate::error::{Error, Result};
 use crate::render::Picture;
 

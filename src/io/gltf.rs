@@ -32,10 +32,10 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::solid_set::Solids;
+use super::solid_set::{Solids, SolidsRef};
+use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
 use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, boundary_mesh_of_size};
 use crate::progress::NoProgress;
 use crate::shape::Axis;
@@ -135,7 +135,7 @@ fn check_single_precision(bounds: Option<crate::aabb::Aabb>, voxel: f64) -> std:
 }
 
 /// Writes `solids` to `path` as one GLB, atomically; returns the bytes written.
-pub fn write(path: impl AsRef<Path>, solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<u64> {
+pub fn write(path: impl AsRef<Path>, solids: &SolidsRef<'_>, up: Axis, budget: MemoryBudget) -> Result<u64> {
     let path = path.as_ref();
     let bytes = encode_for(solids, up, budget, Some(path))?;
     write_atomic(path, |w| w.write_all(&bytes))
@@ -155,12 +155,12 @@ pub fn up_rotation(up: Axis) -> Option<[f64; 4]> {
 
 /// The whole `.glb` for `solids`, whose world's up is `up` (module doc).
 pub fn encode(solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<Vec<u8>> {
-    encode_for(solids, up, budget, None)
+    encode_for(&solids.borrowed(), up, budget, None)
 }
 
 /// [`encode`], naming `output` (when given) in a refusal of coordinates `f32` cannot
 /// hold.
-fn encode_for(solids: &Solids, up: Axis, budget: MemoryBudget, output: Option<&Path>) -> Result<Vec<u8>> {
+fn encode_for(solids: &SolidsRef<'_>, up: Axis, budget: MemoryBudget, output: Option<&Path>) -> Result<Vec<u8>> {
     for solid in &solids.solids {
         check_single_precision(solid.tree.bounds(), solids.domain.voxel_size()).map_err(|reason| {
             let reason = match output {
@@ -175,7 +175,7 @@ fn encode_for(solids: &Solids, up: Axis, budget: MemoryBudget, output: Option<&P
     // Step 0: the boundaries counted before anything is built; the largest mesh, and
     // every solid's vertices, indices and bytes in the file, must fit the budget.
     let options = BoundaryOptions::default();
-    let sizes: Vec<BoundarySize> = solids.solids.iter().map(|s| BoundarySize::of(&s.tree)).collect();
+    let sizes: Vec<BoundarySize> = solids.solids.iter().map(|s| BoundarySize::of(s.tree)).collect();
     let squares: u128 = sizes.iter().map(|s| s.squares).sum();
     let largest = sizes.iter().map(|s| s.mesh_bytes(&options)).max().unwrap_or(0);
     let estimate = u64::try_from(squares * u128::from(BYTES_PER_SQUARE))
@@ -188,7 +188,7 @@ fn encode_for(solids: &Solids, up: Axis, budget: MemoryBudget, output: Option<&P
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (solid, size) in solids.solids.iter().zip(sizes) {
         // Step 1: the closed manifold boundary, vertices split by face direction.
-        let mesh = boundary_mesh_of_size(&solid.tree, &options, size, &NoProgress)?;
+        let mesh = boundary_mesh_of_size(solid.tree, &options, size, &NoProgress)?;
         if mesh.triangles.is_empty() {
             continue;
         }

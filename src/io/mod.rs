@@ -1,15 +1,19 @@
 //! Reading and writing solids and images: the native `.oct` format (see
 //! `docs/FORMAT.md`), the voxel and volume formats other tools use (MagicaVoxel
 //! `.vox`, binvox, OpenVDB `.vdb`; glTF `.glb` meshes out), pictures out (PNG, and
-//! OpenEXR for linear radiance), and the atomic write they all use. [`read_solids`],
-//! [`write_solids`] and [`save_picture`] pick the format by extension.
+//! OpenEXR for linear radiance). [`save_picture`] picks the picture format by
+//! extension ([`crate::FileKind`]); solid files are read and written through the door
+//! above `io` and `sharded`, [`crate::SolidFile::read`] and [`crate::write_solid_file`].
+//! Every file is written through [`write_atomic`] (the bottom floor's, re-exported
+//! here).
+//!
+//! `io` sits above `render`: it writes `render`'s [`crate::render::Picture`] and builds
+//! a [`crate::render::Scene`] of the solids a file holds; `render` never imports `io`.
 
-mod atomic;
 pub mod binvox;
 mod bitgrid;
 mod blosc;
 pub mod exr;
-pub(crate) mod fields;
 pub mod gltf;
 pub mod oct;
 mod picture;
@@ -19,7 +23,9 @@ mod solids;
 pub mod vdb;
 pub mod vox;
 
-pub use atomic::{same_file, write_atomic};
-pub use picture::{PictureFormat, save_picture};
-pub use solid_set::{ColouredSolid, ReadOptions, Solids};
-pub use solids::{SolidFormat, WriteOptions, read_solids, write_solid, write_solids};
+pub use crate::atomic::{same_file, write_atomic};
+pub use picture::save_picture;
+pub(crate) use solid_set::file_stem;
+pub use solid_set::{ColouredSolid, ReadOptions, SolidRef, Solids, SolidsRef};
+pub use solids::WriteOptions;
+pub(crate) use solids::{one_solid, write_voxel_solids};

@@ -12,9 +12,9 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, NodeKey};
 use crate::shape::Axis;
 

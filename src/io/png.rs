@@ -15,7 +15,7 @@ use std::path::Path;
 
 use image::RgbImage;
 
-use super::atomic::write_atomic;
+use crate::atomic::write_atomic;
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 #[cfg(doc)]

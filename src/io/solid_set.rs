@@ -1,9 +1,13 @@
 //! What a solid file holds once read, whatever its format: [`Solids`], one domain and
 //! the [`ColouredSolid`]s over it, and the [`ReadOptions`] every reader takes. The
-//! format modules (`vox`, `vdb`, `gltf`, ...) build and take these; `solids` picks the
-//! format by extension above them all.
+//! format modules (`vox`, `vdb`, `gltf`, ...) build these, and write a [`SolidsRef`]:
+//! the same, borrowed, so that a solid is written without copying its tree (a
+//! [`Solids`] lends itself as one, [`Solids::borrowed`]; one tree is
+//! [`SolidsRef::one`]). `solids` picks the format by extension above them all.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
+use std::path::Path;
 
 use glam::DVec3;
 
@@ -38,7 +42,64 @@ impl ColouredSolid {
     }
 }
 
-/// What [`super::read_solids`] returns: one domain and the solids over it (each `tree`'s
+/// A [`ColouredSolid`] borrowed: what the writers read of a solid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidRef<'a> {
+    /// As [`ColouredSolid::name`].
+    pub name: Cow<'a, str>,
+    /// As [`ColouredSolid::color`].
+    pub color: Option<DVec3>,
+    /// As [`ColouredSolid::palette_index`].
+    pub palette_index: Option<u8>,
+    /// As [`ColouredSolid::material`].
+    pub material: &'a BTreeMap<String, String>,
+    /// The solid, over the shared domain.
+    pub tree: &'a LinearOctree,
+}
+
+/// [`Solids`] borrowed: one domain and the solids over it, to be written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidsRef<'a> {
+    /// The shared domain.
+    pub domain: Domain,
+    /// The solids, in the order they are written.
+    pub solids: Vec<SolidRef<'a>>,
+}
+
+/// No material properties, for a solid that has none.
+static NO_MATERIAL: BTreeMap<String, String> = BTreeMap::new();
+
+impl<'a> SolidsRef<'a> {
+    /// One solid named `name`, with an optional colour, over its own domain.
+    #[must_use]
+    pub fn one(name: impl Into<Cow<'a, str>>, color: Option<DVec3>, tree: &'a LinearOctree) -> Self {
+        let solid = SolidRef { name: name.into(), color, palette_index: None, material: &NO_MATERIAL, tree };
+        SolidsRef { domain: *tree.domain(), solids: vec![solid] }
+    }
+
+    /// One solid without a colour named by the stem of `path` (`solid` when it has
+    /// none): what a file of one solid is read back as.
+    #[must_use]
+    pub fn of_file(path: impl AsRef<Path>, tree: &'a LinearOctree) -> Self {
+        SolidsRef::one(file_stem(path.as_ref()), None, tree)
+    }
+
+    /// Checks every solid's invariants and that all share `domain` ([`Solids::validate`]).
+    pub fn validate(&self) -> Result<()> {
+        for s in &self.solids {
+            s.tree.validate()?;
+            if *s.tree.domain() != self.domain {
+                return Err(Error::DomainMismatch {
+                    left: self.domain.to_string(),
+                    right: s.tree.domain().to_string(),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What a solid file holds ([`crate::SolidFile::solids`]): one domain and the solids over it (each `tree`'s
 /// domain is `domain`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solids {
@@ -70,16 +131,24 @@ impl Solids {
 
     /// Checks every solid's invariants and that all share `domain`.
     pub fn validate(&self) -> Result<()> {
-        for s in &self.solids {
-            s.tree.validate()?;
-            if *s.tree.domain() != self.domain {
-                return Err(Error::DomainMismatch {
-                    left: self.domain.to_string(),
-                    right: s.tree.domain().to_string(),
-                });
-            }
-        }
-        Ok(())
+        self.borrowed().validate()
+    }
+
+    /// The solids, borrowed, to be written.
+    #[must_use]
+    pub fn borrowed(&self) -> SolidsRef<'_> {
+        let solids = self
+            .solids
+            .iter()
+            .map(|s| SolidRef {
+                name: Cow::Borrowed(&s.name),
+                color: s.color,
+                palette_index: s.palette_index,
+                material: &s.material,
+                tree: &s.tree,
+            })
+            .collect();
+        SolidsRef { domain: self.domain, solids }
     }
 
     /// The union of all solids.
@@ -117,4 +186,10 @@ impl Default for ReadOptions {
             grid: None,
         }
     }
+}
+
+/// The stem of `path`, the name of the solid of a file of one (`solid` when it has
+/// none).
+pub(crate) fn file_stem(path: &Path) -> String {
+    path.file_stem().map_or_else(|| "solid".into(), |s| s.to_string_lossy().into_owned())
 }

@@ -59,11 +59,11 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::blosc;
-use super::fields::Fields;
-use super::solid_set::{ColouredSolid, ReadOptions, Solids};
+use super::solid_set::{ColouredSolid, ReadOptions, SolidRef, Solids, SolidsRef};
+use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result, printable, quoted};
-use crate::io::write_atomic;
+use crate::fields::Fields;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 
 /// The first 8 bytes: `0x56444220` as a little-endian i64.
@@ -330,8 +330,8 @@ fn write_meta(out: &mut Vec<u8>, name: &str, kind: &str, value: &[u8]) {
 }
 
 /// The grid from its compression flags to its last buffer; `base` is its file offset.
-fn encode_grid(solid: &ColouredSolid, compression: Compression) -> (Vec<u8>, usize) {
-    let tree = &solid.tree;
+fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usize) {
+    let tree = solid.tree;
     let d = tree.domain();
     let mut out = Vec::new();
     let flags = COMPRESS_ACTIVE_MASK | if compression == Compression::Zip { COMPRESS_ZIP } else { 0 };
@@ -415,7 +415,12 @@ fn encode_grid(solid: &ColouredSolid, compression: Compression) -> (Vec<u8>, usi
 
 /// Writes `solids` to `path`, one fog-volume grid each, atomically; returns the bytes
 /// written. Refused before anything is built when its estimated memory exceeds `budget`.
-pub fn write(path: impl AsRef<Path>, solids: &Solids, compression: Compression, budget: MemoryBudget) -> Result<u64> {
+pub fn write(
+    path: impl AsRef<Path>,
+    solids: &SolidsRef<'_>,
+    compression: Compression,
+    budget: MemoryBudget,
+) -> Result<u64> {
     let path = path.as_ref();
     let bytes = encode_named(solids, compression, budget, &path.display().to_string())?;
     write_atomic(path, |w| w.write_all(&bytes))
@@ -424,12 +429,17 @@ pub fn write(path: impl AsRef<Path>, solids: &Solids, compression: Compression, 
 /// The whole `.vdb` file for `solids` (module doc, "Writing"), refused before anything
 /// is built when its estimated memory exceeds `budget`.
 pub fn encode(solids: &Solids, compression: Compression, budget: MemoryBudget) -> Result<Vec<u8>> {
-    encode_named(solids, compression, budget, "a .vdb file")
+    encode_named(&solids.borrowed(), compression, budget, "a .vdb file")
 }
 
 /// [`encode`], the output called `output` in a refusal.
-fn encode_named(solids: &Solids, compression: Compression, budget: MemoryBudget, output: &str) -> Result<Vec<u8>> {
-    let c = solids.solids.iter().map(|s| TreeCounts::of(&s.tree)).fold(TreeCounts::default(), TreeCounts::add);
+fn encode_named(
+    solids: &SolidsRef<'_>,
+    compression: Compression,
+    budget: MemoryBudget,
+    output: &str,
+) -> Result<Vec<u8>> {
+    let c = solids.solids.iter().map(|s| TreeCounts::of(s.tree)).fold(TreeCounts::default(), TreeCounts::add);
     let job = format!(
         "{output}: {} grid(s) of {} root tiles, {} upper and {} lower internal nodes, {} leaves",
         solids.solids.len(),
@@ -443,9 +453,9 @@ fn encode_named(solids: &Solids, compression: Compression, budget: MemoryBudget,
     let mut names: BTreeMap<&str, usize> = BTreeMap::new();
     let mut grids = Vec::new();
     for solid in &solids.solids {
-        let seen = names.entry(solid.name.as_str()).or_insert(0);
+        let seen = names.entry(&solid.name).or_insert(0);
         // Repeated names get OpenVDB's own suffix: a record separator and a number.
-        let unique = if *seen == 0 { solid.name.clone() } else { format!("{}\u{1e}{seen}", solid.name) };
+        let unique = if *seen == 0 { solid.name.to_string() } else { format!("{}\u{1e}{seen}", solid.name) };
         *seen += 1;
         grids.push((unique, encode_grid(solid, compression)));
     }

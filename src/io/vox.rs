@@ -55,10 +55,10 @@ use std::path::Path;
 use glam::DVec3;
 use rayon::slice::ParallelSliceMut;
 
-use super::solid_set::{ColouredSolid, ReadOptions, Solids};
+use super::solid_set::{ColouredSolid, ReadOptions, SolidRef, Solids, SolidsRef};
+use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
 use crate::morton;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
 use crate::render::{from_srgb8, to_srgb8};
@@ -599,14 +599,19 @@ fn fit_domain(
 }
 
 /// Writes `solids` to `path` as `.vox`, atomically; returns the bytes written.
-pub fn write(path: impl AsRef<Path>, solids: &Solids, budget: MemoryBudget) -> Result<u64> {
+pub fn write(path: impl AsRef<Path>, solids: &SolidsRef<'_>, budget: MemoryBudget) -> Result<u64> {
     let path = path.as_ref();
-    let bytes = encode(solids, budget)?;
+    let bytes = encode_borrowed(solids, budget)?;
     write_atomic(path, |w| w.write_all(&bytes))
 }
 
 /// The whole `.vox` file for `solids` (module doc, "Writing").
 pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
+    encode_borrowed(&solids.borrowed(), budget)
+}
+
+/// [`encode`] of borrowed solids.
+pub(crate) fn encode_borrowed(solids: &SolidsRef<'_>, budget: MemoryBudget) -> Result<Vec<u8>> {
     // Step 1: a palette index a solid.
     let indices = palette_indices(&solids.solids)?;
     // Step 2: the voxels' bounding box cut into models of at most 256^3 from its low
@@ -743,7 +748,7 @@ impl Models {
     }
 
     /// Every node's pieces (`total` of them), by model, then by solid.
-    fn pieces(&self, solids: &Solids, total: usize) -> Vec<Piece> {
+    fn pieces(&self, solids: &SolidsRef<'_>, total: usize) -> Vec<Piece> {
         let mut pieces = Vec::with_capacity(total);
         for (solid, s) in solids.solids.iter().enumerate() {
             for node in s.tree.nodes() {
@@ -821,7 +826,7 @@ fn model_voxels(pieces: &[Piece], indices: &[u8], start: [u32; 3], end: [u32; 3]
 }
 
 /// A palette index for each solid: its own when free, else the lowest free one.
-fn palette_indices(solids: &[ColouredSolid]) -> Result<Vec<u8>> {
+fn palette_indices(solids: &[SolidRef<'_>]) -> Result<Vec<u8>> {
     if solids.len() > MAX_COLOURS {
         return Err(Error::invalid(
             "solids",

@@ -7,31 +7,6 @@ use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
 use crate::warning::Warning;
 
-/// Mesh file formats octsolid reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MeshFormat {
-    /// Wavefront OBJ (polygons are ear-clipped, groups kept).
-    Obj,
-    /// STL, ASCII or binary.
-    Stl,
-    /// PLY, ASCII or binary little-endian.
-    Ply,
-}
-
-impl MeshFormat {
-    /// The format of `path` by its extension, case-insensitive ([`FileKind::of`]
-    /// over [`FileKind::MESHES`]).
-    pub fn of(path: impl AsRef<Path>) -> Result<MeshFormat> {
-        let path = path.as_ref();
-        Ok(match FileKind::of(path, FileKind::MESHES)? {
-            FileKind::Obj => MeshFormat::Obj,
-            FileKind::Stl => MeshFormat::Stl,
-            FileKind::Ply => MeshFormat::Ply,
-            other => unreachable!("{other:?} is not in FileKind::MESHES"),
-        })
-    }
-}
-
 /// Reads the mesh at `path` (format by extension), checks it and welds equal vertices,
 /// unless the file's own indices already make the mesh watertight: then its duplicate
 /// positions are deliberate (a boundary mesh keeps one vertex a sheet where two voxels
@@ -62,16 +37,17 @@ pub fn load_mesh_with_warnings(path: impl AsRef<Path>) -> Result<(TriangleMesh, 
 /// it).
 pub fn mesh_from_bytes(bytes: &[u8], path: &Path) -> Result<(TriangleMesh, Vec<Warning>)> {
     let mut warnings = Vec::new();
-    let mut mesh = match MeshFormat::of(path)? {
-        MeshFormat::Obj => {
+    let mut mesh = match FileKind::of(path, FileKind::MESHES)? {
+        FileKind::Obj => {
             let obj = super::obj::parse(bytes, path, &mut warnings)?;
             for (line, name) in &obj.material_libraries {
                 super::mtl::check(path, *line, name, &mut warnings);
             }
             obj.mesh
         }
-        MeshFormat::Stl => super::stl::parse(bytes, path, &mut warnings)?,
-        MeshFormat::Ply => super::ply::parse(bytes, path, &mut warnings)?,
+        FileKind::Stl => super::stl::parse(bytes, path, &mut warnings)?,
+        FileKind::Ply => super::ply::parse(bytes, path, &mut warnings)?,
+        other => unreachable!("{other:?} is not in FileKind::MESHES"),
     };
     mesh.check().map_err(|e| Error::Format { path: path.to_path_buf(), offset: 0, reason: e.to_string() })?;
     if !mesh.is_watertight() {

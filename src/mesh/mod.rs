@@ -35,7 +35,7 @@ use crate::error::{Error, Result};
 
 pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
 pub(crate) use boundary::{BoundarySize, Rect as BoundaryRect, boundary_mesh_of_size, boundary_rects};
-pub use load::{MeshFormat, load_mesh, load_mesh_with_warnings, mesh_from_bytes};
+pub use load::{load_mesh, load_mesh_with_warnings, mesh_from_bytes};
 pub use parity::ParityGrid;
 pub use save::{save_mesh, write_obj, write_ply, write_stl};
 pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};

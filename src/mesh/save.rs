@@ -10,10 +10,11 @@
 use std::io::Write;
 use std::path::Path;
 
+use super::TriangleMesh;
 use super::separate::separate;
-use super::{MeshFormat, TriangleMesh};
+use crate::atomic::write_atomic;
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
+use crate::file_kind::FileKind;
 
 /// Writes `mesh` to `path` in the format its extension names; returns the bytes written.
 ///
@@ -30,9 +31,9 @@ use crate::io::write_atomic;
 /// error names the vertices and suggests OBJ or PLY).
 pub fn save_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
     let path = path.as_ref();
-    let format = MeshFormat::of(path)?;
+    let format = FileKind::of(path, FileKind::MESHES)?;
     let separated;
-    let mesh = if format == MeshFormat::Stl && !mesh.triangles.is_empty() && mesh.is_watertight() {
+    let mesh = if format == FileKind::Stl && !mesh.triangles.is_empty() && mesh.is_watertight() {
         mesh.check()?;
         separated = separate(mesh).map_err(|reason| {
             Error::invalid("STL output", format!("{}: {reason}; write .obj or .ply instead", path.display()))
@@ -42,9 +43,10 @@ pub fn save_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
         mesh
     };
     write_atomic(path, |w| match format {
-        MeshFormat::Obj => write_obj(mesh, w),
-        MeshFormat::Stl => write_stl(mesh, w),
-        MeshFormat::Ply => write_ply(mesh, w),
+        FileKind::Obj => write_obj(mesh, w),
+        FileKind::Stl => write_stl(mesh, w),
+        FileKind::Ply => write_ply(mesh, w),
+        other => unreachable!("{other:?} is not in FileKind::MESHES"),
     })
 }
 

@@ -35,9 +35,10 @@
 use crate::fnv::fnv1a;
 use std::path::{Path, PathBuf};
 
+use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::{oct, write_atomic};
+use crate::io::oct;
 use crate::octree::{Domain, LinearOctree};
 use crate::warning::{Place, Warning};
 

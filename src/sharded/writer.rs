@@ -24,10 +24,10 @@ use super::job::JobId;
 use super::layout::Layout;
 use super::solid::read_shard;
 use super::staging::{self, JoinLock};
+use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::oct::{self, Metadata};
-use crate::io::write_atomic;
 use crate::morton;
 use crate::octree::{CellNodes, CellSink, Cells, Domain, LinearOctree, NodeKey, check_level};
 

@@ -9,10 +9,10 @@ use octsolid::io::oct::Metadata;
 use octsolid::octree::VoxelizeOptions;
 use octsolid::scene_file::{build_shape, build_solid};
 use octsolid::sharded;
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::{print_summary, voxelize_with_bar};
-use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
+use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
 
@@ -39,7 +39,7 @@ pub struct BuildArgs {
 
 /// `octsolid build SCENE.toml -o OUT.oct [--solid NAME]`
 pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
-    check_extension(&a.output, SOLID_EXTENSIONS)?;
+    check_extension(&a.output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(&a.output, &[a.scene.as_path()])?;
     a.shards.check_for(&a.output)?;
     if is_sharded(&a.output) || a.depth.is_some() {

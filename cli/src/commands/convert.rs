@@ -19,16 +19,16 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use octsolid::io::{ColouredSolid, Solids, WriteOptions, write_solids};
+use octsolid::io::{ColouredSolid, Solids, WriteOptions};
 use octsolid::octree::{Fit, VoxelizeOptions};
 use octsolid::sharded;
-use octsolid::{FileKind, MemoryBudget, human_bytes};
+use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
 use super::info::{print_solids, solid_infos};
 use super::print_summary;
-use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
+use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::{Bar, Spinner};
-use crate::sharded_output::{ShardFlags, is_sharded};
+use crate::sharded_output::ShardFlags;
 use crate::solid_input::{ReadFlags, read_solid_file};
 use crate::values::TargetFlags;
 
@@ -52,7 +52,7 @@ pub struct ConvertArgs {
 /// `octsolid convert IN OUT [...]`
 pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     let (input, output) = (&a.input, &a.output);
-    check_extension(output, SOLID_EXTENSIONS)?;
+    let output_kind = check_extension(output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(output, &[input])?;
     a.shards.check_for(output)?;
     let started = Instant::now();
@@ -80,15 +80,14 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
 
     let started = Instant::now();
     // A mesh shows its own bar while it is meshed.
-    let mesh =
-        FileKind::MESHES.iter().any(|k| output.extension().is_some_and(|e| e.eq_ignore_ascii_case(k.extension())));
-    let spinner = (!mesh).then(|| Spinner::new("writing"));
-    let bytes_out = if is_sharded(output) {
+    let spinner = (!output_kind.is_mesh()).then(|| Spinner::new("writing"));
+    let bytes_out = if output_kind == FileKind::Octs {
         drop(spinner);
         return a.shards.write(output, budget, started, |options| Ok(sharded::save(&union, meta, output, options)?));
-    } else if holds_many_solids(output) {
-        let up = file.meta.up.unwrap_or(file.kind.default_up());
-        write_solids(output, &solids, &WriteOptions { budget, up, ..WriteOptions::default() })
+    } else if output_kind.holds_many_solids() {
+        let up = meta.up.unwrap_or(kind.default_up());
+        let options = WriteOptions { budget, up, meta, ..WriteOptions::default() };
+        octsolid::write_solid_file(output, &solids.borrowed(), &options, &NoProgress)
             .with_context(|| format!("{}: cannot write", output.display()))?
     } else {
         if solids.solids.len() > 1 {

@@ -9,10 +9,10 @@ use anyhow::{Context, Result};
 use clap::ValueEnum;
 use octsolid::octree::{Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
 use octsolid::sharded::{self, ShardedSolid};
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::print_summary;
-use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
+use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::solid_input::{ReadFlags, read_solid_file};
@@ -58,7 +58,7 @@ pub enum CsgOp {
 /// `octsolid csg OP A B [MORE...] -o OUT [--domain ...] [--depth D]`
 pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     let (op, inputs, output) = (a.op, &a.inputs, &a.output);
-    check_extension(output, SOLID_EXTENSIONS)?;
+    check_extension(output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(output, &inputs.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
     a.shards.check_for(output)?;
     let set_op = match op {

@@ -6,11 +6,11 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use glam::DVec3;
-use octsolid::MemoryBudget;
-use octsolid::io::{PictureFormat, save_picture};
+use octsolid::io::save_picture;
 use octsolid::octree::VoxelizeOptions;
 use octsolid::render::{Camera, DEFAULT_VIEW, RenderOptions};
 use octsolid::samples;
+use octsolid::{FileKind, MemoryBudget};
 
 use super::render_with_bar;
 use crate::output::check_extension;
@@ -35,7 +35,7 @@ pub struct DemoArgs {
 /// `octsolid demo`: the showcase scene, voxelized and ray-traced.
 pub fn run(a: &DemoArgs, budget: MemoryBudget) -> Result<()> {
     let (output, depth) = (&a.output, a.depth);
-    check_extension(output, PictureFormat::EXTENSIONS)?;
+    check_extension(output, FileKind::PICTURES)?;
     out!("showcase: {}", samples::SCENE_DESCRIPTION);
     let started = Instant::now();
     let bar = Bar::new("voxelizing");

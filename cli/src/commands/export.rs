@@ -14,10 +14,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use octsolid::io::{WriteOptions, write_solids};
-use octsolid::mesh::{BoundaryOptions, MeshFormat, save_mesh, separate_sheets, try_boundary_mesh};
+use octsolid::io::WriteOptions;
+use octsolid::mesh::{BoundaryOptions, save_mesh, separate_sheets, try_boundary_mesh};
 use octsolid::shape::Axis;
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
 use crate::output::check_not_an_input;
 use crate::progress_bar::Bar;
@@ -43,15 +43,14 @@ pub struct ExportArgs {
 /// `octsolid export FILE -o OUT.(obj|stl|ply|glb) [--unit-faces]`
 pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let (file, output, unit_faces) = (&a.file, &a.output, a.unit_faces);
-    let glb = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
-    let format = if glb {
-        None
-    } else {
-        let found =
-            output.extension().map_or_else(|| "no extension".into(), |e| format!("extension .{}", e.to_string_lossy()));
-        Some(MeshFormat::of(output).map_err(|_| {
-            anyhow::anyhow!("{}: {found} names no mesh format (use .obj, .stl, .ply or .glb)", output.display())
-        })?)
+    let format = match FileKind::of(output, &[FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::Glb]) {
+        Ok(FileKind::Glb) => None,
+        Ok(mesh) => Some(mesh),
+        Err(octsolid::Error::UnknownExtension { found, .. }) => {
+            let found = if found.is_empty() { "no extension".into() } else { format!("extension .{found}") };
+            bail!("{}: {found} names no mesh format (use .obj, .stl, .ply or .glb)", output.display())
+        }
+        Err(e) => return Err(e.into()),
     };
     check_not_an_input(output, &[file])?;
     let read = read_solid_file(file, &a.read, budget)?;
@@ -68,7 +67,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let mesh = try_boundary_mesh(&tree, &BoundaryOptions { unit_faces }, budget, &bar)
         .with_context(|| format!("{}: cannot export", file.display()))?;
     let elapsed = started.elapsed().as_secs_f64();
-    let separated = if format == MeshFormat::Stl {
+    let separated = if format == FileKind::Stl {
         Some(
             separate_sheets(&mesh)
                 .with_context(|| format!("{}: cannot write STL; write .obj or .ply", output.display()))?,
@@ -99,7 +98,8 @@ fn export_glb(a: &ExportArgs, solids: &octsolid::io::Solids, up: Axis, budget: M
         warn!("--unit-faces is for OBJ, STL and PLY; .glb is written with merged faces");
     }
     let started = Instant::now();
-    let bytes = write_solids(output, solids, &WriteOptions { budget, up, ..WriteOptions::default() })
+    let options = WriteOptions { budget, up, ..WriteOptions::default() };
+    let bytes = octsolid::write_solid_file(output, &solids.borrowed(), &options, &NoProgress)
         .with_context(|| format!("{}: cannot export", file.display()))?;
     let meshed = solids.solids.iter().filter(|s| !s.tree.is_empty()).count();
     out!("read       {} ({} solids, depth {})", file.display(), solids.solids.len(), solids.domain.depth());

@@ -221,7 +221,7 @@ fn sharded_info(dir: &std::path::Path, json: bool, budget: MemoryBudget) -> Resu
         bytes_file: index.shards.iter().map(|s| s.bytes).sum(),
         up: index.meta.up.map(|a| ["x", "y", "z"][a.index()]),
         units: index.meta.units.map(oct::Units::name),
-        format: "octs",
+        format: FileKind::Octs.extension(),
         shard_level: index.level,
         shards: index.shards.len(),
         full_nodes: index.full.len(),

@@ -76,10 +76,10 @@ pub(crate) fn solve(scene: &Scene, options: &RadiosityOptions, path: &std::path:
 /// `octsolid radiosity SCENE.toml -o SOLUTION.rad [--until F] [--max-shots N] [--json]`
 pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
     FileKind::of(&a.scene, &[FileKind::Scene])?;
-    check_extension(&a.output, &["rad"])?;
+    check_extension(&a.output, &[FileKind::Rad])?;
     check_not_an_input(&a.output, &[&a.scene])?;
     if let Some(plot) = &a.plot {
-        check_extension(plot, &["png"])?;
+        check_extension(plot, &[FileKind::Png])?;
         check_not_an_input(plot, &[&a.scene])?;
     }
     if !(0.0..1.0).contains(&a.until) {

@@ -15,7 +15,7 @@ use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use glam::DVec3;
 use octsolid::import::{self, ImportOptions, Input};
-use octsolid::io::{PictureFormat, save_picture};
+use octsolid::io::save_picture;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
@@ -251,19 +251,21 @@ impl From<Method> for octsolid::render::Method {
 /// `octsolid render IN [-o OUT] [--size WxH] [--spp N] [--method M] [--depth D] [camera flags] [--shading S]`
 pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let input = &a.input;
-    let output =
-        a.output.clone().unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension("png"));
-    check_extension(&output, PictureFormat::EXTENSIONS)?;
+    let output = a
+        .output
+        .clone()
+        .unwrap_or_else(|| Path::new(input.file_stem().unwrap_or_default()).with_extension(FileKind::Png.extension()));
+    check_extension(&output, FileKind::PICTURES)?;
     let mut stages = Stages::new();
     if let Some(interpolation) = a.shading {
         // Meshes, patch sets (tessellated) and solids (their boundary); not scenes.
-        let kind = FileKind::of(input, FileKind::ALL)?;
+        let kind = FileKind::of(input, FileKind::DRAWN)?;
         if kind == FileKind::Scene {
             bail!("{}: --shading draws a mesh or a solid as polygons, not a scene", input.display());
         }
         return polygon_command(a, kind, &output, interpolation.into(), budget);
     }
-    let kind = FileKind::of(input, FileKind::ALL)?;
+    let kind = FileKind::of(input, FileKind::DRAWN)?;
     if a.depth.is_some() && (kind == FileKind::Scene || FileKind::SOLIDS.contains(&kind)) {
         warn!("--depth is ignored for {}: its solids already have their depths", input.display());
     }

@@ -10,10 +10,10 @@ use octsolid::io::oct::Metadata;
 use octsolid::octree::Domain;
 use octsolid::shape::{Shape, ShapeSpec};
 use octsolid::sharded;
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::{print_summary, voxelize_with_bar};
-use crate::output::{SOLID_EXTENSIONS, check_extension, write_solid_file};
+use crate::output::{check_extension, write_solid_file};
 use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::values::{parse_domain, parse_vec3};
 
@@ -105,7 +105,7 @@ impl ShapeArgs {
 
 /// `octsolid shape KIND ...`
 pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
-    check_extension(&a.output, SOLID_EXTENSIONS)?;
+    check_extension(&a.output, FileKind::SOLID_OUTPUTS)?;
     let spec = a.spec();
     let shape = spec.build()?;
     let bounds = || shape.bounds().context("the shape is unbounded; give --domain");

@@ -3,9 +3,9 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use octsolid::MemoryBudget;
 use octsolid::io::png;
 use octsolid::shape::Axis;
+use octsolid::{FileKind, MemoryBudget};
 
 use crate::output::check_extension;
 use crate::solid_input::{ReadFlags, read_solid_file};
@@ -34,7 +34,7 @@ pub struct SliceArgs {
 /// `octsolid slice FILE --axis A --at V [--size N] -o OUT.png`
 pub fn run(a: &SliceArgs, budget: MemoryBudget) -> Result<()> {
     let (file, axis, size, output) = (&a.file, a.axis, a.size, &a.output);
-    check_extension(output, &["png"])?;
+    check_extension(output, &[FileKind::Png])?;
     budget.check(format!("a {size}x{size} slice"), octsolid::slice::estimate_bytes(size))?;
     let tree = read_solid_file(file, &a.read, budget)?.into_union();
     let d = tree.domain();

@@ -9,12 +9,12 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use glam::DVec3;
-use octsolid::io::{ColouredSolid, Solids, WriteOptions, write_solids};
+use octsolid::io::{ColouredSolid, Solids, WriteOptions};
 use octsolid::octree::{Domain, Motion, Turn, VoxelizeOptions};
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
 use super::print_summary;
-use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, holds_many_solids, write_solid_file};
+use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
 use crate::values::{TargetFlags, parse_turn, parse_vec3};
@@ -49,13 +49,13 @@ pub struct TransformArgs {
 
 /// `octsolid transform IN -o OUT [...]`
 pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
-    check_extension(&a.output, SOLID_EXTENSIONS)?;
+    let output_kind = check_extension(&a.output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(&a.output, &[&a.input])?;
     let file = read_solid_file(&a.input, &a.read, budget)?;
     let meta = file.meta;
     // Several solids going to a format that keeps them apart move one by one into the
     // domain their union moves into; else the union moves.
-    let (tree, apart) = if file.solids.solids.len() > 1 && holds_many_solids(&a.output) {
+    let (tree, apart) = if file.solids.solids.len() > 1 && output_kind.holds_many_solids() {
         (file.solids.union(), Some(file.solids))
     } else {
         (file.into_union(), None)
@@ -87,7 +87,8 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
                 each.push(ColouredSolid { tree, ..solid });
             }
             let moved = Solids { domain, solids: each };
-            write_solids(&a.output, &moved, &WriteOptions { budget, ..WriteOptions::default() })?
+            let options = WriteOptions { budget, ..WriteOptions::default() };
+            octsolid::write_solid_file(&a.output, &moved.borrowed(), &options, &NoProgress)?
         }
         None => write_solid_file(&a.output, &moved, &meta, budget)?,
     };

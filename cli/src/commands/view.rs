@@ -94,7 +94,7 @@ type Cut = Option<(u64, Section, Scene)>;
 
 /// `octsolid view INPUT [--port N] [--bind ADDR] [--watch]`
 pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
-    let kind = FileKind::of(&a.input, FileKind::ALL)?;
+    let kind = FileKind::of(&a.input, FileKind::DRAWN)?;
     let drawn = load(a, kind, budget)?;
     let viewed = Arc::new(Mutex::new(Viewed {
         figures: figures(&drawn),

@@ -16,7 +16,7 @@ use octsolid::sharded;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::{load_input, print_summary};
-use crate::output::{SOLID_EXTENSIONS, check_extension, check_not_an_input, write_solid_file};
+use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::values::parse_domain;
@@ -60,7 +60,7 @@ pub struct VoxelizeArgs {
 /// `octsolid voxelize IN --depth D [--fill F] [--inside R] [--domain ...] -o OUT`
 pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     let (input, depth, fill, inside, output) = (&a.input, a.depth.unwrap_or(8), a.fill, a.inside, &a.output);
-    check_extension(output, SOLID_EXTENSIONS)?;
+    check_extension(output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(output, &[input])?;
     a.shards.check_for(output)?;
     let up = a.up.unwrap_or(FileKind::of(input, FileKind::SURFACES)?.default_up());

@@ -25,10 +25,10 @@ use std::path::Path;
 
 use super::patches::{self, Patches};
 use super::{Radiosity, RadiosityStats, fingerprint};
+use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::io::fields::Fields;
-use crate::io::write_atomic;
+use crate::fields::Fields;
 use crate::render::scene::Scene;
 
 /// The magic bytes.

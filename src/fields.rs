@@ -3,6 +3,9 @@
 //! files, radiosity solutions). Reading past the end is an error, never a panic; a
 //! count read from the file must be checked against [`Fields::left`] before it sizes
 //! anything.
+//!
+//! A bottom floor module: it imports only [`crate::error`], so `io` and `render` (the
+//! radiosity file) both read through it without one importing the other.
 
 use std::path::Path;
 

@@ -2,6 +2,11 @@
 //! destination. A crash or a full disk never leaves a half-written file and never
 //! destroys the old one.
 //!
+//! A bottom floor module (it imports only [`crate::error`] and [`crate::owner`]): every
+//! layer that writes a file (`mesh`, `io`, `render`'s radiosity file, `sharded`, the
+//! scene cache) writes through it, so none imports another just to write atomically.
+//! Its public path is `octsolid::io::write_atomic`.
+//!
 //! The temporary file is `.NAME.octsolid-tmp-HOST-PID-RANDOM` in the destination's
 //! folder, named by its writer ([`crate::owner`]: this host, this process, 64
 //! unpredictable bits) and created exclusively (`O_EXCL`), so a file or symlink planted

@@ -1,0 +1,158 @@
+//! The door for solid files: [`SolidFile::read`] reads any solid file octsolid reads
+//! with what it records about its source, and [`write_solid_file`] writes solids,
+//! borrowed, as any solid or mesh format; each by the file's [`FileKind`].
+//!
+//! | kind | read | written from |
+//! |------|------|--------------|
+//! | `.oct` | the solid and its [`Metadata`] (up axis, units) | one solid, with [`WriteOptions::meta`] |
+//! | `.octs` | the whole sharded solid within the budget ([`crate::sharded`]; [`SolidFile::read_to_draw`]: at the finest depth that fits) | one solid, at the default cell level, with the metadata |
+//! | `.vox`, `.vdb` | one solid a palette colour, one a grid | one solid each |
+//! | `.binvox` | one solid | one solid |
+//! | `.glb` | | one boundary mesh a solid |
+//! | `.obj`, `.stl`, `.ply` | | one solid's boundary mesh, merged faces ([`crate::mesh::try_boundary_mesh`]) |
+//!
+//! It sits above `io`, `mesh` and `sharded` (it reads and writes through all three) and
+//! below `scene_file`, whose solid leaves it reads. A file of one solid is read as one
+//! solid named by the file's stem, without a colour; the formats of many keep their
+//! names and colours. Writing borrows the trees ([`SolidsRef`]): nothing is copied to
+//! be written.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::file_kind::FileKind;
+use crate::io::oct::{self, Metadata};
+use crate::io::{ColouredSolid, ReadOptions, Solids, SolidsRef, WriteOptions, binvox, file_stem, one_solid, vdb, vox};
+use crate::mesh::{BoundaryOptions, save_mesh, try_boundary_mesh};
+use crate::octree::LinearOctree;
+use crate::progress::Progress;
+use crate::sharded::{self, ShardedSolid, StreamOptions};
+
+/// A solid file as read: its kind, its solids over one domain, and what it records
+/// about its source.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidFile {
+    /// The format, by extension.
+    pub kind: FileKind,
+    /// The solids (one for `.oct`, `.octs` and `.binvox`).
+    pub solids: Solids,
+    /// `.oct`'s and `.octs`'s up axis and units; the default elsewhere.
+    pub meta: Metadata,
+    /// A sharded solid read coarser than it is to fit the budget
+    /// ([`SolidFile::read_to_draw`]): its own depth; `None` when read at full depth.
+    pub coarsened_from: Option<u8>,
+}
+
+impl SolidFile {
+    /// Reads the solid file at `path`: `.oct`, a sharded `.octs` (whole, refused when
+    /// it exceeds `options.budget`), `.vox`, `.binvox` or `.vdb` by extension
+    /// ([`FileKind::SOLIDS`]; any other is [`Error::UnknownExtension`], listing these).
+    pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<SolidFile> {
+        let path = path.as_ref();
+        let kind = FileKind::of(path, FileKind::SOLIDS)?;
+        let file = match kind {
+            FileKind::Oct => {
+                let (tree, meta) = oct::load_with(path, options.budget)?;
+                SolidFile::one(path, kind, tree, meta)
+            }
+            FileKind::Octs => {
+                let solid = ShardedSolid::open(path)?;
+                let tree = solid.load(options.budget)?;
+                SolidFile::one(path, kind, tree, solid.index().meta)
+            }
+            FileKind::Binvox => SolidFile::one(path, kind, binvox::read(path, options.budget)?, Metadata::default()),
+            FileKind::Vox => SolidFile::many(kind, vox::read(path, options)?),
+            FileKind::Vdb => SolidFile::many(kind, vdb::read(path, options)?),
+            other => unreachable!("{other:?} is not in FileKind::SOLIDS"),
+        };
+        debug_assert!(file.solids.validate().is_ok());
+        Ok(file)
+    }
+
+    /// Reads the solid file at `path` to be drawn: as [`SolidFile::read`], but a
+    /// sharded solid larger than the budget comes at the finest depth that fits it
+    /// ([`ShardedSolid::load_within`]; [`SolidFile::coarsened_from`] says so).
+    pub fn read_to_draw(path: impl AsRef<Path>, options: &ReadOptions) -> Result<SolidFile> {
+        let path = path.as_ref();
+        if FileKind::of(path, FileKind::SOLIDS)? != FileKind::Octs {
+            return SolidFile::read(path, options);
+        }
+        let solid = ShardedSolid::open(path)?;
+        let tree = solid.load_within(options.budget)?;
+        let depth = solid.index().domain.depth();
+        let mut file = SolidFile::one(path, FileKind::Octs, tree, solid.index().meta);
+        file.coarsened_from = (file.solids.domain.depth() < depth).then_some(depth);
+        Ok(file)
+    }
+
+    /// Every solid in one (the solid itself when there is one).
+    #[must_use]
+    pub fn union(&self) -> LinearOctree {
+        match self.solids.solids.as_slice() {
+            [one] => one.tree.clone(),
+            _ => self.solids.union(),
+        }
+    }
+
+    /// The union, taking the solid out when there is one.
+    #[must_use]
+    pub fn into_union(mut self) -> LinearOctree {
+        if self.solids.solids.len() == 1 {
+            return self.solids.solids.remove(0).tree;
+        }
+        self.solids.union()
+    }
+
+    /// A file of one solid without a colour, named by the file's stem.
+    fn one(path: &Path, kind: FileKind, tree: LinearOctree, meta: Metadata) -> SolidFile {
+        let solids = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new(file_stem(path), None, tree)] };
+        SolidFile { kind, solids, meta, coarsened_from: None }
+    }
+
+    /// A file of the solids a format of many read.
+    fn many(kind: FileKind, solids: Solids) -> SolidFile {
+        SolidFile { kind, solids, meta: Metadata::default(), coarsened_from: None }
+    }
+}
+
+/// Writes `solids` to `path` in the format its extension names
+/// ([`FileKind::SOLID_OUTPUTS`]; any other is [`Error::UnknownExtension`], listing
+/// them), borrowing the trees; returns the bytes written (a sharded solid's: its
+/// shards').
+///
+/// `.vox`, `.vdb` and `.glb` write every solid with its name and colour; the others
+/// hold one solid and refuse more (take the union first): `.oct` and `.octs` with
+/// `options.meta` (`.octs` at the default cell level, in one job: a command with its
+/// own cells writes through [`sharded::save`]), `.binvox`, and `.obj`, `.stl` and
+/// `.ply` the solid's boundary mesh with merged faces (`progress` counts its steps),
+/// refused for an empty solid, which has none.
+pub fn write_solid_file(
+    path: impl AsRef<Path>,
+    solids: &SolidsRef<'_>,
+    options: &WriteOptions,
+    progress: &dyn Progress,
+) -> Result<u64> {
+    let path = path.as_ref();
+    let kind = FileKind::of(path, FileKind::SOLID_OUTPUTS)?;
+    if kind == FileKind::Octs {
+        let tree = one_solid(path, solids)?;
+        let stream = StreamOptions { budget: options.budget, ..StreamOptions::default() };
+        let index = sharded::save(tree, options.meta, path, &stream)?.expect("every cell: an index");
+        return Ok(index.shards.iter().map(|s| s.bytes).sum());
+    }
+    if kind.is_mesh() {
+        let tree = one_solid(path, solids)?;
+        if tree.is_empty() {
+            return Err(unwritable(path, "the solid is empty; there is no boundary to write as a mesh".into()));
+        }
+        let mesh = try_boundary_mesh(tree, &BoundaryOptions::default(), options.budget, progress)
+            .map_err(|e| unwritable(path, format!("cannot mesh the solid: {e}")))?;
+        return save_mesh(&mesh, path);
+    }
+    crate::io::write_voxel_solids(path, kind, solids, options)
+}
+
+/// The error of a solid that cannot be written as `path`.
+fn unwritable(path: &Path, reason: String) -> Error {
+    Error::Unwritable { path: path.to_path_buf(), reason }
+}
