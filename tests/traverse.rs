@@ -116,11 +116,21 @@ fn rays(rng: &mut Rng, n: f64, count: usize) -> Vec<(DVec3, DVec3)> {
     out
 }
 
+/// `tree`'s keys in the domain `[0, n]^3` of its depth, `n` its resolution: a voxel of
+/// edge 1, so a world ray there is the voxel ray the brute force walks (the corner 0
+/// and the scale 1 change no bit).
+fn in_voxel_units(tree: &LinearOctree) -> LinearOctree {
+    let n = f64::from(tree.domain().resolution());
+    let domain = Domain::new(DVec3::ZERO, n, tree.depth()).unwrap();
+    LinearOctree::from_keys(domain, tree.keys().to_vec()).unwrap()
+}
+
 fn check(tree: &LinearOctree, rng: &mut Rng, count: usize) {
     let t = Traversal::new(tree);
+    let voxel_units = Traversal::new(&in_voxel_units(tree));
     let n = f64::from(tree.domain().resolution());
     for (o, d) in rays(rng, n, count) {
-        let got = t.hit_voxel_units(&Ray::new(o, d));
+        let got = voxel_units.hit(&Ray::new(o, d));
         let want = brute_force(tree, o, d);
         // The same ray in world units (a power-of-two scale: the same walk), which is
         // first tested against the full voxels' box in world space.
@@ -171,6 +181,7 @@ fn traversal_matches_brute_force_on_solids_in_a_corner_of_their_domain() {
             check(&tree, &mut rng, 400);
             let Some((blo, bhi)) = tree.voxel_bounds() else { continue };
             let t = Traversal::new(&tree);
+            let voxel_units = Traversal::new(&in_voxel_units(&tree));
             for _ in 0..400 {
                 // From a point of one of the box's planes, or a lattice point beside it.
                 let a = rng.below(3) as usize;
@@ -186,7 +197,7 @@ fn traversal_matches_brute_force_on_solids_in_a_corner_of_their_domain() {
                 if dir == DVec3::ZERO {
                     continue;
                 }
-                let got = t.hit_voxel_units(&Ray::new(o, dir)).map(|h| (h.voxel, h.axis.map(usize::from)));
+                let got = voxel_units.hit(&Ray::new(o, dir)).map(|h| (h.voxel, h.axis.map(usize::from)));
                 let brute = brute_force(&tree, o, dir);
                 let want = brute.map(|(_, v, f)| (v, f));
                 assert_eq!(got, want, "ray {o} {dir}, box {blo:?}..{bhi:?}");

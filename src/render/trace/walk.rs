@@ -86,13 +86,6 @@ impl RayCast for Traversal {
 }
 
 impl Traversal {
-    /// [`RayCast::hit`] of a ray already in voxel units of the domain.
-    #[must_use]
-    pub fn hit_voxel_units(&self, ray: &Ray) -> Option<Hit> {
-        let r = VoxelRay::in_voxel_units(ray);
-        Some(r.entry(&self.first_full(&r, ray.t_max)?))
-    }
-
     /// The first full node the ray enters before `t_max`: its corner, size, entry time
     /// and entered face (what [`VoxelRay::entry`] turns into a hit). A ray with a
     /// non-finite origin or direction hits nothing.
