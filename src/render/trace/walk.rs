@@ -630,24 +630,7 @@ mod tests {
     use super::*;
     use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
     use crate::samples;
-
-    /// A small deterministic generator (xorshift), so the rays are the same on every run.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        fn unit(&mut self) -> f64 {
-            (self.next() >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.unit()
-        }
-    }
+    use crate::test_util::Rng;
 
     /// Rays of every kind in world units of `domain`: through the box from outside,
     /// from inside, axis-parallel on and off the lattice, diagonals through lattice
