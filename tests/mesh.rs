@@ -108,7 +108,7 @@ fn volumes_match_the_signed_tetrahedron_volume() {
 /// centres; with float orientations a segment along such a plane slipped between two
 /// triangles and one voxel flipped. Exact predicates fixed it.
 #[test]
-fn same_voxels_as_brute_force_centre_classification() {
+fn voxel_centres_on_planes_of_edges_classify_as_brute_force() {
     for (name, mesh) in closed_meshes() {
         // Depth 6 for parity; depth 5 for the exact winding number (every triangle at
         // every voxel centre is slow).
