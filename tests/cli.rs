@@ -791,7 +791,8 @@ fn damaged_interchange_files_are_refused_by_name_and_place() {
         for b in corrupt.iter_mut().skip(8).step_by(97) {
             *b ^= 0xa5;
         }
-        let random: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8).collect();
+        let mut rng = common::Rng(0x5eed);
+        let random: Vec<u8> = (0..4096).map(|_| (rng.next() >> 33) as u8).collect();
         let cases = [
             ("truncated", bytes[..bytes.len() / 3].to_vec()),
             ("corrupt", corrupt),

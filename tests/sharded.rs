@@ -15,6 +15,14 @@ use octsolid::samples::{classic_csg, showcase_domain};
 use octsolid::sharded::{self, ShardIndex, ShardedSolid, StreamOptions};
 use octsolid::{Error, MemoryBudget};
 
+/// The staging folder of output `out`, as docs/FORMAT.md names it: `OUT.partial`
+/// beside the output.
+fn staging_dir(out: &Path) -> PathBuf {
+    let mut name = out.file_name().expect("an output file name").to_os_string();
+    name.push(".partial");
+    out.with_file_name(name)
+}
+
 /// A fresh folder for one test's files.
 fn scratch(name: &str) -> PathBuf {
     common::scratch_dir("sharded", name)
@@ -87,7 +95,7 @@ fn tasks_over_any_split_of_the_cells_joined_give_the_same_bytes_as_one_job() {
     assert!(!split.exists(), "the solid appears only at the join");
     sharded::join(&split).unwrap();
     assert_eq!(folder_files(&split), folder_files(&one));
-    assert!(!sharded::staging_dir(&split).exists());
+    assert!(!staging_dir(&split).exists());
     // One task over every cell is still a task: it leaves its part for the join.
     let single = dir.join("single.octs");
     let every = 0..512u64;
@@ -297,7 +305,7 @@ fn a_scene_names_a_sharded_solid_like_any_solid_file() {
 
 /// The staging folder of the one job folder in `out`'s staging folder.
 fn job_folder(out: &Path) -> PathBuf {
-    let jobs: Vec<PathBuf> = std::fs::read_dir(sharded::staging_dir(out))
+    let jobs: Vec<PathBuf> = std::fs::read_dir(staging_dir(out))
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.file_name().unwrap().to_string_lossy().starts_with("job-"))
@@ -395,7 +403,7 @@ fn a_join_checks_every_shard_and_publishes_or_deletes_nothing_until_all_are_righ
     std::fs::remove_file(&out).unwrap();
     sharded::join(&out).unwrap();
     assert_eq!(loaded(&out), classic_whole());
-    assert!(!sharded::staging_dir(&out).exists(), "the job's folder is removed once the solid is in place");
+    assert!(!staging_dir(&out).exists(), "the job's folder is removed once the solid is in place");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -406,7 +414,7 @@ fn staging_folders_that_are_links_to_other_folders_are_refused_and_left_untouche
     std::fs::create_dir(&victim).unwrap();
     std::fs::write(victim.join("precious.txt"), b"keep me").unwrap();
     let out = dir.join("solid.octs");
-    std::os::unix::fs::symlink(&victim, sharded::staging_dir(&out)).unwrap();
+    std::os::unix::fs::symlink(&victim, staging_dir(&out)).unwrap();
     // A task, then the join (which once removed every file no shard entry names),
     // then a whole job: each refused, nothing written into the victim or removed.
     let domain = showcase_domain(6).unwrap();
@@ -426,9 +434,9 @@ fn staging_folders_that_are_links_to_other_folders_are_refused_and_left_untouche
     assert_eq!(kept, vec![("precious.txt".into(), b"keep me".to_vec())]);
     assert!(!out.exists());
     // A job's folder that is a link, in a plain staging folder.
-    std::fs::remove_file(sharded::staging_dir(&out)).unwrap();
-    std::fs::create_dir(sharded::staging_dir(&out)).unwrap();
-    let job = sharded::staging_dir(&out).join(format!("job-{}", "ab".repeat(16)));
+    std::fs::remove_file(staging_dir(&out)).unwrap();
+    std::fs::create_dir(staging_dir(&out)).unwrap();
+    let job = staging_dir(&out).join(format!("job-{}", "ab".repeat(16)));
     std::os::unix::fs::symlink(&victim, &job).unwrap();
     let err = sharded::join(&out).unwrap_err().to_string();
     assert!(err.contains("symbolic link"), "{err}");
@@ -528,7 +536,7 @@ fn dead_pid() -> u32 {
 fn folders_of_writers_killed_on_this_host_are_removed_by_the_next_and_others_kept() {
     let dir = scratch("stale");
     let out = dir.join("solid.octs");
-    let staging = sharded::staging_dir(&out);
+    let staging = staging_dir(&out);
     let (host, dead, me) = (host(), dead_pid(), std::process::id());
     let name = |kind: &str, host: &str, pid: u32| format!("{kind}-{host}-{pid}-0123456789abcdef");
     let stale = [name("run", &host, dead), name("old", &host, dead)];

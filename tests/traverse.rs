@@ -116,11 +116,21 @@ fn rays(rng: &mut Rng, n: f64, count: usize) -> Vec<(DVec3, DVec3)> {
     out
 }
 
+/// `tree`'s keys in the domain `[0, n]^3` of its depth, `n` its resolution: a voxel of
+/// edge 1, so a world ray there is the voxel ray the brute force walks (the corner 0
+/// and the scale 1 change no bit).
+fn in_voxel_units(tree: &LinearOctree) -> LinearOctree {
+    let n = f64::from(tree.domain().resolution());
+    let domain = Domain::new(DVec3::ZERO, n, tree.depth()).unwrap();
+    LinearOctree::from_keys(domain, tree.keys().to_vec()).unwrap()
+}
+
 fn check(tree: &LinearOctree, rng: &mut Rng, count: usize) {
     let t = Traversal::new(tree);
+    let voxel_units = Traversal::new(&in_voxel_units(tree));
     let n = f64::from(tree.domain().resolution());
     for (o, d) in rays(rng, n, count) {
-        let got = t.hit_voxel_units(&Ray::new(o, d));
+        let got = voxel_units.hit(&Ray::new(o, d));
         let want = brute_force(tree, o, d);
         // The same ray in world units (a power-of-two scale: the same walk), which is
         // first tested against the full voxels' box in world space.
@@ -171,6 +181,7 @@ fn traversal_matches_brute_force_on_solids_in_a_corner_of_their_domain() {
             check(&tree, &mut rng, 400);
             let Some((blo, bhi)) = tree.voxel_bounds() else { continue };
             let t = Traversal::new(&tree);
+            let voxel_units = Traversal::new(&in_voxel_units(&tree));
             for _ in 0..400 {
                 // From a point of one of the box's planes, or a lattice point beside it.
                 let a = rng.below(3) as usize;
@@ -186,7 +197,7 @@ fn traversal_matches_brute_force_on_solids_in_a_corner_of_their_domain() {
                 if dir == DVec3::ZERO {
                     continue;
                 }
-                let got = t.hit_voxel_units(&Ray::new(o, dir)).map(|h| (h.voxel, h.axis.map(usize::from)));
+                let got = voxel_units.hit(&Ray::new(o, dir)).map(|h| (h.voxel, h.axis.map(usize::from)));
                 let brute = brute_force(&tree, o, dir);
                 let want = brute.map(|(_, v, f)| (v, f));
                 assert_eq!(got, want, "ray {o} {dir}, box {blo:?}..{bhi:?}");
@@ -315,110 +326,4 @@ fn packets_match_single_rays() {
             }
         }
     }
-}
-
-/// Shadow rays of one origin walked together (`occluded_each`) against the brute
-/// force and against `occluded` one by one: groups of one to six rays from origins
-/// inside and outside the solid and its box, on lattice planes and mid planes (where
-/// rays of opposite senses take different children), along axes, with limits.
-#[test]
-fn rays_of_one_origin_walked_together_match_brute_force() {
-    let mut rng = Rng(0x5a_d0_5a_d0);
-    let mut trees = Vec::new();
-    for depth in 1..=6 {
-        for _ in 0..3 {
-            trees.push(random_octree(&mut rng, Domain::new(DVec3::ZERO, 1.0, depth).unwrap()));
-        }
-    }
-    let d6 = samples::showcase_domain(6).unwrap();
-    trees.push(voxelize(&samples::showcase(), d6, &VoxelizeOptions::default()).unwrap());
-    let unit = Domain::new(DVec3::ZERO, 1.0, 6).unwrap();
-    trees.push(LinearOctree::full(unit));
-    trees.push(LinearOctree::empty(unit));
-    let (mut groups, mut blocked_total, mut rays_total) = (0, 0, 0);
-    for tree in &trees {
-        let t = Traversal::new(tree);
-        let domain = tree.domain();
-        let n = f64::from(domain.resolution());
-        // In the unit cube a world ray scaled by 1 / n is the voxel ray (a power of two):
-        // the brute force's ray exactly. Elsewhere only `occluded` is the oracle.
-        let unit = domain.min() == DVec3::ZERO && domain.edge() == 1.0;
-        for g in 0..300 {
-            let mut o = match g % 5 {
-                0 => rng.vec(0.0, n),
-                1 => rng.vec(0.0, n).round(), // a lattice point: on mid planes
-                2 => rng.vec(-0.5 * n, 1.5 * n),
-                3 => {
-                    let mut o = rng.vec(0.0, n);
-                    o[g % 3] = o[g % 3].round();
-                    o
-                }
-                _ => DVec3::splat(n / 2.0) + rng.vec(-1e-9, 1e-9),
-            };
-            if g % 7 == 0 {
-                o = o.round() + DVec3::splat(0.5); // a voxel centre: inside a full voxel, or beside one
-            }
-            let count = 1 + rng.below(6) as usize;
-            // One group in nine mixes origins (the walk together stays exact; it shares
-            // less).
-            let mixed = g % 9 == 8;
-            let rays: Vec<(DVec3, DVec3, f64)> = (0..count)
-                .map(|_| {
-                    let o = if mixed && rng.below(2) == 0 { rng.vec(0.0, n).round() } else { o };
-                    let mut d = rng.vec(-1.0, 1.0);
-                    if rng.below(4) == 0 {
-                        d[rng.below(3) as usize] = 0.0;
-                    }
-                    if rng.below(16) == 0 {
-                        d[rng.below(3) as usize] = 5e-324; // a subnormal: an infinite reciprocal
-                    }
-                    if rng.below(8) == 0 {
-                        d = DVec3::ZERO;
-                        d[rng.below(3) as usize] = if rng.below(2) == 0 { 1.0 } else { -1.0 };
-                    }
-                    if d == DVec3::ZERO {
-                        d = DVec3::X;
-                    }
-                    let limit = match rng.below(12) {
-                        0..=3 => rng.range(-0.1, 2.0),
-                        4 => f64::NAN,
-                        _ => f64::INFINITY,
-                    };
-                    (o, d, limit)
-                })
-                .collect();
-            let world: Vec<Ray> = rays
-                .iter()
-                .map(|&(o, d, limit)| Ray::new(domain.min() + o * domain.voxel_size(), d).until(limit))
-                .collect();
-            let mut blocked = vec![false; world.len()];
-            t.occluded_each(&world, &mut blocked);
-            for ((&(o, d, limit), ray), &got) in rays.iter().zip(&world).zip(&blocked) {
-                assert_eq!(got, t.occluded(ray), "ray {o} {d} until {limit}, one by one");
-                blocked_total += usize::from(got);
-                if !unit {
-                    continue;
-                }
-                if limit.is_nan() {
-                    assert!(!got, "ray {o} {d} until NaN: no limit to hit before");
-                    continue;
-                }
-                // A subnormal direction has no plane times for the brute force (they are
-                // NaN on a lattice plane); the walk's convention is `occluded`'s, above.
-                if d.to_array().iter().any(|c| c.is_subnormal()) {
-                    continue;
-                }
-                let hit_t = brute_force(tree, o, d).map(|(tv, _, _)| tv / n);
-                if hit_t.is_none_or(|th| (th - limit).abs() > 1e-9) {
-                    let want = hit_t.is_some_and(|th| th < limit);
-                    assert_eq!(got, want, "ray {o} {d} until {limit}, brute force");
-                }
-            }
-            groups += 1;
-            rays_total += rays.len();
-        }
-    }
-    // Both answers are common, so neither is taken for granted.
-    assert!(blocked_total > rays_total / 5 && blocked_total < rays_total * 4 / 5, "{blocked_total} of {rays_total}");
-    assert!(groups > 5000);
 }

@@ -60,6 +60,14 @@ use octsolid::{MemoryBudget, NoProgress, Result};
 
 use crate::scratch;
 
+/// The staging folder of output `out`, as docs/FORMAT.md names it: `OUT.partial`
+/// beside the output.
+fn staging_dir(out: &Path) -> PathBuf {
+    let mut name = out.file_name().expect("an output file name").to_os_string();
+    name.push(".partial");
+    out.with_file_name(name)
+}
+
 /// The budget of every target but the scene's.
 pub const BUDGET: MemoryBudget = MemoryBudget(256 << 20);
 /// The budget of `solid_export`'s writers: their time grows with the faces or voxels
@@ -342,7 +350,7 @@ pub fn join_fixture() -> &'static JoinFixture {
             let options =
                 StreamOptions { level: Some(level), cells: Some(&all), budget: BUDGET, progress: &NoProgress, source };
             sharded::voxelize_shape(shape, domain, Metadata::default(), &out, &options).expect("a small job");
-            let staging = sharded::staging_dir(&out);
+            let staging = staging_dir(&out);
             let job =
                 std::fs::read_dir(&staging).expect("a staging folder").next().expect("a job").expect("a job").path();
             let mut part = Vec::new();
@@ -368,7 +376,7 @@ pub fn join_fixture() -> &'static JoinFixture {
 fn join_case(bytes: &[u8]) -> Result<ShardIndex> {
     let fixture = join_fixture();
     let out = scratch::case_path("octs");
-    let staging = sharded::staging_dir(&out);
+    let staging = staging_dir(&out);
     let job: String = bytes.get(80..96).unwrap_or(&[0; 16]).iter().map(|b| format!("{b:02x}")).collect();
     let folder = staging.join(format!("job-{job}"));
     std::fs::create_dir_all(&folder).expect("a case folder can be made");

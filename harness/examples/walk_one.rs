@@ -3,8 +3,7 @@
 //! `primary` (512x512 camera rays at the framed model), `packet` (the same in 8x8
 //! packets), `shadow` (N shadow rays from primary hits to a light), `lights` (the
 //! shadow rays from every primary hit to two lights, in the order a renderer casts
-//! them: both of a hit, hit after hit; `lights-together` the same, the two rays of
-//! a hit walked together (`Traversal::occluded_each`); `lights-batched` all of the
+//! them: both of a hit, hit after hit; `lights-batched` all of the
 //! first light's, then the second's; `lights-shuffled` in random order; N unused),
 //! `random` (N random rays, the harness's set), `display` (the primary rays answered
 //! by the front-to-back display, a frustum walk for the rays of one eye, checked hit
@@ -34,19 +33,6 @@ fn trace_packets(t: &Traversal, tiles: &[Ray]) -> usize {
         .map(|tile| {
             t.hit_packet(tile, &mut hits);
             hits.iter().filter(|h| h.is_some()).count()
-        })
-        .sum()
-}
-
-/// The shadow rays of each hit (`group` consecutive rays) walked together.
-#[inline(never)]
-fn trace_together(t: &Traversal, rays: &[Ray], group: usize) -> usize {
-    let mut blocked = vec![false; group];
-    rays.chunks(group)
-        .map(|rays| {
-            let blocked = &mut blocked[..rays.len()];
-            t.occluded_each(rays, blocked);
-            blocked.iter().filter(|&&b| b).count()
         })
         .sum()
 }
@@ -89,7 +75,7 @@ fn main() {
             })
             .take(n)
             .collect(),
-        "lights" | "lights-together" | "lights-batched" | "lights-shuffled" => {
+        "lights" | "lights-batched" | "lights-shuffled" => {
             let second = bounds.center() + DVec3::new(-3.0, 2.0, 1.0) * diag;
             two_lights(&t, &primary, [light, second], diag, kind)
         }
@@ -115,8 +101,6 @@ fn main() {
                 }
             }
             trace_packets(&t, &tiles)
-        } else if kind == "lights-together" {
-            trace_together(&t, &rays, 2)
         } else {
             trace(&t, &rays, kind == "shadow" || kind.starts_with("lights"))
         };

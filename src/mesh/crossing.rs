@@ -155,11 +155,9 @@ pub fn signed_crossing_sides(mesh: &TriangleMesh, t: u32, q: DVec3, front_q: boo
 
 #[cfg(test)]
 mod tests {
-    use rand::rngs::Xoshiro256PlusPlus;
-    use rand::{RngExt, SeedableRng};
-
     use super::*;
     use crate::mesh::tri_box::triangle_box_overlap;
+    use crate::test_util::Rng;
 
     /// Every segment between points of a grid that holds the unit cube's corners, edge
     /// midpoints and face centres (and points outside): the signed crossings with its
@@ -183,9 +181,8 @@ mod tests {
 
     #[test]
     fn plane_test_keeps_every_triangle_that_meets_the_cube() {
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
-        let mut point =
-            || DVec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        let mut rng = Rng(5);
+        let mut point = || rng.vec(-1.0, 1.0);
         let (mut met, mut missed) = (0, 0);
         for _ in 0..3000 {
             let mesh = TriangleMesh::new(vec![point(), point(), point()], vec![[0, 1, 2]]).unwrap();

@@ -74,15 +74,37 @@ pub fn separate_sheets(mesh: &TriangleMesh) -> Result<TriangleMesh> {
     separate(mesh).map_err(|reason| Error::invalid("mesh for STL", reason))
 }
 
-/// [`separate_sheets`] after the check, with the reason of a refusal.
+/// [`separate_sheets`] after the check, with the reason of a refusal: the copies found,
+/// moved apart, and every used vertex checked distinct in `f32`.
 pub(crate) fn separate(mesh: &TriangleMesh) -> std::result::Result<TriangleMesh, String> {
     let n = mesh.vertices.len();
     let mut used = vec![false; n];
     mesh.triangles.iter().flatten().for_each(|&i| used[i as usize] = true);
+    let Copies { group, shared } = copies(mesh, &used);
+    let mut out = mesh.clone();
+    if shared.iter().any(|&s| s) {
+        move_copies_apart(mesh, &group, &shared, &mut out)?;
+    }
+    distinct_in_f32(mesh, &out, &used)?;
+    Ok(out)
+}
 
-    // Copies: vertices whose exact position another vertex has (+0.0 and -0.0 alike),
-    // each with the first vertex at its position.
-    let exact = |v: DVec3| (v + DVec3::ZERO).to_array().map(f64::to_bits);
+/// A position's exact bits, `+0.0` and `-0.0` alike.
+fn exact(v: DVec3) -> [u64; 3] {
+    (v + DVec3::ZERO).to_array().map(f64::to_bits)
+}
+
+/// The vertices whose exact position another used vertex has.
+struct Copies {
+    /// Of each used vertex, the first vertex at its position (`u32::MAX` unused).
+    group: Vec<u32>,
+    /// Whether a vertex shares its position.
+    shared: Vec<bool>,
+}
+
+/// The copies among the `used` vertices of `mesh`.
+fn copies(mesh: &TriangleMesh, used: &[bool]) -> Copies {
+    let n = mesh.vertices.len();
     let mut first: FxHashMap<[u64; 3], u32> = FxHashMap::default();
     first.reserve(n);
     let mut group = vec![u32::MAX; n];
@@ -95,51 +117,71 @@ pub(crate) fn separate(mesh: &TriangleMesh) -> std::result::Result<TriangleMesh,
             shared[j as usize] = true;
         }
     }
-    drop(first);
+    Copies { group, shared }
+}
 
-    let mut out = mesh.clone();
-    if shared.iter().any(|&s| s) {
-        // Where each copy's faces lie, seen from its position (angle-weighted directions
-        // to its triangles' centroids, summed to unit length), and its shortest edge.
-        let mut toward = vec![DVec3::ZERO; n];
-        let mut shortest = vec![f64::INFINITY; n];
-        for t in 0..mesh.triangles.len() {
-            let ids = mesh.triangles[t];
-            let c = mesh.corners(t);
-            for k in 0..3 {
-                let v = ids[k] as usize;
-                if !shared[v] {
-                    continue;
-                }
-                let (a, b) = (c[(k + 1) % 3] - c[k], c[(k + 2) % 3] - c[k]);
-                let angle = a.cross(b).length().atan2(a.dot(b));
-                toward[v] += angle * (a + b).normalize_or_zero();
-                shortest[v] = shortest[v].min(a.length()).min(b.length());
-            }
+/// Moves each copy of `mesh` (in `out`) by its step towards its own faces and away
+/// from the other copies' (module doc), or refuses a step over the limit.
+fn move_copies_apart(
+    mesh: &TriangleMesh,
+    group: &[u32],
+    shared: &[bool],
+    out: &mut TriangleMesh,
+) -> std::result::Result<(), String> {
+    let n = mesh.vertices.len();
+    let (toward, shortest) = faces_seen_from_copies(mesh, shared);
+    let mut all = vec![DVec3::ZERO; n];
+    for v in (0..n).filter(|&v| shared[v]) {
+        all[group[v] as usize] += toward[v];
+    }
+    for v in (0..n).filter(|&v| shared[v]) {
+        let p = mesh.vertices[v];
+        // Towards its own faces, away from the other copies' faces.
+        let away = (2.0 * toward[v] - all[group[v] as usize]).normalize_or_zero();
+        let ulp = f32_spacing(p.abs().max_element());
+        let step = (shortest[v] * SEPARATION_STEP).max(STEP_ULPS * ulp);
+        if step > shortest[v] * SEPARATION_LIMIT {
+            return Err(format!(
+                "vertex {v} at {p} shares its position with another sheet's, and f32 (spacing {ulp:e} there) \
+                 cannot move them apart by {:e} or less ({SEPARATION_LIMIT} of their shortest edge)",
+                shortest[v] * SEPARATION_LIMIT
+            ));
         }
-        let mut all = vec![DVec3::ZERO; n];
-        for v in (0..n).filter(|&v| shared[v]) {
-            toward[v] = toward[v].normalize_or_zero();
-            all[group[v] as usize] += toward[v];
-        }
-        for v in (0..n).filter(|&v| shared[v]) {
-            let p = mesh.vertices[v];
-            // Towards its own faces, away from the other copies' faces.
-            let away = (2.0 * toward[v] - all[group[v] as usize]).normalize_or_zero();
-            let ulp = f32_spacing(p.abs().max_element());
-            let step = (shortest[v] * SEPARATION_STEP).max(STEP_ULPS * ulp);
-            if step > shortest[v] * SEPARATION_LIMIT {
-                return Err(format!(
-                    "vertex {v} at {p} shares its position with another sheet's, and f32 (spacing {ulp:e} there) \
-                     cannot move them apart by {:e} or less ({SEPARATION_LIMIT} of their shortest edge)",
-                    shortest[v] * SEPARATION_LIMIT
-                ));
+        out.vertices[v] = p + step * away;
+    }
+    Ok(())
+}
+
+/// Where each copy's faces lie, seen from its position (angle-weighted directions to
+/// its triangles' centroids, summed to unit length), and its shortest edge.
+fn faces_seen_from_copies(mesh: &TriangleMesh, shared: &[bool]) -> (Vec<DVec3>, Vec<f64>) {
+    let n = mesh.vertices.len();
+    let mut toward = vec![DVec3::ZERO; n];
+    let mut shortest = vec![f64::INFINITY; n];
+    for t in 0..mesh.triangles.len() {
+        let ids = mesh.triangles[t];
+        let c = mesh.corners(t);
+        for k in 0..3 {
+            let v = ids[k] as usize;
+            if !shared[v] {
+                continue;
             }
-            out.vertices[v] = p + step * away;
+            let (a, b) = (c[(k + 1) % 3] - c[k], c[(k + 2) % 3] - c[k]);
+            let angle = a.cross(b).length().atan2(a.dot(b));
+            toward[v] += angle * (a + b).normalize_or_zero();
+            shortest[v] = shortest[v].min(a.length()).min(b.length());
         }
     }
+    for v in (0..n).filter(|&v| shared[v]) {
+        toward[v] = toward[v].normalize_or_zero();
+    }
+    (toward, shortest)
+}
 
-    // Every used vertex distinct in f32, as STL stores it.
+/// Every used vertex of `out` distinct in `f32`, as STL stores it (`mesh`: the
+/// positions before the move, named in a refusal).
+fn distinct_in_f32(mesh: &TriangleMesh, out: &TriangleMesh, used: &[bool]) -> std::result::Result<(), String> {
+    let n = mesh.vertices.len();
     let stored = |v: DVec3| (v.as_vec3() + glam::Vec3::ZERO).to_array().map(f32::to_bits);
     let mut seen: FxHashMap<[u32; 3], u32> = FxHashMap::default();
     seen.reserve(n);
@@ -162,7 +204,7 @@ pub(crate) fn separate(mesh: &TriangleMesh) -> std::result::Result<TriangleMesh,
             });
         }
     }
-    Ok(out)
+    Ok(())
 }
 
 /// The distance from `x >= 0` (rounded to `f32`) to the next larger `f32`.

@@ -95,12 +95,6 @@ impl WindingNumber {
         }
         sum / (4.0 * PI)
     }
-
-    /// The exact winding number at `p` (every triangle), for tests.
-    #[must_use]
-    pub fn exact_at(&self, p: DVec3) -> f64 {
-        self.corners.iter().map(|t| solid_angle(t, p)).sum::<f64>() / (4.0 * PI)
-    }
 }
 
 /// Signed solid angle of triangle `t` seen from `p` (Van Oosterom and Strackee).

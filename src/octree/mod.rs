@@ -11,39 +11,33 @@
 //! Measurements work on the key list too ([`LinearOctree::measure`], [`Measures`]):
 //! exact mass properties, an estimate of the boundary's area that converges to a
 //! smooth surface's, and the face-connected components.
+//!
+//! Two families live in sub-folders, each declaring its operations together in its
+//! `mod.rs`: `csg/`, the set operations (two operands or any number, one merge of
+//! Morton runs), and `transform/`, moving and fitting (exact whole-voxel moves, affine
+//! maps, resampling, change of depth, one domain for several solids).
 
-mod affine;
 mod csg;
-mod depth;
 mod domain;
 mod driver;
-mod fit;
 mod linear;
 mod measure;
-mod merge;
-mod motion;
 mod neighbourhood;
 mod node;
-mod plan;
 mod ranges;
-mod resample;
 mod section;
 mod transform;
-mod two_way;
 mod voxelize;
 mod window;
 
 pub use csg::SetOp;
-pub use depth::CoarsenRule;
 pub use domain::{Domain, EDGE_RANGE, LATTICE_BITS, MAX_COORDINATE, MAX_DEPTH};
 pub use driver::{CellNodes, CellSink, Cells, PARALLEL_LEVELS, VoxelizeOptions};
 pub(crate) use driver::{Counters, Decision, Plan, Voxelizer};
-pub use fit::{Fit, common_domain};
 pub use linear::LinearOctree;
 pub use measure::{MassProperties, Measures, SurfaceArea};
-pub use motion::{Motion, Turn};
 pub use node::{Node, NodeKey};
-pub use resample::OctreeShape;
+pub use transform::{CoarsenRule, Fit, Motion, OctreeShape, Turn, common_domain};
 pub(crate) use voxelize::check_level;
 pub use voxelize::{estimate_bytes, estimate_cell_bytes, voxelize, voxelize_cells};
 pub(crate) use window::keys_meeting_near;

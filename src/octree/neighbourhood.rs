@@ -11,7 +11,7 @@ use std::ops::Range;
 
 use super::linear::LinearOctree;
 use super::node::NodeKey;
-use super::resample::enclosing_node;
+use super::transform::enclosing_node;
 use super::window::keys_meeting;
 use crate::morton;
 

@@ -42,7 +42,6 @@ pub use index::{INDEX_MAGIC, INDEX_VERSION, ShardEntry, ShardIndex};
 pub use job::JobId;
 pub use layout::Layout;
 pub use solid::{Cursor, ShardedSolid};
-pub use staging::staging_dir;
 pub use stream::{StreamOptions, combine, save, voxelize_mesh, voxelize_shape};
 pub use writer::{ShardWriter, join};
 

@@ -229,53 +229,7 @@ pub fn join(out: &Path) -> Result<ShardIndex> {
     let root = staging::staging_dir(out);
     staging::check_own_folder(&root)?;
     staging::remove_stale(&root);
-    let mut jobs = Vec::new();
-    for entry in std::fs::read_dir(&root).map_err(io_error(&root))? {
-        let entry = entry.map_err(io_error(&root))?;
-        if let Some(job) = staging::job_of(&entry.file_name().to_string_lossy()) {
-            jobs.push(read_job(entry.path(), job)?);
-        }
-    }
-    jobs.sort_by_key(|j| j.job.0);
-    let job = match jobs.len() {
-        0 => {
-            return Err(Error::invalid(
-                "sharded job",
-                format!("{}: no part to join (did any task finish?)", root.display()),
-            ));
-        }
-        1 => jobs.pop().expect("one"),
-        _ => {
-            let (complete, incomplete): (Vec<_>, Vec<_>) =
-                jobs.into_iter().partition(|j| !j.parts.is_empty() && index_of(&root, &j.parts).is_ok());
-            let names = |js: &[JobParts]| js.iter().map(|j| j.folder.display().to_string()).collect::<Vec<_>>();
-            match <[JobParts; 1]>::try_from(complete) {
-                Ok([one]) => one,
-                Err(complete) if complete.is_empty() => {
-                    return Err(Error::invalid(
-                        "sharded job",
-                        format!(
-                            "{}: the parts of {} jobs are there ({}) and none covers every cell; parts of different jobs are never joined",
-                            root.display(),
-                            incomplete.len(),
-                            names(&incomplete).join(", ")
-                        ),
-                    ));
-                }
-                Err(complete) => {
-                    return Err(Error::invalid(
-                        "sharded job",
-                        format!(
-                            "{}: {} complete jobs ({}); remove the folders of those not wanted",
-                            root.display(),
-                            complete.len(),
-                            names(&complete).join(", ")
-                        ),
-                    ));
-                }
-            }
-        }
-    };
+    let job = the_complete_job(&root, jobs_in(&root)?)?;
     let index = index_of(&job.folder, &job.parts)?;
     let _lock = JoinLock::acquire(&job.folder)?;
     // Every shard read and checked before anything is published or removed.
@@ -285,19 +239,7 @@ pub fn join(out: &Path) -> Result<ShardIndex> {
         read_shard(&job.folder.join(layout.shard_file(entry.cell)), entry, index.domain, index.meta, layout, budget)?;
     }
     let run = staging::new_run_folder(&root)?;
-    let assembled = (|| {
-        for entry in &index.shards {
-            let name = layout.shard_file(entry.cell);
-            let (from, to) = (job.folder.join(&name), run.join(&name));
-            if std::fs::hard_link(&from, &to).is_err() {
-                std::fs::copy(&from, &to).map_err(io_error(&from))?;
-            }
-        }
-        let bytes = index.encode();
-        write_atomic(run.join(INDEX_FILE), |w| w.write_all(&bytes))?;
-        staging::publish(&run, out, &root)
-    })();
-    if let Err(e) = assembled {
+    if let Err(e) = assemble(&run, &job.folder, &index, out, &root) {
         let _ = std::fs::remove_dir_all(&run);
         return Err(e);
     }
@@ -305,6 +247,70 @@ pub fn join(out: &Path) -> Result<ShardIndex> {
     std::fs::remove_dir_all(&job.folder).map_err(io_error(&job.folder))?;
     staging::remove_if_empty(&root);
     Ok(index)
+}
+
+/// The jobs with parts in staging folder `root`, in the order of their ids.
+fn jobs_in(root: &Path) -> Result<Vec<JobParts>> {
+    let mut jobs = Vec::new();
+    for entry in std::fs::read_dir(root).map_err(io_error(root))? {
+        let entry = entry.map_err(io_error(root))?;
+        if let Some(job) = staging::job_of(&entry.file_name().to_string_lossy()) {
+            jobs.push(read_job(entry.path(), job)?);
+        }
+    }
+    jobs.sort_by_key(|j| j.job.0);
+    Ok(jobs)
+}
+
+/// The job to join among `jobs` of staging folder `root`: the only one, or the only
+/// one whose parts cover every cell; none, or several complete ones, are refused.
+fn the_complete_job(root: &Path, mut jobs: Vec<JobParts>) -> Result<JobParts> {
+    match jobs.len() {
+        0 => Err(Error::invalid("sharded job", format!("{}: no part to join (did any task finish?)", root.display()))),
+        1 => Ok(jobs.pop().expect("one")),
+        _ => {
+            let (complete, incomplete): (Vec<_>, Vec<_>) =
+                jobs.into_iter().partition(|j| !j.parts.is_empty() && index_of(root, &j.parts).is_ok());
+            let names = |js: &[JobParts]| js.iter().map(|j| j.folder.display().to_string()).collect::<Vec<_>>();
+            match <[JobParts; 1]>::try_from(complete) {
+                Ok([one]) => Ok(one),
+                Err(complete) if complete.is_empty() => Err(Error::invalid(
+                    "sharded job",
+                    format!(
+                        "{}: the parts of {} jobs are there ({}) and none covers every cell; parts of different jobs are never joined",
+                        root.display(),
+                        incomplete.len(),
+                        names(&incomplete).join(", ")
+                    ),
+                )),
+                Err(complete) => Err(Error::invalid(
+                    "sharded job",
+                    format!(
+                        "{}: {} complete jobs ({}); remove the folders of those not wanted",
+                        root.display(),
+                        complete.len(),
+                        names(&complete).join(", ")
+                    ),
+                )),
+            }
+        }
+    }
+}
+
+/// The solid assembled in run folder `run` (the job's shards linked, or copied where
+/// they cannot be, and the index written) and published as `out`.
+fn assemble(run: &Path, job_folder: &Path, index: &ShardIndex, out: &Path, root: &Path) -> Result<()> {
+    let layout = index.layout();
+    for entry in &index.shards {
+        let name = layout.shard_file(entry.cell);
+        let (from, to) = (job_folder.join(&name), run.join(&name));
+        if std::fs::hard_link(&from, &to).is_err() {
+            std::fs::copy(&from, &to).map_err(io_error(&from))?;
+        }
+    }
+    let bytes = index.encode();
+    write_atomic(run.join(INDEX_FILE), |w| w.write_all(&bytes))?;
+    staging::publish(run, out, root)
 }
 
 /// The index of a job from its parts (sorted by range): checks that they are of one

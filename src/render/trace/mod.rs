@@ -5,14 +5,11 @@
 //! run time, SSE2, scalar; the same bits), after a division-free test that the ray can
 //! come near the full voxels at all (`reach`); and the
 //! beam pre-pass that walks an 8x8 tile of primary rays as one packet (`beam`, after
-//! Reshetov et al. 2005), bit for bit the hits of the rays one by one; and any-hit
-//! queries of rays from one origin walked together down to where they part
-//! (`together`), bit for bit the answers one by one.
+//! Reshetov et al. 2005), bit for bit the hits of the rays one by one.
 
 mod beam;
 mod lanes;
 mod reach;
-mod together;
 mod traversal;
 mod voxel_ray;
 mod walk;

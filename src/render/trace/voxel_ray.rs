@@ -82,12 +82,6 @@ impl VoxelRay {
         Self::scaled(domain.min(), domain.voxels_per_unit(), ray)
     }
 
-    /// The ray `ray`, already in voxel units.
-    #[must_use]
-    pub fn in_voxel_units(ray: &Ray) -> Self {
-        VoxelRay { o: ray.origin, d: ray.dir, inv: DVec3::ONE / ray.dir }
-    }
-
     /// [`VoxelRay::new`] with the domain's corner and scale given (a packet's rays
     /// share them): three divisions a ray, not ten.
     #[inline]

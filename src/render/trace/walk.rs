@@ -86,13 +86,6 @@ impl RayCast for Traversal {
 }
 
 impl Traversal {
-    /// [`RayCast::hit`] of a ray already in voxel units of the domain.
-    #[must_use]
-    pub fn hit_voxel_units(&self, ray: &Ray) -> Option<Hit> {
-        let r = VoxelRay::in_voxel_units(ray);
-        Some(r.entry(&self.first_full(&r, ray.t_max)?))
-    }
-
     /// The first full node the ray enters before `t_max`: its corner, size, entry time
     /// and entered face (what [`VoxelRay::entry`] turns into a hit). A ray with a
     /// non-finite origin or direction hits nothing.
@@ -136,11 +129,11 @@ impl Traversal {
     /// What a walk of `r` before `t_max`, started at `start >= 0`, has to do: walk the
     /// inner root (`Ok`), or not (`Err`): `Some` of where the ray crosses a full root
     /// it hits there, `None` for no hit. The tests every walk shares
-    /// ([`Traversal::first_full_after`] and the rays walked together). (Not an enum
+    /// ([`Traversal::first_full_after`] and its callers). (Not an enum
     /// of three: its match became an indirect jump, 1% of a primary ray's
     /// instructions.)
     #[inline(always)]
-    pub(super) fn opening(&self, r: &VoxelRay, t_max: f64, start: f64) -> Result<Opening, Option<RootSpan>> {
+    fn opening(&self, r: &VoxelRay, t_max: f64, start: f64) -> Result<Opening, Option<RootSpan>> {
         // No hit before a limit of 0 or less, or NaN (whatever the ray's axes).
         if self.root == Root::Empty || !(r.o.is_finite() && r.d.is_finite()) || t_max <= 0.0 || t_max.is_nan() {
             return Err(None);
@@ -172,7 +165,7 @@ impl Traversal {
     /// monotone in the plane; a full voxel's cells lie within the box's planes, so a hit
     /// at `t` has `enter <= t < exit`, with `0 <= t < t_max`.
     #[inline(always)]
-    pub(super) fn occupied_span(&self, r: &VoxelRay, t_max: f64) -> Option<(f64, f64)> {
+    fn occupied_span(&self, r: &VoxelRay, t_max: f64) -> Option<(f64, f64)> {
         if !r.inv.is_finite() {
             return Some((f64::NEG_INFINITY, f64::INFINITY));
         }
@@ -190,7 +183,7 @@ impl Traversal {
     /// plane; an axis the ray is parallel to only says whether the origin is in
     /// (`None` when it is not).
     #[inline(always)]
-    pub(super) fn root_span(&self, r: &VoxelRay) -> Option<RootSpan> {
+    fn root_span(&self, r: &VoxelRay) -> Option<RootSpan> {
         let n = f64::from(self.domain.resolution());
         let (mut ta, mut tb, mut face) = (f64::NEG_INFINITY, f64::INFINITY, None);
         let mut outside = false;
@@ -218,7 +211,7 @@ impl Traversal {
 /// A walk of the inner root to make (see [`Traversal::opening`]): the ray crosses
 /// the root over `span`, enters the full voxels' box at `enter`, and is walked before
 /// `t_max` (clamped to that box's exit).
-pub(super) struct Opening {
+struct Opening {
     pub span: RootSpan,
     pub t_max: f64,
     pub enter: f64,
@@ -226,7 +219,7 @@ pub(super) struct Opening {
 
 /// Where a ray crosses the root: entered at `ta` through `face`, left at `tb`.
 #[derive(Clone, Copy)]
-pub(super) struct RootSpan {
+struct RootSpan {
     pub ta: f64,
     pub tb: f64,
     pub face: Option<usize>,
@@ -235,7 +228,7 @@ pub(super) struct RootSpan {
 /// The ray as the walk reads it: origin and reciprocal direction in voxel units (moved
 /// off the lattice where the reciprocal is infinite, see `off_lattice`) and the mirror
 /// bits (bit `a` set when the ray runs to lower coordinates on axis `a`).
-pub(super) struct Lattice {
+struct Lattice {
     pub o: [f64; 3],
     pub inv: [f64; 3],
     pub mirror: usize,
@@ -299,12 +292,12 @@ impl Subtree<'_> {
 
 /// Most inner nodes a walk can be below: the root is at level 0 and the last inner
 /// nodes at level `MAX_DEPTH - 1`.
-pub(super) const STACK: usize = MAX_DEPTH as usize;
+const STACK: usize = MAX_DEPTH as usize;
 
 /// An inner node the walk went down from: what it needs to go on there (its node
 /// record, corner, mid-plane times and exit time).
 #[derive(Clone, Copy)]
-pub(super) struct Frame<L> {
+struct Frame<L> {
     pub tm: L,
     pub min: L,
     pub tb: f64,
@@ -321,7 +314,7 @@ pub(super) struct Frame<L> {
 /// (AVX2) has `o = -1`, `inv = +inf` and corner 0: its time is `+inf`, never past,
 /// never the next.
 #[derive(Clone, Copy)]
-pub(super) struct RayLanes<L> {
+struct RayLanes<L> {
     pub o: L,
     pub inv: L,
     pub mirror: usize,
@@ -330,7 +323,7 @@ pub(super) struct RayLanes<L> {
 
 impl<L: Lanes> RayLanes<L> {
     #[inline(always)]
-    pub(super) fn new(ray: &Lattice) -> Self {
+    fn new(ray: &Lattice) -> Self {
         let ones = f64::from_bits(u64::MAX);
         let flip = std::array::from_fn(|a| if ray.mirror >> a & 1 == 1 { ones } else { 0.0 });
         RayLanes {
@@ -345,7 +338,7 @@ impl<L: Lanes> RayLanes<L> {
 /// A ray as the walk's loop takes it: in the lattice and in lanes, where it crosses
 /// the root, and its limit.
 #[derive(Clone, Copy)]
-pub(super) struct Course<'a, L> {
+struct Course<'a, L> {
     pub lattice: &'a Lattice,
     pub lanes: RayLanes<L>,
     pub span: RootSpan,
@@ -357,7 +350,7 @@ pub(super) struct Course<'a, L> {
 /// `stack[..depth]` of its stack (those below `base` not filled yet, for a walk begun
 /// below the root).
 #[derive(Clone, Copy)]
-pub(super) struct Place<L> {
+struct Place<L> {
     pub base: usize,
     pub depth: usize,
     pub index: u32,
@@ -376,7 +369,7 @@ impl Traversal {
     /// the root alone (single rays), `FACE` false the walk that needs no entered face
     /// (any-hit queries).
     #[inline]
-    pub(super) fn walk<const BELOW_ROOT: bool, const FACE: bool>(
+    fn walk<const BELOW_ROOT: bool, const FACE: bool>(
         &self,
         ray: &Lattice,
         t_max: f64,
@@ -466,7 +459,7 @@ impl Traversal {
     /// exit as carried down (`earlier` of the parent's and the next mid plane's), `tm`
     /// the node's mid-plane times by the same formula.
     #[inline(always)]
-    pub(super) fn walk_on<L: Lanes, const BELOW_ROOT: bool, const FACE: bool>(
+    fn walk_on<L: Lanes, const BELOW_ROOT: bool, const FACE: bool>(
         &self,
         stack: &mut [MaybeUninit<Frame<L>>; STACK],
         place: Place<L>,
@@ -589,7 +582,7 @@ fn off_lattice(r: &VoxelRay, o: &mut [f64; 3], inv: &mut [f64; 3]) {
 
 /// `INNER_BEFORE[mask][i]`: how many of the children in `mask` come before child `i`
 /// (`popcount(mask & ((1 << i) - 1))`, a table lookup where the CPU has no popcount).
-pub(super) const INNER_BEFORE: [[u8; 8]; 256] = {
+const INNER_BEFORE: [[u8; 8]; 256] = {
     let mut table = [[0u8; 8]; 256];
     let mut mask = 0;
     while mask < 256 {
@@ -637,24 +630,7 @@ mod tests {
     use super::*;
     use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
     use crate::samples;
-
-    /// A small deterministic generator (xorshift), so the rays are the same on every run.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        fn unit(&mut self) -> f64 {
-            (self.next() >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.unit()
-        }
-    }
+    use crate::test_util::Rng;
 
     /// Rays of every kind in world units of `domain`: through the box from outside,
     /// from inside, axis-parallel on and off the lattice, diagonals through lattice

@@ -1,10 +1,10 @@
 //! Change of depth: refine exactly, coarsen by a rule.
 
-use super::domain::Domain;
-use super::linear::LinearOctree;
-use super::node::NodeKey;
-use super::ranges;
 use crate::error::{Error, Result};
+use crate::octree::domain::Domain;
+use crate::octree::linear::LinearOctree;
+use crate::octree::node::NodeKey;
+use crate::octree::ranges;
 
 /// How a coarse voxel is decided from the fine voxels it covers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

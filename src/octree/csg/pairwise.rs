@@ -14,9 +14,9 @@
 
 use std::ops::{BitAnd, BitOr, BitXor, Not, Sub};
 
-use super::linear::LinearOctree;
-use super::ranges::{self, Runs};
 use crate::error::Result;
+use crate::octree::linear::LinearOctree;
+use crate::octree::ranges::{self, Runs};
 
 /// A boolean set operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

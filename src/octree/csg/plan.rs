@@ -22,8 +22,8 @@ use std::mem::MaybeUninit;
 
 use rayon::prelude::*;
 
-use super::node::NodeKey;
-use super::ranges::{self, Emit};
+use crate::octree::node::NodeKey;
+use crate::octree::ranges::{self, Emit};
 
 /// One piece of a chunk's keys.
 enum Piece<'a> {

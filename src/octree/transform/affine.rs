@@ -26,14 +26,14 @@
 
 use glam::{DAffine3, DMat3, DVec3};
 
-use super::domain::Domain;
-use super::driver::VoxelizeOptions;
 use super::fit::Fit;
-use super::linear::LinearOctree;
 use super::resample::OctreeShape;
-use super::voxelize::voxelize;
 use crate::aabb::Aabb;
 use crate::error::Result;
+use crate::octree::domain::Domain;
+use crate::octree::driver::VoxelizeOptions;
+use crate::octree::linear::LinearOctree;
+use crate::octree::voxelize::voxelize;
 
 /// Relative tolerance of the entries of a cube symmetry times a scale.
 const SYMMETRY_TOLERANCE: f64 = 1e-12;

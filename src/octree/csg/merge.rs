@@ -16,7 +16,7 @@
 //! `O(log k)` a boundary. Two operands take specialized merges instead: a union or a
 //! difference [`super::two_way`]'s stretches of keys (runs the other operand leaves
 //! alone are copied as they are, only where the runs meet is a run cut), an
-//! intersection the overlaps of two pointers, a symmetric difference [`super::csg`]'s
+//! intersection the overlaps of two pointers, a symmetric difference [`super::pairwise`]'s
 //! two-cursor sweep. Time `O(n log k + output)` for `n` input nodes.
 //!
 //! **Parallelism.** The Morton range `[0, 8^depth)` is cut into chunks at equal shares
@@ -35,13 +35,13 @@ use std::collections::BinaryHeap;
 
 use rayon::prelude::*;
 
-use super::csg::{SetOp, sweep};
-use super::linear::LinearOctree;
-use super::node::NodeKey;
+use super::pairwise::{SetOp, sweep};
 use super::plan::{self, Plan};
-use super::ranges::{self, Emit, Runs};
 use super::two_way;
 use crate::error::{Error, Result};
+use crate::octree::linear::LinearOctree;
+use crate::octree::node::NodeKey;
+use crate::octree::ranges::{self, Emit, Runs};
 
 /// Input nodes below which a merge runs as one sweep (threads would cost more).
 const PARALLEL_MIN_NODES: usize = 1 << 15;

@@ -24,11 +24,11 @@
 //! The general case, any affine map and any target domain, sampled at voxel centres,
 //! is [`LinearOctree::resample`].
 
-use super::linear::LinearOctree;
-use super::node::{Node, NodeKey};
 use super::resample::classify_in;
-use super::window::keys_meeting;
 use crate::morton;
+use crate::octree::linear::LinearOctree;
+use crate::octree::node::{Node, NodeKey};
+use crate::octree::window::keys_meeting;
 use crate::shape::Class;
 
 impl LinearOctree {

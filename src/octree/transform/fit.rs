@@ -8,7 +8,7 @@
 //!
 //! 1. [`LinearOctree::refine`] by `k` levels: the source voxels become target-sized;
 //! 2. a change of frame that keeps every key: a node key holds only the node's Morton
-//!    start and its height above the voxels (see [`super::node`]), so the same keys
+//!    start and its height above the voxels (see [`crate::octree::node`]), so the same keys
 //!    describe the same cubes in a domain `2^j` times larger with the same corner and
 //!    voxel size (`j` more levels), or, for `j < 0`, the lowest-corner part of a
 //!    larger one;
@@ -26,10 +26,10 @@
 //! where an input's voxels nest in the common cube only at a deeper level (an input
 //! that is one octant of another at the same depth needs one level more).
 
-use super::domain::{Domain, MAX_DEPTH};
-use super::driver::VoxelizeOptions;
-use super::linear::LinearOctree;
 use crate::error::{Error, Result};
+use crate::octree::domain::{Domain, MAX_DEPTH};
+use crate::octree::driver::VoxelizeOptions;
+use crate::octree::linear::LinearOctree;
 
 /// How a solid was brought into a domain (see the module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

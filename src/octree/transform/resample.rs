@@ -30,15 +30,15 @@ use std::borrow::Borrow;
 
 use glam::{DAffine3, DVec3};
 
-use super::domain::Domain;
-use super::driver::VoxelizeOptions;
-use super::linear::LinearOctree;
-use super::node::NodeKey;
-use super::voxelize::voxelize;
-use super::window::keys_meeting;
 use crate::aabb::Aabb;
 use crate::error::Result;
 use crate::morton;
+use crate::octree::domain::Domain;
+use crate::octree::driver::VoxelizeOptions;
+use crate::octree::linear::LinearOctree;
+use crate::octree::node::NodeKey;
+use crate::octree::voxelize::voxelize;
+use crate::octree::window::keys_meeting;
 use crate::shape::{Class, Shape};
 
 impl LinearOctree {
@@ -80,7 +80,7 @@ impl LinearOctree {
 }
 
 /// The smallest aligned node holding the non-empty integer box `[lo, hi)`.
-pub(super) fn enclosing_node(lo: [u32; 3], hi: [u32; 3]) -> NodeKey {
+pub(in crate::octree) fn enclosing_node(lo: [u32; 3], hi: [u32; 3]) -> NodeKey {
     // Levels above the voxels at which the lowest and highest voxel share a cube.
     let k = (0..3).map(|a| u32::BITS - (lo[a] ^ (hi[a] - 1)).leading_zeros()).max().unwrap_or(0);
     let c = lo.map(|c| c >> k << k);

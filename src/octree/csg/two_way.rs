@@ -1,7 +1,7 @@
 //! The union and the difference of two canonical key lists, by stretches of keys.
 //!
 //! The canonical list of a voxel set is the greedy cut of its maximal runs
-//! ([`super::ranges`]), and the greedy cut of a maximal run restricted to a prefix that
+//! ([`crate::octree::ranges`]), and the greedy cut of a maximal run restricted to a prefix that
 //! ends on one of its keys' boundaries is the run's keys up to there (a node whose
 //! parent fits in the prefix would fit in the whole run). So a maximal run of one
 //! operand that the other operand does not change comes out as the same keys, and
@@ -22,8 +22,8 @@
 //! over runs pays a decision a run and a cut a node. Either operand may be a Morton
 //! range of a larger list that no key of either list crosses (see [`super::merge`]).
 
-use super::node::NodeKey;
-use super::ranges::Emit;
+use crate::octree::node::NodeKey;
+use crate::octree::ranges::Emit;
 
 /// How many keys at the front of `keys` make whole runs that end at or before `bound`:
 /// the keys that end by then, less the run that goes on past it.
