@@ -72,7 +72,7 @@ use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize
 use crate::progress::NoProgress;
 use crate::render::{
     AntiAliasing, Bump, Camera, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, DEFAULT_VIEW, Light, Mapping, Material,
-    Normals, Projection, RenderOptions, Scene, Texture,
+    Normals, Projection, RenderOptions, Scene, ShadeOptions, Texture,
 };
 use crate::shape::{Axis, Csg, FileLeaves, Shape, ShapeSpec, TransformSpec, Transformed};
 use crate::warning::Warning;
@@ -939,10 +939,12 @@ impl ImageSpec {
             width,
             height,
             spp: self.samples,
-            shadows: self.shadows,
-            normals: self.normals.unwrap_or(d.normals),
-            max_depth: self.max_depth.unwrap_or(d.max_depth),
-            cutoff: self.cutoff.unwrap_or(d.cutoff),
+            shade: ShadeOptions {
+                shadows: self.shadows,
+                normals: self.normals.unwrap_or(d.shade.normals),
+                max_depth: self.max_depth.unwrap_or(d.shade.max_depth),
+                cutoff: self.cutoff.unwrap_or(d.shade.cutoff),
+            },
             aa: {
                 let threshold = self.aa_threshold.unwrap_or(DEFAULT_AA_THRESHOLD);
                 let depth = self.aa_depth.unwrap_or(DEFAULT_AA_DEPTH);

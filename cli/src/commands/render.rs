@@ -356,10 +356,10 @@ impl Drawn {
         if let Some(n) = a.spp {
             options.spp = n;
         }
-        options.shadows &= !a.no_shadows;
-        options.normals = a.normals.map_or(options.normals, Into::into);
-        options.max_depth = a.max_depth.unwrap_or(options.max_depth);
-        options.cutoff = a.cutoff.unwrap_or(options.cutoff);
+        options.shade.shadows &= !a.no_shadows;
+        options.shade.normals = a.normals.map_or(options.shade.normals, Into::into);
+        options.shade.max_depth = a.max_depth.unwrap_or(options.shade.max_depth);
+        options.shade.cutoff = a.cutoff.unwrap_or(options.shade.cutoff);
         options.aa = anti_aliasing(a, options.aa);
         options.method = a.method.into();
         options.budget = budget;
