@@ -23,6 +23,8 @@
 
 mod adaptive;
 mod film;
+mod names;
+mod overrides;
 mod pipeline;
 mod quick;
 pub mod radiosity;
@@ -34,12 +36,14 @@ mod trace;
 mod visibility;
 
 pub use film::{
-    Camera, DEFAULT_VIEW, MAX_EXPOSURE_STOPS, NamedView, Picture, Projection, SampleGrid, View, default_orbit,
-    exposure_scale, from_srgb8, orbit_direction, silhouette_points, to_srgb8, up_for,
+    Camera, CameraRequest, DEFAULT_FOV, DEFAULT_VIEW, Framing, MAX_EXPOSURE_STOPS, NamedView, Picture, Projection,
+    SampleGrid, Up, View, default_orbit, exposure_scale, from_srgb8, orbit_direction, silhouette_points, to_srgb8,
+    up_for,
 };
+pub use overrides::RenderOverrides;
 pub use pipeline::{
-    AntiAliasing, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats,
-    RowSink, estimate_bytes, render, render_picture, render_streamed,
+    AntiAliasing, AntiAliasingKind, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH,
+    RenderOptions, RenderStats, RowSink, estimate_bytes, render, render_picture, render_streamed,
 };
 pub use quick::quick;
 pub use raster::polygon;

@@ -66,6 +66,62 @@ pub enum AntiAliasing {
     },
 }
 
+impl AntiAliasing {
+    /// Which of the three ways this is.
+    #[must_use]
+    pub fn kind(self) -> AntiAliasingKind {
+        match self {
+            AntiAliasing::Uniform => AntiAliasingKind::Uniform,
+            AntiAliasing::Adaptive { .. } => AntiAliasingKind::Adaptive,
+            AntiAliasing::Recursive { .. } => AntiAliasingKind::Recursive,
+        }
+    }
+}
+
+/// The way a pixel's samples are chosen, without its numbers: what `--aa` and a scene
+/// file's `aa` name (`uniform`, `adaptive`, `recursive`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AntiAliasingKind {
+    /// [`AntiAliasing::Uniform`].
+    Uniform,
+    /// [`AntiAliasing::Adaptive`].
+    Adaptive,
+    /// [`AntiAliasing::Recursive`].
+    Recursive,
+}
+
+impl AntiAliasingKind {
+    /// Every value, in the order `--help` lists them.
+    pub const ALL: [AntiAliasingKind; 3] =
+        [AntiAliasingKind::Uniform, AntiAliasingKind::Adaptive, AntiAliasingKind::Recursive];
+
+    /// The value's one spelling (the command line's, a scene file's, `Display`'s).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            AntiAliasingKind::Uniform => "uniform",
+            AntiAliasingKind::Adaptive => "adaptive",
+            AntiAliasingKind::Recursive => "recursive",
+        }
+    }
+}
+
+impl std::str::FromStr for AntiAliasingKind {
+    type Err = String;
+
+    /// Parses [`AntiAliasingKind::name`]'s spelling, exactly.
+    fn from_str(s: &str) -> Result<Self, String> {
+        super::names::parse_name(s, &AntiAliasingKind::ALL, AntiAliasingKind::name)
+    }
+}
+
+impl std::fmt::Display for AntiAliasingKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The recursive anti-aliasing depth when none is given: POV-Ray's common `+R3`.
 pub const DEFAULT_AA_DEPTH: u32 = 3;
 

@@ -3,6 +3,7 @@
 //! the complement's traversal for rays inside, the octree's normal estimate), their
 //! materials and textures, lights, ambient light and background.
 
+mod default_scene;
 mod gradient;
 mod light;
 mod material;
