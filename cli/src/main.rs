@@ -41,6 +41,7 @@ mod output;
 mod progress_bar;
 mod sharded_output;
 mod solid_input;
+mod stages;
 mod values;
 
 use std::process::ExitCode;

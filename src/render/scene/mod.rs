@@ -9,12 +9,14 @@ mod light;
 mod material;
 mod normal_field;
 mod occupancy;
+mod section;
 mod texture;
 mod thread_cache;
 
 pub use light::Light;
 pub use material::{Bump, Material};
 pub(crate) use normal_field::NormalField;
+pub use section::Section;
 pub use texture::{Mapping, Texture};
 
 use std::sync::{Arc, OnceLock};
