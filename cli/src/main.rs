@@ -35,6 +35,7 @@ macro_rules! warn {
 mod args;
 mod camera_flags;
 mod commands;
+mod drawn;
 mod http;
 mod human;
 mod output;

@@ -42,7 +42,7 @@ use octsolid::render::{
 use octsolid::scene_file::{CachePolicy, LoadOptions};
 use octsolid::{FileKind, MemoryBudget, NoProgress};
 
-use super::render::{Drawn, Source};
+use crate::drawn::{Drawn, Source};
 use crate::http::{Request, Response, Server};
 use crate::solid_input::ReadFlags;
 use crate::stages::Stages;
