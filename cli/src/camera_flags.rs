@@ -3,7 +3,6 @@
 //! `--zoom`, `--ortho` and `--front`, each one field of the library's
 //! [`CameraRequest`], whose module doc holds the rules.
 
-use clap::builder::TypedValueParser;
 use glam::DVec3;
 use octsolid::render::{CameraRequest, NamedView, Up};
 
@@ -26,8 +25,7 @@ pub struct CameraFlags {
     pub fov: Option<f64>,
     /// A named view in the up axis's frame (front looks from -y in a z-up world).
     #[arg(long, conflicts_with_all = ["azimuth", "elevation"], ignore_case = true,
-          value_parser = clap::builder::PossibleValuesParser::new(NamedView::ALL.map(NamedView::name))
-              .map(|s| s.parse::<NamedView>().expect("a listed name")))]
+          value_parser = crate::values::names::<NamedView>(NamedView::ALL.map(NamedView::name)))]
     pub view: Option<NamedView>,
     /// Orbit: degrees around the up axis from the front view, towards the right.
     #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]

@@ -1,8 +1,9 @@
 //! The values the command line's flags take, parsed and checked where they enter:
-//! vectors, sizes, finite numbers, domains, byte sizes, turns, and
+//! the library's enums by name, vectors, sizes, finite numbers, domains, byte sizes, turns, and
 //! the `--domain`/`--depth` group of the commands that resample solids. Shared by the
 //! subcommands (`commands/`) and the global flags (`args`).
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use glam::DVec3;
 use octsolid::octree::{Domain, Turn};
 use octsolid::shape::Axis;
@@ -37,6 +38,16 @@ impl TargetFlags {
             None => default.with_depth(depth),
         }
     }
+}
+
+/// A flag's value parser for a library enum: its `names` (listed by `--help`), parsed
+/// by its `FromStr` (which takes each of them).
+pub(crate) fn names<T>(names: impl IntoIterator<Item = &'static str>) -> impl TypedValueParser<Value = T>
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+    T::Err: std::fmt::Debug,
+{
+    PossibleValuesParser::new(names).map(|s| s.parse::<T>().expect("a listed name"))
 }
 
 /// Parses `X,Y,Z`.

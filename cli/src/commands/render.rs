@@ -12,7 +12,6 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
-use clap::builder::{PossibleValuesParser, TypedValueParser};
 use octsolid::import::Input;
 use octsolid::io::{PictureFormat, save_picture};
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
@@ -31,15 +30,7 @@ use crate::output::check_extension;
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
 use crate::stages::Stages;
-use crate::values::parse_size;
-
-/// A flag's value parser for a library enum: its names (listed by `--help`) parsed by
-/// its `FromStr`.
-macro_rules! names {
-    ($t:ty) => {
-        PossibleValuesParser::new(<$t>::ALL.map(<$t>::name)).map(|s| s.parse::<$t>().expect("a listed name"))
-    };
-}
+use crate::values::{names, parse_size};
 
 /// Arguments of `octsolid render`.
 #[derive(clap::Args, Debug)]
@@ -66,7 +57,7 @@ pub struct RenderArgs {
     /// front-to-back (Meagher's display), painter, zbuffer or scanline (every method
     /// finds the same hits; the front-to-back display, the default, a whole image's
     /// fastest).
-    #[arg(long, value_parser = names!(Method))]
+    #[arg(long, value_parser = names::<Method>(Method::ALL.map(Method::name)))]
     pub method: Option<Method>,
     /// Depth to voxelize a mesh at (default 9; not for solid files or scenes).
     #[arg(long)]
@@ -79,7 +70,7 @@ pub struct RenderArgs {
     /// Shading normals: axis (the voxel faces'), smooth (the source shape's where a
     /// solid has one, else estimated from the octree) or octree (always estimated)
     /// (default: the scene's, or smooth).
-    #[arg(long, value_parser = names!(Normals))]
+    #[arg(long, value_parser = names::<Normals>(Normals::ALL.map(Normals::name)))]
     pub normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays (default: the scene's, or 6).
     #[arg(long)]
@@ -93,7 +84,7 @@ pub struct RenderArgs {
     /// or recursive (samples at the pixels' corners, a square split in four where its
     /// corners differ by --aa-threshold, up to --aa-depth times; POV-Ray's +AM2)
     /// (default: the scene's, or uniform).
-    #[arg(long, value_parser = names!(AntiAliasingKind))]
+    #[arg(long, value_parser = names::<AntiAliasingKind>(AntiAliasingKind::ALL.map(AntiAliasingKind::name)))]
     pub aa: Option<AntiAliasingKind>,
     /// Contrast that makes adaptive anti-aliasing supersample a pixel (recursive: split
     /// a square): the sum of the red, green and blue differences with a neighbour (a
@@ -122,7 +113,7 @@ pub struct RenderArgs {
     /// Render a mesh (or Bezier patches, tessellated) as polygons with this
     /// interpolation shading instead of voxelizing it: flat (one colour a triangle),
     /// gouraud (vertex colours interpolated) or phong (vertex normals interpolated).
-    #[arg(long, value_parser = names!(Interpolation))]
+    #[arg(long, value_parser = names::<Interpolation>(Interpolation::ALL.map(Interpolation::name)))]
     pub shading: Option<Interpolation>,
     #[command(flatten)]
     pub read: ReadFlags,
