@@ -57,6 +57,7 @@ pub mod octree;
 mod owner;
 pub mod patch;
 mod progress;
+mod quick;
 mod ray;
 pub mod render;
 pub mod samples;
@@ -74,6 +75,7 @@ pub use budget::MemoryBudget;
 pub use error::{Error, Result, human_bytes, printable};
 pub use file_kind::FileKind;
 pub use progress::{NoProgress, Progress};
+pub use quick::quick;
 pub use ray::{Ray, RayCast};
 pub use warning::{Place, Warning};
 

@@ -543,8 +543,8 @@ fn flat_faces_shade_flat_with_the_default_normals() {
 
 #[test]
 fn quick_writes_a_default_size_picture_of_the_solid() {
-    // A ball at the centre of its domain: the default camera frames its bounds from
-    // DEFAULT_VIEW, so it projects to a disc at the image centre of radius f tan(asin(r
+    // A ball at the centre of its domain: the default camera request frames its
+    // silhouette from DEFAULT_VIEW (as `octsolid render` does), so it projects to a disc at the image centre of radius f tan(asin(r
     // / D)), D the eye's distance and f the focal length in pixels. The pixels that are
     // not the background must cover that disc (within the voxels' 1% in radius).
     let r = 0.8;
@@ -553,7 +553,7 @@ fn quick_writes_a_default_size_picture_of_the_solid() {
     let dir = std::env::temp_dir().join(format!("octsolid-render-quick-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("ball.png");
-    let stats = quick(&tree, &path).unwrap();
+    let stats = octsolid::quick(&tree, &path).unwrap();
     let img = image::open(&path).unwrap().to_rgb8();
     std::fs::remove_dir_all(&dir).unwrap();
     let defaults = RenderOptions::default();
@@ -561,7 +561,9 @@ fn quick_writes_a_default_size_picture_of_the_solid() {
     let background = image::Rgb(Scene::new().background.to_array().map(to_srgb8));
     let covered = img.pixels().filter(|p| **p != background).count() as f64;
     let aspect = f64::from(defaults.width) / f64::from(defaults.height);
-    let camera = Camera::frame(&tree.bounds().unwrap(), DEFAULT_VIEW, DVec3::Z, aspect);
+    let framing = Framing::of_solid(&tree, Up::default());
+    let camera = CameraRequest::default().camera(&framing, aspect).unwrap();
+    assert!(((camera.eye - camera.target).normalize() - DEFAULT_VIEW.normalize()).length() < 1e-12);
     let Projection::Perspective { fov_y } = camera.projection else { panic!("a framing camera is perspective") };
     let focal = f64::from(defaults.height) / 2.0 / (fov_y.to_radians() / 2.0).tan();
     let radius = focal * (r / camera.eye.length()).asin().tan();
@@ -570,7 +572,7 @@ fn quick_writes_a_default_size_picture_of_the_solid() {
     assert!(stats.hits > 0 && stats.secondary_rays > 0, "{stats:?}");
     // An empty solid has nothing to frame: an error, no file.
     let empty = octsolid::octree::LinearOctree::empty(d);
-    assert!(quick(&empty, dir.join("empty.png")).is_err());
+    assert!(octsolid::quick(&empty, dir.join("empty.png")).is_err());
     assert!(!dir.join("empty.png").exists());
 }
 

@@ -18,15 +18,14 @@
 //! - `pipeline`: [`render_picture`]: visibility, then shading, averaged over each
 //!   pixel's samples, in every pixel or where adaptive anti-aliasing asks
 //!   (`adaptive`), or by recursive adaptive anti-aliasing (`recursive_aa`), to
-//!   linear radiance; [`render`]: the same as 8-bit sRGB; [`quick`]: a solid to a PNG
-//!   file in one call.
+//!   linear radiance; [`render`]: the same as 8-bit sRGB (a solid to a PNG file in one
+//!   call is [`crate::quick`], above `io`).
 
 mod adaptive;
 mod film;
 mod names;
 mod overrides;
 mod pipeline;
-mod quick;
 pub mod radiosity;
 mod raster;
 mod recursive_aa;
@@ -45,7 +44,6 @@ pub use pipeline::{
     AntiAliasing, AntiAliasingKind, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH,
     RenderOptions, RenderStats, RowSink, estimate_bytes, render, render_picture, render_streamed,
 };
-pub use quick::quick;
 pub use raster::polygon;
 pub use recursive_aa::MAX_AA_DEPTH;
 pub use scene::{Bump, Illumination, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Section, Texture};
