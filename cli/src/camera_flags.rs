@@ -1,7 +1,8 @@
 //! The flags that place the camera (`render`'s, flattened into its arguments):
 //! `--eye`, `--target`, `--up`, `--fov`, `--view`, `--azimuth`/`--elevation`,
 //! `--zoom`, `--ortho` and `--front`, each one field of the library's
-//! [`CameraRequest`], whose module doc holds the rules.
+//! [`CameraRequest`], whose module doc holds the rules; its refusals are told in the
+//! flags' words ([`in_flags_words`]).
 
 use glam::DVec3;
 use octsolid::render::{CameraRequest, NamedView, Up};
@@ -44,6 +45,18 @@ pub struct CameraFlags {
     /// Blender's and glTF's front; Spot and assimp's Wuson face -z).
     #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_facing)]
     pub front: Option<DVec3>,
+}
+
+/// A camera request's refusal in the flags' words: a field the flags set is named as
+/// its flag (`--fov 180: the field of view must be ...`); anything else as it is.
+pub(crate) fn in_flags_words(e: octsolid::Error) -> anyhow::Error {
+    const FLAGS: [&str; 8] = ["up", "eye", "target", "fov", "view", "azimuth", "elevation", "zoom"];
+    match e {
+        octsolid::Error::InvalidArgument { what, reason } if what == "front" || FLAGS.contains(&what) => {
+            anyhow::anyhow!("--{what} {reason}")
+        }
+        e => e.into(),
+    }
 }
 
 impl CameraFlags {

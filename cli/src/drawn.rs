@@ -13,6 +13,7 @@ use octsolid::render::{Camera, CameraRequest, Framing, RenderOptions, RenderOver
 use octsolid::scene_file::{self, LoadOptions};
 use octsolid::{FileKind, MemoryBudget};
 
+use crate::camera_flags::in_flags_words;
 use crate::commands::{load_input, print_warnings};
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_for_display};
@@ -63,7 +64,8 @@ impl Drawn {
         let camera = match &self.framed {
             Framed::Solid(framing) => request.camera(framing, aspect),
             Framed::Scene(camera) => request.camera(&self.scene.framing(*camera, request), aspect),
-        }?;
+        }
+        .map_err(in_flags_words)?;
         Ok(section.map_or(camera, |s| s.facing_the_cap(camera, request)))
     }
 

@@ -275,7 +275,8 @@ fn polygon_command(
     let [width, height] = a.size.unwrap_or([960, 720]);
     let up = a.camera.up.unwrap_or(Up::Axis(recorded_up.unwrap_or(kind.default_up())));
     let framing = Framing { points: mesh.vertices.clone(), up, scene_camera: None };
-    let camera = a.camera.request().camera(&framing, f64::from(width) / f64::from(height.max(1)))?;
+    let aspect = f64::from(width) / f64::from(height.max(1));
+    let camera = a.camera.request().camera(&framing, aspect).map_err(crate::camera_flags::in_flags_words)?;
     let scene = render::polygon::MeshScene {
         mesh: &mesh,
         material: Material::default(),

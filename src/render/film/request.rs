@@ -94,7 +94,7 @@ impl CameraRequest {
         {
             return Err(Error::invalid(
                 "front",
-                format!("{front} must lie across the up axis {axis:?}: a model's front is horizontal"),
+                format!("must lie across the up axis {axis:?}: a model's front is horizontal"),
             ));
         }
         Ok(())
