@@ -24,9 +24,9 @@ pub struct CameraFlags {
     /// Vertical field of view in degrees (default: the scene's, or 35).
     #[arg(long, value_parser = crate::values::parse_finite)]
     pub fov: Option<f64>,
-    /// A named view in the up axis's frame (front looks from -y in a z-up world).
-    #[arg(long, conflicts_with_all = ["azimuth", "elevation"], ignore_case = true,
-          value_parser = crate::values::names::<NamedView>(NamedView::ALL.map(NamedView::name)))]
+    /// A named view in the up axis's frame: front, back, left, right, top, bottom or
+    /// iso (front looks from -y in a z-up world).
+    #[arg(long, conflicts_with_all = ["azimuth", "elevation"])]
     pub view: Option<NamedView>,
     /// Orbit: degrees around the up axis from the front view, towards the right.
     #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
