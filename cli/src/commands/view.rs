@@ -331,3 +331,31 @@ fn watch(viewed: &Mutex<Viewed>, input: &Path, kind: FileKind, source: &Source, 
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_query_becomes_the_librarys_request_and_overrides() {
+        let f =
+            frame_query("eye=1,2,3&fov=40&size=80x60&method=trace&aa=adaptive&no-shadows=1&section=x,0.25").unwrap();
+        assert_eq!(f.request.eye, Some(glam::DVec3::new(1.0, 2.0, 3.0)));
+        assert_eq!(f.request.fov, Some(40.0));
+        assert_eq!(f.overrides.size, Some([80, 60]));
+        assert_eq!(f.overrides.method, Some(Method::Trace));
+        assert_eq!(f.overrides.aa, Some(AntiAliasingKind::Adaptive));
+        assert_eq!(f.overrides.shadows, Some(false));
+        assert_eq!(f.section.map(|s| s.at), Some(0.25));
+        for (bad, says) in [
+            ("method=fast", "method"),
+            ("fov=1&fov=2", "more than once"),
+            ("colour=red", "unknown key"),
+            ("size=9000x10", "at most"),
+            ("eye=1,2", "eye"),
+        ] {
+            let e = frame_query(bad).err().map(|e| e.to_string()).unwrap_or_default();
+            assert!(e.contains(says), "{bad}: {e}");
+        }
+    }
+}

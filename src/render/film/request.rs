@@ -225,3 +225,44 @@ fn centre(points: &[DVec3]) -> DVec3 {
     let hi = points.iter().fold(DVec3::splat(f64::MIN), |a, p| a.max(*p));
     if points.is_empty() { DVec3::ZERO } else { (lo + hi) * 0.5 }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube_points() -> Vec<DVec3> {
+        (0..8).map(|i| DVec3::new(f64::from(i & 1), f64::from(i >> 1 & 1), f64::from(i >> 2 & 1))).collect()
+    }
+
+    #[test]
+    fn a_refused_request_names_its_field() {
+        let what = |r: CameraRequest| match r.validate(Up::default()) {
+            Err(Error::InvalidArgument { what, .. }) => what,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(what(CameraRequest { fov: Some(180.0), ..Default::default() }), "fov");
+        assert_eq!(what(CameraRequest { zoom: Some(0.0), ..Default::default() }), "zoom");
+        assert_eq!(what(CameraRequest { eye: Some(DVec3::NAN), ..Default::default() }), "eye");
+        let eye_and_view = CameraRequest { eye: Some(DVec3::ONE), view: Some(NamedView::Top), ..Default::default() };
+        assert_eq!(what(eye_and_view), "eye");
+        assert_eq!(what(CameraRequest { front: Some(DVec3::Z), ..Default::default() }), "front");
+        assert!(
+            CameraRequest { front: Some(-DVec3::Z), up: Some(Up::Axis(Axis::Y)), ..Default::default() }
+                .validate(Up::default())
+                .is_ok()
+        );
+    }
+
+    #[test]
+    fn zoom_and_ortho_change_a_framed_camera_as_the_module_doc_says() {
+        let framing = Framing { points: cube_points(), up: Up::default(), scene_camera: None };
+        let plain = CameraRequest::default().camera(&framing, 1.0).unwrap();
+        let zoomed = CameraRequest { zoom: Some(2.0), ..Default::default() }.camera(&framing, 1.0).unwrap();
+        assert_eq!(zoomed.target, plain.target);
+        assert!(((zoomed.eye - zoomed.target).length() * 2.0 - (plain.eye - plain.target).length()).abs() < 1e-12);
+        let ortho = CameraRequest { ortho: true, ..Default::default() }.camera(&framing, 1.0).unwrap();
+        assert!(matches!(ortho.projection, Projection::Orthographic { .. }));
+        let nothing = Framing { points: Vec::new(), ..framing };
+        assert!(CameraRequest::default().camera(&nothing, 1.0).is_err());
+    }
+}
