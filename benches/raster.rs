@@ -24,7 +24,8 @@ use octsolid::io::png;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree};
 use octsolid::render::{
-    Camera, Material, Method, Normals, RenderOptions, SampleGrid, Scene, render, visibility, visibility_into,
+    Camera, Material, Method, Normals, RenderOptions, SampleGrid, Scene, ShadeOptions, render, visibility,
+    visibility_into,
 };
 use octsolid::shape::Axis;
 use octsolid::{MemoryBudget, NoProgress};
@@ -48,7 +49,7 @@ fn shading_normals(c: &mut Criterion) {
     let aspect = f64::from(options.width) / f64::from(options.height);
     let camera = Camera::frame(&bounds, Camera::default_view(Axis::Y), Axis::Y.unit(), aspect);
     for (name, normals) in [("axis", Normals::Axis), ("octree", Normals::Octree)] {
-        let options = RenderOptions { normals, ..options };
+        let options = RenderOptions { shade: ShadeOptions { normals, ..options.shade }, ..options };
         group.bench_function(BenchmarkId::new("bunny_d9_960x720_4spp", name), |b| {
             b.iter_batched(
                 || Scene::from_solid(tree.clone()),
@@ -95,8 +96,7 @@ fn viewer_frame(c: &mut Criterion) {
         width,
         height,
         spp: 1,
-        shadows: false,
-        normals: Normals::Axis,
+        shade: ShadeOptions { shadows: false, normals: Normals::Axis, ..ShadeOptions::default() },
         method: Method::FrontToBack,
         ..RenderOptions::default()
     };

@@ -15,7 +15,7 @@ use octsolid::scene_file::{SceneFile, load_scene};
 fn scene(normals: Normals) -> SceneFile {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/whitted.toml");
     let mut file = load_scene(path, MemoryBudget::unlimited()).unwrap();
-    file.options.normals = normals;
+    file.options.shade.normals = normals;
     file
 }
 

@@ -36,7 +36,7 @@ fn flange(out: &std::path::Path) -> Result<()> {
     oct::save(&solid, out.join("flange.oct"))?;
     png::save(&slice_image(&solid, Axis::Z, 0.1, 768)?, out.join("flange.png"))?;
     // A picture of the part in one call: default camera, lights and material.
-    octsolid::render::quick(&solid, out.join("flange-render.png"))?;
+    octsolid::quick(&solid, out.join("flange-render.png"))?;
 
     let exact = PI * (disc_r * disc_r * disc_t + hub_r * hub_r * (hub_h - disc_t))
         - PI * bore_r * bore_r * hub_h

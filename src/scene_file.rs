@@ -71,8 +71,8 @@ use crate::mesh::{InsideRule, MeshShape, load_mesh};
 use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
 use crate::render::{
-    AntiAliasing, Bump, Camera, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, DEFAULT_VIEW, Light, Mapping, Material,
-    Normals, Projection, RenderOptions, Scene, Texture,
+    AntiAliasingKind, Bump, Camera, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection, RenderOptions,
+    RenderOverrides, Scene, Texture,
 };
 use crate::shape::{Axis, Csg, FileLeaves, Shape, ShapeSpec, TransformSpec, Transformed};
 use crate::solid_file::SolidFile;
@@ -116,26 +116,13 @@ struct ImageSpec {
     /// Share of a pixel below which a secondary ray is not traced.
     cutoff: Option<f64>,
     /// Uniform (the default), adaptive or recursive anti-aliasing.
-    aa: Option<AaSpec>,
+    aa: Option<AntiAliasingKind>,
     /// Contrast at which adaptive anti-aliasing supersamples, recursive splits
     /// (implies adaptive when `aa` is not given).
     aa_threshold: Option<f64>,
     /// Most splits of a pixel's square by recursive anti-aliasing (implies recursive
     /// when `aa` is not given).
     aa_depth: Option<u32>,
-}
-
-/// How the `samples x samples` grid is used.
-#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-enum AaSpec {
-    /// In every pixel.
-    Uniform,
-    /// Where a pixel differs from a neighbour by `aa_threshold`.
-    Adaptive,
-    /// Corner samples, a square split where its corners differ by `aa_threshold`, up
-    /// to `aa_depth` times.
-    Recursive,
 }
 
 fn default_size() -> [u32; 2] {
@@ -929,29 +916,22 @@ impl LightSpec {
 }
 
 impl ImageSpec {
-    /// The render options, every one not given the default's.
+    /// The render options, every one not given the default's (merged as the command
+    /// line's flags are, by [`RenderOverrides`]).
     fn options(&self) -> RenderOptions {
-        let [width, height] = self.size;
-        let d = RenderOptions::default();
-        RenderOptions {
-            width,
-            height,
-            spp: self.samples,
-            shadows: self.shadows,
-            normals: self.normals.unwrap_or(d.normals),
-            max_depth: self.max_depth.unwrap_or(d.max_depth),
-            cutoff: self.cutoff.unwrap_or(d.cutoff),
-            aa: {
-                let threshold = self.aa_threshold.unwrap_or(DEFAULT_AA_THRESHOLD);
-                let depth = self.aa_depth.unwrap_or(DEFAULT_AA_DEPTH);
-                match (self.aa, self.aa_threshold, self.aa_depth) {
-                    (Some(AaSpec::Uniform), ..) | (None, None, None) => AntiAliasing::Uniform,
-                    (Some(AaSpec::Recursive), ..) | (None, _, Some(_)) => AntiAliasing::Recursive { threshold, depth },
-                    (Some(AaSpec::Adaptive), ..) | (None, Some(_), None) => AntiAliasing::Adaptive { threshold },
-                }
-            },
-            ..d
-        }
+        let overrides = RenderOverrides {
+            size: Some(self.size),
+            spp: Some(self.samples),
+            shadows: Some(self.shadows),
+            normals: self.normals,
+            max_depth: self.max_depth,
+            cutoff: self.cutoff,
+            aa: self.aa,
+            aa_threshold: self.aa_threshold,
+            aa_depth: self.aa_depth,
+            ..RenderOverrides::default()
+        };
+        overrides.apply(RenderOptions::default())
     }
 }
 

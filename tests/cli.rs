@@ -1168,3 +1168,21 @@ fn csg_budget_is_for_the_whole_job() {
     assert_eq!(union, pairwise);
     assert_eq!(octsolid::io::oct::load(dir.join("u.oct"), MemoryBudget::unlimited()).unwrap(), union);
 }
+
+/// `octsolid::quick` is `octsolid render x.oct` without flags: the same bytes.
+#[test]
+fn quick_writes_the_bytes_render_writes_for_the_same_solid() {
+    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+    use octsolid::shape::{Cuboid, Sphere};
+    let dir = scratch("quick-as-render");
+    let domain = Domain::new(glam::DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let shape = Cuboid::new(glam::DVec3::new(-0.8, -0.5, -0.3), glam::DVec3::new(0.8, 0.5, 0.3)).unwrap()
+        - Sphere::new(glam::DVec3::new(0.2, -0.1, 0.3), 0.4).unwrap();
+    let solid = voxelize(&shape, domain, &VoxelizeOptions::default()).unwrap();
+    octsolid::io::oct::save(&solid, dir.join("x.oct")).unwrap();
+    let stats = octsolid::quick(&solid, dir.join("quick.png")).unwrap();
+    assert!(stats.hits > 0, "{stats:?}");
+    ok(&dir, &["render", "x.oct", "-o", "cli.png"]);
+    let (quick, cli) = (std::fs::read(dir.join("quick.png")).unwrap(), std::fs::read(dir.join("cli.png")).unwrap());
+    assert!(quick == cli, "quick wrote {} bytes, render {}: they differ", quick.len(), cli.len());
+}

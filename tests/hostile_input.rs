@@ -236,7 +236,7 @@ fn facing_mirrors_at_the_deepest_recursion_render_on_the_worker_threads() {
          [[light]]\ntype = \"point\"\nposition = [0, 0, 3]\n",
     );
     let file = load_scene(&path, MemoryBudget::default()).unwrap();
-    assert_eq!(file.options.max_depth, octsolid::render::MAX_RAY_DEPTH);
+    assert_eq!(file.options.shade.max_depth, octsolid::render::MAX_RAY_DEPTH);
     let (img, stats) = render(&file.scene, &file.camera, &file.options, &NoProgress).unwrap();
     assert!(stats.secondary_rays > 10 * u64::from(img.width() * img.height()), "{stats:?}");
     let background = file.scene.background.to_array().map(octsolid::render::to_srgb8);

@@ -38,7 +38,13 @@ fn orthographic_sphere_covers_the_analytic_disc() {
     let r = 0.8;
     let mut scene = sphere_scene(9, r);
     scene.lights.clear();
-    let options = RenderOptions { width: 500, height: 500, spp: 1, shadows: false, ..Default::default() };
+    let options = RenderOptions {
+        width: 500,
+        height: 500,
+        spp: 1,
+        shade: ShadeOptions { shadows: false, ..Default::default() },
+        ..Default::default()
+    };
     let (_, stats) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
     let pixel_area = (2.0 / 500.0) * (2.0 / 500.0);
     let want = PI * r * r / pixel_area;
@@ -54,8 +60,13 @@ fn brightest_pixel_follows_the_phong_formula() {
     scene.ambient = DVec3::splat(0.2);
     scene.background = DVec3::ZERO;
     let m = scene.solids[0].material.clone();
-    let options =
-        RenderOptions { width: 200, height: 200, spp: 1, shadows: true, normals: Normals::Axis, ..Default::default() };
+    let options = RenderOptions {
+        width: 200,
+        height: 200,
+        spp: 1,
+        shade: ShadeOptions { shadows: true, normals: Normals::Axis, ..Default::default() },
+        ..Default::default()
+    };
     let (img, _) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
     // With axis normals the visible faces are +z, +x, -x, +y, -y; Phong says which is
     // brightest and how bright: I = ka Ia C + kd C (N.L) + ks (R.V)^n, V = +z.
@@ -101,7 +112,13 @@ fn brightest_pixel_follows_the_phong_formula() {
 #[test]
 fn same_image_for_any_thread_count() {
     let file = load_scene("scenes/classic.toml", MemoryBudget::default()).unwrap();
-    let options = RenderOptions { width: 160, height: 120, spp: 2, shadows: true, ..Default::default() };
+    let options = RenderOptions {
+        width: 160,
+        height: 120,
+        spp: 2,
+        shade: ShadeOptions { shadows: true, ..Default::default() },
+        ..Default::default()
+    };
     let run = |threads| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| render(&file.scene, &file.camera, &options, &NoProgress).unwrap().0)
@@ -230,7 +247,7 @@ fn radiance_at(file: &octsolid::scene_file::SceneFile, (w, h): (u32, u32), px: f
     let view = file.camera.view(f64::from(w) / f64::from(h));
     let ray = view.ray(2.0 * px / f64::from(w) - 1.0, 1.0 - 2.0 * py / f64::from(h));
     let o = &file.options;
-    let shading = ShadeOptions { shadows: o.shadows, normals: o.normals, max_depth: o.max_depth, cutoff: o.cutoff };
+    let shading = o.shade;
     match file.scene.hit(&ray) {
         Some(hit) => radiance(&file.scene, &ray, &hit, &shading).0,
         None => file.scene.background,
@@ -479,9 +496,17 @@ fn pictures_over_the_budget_and_endless_mirrors_are_refused_before_work() {
     let fits = RenderOptions { budget: MemoryBudget::unlimited(), ..small };
     assert!(render(&scene, &camera, &fits, &NoProgress).is_ok());
     // Secondary rays are bounded: a recursion deeper than the limit is refused.
-    let deep = RenderOptions { max_depth: MAX_RAY_DEPTH + 1, ..fits };
+    let deep = RenderOptions { shade: ShadeOptions { max_depth: MAX_RAY_DEPTH + 1, ..fits.shade }, ..fits };
     assert!(render(&scene, &camera, &deep, &NoProgress).unwrap_err().to_string().contains("max depth"));
-    assert!(render(&scene, &camera, &RenderOptions { max_depth: MAX_RAY_DEPTH, ..fits }, &NoProgress).is_ok());
+    assert!(
+        render(
+            &scene,
+            &camera,
+            &RenderOptions { shade: ShadeOptions { max_depth: MAX_RAY_DEPTH, ..fits.shade }, ..fits },
+            &NoProgress
+        )
+        .is_ok()
+    );
 }
 
 #[test]
@@ -498,9 +523,9 @@ fn flat_faces_shade_flat_with_the_default_normals() {
     scene.add("box", tree, Material::phong(DVec3::new(0.7, 0.5, 0.3), 0.2, 0.8, 0.0, 1.0));
     scene.lights = vec![Light::Directional { direction: DVec3::new(-0.3, -0.2, -1.0), color: DVec3::ONE }];
     let options = RenderOptions { width: 256, height: 256, spp: 1, ..Default::default() };
-    assert_eq!(options.normals, Normals::Smooth);
+    assert_eq!(options.shade.normals, Normals::Smooth);
     let (smooth, _) = render(&scene, &top_camera(2.0), &options, &NoProgress).unwrap();
-    let axis = RenderOptions { normals: Normals::Axis, ..options };
+    let axis = RenderOptions { shade: ShadeOptions { normals: Normals::Axis, ..options.shade }, ..options };
     let (flat, _) = render(&scene, &top_camera(2.0), &axis, &NoProgress).unwrap();
     let reach = 7.0 * d.voxel_size();
     let mut face = Vec::new();
@@ -518,8 +543,8 @@ fn flat_faces_shade_flat_with_the_default_normals() {
 
 #[test]
 fn quick_writes_a_default_size_picture_of_the_solid() {
-    // A ball at the centre of its domain: the default camera frames its bounds from
-    // DEFAULT_VIEW, so it projects to a disc at the image centre of radius f tan(asin(r
+    // A ball at the centre of its domain: the default camera request frames its
+    // silhouette from DEFAULT_VIEW (as `octsolid render` does), so it projects to a disc at the image centre of radius f tan(asin(r
     // / D)), D the eye's distance and f the focal length in pixels. The pixels that are
     // not the background must cover that disc (within the voxels' 1% in radius).
     let r = 0.8;
@@ -528,7 +553,7 @@ fn quick_writes_a_default_size_picture_of_the_solid() {
     let dir = std::env::temp_dir().join(format!("octsolid-render-quick-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("ball.png");
-    let stats = quick(&tree, &path).unwrap();
+    let stats = octsolid::quick(&tree, &path).unwrap();
     let img = image::open(&path).unwrap().to_rgb8();
     std::fs::remove_dir_all(&dir).unwrap();
     let defaults = RenderOptions::default();
@@ -536,7 +561,9 @@ fn quick_writes_a_default_size_picture_of_the_solid() {
     let background = image::Rgb(Scene::new().background.to_array().map(to_srgb8));
     let covered = img.pixels().filter(|p| **p != background).count() as f64;
     let aspect = f64::from(defaults.width) / f64::from(defaults.height);
-    let camera = Camera::frame(&tree.bounds().unwrap(), DEFAULT_VIEW, DVec3::Z, aspect);
+    let framing = Framing::of_solid(&tree, Up::default());
+    let camera = CameraRequest::default().camera(&framing, aspect).unwrap();
+    assert!(((camera.eye - camera.target).normalize() - DEFAULT_VIEW.normalize()).length() < 1e-12);
     let Projection::Perspective { fov_y } = camera.projection else { panic!("a framing camera is perspective") };
     let focal = f64::from(defaults.height) / 2.0 / (fov_y.to_radians() / 2.0).tan();
     let radius = focal * (r / camera.eye.length()).asin().tan();
@@ -545,7 +572,7 @@ fn quick_writes_a_default_size_picture_of_the_solid() {
     assert!(stats.hits > 0 && stats.secondary_rays > 0, "{stats:?}");
     // An empty solid has nothing to frame: an error, no file.
     let empty = octsolid::octree::LinearOctree::empty(d);
-    assert!(quick(&empty, dir.join("empty.png")).is_err());
+    assert!(octsolid::quick(&empty, dir.join("empty.png")).is_err());
     assert!(!dir.join("empty.png").exists());
 }
 

@@ -493,9 +493,10 @@ fn anti_aliasing_keys_choose_uniform_adaptive_or_recursive() {
 #[test]
 fn the_cutoff_key_sets_the_share_below_which_rays_stop() {
     let dir = scratch("cutoff");
-    let cutoff =
-        |image: &str| load(&dir, "cutoff.toml", &ball_scene(image), MemoryBudget::default()).1.unwrap().options.cutoff;
-    assert_eq!(cutoff(""), RenderOptions::default().cutoff);
+    let cutoff = |image: &str| {
+        load(&dir, "cutoff.toml", &ball_scene(image), MemoryBudget::default()).1.unwrap().options.shade.cutoff
+    };
+    assert_eq!(cutoff(""), RenderOptions::default().shade.cutoff);
     assert_eq!(cutoff("cutoff = 0.0039"), 0.0039);
 }
 

@@ -131,7 +131,7 @@ fn a_voxelized_mirror_ball_reflects_only_the_background() {
     use octsolid::render::to_srgb8;
     use octsolid::render::{RenderOptions, render};
     let (scene, camera) = mirror_ball();
-    let options = RenderOptions { width: 160, height: 160, spp: 1, normals: Normals::Smooth, ..Default::default() };
+    let options = RenderOptions { width: 160, height: 160, spp: 1, shade: smooth(), ..Default::default() };
     let (img, stats) = render(&scene, &camera, &options, &NoProgress).unwrap();
     let srgb = |c: DVec3| [to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)];
     let (background, reflected) = (srgb(scene.background), srgb(scene.background * 0.9));
@@ -152,9 +152,15 @@ fn a_reflection_whose_share_is_at_the_cutoff_is_not_traced() {
     use octsolid::render::{RenderOptions, render};
     let (scene, camera) = mirror_ball();
     let srgb = |c: DVec3| [to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z)];
-    let base = RenderOptions { width: 64, height: 64, spp: 1, normals: Normals::Smooth, ..Default::default() };
+    let base = RenderOptions { width: 64, height: 64, spp: 1, shade: smooth(), ..Default::default() };
     let ball = |cutoff: f64| {
-        let (img, stats) = render(&scene, &camera, &RenderOptions { cutoff, ..base }, &NoProgress).unwrap();
+        let (img, stats) = render(
+            &scene,
+            &camera,
+            &RenderOptions { shade: ShadeOptions { cutoff, ..base.shade }, ..base },
+            &NoProgress,
+        )
+        .unwrap();
         let on_ball = img.pixels().filter(|p| p.0 != srgb(scene.background)).map(|p| p.0).collect::<Vec<_>>();
         (on_ball, stats.hits)
     };
@@ -168,7 +174,13 @@ fn a_reflection_whose_share_is_at_the_cutoff_is_not_traced() {
     assert!(most(&cut, hits), "{} of {hits}", cut.len());
     assert!(cut.iter().all(|&p| p == [0, 0, 0]));
     for cutoff in [-0.1, 1.5, f64::NAN] {
-        let err = render(&scene, &camera, &RenderOptions { cutoff, ..base }, &NoProgress).unwrap_err();
+        let err = render(
+            &scene,
+            &camera,
+            &RenderOptions { shade: ShadeOptions { cutoff, ..base.shade }, ..base },
+            &NoProgress,
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("ray cutoff"), "{err}");
     }
 }
@@ -262,8 +274,7 @@ fn shadows_on_a_floor_fall_where_the_exact_ball_casts_them() {
     let white = Material { color: DVec3::ONE, ka: 0.0, kd: 1.0, ks: 0.0, ..Material::default() };
     let world = BallOverFloor::new(white.clone(), white);
     let size = (200, 150);
-    let options =
-        RenderOptions { width: size.0, height: size.1, spp: 1, normals: Normals::Smooth, ..RenderOptions::default() };
+    let options = RenderOptions { width: size.0, height: size.1, spp: 1, shade: smooth(), ..RenderOptions::default() };
     let (picture, _) = render_picture(&world.scene, &world.camera, &options, &NoProgress).unwrap();
     let lit = world.to_light.z;
     let (mut judged, mut shadowed, mut wrong) = (0, 0, Vec::new());
@@ -312,8 +323,7 @@ fn a_mirror_ball_reflects_the_checkered_floor_as_the_exact_ball_does() {
     world.camera = octsolid::render::Camera::look_at(DVec3::new(0.4, -2.2, 1.6), world.center, DVec3::Z, 30.0);
     let ball_voxel = 1.2 / 256.0;
     let dims = (160, 160);
-    let options =
-        RenderOptions { width: dims.0, height: dims.1, spp: 1, normals: Normals::Smooth, ..RenderOptions::default() };
+    let options = RenderOptions { width: dims.0, height: dims.1, spp: 1, shade: smooth(), ..RenderOptions::default() };
     let (picture, _) = render_picture(&world.scene, &world.camera, &options, &NoProgress).unwrap();
     let samples = SampleGrid { width: dims.0, height: dims.1, spp: 1 };
     let view = world.camera.view(samples.aspect());
@@ -366,4 +376,9 @@ fn a_mirror_ball_reflects_the_checkered_floor_as_the_exact_ball_does() {
         wrong.len(),
         &wrong[..wrong.len().min(8)]
     );
+}
+
+/// Shading with the smooth normals (the default options otherwise).
+fn smooth() -> ShadeOptions {
+    ShadeOptions { normals: Normals::Smooth, ..ShadeOptions::default() }
 }

@@ -35,12 +35,14 @@ macro_rules! warn {
 mod args;
 mod camera_flags;
 mod commands;
+mod drawn;
 mod http;
 mod human;
 mod output;
 mod progress_bar;
 mod sharded_output;
 mod solid_input;
+mod stages;
 mod values;
 
 use std::process::ExitCode;

@@ -1,8 +1,9 @@
 //! The values the command line's flags take, parsed and checked where they enter:
-//! vectors, sizes, finite numbers, domains, byte sizes, turns, the up direction, and
+//! the library's enums by name, vectors, sizes, finite numbers, domains, byte sizes, turns, and
 //! the `--domain`/`--depth` group of the commands that resample solids. Shared by the
 //! subcommands (`commands/`) and the global flags (`args`).
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use glam::DVec3;
 use octsolid::octree::{Domain, Turn};
 use octsolid::shape::Axis;
@@ -39,6 +40,16 @@ impl TargetFlags {
     }
 }
 
+/// A flag's value parser for a library enum: its `names` (listed by `--help`), parsed
+/// by its `FromStr` (which takes each of them).
+pub(crate) fn names<T>(names: impl IntoIterator<Item = &'static str>) -> impl TypedValueParser<Value = T>
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+    T::Err: std::fmt::Debug,
+{
+    PossibleValuesParser::new(names).map(|s| s.parse::<T>().expect("a listed name"))
+}
+
 /// Parses `X,Y,Z`.
 pub(crate) fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     let v = parse_floats(s, 3)?;
@@ -53,55 +64,6 @@ pub(crate) fn parse_turn(s: &str) -> Result<Turn, String> {
     Ok(Turn { axis, degrees })
 }
 
-/// Parses the up direction: an axis (`x`, `y`, `z`) or a vector `X,Y,Z`.
-pub(crate) fn parse_up(s: &str) -> Result<Up, String> {
-    if let Ok(axis) = s.trim().parse::<Axis>() {
-        return Ok(Up::Axis(axis));
-    }
-    let v = DVec3::from(parse_vec3(s).map_err(|e| format!("'{s}' is neither x, y, z nor X,Y,Z: {e}"))?);
-    if v.length() < 1e-12 {
-        return Err(format!("'{s}': the up vector is zero"));
-    }
-    Ok(Up::Vector(v))
-}
-
-/// An up direction from the command line.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Up {
-    /// A coordinate axis: also names the frame of `--view` and the orbit angles.
-    Axis(Axis),
-    /// Any vector: views are named in the frame of the axis nearest to it.
-    Vector(DVec3),
-}
-
-impl Up {
-    /// The nearest coordinate axis (the frame views are named in).
-    pub(crate) fn axis(self) -> Axis {
-        match self {
-            Up::Axis(a) => a,
-            Up::Vector(v) => {
-                let a = v.abs();
-                if a.x >= a.y && a.x >= a.z {
-                    Axis::X
-                } else if a.y >= a.z {
-                    Axis::Y
-                } else {
-                    Axis::Z
-                }
-            }
-        }
-    }
-
-    /// The up vector.
-    pub(crate) fn vector(self) -> DVec3 {
-        match self {
-            Up::Axis(a) => a.unit(),
-            Up::Vector(v) => v.normalize(),
-        }
-    }
-}
-
-/// Parses `WIDTHxHEIGHT`.
 /// Parses a signed axis, `+z`, `-x`, `y` (positive): the direction a model faces.
 pub(crate) fn parse_facing(s: &str) -> Result<DVec3, String> {
     let t = s.trim();
@@ -113,6 +75,7 @@ pub(crate) fn parse_facing(s: &str) -> Result<DVec3, String> {
     Ok(axis.unit() * sign)
 }
 
+/// Parses `WIDTHxHEIGHT`.
 pub(crate) fn parse_size(s: &str) -> Result<[u32; 2], String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("'{s}' is not a size like 960x720"))?;
     let parse = |t: &str| t.trim().parse::<u32>().map_err(|_| format!("'{t}' is not a whole number of pixels"));

@@ -6,7 +6,7 @@
 use octsolid::io::png;
 use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
-use octsolid::render::{Camera, Method, Normals, RenderOptions, Scene};
+use octsolid::render::{Camera, Method, Normals, RenderOptions, Scene, ShadeOptions};
 use octsolid::shape::Axis;
 use octsolid::{MemoryBudget, NoProgress};
 
@@ -27,8 +27,7 @@ fn main() {
         width: 1280,
         height: 720,
         spp: 1,
-        shadows: false,
-        normals: Normals::Axis,
+        shade: ShadeOptions { shadows: false, normals: Normals::Axis, ..ShadeOptions::default() },
         method: Method::FrontToBack,
         ..RenderOptions::default()
     };

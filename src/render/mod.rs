@@ -18,13 +18,14 @@
 //! - `pipeline`: [`render_picture`]: visibility, then shading, averaged over each
 //!   pixel's samples, in every pixel or where adaptive anti-aliasing asks
 //!   (`adaptive`), or by recursive adaptive anti-aliasing (`recursive_aa`), to
-//!   linear radiance; [`render`]: the same as 8-bit sRGB; [`quick`]: a solid to a PNG
-//!   file in one call.
+//!   linear radiance; [`render`]: the same as 8-bit sRGB (a solid to a PNG file in one
+//!   call is [`crate::quick`], above `io`).
 
 mod adaptive;
 mod film;
+mod names;
+mod overrides;
 mod pipeline;
-mod quick;
 pub mod radiosity;
 mod raster;
 mod recursive_aa;
@@ -34,17 +35,18 @@ mod trace;
 mod visibility;
 
 pub use film::{
-    Camera, DEFAULT_VIEW, MAX_EXPOSURE_STOPS, NamedView, Picture, Projection, SampleGrid, View, default_orbit,
-    exposure_scale, from_srgb8, orbit_direction, silhouette_points, to_srgb8, up_for,
+    Camera, CameraRequest, DEFAULT_FOV, DEFAULT_VIEW, Framing, MAX_EXPOSURE_STOPS, NamedView, Picture, Projection,
+    SampleGrid, Up, View, default_orbit, exposure_scale, from_srgb8, orbit_direction, silhouette_points, to_srgb8,
+    up_for,
 };
+pub use overrides::RenderOverrides;
 pub use pipeline::{
-    AntiAliasing, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, RenderOptions, RenderStats,
-    RowSink, estimate_bytes, render, render_picture, render_streamed,
+    AntiAliasing, AntiAliasingKind, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, MAX_IMAGE_SIZE, MAX_RAY_DEPTH,
+    RenderOptions, RenderStats, RowSink, estimate_bytes, render, render_picture, render_streamed,
 };
-pub use quick::quick;
 pub use raster::polygon;
 pub use recursive_aa::MAX_AA_DEPTH;
-pub use scene::{Bump, Illumination, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Texture};
+pub use scene::{Bump, Illumination, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Section, Texture};
 pub use shade::{Normals, ShadeOptions, radiance, reflect, refract};
 pub use trace::{Hit, PACKET, TILE, Traversal};
 pub use visibility::{Method, VisibilityStats, visibility, visibility_into};

@@ -26,7 +26,7 @@ use super::film::{Camera, Picture, SampleGrid, View};
 use super::raster::{Display, Strip};
 use super::recursive_aa::{self, MAX_AA_DEPTH};
 use super::scene::{Scene, SceneHit};
-use super::shade::{Normals, ShadeOptions, radiance};
+use super::shade::{ShadeOptions, radiance};
 use super::visibility::{Method, visibility};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
@@ -66,6 +66,62 @@ pub enum AntiAliasing {
     },
 }
 
+impl AntiAliasing {
+    /// Which of the three ways this is.
+    #[must_use]
+    pub fn kind(self) -> AntiAliasingKind {
+        match self {
+            AntiAliasing::Uniform => AntiAliasingKind::Uniform,
+            AntiAliasing::Adaptive { .. } => AntiAliasingKind::Adaptive,
+            AntiAliasing::Recursive { .. } => AntiAliasingKind::Recursive,
+        }
+    }
+}
+
+/// The way a pixel's samples are chosen, without its numbers: what `--aa` and a scene
+/// file's `aa` name (`uniform`, `adaptive`, `recursive`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AntiAliasingKind {
+    /// [`AntiAliasing::Uniform`].
+    Uniform,
+    /// [`AntiAliasing::Adaptive`].
+    Adaptive,
+    /// [`AntiAliasing::Recursive`].
+    Recursive,
+}
+
+impl AntiAliasingKind {
+    /// Every value, in the order `--help` lists them.
+    pub const ALL: [AntiAliasingKind; 3] =
+        [AntiAliasingKind::Uniform, AntiAliasingKind::Adaptive, AntiAliasingKind::Recursive];
+
+    /// The value's one spelling (the command line's, a scene file's, `Display`'s).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            AntiAliasingKind::Uniform => "uniform",
+            AntiAliasingKind::Adaptive => "adaptive",
+            AntiAliasingKind::Recursive => "recursive",
+        }
+    }
+}
+
+impl std::str::FromStr for AntiAliasingKind {
+    type Err = String;
+
+    /// Parses [`AntiAliasingKind::name`]'s spelling, exactly.
+    fn from_str(s: &str) -> Result<Self, String> {
+        super::names::parse_name(s, &AntiAliasingKind::ALL, AntiAliasingKind::name)
+    }
+}
+
+impl std::fmt::Display for AntiAliasingKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The recursive anti-aliasing depth when none is given: POV-Ray's common `+R3`.
 pub const DEFAULT_AA_DEPTH: u32 = 3;
 
@@ -81,15 +137,11 @@ pub struct RenderOptions {
     pub spp: u32,
     /// Uniform or adaptive supersampling.
     pub aa: AntiAliasing,
-    /// Trace shadow rays.
-    pub shadows: bool,
-    /// Which normal shades surfaces (default [`Normals::Smooth`]).
-    pub normals: Normals,
-    /// Longest chain of reflected and refracted rays (0: local shading only).
-    pub max_depth: u32,
-    /// A reflected or refracted ray whose share of its pixel is below this is not
-    /// traced (POV-Ray's `adc_bailout`, 1/255 there; default 0.001).
-    pub cutoff: f64,
+    /// How surfaces are shaded: shadow rays, shading normals (default
+    /// [`Normals::Smooth`](super::Normals::Smooth)), the longest chain of reflected and refracted rays (0: local
+    /// shading only) and the share of a pixel below which such a ray is not traced
+    /// (POV-Ray's `adc_bailout`, 1/255 there; default 0.001).
+    pub shade: ShadeOptions,
     /// How primary visibility is decided (default [`Method::FrontToBack`]: every
     /// method finds the same hits, and the display finds a whole image's fastest).
     pub method: Method,
@@ -108,10 +160,7 @@ impl Default for RenderOptions {
             height: 720,
             spp: 2,
             aa: AntiAliasing::Uniform,
-            shadows: true,
-            normals: Normals::default(),
-            max_depth: ShadeOptions::default().max_depth,
-            cutoff: ShadeOptions::default().cutoff,
+            shade: ShadeOptions::default(),
             method: Method::FrontToBack,
             budget: MemoryBudget::default(),
             exposure: 0.0,
@@ -203,7 +252,8 @@ pub fn render_streamed(
 /// Checks `options` and `camera`, and the picture's memory against the budget before
 /// anything is allocated; gives the exposure's factor and the shading options.
 fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)> {
-    let RenderOptions { width, height, spp, aa, shadows, normals, max_depth, cutoff, exposure, budget, .. } = *options;
+    let RenderOptions { width, height, spp, aa, shade, exposure, budget, .. } = *options;
+    let ShadeOptions { max_depth, cutoff, .. } = shade;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
     }
@@ -232,7 +282,7 @@ fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)
     let spp = if matches!(aa, AntiAliasing::Recursive { .. }) { 1 } else { spp };
     let samples = SampleGrid { width, height, spp };
     budget.check(format!("a {width}x{height} picture at {spp}x{spp} samples a pixel"), estimate_bytes(&samples))?;
-    Ok((scale, ShadeOptions { shadows, normals, max_depth, cutoff }))
+    Ok((scale, shade))
 }
 
 /// Renders `scene` through `camera` to linear radiance: visibility of every sample by

@@ -49,6 +49,39 @@ pub enum Method {
     ScanLine,
 }
 
+impl Method {
+    /// Every value, in the order `--help` lists them.
+    pub const ALL: [Method; 5] =
+        [Method::Trace, Method::FrontToBack, Method::Painter, Method::ZBuffer, Method::ScanLine];
+
+    /// The value's one spelling (the command line's, a viewer query's, `Display`'s).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Trace => "trace",
+            Method::FrontToBack => "front-to-back",
+            Method::Painter => "painter",
+            Method::ZBuffer => "zbuffer",
+            Method::ScanLine => "scanline",
+        }
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = String;
+
+    /// Parses [`Method::name`]'s spelling, exactly.
+    fn from_str(s: &str) -> Result<Self, String> {
+        super::names::parse_name(s, &Method::ALL, Method::name)
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// What a visibility pass did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct VisibilityStats {

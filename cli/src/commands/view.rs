@@ -9,9 +9,10 @@
 //! - `/frame?QUERY`: a PNG, the bytes `octsolid render INPUT` writes with the flags the
 //!   query names (`eye=X,Y,Z`, `target=X,Y,Z`, `up=z`, `fov=35`, `size=1280x720`,
 //!   `method=front-to-back`, `spp=1`, `normals=axis`, `no-shadows=1`, `ortho=1`,
-//!   `view=front`, `zoom=2`, `aa=adaptive`, `max-depth=3`, `section=x,0.25`): the query is turned into
-//!   those flags and parsed by `render`'s own parser, so a frame and a rendered file of
-//!   the same flags are the same bytes.
+//!   `view=front`, `zoom=2`, `aa=adaptive`, `max-depth=3`, `section=x,0.25`): each key
+//!   is parsed as the flag's value is (the library's `FromStr`s) into the library's
+//!   camera request and option overrides that `render` builds from its flags, so a
+//!   frame and a rendered file of the same flags are the same bytes.
 //! - `/camera?QUERY`: the camera those flags give, as JSON (the page orbits from it).
 //! - `/state`: JSON with a version counter (raised by each reload under `--watch`), the
 //!   last load's error (with its file, line and column) and the solids' figures.
@@ -33,16 +34,19 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, SystemTime};
 
 use anyhow::{Context, Result, anyhow};
-use clap::Parser;
 use octsolid::io::png;
-use octsolid::render::{Camera, Projection, Scene};
+use octsolid::render::{
+    AntiAliasingKind, Camera, CameraRequest, Method, NamedView, Normals, Projection, RenderOverrides, Scene, Section,
+    Up,
+};
 use octsolid::scene_file::{CachePolicy, LoadOptions};
 use octsolid::{FileKind, MemoryBudget, NoProgress};
 
-use super::render::{Drawn, RenderArgs, Section, Source, Stages};
+use crate::drawn::{Drawn, Source};
 use crate::http::{Request, Response, Server};
 use crate::solid_input::ReadFlags;
-use crate::values::{Up, parse_up};
+use crate::stages::Stages;
+use crate::values::{parse_finite, parse_size, parse_vec3};
 
 /// Arguments of `octsolid view`.
 #[derive(clap::Args, Debug)]
@@ -62,7 +66,7 @@ pub struct ViewArgs {
     #[arg(long)]
     pub depth: Option<u8>,
     /// The world's up, as for `render`.
-    #[arg(long, value_parser = parse_up)]
+    #[arg(long)]
     pub up: Option<Up>,
     #[command(flatten)]
     pub read: ReadFlags,
@@ -159,18 +163,20 @@ fn answer(viewed: &Mutex<Viewed>, cut: &Mutex<Cut>, input: &Path, budget: Memory
             ok("application/json", state.to_string().into_bytes())
         }
         "/frame" | "/camera" => {
-            let args = frame_args(input, query).map_err(|e| Refusal(400, format!("{e}\n")))?;
+            let frame = frame_query(query).map_err(|e| Refusal(400, format!("{e}\n")))?;
             let (drawn, version) = {
                 let viewed = viewed.lock().unwrap_or_else(PoisonError::into_inner);
                 (viewed.drawn.clone(), viewed.version)
             };
             let drawn = drawn.ok_or_else(|| Refusal(503, "nothing loaded\n".into()))?;
-            let camera = drawn.camera(&args).map_err(|e| Refusal(400, format!("{e}\n")))?;
+            let camera = drawn
+                .camera(&frame.request, &frame.overrides, frame.section)
+                .map_err(|e| Refusal(400, format!("{e}\n")))?;
             if path == "/camera" {
                 return ok("application/json", camera_json(&camera).to_string().into_bytes());
             }
             let mut cut = cut.lock().unwrap_or_else(PoisonError::into_inner);
-            let scene = match args.section {
+            let scene = match frame.section {
                 None => &drawn.scene,
                 Some(section) => {
                     if cut.as_ref().is_none_or(|(v, s, _)| (*v, *s) != (version, section)) {
@@ -179,7 +185,7 @@ fn answer(viewed: &Mutex<Viewed>, cut: &Mutex<Cut>, input: &Path, budget: Memory
                     &cut.as_ref().expect("just cut").2
                 }
             };
-            let options = drawn.options(&args, budget);
+            let options = drawn.options(&frame.overrides, budget);
             let (bytes, _) = png::render_png(scene, &camera, &options, &NoProgress).map_err(|e| match e {
                 octsolid::Error::OverBudget { .. } => Refusal(507, format!("{e}\n")),
                 e => Refusal(400, format!("cannot render: {e}\n")),
@@ -190,60 +196,72 @@ fn answer(viewed: &Mutex<Viewed>, cut: &Mutex<Cut>, input: &Path, budget: Memory
     }
 }
 
-/// `render`'s flags for a frame query, parsed by `render`'s parser and bounded.
-#[derive(Parser, Debug)]
-#[command(no_binary_name = true)]
+/// What a frame query asks for: the camera, the option overrides and the section,
+/// the library's types `render` builds from its flags.
+#[derive(Default)]
 struct Frame {
-    #[command(flatten)]
-    render: RenderArgs,
+    request: CameraRequest,
+    overrides: RenderOverrides,
+    section: Option<Section>,
 }
 
-/// The query keys a frame takes: those with values, and the switches (`KEY=1`).
-const VALUED: &[&str] =
-    &["eye", "target", "up", "fov", "size", "method", "spp", "normals", "view", "zoom", "aa", "max-depth", "section"];
-const SWITCHES: &[&str] = &["no-shadows", "ortho"];
-
-fn frame_args(input: &Path, query: &str) -> Result<RenderArgs> {
+/// Parses a frame query (`KEY=VALUE&...`, switches `KEY=1`; see the module doc) and
+/// bounds it; a key given twice, an unknown key or a bad value is refused by name.
+fn frame_query(query: &str) -> Result<Frame> {
+    fn value<T: std::str::FromStr<Err: std::fmt::Display>>(key: &str, v: &str) -> Result<T> {
+        v.parse::<T>().map_err(|e| anyhow!("{key}: {e}"))
+    }
     if query.len() > MAX_QUERY {
         anyhow::bail!("the query is longer than {MAX_QUERY} bytes");
     }
-    let mut argv: Vec<String> = vec![input.display().to_string()];
+    let mut f = Frame::default();
+    let mut seen = Vec::new();
     for pair in query.split('&').filter(|p| !p.is_empty()) {
-        let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
-        if !value.bytes().all(|b| b.is_ascii_alphanumeric() || b".,-+_".contains(&b)) {
-            anyhow::bail!("{key}: '{value}' has characters no value needs");
+        let (key, v) = pair.split_once('=').unwrap_or((pair, ""));
+        if !v.bytes().all(|b| b.is_ascii_alphanumeric() || b".,-+_".contains(&b)) {
+            anyhow::bail!("{key}: '{v}' has characters no value needs");
         }
-        if VALUED.contains(&key) {
-            argv.push(format!("--{key}={value}"));
-        } else if SWITCHES.contains(&key) {
-            if value != "0" {
-                argv.push(format!("--{key}"));
-            }
-        } else {
-            anyhow::bail!("unknown key '{key}'");
+        if seen.contains(&key) {
+            anyhow::bail!("{key}: given more than once");
+        }
+        seen.push(key);
+        let number = |v: &str| parse_finite(v).map_err(|e| anyhow!("{key}: {e}"));
+        let point = |v: &str| parse_vec3(v).map(glam::DVec3::from).map_err(|e| anyhow!("{key}: {e}"));
+        let (r, o) = (&mut f.request, &mut f.overrides);
+        match key {
+            "eye" => r.eye = Some(point(v)?),
+            "target" => r.target = Some(point(v)?),
+            "up" => r.up = Some(value::<Up>(key, v)?),
+            "fov" => r.fov = Some(number(v)?),
+            "view" => r.view = Some(value::<NamedView>(key, v)?),
+            "zoom" => r.zoom = Some(number(v)?),
+            "ortho" => r.ortho = v != "0",
+            "size" => o.size = Some(parse_size(v).map_err(|e| anyhow!("{key}: {e}"))?),
+            "method" => o.method = Some(value::<Method>(key, v)?),
+            "spp" => o.spp = Some(value::<u32>(key, v)?),
+            "normals" => o.normals = Some(value::<Normals>(key, v)?),
+            "aa" => o.aa = Some(value::<AntiAliasingKind>(key, v)?),
+            "max-depth" => o.max_depth = Some(value::<u32>(key, v)?),
+            "no-shadows" => o.shadows = (v != "0").then_some(false),
+            "section" => f.section = Some(value::<Section>(key, v)?),
+            _ => anyhow::bail!("unknown key '{key}'"),
         }
     }
-    let args = Frame::try_parse_from(&argv).map_err(|e| {
-        // clap's message without its pointer to --help.
-        let text = e.render().to_string();
-        anyhow!("{}", text.split("\n\n").next().unwrap_or_default().trim_start_matches("error: "))
-    })?;
-    let args = args.render;
-    if let Some([w, h]) = args.size.filter(|&[w, h]| w > MAX_SIDE || h > MAX_SIDE) {
+    if let Some([w, h]) = f.overrides.size.filter(|&[w, h]| w > MAX_SIDE || h > MAX_SIDE) {
         anyhow::bail!("size {w}x{h}: at most {MAX_SIDE} pixels a side");
     }
-    if let Some(spp) = args.spp.filter(|&n| n > MAX_SPP) {
+    if let Some(spp) = f.overrides.spp.filter(|&n| n > MAX_SPP) {
         anyhow::bail!("spp {spp}: at most {MAX_SPP}");
     }
-    for p in [args.camera.eye, args.camera.target].into_iter().flatten() {
-        if p.iter().any(|c| c.abs() > MAX_COORDINATE) {
-            anyhow::bail!("{p:?}: coordinates within {MAX_COORDINATE:e}");
+    for p in [f.request.eye, f.request.target].into_iter().flatten() {
+        if p.abs().max_element() > MAX_COORDINATE {
+            anyhow::bail!("{p}: coordinates within {MAX_COORDINATE:e}");
         }
     }
-    if let Some(zoom) = args.camera.zoom.filter(|z| !(1e-6..=1e6).contains(z)) {
+    if let Some(zoom) = f.request.zoom.filter(|z| !(1e-6..=1e6).contains(z)) {
         anyhow::bail!("zoom {zoom:e}: between 1e-6 and 1e6");
     }
-    Ok(args)
+    Ok(f)
 }
 
 fn camera_json(c: &Camera) -> serde_json::Value {
@@ -310,6 +328,34 @@ fn watch(viewed: &Mutex<Viewed>, input: &Path, kind: FileKind, source: &Source, 
                 warn!("{message} (showing the last good load)");
                 v.error = Some(message);
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_query_becomes_the_librarys_request_and_overrides() {
+        let f =
+            frame_query("eye=1,2,3&fov=40&size=80x60&method=trace&aa=adaptive&no-shadows=1&section=x,0.25").unwrap();
+        assert_eq!(f.request.eye, Some(glam::DVec3::new(1.0, 2.0, 3.0)));
+        assert_eq!(f.request.fov, Some(40.0));
+        assert_eq!(f.overrides.size, Some([80, 60]));
+        assert_eq!(f.overrides.method, Some(Method::Trace));
+        assert_eq!(f.overrides.aa, Some(AntiAliasingKind::Adaptive));
+        assert_eq!(f.overrides.shadows, Some(false));
+        assert_eq!(f.section.map(|s| s.at), Some(0.25));
+        for (bad, says) in [
+            ("method=fast", "method"),
+            ("fov=1&fov=2", "more than once"),
+            ("colour=red", "unknown key"),
+            ("size=9000x10", "at most"),
+            ("eye=1,2", "eye"),
+        ] {
+            let e = frame_query(bad).err().map(|e| e.to_string()).unwrap_or_default();
+            assert!(e.contains(says), "{bad}: {e}");
         }
     }
 }

@@ -59,7 +59,38 @@ impl std::str::FromStr for NamedView {
     }
 }
 
+impl std::fmt::Display for NamedView {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 impl NamedView {
+    /// Every value, in the order `--help` lists them.
+    pub const ALL: [NamedView; 7] = [
+        NamedView::Front,
+        NamedView::Back,
+        NamedView::Left,
+        NamedView::Right,
+        NamedView::Top,
+        NamedView::Bottom,
+        NamedView::Iso,
+    ];
+
+    /// The view's name (`FromStr` takes it in any case).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            NamedView::Front => "front",
+            NamedView::Back => "back",
+            NamedView::Left => "left",
+            NamedView::Right => "right",
+            NamedView::Top => "top",
+            NamedView::Bottom => "bottom",
+            NamedView::Iso => "iso",
+        }
+    }
+
     /// The direction from the target towards the eye in a world whose up is `up`.
     #[must_use]
     pub fn direction(self, up: Axis) -> DVec3 {

@@ -43,16 +43,33 @@ pub enum Interpolation {
     Phong,
 }
 
+impl Interpolation {
+    /// Every value, in the order `--help` lists them.
+    pub const ALL: [Interpolation; 3] = [Interpolation::Flat, Interpolation::Gouraud, Interpolation::Phong];
+
+    /// The value's one spelling (the command line's, `Display`'s).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Interpolation::Flat => "flat",
+            Interpolation::Gouraud => "gouraud",
+            Interpolation::Phong => "phong",
+        }
+    }
+}
+
 impl std::str::FromStr for Interpolation {
     type Err = String;
 
+    /// Parses [`Interpolation::name`]'s spelling, exactly.
     fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "flat" => Ok(Interpolation::Flat),
-            "gouraud" => Ok(Interpolation::Gouraud),
-            "phong" => Ok(Interpolation::Phong),
-            other => Err(format!("{other:?} is not flat, gouraud or phong")),
-        }
+        crate::render::names::parse_name(s, &Interpolation::ALL, Interpolation::name)
+    }
+}
+
+impl std::fmt::Display for Interpolation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 

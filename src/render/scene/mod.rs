@@ -3,17 +3,20 @@
 //! the complement's traversal for rays inside, the octree's normal estimate), their
 //! materials and textures, lights, ambient light and background.
 
+mod default_scene;
 mod gradient;
 mod light;
 mod material;
 mod normal_field;
 mod occupancy;
+mod section;
 mod texture;
 mod thread_cache;
 
 pub use light::Light;
 pub use material::{Bump, Material};
 pub(crate) use normal_field::NormalField;
+pub use section::Section;
 pub use texture::{Mapping, Texture};
 
 use std::sync::{Arc, OnceLock};

@@ -22,9 +22,13 @@ pub struct ShadeOptions {
     pub shadows: bool,
     /// Which normal shades (default [`Normals::Smooth`]).
     pub normals: Normals,
-    /// Longest chain of reflected and refracted rays after the primary one.
+    /// Longest chain of reflected and refracted rays after the primary one (0: local
+    /// shading only; at most [`MAX_RAY_DEPTH`](crate::render::MAX_RAY_DEPTH) in a
+    /// render).
     pub max_depth: u32,
-    /// A secondary ray is traced only when its weight in the pixel exceeds this.
+    /// A secondary ray is traced only when its weight in the pixel exceeds this
+    /// (POV-Ray's `adc_bailout`, 1/255 there; default 0.001; within `0..=1` in a
+    /// render).
     pub cutoff: f64,
 }
 

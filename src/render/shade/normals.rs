@@ -27,16 +27,33 @@ pub enum Normals {
     Octree,
 }
 
+impl Normals {
+    /// Every value, in the order `--help` lists them.
+    pub const ALL: [Normals; 3] = [Normals::Axis, Normals::Smooth, Normals::Octree];
+
+    /// The value's one spelling (the command line's, a scene file's, `Display`'s).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Normals::Axis => "axis",
+            Normals::Smooth => "smooth",
+            Normals::Octree => "octree",
+        }
+    }
+}
+
 impl std::str::FromStr for Normals {
     type Err = String;
 
+    /// Parses [`Normals::name`]'s spelling, exactly.
     fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "axis" => Ok(Normals::Axis),
-            "smooth" => Ok(Normals::Smooth),
-            "octree" => Ok(Normals::Octree),
-            other => Err(format!("{other:?} is not axis, smooth or octree")),
-        }
+        crate::render::names::parse_name(s, &Normals::ALL, Normals::name)
+    }
+}
+
+impl std::fmt::Display for Normals {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 
