@@ -70,6 +70,7 @@ pub mod shape;
 pub mod sharded;
 pub mod slice;
 mod solid_file;
+mod spelling;
 #[cfg(test)]
 mod test_util;
 mod text;

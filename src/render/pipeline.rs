@@ -112,7 +112,7 @@ impl std::str::FromStr for AntiAliasingKind {
 
     /// Parses [`AntiAliasingKind::name`]'s spelling, exactly.
     fn from_str(s: &str) -> Result<Self, String> {
-        super::names::parse_name(s, &AntiAliasingKind::ALL, AntiAliasingKind::name)
+        crate::spelling::parse_name(s, &AntiAliasingKind::ALL, AntiAliasingKind::name)
     }
 }
 

@@ -72,7 +72,7 @@ impl std::str::FromStr for Method {
 
     /// Parses [`Method::name`]'s spelling, exactly.
     fn from_str(s: &str) -> Result<Self, String> {
-        super::names::parse_name(s, &Method::ALL, Method::name)
+        crate::spelling::parse_name(s, &Method::ALL, Method::name)
     }
 }
 

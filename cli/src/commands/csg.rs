@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use clap::ValueEnum;
 use octsolid::octree::{Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
 use octsolid::sharded::{self, ShardedSolid};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
@@ -16,13 +15,15 @@ use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::solid_input::{ReadFlags, read_solid_file};
-use crate::values::TargetFlags;
+use crate::values::{TargetFlags, names};
 
 /// Arguments of `octsolid csg`.
 #[derive(clap::Args, Debug)]
 pub struct CsgArgs {
-    /// The operation (difference: the first minus all the others).
-    pub op: CsgOp,
+    /// The operation: union (voxels in any input), intersect (in every input),
+    /// difference (in the first input and no other), xor (in an odd number of inputs).
+    #[arg(value_parser = names::<SetOp>(SetOp::ALL.map(SetOp::name)))]
+    pub op: SetOp,
     /// Input solid files, .oct, .vox, .binvox or .vdb (at least two; a file of several
     /// solids counts as their union). Inputs over other domains or depths are brought
     /// into one: exactly where their voxels nest, else resampled.
@@ -42,37 +43,18 @@ pub struct CsgArgs {
     pub shards: ShardFlags,
 }
 
-/// A set operation over files.
-#[derive(ValueEnum, Clone, Copy, Debug)]
-pub enum CsgOp {
-    /// Voxels in any input.
-    Union,
-    /// Voxels in every input.
-    Intersect,
-    /// Voxels in the first input and no other.
-    Difference,
-    /// Voxels in an odd number of inputs.
-    Xor,
-}
-
 /// `octsolid csg OP A B [MORE...] -o OUT [--domain ...] [--depth D]`
 pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     let (op, inputs, output) = (a.op, &a.inputs, &a.output);
     check_extension(output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(output, &inputs.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
     a.shards.check_for(output)?;
-    let set_op = match op {
-        CsgOp::Union => SetOp::Union,
-        CsgOp::Intersect => SetOp::Intersection,
-        CsgOp::Difference => SetOp::Difference,
-        CsgOp::Xor => SetOp::SymmetricDifference,
-    };
     if is_sharded(output) && inputs.iter().all(|p| is_sharded(p)) && !a.target.given() {
         // Sharded into sharded: merged cell by cell, never whole in memory.
         let solids = inputs.iter().map(ShardedSolid::open).collect::<octsolid::Result<Vec<_>>>()?;
         return a
             .shards
-            .write(output, budget, Instant::now(), |options| Ok(sharded::combine(&solids, set_op, output, options)?));
+            .write(output, budget, Instant::now(), |options| Ok(sharded::combine(&solids, op, output, options)?));
     }
     // The budget is the job's: every operand is held while the next is read, and the
     // result is made beside them all.
@@ -125,17 +107,16 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     }
     // The result: at most as many nodes as the operands together (what the merge reserves).
     let nodes: u64 = trees.iter().map(|t| t.node_count() as u64).sum();
-    let job = format!("the {} of {} solids of {nodes} nodes beside them", set_op_name(op), trees.len());
+    let job = format!("the {op} of {} solids of {nodes} nodes beside them", trees.len());
     budget.check(job, held(&trees).saturating_add(nodes.saturating_mul(8)))?;
     let started = Instant::now();
-    let result = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), set_op)?;
+    let result = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), op)?;
     let operands = trees.len();
     drop(trees);
     let budget = MemoryBudget(budget.0.saturating_sub(result.bytes() as u64));
-    let name = set_op_name(op);
-    out!("{name} of {operands} solids in {:.2} ms", started.elapsed().as_secs_f64() * 1e3);
+    out!("{op} of {operands} solids in {:.2} ms", started.elapsed().as_secs_f64() * 1e3);
     if result.is_empty() {
-        warn!("the {name} is empty: no voxel is in it");
+        warn!("the {op} is empty: no voxel is in it");
     }
     if is_sharded(output) {
         return a.shards.write(output, budget, Instant::now(), |options| {
@@ -146,9 +127,4 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     print_summary(&result, None);
     Ok(())
-}
-
-/// The operation's name on the command line.
-fn set_op_name(op: CsgOp) -> String {
-    op.to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned())
 }

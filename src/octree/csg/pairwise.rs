@@ -32,6 +32,21 @@ pub enum SetOp {
 }
 
 impl SetOp {
+    /// Every operation, in the order `octsolid csg --help` lists them.
+    pub const ALL: [SetOp; 4] = [SetOp::Union, SetOp::Intersection, SetOp::Difference, SetOp::SymmetricDifference];
+
+    /// The operation's one spelling (`octsolid csg`'s, `Display`'s): `union`,
+    /// `intersect`, `difference`, `xor`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            SetOp::Union => "union",
+            SetOp::Intersection => "intersect",
+            SetOp::Difference => "difference",
+            SetOp::SymmetricDifference => "xor",
+        }
+    }
+
     /// The operator on memberships.
     #[inline]
     #[must_use]
@@ -42,6 +57,21 @@ impl SetOp {
             SetOp::Difference => a & !b,
             SetOp::SymmetricDifference => a ^ b,
         }
+    }
+}
+
+impl std::str::FromStr for SetOp {
+    type Err = String;
+
+    /// Parses [`SetOp::name`]'s spelling, exactly.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        crate::spelling::parse_name(s, &SetOp::ALL, SetOp::name)
+    }
+}
+
+impl std::fmt::Display for SetOp {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 
@@ -165,5 +195,19 @@ impl Not for &LinearOctree {
 
     fn not(self) -> LinearOctree {
         self.complement()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SetOp;
+
+    #[test]
+    fn every_set_op_reads_back_its_own_spelling_and_a_wrong_one_lists_them() {
+        for op in SetOp::ALL {
+            assert_eq!(op.to_string().parse::<SetOp>(), Ok(op));
+        }
+        assert_eq!(SetOp::ALL.map(SetOp::name), ["union", "intersect", "difference", "xor"]);
+        assert_eq!("Union".parse::<SetOp>(), Err("\"Union\" is not union, intersect, difference or xor".to_owned()));
     }
 }

@@ -63,7 +63,7 @@ impl std::str::FromStr for Interpolation {
 
     /// Parses [`Interpolation::name`]'s spelling, exactly.
     fn from_str(s: &str) -> std::result::Result<Self, String> {
-        crate::render::names::parse_name(s, &Interpolation::ALL, Interpolation::name)
+        crate::spelling::parse_name(s, &Interpolation::ALL, Interpolation::name)
     }
 }
 

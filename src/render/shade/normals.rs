@@ -47,7 +47,7 @@ impl std::str::FromStr for Normals {
 
     /// Parses [`Normals::name`]'s spelling, exactly.
     fn from_str(s: &str) -> Result<Self, String> {
-        crate::render::names::parse_name(s, &Normals::ALL, Normals::name)
+        crate::spelling::parse_name(s, &Normals::ALL, Normals::name)
     }
 }
 
