@@ -89,7 +89,7 @@ fn check(tree: &LinearOctree, mesh: &TriangleMesh, what: &str) {
         assert!(mesh.triangles.is_empty(), "{what}: an empty solid has no boundary");
         return;
     }
-    mesh.check().unwrap();
+    mesh.validate().unwrap();
 
     // Every directed edge once, and its reverse once.
     let mut directed: HashMap<(u32, u32), u32> = HashMap::new();

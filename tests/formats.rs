@@ -210,7 +210,7 @@ fn vox_materials_become_mirrors_glass_and_lights() {
         let scene = solids.scene(name, &b);
         let m = &scene.solids[index].material;
         assert_eq!((m.reflectance, m.transmittance), (reflectance, 0.0), "{name}");
-        m.check().unwrap();
+        m.validate().unwrap();
     }
     // Glass and an emitter through octsolid's writer and reader.
     let d = Domain::new(DVec3::ZERO, 8.0, 3).unwrap();

@@ -66,7 +66,7 @@ fn whitted_never_returns_more_light_than_comes_in() {
             ior: rng.range(1.0, 2.4),
             ..Material::default()
         };
-        material.check().unwrap();
+        material.validate().unwrap();
         scene.add(format!("ball {i}"), voxelize(&sphere, domain, &VoxelizeOptions::default()).unwrap(), material);
     }
     scene.lights = vec![
@@ -101,9 +101,9 @@ fn materials_out_of_range_are_refused() {
         Material { transmittance: f64::NAN, ..Material::default() },
     ];
     for m in bad {
-        assert!(m.check().is_err(), "{m:?}");
+        assert!(m.validate().is_err(), "{m:?}");
     }
-    assert!(Material::default().check().is_ok());
+    assert!(Material::default().validate().is_ok());
 }
 
 /// A mirror ball (reflectance 0.9, no local light) alone before a blue background,

@@ -49,7 +49,7 @@ pub fn mesh_from_bytes(bytes: &[u8], path: &Path) -> Result<(TriangleMesh, Vec<W
         FileKind::Ply => super::ply::parse(bytes, path, &mut warnings)?,
         other => unreachable!("{other:?} is not in FileKind::MESHES"),
     };
-    mesh.check().map_err(|e| Error::Format { path: path.to_path_buf(), offset: 0, reason: e.to_string() })?;
+    mesh.validate().map_err(|e| Error::Format { path: path.to_path_buf(), offset: 0, reason: e.to_string() })?;
     if !mesh.is_watertight() {
         mesh.weld();
     }

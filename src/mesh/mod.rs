@@ -71,12 +71,12 @@ impl TriangleMesh {
     /// A mesh from tables, checked: non-empty, finite coordinates, indices in range.
     pub fn new(vertices: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Result<Self> {
         let mesh = TriangleMesh { vertices, triangles, groups: Vec::new() };
-        mesh.check()?;
+        mesh.validate()?;
         Ok(mesh)
     }
 
     /// Checks the invariants [`TriangleMesh::new`] promises.
-    pub fn check(&self) -> Result<()> {
+    pub fn validate(&self) -> Result<()> {
         if self.triangles.is_empty() {
             return Err(Error::invalid("mesh", "it has no triangles"));
         }

@@ -34,7 +34,7 @@ pub fn save_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
     let format = FileKind::of(path, FileKind::MESHES)?;
     let separated;
     let mesh = if format == FileKind::Stl && !mesh.triangles.is_empty() && mesh.is_watertight() {
-        mesh.check()?;
+        mesh.validate()?;
         separated = separate(mesh).map_err(|reason| {
             Error::invalid("STL output", format!("{}: {reason}; write .obj or .ply instead", path.display()))
         })?;

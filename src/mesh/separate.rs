@@ -65,12 +65,12 @@ const STEP_ULPS: f64 = 4.0;
 /// positions comes back unchanged.
 ///
 /// # Errors
-/// When the mesh fails [`TriangleMesh::check`], `f32` cannot separate the copies of a
+/// When the mesh fails [`TriangleMesh::validate`], `f32` cannot separate the copies of a
 /// position within [`SEPARATION_LIMIT`] of the shortest edge, or two vertices round to
 /// the same `f32` point (copies that could not be moved apart, or distinct points
 /// where the coordinates are too large for the distances between them).
 pub fn separate_sheets(mesh: &TriangleMesh) -> Result<TriangleMesh> {
-    mesh.check()?;
+    mesh.validate()?;
     separate(mesh).map_err(|reason| Error::invalid("mesh for STL", reason))
 }
 

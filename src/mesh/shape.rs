@@ -63,11 +63,11 @@ pub struct MeshShape {
 }
 
 impl MeshShape {
-    /// The solid bounded by `mesh`, which must be valid ([`TriangleMesh::check`]) and
+    /// The solid bounded by `mesh`, which must be valid ([`TriangleMesh::validate`]) and
     /// watertight; otherwise an error that counts its open, non-manifold and
     /// misoriented edges.
     pub fn new(mesh: &TriangleMesh) -> Result<Self> {
-        mesh.check()?;
+        mesh.validate()?;
         if !mesh.is_watertight() {
             let r = PolygonTables::new(mesh).report();
             return Err(Error::invalid(

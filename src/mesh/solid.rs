@@ -186,7 +186,7 @@ pub fn voxelize_mesh(
     domain: Domain,
     options: &MeshVoxelizeOptions,
 ) -> Result<(LinearOctree, MeshVoxelizeStats)> {
-    mesh.check()?;
+    mesh.validate()?;
     let (mesh, void_triangles, copied) = solid_triangles(mesh);
     let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };
     let plan = Plan::new("voxelizing a mesh", estimate_bytes(&mesh, &domain, options.inside), domain, &driver)?;
@@ -213,7 +213,7 @@ pub fn voxelize_mesh_cells(
     cells: &Cells,
     sink: &mut dyn CellSink,
 ) -> Result<MeshVoxelizeStats> {
-    mesh.check()?;
+    mesh.validate()?;
     check_level(cells, &domain)?;
     let (mesh, void_triangles, copied) = solid_triangles(mesh);
     let driver = VoxelizeOptions { budget: options.budget, progress: options.progress };

@@ -41,7 +41,7 @@ pub fn voxelize_surface(
     kind: SurfaceKind,
     options: &VoxelizeOptions,
 ) -> Result<LinearOctree> {
-    mesh.check()?;
+    mesh.validate()?;
     let plan = Plan::new("voxelizing a mesh surface", estimate_surface_bytes(mesh, &domain), domain, options)?;
     let job = Surface { mesh, domain, kind };
     let all: Vec<u32> = (0..mesh.triangles.len() as u32).collect();

@@ -276,7 +276,7 @@ fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)
     {
         return Err(Error::invalid("anti-aliasing depth", format!("{depth} is outside 1..={MAX_AA_DEPTH}")));
     }
-    camera.check()?;
+    camera.validate()?;
     let scale = exposure_scale(exposure)?;
     // Recursive sampling keeps a sample a pixel corner, within one sample a pixel's.
     let spp = if matches!(aa, AntiAliasing::Recursive { .. }) { 1 } else { spp };

@@ -155,7 +155,7 @@ pub(super) fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
     let options = spec.image.options();
     let aspect = f64::from(options.width.max(1)) / f64::from(options.height.max(1));
     let camera = spec.camera.camera(&bounds, aspect);
-    camera.check().map_err(|e| cx.error(None, None, e))?;
+    camera.validate().map_err(|e| cx.error(None, None, e))?;
     Ok(SceneFile { scene, camera, options, warnings, cache })
 }
 
@@ -434,7 +434,7 @@ impl SolidBuild<'_> {
             None => (&default, None),
         };
         let material = spec.material(self.cx.folder).map_err(self.at(span.clone()))?;
-        material.check().map_err(self.at(span))?;
+        material.validate().map_err(self.at(span))?;
         Ok(material)
     }
 }

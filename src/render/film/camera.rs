@@ -55,7 +55,7 @@ impl Camera {
     /// `eye` away from `target`, `up` not along the line of sight, a perspective field
     /// of view strictly between 0 and 180 degrees, an orthographic height finite and
     /// positive.
-    pub fn check(&self) -> Result<()> {
+    pub fn validate(&self) -> Result<()> {
         let bad = |reason: String| Err(Error::invalid("camera", reason));
         let (eye, target, up) = (self.eye, self.target, self.up);
         if !(eye.is_finite() && target.is_finite() && up.is_finite()) {

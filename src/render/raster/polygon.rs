@@ -265,7 +265,7 @@ pub fn estimate_mesh_render_bytes(options: &MeshRenderOptions, vertices: usize) 
 /// with `spp x spp` samples a pixel (a box filter over the supersampled image, times
 /// the exposure's `2^stops`; [`Picture::to_srgb8`] for a PNG). Refused before any
 /// work when the size, samples or exposure are out of range, the camera cannot make a
-/// picture ([`Camera::check`]) or the estimate exceeds the budget.
+/// picture ([`Camera::validate`]) or the estimate exceeds the budget.
 pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptions) -> Result<Picture> {
     let MeshRenderOptions { width, height, spp, interpolation, budget, exposure } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
@@ -274,13 +274,13 @@ pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptio
     if !(1..=16).contains(&spp) {
         return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
     }
-    camera.check()?;
+    camera.validate()?;
     let scale = exposure_scale(exposure)?;
     budget.check(
         format!("a {width}x{height} polygon picture at {spp}x{spp} samples a pixel"),
         estimate_mesh_render_bytes(options, scene.mesh.vertices.len()),
     )?;
-    scene.material.check()?;
+    scene.material.validate()?;
     let (w, h) = (width * spp, height * spp);
     let seen = fragments(scene.mesh, camera, w, h, budget)?;
     let normals = vertex_normals(scene.mesh);

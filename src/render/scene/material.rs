@@ -67,7 +67,7 @@ impl Material {
 
     /// Fails unless every coefficient is finite and in range: `ka, kd, ks, kr, kt` in
     /// `[0, 1]`, `kr + kt <= 1`, `ior > 0`, `shininess >= 0`.
-    pub fn check(&self) -> Result<()> {
+    pub fn validate(&self) -> Result<()> {
         let unit = [("ka", self.ka), ("kd", self.kd), ("ks", self.ks)]
             .into_iter()
             .chain([("reflectance", self.reflectance), ("transmittance", self.transmittance)]);
@@ -112,7 +112,7 @@ impl Material {
     ///   2`, the Phong exponent of a Beckmann roughness `r`, for metals and glass).
     ///
     /// Values that do not parse or are out of range are left at the default; the
-    /// result always passes [`Material::check`].
+    /// result always passes [`Material::validate`].
     #[must_use]
     pub fn from_magicavoxel(color: DVec3, properties: &std::collections::BTreeMap<String, String>) -> Self {
         let number =
