@@ -5,13 +5,13 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use octsolid::MemoryBudget;
 use octsolid::NoProgress;
-use octsolid::mesh::{BoundaryOptions, InsideRule, MeshVoxelizeOptions, boundary_mesh, load_mesh, voxelize_mesh};
+use octsolid::mesh::{BoundaryOptions, InsideRule, MeshVoxelizeOptions, boundary_mesh, read_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("export");
     group.sample_size(10);
-    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
+    let bunny = read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
     let options =
         MeshVoxelizeOptions { inside: InsideRule::Auto, budget: MemoryBudget::unlimited(), progress: &NoProgress };
     let domain = Domain::around(&bunny.bounds(), 0.02, 10).unwrap();

@@ -13,14 +13,14 @@ use glam::DVec3;
 use octsolid::MemoryBudget;
 use octsolid::NoProgress;
 use octsolid::io::{ColouredSolid, ReadOptions, Solids, binvox, gltf, oct, vdb, vox};
-use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, Node};
 use octsolid::shape::Axis;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("formats");
     group.sample_size(10);
-    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
+    let bunny = read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
     let options =
         MeshVoxelizeOptions { inside: InsideRule::Auto, budget: MemoryBudget::unlimited(), progress: &NoProgress };
     let domain = Domain::around(&bunny.bounds(), 0.02, 10).unwrap();

@@ -6,14 +6,14 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use octsolid::MemoryBudget;
 use octsolid::NoProgress;
 use octsolid::import::{self, ImportOptions, Input};
-use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, VoxelizeOptions};
 use octsolid::patch::voxelize_patch_surface;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("mesh");
     group.sample_size(10);
-    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
+    let bunny = read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
     let options =
         MeshVoxelizeOptions { inside: InsideRule::Auto, budget: MemoryBudget::unlimited(), progress: &NoProgress };
     for depth in [8, 9, 10] {
@@ -31,7 +31,7 @@ fn bench(c: &mut Criterion) {
             b.iter(|| voxelize_mesh(&bunny, domain, &options).unwrap())
         });
     }
-    let teapot = Input::load(concat!(env!("CARGO_MANIFEST_DIR"), "/models/teapot.patches")).unwrap();
+    let teapot = Input::read(concat!(env!("CARGO_MANIFEST_DIR"), "/models/teapot.patches")).unwrap();
     let domain = import::default_domain(&teapot, 9).unwrap();
     let Input::Patches(patches) = &teapot else { unreachable!() };
     let surface_options = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };

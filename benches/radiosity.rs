@@ -11,12 +11,12 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{Camera, render};
-use octsolid::scene_file::{SceneFile, load_scene};
+use octsolid::scene_file::{SceneFile, read_scene};
 use octsolid::{MemoryBudget, NoProgress};
 
 fn cornell() -> SceneFile {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell.toml");
-    load_scene(path, MemoryBudget::unlimited()).unwrap()
+    read_scene(path, MemoryBudget::unlimited()).unwrap()
 }
 
 fn bench(c: &mut Criterion) {

@@ -21,7 +21,7 @@
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use octsolid::io::png;
-use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::mesh::{MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree};
 use octsolid::render::{
     Camera, Material, Method, Normals, RenderOptions, SampleGrid, Scene, ShadeOptions, render, visibility,
@@ -35,7 +35,7 @@ mod hard_views;
 
 /// The bunny voxelized at `depth` in its bounding cube (2% margin), as the CLI does.
 fn bunny(depth: u8) -> LinearOctree {
-    let mesh = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
+    let mesh = read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     voxelize_mesh(&mesh, Domain::around(&mesh.bounds(), 0.02, depth).unwrap(), &options).unwrap().0
 }

@@ -8,7 +8,7 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use glam::DVec3;
 use octsolid::MemoryBudget;
 use octsolid::NoProgress;
-use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::mesh::{MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{Camera, PACKET, TILE, Traversal};
 use octsolid::shape::{Axis, Sphere};
@@ -18,7 +18,7 @@ use rayon::prelude::*;
 const SIZE: u32 = 1024;
 
 fn solids() -> Vec<(&'static str, LinearOctree, Axis)> {
-    let bunny = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
+    let bunny = read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/models/stanford-bunny.obj")).unwrap();
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     let (bunny, _) = voxelize_mesh(&bunny, Domain::around(&bunny.bounds(), 0.02, 10).unwrap(), &options).unwrap();
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 12).unwrap();

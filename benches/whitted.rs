@@ -10,11 +10,11 @@ use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, 
 use octsolid::MemoryBudget;
 use octsolid::NoProgress;
 use octsolid::render::{Normals, render};
-use octsolid::scene_file::{SceneFile, load_scene};
+use octsolid::scene_file::{SceneFile, read_scene};
 
 fn scene(normals: Normals) -> SceneFile {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/whitted.toml");
-    let mut file = load_scene(path, MemoryBudget::unlimited()).unwrap();
+    let mut file = read_scene(path, MemoryBudget::unlimited()).unwrap();
     file.options.shade.normals = normals;
     file
 }

@@ -5,7 +5,7 @@
 //! Run: `cargo run --release --example bunny_csg` (writes example-output/bunny_csg/bunny_csg.oct and .png).
 
 use glam::DAffine3;
-use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::mesh::{MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::prelude::*;
 
 mod common;
@@ -16,7 +16,7 @@ fn main() -> std::process::ExitCode {
 
 fn bunny_csg(out: &std::path::Path) -> Result<()> {
     // The scan is open at the base; the default `auto` rule picks the winding number.
-    let mesh = load_mesh(common::model("stanford-bunny.obj"))?;
+    let mesh = read_mesh(common::model("stanford-bunny.obj"))?;
     let domain = Domain::around(&mesh.bounds(), 0.02, 9)?;
     let (bunny, stats) = voxelize_mesh(&mesh, domain, &MeshVoxelizeOptions::default())?;
 
@@ -31,8 +31,8 @@ fn bunny_csg(out: &std::path::Path) -> Result<()> {
     let tunnel = voxelize(&Cylinder::new(body, Axis::X, 0.015, 0.4)?, domain, &VoxelizeOptions::default())?;
 
     let carved = &(&bunny - &cavity) - &tunnel;
-    oct::save(&carved, out.join("bunny_csg.oct"))?;
-    png::save(&slice_image(&carved, Axis::Z, 0.0, 768)?, out.join("bunny_csg.png"))?;
+    oct::write(&carved, out.join("bunny_csg.oct"))?;
+    png::write(&slice_image(&carved, Axis::Z, 0.0, 768)?, out.join("bunny_csg.png"))?;
 
     println!(
         "bunny at depth 9 ({} rule): {} nodes, volume {:.4e}",
@@ -49,14 +49,14 @@ fn bunny_csg(out: &std::path::Path) -> Result<()> {
 
     // A closed mesh is a Shape: carve the watertight bunny by a cylinder first, then
     // voxelize the expression once.
-    let closed = load_mesh(common::model("bunny-watertight.obj"))?;
+    let closed = read_mesh(common::model("bunny-watertight.obj"))?;
     let b = closed.bounds();
     let (centre, size) = (b.center(), b.size());
     let bore = Cylinder::new(centre, Axis::X, 0.12 * size.y, 1.2 * size.x)?;
     let expression = MeshShape::new(&closed)? - bore;
     let bored = voxelize(&expression, Domain::around(&b, 0.02, 8)?, &VoxelizeOptions::default())?;
-    oct::save(&bored, out.join("bunny_bored.oct"))?;
-    png::save(&slice_image(&bored, Axis::Z, centre.z, 768)?, out.join("bunny_bored.png"))?;
+    oct::write(&bored, out.join("bunny_bored.oct"))?;
+    png::write(&slice_image(&bored, Axis::Z, centre.z, 768)?, out.join("bunny_bored.png"))?;
     println!("closed bunny minus a bore, as one shape: {} nodes, volume {:.4e}", bored.node_count(), bored.volume());
     println!("bunny_csg.oct, bunny_csg.png (slice at z = 0), bunny_bored.oct and bunny_bored.png");
     Ok(())

@@ -23,8 +23,8 @@ fn classic_csg(out: &std::path::Path) -> Result<()> {
     // Voxelize into 512^3 voxels over the cube [-1, 1]^3 and save.
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 9)?;
     let solid = voxelize(&part, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, out.join("classic_csg.oct"))?;
-    png::save(&slice_image(&solid, Axis::Z, 0.8, 768)?, out.join("classic_csg.png"))?;
+    oct::write(&solid, out.join("classic_csg.oct"))?;
+    png::write(&slice_image(&solid, Axis::Z, 0.8, 768)?, out.join("classic_csg.png"))?;
 
     // Analytic volume: the ball clipped by the cube loses six caps of height h = R - 1
     // (they never overlap since 2 > R^2); the three bores lie wholly inside it and

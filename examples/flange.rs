@@ -33,8 +33,8 @@ fn flange(out: &std::path::Path) -> Result<()> {
     // Voxelize: the domain is the cube around the disc, 512 voxels a side.
     let domain = Domain::new(DVec3::new(-1.05, -1.05, -0.1), 2.1, 9)?;
     let solid = voxelize(&flange, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, out.join("flange.oct"))?;
-    png::save(&slice_image(&solid, Axis::Z, 0.1, 768)?, out.join("flange.png"))?;
+    oct::write(&solid, out.join("flange.oct"))?;
+    png::write(&slice_image(&solid, Axis::Z, 0.1, 768)?, out.join("flange.png"))?;
     // A picture of the part in one call: default camera, lights and material.
     octsolid::quick(&solid, out.join("flange-render.png"))?;
 

@@ -22,8 +22,8 @@ fn menger(out: &std::path::Path) -> Result<()> {
     let sponge = Menger::new(DVec3::ZERO, 2.0, level)?;
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, depth)?;
     let solid = voxelize(&sponge, domain, &VoxelizeOptions::default())?;
-    oct::save(&solid, out.join("menger.oct"))?;
-    png::save(&slice_image(&solid, Axis::Z, -0.99, 810)?, out.join("menger.png"))?;
+    oct::write(&solid, out.join("menger.oct"))?;
+    png::write(&slice_image(&solid, Axis::Z, -0.99, 810)?, out.join("menger.png"))?;
 
     let exact = sponge.volume();
     println!(

@@ -84,8 +84,8 @@ fn perforated_plate(out: &std::path::Path) -> Result<()> {
             );
         }
         if i == 0 {
-            oct::save(&solid, out.join("plate.oct"))?;
-            png::save(&slice_image(&solid, Axis::Z, 5.0, 1024)?, out.join("plate.png"))?;
+            oct::write(&solid, out.join("plate.oct"))?;
+            png::write(&slice_image(&solid, Axis::Z, 5.0, 1024)?, out.join("plate.png"))?;
         }
     }
     Ok(())

@@ -15,7 +15,7 @@ fn main() -> std::process::ExitCode {
 }
 
 fn teapot(out: &std::path::Path) -> Result<()> {
-    let input = Input::load(common::model("teapot.patches"))?;
+    let input = Input::read(common::model("teapot.patches"))?;
     let Input::Patches(patches) = &input else { unreachable!("a .patches file") };
     let domain = import::default_domain(&input, 9)?;
 
@@ -23,9 +23,9 @@ fn teapot(out: &std::path::Path) -> Result<()> {
     let shell = voxelize_patch_surface(patches, domain, &VoxelizeOptions::default())?;
     // The solid, from a tessellation fine enough for the voxel size.
     let (solid, summary) = import::voxelize_input(&input, domain, &ImportOptions::default())?;
-    oct::save(&solid, out.join("teapot.oct"))?;
-    oct::save(&shell, out.join("teapot_shell.oct"))?;
-    png::save(&slice_image(&solid, Axis::Y, 0.0, 768)?, out.join("teapot.png"))?;
+    oct::write(&solid, out.join("teapot.oct"))?;
+    oct::write(&shell, out.join("teapot_shell.oct"))?;
+    png::write(&slice_image(&solid, Axis::Y, 0.0, 768)?, out.join("teapot.png"))?;
 
     let reference = octsolid::mesh::PolygonTables::new(&tessellate(patches, 64)).report().volume;
     println!("teapot: {} patches; shell {} nodes ({} voxels)", patches.len(), shell.node_count(), shell.voxel_count());

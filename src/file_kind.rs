@@ -126,13 +126,13 @@ impl FileKind {
     /// palette colour, `.vdb` one a grid, `.glb` one a mesh); the others hold one.
     pub const MANY_SOLIDS: &'static [FileKind] = &[FileKind::Vox, FileKind::Vdb, FileKind::Glb];
 
-    /// The pictures ([`crate::io::save_picture`]).
+    /// The pictures ([`crate::io::write_picture`]).
     pub const PICTURES: &'static [FileKind] = &[FileKind::Png, FileKind::Exr];
 
     /// The triangle meshes.
     pub const MESHES: &'static [FileKind] = &[FileKind::Obj, FileKind::Stl, FileKind::Ply];
 
-    /// What [`crate::import::Input::load`] reads: the meshes and patch sets.
+    /// What [`crate::import::Input::read`] reads: the meshes and patch sets.
     pub const SURFACES: &'static [FileKind] = &[FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::Patches];
 
     /// The extension, without the dot, in lower case.

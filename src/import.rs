@@ -11,11 +11,11 @@ use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::file_kind::FileKind;
 use crate::mesh::{
-    InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh, load_mesh_with_warnings,
+    InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh, read_mesh_and_warnings,
     voxelize_mesh, voxelize_surface,
 };
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
-use crate::patch::{BezierPatch, load_patches, segments_for, tessellate_within, voxelize_patch_surface};
+use crate::patch::{BezierPatch, read_patches, segments_for, tessellate_within, voxelize_patch_surface};
 use crate::progress::{NoProgress, Progress};
 use crate::warning::Warning;
 
@@ -52,18 +52,18 @@ pub enum Input {
 
 impl Input {
     /// Loads a mesh or a `.patches` file by extension ([`FileKind::SURFACES`]).
-    pub fn load(path: impl AsRef<Path>) -> Result<Input> {
-        Input::load_with_warnings(path).map(|(input, _)| input)
+    pub fn read(path: impl AsRef<Path>) -> Result<Input> {
+        Input::read_and_warnings(path).map(|(input, _)| input)
     }
 
-    /// [`Input::load`], with what the mesh loader read past
-    /// ([`crate::mesh::load_mesh_with_warnings`]; a patch set has none).
-    pub fn load_with_warnings(path: impl AsRef<Path>) -> Result<(Input, Vec<Warning>)> {
+    /// [`Input::read`], with what the mesh loader read past
+    /// ([`crate::mesh::read_mesh_and_warnings`]; a patch set has none).
+    pub fn read_and_warnings(path: impl AsRef<Path>) -> Result<(Input, Vec<Warning>)> {
         let path = path.as_ref();
         Ok(match FileKind::of(path, FileKind::SURFACES)? {
-            FileKind::Patches => (Input::Patches(load_patches(path)?), Vec::new()),
+            FileKind::Patches => (Input::Patches(read_patches(path)?), Vec::new()),
             _ => {
-                let (mesh, warnings) = load_mesh_with_warnings(path)?;
+                let (mesh, warnings) = read_mesh_and_warnings(path)?;
                 (Input::Mesh(mesh), warnings)
             }
         })

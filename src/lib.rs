@@ -105,13 +105,13 @@ pub mod prelude {
     //!   [`CsgNode`]s, [`Transformed`] and [`ShapeExt`] (`.translate()`, `.rotate()`, `.scale()`, `.transform()`),
     //!   the patterns ([`linear_array`], [`polar_array`], [`mirrored`], [`Placement`]), the
     //!   [`Shape`] trait with [`Surface`] and [`Axis`], and [`MeshShape`] with
-    //!   [`load_mesh`] for a closed mesh as a shape;
+    //!   [`read_mesh`] for a closed mesh as a shape;
     //! - files and pictures: the [`oct`] and [`png`] modules, [`slice_image`];
     //! - [`Aabb`], [`Error`], [`Result`], [`MemoryBudget`], and glam's [`DVec3`], [`DMat3`],
     //!   [`DMat4`].
 
     pub use crate::io::{oct, png};
-    pub use crate::mesh::{MeshShape, load_mesh};
+    pub use crate::mesh::{MeshShape, read_mesh};
     pub use crate::octree::{CoarsenRule, Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
     pub use crate::shape::{
         Axis, Cone, Csg, CsgNode, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Placement, Shape,

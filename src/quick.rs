@@ -49,6 +49,6 @@ pub fn quick(solid: &LinearOctree, path: impl AsRef<Path>) -> Result<RenderStats
     let camera = CameraRequest::default().camera(&framing, aspect)?;
     let scene = Scene::of_solid(solid.clone(), "solid", up);
     let (picture, stats) = render_picture(&scene, &camera, &options, &NoProgress)?;
-    png::save(&picture.to_srgb8(), path)?;
+    png::write(&picture.to_srgb8(), path)?;
     Ok(stats)
 }

@@ -23,7 +23,7 @@ use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
 use crate::io::oct::{self, Metadata};
 use crate::io::{ColouredSolid, ReadOptions, Solids, SolidsRef, WriteOptions, binvox, file_stem, one_solid, vdb, vox};
-use crate::mesh::{BoundaryOptions, save_mesh, try_boundary_mesh};
+use crate::mesh::{BoundaryOptions, try_boundary_mesh, write_mesh};
 use crate::octree::LinearOctree;
 use crate::progress::Progress;
 use crate::sharded::{self, ShardedSolid, StreamOptions};
@@ -52,12 +52,12 @@ impl SolidFile {
         let kind = FileKind::of(path, FileKind::SOLIDS)?;
         let file = match kind {
             FileKind::Oct => {
-                let (tree, meta) = oct::load_with(path, options.budget)?;
+                let (tree, meta) = oct::read_and_metadata(path, options.budget)?;
                 SolidFile::one(path, kind, tree, meta)
             }
             FileKind::Octs => {
                 let solid = ShardedSolid::open(path)?;
-                let tree = solid.load(options.budget)?;
+                let tree = solid.read(options.budget)?;
                 SolidFile::one(path, kind, tree, solid.index().meta)
             }
             FileKind::Binvox => SolidFile::one(path, kind, binvox::read(path, options.budget)?, Metadata::default()),
@@ -71,14 +71,14 @@ impl SolidFile {
 
     /// Reads the solid file at `path` to be drawn: as [`SolidFile::read`], but a
     /// sharded solid larger than the budget comes at the finest depth that fits it
-    /// ([`ShardedSolid::load_within`]; [`SolidFile::coarsened_from`] says so).
+    /// ([`ShardedSolid::read_within`]; [`SolidFile::coarsened_from`] says so).
     pub fn read_to_draw(path: impl AsRef<Path>, options: &ReadOptions) -> Result<SolidFile> {
         let path = path.as_ref();
         if FileKind::of(path, FileKind::SOLIDS)? != FileKind::Octs {
             return SolidFile::read(path, options);
         }
         let solid = ShardedSolid::open(path)?;
-        let tree = solid.load_within(options.budget)?;
+        let tree = solid.read_within(options.budget)?;
         let depth = solid.index().domain.depth();
         let mut file = SolidFile::one(path, FileKind::Octs, tree, solid.index().meta);
         file.coarsened_from = (file.solids.domain.depth() < depth).then_some(depth);
@@ -123,7 +123,7 @@ impl SolidFile {
 /// `.vox`, `.vdb` and `.glb` write every solid with its name and colour; the others
 /// hold one solid and refuse more (take the union first): `.oct` and `.octs` with
 /// `options.meta` (`.octs` at the default cell level, in one job: a command with its
-/// own cells writes through [`sharded::save`]), `.binvox`, and `.obj`, `.stl` and
+/// own cells writes through [`sharded::write`]), `.binvox`, and `.obj`, `.stl` and
 /// `.ply` the solid's boundary mesh with merged faces (`progress` counts its steps),
 /// refused for an empty solid, which has none.
 pub fn write_solid_file(
@@ -137,7 +137,7 @@ pub fn write_solid_file(
     if kind == FileKind::Octs {
         let tree = one_solid(path, solids)?;
         let stream = StreamOptions { budget: options.budget, ..StreamOptions::default() };
-        let index = sharded::save(tree, options.meta, path, &stream)?.expect("every cell: an index");
+        let index = sharded::write(tree, options.meta, path, &stream)?.expect("every cell: an index");
         return Ok(index.shards.iter().map(|s| s.bytes).sum());
     }
     if kind.is_mesh() {
@@ -147,7 +147,7 @@ pub fn write_solid_file(
         }
         let mesh = try_boundary_mesh(tree, &BoundaryOptions::default(), options.budget, progress)
             .map_err(|e| unwritable(path, format!("cannot mesh the solid: {e}")))?;
-        return save_mesh(&mesh, path);
+        return write_mesh(&mesh, path);
     }
     crate::io::write_voxel_solids(path, kind, solids, options)
 }

@@ -3,7 +3,7 @@
 //! The library never prints. A loader that skips something (an unknown PLY header
 //! line, a missing `.mtl`, lines that are not UTF-8) pushes a [`Warning`] naming the
 //! file and the [`Place`], and returns them beside what it read
-//! ([`crate::mesh::load_mesh_with_warnings`], [`crate::import::Input::load_with_warnings`]);
+//! ([`crate::mesh::read_mesh_and_warnings`], [`crate::import::Input::read_and_warnings`]);
 //! the CLI prints each as `warning: FILE: line N: ...`.
 
 use std::fmt;

@@ -10,7 +10,7 @@ use std::collections::{HashMap, HashSet};
 
 use common::{Rng, random_octree};
 use glam::DVec3;
-use octsolid::mesh::{BoundaryOptions, PolygonTables, TriangleMesh, boundary_mesh, load_mesh, save_mesh};
+use octsolid::mesh::{BoundaryOptions, PolygonTables, TriangleMesh, boundary_mesh, read_mesh, write_mesh};
 use octsolid::octree::{Domain, LinearOctree, Node, VoxelizeOptions, voxelize};
 use octsolid::shape::{Csg, Cuboid, Sphere};
 
@@ -315,8 +315,8 @@ fn files_reload_with_the_same_volume() {
             let mesh = boundary_mesh(tree, &options);
             for ext in ["obj", "stl", "ply"] {
                 let path = dir.join(format!("{what}.{ext}"));
-                save_mesh(&mesh, &path).unwrap();
-                let loaded = load_mesh(&path).unwrap();
+                write_mesh(&mesh, &path).unwrap();
+                let loaded = read_mesh(&path).unwrap();
                 let report = PolygonTables::new(&loaded).report();
                 let volume = tree.volume();
                 // STL moves the copies by a thousandth of an edge: a few 10^-4 voxel

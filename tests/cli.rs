@@ -1148,7 +1148,7 @@ fn csg_budget_is_for_the_whole_job() {
         ok(&dir, &[&args[..], &["-o", name]].concat());
     }
     let trees: Vec<LinearOctree> =
-        names.iter().map(|n| octsolid::io::oct::load(dir.join(n), MemoryBudget::unlimited()).unwrap()).collect();
+        names.iter().map(|n| octsolid::io::oct::read(dir.join(n), MemoryBudget::unlimited()).unwrap()).collect();
     let largest = trees.iter().map(LinearOctree::bytes).max().unwrap() as u64;
     let all: u64 = trees.iter().map(|t| t.bytes() as u64).sum();
     let csg = |budget: u64| -> Vec<String> {
@@ -1166,7 +1166,7 @@ fn csg_budget_is_for_the_whole_job() {
     let union = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), SetOp::Union).unwrap();
     let pairwise = trees.iter().skip(1).fold(trees[0].clone(), |a, t| &a | t);
     assert_eq!(union, pairwise);
-    assert_eq!(octsolid::io::oct::load(dir.join("u.oct"), MemoryBudget::unlimited()).unwrap(), union);
+    assert_eq!(octsolid::io::oct::read(dir.join("u.oct"), MemoryBudget::unlimited()).unwrap(), union);
 }
 
 /// `octsolid::quick` is `octsolid render x.oct` without flags: the same bytes.
@@ -1179,7 +1179,7 @@ fn quick_writes_the_bytes_render_writes_for_the_same_solid() {
     let shape = Cuboid::new(glam::DVec3::new(-0.8, -0.5, -0.3), glam::DVec3::new(0.8, 0.5, 0.3)).unwrap()
         - Sphere::new(glam::DVec3::new(0.2, -0.1, 0.3), 0.4).unwrap();
     let solid = voxelize(&shape, domain, &VoxelizeOptions::default()).unwrap();
-    octsolid::io::oct::save(&solid, dir.join("x.oct")).unwrap();
+    octsolid::io::oct::write(&solid, dir.join("x.oct")).unwrap();
     let stats = octsolid::quick(&solid, dir.join("quick.png")).unwrap();
     assert!(stats.hits > 0, "{stats:?}");
     ok(&dir, &["render", "x.oct", "-o", "cli.png"]);

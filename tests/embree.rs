@@ -20,7 +20,7 @@
 //! (declared in `harness/Cargo.toml`, where the feature is).
 
 use glam::DVec3;
-use octsolid::mesh::{BoundaryOptions, TriangleMesh, boundary_mesh, load_mesh};
+use octsolid::mesh::{BoundaryOptions, TriangleMesh, boundary_mesh, read_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{DEFAULT_VIEW, Traversal};
 use octsolid::samples::classic_csg;
@@ -164,7 +164,7 @@ fn brute_force(mesh: &TriangleMesh, ray: &Ray) -> Option<Option<SurfaceHit>> {
 
 #[test]
 fn embree_agrees_with_brute_force_on_a_mesh() {
-    let mesh = load_mesh(format!("{MODELS}/bunny-watertight.obj")).unwrap();
+    let mesh = read_mesh(format!("{MODELS}/bunny-watertight.obj")).unwrap();
     let embree = EmbreeBvh::build(&mesh);
     let bounds = mesh.bounds();
     let diag = bounds.size().length();
@@ -214,7 +214,7 @@ fn embree_agrees_with_brute_force_on_a_mesh() {
 
 #[test]
 fn embree_bytes_cover_its_buffers() {
-    let mesh = load_mesh(format!("{MODELS}/bunny-watertight.obj")).unwrap();
+    let mesh = read_mesh(format!("{MODELS}/bunny-watertight.obj")).unwrap();
     let embree = EmbreeBvh::build(&mesh);
     let buffers = 12 * (mesh.vertices.len() + mesh.triangles.len());
     assert!(

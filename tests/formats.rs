@@ -1078,7 +1078,7 @@ fn the_door_writes_and_reads_every_solid_kind_with_its_metadata() {
     for kind in [FileKind::Obj, FileKind::Stl, FileKind::Ply] {
         let path = dir.join(format!("door.{}", kind.extension()));
         write_solid_file(&path, &SolidsRef::of_file(&path, &tree), &write, &NoProgress).unwrap();
-        let mesh = octsolid::mesh::load_mesh(&path).unwrap();
+        let mesh = octsolid::mesh::read_mesh(&path).unwrap();
         // STL's f32 corners and its sheets moved apart (a thousandth of an edge) move
         // the enclosed volume a little; OBJ and PLY keep it exactly.
         let tolerance = if kind == FileKind::Stl { 1e-2 } else { 1e-9 };

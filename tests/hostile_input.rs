@@ -32,7 +32,7 @@ use octsolid::octree::{Domain, EDGE_RANGE, LinearOctree, MAX_COORDINATE, Voxeliz
 use octsolid::patch::{BezierPatch, estimate_tessellation_bytes, tessellate};
 use octsolid::render::polygon::{Interpolation, MeshRenderOptions, MeshScene, fragments, render_mesh};
 use octsolid::render::{Camera, Material, Projection, RenderOptions, Scene, render};
-use octsolid::scene_file::load_scene;
+use octsolid::scene_file::read_scene;
 use octsolid::shape::Cuboid;
 use octsolid::{Error, MemoryBudget, NoProgress};
 
@@ -179,7 +179,7 @@ fn non_finite_and_out_of_range_camera_values_are_refused_with_their_place() {
     };
     let err = |camera: &str| {
         let path = write(&dir, "s.toml", &scene(camera));
-        load_scene(&path, MemoryBudget::default()).map(|_| ()).unwrap_err().to_string()
+        read_scene(&path, MemoryBudget::default()).map(|_| ()).unwrap_err().to_string()
     };
     // Any float of the file that is not finite: named with its key, line and column.
     let e = err("eye = [4, 3, 2]\nfov = nan");
@@ -235,7 +235,7 @@ fn facing_mirrors_at_the_deepest_recursion_render_on_the_worker_threads() {
          shape = { box = { center = [0, -2, 0], size = [8, 0.2, 8] } }\n\n\
          [[light]]\ntype = \"point\"\nposition = [0, 0, 3]\n",
     );
-    let file = load_scene(&path, MemoryBudget::default()).unwrap();
+    let file = read_scene(&path, MemoryBudget::default()).unwrap();
     assert_eq!(file.options.shade.max_depth, octsolid::render::MAX_RAY_DEPTH);
     let (img, stats) = render(&file.scene, &file.camera, &file.options, &NoProgress).unwrap();
     assert!(stats.secondary_rays > 10 * u64::from(img.width() * img.height()), "{stats:?}");

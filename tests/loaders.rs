@@ -9,7 +9,7 @@ use common::Rng;
 use glam::DVec3;
 use octsolid::mesh::generate::icosphere;
 use octsolid::mesh::*;
-use octsolid::patch::load_patches;
+use octsolid::patch::read_patches;
 use octsolid::{Error, Place};
 
 /// A folder of its own for each test (tests run in parallel).
@@ -76,7 +76,7 @@ fn every_format_round_trips() {
     let mesh = icosphere(DVec3::new(0.5, -1.0, 2.0), 1.5, 2);
     let want = PolygonTables::new(&mesh).report();
     for (name, bytes) in files(&mesh) {
-        let loaded = load_mesh(write(&dir, name, &bytes)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let loaded = read_mesh(write(&dir, name, &bytes)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let got = PolygonTables::new(&loaded).report();
         assert_eq!((got.vertices, got.triangles, got.edges), (want.vertices, want.triangles, want.edges), "{name}");
         assert!(got.watertight, "{name}: welding restores the connectivity");
@@ -84,8 +84,8 @@ fn every_format_round_trips() {
     }
     // Saving by extension, atomically.
     let path = dir.join("saved.ply");
-    save_mesh(&mesh, &path).unwrap();
-    assert_eq!(load_mesh(&path).unwrap().triangles.len(), mesh.triangles.len());
+    write_mesh(&mesh, &path).unwrap();
+    assert_eq!(read_mesh(&path).unwrap().triangles.len(), mesh.triangles.len());
 }
 
 #[test]
@@ -97,7 +97,7 @@ fn bad_files_give_errors_with_a_place_never_panics() {
         // Truncations at many lengths.
         for len in (0..bytes.len()).step_by((bytes.len() / 97).max(1)) {
             let path = write(&dir, name, &bytes[..len]);
-            if let Ok(m) = load_mesh(&path) {
+            if let Ok(m) = read_mesh(&path) {
                 // A text file cut at a line end can still be a valid, smaller mesh.
                 assert!(m.triangles.len() <= mesh.triangles.len(), "{name} cut at {len}");
             }
@@ -109,19 +109,19 @@ fn bad_files_give_errors_with_a_place_never_panics() {
                 let i = rng.below(bad.len() as u64) as usize;
                 bad[i] = rng.below(256) as u8;
             }
-            let _ = load_mesh(write(&dir, name, &bad));
+            let _ = read_mesh(write(&dir, name, &bad));
         }
         // Random garbage.
         for len in [0, 1, 10, 84, 100, 1000] {
             let garbage: Vec<u8> = (0..len).map(|_| rng.below(256) as u8).collect();
-            assert!(load_mesh(write(&dir, name, &garbage)).is_err(), "{name}: garbage of {len} bytes loaded");
+            assert!(read_mesh(write(&dir, name, &garbage)).is_err(), "{name}: garbage of {len} bytes loaded");
         }
     }
 }
 
 fn error(name: &str, text: &str) -> String {
     let dir = scratch("errors");
-    load_mesh(write(&dir, name, text.as_bytes())).unwrap_err().to_string()
+    read_mesh(write(&dir, name, text.as_bytes())).unwrap_err().to_string()
 }
 
 #[test]
@@ -152,42 +152,42 @@ fn errors_name_the_line_or_offset_and_reason() {
     let mut stl = vec![0u8; 84 + 50];
     stl[80] = 2;
     let dir = scratch("errors");
-    let e = load_mesh(write(&dir, "short.stl", &stl)).unwrap_err();
+    let e = read_mesh(write(&dir, "short.stl", &stl)).unwrap_err();
     assert!(matches!(e, Error::Format { offset: 80, .. }), "{e}");
-    let e = load_mesh(dir.join("missing.stl")).unwrap_err().to_string();
+    let e = read_mesh(dir.join("missing.stl")).unwrap_err().to_string();
     assert!(e.contains("missing.stl"), "{e}");
     // An unknown extension: its own error, listing every extension the reader takes
     // (the importer reads patch sets too), with no byte offset.
-    let e = load_mesh(write(&dir, "x.3ds", b"")).unwrap_err();
+    let e = read_mesh(write(&dir, "x.3ds", b"")).unwrap_err();
     match &e {
         Error::UnknownExtension { path, found, accepted } => {
             assert!(path.ends_with("x.3ds") && found == "3ds" && accepted == &["obj", "stl", "ply"], "{e:?}")
         }
         other => panic!("{other:?}"),
     }
-    let e = octsolid::import::Input::load(write(&dir, "x.3ds", b"")).err().expect("an error").to_string();
+    let e = octsolid::import::Input::read(write(&dir, "x.3ds", b"")).err().expect("an error").to_string();
     assert!(e.contains("x.3ds") && e.contains("(use .obj, .stl, .ply or .patches)") && !e.contains("byte"), "{e}");
 }
 
 #[test]
 fn patch_files_load_and_bad_ones_are_refused() {
-    let teapot = load_patches(Path::new("models/teapot.patches")).unwrap();
+    let teapot = read_patches(Path::new("models/teapot.patches")).unwrap();
     assert_eq!(teapot.len(), 32);
     let dir = scratch("patches");
     let text = std::fs::read_to_string("models/teapot.patches").unwrap();
     let lines: Vec<&str> = text.lines().collect();
     // Truncated after the patches.
     let cut = lines[..34].join("\n");
-    let e = load_patches(write(&dir, "cut.patches", cut.as_bytes())).unwrap_err().to_string();
+    let e = read_patches(write(&dir, "cut.patches", cut.as_bytes())).unwrap_err().to_string();
     assert!(e.contains("truncated"), "{e}");
     // An index out of range.
     let mut bad = lines.clone();
     bad[1] = "1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,999";
-    let e = load_patches(write(&dir, "bad.patches", bad.join("\n").as_bytes())).unwrap_err().to_string();
+    let e = read_patches(write(&dir, "bad.patches", bad.join("\n").as_bytes())).unwrap_err().to_string();
     assert!(e.contains("line 2") && e.contains("999"), "{e}");
     let mut bad = lines.clone();
     bad[40] = "1.0,abc,2.0";
-    let e = load_patches(write(&dir, "nan.patches", bad.join("\n").as_bytes())).unwrap_err().to_string();
+    let e = read_patches(write(&dir, "nan.patches", bad.join("\n").as_bytes())).unwrap_err().to_string();
     assert!(e.contains("line 41") && e.contains("abc"), "{e}");
 }
 
@@ -237,7 +237,7 @@ fn obj_with_latin1_comment_and_group_name_loads_with_the_name_decoded() {
     let dir = scratch("latin1");
     let mut bytes = b"# Gr\xf6\xdfe: 1 m\xb3\ng W\xfcrfel\n".to_vec();
     bytes.extend_from_slice(cube_obj(DVec3::ZERO, 1.0).as_bytes());
-    let (mesh, warnings) = load_mesh_with_warnings(write(&dir, "latin1.obj", &bytes)).unwrap();
+    let (mesh, warnings) = read_mesh_and_warnings(write(&dir, "latin1.obj", &bytes)).unwrap();
     assert_mesh(&mesh, 12, 1.0, "latin1.obj");
     assert_eq!(mesh.groups.iter().map(|g| g.name.as_str()).collect::<Vec<_>>(), ["W\u{fc}rfel"]);
     assert_eq!(warnings.len(), 1, "{warnings:?}");
@@ -253,7 +253,7 @@ fn utf16_obj_with_a_byte_order_mark_loads() {
     let le: Vec<u8> = units.iter().flat_map(|u| u.to_le_bytes()).collect();
     let be: Vec<u8> = units.iter().flat_map(|u| u.to_be_bytes()).collect();
     for (name, bytes) in [("le.obj", le), ("be.obj", be)] {
-        let (mesh, warnings) = load_mesh_with_warnings(write(&dir, name, &bytes)).unwrap();
+        let (mesh, warnings) = read_mesh_and_warnings(write(&dir, name, &bytes)).unwrap();
         assert_mesh(&mesh, 12, 8.0, name);
         assert_eq!(mesh.groups[0].name, "W\u{fc}rfel \u{1f9ca}", "{name}");
         assert!(warnings.is_empty(), "{name}: {warnings:?}");
@@ -265,7 +265,7 @@ fn obj_with_a_missing_or_broken_mtl_loads_with_a_warning() {
     let dir = scratch("mtl");
     let cube = cube_obj(DVec3::ZERO, 1.0);
     let missing = write(&dir, "missing.obj", format!("# cube\nmtllib missing.mtl\nusemtl red\n{cube}").as_bytes());
-    let (mesh, warnings) = load_mesh_with_warnings(&missing).unwrap();
+    let (mesh, warnings) = read_mesh_and_warnings(&missing).unwrap();
     assert_mesh(&mesh, 12, 1.0, "missing.obj");
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     let w = warnings[0].to_string();
@@ -273,7 +273,7 @@ fn obj_with_a_missing_or_broken_mtl_loads_with_a_warning() {
 
     write(&dir, "broken.mtl", b"# broken\nnewmtl red\nKd 0.8 zero 0.8\nillum 2\n");
     let broken = write(&dir, "broken.obj", format!("mtllib broken.mtl\nusemtl red\n{cube}").as_bytes());
-    let (mesh, warnings) = load_mesh_with_warnings(&broken).unwrap();
+    let (mesh, warnings) = read_mesh_and_warnings(&broken).unwrap();
     assert_mesh(&mesh, 12, 1.0, "broken.obj");
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     let w = warnings[0].to_string();
@@ -282,7 +282,7 @@ fn obj_with_a_missing_or_broken_mtl_loads_with_a_warning() {
     // A sound library: no warning. A library name with spaces is one file.
     write(&dir, "fine red.mtl", b"newmtl red\nKa 0.1 0.1 0.1\nKd 0.8 0 0\nNs 10\nd -halo 0.9\nmap_Kd red.png\n");
     let fine = write(&dir, "fine.obj", format!("mtllib fine red.mtl\nusemtl red\n{cube}").as_bytes());
-    assert!(load_mesh_with_warnings(&fine).unwrap().1.is_empty());
+    assert!(read_mesh_and_warnings(&fine).unwrap().1.is_empty());
 }
 
 fn tetra_ply(header_extra: &str) -> String {
@@ -303,7 +303,7 @@ fn tetra_ply(header_extra: &str) -> String {
 fn ply_with_obj_info_and_unknown_header_lines_loads_with_a_warning() {
     let dir = scratch("ply-header");
     let extra = "obj_info made by hand\ncomment a comment\nCreated by Blender3D 247 - www.blender.org\n";
-    let (mesh, warnings) = load_mesh_with_warnings(write(&dir, "t.ply", tetra_ply(extra).as_bytes())).unwrap();
+    let (mesh, warnings) = read_mesh_and_warnings(write(&dir, "t.ply", tetra_ply(extra).as_bytes())).unwrap();
     assert_mesh(&mesh, 4, 1.0 / 6.0, "t.ply");
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     let w = warnings[0].to_string();
@@ -318,7 +318,7 @@ fn ply_with_obj_info_and_unknown_header_lines_loads_with_a_warning() {
         ("element vertex 4\nproperty list uchar x\n", 4),
         ("property float x\n", 3),
     ] {
-        let e = load_mesh(write(&dir, "bad.ply", tetra_ply(bad).as_bytes())).unwrap_err();
+        let e = read_mesh(write(&dir, "bad.ply", tetra_ply(bad).as_bytes())).unwrap_err();
         assert!(matches!(e, Error::Parse { line: l, .. } if l == line), "{bad:?}: {e}");
     }
 }
@@ -335,7 +335,7 @@ fn ascii_stl_solid_names_with_odd_bytes_load() {
         stl.extend_from_slice(b"endsolid \x80\x81\nsolid second\n");
         tetra_facets(&mut stl, &TETRA_FACES[2..]);
         stl.extend_from_slice(b"endsolid second\n");
-        let (mesh, warnings) = load_mesh_with_warnings(write(&dir, "odd.stl", &stl)).unwrap();
+        let (mesh, warnings) = read_mesh_and_warnings(write(&dir, "odd.stl", &stl)).unwrap();
         assert_mesh(&mesh, 4, 1.0 / 6.0, &String::from_utf8_lossy(name));
         assert!(warnings.iter().all(|w| w.message.contains("Latin-1")), "{warnings:?}");
     }
@@ -360,20 +360,20 @@ fn binary_stl(header: &[u8]) -> Vec<u8> {
 fn binary_stl_whose_header_starts_with_solid_loads() {
     let dir = scratch("stl-solid-header");
     for header in [&b"solid tetra"[..], b"solid\nfacet normal, but binary", b"  solid"] {
-        let (mesh, warnings) = load_mesh_with_warnings(write(&dir, "b.stl", &binary_stl(header))).unwrap();
+        let (mesh, warnings) = read_mesh_and_warnings(write(&dir, "b.stl", &binary_stl(header))).unwrap();
         assert_mesh(&mesh, 4, 1.0 / 6.0, &String::from_utf8_lossy(header));
         assert!(warnings.is_empty(), "{warnings:?}");
     }
     // Padding after the last triangle: read, with a warning at its offset.
     let mut padded = binary_stl(b"solid padded");
     padded.extend_from_slice(&[0; 7]);
-    let (mesh, warnings) = load_mesh_with_warnings(write(&dir, "p.stl", &padded)).unwrap();
+    let (mesh, warnings) = read_mesh_and_warnings(write(&dir, "p.stl", &padded)).unwrap();
     assert_mesh(&mesh, 4, 1.0 / 6.0, "padded");
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert_eq!(warnings[0].place, Place::Byte(84 + 4 * 50));
     // Cut short, it is refused as binary at the count, not misread as text.
     let stl = binary_stl(b"solid cut");
-    let e = load_mesh(write(&dir, "c.stl", &stl[..stl.len() - 1])).unwrap_err();
+    let e = read_mesh(write(&dir, "c.stl", &stl[..stl.len() - 1])).unwrap_err();
     assert!(matches!(e, Error::Format { offset: 80, .. }), "{e}");
 }
 
@@ -384,18 +384,18 @@ fn binary_stl_whose_header_starts_with_solid_loads() {
 fn ply_zero_property_element_is_refused_quickly() {
     let dir = scratch("ply-counts");
     let junk = "element junk 4000000000000\n";
-    let e = load_mesh(write(&dir, "z.ply", tetra_ply(junk).as_bytes())).unwrap_err();
+    let e = read_mesh(write(&dir, "z.ply", tetra_ply(junk).as_bytes())).unwrap_err();
     assert!(matches!(e, Error::Parse { line: 3, .. }) && e.to_string().contains("no properties"), "{e}");
     // A few empty items are fine: they take no room.
     assert_mesh(
-        &load_mesh(write(&dir, "few.ply", tetra_ply("element junk 5\n").as_bytes())).unwrap(),
+        &read_mesh(write(&dir, "few.ply", tetra_ply("element junk 5\n").as_bytes())).unwrap(),
         4,
         1.0 / 6.0,
         "few",
     );
     // Counts that cannot fit in what follows the header, ASCII and binary.
     let huge = tetra_ply("").replace("element vertex 4", "element vertex 4000000000");
-    let e = load_mesh(write(&dir, "h.ply", huge.as_bytes())).unwrap_err();
+    let e = read_mesh(write(&dir, "h.ply", huge.as_bytes())).unwrap_err();
     assert!(matches!(e, Error::Parse { line: 3, .. }) && e.to_string().contains("words after the header"), "{e}");
     let mut mesh =
         TriangleMesh::new(TETRA.map(DVec3::from_array).to_vec(), TETRA_FACES.map(|f| f.map(|i| i as u32)).to_vec())
@@ -408,7 +408,7 @@ fn ply_zero_property_element_is_refused_quickly() {
     let line = header.lines().position(|l| l.starts_with("element face")).unwrap() + 1;
     let bloated = header.replace("element face 4", "element face 4000000000").into_bytes();
     let bytes = [&bloated[..], &ply[header_end..]].concat();
-    let e = load_mesh(write(&dir, "b.ply", &bytes)).unwrap_err();
+    let e = read_mesh(write(&dir, "b.ply", &bytes)).unwrap_err();
     assert!(matches!(e, Error::Parse { line: l, .. } if l == line) && e.to_string().contains("bytes after"), "{e}");
 }
 
@@ -417,7 +417,7 @@ fn obj_coordinates_keep_double_precision() {
     let dir = scratch("f64");
     let min = DVec3::splat(1e9);
     let text = cube_obj(min, 1.0);
-    let mesh = load_mesh(write(&dir, "far.obj", text.as_bytes())).unwrap();
+    let mesh = read_mesh(write(&dir, "far.obj", text.as_bytes())).unwrap();
     // Every vertex exactly as the standard library parses the file's text.
     let written: Vec<DVec3> = text
         .lines()
@@ -449,7 +449,7 @@ fn obj_coordinates_keep_double_precision() {
     assert_eq!(far.volume(), 1.0);
     assert_eq!(far.keys(), near.keys());
     // A coordinate single precision cannot hold.
-    let mesh = load_mesh(write(&dir, "tenth.obj", b"v 0.1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")).unwrap();
+    let mesh = read_mesh(write(&dir, "tenth.obj", b"v 0.1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")).unwrap();
     assert_eq!(mesh.vertices[0].x, 0.1);
 }
 
@@ -484,7 +484,7 @@ fn thousand_vertex_face_triangulates_to_n_minus_2_triangles_with_its_area() {
             obj += &format!("v {:?} {:?} 0\n", c.x, c.y);
         }
         obj += &format!("f {}\n", (1..=n).map(|i| i.to_string()).collect::<Vec<_>>().join(" "));
-        let (mesh, warnings) = load_mesh_with_warnings(write(&dir, "big.obj", obj.as_bytes())).unwrap();
+        let (mesh, warnings) = read_mesh_and_warnings(write(&dir, "big.obj", obj.as_bytes())).unwrap();
         assert!(warnings.is_empty(), "{warnings:?}");
         assert_eq!(mesh.triangles.len(), n - 2);
         // Every triangle faces +z as the polygon does, so the areas add up to the
@@ -513,7 +513,7 @@ fn thousand_vertex_face_triangulates_to_n_minus_2_triangles_with_its_area() {
             ply += &format!("{:?} {:?} 0\n", c.x, c.y);
         }
         ply += &format!("{n} {}\n", (0..n).map(|i| i.to_string()).collect::<Vec<_>>().join(" "));
-        let from_ply = load_mesh(write(&dir, "big.ply", ply.as_bytes())).unwrap();
+        let from_ply = read_mesh(write(&dir, "big.ply", ply.as_bytes())).unwrap();
         assert_eq!(from_ply.triangles.len(), n - 2);
         let total: f64 = (0..n - 2).map(|t| triangle_area(&from_ply, t).z).sum();
         assert!((total - area).abs() < 1e-12 * n as f64, "ply {r_odd}: {total} vs {area}");
@@ -549,16 +549,16 @@ fn error_messages_escape_control_characters() {
     for (name, text) in cases {
         let path = write(&dir, name, text.as_bytes());
         let e = match name.ends_with(".patches") {
-            true => load_patches(&path).unwrap_err().to_string(),
-            false => load_mesh(&path).unwrap_err().to_string(),
+            true => read_patches(&path).unwrap_err().to_string(),
+            false => read_mesh(&path).unwrap_err().to_string(),
         };
         assert!(!has_control(&e) && e.contains("\\x1b[2J\\x1b]0;pwned\\x07"), "{name}: {e:?}");
     }
     // Warnings too: an unknown PLY header line, a material library's name.
     let ply = tetra_ply(&format!("{esc} made this\n"));
-    let (_, warnings) = load_mesh_with_warnings(write(&dir, "w.ply", ply.as_bytes())).unwrap();
+    let (_, warnings) = read_mesh_and_warnings(write(&dir, "w.ply", ply.as_bytes())).unwrap();
     let obj = format!("mtllib {esc}.mtl\n{}", cube_obj(DVec3::ZERO, 1.0));
-    let (_, more) = load_mesh_with_warnings(write(&dir, "w.obj", obj.as_bytes())).unwrap();
+    let (_, more) = read_mesh_and_warnings(write(&dir, "w.obj", obj.as_bytes())).unwrap();
     assert_eq!((warnings.len(), more.len()), (1, 1));
     for w in warnings.iter().chain(&more) {
         assert!(!has_control(&w.to_string()) && w.message.contains("\\x1b[2J"), "{w:?}");
@@ -605,7 +605,7 @@ fn solid_file_and_scene_errors_escape_control_characters() {
     let unknown = format!("[[solid]]\nshape = {{ \"{toml_escaped}\" = {{ radius = 1 }} }}\n");
     for (name, text) in [("named.toml", named), ("unknown.toml", unknown)] {
         let path = write(&dir, name, text.as_bytes());
-        let Err(e) = octsolid::scene_file::load_scene(&path, octsolid::MemoryBudget::default()) else {
+        let Err(e) = octsolid::scene_file::read_scene(&path, octsolid::MemoryBudget::default()) else {
             panic!("{name} loaded")
         };
         expect_escaped(name, e.to_string());
@@ -616,10 +616,10 @@ fn solid_file_and_scene_errors_escape_control_characters() {
 fn import_and_scene_files_pass_the_warnings_on() {
     let dir = scratch("pass-on");
     write(&dir, "cube.obj", format!("mtllib gone.mtl\n{}", cube_obj(DVec3::ZERO, 1.0)).as_bytes());
-    let (input, warnings) = octsolid::import::Input::load_with_warnings(dir.join("cube.obj")).unwrap();
+    let (input, warnings) = octsolid::import::Input::read_and_warnings(dir.join("cube.obj")).unwrap();
     assert!(matches!(input, octsolid::import::Input::Mesh(ref m) if m.triangles.len() == 12));
     assert_eq!(warnings.len(), 1);
     let scene = write(&dir, "s.toml", b"[[solid]]\nmesh = \"cube.obj\"\ndepth = 4\n");
-    let file = octsolid::scene_file::load_scene(&scene, octsolid::MemoryBudget::default()).unwrap();
+    let file = octsolid::scene_file::read_scene(&scene, octsolid::MemoryBudget::default()).unwrap();
     assert_eq!(file.warnings, warnings);
 }

@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 use octsolid::mesh::generate::{cuboid, icosphere, torus};
-use octsolid::mesh::{MeshShape, MeshVoxelizeOptions, TriangleMesh, load_mesh, voxelize_mesh};
+use octsolid::mesh::{MeshShape, MeshVoxelizeOptions, TriangleMesh, read_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::shape::{Axis, Class, Cylinder, Shape, Sphere};
 use octsolid::{Aabb, Error};
@@ -41,7 +41,7 @@ fn cube_mesh_minus_a_sphere_is_the_predicate_voxel_by_voxel() {
 fn a_mesh_shape_alone_voxelizes_to_the_mesh_solid_voxelizers_octree() {
     let models = ["models/bunny-watertight.obj", "models/spot.obj"];
     let mut meshes: Vec<(String, TriangleMesh)> =
-        models.iter().map(|m| (m.to_string(), load_mesh(m).unwrap())).collect();
+        models.iter().map(|m| (m.to_string(), read_mesh(m).unwrap())).collect();
     meshes.push(("icosphere".into(), icosphere(DVec3::new(0.1, -0.2, 0.05), 1.0, 3)));
     meshes.push(("torus".into(), torus(1.0, 0.35, 48, 24)));
     for (name, mesh) in &meshes {

@@ -193,9 +193,9 @@ fn save_and_load_through_files_atomically() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("solid.oct");
     let tree = solids().pop().unwrap();
-    let bytes = oct::save(&tree, &path).unwrap();
+    let bytes = oct::write(&tree, &path).unwrap();
     assert_eq!(bytes, std::fs::metadata(&path).unwrap().len());
-    assert_eq!(oct::load(&path, MemoryBudget::default()).unwrap(), tree);
+    assert_eq!(oct::read(&path, MemoryBudget::default()).unwrap(), tree);
 
     // A write that fails halfway leaves the old file whole and no temporary behind.
     let err = write_atomic(&path, |w| {
@@ -204,11 +204,11 @@ fn save_and_load_through_files_atomically() {
     })
     .unwrap_err();
     assert!(err.to_string().contains("solid.oct") && err.to_string().contains("disk full"), "{err}");
-    assert_eq!(oct::load(&path, MemoryBudget::default()).unwrap(), tree);
+    assert_eq!(oct::read(&path, MemoryBudget::default()).unwrap(), tree);
     let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(names.len(), 1, "{names:?}");
 
-    let missing = oct::load(dir.join("nope.oct"), MemoryBudget::default()).unwrap_err();
+    let missing = oct::read(dir.join("nope.oct"), MemoryBudget::default()).unwrap_err();
     assert!(missing.to_string().contains("nope.oct"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -221,7 +221,7 @@ fn version_2_keeps_the_up_axis_and_units_and_version_1_still_reads() {
     let plain = oct::encode_with(&tree, &oct::Metadata::default());
     assert_eq!(plain, oct::encode(&tree));
     assert_eq!(u16::from_le_bytes([plain[8], plain[9]]), 1);
-    let (back, meta) = oct::decode_with(&plain, Path::new("t.oct"), MemoryBudget::unlimited()).unwrap();
+    let (back, meta) = oct::decode_and_metadata(&plain, Path::new("t.oct"), MemoryBudget::unlimited()).unwrap();
     assert_eq!((back, meta), (tree.clone(), oct::Metadata::default()));
     for up in [None, Some(Axis::X), Some(Axis::Y), Some(Axis::Z)] {
         for units in [None, Some(oct::Units::Millimetre), Some(oct::Units::Inch)] {
@@ -232,7 +232,7 @@ fn version_2_keeps_the_up_axis_and_units_and_version_1_still_reads() {
             // The documented codes, at the documented offsets.
             assert_eq!(bytes[13], up.map_or(0, |a| a.index() as u8 + 1));
             assert_eq!(bytes[14], units.map_or(0, |u| if u == oct::Units::Millimetre { 2 } else { 5 }));
-            let (back, got) = oct::decode_with(&bytes, Path::new("t.oct"), MemoryBudget::unlimited()).unwrap();
+            let (back, got) = oct::decode_and_metadata(&bytes, Path::new("t.oct"), MemoryBudget::unlimited()).unwrap();
             assert_eq!((back, got), (tree.clone(), meta));
         }
     }

@@ -217,11 +217,11 @@ fn every_constructor_keeps_exactly_eight_bytes_a_node() {
     let ball = Sphere::new(d.min() + DVec3::splat(1.5), 1.2).unwrap();
     exact("voxelize", &voxelize(&ball, domain(7), &VoxelizeOptions::default()).unwrap());
     let file = std::env::temp_dir().join(format!("octsolid-bytes-{}.oct", std::process::id()));
-    octsolid::io::oct::save(&a, &file).unwrap();
-    let loaded = octsolid::io::oct::load(&file, octsolid::MemoryBudget::unlimited()).unwrap();
+    octsolid::io::oct::write(&a, &file).unwrap();
+    let loaded = octsolid::io::oct::read(&file, octsolid::MemoryBudget::unlimited()).unwrap();
     std::fs::remove_file(&file).unwrap();
     assert_eq!(loaded, a);
-    exact("oct::load", &loaded);
+    exact("oct::read", &loaded);
     exact("empty", &LinearOctree::empty(d));
     exact("full", &LinearOctree::full(d));
 }

@@ -12,11 +12,11 @@ use octsolid::MemoryBudget;
 use octsolid::import::{self, Fill, ImportOptions, Input};
 use octsolid::mesh::{InsideRule, PolygonTables};
 use octsolid::octree::{Domain, VoxelizeOptions};
-use octsolid::patch::{BezierPatch, load_patches, tessellate, voxelize_patch_surface};
+use octsolid::patch::{BezierPatch, read_patches, tessellate, voxelize_patch_surface};
 
 #[test]
 fn teapot_surface_voxels_hug_the_surface() {
-    let patches = load_patches(Path::new("models/teapot.patches")).unwrap();
+    let patches = read_patches(Path::new("models/teapot.patches")).unwrap();
     let input = Input::Patches(patches.clone());
     let domain = Domain::around(&input.bounds(), 0.02, 7).unwrap();
     let h = domain.voxel_size();
@@ -71,7 +71,7 @@ fn teapot_surface_voxels_hug_the_surface() {
 
 #[test]
 fn teapot_solid_matches_its_tessellation() {
-    let input = Input::load(Path::new("models/teapot.patches")).unwrap();
+    let input = Input::read(Path::new("models/teapot.patches")).unwrap();
     let domain = import::default_domain(&input, 8).unwrap();
     let (tree, summary) = import::voxelize_input(&input, domain, &ImportOptions::default()).unwrap();
     tree.validate().unwrap();
@@ -108,7 +108,7 @@ fn one_patch_surface_at_depth_14_is_refused_under_a_small_budget() {
 
 #[test]
 fn teapot_surface_is_the_same_on_any_thread_count_with_progress_adding_up() {
-    let patches = load_patches(Path::new("models/teapot.patches")).unwrap();
+    let patches = read_patches(Path::new("models/teapot.patches")).unwrap();
     let domain = Domain::around(&Input::Patches(patches.clone()).bounds(), 0.02, 7).unwrap();
     let run = |threads| {
         let progress = Recorder::default();

@@ -10,7 +10,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use octsolid::io::save_picture;
+use octsolid::io::write_picture;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{Camera, Material, Picture, RenderOptions, Scene, render, render_picture, to_srgb8};
@@ -70,7 +70,7 @@ fn an_exr_holds_an_emitters_radiance_above_one_and_below_an_8_bit_step() {
     assert!(picture.pixels().iter().all(|&p| p == emission), "the picture is the emission");
     let dir = scratch("emitter");
     let path = dir.join("room.exr");
-    let bytes = save_picture(&picture, &path).unwrap();
+    let bytes = write_picture(&picture, &path).unwrap();
     assert_eq!(bytes, std::fs::metadata(&path).unwrap().len());
     let (w, h, pixels) = read_exr(&path);
     assert_eq!((w, h), (24, 18));
@@ -79,7 +79,7 @@ fn an_exr_holds_an_emitters_radiance_above_one_and_below_an_8_bit_step() {
     // The PNG of the same picture clamps and encodes: 255 for 2.5, and 1e-3 is below
     // the first 8-bit step of sRGB.
     let png = dir.join("room.png");
-    save_picture(&picture, &png).unwrap();
+    write_picture(&picture, &png).unwrap();
     let img = image::open(&png).unwrap().to_rgb8();
     let srgb = emission.to_array().map(to_srgb8);
     assert_eq!(srgb[0], 255);
@@ -103,7 +103,7 @@ fn a_radiosity_furnace_shows_e_over_one_minus_rho_in_the_exr() {
     let (picture, _) = render_picture(&scene, &inside(), &options(0.0), &NoProgress).unwrap();
     let dir = scratch("furnace");
     let path = dir.join("furnace.exr");
-    save_picture(&picture, &path).unwrap();
+    write_picture(&picture, &path).unwrap();
     let want = emission / (1.0 - rho);
     for p in read_exr(&path).2 {
         for c in p {
@@ -127,11 +127,11 @@ fn exposure_scales_by_two_to_the_stops_in_both_formats() {
         }
         // The EXR file holds the scaled values; the PNG their sRGB encoding.
         let path = dir.join(format!("room{stops}.exr"));
-        save_picture(picture, &path).unwrap();
+        write_picture(picture, &path).unwrap();
         let want = (emission * scale).to_array().map(|c| c as f32);
         assert!(read_exr(&path).2.iter().all(|&p| p == want));
         let png = dir.join(format!("room{stops}.png"));
-        save_picture(picture, &png).unwrap();
+        write_picture(picture, &png).unwrap();
         let srgb = (emission * scale).to_array().map(to_srgb8);
         let img = image::open(&png).unwrap().to_rgb8();
         assert!(img.pixels().all(|p| p.0 == srgb), "{:?} against {srgb:?}", img.get_pixel(0, 0));
@@ -157,13 +157,13 @@ fn bad_exposures_and_unknown_extensions_are_refused_by_name() {
     let dir = scratch("extensions");
     for name in ["room.jpg", "room", "room.exr.tmp"] {
         let path = dir.join(name);
-        let e = save_picture(&picture, &path).unwrap_err().to_string();
+        let e = write_picture(&picture, &path).unwrap_err().to_string();
         assert!(e.contains(&path.display().to_string()) && e.contains("(use .png or .exr)"), "{e}");
         assert!(!path.exists(), "{name} was written");
     }
     assert_eq!(FileKind::of("ROOM.EXR", FileKind::PICTURES).unwrap(), FileKind::Exr);
     assert_eq!(FileKind::of("a.Png", FileKind::PICTURES).unwrap(), FileKind::Png);
-    assert!(save_picture(&Picture::new(0, 0), dir.join("empty.exr")).is_err());
+    assert!(write_picture(&Picture::new(0, 0), dir.join("empty.exr")).is_err());
     assert!(!dir.join("empty.exr").exists());
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -239,14 +239,14 @@ fn saved(name: &str, shots: u64) -> (Scene, Radiosity, PathBuf) {
     let options = RadiosityOptions { max_shots: Some(shots), ..options(0.25, 4) };
     let r = Radiosity::solve(&scene, &options, &NoProgress).unwrap();
     let path = scratch(name);
-    r.save(&path).unwrap();
+    r.write(&path).unwrap();
     (scene, r, path)
 }
 
 #[test]
 fn a_saved_solution_reloads_bit_for_bit_and_shows_the_same_light() {
     let (scene, r, path) = saved("reload.rad", 30);
-    let back = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap();
+    let back = Radiosity::read(&path, &scene, MemoryBudget::default()).unwrap();
     let bits = |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
     assert_eq!(bits(&r), bits(&back));
     assert_eq!(r.ambient(), back.ambient());
@@ -261,7 +261,7 @@ fn a_solution_of_another_scene_is_refused_by_name() {
     let (_, _, path) = saved("other.rad", 3);
     let mut other = lit_room();
     other.solids[1].material.emission = DVec3::splat(3.0);
-    let e = Radiosity::load(&path, &other, MemoryBudget::default()).unwrap_err();
+    let e = Radiosity::read(&path, &other, MemoryBudget::default()).unwrap_err();
     let text = e.to_string();
     assert!(matches!(e, Error::Format { .. }), "{e:?}");
     assert!(text.contains("other.rad") && text.contains("another scene"), "{text}");
@@ -308,7 +308,7 @@ fn damaged_solution_files_are_refused_by_name_never_a_panic() {
     for (name, bytes, says) in cases {
         let path = scratch(name);
         std::fs::write(&path, bytes).unwrap();
-        let e = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap_err();
+        let e = Radiosity::read(&path, &scene, MemoryBudget::default()).unwrap_err();
         let text = e.to_string();
         assert!(text.contains(name) && text.contains(says), "{name}: {text}");
     }
@@ -393,9 +393,9 @@ fn adaptive_subdivision_comes_closer_to_a_fine_solution_on_the_same_base_element
     assert!(a.unshot_fraction <= 1e-3);
     // A subdivided solution saves (version 2) and reloads bit for bit, splits and all.
     let path = scratch("subdivided.rad");
-    adaptive.save(&path).unwrap();
+    adaptive.write(&path).unwrap();
     assert_eq!(std::fs::read(&path).unwrap()[8], 2, "version 2");
-    let back = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap();
+    let back = Radiosity::read(&path, &scene, MemoryBudget::default()).unwrap();
     let bits = |r: &Radiosity| r.radiosities().iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
     assert_eq!(bits(&adaptive), bits(&back));
     assert_eq!((back.stats().elements, back.stats().splits), (a.elements, a.splits));
@@ -410,10 +410,10 @@ fn adaptive_subdivision_comes_closer_to_a_fine_solution_on_the_same_base_element
     let crc = crc32fast::hash(&bytes[..body]);
     bytes[body..].copy_from_slice(&crc.to_le_bytes());
     std::fs::write(&path, &bytes).unwrap();
-    let e = Radiosity::load(&path, &scene, MemoryBudget::default()).unwrap_err().to_string();
+    let e = Radiosity::read(&path, &scene, MemoryBudget::default()).unwrap_err().to_string();
     assert!(e.contains("subdivided.rad") && e.contains("cannot be split"), "{e}");
     // An unsubdivided solution is still version 1.
-    coarse.save(&path).unwrap();
+    coarse.write(&path).unwrap();
     assert_eq!(std::fs::read(&path).unwrap()[8], 1, "version 1");
 }
 

@@ -11,7 +11,7 @@ use octsolid::NoProgress;
 use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
 use octsolid::render::to_srgb8;
 use octsolid::render::*;
-use octsolid::scene_file::load_scene;
+use octsolid::scene_file::read_scene;
 use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Ray, RayCast};
 
@@ -111,7 +111,7 @@ fn brightest_pixel_follows_the_phong_formula() {
 
 #[test]
 fn same_image_for_any_thread_count() {
-    let file = load_scene("scenes/classic.toml", MemoryBudget::default()).unwrap();
+    let file = read_scene("scenes/classic.toml", MemoryBudget::default()).unwrap();
     let options = RenderOptions {
         width: 160,
         height: 120,
@@ -134,7 +134,7 @@ fn streamed_rows_are_the_picture_in_order_and_encode_to_its_png() {
     // a pixel; the tracer): the rows are the
     // one-thread `render`'s picture, and `render_png` its PNG. 150 rows: two whole
     // strips and a part.
-    let file = load_scene("scenes/classic.toml", MemoryBudget::default()).unwrap();
+    let file = read_scene("scenes/classic.toml", MemoryBudget::default()).unwrap();
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let adaptive = AntiAliasing::Adaptive { threshold: 0.3 };
     for (spp, aa, method) in [
@@ -164,7 +164,7 @@ fn streamed_rows_are_the_picture_in_order_and_encode_to_its_png() {
 fn adaptive_anti_aliasing_at_threshold_zero_is_the_uniform_picture() {
     // Every contrast is at least 0: every pixel takes the uniform n x n samples, with
     // the same rays in the same order, whatever the first pass's method.
-    let file = load_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
+    let file = read_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
     let uniform = RenderOptions { width: 96, height: 72, spp: 3, ..file.options };
     let (want, _) = render(&file.scene, &file.camera, &uniform, &NoProgress).unwrap();
     for method in [Method::Trace, Method::FrontToBack] {
@@ -261,7 +261,7 @@ fn recursive_anti_aliasing_at_threshold_zero_weights_the_whole_lattice() {
     // (2^depth + 1)^2 weighs a_i a_j / 4^(depth + 1), a = 1 at the pixel's edges and 2
     // inside. Each point traced here by the public API; every corner of every pixel
     // traced once for the picture, the other points of a pixel once for the pixel.
-    let file = load_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
+    let file = read_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
     let (w, h) = (20, 15);
     for depth in [1, 2] {
         let options = RenderOptions {
@@ -302,7 +302,7 @@ fn recursive_anti_aliasing_at_threshold_zero_weights_the_whole_lattice() {
 fn recursive_anti_aliasing_above_every_contrast_is_the_mean_of_the_corners() {
     // No two samples differ by more than 3 (the sum of three full channels): no square
     // splits, every pixel is the mean of its four corner samples, one ray a corner.
-    let file = load_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
+    let file = read_scene("scenes/whitted.toml", MemoryBudget::default()).unwrap();
     let (w, h) = (24, 18);
     let options = RenderOptions {
         width: w,
@@ -424,7 +424,7 @@ fn all_visibility_methods_agree_on_random_scenes() {
 #[test]
 fn every_method_finds_the_walks_hits_where_rays_cross_voxel_edges() {
     let file =
-        load_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell.toml"), MemoryBudget::default()).unwrap();
+        read_scene(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell.toml"), MemoryBudget::default()).unwrap();
     let samples = SampleGrid { width: 480, height: 360, spp: 2 };
     let (trace, _) = visibility(&file.scene, &file.camera, &samples, Method::Trace);
     let view = file.camera.view(samples.aspect());

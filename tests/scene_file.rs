@@ -16,10 +16,12 @@ use octsolid::MemoryBudget;
 use octsolid::color::COLOR_FORMS;
 use octsolid::io::oct;
 use octsolid::mesh::generate::cuboid;
-use octsolid::mesh::save_mesh;
+use octsolid::mesh::write_mesh;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, estimate_bytes, voxelize};
 use octsolid::render::{AntiAliasing, DEFAULT_AA_DEPTH, DEFAULT_AA_THRESHOLD, Light, RenderOptions};
-use octsolid::scene_file::{CACHE_DIR, CachePolicy, LoadOptions, SceneFile, clear_cache, load_scene, load_scene_with};
+use octsolid::scene_file::{
+    CACHE_DIR, CachePolicy, SceneFile, SceneReadOptions, clear_cache, read_scene, read_scene_with,
+};
 use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Error, Result};
 
@@ -34,7 +36,7 @@ fn scratch(test: &str) -> PathBuf {
 fn load(dir: &Path, name: &str, text: &str, budget: MemoryBudget) -> (PathBuf, Result<SceneFile>) {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
-    let loaded = load_scene(&path, budget);
+    let loaded = read_scene(&path, budget);
     (path, loaded)
 }
 
@@ -80,7 +82,7 @@ const BALL: &str = "shape = { sphere = { center = [0, 0, 0], radius = 1 } }";
 #[test]
 fn bundled_scenes_load() {
     for name in ["classic", "flange", "showcase", "menger", "displaced", "whitted", "whitted-classic", "teapot"] {
-        let file = load_scene(format!("scenes/{name}.toml"), MemoryBudget::default()).unwrap();
+        let file = read_scene(format!("scenes/{name}.toml"), MemoryBudget::default()).unwrap();
         assert!(!file.scene.solids.is_empty() && !file.scene.lights.is_empty(), "{name}");
     }
 }
@@ -148,7 +150,7 @@ fn misspelt_values_are_refused_at_their_place() {
 fn value_errors_name_the_file_the_place_and_the_solid() {
     let dir = scratch("refused");
     std::fs::write(dir.join("open.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n").unwrap();
-    save_mesh(&cuboid(DVec3::ZERO, DVec3::ONE), dir.join("cube.obj")).unwrap();
+    write_mesh(&cuboid(DVec3::ZERO, DVec3::ONE), dir.join("cube.obj")).unwrap();
     let part = |material: &str| format!("[[solid]]\nname = \"part\"\n{BALL}\nmaterial = {{ {material} }}\n");
     // (scene text, where the error is, the solid, words of the message)
     let cases: Vec<(String, &str, Option<&str>, Vec<&str>)> = vec![
@@ -276,7 +278,7 @@ fn an_over_budget_solid_keeps_over_budget() {
     // The same refusal of an .oct file the scene names.
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
     let tree = voxelize(&Sphere::new(DVec3::ZERO, 0.9).unwrap(), domain, &VoxelizeOptions::default()).unwrap();
-    oct::save(&tree, dir.join("ball.oct")).unwrap();
+    oct::write(&tree, dir.join("ball.oct")).unwrap();
     let text = "[[solid]]\noct = \"ball.oct\"\n";
     let (path, loaded) = load(&dir, "oct.toml", text, small);
     let cause = scene_cause(loaded.err().expect("refused"), &path, text, Some("\"ball.oct\""), Some("solid 1"));
@@ -352,7 +354,7 @@ fn colour_forms_parse_to_their_rgb() {
 
 /// Writes the closed mesh of the box `center`, `size` to `dir/name`.
 fn write_box(dir: &Path, name: &str, center: DVec3, size: DVec3) {
-    save_mesh(&cuboid(center, size), dir.join(name)).unwrap();
+    write_mesh(&cuboid(center, size), dir.join(name)).unwrap();
 }
 
 #[test]
@@ -406,7 +408,7 @@ fn a_transformed_oct_solid_moves_exactly_or_resamples() {
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
     let box_shape = Cuboid::new(DVec3::new(0.1, 0.0, 0.0), DVec3::new(1.2, 0.7, 0.5)).unwrap();
     let tree = voxelize(&box_shape, domain, &VoxelizeOptions::default()).unwrap();
-    oct::save(&tree, dir.join("box.oct")).unwrap();
+    oct::write(&tree, dir.join("box.oct")).unwrap();
     let moved = |transform: &str| -> LinearOctree {
         let text = format!("[[solid]]\noct = \"box.oct\"\ntransform = {{ {transform} }}\n");
         let (_, loaded) = load(&dir, "moved.toml", &text, MemoryBudget::default());
@@ -438,7 +440,7 @@ fn a_csg_scene_of_a_shape_a_mesh_and_an_oct_is_the_predicate_voxel_by_voxel() {
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
     let (slab_center, slab_size) = (DVec3::new(-0.2, 0.1, -0.5), DVec3::new(1.4, 1.1, 0.3));
     let slab = Cuboid::new(slab_center, slab_size).unwrap();
-    oct::save(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
+    oct::write(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
     let (cube_center, cube_size) = (DVec3::new(0.13, 0.07, 0.21), DVec3::new(0.9, 0.8, 0.7));
     write_box(&dir, "cube.obj", cube_center, cube_size);
     let (ball_center, radius) = (DVec3::new(0.3, 0.2, 0.1), 0.45);
@@ -506,7 +508,7 @@ fn the_cutoff_key_sets_the_share_below_which_rays_stop() {
 fn write_cached_scene(dir: &Path, name: &str) -> PathBuf {
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
     let slab = Cuboid::new(DVec3::new(-0.2, 0.1, -0.5), DVec3::new(1.4, 1.1, 0.3)).unwrap();
-    oct::save(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
+    oct::write(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
     write_box(dir, "cube.obj", DVec3::new(0.13, 0.07, 0.21), DVec3::new(0.9, 0.8, 0.7));
     let text = "[domain]\nmin = [-1, -1, -1]\nedge = 2\ndepth = 6\n\n\
         [[solid]]\nname = \"mixed\"\nshape = { difference = [\n  \
@@ -521,7 +523,7 @@ fn write_cached_scene(dir: &Path, name: &str) -> PathBuf {
 
 /// Loads `path` with the solid cache and `budget`.
 fn load_cached(path: &Path, budget: MemoryBudget) -> Result<SceneFile> {
-    load_scene_with(path, &LoadOptions { budget, cache: CachePolicy::ReadWrite })
+    read_scene_with(path, &SceneReadOptions { budget, cache: CachePolicy::ReadWrite })
 }
 
 /// The solids' octrees of a loaded scene.
@@ -543,8 +545,8 @@ fn a_second_load_reads_every_solid_from_the_cache_bit_for_bit() {
     let dir = scratch("cache-hit");
     let path = write_cached_scene(&dir, "cached.toml");
     // The oracle: the scene built without the cache.
-    let want = trees(&load_scene(&path, MemoryBudget::default()).unwrap());
-    assert!(entries(&dir).is_empty(), "load_scene writes no cache");
+    let want = trees(&read_scene(&path, MemoryBudget::default()).unwrap());
+    assert!(entries(&dir).is_empty(), "read_scene writes no cache");
     let first = load_cached(&path, MemoryBudget::default()).unwrap();
     assert_eq!((first.cache.hits, first.cache.misses), (0, 3));
     assert_eq!(entries(&dir).len(), 3);
@@ -574,7 +576,7 @@ fn a_solid_read_from_the_cache_is_not_voxelized() {
     let tight = MemoryBudget(estimate - 1);
     let entry_bytes = std::fs::metadata(&entries(&dir)[0]).unwrap().len();
     assert!(tree.node_count() as u64 * 8 < tight.0 && entry_bytes < tight.0, "the test needs room to read the entry");
-    match load_scene(&path, tight) {
+    match read_scene(&path, tight) {
         Err(Error::Scene { source, .. }) => assert!(matches!(*source, Error::OverBudget { .. }), "{source}"),
         other => panic!("voxelizing under the tight budget should be refused: {:?}", other.err()),
     }
@@ -591,7 +593,7 @@ fn a_changed_input_is_built_again() {
     let check = |misses: usize, what: &str| {
         let got = load_cached(&path, MemoryBudget::default()).unwrap();
         assert_eq!((got.cache.hits, got.cache.misses), (3 - misses, misses), "{what}");
-        assert_eq!(trees(&got), trees(&load_scene(&path, MemoryBudget::default()).unwrap()), "{what}");
+        assert_eq!(trees(&got), trees(&read_scene(&path, MemoryBudget::default()).unwrap()), "{what}");
         // Entries of the earlier inputs are gone: one a solid.
         assert_eq!(entries(&dir).len(), 3, "{what}");
     };
@@ -609,7 +611,7 @@ fn a_changed_input_is_built_again() {
     // The .oct file: the shape reading it and the moved solid.
     let slab = Cuboid::new(DVec3::new(-0.1, 0.1, -0.5), DVec3::new(1.4, 1.1, 0.3)).unwrap();
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
-    oct::save(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
+    oct::write(&voxelize(&slab, domain, &VoxelizeOptions::default()).unwrap(), dir.join("slab.oct")).unwrap();
     check(2, "oct file rewritten");
     // The scene's text of one solid: that solid only; of the domain every shape shares:
     // the shape solid; of what does not decide a solid (a material, a name): none.
@@ -643,7 +645,7 @@ fn a_shape_written_as_sub_tables_is_built_again_when_a_value_changes() {
         std::fs::write(&path, text.replace(from, to)).unwrap();
         let got = load_cached(&path, MemoryBudget::default()).unwrap();
         assert_eq!((got.cache.hits, got.cache.misses), (0, 1), "{to}");
-        assert_eq!(trees(&got), trees(&load_scene(&path, MemoryBudget::default()).unwrap()), "{to}");
+        assert_eq!(trees(&got), trees(&read_scene(&path, MemoryBudget::default()).unwrap()), "{to}");
     }
     // Written inline instead, the same values: the same key.
     let inline = "[domain]\nmin = [-2, -2, -2]\nedge = 4\ndepth = 6\n\n[[solid]]\nname = \"b\"\n\
@@ -656,7 +658,7 @@ fn a_shape_written_as_sub_tables_is_built_again_when_a_value_changes() {
 fn a_corrupt_cache_entry_is_ignored_and_rewritten() {
     let dir = scratch("cache-corrupt");
     let path = write_cached_scene(&dir, "cached.toml");
-    let want = trees(&load_scene(&path, MemoryBudget::default()).unwrap());
+    let want = trees(&read_scene(&path, MemoryBudget::default()).unwrap());
     load_cached(&path, MemoryBudget::default()).unwrap();
     /// What a corruption does to an entry's bytes.
     type Corrupt = fn(&mut Vec<u8>);

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use common::{Rng, folder_files, random_octree};
 use glam::DVec3;
 use octsolid::io::oct::{self, Metadata};
-use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::mesh::{MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::octree::{CoarsenRule, Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
 use octsolid::samples::{classic_csg, showcase_domain};
 use octsolid::sharded::{self, ShardIndex, ShardedSolid, StreamOptions};
@@ -34,7 +34,7 @@ fn at_level(level: u8) -> StreamOptions<'static> {
 
 /// The solid read back, as `.oct` bytes.
 fn oct_bytes(dir: &Path) -> Vec<u8> {
-    oct::encode(&ShardedSolid::open(dir).unwrap().load(MemoryBudget::unlimited()).unwrap())
+    oct::encode(&ShardedSolid::open(dir).unwrap().read(MemoryBudget::unlimited()).unwrap())
 }
 
 #[test]
@@ -55,7 +55,7 @@ fn shapes_voxelized_cell_by_cell_are_the_single_file_solid_bit_for_bit_at_every_
             assert_eq!(opened.index().voxel_bounds(), whole.voxel_bounds());
             // Cutting the solid from memory gives the same folder, file for file.
             let cut = dir.join(format!("cut-{depth}-{level}.octs"));
-            sharded::save(&whole, Metadata::default(), &cut, &at_level(level)).unwrap();
+            sharded::write(&whole, Metadata::default(), &cut, &at_level(level)).unwrap();
             assert_eq!(folder_files(&cut), folder_files(&out), "depth {depth}, level {level}");
         }
     }
@@ -65,7 +65,7 @@ fn shapes_voxelized_cell_by_cell_are_the_single_file_solid_bit_for_bit_at_every_
 #[test]
 fn a_mesh_voxelized_cell_by_cell_is_the_single_file_solid() {
     let dir = scratch("mesh");
-    let mesh = load_mesh(Path::new(env!("CARGO_MANIFEST_DIR")).join("models/bunny-watertight.obj")).unwrap();
+    let mesh = read_mesh(Path::new(env!("CARGO_MANIFEST_DIR")).join("models/bunny-watertight.obj")).unwrap();
     let domain = Domain::around(&mesh.bounds(), 0.02, 7).unwrap();
     let options = MeshVoxelizeOptions::default();
     let (whole, _) = voxelize_mesh(&mesh, domain, &options).unwrap();
@@ -74,7 +74,7 @@ fn a_mesh_voxelized_cell_by_cell_is_the_single_file_solid() {
     sharded::voxelize_mesh(&mesh, domain, meta, &options, &out, &at_level(2)).unwrap();
     let solid = ShardedSolid::open(&out).unwrap();
     assert_eq!(solid.index().meta, meta);
-    assert_eq!(solid.load(MemoryBudget::unlimited()).unwrap(), whole);
+    assert_eq!(solid.read(MemoryBudget::unlimited()).unwrap(), whole);
     assert!(solid.index().shards.len() > 8, "the surface crosses many cells");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -140,7 +140,7 @@ fn set_operations_merged_cell_by_cell_equal_the_in_memory_merge() {
             .enumerate()
             .map(|(i, t)| {
                 let d = dir.join(format!("in-{round}-{i}.octs"));
-                sharded::save(t, Metadata::default(), &d, &at_level(i as u8 + 1)).unwrap();
+                sharded::write(t, Metadata::default(), &d, &at_level(i as u8 + 1)).unwrap();
                 d
             })
             .collect();
@@ -165,8 +165,8 @@ fn a_budget_smaller_than_the_solid_still_combines_and_refuses_a_whole_load() {
     let part = voxelize(&classic_csg(), domain, &VoxelizeOptions::default()).unwrap();
     let ring = voxelize(&octsolid::samples::showcase(), domain, &VoxelizeOptions::default()).unwrap();
     let (a, b) = (dir.join("a.octs"), dir.join("b.octs"));
-    sharded::save(&part, Metadata::default(), &a, &at_level(4)).unwrap();
-    sharded::save(&ring, Metadata::default(), &b, &at_level(4)).unwrap();
+    sharded::write(&part, Metadata::default(), &a, &at_level(4)).unwrap();
+    sharded::write(&ring, Metadata::default(), &b, &at_level(4)).unwrap();
     let solids = [ShardedSolid::open(&a).unwrap(), ShardedSolid::open(&b).unwrap()];
     // A tenth of either solid's nodes.
     let budget = MemoryBudget(part.node_count() as u64 * 8 / 10);
@@ -174,12 +174,12 @@ fn a_budget_smaller_than_the_solid_still_combines_and_refuses_a_whole_load() {
     let options = StreamOptions { budget, ..at_level(4) };
     sharded::combine(&solids[..], SetOp::SymmetricDifference, &out, &options).unwrap();
     let result = ShardedSolid::open(&out).unwrap();
-    match result.load(budget) {
+    match result.read(budget) {
         Err(Error::OverBudget { .. }) => {}
         other => panic!("a whole load over the budget was not refused: {other:?}"),
     }
     let want = LinearOctree::combine_all(&[&part, &ring], SetOp::SymmetricDifference).unwrap();
-    assert_eq!(result.load(MemoryBudget::unlimited()).unwrap(), want);
+    assert_eq!(result.read(MemoryBudget::unlimited()).unwrap(), want);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -189,11 +189,11 @@ fn a_level_of_detail_within_a_budget_is_the_coarsened_solid() {
     let domain = showcase_domain(8).unwrap();
     let whole = voxelize(&classic_csg(), domain, &VoxelizeOptions::default()).unwrap();
     let out = dir.join("part.octs");
-    sharded::save(&whole, Metadata::default(), &out, &at_level(2)).unwrap();
+    sharded::write(&whole, Metadata::default(), &out, &at_level(2)).unwrap();
     let solid = ShardedSolid::open(&out).unwrap();
-    assert_eq!(solid.load_within(MemoryBudget::unlimited()).unwrap(), whole);
+    assert_eq!(solid.read_within(MemoryBudget::unlimited()).unwrap(), whole);
     let budget = MemoryBudget(whole.node_count() as u64 * 8 / 10);
-    let coarse = solid.load_within(budget).unwrap();
+    let coarse = solid.read_within(budget).unwrap();
     assert!(coarse.depth() < 8 && coarse.depth() >= 2, "depth {}", coarse.depth());
     assert_eq!(coarse, whole.coarsen(coarse.depth(), CoarsenRule::Any).unwrap());
     std::fs::remove_dir_all(&dir).unwrap();
@@ -210,7 +210,7 @@ fn small_solid(dir: &Path, name: &str) -> (PathBuf, ShardIndex) {
 
 /// Loading refuses with a message naming `name` and holding `words`.
 fn assert_refused(dir: &Path, name: &str, words: &str) {
-    let err = ShardedSolid::open(dir).and_then(|s| s.load(MemoryBudget::unlimited())).unwrap_err().to_string();
+    let err = ShardedSolid::open(dir).and_then(|s| s.read(MemoryBudget::unlimited())).unwrap_err().to_string();
     assert!(err.contains(name) && err.contains(words), "{err}");
 }
 
@@ -272,7 +272,7 @@ fn a_shard_with_a_node_reaching_out_of_its_cell_is_refused() {
     let entry = index.shards[0].clone();
     let cell = layout.cell_key(entry.cell);
     let shard = layout.shard_file(entry.cell);
-    let mut keys: Vec<_> = ShardedSolid::open(&out).unwrap().load_shard(0, MemoryBudget::unlimited()).unwrap();
+    let mut keys: Vec<_> = ShardedSolid::open(&out).unwrap().read_shard(0, MemoryBudget::unlimited()).unwrap();
     let spanning = octsolid::octree::NodeKey::new(cell.end() - 8, 1); // inside: a 2-voxel node at the end
     keys.retain(|k| k.end() <= spanning.start());
     let beyond = octsolid::octree::NodeKey::new(cell.end(), 0); // the next cell's first voxel
@@ -295,10 +295,10 @@ fn a_scene_names_a_sharded_solid_like_any_solid_file() {
     let dir = scratch("scene");
     let domain = showcase_domain(6).unwrap();
     let whole = voxelize(&classic_csg(), domain, &VoxelizeOptions::default()).unwrap();
-    sharded::save(&whole, Metadata::default(), &dir.join("part.octs"), &at_level(2)).unwrap();
+    sharded::write(&whole, Metadata::default(), &dir.join("part.octs"), &at_level(2)).unwrap();
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, "[[solid]]\nname = \"part\"\noct = \"part.octs\"\n").unwrap();
-    let loaded = octsolid::scene_file::load_scene(&scene, MemoryBudget::unlimited()).unwrap();
+    let loaded = octsolid::scene_file::read_scene(&scene, MemoryBudget::unlimited()).unwrap();
     assert_eq!(loaded.scene.solids[0].tree, whole);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -331,7 +331,7 @@ fn classic_whole() -> LinearOctree {
 }
 
 fn loaded(out: &Path) -> LinearOctree {
-    ShardedSolid::open(out).unwrap().load(MemoryBudget::unlimited()).unwrap()
+    ShardedSolid::open(out).unwrap().read(MemoryBudget::unlimited()).unwrap()
 }
 
 #[test]
@@ -470,7 +470,7 @@ fn indexes_and_shards_that_are_fifos_or_devices_are_refused_without_reading_them
             std::os::unix::fs::symlink("/dev/zero", &target).unwrap();
         }
         let err = without_hanging(move || {
-            ShardedSolid::open(&out).and_then(|s| s.load(MemoryBudget::unlimited())).unwrap_err().to_string()
+            ShardedSolid::open(&out).and_then(|s| s.read(MemoryBudget::unlimited())).unwrap_err().to_string()
         });
         assert!(
             err.contains("not a regular file") && err.contains(target.file_name().unwrap().to_str().unwrap()),
@@ -516,7 +516,7 @@ fn a_version_1_index_is_still_read() {
     std::fs::write(out.join(sharded::INDEX_FILE), &v1).unwrap();
     let solid = ShardedSolid::open(&out).unwrap();
     assert_eq!(solid.index().job, sharded::JobId::NONE);
-    assert_eq!(solid.load(MemoryBudget::unlimited()).unwrap(), classic_whole());
+    assert_eq!(solid.read(MemoryBudget::unlimited()).unwrap(), classic_whole());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

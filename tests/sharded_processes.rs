@@ -89,7 +89,7 @@ fn tasks_of_two_jobs_writing_one_output_are_not_joined_and_info_checks_the_shard
     assert!(std::fs::read(dir.join("got.oct")).unwrap() == std::fs::read(dir.join("want.oct")).unwrap());
     // An index whose shard bounds are not the shard's: `info` refuses it by name.
     let solid = dir.join("mixed.octs");
-    let mut index = octsolid::sharded::ShardIndex::load(&solid).unwrap();
+    let mut index = octsolid::sharded::ShardIndex::read(&solid).unwrap();
     let i = index.shards.iter().position(|s| s.min != s.max).unwrap();
     index.shards[i].min = index.shards[i].max;
     std::fs::write(solid.join("index"), index.encode()).unwrap();

@@ -17,8 +17,8 @@ use std::process::Command;
 use common::Rng;
 use glam::DVec3;
 use octsolid::mesh::{
-    BoundaryOptions, PolygonTables, SEPARATION_STEP, TriangleMesh, boundary_mesh, load_mesh, save_mesh,
-    separate_sheets, write_stl,
+    BoundaryOptions, PolygonTables, SEPARATION_STEP, TriangleMesh, boundary_mesh, read_mesh, separate_sheets,
+    write_mesh, write_stl,
 };
 use octsolid::octree::{Domain, LinearOctree, Node};
 use rayon::prelude::*;
@@ -88,7 +88,7 @@ fn obj_and_ply_bytes_are_unchanged() {
             for ext in formats {
                 let name = format!("{what}-{mode}.{ext}");
                 let path = if bless { reference(&name) } else { dir.join(&name) };
-                save_mesh(&mesh, &path).unwrap();
+                write_mesh(&mesh, &path).unwrap();
                 let want = std::fs::read(reference(&name)).unwrap();
                 assert!(std::fs::read(&path).unwrap() == want, "{name} differs from tests/data/boundary/{name}");
             }
@@ -142,8 +142,8 @@ fn winding_number(mesh: &TriangleMesh, p: DVec3) -> f64 {
 /// oracles of the module doc; returns how many vertices were moved apart.
 fn check_round_trip(tree: &LinearOctree, options: &BoundaryOptions, path: &Path, what: &str) -> usize {
     let mesh = boundary_mesh(tree, options);
-    save_mesh(&mesh, path).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let loaded = load_mesh(path).unwrap();
+    write_mesh(&mesh, path).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let loaded = read_mesh(path).unwrap();
     let report = PolygonTables::new(&loaded).report();
     assert_eq!(
         (report.boundary_edges, report.non_manifold_edges, report.misoriented_edges, report.degenerate_faces),
@@ -292,7 +292,7 @@ fn coarse_f32_spacing_is_refused() {
     // f32 spacing at 10^6 is 1/16: four of it exceed a sixteenth of a unit voxel.
     let far = LinearOctree::from_voxels(at(1e6, 16.0), contact).unwrap();
     let path = dir.join("far.stl");
-    let e = save_mesh(&boundary_mesh(&far, &BoundaryOptions::default()), &path).unwrap_err().to_string();
+    let e = write_mesh(&boundary_mesh(&far, &BoundaryOptions::default()), &path).unwrap_err().to_string();
     assert!(e.contains("far.stl") && e.contains("f32") && e.contains(".obj or .ply"), "{e}");
     assert!(!path.exists());
     assert!(separate_sheets(&boundary_mesh(&far, &BoundaryOptions::default())).is_err());
@@ -302,20 +302,20 @@ fn coarse_f32_spacing_is_refused() {
     // 1/4 at 4096 (f32 spacing 2^-11 there; a thousandth of the voxel is 2^-12).
     let near = LinearOctree::from_voxels(Domain::new(DVec3::splat(4096.0), 256.0, 10).unwrap(), contact).unwrap();
     let mesh = boundary_mesh(&near, &BoundaryOptions::default());
-    save_mesh(&mesh, &path).unwrap();
-    let loaded = load_mesh(&path).unwrap();
+    write_mesh(&mesh, &path).unwrap();
+    let loaded = read_mesh(&path).unwrap();
     assert!(loaded.is_watertight() && loaded.vertices.len() == mesh.vertices.len());
     let moved = loaded.vertices.iter().map(|v| (*v * 4.0 - (*v * 4.0).round()).length() / 4.0).fold(0.0, f64::max);
     assert!(moved > 1.5 * 0.25 * SEPARATION_STEP && moved < 0.25 / 16.0, "moved by {moved}");
     // At 10^8 (f32 spacing 8) unit voxels' corners themselves fall together.
     let huge = LinearOctree::from_voxels(at(1e8, 16.0), [[1, 1, 1]]).unwrap();
-    let e = save_mesh(&boundary_mesh(&huge, &BoundaryOptions::default()), dir.join("huge.stl")).unwrap_err();
+    let e = write_mesh(&boundary_mesh(&huge, &BoundaryOptions::default()), dir.join("huge.stl")).unwrap_err();
     assert!(e.to_string().contains("both"), "{e}");
     // The raw writer writes every corner as it is, and such a file welds the contact.
     let mut raw = Vec::new();
     write_stl(&boundary_mesh(&voxels(4, contact), &BoundaryOptions::default()), &mut raw).unwrap();
     std::fs::write(dir.join("raw.stl"), raw).unwrap();
-    let report = PolygonTables::new(&load_mesh(dir.join("raw.stl")).unwrap()).report();
+    let report = PolygonTables::new(&read_mesh(dir.join("raw.stl")).unwrap()).report();
     assert!(report.non_manifold_edges > 0, "{report:?}");
 }
 
@@ -336,7 +336,7 @@ fn trimesh_reads_the_stl_closed() {
     let script = "import sys, json, trimesh\n\
                   out = []\n\
                   for path in sys.argv[1:]:\n\
-                  \x20   m = trimesh.load_mesh(path)\n\
+                  \x20   m = trimesh.read_mesh(path)\n\
                   \x20   out.append([m.is_watertight, m.is_winding_consistent, float(m.volume), len(m.vertices)])\n\
                   print(json.dumps(out))\n";
     let mut files = Vec::new();
@@ -344,8 +344,8 @@ fn trimesh_reads_the_stl_closed() {
         for (mode, options) in MODES {
             let path = dir.join(format!("{what}-{mode}.stl"));
             let mesh = boundary_mesh(&tree, &options);
-            save_mesh(&mesh, &path).unwrap();
-            let volume = PolygonTables::new(&load_mesh(&path).unwrap()).report().volume;
+            write_mesh(&mesh, &path).unwrap();
+            let volume = PolygonTables::new(&read_mesh(&path).unwrap()).report().volume;
             files.push((path, volume, mesh.vertices.len()));
         }
     }

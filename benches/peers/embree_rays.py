@@ -74,10 +74,10 @@ def load_obj(path):
     return np.array(vertices, dtype=np.float64), np.array(faces, dtype=np.int32)
 
 
-def load_mesh(path):
+def read_mesh(path):
     if path.lower().endswith(".obj"):
         return load_obj(path)
-    mesh = trimesh.load(path, force="mesh", process=False)
+    mesh = trimesh.read(path, force="mesh", process=False)
     return (np.ascontiguousarray(mesh.vertices, dtype=np.float64),
             np.ascontiguousarray(mesh.faces, dtype=np.int32))
 
@@ -231,7 +231,7 @@ def main():
     ap.add_argument("--dump", metavar="DIR", help="write primary.rays, shadow.rays, random.rays here")
     args = ap.parse_args()
 
-    vertices, faces = load_mesh(args.model)
+    vertices, faces = read_mesh(args.model)
     lo, hi = vertices.min(axis=0), vertices.max(axis=0)
     centre, diag = (lo + hi) / 2.0, float(np.linalg.norm(hi - lo))
     target = centre if args.target is None else args.target

@@ -112,7 +112,7 @@ def main():
                        stdout=subprocess.DEVNULL)
         # process=False: the export keeps apart the vertices where two voxels touch at
         # an edge or a corner only; merging them by position would make it non-manifold.
-        exported = trimesh.load(boundary, force="mesh", process=False)
+        exported = trimesh.read(boundary, force="mesh", process=False)
     # The winding solid can hold voxel-sized voids; their inward-facing shells are
     # separate bodies of negative volume: keep the outer shell (which fills them).
     bodies = sorted(exported.split(only_watertight=False), key=lambda b: -b.volume)
@@ -142,7 +142,7 @@ def main():
     check(small, "the offset mesh")
     small.apply_scale(args.scale)
 
-    original = trimesh.load(args.input, force="mesh", process=True)
+    original = trimesh.read(args.input, force="mesh", process=True)
     header = [
         "Stanford bunny, closed and manifold (genus 0), "
         f"{len(small.vertices)} vertices, {len(small.faces)} triangles; y up.",

@@ -10,7 +10,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use octsolid::import::{self, ImportOptions};
 use octsolid::render::{Camera, CameraRequest, Framing, RenderOptions, RenderOverrides, Scene, Section, Up};
-use octsolid::scene_file::{self, LoadOptions};
+use octsolid::scene_file::{self, SceneReadOptions};
 use octsolid::{FileKind, MemoryBudget};
 
 use crate::camera_flags::in_flags_words;
@@ -35,13 +35,13 @@ impl Drawn {
         input: &Path,
         kind: FileKind,
         source: &Source,
-        load: LoadOptions,
+        load: SceneReadOptions,
         stages: &mut Stages,
     ) -> Result<Drawn> {
         if kind != FileKind::Scene {
             return solid_scene(input, kind, source, load.budget, stages);
         }
-        let file = scene_file::load_scene_with(input, &load)?;
+        let file = scene_file::read_scene_with(input, &load)?;
         print_warnings(&file.warnings);
         let solids = |n: usize| if n == 1 { "1 solid".to_owned() } else { format!("{n} solids") };
         stages.done(match (file.cache.hits, file.cache.misses) {

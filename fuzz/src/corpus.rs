@@ -199,7 +199,7 @@ fn sharded_seeds(ball: &LinearOctree, sponge: &LinearOctree) -> Vec<(String, Vec
     for (name, tree, level) in [("ball", ball, 1), ("sponge", sponge, 2)] {
         let out = scratch::case_path("octs");
         let options = StreamOptions { level: Some(level), budget: BUDGET, ..StreamOptions::default() };
-        sharded::save(tree, oct::Metadata::default(), &out, &options).expect("a small sharded solid");
+        sharded::write(tree, oct::Metadata::default(), &out, &options).expect("a small sharded solid");
         let index = std::fs::read(out.join(sharded::INDEX_FILE)).expect("its index");
         let _ = std::fs::remove_dir_all(&out);
         if name == "ball" {

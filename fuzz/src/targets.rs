@@ -50,10 +50,10 @@ use octsolid::io::oct::Metadata;
 use octsolid::io::{ReadOptions, Solids, binvox, gltf, oct, vdb, vox};
 use octsolid::mesh::{BoundaryOptions, MeshShape, PolygonTables, mesh_from_bytes, try_boundary_mesh};
 use octsolid::octree::{Cells, Domain, VoxelizeOptions, voxelize};
-use octsolid::patch::load_patches;
+use octsolid::patch::read_patches;
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{Camera, Material, Method, Projection, RenderOptions, Scene, render};
-use octsolid::scene_file::load_scene;
+use octsolid::scene_file::read_scene;
 use octsolid::shape::{Axis, Cuboid, Sphere};
 use octsolid::sharded::{self, ShardIndex, StreamOptions};
 use octsolid::{MemoryBudget, NoProgress, Result};
@@ -99,18 +99,18 @@ pub const TARGETS: &[Target] = &[
         name: "oct",
         corpus: &["oct"],
         ext: "oct",
-        about: "io::oct::decode_with, as given and with the length and CRC-32 fixed",
+        about: "io::oct::decode_and_metadata, as given and with the length and CRC-32 fixed",
         run: oct_target,
     },
     Target { name: "obj", corpus: &["obj"], ext: "obj", about: "mesh_from_bytes as OBJ", run: obj },
     Target { name: "stl", corpus: &["stl"], ext: "stl", about: "mesh_from_bytes as STL", run: stl },
     Target { name: "ply", corpus: &["ply"], ext: "ply", about: "mesh_from_bytes as PLY", run: ply },
-    Target { name: "patches", corpus: &["patches"], ext: "patches", about: "patch::load_patches", run: patches },
+    Target { name: "patches", corpus: &["patches"], ext: "patches", about: "patch::read_patches", run: patches },
     Target {
         name: "scene",
         corpus: &["scene"],
         ext: "toml",
-        about: "scene_file::load_scene (reads and builds the scene, 16 MiB budget)",
+        about: "scene_file::read_scene (reads and builds the scene, 16 MiB budget)",
         run: scene,
     },
     Target {
@@ -124,7 +124,7 @@ pub const TARGETS: &[Target] = &[
         name: "rad",
         corpus: &["rad"],
         ext: "rad",
-        about: "render::radiosity::Radiosity::load against a fixed small room, as given and with the CRC-32 fixed",
+        about: "render::radiosity::Radiosity::read against a fixed small room, as given and with the CRC-32 fixed",
         run: rad_target,
     },
     Target {
@@ -208,8 +208,8 @@ pub fn oct_fixed(bytes: &[u8]) -> Vec<u8> {
 /// Decodes the file as it is, then with its length and checksum fixed
 /// ([`oct_fixed`]); the outcome is the second's.
 fn oct_target(bytes: &[u8]) -> Result<String> {
-    let raw = oct::decode_with(bytes, Path::new("fuzz.oct"), BUDGET);
-    let (tree, meta) = oct::decode_with(&oct_fixed(bytes), Path::new("fuzz.oct"), BUDGET)?;
+    let raw = oct::decode_and_metadata(bytes, Path::new("fuzz.oct"), BUDGET);
+    let (tree, meta) = oct::decode_and_metadata(&oct_fixed(bytes), Path::new("fuzz.oct"), BUDGET)?;
     Ok(format!("depth {} nodes ~{} {meta:?} as given {}", tree.depth(), bucket(tree.node_count() as u64), raw.is_ok()))
 }
 
@@ -231,7 +231,7 @@ fn ply(bytes: &[u8]) -> Result<String> {
 }
 
 fn patches(bytes: &[u8]) -> Result<String> {
-    let patches = scratch::with_file(bytes, "patches", |p| load_patches(p))?;
+    let patches = scratch::with_file(bytes, "patches", |p| read_patches(p))?;
     Ok(format!("patches ~{}", bucket(patches.len() as u64)))
 }
 
@@ -277,7 +277,7 @@ pub fn rad_seed(shots: u64) -> Result<Vec<u8>> {
     let options = RadiosityOptions { max_shots: Some(shots), budget: BUDGET, ..RadiosityOptions::default() };
     let solution = Radiosity::solve(rad_scene(), &options, &NoProgress)?;
     let path = scratch::case_path("rad");
-    solution.save(&path)?;
+    solution.write(&path)?;
     std::fs::read(&path).map_err(|source| octsolid::Error::Io { path, source })
 }
 
@@ -296,7 +296,7 @@ pub fn rad_fixed(bytes: &[u8]) -> Vec<u8> {
 /// Loads the solution as it is, then with its checksum fixed ([`rad_fixed`]), for
 /// [`rad_scene`]; the outcome is the second's.
 fn rad_target(bytes: &[u8]) -> Result<String> {
-    let load = |b: &[u8]| scratch::with_file(b, "rad", |path| Radiosity::load(path, rad_scene(), BUDGET));
+    let load = |b: &[u8]| scratch::with_file(b, "rad", |path| Radiosity::read(path, rad_scene(), BUDGET));
     let raw = load(bytes).is_ok();
     let solution = load(&rad_fixed(bytes))?;
     let s = solution.stats();
@@ -410,7 +410,7 @@ fn scene(bytes: &[u8]) -> Result<String> {
     if too_deep(bytes) {
         return Ok("too deep, not built".into());
     }
-    let file = scratch::with_file(bytes, "toml", |path| load_scene(path, SCENE_BUDGET))?;
+    let file = scratch::with_file(bytes, "toml", |path| read_scene(path, SCENE_BUDGET))?;
     Ok(format!(
         "solids {} lights {} warnings {}",
         file.scene.solids.len(),
@@ -430,7 +430,7 @@ fn scene_render(bytes: &[u8]) -> Result<String> {
     if too_deep(bytes) {
         return Ok("too deep, not built".into());
     }
-    let file = scratch::with_file(bytes, "toml", |path| load_scene(path, SCENE_BUDGET))?;
+    let file = scratch::with_file(bytes, "toml", |path| read_scene(path, SCENE_BUDGET))?;
     let options = RenderOptions { width: 8, height: 6, spp: 1, budget: SCENE_BUDGET, ..file.options };
     let (traced, stats) = render(&file.scene, &file.camera, &options, &NoProgress)?;
     let method = RASTER[bytes.len() % RASTER.len()];
@@ -608,7 +608,7 @@ pub const MAX_PATCH_COORDINATE: f64 = 1e150;
 /// Loads a patch set, voxelizes it as a surface (depth 5) and as a solid of its
 /// tessellation (depth 4), and reports that tessellation.
 fn patches_voxelize(bytes: &[u8]) -> Result<String> {
-    let input = Input::Patches(scratch::with_file(bytes, "patches", |p| load_patches(p))?);
+    let input = Input::Patches(scratch::with_file(bytes, "patches", |p| read_patches(p))?);
     let bounds = input.bounds();
     if bounds.min.abs().max(bounds.max.abs()).max_element() > MAX_PATCH_COORDINATE {
         return Ok("not voxelized".into());

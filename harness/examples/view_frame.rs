@@ -4,7 +4,7 @@
 //! Under callgrind, collect only the frames:
 //! `valgrind --tool=callgrind --toggle-collect='view_frame::frame*'`.
 use octsolid::io::png;
-use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::mesh::{MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
 use octsolid::render::{Camera, Method, Normals, RenderOptions, Scene, ShadeOptions};
 use octsolid::shape::Axis;
@@ -17,7 +17,7 @@ fn frame(scene: &Scene, camera: &Camera, options: &RenderOptions) -> usize {
 
 fn main() {
     let n: usize = std::env::args().nth(1).map_or(1, |a| a.parse().expect("N: a count of frames"));
-    let mesh = load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/../models/stanford-bunny.obj")).unwrap();
+    let mesh = read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/../models/stanford-bunny.obj")).unwrap();
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     let tree = voxelize_mesh(&mesh, Domain::around(&mesh.bounds(), 0.02, 10).unwrap(), &options).unwrap().0;
     let bounds = tree.bounds().unwrap();

@@ -13,7 +13,7 @@
 //! callgrind, collect only the tracing:
 //! `valgrind --tool=callgrind --branch-sim=yes --toggle-collect='walk_one::trace*'`.
 use glam::DVec3;
-use octsolid::mesh::{MeshVoxelizeOptions, load_mesh, voxelize_mesh};
+use octsolid::mesh::{MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
 use octsolid::render::{Camera, Method, PACKET, SampleGrid, Scene, TILE, Traversal, visibility_into};
 use octsolid::{MemoryBudget, Ray, RayCast};
@@ -47,7 +47,7 @@ fn main() {
     let depth: u8 = args[2].parse().unwrap();
     let kind = args[3].as_str();
     let n: usize = args[4].parse().unwrap();
-    let mesh = load_mesh(&args[1]).unwrap();
+    let mesh = read_mesh(&args[1]).unwrap();
     let bounds = mesh.bounds();
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     let (tree, _) = voxelize_mesh(&mesh, Domain::around(&bounds, 0.02, depth).unwrap(), &options).unwrap();

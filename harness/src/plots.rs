@@ -61,7 +61,7 @@ fn render_png(
         root.present().map_err(|e| plot_error(path, e))?;
     }
     let img = RgbImage::from_raw(w, h, buffer).ok_or_else(|| plot_error(path, "image buffer size"))?;
-    octsolid::io::png::save(&img, path).map(|_| ())
+    octsolid::io::png::write(&img, path).map(|_| ())
 }
 
 /// Mrays/s against depth on all threads for `scene`: one panel a ray kind.

@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use octsolid::MemoryBudget;
 use octsolid::Result;
-use octsolid::mesh::{MeshVoxelizeOptions, TriangleMesh, load_mesh, voxelize_mesh};
+use octsolid::mesh::{MeshVoxelizeOptions, TriangleMesh, read_mesh, voxelize_mesh};
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::Camera;
 use octsolid::samples::classic_csg;
@@ -111,7 +111,7 @@ pub fn build_scene(kind: SceneKind, depth: u8, models: &Path, budget: MemoryBudg
             (voxelize(&classic_csg(), Domain::new(DVec3::splat(-1.1), 2.2, depth)?, &options)?, None)
         }
         SceneKind::Bunny => {
-            let mesh = load_mesh(models.join(BUNNY_FILE))?;
+            let mesh = read_mesh(models.join(BUNNY_FILE))?;
             let domain = Domain::around(&mesh.bounds(), 0.02, depth)?;
             let (tree, _) = voxelize_mesh(&mesh, domain, &MeshVoxelizeOptions { budget, ..Default::default() })?;
             (tree, Some(mesh))

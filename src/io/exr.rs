@@ -19,12 +19,12 @@ use crate::render::Picture;
 
 /// Writes `picture` as an RGB `f32` OpenEXR file to `path` through a temporary file;
 /// returns the bytes written.
-pub fn save(picture: &Picture, path: impl AsRef<Path>) -> Result<u64> {
+pub fn write(picture: &Picture, path: impl AsRef<Path>) -> Result<u64> {
     let bytes = encode(picture)?;
     write_atomic(path, |w| w.write_all(&bytes))
 }
 
-/// The bytes [`save`] writes, in memory. Fails only for a picture OpenEXR cannot hold
+/// The bytes [`write()`] writes, in memory. Fails only for a picture OpenEXR cannot hold
 /// (no pixels).
 pub fn encode(picture: &Picture) -> Result<Vec<u8>> {
     let (width, height) = picture.dimensions();

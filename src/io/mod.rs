@@ -1,7 +1,7 @@
 //! Reading and writing solids and images: the native `.oct` format (see
 //! `docs/FORMAT.md`), the voxel and volume formats other tools use (MagicaVoxel
 //! `.vox`, binvox, OpenVDB `.vdb`; glTF `.glb` meshes out), pictures out (PNG, and
-//! OpenEXR for linear radiance). [`save_picture`] picks the picture format by
+//! OpenEXR for linear radiance). [`write_picture`] picks the picture format by
 //! extension ([`crate::FileKind`]); solid files are read and written through the door
 //! above `io` and `sharded`, [`crate::SolidFile::read`] and [`crate::write_solid_file`].
 //! Every file is written through [`write_atomic`] (the bottom floor's, re-exported
@@ -24,7 +24,7 @@ pub mod vdb;
 pub mod vox;
 
 pub use crate::atomic::{same_file, write_atomic};
-pub use picture::save_picture;
+pub use picture::write_picture;
 pub(crate) use solid_set::file_stem;
 pub use solid_set::{ColouredSolid, ReadOptions, SolidRef, Solids, SolidsRef};
 pub use solids::WriteOptions;

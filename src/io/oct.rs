@@ -174,26 +174,26 @@ pub fn encode_with(tree: &LinearOctree, meta: &Metadata) -> Vec<u8> {
 }
 
 /// Writes `tree` to `path` atomically, without metadata; returns the file size in bytes.
-pub fn save(tree: &LinearOctree, path: impl AsRef<Path>) -> Result<u64> {
-    save_with(tree, &Metadata::default(), path)
+pub fn write(tree: &LinearOctree, path: impl AsRef<Path>) -> Result<u64> {
+    write_with(tree, &Metadata::default(), path)
 }
 
 /// Writes `tree` with `meta` to `path` atomically; returns the file size in bytes.
-pub fn save_with(tree: &LinearOctree, meta: &Metadata, path: impl AsRef<Path>) -> Result<u64> {
+pub fn write_with(tree: &LinearOctree, meta: &Metadata, path: impl AsRef<Path>) -> Result<u64> {
     let bytes = encode_with(tree, meta);
     write_atomic(path.as_ref(), |w| w.write_all(&bytes))
 }
 
 /// Reads and checks the `.oct` file at `path`.
-pub fn load(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<LinearOctree> {
-    Ok(load_with(path, budget)?.0)
+pub fn read(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<LinearOctree> {
+    Ok(read_and_metadata(path, budget)?.0)
 }
 
 /// Reads and checks the `.oct` file at `path`, with its metadata (empty for version 1).
-pub fn load_with(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<(LinearOctree, Metadata)> {
+pub fn read_and_metadata(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<(LinearOctree, Metadata)> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-    decode_with(&bytes, path, budget)
+    decode_and_metadata(&bytes, path, budget)
 }
 
 /// CRC-32 of the header before the checksum field, then the payload.
@@ -228,7 +228,7 @@ fn read_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
 
 /// Parses and checks a whole `.oct` file; `path` names it in errors.
 pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
-    Ok(decode_with(bytes, path, budget)?.0)
+    Ok(decode_and_metadata(bytes, path, budget)?.0)
 }
 
 /// The header fields the payload is read against.
@@ -240,7 +240,7 @@ struct Header {
 }
 
 /// Parses and checks a whole `.oct` file with its metadata; `path` names it in errors.
-pub fn decode_with(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<(LinearOctree, Metadata)> {
+pub fn decode_and_metadata(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<(LinearOctree, Metadata)> {
     let fail =
         |offset: usize, reason: String| Error::Format { path: path.to_path_buf(), offset: offset as u64, reason };
     let header = decode_header(bytes, path)?;

@@ -13,11 +13,11 @@ use crate::render::Picture;
 
 /// Writes `picture` to `path` in the format its extension names, atomically; returns
 /// the bytes written.
-pub fn save_picture(picture: &Picture, path: impl AsRef<Path>) -> Result<u64> {
+pub fn write_picture(picture: &Picture, path: impl AsRef<Path>) -> Result<u64> {
     let path = path.as_ref();
     match FileKind::of(path, FileKind::PICTURES)? {
-        FileKind::Png => png::save(&picture.to_srgb8(), path),
-        FileKind::Exr => exr::save(picture, path),
+        FileKind::Png => png::write(&picture.to_srgb8(), path),
+        FileKind::Exr => exr::write(picture, path),
         other => unreachable!("{other:?} is not in FileKind::PICTURES"),
     }
 }

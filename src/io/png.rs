@@ -23,12 +23,12 @@ use crate::render::render;
 use crate::render::{Camera, RenderOptions, RenderStats, Scene, render_streamed};
 
 /// Writes `img` as an 8-bit RGB PNG to `path` through a temporary file; returns the bytes written.
-pub fn save(img: &RgbImage, path: impl AsRef<Path>) -> Result<u64> {
+pub fn write(img: &RgbImage, path: impl AsRef<Path>) -> Result<u64> {
     let bytes = encode(img)?;
     write_atomic(path.as_ref(), |w| w.write_all(&bytes))
 }
 
-/// The bytes [`save`] writes, in memory (a viewer's frames are the files `render`
+/// The bytes [`write()`] writes, in memory (a viewer's frames are the files `render`
 /// writes). Fails only for an image the PNG format cannot hold (no pixels).
 pub fn encode(img: &RgbImage) -> Result<Vec<u8>> {
     let mut rows = PngRows::new(img.width(), img.height())?;

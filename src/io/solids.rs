@@ -76,7 +76,7 @@ pub(crate) fn write_voxel_solids(
         solids
     };
     match kind {
-        FileKind::Oct => oct::save_with(one_solid(path, solids)?, &options.meta, path),
+        FileKind::Oct => oct::write_with(one_solid(path, solids)?, &options.meta, path),
         FileKind::Binvox => binvox::write(path, one_solid(path, solids)?, options.budget),
         FileKind::Vox => vox::write(path, solids, options.budget),
         FileKind::Vdb => vdb::write(path, solids, options.vdb_compression, options.budget),

@@ -40,7 +40,7 @@
 //! runs in parallel over fixed chunks joined in order, and ties are broken by sorted
 //! keys, so the mesh is the same for any number of threads. The vertices a point keeps
 //! for its sheets share one position; STL, which stores positions only, gets them
-//! moved apart ([`super::separate_sheets`], through [`super::save_mesh`]).
+//! moved apart ([`super::separate_sheets`], through [`super::write_mesh`]).
 
 use rayon::prelude::*;
 use smallvec::SmallVec;

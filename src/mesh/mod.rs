@@ -8,13 +8,12 @@
 mod boundary;
 mod crossing;
 pub mod generate;
-mod load;
 mod mtl;
 mod obj;
 mod parity;
 mod ply;
 mod predicates;
-mod save;
+mod read;
 mod separate;
 mod shape;
 mod solid;
@@ -25,6 +24,7 @@ mod tri_box;
 mod triangle_tree;
 mod triangulate;
 mod winding;
+mod write;
 
 use std::collections::HashMap;
 
@@ -35,15 +35,15 @@ use crate::error::{Error, Result};
 
 pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
 pub(crate) use boundary::{BoundarySize, Rect as BoundaryRect, boundary_mesh_of_size, boundary_rects};
-pub use load::{load_mesh, load_mesh_with_warnings, mesh_from_bytes};
 pub use parity::ParityGrid;
-pub use save::{save_mesh, write_obj, write_ply, write_stl};
+pub use read::{mesh_from_bytes, read_mesh, read_mesh_and_warnings};
 pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};
 pub use shape::MeshShape;
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh, voxelize_mesh_cells};
 pub use surface::{SurfaceKind, estimate_surface_bytes, voxelize_surface};
 pub use tables::{Edge, MeshReport, PolygonTables};
 pub use winding::WindingNumber;
+pub use write::{write_mesh, write_obj, write_ply, write_stl};
 
 /// A named run of triangles (an OBJ group or object).
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -13,7 +13,7 @@
 //!
 //! Each group gets the vertices its faces use, in the order the faces first use them,
 //! so a vertex two groups share appears in both (tobj's layout, which octsolid used
-//! before: meshes load as they did); [`super::load_mesh`] welds them when the mesh is
+//! before: meshes load as they did); [`super::read_mesh`] welds them when the mesh is
 //! not closed as it is. Lines that are not UTF-8 read as Latin-1 and UTF-16 with a
 //! byte-order mark is transcoded ([`crate::text`]), so only names can be lossy.
 

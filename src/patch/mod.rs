@@ -9,11 +9,11 @@
 //! every piece: the voxelizer refines pieces until their boxes are small.
 
 mod bezier;
-mod load;
+mod read;
 mod voxelize;
 
 pub use bezier::BezierPatch;
-pub use load::load_patches;
+pub use read::read_patches;
 pub use voxelize::{
     estimate_surface_bytes, estimate_tessellation_bytes, segments_for, tessellate, tessellate_within,
     voxelize_patch_surface,

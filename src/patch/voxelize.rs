@@ -253,7 +253,7 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
-    use crate::patch::load_patches;
+    use crate::patch::read_patches;
 
     fn domain(patches: &[BezierPatch], depth: u8) -> Domain {
         let b = patches.iter().map(BezierPatch::bounds).reduce(|a, b| a.union(&b)).expect("patches");
@@ -262,7 +262,7 @@ mod tests {
 
     #[test]
     fn estimate_covers_the_keys_made_and_is_within_a_few_times_them_for_large_patches() {
-        let teapot = load_patches("models/teapot.patches").unwrap();
+        let teapot = read_patches("models/teapot.patches").unwrap();
         // One patch tilted across all three axes, its odd control rows lifted.
         let p = std::array::from_fn(|i| {
             std::array::from_fn(|j| {

@@ -22,7 +22,7 @@ use crate::budget::MemoryBudget;
 use crate::error::{Error, Result, printable, quoted};
 use crate::import::{self, ImportOptions, Input};
 use crate::io::ReadOptions;
-use crate::mesh::{InsideRule, MeshShape, load_mesh};
+use crate::mesh::{InsideRule, MeshShape, read_mesh};
 use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize};
 use crate::progress::NoProgress;
 use crate::render::{Light, Material, Scene};
@@ -211,7 +211,7 @@ impl FileLeaves for SceneFiles<'_> {
     fn mesh(&self, file: &Path) -> Result<Csg> {
         let path = self.cx.folder.join(file);
         self.read.borrow_mut().push(path.clone());
-        let mesh = load_mesh(&path)?;
+        let mesh = read_mesh(&path)?;
         match MeshShape::new(&mesh) {
             Ok(shape) => Ok(shape.into()),
             Err(Error::InvalidArgument { what, reason }) => {
@@ -402,7 +402,7 @@ impl SolidBuild<'_> {
         voxelize: &VoxelizeOptions,
     ) -> Result<(LinearOctree, Vec<Warning>)> {
         let at_file = self.at(Some(file.span()));
-        let (mut input, warnings) = Input::load_with_warnings(self.cx.folder.join(file.get_ref())).map_err(&at_file)?;
+        let (mut input, warnings) = Input::read_and_warnings(self.cx.folder.join(file.get_ref())).map_err(&at_file)?;
         if let Some(map) = self.transform()? {
             input.transform(map);
         }

@@ -66,7 +66,7 @@ const CACHEDIR_TAG: &str = "Signature: 8a477f597d28d172789f06886806bc55\n\
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum CachePolicy {
     /// Neither read nor written: every solid is built (the default of
-    /// [`super::load_scene`], which so writes nothing).
+    /// [`super::read_scene`], which so writes nothing).
     #[default]
     Off,
     /// A solid whose inputs are unchanged is read from the cache; the others are built

@@ -45,11 +45,11 @@
 //!
 //! Relative paths inside a scene are relative to the scene file's folder.
 //!
-//! Caching ([`load_scene_with`] and [`LoadOptions::cache`]): the octrees of `shape` and
+//! Caching ([`read_scene_with`] and [`SceneReadOptions::cache`]): the octrees of `shape` and
 //! `mesh` solids and of moved `oct` solids can be read from and stored in the scene's
 //! solid cache ([`CACHE_DIR`] beside the scene; its layout and keys in `docs/FORMAT.md`), keyed
 //! by everything that decides them, so loading an unchanged scene again voxelizes
-//! nothing. [`load_scene`] leaves the cache alone. A mesh solid read from the cache
+//! nothing. [`read_scene`] leaves the cache alone. A mesh solid read from the cache
 //! does not read its mesh, so the mesh's warnings come with the load that voxelized it.
 
 use std::cell::RefCell;
@@ -88,9 +88,9 @@ pub struct SceneFile {
     pub cache: CacheReport,
 }
 
-/// How [`load_scene_with`] loads a scene.
+/// How [`read_scene_with`] loads a scene.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct LoadOptions {
+pub struct SceneReadOptions {
     /// Every voxelization and load is checked against it.
     pub budget: MemoryBudget,
     /// Whether solids are read from and stored in the scene's solid cache.
@@ -102,34 +102,34 @@ pub struct LoadOptions {
 /// the place (see the module doc): around [`Error::Toml`] when the reader refuses the
 /// text (syntax, an unknown key or value, a value out of range), around the cause when
 /// the scene cannot be built.
-pub fn load_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneFile> {
-    load_scene_with(path, &LoadOptions { budget, cache: CachePolicy::Off })
+pub fn read_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneFile> {
+    read_scene_with(path, &SceneReadOptions { budget, cache: CachePolicy::Off })
 }
 
-/// [`load_scene`] with the solid cache of `options` (see the module doc): under
+/// [`read_scene`] with the solid cache of `options` (see the module doc): under
 /// [`CachePolicy::ReadWrite`] a solid whose inputs are unchanged since it was stored
 /// is read, not built, and the others are built and stored. The cache never turns a
 /// load into an error: an entry that cannot be used or written is a warning and the
 /// solid is built.
-pub fn load_scene_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<SceneFile> {
-    read_scene(path.as_ref(), options.budget, options.cache, build)
+pub fn read_scene_with(path: impl AsRef<Path>, options: &SceneReadOptions) -> Result<SceneFile> {
+    parse_scene(path.as_ref(), options.budget, options.cache, build)
 }
 
-/// Reads and checks the scene at `path` (its errors as [`load_scene`]'s) and voxelizes
+/// Reads and checks the scene at `path` (its errors as [`read_scene`]'s) and voxelizes
 /// one solid without rendering: the `[[solid]]` named `solid`, else the union of the
 /// scene's `shape` solids (one CSG tree, voxelized in one pass into the shapes' shared
 /// domain, exactly the union of their octrees there). A named `mesh` or `oct` solid
-/// comes in its own domain, as [`load_scene`] makes it. Progress goes to
+/// comes in its own domain, as [`read_scene`] makes it. Progress goes to
 /// `options.progress` and every voxelization is checked against `options.budget`.
 pub fn build_solid(path: impl AsRef<Path>, solid: Option<&str>, options: &VoxelizeOptions) -> Result<LinearOctree> {
-    read_scene(path.as_ref(), options.budget, CachePolicy::Off, |spec, cx| solid_octree(spec, cx, solid, options))
+    parse_scene(path.as_ref(), options.budget, CachePolicy::Off, |spec, cx| solid_octree(spec, cx, solid, options))
 }
 
 /// The shape and domain [`build_solid`] would voxelize, without voxelizing: for
 /// streaming the solid out cell by cell (`crate::sharded`). Refuses a named solid
 /// that is a `mesh` or an `oct` (those are voxelized or read whole).
 pub fn build_shape(path: impl AsRef<Path>, solid: Option<&str>, budget: MemoryBudget) -> Result<(Csg, Domain)> {
-    read_scene(path.as_ref(), budget, CachePolicy::Off, |spec, cx| {
+    parse_scene(path.as_ref(), budget, CachePolicy::Off, |spec, cx| {
         let whole = |e| cx.error(None, None, e);
         let solids = solid_builds(spec, cx)?;
         let shapes: Vec<Option<Csg>> = solids.iter().map(|s| Ok(s.shape()?.0)).collect::<Result<_>>()?;
@@ -148,7 +148,7 @@ pub fn build_shape(path: impl AsRef<Path>, solid: Option<&str>, budget: MemoryBu
 
 /// Reads the scene at `path` with the solid cache `cache`, checks its text, and hands
 /// the spec to `then`.
-fn read_scene<T>(
+fn parse_scene<T>(
     path: &Path,
     budget: MemoryBudget,
     cache: CachePolicy,

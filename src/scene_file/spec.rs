@@ -238,7 +238,7 @@ impl TextureSpec {
             }
             TextureSpec::Image { file, mapping, axis, center, scale } => {
                 let path = folder.join(file);
-                let texels = load_texels(&path)?;
+                let texels = read_texels(&path)?;
                 let axis = axis.unwrap_or(Axis::Z);
                 let center = center.map_or(DVec3::ZERO, DVec3::from_array);
                 let scale = positive("scale", scale.unwrap_or(1.0))?;
@@ -254,7 +254,7 @@ impl TextureSpec {
 }
 
 /// The image at `path` as 8-bit RGB; a file that cannot be read is [`Error::Io`].
-pub(super) fn load_texels(path: &Path) -> Result<image::RgbImage> {
+pub(super) fn read_texels(path: &Path) -> Result<image::RgbImage> {
     match image::open(path) {
         Ok(img) => Ok(img.to_rgb8()),
         Err(image::ImageError::IoError(source)) => Err(Error::Io { path: path.to_path_buf(), source }),

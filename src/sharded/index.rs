@@ -7,7 +7,7 @@
 //! range of cells; how many full entries and shard entries follow; the job's identity,
 //! [`JobId`]), then the full entries, the shard entries, and a CRC-32 of everything
 //! before it. The file's length is checked against the counts before anything is
-//! allocated (and read: [`ShardIndex::load`] reads the header first), and every entry
+//! allocated (and read: [`ShardIndex::read`] reads the header first), and every entry
 //! against the domain, the level and its neighbours. Version 1 (an 80-byte header
 //! without the job) is still read for indexes, as of job [`JobId::NONE`]; a part of
 //! version 1 is refused (its tasks are run again).
@@ -188,7 +188,7 @@ impl ShardIndex {
     /// Reads and checks the index of the sharded solid in folder `dir`: a regular
     /// file (never a FIFO or device), whose length its header gives before the rest
     /// is read.
-    pub fn load(dir: &Path) -> Result<ShardIndex> {
+    pub fn read(dir: &Path) -> Result<ShardIndex> {
         let path = dir.join(super::INDEX_FILE);
         let bytes = read_file(&path, &INDEX_MAGIC, FULL_BYTES)?;
         ShardIndex::decode(&bytes, &path)

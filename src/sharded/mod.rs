@@ -26,8 +26,8 @@
 //! - every writer stages in a folder of its own and publishes the solid in one atomic
 //!   step, so concurrent writers of one output leave one complete solid.
 //!
-//! Reading: [`ShardedSolid::open`] reads only the index; [`ShardedSolid::load`] the
-//! whole solid within a memory budget, [`ShardedSolid::load_within`] the finest level
+//! Reading: [`ShardedSolid::open`] reads only the index; [`ShardedSolid::read`] the
+//! whole solid within a memory budget, [`ShardedSolid::read_within`] the finest level
 //! of detail that fits one (for rendering), [`Cursor`] the nodes of a range.
 
 mod index;
@@ -42,7 +42,7 @@ pub use index::{INDEX_MAGIC, INDEX_VERSION, ShardEntry, ShardIndex};
 pub use job::JobId;
 pub use layout::Layout;
 pub use solid::{Cursor, ShardedSolid};
-pub use stream::{StreamOptions, combine, save, voxelize_mesh, voxelize_shape};
+pub use stream::{StreamOptions, combine, voxelize_mesh, voxelize_shape, write};
 pub use writer::{ShardWriter, join};
 
 /// The index's file name in a sharded solid's folder.

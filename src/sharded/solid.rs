@@ -30,7 +30,7 @@ impl ShardedSolid {
     /// Opens the sharded solid in folder `dir`, reading and checking its index.
     pub fn open(dir: impl AsRef<Path>) -> Result<ShardedSolid> {
         let dir = dir.as_ref().to_path_buf();
-        let index = ShardIndex::load(&dir)?;
+        let index = ShardIndex::read(&dir)?;
         Ok(ShardedSolid { dir, index })
     }
 
@@ -63,19 +63,19 @@ impl ShardedSolid {
     /// `.oct` checks, its domain and metadata equal to the index's, its counts and
     /// voxel bounds equal to the entry's, and every node inside its cell and smaller
     /// than it.
-    pub fn load_shard(&self, i: usize, budget: MemoryBudget) -> Result<Vec<NodeKey>> {
+    pub fn read_shard(&self, i: usize, budget: MemoryBudget) -> Result<Vec<NodeKey>> {
         let index = &self.index;
         read_shard(&self.shard_path(i), &index.shards[i], index.domain, index.meta, index.layout(), budget)
     }
 
-    /// Reads and checks every shard against the index ([`ShardedSolid::load_shard`]),
+    /// Reads and checks every shard against the index ([`ShardedSolid::read_shard`]),
     /// so that what the index alone says (counts, bounds) is true of the solid.
     pub fn verify(&self, budget: MemoryBudget) -> Result<()> {
-        (0..self.index.shards.len()).into_par_iter().try_for_each(|i| self.load_shard(i, budget).map(drop))
+        (0..self.index.shards.len()).into_par_iter().try_for_each(|i| self.read_shard(i, budget).map(drop))
     }
 
     /// The whole solid in memory (refused when its nodes exceed `budget`).
-    pub fn load(&self, budget: MemoryBudget) -> Result<LinearOctree> {
+    pub fn read(&self, budget: MemoryBudget) -> Result<LinearOctree> {
         let total = self.index.nodes.saturating_mul(NODE_BYTES);
         budget.check(format!("loading {}", self.dir.display()), total)?;
         let mut keys = Vec::with_capacity(self.index.nodes as usize);
@@ -92,7 +92,7 @@ impl ShardedSolid {
     /// each shard is coarsened on its own as it is read ([`CoarsenRule::Any`]: the
     /// result holds the solid), so only one shard at a time is held at full depth.
     /// Returns the solid and its depth.
-    pub fn load_within(&self, budget: MemoryBudget) -> Result<LinearOctree> {
+    pub fn read_within(&self, budget: MemoryBudget) -> Result<LinearOctree> {
         let depth = self.index.domain.depth();
         let mut target = depth;
         let mut nodes = self.index.nodes as f64;
@@ -101,7 +101,7 @@ impl ShardedSolid {
             nodes /= 4.0;
         }
         if target == depth {
-            return self.load(budget);
+            return self.read(budget);
         }
         let coarse = self.index.domain.with_depth(target)?;
         let shift = 3 * u32::from(depth - target);
@@ -110,7 +110,7 @@ impl ShardedSolid {
         let shards: Vec<Vec<NodeKey>> = (0..self.index.shards.len())
             .into_par_iter()
             .map(|i| {
-                let fine = LinearOctree::from_canonical(self.index.domain, self.load_shard(i, budget)?);
+                let fine = LinearOctree::from_canonical(self.index.domain, self.read_shard(i, budget)?);
                 Ok(fine.coarsen(target, CoarsenRule::Any)?.into_keys())
             })
             .collect::<Result<_>>()?;
@@ -148,7 +148,7 @@ impl ShardedSolid {
             while let Some(key) = full.next_if(|k| k.start() < start) {
                 f(std::slice::from_ref(key))?;
             }
-            f(&self.load_shard(i, budget)?)?;
+            f(&self.read_shard(i, budget)?)?;
         }
         for key in full {
             f(std::slice::from_ref(key))?;
@@ -191,7 +191,7 @@ impl Cursor<'_> {
         let first = index.shards.partition_point(|s| s.cell < cell_lo);
         for i in (first..index.shards.len()).take_while(|&i| index.shards[i].cell <= cell_hi) {
             if self.cached.as_ref().is_none_or(|(c, _)| *c != i) {
-                self.cached = Some((i, self.solid.load_shard(i, self.budget)?));
+                self.cached = Some((i, self.solid.read_shard(i, self.budget)?));
             }
             let keys = &self.cached.as_ref().expect("just loaded").1;
             let from = keys.partition_point(|k| k.end() <= lo);
@@ -229,7 +229,7 @@ pub(crate) fn read_shard(
     if crc != entry.crc32 {
         return Err(fail(0, format!("checksum mismatch with the index: file {crc:08x}, index {:08x}", entry.crc32)));
     }
-    let (tree, shard_meta) = oct::decode_with(&bytes, path, budget)?;
+    let (tree, shard_meta) = oct::decode_and_metadata(&bytes, path, budget)?;
     if *tree.domain() != domain || shard_meta != meta {
         return Err(fail(12, "the shard's domain or metadata differ from the index's".into()));
     }

@@ -103,7 +103,7 @@ impl Job {
 /// Writes `tree` as the sharded solid `out` (the index when every cell was asked for).
 /// The job's identity is the options' `source` with the domain, metadata and level
 /// (not the nodes): a task must say what it cuts.
-pub fn save(tree: &LinearOctree, meta: Metadata, out: &Path, options: &StreamOptions) -> Result<Option<ShardIndex>> {
+pub fn write(tree: &LinearOctree, meta: Metadata, out: &Path, options: &StreamOptions) -> Result<Option<ShardIndex>> {
     let mut job = Job::start(*tree.domain(), meta, options.level, out, options, |_| {})?;
     let (cells, writer) = (job.cells.clone(), &mut job.writer);
     let layout = Layout { depth: tree.depth(), level: cells.level };

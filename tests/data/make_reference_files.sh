@@ -22,6 +22,6 @@ trap 'rm -rf "$venv"' EXIT
 # dot_vox is a dependency of the library: cargo has its package, wherever its registry is.
 dot_vox=$(cd "$here/../.." && cargo metadata --format-version 1 --locked |
   python3 -c 'import json, os, sys
-print(next(os.path.dirname(p["manifest_path"]) for p in json.load(sys.stdin)["packages"] if p["name"] == "dot_vox"))')
+print(next(os.path.dirname(p["manifest_path"]) for p in json.read(sys.stdin)["packages"] if p["name"] == "dot_vox"))')
 cp "$dot_vox"/src/resources/*.vox "$here/vox/"
 cp "$dot_vox/LICENSE" "$here/vox/LICENSE-dot_vox"

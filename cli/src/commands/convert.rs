@@ -83,7 +83,7 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     let spinner = (!output_kind.is_mesh()).then(|| Spinner::new("writing"));
     let bytes_out = if output_kind == FileKind::Octs {
         drop(spinner);
-        return a.shards.write(output, budget, started, |options| Ok(sharded::save(&union, meta, output, options)?));
+        return a.shards.write(output, budget, started, |options| Ok(sharded::write(&union, meta, output, options)?));
     } else if output_kind.holds_many_solids() {
         let up = meta.up.unwrap_or(kind.default_up());
         let options = WriteOptions { budget, up, meta, ..WriteOptions::default() };

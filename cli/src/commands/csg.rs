@@ -120,7 +120,7 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     }
     if is_sharded(output) {
         return a.shards.write(output, budget, Instant::now(), |options| {
-            Ok(sharded::save(&result, meta.unwrap_or_default(), output, options)?)
+            Ok(sharded::write(&result, meta.unwrap_or_default(), output, options)?)
         });
     }
     let bytes = write_solid_file(output, &result, &meta.unwrap_or_default(), budget)?;

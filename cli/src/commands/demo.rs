@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use glam::DVec3;
-use octsolid::io::save_picture;
+use octsolid::io::write_picture;
 use octsolid::octree::VoxelizeOptions;
 use octsolid::render::{Camera, DEFAULT_VIEW, RenderOptions};
 use octsolid::samples;
@@ -51,7 +51,7 @@ pub fn run(a: &DemoArgs, budget: MemoryBudget) -> Result<()> {
         RenderOptions { width: 1200, height: 720, spp: 3, budget, exposure: a.exposure, ..Default::default() };
     let camera = Camera::frame(&bounds, DEFAULT_VIEW, DVec3::Z, f64::from(options.width) / f64::from(options.height));
     let picture = render_with_bar(&scene, &camera, &options)?;
-    save_picture(&picture, output)?;
+    write_picture(&picture, output)?;
     out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());
     Ok(())
 }

@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use octsolid::io::WriteOptions;
-use octsolid::mesh::{BoundaryOptions, save_mesh, separate_sheets, try_boundary_mesh};
+use octsolid::mesh::{BoundaryOptions, separate_sheets, try_boundary_mesh, write_mesh};
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
@@ -76,7 +76,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
         None
     };
     let written = separated.as_ref().unwrap_or(&mesh);
-    let bytes = save_mesh(written, output)?;
+    let bytes = write_mesh(written, output)?;
     let faces = if unit_faces { "unit faces" } else { "merged faces" };
     out!("read       {} ({} nodes, depth {})", file.display(), tree.node_count(), tree.depth());
     out!("mesh       {} triangles, {} vertices ({faces})", mesh.triangles.len(), mesh.vertices.len());

@@ -35,7 +35,7 @@ use crate::progress_bar::Bar;
 
 /// Loads a mesh or patch set, printing what the loader read past to stderr.
 pub(crate) fn load_input(path: &Path) -> Result<Input> {
-    let (input, warnings) = Input::load_with_warnings(path)?;
+    let (input, warnings) = Input::read_and_warnings(path)?;
     print_warnings(&warnings);
     Ok(input)
 }

@@ -62,7 +62,7 @@ struct Summary {
 
 /// Loads a scene file for radiosity, printing its warnings.
 pub(crate) fn load(path: &std::path::Path, budget: MemoryBudget) -> Result<scene_file::SceneFile> {
-    let file = scene_file::load_scene(path, budget)?;
+    let file = scene_file::read_scene(path, budget)?;
     print_warnings(&file.warnings);
     Ok(file)
 }
@@ -98,7 +98,7 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
     let started = Instant::now();
     let solution = solve(&file.scene, &options, &a.scene)?;
     let seconds = started.elapsed().as_secs_f64();
-    solution.save(&a.output)?;
+    solution.write(&a.output)?;
     let s = solution.stats();
     if let Some(plot) = &a.plot {
         let title = a.scene.file_stem().unwrap_or_default().to_string_lossy();

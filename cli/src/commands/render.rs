@@ -13,14 +13,14 @@ use std::sync::Arc;
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use octsolid::import::Input;
-use octsolid::io::save_picture;
+use octsolid::io::write_picture;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
 use octsolid::render::polygon::Interpolation;
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
     self, AntiAliasingKind, Framing, Material, Method, Normals, RenderOverrides, Scene, Section, Up,
 };
-use octsolid::scene_file::{self, CachePolicy, LoadOptions};
+use octsolid::scene_file::{self, CachePolicy, SceneReadOptions};
 use octsolid::{FileKind, MemoryBudget};
 
 use super::{load_input, render_with_bar};
@@ -192,7 +192,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     }
     let cache = if a.no_cache { CachePolicy::Off } else { CachePolicy::ReadWrite };
     let source = Source { depth: a.depth, up: a.camera.up, read: a.read.clone() };
-    let drawn = Drawn::load(input, kind, &source, LoadOptions { budget, cache }, &mut stages)?;
+    let drawn = Drawn::load(input, kind, &source, SceneReadOptions { budget, cache }, &mut stages)?;
     let (request, overrides) = (a.camera.request(), a.overrides());
     let camera = drawn.camera(&request, &overrides, a.section)?;
     let options = drawn.options(&overrides, budget);
@@ -201,7 +201,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let picture =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("rendering");
-    save_picture(&picture, &output)?;
+    write_picture(&picture, &output)?;
     stages.done("writing");
     out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());
     stages.report();
@@ -222,7 +222,7 @@ fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, s
         return Ok(());
     }
     let solution = if let Some(path) = &a.radiosity {
-        let solution = Radiosity::load(path, scene, budget)
+        let solution = Radiosity::read(path, scene, budget)
             .with_context(|| format!("{}: cannot use the solution for {}", path.display(), a.input.display()))?;
         stages.done("loading the radiosity solution");
         solution
@@ -292,7 +292,7 @@ fn polygon_command(
         .with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("drawing");
     out!("drew {} triangles with {interpolation} shading", mesh.triangles.len());
-    save_picture(&picture, output)?;
+    write_picture(&picture, output)?;
     stages.done("writing");
     out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());
     stages.report();

@@ -41,7 +41,7 @@ pub fn run(a: &SliceArgs, budget: MemoryBudget) -> Result<()> {
     let at = a.at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
     let img = octsolid::slice::slice_image(&tree, axis, at, size)
         .with_context(|| format!("{}: cannot slice", file.display()))?;
-    png::save(&img, output)?;
+    png::write(&img, output)?;
     out!("wrote {} ({size}x{size}, {} = {})", output.display(), crate::human::axis(axis), crate::human::num(at));
     Ok(())
 }

@@ -39,7 +39,7 @@ use octsolid::render::{
     AntiAliasingKind, Camera, CameraRequest, Method, NamedView, Normals, Projection, RenderOverrides, Scene, Section,
     Up,
 };
-use octsolid::scene_file::{CachePolicy, LoadOptions};
+use octsolid::scene_file::{CachePolicy, SceneReadOptions};
 use octsolid::{FileKind, MemoryBudget, NoProgress};
 
 use crate::drawn::{Drawn, Source};
@@ -135,8 +135,8 @@ fn source(a: &ViewArgs) -> Source {
 
 /// A scene's solids through its cache, as `render` loads them: a reload under
 /// `--watch` voxelizes only the solids whose inputs changed.
-fn cached(budget: MemoryBudget) -> LoadOptions {
-    LoadOptions { budget, cache: CachePolicy::ReadWrite }
+fn cached(budget: MemoryBudget) -> SceneReadOptions {
+    SceneReadOptions { budget, cache: CachePolicy::ReadWrite }
 }
 
 /// A request refused: its status and why.

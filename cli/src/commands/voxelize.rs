@@ -140,7 +140,7 @@ fn sharded_solid(
             _ => {
                 let import = ImportOptions { fill: a.fill, inside: a.inside, budget, progress: options.progress };
                 let (tree, _) = import::voxelize_input(loaded, domain, &import).with_context(cannot)?;
-                sharded::save(&tree, meta, &a.output, options)?
+                sharded::write(&tree, meta, &a.output, options)?
             }
         })
     })

@@ -242,7 +242,7 @@ mod tests {
     #[test]
     fn the_shaded_face_of_a_hit_on_a_voxel_edge_is_a_boundary_face() {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell.toml");
-        let file = crate::scene_file::load_scene(path, crate::MemoryBudget::default()).unwrap();
+        let file = crate::scene_file::read_scene(path, crate::MemoryBudget::default()).unwrap();
         let view = file.camera.view(1.0);
         let (mut edges, mut checked) = (0, 0);
         for row in 0..512 {

@@ -5,7 +5,7 @@
 //! with the same vertices. STL stores three `f32` corners a triangle and readers weld
 //! them by position, so vertices that share a position (a boundary mesh's sheets
 //! where voxels touch only along an edge or at a corner) would come back as one;
-//! [`save_mesh`] therefore writes a closed mesh through [`super::separate_sheets`].
+//! [`write_mesh`] therefore writes a closed mesh through [`super::separate_sheets`].
 
 use std::io::Write;
 use std::path::Path;
@@ -29,7 +29,7 @@ use crate::file_kind::FileKind;
 /// The extension names no mesh format; writing fails; an STL of a closed mesh whose
 /// vertices `f32` cannot keep apart (coordinates far larger than the edges; the
 /// error names the vertices and suggests OBJ or PLY).
-pub fn save_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
+pub fn write_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
     let path = path.as_ref();
     let format = FileKind::of(path, FileKind::MESHES)?;
     let separated;
@@ -64,7 +64,7 @@ pub fn write_obj(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> 
 }
 
 /// Binary STL (coordinates as `f32`, facet normals from the corners), every corner as
-/// it is: vertices that share a position stay together (see [`save_mesh`]).
+/// it is: vertices that share a position stay together (see [`write_mesh`]).
 pub fn write_stl(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
     let mut header = [0u8; 80];
     header[..20].copy_from_slice(b"octsolid binary STL ");

@@ -16,22 +16,22 @@ use crate::warning::Warning;
 /// Errors name the file and the line (text formats) or byte offset (binary ones):
 /// missing file, truncated data, indices out of range, NaN or infinite coordinates,
 /// a mesh without triangles. What the loader reads past is dropped; see
-/// [`load_mesh_with_warnings`] to have it.
-pub fn load_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh> {
-    load_mesh_with_warnings(path).map(|(mesh, _)| mesh)
+/// [`read_mesh_and_warnings`] to have it.
+pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh> {
+    read_mesh_and_warnings(path).map(|(mesh, _)| mesh)
 }
 
-/// [`load_mesh`], with what the loader read past without refusing the file, in file
+/// [`read_mesh`], with what the loader read past without refusing the file, in file
 /// order: lines that are not UTF-8 (read as Latin-1), a missing or broken `.mtl`, PLY
 /// header lines it does not know, faces that are not polygons, bytes after a binary
 /// STL's last triangle.
-pub fn load_mesh_with_warnings(path: impl AsRef<Path>) -> Result<(TriangleMesh, Vec<Warning>)> {
+pub fn read_mesh_and_warnings(path: impl AsRef<Path>) -> Result<(TriangleMesh, Vec<Warning>)> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     mesh_from_bytes(&bytes, path)
 }
 
-/// [`load_mesh_with_warnings`] of a file already in memory: `bytes` are the file's
+/// [`read_mesh_and_warnings`] of a file already in memory: `bytes` are the file's
 /// contents and `path` stands for the file (its extension picks the format, it names
 /// the file in errors and warnings, and an OBJ's `mtllib` names are looked up beside
 /// it).

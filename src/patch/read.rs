@@ -15,7 +15,7 @@ use crate::error::{Error, Result, quoted};
 use crate::text::Text;
 
 /// Reads a patch set; errors name the file and line.
-pub fn load_patches(path: impl AsRef<Path>) -> Result<Vec<BezierPatch>> {
+pub fn read_patches(path: impl AsRef<Path>) -> Result<Vec<BezierPatch>> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let text = Text::decode(&bytes);
