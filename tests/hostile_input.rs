@@ -1,7 +1,9 @@
 //! Hostile input: each test pins one way a crafted or extreme input used to panic,
 //! hang, allocate without asking the memory budget, or compute with non-finite
 //! numbers, and checks the clean refusal or the right answer that replaced it; each is
-//! named for the defect it pins (every limit and its error: docs/LIMITS.md).
+//! named for the defect it pins (every limit and its error: docs/LIMITS.md). The file
+//! began with issue 15 (hardening: no panic, no hang, no unbounded memory); issues 35
+//! and 36 added to it.
 //!
 //! The other items of the hardening work have their tests beside the code they pin:
 //!

@@ -2,6 +2,7 @@
 //! most heap each writer holds, so a refusal can be seen to come before the writer
 //! allocates, and an estimate can be seen to hold what the writer then allocates.
 //! The tests take turns (one lock), as the allocator's counts are the process's.
+//! They pin issue 36's writer budgets (a writer that allocated before asking).
 
 mod common;
 
