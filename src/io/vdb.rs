@@ -332,11 +332,22 @@ fn write_meta(out: &mut Vec<u8>, name: &str, kind: &str, value: &[u8]) {
 /// The grid from its compression flags to its last buffer; `base` is its file offset.
 fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usize) {
     let tree = solid.tree;
-    let d = tree.domain();
     let mut out = Vec::new();
     let flags = COMPRESS_ACTIVE_MASK | if compression == Compression::Zip { COMPRESS_ZIP } else { 0 };
     out.extend(flags.to_le_bytes());
-    // Metadata, sorted by name as OpenVDB's map is.
+    write_grid_metadata(&mut out, solid);
+    write_transform(&mut out, tree.domain());
+    let root = build_tree(tree);
+    write_topology(&mut out, &root, compression);
+    let block = out.len();
+    write_leaf_buffers(&mut out, &root, compression);
+    (out, block)
+}
+
+/// The grid's metadata: its count, then the entries sorted by name as OpenVDB's map is.
+fn write_grid_metadata(out: &mut Vec<u8>, solid: &SolidRef<'_>) {
+    let tree = solid.tree;
+    let d = tree.domain();
     let mut meta = Vec::new();
     let mut count = 0u32;
     let mut add = |name: &str, kind: &str, value: &[u8]| {
@@ -356,9 +367,13 @@ fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usiz
     add(DOMAIN_KEY, "string", domain.as_bytes());
     out.extend(count.to_le_bytes());
     out.extend(meta);
-    // Transform: voxel centres on integer indices.
+}
+
+/// The transform: a uniform scale and translation that puts voxel centres of `d` on
+/// integer indices.
+fn write_transform(out: &mut Vec<u8>, d: &Domain) {
     let h = d.voxel_size();
-    write_string(&mut out, "UniformScaleTranslateMap");
+    write_string(out, "UniformScaleTranslateMap");
     let t = d.min() + DVec3::splat(0.5 * h);
     for v in
         [t, DVec3::splat(h), DVec3::splat(h), DVec3::splat(1.0 / h), DVec3::splat(1.0 / (h * h)), DVec3::splat(0.5 / h)]
@@ -367,8 +382,12 @@ fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usiz
             out.extend(c.to_le_bytes());
         }
     }
-    // Topology: one buffer; root background 0, tiles, then children in origin order.
-    let root = build_tree(tree);
+}
+
+/// The topology: one buffer; the root's background 0, its tiles, then its children in
+/// origin order, each upper and lower node with its masks and tile values and each leaf
+/// with its mask.
+fn write_topology(out: &mut Vec<u8>, root: &Root, compression: Compression) {
     out.extend(1i32.to_le_bytes());
     out.extend(0f32.to_le_bytes());
     let tiles = root.values().filter(|e| e.is_none()).count() as u32;
@@ -387,30 +406,31 @@ fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usiz
         upper.tiles.keys().for_each(|&i| value.set(i));
         out.extend(child.bytes());
         out.extend(value.bytes());
-        write_ones(&mut out, upper.tiles.len(), compression);
+        write_ones(out, upper.tiles.len(), compression);
         for lower in upper.lowers.values() {
             let (mut child, mut value) = (Mask::new(1 << (3 * LOWER_LOG2)), Mask::new(1 << (3 * LOWER_LOG2)));
             lower.leaves.keys().for_each(|&i| child.set(i));
             lower.tiles.keys().for_each(|&i| value.set(i));
             out.extend(child.bytes());
             out.extend(value.bytes());
-            write_ones(&mut out, lower.tiles.len(), compression);
+            write_ones(out, lower.tiles.len(), compression);
             for leaf in lower.leaves.values() {
                 out.extend(leaf.bytes());
             }
         }
     }
-    // Buffers: every leaf again, its mask and its active values.
-    let block = out.len();
+}
+
+/// The buffers: every leaf again, its mask and its active values.
+fn write_leaf_buffers(out: &mut Vec<u8>, root: &Root, compression: Compression) {
     for upper in root.values().flatten() {
         for lower in upper.lowers.values() {
             for leaf in lower.leaves.values() {
                 out.extend(leaf.bytes());
-                write_ones(&mut out, leaf.count(), compression);
+                write_ones(out, leaf.count(), compression);
             }
         }
     }
-    (out, block)
 }
 
 /// Writes `solids` to `path`, one fog-volume grid each, atomically; returns the bytes
