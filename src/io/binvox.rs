@@ -153,7 +153,8 @@ fn next_header_line<'a>(bytes: &'a [u8], pos: &mut usize, path: &Path) -> Result
     let Some(len) = bytes[at..bytes.len().min(MAX_HEADER)].iter().position(|&b| b == b'\n') else {
         return Err(fail(path, at, format!("no \"data\" line within the first {MAX_HEADER} bytes")));
     };
-    let line = std::str::from_utf8(&bytes[at..at + len]).map_err(|_| fail(path, at, "header line is not ASCII"))?.trim();
+    let line =
+        std::str::from_utf8(&bytes[at..at + len]).map_err(|_| fail(path, at, "header line is not ASCII"))?.trim();
     *pos += len + 1;
     Ok(line)
 }

@@ -302,8 +302,11 @@ impl GltfDocument {
             first_accessor + 1,
             first_accessor + 2
         ));
-        self.nodes
-            .push(format!("{{\"name\":{},\"mesh\":{}{rotation}}}", json_string(&solid.name), self.meshes.len() - 1));
+        self.nodes.push(format!(
+            "{{\"name\":{},\"mesh\":{}{rotation}}}",
+            json_string(&solid.name),
+            self.meshes.len() - 1
+        ));
     }
 
     /// Step 5: the JSON document, unpadded; a scene without nodes when no solid was

@@ -781,7 +781,8 @@ fn read_descriptor(r: &mut Fields<'_>, file_len: usize) -> Result<Descriptor> {
     let parent = r.string("instance parent")?;
     let (grid_pos, block_pos, end_pos) = (r.i64("grid offset")?, r.i64("block offset")?, r.i64("end offset")?);
     let name = unique.split('\u{1e}').next().unwrap_or_default().to_owned();
-    let ok = grid_pos == r.pos as i64 && grid_pos <= block_pos && block_pos <= end_pos && end_pos as u64 <= file_len as u64;
+    let ok =
+        grid_pos == r.pos as i64 && grid_pos <= block_pos && block_pos <= end_pos && end_pos as u64 <= file_len as u64;
     if !ok {
         return Err(r.err(
             at,
@@ -852,7 +853,13 @@ fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, opt
 
 /// Step 3: the grid's compression flags, metadata (its class and the domain octsolid
 /// stored) and transform.
-fn read_grid_header(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, options: &ReadOptions) -> Result<Grid> {
+fn read_grid_header(
+    r: &mut Fields<'_>,
+    name: String,
+    value: ValueType,
+    half: bool,
+    options: &ReadOptions,
+) -> Result<Grid> {
     let at = r.pos;
     let compression = r.u32("compression flags")?;
     if compression & !(COMPRESS_ZIP | COMPRESS_ACTIVE_MASK | COMPRESS_BLOSC) != 0 {

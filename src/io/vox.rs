@@ -661,7 +661,13 @@ fn pieces_within_budget(solids: &SolidsRef<'_>, models: &Models, budget: MemoryB
 /// A `SIZE` and an `XYZI` chunk for each model some node meets (of `pieces` in all), in
 /// the file's order; a model with no voxel is left out. Returns each model's
 /// translation.
-fn write_models(main: &mut Vec<u8>, solids: &SolidsRef<'_>, models: &Models, pieces: u64, indices: &[u8]) -> Vec<[i64; 3]> {
+fn write_models(
+    main: &mut Vec<u8>,
+    solids: &SolidsRef<'_>,
+    models: &Models,
+    pieces: u64,
+    indices: &[u8],
+) -> Vec<[i64; 3]> {
     let mut placements = Vec::new();
     let mut grid = Vec::new();
     let pieces = models.pieces(solids, pieces as usize);

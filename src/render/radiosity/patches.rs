@@ -279,7 +279,9 @@ fn first_level_elements(scene: &Scene, patches: &[Patch]) -> Vec<Element> {
     patches
         .par_iter()
         .enumerate()
-        .flat_map_iter(|(i, p)| (0..p.nv).flat_map(move |j| (0..p.nu).map(move |k| element(scene, p, i as u32, 0, [k, j]))))
+        .flat_map_iter(|(i, p)| {
+            (0..p.nv).flat_map(move |j| (0..p.nu).map(move |k| element(scene, p, i as u32, 0, [k, j])))
+        })
         .collect()
 }
 
