@@ -705,6 +705,9 @@ struct ReadUpper {
 /// The root's children read, by origin.
 type ReadRoot = BTreeMap<[i64; 3], ReadUpper>;
 
+/// A cube of inside voxels: its origin and side, in index space.
+type Block = ([i64; 3], i64);
+
 /// Reads the `.vdb` file at `path` (one grid; see the module doc).
 pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
     let path = path.as_ref();
@@ -910,7 +913,7 @@ fn read_background(r: &mut Fields<'_>, grid: &mut Grid) -> Result<()> {
 
 /// Step 4, the root's tiles and children: the blocks of its inside tiles, and its
 /// upper nodes by origin (each checked aligned and alone at its origin).
-fn read_root_children(r: &mut Fields<'_>, grid: &Grid) -> Result<(Vec<([i64; 3], i64)>, ReadRoot)> {
+fn read_root_children(r: &mut Fields<'_>, grid: &Grid) -> Result<(Vec<Block>, ReadRoot)> {
     let vs = grid.value_size();
     let at = r.pos;
     let (tiles, children) = (r.u32("tile count")? as u64, r.u32("child count")? as u64);
@@ -918,7 +921,7 @@ fn read_root_children(r: &mut Fields<'_>, grid: &Grid) -> Result<(Vec<([i64; 3],
     if tiles * (13 + vs as u64) + children * (12 + 8192) > left {
         return Err(r.err(at, format!("{tiles} tiles and {children} children cannot fit in the {left} bytes left")));
     }
-    let mut blocks: Vec<([i64; 3], i64)> = Vec::new();
+    let mut blocks: Vec<Block> = Vec::new();
     for _ in 0..tiles {
         let o = r.coord("tile origin")?;
         let v = grid.decode_value(r.take(vs, "tile value")?);
@@ -961,7 +964,7 @@ fn check_read_budget(
 }
 
 /// Step 5, first: the blocks of the upper and lower nodes' inside tiles.
-fn push_inside_tiles(uppers: &ReadRoot, blocks: &mut Vec<([i64; 3], i64)>) {
+fn push_inside_tiles(uppers: &ReadRoot, blocks: &mut Vec<Block>) {
     for u in uppers.values() {
         for &i in &u.inside_tiles {
             blocks.push((child_origin(u.origin, i, UPPER_LOG2, LEAF_LOG2 + LOWER_LOG2), LOWER_SIDE));
@@ -976,12 +979,7 @@ fn push_inside_tiles(uppers: &ReadRoot, blocks: &mut Vec<([i64; 3], i64)>) {
 
 /// Step 5, then: the buffers of every leaf in the root's origin order, their inside
 /// voxels as blocks.
-fn read_leaf_buffers(
-    r: &mut Fields<'_>,
-    grid: &Grid,
-    uppers: &ReadRoot,
-    blocks: &mut Vec<([i64; 3], i64)>,
-) -> Result<()> {
+fn read_leaf_buffers(r: &mut Fields<'_>, grid: &Grid, uppers: &ReadRoot, blocks: &mut Vec<Block>) -> Result<()> {
     for u in uppers.values() {
         for l in &u.lowers {
             for &i in &l.leaves {
