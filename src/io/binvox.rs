@@ -82,6 +82,8 @@ struct Header {
 /// The comment trimesh's writer puts on the second line.
 const TRIMESH_COMMENT: &str = "# generated in `trimesh`";
 
+/// The header, line by line up to its `data` line: the version line first, then `dim`,
+/// `translate`, `scale` and comments in any order.
 fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
     let mut pos = 0;
     let mut line_no = 0;
@@ -89,12 +91,7 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
     let mut have_dims = false;
     loop {
         let at = pos;
-        let Some(len) = bytes[pos..bytes.len().min(MAX_HEADER)].iter().position(|&b| b == b'\n') else {
-            return Err(fail(path, at, format!("no \"data\" line within the first {MAX_HEADER} bytes")));
-        };
-        let line =
-            std::str::from_utf8(&bytes[pos..pos + len]).map_err(|_| fail(path, at, "header line is not ASCII"))?.trim();
-        pos += len + 1;
+        let line = next_header_line(bytes, &mut pos, path)?;
         if line_no > 0 && line.starts_with('#') {
             // A comment line (trimesh writes one; the reference reader skips what it
             // does not know).
@@ -111,44 +108,21 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
         let lower = key.to_ascii_lowercase();
         let values: Vec<&str> = words.collect();
         if line_no == 0 {
-            header.version = match (key, values.as_slice()) {
-                ("#binvox", ["1"]) => 1,
-                ("#binvox", ["2"]) => 2,
-                ("#binvox", _) => {
-                    return Err(fail(path, at, format!("binvox version {line:?} is not supported (1 or 2)")));
-                }
-                _ => return Err(fail(path, 0, "not a binvox file (the first line is not \"#binvox 1\")")),
-            };
+            header.version = parse_version(key, &values, line, at, path)?;
             line_no += 1;
             continue;
         }
-        let numbers = |n: usize| -> Result<Vec<f64>> {
-            let parsed: Vec<f64> =
-                values.iter().filter_map(|v| v.parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
-            if values.len() != n || parsed.len() != n {
-                return Err(fail(path, at, format!("{key} needs {n} finite numbers, got {line:?}")));
-            }
-            Ok(parsed)
-        };
         match lower.as_str() {
             "dim" => {
-                let dims: Vec<u64> = values.iter().filter_map(|v| v.parse().ok()).collect();
-                let limit = 1u64 << MAX_DEPTH;
-                let [a, b, c] = dims.as_slice() else {
-                    return Err(fail(path, at, format!("dim needs three integers, got {line:?}")));
-                };
-                header.dims = [*a, *b, *c];
-                if values.len() != 3 || header.dims.iter().any(|&d| d == 0 || d > limit) {
-                    return Err(fail(path, at, format!("dims {line:?} must be three integers in 1..={limit}")));
-                }
+                header.dims = parse_dims(&values, line, at, path)?;
                 have_dims = true;
             }
             "translate" => {
-                let t = numbers(3)?;
+                let t = parse_numbers(key, &values, 3, line, at, path)?;
                 header.translate = DVec3::new(t[0], t[1], t[2]);
             }
             "scale" => {
-                header.scale = numbers(1)?[0];
+                header.scale = parse_numbers(key, &values, 1, line, at, path)?[0];
                 if header.scale <= 0.0 {
                     return Err(fail(path, at, format!("scale {} must be positive", header.scale)));
                 }
@@ -170,6 +144,52 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
         }
         line_no += 1;
     }
+}
+
+/// The header line at `pos`, trimmed, with `pos` moved past its newline; refused when
+/// no newline comes within the first [`MAX_HEADER`] bytes or the line is not text.
+fn next_header_line<'a>(bytes: &'a [u8], pos: &mut usize, path: &Path) -> Result<&'a str> {
+    let at = *pos;
+    let Some(len) = bytes[at..bytes.len().min(MAX_HEADER)].iter().position(|&b| b == b'\n') else {
+        return Err(fail(path, at, format!("no \"data\" line within the first {MAX_HEADER} bytes")));
+    };
+    let line =
+        std::str::from_utf8(&bytes[at..at + len]).map_err(|_| fail(path, at, "header line is not ASCII"))?.trim();
+    *pos += len + 1;
+    Ok(line)
+}
+
+/// The version the first line (`line` at `at`, its first word `key`) names: 1 or 2.
+fn parse_version(key: &str, values: &[&str], line: &str, at: usize, path: &Path) -> Result<u8> {
+    match (key, values) {
+        ("#binvox", ["1"]) => Ok(1),
+        ("#binvox", ["2"]) => Ok(2),
+        ("#binvox", _) => Err(fail(path, at, format!("binvox version {line:?} is not supported (1 or 2)"))),
+        _ => Err(fail(path, 0, "not a binvox file (the first line is not \"#binvox 1\")")),
+    }
+}
+
+/// The sizes a `dim` line (`line` at `at`) gives: three integers in `1..=2^MAX_DEPTH`.
+fn parse_dims(values: &[&str], line: &str, at: usize, path: &Path) -> Result<[u64; 3]> {
+    let dims: Vec<u64> = values.iter().filter_map(|v| v.parse().ok()).collect();
+    let limit = 1u64 << MAX_DEPTH;
+    let [a, b, c] = dims.as_slice() else {
+        return Err(fail(path, at, format!("dim needs three integers, got {line:?}")));
+    };
+    let dims = [*a, *b, *c];
+    if values.len() != 3 || dims.iter().any(|&d| d == 0 || d > limit) {
+        return Err(fail(path, at, format!("dims {line:?} must be three integers in 1..={limit}")));
+    }
+    Ok(dims)
+}
+
+/// The `n` finite numbers the `key` line (`line` at `at`) gives.
+fn parse_numbers(key: &str, values: &[&str], n: usize, line: &str, at: usize, path: &Path) -> Result<Vec<f64>> {
+    let parsed: Vec<f64> = values.iter().filter_map(|v| v.parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
+    if values.len() != n || parsed.len() != n {
+        return Err(fail(path, at, format!("{key} needs {n} finite numbers, got {line:?}")));
+    }
+    Ok(parsed)
 }
 
 /// Parses and checks a whole `.binvox` file; `path` names it in errors.

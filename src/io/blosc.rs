@@ -35,37 +35,15 @@ pub(crate) fn inflate(src: &[u8], len: usize) -> Result<Vec<u8>, String> {
 
 /// Decompresses a Blosc 1 frame into exactly `len` bytes (module doc).
 pub(crate) fn decompress(src: &[u8], len: usize) -> Result<Vec<u8>, String> {
-    if src.len() < 16 {
-        return Err(format!("blosc frame of {} bytes is shorter than its 16-byte header", src.len()));
-    }
-    let u32_at = |o: usize| u32::from_le_bytes(src[o..o + 4].try_into().expect("4 bytes")) as usize;
-    let (flags, typesize) = (src[2], usize::from(src[3]));
-    let (nbytes, blocksize, cbytes) = (u32_at(4), u32_at(8), u32_at(12));
-    if nbytes != len {
-        return Err(format!("blosc frame holds {nbytes} bytes, expected {len}"));
-    }
-    if cbytes > src.len() || cbytes < 16 {
-        return Err(format!("blosc frame claims {cbytes} bytes, {} available", src.len()));
-    }
-    if flags & 0x02 != 0 {
+    let frame = frame_header(src, len)?;
+    if frame.flags & 0x02 != 0 {
         return src.get(16..16 + len).map(<[u8]>::to_vec).ok_or_else(|| "blosc raw frame is truncated".into());
     }
-    let codec = usize::from(flags >> 5);
-    if flags & 0x04 != 0 {
-        return Err("bit-shuffled blosc data is not supported; re-save with zip or no compression".into());
-    }
-    if flags & 0x08 != 0 {
-        return Err("blosc's delta filter is not supported; re-save with zip or no compression".into());
-    }
-    if codec != 1 && codec != 3 {
-        return Err(format!(
-            "blosc compression with the {} codec is not supported (lz4 and zlib are); re-save with zip or no compression",
-            CODECS[codec]
-        ));
-    }
+    let codec = supported_codec(frame.flags)?;
     if len == 0 {
         return Ok(Vec::new());
     }
+    let (typesize, blocksize, cbytes) = (frame.typesize, frame.blocksize, frame.cbytes);
     if blocksize == 0 {
         return Err("blosc block size 0".into());
     }
@@ -79,42 +57,110 @@ pub(crate) fn decompress(src: &[u8], len: usize) -> Result<Vec<u8>, String> {
     for b in 0..blocks {
         let last_short = b + 1 == blocks && leftover != 0;
         let bsize = if last_short { leftover } else { blocksize };
-        let split = flags & 0x10 == 0 && (1..=16).contains(&typesize) && bsize / typesize >= 128 && !last_short;
+        let split = frame.flags & 0x10 == 0 && (1..=16).contains(&typesize) && bsize / typesize >= 128 && !last_short;
         let streams = if split { typesize } else { 1 };
         if bsize % streams != 0 {
             return Err(format!("blosc block of {bsize} bytes does not split into {streams} streams"));
         }
-        let each = bsize / streams;
-        let mut pos = u32_at(16 + 4 * b);
-        for s in 0..streams {
-            if pos + 4 > cbytes {
-                return Err(format!("blosc block {b} starts beyond the frame"));
-            }
-            let csize = i32::from_le_bytes(src[pos..pos + 4].try_into().expect("4 bytes"));
-            pos += 4;
-            let csize = usize::try_from(csize).ok().filter(|&c| c > 0 && pos + c <= cbytes);
-            let Some(csize) = csize else {
-                return Err(format!("blosc block {b} stream {s} overruns the frame"));
-            };
-            let stream = &src[pos..pos + csize];
-            let dst = &mut tmp[s * each..(s + 1) * each];
-            if csize == each {
-                dst.copy_from_slice(stream);
-            } else if codec == 1 {
-                lz4_block(stream, dst)?;
-            } else {
-                dst.copy_from_slice(&inflate(stream, each)?);
-            }
-            pos += csize;
-        }
+        decompress_streams(src, &frame, codec, b, streams, &mut tmp[..bsize])?;
         let block = &mut out[b * blocksize..b * blocksize + bsize];
-        if flags & 0x01 != 0 && typesize > 1 {
+        if frame.flags & 0x01 != 0 && typesize > 1 {
             unshuffle(&tmp[..bsize], typesize, block);
         } else {
             block.copy_from_slice(&tmp[..bsize]);
         }
     }
     Ok(out)
+}
+
+/// The fields of a Blosc frame's 16-byte header that decompression uses.
+struct FrameHeader {
+    /// Shuffle, raw, bit-shuffle, delta and split flags, and the codec in the top 3 bits.
+    flags: u8,
+    /// Bytes an item, the stride of shuffling and the number of split streams.
+    typesize: usize,
+    /// Bytes a block once decompressed.
+    blocksize: usize,
+    /// Bytes of the whole frame, header included.
+    cbytes: usize,
+}
+
+/// The little-endian `u32` at `o` in `src`.
+fn u32_at(src: &[u8], o: usize) -> usize {
+    u32::from_le_bytes(src[o..o + 4].try_into().expect("4 bytes")) as usize
+}
+
+/// The frame's header, checked to hold `len` bytes and to claim no more bytes than
+/// `src` has.
+fn frame_header(src: &[u8], len: usize) -> Result<FrameHeader, String> {
+    if src.len() < 16 {
+        return Err(format!("blosc frame of {} bytes is shorter than its 16-byte header", src.len()));
+    }
+    let (flags, typesize) = (src[2], usize::from(src[3]));
+    let (nbytes, blocksize, cbytes) = (u32_at(src, 4), u32_at(src, 8), u32_at(src, 12));
+    if nbytes != len {
+        return Err(format!("blosc frame holds {nbytes} bytes, expected {len}"));
+    }
+    if cbytes > src.len() || cbytes < 16 {
+        return Err(format!("blosc frame claims {cbytes} bytes, {} available", src.len()));
+    }
+    Ok(FrameHeader { flags, typesize, blocksize, cbytes })
+}
+
+/// The codec of a compressed frame's `flags` (1 LZ4, 3 zlib), or the refusal of its
+/// filter or codec.
+fn supported_codec(flags: u8) -> Result<usize, String> {
+    let codec = usize::from(flags >> 5);
+    if flags & 0x04 != 0 {
+        return Err("bit-shuffled blosc data is not supported; re-save with zip or no compression".into());
+    }
+    if flags & 0x08 != 0 {
+        return Err("blosc's delta filter is not supported; re-save with zip or no compression".into());
+    }
+    if codec != 1 && codec != 3 {
+        return Err(format!(
+            "blosc compression with the {} codec is not supported (lz4 and zlib are); re-save with zip or no compression",
+            CODECS[codec]
+        ));
+    }
+    Ok(codec)
+}
+
+/// Block `b`'s `streams` streams, each decompressed (or copied when stored raw) into
+/// its equal share of `dst`, every size checked against the frame.
+fn decompress_streams(
+    src: &[u8],
+    frame: &FrameHeader,
+    codec: usize,
+    b: usize,
+    streams: usize,
+    dst: &mut [u8],
+) -> Result<(), String> {
+    let cbytes = frame.cbytes;
+    let each = dst.len() / streams;
+    let mut pos = u32_at(src, 16 + 4 * b);
+    for s in 0..streams {
+        if pos + 4 > cbytes {
+            return Err(format!("blosc block {b} starts beyond the frame"));
+        }
+        let csize = i32::from_le_bytes(src[pos..pos + 4].try_into().expect("4 bytes"));
+        pos += 4;
+        let csize = usize::try_from(csize).ok().filter(|&c| c > 0 && pos + c <= cbytes);
+        let Some(csize) = csize else {
+            return Err(format!("blosc block {b} stream {s} overruns the frame"));
+        };
+        let stream = &src[pos..pos + csize];
+        let dst = &mut dst[s * each..(s + 1) * each];
+        if csize == each {
+            dst.copy_from_slice(stream);
+        } else if codec == 1 {
+            lz4_block(stream, dst)?;
+        } else {
+            dst.copy_from_slice(&inflate(stream, each)?);
+        }
+        pos += csize;
+    }
+    Ok(())
 }
 
 /// Undoes Blosc's byte shuffle: byte `j` of item `i` was stored at `j * items + i`;

@@ -32,7 +32,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::solid_set::{Solids, SolidsRef};
+use super::solid_set::{SolidRef, Solids, SolidsRef};
 use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
@@ -161,6 +161,29 @@ pub fn encode(solids: &Solids, up: Axis, budget: MemoryBudget) -> Result<Vec<u8>
 /// [`encode`], naming `output` (when given) in a refusal of coordinates `f32` cannot
 /// hold.
 fn encode_for(solids: &SolidsRef<'_>, up: Axis, budget: MemoryBudget, output: Option<&Path>) -> Result<Vec<u8>> {
+    check_single_precision_of(solids, output)?;
+    let rotation = rotation_json(up);
+    let options = BoundaryOptions::default();
+    let sizes = boundary_sizes_within_budget(solids, &options, budget)?;
+    let mut document = GltfDocument::default();
+    for (solid, size) in solids.solids.iter().zip(sizes) {
+        // Step 1: the closed manifold boundary, vertices split by face direction.
+        let mesh = boundary_mesh_of_size(solid.tree, &options, size, &NoProgress)?;
+        if mesh.triangles.is_empty() {
+            continue;
+        }
+        let flat = flat_mesh(&mesh);
+        let first_accessor = document.accessors.len();
+        let v0 = document.push_buffer_views(&flat);
+        document.push_accessors(&flat, v0);
+        document.push_material_mesh_node(solid, first_accessor, &rotation);
+    }
+    glb_container(document.json(), document.bin)
+}
+
+/// Refuses the first solid whose coordinates `f32` cannot hold, naming `output` when
+/// given.
+fn check_single_precision_of(solids: &SolidsRef<'_>, output: Option<&Path>) -> Result<()> {
     for solid in &solids.solids {
         check_single_precision(solid.tree.bounds(), solids.domain.voxel_size()).map_err(|reason| {
             let reason = match output {
@@ -170,44 +193,73 @@ fn encode_for(solids: &SolidsRef<'_>, up: Axis, budget: MemoryBudget, output: Op
             Error::invalid("glTF output", reason)
         })?;
     }
-    let rotation = up_rotation(up)
-        .map_or_else(String::new, |q| format!(",\"rotation\":[{}]", q.map(|c| format!("{c}")).join(",")));
-    // Step 0: the boundaries counted before anything is built; the largest mesh, and
-    // every solid's vertices, indices and bytes in the file, must fit the budget.
-    let options = BoundaryOptions::default();
+    Ok(())
+}
+
+/// The node's `"rotation"` member (with its leading comma) that stands a world whose up
+/// is `up` upright, empty for +Y.
+fn rotation_json(up: Axis) -> String {
+    up_rotation(up).map_or_else(String::new, |q| format!(",\"rotation\":[{}]", q.map(|c| format!("{c}")).join(",")))
+}
+
+/// Step 0: every solid's boundary counted before anything is built; the largest mesh,
+/// and every solid's vertices, indices and bytes in the file, must fit the budget.
+fn boundary_sizes_within_budget(
+    solids: &SolidsRef<'_>,
+    options: &BoundaryOptions,
+    budget: MemoryBudget,
+) -> Result<Vec<BoundarySize>> {
     let sizes: Vec<BoundarySize> = solids.solids.iter().map(|s| BoundarySize::of(s.tree)).collect();
     let squares: u128 = sizes.iter().map(|s| s.squares).sum();
-    let largest = sizes.iter().map(|s| s.mesh_bytes(&options)).max().unwrap_or(0);
+    let largest = sizes.iter().map(|s| s.mesh_bytes(options)).max().unwrap_or(0);
     let estimate = u64::try_from(squares * u128::from(BYTES_PER_SQUARE))
         .unwrap_or(u64::MAX)
         .saturating_add(largest)
         .saturating_add(FIXED_BYTES + BYTES_PER_SOLID * solids.solids.len() as u64);
     budget.check(format!("a .glb file of {squares} exposed squares of node faces"), estimate)?;
-    let mut bin: Vec<u8> = Vec::new();
-    let (mut nodes, mut meshes, mut materials, mut views, mut accessors) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (solid, size) in solids.solids.iter().zip(sizes) {
-        // Step 1: the closed manifold boundary, vertices split by face direction.
-        let mesh = boundary_mesh_of_size(solid.tree, &options, size, &NoProgress)?;
-        if mesh.triangles.is_empty() {
-            continue;
-        }
-        let flat = flat_mesh(&mesh);
-        // Step 2: three buffer views (positions, normals, indices), all 4-byte aligned.
-        let first_accessor = accessors.len();
+    Ok(sizes)
+}
+
+/// The glTF document being built: the BIN chunk's bytes and the JSON objects of each
+/// top-level array, one solid at a time.
+#[derive(Default)]
+struct GltfDocument {
+    /// The BIN chunk, unpadded.
+    bin: Vec<u8>,
+    /// One node a written solid.
+    nodes: Vec<String>,
+    /// One mesh a written solid.
+    meshes: Vec<String>,
+    /// One material a written solid.
+    materials: Vec<String>,
+    /// Three buffer views a written solid: positions, normals, indices.
+    views: Vec<String>,
+    /// Three accessors a written solid, one a buffer view.
+    accessors: Vec<String>,
+}
+
+impl GltfDocument {
+    /// Step 2: three buffer views (positions, normals, indices), all 4-byte aligned,
+    /// their bytes appended to the BIN chunk; returns the first view's index.
+    fn push_buffer_views(&mut self, flat: &FlatMesh) -> usize {
         let pos_bytes: Vec<u8> = flat.positions.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
         let nrm_bytes: Vec<u8> = flat.normals.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
         let idx_bytes: Vec<u8> = flat.indices.iter().flat_map(|v| v.to_le_bytes()).collect();
-        let v0 = views.len();
+        let v0 = self.views.len();
         for (data, target) in [(pos_bytes, 34962), (nrm_bytes, 34962), (idx_bytes, 34963)] {
-            views.push(format!(
+            self.views.push(format!(
                 "{{\"buffer\":0,\"byteOffset\":{},\"byteLength\":{},\"target\":{target}}}",
-                bin.len(),
+                self.bin.len(),
                 data.len()
             ));
-            bin.extend(data);
+            self.bin.extend(data);
         }
-        // Step 3: accessors; POSITION carries its exact f32 bounds.
+        v0
+    }
+
+    /// Step 3: the accessors of the views from `v0` on; POSITION carries its exact
+    /// `f32` bounds.
+    fn push_accessors(&mut self, flat: &FlatMesh, v0: usize) {
         let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
         for p in &flat.positions {
             for a in 0..3 {
@@ -217,56 +269,76 @@ fn encode_for(solids: &SolidsRef<'_>, up: Axis, budget: MemoryBudget, output: Op
         }
         let vec3 = |v: [f32; 3]| format!("[{},{},{}]", json_number(v[0]), json_number(v[1]), json_number(v[2]));
         let n = flat.positions.len();
-        accessors.push(format!(
+        self.accessors.push(format!(
             "{{\"bufferView\":{v0},\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\",\"min\":{},\"max\":{}}}",
             vec3(lo),
             vec3(hi)
         ));
-        accessors.push(format!("{{\"bufferView\":{},\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\"}}", v0 + 1));
-        accessors.push(format!(
+        self.accessors
+            .push(format!("{{\"bufferView\":{},\"componentType\":5126,\"count\":{n},\"type\":\"VEC3\"}}", v0 + 1));
+        self.accessors.push(format!(
             "{{\"bufferView\":{},\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}",
             v0 + 2,
             flat.indices.len()
         ));
-        // Step 4: material, mesh and node.
+    }
+
+    /// Step 4: the solid's material, mesh (its accessors from `first_accessor` on) and
+    /// node (turned by `rotation`, from [`rotation_json`]).
+    fn push_material_mesh_node(&mut self, solid: &SolidRef<'_>, first_accessor: usize, rotation: &str) {
         let c = solid.color.unwrap_or(DEFAULT_COLOR).clamp(DVec3::ZERO, DVec3::ONE);
-        let m = materials.len();
-        materials.push(format!(
+        let m = self.materials.len();
+        self.materials.push(format!(
             "{{\"name\":{},\"pbrMetallicRoughness\":{{\"baseColorFactor\":[{},{},{},1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.8}}}}",
             json_string(&solid.name),
             json_number(c.x as f32),
             json_number(c.y as f32),
             json_number(c.z as f32)
         ));
-        meshes.push(format!(
+        self.meshes.push(format!(
             "{{\"name\":{},\"primitives\":[{{\"attributes\":{{\"POSITION\":{},\"NORMAL\":{}}},\"indices\":{},\"material\":{m},\"mode\":4}}]}}",
             json_string(&solid.name),
             first_accessor,
             first_accessor + 1,
             first_accessor + 2
         ));
-        nodes.push(format!("{{\"name\":{},\"mesh\":{}{rotation}}}", json_string(&solid.name), meshes.len() - 1));
+        self.nodes.push(format!(
+            "{{\"name\":{},\"mesh\":{}{rotation}}}",
+            json_string(&solid.name),
+            self.meshes.len() - 1
+        ));
     }
-    // Step 5: the JSON document, then the GLB container.
-    let mut json = String::from("{\"asset\":{\"version\":\"2.0\",\"generator\":\"octsolid\"},\"scene\":0,");
-    if nodes.is_empty() {
-        json.push_str("\"scenes\":[{}]}");
-    } else {
-        let list = |items: &[String]| items.join(",");
-        let indices: Vec<String> = (0..nodes.len()).map(|i| i.to_string()).collect();
-        let _ = write!(
-            json,
-            "\"scenes\":[{{\"nodes\":[{}]}}],\"nodes\":[{}],\"meshes\":[{}],\"materials\":[{}],\
-             \"buffers\":[{{\"byteLength\":{}}}],\"bufferViews\":[{}],\"accessors\":[{}]}}",
-            indices.join(","),
-            list(&nodes),
-            list(&meshes),
-            list(&materials),
-            bin.len(),
-            list(&views),
-            list(&accessors)
-        );
+
+    /// Step 5: the JSON document, unpadded; a scene without nodes when no solid was
+    /// written.
+    fn json(&self) -> String {
+        let mut json = String::from("{\"asset\":{\"version\":\"2.0\",\"generator\":\"octsolid\"},\"scene\":0,");
+        if self.nodes.is_empty() {
+            json.push_str("\"scenes\":[{}]}");
+        } else {
+            let list = |items: &[String]| items.join(",");
+            let indices: Vec<String> = (0..self.nodes.len()).map(|i| i.to_string()).collect();
+            let _ = write!(
+                json,
+                "\"scenes\":[{{\"nodes\":[{}]}}],\"nodes\":[{}],\"meshes\":[{}],\"materials\":[{}],\
+                 \"buffers\":[{{\"byteLength\":{}}}],\"bufferViews\":[{}],\"accessors\":[{}]}}",
+                indices.join(","),
+                list(&self.nodes),
+                list(&self.meshes),
+                list(&self.materials),
+                self.bin.len(),
+                list(&self.views),
+                list(&self.accessors)
+            );
+        }
+        json
     }
+}
+
+/// The GLB container around `json` and `bin`: the header, the JSON chunk padded with
+/// spaces and the BIN chunk (left out when empty) padded with zeros; refused past the
+/// 4 GiB a GLB's length can count.
+fn glb_container(json: String, mut bin: Vec<u8>) -> Result<Vec<u8>> {
     let mut json = json.into_bytes();
     json.resize(json.len().next_multiple_of(4), b' ');
     bin.resize(bin.len().next_multiple_of(4), 0);

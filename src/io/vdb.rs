@@ -332,11 +332,22 @@ fn write_meta(out: &mut Vec<u8>, name: &str, kind: &str, value: &[u8]) {
 /// The grid from its compression flags to its last buffer; `base` is its file offset.
 fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usize) {
     let tree = solid.tree;
-    let d = tree.domain();
     let mut out = Vec::new();
     let flags = COMPRESS_ACTIVE_MASK | if compression == Compression::Zip { COMPRESS_ZIP } else { 0 };
     out.extend(flags.to_le_bytes());
-    // Metadata, sorted by name as OpenVDB's map is.
+    write_grid_metadata(&mut out, solid);
+    write_transform(&mut out, tree.domain());
+    let root = build_tree(tree);
+    write_topology(&mut out, &root, compression);
+    let block = out.len();
+    write_leaf_buffers(&mut out, &root, compression);
+    (out, block)
+}
+
+/// The grid's metadata: its count, then the entries sorted by name as OpenVDB's map is.
+fn write_grid_metadata(out: &mut Vec<u8>, solid: &SolidRef<'_>) {
+    let tree = solid.tree;
+    let d = tree.domain();
     let mut meta = Vec::new();
     let mut count = 0u32;
     let mut add = |name: &str, kind: &str, value: &[u8]| {
@@ -356,9 +367,13 @@ fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usiz
     add(DOMAIN_KEY, "string", domain.as_bytes());
     out.extend(count.to_le_bytes());
     out.extend(meta);
-    // Transform: voxel centres on integer indices.
+}
+
+/// The transform: a uniform scale and translation that puts voxel centres of `d` on
+/// integer indices.
+fn write_transform(out: &mut Vec<u8>, d: &Domain) {
     let h = d.voxel_size();
-    write_string(&mut out, "UniformScaleTranslateMap");
+    write_string(out, "UniformScaleTranslateMap");
     let t = d.min() + DVec3::splat(0.5 * h);
     for v in
         [t, DVec3::splat(h), DVec3::splat(h), DVec3::splat(1.0 / h), DVec3::splat(1.0 / (h * h)), DVec3::splat(0.5 / h)]
@@ -367,8 +382,12 @@ fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usiz
             out.extend(c.to_le_bytes());
         }
     }
-    // Topology: one buffer; root background 0, tiles, then children in origin order.
-    let root = build_tree(tree);
+}
+
+/// The topology: one buffer; the root's background 0, its tiles, then its children in
+/// origin order, each upper and lower node with its masks and tile values and each leaf
+/// with its mask.
+fn write_topology(out: &mut Vec<u8>, root: &Root, compression: Compression) {
     out.extend(1i32.to_le_bytes());
     out.extend(0f32.to_le_bytes());
     let tiles = root.values().filter(|e| e.is_none()).count() as u32;
@@ -387,30 +406,31 @@ fn encode_grid(solid: &SolidRef<'_>, compression: Compression) -> (Vec<u8>, usiz
         upper.tiles.keys().for_each(|&i| value.set(i));
         out.extend(child.bytes());
         out.extend(value.bytes());
-        write_ones(&mut out, upper.tiles.len(), compression);
+        write_ones(out, upper.tiles.len(), compression);
         for lower in upper.lowers.values() {
             let (mut child, mut value) = (Mask::new(1 << (3 * LOWER_LOG2)), Mask::new(1 << (3 * LOWER_LOG2)));
             lower.leaves.keys().for_each(|&i| child.set(i));
             lower.tiles.keys().for_each(|&i| value.set(i));
             out.extend(child.bytes());
             out.extend(value.bytes());
-            write_ones(&mut out, lower.tiles.len(), compression);
+            write_ones(out, lower.tiles.len(), compression);
             for leaf in lower.leaves.values() {
                 out.extend(leaf.bytes());
             }
         }
     }
-    // Buffers: every leaf again, its mask and its active values.
-    let block = out.len();
+}
+
+/// The buffers: every leaf again, its mask and its active values.
+fn write_leaf_buffers(out: &mut Vec<u8>, root: &Root, compression: Compression) {
     for upper in root.values().flatten() {
         for lower in upper.lowers.values() {
             for leaf in lower.leaves.values() {
                 out.extend(leaf.bytes());
-                write_ones(&mut out, leaf.count(), compression);
+                write_ones(out, leaf.count(), compression);
             }
         }
     }
-    (out, block)
 }
 
 /// Writes `solids` to `path`, one fog-volume grid each, atomically; returns the bytes
@@ -682,6 +702,12 @@ struct ReadUpper {
     lowers: Vec<ReadLower>,
 }
 
+/// The root's children read, by origin.
+type ReadRoot = BTreeMap<[i64; 3], ReadUpper>;
+
+/// A cube of inside voxels: its origin and side, in index space.
+type Block = ([i64; 3], i64);
+
 /// Reads the `.vdb` file at `path` (one grid; see the module doc).
 pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
     let path = path.as_ref();
@@ -692,7 +718,28 @@ pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
 /// Parses a whole `.vdb` file; `path` names it in errors.
 pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids> {
     let mut r = Fields::new(path, bytes, 0);
-    // Step 1: header and file metadata.
+    read_file_header(&mut r)?;
+    let at = r.pos;
+    let count = r.u32("grid count")?;
+    // Step 2: grid descriptors; the chosen grid is read, the others skipped.
+    let mut found = Vec::new();
+    for _ in 0..count {
+        let grid = read_descriptor(&mut r, bytes.len())?;
+        let (value, half) = value_type_of(&grid.kind);
+        let wanted = options.grid.as_ref().is_none_or(|g| *g == grid.name);
+        if wanted && (value.is_some() || options.grid.is_some()) {
+            let value = check_readable(&r, &grid, value)?;
+            return read_grid(&mut r, grid.name, value, half, options);
+        }
+        found.push(format!("{} ({})", printable(&grid.name), printable(&grid.kind)));
+        r.pos = grid.end_pos as usize;
+    }
+    Err(no_grid_to_read(&r, at, options, &found))
+}
+
+/// Step 1: the file's header (magic, versions, the grid offsets flag, UUID) and its
+/// metadata, which is skipped.
+fn read_file_header(r: &mut Fields<'_>) -> Result<()> {
     let magic = r.i64("magic")?;
     if magic as u64 != MAGIC {
         return Err(r.err(0, "not an OpenVDB file (bad magic; expected 0x56444220)"));
@@ -710,76 +757,112 @@ pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids
     }
     r.take(36, "UUID")?;
     r.meta_map("file metadata")?;
+    Ok(())
+}
+
+/// A grid descriptor read: where it starts, the grid's name (without the suffix that
+/// makes it unique), type name, instance parent and where the grid ends.
+struct Descriptor {
+    /// The descriptor's file offset.
+    at: usize,
+    /// The grid's name.
+    name: String,
+    /// The grid's tree type name, e.g. `Tree_float_5_4_3`.
+    kind: String,
+    /// The grid this one instances; empty for none.
+    parent: String,
+    /// The file offset just past the grid.
+    end_pos: i64,
+}
+
+/// One grid descriptor, its offsets checked to follow it in order within the
+/// `file_len` bytes of the file.
+fn read_descriptor(r: &mut Fields<'_>, file_len: usize) -> Result<Descriptor> {
     let at = r.pos;
-    let count = r.u32("grid count")?;
-    // Step 2: grid descriptors; the chosen grid is read, the others skipped.
-    let mut found = Vec::new();
-    for _ in 0..count {
-        let at = r.pos;
-        let unique = r.string("grid name")?;
-        let kind = r.string("grid type")?;
-        let parent = r.string("instance parent")?;
-        let (grid_pos, block_pos, end_pos) = (r.i64("grid offset")?, r.i64("block offset")?, r.i64("end offset")?);
-        let name = unique.split('\u{1e}').next().unwrap_or_default().to_owned();
-        let ok = grid_pos == r.pos as i64
-            && grid_pos <= block_pos
-            && block_pos <= end_pos
-            && end_pos as u64 <= bytes.len() as u64;
-        if !ok {
-            return Err(r.err(
-                at,
-                format!(
-                    "grid {}: offsets {grid_pos}, {block_pos}, {end_pos} do not fit the file",
-                    quoted(name.as_bytes())
-                ),
-            ));
-        }
-        let (value, half) = match kind.as_str() {
-            "Tree_float_5_4_3" => (Some(ValueType::F32), false),
-            "Tree_float_5_4_3_HalfFloat" => (Some(ValueType::F32), true),
-            "Tree_double_5_4_3" => (Some(ValueType::F64), false),
-            "Tree_bool_5_4_3" => (Some(ValueType::Bool), false),
-            _ => (None, false),
-        };
-        let wanted = options.grid.as_ref().is_none_or(|g| *g == name);
-        if wanted && (value.is_some() || options.grid.is_some()) {
-            let Some(value) = value else {
-                return Err(r.err(
-                    at,
-                    format!(
-                        "grid {} is of type {}; float, double and bool grids are read",
-                        quoted(name.as_bytes()),
-                        quoted(kind.as_bytes())
-                    ),
-                ));
-            };
-            if !parent.is_empty() {
-                return Err(r.err(
-                    at,
-                    format!(
-                        "grid {} is an instance of {}; instanced grids are not supported",
-                        quoted(name.as_bytes()),
-                        quoted(parent.as_bytes())
-                    ),
-                ));
-            }
-            return read_grid(&mut r, name, value, half, options);
-        }
-        found.push(format!("{} ({})", printable(&name), printable(&kind)));
-        r.pos = end_pos as usize;
+    let unique = r.string("grid name")?;
+    let kind = r.string("grid type")?;
+    let parent = r.string("instance parent")?;
+    let (grid_pos, block_pos, end_pos) = (r.i64("grid offset")?, r.i64("block offset")?, r.i64("end offset")?);
+    let name = unique.split('\u{1e}').next().unwrap_or_default().to_owned();
+    let ok =
+        grid_pos == r.pos as i64 && grid_pos <= block_pos && block_pos <= end_pos && end_pos as u64 <= file_len as u64;
+    if !ok {
+        return Err(r.err(
+            at,
+            format!("grid {}: offsets {grid_pos}, {block_pos}, {end_pos} do not fit the file", quoted(name.as_bytes())),
+        ));
     }
+    Ok(Descriptor { at, name, kind, parent, end_pos })
+}
+
+/// The value type of a tree type name and whether it is stored as half floats; `None`
+/// for a type not read.
+fn value_type_of(kind: &str) -> (Option<ValueType>, bool) {
+    match kind {
+        "Tree_float_5_4_3" => (Some(ValueType::F32), false),
+        "Tree_float_5_4_3_HalfFloat" => (Some(ValueType::F32), true),
+        "Tree_double_5_4_3" => (Some(ValueType::F64), false),
+        "Tree_bool_5_4_3" => (Some(ValueType::Bool), false),
+        _ => (None, false),
+    }
+}
+
+/// The chosen grid's value type, or the reason it cannot be read: a type not read, or
+/// an instanced grid.
+fn check_readable(r: &Fields<'_>, grid: &Descriptor, value: Option<ValueType>) -> Result<ValueType> {
+    let Some(value) = value else {
+        return Err(r.err(
+            grid.at,
+            format!(
+                "grid {} is of type {}; float, double and bool grids are read",
+                quoted(grid.name.as_bytes()),
+                quoted(grid.kind.as_bytes())
+            ),
+        ));
+    };
+    if !grid.parent.is_empty() {
+        return Err(r.err(
+            grid.at,
+            format!(
+                "grid {} is an instance of {}; instanced grids are not supported",
+                quoted(grid.name.as_bytes()),
+                quoted(grid.parent.as_bytes())
+            ),
+        ));
+    }
+    Ok(value)
+}
+
+/// The refusal when no grid was chosen, at the grid count (`at`), listing the grids
+/// `found`.
+fn no_grid_to_read(r: &Fields<'_>, at: usize, options: &ReadOptions, found: &[String]) -> Error {
     let what = options
         .grid
         .as_ref()
         .map_or("no float, double or bool grid".to_string(), |g| format!("no grid named {}", quoted(g.as_bytes())));
-    Err(r.err(
-        at,
-        format!("{what}; the file has {}", if found.is_empty() { "no grids".into() } else { found.join(", ") }),
-    ))
+    r.err(at, format!("{what}; the file has {}", if found.is_empty() { "no grids".into() } else { found.join(", ") }))
 }
 
+/// Reads the chosen grid from its compression flags on, into solids.
 fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, options: &ReadOptions) -> Result<Solids> {
-    // Step 3: compression, metadata, transform.
+    let mut grid = read_grid_header(r, name, value, half, options)?;
+    read_background(r, &mut grid)?;
+    let (mut blocks, uppers) = read_root_children(r, &grid)?;
+    check_read_budget(r, &grid, &uppers, blocks.len(), options)?;
+    push_inside_tiles(&uppers, &mut blocks);
+    read_leaf_buffers(r, &grid, &uppers, &mut blocks)?;
+    build_solids(grid, blocks, options, r)
+}
+
+/// Step 3: the grid's compression flags, metadata (its class and the domain octsolid
+/// stored) and transform.
+fn read_grid_header(
+    r: &mut Fields<'_>,
+    name: String,
+    value: ValueType,
+    half: bool,
+    options: &ReadOptions,
+) -> Result<Grid> {
     let at = r.pos;
     let compression = r.u32("compression flags")?;
     if compression & !(COMPRESS_ZIP | COMPRESS_ACTIVE_MASK | COMPRESS_BLOSC) != 0 {
@@ -807,7 +890,12 @@ fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, opt
     }
     grid.level_set = grid.class == "level set";
     read_transform(r, &mut grid)?;
-    // Step 4: topology. One buffer, the root's background, tiles and children.
+    Ok(grid)
+}
+
+/// Step 4, the topology's start: one buffer a node, and the root's background, which
+/// must be outside.
+fn read_background(r: &mut Fields<'_>, grid: &mut Grid) -> Result<()> {
     let at = r.pos;
     let buffers = r.u32("buffer count")?;
     if buffers != 1 {
@@ -820,13 +908,20 @@ fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, opt
             r.err(at + 4, format!("the background {} is inside: the solid would be unbounded", grid.background))
         );
     }
+    Ok(())
+}
+
+/// Step 4, the root's tiles and children: the blocks of its inside tiles, and its
+/// upper nodes by origin (each checked aligned and alone at its origin).
+fn read_root_children(r: &mut Fields<'_>, grid: &Grid) -> Result<(Vec<Block>, ReadRoot)> {
+    let vs = grid.value_size();
     let at = r.pos;
     let (tiles, children) = (r.u32("tile count")? as u64, r.u32("child count")? as u64);
     let left = r.left() as u64;
     if tiles * (13 + vs as u64) + children * (12 + 8192) > left {
         return Err(r.err(at, format!("{tiles} tiles and {children} children cannot fit in the {left} bytes left")));
     }
-    let mut blocks: Vec<([i64; 3], i64)> = Vec::new();
+    let mut blocks: Vec<Block> = Vec::new();
     for _ in 0..tiles {
         let o = r.coord("tile origin")?;
         let v = grid.decode_value(r.take(vs, "tile value")?);
@@ -842,20 +937,34 @@ fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, opt
         if o.iter().any(|c| c % UPPER_SIDE != 0) {
             return Err(r.err(at, format!("root child at {o:?} is not aligned to {UPPER_SIDE}")));
         }
-        let upper = read_upper(r, &grid, o)?;
+        let upper = read_upper(r, grid, o)?;
         if uppers.insert(o, upper).is_some() {
             return Err(r.err(at, format!("two root children at {o:?}")));
         }
     }
-    // The budget: a node a tile and a voxel of every leaf at most, 20 bytes each.
+    Ok((blocks, uppers))
+}
+
+/// The budget: a node a tile (`root_blocks` of the root's, and every upper and lower
+/// node's inside tiles) and a voxel of every leaf at most, 40 bytes each.
+fn check_read_budget(
+    r: &Fields<'_>,
+    grid: &Grid,
+    uppers: &ReadRoot,
+    root_blocks: usize,
+    options: &ReadOptions,
+) -> Result<()> {
     let leaves: usize = uppers.values().flat_map(|u: &ReadUpper| &u.lowers).map(|l| l.leaves.len()).sum();
     let tile_count: usize = uppers
         .values()
         .map(|u| u.inside_tiles.len() + u.lowers.iter().map(|l| l.inside_tiles.len()).sum::<usize>())
         .sum();
-    let estimate = (leaves as u64 * 512 + tile_count as u64 + blocks.len() as u64) * 40;
-    options.budget.check(format!("reading grid {} of {}", quoted(grid.name.as_bytes()), r.path.display()), estimate)?;
-    // Step 5: inside tiles, then the buffers of every leaf in the root's origin order.
+    let estimate = (leaves as u64 * 512 + tile_count as u64 + root_blocks as u64) * 40;
+    options.budget.check(format!("reading grid {} of {}", quoted(grid.name.as_bytes()), r.path.display()), estimate)
+}
+
+/// Step 5, first: the blocks of the upper and lower nodes' inside tiles.
+fn push_inside_tiles(uppers: &ReadRoot, blocks: &mut Vec<Block>) {
     for u in uppers.values() {
         for &i in &u.inside_tiles {
             blocks.push((child_origin(u.origin, i, UPPER_LOG2, LEAF_LOG2 + LOWER_LOG2), LOWER_SIDE));
@@ -866,15 +975,20 @@ fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, opt
             }
         }
     }
+}
+
+/// Step 5, then: the buffers of every leaf in the root's origin order, their inside
+/// voxels as blocks.
+fn read_leaf_buffers(r: &mut Fields<'_>, grid: &Grid, uppers: &ReadRoot, blocks: &mut Vec<Block>) -> Result<()> {
     for u in uppers.values() {
         for l in &u.lowers {
             for &i in &l.leaves {
                 let origin = child_origin(l.origin, i, LOWER_LOG2, LEAF_LOG2);
-                read_leaf_buffer(r, &grid, origin, &mut blocks)?;
+                read_leaf_buffer(r, grid, origin, blocks)?;
             }
         }
     }
-    build_solids(grid, blocks, options, r)
+    Ok(())
 }
 
 /// The origin of child `i` of a node at `origin`.

@@ -614,19 +614,38 @@ pub fn encode(solids: &Solids, budget: MemoryBudget) -> Result<Vec<u8>> {
 pub(crate) fn encode_borrowed(solids: &SolidsRef<'_>, budget: MemoryBudget) -> Result<Vec<u8>> {
     // Step 1: a palette index a solid.
     let indices = palette_indices(&solids.solids)?;
-    // Step 2: the voxels' bounding box cut into models of at most 256^3 from its low
-    // corner; a model with no voxel is left out.
+    let models = models_of(solids);
+    let pieces = pieces_within_budget(solids, &models, budget)?;
+    // Step 3: chunks. Models first (those some node meets, in the file's order), then
+    // the scene graph, layer, palette, materials.
+    let mut main = Vec::new();
+    let placements = write_models(&mut main, solids, &models, pieces, &indices);
+    write_scene_graph(&mut main, &solids.domain, &placements);
+    write_layer(&mut main);
+    write_palette(&mut main, solids, &indices);
+    write_materials(&mut main, solids, &indices);
+    Ok(vox_file(main))
+}
+
+/// Step 2: the voxels' bounding box cut into models of at most 256^3 from its low
+/// corner.
+fn models_of(solids: &SolidsRef<'_>) -> Models {
     let bounds = solids
         .solids
         .iter()
         .filter_map(|s| s.tree.voxel_bounds())
         .reduce(|a, b| (std::array::from_fn(|i| a.0[i].min(b.0[i])), std::array::from_fn(|i| a.1[i].max(b.1[i]))));
     let (lo, hi) = bounds.unwrap_or(([0; 3], [0; 3]));
-    let models = Models { lo, hi, count: [0, 1, 2].map(|a| (hi[a] - lo[a]).div_ceil(MAX_MODEL_SIDE)) };
-    // Memory: 4 bytes a voxel in the file, three times (the chunks' buffer as it grows,
-    // then the file beside it); the largest model's voxels listed, sorted and copied
-    // into its chunk (16 bytes each at most); the byte grid of one model; each node's
-    // pieces.
+    Models { lo, hi, count: [0, 1, 2].map(|a| (hi[a] - lo[a]).div_ceil(MAX_MODEL_SIDE)) }
+}
+
+/// The number of pieces (nodes' parts in models), once the file is known to fit the
+/// budget. Memory: 4 bytes a voxel in the file, three times (the chunks' buffer as it
+/// grows, then the file beside it); the largest model's voxels listed, sorted and
+/// copied into its chunk (16 bytes each at most); the byte grid of one model; each
+/// node's pieces.
+fn pieces_within_budget(solids: &SolidsRef<'_>, models: &Models, budget: MemoryBudget) -> Result<u64> {
+    let (lo, hi) = (models.lo, models.hi);
     let voxels: u64 = solids.solids.iter().map(|s| s.tree.voxel_count()).sum();
     let grid: u64 = (0..3).map(|a| u64::from((hi[a] - lo[a]).min(MAX_MODEL_SIDE))).product();
     let pieces: u64 = solids.solids.iter().flat_map(|s| s.tree.nodes()).map(|n| models.met_by(n).count() as u64).sum();
@@ -636,72 +655,104 @@ pub(crate) fn encode_borrowed(solids: &SolidsRef<'_>, budget: MemoryBudget) -> R
         .saturating_add(grid)
         .saturating_add(pieces.saturating_mul(PIECE_BYTES));
     budget.check(format!("a .vox file of {voxels} voxels"), estimate)?;
-    // Step 3: chunks. Models first (those some node meets, in the file's order), then
-    // the scene graph, layer, palette, materials.
-    let mut main = Vec::new();
+    Ok(pieces)
+}
+
+/// A `SIZE` and an `XYZI` chunk for each model some node meets (of `pieces` in all), in
+/// the file's order; a model with no voxel is left out. Returns each model's
+/// translation.
+fn write_models(
+    main: &mut Vec<u8>,
+    solids: &SolidsRef<'_>,
+    models: &Models,
+    pieces: u64,
+    indices: &[u8],
+) -> Vec<[i64; 3]> {
     let mut placements = Vec::new();
     let mut grid = Vec::new();
     let pieces = models.pieces(solids, pieces as usize);
     for pieces in pieces.chunk_by(|a, b| a.model == b.model) {
         let (start, end) = models.span(pieces[0].model);
-        let kept = model_voxels(pieces, &indices, start, end, &mut grid);
+        let kept = model_voxels(pieces, indices, start, end, &mut grid);
         let size = [0, 1, 2].map(|a| kept.iter().map(|v| u32::from(v[a]) + 1).max().unwrap_or(1));
-        chunk(&mut main, b"SIZE", &[size[0], size[1], size[2]].map(u32::to_le_bytes).concat());
+        chunk(main, b"SIZE", &[size[0], size[1], size[2]].map(u32::to_le_bytes).concat());
         let mut xyzi = Vec::with_capacity(4 + 4 * kept.len());
         xyzi.extend((kept.len() as u32).to_le_bytes());
         xyzi.extend(kept.iter().flatten());
-        chunk(&mut main, b"XYZI", &xyzi);
+        chunk(main, b"XYZI", &xyzi);
         // World voxel = lattice voxel: v - floor(s/2) + t with v local, so t = corner + floor(s/2).
         let t = [0, 1, 2].map(|a| i64::from(start[a]) + i64::from(size[a] / 2));
         placements.push(t);
     }
-    let d = solids.domain;
+    placements
+}
+
+/// The scene graph: the root transform (carrying the domain `d`), a group, and a
+/// transform (to its `placements` entry) and shape a model.
+fn write_scene_graph(main: &mut Vec<u8>, d: &Domain, placements: &[[i64; 3]]) {
     let domain_value = format!("{} {} {} {} {}", d.min().x, d.min().y, d.min().z, d.edge(), d.depth());
     let mut root = node_header(0, &[(DOMAIN_KEY, &domain_value)]);
     root.extend([1u32, u32::MAX, u32::MAX, 1, 0].map(u32::to_le_bytes).concat());
-    chunk(&mut main, b"nTRN", &root);
+    chunk(main, b"nTRN", &root);
     let mut group = node_header(1, &[]);
     group.extend((placements.len() as u32).to_le_bytes());
     for k in 0..placements.len() as u32 {
         group.extend((2 + 2 * k).to_le_bytes());
     }
-    chunk(&mut main, b"nGRP", &group);
+    chunk(main, b"nGRP", &group);
     for (k, t) in placements.iter().enumerate() {
         let id = 2 + 2 * k as u32;
         let mut trn = node_header(id, &[]);
         trn.extend([id + 1, u32::MAX, 0, 1].map(u32::to_le_bytes).concat());
         write_dict(&mut trn, &[("_t", &format!("{} {} {}", t[0], t[1], t[2]))]);
-        chunk(&mut main, b"nTRN", &trn);
+        chunk(main, b"nTRN", &trn);
         let mut shp = node_header(id + 1, &[]);
         shp.extend([1, k as u32].map(u32::to_le_bytes).concat());
         write_dict(&mut shp, &[]);
-        chunk(&mut main, b"nSHP", &shp);
+        chunk(main, b"nSHP", &shp);
     }
+}
+
+/// The one layer.
+fn write_layer(main: &mut Vec<u8>) {
     let mut layer = node_header(0, &[]);
     layer.extend(u32::MAX.to_le_bytes());
-    chunk(&mut main, b"LAYR", &layer);
+    chunk(main, b"LAYR", &layer);
+}
+
+/// The palette: MagicaVoxel's default, each solid's colour (grey without one) at its
+/// index.
+fn write_palette(main: &mut Vec<u8>, solids: &SolidsRef<'_>, indices: &[u8]) {
     let mut palette: Vec<[u8; 4]> = dot_vox::DEFAULT_PALETTE.iter().map(<[u8; 4]>::from).collect();
     palette.resize(256, [0, 0, 0, 255]);
-    for (solid, &index) in solids.solids.iter().zip(&indices) {
+    for (solid, &index) in solids.solids.iter().zip(indices) {
         let c = solid.color.unwrap_or(DVec3::splat(DEFAULT_GREY));
         palette[usize::from(index) - 1] = [to_srgb8(c.x), to_srgb8(c.y), to_srgb8(c.z), 255];
     }
-    chunk(&mut main, b"RGBA", &palette.concat());
-    for (solid, &index) in solids.solids.iter().zip(&indices) {
+    chunk(main, b"RGBA", &palette.concat());
+}
+
+/// A `MATL` chunk for each solid with material properties, at its palette index.
+fn write_materials(main: &mut Vec<u8>, solids: &SolidsRef<'_>, indices: &[u8]) {
+    for (solid, &index) in solids.solids.iter().zip(indices) {
         if !solid.material.is_empty() {
             let entries: Vec<(&str, &str)> = solid.material.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
             let mut matl = u32::from(index).to_le_bytes().to_vec();
             write_dict(&mut matl, &entries);
-            chunk(&mut main, b"MATL", &matl);
+            chunk(main, b"MATL", &matl);
         }
     }
+}
+
+/// The file: its header, then the `MAIN` chunk holding `main` as its children.
+fn vox_file(main: Vec<u8>) -> Vec<u8> {
     let mut out = Vec::with_capacity(20 + main.len());
     out.extend_from_slice(b"VOX ");
     out.extend(VERSION.to_le_bytes());
     out.extend_from_slice(b"MAIN");
     out.extend([0, main.len() as u32].map(u32::to_le_bytes).concat());
     out.extend(main);
-    Ok(out)
+    out
 }
 
 /// Bytes a piece (a node's part in one model) takes while the models are listed.

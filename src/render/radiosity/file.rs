@@ -23,6 +23,8 @@
 use std::io::Write;
 use std::path::Path;
 
+use glam::DVec3;
+
 use super::patches::{self, Patches};
 use super::{Radiosity, RadiosityStats, fingerprint};
 use crate::atomic::write_atomic;
@@ -91,24 +93,65 @@ fn read_head(path: &Path) -> Result<(Vec<u8>, u64)> {
 pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<Radiosity> {
     let (head, len) = read_head(path)?;
     let mut r = Fields::new(path, &head, 0);
-    if r.array::<8>("magic").ok().as_ref() != Some(MAGIC) {
-        return Err(r.err(0, "not a radiosity solution (.rad): the magic bytes differ"));
-    }
-    let version = r.u32("version")?;
-    if !(1..=VERSION).contains(&version) {
-        return Err(r.err(8, format!("format version {version}, this build reads versions 1 to {VERSION}")));
-    }
-    let stored = r.u64("scene fingerprint")?;
-    let own = fingerprint(scene);
-    if stored != own {
-        return Err(r.err(
-            12,
-            format!(
-                "the solution belongs to another scene (fingerprint {stored:016x}, this scene's is {own:016x}: \
-                 its solids, materials or lights differ); solve this scene with `octsolid radiosity`"
-            ),
-        ));
-    }
+    let header = read_header(&mut r, scene)?;
+    let mut mesh = rebuild_patches(&r, scene, &header, budget)?;
+    let (bytes, splits_at) = read_checked_file(path, &r, &header, len)?;
+    let mut r = Fields::new(path, &bytes, splits_at);
+    replay_splits(&mut r, scene, &mut mesh, header.split_count)?;
+    let radiosity = read_radiosities(&mut r, &mesh)?;
+    let stats = RadiosityStats {
+        patches: mesh.patches.len(),
+        elements: mesh.leaf_count(),
+        splits: mesh.splits.len(),
+        shots: header.shots,
+        unshot_fraction: header.unshot_fraction,
+        rays: 0,
+        emitted: 0.0,
+        absorbed: 0.0,
+        escaped: 0.0,
+        history: Vec::new(),
+    };
+    Ok(Radiosity {
+        mesh,
+        radiosity,
+        ambient: header.ambient,
+        fingerprint: header.fingerprint,
+        patch_size: header.patch_size,
+        elements: header.elements,
+        stats,
+        timeline: Vec::new(),
+        show_elements: false,
+    })
+}
+
+/// The header's fields, each checked on its own as it is read.
+struct Header {
+    /// The format version, 1 or 2.
+    version: u32,
+    /// The scene fingerprint, equal to the scene's.
+    fingerprint: u64,
+    /// The patch size the solution was solved with.
+    patch_size: f64,
+    /// The elements a patch side it was solved with.
+    elements: u32,
+    /// The patch count.
+    patches: u64,
+    /// The element count, elements split by subdivision included.
+    element_count: u64,
+    /// The shots.
+    shots: u64,
+    /// The unshot fraction.
+    unshot_fraction: f64,
+    /// The ambient term.
+    ambient: DVec3,
+    /// The count of elements split (0 in version 1).
+    split_count: u64,
+}
+
+/// The header, field by field (module doc): the file's identity first, then the
+/// settings, counts and solver state.
+fn read_header(r: &mut Fields<'_>, scene: &Scene) -> Result<Header> {
+    let (version, fingerprint) = read_identity(r, scene)?;
     let patch_size = r.f64("patch size")?;
     let elements = r.u32("elements a side")?;
     if !(patch_size.is_finite() && patch_size > 0.0 && (1..=64).contains(&elements)) {
@@ -129,7 +172,49 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
         return Err(r.err(r.pos - 24, format!("ambient term {ambient} is not finite and non-negative")));
     }
     let split_count = if version == 2 { r.u64("split count")? } else { 0 };
-    let mut mesh = Patches::build(scene, patch_size, elements, budget)?;
+    Ok(Header {
+        version,
+        fingerprint,
+        patch_size,
+        elements,
+        patches,
+        element_count,
+        shots,
+        unshot_fraction,
+        ambient,
+        split_count,
+    })
+}
+
+/// The magic, a version this build reads and the scene fingerprint, which must be
+/// `scene`'s; returns the version and the fingerprint.
+fn read_identity(r: &mut Fields<'_>, scene: &Scene) -> Result<(u32, u64)> {
+    if r.array::<8>("magic").ok().as_ref() != Some(MAGIC) {
+        return Err(r.err(0, "not a radiosity solution (.rad): the magic bytes differ"));
+    }
+    let version = r.u32("version")?;
+    if !(1..=VERSION).contains(&version) {
+        return Err(r.err(8, format!("format version {version}, this build reads versions 1 to {VERSION}")));
+    }
+    let stored = r.u64("scene fingerprint")?;
+    let own = fingerprint(scene);
+    if stored != own {
+        return Err(r.err(
+            12,
+            format!(
+                "the solution belongs to another scene (fingerprint {stored:016x}, this scene's is {own:016x}: \
+                 its solids, materials or lights differ); solve this scene with `octsolid radiosity`"
+            ),
+        ));
+    }
+    Ok((version, own))
+}
+
+/// The patches rebuilt from `scene` with the file's settings; their counts (the splits'
+/// elements added) must equal the file's, and the file's elements fit `budget`.
+fn rebuild_patches(r: &Fields<'_>, scene: &Scene, header: &Header, budget: MemoryBudget) -> Result<Patches> {
+    let Header { patches, element_count, split_count, .. } = *header;
+    let mesh = Patches::build(scene, header.patch_size, header.elements, budget)?;
     let counts =
         (mesh.patches.len() as u64, (mesh.elements.len() as u64).saturating_add(split_count.saturating_mul(4)));
     if (patches, element_count) != counts {
@@ -149,8 +234,15 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
             budget: budget.0,
         });
     }
-    let splits_at = if version == 2 { HEADER + 8 } else { HEADER };
-    let values_at = splits_at + split_count as usize * 4;
+    Ok(mesh)
+}
+
+/// The whole file, once its length `len` is the size the header gives, read and
+/// checked against its checksum; returns it and the offset of its splits.
+fn read_checked_file(path: &Path, r: &Fields<'_>, header: &Header, len: u64) -> Result<(Vec<u8>, usize)> {
+    let element_count = header.element_count;
+    let splits_at = if header.version == 2 { HEADER + 8 } else { HEADER };
+    let values_at = splits_at + header.split_count as usize * 4;
     let want = (values_at + element_count as usize * 24 + 4) as u64;
     if len != want {
         return Err(r.err(
@@ -168,7 +260,12 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
     if crc != stored_crc {
         return Err(r.err(body, format!("checksum mismatch (stored {stored_crc:08x}, computed {crc:08x}): damaged")));
     }
-    let mut r = Fields::new(path, &bytes, splits_at);
+    Ok((bytes, splits_at))
+}
+
+/// The file's `split_count` splits applied to `mesh` in their order, each checked to
+/// name an element that can be split.
+fn replay_splits(r: &mut Fields<'_>, scene: &Scene, mesh: &mut Patches, split_count: u64) -> Result<()> {
     for _ in 0..split_count {
         let at = r.pos;
         let e = r.u32("splits")? as usize;
@@ -177,6 +274,11 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
         }
         mesh.split(scene, e);
     }
+    Ok(())
+}
+
+/// Each element's radiosity, checked finite and non-negative.
+fn read_radiosities(r: &mut Fields<'_>, mesh: &Patches) -> Result<Vec<DVec3>> {
     let mut radiosity = Vec::with_capacity(mesh.elements.len());
     for _ in 0..mesh.elements.len() {
         let at = r.pos;
@@ -186,27 +288,5 @@ pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
         }
         radiosity.push(v);
     }
-    let stats = RadiosityStats {
-        patches: mesh.patches.len(),
-        elements: mesh.leaf_count(),
-        splits: mesh.splits.len(),
-        shots,
-        unshot_fraction,
-        rays: 0,
-        emitted: 0.0,
-        absorbed: 0.0,
-        escaped: 0.0,
-        history: Vec::new(),
-    };
-    Ok(Radiosity {
-        mesh,
-        radiosity,
-        ambient,
-        fingerprint: own,
-        patch_size,
-        elements,
-        stats,
-        timeline: Vec::new(),
-        show_elements: false,
-    })
+    Ok(radiosity)
 }

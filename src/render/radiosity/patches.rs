@@ -162,102 +162,158 @@ fn element(scene: &Scene, p: &Patch, patch: u32, level: u8, cell: [u32; 2]) -> E
     Element { center, origin: center + p.normal * p.lift, normal, area, patch, children: 0, level, cell }
 }
 
+/// Refuses a patch size that is not finite and positive, or elements a patch side
+/// outside `1..=64`.
+fn check_settings(patch_size: f64, elements: u32) -> Result<()> {
+    if !(patch_size.is_finite() && patch_size > 0.0) {
+        return Err(Error::invalid("patch size", format!("{patch_size} must be a finite positive number")));
+    }
+    if !(1..=64).contains(&elements) {
+        return Err(Error::invalid("elements", format!("{elements} a patch side is outside 1..=64")));
+    }
+    Ok(())
+}
+
+/// Each solid's patch edge in voxels: `patch_size` in its voxels, rounded down, at
+/// least 1 and at most `2^21`.
+fn patch_cells(scene: &Scene, patch_size: f64) -> Vec<u32> {
+    scene
+        .solids
+        .iter()
+        .map(|s| (patch_size / s.tree.domain().voxel_size()).floor().clamp(1.0, f64::from(1u32 << 21)) as u32)
+        .collect()
+}
+
+/// The patch and element counts, counted before building, once their estimated
+/// memory fits `budget` and the elements can be numbered in a `u32`.
+fn counts_within_budget(
+    rects: &[Vec<BoundaryRect>],
+    cells: &[u32],
+    elements: u32,
+    budget: MemoryBudget,
+) -> Result<(u64, u64)> {
+    let (mut patch_count, mut element_count) = (0u64, 0u64);
+    for (rects, &cell) in rects.iter().zip(cells) {
+        for r in rects {
+            let (nu, nv) = (r.w.div_ceil(cell), r.h.div_ceil(cell));
+            patch_count += u64::from(nu) * u64::from(nv);
+            // The tiles of the build below, each with up to `elements` a side.
+            let side = |len: u32, n: u32| split(len, n).map(|(_, w)| u64::from(elements.min(w))).sum::<u64>();
+            element_count += side(r.w, nu) * side(r.h, nv);
+        }
+    }
+    let job = format!("radiosity on {patch_count} patches of {element_count} elements");
+    budget.check(job, patch_count * BYTES_PER_PATCH + element_count * BYTES_PER_ELEMENT)?;
+    if element_count > u64::from(u32::MAX) {
+        return Err(Error::invalid("radiosity", format!("{element_count} elements are more than 2^32")));
+    }
+    Ok((patch_count, element_count))
+}
+
+/// Every boundary rectangle of every solid cut into equal-as-possible patches of at
+/// most its solid's cell a side, each with up to `elements` elements a side; their
+/// first elements are not numbered yet.
+fn cut_into_patches(
+    scene: &Scene,
+    rects: &[Vec<BoundaryRect>],
+    cells: &[u32],
+    elements: u32,
+    patch_count: u64,
+) -> Vec<Patch> {
+    let mut patches = Vec::with_capacity(patch_count as usize);
+    for (solid, (rects, &cell)) in rects.iter().zip(cells).enumerate() {
+        let s = &scene.solids[solid];
+        let domain = s.tree.domain();
+        let h = domain.voxel_size();
+        let (reflectance, emission) = (s.material.diffuse_reflectance(), s.material.emission);
+        for r in rects {
+            let a = usize::from(r.axis);
+            let (ua, va) = ((a + 1) % 3, (a + 2) % 3);
+            let mut normal = DVec3::ZERO;
+            normal[a] = if r.positive { 1.0 } else { -1.0 };
+            for (dv0, hv) in split(r.h, r.h.div_ceil(cell)) {
+                for (du0, wu) in split(r.w, r.w.div_ceil(cell)) {
+                    let rect = BoundaryRect { u: r.u + du0, v: r.v + dv0, w: wu, h: hv, ..*r };
+                    let mut lattice = [0u32; 3];
+                    lattice[a] = rect.plane;
+                    lattice[ua] = rect.u;
+                    lattice[va] = rect.v;
+                    let (mut du, mut dv) = (DVec3::ZERO, DVec3::ZERO);
+                    du[ua] = f64::from(wu) * h;
+                    dv[va] = f64::from(hv) * h;
+                    patches.push(Patch {
+                        solid: solid as u32,
+                        rect,
+                        corner: domain.lattice_point(lattice),
+                        du,
+                        dv,
+                        normal,
+                        area: du[ua] * dv[va],
+                        reflectance,
+                        emission,
+                        first: 0,
+                        nu: elements.min(wu),
+                        nv: elements.min(hv),
+                        lift: 1e-3 * h,
+                    });
+                }
+            }
+        }
+    }
+    patches
+}
+
+/// Numbers each patch's first element, the patches' elements following one another;
+/// returns the element count.
+fn number_elements(patches: &mut [Patch]) -> u32 {
+    let mut first = 0u32;
+    for p in patches {
+        p.first = first;
+        first += p.nu * p.nv;
+    }
+    first
+}
+
+/// Every patch's elements at level 0, in patch order, row by row.
+fn first_level_elements(scene: &Scene, patches: &[Patch]) -> Vec<Element> {
+    patches
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(i, p)| {
+            (0..p.nv).flat_map(move |j| (0..p.nu).map(move |k| element(scene, p, i as u32, 0, [k, j])))
+        })
+        .collect()
+}
+
+/// The lookup from each cell of each solid's face planes to the patches that meet it.
+fn patch_lookup(patches: &[Patch], cells: &[u32]) -> FxHashMap<CellKey, SmallVec<[u32; 2]>> {
+    let mut lookup: FxHashMap<CellKey, SmallVec<[u32; 2]>> = FxHashMap::default();
+    for (i, p) in patches.iter().enumerate() {
+        let c = cells[p.solid as usize];
+        let r = &p.rect;
+        for cv in r.v / c..=(r.v + r.h - 1) / c {
+            for cu in r.u / c..=(r.u + r.w - 1) / c {
+                lookup.entry((p.solid, r.axis, r.positive, r.plane, cu, cv)).or_default().push(i as u32);
+            }
+        }
+    }
+    lookup
+}
+
 impl Patches {
     /// The patches of every solid of `scene` no longer than `patch_size` (world units)
     /// with up to `elements x elements` elements each; refused when their estimated
     /// memory exceeds `budget`.
     pub fn build(scene: &Scene, patch_size: f64, elements: u32, budget: MemoryBudget) -> Result<Patches> {
-        if !(patch_size.is_finite() && patch_size > 0.0) {
-            return Err(Error::invalid("patch size", format!("{patch_size} must be a finite positive number")));
-        }
-        if !(1..=64).contains(&elements) {
-            return Err(Error::invalid("elements", format!("{elements} a patch side is outside 1..=64")));
-        }
+        check_settings(patch_size, elements)?;
         let rects: Vec<Vec<BoundaryRect>> = scene.solids.iter().map(|s| boundary_rects(&s.tree)).collect();
-        let cells: Vec<u32> = scene
-            .solids
-            .iter()
-            .map(|s| (patch_size / s.tree.domain().voxel_size()).floor().clamp(1.0, f64::from(1u32 << 21)) as u32)
-            .collect();
-        // Count before building.
-        let (mut patch_count, mut element_count) = (0u64, 0u64);
-        for (rects, &cell) in rects.iter().zip(&cells) {
-            for r in rects {
-                let (nu, nv) = (r.w.div_ceil(cell), r.h.div_ceil(cell));
-                patch_count += u64::from(nu) * u64::from(nv);
-                // The tiles of the build below, each with up to `elements` a side.
-                let side = |len: u32, n: u32| split(len, n).map(|(_, w)| u64::from(elements.min(w))).sum::<u64>();
-                element_count += side(r.w, nu) * side(r.h, nv);
-            }
-        }
-        let job = format!("radiosity on {patch_count} patches of {element_count} elements");
-        budget.check(job, patch_count * BYTES_PER_PATCH + element_count * BYTES_PER_ELEMENT)?;
-        if element_count > u64::from(u32::MAX) {
-            return Err(Error::invalid("radiosity", format!("{element_count} elements are more than 2^32")));
-        }
-        let mut patches = Vec::with_capacity(patch_count as usize);
-        for (solid, (rects, &cell)) in rects.iter().zip(&cells).enumerate() {
-            let s = &scene.solids[solid];
-            let domain = s.tree.domain();
-            let h = domain.voxel_size();
-            let (reflectance, emission) = (s.material.diffuse_reflectance(), s.material.emission);
-            for r in rects {
-                let a = usize::from(r.axis);
-                let (ua, va) = ((a + 1) % 3, (a + 2) % 3);
-                let mut normal = DVec3::ZERO;
-                normal[a] = if r.positive { 1.0 } else { -1.0 };
-                for (dv0, hv) in split(r.h, r.h.div_ceil(cell)) {
-                    for (du0, wu) in split(r.w, r.w.div_ceil(cell)) {
-                        let rect = BoundaryRect { u: r.u + du0, v: r.v + dv0, w: wu, h: hv, ..*r };
-                        let mut lattice = [0u32; 3];
-                        lattice[a] = rect.plane;
-                        lattice[ua] = rect.u;
-                        lattice[va] = rect.v;
-                        let (mut du, mut dv) = (DVec3::ZERO, DVec3::ZERO);
-                        du[ua] = f64::from(wu) * h;
-                        dv[va] = f64::from(hv) * h;
-                        patches.push(Patch {
-                            solid: solid as u32,
-                            rect,
-                            corner: domain.lattice_point(lattice),
-                            du,
-                            dv,
-                            normal,
-                            area: du[ua] * dv[va],
-                            reflectance,
-                            emission,
-                            first: 0,
-                            nu: elements.min(wu),
-                            nv: elements.min(hv),
-                            lift: 1e-3 * h,
-                        });
-                    }
-                }
-            }
-        }
-        let mut first = 0u32;
-        for p in &mut patches {
-            p.first = first;
-            first += p.nu * p.nv;
-        }
+        let cells = patch_cells(scene, patch_size);
+        let (patch_count, element_count) = counts_within_budget(&rects, &cells, elements, budget)?;
+        let mut patches = cut_into_patches(scene, &rects, &cells, elements, patch_count);
+        let first = number_elements(&mut patches);
         debug_assert_eq!(u64::from(first), element_count, "the count before building is the build's");
-        let elements: Vec<Element> = patches
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(i, p)| {
-                (0..p.nv).flat_map(move |j| (0..p.nu).map(move |k| element(scene, p, i as u32, 0, [k, j])))
-            })
-            .collect();
-        let mut lookup: FxHashMap<CellKey, SmallVec<[u32; 2]>> = FxHashMap::default();
-        for (i, p) in patches.iter().enumerate() {
-            let c = cells[p.solid as usize];
-            let r = &p.rect;
-            for cv in r.v / c..=(r.v + r.h - 1) / c {
-                for cu in r.u / c..=(r.u + r.w - 1) / c {
-                    lookup.entry((p.solid, r.axis, r.positive, r.plane, cu, cv)).or_default().push(i as u32);
-                }
-            }
-        }
+        let elements = first_level_elements(scene, &patches);
+        let lookup = patch_lookup(&patches, &cells);
         let domains = scene.solids.iter().map(|s| *s.tree.domain()).collect();
         Ok(Patches { patches, elements, cells, domains, lookup, splits: Vec::new() })
     }
