@@ -45,7 +45,7 @@ const MAX_SHOTS: u64 = 1 << 48;
 const HEADER: usize = 8 + 4 + 8 + 8 + 4 + 8 + 8 + 8 + 8 + 24;
 
 /// Writes `r` to `path` (see the module doc).
-pub(super) fn save(r: &Radiosity, path: &Path) -> Result<u64> {
+pub(super) fn write(r: &Radiosity, path: &Path) -> Result<u64> {
     let splits = &r.mesh.splits;
     let version: u32 = if splits.is_empty() { 1 } else { 2 };
     let mut bytes = Vec::with_capacity(HEADER + 8 + splits.len() * 4 + r.radiosity.len() * 24 + 4);
@@ -90,7 +90,7 @@ fn read_head(path: &Path) -> Result<(Vec<u8>, u64)> {
 }
 
 /// Reads `path` for `scene` (see the module doc).
-pub(super) fn load(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<Radiosity> {
+pub(super) fn read(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<Radiosity> {
     let (head, len) = read_head(path)?;
     let mut r = Fields::new(path, &head, 0);
     let header = read_header(&mut r, scene)?;

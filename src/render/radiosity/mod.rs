@@ -299,14 +299,14 @@ impl Radiosity {
 
     /// Writes the solution as a `.rad` file, atomically; returns the bytes written.
     pub fn write(&self, path: impl AsRef<Path>) -> Result<u64> {
-        file::save(self, path.as_ref())
+        file::write(self, path.as_ref())
     }
 
     /// Reads the `.rad` file at `path` for `scene`: refused with a clear error when it is
     /// not one, is damaged, or belongs to another scene. Its patches are rebuilt from the
     /// scene (within `budget`) and must match the file's counts.
     pub fn read(path: impl AsRef<Path>, scene: &Scene, budget: MemoryBudget) -> Result<Radiosity> {
-        file::load(path.as_ref(), scene, budget)
+        file::read(path.as_ref(), scene, budget)
     }
 
     /// The displayed value (`B + rho ambient`) of the leaf element holding `(s, t)` of
