@@ -89,6 +89,7 @@ cd "$out/work"
 {
   find . -type f | sort | xargs sha256sum
   echo "--- printed"
-  cat "$log"
+  # The checkout's and the output's folders differ between two snapshots: named, not spelt.
+  sed -e "s#$root#<repo>#g" -e "s#$out#<out>#g" "$log"
 } >"$out/MANIFEST"
 echo "wrote $out/MANIFEST ($(find . -type f | wc -l) files)"
