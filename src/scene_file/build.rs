@@ -225,14 +225,14 @@ impl FileLeaves for SceneFiles<'_> {
     fn oct(&self, file: &Path) -> Result<Csg> {
         let path = self.cx.folder.join(file);
         self.read.borrow_mut().push(path.clone());
-        let tree = load_solid(&path, self.cx.budget)?;
+        let tree = read_solid(&path, self.cx.budget)?;
         Ok(Csg::leaf(OctreeShape::new(Arc::new(tree), DAffine3::IDENTITY)?))
     }
 }
 
 /// The union of the solids of a solid file (one octree for `.oct`, `.octs` and
 /// `.binvox`), read through the door for solid files.
-pub(super) fn load_solid(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
+pub(super) fn read_solid(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
     Ok(SolidFile::read(path, &ReadOptions { budget, ..ReadOptions::default() })?.into_union())
 }
 
@@ -416,7 +416,7 @@ impl SolidBuild<'_> {
     /// The `.oct` file's octree moved by the solid's transform.
     pub(super) fn oct_tree(&self, file: &Spanned<PathBuf>) -> Result<LinearOctree> {
         let tree =
-            load_solid(&self.cx.folder.join(file.get_ref()), self.cx.budget).map_err(self.at(Some(file.span())))?;
+            read_solid(&self.cx.folder.join(file.get_ref()), self.cx.budget).map_err(self.at(Some(file.span())))?;
         match self.transform()? {
             Some(map) => {
                 let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
