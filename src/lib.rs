@@ -49,6 +49,7 @@ mod aabb;
 mod atomic;
 mod budget;
 pub mod color;
+mod drawing;
 mod error;
 mod fields;
 mod file_kind;
@@ -77,6 +78,7 @@ mod warning;
 
 pub use aabb::Aabb;
 pub use budget::MemoryBudget;
+pub use drawing::{Drawing, DrawingOptions, DrawingStage};
 pub use error::{Error, Result, human_bytes, printable};
 pub use file_kind::FileKind;
 pub use progress::{NoProgress, Progress};
