@@ -24,6 +24,7 @@
 
 use std::path::Path;
 
+use crate::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
 use crate::import::{self, ImportOptions, Input};
@@ -34,7 +35,6 @@ use crate::render::{Camera, CameraRequest, Framing, RenderOptions, RenderOverrid
 use crate::scene_file::{self, CachePolicy, LoadOptions};
 use crate::solid_file::SolidFile;
 use crate::warning::Warning;
-use crate::MemoryBudget;
 
 /// How [`Drawing::open`] reads a file.
 #[derive(Clone)]
