@@ -1188,7 +1188,12 @@ fn quick_writes_the_bytes_render_writes_for_the_same_solid() {
 }
 
 /// What `Drawing::open` draws with a request and overrides, written to `path`.
-fn draw(input: &Path, request: &octsolid::render::CameraRequest, overrides: &octsolid::render::RenderOverrides, path: &Path) {
+fn draw(
+    input: &Path,
+    request: &octsolid::render::CameraRequest,
+    overrides: &octsolid::render::RenderOverrides,
+    path: &Path,
+) {
     use octsolid::{Drawing, DrawingOptions, MemoryBudget, NoProgress};
     let drawing = Drawing::open(input, &DrawingOptions::default()).unwrap();
     assert!(drawing.warnings().is_empty(), "{:?}", drawing.warnings());
@@ -1223,8 +1228,8 @@ fn a_drawing_renders_the_bytes_render_writes_with_the_same_flags() {
     same("scene-lib.png", "scene-cli.png");
 
     let domain = Domain::new(glam::DVec3::splat(-1.0), 2.0, 7).unwrap();
-    let shape = Sphere::new(glam::DVec3::ZERO, 0.7).unwrap()
-        - Cylinder::new(glam::DVec3::ZERO, Axis::Z, 0.3, 2.0).unwrap();
+    let shape =
+        Sphere::new(glam::DVec3::ZERO, 0.7).unwrap() - Cylinder::new(glam::DVec3::ZERO, Axis::Z, 0.3, 2.0).unwrap();
     let solid = voxelize(&shape, domain, &VoxelizeOptions::default()).unwrap();
     octsolid::io::oct::save(&solid, dir.join("x.oct")).unwrap();
     draw(&dir.join("x.oct"), &request, &overrides, &dir.join("solid-lib.png"));
