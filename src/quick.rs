@@ -1,15 +1,13 @@
 //! One call from a solid to a picture file, for library users who want to look at a
 //! solid without setting up a scene: [`quick`]. It is `octsolid render solid.oct`
 //! without flags, made of the same library calls, so the two write the same bytes: the
-//! default scene of a solid ([`Scene::of_solid`](crate::render::Scene::of_solid): default material and lights, z up),
-//! the camera of an empty [`CameraRequest`] over the solid's silhouette
-//! ([`Framing::of_solid`](crate::render::Framing::of_solid): the silhouette fills the picture from
-//! [`Camera::default_view`](crate::render::Camera::default_view)), the default options
-//! ([`RenderOptions::default`](crate::render::RenderOptions::default)), the picture of
-//! linear radiance encoded as 8-bit sRGB. All but the last are the solid's
-//! [`Drawing`] ([`Drawing::of_solid`]), what `render` opens a solid file of one solid
-//! as, so the pieces are the same ones. It sits above `drawing` and `io`, since it
-//! writes a file.
+//! solid's [`Drawing`] ([`Drawing::of_solid`], what `render` opens a file of one solid
+//! without a colour as: the default scene of a solid, default material and lights, z
+//! up, framed by its silhouette), the camera of an empty [`CameraRequest`] (the
+//! silhouette fills the picture from
+//! [`Camera::default_view`](crate::render::Camera::default_view)), the options of no
+//! [`RenderOverrides`] (the defaults), the picture of linear radiance encoded as 8-bit
+//! sRGB. It sits above `drawing` and `io`, since it writes a file.
 
 use std::path::Path;
 
@@ -26,7 +24,8 @@ use crate::render::{CameraRequest, RenderOverrides, RenderStats, Up, render_pict
 /// Returns what the render did.
 ///
 /// # Errors
-/// [`Error::InvalidArgument`] for an empty solid (nothing to frame), [`Error::Io`]
+/// [`Error::InvalidArgument`](crate::Error::InvalidArgument) for an empty solid
+/// (nothing to frame), [`Error::Io`](crate::Error::Io)
 /// naming `path` when the file cannot be written.
 ///
 /// # Example
