@@ -78,11 +78,9 @@ pub enum DrawingStage<'a> {
     Read {
         /// What the mesh loader read past (none for solid files).
         warnings: &'a [Warning],
-        /// A sharded solid too large for the budget: its own depth (it is drawn at the
-        /// read solid's, see [`Drawing::coarsened_from`]).
-        coarsened_from: Option<u8>,
-        /// The depth of the solid read (solid files; 0 for meshes).
-        depth: u8,
+        /// A sharded solid too large for the budget, read coarser: its own depth and
+        /// the depth it is drawn at (see [`Drawing::coarsened_from`]).
+        coarsened: Option<(u8, u8)>,
     },
     /// A mesh or patch file was voxelized.
     Voxelized,
@@ -161,26 +159,25 @@ impl Drawing {
             let read = ReadOptions { budget: MemoryBudget(options.budget.0 / 4), ..options.read.clone() };
             let file = SolidFile::read_to_draw(path, &read)?;
             let coarsened_from = file.coarsened_from;
-            let depth = file.solids.domain.depth();
-            stage(DrawingStage::Read { warnings: &[], coarsened_from, depth });
+            let coarsened = coarsened_from.map(|from| (from, file.solids.domain.depth()));
+            stage(DrawingStage::Read { warnings: &[], coarsened });
             let up = options.up.unwrap_or(Up::Axis(file.meta.up.unwrap_or(kind.default_up())));
             // One solid without a colour is drawn as it always was; else each in its colour.
             let mut drawing = if matches!(file.solids.solids.as_slice(), [one] if one.color.is_none()) {
-                Drawing::of_solid(file.into_union(), &name, up)
+                Drawing::of_solid(file.into_union(), &name, up).map_err(|_| empty(path))?
             } else {
                 let tree = file.union();
                 let bounds = tree.bounds().ok_or_else(|| empty(path))?;
                 let mut scene = file.solids.scene(&name, &bounds);
                 scene.turn_light_to_up(&bounds, up);
-                Ok(Drawing::framing(scene, Framing::of_solid(&tree, up)))
-            }
-            .map_err(|_| empty(path))?;
+                Drawing::framing(scene, Framing::of_solid(&tree, up))
+            };
             drawing.coarsened_from = coarsened_from;
             stage(DrawingStage::SceneBuilt);
             return Ok(drawing);
         }
         let (input, warnings) = Input::load_with_warnings(path)?;
-        stage(DrawingStage::Read { warnings: &warnings, coarsened_from: None, depth: 0 });
+        stage(DrawingStage::Read { warnings: &warnings, coarsened: None });
         let cannot = |e: Error| Error::Undrawable {
             path: path.to_path_buf(),
             reason: "cannot voxelize".into(),

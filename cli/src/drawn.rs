@@ -48,10 +48,10 @@ pub(crate) fn open(
     let progress = LazyBar("voxelizing", OnceLock::new());
     let options = DrawingOptions { depth: source.depth, up: source.up, read, cache, budget, progress: &progress };
     let drawing = Drawing::open_with(input, &options, &mut |stage| match stage {
-        DrawingStage::Read { warnings, coarsened_from, depth } => {
+        DrawingStage::Read { warnings, coarsened } => {
             spinner = None;
             print_warnings(warnings);
-            if let Some(from) = coarsened_from {
+            if let Some((from, depth)) = coarsened {
                 warn!("{}: drawn at depth {depth} (its {from} does not fit the memory budget)", input.display());
             }
             stages.done("loading");
