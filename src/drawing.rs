@@ -139,43 +139,66 @@ impl Drawing {
         let path = path.as_ref();
         let kind = FileKind::of(path, FileKind::DRAWN)?;
         if kind == FileKind::Scene {
-            let load = LoadOptions { budget: options.budget, cache: options.cache };
-            let file = scene_file::load_scene_with(path, &load)?;
-            stage(DrawingStage::SceneLoaded {
-                warnings: &file.warnings,
-                hits: file.cache.hits,
-                misses: file.cache.misses,
-            });
-            return Ok(Drawing {
-                scene: file.scene,
-                framed: Framed::Scene(file.camera),
-                options: file.options,
-                warnings: file.warnings,
-                coarsened_from: None,
-            });
+            Drawing::open_scene(path, options, stage)
+        } else if FileKind::SOLIDS.contains(&kind) {
+            Drawing::open_solid_file(path, kind, options, stage)
+        } else {
+            Drawing::open_mesh(path, kind, options, stage)
         }
+    }
+
+    /// A scene file: its scene, camera and options.
+    fn open_scene(path: &Path, options: &DrawingOptions, stage: &mut dyn FnMut(DrawingStage<'_>)) -> Result<Drawing> {
+        let load = LoadOptions { budget: options.budget, cache: options.cache };
+        let file = scene_file::load_scene_with(path, &load)?;
+        stage(DrawingStage::SceneLoaded { warnings: &file.warnings, hits: file.cache.hits, misses: file.cache.misses });
+        Ok(Drawing {
+            scene: file.scene,
+            framed: Framed::Scene(file.camera),
+            options: file.options,
+            warnings: file.warnings,
+            coarsened_from: None,
+        })
+    }
+
+    /// A solid file: one solid without a colour in the default scene, else its
+    /// coloured solids' scene, the key light turned to up either way.
+    fn open_solid_file(
+        path: &Path,
+        kind: FileKind,
+        options: &DrawingOptions,
+        stage: &mut dyn FnMut(DrawingStage<'_>),
+    ) -> Result<Drawing> {
+        let read = ReadOptions { budget: MemoryBudget(options.budget.0 / 4), ..options.read.clone() };
+        let file = SolidFile::read_to_draw(path, &read)?;
+        let coarsened_from = file.coarsened_from;
+        let coarsened = coarsened_from.map(|from| (from, file.solids.domain.depth()));
+        stage(DrawingStage::Read { warnings: &[], coarsened });
+        let up = options.up.unwrap_or(Up::Axis(file.meta.up.unwrap_or(kind.default_up())));
         let name = path.display().to_string();
-        if FileKind::SOLIDS.contains(&kind) {
-            let read = ReadOptions { budget: MemoryBudget(options.budget.0 / 4), ..options.read.clone() };
-            let file = SolidFile::read_to_draw(path, &read)?;
-            let coarsened_from = file.coarsened_from;
-            let coarsened = coarsened_from.map(|from| (from, file.solids.domain.depth()));
-            stage(DrawingStage::Read { warnings: &[], coarsened });
-            let up = options.up.unwrap_or(Up::Axis(file.meta.up.unwrap_or(kind.default_up())));
-            // One solid without a colour is drawn as it always was; else each in its colour.
-            let mut drawing = if matches!(file.solids.solids.as_slice(), [one] if one.color.is_none()) {
-                Drawing::of_solid(file.into_union(), &name, up).map_err(|_| empty(path))?
-            } else {
-                let tree = file.union();
-                let bounds = tree.bounds().ok_or_else(|| empty(path))?;
-                let mut scene = file.solids.scene(&name, &bounds);
-                scene.turn_light_to_up(&bounds, up);
-                Drawing::framing(scene, Framing::of_solid(&tree, up))
-            };
-            drawing.coarsened_from = coarsened_from;
-            stage(DrawingStage::SceneBuilt);
-            return Ok(drawing);
-        }
+        // One solid without a colour is drawn as it always was; else each in its colour.
+        let mut drawing = if matches!(file.solids.solids.as_slice(), [one] if one.color.is_none()) {
+            Drawing::of_solid(file.into_union(), &name, up).map_err(|_| empty(path))?
+        } else {
+            let tree = file.union();
+            let bounds = tree.bounds().ok_or_else(|| empty(path))?;
+            let mut scene = file.solids.scene(&name, &bounds);
+            scene.turn_light_to_up(&bounds, up);
+            Drawing::framing(scene, Framing::of_solid(&tree, up))
+        };
+        drawing.coarsened_from = coarsened_from;
+        stage(DrawingStage::SceneBuilt);
+        Ok(drawing)
+    }
+
+    /// A mesh or patch file, voxelized at the options' depth in the default domain
+    /// around it, as one solid.
+    fn open_mesh(
+        path: &Path,
+        kind: FileKind,
+        options: &DrawingOptions,
+        stage: &mut dyn FnMut(DrawingStage<'_>),
+    ) -> Result<Drawing> {
         let (input, warnings) = Input::load_with_warnings(path)?;
         stage(DrawingStage::Read { warnings: &warnings, coarsened: None });
         let cannot = |e: Error| Error::Undrawable {
@@ -188,7 +211,7 @@ impl Drawing {
         let tree = import::voxelize_input(&input, domain, &import).map_err(cannot)?.0;
         stage(DrawingStage::Voxelized);
         let up = options.up.unwrap_or(Up::Axis(kind.default_up()));
-        let mut drawing = Drawing::of_solid(tree, &name, up).map_err(|_| empty(path))?;
+        let mut drawing = Drawing::of_solid(tree, &path.display().to_string(), up).map_err(|_| empty(path))?;
         drawing.warnings = warnings;
         stage(DrawingStage::SceneBuilt);
         Ok(drawing)
