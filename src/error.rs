@@ -70,6 +70,18 @@ pub enum Error {
         /// Why, with the cause.
         reason: String,
     },
+    /// A file cannot be drawn ([`crate::Drawing::open`]): a mesh that cannot be
+    /// voxelized, an empty solid. The file, why, and the cause when there is one.
+    #[error("{}: {reason}{}", path.display(), cause.as_ref().map_or(String::new(), |c| format!(": {c}")))]
+    Undrawable {
+        /// The file.
+        path: PathBuf,
+        /// What could not be done (`cannot voxelize`, `the solid is empty`).
+        reason: String,
+        /// The error that stopped it, if any.
+        #[source]
+        cause: Option<Box<Error>>,
+    },
     /// A TOML document's reader refused it: a syntax error, an unknown key or value, a
     /// value of the wrong form or out of range. The message names the value and what
     /// was expected; the place is the wrapping [`Error::Scene`]'s.

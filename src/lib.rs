@@ -15,8 +15,11 @@
 //!
 //! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`],
 //! [`slice`](mod@slice), [`render`], [`io`], [`import`], [`sharded`], the door for solid
-//! files ([`SolidFile::read`], [`write_solid_file`]), [`scene_file`], [`samples`];
-//! every file's kind is read off its extension by [`FileKind`]. Across them: one
+//! files ([`SolidFile::read`], [`write_solid_file`]), [`scene_file`], [`samples`],
+//! and at the top any drawable file opened as `octsolid render` opens it
+//! ([`Drawing::open`]: a scene, a solid file or a mesh, its camera from a
+//! [`render::CameraRequest`], its options from [`render::RenderOverrides`]) and a
+//! solid to a PNG in one call ([`quick`]); every file's kind is read off its extension by [`FileKind`]. Across them: one
 //! [`Error`] with the file and place of every failure, [`Warning`]s as values for what
 //! a loader read past, a [`MemoryBudget`] every large
 //! job is checked against before it allocates, [`Progress`] for long jobs (the library
@@ -49,6 +52,7 @@ mod aabb;
 mod atomic;
 mod budget;
 pub mod color;
+mod drawing;
 mod error;
 mod fields;
 mod file_kind;
@@ -78,6 +82,7 @@ mod warning;
 
 pub use aabb::Aabb;
 pub use budget::MemoryBudget;
+pub use drawing::{Drawing, DrawingOptions, DrawingStage};
 pub use error::{Error, Result, human_bytes, printable};
 pub use file_kind::FileKind;
 pub use progress::{NoProgress, Progress};

@@ -1186,3 +1186,77 @@ fn quick_writes_the_bytes_render_writes_for_the_same_solid() {
     let (quick, cli) = (std::fs::read(dir.join("quick.png")).unwrap(), std::fs::read(dir.join("cli.png")).unwrap());
     assert!(quick == cli, "quick wrote {} bytes, render {}: they differ", quick.len(), cli.len());
 }
+
+/// What `Drawing::open` draws with a request and overrides, written to `path`.
+fn draw(
+    input: &Path,
+    request: &octsolid::render::CameraRequest,
+    overrides: &octsolid::render::RenderOverrides,
+    path: &Path,
+) {
+    use octsolid::{Drawing, DrawingOptions, MemoryBudget, NoProgress};
+    let drawing = Drawing::open(input, &DrawingOptions::default()).unwrap();
+    assert!(drawing.warnings().is_empty(), "{:?}", drawing.warnings());
+    let camera = drawing.camera(request, overrides, None).unwrap();
+    let options = drawing.options(overrides, MemoryBudget::default());
+    let scene = drawing.into_scene(None);
+    let (picture, stats) = octsolid::render::render_picture(&scene, &camera, &options, &NoProgress).unwrap();
+    assert!(stats.hits > 0, "{stats:?}");
+    octsolid::io::write_picture(&picture, path).unwrap();
+}
+
+/// `Drawing::open` on a bundled scene and on a solid file, with a camera request and
+/// overrides, draws the bytes `octsolid render` writes with the same flags.
+#[test]
+fn a_drawing_renders_the_bytes_render_writes_with_the_same_flags() {
+    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+    use octsolid::render::{CameraRequest, RenderOverrides};
+    use octsolid::shape::{Axis, Cylinder, Sphere};
+    let dir = scratch("drawing-as-render");
+    let overrides = RenderOverrides { size: Some([96, 72]), spp: Some(1), ..RenderOverrides::default() };
+    let request = CameraRequest { azimuth: Some(30.0), elevation: Some(20.0), ..CameraRequest::default() };
+    let flags = ["--size", "96x72", "--spp", "1", "--azimuth", "30", "--elevation", "20"];
+    let same = |a: &str, b: &str| {
+        let (a, b) = (std::fs::read(dir.join(a)).unwrap(), std::fs::read(dir.join(b)).unwrap());
+        assert!(a == b, "the drawing wrote {} bytes, render {}: they differ", a.len(), b.len());
+    };
+
+    let scene = repo().join("scenes/classic.toml");
+    draw(&scene, &request, &overrides, &dir.join("scene-lib.png"));
+    let scene_arg = scene.to_str().unwrap();
+    ok(&dir, &[&["render", scene_arg, "--no-cache", "-o", "scene-cli.png"][..], &flags].concat());
+    same("scene-lib.png", "scene-cli.png");
+
+    let domain = Domain::new(glam::DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let shape =
+        Sphere::new(glam::DVec3::ZERO, 0.7).unwrap() - Cylinder::new(glam::DVec3::ZERO, Axis::Z, 0.3, 2.0).unwrap();
+    let solid = voxelize(&shape, domain, &VoxelizeOptions::default()).unwrap();
+    octsolid::io::oct::write(&solid, dir.join("x.oct")).unwrap();
+    draw(&dir.join("x.oct"), &request, &overrides, &dir.join("solid-lib.png"));
+    ok(&dir, &[&["render", "x.oct", "-o", "solid-cli.png"][..], &flags].concat());
+    same("solid-lib.png", "solid-cli.png");
+}
+
+/// `Drawing::open` refuses a file it cannot draw with an error naming the file.
+#[test]
+fn a_drawing_that_cannot_open_names_the_file() {
+    use octsolid::octree::{Domain, LinearOctree};
+    use octsolid::{Drawing, DrawingOptions, Error};
+    let dir = scratch("drawing-errors");
+    let open = |name: &str| match Drawing::open(dir.join(name), &DrawingOptions::default()) {
+        Ok(_) => panic!("{name} opened"),
+        Err(e) => e,
+    };
+    let e = open("missing.oct");
+    assert!(matches!(&e, Error::Io { path, .. } if path.ends_with("missing.oct")), "{e}");
+    let e = open("notes.txt");
+    assert!(matches!(&e, Error::UnknownExtension { .. }) && e.to_string().contains("notes.txt"), "{e}");
+    let empty = LinearOctree::empty(Domain::new(glam::DVec3::ZERO, 1.0, 4).unwrap());
+    octsolid::io::oct::write(&empty, dir.join("empty.oct")).unwrap();
+    let e = open("empty.oct");
+    assert!(matches!(&e, Error::Undrawable { .. }), "{e:?}");
+    assert_eq!(e.to_string(), format!("{}: the solid is empty", dir.join("empty.oct").display()));
+    std::fs::write(dir.join("bad.obj"), "v 0 0 0\nf 1 2 3\n").unwrap();
+    let e = open("bad.obj");
+    assert!(e.to_string().starts_with(&dir.join("bad.obj").display().to_string()), "{e}");
+}

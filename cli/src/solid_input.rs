@@ -34,7 +34,7 @@ pub struct ReadFlags {
 impl ReadFlags {
     /// The library's read options with these flags over the defaults; warns about a
     /// flag the format of `path` does not use.
-    fn options(&self, path: &Path, kind: FileKind, budget: MemoryBudget) -> Result<ReadOptions> {
+    pub(crate) fn options(&self, path: &Path, kind: FileKind, budget: MemoryBudget) -> Result<ReadOptions> {
         let mut options = ReadOptions { budget, ..ReadOptions::default() };
         let ignored = |flag: &str, format: &str| {
             warn!("{flag} is for {format} files; ignored for {}", path.display());
@@ -64,22 +64,6 @@ pub fn read_solid_file(path: &Path, flags: &ReadFlags, budget: MemoryBudget) -> 
     let _spinner = Spinner::new("reading");
     SolidFile::read(path, &options)
         .map_err(|e| if kind == FileKind::Octs { over_budget_hint(e, path) } else { e.into() })
-}
-
-/// Reads the solid file at `path` to be drawn: as [`read_solid_file`], but a sharded
-/// solid larger than `budget` comes at the finest level of detail that fits it
-/// ([`SolidFile::read_to_draw`]; said on stderr).
-pub fn read_for_display(path: &Path, flags: &ReadFlags, budget: MemoryBudget) -> Result<SolidFile> {
-    if FileKind::of(path, FileKind::SOLIDS)? != FileKind::Octs {
-        return read_solid_file(path, flags, budget);
-    }
-    let _spinner = Spinner::new("reading");
-    let file = SolidFile::read_to_draw(path, &ReadOptions { budget, ..ReadOptions::default() })?;
-    if let Some(depth) = file.coarsened_from {
-        let drawn = file.solids.domain.depth();
-        warn!("{}: drawn at depth {drawn} (its {depth} does not fit the memory budget)", path.display());
-    }
-    Ok(file)
 }
 
 /// Says what to do when a sharded solid does not fit the budget.

@@ -20,12 +20,12 @@ use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
     self, AntiAliasingKind, Framing, Material, Method, Normals, RenderOverrides, Scene, Section, Up,
 };
-use octsolid::scene_file::{self, CachePolicy, SceneReadOptions};
+use octsolid::scene_file::{self, CachePolicy};
 use octsolid::{FileKind, MemoryBudget};
 
 use super::{load_input, render_with_bar};
-use crate::camera_flags::CameraFlags;
-use crate::drawn::{Drawn, Source};
+use crate::camera_flags::{CameraFlags, in_flags_words};
+use crate::drawn::{self, Source};
 use crate::output::check_extension;
 use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
@@ -192,9 +192,9 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     }
     let cache = if a.no_cache { CachePolicy::Off } else { CachePolicy::ReadWrite };
     let source = Source { depth: a.depth, up: a.camera.up, read: a.read.clone() };
-    let drawn = Drawn::load(input, kind, &source, SceneReadOptions { budget, cache }, &mut stages)?;
+    let drawn = drawn::open(input, kind, &source, cache, budget, &mut stages)?;
     let (request, overrides) = (a.camera.request(), a.overrides());
-    let camera = drawn.camera(&request, &overrides, a.section)?;
+    let camera = drawn.camera(&request, &overrides, a.section).map_err(in_flags_words)?;
     let options = drawn.options(&overrides, budget);
     let mut scene = drawn.into_scene(a.section);
     light_by_radiosity(a, &mut scene, budget, &mut stages)?;

@@ -39,10 +39,11 @@ use octsolid::render::{
     AntiAliasingKind, Camera, CameraRequest, Method, NamedView, Normals, Projection, RenderOverrides, Scene, Section,
     Up,
 };
-use octsolid::scene_file::{CachePolicy, SceneReadOptions};
-use octsolid::{FileKind, MemoryBudget, NoProgress};
+use octsolid::scene_file::CachePolicy;
+use octsolid::{Drawing, FileKind, MemoryBudget, NoProgress};
 
-use crate::drawn::{Drawn, Source};
+use crate::camera_flags::in_flags_words;
+use crate::drawn::{self, Source};
 use crate::http::{Request, Response, Server};
 use crate::solid_input::ReadFlags;
 use crate::stages::Stages;
@@ -84,7 +85,7 @@ const MAX_COORDINATE: f64 = 1e9;
 
 /// What the server shows: the last good load, its figures, and the last error.
 struct Viewed {
-    drawn: Option<Arc<Drawn>>,
+    drawn: Option<Arc<Drawing>>,
     /// Raised at every (re)load, good or bad, so the page knows to redraw.
     version: u64,
     error: Option<String>,
@@ -125,18 +126,14 @@ pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
     })
 }
 
-fn load(a: &ViewArgs, kind: FileKind, budget: MemoryBudget) -> Result<Drawn> {
-    Drawn::load(&a.input, kind, &source(a), cached(budget), &mut Stages::new())
+/// Opens the input as `render` does, a scene's solids through its cache: a reload
+/// under `--watch` voxelizes only the solids whose inputs changed.
+fn load(a: &ViewArgs, kind: FileKind, budget: MemoryBudget) -> Result<Drawing> {
+    drawn::open(&a.input, kind, &source(a), CachePolicy::ReadWrite, budget, &mut Stages::new())
 }
 
 fn source(a: &ViewArgs) -> Source {
     Source { depth: a.depth, up: a.up, read: a.read.clone() }
-}
-
-/// A scene's solids through its cache, as `render` loads them: a reload under
-/// `--watch` voxelizes only the solids whose inputs changed.
-fn cached(budget: MemoryBudget) -> SceneReadOptions {
-    SceneReadOptions { budget, cache: CachePolicy::ReadWrite }
 }
 
 /// A request refused: its status and why.
@@ -171,16 +168,16 @@ fn answer(viewed: &Mutex<Viewed>, cut: &Mutex<Cut>, input: &Path, budget: Memory
             let drawn = drawn.ok_or_else(|| Refusal(503, "nothing loaded\n".into()))?;
             let camera = drawn
                 .camera(&frame.request, &frame.overrides, frame.section)
-                .map_err(|e| Refusal(400, format!("{e}\n")))?;
+                .map_err(|e| Refusal(400, format!("{}\n", in_flags_words(e))))?;
             if path == "/camera" {
                 return ok("application/json", camera_json(&camera).to_string().into_bytes());
             }
             let mut cut = cut.lock().unwrap_or_else(PoisonError::into_inner);
             let scene = match frame.section {
-                None => &drawn.scene,
+                None => drawn.scene(),
                 Some(section) => {
                     if cut.as_ref().is_none_or(|(v, s, _)| (*v, *s) != (version, section)) {
-                        *cut = Some((version, section, section.cut(&drawn.scene)));
+                        *cut = Some((version, section, section.cut(drawn.scene())));
                     }
                     &cut.as_ref().expect("just cut").2
                 }
@@ -276,9 +273,9 @@ fn camera_json(c: &Camera) -> serde_json::Value {
 }
 
 /// The panel's figures of each solid: nodes, voxels, volume, bounds, depth.
-fn figures(drawn: &Drawn) -> serde_json::Value {
+fn figures(drawn: &Drawing) -> serde_json::Value {
     drawn
-        .scene
+        .scene()
         .solids
         .iter()
         .map(|s| {
@@ -313,7 +310,7 @@ fn watch(viewed: &Mutex<Viewed>, input: &Path, kind: FileKind, source: &Source, 
             continue;
         }
         seen = now;
-        let loaded = Drawn::load(input, kind, source, cached(budget), &mut Stages::new());
+        let loaded = drawn::open(input, kind, source, CachePolicy::ReadWrite, budget, &mut Stages::new());
         let mut v = viewed.lock().unwrap_or_else(PoisonError::into_inner);
         v.version += 1;
         match loaded {
