@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use octsolid::MemoryBudget;
 
-use super::load_input;
+use super::read_input;
 
 /// Arguments of `octsolid mesh-info`.
 #[derive(clap::Args, Debug)]
@@ -20,7 +20,7 @@ pub struct MeshInfoArgs {
 /// `octsolid mesh-info IN [--json]`
 pub fn run(a: &MeshInfoArgs, budget: MemoryBudget) -> Result<()> {
     let (input, json) = (&a.input, a.json);
-    let report = load_input(input)?.report(budget).with_context(|| format!("{}: cannot measure", input.display()))?;
+    let report = read_input(input)?.report(budget).with_context(|| format!("{}: cannot measure", input.display()))?;
     if json {
         out!("{}", serde_json::to_string(&report)?);
         return Ok(());

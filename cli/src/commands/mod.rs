@@ -34,7 +34,7 @@ use octsolid::{MemoryBudget, human_bytes};
 use crate::progress_bar::Bar;
 
 /// Loads a mesh or patch set, printing what the loader read past to stderr.
-pub(crate) fn load_input(path: &Path) -> Result<Input> {
+pub(crate) fn read_input(path: &Path) -> Result<Input> {
     let (input, warnings) = Input::read_and_warnings(path)?;
     print_warnings(&warnings);
     Ok(input)

@@ -61,7 +61,7 @@ struct Summary {
 }
 
 /// Loads a scene file for radiosity, printing its warnings.
-pub(crate) fn load(path: &std::path::Path, budget: MemoryBudget) -> Result<scene_file::SceneFile> {
+pub(crate) fn read_scene(path: &std::path::Path, budget: MemoryBudget) -> Result<scene_file::SceneFile> {
     let file = scene_file::read_scene(path, budget)?;
     print_warnings(&file.warnings);
     Ok(file)
@@ -85,7 +85,7 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
     if !(0.0..1.0).contains(&a.until) {
         bail!("--until {}: the unshot fraction must be at least 0 and below 1", a.until);
     }
-    let file = load(&a.scene, budget)?;
+    let file = read_scene(&a.scene, budget)?;
     let options = RadiosityOptions {
         until: a.until,
         max_shots: a.max_shots,

@@ -23,7 +23,7 @@ use octsolid::render::{
 use octsolid::scene_file::{self, CachePolicy};
 use octsolid::{FileKind, MemoryBudget};
 
-use super::{load_input, render_with_bar};
+use super::{read_input, render_with_bar};
 use crate::camera_flags::{CameraFlags, in_flags_words};
 use crate::drawn::{self, Source};
 use crate::output::check_extension;
@@ -201,11 +201,7 @@ pub fn run(a: &RenderArgs, budget: MemoryBudget) -> Result<()> {
     let picture =
         render_with_bar(&scene, &camera, &options).with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("rendering");
-    write_picture(&picture, &output)?;
-    stages.done("writing");
-    out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());
-    stages.report();
-    Ok(())
+    write_out(&picture, &output, stages)
 }
 
 /// Attaches the radiosity solution `--radiosity` and `--illumination` ask for, if any:
@@ -230,13 +226,8 @@ fn light_by_radiosity(a: &RenderArgs, scene: &mut Scene, budget: MemoryBudget, s
         let options = RadiosityOptions { subdivide: a.subdivide, budget, ..Default::default() };
         let solution = super::radiosity::solve(scene, &options, &a.input)?;
         let s = solution.stats();
-        out!(
-            "radiosity: {} patches, {} elements, {} shots, unshot {:.4}",
-            s.patches,
-            s.elements,
-            s.shots,
-            s.unshot_fraction
-        );
+        let (patches, elements, shots, unshot) = (s.patches, s.elements, s.shots, s.unshot_fraction);
+        out!("radiosity: {patches} patches, {elements} elements, {shots} shots, unshot {unshot:.4}");
         stages.done("solving radiosity");
         solution
     };
@@ -263,7 +254,7 @@ fn polygon_command(
         let tree = file.into_union();
         (try_boundary_mesh(&tree, &BoundaryOptions { unit_faces: true }, budget, &Bar::new("meshing"))?, up)
     } else {
-        let mesh = match load_input(input)? {
+        let mesh = match read_input(input)? {
             Input::Mesh(mesh) => mesh,
             Input::Patches(patches) => octsolid::patch::tessellate_within(&patches, 16, budget)?,
         };
@@ -292,7 +283,12 @@ fn polygon_command(
         .with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("drawing");
     out!("drew {} triangles with {interpolation} shading", mesh.triangles.len());
-    write_picture(&picture, output)?;
+    write_out(&picture, output, stages)
+}
+
+/// Writes the picture, then the stages' report.
+fn write_out(picture: &render::Picture, output: &Path, mut stages: Stages) -> Result<()> {
+    write_picture(picture, output)?;
     stages.done("writing");
     out!("wrote {} ({}x{})", output.display(), picture.width(), picture.height());
     stages.report();

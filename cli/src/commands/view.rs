@@ -100,7 +100,7 @@ type Cut = Option<(u64, Section, Scene)>;
 /// `octsolid view INPUT [--port N] [--bind ADDR] [--watch]`
 pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
     let kind = FileKind::of(&a.input, FileKind::DRAWN)?;
-    let drawn = load(a, kind, budget)?;
+    let drawn = open(a, kind, budget)?;
     let viewed = Arc::new(Mutex::new(Viewed {
         figures: figures(&drawn),
         drawn: Some(Arc::new(drawn)),
@@ -128,7 +128,7 @@ pub fn run(a: &ViewArgs, budget: MemoryBudget) -> Result<()> {
 
 /// Opens the input as `render` does, a scene's solids through its cache: a reload
 /// under `--watch` voxelizes only the solids whose inputs changed.
-fn load(a: &ViewArgs, kind: FileKind, budget: MemoryBudget) -> Result<Drawing> {
+fn open(a: &ViewArgs, kind: FileKind, budget: MemoryBudget) -> Result<Drawing> {
     drawn::open(&a.input, kind, &source(a), CachePolicy::ReadWrite, budget, &mut Stages::new())
 }
 

@@ -15,7 +15,7 @@ use octsolid::shape::Axis;
 use octsolid::sharded;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
-use super::{load_input, print_summary};
+use super::{print_summary, read_input};
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
@@ -65,7 +65,7 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     a.shards.check_for(output)?;
     let up = a.up.unwrap_or(FileKind::of(input, FileKind::SURFACES)?.default_up());
     let started = Instant::now();
-    let loaded = load_input(input)?;
+    let loaded = read_input(input)?;
     let cannot = || format!("{}: cannot voxelize", input.display());
     let domain = match (a.domain, a.voxel_size) {
         (Some([x, y, z, edge]), _) => Domain::new(DVec3::new(x, y, z), edge, depth)?,
