@@ -622,3 +622,20 @@ fn a_section_view_lights_its_cap() {
     scene.lights.push(Light::Point { position: DVec3::new(0.0, 4.0, 1.0), color: DVec3::ONE });
     assert_eq!(scene.sectioned(Axis::Y, 0.1).lights, scene.lights);
 }
+
+#[test]
+fn render_options_validate_names_each_option_out_of_its_range() {
+    use octsolid::render::ShadeOptions;
+    assert!(RenderOptions::default().validate().is_ok());
+    let refused = |options: RenderOptions, option: &str| {
+        let e = options.validate().unwrap_err().to_string();
+        assert!(e.contains(option), "{e}");
+    };
+    refused(RenderOptions { width: 0, ..Default::default() }, "image size");
+    refused(RenderOptions { spp: 17, ..Default::default() }, "samples");
+    refused(
+        RenderOptions { shade: ShadeOptions { cutoff: 2.0, ..Default::default() }, ..Default::default() },
+        "cutoff",
+    );
+    refused(RenderOptions { exposure: f64::NAN, ..Default::default() }, "exposure");
+}

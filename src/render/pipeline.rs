@@ -249,33 +249,53 @@ pub fn render_streamed(
     Ok((img, stats))
 }
 
+impl RenderOptions {
+    /// Checks every option against its range: the image size (1 to
+    /// [`MAX_IMAGE_SIZE`] a side), 1 to 16 samples a side, the ray depth (at most
+    /// [`MAX_RAY_DEPTH`]), the cutoff (0 to 1), the anti-aliasing threshold (finite, at
+    /// least 0) and depth (1 to [`MAX_AA_DEPTH`]), and the exposure. Rendering calls it
+    /// first; the error names the option.
+    pub fn validate(&self) -> Result<()> {
+        let RenderOptions { width, height, spp, aa, shade, exposure, .. } = *self;
+        let ShadeOptions { max_depth, cutoff, .. } = shade;
+        if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
+            return Err(Error::invalid(
+                "image size",
+                format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side"),
+            ));
+        }
+        if !(1..=16).contains(&spp) {
+            return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
+        }
+        if max_depth > MAX_RAY_DEPTH {
+            return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
+        }
+        if !(0.0..=1.0).contains(&cutoff) {
+            return Err(Error::invalid("ray cutoff", format!("{cutoff} is outside 0..=1")));
+        }
+        if let AntiAliasing::Adaptive { threshold } | AntiAliasing::Recursive { threshold, .. } = aa
+            && !(threshold.is_finite() && threshold >= 0.0)
+        {
+            return Err(Error::invalid(
+                "anti-aliasing threshold",
+                format!("{threshold} must be finite and at least 0"),
+            ));
+        }
+        if let AntiAliasing::Recursive { depth, .. } = aa
+            && !(1..=MAX_AA_DEPTH).contains(&depth)
+        {
+            return Err(Error::invalid("anti-aliasing depth", format!("{depth} is outside 1..={MAX_AA_DEPTH}")));
+        }
+        exposure_scale(exposure)?;
+        Ok(())
+    }
+}
+
 /// Checks `options` and `camera`, and the picture's memory against the budget before
 /// anything is allocated; gives the exposure's factor and the shading options.
 fn check(camera: &Camera, options: &RenderOptions) -> Result<(f64, ShadeOptions)> {
+    options.validate()?;
     let RenderOptions { width, height, spp, aa, shade, exposure, budget, .. } = *options;
-    let ShadeOptions { max_depth, cutoff, .. } = shade;
-    if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
-        return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
-    }
-    if !(1..=16).contains(&spp) {
-        return Err(Error::invalid("samples", format!("{spp} a side is outside 1..=16")));
-    }
-    if max_depth > MAX_RAY_DEPTH {
-        return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
-    }
-    if !(0.0..=1.0).contains(&cutoff) {
-        return Err(Error::invalid("ray cutoff", format!("{cutoff} is outside 0..=1")));
-    }
-    if let AntiAliasing::Adaptive { threshold } | AntiAliasing::Recursive { threshold, .. } = aa
-        && !(threshold.is_finite() && threshold >= 0.0)
-    {
-        return Err(Error::invalid("anti-aliasing threshold", format!("{threshold} must be finite and at least 0")));
-    }
-    if let AntiAliasing::Recursive { depth, .. } = aa
-        && !(1..=MAX_AA_DEPTH).contains(&depth)
-    {
-        return Err(Error::invalid("anti-aliasing depth", format!("{depth} is outside 1..={MAX_AA_DEPTH}")));
-    }
     camera.validate()?;
     let scale = exposure_scale(exposure)?;
     // Recursive sampling keeps a sample a pixel corner, within one sample a pixel's.
