@@ -15,15 +15,15 @@
 //!
 //! Modules, bottom up: [`morton`], [`shape`], [`octree`], [`mesh`], [`patch`],
 //! [`slice`](mod@slice), [`render`], [`io`], [`import`], [`sharded`], the door for solid
-//! files ([`SolidFile::read`], [`write_solid_file`]), [`scene_file`], [`samples`],
-//! and at the top any drawable file opened as `octsolid render` opens it
-//! ([`Drawing::open`]: a scene, a solid file or a mesh, its camera from a
-//! [`render::CameraRequest`], its options from [`render::RenderOverrides`]) and a
-//! solid to a PNG in one call ([`quick`]); every file's kind is read off its extension by [`FileKind`]. Across them: one
-//! [`Error`] with the file and place of every failure, [`Warning`]s as values for what
-//! a loader read past, a [`MemoryBudget`] every large
-//! job is checked against before it allocates, [`Progress`] for long jobs (the library
-//! never prints), and [`Ray`] with the one query interface of everything a ray can hit,
+//! files ([`SolidFile::read`], [`write_solid_file`]), [`scene_file`], [`samples`], and
+//! at the top any drawable file opened as `octsolid render` opens it ([`Drawing::open`]:
+//! a scene, a solid file or a mesh, its camera from a [`render::CameraRequest`], its
+//! options from [`render::RenderOverrides`]) and a solid to a PNG in one call
+//! ([`quick`]). Every file's kind is read off its extension by [`FileKind`]. Across
+//! them: one [`Error`] with the file and place of every failure, [`Warning`]s as values
+//! for what a loader read past, a [`MemoryBudget`] every large job is checked against
+//! before it allocates, [`Progress`] for long jobs (the library never prints), and
+//! [`Ray`] with the one query interface of everything a ray can hit,
 //! [`RayCast`]. A CSG script needs one import, [`prelude`].
 //!
 //! ```
