@@ -579,3 +579,30 @@ fn folders_of_writers_killed_on_this_host_are_removed_by_the_next_and_others_kep
     assert_eq!(loaded(&out), classic_whole());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A sharded solid too large for a quarter of the budget is drawn coarser, and says so:
+/// the ball at depth 10 within 16 MiB comes at a depth below 10, and its volume is still
+/// the analytic ball's within a shell one coarse voxel thick.
+#[test]
+fn a_sharded_solid_too_large_to_draw_is_drawn_coarser_and_says_from_which_depth() {
+    use octsolid::shape::Sphere;
+    use octsolid::{Drawing, DrawingOptions};
+    let dir = scratch("drawn-coarser");
+    let out = dir.join("ball.octs");
+    let domain = Domain::new(DVec3::splat(-1.04), 2.08, 10).unwrap();
+    let ball = Sphere::new(DVec3::ZERO, 1.0).unwrap();
+    sharded::voxelize_shape(&ball, domain, Metadata::default(), &out, &at_level(3)).unwrap();
+
+    let whole = Drawing::open(&out, &DrawingOptions::default()).unwrap();
+    assert_eq!(whole.coarsened_from(), None);
+    let drawing =
+        Drawing::open(&out, &DrawingOptions { budget: MemoryBudget(16 << 20), ..Default::default() }).unwrap();
+    assert_eq!(drawing.coarsened_from(), Some(10));
+    let tree = &drawing.scene().solids[0].tree;
+    let depth = tree.domain().depth();
+    assert!(depth < 10, "drawn at depth {depth}");
+    let voxel = 2.08 / f64::from(1u32 << depth);
+    let exact = 4.0 / 3.0 * std::f64::consts::PI;
+    let shell = 4.0 * std::f64::consts::PI * voxel * 1.5;
+    assert!((tree.volume() - exact).abs() < shell, "volume {} at depth {depth}, exact {exact}", tree.volume());
+}
