@@ -16,12 +16,13 @@
 //! | [`Vox`](FileKind::Vox), [`Binvox`](FileKind::Binvox), [`Vdb`](FileKind::Vdb) | `.vox`, `.binvox`, `.vdb` | solids | solids | both |
 //! | [`Glb`](FileKind::Glb) | `.glb` | | boundary meshes | [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
 //! | [`Obj`](FileKind::Obj), [`Stl`](FileKind::Stl), [`Ply`](FileKind::Ply) | `.obj`, `.stl`, `.ply` | a mesh | a mesh, a solid's boundary | [`MESHES`](FileKind::MESHES), [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
+//! | [`ThreeMf`](FileKind::ThreeMf) | `.3mf` | | a mesh, a solid's boundary | [`MESH_OUTPUTS`](FileKind::MESH_OUTPUTS), [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
 //! | [`Patches`](FileKind::Patches) | `.patches` | Bezier patches | | [`SURFACES`](FileKind::SURFACES) |
 //! | [`Png`](FileKind::Png), [`Exr`](FileKind::Exr) | `.png`, `.exr` | | a picture | [`PICTURES`](FileKind::PICTURES) |
 //! | [`Rad`](FileKind::Rad) | `.rad` | a radiosity solution | a radiosity solution | |
 //!
 //! The capabilities ([`FileKind::reads_solid`], [`FileKind::writes_solid`],
-//! [`FileKind::is_mesh`], [`FileKind::is_picture`], [`FileKind::holds_many_solids`])
+//! [`FileKind::is_mesh`], [`FileKind::writes_mesh`], [`FileKind::is_picture`], [`FileKind::holds_many_solids`])
 //! are membership of those sets, so a set and its question never disagree.
 //!
 //! The file's kind also implies its up axis ([`FileKind::default_up`]): OBJ and PLY
@@ -61,6 +62,9 @@ pub enum FileKind {
     Patches,
     /// A glTF 2.0 binary, `.glb`: written only, one boundary mesh a solid.
     Glb,
+    /// A 3D Manufacturing Format package, `.3mf` (written: one mesh object, in
+    /// millimetres).
+    ThreeMf,
     /// A PNG picture (8-bit sRGB), `.png`: written only.
     Png,
     /// An OpenEXR picture (32-bit float linear radiance), `.exr`: written only.
@@ -83,6 +87,7 @@ impl FileKind {
         FileKind::Ply,
         FileKind::Patches,
         FileKind::Glb,
+        FileKind::ThreeMf,
         FileKind::Png,
         FileKind::Exr,
         FileKind::Rad,
@@ -120,6 +125,7 @@ impl FileKind {
         FileKind::Obj,
         FileKind::Stl,
         FileKind::Ply,
+        FileKind::ThreeMf,
     ];
 
     /// The solid outputs that hold several solids, each with its colour (`.vox` one a
@@ -129,8 +135,12 @@ impl FileKind {
     /// The pictures ([`crate::io::write_picture`]).
     pub const PICTURES: &'static [FileKind] = &[FileKind::Png, FileKind::Exr];
 
-    /// The triangle meshes.
+    /// The triangle meshes octsolid reads and writes.
     pub const MESHES: &'static [FileKind] = &[FileKind::Obj, FileKind::Stl, FileKind::Ply];
+
+    /// What a mesh is written as ([`crate::mesh::write_mesh`]): the meshes, and `.3mf`
+    /// (the printers' package; written only).
+    pub const MESH_OUTPUTS: &'static [FileKind] = &[FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::ThreeMf];
 
     /// What [`crate::import::Input::read`] reads: the meshes and patch sets.
     pub const SURFACES: &'static [FileKind] = &[FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::Patches];
@@ -150,6 +160,7 @@ impl FileKind {
             FileKind::Ply => "ply",
             FileKind::Patches => "patches",
             FileKind::Glb => "glb",
+            FileKind::ThreeMf => "3mf",
             FileKind::Png => "png",
             FileKind::Exr => "exr",
             FileKind::Rad => "rad",
@@ -172,6 +183,12 @@ impl FileKind {
     #[must_use]
     pub fn is_mesh(self) -> bool {
         FileKind::MESHES.contains(&self)
+    }
+
+    /// Whether a mesh is written as this kind ([`FileKind::MESH_OUTPUTS`]).
+    #[must_use]
+    pub fn writes_mesh(self) -> bool {
+        FileKind::MESH_OUTPUTS.contains(&self)
     }
 
     /// Whether this kind is a picture ([`FileKind::PICTURES`]).
@@ -219,6 +236,7 @@ impl FileKind {
             | FileKind::Stl
             | FileKind::Patches
             | FileKind::Glb
+            | FileKind::ThreeMf
             | FileKind::Png
             | FileKind::Exr
             | FileKind::Rad => Axis::Z,
@@ -262,7 +280,7 @@ mod tests {
         assert_eq!(
             FileKind::of(Path::new("a.jpg"), FileKind::ALL).unwrap_err().to_string(),
             "a.jpg: unexpected extension '.jpg' (use .toml, .oct, .octs, .vox, .binvox, .vdb, .obj, .stl, .ply, \
-             .patches, .glb, .png, .exr or .rad)"
+             .patches, .glb, .3mf, .png, .exr or .rad)"
         );
     }
 
@@ -288,6 +306,7 @@ mod tests {
             FileKind::SOLID_OUTPUTS,
             FileKind::MANY_SOLIDS,
             FileKind::MESHES,
+            FileKind::MESH_OUTPUTS,
             FileKind::SURFACES,
             FileKind::PICTURES,
         ];
@@ -306,8 +325,9 @@ mod tests {
             FileKind::ALL.iter().copied().filter(|&k| test(k)).collect()
         };
         assert_eq!(of(FileKind::reads_solid), [Oct, Octs, Vox, Binvox, Vdb]);
-        assert_eq!(of(FileKind::writes_solid), [Oct, Octs, Vox, Binvox, Vdb, Obj, Stl, Ply, Glb]);
+        assert_eq!(of(FileKind::writes_solid), [Oct, Octs, Vox, Binvox, Vdb, Obj, Stl, Ply, Glb, ThreeMf]);
         assert_eq!(of(FileKind::is_mesh), [Obj, Stl, Ply]);
+        assert_eq!(of(FileKind::writes_mesh), [Obj, Stl, Ply, ThreeMf]);
         assert_eq!(of(FileKind::is_picture), [Png, Exr]);
         assert_eq!(of(FileKind::holds_many_solids), [Vox, Vdb, Glb]);
         // Every solid that holds many is written; every solid read is written back.

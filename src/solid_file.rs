@@ -123,8 +123,8 @@ impl SolidFile {
 /// `.vox`, `.vdb` and `.glb` write every solid with its name and colour; the others
 /// hold one solid and refuse more (take the union first): `.oct` and `.octs` with
 /// `options.meta` (`.octs` at the default cell level, in one job: a command with its
-/// own cells writes through [`sharded::write`]), `.binvox`, and `.obj`, `.stl` and
-/// `.ply` the solid's boundary mesh with merged faces (`progress` counts its steps),
+/// own cells writes through [`sharded::write`]), `.binvox`, and `.obj`, `.stl`,
+/// `.ply` and `.3mf` the solid's boundary mesh with merged faces (`progress` counts its steps),
 /// refused for an empty solid, which has none.
 pub fn write_solid_file(
     path: impl AsRef<Path>,
@@ -140,7 +140,7 @@ pub fn write_solid_file(
         let index = sharded::write(tree, options.meta, path, &stream)?.expect("every cell: an index");
         return Ok(index.shards.iter().map(|s| s.bytes).sum());
     }
-    if kind.is_mesh() {
+    if kind.writes_mesh() {
         let tree = one_solid(path, solids)?;
         if tree.is_empty() {
             return Err(unwritable(path, "the solid is empty; there is no boundary to write as a mesh".into()));

@@ -1102,7 +1102,7 @@ fn the_door_writes_and_reads_every_solid_kind_with_its_metadata() {
         assert!(e.to_string().contains("holds one solid and 2 were given"), "{name}: {e}");
     }
     let e = write_solid_file(dir.join("s.png"), &SolidsRef::of_file("s.png", &tree), &write, &NoProgress).unwrap_err();
-    assert!(e.to_string().ends_with("(use .oct, .octs, .vox, .binvox, .vdb, .glb, .obj, .stl or .ply)"), "{e}");
+    assert!(e.to_string().ends_with("(use .oct, .octs, .vox, .binvox, .vdb, .glb, .obj, .stl, .ply or .3mf)"), "{e}");
     let e = SolidFile::read(dir.join("door.glb"), &options()).unwrap_err();
     assert!(e.to_string().ends_with("unexpected extension '.glb' (use .oct, .octs, .vox, .binvox or .vdb)"), "{e}");
     std::fs::remove_dir_all(&dir).ok();

@@ -44,7 +44,7 @@ pub(crate) fn check_not_an_input(output: &Path, inputs: &[&Path]) -> Result<()> 
 /// Returns the file size in bytes.
 pub(crate) fn write_solid_file(path: &Path, tree: &LinearOctree, meta: &Metadata, budget: MemoryBudget) -> Result<u64> {
     let kind = check_extension(path, FileKind::SOLID_OUTPUTS)?;
-    let bar = kind.is_mesh().then(|| Bar::new("meshing"));
+    let bar = kind.writes_mesh().then(|| Bar::new("meshing"));
     let progress: &dyn Progress = bar.as_ref().map_or(&NoProgress, |b| b);
     let options = WriteOptions { budget, meta: *meta, ..WriteOptions::default() };
     Ok(octsolid::write_solid_file(path, &SolidsRef::of_file(path, tree), &options, progress)?)

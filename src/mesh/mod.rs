@@ -20,6 +20,7 @@ mod solid;
 mod stl;
 mod surface;
 mod tables;
+mod three_mf;
 mod tri_box;
 mod triangle_tree;
 mod triangulate;
@@ -42,6 +43,7 @@ pub use shape::MeshShape;
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh, voxelize_mesh_cells};
 pub use surface::{SurfaceKind, estimate_surface_bytes, voxelize_surface};
 pub use tables::{Edge, MeshReport, PolygonTables};
+pub use three_mf::write_3mf;
 pub use winding::WindingNumber;
 pub use write::{write_mesh, write_obj, write_ply, write_stl};
 

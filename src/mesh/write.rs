@@ -1,7 +1,7 @@
-//! Writing meshes: OBJ (text), STL (binary) and PLY (binary little-endian), chosen by
-//! extension, written atomically.
+//! Writing meshes: OBJ (text), STL (binary), PLY (binary little-endian) and 3MF
+//! ([`super::write_3mf`]), chosen by extension, written atomically.
 //!
-//! OBJ and PLY store the vertex table and the triangles' indices, so a mesh reloads
+//! OBJ, PLY and 3MF store the vertex table and the triangles' indices, so a mesh reloads
 //! with the same vertices. STL stores three `f32` corners a triangle and readers weld
 //! them by position, so vertices that share a position (a boundary mesh's sheets
 //! where voxels touch only along an edge or at a corner) would come back as one;
@@ -31,7 +31,7 @@ use crate::file_kind::FileKind;
 /// error names the vertices and suggests OBJ or PLY).
 pub fn write_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
     let path = path.as_ref();
-    let format = FileKind::of(path, FileKind::MESHES)?;
+    let format = FileKind::of(path, FileKind::MESH_OUTPUTS)?;
     let separated;
     let mesh = if format == FileKind::Stl && !mesh.triangles.is_empty() && mesh.is_watertight() {
         mesh.validate()?;
@@ -46,7 +46,8 @@ pub fn write_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
         FileKind::Obj => write_obj(mesh, w),
         FileKind::Stl => write_stl(mesh, w),
         FileKind::Ply => write_ply(mesh, w),
-        other => unreachable!("{other:?} is not in FileKind::MESHES"),
+        FileKind::ThreeMf => super::write_3mf(mesh, w),
+        other => unreachable!("{other:?} is not in FileKind::MESH_OUTPUTS"),
     })
 }
 

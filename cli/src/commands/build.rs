@@ -22,7 +22,7 @@ pub struct BuildArgs {
     /// The scene file (.toml).
     pub scene: PathBuf,
     /// Output file: .oct, a sharded solid (.octs, voxelized cell by cell: shape
-    /// solids only), or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
+    /// solids only), or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
     #[arg(short, long)]
     pub output: PathBuf,
     /// The `[[solid]]` to build, by its name (default: the union of the scene's shape

@@ -80,7 +80,7 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
 
     let started = Instant::now();
     // A mesh shows its own bar while it is meshed.
-    let spinner = (!output_kind.is_mesh()).then(|| Spinner::new("writing"));
+    let spinner = (!output_kind.writes_mesh()).then(|| Spinner::new("writing"));
     let bytes_out = if output_kind == FileKind::Octs {
         drop(spinner);
         return a.shards.write(output, budget, started, |options| Ok(sharded::write(&union, meta, output, options)?));

@@ -29,7 +29,7 @@ pub struct CsgArgs {
     /// into one: exactly where their voxels nest, else resampled.
     #[arg(required = true, num_args = 2..)]
     pub inputs: Vec<PathBuf>,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
+    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
     #[arg(short, long)]
     pub output: PathBuf,
     // The common domain and depth (default: the smallest cube holding every input's

@@ -1,7 +1,7 @@
-//! `octsolid export FILE -o OUT.(obj|stl|ply|glb) [--unit-faces]`: the boundary of a
+//! `octsolid export FILE -o OUT.(obj|stl|ply|3mf|glb) [--unit-faces]`: the boundary of a
 //! solid (`.oct`, `.vox`, `.binvox`, `.vdb`) as a closed, manifold triangle mesh.
 //!
-//! OBJ, STL and PLY hold one mesh: a file of several solids (a `.vox` palette colour
+//! OBJ, STL, PLY and 3MF (the printers' package, in millimetres) hold one mesh: a file of several solids (a `.vox` palette colour
 //! each) is written as their union. Binary glTF (`.glb`, [`octsolid::io::gltf`]) keeps
 //! them apart: one mesh a solid with its vertex normals and its colour as the
 //! material's base colour, for web viewers and Blender.
@@ -28,8 +28,8 @@ use crate::solid_input::{ReadFlags, read_solid_file};
 pub struct ExportArgs {
     /// The solid file: .oct, .vox, .binvox or .vdb.
     pub file: PathBuf,
-    /// Output mesh: .obj, .stl or .ply (STL: vertices where voxels touch moved apart),
-    /// or .glb (binary glTF: a mesh with normals and colour a solid).
+    /// Output mesh: .obj, .stl, .ply or .3mf (STL: vertices where voxels touch moved
+    /// apart; 3MF: one object in millimetres, for printers), or .glb (binary glTF: a mesh with normals and colour a solid).
     #[arg(short, long)]
     pub output: PathBuf,
     /// One voxel face = two triangles (default: coplanar faces merged into rectangles;
@@ -40,18 +40,19 @@ pub struct ExportArgs {
     pub read: ReadFlags,
 }
 
-/// `octsolid export FILE -o OUT.(obj|stl|ply|glb) [--unit-faces]`
+/// `octsolid export FILE -o OUT.(obj|stl|ply|3mf|glb) [--unit-faces]`
 pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let (file, output, unit_faces) = (&a.file, &a.output, a.unit_faces);
-    let format = match FileKind::of(output, &[FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::Glb]) {
-        Ok(FileKind::Glb) => None,
-        Ok(mesh) => Some(mesh),
-        Err(octsolid::Error::UnknownExtension { found, .. }) => {
-            let found = if found.is_empty() { "no extension".into() } else { format!("extension .{found}") };
-            bail!("{}: {found} names no mesh format (use .obj, .stl, .ply or .glb)", output.display())
-        }
-        Err(e) => return Err(e.into()),
-    };
+    let format =
+        match FileKind::of(output, &[FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::ThreeMf, FileKind::Glb]) {
+            Ok(FileKind::Glb) => None,
+            Ok(mesh) => Some(mesh),
+            Err(octsolid::Error::UnknownExtension { found, .. }) => {
+                let found = if found.is_empty() { "no extension".into() } else { format!("extension .{found}") };
+                bail!("{}: {found} names no mesh format (use .obj, .stl, .ply, .3mf or .glb)", output.display())
+            }
+            Err(e) => return Err(e.into()),
+        };
     check_not_an_input(output, &[file])?;
     let read = read_solid_file(file, &a.read, budget)?;
     if read.solids.solids.iter().all(|s| s.tree.is_empty()) {
@@ -95,7 +96,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
 fn export_glb(a: &ExportArgs, solids: &octsolid::io::Solids, up: Axis, budget: MemoryBudget) -> Result<()> {
     let (file, output) = (&a.file, &a.output);
     if a.unit_faces {
-        warn!("--unit-faces is for OBJ, STL and PLY; .glb is written with merged faces");
+        warn!("--unit-faces is for OBJ, STL, PLY and 3MF; .glb is written with merged faces");
     }
     let started = Instant::now();
     let options = WriteOptions { budget, up, ..WriteOptions::default() };

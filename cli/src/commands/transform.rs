@@ -26,7 +26,7 @@ pub struct TransformArgs {
     /// The solid file: .oct, .vox, .binvox or .vdb (a file of several solids moves
     /// as their union).
     pub input: PathBuf,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply).
+    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Move by X,Y,Z world units (applied last).
