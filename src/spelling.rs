@@ -17,6 +17,28 @@ pub(crate) fn parse_name<T: Copy>(s: &str, all: &[T], name: fn(T) -> &'static st
     })
 }
 
+/// `FromStr` by [`parse_name`] over the enum's `ALL` and `name`, and `Display` as its
+/// `name`: the two impls every enum of one spelling shares, written once.
+macro_rules! spelled {
+    ($t:ty) => {
+        impl std::str::FromStr for $t {
+            type Err = String;
+
+            /// Parses the value's `name`, exactly.
+            fn from_str(s: &str) -> std::result::Result<Self, String> {
+                crate::spelling::parse_name(s, &<$t>::ALL, <$t>::name)
+            }
+        }
+
+        impl std::fmt::Display for $t {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}
+pub(crate) use spelled;
+
 #[cfg(test)]
 mod tests {
     use super::parse_name;

@@ -107,20 +107,7 @@ impl AntiAliasingKind {
     }
 }
 
-impl std::str::FromStr for AntiAliasingKind {
-    type Err = String;
-
-    /// Parses [`AntiAliasingKind::name`]'s spelling, exactly.
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::spelling::parse_name(s, &AntiAliasingKind::ALL, AntiAliasingKind::name)
-    }
-}
-
-impl std::fmt::Display for AntiAliasingKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+crate::spelling::spelled!(AntiAliasingKind);
 
 /// The recursive anti-aliasing depth when none is given: POV-Ray's common `+R3`.
 pub const DEFAULT_AA_DEPTH: u32 = 3;

@@ -67,20 +67,7 @@ impl Method {
     }
 }
 
-impl std::str::FromStr for Method {
-    type Err = String;
-
-    /// Parses [`Method::name`]'s spelling, exactly.
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::spelling::parse_name(s, &Method::ALL, Method::name)
-    }
-}
-
-impl std::fmt::Display for Method {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+crate::spelling::spelled!(Method);
 
 /// What a visibility pass did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -60,20 +60,7 @@ impl SetOp {
     }
 }
 
-impl std::str::FromStr for SetOp {
-    type Err = String;
-
-    /// Parses [`SetOp::name`]'s spelling, exactly.
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        crate::spelling::parse_name(s, &SetOp::ALL, SetOp::name)
-    }
-}
-
-impl std::fmt::Display for SetOp {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+crate::spelling::spelled!(SetOp);
 
 /// The cursor of one operand in the sweep: its current run, if any is left.
 struct Cursor<'a> {

@@ -58,20 +58,7 @@ impl Interpolation {
     }
 }
 
-impl std::str::FromStr for Interpolation {
-    type Err = String;
-
-    /// Parses [`Interpolation::name`]'s spelling, exactly.
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        crate::spelling::parse_name(s, &Interpolation::ALL, Interpolation::name)
-    }
-}
-
-impl std::fmt::Display for Interpolation {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+crate::spelling::spelled!(Interpolation);
 
 /// What lights a mesh and where it stands.
 #[derive(Clone, Debug)]

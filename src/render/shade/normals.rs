@@ -42,20 +42,7 @@ impl Normals {
     }
 }
 
-impl std::str::FromStr for Normals {
-    type Err = String;
-
-    /// Parses [`Normals::name`]'s spelling, exactly.
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::spelling::parse_name(s, &Normals::ALL, Normals::name)
-    }
-}
-
-impl std::fmt::Display for Normals {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+crate::spelling::spelled!(Normals);
 
 /// The smooth surface at the surface point `p` of `solid` under the normals `mode`:
 /// the outward normal and the point where textures are looked up. With
