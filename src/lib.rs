@@ -75,6 +75,7 @@ pub mod sharded;
 pub mod slice;
 mod solid_file;
 mod spelling;
+pub mod surface;
 #[cfg(test)]
 mod test_util;
 mod text;

@@ -1,0 +1,35 @@
+//! The boundary faces of a solid, one a voxel face: the exposed rectangles of its full
+//! nodes ([`crate::mesh`]'s boundary, step 1) cut into unit squares, each named by its
+//! full voxel and direction ([`FaceKey`]).
+
+use rayon::prelude::*;
+
+use super::hermite::FaceKey;
+use crate::mesh::{BoundaryRect, boundary_rects};
+use crate::octree::LinearOctree;
+
+/// Every boundary face of `tree`, sorted.
+#[must_use]
+pub(crate) fn boundary_faces(tree: &LinearOctree) -> Vec<FaceKey> {
+    let rects = boundary_rects(tree);
+    let mut faces: Vec<FaceKey> = rects.par_iter().flat_map_iter(unit_faces).collect();
+    faces.par_sort_unstable();
+    faces
+}
+
+/// The unit faces of one exposed rectangle.
+fn unit_faces(r: &BoundaryRect) -> impl Iterator<Item = FaceKey> + '_ {
+    let a = usize::from(r.axis);
+    // The full voxel lies on the inner side of the plane.
+    let layer = if r.positive { r.plane - 1 } else { r.plane };
+    let direction = 2 * r.axis + u8::from(r.positive);
+    (0..r.h).flat_map(move |dv| {
+        (0..r.w).map(move |du| {
+            let mut v = [0; 3];
+            v[a] = layer;
+            v[(a + 1) % 3] = r.u + du;
+            v[(a + 2) % 3] = r.v + dv;
+            FaceKey::new(v, direction)
+        })
+    })
+}

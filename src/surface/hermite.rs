@@ -1,0 +1,242 @@
+//! Hermite data: where the surface crosses the lattice's edges, and its normal there
+//! (Ju, Losasso, Schaefer and Warren, *Dual Contouring of Hermite Data*, 2002, §2).
+//!
+//! A solid's voxels are decided by their centres, so the surface crosses the segment
+//! between the centres of a full voxel and an empty neighbour (one voxel long, along
+//! one axis) an odd number of times; it is one crossing wherever the surface is
+//! resolved at the voxel size. That segment is dual to the **boundary face** between
+//! the two voxels, the face the staircase mesh shows. A [`Crossing`] is kept a boundary
+//! face, keyed by the full voxel and the face's direction ([`FaceKey`]): its place `t`
+//! along the segment from the full voxel's centre (`0..=1`, in voxels) and the outward
+//! unit normal of the surface there.
+//!
+//! A face without a crossing (a solid read from a file that carries none, a face of a
+//! coarse node) is read as the face itself: `t = 0.5` and the axis normal
+//! ([`Crossing::face`]); the extractor then estimates, as Surface Nets does.
+//!
+//! Sources: [`HermiteData::from_shape`] finds each crossing on the segment from the
+//! shape's signed distance ([`Shape::surface`]: the Illinois variant of regula falsi,
+//! kept bracketed by [`Shape::contains`], so the crossing agrees with the voxels'
+//! decisions even where the distance is only first order) and takes the normal there;
+//! a shape that gives no distance is bisected on `contains` and keeps the axis normal.
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+use crate::morton;
+use crate::octree::{Domain, LinearOctree};
+use crate::shape::Shape;
+
+/// One of the six faces of a voxel: `2 * axis + 1` for the face towards `+axis`,
+/// `2 * axis` towards `-axis`.
+pub type Direction = u8;
+
+/// A boundary face: the full voxel (its Morton code at the domain's depth) and the
+/// direction of its face towards the empty neighbour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct FaceKey {
+    /// Morton code of the full voxel.
+    pub voxel: u64,
+    /// The face's direction ([`Direction`]).
+    pub direction: Direction,
+}
+
+impl FaceKey {
+    /// The face of voxel `v` (lattice coordinates) towards `direction`.
+    #[must_use]
+    pub fn new(v: [u32; 3], direction: Direction) -> Self {
+        FaceKey { voxel: morton::encode(v[0], v[1], v[2]), direction }
+    }
+
+    /// The full voxel's lattice coordinates.
+    #[must_use]
+    pub fn voxel(self) -> [u32; 3] {
+        morton::decode(self.voxel)
+    }
+
+    /// The axis the face is normal to.
+    #[must_use]
+    pub fn axis(self) -> usize {
+        usize::from(self.direction / 2)
+    }
+
+    /// Whether the face looks towards `+axis`.
+    #[must_use]
+    pub fn positive(self) -> bool {
+        self.direction & 1 == 1
+    }
+
+    /// The outward unit vector of the face.
+    #[must_use]
+    pub fn outward(self) -> DVec3 {
+        let mut n = DVec3::ZERO;
+        n[self.axis()] = if self.positive() { 1.0 } else { -1.0 };
+        n
+    }
+}
+
+/// Where the surface crosses a boundary face's segment, and its normal there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// Place along the segment from the full voxel's centre to the empty one's, in
+    /// voxels (`0..=1`).
+    pub t: f32,
+    /// Outward unit normal of the surface at the crossing.
+    pub normal: Vec3,
+}
+
+impl Crossing {
+    /// The face itself: the segment's midpoint and the face's own normal (what a face
+    /// without data is read as).
+    #[must_use]
+    pub fn face(key: FaceKey) -> Crossing {
+        Crossing { t: 0.5, normal: key.outward().as_vec3() }
+    }
+
+    /// The crossing point in lattice units (voxel corners at integers).
+    #[must_use]
+    pub fn point(self, key: FaceKey) -> DVec3 {
+        let v = key.voxel();
+        let centre = DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2])) + 0.5;
+        centre + key.outward() * f64::from(self.t)
+    }
+}
+
+/// The crossings of a solid's boundary faces, sorted by face.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct HermiteData {
+    faces: Vec<(FaceKey, Crossing)>,
+}
+
+impl HermiteData {
+    /// No crossings: every face is read as itself ([`Crossing::face`]).
+    #[must_use]
+    pub fn none() -> Self {
+        HermiteData::default()
+    }
+
+    /// From `(face, crossing)` pairs in any order (sorted here; a face given twice
+    /// keeps its first crossing).
+    #[must_use]
+    pub fn from_faces(mut faces: Vec<(FaceKey, Crossing)>) -> Self {
+        faces.par_sort_by_key(|(key, _)| *key);
+        faces.dedup_by_key(|(key, _)| *key);
+        HermiteData { faces }
+    }
+
+    /// The crossings, sorted by face.
+    #[must_use]
+    pub fn faces(&self) -> &[(FaceKey, Crossing)] {
+        &self.faces
+    }
+
+    /// How many faces carry a crossing.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Whether no face carries a crossing.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.faces.is_empty()
+    }
+
+    /// The crossing of face `key`, if it carries one.
+    #[must_use]
+    pub fn get(&self, key: FaceKey) -> Option<Crossing> {
+        self.faces.binary_search_by_key(&key, |(k, _)| *k).ok().map(|i| self.faces[i].1)
+    }
+
+    /// The crossing of face `key`, or the face itself.
+    #[must_use]
+    pub fn crossing(&self, key: FaceKey) -> Crossing {
+        self.get(key).unwrap_or_else(|| Crossing::face(key))
+    }
+
+    /// Exact crossings and normals of `shape` on the boundary faces of `tree`, its
+    /// voxelization (parallel over the faces).
+    #[must_use]
+    pub fn from_shape(shape: &(impl Shape + ?Sized), tree: &LinearOctree) -> Self {
+        let domain = *tree.domain();
+        let faces = super::faces::boundary_faces(tree);
+        let faces: Vec<(FaceKey, Crossing)> =
+            faces.par_iter().map(|&key| (key, crossing_of_shape(shape, &domain, key))).collect();
+        HermiteData { faces }
+    }
+}
+
+/// Iterations of regula falsi, then of bisection, before the bracket is taken as it is.
+const SOLVE_STEPS: usize = 40;
+/// The crossing is found to this fraction of a voxel.
+const SOLVE_TOLERANCE: f64 = 1e-7;
+
+/// The crossing of `shape` on face `key`'s segment.
+fn crossing_of_shape(shape: &(impl Shape + ?Sized), domain: &Domain, key: FaceKey) -> Crossing {
+    let v = key.voxel();
+    let from = domain.voxel_center(v);
+    let step = key.outward() * domain.voxel_size();
+    let at = |t: f64| from + step * t;
+    // The bracket [lo, hi]: lo inside, hi outside, as the voxels were decided.
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    let distance = |t: f64| shape.surface(at(t)).map(|s| s.distance);
+    let t = match (distance(lo), distance(hi)) {
+        (Some(mut f_lo), Some(mut f_hi)) if f_lo <= 0.0 && f_hi >= 0.0 && f_hi > f_lo => {
+            // Illinois: regula falsi, halving the kept end's value when one end stays.
+            let mut side = 0i8;
+            for _ in 0..SOLVE_STEPS {
+                if hi - lo < SOLVE_TOLERANCE {
+                    break;
+                }
+                let mut t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+                if !(t > lo && t < hi) {
+                    t = 0.5 * (lo + hi);
+                }
+                let inside = shape.contains(at(t));
+                let f = distance(t).unwrap_or(if inside { -0.0 } else { 0.0 });
+                if inside {
+                    lo = t;
+                    f_lo = f.min(0.0);
+                    if side == -1 {
+                        f_hi *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    hi = t;
+                    f_hi = f.max(0.0);
+                    if side == 1 {
+                        f_lo *= 0.5;
+                    }
+                    side = 1;
+                }
+                if f_hi <= f_lo {
+                    break;
+                }
+            }
+            bisect(shape, &at, lo, hi)
+        }
+        _ => bisect(shape, &at, lo, hi),
+    };
+    let normal = shape
+        .surface(at(t))
+        .map(|s| s.normal)
+        .filter(|n| n.is_finite() && n.length_squared() > 0.5)
+        .unwrap_or_else(|| key.outward());
+    Crossing { t: t.clamp(0.0, 1.0) as f32, normal: normal.normalize().as_vec3() }
+}
+
+/// Bisection on `contains` of the bracket `[lo, hi]` (lo inside, hi outside): its middle.
+fn bisect(shape: &(impl Shape + ?Sized), at: &impl Fn(f64) -> DVec3, mut lo: f64, mut hi: f64) -> f64 {
+    for _ in 0..SOLVE_STEPS {
+        if hi - lo < SOLVE_TOLERANCE {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        if shape.contains(at(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
