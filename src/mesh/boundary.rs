@@ -76,7 +76,7 @@ pub struct BoundaryOptions {
 }
 
 /// A lattice point.
-type Point = [u32; 3];
+pub(crate) type Point = [u32; 3];
 
 /// An exposed rectangle of the boundary (a node face or part of one, or coplanar
 /// ones merged), in lattice units.
@@ -183,6 +183,33 @@ impl BoundarySize {
         };
         u64::try_from(bytes).unwrap_or(u64::MAX)
     }
+}
+
+/// The boundary of a solid as voxel faces joined at their sheets' vertices, before
+/// triangles: what dual contouring moves ([`crate::surface`]).
+pub(crate) struct UnitFaceQuads {
+    /// The unit faces, in an order that does not depend on the thread count.
+    pub faces: Vec<Rect>,
+    /// Each vertex's lattice point (one vertex a sheet, module doc step 3).
+    pub points: Vec<Point>,
+    /// Each face's four vertices, counter-clockwise seen from outside.
+    pub quads: Vec<[u32; 4]>,
+}
+
+/// Steps 1 and 3 of the module doc for unit faces, without triangles; `size` is
+/// [`BoundarySize::of`] `tree`.
+pub(crate) fn unit_face_quads(tree: &LinearOctree, size: BoundarySize) -> Result<UnitFaceQuads> {
+    if size.unit_faces * 4 > u128::from(u32::MAX) {
+        return Err(Error::invalid(
+            "boundary mesh",
+            format!("{} faces need more than 2^32 vertices; export at a lower depth", size.unit_faces),
+        ));
+    }
+    let faces = exposed_squares(tree).par_chunks(CHUNK).map(unit_squares).collect::<Vec<_>>().concat();
+    let polygons = Polygons::concat(faces.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &[])).collect::<Vec<_>>());
+    let (points, ids) = weld_sheets(&faces, &polygons);
+    let quads = ids.par_chunks_exact(4).map(|q| [q[0], q[1], q[2], q[3]]).collect();
+    Ok(UnitFaceQuads { faces, points, quads })
 }
 
 /// Where the exposed squares go: a list, or a count.

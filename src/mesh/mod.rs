@@ -35,7 +35,9 @@ use crate::aabb::Aabb;
 use crate::error::{Error, Result};
 
 pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
-pub(crate) use boundary::{BoundarySize, Rect as BoundaryRect, boundary_mesh_of_size, boundary_rects};
+pub(crate) use boundary::{
+    BoundarySize, Rect as BoundaryRect, UnitFaceQuads, boundary_mesh_of_size, boundary_rects, unit_face_quads,
+};
 pub use parity::ParityGrid;
 pub use read::{mesh_from_bytes, read_mesh, read_mesh_and_warnings};
 pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};

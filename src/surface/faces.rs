@@ -19,17 +19,17 @@ pub(crate) fn boundary_faces(tree: &LinearOctree) -> Vec<FaceKey> {
 
 /// The unit faces of one exposed rectangle.
 fn unit_faces(r: &BoundaryRect) -> impl Iterator<Item = FaceKey> + '_ {
+    (0..r.h).flat_map(move |dv| (0..r.w).map(move |du| face_key(r, du, dv)))
+}
+
+/// The face of rectangle `r` at in-plane offset `(du, dv)` (a unit rectangle's is
+/// `face_key(r, 0, 0)`).
+pub(crate) fn face_key(r: &BoundaryRect, du: u32, dv: u32) -> FaceKey {
     let a = usize::from(r.axis);
+    let mut v = [0; 3];
     // The full voxel lies on the inner side of the plane.
-    let layer = if r.positive { r.plane - 1 } else { r.plane };
-    let direction = 2 * r.axis + u8::from(r.positive);
-    (0..r.h).flat_map(move |dv| {
-        (0..r.w).map(move |du| {
-            let mut v = [0; 3];
-            v[a] = layer;
-            v[(a + 1) % 3] = r.u + du;
-            v[(a + 2) % 3] = r.v + dv;
-            FaceKey::new(v, direction)
-        })
-    })
+    v[a] = if r.positive { r.plane - 1 } else { r.plane };
+    v[(a + 1) % 3] = r.u + du;
+    v[(a + 2) % 3] = r.v + dv;
+    FaceKey::new(v, 2 * r.axis + u8::from(r.positive))
 }

@@ -15,17 +15,18 @@
 //! ([`Crossing::face`]); the extractor then estimates, as Surface Nets does.
 //!
 //! Sources: [`HermiteData::from_shape`] finds each crossing on the segment from the
-//! shape's signed distance ([`Shape::surface`]: the Illinois variant of regula falsi,
-//! kept bracketed by [`Shape::contains`], so the crossing agrees with the voxels'
-//! decisions even where the distance is only first order) and takes the normal there;
-//! a shape that gives no distance is bisected on `contains` and keeps the axis normal.
+//! shape's signed distance ([`Shape::surface`], in voxels: the Illinois variant of
+//! regula falsi, to a ten-millionth of a voxel) and takes the normal there; where the
+//! distance's signs at the segment's ends disagree with the voxels' decisions, or a
+//! shape gives no distance, it is bisected on [`Shape::contains`] (and a shape without
+//! normals keeps the axis normal).
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use crate::morton;
 use crate::octree::{Domain, LinearOctree};
-use crate::shape::Shape;
+use crate::shape::{Shape, Surface};
 
 /// One of the six faces of a voxel: `2 * axis + 1` for the face towards `+axis`,
 /// `2 * axis` towards `-axis`.
@@ -166,63 +167,74 @@ impl HermiteData {
     }
 }
 
-/// Iterations of regula falsi, then of bisection, before the bracket is taken as it is.
-const SOLVE_STEPS: usize = 40;
-/// The crossing is found to this fraction of a voxel.
+/// Steps of regula falsi, or of bisection, at most.
+const SOLVE_STEPS: usize = 48;
+/// The crossing is taken as found when the distance there is under this fraction of a
+/// voxel, or the bracket is narrower.
 const SOLVE_TOLERANCE: f64 = 1e-7;
 
 /// The crossing of `shape` on face `key`'s segment.
 fn crossing_of_shape(shape: &(impl Shape + ?Sized), domain: &Domain, key: FaceKey) -> Crossing {
     let v = key.voxel();
     let from = domain.voxel_center(v);
-    let step = key.outward() * domain.voxel_size();
+    let voxel = domain.voxel_size();
+    let step = key.outward() * voxel;
     let at = |t: f64| from + step * t;
-    // The bracket [lo, hi]: lo inside, hi outside, as the voxels were decided.
-    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-    let distance = |t: f64| shape.surface(at(t)).map(|s| s.distance);
-    let t = match (distance(lo), distance(hi)) {
-        (Some(mut f_lo), Some(mut f_hi)) if f_lo <= 0.0 && f_hi >= 0.0 && f_hi > f_lo => {
-            // Illinois: regula falsi, halving the kept end's value when one end stays.
-            let mut side = 0i8;
-            for _ in 0..SOLVE_STEPS {
-                if hi - lo < SOLVE_TOLERANCE {
-                    break;
-                }
-                let mut t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-                if !(t > lo && t < hi) {
-                    t = 0.5 * (lo + hi);
-                }
-                let inside = shape.contains(at(t));
-                let f = distance(t).unwrap_or(if inside { -0.0 } else { 0.0 });
-                if inside {
-                    lo = t;
-                    f_lo = f.min(0.0);
-                    if side == -1 {
-                        f_hi *= 0.5;
-                    }
-                    side = -1;
-                } else {
-                    hi = t;
-                    f_hi = f.max(0.0);
-                    if side == 1 {
-                        f_lo *= 0.5;
-                    }
-                    side = 1;
-                }
-                if f_hi <= f_lo {
-                    break;
-                }
-            }
-            bisect(shape, &at, lo, hi)
+    let surface = |t: f64| shape.surface(at(t)).map(|s| Surface { distance: s.distance / voxel, ..s });
+    let found = match (surface(0.0), surface(1.0)) {
+        // The distance agrees with the voxels' decisions (inside at 0, outside at 1).
+        (Some(lo), Some(hi)) if lo.distance <= 0.0 && hi.distance >= 0.0 && hi.distance > lo.distance => {
+            regula_falsi(&surface, lo, hi)
         }
-        _ => bisect(shape, &at, lo, hi),
+        _ => None,
     };
-    let normal = shape
-        .surface(at(t))
-        .map(|s| s.normal)
-        .filter(|n| n.is_finite() && n.length_squared() > 0.5)
-        .unwrap_or_else(|| key.outward());
+    let (t, normal) = match found {
+        Some((t, s)) => (t, Some(s.normal)),
+        None => {
+            let t = bisect(shape, &at, 0.0, 1.0);
+            (t, shape.surface(at(t)).map(|s| s.normal))
+        }
+    };
+    let normal = normal.filter(|n| n.is_finite() && n.length_squared() > 0.5).unwrap_or_else(|| key.outward());
     Crossing { t: t.clamp(0.0, 1.0) as f32, normal: normal.normalize().as_vec3() }
+}
+
+/// The zero of the distance on `[0, 1]` from the surfaces at its ends (`lo` inside,
+/// `hi` outside) by the Illinois variant of regula falsi (the end kept twice in a row
+/// has its value halved), with the surface found there; `None` when the shape fails
+/// on the way. An exact distance with one surface nearest both ends is linear along
+/// the segment, so the first step lands on the crossing.
+fn regula_falsi(surface: &impl Fn(f64) -> Option<Surface>, lo: Surface, hi: Surface) -> Option<(f64, Surface)> {
+    let (mut t_lo, mut t_hi) = (0.0_f64, 1.0_f64);
+    let (mut f_lo, mut f_hi) = (lo.distance, hi.distance);
+    let mut side = 0i8;
+    let mut last = if -f_lo < f_hi { lo } else { hi };
+    for _ in 0..SOLVE_STEPS {
+        let mut t = (t_lo * f_hi - t_hi * f_lo) / (f_hi - f_lo);
+        if !(t > t_lo && t < t_hi) {
+            t = 0.5 * (t_lo + t_hi);
+        }
+        let here = surface(t)?;
+        last = here;
+        let value = here.distance;
+        if value.abs() < SOLVE_TOLERANCE || t_hi - t_lo < SOLVE_TOLERANCE {
+            return Some((t, here));
+        }
+        if value < 0.0 {
+            (t_lo, f_lo) = (t, value);
+            if side == -1 {
+                f_hi *= 0.5;
+            }
+            side = -1;
+        } else {
+            (t_hi, f_hi) = (t, value);
+            if side == 1 {
+                f_lo *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    Some((0.5 * (t_lo + t_hi), last))
 }
 
 /// Bisection on `contains` of the bracket `[lo, hi]` (lo inside, hi outside): its middle.

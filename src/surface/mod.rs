@@ -4,8 +4,15 @@
 //! - [`hermite`]: where the surface crosses each boundary face's segment, and its
 //!   normal ([`HermiteData`], from a shape exactly, from nothing as the faces).
 //! - `faces`: a solid's boundary faces, one a voxel face.
+//! - `qef`: the point nearest a cell's tangent planes, and their rank.
+//! - `dual`: a vertex a sheet at each boundary voxel corner, the faces as quads.
+//! - `extract`: [`extract`], the surface as an indexed mesh.
 
+mod dual;
+mod extract;
 mod faces;
 pub mod hermite;
+mod qef;
 
+pub use extract::{ExtractOptions, SurfaceMesh, extract};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};

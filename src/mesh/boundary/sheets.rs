@@ -293,7 +293,8 @@ fn groups(records: &[u128]) -> Vec<std::ops::Range<usize>> {
     let mut start = 0;
     while start < records.len() {
         let position = records[start] >> POSITION_SHIFT;
-        let end = start + records[start..].partition_point(|r| r >> POSITION_SHIFT == position);
+        // A point has at most twelve records: a linear scan, not a search of the rest.
+        let end = start + records[start..].iter().take_while(|&&r| r >> POSITION_SHIFT == position).count();
         groups.push(start..end);
         start = end;
     }

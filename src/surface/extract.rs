@@ -1,0 +1,106 @@
+//! [`extract`]: a solid's true surface as an indexed triangle mesh, the one road every
+//! mesh leaving the octree takes (export, the mesh outputs of every command, area,
+//! radiosity's patches).
+//!
+//! Steps: the dual mesh ([`super::dual`]: a vertex a sheet at each boundary voxel
+//! corner, placed by its QEF in its cell), its quads cut into triangles along the
+//! diagonal nearer the crossing, then positions mapped to the domain.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::dual::{DualMesh, VertexKind, split_quad};
+use super::hermite::{Crossing, HermiteData};
+use crate::budget::MemoryBudget;
+use crate::error::Result;
+use crate::mesh::{BoundarySize, TriangleMesh};
+use crate::octree::LinearOctree;
+use crate::progress::Progress;
+
+/// Estimated peak bytes a boundary face of the extraction takes (the staircase's
+/// quads and sheets, the fans, the QEF's results, the triangles).
+const BYTES_PER_FACE: u64 = 256;
+
+/// How [`extract`] works.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExtractOptions {
+    /// The largest distance, in voxels, simplification may move the surface (0: none).
+    pub tolerance: f64,
+    /// Refuse before allocating when the estimate exceeds this.
+    pub budget: MemoryBudget,
+}
+
+impl Default for ExtractOptions {
+    fn default() -> Self {
+        ExtractOptions { tolerance: 0.0, budget: MemoryBudget::unlimited() }
+    }
+}
+
+/// A solid's surface and what it is made of.
+#[derive(Clone, Debug)]
+pub struct SurfaceMesh {
+    /// The mesh: closed, oriented, manifold, in world coordinates, one vertex a sheet.
+    pub mesh: TriangleMesh,
+    /// Vertices placed by their crossings' planes: smooth, on a crease, at a corner.
+    pub smooth: usize,
+    /// Vertices on creases.
+    pub creases: usize,
+    /// Vertices at corners.
+    pub corners: usize,
+    /// Vertices estimated from occupancy alone (no crossing on their faces).
+    pub estimated: usize,
+    /// Vertices whose QEF point left its cell and was clamped back.
+    pub clamped: usize,
+}
+
+impl SurfaceMesh {
+    /// Whether any vertex was estimated from occupancy alone.
+    #[must_use]
+    pub fn is_estimate(&self) -> bool {
+        self.estimated > 0
+    }
+}
+
+/// The surface of `tree` from the crossings of `hermite` (module doc; faces without a
+/// crossing are estimated). Empty solids give an empty mesh.
+///
+/// # Errors
+/// When the estimated memory exceeds `options.budget`, or the mesh would need more than
+/// `2^32` vertices.
+pub fn extract(
+    tree: &LinearOctree,
+    hermite: &HermiteData,
+    options: &ExtractOptions,
+    progress: &dyn Progress,
+) -> Result<SurfaceMesh> {
+    let size = BoundarySize::of(tree);
+    let bytes = u64::try_from(size.unit_faces).unwrap_or(u64::MAX).saturating_mul(BYTES_PER_FACE);
+    options.budget.check(format!("the surface of {} boundary voxel faces", size.unit_faces), bytes)?;
+    progress.start(2);
+    let dual = DualMesh::of(tree, hermite)?;
+    progress.advance(1);
+    let triangles: Vec<[u32; 3]> = (0..dual.quads.len())
+        .into_par_iter()
+        .with_min_len(4096)
+        .flat_map_iter(|f| {
+            let key = dual.faces[f];
+            let crossing = dual.crossings[f].unwrap_or_else(|| Crossing::face(key));
+            split_quad(dual.quads[f], &dual.positions, crossing.point(key))
+        })
+        .collect();
+    let domain = tree.domain();
+    let (min, voxel) = (domain.min(), domain.voxel_size());
+    let vertices: Vec<DVec3> = dual.positions.par_iter().map(|&p| min + p * voxel).collect();
+    let count = |kind| dual.kinds.iter().filter(|&&k| k == kind).count();
+    let surface = SurfaceMesh {
+        mesh: TriangleMesh { vertices, triangles, groups: Vec::new() },
+        smooth: count(VertexKind::Smooth),
+        creases: count(VertexKind::Crease),
+        corners: count(VertexKind::Corner),
+        estimated: count(VertexKind::Estimated),
+        clamped: dual.clamped.iter().filter(|&&c| c).count(),
+    };
+    progress.advance(1);
+    progress.finish();
+    Ok(surface)
+}
