@@ -67,6 +67,8 @@ pub(crate) struct DualMesh {
     pub kinds: Vec<VertexKind>,
     /// Whether the QEF's point left the cell and was clamped back.
     pub clamped: Vec<bool>,
+    /// The largest distance from a vertex to one of its planes, lattice units.
+    pub vertex_distance: f64,
     /// Each boundary face's key.
     pub faces: Vec<FaceKey>,
     /// Each face's crossing, `None` where the data has none.
@@ -122,24 +124,19 @@ impl DualMesh {
         let faces: Vec<FaceKey> = rects.par_iter().map(|r| face_key(r, 0, 0)).collect();
         let crossings = crossings_of(&faces, hermite);
         let fans = Fans::of(points.len(), &quads);
-        let placed: Vec<(DVec3, VertexKind, bool)> = (0..points.len())
+        let placed: Vec<Placed> = (0..points.len())
             .into_par_iter()
             .with_min_len(CHUNK)
             .map(|v| place(points[v], fans.of_vertex(v), &faces, &crossings))
             .collect();
-        let (mut positions, kinds, clamped) = placed.into_iter().fold(
-            (Vec::with_capacity(points.len()), Vec::with_capacity(points.len()), Vec::with_capacity(points.len())),
-            |(mut p, mut k, mut c), (x, kind, clamp)| {
-                p.push(x);
-                k.push(kind);
-                c.push(clamp);
-                (p, k, c)
-            },
-        );
+        let vertex_distance = placed.iter().map(|p| p.distance).fold(0.0, f64::max);
+        let mut positions: Vec<DVec3> = placed.iter().map(|p| p.position).collect();
+        let kinds: Vec<VertexKind> = placed.iter().map(|p| p.kind).collect();
+        let clamped: Vec<bool> = placed.iter().map(|p| p.clamped).collect();
         if kinds.contains(&VertexKind::Estimated) {
             relax(&mut positions, &points, &kinds, &fans, &quads);
         }
-        Ok(DualMesh { positions, corners: points, kinds, clamped, faces, crossings, quads })
+        Ok(DualMesh { positions, corners: points, kinds, clamped, vertex_distance, faces, crossings, quads })
     }
 }
 
@@ -176,13 +173,22 @@ impl Fans {
     }
 }
 
+/// A vertex placed: where, what its planes say, whether clamped, and its largest
+/// distance to one of its planes.
+struct Placed {
+    position: DVec3,
+    kind: VertexKind,
+    clamped: bool,
+    distance: f64,
+}
+
 /// Vertex at voxel corner `corner` with faces `fan`: its QEF's point in its cell.
 fn place(
     corner: [u32; 3],
     fan: &[u32],
     faces: &[FaceKey],
     crossings: &[Option<Crossing>],
-) -> (DVec3, VertexKind, bool) {
+) -> Placed {
     let p = DVec3::new(f64::from(corner[0]), f64::from(corner[1]), f64::from(corner[2]));
     let mut qef = Qef::default();
     let mut centres = DVec3::ZERO;
@@ -194,7 +200,8 @@ fn place(
         }
     }
     if qef.is_empty() {
-        return (p + centres / fan.len() as f64, VertexKind::Estimated, false);
+        let position = p + centres / fan.len() as f64;
+        return Placed { position, kind: VertexKind::Estimated, clamped: false, distance: 0.0 };
     }
     let solution = qef.solve();
     let kind = match solution.rank {
@@ -203,7 +210,12 @@ fn place(
         _ => VertexKind::Corner,
     };
     let x = solution.point.clamp(DVec3::splat(-0.5), DVec3::splat(0.5));
-    (p + x, kind, x != solution.point)
+    let distance = fan
+        .iter()
+        .filter_map(|&f| crossings[f as usize].map(|c| (faces[f as usize], c)))
+        .map(|(key, c)| c.normal.as_dvec3().dot(x - (c.point(key) - p)).abs())
+        .fold(0.0, f64::max);
+    Placed { position: p + x, kind, clamped: x != solution.point, distance }
 }
 
 /// Surface Nets' relaxation of the estimated vertices: each moves to the mean of its

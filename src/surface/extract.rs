@@ -2,9 +2,11 @@
 //! mesh leaving the octree takes (export, the mesh outputs of every command, area,
 //! radiosity's patches).
 //!
-//! Steps: the dual mesh ([`super::dual`]: a vertex a sheet at each boundary voxel
-//! corner, placed by its QEF in its cell), its quads cut into triangles along the
-//! diagonal nearer the crossing, then positions mapped to the domain.
+//! Steps ([`Style::Smooth`], the default): the dual mesh ([`super::dual`]: a vertex a
+//! sheet at each boundary voxel corner, placed by its QEF in its cell), its quads cut
+//! into triangles along the diagonal nearer the crossing, then positions mapped to the
+//! domain. [`Style::Voxels`] is the voxels' own boundary, the staircase, bit for bit as
+//! [`crate::mesh::try_boundary_mesh`] makes it.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -13,7 +15,7 @@ use super::dual::{DualMesh, VertexKind, split_quad};
 use super::hermite::{Crossing, HermiteData};
 use crate::budget::MemoryBudget;
 use crate::error::Result;
-use crate::mesh::{BoundarySize, TriangleMesh};
+use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, try_boundary_mesh};
 use crate::octree::LinearOctree;
 use crate::progress::Progress;
 
@@ -21,26 +23,71 @@ use crate::progress::Progress;
 /// quads and sheets, the fans, the QEF's results, the triangles).
 const BYTES_PER_FACE: u64 = 256;
 
+/// Which surface leaves the octree.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Style {
+    /// The true surface: dual contouring of the crossings (estimated where there are
+    /// none).
+    #[default]
+    Smooth,
+    /// The voxels' boundary, the exact staircase.
+    Voxels,
+}
+
+impl Style {
+    /// Every style, in the order help lists them.
+    pub const ALL: [Style; 2] = [Style::Smooth, Style::Voxels];
+
+    /// The style's one spelling (`smooth`, `voxels`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Style::Smooth => "smooth",
+            Style::Voxels => "voxels",
+        }
+    }
+}
+
+crate::spelling::spelled!(Style);
+
 /// How [`extract`] works.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ExtractOptions {
-    /// The largest distance, in voxels, simplification may move the surface (0: none).
+    /// The smooth surface or the staircase.
+    pub style: Style,
+    /// The largest distance, in voxels, simplification may move the smooth surface
+    /// (0: none, a vertex every boundary voxel corner).
     pub tolerance: f64,
+    /// [`Style::Voxels`]: one voxel face two triangles (else coplanar faces merged).
+    pub unit_faces: bool,
     /// Refuse before allocating when the estimate exceeds this.
     pub budget: MemoryBudget,
 }
 
 impl Default for ExtractOptions {
     fn default() -> Self {
-        ExtractOptions { tolerance: 0.0, budget: MemoryBudget::unlimited() }
+        ExtractOptions {
+            style: Style::Smooth,
+            tolerance: DEFAULT_TOLERANCE,
+            unit_faces: false,
+            budget: MemoryBudget::unlimited(),
+        }
     }
 }
+
+/// The tolerance without one given, in voxels.
+pub const DEFAULT_TOLERANCE: f64 = 0.1;
 
 /// A solid's surface and what it is made of.
 #[derive(Clone, Debug)]
 pub struct SurfaceMesh {
     /// The mesh: closed, oriented, manifold, in world coordinates, one vertex a sheet.
     pub mesh: TriangleMesh,
+    /// The style it was made in.
+    pub style: Style,
+    /// The largest distance, in voxels, from a dual contouring vertex to the tangent
+    /// planes of its crossings (0 for the staircase).
+    pub vertex_distance: f64,
     /// Vertices placed by their crossings' planes: smooth, on a crease, at a corner.
     pub smooth: usize,
     /// Vertices on creases.
@@ -73,6 +120,20 @@ pub fn extract(
     options: &ExtractOptions,
     progress: &dyn Progress,
 ) -> Result<SurfaceMesh> {
+    if options.style == Style::Voxels {
+        let boundary = BoundaryOptions { unit_faces: options.unit_faces };
+        let mesh = try_boundary_mesh(tree, &boundary, options.budget, progress)?;
+        return Ok(SurfaceMesh {
+            mesh,
+            style: Style::Voxels,
+            vertex_distance: 0.0,
+            smooth: 0,
+            creases: 0,
+            corners: 0,
+            estimated: 0,
+            clamped: 0,
+        });
+    }
     let size = BoundarySize::of(tree);
     let bytes = u64::try_from(size.unit_faces).unwrap_or(u64::MAX).saturating_mul(BYTES_PER_FACE);
     options.budget.check(format!("the surface of {} boundary voxel faces", size.unit_faces), bytes)?;
@@ -94,6 +155,8 @@ pub fn extract(
     let count = |kind| dual.kinds.iter().filter(|&&k| k == kind).count();
     let surface = SurfaceMesh {
         mesh: TriangleMesh { vertices, triangles, groups: Vec::new() },
+        style: Style::Smooth,
+        vertex_distance: dual.vertex_distance,
         smooth: count(VertexKind::Smooth),
         creases: count(VertexKind::Crease),
         corners: count(VertexKind::Corner),

@@ -14,5 +14,5 @@ mod faces;
 pub mod hermite;
 mod qef;
 
-pub use extract::{ExtractOptions, SurfaceMesh, extract};
+pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 mod rng;
+pub mod self_intersection;
 
 pub use rng::Rng;
 

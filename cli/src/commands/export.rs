@@ -15,7 +15,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use octsolid::io::WriteOptions;
-use octsolid::mesh::{BoundaryOptions, separate_sheets, try_boundary_mesh, write_mesh};
+use octsolid::mesh::{separate_sheets, write_mesh};
+use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
 use octsolid::shape::Axis;
 use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
@@ -32,15 +33,32 @@ pub struct ExportArgs {
     /// apart; 3MF: one object in millimetres, for printers), or .glb (binary glTF: a mesh with normals and colour a solid).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// One voxel face = two triangles (default: coplanar faces merged into rectangles;
-    /// .glb always merges).
+    /// Which surface: `smooth`, the true surface by dual contouring of the file's
+    /// crossings (estimated from the voxels where the file carries none), or `voxels`,
+    /// the voxels' exact staircase.
+    #[arg(long, default_value_t = Style::Smooth)]
+    pub surface: Style,
+    /// How far, in voxels, simplification may move the smooth surface (0: a vertex every
+    /// boundary voxel corner).
+    #[arg(long, default_value_t = DEFAULT_TOLERANCE, value_parser = parse_tolerance)]
+    pub tolerance: f64,
+    /// With `--surface voxels`: one voxel face = two triangles (default: coplanar faces
+    /// merged into rectangles; .glb always merges).
     #[arg(long)]
     pub unit_faces: bool,
     #[command(flatten)]
     pub read: ReadFlags,
 }
 
-/// `octsolid export FILE -o OUT.(obj|stl|ply|3mf|glb) [--unit-faces]`
+/// A tolerance: a finite number of voxels, 0 or more.
+fn parse_tolerance(s: &str) -> std::result::Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(t) if t.is_finite() && t >= 0.0 => Ok(t),
+        _ => Err(format!("{s:?} is not a tolerance in voxels (a number, 0 or more)")),
+    }
+}
+
+/// `octsolid export FILE -o OUT.(obj|stl|ply|3mf|glb) [--surface smooth|voxels] [--tolerance T] [--unit-faces]`
 pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let (file, output, unit_faces) = (&a.file, &a.output, a.unit_faces);
     let format =
@@ -62,34 +80,66 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
         let up = read.meta.up.unwrap_or(read.kind.default_up());
         return export_glb(a, &read.solids, up, budget);
     };
+    if unit_faces && a.surface == Style::Smooth {
+        warn!("--unit-faces is for --surface voxels; the smooth surface has its own vertices");
+    }
+    let hermite = HermiteData::none();
     let tree = read.into_union();
     let started = Instant::now();
     let bar = Bar::new("meshing");
-    let mesh = try_boundary_mesh(&tree, &BoundaryOptions { unit_faces }, budget, &bar)
-        .with_context(|| format!("{}: cannot export", file.display()))?;
+    let options = ExtractOptions { style: a.surface, tolerance: a.tolerance, unit_faces, budget };
+    let surface =
+        extract(&tree, &hermite, &options, &bar).with_context(|| format!("{}: cannot export", file.display()))?;
+    let mesh = &surface.mesh;
     let elapsed = started.elapsed().as_secs_f64();
     let separated = if format == FileKind::Stl {
         Some(
-            separate_sheets(&mesh)
+            separate_sheets(mesh)
                 .with_context(|| format!("{}: cannot write STL; write .obj or .ply", output.display()))?,
         )
     } else {
         None
     };
-    let written = separated.as_ref().unwrap_or(&mesh);
+    let written = separated.as_ref().unwrap_or(mesh);
     let bytes = write_mesh(written, output)?;
-    let faces = if unit_faces { "unit faces" } else { "merged faces" };
     out!("read       {} ({} nodes, depth {})", file.display(), tree.node_count(), tree.depth());
-    out!("mesh       {} triangles, {} vertices ({faces})", mesh.triangles.len(), mesh.vertices.len());
+    print_surface(&surface, unit_faces, a.tolerance);
     if separated.is_some() {
         let moved = written.vertices.iter().zip(&mesh.vertices).filter(|(a, b)| a != b).count();
         out!("stl        {moved} vertices where voxels touch moved apart");
     }
     let (enclosed, volume) = (written.volume(), tree.volume());
     out!("volume     {enclosed:.6} enclosed, {volume:.6} octree ({:+.1e} relative)", enclosed / volume - 1.0);
-    out!("time       {:.1} ms (boundary mesh)", elapsed * 1e3);
+    out!("time       {:.1} ms ({} surface)", elapsed * 1e3, surface.style);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     Ok(())
+}
+
+/// The summary's lines on the mesh: triangles, what placed the vertices, the distance bound.
+fn print_surface(surface: &SurfaceMesh, unit_faces: bool, tolerance: f64) {
+    let mesh = &surface.mesh;
+    let (triangles, vertices) = (mesh.triangles.len(), mesh.vertices.len());
+    if surface.style == Style::Voxels {
+        let faces = if unit_faces { "unit faces" } else { "merged faces" };
+        out!("mesh       {triangles} triangles, {vertices} vertices (the voxels' staircase, {faces})");
+        return;
+    }
+    out!("mesh       {triangles} triangles, {vertices} vertices (smooth: dual contouring, tolerance {tolerance} voxel)");
+    if surface.is_estimate() {
+        out!(
+            "surface    estimated from the voxels (Surface Nets quality) at {} of {} vertices: the file carries no crossings",
+            surface.estimated,
+            vertices
+        );
+    } else {
+        out!(
+            "surface    exact crossings: {} smooth vertices, {} on creases, {} at corners",
+            surface.smooth,
+            surface.creases,
+            surface.corners
+        );
+    }
+    out!("distance   vertices within {:.3} voxel of their tangent planes", surface.vertex_distance);
 }
 
 /// `export FILE -o OUT.glb`: one mesh a solid, with its colour.
