@@ -7,5 +7,7 @@
 
 mod faces;
 pub mod hermite;
+mod simplify;
 
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
+pub use simplify::{SimplifyOptions, SimplifyReport, simplify};
