@@ -316,3 +316,6 @@ impl State {
         (TriangleMesh { vertices, triangles, groups: Vec::new() }, report)
     }
 }
+
+#[cfg(test)]
+mod tests;

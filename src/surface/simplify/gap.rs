@@ -23,7 +23,7 @@ use glam::{DVec2, DVec3};
 /// Least cosine between a triangle's normal and the projection direction.
 pub(crate) const MIN_FACING: f64 = 0.2;
 /// Rounding allowance, relative to the patch's largest coordinate span.
-const SLACK: f64 = 1e-9;
+const SLACK: f64 = 1e-14;
 
 /// The two patches of one collapse, as corner triples.
 pub(crate) struct Patches<'a> {
