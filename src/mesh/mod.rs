@@ -12,7 +12,7 @@ mod mtl;
 mod obj;
 mod parity;
 mod ply;
-mod predicates;
+pub(crate) mod predicates;
 mod read;
 mod separate;
 mod shape;

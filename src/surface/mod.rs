@@ -6,6 +6,7 @@
 //! - `faces`: a solid's boundary faces, one a voxel face.
 //! - `qef`: the point nearest a cell's tangent planes, and their rank.
 //! - `dual`: a vertex a sheet at each boundary voxel corner, the faces as quads.
+//! - `simplify`: edge collapses under a distance bound, kept manifold and uncrossed.
 //! - `extract`: [`extract`], the surface as an indexed mesh.
 
 mod dual;
@@ -13,6 +14,8 @@ mod extract;
 mod faces;
 pub mod hermite;
 mod qef;
+mod simplify;
 
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
+pub use simplify::{SimplifyOptions, SimplifyReport, simplify};

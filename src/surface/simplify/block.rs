@@ -1,0 +1,401 @@
+//! Greedy edge collapses inside one block of space (Garland and Heckbert 1997), each
+//! kept only when the checks of the module above pass.
+//!
+//! The block's own faces (all three corners owned by the block) may change; the faces
+//! of the snapshot near it (the halo: faces meeting its closed box that are not its
+//! own) are fixed obstacles, and a vertex on one is locked. Every face a collapse makes
+//! lies strictly inside the block's open box, so blocks never touch each other's new
+//! faces and run in parallel on a shared snapshot, each deterministic on its own.
+//!
+//! Collapses are taken cheapest first from a heap keyed by (quadric cost, the edge's
+//! local vertex indices), entries made stale by a later collapse at either end skipped
+//! by a per-vertex stamp. Edge `a b` becomes `a` at the candidate point that passes
+//! every check, tried by rising cost among the quadric's minimiser and `a`, `b` and the
+//! midpoint. A refused edge is not tried again in this block; the next round (other
+//! blocks) tries it again.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use glam::DVec3;
+use rustc_hash::FxHashMap;
+use smallvec::SmallVec;
+
+use super::gap::{Patches, gap_bound};
+use super::quadric::Quadric;
+use super::tri_tri::triangles_clash;
+
+/// Cells of the block's face grid along each axis.
+const GRID_CELLS: usize = 16;
+
+/// What one block reads: its box and its faces.
+pub(crate) struct BlockInput<'a> {
+    /// Lowest corner of the block's box.
+    pub min: DVec3,
+    /// Highest corner of the block's box.
+    pub max: DVec3,
+    /// The snapshot's positions, quadrics, faces and face error bounds.
+    pub positions: &'a [DVec3],
+    pub quadrics: &'a [Quadric],
+    pub faces: &'a [[u32; 3]],
+    pub errors: &'a [f64],
+    /// The block's own faces (indices into `faces`, ascending).
+    pub own: &'a [u32],
+    /// The halo (indices into `faces`, ascending).
+    pub halo: &'a [u32],
+}
+
+/// The limits every collapse keeps.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Limits {
+    /// Largest error bound of a face, in world units.
+    pub tolerance: f64,
+    /// Least cosine between a face's normal before and after a collapse.
+    pub min_normal_cosine: f64,
+}
+
+/// What one block gives back: its faces now, the vertices it moved, its collapses.
+#[derive(Debug, Default)]
+pub(crate) struct BlockOutput {
+    /// Its faces (global vertex indices) and their error bounds.
+    pub faces: Vec<[u32; 3]>,
+    pub errors: Vec<f64>,
+    /// Kept vertices that moved: global index, position, merged quadric.
+    pub moved: Vec<(u32, DVec3, Quadric)>,
+    /// Collapses made.
+    pub collapses: usize,
+}
+
+/// The block's working mesh, in local vertex indices.
+struct Local {
+    global: Vec<u32>,
+    position: Vec<DVec3>,
+    quadric: Vec<Quadric>,
+    /// Not on a halo face, so free to move or disappear.
+    free: Vec<bool>,
+    /// Strictly inside the block's open box.
+    interior: Vec<bool>,
+    alive_vertex: Vec<bool>,
+    stamp: Vec<u32>,
+    incident: Vec<SmallVec<[u32; 8]>>,
+    faces: Vec<[u32; 3]>,
+    error: Vec<f64>,
+    alive: Vec<bool>,
+    /// Whether the face is the block's own (else halo).
+    own: Vec<bool>,
+    /// Last query that looked at the face (to test each once a query).
+    seen: Vec<u32>,
+    query: u32,
+    grid: Vec<Vec<u32>>,
+    min: DVec3,
+    max: DVec3,
+    cell: DVec3,
+}
+
+/// A heap entry: cost, the edge's ends and their stamps when it was priced.
+type Entry = Reverse<(u64, u32, u32, u32, u32)>;
+
+/// Simplifies one block; see the module doc.
+pub(crate) fn simplify_block(input: &BlockInput, limits: &Limits) -> BlockOutput {
+    let mut local = Local::new(input);
+    let mut heap: BinaryHeap<Entry> = BinaryHeap::new();
+    for a in 0..local.global.len() as u32 {
+        if local.free[a as usize] {
+            for b in local.neighbours(a) {
+                if a < b && local.free[b as usize] {
+                    local.push(&mut heap, a, b);
+                }
+            }
+        }
+    }
+    let mut collapses = 0;
+    while let Some(Reverse((_, a, b, sa, sb))) = heap.pop() {
+        let (ua, ub) = (a as usize, b as usize);
+        if !local.alive_vertex[ua] || !local.alive_vertex[ub] || local.stamp[ua] != sa || local.stamp[ub] != sb {
+            continue;
+        }
+        if local.try_collapse(a, b, limits) {
+            collapses += 1;
+            for c in local.neighbours(a) {
+                if local.free[c as usize] {
+                    local.push(&mut heap, a.min(c), a.max(c));
+                }
+            }
+        }
+    }
+    local.output(collapses)
+}
+
+impl Local {
+    fn new(input: &BlockInput) -> Self {
+        let mut map: FxHashMap<u32, u32> = FxHashMap::default();
+        let mut local = Local {
+            global: Vec::new(),
+            position: Vec::new(),
+            quadric: Vec::new(),
+            free: Vec::new(),
+            interior: Vec::new(),
+            alive_vertex: Vec::new(),
+            stamp: Vec::new(),
+            incident: Vec::new(),
+            faces: Vec::with_capacity(input.own.len() + input.halo.len()),
+            error: Vec::new(),
+            alive: Vec::new(),
+            own: Vec::new(),
+            seen: Vec::new(),
+            query: 0,
+            grid: vec![Vec::new(); GRID_CELLS * GRID_CELLS * GRID_CELLS],
+            min: input.min,
+            max: input.max,
+            cell: (input.max - input.min) / GRID_CELLS as f64,
+        };
+        for (&f, own) in input.own.iter().map(|f| (f, true)).chain(input.halo.iter().map(|f| (f, false))) {
+            let face = input.faces[f as usize].map(|g| {
+                *map.entry(g).or_insert_with(|| {
+                    let p = input.positions[g as usize];
+                    local.global.push(g);
+                    local.position.push(p);
+                    local.quadric.push(input.quadrics[g as usize]);
+                    local.free.push(true);
+                    local.interior.push(p.cmpgt(input.min).all() && p.cmplt(input.max).all());
+                    local.alive_vertex.push(true);
+                    local.stamp.push(0);
+                    local.incident.push(SmallVec::new());
+                    (local.global.len() - 1) as u32
+                })
+            });
+            if !own {
+                for v in face {
+                    local.free[v as usize] = false;
+                }
+            }
+            local.add_face(face, input.errors[f as usize], own);
+        }
+        local
+    }
+
+    fn add_face(&mut self, face: [u32; 3], error: f64, own: bool) -> u32 {
+        let id = self.faces.len() as u32;
+        self.faces.push(face);
+        self.error.push(error);
+        self.alive.push(true);
+        self.own.push(own);
+        self.seen.push(0);
+        for v in face {
+            self.incident[v as usize].push(id);
+        }
+        let (lo, hi) = self.cells_of(face.map(|v| self.position[v as usize]));
+        for z in lo[2]..=hi[2] {
+            for y in lo[1]..=hi[1] {
+                for x in lo[0]..=hi[0] {
+                    self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x].push(id);
+                }
+            }
+        }
+        id
+    }
+
+    /// The grid cells a triangle's box meets, clamped to the grid.
+    fn cells_of(&self, t: [DVec3; 3]) -> ([usize; 3], [usize; 3]) {
+        let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+        let index = |p: DVec3| {
+            let c = ((p - self.min) / self.cell).floor();
+            [c.x, c.y, c.z].map(|c| (c.max(0.0) as usize).min(GRID_CELLS - 1))
+        };
+        (index(lo), index(hi))
+    }
+
+    /// The vertices sharing a face with `a`, ascending, once each.
+    fn neighbours(&self, a: u32) -> SmallVec<[u32; 16]> {
+        let mut out: SmallVec<[u32; 16]> =
+            self.incident[a as usize].iter().flat_map(|&f| self.faces[f as usize]).filter(|&v| v != a).collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// The candidate points of edge `a b` and their quadric costs, cheapest first
+    /// (ties in the order minimiser, `a`, `b`, midpoint).
+    fn candidates(&self, a: u32, b: u32) -> [(f64, DVec3); 4] {
+        let (pa, pb) = (self.position[a as usize], self.position[b as usize]);
+        let q = self.quadric[a as usize] + self.quadric[b as usize];
+        let mid = (pa + pb) * 0.5;
+        let mut c = [q.minimizer(mid), pa, pb, mid].map(|p| (q.eval(p), p));
+        c.sort_by(|x, y| x.0.total_cmp(&y.0));
+        c
+    }
+
+    fn push(&self, heap: &mut BinaryHeap<Entry>, a: u32, b: u32) {
+        let cost = self.candidates(a, b)[0].0;
+        heap.push(Reverse((cost.to_bits(), a, b, self.stamp[a as usize], self.stamp[b as usize])));
+    }
+
+    /// Collapses `a b` into `a` at the cheapest candidate that passes every check.
+    fn try_collapse(&mut self, a: u32, b: u32, limits: &Limits) -> bool {
+        let (ua, ub) = (a as usize, b as usize);
+        if !self.free[ua] || !self.free[ub] {
+            return false;
+        }
+        // The region: faces around a or b; exactly two hold both.
+        let mut region: SmallVec<[u32; 24]> = self.incident[ua].iter().chain(&self.incident[ub]).copied().collect();
+        region.sort_unstable();
+        region.dedup();
+        let both: SmallVec<[u32; 2]> = region
+            .iter()
+            .copied()
+            .filter(|&f| {
+                let t = self.faces[f as usize];
+                t.contains(&a) && t.contains(&b)
+            })
+            .collect();
+        if both.len() != 2 {
+            return false;
+        }
+        let apex = |f: u32| self.faces[f as usize].into_iter().find(|&v| v != a && v != b).unwrap_or(a);
+        let mut apexes = [apex(both[0]), apex(both[1])];
+        apexes.sort_unstable();
+        if apexes[0] == apexes[1] {
+            return false;
+        }
+        // Link condition: the links of a and b share exactly the two apexes.
+        let (na, nb) = (self.neighbours(a), self.neighbours(b));
+        let common = na.iter().filter(|v| nb.binary_search(v).is_ok() && **v != a && **v != b).count();
+        if common != 2 {
+            return false;
+        }
+        // The fan: every other face of the region with b renamed a.
+        let mut fan: SmallVec<[([u32; 3], u32); 24]> = SmallVec::new();
+        for &f in &region {
+            if both.contains(&f) {
+                continue;
+            }
+            fan.push((self.faces[f as usize].map(|v| if v == b { a } else { v }), f));
+        }
+        let mut keys: SmallVec<[[u32; 3]; 24]> = fan
+            .iter()
+            .map(|(t, _)| {
+                let mut k = *t;
+                k.sort_unstable();
+                k
+            })
+            .collect();
+        keys.sort_unstable();
+        if keys.windows(2).any(|w| w[0] == w[1]) {
+            return false;
+        }
+        let link_inside = fan.iter().all(|(t, _)| t.iter().all(|&v| v == a || self.interior[v as usize]));
+        if !link_inside {
+            return false;
+        }
+        let old_error = region.iter().map(|&f| self.error[f as usize]).fold(0.0, f64::max);
+        if old_error > limits.tolerance {
+            return false;
+        }
+        let old: SmallVec<[[DVec3; 3]; 24]> = region.iter().map(|&f| self.corners(self.faces[f as usize])).collect();
+        for (_, x) in self.candidates(a, b) {
+            if !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
+                continue;
+            }
+            let at = |v: u32| if v == a { x } else { self.position[v as usize] };
+            let new: SmallVec<[[DVec3; 3]; 24]> = fan.iter().map(|(t, _)| t.map(at)).collect();
+            let shapes_ok = fan.iter().zip(&new).all(|((_, f), n)| {
+                let normal = (n[1] - n[0]).cross(n[2] - n[0]);
+                let longest = (n[1] - n[0]).length_squared().max((n[2] - n[1]).length_squared()).max(
+                    (n[0] - n[2]).length_squared(),
+                );
+                let before = self.corners(self.faces[*f as usize]);
+                let was = (before[1] - before[0]).cross(before[2] - before[0]);
+                normal.length() > 1e-9 * longest
+                    && normal.dot(was) >= limits.min_normal_cosine * normal.length() * was.length()
+            });
+            if !shapes_ok {
+                continue;
+            }
+            let patches =
+                Patches { old: &old, new: &new, old_inside: [self.position[ua], self.position[ub]], new_inside: x };
+            let Some(gap) = gap_bound(&patches) else {
+                continue;
+            };
+            let error = old_error + gap;
+            if error > limits.tolerance {
+                continue;
+            }
+            if new.iter().any(|t| self.clashes(t, &region)) {
+                continue;
+            }
+            self.apply(a, b, x, &fan, &region, error);
+            return true;
+        }
+        false
+    }
+
+    fn corners(&self, t: [u32; 3]) -> [DVec3; 3] {
+        t.map(|v| self.position[v as usize])
+    }
+
+    /// Whether triangle `t` clashes with a live face near it outside `region`.
+    fn clashes(&mut self, t: &[DVec3; 3], region: &[u32]) -> bool {
+        self.query += 1;
+        let (lo, hi) = self.cells_of(*t);
+        for z in lo[2]..=hi[2] {
+            for y in lo[1]..=hi[1] {
+                for x in lo[0]..=hi[0] {
+                    for i in 0..self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x].len() {
+                        let f = self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x][i];
+                        let fi = f as usize;
+                        if !self.alive[fi] || self.seen[fi] == self.query || region.contains(&f) {
+                            continue;
+                        }
+                        self.seen[fi] = self.query;
+                        let other = self.corners(self.faces[fi]);
+                        if boxes_meet(t, &other) && triangles_clash(*t, other) {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    fn apply(&mut self, a: u32, b: u32, x: DVec3, fan: &[([u32; 3], u32)], region: &[u32], error: f64) {
+        for &f in region {
+            self.alive[f as usize] = false;
+            for v in self.faces[f as usize] {
+                self.incident[v as usize].retain(|g| *g != f);
+            }
+        }
+        let (ua, ub) = (a as usize, b as usize);
+        self.alive_vertex[ub] = false;
+        self.position[ua] = x;
+        let qb = self.quadric[ub];
+        self.quadric[ua] += qb;
+        self.stamp[ua] += 1;
+        for (t, _) in fan {
+            self.add_face(*t, error, true);
+        }
+    }
+
+    fn output(self, collapses: usize) -> BlockOutput {
+        let mut out = BlockOutput { collapses, ..BlockOutput::default() };
+        for f in 0..self.faces.len() {
+            if self.alive[f] && self.own[f] {
+                out.faces.push(self.faces[f].map(|v| self.global[v as usize]));
+                out.errors.push(self.error[f]);
+            }
+        }
+        for v in 0..self.global.len() {
+            if self.alive_vertex[v] && self.stamp[v] > 0 {
+                out.moved.push((self.global[v], self.position[v], self.quadric[v]));
+            }
+        }
+        out
+    }
+}
+
+/// Whether the boxes of two triangles meet (closed).
+fn boxes_meet(p: &[DVec3; 3], q: &[DVec3; 3]) -> bool {
+    let (plo, phi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+    let (qlo, qhi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
+    plo.cmple(qhi).all() && qlo.cmple(phi).all()
+}

@@ -1,0 +1,166 @@
+//! Quadric error of a point against a set of planes (Garland and Heckbert 1997).
+//!
+//! A plane `n . x + d = 0` (`|n| = 1`) weighted by `w` contributes
+//! `w (n . x + d)^2 = x^T (w n n^T) x + 2 (w d n) . x + w d^2`; a vertex's quadric is
+//! the sum over its faces' planes, each weighted by the face's area, and a collapsed
+//! vertex's is the sum of its two ends'. `Q(x)` is then the area-weighted sum of
+//! squared distances to those planes.
+//!
+//! The minimiser solves `A x = -b`. Departure from the paper, as in dual contouring's
+//! QEF (Lindstrom 2000; Ju et al. 2002): instead of inverting `A` when its determinant
+//! allows, `A`'s eigenvectors are found (Jacobi rotations) and only directions whose
+//! eigenvalue exceeds [`RANK_CUTOFF`] times the largest are solved for, starting from a
+//! point the caller gives (the edge's midpoint): on a plane the point moves only
+//! across it, on a crease only towards the crease, at a corner onto it.
+
+use glam::{DMat3, DVec3};
+
+/// Eigenvalues below this fraction of the largest count as zero in the minimiser.
+pub(crate) const RANK_CUTOFF: f64 = 0.02;
+
+/// `x^T A x + 2 b . x + c` with `A` symmetric.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Quadric {
+    /// `A`'s upper triangle: xx, xy, xz, yy, yz, zz.
+    a: [f64; 6],
+    b: DVec3,
+    c: f64,
+}
+
+impl Quadric {
+    /// The plane through `point` with unit normal `normal`, weighted by `weight`.
+    #[must_use]
+    pub(crate) fn plane(point: DVec3, normal: DVec3, weight: f64) -> Self {
+        let n = normal;
+        let d = -n.dot(point);
+        Quadric {
+            a: [n.x * n.x, n.x * n.y, n.x * n.z, n.y * n.y, n.y * n.z, n.z * n.z].map(|v| v * weight),
+            b: n * (d * weight),
+            c: d * d * weight,
+        }
+    }
+
+    /// `Q(x)`, never negative.
+    #[must_use]
+    pub(crate) fn eval(&self, x: DVec3) -> f64 {
+        let ax = self.matrix() * x;
+        (x.dot(ax) + 2.0 * self.b.dot(x) + self.c).max(0.0)
+    }
+
+    /// The minimiser nearest `start` along `A`'s near-null directions (see the module
+    /// doc).
+    #[must_use]
+    pub(crate) fn minimizer(&self, start: DVec3) -> DVec3 {
+        let (values, vectors) = symmetric_eigen(self.matrix());
+        let largest = values.max_element();
+        if largest <= 0.0 {
+            return start;
+        }
+        let residual = self.matrix() * start + self.b;
+        let mut x = start;
+        for k in 0..3 {
+            if values[k] > RANK_CUTOFF * largest {
+                let e = vectors.col(k);
+                x -= e * (e.dot(residual) / values[k]);
+            }
+        }
+        x
+    }
+
+    fn matrix(&self) -> DMat3 {
+        let a = &self.a;
+        DMat3::from_cols_array(&[a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5]])
+    }
+}
+
+impl std::ops::Add for Quadric {
+    type Output = Quadric;
+    fn add(self, o: Quadric) -> Quadric {
+        Quadric { a: std::array::from_fn(|i| self.a[i] + o.a[i]), b: self.b + o.b, c: self.c + o.c }
+    }
+}
+
+impl std::ops::AddAssign for Quadric {
+    fn add_assign(&mut self, o: Quadric) {
+        *self = *self + o;
+    }
+}
+
+/// Eigenvalues and eigenvectors (columns) of a symmetric 3x3 matrix by cyclic Jacobi
+/// rotations.
+fn symmetric_eigen(m: DMat3) -> (DVec3, DMat3) {
+    let mut a = m.to_cols_array_2d();
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..16 {
+        let off = a[0][1].powi(2) + a[0][2].powi(2) + a[1][2].powi(2);
+        let diag = a[0][0].powi(2) + a[1][1].powi(2) + a[2][2].powi(2);
+        if off <= 1e-30 * diag || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            // a <- J^T a J, with J the rotation in the (p, q) plane.
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            // Columns of v are the eigenvectors: v <- v J. (v[col][row].)
+            for k in 0..3 {
+                let (vp, vq) = (v[p][k], v[q][k]);
+                v[p][k] = c * vp - s * vq;
+                v[q][k] = s * vp + c * vq;
+            }
+        }
+    }
+    (DVec3::new(a[0][0], a[1][1], a[2][2]), DMat3::from_cols_array_2d(&v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::Rng;
+
+    #[test]
+    fn jacobi_diagonalises_random_symmetric_matrices() {
+        let mut rng = Rng(5);
+        for _ in 0..200 {
+            let b = DMat3::from_cols(rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0));
+            let m = b.transpose() * b;
+            let (values, vectors) = symmetric_eigen(m);
+            for k in 0..3 {
+                let e = vectors.col(k);
+                assert!((e.length() - 1.0).abs() < 1e-12);
+                assert!((m * e - e * values[k]).length() < 1e-10 * (1.0 + values.max_element()), "{m:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn minimiser_finds_the_corner_the_crease_and_the_plane() {
+        let corner = DVec3::new(0.3, -0.2, 0.7);
+        let planes = [DVec3::X, DVec3::Y, DVec3::Z].map(|n| Quadric::plane(corner, n, 2.0));
+        let start = DVec3::new(1.0, 1.0, 1.0);
+        // Three planes: the corner.
+        let q = planes[0] + planes[1] + planes[2];
+        assert!((q.minimizer(start) - corner).length() < 1e-12);
+        assert!(q.eval(corner) < 1e-12 && (q.eval(start) - 2.0 * (start - corner).length_squared()).abs() < 1e-9);
+        // Two: the point of the crease x = 0.3, y = -0.2 nearest the start.
+        let crease = (planes[0] + planes[1]).minimizer(start);
+        assert!((crease - DVec3::new(0.3, -0.2, 1.0)).length() < 1e-12);
+        // One: the start moved onto the plane along its normal.
+        assert!(((planes[2]).minimizer(start) - DVec3::new(1.0, 1.0, 0.7)).length() < 1e-12);
+    }
+}
