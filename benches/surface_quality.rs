@@ -21,8 +21,10 @@
 //!
 //! The second mode, `--reference SOURCE`, measures the distance from each mesh's
 //! samples to another mesh (the source a solid was voxelized from; a bounding-box
-//! hierarchy over its triangles, tests/common/mesh_distance.rs): mean, RMS and max in
-//! voxels, one row a mesh.
+//! hierarchy over its triangles, tests/common/mesh_distance.rs): mean, median, RMS and
+//! max in voxels; and back, from as many samples of the source to the mesh (mean and
+//! max: where the source is open and the solid closed, only the first direction sees
+//! the closing surface), one row a mesh.
 
 #[path = "../tests/common/exact_surface.rs"]
 mod exact_surface;
@@ -96,6 +98,27 @@ fn label(job: &Job) -> String {
     })
 }
 
+/// Mean, median, RMS and maximum of distances.
+struct Stats {
+    mean: f64,
+    median: f64,
+    rms: f64,
+    max: f64,
+}
+
+impl Stats {
+    fn of(mut d: Vec<f64>) -> Self {
+        d.sort_by(f64::total_cmp);
+        let n = d.len() as f64;
+        Stats {
+            mean: d.iter().sum::<f64>() / n,
+            median: d[d.len() / 2],
+            rms: (d.iter().map(|x| x * x).sum::<f64>() / n).sqrt(),
+            max: d[d.len() - 1],
+        }
+    }
+}
+
 /// `1234567` as `1,234,567`.
 fn thousands(n: usize) -> String {
     let digits = n.to_string();
@@ -115,23 +138,30 @@ fn run(o: &Options) -> Result<(), String> {
     }
     if let Some(reference) = &o.reference {
         let source = octsolid::mesh::read_mesh(reference).map_err(|e| e.to_string())?;
-        let tree = MeshDistance::new(&source);
+        let to_source = MeshDistance::new(&source);
+        let source_samples = sample_mesh(&source, o.samples, o.seed);
         if o.header {
-            println!("| mesh | triangles | distance to the source mesh, mean / RMS / max | time |");
-            println!("|---|---:|---|---:|");
+            println!(
+                "| mesh | triangles | to the source mesh, mean / median / RMS / max | from the source mesh, mean / max | time |"
+            );
+            println!("|---|---:|---|---|---:|");
         }
         for job in &o.jobs {
             let mesh = octsolid::mesh::read_mesh(&job.path).map_err(|e| e.to_string())?;
             let samples = sample_mesh(&mesh, o.samples, o.seed);
-            let d: Vec<f64> = samples.par_iter().map(|s| tree.distance(s.point) / o.voxel).collect();
-            let n = d.len() as f64;
-            let mean = d.iter().sum::<f64>() / n;
-            let rms = (d.iter().map(|x| x * x).sum::<f64>() / n).sqrt();
-            let max = d.iter().copied().fold(0.0, f64::max);
+            let there = Stats::of(samples.par_iter().map(|s| to_source.distance(s.point) / o.voxel).collect());
+            let to_mesh = MeshDistance::new(&mesh);
+            let back = Stats::of(source_samples.par_iter().map(|s| to_mesh.distance(s.point) / o.voxel).collect());
             println!(
-                "| {} | {} | {mean:.3} / {rms:.3} / {max:.2} voxel | {} |",
+                "| {} | {} | {:.3} / {:.3} / {:.3} / {:.2} voxel | {:.3} / {:.2} voxel | {} |",
                 label(job),
                 thousands(mesh.triangles.len()),
+                there.mean,
+                there.median,
+                there.rms,
+                there.max,
+                back.mean,
+                back.max,
                 job.time.as_deref().unwrap_or("")
             );
         }

@@ -17,9 +17,11 @@
 //!
 //! The nearest boundary point to p is the least of three kinds of candidates (the
 //! distance restricted to a face region has no interior minimum but the global one,
-//! since on a plane, sphere, cylinder or torus the distance from p has one local
-//! minimum; on the region's border it lies on a crease, and on a crease, whose
-//! distance is unimodal for lines and circles, on the crease's own border, a corner):
+//! since on a plane, sphere or cylinder the distance from p has one local minimum, the
+//! cylinder's other critical point a saddle; else it lies on the region's border, a
+//! crease, and on a crease, whose distance is unimodal for lines and circles, at a
+//! local minimum along it or at the crease's own border, a corner; a torus is never
+//! cut, so its projection is the answer):
 //! the projection of p on each primitive surface, kept when it is a face point; the
 //! nearest point of each crease curve, kept when it is a crease point; the corners.
 //!
@@ -119,7 +121,7 @@ impl Primitive {
             Primitive::Cylinder { axis, centre, radius } => flatten(p - centre, axis).length() - radius,
             Primitive::Torus { centre, major, minor } => {
                 let d = p - centre;
-                (DVec3::new(d.x.hypot(d.y) - major, d.z, 0.0)).length() - minor
+                (d.x.hypot(d.y) - major).hypot(d.z) - minor
             }
         }
     }
