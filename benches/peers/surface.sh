@@ -1,22 +1,25 @@
 #!/usr/bin/env bash
 # Issue 38's surface table in one sitting: the classic CSG part at depth 9 in
-# [-1.1, 1.1]^3 (voxel 2.2 / 512) exported by octsolid from its .oct file, against
+# [-1.1, 1.1]^3 (voxel 2.2 / 512) exported by octsolid from its .oct file (and from
+# the same part made as `csg difference` of two saved files, body and bores), against
 # OpenVDB 10's volumeToMesh (Debian's python3-openvdb) at adaptivity 0 and 0.1 from a
 # level set of a 1024-segment exact manifold3d mesh, and manifold3d's own mesh at 96
 # segments; every mesh measured against the exact surface at 200,000 area-weighted
 # samples by the surface_quality bench (benches/surface_quality.rs). Then the Stanford
 # bunny voxelized at depth 10 and exported: its distance to the source mesh.
 #
-# Times are medians of RUNS whole commands (wall clock, load and write included);
-# for the peers the script's own inner time (OpenVDB's meshing, manifold3d's boolean)
-# is given too. Prints one Markdown table for the part, one for the bunny.
+# octsolid's exports are made as `export` does by default and, once `export` has
+# `--surface` (the smooth surface the default), with `--surface voxels` too (today's
+# staircase). Times are medians of RUNS whole commands (wall clock, load and write
+# included); for the peers the script's own inner time (OpenVDB's meshing,
+# manifold3d's boolean) is given too. Prints one Markdown table for the part, one for
+# the bunny.
 #
 #   benches/peers/setup.sh && cargo build --release
 #   benches/peers/surface.sh [RUNS=3] [OUT_DIR=target/peers/surface]
 #
-# EXPORT_FLAGS adds flags to `octsolid export` (e.g. "--surface voxels" once the
-# smooth surface is the default); SKIP_OPENVDB_0=1 leaves out the adaptivity-0 mesh
-# (3 million triangles, the slowest row).
+# SKIP_OPENVDB_0=1 leaves out the adaptivity-0 mesh (3 million triangles, the slowest
+# row).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -31,7 +34,10 @@ py="$root/target/peers-venv/bin/python"
 /usr/bin/python3 -c 'import pyopenvdb' || { echo "surface.sh: python3-openvdb missing: benches/peers/setup.sh" >&2; exit 1; }
 export OCTSOLID_PROGRESS_SECONDS=1000000
 voxel=0.004296875 # 2.2 / 512
-read -r -a export_flags <<<"${EXPORT_FLAGS:-}"
+# The export flags of each octsolid row: the default, and the staircase by name once
+# the default is the smooth surface.
+variants=("")
+"$bin" export --help | grep -q -- '--surface' && variants+=("--surface voxels")
 
 # timed NAME CMD...: runs CMD RUNS times (stdout to $out/NAME.log, the last run's
 # kept), sets $median (seconds, wall clock) and $log.
@@ -56,11 +62,22 @@ measure() { (cd "$root" && cargo bench -q --bench surface_quality -- "$@"); }
 
 cd "$out"
 rm -f ./*.inner
-# octsolid: the part's .oct (not timed), then its export from the file.
+# octsolid: the part's .oct, and the same as a difference of two saved files (not
+# timed), then each exported from its file.
 "$bin" build "$here/surface_classic.toml" -o part.oct >/dev/null
-timed octsolid-export "$bin" export part.oct -o part.obj "${export_flags[@]}"
-octsolid_s=$median
-octsolid_label="\`octsolid export part.oct -o part.obj${EXPORT_FLAGS:+ $EXPORT_FLAGS}\`"
+"$bin" build "$here/surface_classic_operands.toml" --solid body -o body.oct >/dev/null
+"$bin" build "$here/surface_classic_operands.toml" --solid bores -o bores.oct >/dev/null
+"$bin" csg difference body.oct bores.oct -o part-csg.oct >/dev/null
+octsolid_rows=()
+for k in "${!variants[@]}"; do
+    read -r -a flags <<<"${variants[$k]}"
+    suffix=${variants[$k]:+ ${variants[$k]}}
+    timed "octsolid-export-$k" "$bin" export part.oct -o "part-$k.obj" "${flags[@]}"
+    octsolid_rows+=(--label "\`octsolid export part.oct -o part.obj$suffix\`" --time "$median s" "$out/part-$k.obj")
+    timed "octsolid-export-csg-$k" "$bin" export part-csg.oct -o "part-csg-$k.obj" "${flags[@]}"
+    octsolid_rows+=(--label "the same from \`csg difference body.oct bores.oct -o part-csg.oct\`: \`export part-csg.oct$suffix\`" \
+        --time "$median s" "$out/part-csg-$k.obj")
+done
 
 # manifold3d at 96 segments; the 1024-segment "exact" mesh for OpenVDB (made once).
 inner_field=boolean_s timed manifold-96 "$py" "$here/surface_manifold.py" --segments 96 -o manifold-96.ply
@@ -78,7 +95,7 @@ for a in "${adaptivities[@]}"; do
     vdb_inner[$a]=$(median_of "openvdb-$a.inner")
 done
 
-args=(--header --label "$octsolid_label" --time "${octsolid_s} s" "$out/part.obj")
+args=(--header "${octsolid_rows[@]}")
 for a in "${adaptivities[@]}"; do
     args+=(--label "OpenVDB $(json_field "openvdb-$a.log" version) volumeToMesh, adaptivity $a (level set of a 1024-segment exact mesh)" \
         --time "${vdb_inner[$a]} s meshing, ${vdb_s[$a]} s process" "$out/openvdb-$a.ply")
@@ -92,9 +109,13 @@ measure --solid classic --voxel "$voxel" "${args[@]}"
 bunny="$root/models/stanford-bunny.obj"
 "$bin" voxelize "$bunny" --depth 10 -o bunny.oct >/dev/null
 bunny_voxel=$("$bin" info bunny.oct | awk '/voxel edge/ {print $NF; exit}' | tr -d ')')
-timed bunny-export "$bin" export bunny.oct -o bunny.obj "${export_flags[@]}"
 echo
 echo "The Stanford bunny voxelized at depth 10 (voxel $bunny_voxel), exported: distances between 200,000 samples of the export and the source mesh, and back:"
 echo
-measure --reference "$bunny" --voxel "$bunny_voxel" --header \
-    --label "\`octsolid export bunny.oct -o bunny.obj${EXPORT_FLAGS:+ $EXPORT_FLAGS}\`" --time "$median s" "$out/bunny.obj"
+args=(--header)
+for k in "${!variants[@]}"; do
+    read -r -a flags <<<"${variants[$k]}"
+    timed "bunny-export-$k" "$bin" export bunny.oct -o "bunny-$k.obj" "${flags[@]}"
+    args+=(--label "\`octsolid export bunny.oct -o bunny.obj${variants[$k]:+ ${variants[$k]}}\`" --time "$median s" "$out/bunny-$k.obj")
+done
+measure --reference "$bunny" --voxel "$bunny_voxel" "${args[@]}"
