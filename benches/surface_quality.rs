@@ -33,9 +33,8 @@ mod mesh_distance;
 
 use std::process::ExitCode;
 
-use exact_surface::{DEFAULT_SAMPLES, ExactSolid, measure_with, sample_mesh};
+use exact_surface::{DEFAULT_SAMPLES, ExactSolid, measure_with, par_map, sample_mesh};
 use mesh_distance::MeshDistance;
-use rayon::prelude::*;
 
 /// One mesh to measure, with its row's label and time.
 struct Job {
@@ -149,9 +148,9 @@ fn run(o: &Options) -> Result<(), String> {
         for job in &o.jobs {
             let mesh = octsolid::mesh::read_mesh(&job.path).map_err(|e| e.to_string())?;
             let samples = sample_mesh(&mesh, o.samples, o.seed);
-            let there = Stats::of(samples.par_iter().map(|s| to_source.distance(s.point) / o.voxel).collect());
+            let there = Stats::of(par_map(&samples, |s| to_source.distance(s.point) / o.voxel));
             let to_mesh = MeshDistance::new(&mesh);
-            let back = Stats::of(source_samples.par_iter().map(|s| to_mesh.distance(s.point) / o.voxel).collect());
+            let back = Stats::of(par_map(&source_samples, |s| to_mesh.distance(s.point) / o.voxel));
             println!(
                 "| {} | {} | {:.3} / {:.3} / {:.3} / {:.2} voxel | {:.3} / {:.2} voxel | {} |",
                 label(job),

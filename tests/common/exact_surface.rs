@@ -52,13 +52,13 @@
 //! triangle's normal (as wound: counter-clockwise seen from outside) and the exact
 //! normal at the nearest surface point, median and share within 5 degrees, over the
 //! samples whose nearest surface point lies at least [`EDGE_BAND_VOXELS`] from every
-//! crease. Samples are measured in parallel (rayon) and the statistics are
-//! independent of the order.
+//! crease. Samples are measured in parallel ([`par_map`]: scoped threads, so the
+//! suites of every package that include tests/common need no thread pool crate) and
+//! the statistics are independent of the order.
 #![allow(dead_code)]
 
 use glam::DVec3;
 use octsolid::mesh::TriangleMesh;
-use rayon::prelude::*;
 
 /// Samples of each crease curve's parameter range.
 pub const CURVE_SAMPLES: usize = 4096;
@@ -245,8 +245,6 @@ struct Crease {
     /// The two primitives meeting along it.
     pair: [usize; 2],
     kind: CurveKind,
-    /// Whether the parameter is an angle (the curve closes at 2 pi).
-    closed: bool,
     /// The parameter spacing of the samples.
     step: f64,
     /// Kept samples: parameter and point.
@@ -406,11 +404,11 @@ impl ExactSolid {
                 (c * CHUNK..c * CHUNK + chunk.len(), lo, hi)
             })
             .collect();
-        self.creases.push(Crease { pair, kind, closed, step, samples, chunks });
+        self.creases.push(Crease { pair, kind, step, samples, chunks });
     }
 
     /// The nearest crease point to `p` and its distance, searched below `limit`
-    /// (infinite distance and `p` when there is none nearer).
+    /// (`(limit, p)` when there is none nearer).
     fn nearest_crease(&self, p: DVec3, limit: f64) -> (f64, DVec3) {
         let mut best = (limit, p);
         for crease in &self.creases {
@@ -772,15 +770,12 @@ pub fn measure(mesh: &TriangleMesh, solid: &ExactSolid, voxel: f64) -> Quality {
 pub fn measure_with(mesh: &TriangleMesh, solid: &ExactSolid, voxel: f64, n: usize, seed: u64) -> Quality {
     let samples = sample_mesh(mesh, n, seed);
     let band = EDGE_BAND_VOXELS * voxel;
-    let measured: Vec<(f64, Option<f64>)> = samples
-        .par_iter()
-        .map(|s| {
-            let near = solid.nearest(s.point);
-            let away = solid.nearest_crease(near.point, band).0 >= band;
-            let angle = s.normal.dot(near.normal).clamp(-1.0, 1.0).acos().to_degrees();
-            (near.distance / voxel, away.then_some(angle))
-        })
-        .collect();
+    let measured: Vec<(f64, Option<f64>)> = par_map(&samples, |s| {
+        let near = solid.nearest(s.point);
+        let away = solid.nearest_crease(near.point, band).0 >= band;
+        let angle = s.normal.dot(near.normal).clamp(-1.0, 1.0).acos().to_degrees();
+        (near.distance / voxel, away.then_some(angle))
+    });
     let rms = (measured.iter().map(|m| m.0 * m.0).sum::<f64>() / n as f64).sqrt();
     let max = measured.iter().map(|m| m.0).fold(0.0, f64::max);
     let mut angles: Vec<f64> = measured.iter().filter_map(|m| m.1).collect();
@@ -796,4 +791,16 @@ pub fn measure_with(mesh: &TriangleMesh, solid: &ExactSolid, voxel: f64, n: usiz
         share_within_5deg_away_from_edges: within as f64 / angles.len().max(1) as f64,
         share_away_from_edges: angles.len() as f64 / n as f64,
     }
+}
+
+/// `f` of every item, in order, on all cores: the items cut into one run a thread
+/// (`std::thread::available_parallelism`), each run mapped by a scoped thread.
+pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let run = items.len().div_ceil(threads).max(1);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> =
+            items.chunks(run).map(|chunk| scope.spawn(|| chunk.iter().map(&f).collect::<Vec<R>>())).collect();
+        handles.into_iter().flat_map(|h| h.join().expect("a measuring thread panicked")).collect()
+    })
 }
