@@ -1,7 +1,10 @@
-//! Shared by the test suites: a seeded generator, random solids, scratch folders and
-//! a folder's files.
+//! Shared by the test suites: a seeded generator, random solids, scratch folders, a
+//! folder's files, the exact surfaces of analytic solids (the oracle of a mesh's
+//! distance and normals) and the distance to a reference mesh.
 #![allow(dead_code)]
 
+pub mod exact_surface;
+pub mod mesh_distance;
 mod rng;
 pub mod self_intersection;
 
