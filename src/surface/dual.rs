@@ -16,9 +16,13 @@
 //! holds one vertex for each component of the surface inside it.
 //!
 //! A vertex's planes are the crossings of its sheet's faces (the edges of its cell
-//! that the sheet crosses); it goes to the QEF's minimiser ([`super::qef`]), clamped to
-//! its cell (the cube of one voxel centred on the corner), so every vertex stays within
-//! its cell as the paper asks. A vertex none of whose faces carries a crossing
+//! that the sheet crosses); it goes to the QEF's minimiser ([`super::qef`]) within its
+//! cell (the cube of one voxel centred on the corner; a minimiser outside slides along
+//! the cell's faces), so every vertex stays within its cell as the paper asks. A cell
+//! whose edges cross only two of the three faces at a corner of the solid sees a
+//! crease, and its vertex lands on the crease's line, up to a third of a voxel past the
+//! corner (the Manifold DC shares this; a vertex of the two-ring's planes
+//! would find the corner, not tried yet). A vertex none of whose faces carries a crossing
 //! (occupancy only: a `.vox`, an old `.oct`) starts at the mean of its faces' centres
 //! and is relaxed towards the mean of its neighbours within its cell, a few rounds, as
 //! Surface Nets do (Gibson 1998): an estimate, reported as such.
@@ -61,7 +65,6 @@ pub(crate) struct DualMesh {
     /// Vertex positions, lattice units.
     pub positions: Vec<DVec3>,
     /// Each vertex's voxel corner (the centre of its cell).
-    #[allow(dead_code)] // Read by the untangling step.
     pub corners: Vec<[u32; 3]>,
     /// Each vertex's kind.
     pub kinds: Vec<VertexKind>,
@@ -203,19 +206,19 @@ fn place(
         let position = p + centres / fan.len() as f64;
         return Placed { position, kind: VertexKind::Estimated, clamped: false, distance: 0.0 };
     }
-    let solution = qef.solve();
+    let (solution, clamped) = qef.solve_within(DVec3::splat(-0.5), DVec3::splat(0.5));
     let kind = match solution.rank {
         0 | 1 => VertexKind::Smooth,
         2 => VertexKind::Crease,
         _ => VertexKind::Corner,
     };
-    let x = solution.point.clamp(DVec3::splat(-0.5), DVec3::splat(0.5));
+    let x = solution.point;
     let distance = fan
         .iter()
         .filter_map(|&f| crossings[f as usize].map(|c| (faces[f as usize], c)))
         .map(|(key, c)| c.normal.as_dvec3().dot(x - (c.point(key) - p)).abs())
         .fold(0.0, f64::max);
-    Placed { position: p + x, kind, clamped: x != solution.point, distance }
+    Placed { position: p + x, kind, clamped, distance }
 }
 
 /// Surface Nets' relaxation of the estimated vertices: each moves to the mean of its

@@ -11,8 +11,10 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::dual::{DualMesh, VertexKind, split_quad};
-use super::hermite::{Crossing, HermiteData};
+use super::dual::{DualMesh, VertexKind};
+use super::untangle::untangle;
+use super::hermite::HermiteData;
+use super::simplify::{SimplifyOptions, SimplifyReport, simplify};
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, try_boundary_mesh};
@@ -85,6 +87,8 @@ pub struct SurfaceMesh {
     pub mesh: TriangleMesh,
     /// The style it was made in.
     pub style: Style,
+    /// What simplification did (`None` at tolerance 0 and for the staircase).
+    pub simplified: Option<SimplifyReport>,
     /// The largest distance, in voxels, from a dual contouring vertex to the tangent
     /// planes of its crossings (0 for the staircase).
     pub vertex_distance: f64,
@@ -126,6 +130,7 @@ pub fn extract(
         return Ok(SurfaceMesh {
             mesh,
             style: Style::Voxels,
+            simplified: None,
             vertex_distance: 0.0,
             smooth: 0,
             creases: 0,
@@ -137,24 +142,25 @@ pub fn extract(
     let size = BoundarySize::of(tree);
     let bytes = u64::try_from(size.unit_faces).unwrap_or(u64::MAX).saturating_mul(BYTES_PER_FACE);
     options.budget.check(format!("the surface of {} boundary voxel faces", size.unit_faces), bytes)?;
-    progress.start(2);
+    progress.start(3);
     let dual = DualMesh::of(tree, hermite)?;
     progress.advance(1);
-    let triangles: Vec<[u32; 3]> = (0..dual.quads.len())
-        .into_par_iter()
-        .with_min_len(4096)
-        .flat_map_iter(|f| {
-            let key = dual.faces[f];
-            let crossing = dual.crossings[f].unwrap_or_else(|| Crossing::face(key));
-            split_quad(dual.quads[f], &dual.positions, crossing.point(key))
-        })
-        .collect();
+    let mut dual = dual;
+    let triangles = untangle(&mut dual);
     let domain = tree.domain();
     let (min, voxel) = (domain.min(), domain.voxel_size());
     let vertices: Vec<DVec3> = dual.positions.par_iter().map(|&p| min + p * voxel).collect();
     let count = |kind| dual.kinds.iter().filter(|&&k| k == kind).count();
+    let mut mesh = TriangleMesh { vertices, triangles, groups: Vec::new() };
+    let mut simplified = None;
+    if options.tolerance > 0.0 && !mesh.triangles.is_empty() {
+        let (smaller, report) = simplify(&mesh, &SimplifyOptions::new(options.tolerance * voxel))?;
+        mesh = smaller;
+        simplified = Some(report);
+    }
     let surface = SurfaceMesh {
-        mesh: TriangleMesh { vertices, triangles, groups: Vec::new() },
+        mesh,
+        simplified,
         style: Style::Smooth,
         vertex_distance: dual.vertex_distance,
         smooth: count(VertexKind::Smooth),

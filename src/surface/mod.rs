@@ -6,6 +6,7 @@
 //! - `faces`: a solid's boundary faces, one a voxel face.
 //! - `qef`: the point nearest a cell's tangent planes, and their rank.
 //! - `dual`: a vertex a sheet at each boundary voxel corner, the faces as quads.
+//! - `untangle`: crossing triangles' vertices moved back towards the staircase.
 //! - `simplify`: edge collapses under a distance bound, kept manifold and uncrossed.
 //! - `extract`: [`extract`], the surface as an indexed mesh.
 
@@ -15,6 +16,7 @@ mod faces;
 pub mod hermite;
 mod qef;
 mod simplify;
+mod untangle;
 
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};

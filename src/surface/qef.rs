@@ -110,6 +110,85 @@ impl Qef {
 }
 
 impl Qef {
+    /// The minimiser within the box `[lo, hi]`: [`Qef::solve`]'s point when it lies
+    /// inside, else the coordinates outside are clamped to the box's faces and the
+    /// others solved again with those fixed (the QEF restricted to the face, then the
+    /// edge), up to three times; the flag says whether the box stopped the point.
+    #[must_use]
+    pub fn solve_within(&self, lo: DVec3, hi: DVec3) -> (QefSolution, bool) {
+        let free = self.solve();
+        let inside = |x: DVec3| x.cmpge(lo).all() && x.cmple(hi).all();
+        if inside(free.point) {
+            return (free, false);
+        }
+        let a = self.matrix();
+        let scale = a.x_axis.x.max(a.y_axis.y).max(a.z_axis.z).max(1.0);
+        let mut x = free.point.clamp(lo, hi);
+        let mut fixed = [false; 3];
+        for _ in 0..3 {
+            for i in 0..3 {
+                fixed[i] |= x[i] <= lo[i] || x[i] >= hi[i];
+            }
+            // A' x = b' with the fixed coordinates' rows and columns replaced by
+            // `scale` on the diagonal (block diagonal: they come out as fixed).
+            let mut reduced = *self;
+            let mut m = self.mass_point();
+            let mut rhs = self.b;
+            let mut cols = [a.x_axis, a.y_axis, a.z_axis];
+            for i in 0..3 {
+                if fixed[i] {
+                    rhs -= cols[i] * x[i];
+                }
+            }
+            for i in 0..3 {
+                if fixed[i] {
+                    cols[i] = DVec3::ZERO;
+                    cols[i][i] = scale;
+                    for (j, col) in cols.iter_mut().enumerate() {
+                        if j != i {
+                            col[i] = 0.0;
+                        }
+                    }
+                    rhs[i] = scale * x[i];
+                    m[i] = x[i];
+                }
+            }
+            reduced.set_matrix(DMat3::from_cols(cols[0], cols[1], cols[2]));
+            reduced.b = rhs;
+            reduced.mass = m * f64::from(reduced.count.max(1));
+            reduced.count = reduced.count.max(1);
+            let point = reduced.solve_around(m).clamp(lo, hi);
+            let done = inside(point) && (0..3).all(|i| fixed[i] || (point[i] > lo[i] && point[i] < hi[i]));
+            x = point;
+            if done {
+                break;
+            }
+        }
+        (QefSolution { point: x, error: self.error(x), rank: free.rank }, true)
+    }
+
+    fn set_matrix(&mut self, m: DMat3) {
+        self.a = [m.x_axis.x, m.y_axis.x, m.z_axis.x, m.y_axis.y, m.z_axis.y, m.z_axis.z];
+    }
+
+    /// The truncated pseudo-inverse solution around `m`.
+    fn solve_around(&self, m: DVec3) -> DVec3 {
+        let a = self.matrix();
+        let (values, vectors) = symmetric_eigen(a);
+        let largest = values.max_element();
+        let residual = self.b - a * m;
+        let mut point = m;
+        if largest > 0.0 {
+            for i in 0..3 {
+                if values[i] > TRUNCATION * largest {
+                    let v = vectors.col(i);
+                    point += v * (v.dot(residual) / values[i]);
+                }
+            }
+        }
+        point
+    }
+
     /// The rank-1 case without an eigen-decomposition: when the planes' normals all lie
     /// within [`FLAT_SPREAD`] of their mean `n`, the second eigenvalue is under
     /// [`TRUNCATION`] times the first, and the solution is `m + s n` with `s` minimising
@@ -206,6 +285,20 @@ mod tests {
         assert_eq!(s.rank, 3);
         assert!((s.point - corner).length() < 1e-12);
         assert!(s.error < 1e-20);
+    }
+
+    #[test]
+    fn a_point_outside_the_box_slides_along_its_face() {
+        // Planes x = 0.8 and y = 0.1 (a crease along z); the box stops x at 0.5, and
+        // along the face x = 0.5 the best point keeps y = 0.1.
+        let mut q = Qef::default();
+        q.add(DVec3::new(0.8, 0.0, 0.2), DVec3::X);
+        q.add(DVec3::new(0.8, 0.3, -0.2), DVec3::X);
+        q.add(DVec3::new(0.2, 0.1, 0.0), DVec3::Y);
+        q.add(DVec3::new(0.4, 0.1, 0.0), DVec3::Y);
+        let (s, clamped) = q.solve_within(DVec3::splat(-0.5), DVec3::splat(0.5));
+        assert!(clamped);
+        assert!((s.point - DVec3::new(0.5, 0.1, 0.0)).length() < 1e-12, "{:?}", s.point);
     }
 
     #[test]

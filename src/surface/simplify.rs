@@ -45,6 +45,7 @@ mod block;
 mod gap;
 mod quadric;
 mod tri_tri;
+pub(crate) use tri_tri::triangles_clash;
 
 use glam::DVec3;
 use rayon::prelude::*;

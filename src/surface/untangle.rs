@@ -1,0 +1,213 @@
+//! Untangling: the dual mesh made free of self-intersections by moving the vertices
+//! of crossing triangles back towards the staircase.
+//!
+//! Dual contouring keeps every vertex in its cell but not every triangle clear of the
+//! others: where a cell holds a crease, a thin wall or two sheets, a quad can pass
+//! through its neighbours (Ju et al. 2002 leave this open; Manifold Dual Contouring
+//! avoids it by its vertex clustering's tests). Here each vertex has a **safe**
+//! position, the staircase's corner with the sheets moved apart
+//! ([`crate::mesh::separate_sheets`], a thousandth of a voxel), where the mesh is the
+//! voxels' boundary and crosses nothing (tests/stl_export.rs checks it). A vertex sits at
+//! `safe + w (qef - safe)`, `w` from 1 down to 0. Each round finds the pairs of
+//! triangles that cross (exact predicates) and halves `w` at their vertices (to 0
+//! after four halvings), and their faces fall back to the staircase's diagonal when all
+//! four corners are safe, until no pair crosses. At `w = 0` everywhere it is the
+//! staircase, so the loop ends; in practice a round or two moves a few vertices a
+//! fraction of a voxel.
+//!
+//! Which triangles are tested: a crossing needs a triangle near a **risky** vertex: one
+//! on a crease or corner, clamped to its cell, estimated, sharing its voxel corner with
+//! another sheet, with faces looking opposite ways (a wall or a gap one voxel thin), or
+//! whose crossings' normals differ by more than 60 degrees. Triangles at risky vertices
+//! are tested against every triangle whose box meets theirs (those of faces with a
+//! corner within two voxels), and the vertices a round moves become risky. A smooth,
+//! well-resolved surface is not tested (its vertices lie on the surface, a voxel's
+//! hundredth from their tangent planes, and its triangles stay in their cells); the
+//! tests check the whole mesh by brute force on random solids.
+
+use glam::DVec3;
+use rayon::prelude::*;
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use super::dual::{DualMesh, VertexKind, split_quad};
+use super::hermite::Crossing;
+use super::simplify::triangles_clash;
+use crate::mesh::{TriangleMesh, separate};
+
+/// Rounds at most before every vertex still crossing goes to its safe position.
+const MAX_ROUNDS: usize = 12;
+/// Halvings of a weight before it is set to 0.
+const LAST_WEIGHT: f64 = 1.0 / 16.0;
+/// Crossings' normals further apart than this (cosine of 60 degrees) make a vertex risky.
+const RISKY_NORMAL_COSINE: f64 = 0.5;
+
+/// The dual mesh's triangles, with the vertices of crossing triangles moved towards
+/// their safe positions until none cross (module doc). `positions` are lattice units.
+pub(crate) fn untangle(dual: &mut DualMesh) -> Vec<[u32; 3]> {
+    let n = dual.positions.len();
+    let qef = dual.positions.clone();
+    let corners: Vec<DVec3> = dual.corners.iter().map(|c| DVec3::new(c[0].into(), c[1].into(), c[2].into())).collect();
+    let staircase = TriangleMesh {
+        vertices: corners.clone(),
+        triangles: dual.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect(),
+        groups: Vec::new(),
+    };
+    let safe = separate(&staircase).map(|m| m.vertices).unwrap_or(corners);
+    drop(staircase);
+    let mut weight = vec![1.0_f64; n];
+    let mut risky = risky_vertices(dual);
+    let mut triangles = split_all(dual);
+    for round in 0..=MAX_ROUNDS {
+        if !risky.iter().any(|&r| r) {
+            break;
+        }
+        let crossing = crossing_vertices(dual, &triangles, &risky);
+        if crossing.is_empty() {
+            break;
+        }
+        risky = vec![false; n];
+        for v in crossing {
+            let w = &mut weight[v as usize];
+            *w = if round == MAX_ROUNDS || *w <= LAST_WEIGHT { 0.0 } else { *w * 0.5 };
+            dual.positions[v as usize] = safe[v as usize] + (qef[v as usize] - safe[v as usize]) * *w;
+            risky[v as usize] = true;
+        }
+        // Faces at moved vertices are cut again; all-safe faces as the staircase is.
+        let moved: FxHashSet<u32> = (0..n as u32).filter(|&v| risky[v as usize]).collect();
+        for (f, q) in dual.quads.iter().enumerate() {
+            if q.iter().any(|v| moved.contains(v)) {
+                let pair = if q.iter().all(|&v| weight[v as usize] == 0.0) {
+                    [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
+                } else {
+                    split_face(dual, f)
+                };
+                triangles[2 * f] = pair[0];
+                triangles[2 * f + 1] = pair[1];
+            }
+        }
+    }
+    triangles
+}
+
+/// Face `f`'s two triangles, cut by [`split_quad`] at the current positions.
+fn split_face(dual: &DualMesh, f: usize) -> [[u32; 3]; 2] {
+    let key = dual.faces[f];
+    let crossing = dual.crossings[f].unwrap_or_else(|| Crossing::face(key));
+    split_quad(dual.quads[f], &dual.positions, crossing.point(key))
+}
+
+/// Every face's two triangles, face `f`'s at `2 f` and `2 f + 1`.
+fn split_all(dual: &DualMesh) -> Vec<[u32; 3]> {
+    (0..dual.quads.len()).into_par_iter().with_min_len(4096).flat_map_iter(|f| split_face(dual, f)).collect()
+}
+
+/// The vertices where crossings may start (module doc).
+fn risky_vertices(dual: &DualMesh) -> Vec<bool> {
+    let n = dual.positions.len();
+    let mut fans: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for (f, q) in dual.quads.iter().enumerate() {
+        for &v in q {
+            fans[v as usize].push(f as u32);
+        }
+    }
+    (0..n)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|v| {
+            if dual.kinds[v] != VertexKind::Smooth || dual.clamped[v] {
+                return true;
+            }
+            let shared = (v > 0 && dual.corners[v - 1] == dual.corners[v])
+                || (v + 1 < n && dual.corners[v + 1] == dual.corners[v]);
+            if shared {
+                return true;
+            }
+            let fan = &fans[v];
+            let mut directions = 0u8;
+            for &f in fan {
+                directions |= 1 << dual.faces[f as usize].direction;
+            }
+            if (0..3).any(|a| directions >> (2 * a) & 3 == 3) {
+                return true;
+            }
+            let normals: Vec<DVec3> =
+                fan.iter().filter_map(|&f| dual.crossings[f as usize]).map(|c| c.normal.as_dvec3()).collect();
+            normals.iter().enumerate().any(|(i, a)| normals[i + 1..].iter().any(|b| a.dot(*b) < RISKY_NORMAL_COSINE))
+        })
+        .collect()
+}
+
+/// The vertices of triangles that cross another, testing the triangles at `risky`
+/// vertices against those near them.
+fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) -> Vec<u32> {
+    // Voxel corners within two of a risky vertex's.
+    let mut near: FxHashSet<[u32; 3]> = FxHashSet::default();
+    for (v, _) in risky.iter().enumerate().filter(|(_, r)| **r) {
+        let c = dual.corners[v];
+        for dx in 0..5u32 {
+            for dy in 0..5u32 {
+                for dz in 0..5u32 {
+                    let p = [c[0].wrapping_add(dx).wrapping_sub(2), c[1].wrapping_add(dy).wrapping_sub(2), c[2].wrapping_add(dz).wrapping_sub(2)];
+                    near.insert(p);
+                }
+            }
+        }
+    }
+    // The triangles of faces with a corner there, in a grid of unit cells by their boxes.
+    let position = |v: u32| dual.positions[v as usize];
+    let mut grid: FxHashMap<[i64; 3], Vec<u32>> = FxHashMap::default();
+    for (f, q) in dual.quads.iter().enumerate() {
+        if !q.iter().any(|&v| near.contains(&dual.corners[v as usize])) {
+            continue;
+        }
+        for t in [2 * f, 2 * f + 1] {
+            let p = triangles[t].map(position);
+            let (lo, hi) = (p[0].min(p[1]).min(p[2]).floor(), p[0].max(p[1]).max(p[2]).floor());
+            for x in lo.x as i64..=hi.x as i64 {
+                for y in lo.y as i64..=hi.y as i64 {
+                    for z in lo.z as i64..=hi.z as i64 {
+                        grid.entry([x, y, z]).or_default().push(t as u32);
+                    }
+                }
+            }
+        }
+    }
+    let mut cells: Vec<(&[i64; 3], &Vec<u32>)> = grid.iter().collect();
+    cells.sort_unstable_by_key(|(k, _)| **k);
+    let is_risky = |t: u32| triangles[t as usize].iter().any(|&v| risky[v as usize]);
+    let pairs: Vec<(u32, u32)> = cells
+        .par_iter()
+        .flat_map_iter(|(_, list)| {
+            let mut found = Vec::new();
+            for (i, &s) in list.iter().enumerate() {
+                for &t in &list[i + 1..] {
+                    if !(is_risky(s) || is_risky(t)) {
+                        continue;
+                    }
+                    let (a, b) = (triangles[s as usize].map(position), triangles[t as usize].map(position));
+                    let (alo, ahi) = (a[0].min(a[1]).min(a[2]), a[0].max(a[1]).max(a[2]));
+                    let (blo, bhi) = (b[0].min(b[1]).min(b[2]), b[0].max(b[1]).max(b[2]));
+                    if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
+                        continue;
+                    }
+                    if triangles_cross(triangles[s as usize], a, triangles[t as usize], b) {
+                        found.push((s, t));
+                    }
+                }
+            }
+            found
+        })
+        .collect();
+    let mut vertices: Vec<u32> = pairs.iter().flat_map(|&(s, t)| triangles[s as usize].into_iter().chain(triangles[t as usize])).collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    vertices
+}
+
+/// Whether two triangles of the mesh cross: they meet beyond what they share, by index
+/// (two sheets' vertices at one point are not shared: their triangles must not touch).
+fn triangles_cross(si: [u32; 3], s: [DVec3; 3], ti: [u32; 3], t: [DVec3; 3]) -> bool {
+    let shares_position_not_index =
+        (0..3).any(|i| (0..3).any(|j| s[i] == t[j] && si[i] != ti[j]));
+    shares_position_not_index || triangles_clash(s, t)
+}
