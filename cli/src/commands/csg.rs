@@ -123,7 +123,7 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
             Ok(sharded::write(&result, meta.unwrap_or_default(), output, options)?)
         });
     }
-    let bytes = write_solid_file(output, &result, &meta.unwrap_or_default(), budget)?;
+    let bytes = write_solid_file(output, &result, &meta.unwrap_or_default(), None, budget)?;
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     print_summary(&result, None);
     Ok(())

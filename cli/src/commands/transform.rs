@@ -90,7 +90,7 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
             let options = WriteOptions { budget, ..WriteOptions::default() };
             octsolid::write_solid_file(&a.output, &moved.borrowed(), &options, &NoProgress)?
         }
-        None => write_solid_file(&a.output, &moved, &meta, budget)?,
+        None => write_solid_file(&a.output, &moved, &meta, None, budget)?,
     };
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&moved, None);
