@@ -34,7 +34,7 @@ use rayon::prelude::*;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::LinearOctree;
-use crate::surface::{Crossing, FaceKey, HermiteData};
+use crate::surface::{Crossing, FaceKey, HermiteData, is_boundary_face};
 
 /// The first four bytes of the section.
 pub(crate) const SECTION_MAGIC: [u8; 4] = *b"SURF";
@@ -129,7 +129,10 @@ pub(crate) fn decode(
     if bytes.len() < SECTION_HEADER_BYTES + 4 {
         return Err(fail(
             bytes.len(),
-            format!("{} bytes are shorter than its {}-byte header and checksum", bytes.len(), SECTION_HEADER_BYTES + 4),
+            format!(
+                "{} bytes are shorter than its {SECTION_HEADER_BYTES}-byte header and 4-byte checksum",
+                bytes.len()
+            ),
         ));
     }
     if bytes[..4] != SECTION_MAGIC {
@@ -221,25 +224,6 @@ pub(crate) fn decode(
         ));
     }
     Ok(HermiteData::from_faces(faces))
-}
-
-/// Whether `key`'s voxel is full in `tree` and its neighbour across the face empty or
-/// outside the domain.
-pub(crate) fn is_boundary_face(tree: &LinearOctree, key: FaceKey) -> bool {
-    let v = key.voxel();
-    if !tree.contains_voxel(v) {
-        return false;
-    }
-    let mut n = v;
-    let a = key.axis();
-    let Some(c) = (if key.positive() { v[a].checked_add(1) } else { v[a].checked_sub(1) }) else {
-        return true;
-    };
-    if c >= tree.domain().resolution() {
-        return true;
-    }
-    n[a] = c;
-    !tree.contains_voxel(n)
 }
 
 /// The offset in the section of face `index`'s record (the body is known to parse).

@@ -124,6 +124,12 @@ impl HermiteData {
         HermiteData { faces }
     }
 
+    /// From `(face, crossing)` pairs already strictly sorted by face.
+    pub(crate) fn from_sorted(faces: Vec<(FaceKey, Crossing)>) -> Self {
+        debug_assert!(faces.windows(2).all(|w| w[0].0 < w[1].0), "faces not strictly sorted");
+        HermiteData { faces }
+    }
+
     /// The crossings, sorted by face.
     #[must_use]
     pub fn faces(&self) -> &[(FaceKey, Crossing)] {
