@@ -142,6 +142,13 @@ impl HermiteData {
         self.faces.len()
     }
 
+    /// The memory the crossings hold, in bytes (what a reader checks against its
+    /// budget before allocating them).
+    #[must_use]
+    pub fn bytes(&self) -> usize {
+        self.faces.len() * std::mem::size_of::<(FaceKey, Crossing)>()
+    }
+
     /// Whether no face carries a crossing.
     #[must_use]
     pub fn is_empty(&self) -> bool {

@@ -3,6 +3,7 @@
 //! over all of them (`LinearOctree::combine_all`, parallel over Morton ranges). Into an
 //! `.oct` file, the operands' surface data is carried through (`HermiteData::combine`).
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -59,9 +60,10 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
             .shards
             .write(output, budget, Instant::now(), |options| Ok(sharded::combine(&solids, op, output, options)?));
     }
-    // The budget is the job's: every operand is held while the next is read, and the
-    // result is made beside them all.
-    let held = |trees: &[LinearOctree]| trees.iter().map(|t| t.bytes() as u64).sum::<u64>();
+    // The budget is the job's: every operand (its tree and its surface data) is held
+    // while the next is read, and the result is made beside them all.
+    let surface_bytes = Cell::new(0u64);
+    let held = |trees: &[LinearOctree]| trees.iter().map(|t| t.bytes() as u64).sum::<u64>() + surface_bytes.get();
     let left = |trees: &[LinearOctree]| MemoryBudget(budget.0.saturating_sub(held(trees)));
     // A refusal for memory after the first operand says what the others hold.
     let whole_job = |e: anyhow::Error, trees: &[LinearOctree]| {
@@ -84,6 +86,7 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
         let mut file = read_solid_file(path, &a.read, left(&trees)).map_err(|e| whole_job(e, &trees))?;
         meta.get_or_insert(file.meta);
         surfaces.push(file.surface.take());
+        surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
         trees.push(file.into_union());
     }
     let common = common_domain(&trees.iter().map(|t| *t.domain()).collect::<Vec<_>>())?;
@@ -106,6 +109,7 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
         if let Some(surface) = surfaces[i].take() {
             // Whole-voxel offsets carry the data; a refinement or a resampling drops it.
             surfaces[i] = surface.transformed(trees[i].domain(), DAffine3::IDENTITY, &fitted, fit);
+            surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
             if surfaces[i].is_none() {
                 out!(
                     "{}: its surface data is left out ({fit}): its faces take part as the voxels' own",
