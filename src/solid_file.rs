@@ -126,8 +126,9 @@ impl SolidFile {
 ///
 /// `.vox`, `.vdb` and `.glb` write every solid with its name and colour; the others
 /// hold one solid and refuse more (take the union first): `.oct` with `options.meta`
-/// and `options.surface`, `.octs` with `options.meta` (its shards carry no surface data yet; `.octs` at the default cell level, in one job: a command with its
-/// own cells writes through [`sharded::write`]), `.binvox`, and `.obj`, `.stl`,
+/// and `options.surface`, `.octs` with `options.meta` and no surface data (at the
+/// default cell level, in one job: a command with its own cells writes through
+/// [`sharded::write`]), `.binvox`, and `.obj`, `.stl`,
 /// `.ply` and `.3mf` the solid's boundary mesh with merged faces (`progress` counts its steps),
 /// refused for an empty solid, which has none.
 pub fn write_solid_file(

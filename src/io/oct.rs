@@ -11,7 +11,7 @@
 //! Optionally the solid's surface data (its [`HermiteData`]) follows the payload in a
 //! section of its own, flagged by bit 0 of the header's flags field (reserved zero
 //! before, so older builds refuse such a file cleanly rather than misread it) and
-//! checked on its own ([`super::oct_surface`]). A file without it is byte for byte what
+//! checked on its own (`io/oct_surface.rs`). A file without it is byte for byte what
 //! earlier builds wrote.
 
 use std::path::Path;
