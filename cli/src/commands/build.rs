@@ -72,8 +72,10 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     }
     // A shape solid's surface data, from the CSG tree it was voxelized from (a mesh or
     // oct solid has no shape here, and gets none).
-    let surface = match build_shape(&a.scene, a.solid.as_deref(), budget) {
-        Ok((shape, domain)) if domain == *tree.domain() => surface_for(&a.output, &shape, &tree),
+    let to_oct = FileKind::of(&a.output, &[FileKind::Oct]).is_ok();
+    let shape = if to_oct { build_shape(&a.scene, a.solid.as_deref(), budget).ok() } else { None };
+    let surface = match shape {
+        Some((shape, domain)) if domain == *tree.domain() => surface_for(&a.output, &shape, &tree),
         _ => None,
     };
     let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), surface, budget)?;
