@@ -4,7 +4,7 @@
 //!
 //! | kind | read | written from |
 //! |------|------|--------------|
-//! | `.oct` | the solid and its [`Metadata`] (up axis, units) | one solid, with [`WriteOptions::meta`] |
+//! | `.oct` | the solid, its [`Metadata`] (up axis, units) and its surface data when the file has it | one solid, with [`WriteOptions::meta`] and [`WriteOptions::surface`] |
 //! | `.octs` | the whole sharded solid within the budget ([`crate::sharded`]; [`SolidFile::read_to_draw`]: at the finest depth that fits) | one solid, at the default cell level, with the metadata |
 //! | `.vox`, `.vdb` | one solid a palette colour, one a grid | one solid each |
 //! | `.binvox` | one solid | one solid |
@@ -27,6 +27,7 @@ use crate::mesh::{BoundaryOptions, try_boundary_mesh, write_mesh};
 use crate::octree::LinearOctree;
 use crate::progress::Progress;
 use crate::sharded::{self, ShardedSolid, StreamOptions};
+use crate::surface::HermiteData;
 
 /// A solid file as read: its kind, its solids over one domain, and what it records
 /// about its source.
@@ -38,6 +39,9 @@ pub struct SolidFile {
     pub solids: Solids,
     /// `.oct`'s and `.octs`'s up axis and units; the default elsewhere.
     pub meta: Metadata,
+    /// The solid's surface data (crossings and normals of its boundary faces) where an
+    /// `.oct` file carries it ([`oct::read_and_surface`]); `None` elsewhere.
+    pub surface: Option<HermiteData>,
     /// A sharded solid read coarser than it is to fit the budget
     /// ([`SolidFile::read_to_draw`]): its own depth; `None` when read at full depth.
     pub coarsened_from: Option<u8>,
@@ -52,8 +56,8 @@ impl SolidFile {
         let kind = FileKind::of(path, FileKind::SOLIDS)?;
         let file = match kind {
             FileKind::Oct => {
-                let (tree, meta) = oct::read_and_metadata(path, options.budget)?;
-                SolidFile::one(path, kind, tree, meta)
+                let (tree, meta, surface) = oct::read_and_surface(path, options.budget)?;
+                SolidFile { surface, ..SolidFile::one(path, kind, tree, meta) }
             }
             FileKind::Octs => {
                 let solid = ShardedSolid::open(path)?;
@@ -106,12 +110,12 @@ impl SolidFile {
     /// A file of one solid without a colour, named by the file's stem.
     fn one(path: &Path, kind: FileKind, tree: LinearOctree, meta: Metadata) -> SolidFile {
         let solids = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new(file_stem(path), None, tree)] };
-        SolidFile { kind, solids, meta, coarsened_from: None }
+        SolidFile { kind, solids, meta, surface: None, coarsened_from: None }
     }
 
     /// A file of the solids a format of many read.
     fn many(kind: FileKind, solids: Solids) -> SolidFile {
-        SolidFile { kind, solids, meta: Metadata::default(), coarsened_from: None }
+        SolidFile { kind, solids, meta: Metadata::default(), surface: None, coarsened_from: None }
     }
 }
 
@@ -121,9 +125,10 @@ impl SolidFile {
 /// shards').
 ///
 /// `.vox`, `.vdb` and `.glb` write every solid with its name and colour; the others
-/// hold one solid and refuse more (take the union first): `.oct` and `.octs` with
-/// `options.meta` (`.octs` at the default cell level, in one job: a command with its
-/// own cells writes through [`sharded::write`]), `.binvox`, and `.obj`, `.stl`,
+/// hold one solid and refuse more (take the union first): `.oct` with `options.meta`
+/// and `options.surface`, `.octs` with `options.meta` and no surface data (at the
+/// default cell level, in one job: a command with its own cells writes through
+/// [`sharded::write`]), `.binvox`, and `.obj`, `.stl`,
 /// `.ply` and `.3mf` the solid's boundary mesh with merged faces (`progress` counts its steps),
 /// refused for an empty solid, which has none.
 pub fn write_solid_file(

@@ -522,7 +522,16 @@ fn build_voxelizes_scene_solids_and_csg_merges_any_number_of_operands() {
     ok(&dir, &["csg", "union", "a.oct", "b.oct", "c.oct", "-o", "merged.oct"]);
     let voxels = |f: &str| info_json(&dir, f)["voxels"].as_u64().unwrap();
     assert_eq!(voxels("all.oct"), voxels("merged.oct"));
+    // Byte for byte, the surface sections too: the union's crossings taken from the
+    // three files' data are the ones the whole tree gives (to the 16-bit codes).
     assert_eq!(std::fs::read(dir.join("all.oct")).unwrap(), std::fs::read(dir.join("merged.oct")).unwrap());
+    let surface_line = |f: &str| ok(&dir, &["info", f]).lines().find(|l| l.starts_with("surface ")).map(str::to_owned);
+    assert!(surface_line("merged.oct").is_some_and(|l| l.contains("boundary faces")));
+    // A quarter turn carries the data; an eighth resamples and leaves it out, saying so.
+    let out = ok(&dir, &["transform", "merged.oct", "--rotate", "z,90", "-o", "turned.oct"]);
+    assert!(!out.contains("left out") && surface_line("turned.oct") == surface_line("merged.oct"), "{out}");
+    let out = ok(&dir, &["transform", "merged.oct", "--rotate", "z,45", "-o", "eighth.oct"]);
+    assert!(out.contains("surface data is left out") && surface_line("eighth.oct").is_none(), "{out}");
     // xor of three: |A ^ B ^ C| = sum |X| - 2 sum |X & Y| + 4 |A & B & C|.
     ok(&dir, &["csg", "xor", "a.oct", "b.oct", "c.oct", "-o", "odd.oct"]);
     ok(&dir, &["csg", "intersect", "a.oct", "b.oct", "c.oct", "-o", "abc.oct"]);
@@ -576,7 +585,11 @@ fn convert_oct_through_every_voxel_format_and_back_is_bit_identical() {
     for (name, shape) in solids {
         let oct = format!("{name}.oct");
         ok(&dir, &[&["shape"], shape, &["-o", oct.as_str()]].concat());
-        let original = std::fs::read(dir.join(&oct)).unwrap();
+        // The solid's bytes: the voxel formats carry no surface data, so the file
+        // `shape` wrote without its surface section.
+        let (tree, meta) =
+            octsolid::io::oct::read_and_metadata(dir.join(&oct), octsolid::MemoryBudget::unlimited()).unwrap();
+        let original = octsolid::io::oct::encode_with(&tree, &meta);
         let voxels = info_json(&dir, &oct)["voxels"].clone();
         for ext in ["vox", "binvox", "vdb"] {
             let (there, back) = (format!("{name}.{ext}"), format!("{name}-from-{ext}.oct"));
@@ -950,11 +963,17 @@ fn sharded_solids_made_combined_converted_and_read_by_every_command() {
     ok(&dir, &["csg", "difference", "body.oct", "bores.oct", "-o", "part.oct"]);
     ok(&dir, &["convert", "part.octs", "back.oct"]);
     let read = |f: &str| std::fs::read(dir.join(f)).unwrap();
-    assert_eq!(read("back.oct"), read("part.oct"), "the sharded difference is the in-memory one");
+    // Shards carry no surface data: the solid's bytes, without part.oct's surface section.
+    let solid = |f: &str| {
+        let (tree, meta) =
+            octsolid::io::oct::read_and_metadata(dir.join(f), octsolid::MemoryBudget::unlimited()).unwrap();
+        octsolid::io::oct::encode_with(&tree, &meta)
+    };
+    assert_eq!(read("back.oct"), solid("part.oct"), "the sharded difference is the in-memory one");
     // One file into shards and back: the same bytes.
     ok(&dir, &["convert", "part.oct", "cut.octs", "--shard-level", "3"]);
     ok(&dir, &["convert", "cut.octs", "again.oct"]);
-    assert_eq!(read("again.oct"), read("part.oct"));
+    assert_eq!(read("again.oct"), solid("part.oct"));
     // Tasks over ranges of cells, then the join: the same folder.
     for cells in ["0..100", "100..512"] {
         let out = ok(
@@ -1147,10 +1166,16 @@ fn csg_budget_is_for_the_whole_job() {
         let args = ["shape", "sphere", "--depth", "8", "--domain=-2,-2,-2,4", "--radius", "1.5", "--center", &center];
         ok(&dir, &[&args[..], &["-o", name]].concat());
     }
-    let trees: Vec<LinearOctree> =
-        names.iter().map(|n| octsolid::io::oct::read(dir.join(n), MemoryBudget::unlimited()).unwrap()).collect();
-    let largest = trees.iter().map(LinearOctree::bytes).max().unwrap() as u64;
-    let all: u64 = trees.iter().map(|t| t.bytes() as u64).sum();
+    // Each operand holds its tree and the surface data its file carries.
+    let files: Vec<_> = names
+        .iter()
+        .map(|n| octsolid::io::oct::read_and_surface(dir.join(n), MemoryBudget::unlimited()).unwrap())
+        .collect();
+    let held: Vec<u64> =
+        files.iter().map(|(t, _, s)| (t.bytes() + s.as_ref().map_or(0, |s| s.bytes())) as u64).collect();
+    let trees: Vec<LinearOctree> = files.into_iter().map(|(t, _, _)| t).collect();
+    let largest = held.iter().copied().max().unwrap();
+    let all: u64 = held.iter().sum();
     let csg = |budget: u64| -> Vec<String> {
         let mut args: Vec<String> = vec!["--memory-budget".into(), format!("{budget}B"), "csg".into(), "union".into()];
         args.extend(names.iter().cloned());

@@ -8,7 +8,9 @@ mod common;
 use std::collections::HashMap;
 
 use common::Rng;
-use common::self_intersection::self_crossings;
+#[path = "common/self_intersection.rs"]
+mod self_intersection;
+use self_intersection::self_crossings;
 use octsolid::mesh::TriangleMesh;
 use octsolid::octree::{Domain, LinearOctree, voxelize};
 use octsolid::shape::{Axis, Cuboid, Cylinder, Shape, ShapeExt, Sphere};

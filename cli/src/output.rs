@@ -5,11 +5,13 @@
 //! [`octsolid::write_solid_file`].
 
 use std::path::Path;
+use std::sync::Arc;
 
 use anyhow::{Result, bail};
 use octsolid::io::oct::Metadata;
 use octsolid::io::{SolidsRef, WriteOptions};
 use octsolid::octree::LinearOctree;
+use octsolid::surface::HermiteData;
 use octsolid::{FileKind, MemoryBudget, NoProgress, Progress};
 
 use crate::progress_bar::Bar;
@@ -39,13 +41,19 @@ pub(crate) fn check_not_an_input(output: &Path, inputs: &[&Path]) -> Result<()> 
 }
 
 /// Writes `tree` to `path` in the format the extension names
-/// ([`octsolid::write_solid_file`]: `.oct` with `meta`, a voxel format, or the
-/// boundary mesh, merged faces, as OBJ, STL or PLY with a bar while it is meshed).
-/// Returns the file size in bytes.
-pub(crate) fn write_solid_file(path: &Path, tree: &LinearOctree, meta: &Metadata, budget: MemoryBudget) -> Result<u64> {
+/// ([`octsolid::write_solid_file`]: `.oct` with `meta` and `surface`, a voxel format,
+/// or the boundary mesh, merged faces, as OBJ, STL or PLY with a bar while it is
+/// meshed). Returns the file size in bytes.
+pub(crate) fn write_solid_file(
+    path: &Path,
+    tree: &LinearOctree,
+    meta: &Metadata,
+    surface: Option<HermiteData>,
+    budget: MemoryBudget,
+) -> Result<u64> {
     let kind = check_extension(path, FileKind::SOLID_OUTPUTS)?;
     let bar = kind.writes_mesh().then(|| Bar::new("meshing"));
     let progress: &dyn Progress = bar.as_ref().map_or(&NoProgress, |b| b);
-    let options = WriteOptions { budget, meta: *meta, ..WriteOptions::default() };
+    let options = WriteOptions { budget, meta: *meta, surface: surface.map(Arc::new), ..WriteOptions::default() };
     Ok(octsolid::write_solid_file(path, &SolidsRef::of_file(path, tree), &options, progress)?)
 }

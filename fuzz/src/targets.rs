@@ -99,7 +99,7 @@ pub const TARGETS: &[Target] = &[
         name: "oct",
         corpus: &["oct"],
         ext: "oct",
-        about: "io::oct::decode_and_metadata, as given and with the length and CRC-32 fixed",
+        about: "io::oct::decode_and_metadata as given, decode_and_surface with the lengths and CRC-32s fixed",
         run: oct_target,
     },
     Target { name: "obj", corpus: &["obj"], ext: "obj", about: "mesh_from_bytes as OBJ", run: obj },
@@ -183,24 +183,44 @@ fn bucket(n: u64) -> u64 {
     if n == 0 { 0 } else { 1 << n.ilog2() }
 }
 
-/// Where the `.oct` header keeps the payload length and the CRC-32 (`docs/FORMAT.md`).
+/// Where the `.oct` header keeps the flags, the payload length and the CRC-32
+/// (`docs/FORMAT.md`).
+const OCT_FLAGS_AT: usize = 10;
 const OCT_PAYLOAD_LEN_AT: usize = 64;
 const OCT_CRC_AT: usize = 72;
+/// The `.oct` flag of a surface section after the payload.
+const OCT_SURFACE_FLAG: u8 = 1;
+/// A surface section's header and checksum: its body length sits at 16.
+const SURFACE_HEADER_BYTES: usize = 24;
 
 /// `bytes` with the `.oct` header's payload length and CRC-32 made to match the file
 /// (the CRC covers the header before it and the payload), so that a mutated file gets
 /// past those two checks to the fields and nodes behind them; shorter than a header,
-/// unchanged.
+/// unchanged. With the surface flag set and a payload length that fits, the payload
+/// keeps its length and the section after it gets its body length and CRC-32 fixed,
+/// so mutations reach its faces too.
 #[must_use]
 pub fn oct_fixed(bytes: &[u8]) -> Vec<u8> {
     let mut fixed = bytes.to_vec();
     if fixed.len() >= oct::HEADER_BYTES {
-        let payload = (fixed.len() - oct::HEADER_BYTES) as u64;
+        let rest = (fixed.len() - oct::HEADER_BYTES) as u64;
+        let stored = u64::from_le_bytes(fixed[OCT_PAYLOAD_LEN_AT..OCT_PAYLOAD_LEN_AT + 8].try_into().expect("8 bytes"));
+        let surface = fixed[OCT_FLAGS_AT] & OCT_SURFACE_FLAG != 0 && stored <= rest;
+        let payload = if surface { stored } else { rest };
         fixed[OCT_PAYLOAD_LEN_AT..OCT_PAYLOAD_LEN_AT + 8].copy_from_slice(&payload.to_le_bytes());
+        let end = oct::HEADER_BYTES + payload as usize;
         let mut crc = crc32fast::Hasher::new();
         crc.update(&fixed[..OCT_CRC_AT]);
-        crc.update(&fixed[oct::HEADER_BYTES..]);
+        crc.update(&fixed[oct::HEADER_BYTES..end]);
         fixed[OCT_CRC_AT..OCT_CRC_AT + 4].copy_from_slice(&crc.finalize().to_le_bytes());
+        let section = &mut fixed[end..];
+        if surface && section.len() >= SURFACE_HEADER_BYTES + 4 {
+            let crc_at = section.len() - 4;
+            let body = (crc_at - SURFACE_HEADER_BYTES) as u64;
+            section[16..24].copy_from_slice(&body.to_le_bytes());
+            let crc = crc32fast::hash(&section[..crc_at]);
+            section[crc_at..].copy_from_slice(&crc.to_le_bytes());
+        }
     }
     fixed
 }
@@ -209,8 +229,14 @@ pub fn oct_fixed(bytes: &[u8]) -> Vec<u8> {
 /// ([`oct_fixed`]); the outcome is the second's.
 fn oct_target(bytes: &[u8]) -> Result<String> {
     let raw = oct::decode_and_metadata(bytes, Path::new("fuzz.oct"), BUDGET);
-    let (tree, meta) = oct::decode_and_metadata(&oct_fixed(bytes), Path::new("fuzz.oct"), BUDGET)?;
-    Ok(format!("depth {} nodes ~{} {meta:?} as given {}", tree.depth(), bucket(tree.node_count() as u64), raw.is_ok()))
+    let (tree, meta, surface) = oct::decode_and_surface(&oct_fixed(bytes), Path::new("fuzz.oct"), BUDGET)?;
+    let faces = surface.map(|s| bucket(s.len() as u64));
+    Ok(format!(
+        "depth {} nodes ~{} {meta:?} surface faces ~{faces:?} as given {}",
+        tree.depth(),
+        bucket(tree.node_count() as u64),
+        raw.is_ok()
+    ))
 }
 
 fn mesh(bytes: &[u8], name: &str) -> Result<String> {

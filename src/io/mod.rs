@@ -16,6 +16,7 @@ mod blosc;
 pub mod exr;
 pub mod gltf;
 pub mod oct;
+mod oct_surface;
 mod picture;
 pub mod png;
 mod solid_set;

@@ -7,6 +7,12 @@
 //! node's end and this node's start and `k` the node's levels above the voxels.
 //! Surface-dominated solids take one to two bytes a node. The encoding is a function
 //! of the solid alone, so the same solid always gives the same bytes.
+//!
+//! Optionally the solid's surface data (its [`HermiteData`]) follows the payload in a
+//! section of its own, flagged by bit 0 of the header's flags field (reserved zero
+//! before, so older builds refuse such a file cleanly rather than misread it) and
+//! checked on its own (`io/oct_surface.rs`). A file without it is byte for byte what
+//! earlier builds wrote.
 
 use std::path::Path;
 
@@ -17,6 +23,9 @@ use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, NodeKey};
 use crate::shape::Axis;
+use crate::surface::HermiteData;
+
+use super::oct_surface;
 
 /// The first eight bytes of every `.oct` file.
 pub const MAGIC: [u8; 8] = *b"OCTSOLID";
@@ -29,6 +38,10 @@ const PLAIN_VERSION: u16 = 1;
 pub const HEADER_BYTES: usize = 80;
 /// Byte offset of the CRC-32 field; the checksum covers the bytes before it and the payload.
 const CRC_OFFSET: usize = 72;
+/// Byte offset of the flags field.
+const FLAGS_OFFSET: usize = 10;
+/// Flag: a surface section follows the payload.
+const SURFACE_FLAG: u16 = 1;
 /// Byte offsets of the version 2 fields.
 const UP_OFFSET: usize = 13;
 const UNITS_OFFSET: usize = 14;
@@ -145,6 +158,15 @@ pub fn encode(tree: &LinearOctree) -> Vec<u8> {
 /// else version 1, so files without metadata stay readable by older builds.
 #[must_use]
 pub fn encode_with(tree: &LinearOctree, meta: &Metadata) -> Vec<u8> {
+    encode_with_surface(tree, meta, None)
+}
+
+/// The whole file for `tree` with `meta` and, when given, its surface data in a
+/// surface section after the payload (each of `surface`'s faces must be a boundary
+/// face of `tree`, as [`HermiteData::from_shape`] gives; a reader refuses others).
+/// Without `surface`, the bytes of [`encode_with`].
+#[must_use]
+pub fn encode_with_surface(tree: &LinearOctree, meta: &Metadata, surface: Option<&HermiteData>) -> Vec<u8> {
     let d = tree.domain();
     let version = if *meta == Metadata::default() { PLAIN_VERSION } else { VERSION };
     let mut payload = Vec::with_capacity(tree.node_count() * 2);
@@ -157,7 +179,8 @@ pub fn encode_with(tree: &LinearOctree, meta: &Metadata) -> Vec<u8> {
     let mut out = Vec::with_capacity(HEADER_BYTES + payload.len());
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&version.to_le_bytes());
-    out.extend_from_slice(&0u16.to_le_bytes());
+    let flags = if surface.is_some() { SURFACE_FLAG } else { 0 };
+    out.extend_from_slice(&flags.to_le_bytes());
     let [up, units] = meta.codes();
     out.extend_from_slice(&[d.depth(), up, units, 0]);
     for v in [d.min().x, d.min().y, d.min().z, d.edge()] {
@@ -170,6 +193,9 @@ pub fn encode_with(tree: &LinearOctree, meta: &Metadata) -> Vec<u8> {
     out.extend_from_slice(&crc.to_le_bytes());
     out.extend_from_slice(&[0; 4]);
     out.extend_from_slice(&payload);
+    if let Some(surface) = surface {
+        oct_surface::encode(surface, &mut out);
+    }
     out
 }
 
@@ -180,7 +206,18 @@ pub fn write(tree: &LinearOctree, path: impl AsRef<Path>) -> Result<u64> {
 
 /// Writes `tree` with `meta` to `path` atomically; returns the file size in bytes.
 pub fn write_with(tree: &LinearOctree, meta: &Metadata, path: impl AsRef<Path>) -> Result<u64> {
-    let bytes = encode_with(tree, meta);
+    write_with_surface(tree, meta, None, path)
+}
+
+/// Writes `tree` with `meta` and, when given, its surface data to `path` atomically
+/// ([`encode_with_surface`]); returns the file size in bytes.
+pub fn write_with_surface(
+    tree: &LinearOctree,
+    meta: &Metadata,
+    surface: Option<&HermiteData>,
+    path: impl AsRef<Path>,
+) -> Result<u64> {
+    let bytes = encode_with_surface(tree, meta, surface);
     write_atomic(path.as_ref(), |w| w.write_all(&bytes))
 }
 
@@ -190,10 +227,21 @@ pub fn read(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<LinearOctree
 }
 
 /// Reads and checks the `.oct` file at `path`, with its metadata (empty for version 1).
+/// A surface section is checked and left out ([`read_and_surface`] keeps it).
 pub fn read_and_metadata(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<(LinearOctree, Metadata)> {
+    let (tree, meta, _) = read_and_surface(path, budget)?;
+    Ok((tree, meta))
+}
+
+/// Reads and checks the `.oct` file at `path`, with its metadata and its surface data
+/// (`None` for a file without a surface section).
+pub fn read_and_surface(
+    path: impl AsRef<Path>,
+    budget: MemoryBudget,
+) -> Result<(LinearOctree, Metadata, Option<HermiteData>)> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-    decode_and_metadata(&bytes, path, budget)
+    decode_and_surface(&bytes, path, budget)
 }
 
 /// CRC-32 of the header before the checksum field, then the payload.
@@ -237,15 +285,32 @@ struct Header {
     nodes: u64,
     voxels: u64,
     meta: Metadata,
+    /// The payload's length: the nodes' bytes.
+    payload_len: usize,
+    /// Whether a surface section follows the payload.
+    surface: bool,
 }
 
 /// Parses and checks a whole `.oct` file with its metadata; `path` names it in errors.
+/// A surface section is checked and left out ([`decode_and_surface`] keeps it).
 pub fn decode_and_metadata(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<(LinearOctree, Metadata)> {
+    let (tree, meta, _) = decode_and_surface(bytes, path, budget)?;
+    Ok((tree, meta))
+}
+
+/// Parses and checks a whole `.oct` file with its metadata and its surface data
+/// (`None` without a surface section); `path` names it in errors.
+pub fn decode_and_surface(
+    bytes: &[u8],
+    path: &Path,
+    budget: MemoryBudget,
+) -> Result<(LinearOctree, Metadata, Option<HermiteData>)> {
     let fail =
         |offset: usize, reason: String| Error::Format { path: path.to_path_buf(), offset: offset as u64, reason };
     let header = decode_header(bytes, path)?;
     // Refuse absurd counts before allocating (every node takes at least a byte).
-    let payload = &bytes[HEADER_BYTES..];
+    let payload_end = HEADER_BYTES + header.payload_len;
+    let payload = &bytes[HEADER_BYTES..payload_end];
     if header.nodes > payload.len() as u64 {
         return Err(fail(48, format!("{} nodes cannot fit in {} payload bytes", header.nodes, payload.len())));
     }
@@ -262,7 +327,14 @@ pub fn decode_and_metadata(bytes: &[u8], path: &Path, budget: MemoryBudget) -> R
         }
         other => other,
     })?;
-    Ok((tree, header.meta))
+    let surface = match header.surface {
+        true => {
+            let budget = MemoryBudget(budget.0.saturating_sub(tree.bytes() as u64));
+            Some(oct_surface::decode(&bytes[payload_end..], payload_end, &tree, path, budget)?)
+        }
+        false => None,
+    };
+    Ok((tree, header.meta, surface))
 }
 
 /// Checks the header: magic, version, reserved bytes, depth, domain, metadata codes,
@@ -286,9 +358,17 @@ fn decode_header(bytes: &[u8], path: &Path) -> Result<Header> {
     if !(1..=VERSION).contains(&version) {
         return Err(fail(8, format!("format version {version} is not supported (this build reads 1..={VERSION})")));
     }
-    let reserved_v2 = if version == 1 { &bytes[13..16] } else { &bytes[15..16] };
-    if u16_at(10) != 0 || reserved_v2.iter().any(|&b| b != 0) || bytes[76..80] != [0; 4] {
-        return Err(fail(10, "reserved header fields are not zero".into()));
+    let flags = u16_at(FLAGS_OFFSET);
+    if flags & !SURFACE_FLAG != 0 {
+        return Err(fail(
+            FLAGS_OFFSET,
+            format!("flags {flags:#06x} hold bits this build does not know (it knows bit 0, the surface section)"),
+        ));
+    }
+    let surface = flags & SURFACE_FLAG != 0;
+    let reserved = if version == 1 { 13..16 } else { 15..16 };
+    if let Some(at) = reserved.chain(76..80).find(|&i| bytes[i] != 0) {
+        return Err(fail(at, "reserved header fields are not zero".into()));
     }
     let Metadata { up, units } = Metadata::from_codes([bytes[UP_OFFSET], bytes[UNITS_OFFSET]])
         .map_err(|(byte, reason)| fail(UP_OFFSET + byte, reason))?;
@@ -299,19 +379,20 @@ fn decode_header(bytes: &[u8], path: &Path) -> Result<Header> {
     let domain = Domain::new(DVec3::new(f64_at(16), f64_at(24), f64_at(32)), f64_at(40), depth)
         .map_err(|e| fail(16, e.to_string()))?;
     let (nodes, voxels, payload_len) = (u64_at(48), u64_at(56), u64_at(64));
-    let payload = &bytes[HEADER_BYTES..];
-    if payload_len != payload.len() as u64 {
+    let after_header = (bytes.len() - HEADER_BYTES) as u64;
+    if (!surface && payload_len != after_header) || payload_len > after_header {
         return Err(fail(
             64,
-            format!("header says {payload_len} payload bytes but the file holds {} after the header", payload.len()),
+            format!("header says {payload_len} payload bytes but the file holds {after_header} after the header"),
         ));
     }
+    let payload = &bytes[HEADER_BYTES..HEADER_BYTES + payload_len as usize];
     let stored = u32::from_le_bytes(bytes[CRC_OFFSET..CRC_OFFSET + 4].try_into().expect("4 bytes"));
     let computed = checksum(bytes, payload);
     if stored != computed {
         return Err(fail(CRC_OFFSET, format!("checksum mismatch: stored {stored:08x}, computed {computed:08x}")));
     }
-    Ok(Header { domain, nodes, voxels, meta: Metadata { up, units } })
+    Ok(Header { domain, nodes, voxels, meta: Metadata { up, units }, payload_len: payload.len(), surface })
 }
 
 /// The payload's nodes, each in range, aligned, sorted and disjoint by construction,

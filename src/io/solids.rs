@@ -17,6 +17,7 @@
 //! before allocating it, and never panics; every writer writes atomically.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use super::oct::{self, Metadata};
 use super::solid_set::{SolidsRef, file_stem};
@@ -26,6 +27,7 @@ use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
 use crate::octree::LinearOctree;
 use crate::shape::Axis;
+use crate::surface::HermiteData;
 
 /// How files are written.
 #[derive(Clone, Debug, PartialEq)]
@@ -40,6 +42,9 @@ pub struct WriteOptions {
     pub up: Axis,
     /// What `.oct` and `.octs` record about the solid's source (up axis, units).
     pub meta: Metadata,
+    /// `.oct`: the solid's surface data, written in a surface section (its faces must
+    /// be boundary faces of the solid written); other formats leave it out.
+    pub surface: Option<Arc<HermiteData>>,
 }
 
 impl Default for WriteOptions {
@@ -49,13 +54,15 @@ impl Default for WriteOptions {
             vdb_compression: vdb::Compression::Zip,
             up: Axis::Z,
             meta: Metadata::default(),
+            surface: None,
         }
     }
 }
 
 /// Writes `solids` to `path` as `kind`, one of `.oct`, `.vox`, `.binvox`, `.vdb` and
 /// `.glb`: `.vox` one palette colour each, `.vdb` one grid each (one empty grid when
-/// there are no solids), `.glb` one mesh each; `.oct` (with `options.meta`) and
+/// there are no solids), `.glb` one mesh each; `.oct` (with `options.meta` and
+/// `options.surface`) and
 /// `.binvox` hold one solid and refuse more. Returns the file size in bytes.
 pub(crate) fn write_voxel_solids(
     path: &Path,
@@ -76,7 +83,9 @@ pub(crate) fn write_voxel_solids(
         solids
     };
     match kind {
-        FileKind::Oct => oct::write_with(one_solid(path, solids)?, &options.meta, path),
+        FileKind::Oct => {
+            oct::write_with_surface(one_solid(path, solids)?, &options.meta, options.surface.as_deref(), path)
+        }
         FileKind::Binvox => binvox::write(path, one_solid(path, solids)?, options.budget),
         FileKind::Vox => vox::write(path, solids, options.budget),
         FileKind::Vdb => vdb::write(path, solids, options.vdb_compression, options.budget),

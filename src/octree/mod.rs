@@ -37,6 +37,7 @@ pub(crate) use driver::{Counters, Decision, Plan, Voxelizer};
 pub use linear::LinearOctree;
 pub use measure::{MassProperties, Measures, SurfaceArea};
 pub use node::{Node, NodeKey};
+pub(crate) use transform::CubeSymmetry;
 pub use transform::{CoarsenRule, Fit, Motion, OctreeShape, Turn, common_domain};
 pub(crate) use voxelize::check_level;
 pub use voxelize::{estimate_bytes, estimate_cell_bytes, voxelize, voxelize_cells};

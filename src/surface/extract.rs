@@ -78,7 +78,7 @@ impl Default for ExtractOptions {
 }
 
 /// The tolerance without one given, in voxels.
-pub const DEFAULT_TOLERANCE: f64 = 0.1;
+pub const DEFAULT_TOLERANCE: f64 = 0.0;
 
 /// A solid's surface and what it is made of.
 #[derive(Clone, Debug)]

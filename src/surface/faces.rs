@@ -1,6 +1,6 @@
 //! The boundary faces of a solid, one a voxel face: the exposed rectangles of its full
 //! nodes ([`crate::mesh`]'s boundary, step 1) cut into unit squares, each named by its
-//! full voxel and direction ([`FaceKey`]).
+//! full voxel and direction ([`FaceKey`]); and the test of one face.
 
 use rayon::prelude::*;
 
@@ -15,6 +15,30 @@ pub(crate) fn boundary_faces(tree: &LinearOctree) -> Vec<FaceKey> {
     let mut faces: Vec<FaceKey> = rects.par_iter().flat_map_iter(unit_faces).collect();
     faces.par_sort_unstable();
     faces
+}
+
+/// Whether face `key` is a boundary face of `tree`: its voxel full, its neighbour
+/// across the face empty or outside the domain.
+#[must_use]
+pub(crate) fn is_boundary_face(tree: &LinearOctree, key: FaceKey) -> bool {
+    let v = key.voxel();
+    if !tree.contains_voxel(v) {
+        return false;
+    }
+    match neighbour(key, tree.domain().resolution()) {
+        Some(n) => !tree.contains_voxel(n),
+        None => true,
+    }
+}
+
+/// The voxel across face `key` from its own, `None` outside a domain of `resolution`
+/// voxels a side.
+#[must_use]
+pub(crate) fn neighbour(key: FaceKey, resolution: u32) -> Option<[u32; 3]> {
+    let mut n = key.voxel();
+    let a = key.axis();
+    n[a] = if key.positive() { n[a].checked_add(1).filter(|&c| c < resolution)? } else { n[a].checked_sub(1)? };
+    Some(n)
 }
 
 /// The unit faces of one exposed rectangle.

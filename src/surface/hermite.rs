@@ -125,6 +125,12 @@ impl HermiteData {
         HermiteData { faces }
     }
 
+    /// From `(face, crossing)` pairs already strictly sorted by face.
+    pub(crate) fn from_sorted(faces: Vec<(FaceKey, Crossing)>) -> Self {
+        debug_assert!(faces.windows(2).all(|w| w[0].0 < w[1].0), "faces not strictly sorted");
+        HermiteData { faces }
+    }
+
     /// The crossings, sorted by face.
     #[must_use]
     pub fn faces(&self) -> &[(FaceKey, Crossing)] {
@@ -135,6 +141,13 @@ impl HermiteData {
     #[must_use]
     pub fn len(&self) -> usize {
         self.faces.len()
+    }
+
+    /// The memory the crossings hold, in bytes (what a reader checks against its
+    /// budget before allocating them).
+    #[must_use]
+    pub fn bytes(&self) -> usize {
+        self.faces.len() * std::mem::size_of::<(FaceKey, Crossing)>()
     }
 
     /// Whether no face carries a crossing.

@@ -4,20 +4,26 @@
 //! - [`hermite`]: where the surface crosses each boundary face's segment, and its
 //!   normal ([`HermiteData`], from a shape exactly, from nothing as the faces).
 //! - `faces`: a solid's boundary faces, one a voxel face.
+//! - `combine`: Hermite data through a set operation ([`HermiteData::combine`]: a
+//!   CSG result's crossings from its operands').
+//! - `transform`: Hermite data through the exact whole-voxel moves.
 //! - `qef`: the point nearest a cell's tangent planes, and their rank.
 //! - `dual`: a vertex a sheet at each boundary voxel corner, the faces as quads.
 //! - `untangle`: crossing triangles' vertices moved back towards the staircase.
 //! - `simplify`: edge collapses under a distance bound, kept manifold and uncrossed.
 //! - `extract`: [`extract`], the surface as an indexed mesh.
 
+mod combine;
 mod dual;
 mod extract;
 mod faces;
 pub mod hermite;
 mod qef;
 mod simplify;
+mod transform;
 mod untangle;
 
+pub(crate) use faces::is_boundary_face;
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};

@@ -6,7 +6,7 @@
 pub mod exact_surface;
 pub mod mesh_distance;
 mod rng;
-pub mod self_intersection;
+
 
 pub use rng::Rng;
 

@@ -11,7 +11,7 @@ use octsolid::scene_file::{build_shape, build_solid};
 use octsolid::sharded;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
-use super::{print_summary, voxelize_with_bar};
+use super::{print_summary, surface_for, voxelize_with_bar};
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
@@ -50,7 +50,8 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
         };
         if !is_sharded(&a.output) {
             let tree = voxelize_with_bar(&shape, domain, budget)?;
-            let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), budget)?;
+            let surface = surface_for(&a.output, &shape, &tree);
+            let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), surface, budget)?;
             out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
             print_summary(&tree, None);
             return Ok(());
@@ -69,7 +70,15 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     if tree.is_empty() {
         warn!("the solid is empty: no voxel is in it");
     }
-    let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), budget)?;
+    // A shape solid's surface data, from the CSG tree it was voxelized from (a mesh or
+    // oct solid has no shape here, and gets none).
+    let to_oct = FileKind::of(&a.output, &[FileKind::Oct]).is_ok();
+    let shape = if to_oct { build_shape(&a.scene, a.solid.as_deref(), budget).ok() } else { None };
+    let surface = match shape {
+        Some((shape, domain)) if domain == *tree.domain() => surface_for(&a.output, &shape, &tree),
+        _ => None,
+    };
+    let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), surface, budget)?;
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&tree, None);
     Ok(())

@@ -60,12 +60,16 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     let read_ms = started.elapsed().as_secs_f64() * 1e3;
     let bytes_in = std::fs::metadata(input).with_context(|| format!("{}", input.display()))?.len();
     let (kind, meta) = (file.kind, file.meta);
+    let mut surface = file.surface;
     let mut solids = file.solids;
     out!("read       {} (.{}, {}) in {read_ms:.1} ms", input.display(), kind.extension(), human_bytes(bytes_in));
     print_solids(&solid_infos(&solids));
 
     if a.target.given() {
         solids = fitted(a, solids, budget)?;
+        if surface.take().is_some() {
+            out!("surface    the input's surface data is left out: the solid moved into another domain");
+        }
     }
     let d = solids.domain;
     out!(
@@ -94,7 +98,7 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
             let n = solids.solids.len();
             out!("joined     {n} solids into one: {} holds one solid and no colour", output.display());
         }
-        write_solid_file(output, &union, &meta, budget)?
+        write_solid_file(output, &union, &meta, surface, budget)?
     };
     drop(spinner);
     let write_ms = started.elapsed().as_secs_f64() * 1e3;

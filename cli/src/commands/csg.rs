@@ -1,13 +1,17 @@
 //! `octsolid csg OP A B [MORE...] -o OUT [--domain ...] [--depth D]`: solids combined
 //! by a set operation, after bringing them into one domain, then merged in one pass
-//! over all of them (`LinearOctree::combine_all`, parallel over Morton ranges).
+//! over all of them (`LinearOctree::combine_all`, parallel over Morton ranges). Into an
+//! `.oct` file, the operands' surface data is carried through (`HermiteData::combine`).
 
-use std::path::PathBuf;
+use std::cell::Cell;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
+use glam::DAffine3;
 use octsolid::octree::{Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
 use octsolid::sharded::{self, ShardedSolid};
+use octsolid::surface::HermiteData;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::print_summary;
@@ -56,9 +60,10 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
             .shards
             .write(output, budget, Instant::now(), |options| Ok(sharded::combine(&solids, op, output, options)?));
     }
-    // The budget is the job's: every operand is held while the next is read, and the
-    // result is made beside them all.
-    let held = |trees: &[LinearOctree]| trees.iter().map(|t| t.bytes() as u64).sum::<u64>();
+    // The budget is the job's: every operand (its tree and its surface data) is held
+    // while the next is read, and the result is made beside them all.
+    let surface_bytes = Cell::new(0u64);
+    let held = |trees: &[LinearOctree]| trees.iter().map(|t| t.bytes() as u64).sum::<u64>() + surface_bytes.get();
     let left = |trees: &[LinearOctree]| MemoryBudget(budget.0.saturating_sub(held(trees)));
     // A refusal for memory after the first operand says what the others hold.
     let whole_job = |e: anyhow::Error, trees: &[LinearOctree]| {
@@ -74,10 +79,14 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
         ))
     };
     let mut trees: Vec<LinearOctree> = Vec::with_capacity(inputs.len());
+    // Each operand's surface data, where its file carries it.
+    let mut surfaces: Vec<Option<HermiteData>> = Vec::with_capacity(inputs.len());
     let mut meta = None;
     for path in inputs {
-        let file = read_solid_file(path, &a.read, left(&trees)).map_err(|e| whole_job(e, &trees))?;
+        let mut file = read_solid_file(path, &a.read, left(&trees)).map_err(|e| whole_job(e, &trees))?;
         meta.get_or_insert(file.meta);
+        surfaces.push(file.surface.take());
+        surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
         trees.push(file.into_union());
     }
     let common = common_domain(&trees.iter().map(|t| *t.domain()).collect::<Vec<_>>())?;
@@ -97,6 +106,17 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
         let ms = started.elapsed().as_secs_f64() * 1e3;
         out!("{}: {fit} into {target} in {ms:.1} ms", path.display());
         resampled |= fit == Fit::Resampled;
+        if let Some(surface) = surfaces[i].take() {
+            // Whole-voxel offsets carry the data; a refinement or a resampling drops it.
+            surfaces[i] = surface.transformed(trees[i].domain(), DAffine3::IDENTITY, &fitted, fit);
+            surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
+            if surfaces[i].is_none() {
+                out!(
+                    "{}: its surface data is left out ({fit}): its faces take part as the voxels' own",
+                    path.display()
+                );
+            }
+        }
         trees[i] = fitted;
     }
     if resampled {
@@ -112,9 +132,10 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
     let started = Instant::now();
     let result = LinearOctree::combine_all(&trees.iter().collect::<Vec<_>>(), op)?;
     let operands = trees.len();
-    drop(trees);
     let budget = MemoryBudget(budget.0.saturating_sub(result.bytes() as u64));
     out!("{op} of {operands} solids in {:.2} ms", started.elapsed().as_secs_f64() * 1e3);
+    let surface = combined_surface(op, &trees, &surfaces, &result, output)?;
+    drop((trees, surfaces));
     if result.is_empty() {
         warn!("the {op} is empty: no voxel is in it");
     }
@@ -123,8 +144,35 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
             Ok(sharded::write(&result, meta.unwrap_or_default(), output, options)?)
         });
     }
-    let bytes = write_solid_file(output, &result, &meta.unwrap_or_default(), budget)?;
+    let bytes = write_solid_file(output, &result, &meta.unwrap_or_default(), surface, budget)?;
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     print_summary(&result, None);
     Ok(())
+}
+
+/// The result's surface data from the operands' ([`HermiteData::combine`]) when some
+/// operand carries data and `output` is an `.oct` file (the format that stores it);
+/// operands without data take part as their voxels' faces.
+fn combined_surface(
+    op: SetOp,
+    trees: &[LinearOctree],
+    surfaces: &[Option<HermiteData>],
+    result: &LinearOctree,
+    output: &Path,
+) -> Result<Option<HermiteData>> {
+    if surfaces.iter().all(Option::is_none) || FileKind::of(output, &[FileKind::Oct]).is_err() {
+        return Ok(None);
+    }
+    let started = Instant::now();
+    let none = HermiteData::none();
+    let operands: Vec<_> = trees.iter().zip(surfaces).map(|(t, s)| (t, s.as_ref().unwrap_or(&none))).collect();
+    let surface = HermiteData::combine(op, &operands, result)?;
+    let with = surfaces.iter().filter(|s| s.is_some()).count();
+    out!(
+        "surface    {} boundary faces' crossings and normals from {with} of {} operands' in {:.1} ms",
+        surface.len(),
+        trees.len(),
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(Some(surface))
 }

@@ -72,7 +72,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
             Err(e) => return Err(e.into()),
         };
     check_not_an_input(output, &[file])?;
-    let read = read_solid_file(file, &a.read, budget)?;
+    let mut read = read_solid_file(file, &a.read, budget)?;
     if read.solids.solids.iter().all(|s| s.tree.is_empty()) {
         bail!("{}: the solid is empty; there is no boundary to export", file.display());
     }
@@ -83,7 +83,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     if unit_faces && a.surface == Style::Smooth {
         warn!("--unit-faces is for --surface voxels; the smooth surface has its own vertices");
     }
-    let hermite = HermiteData::none();
+    let hermite = read.surface.take().unwrap_or_else(HermiteData::none);
     let tree = read.into_union();
     let started = Instant::now();
     let bar = Bar::new("meshing");

@@ -123,6 +123,7 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     }
     let read = read_solid_file(file, &a.read, budget)?;
     let (kind, meta) = (read.kind, read.meta);
+    let surface_faces = read.surface.as_ref().map(octsolid::surface::HermiteData::len);
     let solids = (kind != FileKind::Oct).then(|| solid_infos(&read.solids));
     let tree = read.into_union();
     let bytes_file = std::fs::metadata(file).with_context(|| format!("{}", file.display()))?.len();
@@ -171,6 +172,9 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     print_summary(&tree, None);
     let per_node = |b: f64| if info.nodes == 0 { 0.0 } else { b / info.nodes as f64 };
     out!("on disk    {} ({:.2} bytes a node)", human_bytes(bytes_file), per_node(bytes_file as f64));
+    if let Some(faces) = surface_faces {
+        out!("surface    {faces} boundary faces carry a crossing and a normal (the file's surface section)");
+    }
     print_measures(&info);
     Ok(())
 }

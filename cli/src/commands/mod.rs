@@ -29,7 +29,8 @@ use octsolid::import::Input;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{Camera, Picture, RenderOptions, Scene};
 use octsolid::shape::Shape;
-use octsolid::{MemoryBudget, human_bytes};
+use octsolid::surface::HermiteData;
+use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use crate::progress_bar::Bar;
 
@@ -54,6 +55,20 @@ pub(crate) fn voxelize_with_bar(shape: &dyn Shape, domain: Domain, budget: Memor
     let tree = voxelize(shape, domain, &VoxelizeOptions { budget, progress: &bar })?;
     out!("voxelized at depth {} in {:.1} ms", domain.depth(), started.elapsed().as_secs_f64() * 1e3);
     Ok(tree)
+}
+
+/// The surface data of `shape` on the boundary faces of `tree`, its voxelization, when
+/// `output` is an `.oct` file (the one format that stores it; [`HermiteData::from_shape`]),
+/// with the time it took printed; `None` for other outputs.
+pub(crate) fn surface_for(output: &Path, shape: &(impl Shape + ?Sized), tree: &LinearOctree) -> Option<HermiteData> {
+    if FileKind::of(output, &[FileKind::Oct]).is_err() {
+        return None;
+    }
+    let started = Instant::now();
+    let surface = HermiteData::from_shape(shape, tree);
+    let ms = started.elapsed().as_secs_f64() * 1e3;
+    out!("surface    {} boundary faces' crossings and normals from the shape in {ms:.1} ms", surface.len());
+    Some(surface)
 }
 
 /// Prints nodes, voxels, volume (with the exact one when known), bounds and memory.

@@ -12,7 +12,7 @@ use octsolid::shape::{Shape, ShapeSpec};
 use octsolid::sharded;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
-use super::{print_summary, voxelize_with_bar};
+use super::{print_summary, surface_for, voxelize_with_bar};
 use crate::output::{check_extension, write_solid_file};
 use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::values::{parse_domain, parse_vec3};
@@ -122,7 +122,8 @@ pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
         });
     }
     let tree = voxelize_with_bar(&shape, domain, budget)?;
-    let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), budget)?;
+    let surface = surface_for(&a.output, &shape, &tree);
+    let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), surface, budget)?;
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&tree, spec.volume());
     Ok(())

@@ -51,8 +51,10 @@ pub struct TransformArgs {
 pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
     let output_kind = check_extension(&a.output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(&a.output, &[&a.input])?;
-    let file = read_solid_file(&a.input, &a.read, budget)?;
+    let mut file = read_solid_file(&a.input, &a.read, budget)?;
     let meta = file.meta;
+    let surface = file.surface.take();
+    let file_had_surface = surface.is_some();
     // Several solids going to a format that keeps them apart move one by one into the
     // domain their union moves into; else the union moves.
     let (tree, apart) = if file.solids.solids.len() > 1 && output_kind.holds_many_solids() {
@@ -90,7 +92,14 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
             let options = WriteOptions { budget, ..WriteOptions::default() };
             octsolid::write_solid_file(&a.output, &moved.borrowed(), &options, &NoProgress)?
         }
-        None => write_solid_file(&a.output, &moved, &meta, budget)?,
+        None => {
+            // Exact moves carry the surface data; resampling leaves it out.
+            let moved_surface = surface.and_then(|s| s.transformed(tree.domain(), map, &moved, fit));
+            if moved_surface.is_none() && file_had_surface {
+                out!("surface    the input's surface data is left out: {fit}");
+            }
+            write_solid_file(&a.output, &moved, &meta, moved_surface, budget)?
+        }
     };
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&moved, None);

@@ -81,7 +81,7 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
         import::voxelize_input(&loaded, domain, &ImportOptions { fill, inside, budget, progress: &bar })
             .with_context(|| format!("{}: cannot voxelize", input.display()))?;
     let elapsed = started.elapsed().as_secs_f64();
-    let bytes = write_solid_file(output, &tree, &meta, budget)?;
+    let bytes = write_solid_file(output, &tree, &meta, None, budget)?;
     out!(
         "read       {} ({} triangle{})",
         input.display(),

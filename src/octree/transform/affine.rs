@@ -41,16 +41,16 @@ const SYMMETRY_TOLERANCE: f64 = 1e-12;
 /// A linear map `s P` with `P` a signed permutation: output axis `i` is `sign[i]` times
 /// input axis `perm[i]`, all scaled by `scale`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct CubeSymmetry {
-    scale: f64,
-    perm: [usize; 3],
+pub(crate) struct CubeSymmetry {
+    pub(crate) scale: f64,
+    pub(crate) perm: [usize; 3],
     /// `true` where the axis is mirrored (the entry is negative).
-    mirrored: [bool; 3],
+    pub(crate) mirrored: [bool; 3],
 }
 
 impl CubeSymmetry {
     /// `m` as `s P` (within [`SYMMETRY_TOLERANCE`]), `None` when it is not one.
-    fn of(m: DMat3) -> Option<CubeSymmetry> {
+    pub(crate) fn of(m: DMat3) -> Option<CubeSymmetry> {
         let row = |i: usize| DVec3::new(m.x_axis[i], m.y_axis[i], m.z_axis[i]);
         let scale = row(0).abs().max_element();
         if !(scale.is_finite() && scale > 0.0) {

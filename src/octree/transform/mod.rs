@@ -24,6 +24,7 @@ mod fit;
 mod motion;
 mod resample;
 
+pub(crate) use affine::CubeSymmetry;
 pub use depth::CoarsenRule;
 pub use fit::{Fit, common_domain};
 pub use motion::{Motion, Turn};
