@@ -161,8 +161,9 @@ const PI_HALF: f64 = std::f64::consts::FRAC_PI_2;
 struct State {
     positions: Vec<DVec3>,
     quadrics: Vec<Quadric>,
+    /// Each vertex's distance bound (module `gap`).
+    bounds: Vec<f64>,
     faces: Vec<[u32; 3]>,
-    errors: Vec<f64>,
     /// The input's total face area (the quadrics' weight).
     area: f64,
 }
@@ -187,8 +188,8 @@ impl State {
         State {
             positions: mesh.vertices.clone(),
             quadrics,
+            bounds: vec![0.0; mesh.vertices.len()],
             faces: mesh.triangles.clone(),
-            errors: vec![0.0; mesh.triangles.len()],
             area,
         }
     }
@@ -256,8 +257,8 @@ impl State {
                     max: min + DVec3::splat(width),
                     positions: &self.positions,
                     quadrics: &self.quadrics,
+                    bounds: &self.bounds,
                     faces: &self.faces,
-                    errors: &self.errors,
                     own: &own[id],
                     halo: &halo[id],
                 };
@@ -266,25 +267,22 @@ impl State {
             .collect();
         // Join: the faces no block owned, in order, then each block's in block order.
         let mut faces = Vec::with_capacity(self.faces.len());
-        let mut errors = Vec::with_capacity(self.faces.len());
         for (f, t) in self.faces.iter().enumerate() {
             if owner[f].is_none() {
                 faces.push(*t);
-                errors.push(self.errors[f]);
             }
         }
         let mut made = 0;
         for out in outputs {
             made += out.collapses;
             faces.extend(out.faces);
-            errors.extend(out.errors);
-            for (v, p, q) in out.moved {
+            for (v, p, q, e) in out.moved {
                 self.positions[v as usize] = p;
                 self.quadrics[v as usize] = q;
+                self.bounds[v as usize] = e;
             }
         }
         self.faces = faces;
-        self.errors = errors;
         made
     }
 
@@ -294,12 +292,13 @@ impl State {
             remap[v as usize] = 0;
         }
         let mut vertices = Vec::new();
-        let mut squared = 0.0;
+        let (mut squared, mut bound) = (0.0, 0.0f64);
         for (v, r) in remap.iter_mut().enumerate() {
             if *r == 0 {
                 *r = vertices.len() as u32;
                 vertices.push(self.positions[v]);
                 squared += self.quadrics[v].eval(self.positions[v]);
+                bound = bound.max(self.bounds[v]);
             }
         }
         let triangles: Vec<[u32; 3]> = self.faces.iter().map(|t| t.map(|v| remap[v as usize])).collect();
@@ -307,7 +306,7 @@ impl State {
             triangles_before,
             triangles_after: triangles.len(),
             vertices_after: vertices.len(),
-            max_distance_bound: self.errors.iter().copied().fold(0.0, f64::max),
+            max_distance_bound: bound,
             // Each input face's plane is counted at its three corners.
             rms_quadric_distance: if self.area > 0.0 { (squared / (3.0 * self.area)).sqrt() } else { 0.0 },
             collapses,

@@ -21,7 +21,7 @@ use glam::DVec3;
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
-use super::gap::{Patches, gap_bound};
+use super::gap::{Patches, vertex_bound};
 use super::quadric::Quadric;
 use super::tri_tri::triangles_clash;
 
@@ -34,11 +34,11 @@ pub(crate) struct BlockInput<'a> {
     pub min: DVec3,
     /// Highest corner of the block's box.
     pub max: DVec3,
-    /// The snapshot's positions, quadrics, faces and face error bounds.
+    /// The snapshot's positions, quadrics and distance bounds by vertex, and faces.
     pub positions: &'a [DVec3],
     pub quadrics: &'a [Quadric],
+    pub bounds: &'a [f64],
     pub faces: &'a [[u32; 3]],
-    pub errors: &'a [f64],
     /// The block's own faces (indices into `faces`, ascending).
     pub own: &'a [u32],
     /// The halo (indices into `faces`, ascending).
@@ -48,7 +48,7 @@ pub(crate) struct BlockInput<'a> {
 /// The limits every collapse keeps.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Limits {
-    /// Largest error bound of a face, in world units.
+    /// Largest distance bound of a vertex, in world units.
     pub tolerance: f64,
     /// Least cosine between a face's normal before and after a collapse.
     pub min_normal_cosine: f64,
@@ -57,11 +57,10 @@ pub(crate) struct Limits {
 /// What one block gives back: its faces now, the vertices it moved, its collapses.
 #[derive(Debug, Default)]
 pub(crate) struct BlockOutput {
-    /// Its faces (global vertex indices) and their error bounds.
+    /// Its faces (global vertex indices).
     pub faces: Vec<[u32; 3]>,
-    pub errors: Vec<f64>,
-    /// Kept vertices that moved: global index, position, merged quadric.
-    pub moved: Vec<(u32, DVec3, Quadric)>,
+    /// Kept vertices that moved: global index, position, merged quadric, bound.
+    pub moved: Vec<(u32, DVec3, Quadric, f64)>,
     /// Collapses made.
     pub collapses: usize,
 }
@@ -71,6 +70,7 @@ struct Local {
     global: Vec<u32>,
     position: Vec<DVec3>,
     quadric: Vec<Quadric>,
+    bound: Vec<f64>,
     /// Not on a halo face, so free to move or disappear.
     free: Vec<bool>,
     /// Strictly inside the block's open box.
@@ -79,7 +79,6 @@ struct Local {
     stamp: Vec<u32>,
     incident: Vec<SmallVec<[u32; 8]>>,
     faces: Vec<[u32; 3]>,
-    error: Vec<f64>,
     alive: Vec<bool>,
     /// Whether the face is the block's own (else halo).
     own: Vec<bool>,
@@ -133,13 +132,13 @@ impl Local {
             global: Vec::new(),
             position: Vec::new(),
             quadric: Vec::new(),
+            bound: Vec::new(),
             free: Vec::new(),
             interior: Vec::new(),
             alive_vertex: Vec::new(),
             stamp: Vec::new(),
             incident: Vec::new(),
             faces: Vec::with_capacity(input.own.len() + input.halo.len()),
-            error: Vec::new(),
             alive: Vec::new(),
             own: Vec::new(),
             seen: Vec::new(),
@@ -156,6 +155,7 @@ impl Local {
                     local.global.push(g);
                     local.position.push(p);
                     local.quadric.push(input.quadrics[g as usize]);
+                    local.bound.push(input.bounds[g as usize]);
                     local.free.push(true);
                     local.interior.push(p.cmpgt(input.min).all() && p.cmplt(input.max).all());
                     local.alive_vertex.push(true);
@@ -169,15 +169,14 @@ impl Local {
                     local.free[v as usize] = false;
                 }
             }
-            local.add_face(face, input.errors[f as usize], own);
+            local.add_face(face, own);
         }
         local
     }
 
-    fn add_face(&mut self, face: [u32; 3], error: f64, own: bool) -> u32 {
+    fn add_face(&mut self, face: [u32; 3], own: bool) -> u32 {
         let id = self.faces.len() as u32;
         self.faces.push(face);
-        self.error.push(error);
         self.alive.push(true);
         self.own.push(own);
         self.seen.push(0);
@@ -287,11 +286,11 @@ impl Local {
         if !link_inside {
             return false;
         }
-        let old_error = region.iter().map(|&f| self.error[f as usize]).fold(0.0, f64::max);
-        if old_error > limits.tolerance {
-            return false;
-        }
         let old: SmallVec<[[DVec3; 3]; 24]> = region.iter().map(|&f| self.corners(self.faces[f as usize])).collect();
+        let old_bounds: SmallVec<[[f64; 3]; 24]> =
+            region.iter().map(|&f| self.faces[f as usize].map(|v| self.bound[v as usize])).collect();
+        let new_bounds: SmallVec<[[f64; 3]; 24]> =
+            fan.iter().map(|(t, _)| t.map(|v| if v == a { 0.0 } else { self.bound[v as usize] })).collect();
         for (_, x) in self.candidates(a, b) {
             if !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
                 continue;
@@ -311,19 +310,24 @@ impl Local {
             if !shapes_ok {
                 continue;
             }
-            let patches =
-                Patches { old: &old, new: &new, old_inside: [self.position[ua], self.position[ub]], new_inside: x };
-            let Some(gap) = gap_bound(&patches) else {
+            let patches = Patches {
+                old: &old,
+                old_bounds: &old_bounds,
+                new: &new,
+                new_bounds: &new_bounds,
+                old_inside: [self.position[ua], self.position[ub]],
+                new_inside: x,
+            };
+            let Some(bound) = vertex_bound(&patches) else {
                 continue;
             };
-            let error = old_error + gap;
-            if error > limits.tolerance {
+            if bound > limits.tolerance {
                 continue;
             }
             if new.iter().any(|t| self.clashes(t, &region)) {
                 continue;
             }
-            self.apply(a, b, x, &fan, &region, error);
+            self.apply(a, b, x, &fan, &region, bound);
             return true;
         }
         false
@@ -358,7 +362,7 @@ impl Local {
         false
     }
 
-    fn apply(&mut self, a: u32, b: u32, x: DVec3, fan: &[([u32; 3], u32)], region: &[u32], error: f64) {
+    fn apply(&mut self, a: u32, b: u32, x: DVec3, fan: &[([u32; 3], u32)], region: &[u32], bound: f64) {
         for &f in region {
             self.alive[f as usize] = false;
             for v in self.faces[f as usize] {
@@ -370,9 +374,10 @@ impl Local {
         self.position[ua] = x;
         let qb = self.quadric[ub];
         self.quadric[ua] += qb;
+        self.bound[ua] = bound;
         self.stamp[ua] += 1;
         for (t, _) in fan {
-            self.add_face(*t, error, true);
+            self.add_face(*t, true);
         }
     }
 
@@ -381,12 +386,11 @@ impl Local {
         for f in 0..self.faces.len() {
             if self.alive[f] && self.own[f] {
                 out.faces.push(self.faces[f].map(|v| self.global[v as usize]));
-                out.errors.push(self.error[f]);
             }
         }
         for v in 0..self.global.len() {
             if self.alive_vertex[v] && self.stamp[v] > 0 {
-                out.moved.push((self.global[v], self.position[v], self.quadric[v]));
+                out.moved.push((self.global[v], self.position[v], self.quadric[v], self.bound[v]));
             }
         }
         out
@@ -399,3 +403,4 @@ fn boxes_meet(p: &[DVec3; 3], q: &[DVec3; 3]) -> bool {
     let (qlo, qhi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
     plo.cmple(qhi).all() && qlo.cmple(phi).all()
 }
+
