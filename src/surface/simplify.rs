@@ -7,17 +7,20 @@
 //! quadric's minimiser (near-null directions left at the midpoint, so planes, creases
 //! and corners keep their place) or else the better of the ends and the midpoint.
 //! Edges collapse cheapest first, each only when:
-//! - **the distance stays under the tolerance**, two-sided: every face carries a bound
-//!   `e` on the distance between it and the input surface (0 for input faces), in
-//!   both directions (each of its points lies within `e` of the input, and the input
-//!   it replaced lies within `e` of it). A collapse replaces a patch by a fan whose
-//!   Hausdorff distance to it is at most `h` (`gap`: the largest gap between the two
-//!   as height fields over one plane); the new faces get `h` plus the largest `e` of
-//!   the patch, and the collapse is refused when that exceeds the tolerance. By the
-//!   triangle inequality the invariant holds after the collapse, so the output is
-//!   within [`SimplifyReport::max_distance_bound`] of the input everywhere, both
-//!   ways. The bound adds up over the collapses a region goes through; it is
-//!   conservative, not an estimate;
+//! - **the distance stays under the tolerance**, two-sided: every vertex carries a
+//!   bound `e` (0 for input vertices), interpolated linearly over each face, such that
+//!   the current surface and the input are related point to point (each point of
+//!   either related to some point of the other) with related points `p`, `q` within
+//!   `e(p)` (after Guéziec's tolerance volumes, "Surface simplification inside a
+//!   tolerance volume", 1996). A collapse replaces a patch by a fan over the same
+//!   boundary; both are height fields over one plane (else the collapse is refused),
+//!   the vertical line pairs their points, and the new vertex takes the least `e` that
+//!   covers the vertical gap plus the old bound at every corner of the two
+//!   triangulations' common refinement, where the condition is tight (`gap`). The
+//!   collapse is refused when that `e` exceeds the tolerance. So the output lies within
+//!   [`SimplifyReport::max_distance_bound`] of the input everywhere, both ways. The
+//!   bound adds up over the collapses a point goes through; it is conservative, not
+//!   an estimate;
 //! - **topology is kept**: the link condition (Dey, Edelsbrunner et al. 1999: the links
 //!   of the two ends share exactly the two opposite vertices), and no two new faces on
 //!   the same three vertices (so no tetrahedron closes and no edge gets three faces);

@@ -25,8 +25,8 @@ use super::gap::{Patches, vertex_bound};
 use super::quadric::Quadric;
 use super::tri_tri::triangles_clash;
 
-/// Cells of the block's face grid along each axis.
-const GRID_CELLS: usize = 16;
+/// Most cells of the block's face grid along an axis.
+const GRID_CELLS: usize = 64;
 
 /// What one block reads: its box and its faces.
 pub(crate) struct BlockInput<'a> {
@@ -85,10 +85,13 @@ struct Local {
     /// Last query that looked at the face (to test each once a query).
     seen: Vec<u32>,
     query: u32,
+    /// Face ids by grid cell (stale ids of dead faces left in), over the box
+    /// `min..max` in cells of side `cell`, `dims` along the axes.
     grid: Vec<Vec<u32>>,
     min: DVec3,
     max: DVec3,
-    cell: DVec3,
+    cell: f64,
+    dims: [usize; 3],
 }
 
 /// A heap entry: cost, the edge's ends and their stamps when it was priced.
@@ -143,11 +146,13 @@ impl Local {
             own: Vec::new(),
             seen: Vec::new(),
             query: 0,
-            grid: vec![Vec::new(); GRID_CELLS * GRID_CELLS * GRID_CELLS],
+            grid: Vec::new(),
             min: input.min,
             max: input.max,
-            cell: (input.max - input.min) / GRID_CELLS as f64,
+            cell: 0.0,
+            dims: [1; 3],
         };
+        local.size_grid(input);
         for (&f, own) in input.own.iter().map(|f| (f, true)).chain(input.halo.iter().map(|f| (f, false))) {
             let face = input.faces[f as usize].map(|g| {
                 *map.entry(g).or_insert_with(|| {
@@ -174,6 +179,28 @@ impl Local {
         local
     }
 
+    /// Cells twice the mean edge of the block's own faces, at most [`GRID_CELLS`] an
+    /// axis.
+    fn size_grid(&mut self, input: &BlockInput) {
+        let edges: f64 = input
+            .own
+            .iter()
+            .map(|&f| {
+                let [a, b, c] = input.faces[f as usize].map(|v| input.positions[v as usize]);
+                (b - a).length() + (c - b).length() + (a - c).length()
+            })
+            .sum();
+        let mean = edges / (3 * input.own.len().max(1)) as f64;
+        let side = (input.max - input.min).max_element();
+        self.cell = (2.0 * mean).max(side / GRID_CELLS as f64);
+        if !(self.cell > 0.0) {
+            self.cell = side.max(f64::MIN_POSITIVE);
+        }
+        let n = ((input.max - input.min) / self.cell).ceil();
+        self.dims = [n.x, n.y, n.z].map(|c| (c as usize).clamp(1, GRID_CELLS));
+        self.grid = vec![Vec::new(); self.dims[0] * self.dims[1] * self.dims[2]];
+    }
+
     fn add_face(&mut self, face: [u32; 3], own: bool) -> u32 {
         let id = self.faces.len() as u32;
         self.faces.push(face);
@@ -187,7 +214,7 @@ impl Local {
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
                 for x in lo[0]..=hi[0] {
-                    self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x].push(id);
+                    self.grid[(z * self.dims[1] + y) * self.dims[0] + x].push(id);
                 }
             }
         }
@@ -199,7 +226,7 @@ impl Local {
         let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
         let index = |p: DVec3| {
             let c = ((p - self.min) / self.cell).floor();
-            [c.x, c.y, c.z].map(|c| (c.max(0.0) as usize).min(GRID_CELLS - 1))
+            [0, 1, 2].map(|k| (c[k].max(0.0) as usize).min(self.dims[k] - 1))
         };
         (index(lo), index(hi))
     }
@@ -291,8 +318,9 @@ impl Local {
             region.iter().map(|&f| self.faces[f as usize].map(|v| self.bound[v as usize])).collect();
         let new_bounds: SmallVec<[[f64; 3]; 24]> =
             fan.iter().map(|(t, _)| t.map(|v| if v == a { 0.0 } else { self.bound[v as usize] })).collect();
-        for (_, x) in self.candidates(a, b) {
-            if !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
+        let candidates = self.candidates(a, b);
+        for (i, &(_, x)) in candidates.iter().enumerate() {
+            if candidates[..i].iter().any(|&(_, y)| y == x) || !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
                 continue;
             }
             let at = |v: u32| if v == a { x } else { self.position[v as usize] };
@@ -340,19 +368,26 @@ impl Local {
     /// Whether triangle `t` clashes with a live face near it outside `region`.
     fn clashes(&mut self, t: &[DVec3; 3], region: &[u32]) -> bool {
         self.query += 1;
-        let (lo, hi) = self.cells_of(*t);
-        for z in lo[2]..=hi[2] {
-            for y in lo[1]..=hi[1] {
-                for x in lo[0]..=hi[0] {
-                    for i in 0..self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x].len() {
-                        let f = self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x][i];
+        let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+        let (first, last) = self.cells_of(*t);
+        for z in first[2]..=last[2] {
+            for y in first[1]..=last[1] {
+                for x in first[0]..=last[0] {
+                    let cell = (z * self.dims[1] + y) * self.dims[0] + x;
+                    for i in 0..self.grid[cell].len() {
+                        let f = self.grid[cell][i];
                         let fi = f as usize;
-                        if !self.alive[fi] || self.seen[fi] == self.query || region.contains(&f) {
+                        if !self.alive[fi] || self.seen[fi] == self.query {
                             continue;
                         }
                         self.seen[fi] = self.query;
                         let other = self.corners(self.faces[fi]);
-                        if boxes_meet(t, &other) && triangles_clash(*t, other) {
+                        let (olo, ohi) = (other[0].min(other[1]).min(other[2]), other[0].max(other[1]).max(other[2]));
+                        if lo.cmple(ohi).all()
+                            && olo.cmple(hi).all()
+                            && !region.contains(&f)
+                            && triangles_clash(*t, other)
+                        {
                             return true;
                         }
                     }
@@ -395,12 +430,5 @@ impl Local {
         }
         out
     }
-}
-
-/// Whether the boxes of two triangles meet (closed).
-fn boxes_meet(p: &[DVec3; 3], q: &[DVec3; 3]) -> bool {
-    let (plo, phi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
-    let (qlo, qhi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
-    plo.cmple(qhi).all() && qlo.cmple(phi).all()
 }
 

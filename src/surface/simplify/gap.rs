@@ -117,10 +117,11 @@ pub(crate) fn vertex_bound(p: &Patches) -> Option<f64> {
         let mut edges: Vec<(DVec3, f64, DVec3, f64)> = Vec::with_capacity(faces.len() * 2);
         for (t, e) in faces.iter().zip(bounds) {
             for k in 0..3 {
+                // Each interior edge runs from its interior end to the next corner
+                // in one of its two faces.
                 if inside.contains(&t[k]) {
-                    for j in [(k + 1) % 3, (k + 2) % 3] {
-                        edges.push((t[k], e[k], t[j], e[j]));
-                    }
+                    let j = (k + 1) % 3;
+                    edges.push((t[k], e[k], t[j], e[j]));
                 }
             }
         }

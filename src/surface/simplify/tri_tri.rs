@@ -32,6 +32,9 @@ use crate::mesh::predicates::{orient2d, orient3d};
 /// corners they share by position and the segment between two shared corners.
 #[must_use]
 pub(crate) fn triangles_clash(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
+    if clearly_apart(p, q) {
+        return false;
+    }
     let mut shared = 0;
     let (mut in_p, mut in_q) = ([false; 3], [false; 3]);
     for i in 0..3 {
@@ -66,6 +69,31 @@ pub(crate) fn triangles_clash(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
         _ => true,
     }
 }
+
+/// Whether a separating axis among the two normals and the in-plane normals of the
+/// edges parts the triangles by more than the rounding of the projections: a float
+/// filter that settles most pairs (coplanar neighbours of a staircase among them)
+/// before any exact predicate. Any axis, however rounded, separates the true points
+/// when their computed projections are apart by more than the dot products' error
+/// (`3 eps |axis| |x|`, bounded by [`APART_MARGIN`]).
+fn clearly_apart(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
+    let (np, nq) = ((p[1] - p[0]).cross(p[2] - p[0]), (q[1] - q[0]).cross(q[2] - q[0]));
+    let size = p.iter().chain(&q).fold(0.0f64, |m, x| m.max(x.abs().max_element())) * 3f64.sqrt();
+    let apart = |axis: DVec3| {
+        let (dp, dq) = (p.map(|x| axis.dot(x)), q.map(|x| axis.dot(x)));
+        let (lo_p, hi_p) = (dp[0].min(dp[1]).min(dp[2]), dp[0].max(dp[1]).max(dp[2]));
+        let (lo_q, hi_q) = (dq[0].min(dq[1]).min(dq[2]), dq[0].max(dq[1]).max(dq[2]));
+        let margin = APART_MARGIN * axis.length() * size;
+        hi_p + margin < lo_q || hi_q + margin < lo_p
+    };
+    apart(np)
+        || apart(nq)
+        || (0..3).any(|i| apart(np.cross(p[(i + 1) % 3] - p[i])) || apart(nq.cross(q[(i + 1) % 3] - q[i])))
+}
+
+/// Relative error allowance of a float dot product in [`clearly_apart`] (far above
+/// `3 eps`).
+const APART_MARGIN: f64 = 1e-13;
 
 /// Whether closed triangles `p` and `q` have a common point.
 #[must_use]
@@ -234,6 +262,11 @@ mod tests {
             let (p, q) = (random_triangle(&mut rng, 4), random_triangle(&mut rng, 4));
             let expected = sat_meet(&p, &q);
             assert_eq!(triangles_meet(p.map(to_f), q.map(to_f)), expected, "{p:?} {q:?}");
+            let shares = p.iter().any(|x| q.contains(x));
+            if !shares {
+                assert_eq!(triangles_clash(p.map(to_f), q.map(to_f)), expected, "{p:?} {q:?}");
+                assert!(!(expected && clearly_apart(p.map(to_f), q.map(to_f))));
+            }
             met += usize::from(expected);
             missed += usize::from(!expected);
         }
