@@ -122,7 +122,8 @@ pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(Trian
     if !mesh.is_watertight() {
         return Err(Error::invalid("mesh", "it is not closed, manifold and consistently oriented"));
     }
-    let limits = Limits { tolerance: options.tolerance, min_normal_cosine: options.max_normal_change.min(PI_HALF).cos() };
+    let limits =
+        Limits { tolerance: options.tolerance, min_normal_cosine: options.max_normal_change.min(PI_HALF).cos() };
     let mut state = State::new(mesh);
     let bounds = mesh.bounds();
     let extent = (bounds.max - bounds.min).max_element().max(f64::MIN_POSITIVE);

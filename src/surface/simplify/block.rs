@@ -193,7 +193,7 @@ impl Local {
         let mean = edges / (3 * input.own.len().max(1)) as f64;
         let side = (input.max - input.min).max_element();
         self.cell = (2.0 * mean).max(side / GRID_CELLS as f64);
-        if !(self.cell > 0.0) {
+        if self.cell.is_nan() || self.cell <= 0.0 {
             self.cell = side.max(f64::MIN_POSITIVE);
         }
         let n = ((input.max - input.min) / self.cell).ceil();
@@ -327,9 +327,10 @@ impl Local {
             let new: SmallVec<[[DVec3; 3]; 24]> = fan.iter().map(|(t, _)| t.map(at)).collect();
             let shapes_ok = fan.iter().zip(&new).all(|((_, f), n)| {
                 let normal = (n[1] - n[0]).cross(n[2] - n[0]);
-                let longest = (n[1] - n[0]).length_squared().max((n[2] - n[1]).length_squared()).max(
-                    (n[0] - n[2]).length_squared(),
-                );
+                let longest = (n[1] - n[0])
+                    .length_squared()
+                    .max((n[2] - n[1]).length_squared())
+                    .max((n[0] - n[2]).length_squared());
                 let before = self.corners(self.faces[*f as usize]);
                 let was = (before[1] - before[0]).cross(before[2] - before[0]);
                 normal.length() > 1e-9 * longest
@@ -431,4 +432,3 @@ impl Local {
         out
     }
 }
-

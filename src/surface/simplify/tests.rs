@@ -233,7 +233,8 @@ fn a_cylinder_keeps_its_rims_and_stays_on_the_cylinder() {
     for p in samples(&output, 8, &mut rng) {
         // Distance to the capped cylinder's surface.
         let (r, z) = (p.truncate().length() - radius, p.z.abs() - half);
-        let distance = if r <= 0.0 && z <= 0.0 { r.max(z).abs() } else { DVec3::new(r.max(0.0), z.max(0.0), 0.0).length() };
+        let distance =
+            if r <= 0.0 && z <= 0.0 { r.max(z).abs() } else { DVec3::new(r.max(0.0), z.max(0.0), 0.0).length() };
         assert!(distance <= tolerance + sagitta, "{p} is {distance} off the cylinder");
     }
 }
@@ -260,10 +261,8 @@ fn staircases_of_random_voxels_stay_manifold_and_intersection_free() {
     let mut sheets = 0;
     for case in 0..12 {
         let fill = 0.2 + 0.05 * f64::from(case % 6);
-        let voxels: Vec<[u32; 3]> = (0..512u32)
-            .filter(|_| rng.unit() < fill)
-            .map(|i| [i & 7, (i >> 3) & 7, i >> 6])
-            .collect();
+        let voxels: Vec<[u32; 3]> =
+            (0..512u32).filter(|_| rng.unit() < fill).map(|i| [i & 7, (i >> 3) & 7, i >> 6]).collect();
         let tree = LinearOctree::from_voxels(domain, voxels).unwrap();
         let input = boundary_mesh(&tree, &BoundaryOptions { unit_faces: true });
         if input.triangles.is_empty() {
@@ -297,7 +296,8 @@ fn one_and_two_threads_give_the_same_mesh() {
         })
         .map(|i| [i & 15, (i >> 4) & 15, i >> 8])
         .collect();
-    let staircase = boundary_mesh(&LinearOctree::from_voxels(domain, voxels).unwrap(), &BoundaryOptions { unit_faces: true });
+    let staircase =
+        boundary_mesh(&LinearOctree::from_voxels(domain, voxels).unwrap(), &BoundaryOptions { unit_faces: true });
     for (input, tolerance) in [(generate::icosphere(DVec3::ZERO, 1.0, 5), 0.002), (staircase, 0.5 / 16.0)] {
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
@@ -306,7 +306,12 @@ fn one_and_two_threads_give_the_same_mesh() {
         let ((one, report_one), (two, report_two)) = (run(1), run(2));
         assert_eq!(report_one, report_two);
         assert!(one.triangles == two.triangles);
-        assert!(one.vertices.iter().zip(&two.vertices).all(|(a, b)| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits)));
+        assert!(
+            one.vertices
+                .iter()
+                .zip(&two.vertices)
+                .all(|(a, b)| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits))
+        );
         assert!(report_one.collapses > 0);
     }
 }
