@@ -223,7 +223,11 @@ impl Local {
 
     /// The grid cells a triangle's box meets, clamped to the grid.
     fn cells_of(&self, t: [DVec3; 3]) -> ([usize; 3], [usize; 3]) {
-        let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+        self.cells_between(t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))
+    }
+
+    /// The grid cells the box `lo..hi` meets, clamped to the grid.
+    fn cells_between(&self, lo: DVec3, hi: DVec3) -> ([usize; 3], [usize; 3]) {
         let index = |p: DVec3| {
             let c = ((p - self.min) / self.cell).floor();
             [0, 1, 2].map(|k| (c[k].max(0.0) as usize).min(self.dims[k] - 1))
@@ -353,7 +357,7 @@ impl Local {
             if bound > limits.tolerance {
                 continue;
             }
-            if new.iter().any(|t| self.clashes(t, &region)) {
+            if self.clashes(&new, &region) {
                 continue;
             }
             self.apply(a, b, x, &fan, &region, bound);
@@ -366,31 +370,41 @@ impl Local {
         t.map(|v| self.position[v as usize])
     }
 
-    /// Whether triangle `t` clashes with a live face near it outside `region`.
-    fn clashes(&mut self, t: &[DVec3; 3], region: &[u32]) -> bool {
+    /// Whether a triangle of `fan` clashes with a live face near it outside
+    /// `region`. The cells under the fan's box are read once, their dead faces
+    /// dropped as they are read.
+    fn clashes(&mut self, fan: &[[DVec3; 3]], region: &[u32]) -> bool {
+        let boxes: SmallVec<[(DVec3, DVec3); 24]> =
+            fan.iter().map(|t| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))).collect();
+        let (lo, hi) = boxes.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), b| (l.min(b.0), h.max(b.1)));
         self.query += 1;
-        let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
-        let (first, last) = self.cells_of(*t);
+        let (first, last) = self.cells_between(lo, hi);
         for z in first[2]..=last[2] {
             for y in first[1]..=last[1] {
                 for x in first[0]..=last[0] {
                     let cell = (z * self.dims[1] + y) * self.dims[0] + x;
-                    for i in 0..self.grid[cell].len() {
-                        let f = self.grid[cell][i];
+                    let mut ids = std::mem::take(&mut self.grid[cell]);
+                    ids.retain(|&f| self.alive[f as usize]);
+                    let mut clash = false;
+                    for &f in &ids {
                         let fi = f as usize;
-                        if !self.alive[fi] || self.seen[fi] == self.query {
+                        if clash || self.seen[fi] == self.query {
                             continue;
                         }
                         self.seen[fi] = self.query;
                         let other = self.corners(self.faces[fi]);
                         let (olo, ohi) = (other[0].min(other[1]).min(other[2]), other[0].max(other[1]).max(other[2]));
-                        if lo.cmple(ohi).all()
-                            && olo.cmple(hi).all()
-                            && !region.contains(&f)
-                            && triangles_clash(*t, other)
-                        {
-                            return true;
+                        if !(lo.cmple(ohi).all() && olo.cmple(hi).all()) || region.contains(&f) {
+                            continue;
                         }
+                        clash = fan
+                            .iter()
+                            .zip(&boxes)
+                            .any(|(t, b)| b.0.cmple(ohi).all() && olo.cmple(b.1).all() && triangles_clash(*t, other));
+                    }
+                    self.grid[cell] = ids;
+                    if clash {
+                        return true;
                     }
                 }
             }
