@@ -7,17 +7,20 @@
 //! quadric's minimiser (near-null directions left at the midpoint, so planes, creases
 //! and corners keep their place) or else the better of the ends and the midpoint.
 //! Edges collapse cheapest first, each only when:
-//! - **the distance stays under the tolerance**, two-sided: every face carries a bound
-//!   `e` on the distance between it and the input surface (0 for input faces), in
-//!   both directions (each of its points lies within `e` of the input, and the input
-//!   it replaced lies within `e` of it). A collapse replaces a patch by a fan whose
-//!   Hausdorff distance to it is at most `h` (`gap`: the largest gap between the two
-//!   as height fields over one plane); the new faces get `h` plus the largest `e` of
-//!   the patch, and the collapse is refused when that exceeds the tolerance. By the
-//!   triangle inequality the invariant holds after the collapse, so the output is
-//!   within [`SimplifyReport::max_distance_bound`] of the input everywhere, both
-//!   ways. The bound adds up over the collapses a region goes through; it is
-//!   conservative, not an estimate;
+//! - **the distance stays under the tolerance**, two-sided: every vertex carries a
+//!   bound `e` (0 for input vertices), interpolated linearly over each face, such that
+//!   the current surface and the input are related point to point (each point of
+//!   either related to some point of the other) with related points `p`, `q` within
+//!   `e(p)` (after Guéziec's tolerance volumes, "Surface simplification inside a
+//!   tolerance volume", 1996). A collapse replaces a patch by a fan over the same
+//!   boundary; both are height fields over one plane (else the collapse is refused),
+//!   the vertical line pairs their points, and the new vertex takes the least `e` that
+//!   covers the vertical gap plus the old bound at every corner of the two
+//!   triangulations' common refinement, where the condition is tight (`gap`). The
+//!   collapse is refused when that `e` exceeds the tolerance. So the output lies within
+//!   [`SimplifyReport::max_distance_bound`] of the input everywhere, both ways. The
+//!   bound adds up over the collapses a point goes through; it is conservative, not
+//!   an estimate;
 //! - **topology is kept**: the link condition (Dey, Edelsbrunner et al. 1999: the links
 //!   of the two ends share exactly the two opposite vertices), and no two new faces on
 //!   the same three vertices (so no tetrahedron closes and no edge gets three faces);
@@ -120,7 +123,8 @@ pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(Trian
     if !mesh.is_watertight() {
         return Err(Error::invalid("mesh", "it is not closed, manifold and consistently oriented"));
     }
-    let limits = Limits { tolerance: options.tolerance, min_normal_cosine: options.max_normal_change.min(PI_HALF).cos() };
+    let limits =
+        Limits { tolerance: options.tolerance, min_normal_cosine: options.max_normal_change.min(PI_HALF).cos() };
     let mut state = State::new(mesh);
     let bounds = mesh.bounds();
     let extent = (bounds.max - bounds.min).max_element().max(f64::MIN_POSITIVE);
@@ -162,8 +166,9 @@ const PI_HALF: f64 = std::f64::consts::FRAC_PI_2;
 struct State {
     positions: Vec<DVec3>,
     quadrics: Vec<Quadric>,
+    /// Each vertex's distance bound (module `gap`).
+    bounds: Vec<f64>,
     faces: Vec<[u32; 3]>,
-    errors: Vec<f64>,
     /// The input's total face area (the quadrics' weight).
     area: f64,
 }
@@ -188,8 +193,8 @@ impl State {
         State {
             positions: mesh.vertices.clone(),
             quadrics,
+            bounds: vec![0.0; mesh.vertices.len()],
             faces: mesh.triangles.clone(),
-            errors: vec![0.0; mesh.triangles.len()],
             area,
         }
     }
@@ -257,8 +262,8 @@ impl State {
                     max: min + DVec3::splat(width),
                     positions: &self.positions,
                     quadrics: &self.quadrics,
+                    bounds: &self.bounds,
                     faces: &self.faces,
-                    errors: &self.errors,
                     own: &own[id],
                     halo: &halo[id],
                 };
@@ -267,25 +272,22 @@ impl State {
             .collect();
         // Join: the faces no block owned, in order, then each block's in block order.
         let mut faces = Vec::with_capacity(self.faces.len());
-        let mut errors = Vec::with_capacity(self.faces.len());
         for (f, t) in self.faces.iter().enumerate() {
             if owner[f].is_none() {
                 faces.push(*t);
-                errors.push(self.errors[f]);
             }
         }
         let mut made = 0;
         for out in outputs {
             made += out.collapses;
             faces.extend(out.faces);
-            errors.extend(out.errors);
-            for (v, p, q) in out.moved {
+            for (v, p, q, e) in out.moved {
                 self.positions[v as usize] = p;
                 self.quadrics[v as usize] = q;
+                self.bounds[v as usize] = e;
             }
         }
         self.faces = faces;
-        self.errors = errors;
         made
     }
 
@@ -295,12 +297,13 @@ impl State {
             remap[v as usize] = 0;
         }
         let mut vertices = Vec::new();
-        let mut squared = 0.0;
+        let (mut squared, mut bound) = (0.0, 0.0f64);
         for (v, r) in remap.iter_mut().enumerate() {
             if *r == 0 {
                 *r = vertices.len() as u32;
                 vertices.push(self.positions[v]);
                 squared += self.quadrics[v].eval(self.positions[v]);
+                bound = bound.max(self.bounds[v]);
             }
         }
         let triangles: Vec<[u32; 3]> = self.faces.iter().map(|t| t.map(|v| remap[v as usize])).collect();
@@ -308,7 +311,7 @@ impl State {
             triangles_before,
             triangles_after: triangles.len(),
             vertices_after: vertices.len(),
-            max_distance_bound: self.errors.iter().copied().fold(0.0, f64::max),
+            max_distance_bound: bound,
             // Each input face's plane is counted at its three corners.
             rms_quadric_distance: if self.area > 0.0 { (squared / (3.0 * self.area)).sqrt() } else { 0.0 },
             collapses,

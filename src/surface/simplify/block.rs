@@ -21,12 +21,12 @@ use glam::DVec3;
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
-use super::gap::{Patches, gap_bound};
+use super::gap::{Patches, vertex_bound};
 use super::quadric::Quadric;
 use super::tri_tri::triangles_clash;
 
-/// Cells of the block's face grid along each axis.
-const GRID_CELLS: usize = 16;
+/// Most cells of the block's face grid along an axis.
+const GRID_CELLS: usize = 64;
 
 /// What one block reads: its box and its faces.
 pub(crate) struct BlockInput<'a> {
@@ -34,11 +34,11 @@ pub(crate) struct BlockInput<'a> {
     pub min: DVec3,
     /// Highest corner of the block's box.
     pub max: DVec3,
-    /// The snapshot's positions, quadrics, faces and face error bounds.
+    /// The snapshot's positions, quadrics and distance bounds by vertex, and faces.
     pub positions: &'a [DVec3],
     pub quadrics: &'a [Quadric],
+    pub bounds: &'a [f64],
     pub faces: &'a [[u32; 3]],
-    pub errors: &'a [f64],
     /// The block's own faces (indices into `faces`, ascending).
     pub own: &'a [u32],
     /// The halo (indices into `faces`, ascending).
@@ -48,7 +48,7 @@ pub(crate) struct BlockInput<'a> {
 /// The limits every collapse keeps.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Limits {
-    /// Largest error bound of a face, in world units.
+    /// Largest distance bound of a vertex, in world units.
     pub tolerance: f64,
     /// Least cosine between a face's normal before and after a collapse.
     pub min_normal_cosine: f64,
@@ -57,11 +57,10 @@ pub(crate) struct Limits {
 /// What one block gives back: its faces now, the vertices it moved, its collapses.
 #[derive(Debug, Default)]
 pub(crate) struct BlockOutput {
-    /// Its faces (global vertex indices) and their error bounds.
+    /// Its faces (global vertex indices).
     pub faces: Vec<[u32; 3]>,
-    pub errors: Vec<f64>,
-    /// Kept vertices that moved: global index, position, merged quadric.
-    pub moved: Vec<(u32, DVec3, Quadric)>,
+    /// Kept vertices that moved: global index, position, merged quadric, bound.
+    pub moved: Vec<(u32, DVec3, Quadric, f64)>,
     /// Collapses made.
     pub collapses: usize,
 }
@@ -71,6 +70,7 @@ struct Local {
     global: Vec<u32>,
     position: Vec<DVec3>,
     quadric: Vec<Quadric>,
+    bound: Vec<f64>,
     /// Not on a halo face, so free to move or disappear.
     free: Vec<bool>,
     /// Strictly inside the block's open box.
@@ -79,17 +79,19 @@ struct Local {
     stamp: Vec<u32>,
     incident: Vec<SmallVec<[u32; 8]>>,
     faces: Vec<[u32; 3]>,
-    error: Vec<f64>,
     alive: Vec<bool>,
     /// Whether the face is the block's own (else halo).
     own: Vec<bool>,
     /// Last query that looked at the face (to test each once a query).
     seen: Vec<u32>,
     query: u32,
+    /// Face ids by grid cell (stale ids of dead faces left in), over the box
+    /// `min..max` in cells of side `cell`, `dims` along the axes.
     grid: Vec<Vec<u32>>,
     min: DVec3,
     max: DVec3,
-    cell: DVec3,
+    cell: f64,
+    dims: [usize; 3],
 }
 
 /// A heap entry: cost, the edge's ends and their stamps when it was priced.
@@ -133,22 +135,24 @@ impl Local {
             global: Vec::new(),
             position: Vec::new(),
             quadric: Vec::new(),
+            bound: Vec::new(),
             free: Vec::new(),
             interior: Vec::new(),
             alive_vertex: Vec::new(),
             stamp: Vec::new(),
             incident: Vec::new(),
             faces: Vec::with_capacity(input.own.len() + input.halo.len()),
-            error: Vec::new(),
             alive: Vec::new(),
             own: Vec::new(),
             seen: Vec::new(),
             query: 0,
-            grid: vec![Vec::new(); GRID_CELLS * GRID_CELLS * GRID_CELLS],
+            grid: Vec::new(),
             min: input.min,
             max: input.max,
-            cell: (input.max - input.min) / GRID_CELLS as f64,
+            cell: 0.0,
+            dims: [1; 3],
         };
+        local.size_grid(input);
         for (&f, own) in input.own.iter().map(|f| (f, true)).chain(input.halo.iter().map(|f| (f, false))) {
             let face = input.faces[f as usize].map(|g| {
                 *map.entry(g).or_insert_with(|| {
@@ -156,6 +160,7 @@ impl Local {
                     local.global.push(g);
                     local.position.push(p);
                     local.quadric.push(input.quadrics[g as usize]);
+                    local.bound.push(input.bounds[g as usize]);
                     local.free.push(true);
                     local.interior.push(p.cmpgt(input.min).all() && p.cmplt(input.max).all());
                     local.alive_vertex.push(true);
@@ -169,15 +174,36 @@ impl Local {
                     local.free[v as usize] = false;
                 }
             }
-            local.add_face(face, input.errors[f as usize], own);
+            local.add_face(face, own);
         }
         local
     }
 
-    fn add_face(&mut self, face: [u32; 3], error: f64, own: bool) -> u32 {
+    /// Cells twice the mean edge of the block's own faces, at most [`GRID_CELLS`] an
+    /// axis.
+    fn size_grid(&mut self, input: &BlockInput) {
+        let edges: f64 = input
+            .own
+            .iter()
+            .map(|&f| {
+                let [a, b, c] = input.faces[f as usize].map(|v| input.positions[v as usize]);
+                (b - a).length() + (c - b).length() + (a - c).length()
+            })
+            .sum();
+        let mean = edges / (3 * input.own.len().max(1)) as f64;
+        let side = (input.max - input.min).max_element();
+        self.cell = (2.0 * mean).max(side / GRID_CELLS as f64);
+        if self.cell.is_nan() || self.cell <= 0.0 {
+            self.cell = side.max(f64::MIN_POSITIVE);
+        }
+        let n = ((input.max - input.min) / self.cell).ceil();
+        self.dims = [n.x, n.y, n.z].map(|c| (c as usize).clamp(1, GRID_CELLS));
+        self.grid = vec![Vec::new(); self.dims[0] * self.dims[1] * self.dims[2]];
+    }
+
+    fn add_face(&mut self, face: [u32; 3], own: bool) -> u32 {
         let id = self.faces.len() as u32;
         self.faces.push(face);
-        self.error.push(error);
         self.alive.push(true);
         self.own.push(own);
         self.seen.push(0);
@@ -188,7 +214,7 @@ impl Local {
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
                 for x in lo[0]..=hi[0] {
-                    self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x].push(id);
+                    self.grid[(z * self.dims[1] + y) * self.dims[0] + x].push(id);
                 }
             }
         }
@@ -197,10 +223,14 @@ impl Local {
 
     /// The grid cells a triangle's box meets, clamped to the grid.
     fn cells_of(&self, t: [DVec3; 3]) -> ([usize; 3], [usize; 3]) {
-        let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+        self.cells_between(t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))
+    }
+
+    /// The grid cells the box `lo..hi` meets, clamped to the grid.
+    fn cells_between(&self, lo: DVec3, hi: DVec3) -> ([usize; 3], [usize; 3]) {
         let index = |p: DVec3| {
             let c = ((p - self.min) / self.cell).floor();
-            [c.x, c.y, c.z].map(|c| (c.max(0.0) as usize).min(GRID_CELLS - 1))
+            [0, 1, 2].map(|k| (c[k].max(0.0) as usize).min(self.dims[k] - 1))
         };
         (index(lo), index(hi))
     }
@@ -287,22 +317,24 @@ impl Local {
         if !link_inside {
             return false;
         }
-        let old_error = region.iter().map(|&f| self.error[f as usize]).fold(0.0, f64::max);
-        if old_error > limits.tolerance {
-            return false;
-        }
         let old: SmallVec<[[DVec3; 3]; 24]> = region.iter().map(|&f| self.corners(self.faces[f as usize])).collect();
-        for (_, x) in self.candidates(a, b) {
-            if !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
+        let old_bounds: SmallVec<[[f64; 3]; 24]> =
+            region.iter().map(|&f| self.faces[f as usize].map(|v| self.bound[v as usize])).collect();
+        let new_bounds: SmallVec<[[f64; 3]; 24]> =
+            fan.iter().map(|(t, _)| t.map(|v| if v == a { 0.0 } else { self.bound[v as usize] })).collect();
+        let candidates = self.candidates(a, b);
+        for (i, &(_, x)) in candidates.iter().enumerate() {
+            if candidates[..i].iter().any(|&(_, y)| y == x) || !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
                 continue;
             }
             let at = |v: u32| if v == a { x } else { self.position[v as usize] };
             let new: SmallVec<[[DVec3; 3]; 24]> = fan.iter().map(|(t, _)| t.map(at)).collect();
             let shapes_ok = fan.iter().zip(&new).all(|((_, f), n)| {
                 let normal = (n[1] - n[0]).cross(n[2] - n[0]);
-                let longest = (n[1] - n[0]).length_squared().max((n[2] - n[1]).length_squared()).max(
-                    (n[0] - n[2]).length_squared(),
-                );
+                let longest = (n[1] - n[0])
+                    .length_squared()
+                    .max((n[2] - n[1]).length_squared())
+                    .max((n[0] - n[2]).length_squared());
                 let before = self.corners(self.faces[*f as usize]);
                 let was = (before[1] - before[0]).cross(before[2] - before[0]);
                 normal.length() > 1e-9 * longest
@@ -311,19 +343,24 @@ impl Local {
             if !shapes_ok {
                 continue;
             }
-            let patches =
-                Patches { old: &old, new: &new, old_inside: [self.position[ua], self.position[ub]], new_inside: x };
-            let Some(gap) = gap_bound(&patches) else {
+            let patches = Patches {
+                old: &old,
+                old_bounds: &old_bounds,
+                new: &new,
+                new_bounds: &new_bounds,
+                old_inside: [self.position[ua], self.position[ub]],
+                new_inside: x,
+            };
+            let Some(bound) = vertex_bound(&patches) else {
                 continue;
             };
-            let error = old_error + gap;
-            if error > limits.tolerance {
+            if bound > limits.tolerance {
                 continue;
             }
-            if new.iter().any(|t| self.clashes(t, &region)) {
+            if self.clashes(&new, &region) {
                 continue;
             }
-            self.apply(a, b, x, &fan, &region, error);
+            self.apply(a, b, x, &fan, &region, bound);
             return true;
         }
         false
@@ -333,24 +370,41 @@ impl Local {
         t.map(|v| self.position[v as usize])
     }
 
-    /// Whether triangle `t` clashes with a live face near it outside `region`.
-    fn clashes(&mut self, t: &[DVec3; 3], region: &[u32]) -> bool {
+    /// Whether a triangle of `fan` clashes with a live face near it outside
+    /// `region`. The cells under the fan's box are read once, their dead faces
+    /// dropped as they are read.
+    fn clashes(&mut self, fan: &[[DVec3; 3]], region: &[u32]) -> bool {
+        let boxes: SmallVec<[(DVec3, DVec3); 24]> =
+            fan.iter().map(|t| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))).collect();
+        let (lo, hi) = boxes.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), b| (l.min(b.0), h.max(b.1)));
         self.query += 1;
-        let (lo, hi) = self.cells_of(*t);
-        for z in lo[2]..=hi[2] {
-            for y in lo[1]..=hi[1] {
-                for x in lo[0]..=hi[0] {
-                    for i in 0..self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x].len() {
-                        let f = self.grid[(z * GRID_CELLS + y) * GRID_CELLS + x][i];
+        let (first, last) = self.cells_between(lo, hi);
+        for z in first[2]..=last[2] {
+            for y in first[1]..=last[1] {
+                for x in first[0]..=last[0] {
+                    let cell = (z * self.dims[1] + y) * self.dims[0] + x;
+                    let mut ids = std::mem::take(&mut self.grid[cell]);
+                    ids.retain(|&f| self.alive[f as usize]);
+                    let mut clash = false;
+                    for &f in &ids {
                         let fi = f as usize;
-                        if !self.alive[fi] || self.seen[fi] == self.query || region.contains(&f) {
+                        if clash || self.seen[fi] == self.query {
                             continue;
                         }
                         self.seen[fi] = self.query;
                         let other = self.corners(self.faces[fi]);
-                        if boxes_meet(t, &other) && triangles_clash(*t, other) {
-                            return true;
+                        let (olo, ohi) = (other[0].min(other[1]).min(other[2]), other[0].max(other[1]).max(other[2]));
+                        if !(lo.cmple(ohi).all() && olo.cmple(hi).all()) || region.contains(&f) {
+                            continue;
                         }
+                        clash = fan
+                            .iter()
+                            .zip(&boxes)
+                            .any(|(t, b)| b.0.cmple(ohi).all() && olo.cmple(b.1).all() && triangles_clash(*t, other));
+                    }
+                    self.grid[cell] = ids;
+                    if clash {
+                        return true;
                     }
                 }
             }
@@ -358,7 +412,7 @@ impl Local {
         false
     }
 
-    fn apply(&mut self, a: u32, b: u32, x: DVec3, fan: &[([u32; 3], u32)], region: &[u32], error: f64) {
+    fn apply(&mut self, a: u32, b: u32, x: DVec3, fan: &[([u32; 3], u32)], region: &[u32], bound: f64) {
         for &f in region {
             self.alive[f as usize] = false;
             for v in self.faces[f as usize] {
@@ -370,9 +424,10 @@ impl Local {
         self.position[ua] = x;
         let qb = self.quadric[ub];
         self.quadric[ua] += qb;
+        self.bound[ua] = bound;
         self.stamp[ua] += 1;
         for (t, _) in fan {
-            self.add_face(*t, error, true);
+            self.add_face(*t, true);
         }
     }
 
@@ -381,21 +436,13 @@ impl Local {
         for f in 0..self.faces.len() {
             if self.alive[f] && self.own[f] {
                 out.faces.push(self.faces[f].map(|v| self.global[v as usize]));
-                out.errors.push(self.error[f]);
             }
         }
         for v in 0..self.global.len() {
             if self.alive_vertex[v] && self.stamp[v] > 0 {
-                out.moved.push((self.global[v], self.position[v], self.quadric[v]));
+                out.moved.push((self.global[v], self.position[v], self.quadric[v], self.bound[v]));
             }
         }
         out
     }
-}
-
-/// Whether the boxes of two triangles meet (closed).
-fn boxes_meet(p: &[DVec3; 3], q: &[DVec3; 3]) -> bool {
-    let (plo, phi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
-    let (qlo, qhi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
-    plo.cmple(qhi).all() && qlo.cmple(phi).all()
 }

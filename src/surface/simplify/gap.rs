@@ -1,5 +1,6 @@
-//! A true bound on how far apart an edge collapse moves the surface: the largest gap
-//! between the patch before and the patch after, both seen as height fields.
+//! A true bound on the distance a collapse adds: the gap between the patch before and
+//! the patch after, both seen as height fields, carried into a distance bound that
+//! varies linearly over each face (after Guéziec's tolerance volumes, 1996).
 //!
 //! Collapsing edge `a b` into `v` replaces the faces around `a` and `b` (the old patch,
 //! a disk) by a fan around `v` over the same boundary polygon (the new patch). Project
@@ -7,13 +8,20 @@
 //! `n` by a margin ([`MIN_FACING`]), and the new fan's projected angles around `v` sum
 //! to one turn, the boundary polygon projects to a simple polygon (star-shaped about
 //! `v`), and each patch projects one to one onto it (a disk mapped with every triangle
-//! kept positive and a simple boundary covers each point once). Over each cell of the
-//! two projected triangulations' common refinement both patches are planar, so their
-//! vertical gap is affine there and is largest at a cell corner: an interior vertex of
-//! either patch (`a`, `b`, `v`) or a crossing of an old interior edge with a new one
-//! (the boundary is shared, where the gap is zero). The largest of these gaps bounds
-//! the distance from every point of either patch to the other (the point straight
-//! above or below is that close): the two-sided Hausdorff distance.
+//! kept positive and a simple boundary covers each point once). The point straight
+//! above or below pairs each point of one patch with one of the other.
+//!
+//! The invariant kept: every vertex carries a bound `e`, interpolated linearly over
+//! each face, and the current surface and the input are related (every point of each
+//! to some point of the other) so that related points `p`, `q` lie within `e(p)`. After
+//! the collapse a new point `p'` takes the relations of the old point `p` under it, so
+//! it needs `e'(p') >= gap(p') + e(p)`. Over each cell of the two projected
+//! triangulations' common refinement, both sides of that inequality are affine
+//! (the patches are planar there, `e` linear), so it holds everywhere once it holds at
+//! the cells' corners: the interior vertices of either patch (`a`, `b`, `v`) and the
+//! crossings of an old interior edge with a new one (the boundary is shared, with
+//! gap zero and `e` unchanged). The link's bounds stay; each corner gives a least
+//! `e(v)`, and [`vertex_bound`] returns the largest.
 //!
 //! The points are found and the heights interpolated in floats; a relative slack of
 //! [`SLACK`] times the patch's size is added for their rounding.
@@ -25,22 +33,31 @@ pub(crate) const MIN_FACING: f64 = 0.2;
 /// Rounding allowance, relative to the patch's largest coordinate span.
 const SLACK: f64 = 1e-14;
 
-/// The two patches of one collapse, as corner triples.
+/// The two patches of one collapse, as corner triples with their corners' bounds.
 pub(crate) struct Patches<'a> {
     /// The faces around `a` and `b`, as they are.
     pub old: &'a [[DVec3; 3]],
+    /// The bounds at their corners.
+    pub old_bounds: &'a [[f64; 3]],
     /// The fan around `v` that replaces them.
     pub new: &'a [[DVec3; 3]],
+    /// The bounds at their corners (those at `v` unused).
+    pub new_bounds: &'a [[f64; 3]],
     /// The old patch's interior vertices, `a` and `b`.
     pub old_inside: [DVec3; 2],
     /// The new patch's interior vertex `v`.
     pub new_inside: DVec3,
 }
 
-/// The largest vertical gap between the patches, or `None` when they are not both
-/// height fields over one projection (the collapse is then refused).
+/// Least weight of `v` at a corner point for its bound to be solved for; below it
+/// the collapse is refused (the bound would be ill-conditioned).
+const MIN_WEIGHT: f64 = 1e-6;
+
+/// The least bound at `v` that keeps the invariant (module doc), or `None` when the
+/// patches are not both height fields over one projection (the collapse is then
+/// refused).
 #[must_use]
-pub(crate) fn gap_bound(p: &Patches) -> Option<f64> {
+pub(crate) fn vertex_bound(p: &Patches) -> Option<f64> {
     let area = |t: &[DVec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]);
     let n = p.old.iter().map(area).sum::<DVec3>().try_normalize()?;
     if !p.old.iter().chain(p.new).all(|t| {
@@ -67,30 +84,54 @@ pub(crate) fn gap_bound(p: &Patches) -> Option<f64> {
     if (turn - std::f64::consts::TAU).abs() > 1e-6 {
         return None;
     }
-    let mut gap: f64 = 0.0;
-    // Interior vertices of one patch against the other.
-    for &x in &p.old_inside {
-        gap = gap.max((height(x) - height_over(p.new, flat(x), &flat, &height)?).abs());
+    // The least e(v) for the corner point where v weighs `weight`, the rest of the new
+    // side weighs `rest` and the old side needs `need` (gap plus old bound).
+    let solve = |need: f64, rest: f64, weight: f64| -> Option<f64> {
+        if need <= rest {
+            Some(0.0)
+        } else if weight < MIN_WEIGHT {
+            None
+        } else {
+            Some((need - rest) / weight)
+        }
+    };
+    let mut bound: f64 = 0.0;
+    // Old interior vertices over the new fan.
+    for (i, &x) in p.old_inside.iter().enumerate() {
+        let e_old = old_bound_at(p, x, i);
+        let (face, weights) = holder(p.new, flat(x), &flat)?;
+        let t = p.new[face];
+        let h: f64 = (0..3).map(|k| weights[k] * height(t[k])).sum();
+        let k = t.iter().position(|&c| c == p.new_inside)?;
+        let rest: f64 = (0..3).filter(|&j| j != k).map(|j| weights[j] * p.new_bounds[face][j]).sum();
+        bound = bound.max(solve((height(x) - h).abs() + e_old, rest, weights[k])?);
     }
-    gap = gap.max((height(p.new_inside) - height_over(p.old, fv, &flat, &height)?).abs());
-    // Crossings of interior edges.
-    let inside_edges = |faces: &[[DVec3; 3]], inside: &[DVec3]| -> Vec<(DVec3, DVec3)> {
-        let mut edges = Vec::with_capacity(faces.len() * 2);
-        for t in faces {
+    // v over the old patch.
+    let (face, weights) = holder(p.old, fv, &flat)?;
+    let t = p.old[face];
+    let h: f64 = (0..3).map(|k| weights[k] * height(t[k])).sum();
+    let e_old: f64 = (0..3).map(|k| weights[k] * p.old_bounds[face][k]).sum();
+    bound = bound.max((height(p.new_inside) - h).abs() + e_old);
+    // Crossings of interior edges, each from its interior end.
+    let inside_edges = |faces: &[[DVec3; 3]], bounds: &[[f64; 3]], inside: &[DVec3]| {
+        let mut edges: Vec<(DVec3, f64, DVec3, f64)> = Vec::with_capacity(faces.len() * 2);
+        for (t, e) in faces.iter().zip(bounds) {
             for k in 0..3 {
+                // Each interior edge runs from its interior end to the next corner
+                // in one of its two faces.
                 if inside.contains(&t[k]) {
-                    edges.push((t[k], t[(k + 1) % 3]));
-                    edges.push((t[k], t[(k + 2) % 3]));
+                    let j = (k + 1) % 3;
+                    edges.push((t[k], e[k], t[j], e[j]));
                 }
             }
         }
         edges
     };
-    let old_edges = inside_edges(p.old, &p.old_inside);
-    let new_edges = inside_edges(p.new, &[p.new_inside]);
-    for &(o0, o1) in &old_edges {
+    let old_edges = inside_edges(p.old, p.old_bounds, &p.old_inside);
+    let new_edges = inside_edges(p.new, p.new_bounds, &[p.new_inside]);
+    for &(o0, e0, o1, e1) in &old_edges {
         let (f0, f1) = (flat(o0), flat(o1));
-        for &(n0, n1) in &new_edges {
+        for &(n0, _, n1, en1) in &new_edges {
             if n1 == o0 || n1 == o1 || n0 == o0 || n0 == o1 {
                 continue;
             }
@@ -105,23 +146,30 @@ pub(crate) fn gap_bound(p: &Patches) -> Option<f64> {
             if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
                 let ho = height(o0) + s * (height(o1) - height(o0));
                 let hn = height(n0) + t * (height(n1) - height(n0));
-                gap = gap.max((ho - hn).abs());
+                let e_old = e0 + s * (e1 - e0);
+                bound = bound.max(solve((ho - hn).abs() + e_old, t * en1, 1.0 - t)?);
             }
         }
     }
     let span = p.old.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs().max_element()));
-    Some(gap + SLACK * span.max(f64::MIN_POSITIVE))
+    Some(bound + SLACK * span.max(f64::MIN_POSITIVE))
 }
 
-/// The height over `x` of the projected triangle of `faces` that holds it (the one it
-/// is deepest inside, for points on shared edges and for rounding); `None` when a
-/// triangle projects reversed or `x` is outside them all.
-fn height_over(
-    faces: &[[DVec3; 3]],
-    x: DVec2,
-    flat: &impl Fn(DVec3) -> DVec2,
-    height: &impl Fn(DVec3) -> f64,
-) -> Option<f64> {
+/// The bound at old interior vertex `x` (number `i`), read from a face holding it.
+fn old_bound_at(p: &Patches, x: DVec3, i: usize) -> f64 {
+    for (t, e) in p.old.iter().zip(p.old_bounds) {
+        if let Some(k) = t.iter().position(|&c| c == x) {
+            return e[k];
+        }
+    }
+    debug_assert!(false, "interior vertex {i} on no face");
+    f64::INFINITY
+}
+
+/// The projected triangle of `faces` holding `x` (the one it is deepest inside, for
+/// points on shared edges and for rounding) and `x`'s barycentric weights in it;
+/// `None` when a triangle projects reversed or `x` is outside them all.
+fn holder(faces: &[[DVec3; 3]], x: DVec2, flat: &impl Fn(DVec3) -> DVec2) -> Option<(usize, [f64; 3])> {
     let mut best: Option<(f64, [f64; 3], usize)> = None;
     for (i, t) in faces.iter().enumerate() {
         let [a, b, c] = t.map(flat);
@@ -141,5 +189,5 @@ fn height_over(
     if depth < -1e-6 {
         return None;
     }
-    Some((0..3).map(|k| weights[k] * height(faces[i][k])).sum())
+    Some((i, weights))
 }

@@ -107,22 +107,18 @@ fn symmetric_eigen(m: DMat3) -> (DVec3, DMat3) {
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
             // a <- J^T a J, with J the rotation in the (p, q) plane.
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
+            for row in &mut a {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
             }
-            for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = c * apk - s * aqk;
-                a[q][k] = s * apk + c * aqk;
-            }
-            // Columns of v are the eigenvectors: v <- v J. (v[col][row].)
-            for k in 0..3 {
-                let (vp, vq) = (v[p][k], v[q][k]);
-                v[p][k] = c * vp - s * vq;
-                v[q][k] = s * vp + c * vq;
-            }
+            let (rp, rq) = (a[p], a[q]);
+            a[p] = std::array::from_fn(|k| c * rp[k] - s * rq[k]);
+            a[q] = std::array::from_fn(|k| s * rp[k] + c * rq[k]);
+            // Columns of v are the eigenvectors: v <- v J (v[column][row]).
+            let (vp, vq) = (v[p], v[q]);
+            v[p] = std::array::from_fn(|k| c * vp[k] - s * vq[k]);
+            v[q] = std::array::from_fn(|k| s * vp[k] + c * vq[k]);
         }
     }
     (DVec3::new(a[0][0], a[1][1], a[2][2]), DMat3::from_cols_array_2d(&v))

@@ -32,6 +32,9 @@ use crate::mesh::predicates::{orient2d, orient3d};
 /// corners they share by position and the segment between two shared corners.
 #[must_use]
 pub(crate) fn triangles_clash(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
+    if clearly_apart(p, q) {
+        return false;
+    }
     let mut shared = 0;
     let (mut in_p, mut in_q) = ([false; 3], [false; 3]);
     for i in 0..3 {
@@ -55,10 +58,11 @@ pub(crate) fn triangles_clash(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
                 return true;
             };
             let (s0, s1) = (p[(i + 1) % 3], p[(i + 2) % 3]);
-            if orient3d(s0, s1, p[i], q[j]) != 0.0 {
+            let flat = flat_axis(&[s0, s1, p[i], q[j]]);
+            if flat.is_none() && orient3d(s0, s1, p[i], q[j]) != 0.0 {
                 return false;
             }
-            let drop = dominant_axis(p);
+            let drop = flat.unwrap_or_else(|| dominant_axis(p));
             let side_p = orient2d(project(s0, drop), project(s1, drop), project(p[i], drop));
             let side_q = orient2d(project(s0, drop), project(s1, drop), project(q[j], drop));
             side_p * side_q >= 0.0
@@ -67,9 +71,37 @@ pub(crate) fn triangles_clash(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
     }
 }
 
+/// Whether a separating axis among the two normals and the in-plane normals of the
+/// edges parts the triangles by more than the rounding of the projections: a float
+/// filter that settles most pairs (coplanar neighbours of a staircase among them)
+/// before any exact predicate. Any axis, however rounded, separates the true points
+/// when their computed projections are apart by more than the dot products' error
+/// (`3 eps |axis| |x|`, bounded by [`APART_MARGIN`]).
+fn clearly_apart(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
+    let (np, nq) = ((p[1] - p[0]).cross(p[2] - p[0]), (q[1] - q[0]).cross(q[2] - q[0]));
+    let size = p.iter().chain(&q).fold(0.0f64, |m, x| m.max(x.abs().max_element())) * 3f64.sqrt();
+    let apart = |axis: DVec3| {
+        let (dp, dq) = (p.map(|x| axis.dot(x)), q.map(|x| axis.dot(x)));
+        let (lo_p, hi_p) = (dp[0].min(dp[1]).min(dp[2]), dp[0].max(dp[1]).max(dp[2]));
+        let (lo_q, hi_q) = (dq[0].min(dq[1]).min(dq[2]), dq[0].max(dq[1]).max(dq[2]));
+        let margin = APART_MARGIN * axis.length() * size;
+        hi_p + margin < lo_q || hi_q + margin < lo_p
+    };
+    apart(np)
+        || apart(nq)
+        || (0..3).any(|i| apart(np.cross(p[(i + 1) % 3] - p[i])) || apart(nq.cross(q[(i + 1) % 3] - q[i])))
+}
+
+/// Relative error allowance of a float dot product in [`clearly_apart`] (far above
+/// `3 eps`).
+const APART_MARGIN: f64 = 1e-13;
+
 /// Whether closed triangles `p` and `q` have a common point.
 #[must_use]
 pub(crate) fn triangles_meet(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
+    if let Some(drop) = flat_axis(&[p[0], p[1], p[2], q[0], q[1], q[2]]) {
+        return coplanar_triangles_meet(p, q, drop);
+    }
     let dp = p.map(|x| orient3d(q[0], q[1], q[2], x));
     if strictly_one_side(dp) {
         return false;
@@ -79,25 +111,41 @@ pub(crate) fn triangles_meet(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
         return false;
     }
     if dp.iter().all(|&d| d == 0.0) {
-        let drop = dominant_axis(q);
-        let (p2, q2) = (p.map(|x| project(x, drop)), q.map(|x| project(x, drop)));
-        return (0..3).any(|i| (0..3).any(|j| segments_meet(p2[i], p2[(i + 1) % 3], q2[j], q2[(j + 1) % 3])))
-            || point_in_triangle(p2[0], q2)
-            || point_in_triangle(q2[0], p2);
+        return coplanar_triangles_meet(p, q, dominant_axis(q));
     }
     (0..3).any(|i| segment_meets_triangle(p[i], p[(i + 1) % 3], q))
         || (0..3).any(|j| segment_meets_triangle(q[j], q[(j + 1) % 3], p))
 }
 
+/// Whether coplanar closed triangles `p` and `q` meet, seen with coordinate `drop`
+/// left out.
+fn coplanar_triangles_meet(p: [DVec3; 3], q: [DVec3; 3], drop: usize) -> bool {
+    let (p2, q2) = (p.map(|x| project(x, drop)), q.map(|x| project(x, drop)));
+    (0..3).any(|i| (0..3).any(|j| segments_meet(p2[i], p2[(i + 1) % 3], q2[j], q2[(j + 1) % 3])))
+        || point_in_triangle(p2[0], q2)
+        || point_in_triangle(q2[0], p2)
+}
+
+/// The axis along which all `points` have the same coordinate, if any: they are then
+/// coplanar exactly, in a plane that coordinate's projection keeps one to one (the
+/// flats of a staircase and of a box, settled without the adaptive predicates).
+fn flat_axis(points: &[DVec3]) -> Option<usize> {
+    (0..3).find(|&k| points.iter().all(|x| x[k] == points[0][k]))
+}
+
 /// Whether the closed segment `d, e` meets the closed triangle `t`.
 #[must_use]
 pub(crate) fn segment_meets_triangle(d: DVec3, e: DVec3, t: [DVec3; 3]) -> bool {
-    let (sd, se) = (orient3d(t[0], t[1], t[2], d), orient3d(t[0], t[1], t[2], e));
+    let flat = flat_axis(&[d, e, t[0], t[1], t[2]]);
+    let (sd, se) = match flat {
+        Some(_) => (0.0, 0.0),
+        None => (orient3d(t[0], t[1], t[2], d), orient3d(t[0], t[1], t[2], e)),
+    };
     if sd * se > 0.0 {
         return false;
     }
     if sd == 0.0 && se == 0.0 {
-        let drop = dominant_axis(t);
+        let drop = flat.unwrap_or_else(|| dominant_axis(t));
         let (d2, e2, t2) = (project(d, drop), project(e, drop), t.map(|x| project(x, drop)));
         return point_in_triangle(d2, t2)
             || point_in_triangle(e2, t2)
@@ -234,6 +282,11 @@ mod tests {
             let (p, q) = (random_triangle(&mut rng, 4), random_triangle(&mut rng, 4));
             let expected = sat_meet(&p, &q);
             assert_eq!(triangles_meet(p.map(to_f), q.map(to_f)), expected, "{p:?} {q:?}");
+            let shares = p.iter().any(|x| q.contains(x));
+            if !shares {
+                assert_eq!(triangles_clash(p.map(to_f), q.map(to_f)), expected, "{p:?} {q:?}");
+                assert!(!(expected && clearly_apart(p.map(to_f), q.map(to_f))));
+            }
             met += usize::from(expected);
             missed += usize::from(!expected);
         }
