@@ -429,13 +429,29 @@ fn export_writes_closed_meshes_with_the_octree_volume() {
     let dir = scratch("export");
     ok(&dir, &["shape", "torus", "--radius", "1", "--tube", "0.4", "--depth", "6", "-o", "ring.oct"]);
     let volume = info_json(&dir, "ring.oct")["volume"].as_f64().unwrap();
+    // The staircase encloses the octree's volume exactly.
     for (name, extra) in [("ring.obj", None), ("ring.stl", None), ("ring.ply", Some("--unit-faces"))] {
-        let out = ok(&dir, &["export", "ring.oct", "-o", name].into_iter().chain(extra).collect::<Vec<_>>());
+        let args = ["export", "ring.oct", "-o", name, "--surface", "voxels"];
+        let out = ok(&dir, &args.into_iter().chain(extra).collect::<Vec<_>>());
         assert!(out.contains("triangles") && out.contains("enclosed") && out.contains(name), "{out}");
         let report: serde_json::Value = serde_json::from_str(&ok(&dir, &["mesh-info", name, "--json"])).unwrap();
         assert_eq!(report["watertight"], true, "{name}: {report}");
         let enclosed = report["volume"].as_f64().unwrap();
         assert!((enclosed / volume - 1.0).abs() < 1e-6, "{name}: {enclosed} vs {volume}");
+    }
+    // The smooth surface (the default) from the file's crossings: closed, and nearer the
+    // torus's exact volume 2 pi^2 R r^2 than the voxels are.
+    let exact = 2.0 * std::f64::consts::PI.powi(2) * 1.0 * 0.4f64.powi(2);
+    for name in ["smooth.obj", "smooth.stl"] {
+        let out = ok(&dir, &["export", "ring.oct", "-o", name]);
+        assert!(out.contains("smooth") && out.contains("exact crossings") && out.contains("voxel of their"), "{out}");
+        let report: serde_json::Value = serde_json::from_str(&ok(&dir, &["mesh-info", name, "--json"])).unwrap();
+        assert_eq!((report["watertight"].clone(), report["non_manifold_edges"].clone()), (true.into(), 0.into()));
+        let enclosed = report["volume"].as_f64().unwrap();
+        assert!(
+            (enclosed / exact - 1.0).abs() < 2e-3 && (enclosed - exact).abs() < (volume - exact).abs(),
+            "{name}: {enclosed}, the octree {volume}, the torus {exact}"
+        );
     }
     // Two boxes touching along an edge: STL moves the shared corners apart and reads
     // back closed, with as many vertices as the OBJ keeps.
@@ -459,9 +475,9 @@ fn export_writes_closed_meshes_with_the_octree_volume() {
         );
     }
     ok(&dir, &["csg", "union", "a.oct", "b.oct", "-o", "touch.oct"]);
-    let out = ok(&dir, &["export", "touch.oct", "-o", "touch.stl"]);
+    let out = ok(&dir, &["export", "touch.oct", "-o", "touch.stl", "--surface", "voxels"]);
     assert!(out.contains("stl        4 vertices where voxels touch moved apart"), "{out}");
-    ok(&dir, &["export", "touch.oct", "-o", "touch.obj"]);
+    ok(&dir, &["export", "touch.oct", "-o", "touch.obj", "--surface", "voxels"]);
     let [stl, obj] = ["touch.stl", "touch.obj"]
         .map(|f| serde_json::from_str::<serde_json::Value>(&ok(&dir, &["mesh-info", f, "--json"])).unwrap());
     assert_eq!((stl["watertight"].clone(), stl["non_manifold_edges"].clone()), (true.into(), 0.into()), "{stl}");

@@ -10,13 +10,13 @@ use std::collections::HashMap;
 use common::Rng;
 #[path = "common/self_intersection.rs"]
 mod self_intersection;
-use self_intersection::self_crossings;
+use octsolid::NoProgress;
+use octsolid::glam::{DQuat, DVec3};
 use octsolid::mesh::TriangleMesh;
 use octsolid::octree::{Domain, LinearOctree, voxelize};
 use octsolid::shape::{Axis, Cuboid, Cylinder, Shape, ShapeExt, Sphere};
 use octsolid::surface::{ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
-use octsolid::NoProgress;
-use octsolid::glam::{DQuat, DVec3};
+use self_intersection::self_crossings;
 
 fn smooth(tolerance: f64) -> ExtractOptions {
     ExtractOptions { style: Style::Smooth, tolerance, ..ExtractOptions::default() }
@@ -142,8 +142,8 @@ fn a_turned_box_keeps_its_corners_and_edges_sharp() {
 #[test]
 fn a_concave_corner_is_kept() {
     // A ball with one octant's box cut out: a concave corner at the cube's corner.
-    let cut = Sphere::new(DVec3::ZERO, 0.8).unwrap()
-        - Cuboid::new(DVec3::splat(0.5 + 0.1037), DVec3::splat(1.0)).unwrap();
+    let cut =
+        Sphere::new(DVec3::ZERO, 0.8).unwrap() - Cuboid::new(DVec3::splat(0.5 + 0.1037), DVec3::splat(1.0)).unwrap();
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
     let (_, surface) = surface_of(&cut, domain, 0.0);
     let voxel = domain.voxel_size();
@@ -165,9 +165,14 @@ fn random_tree(rng: &mut Rng) -> octsolid::shape::Csg {
                 .unwrap()
                 .rotate(DVec3::new(rng.range(-1.0, 1.0), 1.0, rng.range(-1.0, 1.0)), rng.range(0.0, 3.0))
                 .into(),
-            _ => Cylinder::new(c, [Axis::X, Axis::Y, Axis::Z][rng.below(3) as usize], rng.range(0.02, 0.3), rng.range(0.1, 1.5))
-                .unwrap()
-                .into(),
+            _ => Cylinder::new(
+                c,
+                [Axis::X, Axis::Y, Axis::Z][rng.below(3) as usize],
+                rng.range(0.02, 0.3),
+                rng.range(0.1, 1.5),
+            )
+            .unwrap()
+            .into(),
         }
     };
     let mut tree = leaf(rng);

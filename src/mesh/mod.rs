@@ -40,8 +40,8 @@ pub(crate) use boundary::{
 };
 pub use parity::ParityGrid;
 pub use read::{mesh_from_bytes, read_mesh, read_mesh_and_warnings};
-pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};
 pub(crate) use separate::separate;
+pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};
 pub use shape::MeshShape;
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh, voxelize_mesh_cells};
 pub use surface::{SurfaceKind, estimate_surface_bytes, voxelize_surface};

@@ -186,12 +186,7 @@ struct Placed {
 }
 
 /// Vertex at voxel corner `corner` with faces `fan`: its QEF's point in its cell.
-fn place(
-    corner: [u32; 3],
-    fan: &[u32],
-    faces: &[FaceKey],
-    crossings: &[Option<Crossing>],
-) -> Placed {
+fn place(corner: [u32; 3], fan: &[u32], faces: &[FaceKey], crossings: &[Option<Crossing>]) -> Placed {
     let p = DVec3::new(f64::from(corner[0]), f64::from(corner[1]), f64::from(corner[2]));
     let mut qef = Qef::default();
     let mut centres = DVec3::ZERO;

@@ -12,9 +12,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::dual::{DualMesh, VertexKind};
-use super::untangle::untangle;
 use super::hermite::HermiteData;
 use super::simplify::{SimplifyOptions, SimplifyReport, simplify};
+use super::untangle::untangle;
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, try_boundary_mesh};

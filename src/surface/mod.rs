@@ -23,7 +23,7 @@ mod simplify;
 mod transform;
 mod untangle;
 
-pub(crate) use faces::is_boundary_face;
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
+pub(crate) use faces::is_boundary_face;
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};

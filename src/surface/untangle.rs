@@ -147,7 +147,11 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
         for dx in 0..5u32 {
             for dy in 0..5u32 {
                 for dz in 0..5u32 {
-                    let p = [c[0].wrapping_add(dx).wrapping_sub(2), c[1].wrapping_add(dy).wrapping_sub(2), c[2].wrapping_add(dz).wrapping_sub(2)];
+                    let p = [
+                        c[0].wrapping_add(dx).wrapping_sub(2),
+                        c[1].wrapping_add(dy).wrapping_sub(2),
+                        c[2].wrapping_add(dz).wrapping_sub(2),
+                    ];
                     near.insert(p);
                 }
             }
@@ -198,7 +202,8 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
             found
         })
         .collect();
-    let mut vertices: Vec<u32> = pairs.iter().flat_map(|&(s, t)| triangles[s as usize].into_iter().chain(triangles[t as usize])).collect();
+    let mut vertices: Vec<u32> =
+        pairs.iter().flat_map(|&(s, t)| triangles[s as usize].into_iter().chain(triangles[t as usize])).collect();
     vertices.sort_unstable();
     vertices.dedup();
     vertices
@@ -207,7 +212,6 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
 /// Whether two triangles of the mesh cross: they meet beyond what they share, by index
 /// (two sheets' vertices at one point are not shared: their triangles must not touch).
 fn triangles_cross(si: [u32; 3], s: [DVec3; 3], ti: [u32; 3], t: [DVec3; 3]) -> bool {
-    let shares_position_not_index =
-        (0..3).any(|i| (0..3).any(|j| s[i] == t[j] && si[i] != ti[j]));
+    let shares_position_not_index = (0..3).any(|i| (0..3).any(|j| s[i] == t[j] && si[i] != ti[j]));
     shares_position_not_index || triangles_clash(s, t)
 }

@@ -7,7 +7,6 @@ pub mod exact_surface;
 pub mod mesh_distance;
 mod rng;
 
-
 pub use rng::Rng;
 
 use octsolid::octree::{Domain, LinearOctree, Node};

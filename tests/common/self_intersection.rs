@@ -171,4 +171,3 @@ pub fn self_crossings(mesh: &TriangleMesh, cell: f64, limit: usize) -> Vec<(usiz
     }
     found.into_iter().collect()
 }
-

@@ -16,8 +16,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use octsolid::io::WriteOptions;
 use octsolid::mesh::{separate_sheets, write_mesh};
-use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
 use octsolid::shape::Axis;
+use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
 use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
 use crate::output::check_not_an_input;
@@ -103,7 +103,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let written = separated.as_ref().unwrap_or(mesh);
     let bytes = write_mesh(written, output)?;
     out!("read       {} ({} nodes, depth {})", file.display(), tree.node_count(), tree.depth());
-    print_surface(&surface, unit_faces, a.tolerance);
+    print_surface(&surface, unit_faces, a.tolerance, tree.domain().voxel_size());
     if separated.is_some() {
         let moved = written.vertices.iter().zip(&mesh.vertices).filter(|(a, b)| a != b).count();
         out!("stl        {moved} vertices where voxels touch moved apart");
@@ -116,7 +116,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
 }
 
 /// The summary's lines on the mesh: triangles, what placed the vertices, the distance bound.
-fn print_surface(surface: &SurfaceMesh, unit_faces: bool, tolerance: f64) {
+fn print_surface(surface: &SurfaceMesh, unit_faces: bool, tolerance: f64, voxel: f64) {
     let mesh = &surface.mesh;
     let (triangles, vertices) = (mesh.triangles.len(), mesh.vertices.len());
     if surface.style == Style::Voxels {
@@ -124,7 +124,9 @@ fn print_surface(surface: &SurfaceMesh, unit_faces: bool, tolerance: f64) {
         out!("mesh       {triangles} triangles, {vertices} vertices (the voxels' staircase, {faces})");
         return;
     }
-    out!("mesh       {triangles} triangles, {vertices} vertices (smooth: dual contouring, tolerance {tolerance} voxel)");
+    out!(
+        "mesh       {triangles} triangles, {vertices} vertices (smooth: dual contouring, tolerance {tolerance} voxel)"
+    );
     if surface.is_estimate() {
         out!(
             "surface    estimated from the voxels (Surface Nets quality) at {} of {} vertices: the file carries no crossings",
@@ -139,7 +141,17 @@ fn print_surface(surface: &SurfaceMesh, unit_faces: bool, tolerance: f64) {
             surface.corners
         );
     }
-    out!("distance   vertices within {:.3} voxel of their tangent planes", surface.vertex_distance);
+    if !surface.is_estimate() {
+        out!("distance   vertices within {:.3} voxel of their crossings' tangent planes", surface.vertex_distance);
+    }
+    if let Some(report) = &surface.simplified {
+        out!(
+            "simplified {} -> {} triangles, within {:.3} voxel of the dual mesh both ways (a true bound)",
+            report.triangles_before,
+            report.triangles_after,
+            report.max_distance_bound / voxel
+        );
+    }
 }
 
 /// `export FILE -o OUT.glb`: one mesh a solid, with its colour.
