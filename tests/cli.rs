@@ -428,7 +428,12 @@ fn render_keeps_a_scenes_solids_in_its_cache_unless_told_not_to() {
 fn export_writes_closed_meshes_with_the_octree_volume() {
     let dir = scratch("export");
     ok(&dir, &["shape", "torus", "--radius", "1", "--tube", "0.4", "--depth", "6", "-o", "ring.oct"]);
-    let volume = info_json(&dir, "ring.oct")["volume"].as_f64().unwrap();
+    let info = info_json(&dir, "ring.oct");
+    let volume = info["volume"].as_f64().unwrap();
+    // The area from the file's crossings (the true surface), against 4 pi^2 R r.
+    let (area, exact_area) = (info["surface_area"].as_f64().unwrap(), 4.0 * std::f64::consts::PI.powi(2) * 0.4);
+    assert_eq!(info["area_from"], "true surface");
+    assert!((area / exact_area - 1.0).abs() < 2e-3, "area {area} against {exact_area}");
     // The staircase encloses the octree's volume exactly.
     for (name, extra) in [("ring.obj", None), ("ring.stl", None), ("ring.ply", Some("--unit-faces"))] {
         let args = ["export", "ring.oct", "-o", name, "--surface", "voxels"];

@@ -109,6 +109,18 @@ impl TriangleMesh {
             .unwrap_or(Aabb { min: DVec3::ZERO, max: DVec3::ZERO })
     }
 
+    /// The surface area: the sum of the triangles' areas.
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| self.vertices[v as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum()
+    }
+
     /// Enclosed volume by the signed-tetrahedron sum `V = sum (p1 . (p2 x p3)) / 6`,
     /// exact for a closed, consistently oriented mesh (positive when it faces out).
     #[must_use]

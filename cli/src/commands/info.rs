@@ -8,10 +8,12 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use octsolid::io::{Solids, oct};
+use octsolid::surface::{ExtractOptions, extract};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 use serde::Serialize;
 
 use super::print_summary;
+use crate::progress_bar::Bar;
 use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid info`.
@@ -41,8 +43,13 @@ struct Info {
     up: Option<&'static str>,
     /// The length unit recorded in the file ("mm", ...), or null.
     units: Option<&'static str>,
-    /// The boundary's estimated area (`LinearOctree::surface_area`).
+    /// The boundary's area: of the true surface where the file carries crossings (the
+    /// smooth export's mesh), else the voxels' estimate.
     surface_area: f64,
+    /// Which: `true surface` or `voxel estimate`.
+    area_from: &'static str,
+    /// The voxels' estimate of the area (`LinearOctree::surface_area`).
+    voxel_estimate_area: f64,
     /// The voxel boundary's own area.
     voxel_face_area: f64,
     /// `[x, y, z]`, `null` for the empty solid.
@@ -121,14 +128,25 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     if FileKind::of(file, FileKind::SOLIDS)? == FileKind::Octs {
         return sharded_info(file, json, budget);
     }
-    let read = read_solid_file(file, &a.read, budget)?;
+    let mut read = read_solid_file(file, &a.read, budget)?;
     let (kind, meta) = (read.kind, read.meta);
-    let surface_faces = read.surface.as_ref().map(octsolid::surface::HermiteData::len);
+    let crossings = read.surface.take();
+    let surface_faces = crossings.as_ref().map(octsolid::surface::HermiteData::len);
     let solids = (kind != FileKind::Oct).then(|| solid_infos(&read.solids));
     let tree = read.into_union();
     let bytes_file = std::fs::metadata(file).with_context(|| format!("{}", file.display()))?.len();
     let d = tree.domain();
     let measures = tree.measure();
+    // With the file's crossings, the area of the true surface (its dual contouring).
+    let true_area = match &crossings {
+        Some(crossings) => {
+            let options = ExtractOptions { budget, ..ExtractOptions::default() };
+            let surface = extract(&tree, crossings, &options, &Bar::new("measuring the true surface"))
+                .with_context(|| format!("{}: cannot measure its surface", file.display()))?;
+            Some(surface.mesh.area())
+        }
+        None => None,
+    };
     let info = Info {
         depth: d.depth(),
         domain: DomainInfo { min: d.min().to_array(), edge: d.edge(), voxel_size: d.voxel_size() },
@@ -140,7 +158,9 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
         bytes_file,
         up: meta.up.map(|a| ["x", "y", "z"][a.index()]),
         units: meta.units.map(oct::Units::name),
-        surface_area: measures.surface_area,
+        surface_area: true_area.unwrap_or(measures.surface_area),
+        area_from: if true_area.is_some() { "true surface" } else { "voxel estimate" },
+        voxel_estimate_area: measures.surface_area,
         voxel_face_area: measures.voxel_face_area,
         centre_of_mass: measures.centre_of_mass.map(|c| c.to_array()),
         inertia: std::array::from_fn(|i| measures.inertia.row(i).to_array()),
@@ -260,7 +280,16 @@ fn sharded_info(dir: &std::path::Path, json: bool, budget: MemoryBudget) -> Resu
 
 /// The measurements: area (and the voxel faces'), centre of mass, inertia, components.
 fn print_measures(info: &Info) {
-    out!("area       {:.6} (voxel faces {:.6})", info.surface_area, info.voxel_face_area);
+    if info.area_from == "true surface" {
+        out!(
+            "area       {:.6} (the true surface; the voxels' estimate {:.6}, voxel faces {:.6})",
+            info.surface_area,
+            info.voxel_estimate_area,
+            info.voxel_face_area
+        );
+    } else {
+        out!("area       {:.6} (voxel faces {:.6})", info.surface_area, info.voxel_face_area);
+    }
     match info.centre_of_mass {
         Some(c) => out!("centre     [{:.6}, {:.6}, {:.6}]", c[0], c[1], c[2]),
         None => out!("centre     (empty)"),
