@@ -209,7 +209,7 @@ fn random_csg_trees_give_closed_uncrossed_surfaces() {
 fn random_voxel_sets_without_crossings_are_estimated_closed_and_uncrossed() {
     let mut rng = Rng(7);
     let domain = Domain::new(DVec3::ZERO, 1.0, 4).unwrap();
-    for case in 0..60 {
+    for case in 0..200 {
         let tree = common::random_octree(&mut rng, domain);
         if tree.is_empty() {
             continue;

@@ -16,9 +16,10 @@
 //! fraction of a voxel.
 //!
 //! Which triangles are tested: a crossing needs a triangle near a **risky** vertex: one
-//! on a crease or corner, clamped to its cell, estimated, sharing its voxel corner with
-//! another sheet, with faces looking opposite ways (a wall or a gap one voxel thin), or
-//! whose crossings' normals differ by more than 60 degrees. Triangles at risky vertices
+//! on a crease or corner, clamped to its cell, sharing its voxel corner with another
+//! sheet, with faces looking opposite ways (a wall or a gap one voxel thin), whose
+//! crossings' normals differ by more than 60 degrees, or estimated (no crossings) at a
+//! corner of the staircase or relaxed near its cell's side. Triangles at risky vertices
 //! are tested against every triangle whose box meets theirs (those of faces with a
 //! corner within two voxels), and the vertices a round moves become risky. A smooth,
 //! well-resolved surface is not tested (its vertices lie on the surface, a voxel's
@@ -114,7 +115,7 @@ fn risky_vertices(dual: &DualMesh) -> Vec<bool> {
         .into_par_iter()
         .with_min_len(4096)
         .map(|v| {
-            if dual.kinds[v] != VertexKind::Smooth || dual.clamped[v] {
+            if matches!(dual.kinds[v], VertexKind::Crease | VertexKind::Corner) || dual.clamped[v] {
                 return true;
             }
             let shared = (v > 0 && dual.corners[v - 1] == dual.corners[v])
@@ -130,6 +131,16 @@ fn risky_vertices(dual: &DualMesh) -> Vec<bool> {
             if (0..3).any(|a| directions >> (2 * a) & 3 == 3) {
                 return true;
             }
+            // An estimated vertex at a corner of the staircase (faces along all three
+            // axes: a bump or a notch of single voxels) or relaxed to its cell's side.
+            if dual.kinds[v] == VertexKind::Estimated {
+                let axes = (0..3).filter(|a| directions >> (2 * a) & 3 != 0).count();
+                let c = dual.corners[v];
+                let offset = dual.positions[v] - DVec3::new(c[0].into(), c[1].into(), c[2].into());
+                if axes == 3 || offset.abs().max_element() > 0.4 {
+                    return true;
+                }
+            }
             let normals: Vec<DVec3> =
                 fan.iter().filter_map(|&f| dual.crossings[f as usize]).map(|c| c.normal.as_dvec3()).collect();
             normals.iter().enumerate().any(|(i, a)| normals[i + 1..].iter().any(|b| a.dot(*b) < RISKY_NORMAL_COSINE))
@@ -140,19 +151,16 @@ fn risky_vertices(dual: &DualMesh) -> Vec<bool> {
 /// The vertices of triangles that cross another, testing the triangles at `risky`
 /// vertices against those near them.
 fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) -> Vec<u32> {
-    // Voxel corners within two of a risky vertex's.
-    let mut near: FxHashSet<[u32; 3]> = FxHashSet::default();
+    // Blocks of 4 voxels a side within one of a risky vertex's block: they hold every
+    // voxel corner within two of it.
+    let block = |c: [u32; 3]| c.map(|x| i64::from(x >> 2));
+    let mut near: FxHashSet<[i64; 3]> = FxHashSet::default();
     for (v, _) in risky.iter().enumerate().filter(|(_, r)| **r) {
-        let c = dual.corners[v];
-        for dx in 0..5u32 {
-            for dy in 0..5u32 {
-                for dz in 0..5u32 {
-                    let p = [
-                        c[0].wrapping_add(dx).wrapping_sub(2),
-                        c[1].wrapping_add(dy).wrapping_sub(2),
-                        c[2].wrapping_add(dz).wrapping_sub(2),
-                    ];
-                    near.insert(p);
+        let b = block(dual.corners[v]);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    near.insert([b[0] + dx, b[1] + dy, b[2] + dz]);
                 }
             }
         }
@@ -161,7 +169,7 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
     let position = |v: u32| dual.positions[v as usize];
     let mut grid: FxHashMap<[i64; 3], Vec<u32>> = FxHashMap::default();
     for (f, q) in dual.quads.iter().enumerate() {
-        if !q.iter().any(|&v| near.contains(&dual.corners[v as usize])) {
+        if !q.iter().any(|&v| near.contains(&block(dual.corners[v as usize]))) {
             continue;
         }
         for t in [2 * f, 2 * f + 1] {
