@@ -220,7 +220,7 @@ const FLAT_SPREAD: f64 = 0.001;
 
 /// Eigenvalues and unit eigenvectors (the columns) of the symmetric `a`, by cyclic
 /// Jacobi rotations.
-fn symmetric_eigen(a: DMat3) -> (DVec3, DMat3) {
+pub(super) fn symmetric_eigen(a: DMat3) -> (DVec3, DMat3) {
     let mut m = a.to_cols_array_2d();
     let mut v = DMat3::IDENTITY.to_cols_array_2d();
     for _ in 0..SWEEPS {

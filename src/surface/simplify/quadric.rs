@@ -13,6 +13,7 @@
 //! point the caller gives (the edge's midpoint): on a plane the point moves only
 //! across it, on a crease only towards the crease, at a corner onto it.
 
+use crate::surface::qef::symmetric_eigen;
 use glam::{DMat3, DVec3};
 
 /// Eigenvalues below this fraction of the largest count as zero in the minimiser.
@@ -84,44 +85,6 @@ impl std::ops::AddAssign for Quadric {
     fn add_assign(&mut self, o: Quadric) {
         *self = *self + o;
     }
-}
-
-/// Eigenvalues and eigenvectors (columns) of a symmetric 3x3 matrix by cyclic Jacobi
-/// rotations.
-fn symmetric_eigen(m: DMat3) -> (DVec3, DMat3) {
-    let mut a = m.to_cols_array_2d();
-    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for _ in 0..16 {
-        let off = a[0][1].powi(2) + a[0][2].powi(2) + a[1][2].powi(2);
-        let diag = a[0][0].powi(2) + a[1][1].powi(2) + a[2][2].powi(2);
-        if off <= 1e-30 * diag || off == 0.0 {
-            break;
-        }
-        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
-            if a[p][q] == 0.0 {
-                continue;
-            }
-            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-            let t = if theta == 0.0 { 1.0 } else { t };
-            let c = 1.0 / (t * t + 1.0).sqrt();
-            let s = t * c;
-            // a <- J^T a J, with J the rotation in the (p, q) plane.
-            for row in &mut a {
-                let (akp, akq) = (row[p], row[q]);
-                row[p] = c * akp - s * akq;
-                row[q] = s * akp + c * akq;
-            }
-            let (rp, rq) = (a[p], a[q]);
-            a[p] = std::array::from_fn(|k| c * rp[k] - s * rq[k]);
-            a[q] = std::array::from_fn(|k| s * rp[k] + c * rq[k]);
-            // Columns of v are the eigenvectors: v <- v J (v[column][row]).
-            let (vp, vq) = (v[p], v[q]);
-            v[p] = std::array::from_fn(|k| c * vp[k] - s * vq[k]);
-            v[q] = std::array::from_fn(|k| s * vp[k] + c * vq[k]);
-        }
-    }
-    (DVec3::new(a[0][0], a[1][1], a[2][2]), DMat3::from_cols_array_2d(&v))
 }
 
 #[cfg(test)]
