@@ -8,11 +8,12 @@
 //! faces and run in parallel on a shared snapshot, each deterministic on its own.
 //!
 //! Collapses are taken cheapest first from a heap keyed by (quadric cost, the edge's
-//! local vertex indices), entries made stale by a later collapse at either end skipped
+//! length, its local vertex indices), entries made stale by a later collapse at either end skipped
 //! by a per-vertex stamp. Edge `a b` becomes `a` at the candidate point that passes
 //! every check, tried by rising cost among the quadric's minimiser and `a`, `b` and the
 //! midpoint. A refused edge is not tried again in this block; the next round (other
-//! blocks) tries it again.
+//! blocks) tries it again. Self-intersection is tested on the block's result, and
+//! only a block whose result clashes tests each collapse ([`simplify_block`]).
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -85,6 +86,8 @@ struct Local {
     /// Last query that looked at the face (to test each once a query).
     seen: Vec<u32>,
     query: u32,
+    /// When collapses are tested for self-intersection.
+    test: ClashTest,
     /// Face ids by grid cell (stale ids of dead faces left in), over the box
     /// `min..max` in cells of side `cell`, `dims` along the axes.
     grid: Vec<Vec<u32>>,
@@ -94,12 +97,41 @@ struct Local {
     dims: [usize; 3],
 }
 
-/// A heap entry: cost, the edge's ends and their stamps when it was priced.
-type Entry = Reverse<(u64, u32, u32, u32, u32)>;
+/// A heap entry: cost, the edge's squared length, its ends and their stamps when it
+/// was priced. Equal costs (a plane's edges all cost nothing) go shortest edge first:
+/// taken by vertex index, one vertex would swallow its whole plane, its fan growing
+/// with every collapse.
+type Entry = Reverse<(u64, u64, u32, u32, u32, u32)>;
+
+/// When a block tests its collapses for self-intersection.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ClashTest {
+    /// Once, on the block's result: its new faces against every live face near them.
+    OnResult,
+    /// Each collapse's new faces before it is made.
+    EachCollapse,
+}
 
 /// Simplifies one block; see the module doc.
+///
+/// The block first collapses without self-intersection tests and then tests its
+/// result once: each new face against the live faces near it. A collapse changes
+/// only its own region, so a result without clashes is a mesh free of
+/// self-intersections; the few blocks whose result clashes (thin walls, sheets) are
+/// simplified again from the same snapshot, testing each collapse before it is made.
+/// Either way the output depends on the snapshot alone.
 pub(crate) fn simplify_block(input: &BlockInput, limits: &Limits) -> BlockOutput {
-    let mut local = Local::new(input);
+    let (mut local, collapses) = collapse_all(input, limits, ClashTest::OnResult);
+    if collapses == 0 || !local.result_clashes(input.own.len() + input.halo.len()) {
+        return local.output(collapses);
+    }
+    let (local, collapses) = collapse_all(input, limits, ClashTest::EachCollapse);
+    local.output(collapses)
+}
+
+/// Greedy collapses, cheapest first, until none passes the checks.
+fn collapse_all(input: &BlockInput, limits: &Limits, test: ClashTest) -> (Local, usize) {
+    let mut local = Local::new(input, test);
     let mut heap: BinaryHeap<Entry> = BinaryHeap::new();
     for a in 0..local.global.len() as u32 {
         if local.free[a as usize] {
@@ -111,7 +143,7 @@ pub(crate) fn simplify_block(input: &BlockInput, limits: &Limits) -> BlockOutput
         }
     }
     let mut collapses = 0;
-    while let Some(Reverse((_, a, b, sa, sb))) = heap.pop() {
+    while let Some(Reverse((_, _, a, b, sa, sb))) = heap.pop() {
         let (ua, ub) = (a as usize, b as usize);
         if !local.alive_vertex[ua] || !local.alive_vertex[ub] || local.stamp[ua] != sa || local.stamp[ub] != sb {
             continue;
@@ -125,11 +157,11 @@ pub(crate) fn simplify_block(input: &BlockInput, limits: &Limits) -> BlockOutput
             }
         }
     }
-    local.output(collapses)
+    (local, collapses)
 }
 
 impl Local {
-    fn new(input: &BlockInput) -> Self {
+    fn new(input: &BlockInput, test: ClashTest) -> Self {
         let mut map: FxHashMap<u32, u32> = FxHashMap::default();
         let mut local = Local {
             global: Vec::new(),
@@ -146,13 +178,16 @@ impl Local {
             own: Vec::new(),
             seen: Vec::new(),
             query: 0,
+            test,
             grid: Vec::new(),
             min: input.min,
             max: input.max,
             cell: 0.0,
             dims: [1; 3],
         };
-        local.size_grid(input);
+        if test == ClashTest::EachCollapse {
+            local.size_grid(input);
+        }
         for (&f, own) in input.own.iter().map(|f| (f, true)).chain(input.halo.iter().map(|f| (f, false))) {
             let face = input.faces[f as usize].map(|g| {
                 *map.entry(g).or_insert_with(|| {
@@ -210,6 +245,9 @@ impl Local {
         for v in face {
             self.incident[v as usize].push(id);
         }
+        if self.test == ClashTest::OnResult {
+            return id;
+        }
         let (lo, hi) = self.cells_of(face.map(|v| self.position[v as usize]));
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
@@ -257,7 +295,8 @@ impl Local {
 
     fn push(&self, heap: &mut BinaryHeap<Entry>, a: u32, b: u32) {
         let cost = self.candidates(a, b)[0].0;
-        heap.push(Reverse((cost.to_bits(), a, b, self.stamp[a as usize], self.stamp[b as usize])));
+        let length = (self.position[a as usize] - self.position[b as usize]).length_squared();
+        heap.push(Reverse((cost.to_bits(), length.to_bits(), a, b, self.stamp[a as usize], self.stamp[b as usize])));
     }
 
     /// Collapses `a b` into `a` at the cheapest candidate that passes every check.
@@ -357,7 +396,7 @@ impl Local {
             if bound > limits.tolerance {
                 continue;
             }
-            if self.clashes(&new, &region) {
+            if self.test == ClashTest::EachCollapse && self.clashes(&new, &region) {
                 continue;
             }
             self.apply(a, b, x, &fan, &region, bound);
@@ -429,6 +468,65 @@ impl Local {
         for (t, _) in fan {
             self.add_face(*t, true);
         }
+    }
+
+    /// Whether a live face made by a collapse (ids from `first_new` on) clashes with
+    /// another live face; faces of the snapshot never clash with each other. The test
+    /// runs on a fresh grid over the result's faces.
+    fn result_clashes(&mut self, first_new: usize) -> bool {
+        let live: Vec<u32> = (0..self.faces.len() as u32).filter(|&f| self.alive[f as usize]).collect();
+        let corners: Vec<[DVec3; 3]> = live.iter().map(|&f| self.corners(self.faces[f as usize])).collect();
+        let edges: f64 =
+            corners.iter().map(|c| (c[1] - c[0]).length() + (c[2] - c[1]).length() + (c[0] - c[2]).length()).sum();
+        let side = (self.max - self.min).max_element();
+        self.cell = (2.0 * edges / (3 * live.len().max(1)) as f64).max(side / GRID_CELLS as f64);
+        if self.cell.is_nan() || self.cell <= 0.0 {
+            self.cell = side.max(f64::MIN_POSITIVE);
+        }
+        let n = ((self.max - self.min) / self.cell).ceil();
+        self.dims = [n.x, n.y, n.z].map(|c| (c as usize).clamp(1, GRID_CELLS));
+        let mut grid: Vec<Vec<u32>> = vec![Vec::new(); self.dims[0] * self.dims[1] * self.dims[2]];
+        for (i, c) in corners.iter().enumerate() {
+            let (lo, hi) = self.cells_of(*c);
+            for z in lo[2]..=hi[2] {
+                for y in lo[1]..=hi[1] {
+                    for x in lo[0]..=hi[0] {
+                        grid[(z * self.dims[1] + y) * self.dims[0] + x].push(i as u32);
+                    }
+                }
+            }
+        }
+        let boxes: Vec<(DVec3, DVec3)> =
+            corners.iter().map(|t| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))).collect();
+        let mut seen = vec![u32::MAX; live.len()];
+        for (i, &f) in live.iter().enumerate() {
+            if (f as usize) < first_new {
+                continue;
+            }
+            let (lo, hi) = self.cells_between(boxes[i].0, boxes[i].1);
+            for z in lo[2]..=hi[2] {
+                for y in lo[1]..=hi[1] {
+                    for x in lo[0]..=hi[0] {
+                        for &j in &grid[(z * self.dims[1] + y) * self.dims[0] + x] {
+                            let j = j as usize;
+                            // A pair of new faces is tested once, from its later face.
+                            if j == i || seen[j] == i as u32 || ((live[j] as usize) >= first_new && j > i) {
+                                continue;
+                            }
+                            seen[j] = i as u32;
+                            let (olo, ohi) = boxes[j];
+                            if boxes[i].0.cmple(ohi).all()
+                                && olo.cmple(boxes[i].1).all()
+                                && triangles_clash(corners[i], corners[j])
+                            {
+                                return true;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        false
     }
 
     fn output(self, collapses: usize) -> BlockOutput {
