@@ -170,7 +170,7 @@ impl Drawing {
         stage: &mut dyn FnMut(DrawingStage<'_>),
     ) -> Result<Drawing> {
         let read = ReadOptions { budget: MemoryBudget(options.budget.0 / 4), ..options.read.clone() };
-        let file = SolidFile::read_to_draw(path, &read)?;
+        let mut file = SolidFile::read_to_draw(path, &read)?;
         let coarsened_from = file.coarsened_from;
         let coarsened = coarsened_from.map(|from| (from, file.solids.domain.depth()));
         stage(DrawingStage::Read { warnings: &[], coarsened });
@@ -178,7 +178,12 @@ impl Drawing {
         let name = path.display().to_string();
         // One solid without a colour is drawn as it always was; else each in its colour.
         let mut drawing = if matches!(file.solids.solids.as_slice(), [one] if one.color.is_none()) {
-            Drawing::of_solid(file.into_union(), &name, up).map_err(|_| empty(path))?
+            let surface = file.surface.take();
+            let mut drawing = Drawing::of_solid(file.into_union(), &name, up).map_err(|_| empty(path))?;
+            if let Some(surface) = surface {
+                drawing.scene.solids[0].set_surface(surface);
+            }
+            drawing
         } else {
             let tree = file.union();
             let bounds = tree.bounds().ok_or_else(|| empty(path))?;

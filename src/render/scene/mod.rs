@@ -3,6 +3,7 @@
 //! the complement's traversal for rays inside, the octree's normal estimate), their
 //! materials and textures, lights, ambient light and background.
 
+mod crossing_normals;
 mod default_scene;
 mod gradient;
 mod light;
@@ -13,6 +14,7 @@ mod section;
 mod texture;
 mod thread_cache;
 
+use crossing_normals::CrossingNormals;
 pub use light::Light;
 pub use material::{Bump, Material};
 pub(crate) use normal_field::NormalField;
@@ -28,6 +30,7 @@ use crate::aabb::Aabb;
 use crate::octree::LinearOctree;
 use crate::ray::{Ray, RayCast};
 use crate::shape::{Axis, Shape, Surface};
+use crate::surface::HermiteData;
 
 /// One solid of a scene with its material and traversal structure.
 #[derive(Clone, Debug)]
@@ -47,6 +50,8 @@ pub struct SceneSolid {
     normals: NormalField,
     /// The shape it was voxelized from, when it came from one.
     source: Option<Source>,
+    /// Its surface data, when it has some (a file's crossings).
+    crossings: Option<CrossingNormals>,
 }
 
 /// A solid's source shape (shapes need not be `Debug`).
@@ -73,6 +78,19 @@ impl SceneSolid {
     pub(crate) fn shape_surface(&self, p: DVec3) -> Option<Surface> {
         let s = self.source.as_ref()?.0.surface(p)?;
         (s.distance.abs() <= 2.0 * self.tree.domain().voxel_size()).then_some(s)
+    }
+
+    /// Gives the solid its surface data (the crossings of its boundary faces, as an
+    /// `.oct` file carries them, [`crate::SolidFile::surface`]): smooth normals then
+    /// come from them where the solid has no source shape. Empty data changes nothing.
+    pub fn set_surface(&mut self, surface: HermiteData) {
+        self.crossings = (!surface.is_empty()).then(|| CrossingNormals::new(surface));
+    }
+
+    /// The normal of the solid's surface data at the surface point `p`, `None`
+    /// without data near `p`.
+    pub(crate) fn crossing_normal(&self, p: DVec3) -> Option<DVec3> {
+        self.crossings.as_ref()?.normal(self.tree.domain(), p)
     }
 
     /// The octree's estimate of the outward normal at the surface point `p`, `None`
@@ -152,6 +170,7 @@ impl Scene {
             interior: OnceLock::new(),
             normals: NormalField::new(),
             source: None,
+            crossings: None,
         });
     }
 
@@ -172,7 +191,7 @@ impl Scene {
     /// face shows as a filled cap; ambient light and background unchanged, the lights
     /// too, and when none of them reaches the cap's side one more that does; no
     /// precomputed illumination (a radiosity solution is of the whole solids).
-    /// Smooth normals still come from a solid's shape near its surface, and from the
+    /// Smooth normals still come from a solid's shape or surface data near its surface, and from the
     /// cut octree's estimate (the plane's exact normal on the flat cap) elsewhere.
     #[must_use]
     pub fn sectioned(&self, axis: Axis, at: f64) -> Scene {
@@ -192,6 +211,7 @@ impl Scene {
                     interior: OnceLock::new(),
                     normals: NormalField::new(),
                     source: s.source.clone(),
+                    crossings: s.crossings.clone(),
                 }
             })
             .collect();
