@@ -38,6 +38,9 @@ voxel=0.004296875 # 2.2 / 512
 # the default is the smooth surface.
 variants=("")
 "$bin" export --help | grep -q -- '--surface' && variants+=("--surface voxels")
+# The part also simplified within a tolerance (voxels), the adaptive mesh against
+# OpenVDB's adaptive one.
+part_variants=("${variants[@]}" "--tolerance 0.1")
 
 # timed NAME CMD...: runs CMD RUNS times (stdout to $out/NAME.log, the last run's
 # kept), sets $median (seconds, wall clock) and $log.
@@ -69,9 +72,9 @@ rm -f ./*.inner
 "$bin" build "$here/surface_classic_operands.toml" --solid bores -o bores.oct >/dev/null
 "$bin" csg difference body.oct bores.oct -o part-csg.oct >/dev/null
 octsolid_rows=()
-for k in "${!variants[@]}"; do
-    read -r -a flags <<<"${variants[$k]}"
-    suffix=${variants[$k]:+ ${variants[$k]}}
+for k in "${!part_variants[@]}"; do
+    read -r -a flags <<<"${part_variants[$k]}"
+    suffix=${part_variants[$k]:+ ${part_variants[$k]}}
     timed "octsolid-export-$k" "$bin" export part.oct -o "part-$k.obj" "${flags[@]}"
     octsolid_rows+=(--label "\`octsolid export part.oct -o part.obj$suffix\`" --time "$median s" "$out/part-$k.obj")
     timed "octsolid-export-csg-$k" "$bin" export part-csg.oct -o "part-csg-$k.obj" "${flags[@]}"
