@@ -390,7 +390,7 @@ impl Local {
                 old_inside: [self.position[ua], self.position[ub]],
                 new_inside: x,
             };
-            let Some(bound) = vertex_bound(&patches) else {
+            let Some(bound) = vertex_bound(&patches, limits.tolerance) else {
                 continue;
             };
             if bound > limits.tolerance {

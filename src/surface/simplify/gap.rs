@@ -54,10 +54,10 @@ pub(crate) struct Patches<'a> {
 const MIN_WEIGHT: f64 = 1e-6;
 
 /// The least bound at `v` that keeps the invariant (module doc), or `None` when the
-/// patches are not both height fields over one projection (the collapse is then
-/// refused).
+/// patches are not both height fields over one projection or the bound passes `limit`
+/// (the collapse is then refused, without the rest of the corners).
 #[must_use]
-pub(crate) fn vertex_bound(p: &Patches) -> Option<f64> {
+pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     let area = |t: &[DVec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]);
     let n = p.old.iter().map(area).sum::<DVec3>().try_normalize()?;
     if !p.old.iter().chain(p.new).all(|t| {
@@ -105,6 +105,9 @@ pub(crate) fn vertex_bound(p: &Patches) -> Option<f64> {
         let k = t.iter().position(|&c| c == p.new_inside)?;
         let rest: f64 = (0..3).filter(|&j| j != k).map(|j| weights[j] * p.new_bounds[face][j]).sum();
         bound = bound.max(solve((height(x) - h).abs() + e_old, rest, weights[k])?);
+        if bound > limit {
+            return None;
+        }
     }
     // v over the old patch.
     let (face, weights) = holder(p.old, fv, &flat)?;
@@ -112,6 +115,9 @@ pub(crate) fn vertex_bound(p: &Patches) -> Option<f64> {
     let h: f64 = (0..3).map(|k| weights[k] * height(t[k])).sum();
     let e_old: f64 = (0..3).map(|k| weights[k] * p.old_bounds[face][k]).sum();
     bound = bound.max((height(p.new_inside) - h).abs() + e_old);
+    if bound > limit {
+        return None;
+    }
     // Crossings of interior edges, each from its interior end.
     let inside_edges = |faces: &[[DVec3; 3]], bounds: &[[f64; 3]], inside: &[DVec3]| {
         let mut edges: Vec<(DVec3, f64, DVec3, f64)> = Vec::with_capacity(faces.len() * 2);
@@ -148,6 +154,9 @@ pub(crate) fn vertex_bound(p: &Patches) -> Option<f64> {
                 let hn = height(n0) + t * (height(n1) - height(n0));
                 let e_old = e0 + s * (e1 - e0);
                 bound = bound.max(solve((ho - hn).abs() + e_old, t * en1, 1.0 - t)?);
+                if bound > limit {
+                    return None;
+                }
             }
         }
     }
