@@ -3,6 +3,8 @@
 //!
 //! - [`hermite`]: where the surface crosses each boundary face's segment, and its
 //!   normal ([`HermiteData`], from a shape exactly, from nothing as the faces).
+//! - `hermite_mesh`: [`HermiteData::from_mesh`], a mesh solid's crossings from its
+//!   triangles under the voxelizer's inside rule.
 //! - `faces`: a solid's boundary faces, one a voxel face.
 //! - `combine`: Hermite data through a set operation ([`HermiteData::combine`]: a
 //!   CSG result's crossings from its operands').
@@ -18,6 +20,7 @@ mod dual;
 mod extract;
 mod faces;
 pub mod hermite;
+mod hermite_mesh;
 mod qef;
 mod simplify;
 mod transform;

@@ -1,0 +1,129 @@
+//! Hermite data from every source (issue 38, point 2), against independent oracles:
+//! a mesh solid's crossings lie on its triangles with their normals (parity, and the
+//! winding rule with inner shells), and the smooth surface extracted from them follows
+//! the source mesh.
+
+mod common;
+
+use common::mesh_distance::{MeshDistance, closest_on_triangle};
+use octsolid::NoProgress;
+use octsolid::glam::DVec3;
+use octsolid::mesh::generate::icosphere;
+use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, TriangleMesh, voxelize_mesh};
+use octsolid::octree::{Domain, LinearOctree};
+use octsolid::surface::{ExtractOptions, FaceKey, HermiteData, Style, extract};
+
+/// The cube `[-1, 1]^3` at `depth`.
+fn domain(depth: u8) -> Domain {
+    Domain::new(DVec3::splat(-1.0), 2.0, depth).unwrap()
+}
+
+/// `mesh` voxelized in `d` under `rule`, and its crossings from its triangles.
+fn mesh_solid(mesh: &TriangleMesh, d: Domain, rule: InsideRule) -> (LinearOctree, HermiteData) {
+    let options = MeshVoxelizeOptions { inside: rule, ..MeshVoxelizeOptions::default() };
+    let (tree, _) = voxelize_mesh(mesh, d, &options).unwrap();
+    let hermite = HermiteData::from_mesh(mesh, rule, &tree);
+    (tree, hermite)
+}
+
+/// The crossing of `key` as a point in space.
+fn world_point(d: &Domain, key: FaceKey, t: f32) -> DVec3 {
+    d.voxel_center(key.voxel()) + key.outward() * (f64::from(t) * d.voxel_size())
+}
+
+/// The triangles of a mesh binned by their boxes (grown by a tolerance) into a uniform
+/// grid over `[-1, 1]^3`, for brute-force nearest-point tests of a few each.
+struct TriangleBins {
+    corners: Vec<[DVec3; 3]>,
+    bins: Vec<Vec<usize>>,
+    tolerance: f64,
+}
+
+/// Cells a side of [`TriangleBins`].
+const BINS: usize = 16;
+
+impl TriangleBins {
+    fn new(mesh: &TriangleMesh, tolerance: f64) -> Self {
+        let corners: Vec<[DVec3; 3]> = (0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect();
+        let mut bins = vec![Vec::new(); BINS * BINS * BINS];
+        let cell = |x: f64| (((x + 1.0) * 0.5 * BINS as f64).floor().max(0.0) as usize).min(BINS - 1);
+        for (t, [a, b, c]) in corners.iter().enumerate() {
+            let (lo, hi) = (a.min(*b).min(*c) - tolerance, a.max(*b).max(*c) + tolerance);
+            for z in cell(lo.z)..=cell(hi.z) {
+                for y in cell(lo.y)..=cell(hi.y) {
+                    for x in cell(lo.x)..=cell(hi.x) {
+                        bins[(z * BINS + y) * BINS + x].push(t);
+                    }
+                }
+            }
+        }
+        TriangleBins { corners, bins, tolerance }
+    }
+
+    /// The triangles within the tolerance of `p`.
+    fn at(&self, p: DVec3) -> Vec<usize> {
+        let cell = |x: f64| (((x + 1.0) * 0.5 * BINS as f64).floor().max(0.0) as usize).min(BINS - 1);
+        let bin = &self.bins[(cell(p.z) * BINS + cell(p.y)) * BINS + cell(p.x)];
+        bin.iter()
+            .copied()
+            .filter(|&t| {
+                let [a, b, c] = self.corners[t];
+                closest_on_triangle(p, a, b, c).distance(p) <= self.tolerance
+            })
+            .collect()
+    }
+}
+
+/// A triangle's own unit normal (its corners' order).
+fn triangle_normal(mesh: &TriangleMesh, t: usize) -> DVec3 {
+    let [a, b, c] = mesh.corners(t);
+    (b - a).cross(c - a).normalize()
+}
+
+/// Checks every crossing of `hermite` lies within 1e-6 of a triangle of `mesh` whose
+/// own normal it is (within 1e-5 radians); returns how many faces carry one.
+fn assert_on_triangles_with_their_normals(mesh: &TriangleMesh, d: &Domain, hermite: &HermiteData) -> usize {
+    let bins = TriangleBins::new(mesh, 1e-6);
+    for &(key, crossing) in hermite.faces() {
+        let p = world_point(d, key, crossing.t);
+        let on = bins.at(p);
+        assert!(!on.is_empty(), "{key:?}: the crossing {p} is on no triangle");
+        let n = crossing.normal.as_dvec3();
+        let best = on.iter().map(|&t| triangle_normal(mesh, t).angle_between(n)).fold(f64::INFINITY, f64::min);
+        assert!(best < 1e-5, "{key:?}: normal {n} is {best} radians from its triangles' at {p}");
+    }
+    hermite.len()
+}
+
+/// The mean distance from the vertices and triangle centroids of `mesh` to `source`,
+/// in voxels of `d`.
+fn mean_distance(mesh: &TriangleMesh, source: &MeshDistance, d: &Domain) -> f64 {
+    let centroids = (0..mesh.triangles.len()).map(|t| {
+        let [a, b, c] = mesh.corners(t);
+        (a + b + c) / 3.0
+    });
+    let points: Vec<DVec3> = mesh.vertices.iter().copied().chain(centroids).collect();
+    points.iter().map(|&p| source.distance(p)).sum::<f64>() / points.len() as f64 / d.voxel_size()
+}
+
+#[test]
+fn a_mesh_spheres_crossings_lie_on_its_triangles_and_its_surface_follows_it() {
+    let mesh = icosphere(DVec3::new(0.03, -0.02, 0.01), 0.9, 4);
+    assert!(mesh.triangles.len() >= 2048);
+    let d = domain(7);
+    let (tree, hermite) = mesh_solid(&mesh, d, InsideRule::Auto);
+    let carried = assert_on_triangles_with_their_normals(&mesh, &d, &hermite);
+    // Every face of a closed mesh's staircase is crossed by a triangle.
+    let staircase = ExtractOptions { style: Style::Voxels, unit_faces: true, ..ExtractOptions::default() };
+    let faces = extract(&tree, &HermiteData::none(), &staircase, &NoProgress).unwrap().mesh.triangles.len() / 2;
+    assert_eq!(carried, faces);
+    let estimate = extract(&tree, &HermiteData::none(), &ExtractOptions::default(), &NoProgress).unwrap();
+    let source = MeshDistance::new(&mesh);
+    let exact = extract(&tree, &hermite, &ExtractOptions::default(), &NoProgress).unwrap();
+    assert!(!exact.is_estimate());
+    let (from_exact, from_estimate) =
+        (mean_distance(&exact.mesh, &source, &d), mean_distance(&estimate.mesh, &source, &d));
+    println!("mean distance to the source: {from_exact:.4} voxel exact, {from_estimate:.4} estimated");
+    assert!(from_exact < 0.02, "mean distance {from_exact} voxel");
+    assert!(from_exact < from_estimate / 3.0, "{from_exact} exact, {from_estimate} estimated");
+}
