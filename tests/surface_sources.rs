@@ -127,3 +127,71 @@ fn a_mesh_spheres_crossings_lie_on_its_triangles_and_its_surface_follows_it() {
     assert!(from_exact < 0.02, "mean distance {from_exact} voxel");
     assert!(from_exact < from_estimate / 3.0, "{from_exact} exact, {from_estimate} estimated");
 }
+
+/// Two meshes as one (the second's vertices after the first's), the second turned
+/// inside out when `reversed`.
+fn joined(outer: &TriangleMesh, inner: &TriangleMesh, reversed: bool) -> TriangleMesh {
+    let base = outer.vertices.len() as u32;
+    let vertices = outer.vertices.iter().chain(&inner.vertices).copied().collect();
+    let inner_triangles = inner.triangles.iter().map(|&[a, b, c]| {
+        let t = [a + base, b + base, c + base];
+        if reversed { [t[0], t[2], t[1]] } else { t }
+    });
+    let triangles = outer.triangles.iter().copied().chain(inner_triangles).collect();
+    TriangleMesh::new(vertices, triangles).unwrap()
+}
+
+/// A hollow ball, its inner shell turned inward, under the winding rule: the crossings
+/// of both shells lie on their triangles with the triangles' own normals, so those of
+/// the inner shell point to the centre.
+#[test]
+fn a_hollow_balls_inner_shell_gives_inward_normals_under_the_winding_rule() {
+    let centre = DVec3::new(0.01, 0.02, -0.03);
+    let mesh = joined(&icosphere(centre, 0.9, 4), &icosphere(centre, 0.5, 4), true);
+    let d = domain(7);
+    let (_, hermite) = mesh_solid(&mesh, d, InsideRule::Winding);
+    assert_on_triangles_with_their_normals(&mesh, &d, &hermite);
+    let (mut inner, mut outer) = (0, 0);
+    for &(key, crossing) in hermite.faces() {
+        let from_centre = world_point(&d, key, crossing.t) - centre;
+        let radial = crossing.normal.as_dvec3().dot(from_centre.normalize());
+        if from_centre.length() < 0.7 {
+            assert!(radial < -0.99, "{key:?}: the inner shell's normal points {radial} outward");
+            inner += 1;
+        } else {
+            assert!(radial > 0.99, "{key:?}: the outer shell's normal points {radial} outward");
+            outer += 1;
+        }
+    }
+    assert!(inner > 10_000 && outer > 30_000, "{inner} inner and {outer} outer crossings");
+}
+
+/// Two nested shells facing out, 0.3 voxel apart, under the winding rule (2 inside the
+/// inner, 1 between): the solid's surface is the outer shell, and every crossing lies
+/// on it, also where a face's segment crosses both shells (its full voxel's centre
+/// inside the inner one), whose first crossing does not leave the solid.
+#[test]
+fn nested_shells_under_the_winding_rule_cross_at_the_outer_one() {
+    let d = domain(7);
+    let h = d.voxel_size();
+    let centre = DVec3::new(0.01, 0.02, -0.03);
+    let (outer_r, inner_r) = (0.9, 0.9 - 0.3 * h);
+    let (outer, inner) = (icosphere(centre, outer_r, 4), icosphere(centre, inner_r, 4));
+    let mesh = joined(&outer, &inner, false);
+    let (tree, hermite) = mesh_solid(&mesh, d, InsideRule::Winding);
+    let outer_bins = TriangleBins::new(&outer, 1e-6);
+    let inner_distance = MeshDistance::new(&inner);
+    let mut both = 0;
+    for &(key, crossing) in hermite.faces() {
+        let p = world_point(&d, key, crossing.t);
+        assert!(!outer_bins.at(p).is_empty(), "{key:?}: {p} is not on the outer shell");
+        assert!(inner_distance.distance(p) > 0.1 * h, "{key:?}: {p} is on the inner shell");
+        // The full voxel's centre inside the inner shell (by the analytic sphere,
+        // clear of its chords): the segment crosses both.
+        both += usize::from(d.voxel_center(key.voxel()).distance(centre) < inner_r - 0.05 * h);
+    }
+    let staircase = ExtractOptions { style: Style::Voxels, unit_faces: true, ..ExtractOptions::default() };
+    let faces = extract(&tree, &HermiteData::none(), &staircase, &NoProgress).unwrap().mesh.triangles.len() / 2;
+    assert_eq!(hermite.len(), faces, "every face crossed");
+    assert!(both > 10_000, "{both} faces cross both shells");
+}
