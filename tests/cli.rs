@@ -424,6 +424,28 @@ fn render_keeps_a_scenes_solids_in_its_cache_unless_told_not_to() {
     assert!(out.contains("cleared    1 cached solid of ball.toml") && !cache.exists(), "{out}");
 }
 
+/// A mesh voxelized into an `.oct` file carries its triangles' crossings: `info`
+/// measures the true surface's area (against the mesh's own, which `mesh-info` sums)
+/// and `export` says its crossings are exact; a surface fill carries none.
+#[test]
+fn a_voxelized_mesh_carries_its_crossings_to_info_and_export() {
+    let dir = scratch("mesh_crossings");
+    let spot = repo().join("models/spot.obj");
+    let spot = spot.to_str().unwrap();
+    let out = ok(&dir, &["voxelize", spot, "--depth", "7", "-o", "spot.oct"]);
+    assert!(out.contains("crossings and normals from the triangles"), "{out}");
+    let info = info_json(&dir, "spot.oct");
+    let mesh: serde_json::Value = serde_json::from_str(&ok(&dir, &["mesh-info", spot, "--json"])).unwrap();
+    let (area, mesh_area) = (info["surface_area"].as_f64().unwrap(), mesh["area"].as_f64().unwrap());
+    assert_eq!(info["area_from"], "true surface");
+    assert!((area / mesh_area - 1.0).abs() < 5e-3, "area {area} against the mesh's {mesh_area}");
+    let out = ok(&dir, &["export", "spot.oct", "-o", "spot.obj"]);
+    assert!(out.contains("exact crossings") && !out.contains("estimated"), "{out}");
+    let out = ok(&dir, &["voxelize", spot, "--depth", "5", "--fill", "surface", "-o", "shell.oct"]);
+    assert!(!out.contains("crossings"), "{out}");
+    assert_eq!(info_json(&dir, "shell.oct")["area_from"], "voxel estimate");
+}
+
 #[test]
 fn export_writes_closed_meshes_with_the_octree_volume() {
     let dir = scratch("export");
