@@ -441,6 +441,14 @@ fn a_voxelized_mesh_carries_its_crossings_to_info_and_export() {
     assert!((area / mesh_area - 1.0).abs() < 5e-3, "area {area} against the mesh's {mesh_area}");
     let out = ok(&dir, &["export", "spot.oct", "-o", "spot.obj"]);
     assert!(out.contains("exact crossings") && !out.contains("estimated"), "{out}");
+    // A sphere with a hole: the winding rule closes it, where no triangle crosses a
+    // face's segment and the export estimates.
+    let mut open = octsolid::mesh::generate::icosphere(octsolid::glam::DVec3::ZERO, 1.0, 3);
+    open.retain_triangles(|t| t >= 40);
+    octsolid::mesh::write_mesh(&open, dir.join("open.obj")).unwrap();
+    ok(&dir, &["voxelize", "open.obj", "--depth", "6", "-o", "open.oct"]);
+    let out = ok(&dir, &["export", "open.oct", "-o", "open.ply"]);
+    assert!(out.contains("exact crossings") && out.contains("where the file has no crossing"), "{out}");
     let out = ok(&dir, &["voxelize", spot, "--depth", "5", "--fill", "surface", "-o", "shell.oct"]);
     assert!(!out.contains("crossings"), "{out}");
     assert_eq!(info_json(&dir, "shell.oct")["area_from"], "voxel estimate");
