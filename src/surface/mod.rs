@@ -27,6 +27,6 @@ mod transform;
 mod untangle;
 
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
-pub(crate) use faces::is_boundary_face;
+pub(crate) use faces::{boundary_faces, is_boundary_face};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};
