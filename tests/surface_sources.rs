@@ -6,11 +6,12 @@
 mod common;
 
 use common::mesh_distance::{MeshDistance, closest_on_triangle};
-use octsolid::glam::DVec3;
+use octsolid::glam::{DAffine3, DQuat, DVec3};
 use octsolid::io::ReadOptions;
 use octsolid::mesh::generate::icosphere;
 use octsolid::mesh::{InsideRule, MeshVoxelizeOptions, TriangleMesh, voxelize_mesh};
-use octsolid::octree::{Domain, LinearOctree};
+use octsolid::octree::{Domain, LinearOctree, voxelize};
+use octsolid::shape::{Axis, Csg, Cylinder, Shape, Sphere, Transformed, mirrored, polar_array};
 use octsolid::surface::{ExtractOptions, FaceKey, HermiteData, Style, extract};
 use octsolid::{NoProgress, SolidFile};
 
@@ -236,4 +237,65 @@ fn vdb_level_set_spheres_give_crossings_on_the_analytic_sphere() {
     }
     let fog = SolidFile::read(data("vdb/fog_and_mask.vdb"), &ReadOptions::default()).unwrap();
     assert!(fog.surface.is_none());
+}
+
+/// Checks the crossings `from_shape` gives `shape` (voxelized in `d`) against the
+/// signed function `f` whose zero set is its surface (a distance near it): every
+/// crossing within 1e-4 voxel of the zero set, and its normal along `f`'s numerical
+/// gradient where that is a unit vector (off the creases); returns how many normals
+/// were checked.
+fn assert_on_zero_set(name: &str, shape: &dyn Shape, d: Domain, f: &dyn Fn(DVec3) -> f64) -> usize {
+    let tree = voxelize(shape, d, &Default::default()).unwrap();
+    let hermite = HermiteData::from_shape(shape, &tree);
+    let h = d.voxel_size();
+    let mut normals = 0;
+    for &(key, crossing) in hermite.faces() {
+        let p = world_point(&d, key, crossing.t);
+        assert!(f(p).abs() < 1e-4 * h, "{name}: {key:?} at {p} is {} voxel off", f(p) / h);
+        let e = 1e-6 * h;
+        let g = DVec3::new(
+            f(p + DVec3::X * e) - f(p - DVec3::X * e),
+            f(p + DVec3::Y * e) - f(p - DVec3::Y * e),
+            f(p + DVec3::Z * e) - f(p - DVec3::Z * e),
+        ) / (2.0 * e);
+        if (g.length() - 1.0).abs() < 1e-3 {
+            let angle = crossing.normal.as_dvec3().angle_between(g);
+            assert!(angle < 1e-3, "{name}: {key:?} at {p}: normal {} is {angle} radians off {g}", crossing.normal);
+            normals += 1;
+        }
+    }
+    assert!(normals * 10 > hermite.len() * 8, "{name}: {normals} of {} normals checked", hermite.len());
+    normals
+}
+
+/// Patterns, transforms and CSG trees are shapes: their exact crossings come from
+/// their distances through the placements and set operations (`HermiteData::from_shape`),
+/// on the analytic surfaces with their normals.
+#[test]
+fn patterns_transforms_and_csg_trees_give_exact_crossings() {
+    let d = domain(6);
+    // Five spheres about z.
+    let ring =
+        polar_array(Sphere::new(DVec3::new(0.5, 0.0, 0.1), 0.25).unwrap(), Axis::Z, DVec3::ZERO, 5, None).unwrap();
+    let centres: Vec<DVec3> =
+        (0..5).map(|i| DQuat::from_rotation_z(f64::from(i) * 72f64.to_radians()) * DVec3::new(0.5, 0.0, 0.1)).collect();
+    let ring_f = |p: DVec3| centres.iter().map(|c| p.distance(*c) - 0.25).fold(f64::INFINITY, f64::min);
+    assert_on_zero_set("polar array", &ring, d, &ring_f);
+    // A sphere and its mirror image.
+    let pair =
+        mirrored(Sphere::new(DVec3::new(0.3, 0.2, 0.1), 0.3).unwrap(), DVec3::new(1.0, 1.0, 0.0), DVec3::ZERO).unwrap();
+    let pair_f =
+        |p: DVec3| (p.distance(DVec3::new(0.3, 0.2, 0.1)) - 0.3).min(p.distance(DVec3::new(-0.2, -0.3, 0.1)) - 0.3);
+    assert_on_zero_set("mirror", &pair, d, &pair_f);
+    // A cylinder turned 30 degrees about x and moved, and a ball with it bored out.
+    let to_world = DAffine3::from_translation(DVec3::new(0.05, -0.02, 0.03)) * DAffine3::from_rotation_x(0.5236);
+    let bore = Transformed::new(Cylinder::new(DVec3::ZERO, Axis::Z, 0.3, 1.2).unwrap(), to_world).unwrap();
+    let bore_f = |p: DVec3| {
+        let q = to_world.inverse().transform_point3(p);
+        (q.x.hypot(q.y) - 0.3).max(q.z.abs() - 0.6)
+    };
+    assert_on_zero_set("turned cylinder", &bore, d, &bore_f);
+    let bored = Csg::from(Sphere::new(DVec3::ZERO, 0.8).unwrap()) - bore.clone();
+    let bored_f = |p: DVec3| (p.length() - 0.8).max(-bore_f(p));
+    assert_on_zero_set("ball minus cylinder", &bored, d, &bored_f);
 }
