@@ -11,12 +11,13 @@ use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::file_kind::FileKind;
 use crate::mesh::{
-    InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh, read_mesh_and_warnings,
-    voxelize_mesh, voxelize_surface,
+    BoundarySize, InsideRule, MeshReport, MeshVoxelizeOptions, PolygonTables, SurfaceKind, TriangleMesh,
+    read_mesh_and_warnings, voxelize_mesh, voxelize_surface,
 };
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
 use crate::patch::{BezierPatch, read_patches, segments_for, tessellate_within, voxelize_patch_surface};
 use crate::progress::{NoProgress, Progress};
+use crate::surface::HermiteData;
 use crate::warning::Warning;
 
 /// What to make of the surface.
@@ -196,6 +197,36 @@ pub fn voxelize_input(
         }
     }
 }
+
+/// The surface data of `tree`, the solid [`voxelize_input`] made of `input` with
+/// `summary`: the crossings and normals of the triangles it voxelized, under the rule
+/// it used ([`HermiteData::from_mesh`]; patches: their tessellation's, as voxelized).
+/// `None` for surfaces and thin shells, which have no inside to cross out of. Refused
+/// when the estimate (the boundary faces' crossings, the triangles' hierarchy and
+/// oracle) exceeds `budget`.
+pub fn surface_of_input(
+    input: &Input,
+    tree: &LinearOctree,
+    summary: &VoxelizeSummary,
+    budget: MemoryBudget,
+) -> Result<Option<HermiteData>> {
+    let Some(rule) = summary.rule else { return Ok(None) };
+    let faces = BoundarySize::of(tree).unit_faces;
+    let estimate = faces.saturating_mul(FACE_BYTES).saturating_add(summary.triangles as u128 * TRIANGLE_BYTES);
+    budget.check(
+        format!("the crossings of {faces} boundary faces and {} triangles", summary.triangles),
+        u64::try_from(estimate).unwrap_or(u64::MAX),
+    )?;
+    let mesh = input.triangles(tree.domain().voxel_size(), budget)?;
+    Ok(Some(HermiteData::from_mesh(&mesh, rule, tree)))
+}
+
+/// Bytes a boundary face takes while its crossing is found: its key in the list of
+/// faces and its crossing, kept or not.
+const FACE_BYTES: u128 = 48;
+/// Bytes a triangle takes while the crossings are found: the hierarchy's corners, box,
+/// index and share of nodes, and the winding number's cluster and corners.
+const TRIANGLE_BYTES: u128 = 300;
 
 /// The default domain: the input's bounding cube grown by 2% on each side.
 pub fn default_domain(input: &Input, depth: u8) -> Result<Domain> {

@@ -6,7 +6,7 @@
 //! |------|------|--------------|
 //! | `.oct` | the solid, its [`Metadata`] (up axis, units) and its surface data when the file has it | one solid, with [`WriteOptions::meta`] and [`WriteOptions::surface`] |
 //! | `.octs` | the whole sharded solid within the budget ([`crate::sharded`]; [`SolidFile::read_to_draw`]: at the finest depth that fits) | one solid, at the default cell level, with the metadata |
-//! | `.vox`, `.vdb` | one solid a palette colour, one a grid | one solid each |
+//! | `.vox`, `.vdb` | one solid a palette colour, one a grid (a level set's with its surface data from the distances) | one solid each |
 //! | `.binvox` | one solid | one solid |
 //! | `.glb` | | one boundary mesh a solid |
 //! | `.obj`, `.stl`, `.ply` | | one solid's boundary mesh, merged faces ([`crate::mesh::try_boundary_mesh`]) |
@@ -40,7 +40,8 @@ pub struct SolidFile {
     /// `.oct`'s and `.octs`'s up axis and units; the default elsewhere.
     pub meta: Metadata,
     /// The solid's surface data (crossings and normals of its boundary faces) where an
-    /// `.oct` file carries it ([`oct::read_and_surface`]); `None` elsewhere.
+    /// `.oct` file carries it ([`oct::read_and_surface`]) or a `.vdb` level set's
+    /// distances give it ([`vdb::read_and_surface`]); `None` elsewhere.
     pub surface: Option<HermiteData>,
     /// A sharded solid read coarser than it is to fit the budget
     /// ([`SolidFile::read_to_draw`]): its own depth; `None` when read at full depth.
@@ -66,7 +67,10 @@ impl SolidFile {
             }
             FileKind::Binvox => SolidFile::one(path, kind, binvox::read(path, options.budget)?, Metadata::default()),
             FileKind::Vox => SolidFile::many(kind, vox::read(path, options)?),
-            FileKind::Vdb => SolidFile::many(kind, vdb::read(path, options)?),
+            FileKind::Vdb => {
+                let (solids, surface) = vdb::read_and_surface(path, options)?;
+                SolidFile { surface, ..SolidFile::many(kind, solids) }
+            }
             other => unreachable!("{other:?} is not in FileKind::SOLIDS"),
         };
         debug_assert!(file.solids.validate().is_ok());

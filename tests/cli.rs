@@ -424,6 +424,45 @@ fn render_keeps_a_scenes_solids_in_its_cache_unless_told_not_to() {
     assert!(out.contains("cleared    1 cached solid of ball.toml") && !cache.exists(), "{out}");
 }
 
+/// A mesh voxelized into an `.oct` file carries its triangles' crossings: `info`
+/// measures the true surface's area (against the mesh's own, which `mesh-info` sums)
+/// and `export` says its crossings are exact; so for a `.vdb` level set; a surface
+/// fill carries none.
+#[test]
+fn a_voxelized_mesh_carries_its_crossings_to_info_and_export() {
+    let dir = scratch("mesh_crossings");
+    let spot = repo().join("models/spot.obj");
+    let spot = spot.to_str().unwrap();
+    let out = ok(&dir, &["voxelize", spot, "--depth", "7", "-o", "spot.oct"]);
+    assert!(out.contains("crossings and normals from the triangles"), "{out}");
+    let info = info_json(&dir, "spot.oct");
+    let mesh: serde_json::Value = serde_json::from_str(&ok(&dir, &["mesh-info", spot, "--json"])).unwrap();
+    let (area, mesh_area) = (info["surface_area"].as_f64().unwrap(), mesh["area"].as_f64().unwrap());
+    assert_eq!(info["area_from"], "true surface");
+    assert!((area / mesh_area - 1.0).abs() < 5e-3, "area {area} against the mesh's {mesh_area}");
+    let out = ok(&dir, &["export", "spot.oct", "-o", "spot.obj"]);
+    assert!(out.contains("exact crossings") && !out.contains("estimated"), "{out}");
+    // A sphere with a hole: the winding rule closes it, where no triangle crosses a
+    // face's segment and the export estimates.
+    let mut open = octsolid::mesh::generate::icosphere(octsolid::glam::DVec3::ZERO, 1.0, 3);
+    open.retain_triangles(|t| t >= 40);
+    octsolid::mesh::write_mesh(&open, dir.join("open.obj")).unwrap();
+    ok(&dir, &["voxelize", "open.obj", "--depth", "6", "-o", "open.oct"]);
+    let out = ok(&dir, &["export", "open.oct", "-o", "open.ply"]);
+    assert!(out.contains("exact crossings") && out.contains("where the file has no crossing"), "{out}");
+    // A level set's distances give crossings too: OpenVDB's sphere of radius 6.3.
+    let sphere = repo().join("tests/data/vdb/sphere.vdb");
+    let info = info_json(&dir, sphere.to_str().unwrap());
+    let (area, exact) = (info["surface_area"].as_f64().unwrap(), 4.0 * std::f64::consts::PI * 6.3 * 6.3);
+    assert_eq!(info["area_from"], "true surface");
+    assert!((area / exact - 1.0).abs() < 2e-3, "area {area} against {exact}");
+    let out = ok(&dir, &["export", sphere.to_str().unwrap(), "-o", "vdb.obj"]);
+    assert!(out.contains("exact crossings") && !out.contains("estimated"), "{out}");
+    let out = ok(&dir, &["voxelize", spot, "--depth", "5", "--fill", "surface", "-o", "shell.oct"]);
+    assert!(!out.contains("crossings"), "{out}");
+    assert_eq!(info_json(&dir, "shell.oct")["area_from"], "voxel estimate");
+}
+
 #[test]
 fn export_writes_closed_meshes_with_the_octree_volume() {
     let dir = scratch("export");

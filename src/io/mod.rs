@@ -22,6 +22,7 @@ pub mod png;
 mod solid_set;
 mod solids;
 pub mod vdb;
+mod vdb_level_set;
 pub mod vox;
 
 pub use crate::atomic::{same_file, write_atomic};

@@ -60,11 +60,13 @@ use glam::DVec3;
 
 use super::blosc;
 use super::solid_set::{ColouredSolid, ReadOptions, SolidRef, Solids, SolidsRef};
+use super::vdb_level_set::LevelSetValues;
 use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result, printable, quoted};
 use crate::fields::Fields;
 use crate::octree::{Domain, LinearOctree, MAX_DEPTH, Node};
+use crate::surface::HermiteData;
 
 /// The first 8 bytes: `0x56444220` as a little-endian i64.
 pub const MAGIC: u64 = 0x5644_4220;
@@ -710,13 +712,25 @@ type Block = ([i64; 3], i64);
 
 /// Reads the `.vdb` file at `path` (one grid; see the module doc).
 pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
+    read_and_surface(path, options).map(|(solids, _)| solids)
+}
+
+/// [`read`], with the solid's surface data when the grid is a level set: each boundary
+/// face's crossing from the distances at its two voxel centres and the normal from
+/// their gradient (`vdb_level_set.rs`); `None` for fog volumes and bool grids.
+pub fn read_and_surface(path: impl AsRef<Path>, options: &ReadOptions) -> Result<(Solids, Option<HermiteData>)> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-    decode(&bytes, path, options)
+    decode_and_surface(&bytes, path, options)
 }
 
 /// Parses a whole `.vdb` file; `path` names it in errors.
 pub fn decode(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<Solids> {
+    decode_and_surface(bytes, path, options).map(|(solids, _)| solids)
+}
+
+/// [`decode`], with the surface data of a level set ([`read_and_surface`]).
+pub fn decode_and_surface(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<(Solids, Option<HermiteData>)> {
     let mut r = Fields::new(path, bytes, 0);
     read_file_header(&mut r)?;
     let at = r.pos;
@@ -843,15 +857,25 @@ fn no_grid_to_read(r: &Fields<'_>, at: usize, options: &ReadOptions, found: &[St
     r.err(at, format!("{what}; the file has {}", if found.is_empty() { "no grids".into() } else { found.join(", ") }))
 }
 
-/// Reads the chosen grid from its compression flags on, into solids.
-fn read_grid(r: &mut Fields<'_>, name: String, value: ValueType, half: bool, options: &ReadOptions) -> Result<Solids> {
+/// Reads the chosen grid from its compression flags on, into solids, with a level
+/// set's surface data.
+fn read_grid(
+    r: &mut Fields<'_>,
+    name: String,
+    value: ValueType,
+    half: bool,
+    options: &ReadOptions,
+) -> Result<(Solids, Option<HermiteData>)> {
     let mut grid = read_grid_header(r, name, value, half, options)?;
     read_background(r, &mut grid)?;
     let (mut blocks, uppers) = read_root_children(r, &grid)?;
     check_read_budget(r, &grid, &uppers, blocks.len(), options)?;
     push_inside_tiles(&uppers, &mut blocks);
-    read_leaf_buffers(r, &grid, &uppers, &mut blocks)?;
-    build_solids(grid, blocks, options, r)
+    let mut distances = (grid.level_set && grid.value != ValueType::Bool).then(LevelSetValues::default);
+    read_leaf_buffers(r, &grid, &uppers, &mut blocks, distances.as_mut())?;
+    let (solids, origin) = build_solids(grid, blocks, options, r)?;
+    let surface = distances.map(|d| d.crossings(&solids.solids[0].tree, origin));
+    Ok((solids, surface))
 }
 
 /// Step 3: the grid's compression flags, metadata (its class and the domain octsolid
@@ -978,13 +1002,19 @@ fn push_inside_tiles(uppers: &ReadRoot, blocks: &mut Vec<Block>) {
 }
 
 /// Step 5, then: the buffers of every leaf in the root's origin order, their inside
-/// voxels as blocks.
-fn read_leaf_buffers(r: &mut Fields<'_>, grid: &Grid, uppers: &ReadRoot, blocks: &mut Vec<Block>) -> Result<()> {
+/// voxels as blocks (and a level set's values kept in `distances`).
+fn read_leaf_buffers(
+    r: &mut Fields<'_>,
+    grid: &Grid,
+    uppers: &ReadRoot,
+    blocks: &mut Vec<Block>,
+    mut distances: Option<&mut LevelSetValues>,
+) -> Result<()> {
     for u in uppers.values() {
         for l in &u.lowers {
             for &i in &l.leaves {
                 let origin = child_origin(l.origin, i, LOWER_LOG2, LEAF_LOG2);
-                read_leaf_buffer(r, grid, origin, blocks)?;
+                read_leaf_buffer(r, grid, origin, blocks, distances.as_deref_mut())?;
             }
         }
     }
@@ -1020,12 +1050,14 @@ fn read_upper(r: &mut Fields<'_>, grid: &Grid, origin: [i64; 3]) -> Result<ReadU
     Ok(ReadUpper { origin, inside_tiles, lowers })
 }
 
-/// A leaf's buffer: its value mask and values (bools: its origin and a value mask).
+/// A leaf's buffer: its value mask and values (bools: its origin and a value mask);
+/// the values kept in `distances` when given.
 fn read_leaf_buffer(
     r: &mut Fields<'_>,
     grid: &Grid,
     origin: [i64; 3],
     blocks: &mut Vec<([i64; 3], i64)>,
+    distances: Option<&mut LevelSetValues>,
 ) -> Result<()> {
     let active = r.mask(512, "leaf value mask")?;
     let inside: Vec<bool> = if grid.value == ValueType::Bool {
@@ -1037,7 +1069,11 @@ fn read_leaf_buffer(
         let values = r.mask(512, "leaf values")?;
         (0..512).map(|i| values.on(i)).collect()
     } else {
-        r.values(grid, 512, &active)?.into_iter().map(|v| grid.inside(v)).collect()
+        let values = r.values(grid, 512, &active)?;
+        if let Some(distances) = distances {
+            distances.insert(origin, &values);
+        }
+        values.into_iter().map(|v| grid.inside(v)).collect()
     };
     if inside.iter().all(|&b| b) {
         blocks.push((origin, LEAF_SIDE));
@@ -1098,8 +1134,14 @@ fn parse_domain(value: &str) -> Option<Domain> {
     Domain::new(DVec3::new(f(x)?, f(y)?, f(z)?), f(edge)?, depth.parse().ok()?).ok()
 }
 
-/// The domain and the solid from the inside blocks (module doc, "Reading").
-fn build_solids(grid: Grid, blocks: Vec<([i64; 3], i64)>, options: &ReadOptions, r: &Fields<'_>) -> Result<Solids> {
+/// The domain and the solid from the inside blocks (module doc, "Reading"), and the
+/// index of lattice voxel 0.
+fn build_solids(
+    grid: Grid,
+    blocks: Vec<([i64; 3], i64)>,
+    options: &ReadOptions,
+    r: &Fields<'_>,
+) -> Result<(Solids, [i64; 3])> {
     let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
     let mut align = 1;
     for (o, s) in &blocks {
@@ -1147,7 +1189,7 @@ fn build_solids(grid: Grid, blocks: Vec<([i64; 3], i64)>, options: &ReadOptions,
     });
     let tree = LinearOctree::from_nodes(domain, nodes)?;
     tree.validate()?;
-    Ok(Solids { domain, solids: vec![ColouredSolid::new(grid.name, None, tree)] })
+    Ok((Solids { domain, solids: vec![ColouredSolid::new(grid.name, None, tree)] }, origin))
 }
 
 #[cfg(test)]

@@ -38,15 +38,18 @@ pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
 pub(crate) use boundary::{
     BoundarySize, Rect as BoundaryRect, UnitFaceQuads, boundary_mesh_of_size, boundary_rects, unit_face_quads,
 };
+pub(crate) use crossing::{Plane, signed_crossing};
 pub use parity::ParityGrid;
 pub use read::{mesh_from_bytes, read_mesh, read_mesh_and_warnings};
 pub(crate) use separate::separate;
 pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};
 pub use shape::MeshShape;
+pub(crate) use solid::solid_triangles;
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh, voxelize_mesh_cells};
 pub use surface::{SurfaceKind, estimate_surface_bytes, voxelize_surface};
 pub use tables::{Edge, MeshReport, PolygonTables};
 pub use three_mf::write_3mf;
+pub(crate) use triangle_tree::TriangleTree;
 pub use winding::WindingNumber;
 pub use write::{write_mesh, write_obj, write_ply, write_stl};
 

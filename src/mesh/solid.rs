@@ -230,12 +230,10 @@ pub fn voxelize_mesh_cells(
     Ok(stats)
 }
 
-/// The rule `inside` resolves to, the job (tables and inside oracle) and the root's
-/// state.
 /// The triangles that bound the solid ([`TriangleMesh::solid_boundary`]), how many were
 /// left out, and whether some set of corners is still copied. One sort of the corner
 /// sets answers the usual mesh, every triangle on corners of its own.
-fn solid_triangles(mesh: &TriangleMesh) -> (std::borrow::Cow<'_, TriangleMesh>, usize, bool) {
+pub(crate) fn solid_triangles(mesh: &TriangleMesh) -> (std::borrow::Cow<'_, TriangleMesh>, usize, bool) {
     let void = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
     if !mesh.triangles.iter().any(void) && super::all_distinct(&super::corner_sets(&mesh.triangles)) {
         return (std::borrow::Cow::Borrowed(mesh), 0, false);
@@ -244,6 +242,8 @@ fn solid_triangles(mesh: &TriangleMesh) -> (std::borrow::Cow<'_, TriangleMesh>, 
     (kept, void_triangles, true)
 }
 
+/// The rule `inside` resolves to, the job (tables and inside oracle) and the root's
+/// state.
 fn prepare(mesh: &TriangleMesh, domain: Domain, inside: InsideRule, copied: bool) -> (InsideRule, Job<'_>, MeshNode) {
     // The oracle (and the watertight check it may need) and the per-triangle tables
     // are independent: built side by side.

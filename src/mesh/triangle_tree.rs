@@ -10,6 +10,9 @@
 //! triangle that meets the box is never missed; one that misses it by less than the
 //! hair may be reported. Box comparisons are exact. A box far from the surface is
 //! rejected near the root; one the surface crosses stops at the first triangle found.
+//! Query [`TriangleTree::for_each_near`]: every triangle whose own box meets the query
+//! box, by its index in the mesh (the candidates an exact test then decides, as the
+//! crossings of a short segment in `surface`'s Hermite data of a mesh).
 
 use glam::DVec3;
 
@@ -37,6 +40,8 @@ pub(crate) struct TriangleTree {
     corners: Vec<[DVec3; 3]>,
     /// Each triangle's box, in the same order.
     boxes: Vec<Aabb>,
+    /// Each triangle's index in the mesh, in the same order.
+    indices: Vec<u32>,
     /// The nodes, depth first, the root first.
     nodes: Vec<Node>,
 }
@@ -44,17 +49,43 @@ pub(crate) struct TriangleTree {
 impl TriangleTree {
     /// The hierarchy over the triangles of `mesh` (which has at least one).
     pub(crate) fn new(mesh: &TriangleMesh) -> Self {
-        let mut items: Vec<(DVec3, [DVec3; 3])> = (0..mesh.triangles.len())
+        let mut items: Vec<Item> = (0..mesh.triangles.len())
             .map(|t| {
                 let c = mesh.corners(t);
-                ((c[0] + c[1] + c[2]) / 3.0, c)
+                Item { centroid: (c[0] + c[1] + c[2]) / 3.0, corners: c, index: t as u32 }
             })
             .collect();
         let mut nodes = Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1);
         build(&mut items, 0, &mut nodes);
-        let corners: Vec<[DVec3; 3]> = items.into_iter().map(|(_, c)| c).collect();
+        let corners: Vec<[DVec3; 3]> = items.iter().map(|item| item.corners).collect();
+        let indices = items.iter().map(|item| item.index).collect();
         let boxes = corners.iter().map(|c| Aabb::from_points(*c).expect("three corners")).collect();
-        TriangleTree { corners, boxes, nodes }
+        TriangleTree { corners, boxes, indices, nodes }
+    }
+
+    /// Calls `visit` with the mesh index of every triangle whose bounding box meets the
+    /// closed box `b` (exact box comparisons; no triangle test).
+    pub(crate) fn for_each_near(&self, b: &Aabb, mut visit: impl FnMut(u32)) {
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let index = stack[top];
+            let node = &self.nodes[index as usize];
+            if !overlaps(&node.bounds, b) {
+                continue;
+            }
+            if node.count > 0 {
+                let range = node.first as usize..(node.first + node.count) as usize;
+                for t in range.filter(|&t| overlaps(&self.boxes[t], b)) {
+                    visit(self.indices[t]);
+                }
+            } else {
+                stack[top] = index + 1;
+                stack[top + 1] = node.second;
+                top += 2;
+            }
+        }
     }
 
     /// Whether some triangle meets the closed box `b` (conservative, see the module doc).
@@ -93,19 +124,26 @@ fn overlaps(a: &Aabb, b: &Aabb) -> bool {
     a.min.cmple(b.max).all() && a.max.cmpge(b.min).all()
 }
 
+/// A triangle while the hierarchy is built: its centroid, corners and mesh index.
+struct Item {
+    centroid: DVec3,
+    corners: [DVec3; 3],
+    index: u32,
+}
+
 /// Appends the nodes over `items` (offset `first` in the final order) to `nodes`, the
 /// subtree's root first; returns the root's index.
-fn build(items: &mut [(DVec3, [DVec3; 3])], first: usize, nodes: &mut Vec<Node>) -> u32 {
+fn build(items: &mut [Item], first: usize, nodes: &mut Vec<Node>) -> u32 {
     let at = nodes.len() as u32;
-    let bounds = Aabb::from_points(items.iter().flat_map(|(_, c)| *c)).expect("a node has triangles");
+    let bounds = Aabb::from_points(items.iter().flat_map(|item| item.corners)).expect("a node has triangles");
     nodes.push(Node { bounds, first: first as u32, count: items.len() as u32, second: 0 });
     if items.len() <= LEAF_SIZE {
         return at;
     }
-    let centroids = Aabb::from_points(items.iter().map(|(c, _)| *c)).expect("a node has triangles");
+    let centroids = Aabb::from_points(items.iter().map(|item| item.centroid)).expect("a node has triangles");
     let axis = centroids.size().max_position();
     let mid = items.len() / 2;
-    items.select_nth_unstable_by(mid, |a, b| a.0[axis].total_cmp(&b.0[axis]));
+    items.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
     let (left, right) = items.split_at_mut(mid);
     build(left, first, nodes);
     let second = build(right, first + mid, nodes);
@@ -135,5 +173,26 @@ mod tests {
             if want { met += 1 } else { missed += 1 }
         }
         assert!(met > 500 && missed > 500, "{met} met, {missed} missed");
+    }
+
+    #[test]
+    fn for_each_near_finds_exactly_the_triangles_whose_boxes_meet() {
+        let mesh = icosphere(DVec3::new(0.1, -0.2, 0.05), 1.0, 3);
+        let tree = TriangleTree::new(&mesh);
+        let mut rng = Rng(11);
+        let mut found_some = 0;
+        for _ in 0..2000 {
+            let b = Aabb::from_center_half(rng.vec(-1.3, 1.3), rng.vec(0.0, 0.2));
+            let mut got = Vec::new();
+            tree.for_each_near(&b, |t| got.push(t));
+            got.sort_unstable();
+            // The oracle: every triangle's box against the query box.
+            let want: Vec<u32> = (0..mesh.triangles.len() as u32)
+                .filter(|&t| overlaps(&Aabb::from_points(mesh.corners(t as usize)).unwrap(), &b))
+                .collect();
+            assert_eq!(got, want, "{b:?}");
+            found_some += usize::from(!want.is_empty());
+        }
+        assert!(found_some > 300, "{found_some} boxes met triangles");
     }
 }

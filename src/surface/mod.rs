@@ -3,6 +3,8 @@
 //!
 //! - [`hermite`]: where the surface crosses each boundary face's segment, and its
 //!   normal ([`HermiteData`], from a shape exactly, from nothing as the faces).
+//! - `hermite_mesh`: [`HermiteData::from_mesh`], a mesh solid's crossings from its
+//!   triangles under the voxelizer's inside rule.
 //! - `faces`: a solid's boundary faces, one a voxel face.
 //! - `combine`: Hermite data through a set operation ([`HermiteData::combine`]: a
 //!   CSG result's crossings from its operands').
@@ -18,12 +20,13 @@ mod dual;
 mod extract;
 mod faces;
 pub mod hermite;
+mod hermite_mesh;
 mod qef;
 mod simplify;
 mod transform;
 mod untangle;
 
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
-pub(crate) use faces::is_boundary_face;
+pub(crate) use faces::{boundary_faces, is_boundary_face};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};

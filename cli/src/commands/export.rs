@@ -84,6 +84,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
         warn!("--unit-faces is for --surface voxels; the smooth surface has its own vertices");
     }
     let hermite = read.surface.take().unwrap_or_else(HermiteData::none);
+    let carries_crossings = !hermite.is_empty();
     let tree = read.into_union();
     let started = Instant::now();
     let bar = Bar::new("meshing");
@@ -103,7 +104,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let written = separated.as_ref().unwrap_or(mesh);
     let bytes = write_mesh(written, output)?;
     out!("read       {} ({} nodes, depth {})", file.display(), tree.node_count(), tree.depth());
-    print_surface(&surface, unit_faces, a.tolerance, tree.domain().voxel_size());
+    print_surface(&surface, carries_crossings, unit_faces, a.tolerance, tree.domain().voxel_size());
     if separated.is_some() {
         let moved = written.vertices.iter().zip(&mesh.vertices).filter(|(a, b)| a != b).count();
         out!("stl        {moved} vertices where voxels touch moved apart");
@@ -115,8 +116,9 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     Ok(())
 }
 
-/// The summary's lines on the mesh: triangles, what placed the vertices, the distance bound.
-fn print_surface(surface: &SurfaceMesh, unit_faces: bool, tolerance: f64, voxel: f64) {
+/// The summary's lines on the mesh: triangles, what placed the vertices (from the
+/// file's crossings when it `carries_crossings`), the distance bound.
+fn print_surface(surface: &SurfaceMesh, carries_crossings: bool, unit_faces: bool, tolerance: f64, voxel: f64) {
     let mesh = &surface.mesh;
     let (triangles, vertices) = (mesh.triangles.len(), mesh.vertices.len());
     if surface.style == Style::Voxels {
@@ -127,11 +129,21 @@ fn print_surface(surface: &SurfaceMesh, unit_faces: bool, tolerance: f64, voxel:
     out!(
         "mesh       {triangles} triangles, {vertices} vertices (smooth: dual contouring, tolerance {tolerance} voxel)"
     );
-    if surface.is_estimate() {
+    if !carries_crossings && surface.is_estimate() {
         out!(
             "surface    estimated from the voxels (Surface Nets quality) at {} of {} vertices: the file carries no crossings",
             surface.estimated,
             vertices
+        );
+    } else if surface.is_estimate() {
+        out!(
+            "surface    exact crossings: {} smooth vertices, {} on creases, {} at corners; {} estimated from the \
+             voxels (Surface Nets quality) where the file has no crossing (faces its source does not cross, as a \
+             mesh's holes)",
+            surface.smooth,
+            surface.creases,
+            surface.corners,
+            surface.estimated
         );
     } else {
         out!(

@@ -193,7 +193,8 @@ pub fn run(a: &InfoArgs, budget: MemoryBudget) -> Result<()> {
     let per_node = |b: f64| if info.nodes == 0 { 0.0 } else { b / info.nodes as f64 };
     out!("on disk    {} ({:.2} bytes a node)", human_bytes(bytes_file), per_node(bytes_file as f64));
     if let Some(faces) = surface_faces {
-        out!("surface    {faces} boundary faces carry a crossing and a normal (the file's surface section)");
+        let from = if kind == FileKind::Vdb { "the level set's distances" } else { "the file's surface section" };
+        out!("surface    {faces} boundary faces carry a crossing and a normal ({from})");
     }
     print_measures(&info);
     Ok(())

@@ -81,7 +81,8 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
         import::voxelize_input(&loaded, domain, &ImportOptions { fill, inside, budget, progress: &bar })
             .with_context(|| format!("{}: cannot voxelize", input.display()))?;
     let elapsed = started.elapsed().as_secs_f64();
-    let bytes = write_solid_file(output, &tree, &meta, None, budget)?;
+    let surface = surface_of(a, &loaded, &tree, &summary, budget)?;
+    let bytes = write_solid_file(output, &tree, &meta, surface, budget)?;
     out!(
         "read       {} ({} triangle{})",
         input.display(),
@@ -117,6 +118,30 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
     out!("time       {:.1} ms (load and voxelize)", elapsed * 1e3);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     Ok(())
+}
+
+/// The surface data of the solid `tree` made of `loaded` when the output is an `.oct`
+/// file (the one format that stores it): the crossings of its triangles
+/// ([`import::surface_of_input`]), with the time it took printed; `None` for other
+/// outputs, surfaces and thin shells.
+fn surface_of(
+    a: &VoxelizeArgs,
+    loaded: &import::Input,
+    tree: &octsolid::octree::LinearOctree,
+    summary: &import::VoxelizeSummary,
+    budget: MemoryBudget,
+) -> Result<Option<octsolid::surface::HermiteData>> {
+    if FileKind::of(&a.output, &[FileKind::Oct]).is_err() {
+        return Ok(None);
+    }
+    let started = Instant::now();
+    let surface = import::surface_of_input(loaded, tree, summary, budget)
+        .with_context(|| format!("{}: cannot find its surface's crossings", a.input.display()))?;
+    if let Some(surface) = &surface {
+        let ms = started.elapsed().as_secs_f64() * 1e3;
+        out!("surface    {} boundary faces' crossings and normals from the triangles in {ms:.1} ms", surface.len());
+    }
+    Ok(surface)
 }
 
 /// A sharded output: a solid voxelized cell by cell (patch sets tessellated first, as
