@@ -587,11 +587,17 @@ fn build_voxelizes_scene_solids_and_csg_merges_any_number_of_operands() {
     assert_eq!(std::fs::read(dir.join("all.oct")).unwrap(), std::fs::read(dir.join("merged.oct")).unwrap());
     let surface_line = |f: &str| ok(&dir, &["info", f]).lines().find(|l| l.starts_with("surface ")).map(str::to_owned);
     assert!(surface_line("merged.oct").is_some_and(|l| l.contains("boundary faces")));
-    // A quarter turn carries the data; an eighth resamples and leaves it out, saying so.
+    // A quarter turn carries the data; an eighth resamples from the moved smooth
+    // surface, with new crossings, and keeps the true surface's area (an eighth turn
+    // about z keeps areas).
     let out = ok(&dir, &["transform", "merged.oct", "--rotate", "z,90", "-o", "turned.oct"]);
     assert!(!out.contains("left out") && surface_line("turned.oct") == surface_line("merged.oct"), "{out}");
     let out = ok(&dir, &["transform", "merged.oct", "--rotate", "z,45", "-o", "eighth.oct"]);
-    assert!(out.contains("surface data is left out") && surface_line("eighth.oct").is_none(), "{out}");
+    assert!(out.contains("resampled from the moved smooth surface"), "{out}");
+    assert!(surface_line("eighth.oct").is_some_and(|l| l.contains("boundary faces")));
+    let area = |f: &str| info_json(&dir, f)["surface_area"].as_f64().unwrap();
+    let (before, after) = (area("merged.oct"), area("eighth.oct"));
+    assert!((after / before - 1.0).abs() < 5e-3, "area {before} turned to {after}");
     // xor of three: |A ^ B ^ C| = sum |X| - 2 sum |X & Y| + 4 |A & B & C|.
     ok(&dir, &["csg", "xor", "a.oct", "b.oct", "c.oct", "-o", "odd.oct"]);
     ok(&dir, &["csg", "intersect", "a.oct", "b.oct", "c.oct", "-o", "abc.oct"]);

@@ -9,6 +9,8 @@
 //! - `combine`: Hermite data through a set operation ([`HermiteData::combine`]: a
 //!   CSG result's crossings from its operands').
 //! - `transform`: Hermite data through the exact whole-voxel moves.
+//! - `resample`: [`resample_with_surface`], a solid moved where its voxels do not
+//!   follow, voxelized again from its moved smooth surface, with new crossings.
 //! - `qef`: the point nearest a cell's tangent planes, and their rank.
 //! - `dual`: a vertex a sheet at each boundary voxel corner, the faces as quads.
 //! - `untangle`: crossing triangles' vertices moved back towards the staircase.
@@ -22,6 +24,7 @@ mod faces;
 pub mod hermite;
 mod hermite_mesh;
 mod qef;
+mod resample;
 mod simplify;
 mod transform;
 mod untangle;
@@ -29,4 +32,5 @@ mod untangle;
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub(crate) use faces::{boundary_faces, is_boundary_face};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
+pub use resample::resample_with_surface;
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};

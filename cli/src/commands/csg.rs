@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use glam::DAffine3;
 use octsolid::octree::{Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
 use octsolid::sharded::{self, ShardedSolid};
-use octsolid::surface::HermiteData;
+use octsolid::surface::{HermiteData, resample_with_surface};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::print_summary;
@@ -105,9 +105,22 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
             .map_err(|e| whole_job(e, &trees))?;
         let ms = started.elapsed().as_secs_f64() * 1e3;
         out!("{}: {fit} into {target} in {ms:.1} ms", path.display());
+        if let (Fit::Resampled, Some(surface)) = (fit, surfaces[i].take()) {
+            // A resampling with surface data is made again from the smooth surface.
+            let started = Instant::now();
+            let (again, data) = resample_with_surface(&trees[i], &surface, DAffine3::IDENTITY, target, &options)
+                .with_context(|| format!("{}: cannot resample from its surface", path.display()))
+                .map_err(|e| whole_job(e, &trees))?;
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            out!("{}: resampled from its smooth surface, {} crossings, in {ms:.1} ms", path.display(), data.len());
+            surfaces[i] = Some(data);
+            surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
+            trees[i] = again;
+            continue;
+        }
         resampled |= fit == Fit::Resampled;
         if let Some(surface) = surfaces[i].take() {
-            // Whole-voxel offsets carry the data; a refinement or a resampling drops it.
+            // Whole-voxel offsets carry the data; a refinement drops it.
             surfaces[i] = surface.transformed(trees[i].domain(), DAffine3::IDENTITY, &fitted, fit);
             surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
             if surfaces[i].is_none() {

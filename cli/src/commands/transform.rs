@@ -10,7 +10,8 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use glam::DVec3;
 use octsolid::io::{ColouredSolid, Solids, WriteOptions};
-use octsolid::octree::{Domain, Motion, Turn, VoxelizeOptions};
+use octsolid::octree::{Domain, Fit, Motion, Turn, VoxelizeOptions};
+use octsolid::surface::resample_with_surface;
 use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
 use super::print_summary;
@@ -72,6 +73,23 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
         .transformed(map, target, &VoxelizeOptions { budget, progress: &bar })
         .with_context(|| format!("{}: cannot transform", a.input.display()))?;
     out!("{}: {fit} into {} in {:.1} ms", a.input.display(), moved.domain(), started.elapsed().as_secs_f64() * 1e3);
+    // A resampling of one solid with surface data is made again from its moved smooth
+    // surface, with new crossings (the voxels' resampling above chose the domain).
+    let (moved, surface) = match surface {
+        Some(s) if fit == Fit::Resampled && apart.is_none() => {
+            let started = Instant::now();
+            let options = VoxelizeOptions { budget, progress: &bar };
+            let (moved, data) = resample_with_surface(&tree, &s, map, *moved.domain(), &options)
+                .with_context(|| format!("{}: cannot resample from its surface", a.input.display()))?;
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            out!("surface    resampled from the moved smooth surface, {} crossings, in {ms:.1} ms", data.len());
+            (moved, Some(data))
+        }
+        s => {
+            let kept = s.and_then(|s| s.transformed(tree.domain(), map, &moved, fit));
+            (moved, kept)
+        }
+    };
     if moved.is_empty() && !tree.is_empty() {
         warn!("the result is empty: the moved solid lies outside the target domain");
     }
@@ -93,12 +111,12 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
             octsolid::write_solid_file(&a.output, &moved.borrowed(), &options, &NoProgress)?
         }
         None => {
-            // Exact moves carry the surface data; resampling leaves it out.
-            let moved_surface = surface.and_then(|s| s.transformed(tree.domain(), map, &moved, fit));
-            if moved_surface.is_none() && file_had_surface {
+            // Exact moves carry the surface data, resampling makes it again; a
+            // refinement leaves it out.
+            if surface.is_none() && file_had_surface {
                 out!("surface    the input's surface data is left out: {fit}");
             }
-            write_solid_file(&a.output, &moved, &meta, moved_surface, budget)?
+            write_solid_file(&a.output, &moved, &meta, surface, budget)?
         }
     };
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
