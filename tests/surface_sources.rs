@@ -288,7 +288,8 @@ fn patterns_transforms_and_csg_trees_give_exact_crossings() {
         |p: DVec3| (p.distance(DVec3::new(0.3, 0.2, 0.1)) - 0.3).min(p.distance(DVec3::new(-0.2, -0.3, 0.1)) - 0.3);
     assert_on_zero_set("mirror", &pair, d, &pair_f);
     // A cylinder turned 30 degrees about x and moved, and a ball with it bored out.
-    let to_world = DAffine3::from_translation(DVec3::new(0.05, -0.02, 0.03)) * DAffine3::from_rotation_x(0.5236);
+    let to_world = DAffine3::from_translation(DVec3::new(0.05, -0.02, 0.03))
+        * DAffine3::from_rotation_x(std::f64::consts::FRAC_PI_6);
     let bore = Transformed::new(Cylinder::new(DVec3::ZERO, Axis::Z, 0.3, 1.2).unwrap(), to_world).unwrap();
     let bore_f = |p: DVec3| {
         let q = to_world.inverse().transform_point3(p);

@@ -153,7 +153,7 @@ impl MeshCrossings<'_> {
                         leaving.push(hit);
                     }
                 }
-                leaving.into_iter().min_by(|a, b| nearest(&a, &b)).copied()
+                leaving.into_iter().min_by(nearest).copied()
             }
         }
     }
