@@ -15,7 +15,10 @@ use crate::mesh::{
     read_mesh_and_warnings, voxelize_mesh, voxelize_surface,
 };
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
-use crate::patch::{BezierPatch, read_patches, segments_for, tessellate_within, voxelize_patch_surface};
+use crate::patch::{
+    BezierPatch, estimate_tessellation_bytes, read_patches, segments_for, tessellate_with_params, tessellate_within,
+    voxelize_patch_surface,
+};
 use crate::progress::{NoProgress, Progress};
 use crate::surface::HermiteData;
 use crate::warning::Warning;
@@ -95,11 +98,20 @@ impl Input {
     pub fn triangles(&self, voxel_size: f64, budget: MemoryBudget) -> Result<std::borrow::Cow<'_, TriangleMesh>> {
         Ok(match self {
             Input::Mesh(m) => std::borrow::Cow::Borrowed(m),
+            Input::Patches(p) => std::borrow::Cow::Owned(tessellate_within(p, self.segments(voxel_size), budget)?),
+        })
+    }
+
+    /// The segments a patch side is tessellated into for a voxel of `voxel_size` (0 for
+    /// a mesh).
+    fn segments(&self, voxel_size: f64) -> u32 {
+        match self {
+            Input::Mesh(_) => 0,
             Input::Patches(p) => {
                 let extent = p.iter().map(|q| q.bounds().size().max_element()).fold(0.0, f64::max);
-                std::borrow::Cow::Owned(tessellate_within(p, segments_for(extent, voxel_size / 4.0), budget)?)
+                segments_for(extent, voxel_size / 4.0)
             }
-        })
+        }
     }
 
     /// Diagnostics of the mesh (patches: of a tessellation at 1/1000 of their size,
@@ -200,7 +212,8 @@ pub fn voxelize_input(
 
 /// The surface data of `tree`, the solid [`voxelize_input`] made of `input` with
 /// `summary`: the crossings and normals of the triangles it voxelized, under the rule
-/// it used ([`HermiteData::from_mesh`]; patches: their tessellation's, as voxelized).
+/// it used ([`HermiteData::from_mesh`]; patches: their tessellation's moved onto the
+/// patches, [`HermiteData::from_patches`]).
 /// `None` for surfaces and thin shells, which have no inside to cross out of. Refused
 /// when the estimate (the boundary faces' crossings, the triangles' hierarchy and
 /// oracle) exceeds `budget`.
@@ -217,8 +230,16 @@ pub fn surface_of_input(
         format!("the crossings of {faces} boundary faces and {} triangles", summary.triangles),
         u64::try_from(estimate).unwrap_or(u64::MAX),
     )?;
-    let mesh = input.triangles(tree.domain().voxel_size(), budget)?;
-    Ok(Some(HermiteData::from_mesh(&mesh, rule, tree)))
+    Ok(Some(match input {
+        Input::Mesh(mesh) => HermiteData::from_mesh(mesh, rule, tree),
+        Input::Patches(patches) => {
+            // The tessellation `triangles` voxelized, with each triangle's parameters.
+            let n = input.segments(tree.domain().voxel_size());
+            budget.check("tessellating patches", estimate_tessellation_bytes(patches.len(), n))?;
+            let (mesh, params) = tessellate_with_params(patches, n);
+            HermiteData::from_patches(patches, &mesh, &params, rule, tree)
+        }
+    }))
 }
 
 /// Bytes a boundary face takes while its crossing is found: its key in the list of

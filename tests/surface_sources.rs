@@ -288,7 +288,8 @@ fn patterns_transforms_and_csg_trees_give_exact_crossings() {
         |p: DVec3| (p.distance(DVec3::new(0.3, 0.2, 0.1)) - 0.3).min(p.distance(DVec3::new(-0.2, -0.3, 0.1)) - 0.3);
     assert_on_zero_set("mirror", &pair, d, &pair_f);
     // A cylinder turned 30 degrees about x and moved, and a ball with it bored out.
-    let to_world = DAffine3::from_translation(DVec3::new(0.05, -0.02, 0.03)) * DAffine3::from_rotation_x(0.5236);
+    let to_world = DAffine3::from_translation(DVec3::new(0.05, -0.02, 0.03))
+        * DAffine3::from_rotation_x(std::f64::consts::FRAC_PI_6);
     let bore = Transformed::new(Cylinder::new(DVec3::ZERO, Axis::Z, 0.3, 1.2).unwrap(), to_world).unwrap();
     let bore_f = |p: DVec3| {
         let q = to_world.inverse().transform_point3(p);
@@ -298,4 +299,39 @@ fn patterns_transforms_and_csg_trees_give_exact_crossings() {
     let bored = Csg::from(Sphere::new(DVec3::ZERO, 0.8).unwrap()) - bore.clone();
     let bored_f = |p: DVec3| (p.length() - 0.8).max(-bore_f(p));
     assert_on_zero_set("ball minus cylinder", &bored, d, &bored_f);
+}
+
+/// The Utah teapot's patches (winding rule: its spout and handle pierce the body) at
+/// depth 7: its crossings moved onto the patches lie on a fine tessellation (128
+/// segments a side) far nearer than those of the coarse tessellation it is voxelized
+/// as (measured: mean 0.0007 voxel against 0.0092, 0.4% over 0.02 voxel against 5.5%:
+/// where Newton's method gives up, the tessellation's crossing stays, and the fine
+/// tessellation's own chords are a hundredth of a voxel at the knob and spout).
+#[test]
+fn a_patch_sets_crossings_lie_on_its_patches() {
+    let patches =
+        octsolid::patch::read_patches(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/teapot.patches"))
+            .unwrap();
+    let input = octsolid::import::Input::Patches(patches.clone());
+    let d = octsolid::import::default_domain(&input, 7).unwrap();
+    let (tree, summary) = octsolid::import::voxelize_input(&input, d, &Default::default()).unwrap();
+    let exact = octsolid::import::surface_of_input(&input, &tree, &summary, Default::default()).unwrap().unwrap();
+    let coarse = input.triangles(d.voxel_size(), Default::default()).unwrap();
+    let tessellated = HermiteData::from_mesh(&coarse, summary.rule.unwrap(), &tree);
+    assert_eq!(exact.len(), tessellated.len());
+    let fine = MeshDistance::new(&octsolid::patch::tessellate(&patches, 128));
+    let off = |h: &HermiteData| {
+        let distances: Vec<f64> =
+            h.faces().iter().map(|&(key, c)| fine.distance(world_point(&d, key, c.t)) / d.voxel_size()).collect();
+        let far = distances.iter().filter(|&&x| x > 0.02).count() as f64 / distances.len() as f64;
+        (distances.iter().sum::<f64>() / distances.len() as f64, far)
+    };
+    let ((mean, far), (coarse_mean, coarse_far)) = (off(&exact), off(&tessellated));
+    println!(
+        "on the patches: mean {mean:.5} voxel, {:.3}% over 0.02; the tessellation's {coarse_mean:.5}, {:.3}%",
+        far * 100.0,
+        coarse_far * 100.0
+    );
+    assert!(far < 0.01 && far * 5.0 < coarse_far, "{far} of the crossings over 0.02 voxel off ({coarse_far})");
+    assert!(mean * 5.0 < coarse_mean, "{mean} against the tessellation's {coarse_mean}");
 }

@@ -15,6 +15,6 @@ mod voxelize;
 pub use bezier::BezierPatch;
 pub use read::read_patches;
 pub use voxelize::{
-    estimate_surface_bytes, estimate_tessellation_bytes, segments_for, tessellate, tessellate_within,
-    voxelize_patch_surface,
+    TriangleParams, estimate_surface_bytes, estimate_tessellation_bytes, segments_for, tessellate,
+    tessellate_with_params, tessellate_within, voxelize_patch_surface,
 };

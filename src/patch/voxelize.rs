@@ -12,6 +12,8 @@
 
 use std::sync::Arc;
 
+use glam::DVec2;
+
 use super::BezierPatch;
 use crate::aabb::Aabb;
 use crate::budget::MemoryBudget;
@@ -209,26 +211,53 @@ pub fn tessellate_within(patches: &[BezierPatch], n: u32, budget: MemoryBudget) 
 /// signed volume is positive (the winding rule then reads 1 inside).
 #[must_use]
 pub fn tessellate(patches: &[BezierPatch], n: u32) -> TriangleMesh {
+    tessellate_with_params(patches, n).0
+}
+
+/// Where a triangle of a tessellation lies on its patches: the patch's index and the
+/// `(u, v)` of each corner, in the triangle's corner order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleParams {
+    /// Index of the patch the triangle was cut from.
+    pub patch: u32,
+    /// Each corner's `(u, v)` on that patch.
+    pub uv: [DVec2; 3],
+}
+
+/// [`tessellate`], with each triangle's patch and its corners' parameters.
+#[must_use]
+pub fn tessellate_with_params(patches: &[BezierPatch], n: u32) -> (TriangleMesh, Vec<TriangleParams>) {
     let n = n.max(1);
     let mut mesh = TriangleMesh::default();
-    for patch in patches {
+    let mut params = Vec::new();
+    let uv = |i: u32, j: u32| DVec2::new(f64::from(i) / f64::from(n), f64::from(j) / f64::from(n));
+    for (index, patch) in patches.iter().enumerate() {
         let base = mesh.vertices.len() as u32;
         for i in 0..=n {
             for j in 0..=n {
-                mesh.vertices.push(patch.eval(f64::from(i) / f64::from(n), f64::from(j) / f64::from(n)));
+                let [u, v] = uv(i, j).to_array();
+                mesh.vertices.push(patch.eval(u, v));
             }
         }
         let at = |i: u32, j: u32| base + i * (n + 1) + j;
+        let patch = index as u32;
         for i in 0..n {
             for j in 0..n {
                 mesh.triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                params.push(TriangleParams { patch, uv: [uv(i, j), uv(i + 1, j), uv(i + 1, j + 1)] });
                 mesh.triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+                params.push(TriangleParams { patch, uv: [uv(i, j), uv(i + 1, j + 1), uv(i, j + 1)] });
             }
         }
     }
     mesh.weld();
     // Drop triangles that collapsed where a patch degenerates to a point (the lid's top).
-    mesh.triangles.retain(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0]);
+    let collapsed = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+    let keep: Vec<bool> = mesh.triangles.iter().map(|t| !collapsed(t)).collect();
+    let mut k = keep.iter();
+    mesh.triangles.retain(|_| *k.next().expect("one flag a triangle"));
+    let mut k = keep.iter();
+    params.retain(|_| *k.next().expect("one flag a triangle"));
     let volume: f64 = (0..mesh.triangles.len())
         .map(|t| {
             let [a, b, c] = mesh.corners(t);
@@ -237,8 +266,9 @@ pub fn tessellate(patches: &[BezierPatch], n: u32) -> TriangleMesh {
         .sum();
     if volume < 0.0 {
         mesh.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+        params.iter_mut().for_each(|p| p.uv.swap(1, 2));
     }
-    mesh
+    (mesh, params)
 }
 
 /// Segments a patch side needs so the tessellation's chords stay within `tolerance`

@@ -63,34 +63,43 @@ impl HermiteData {
     /// changes are left out (see the module doc).
     #[must_use]
     pub fn from_mesh(mesh: &TriangleMesh, rule: InsideRule, tree: &LinearOctree) -> Self {
-        if tree.is_empty() || mesh.validate().is_err() {
-            return HermiteData::none();
-        }
-        // The triangles the voxelizer counts: those that bound a solid.
-        let (mesh, _, _) = solid_triangles(mesh);
-        if mesh.triangles.is_empty() {
-            return HermiteData::none();
-        }
-        let rule = match rule {
-            InsideRule::Auto if mesh.is_watertight() => InsideRule::Parity,
-            InsideRule::Auto => InsideRule::Winding,
-            r => r,
-        };
-        let (triangles, winding) = rayon::join(
-            || TriangleTree::new(&mesh),
-            || (rule == InsideRule::Winding).then(|| WindingNumber::new(&mesh)),
-        );
-        let job = MeshCrossings { mesh: &mesh, tree: triangles, winding, domain: *tree.domain() };
-        let faces = super::faces::boundary_faces(tree);
-        let faces: Vec<(FaceKey, Crossing)> =
-            faces.par_iter().filter_map(|&key| job.crossing(key).map(|c| (key, c))).collect();
+        let faces = mesh_crossings(mesh, rule, tree).into_iter().map(|(key, crossing, _)| (key, crossing)).collect();
         HermiteData::from_sorted(faces)
     }
 }
 
+/// The crossings of [`HermiteData::from_mesh`], sorted by face, each with the index in
+/// `mesh` of the triangle it lies on (`None` where the voxelizer's triangles are not
+/// the mesh's own: some bounded nothing, [`solid_triangles`]).
+pub(crate) fn mesh_crossings(
+    mesh: &TriangleMesh,
+    rule: InsideRule,
+    tree: &LinearOctree,
+) -> Vec<(FaceKey, Crossing, Option<u32>)> {
+    if tree.is_empty() || mesh.validate().is_err() {
+        return Vec::new();
+    }
+    // The triangles the voxelizer counts: those that bound a solid.
+    let (mesh, _, _) = solid_triangles(mesh);
+    let own = matches!(mesh, std::borrow::Cow::Borrowed(_));
+    if mesh.triangles.is_empty() {
+        return Vec::new();
+    }
+    let rule = match rule {
+        InsideRule::Auto if mesh.is_watertight() => InsideRule::Parity,
+        InsideRule::Auto => InsideRule::Winding,
+        r => r,
+    };
+    let (triangles, winding) =
+        rayon::join(|| TriangleTree::new(&mesh), || (rule == InsideRule::Winding).then(|| WindingNumber::new(&mesh)));
+    let job = MeshCrossings { mesh: &mesh, tree: triangles, winding, domain: *tree.domain() };
+    let faces = super::faces::boundary_faces(tree);
+    faces.par_iter().filter_map(|&key| job.crossing(key).map(|(c, t)| (key, c, own.then_some(t)))).collect()
+}
+
 impl MeshCrossings<'_> {
-    /// The crossing of face `key` (module doc), or `None`.
-    fn crossing(&self, key: FaceKey) -> Option<Crossing> {
+    /// The crossing of face `key` (module doc) and its triangle, or `None`.
+    fn crossing(&self, key: FaceKey) -> Option<(Crossing, u32)> {
         let c0 = self.domain.voxel_center(key.voxel());
         let step = key.outward() * self.domain.voxel_size();
         let c1 = c0 + step;
@@ -125,7 +134,7 @@ impl MeshCrossings<'_> {
         } else {
             n
         };
-        Some(Crossing { t: chosen.t as f32, normal: normal.as_vec3() })
+        Some((Crossing { t: chosen.t as f32, normal: normal.as_vec3() }, chosen.triangle))
     }
 
     /// Of `hits` (sorted along the segment from `c0`), the one nearest the face where
@@ -144,7 +153,7 @@ impl MeshCrossings<'_> {
                         leaving.push(hit);
                     }
                 }
-                leaving.into_iter().min_by(|a, b| nearest(&a, &b)).copied()
+                leaving.into_iter().min_by(nearest).copied()
             }
         }
     }

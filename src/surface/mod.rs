@@ -5,6 +5,8 @@
 //!   normal ([`HermiteData`], from a shape exactly, from nothing as the faces).
 //! - `hermite_mesh`: [`HermiteData::from_mesh`], a mesh solid's crossings from its
 //!   triangles under the voxelizer's inside rule.
+//! - `hermite_patch`: [`HermiteData::from_patches`], a patch set's: its tessellation's
+//!   crossings moved onto the patches by Newton's method.
 //! - `faces`: a solid's boundary faces, one a voxel face.
 //! - `combine`: Hermite data through a set operation ([`HermiteData::combine`]: a
 //!   CSG result's crossings from its operands').
@@ -23,6 +25,7 @@ mod extract;
 mod faces;
 pub mod hermite;
 mod hermite_mesh;
+mod hermite_patch;
 mod qef;
 mod resample;
 mod simplify;

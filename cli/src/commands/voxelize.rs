@@ -139,7 +139,8 @@ fn surface_of(
         .with_context(|| format!("{}: cannot find its surface's crossings", a.input.display()))?;
     if let Some(surface) = &surface {
         let ms = started.elapsed().as_secs_f64() * 1e3;
-        out!("surface    {} boundary faces' crossings and normals from the triangles in {ms:.1} ms", surface.len());
+        let from = if matches!(loaded, import::Input::Patches(_)) { "patches" } else { "triangles" };
+        out!("surface    {} boundary faces' crossings and normals from the {from} in {ms:.1} ms", surface.len());
     }
     Ok(surface)
 }
