@@ -12,6 +12,8 @@
 //! - `untangle`: crossing triangles' vertices moved back towards the staircase.
 //! - `simplify`: edge collapses under a distance bound, kept manifold and uncrossed.
 //! - `extract`: [`extract`], the surface as an indexed mesh.
+//! - `window`: [`extract_cell`], the part of the surface one cell of a larger solid
+//!   owns, from a window of its neighbours, named to weld with the other cells'.
 
 mod combine;
 mod dual;
@@ -22,8 +24,10 @@ mod qef;
 mod simplify;
 mod transform;
 mod untangle;
+mod window;
 
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub(crate) use faces::is_boundary_face;
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};
+pub use window::{CELL_BORDER, CellSurface, CellVertexKind, VertexKey, extract_cell};
