@@ -17,6 +17,14 @@
 //! reported (0 when the border held everything that places them, see
 //! `crate::surface`'s window module).
 //!
+//! Crossings come from the shards' surface sections. A full cell has no shard (the
+//! index holds it as a node), so the faces of its voxels beside an empty voxel of the
+//! next cell carry none: they are read as the faces themselves, and a vertex there is
+//! placed by the other faces around it (estimated if none has a crossing). The export
+//! counts them ([`SurfaceExport::full_cell_faces`]); a sphere at cells of 8 voxels has
+//! a few, at 16 voxels none. Carrying them needs a place in the format (a section of
+//! the index, or a file beside the shards), not made yet.
+//!
 //! Output, streamed as cells are done: binary STL (the triangles as they come, the
 //! count written into the header at the end) and OBJ (each cell's new vertices, then
 //! its faces by global index: OBJ allows vertices anywhere before their use, so the
@@ -84,6 +92,10 @@ pub struct SurfaceExport {
     pub corners: u64,
     /// Vertices whose QEF point left its cell and was clamped back.
     pub clamped: u64,
+    /// Boundary faces of full cells: the index holds a full cell as a node, with no
+    /// file to carry its faces' crossings, so they are read as the faces themselves
+    /// (their vertices placed by the other faces around them, or estimated).
+    pub full_cell_faces: u64,
     /// The largest distance, in voxels, from a vertex to its crossings' tangent planes.
     pub vertex_distance: f64,
     /// The signed volume the written triangles enclose (as written: `f32` for STL).
@@ -138,6 +150,9 @@ pub fn export_surface(solid: &ShardedSolid, path: &Path, options: &SurfaceExport
                 }
             };
             stream.report.largest_window = stream.report.largest_window.max(nodes);
+            if is_full(solid, cell) {
+                stream.report.full_cell_faces += piece.triangles.len() as u64 / 2;
+            }
             stream.cell(&piece)?;
             options.progress.advance(1);
         }

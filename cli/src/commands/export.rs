@@ -217,6 +217,12 @@ fn export_sharded(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
             out!("distance   vertices within {:.3} voxel of their crossings' tangent planes", report.vertex_distance);
         }
     }
+    if report.full_cell_faces > 0 {
+        out!(
+            "full cells {} faces of cells full to their seams carry no crossings (the index holds those cells whole): read as the voxel faces there",
+            report.full_cell_faces
+        );
+    }
     out!(
         "seams      {} vertices shared by cells, placed alike from both sides within {:.2e} voxel",
         report.seam_vertices,
