@@ -63,7 +63,10 @@ fn shapes_voxelized_cell_by_cell_are_the_single_file_solid_bit_for_bit_at_every_
             assert_eq!(cut.index().full, opened.index().full);
             for i in 0..cut.index().shards.len() {
                 let budget = MemoryBudget::unlimited();
-                assert_eq!(cut.read_shard_and_surface(i, budget).unwrap(), (opened.read_shard(i, budget).unwrap(), None));
+                assert_eq!(
+                    cut.read_shard_and_surface(i, budget).unwrap(),
+                    (opened.read_shard(i, budget).unwrap(), None)
+                );
             }
             // The shape's shards carry the whole solid's crossings between them: the
             // single file's surface section, face for face, but for the faces of full
@@ -73,16 +76,16 @@ fn shapes_voxelized_cell_by_cell_are_the_single_file_solid_bit_for_bit_at_every_
                 &Metadata::default(),
                 Some(&HermiteData::from_shape(&classic_csg(), &whole)),
             );
-            let (_, _, single) = oct::decode_and_surface(&single, Path::new("whole.oct"), MemoryBudget::unlimited()).unwrap();
+            let (_, _, single) =
+                oct::decode_and_surface(&single, Path::new("whole.oct"), MemoryBudget::unlimited()).unwrap();
             let mut faces = Vec::new();
             for i in 0..opened.index().shards.len() {
                 let (_, surface) = opened.read_shard_and_surface(i, MemoryBudget::unlimited()).unwrap();
                 faces.extend_from_slice(surface.expect("a shape's shard carries its surface").faces());
             }
             let layout = opened.index().layout();
-            let has_shard = |voxel: u64| {
-                opened.index().shards.binary_search_by_key(&layout.cell_of(voxel), |s| s.cell).is_ok()
-            };
+            let has_shard =
+                |voxel: u64| opened.index().shards.binary_search_by_key(&layout.cell_of(voxel), |s| s.cell).is_ok();
             let single: Vec<_> = single.unwrap().faces().iter().filter(|(f, _)| has_shard(f.voxel)).copied().collect();
             assert_eq!(HermiteData::from_faces(faces).faces(), single.as_slice(), "depth {depth}, level {level}");
         }

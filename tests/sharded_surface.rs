@@ -147,9 +147,8 @@ fn a_sphere_exported_cell_by_cell_is_closed_manifold_and_the_surface_of_the_whol
     let mut equal_levels = Vec::new();
     for level in [1u8, 2, 3] {
         let octs = dir.join(format!("sphere-{level}.octs"));
-        let index = sharded::voxelize_shape(&sphere, domain, Metadata::default(), &octs, &at_level(level))
-            .unwrap()
-            .unwrap();
+        let index =
+            sharded::voxelize_shape(&sphere, domain, Metadata::default(), &octs, &at_level(level)).unwrap().unwrap();
         assert!(index.shards.len() >= 8, "level {level}: the surface crosses several cells");
         let report = export(&octs, &format!("sphere-{level}.obj"), Style::Smooth).unwrap();
         let what = format!("sphere at level {level}");
@@ -163,7 +162,11 @@ fn a_sphere_exported_cell_by_cell_is_closed_manifold_and_the_surface_of_the_whol
         // within the area times the vertices' distance and the chords' sagitta.
         let exact = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
         let bound = 4.0 * std::f64::consts::PI * radius * radius * (0.03 * h + 12.0 * h * h / (8.0 * radius));
-        assert!((mesh.volume() - exact).abs() < bound, "{what}: volume {} against {exact} (bound {bound})", mesh.volume());
+        assert!(
+            (mesh.volume() - exact).abs() < bound,
+            "{what}: volume {} against {exact} (bound {bound})",
+            mesh.volume()
+        );
         if report.full_cell_faces > 0 {
             // Faces of full cells carry no crossings (the index holds those cells as
             // nodes): the surface differs from the whole near them, closed all the same.
@@ -187,7 +190,8 @@ fn a_sphere_exported_cell_by_cell_is_closed_manifold_and_the_surface_of_the_whol
 #[test]
 fn the_staircase_cell_by_cell_is_the_whole_solids_in_unit_faces() {
     let dir = scratch("staircase");
-    let shape = Sphere::new(DVec3::new(0.1, 0.0, -0.05), 0.7).unwrap() - Cuboid::new(DVec3::splat(0.35), DVec3::splat(0.6)).unwrap();
+    let shape = Sphere::new(DVec3::new(0.1, 0.0, -0.05), 0.7).unwrap()
+        - Cuboid::new(DVec3::splat(0.35), DVec3::splat(0.6)).unwrap();
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 5).unwrap();
     let tree = voxelize(&shape, domain, &Default::default()).unwrap();
     let whole = whole_surface(&tree, &HermiteData::none(), Style::Voxels);

@@ -46,14 +46,16 @@ use crate::atomic::write_atomic_seekable;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
+use crate::mesh::BoundarySize;
 use crate::morton;
 use crate::octree::{LinearOctree, NodeKey};
 use crate::progress::Progress;
 use crate::surface::{CELL_BORDER, CellSurface, CellVertexKind, HermiteData, Style, VertexKey, extract_cell};
 
-/// Estimated peak bytes a node of a window and a crossing of its surface take while
-/// its cell is meshed (the boundary faces' quads, fans and QEFs dominate).
-const BYTES_PER_WINDOW_NODE: u64 = 2048;
+/// Estimated peak bytes a boundary face of a window takes while its cell is meshed
+/// (the staircase's quads and sheets, the fans, the QEF's results, the triangles: as
+/// [`crate::surface::extract`] counts them).
+const BYTES_PER_FACE: u64 = 256;
 
 /// How [`export_surface`] works.
 #[derive(Clone, Copy)]
@@ -268,10 +270,9 @@ fn mesh_cell(
         }
     }
     let window = LinearOctree::from_keys_unsorted(index.domain, keys);
-    options.budget.check(
-        format!("meshing cell {cell} of {} with its border", solid.dir().display()),
-        (window.node_count() as u64 + faces.len() as u64).saturating_mul(BYTES_PER_WINDOW_NODE),
-    )?;
+    let size = BoundarySize::of(&window);
+    let bytes = u64::try_from(size.unit_faces).unwrap_or(u64::MAX).saturating_mul(BYTES_PER_FACE);
+    options.budget.check(format!("meshing cell {cell} of {} with its border", solid.dir().display()), bytes)?;
     let hermite = HermiteData::from_faces(faces);
     let piece = extract_cell(&window, &hermite, key, options.style, separate_sheets)?;
     Ok((piece, window.node_count() as u64))
@@ -391,8 +392,9 @@ impl<W: Write + Seek> Stream<'_, W> {
 
     fn end(&mut self) -> std::io::Result<()> {
         if self.format == FileKind::Stl {
-            let count = u32::try_from(self.report.triangles)
-                .map_err(|_| std::io::Error::other(format!("{} triangles do not fit STL's count; write .obj", self.report.triangles)))?;
+            let count = u32::try_from(self.report.triangles).map_err(|_| {
+                std::io::Error::other(format!("{} triangles do not fit STL's count; write .obj", self.report.triangles))
+            })?;
             self.w.seek(SeekFrom::Start(80))?;
             self.w.write_all(&count.to_le_bytes())?;
             self.w.seek(SeekFrom::End(0))?;
