@@ -13,7 +13,7 @@ use octsolid::glam::DVec3;
 use octsolid::io::oct::Metadata;
 use octsolid::mesh::{TriangleMesh, separate_sheets};
 use octsolid::octree::{Domain, LinearOctree, SetOp, voxelize};
-use octsolid::shape::{Cuboid, Sphere};
+use octsolid::shape::{Axis, Cuboid, Cylinder, Sphere};
 use octsolid::sharded::{self, ShardIndex, ShardedSolid, StreamOptions, SurfaceExport, SurfaceExportOptions};
 use octsolid::surface::{ExtractOptions, HermiteData, Style, extract};
 use octsolid::{Error, MemoryBudget};
@@ -184,6 +184,33 @@ fn a_sphere_exported_cell_by_cell_is_closed_manifold_and_the_surface_of_the_whol
     }
     // Cells of 32 and 16 voxels have no full cell beside an empty voxel here.
     assert_eq!(&equal_levels[..2], &[(1, true), (2, true)]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_part_reaching_out_of_its_domain_goes_to_stl_cell_by_cell_as_whole() {
+    // The classic part's body and bores together, the bores cut by the domain's
+    // faces: vertices on the domain's edge, creases, and windows whose cut edge comes
+    // within f32's reach of real vertices (STL's sheets are moved apart near the cell
+    // only).
+    let dir = scratch("part");
+    let body = Cuboid::new(DVec3::ZERO, DVec3::splat(2.0)).unwrap() & Sphere::new(DVec3::ZERO, 1.3).unwrap();
+    let bores = Cylinder::new(DVec3::ZERO, Axis::X, 0.6, 3.0).unwrap()
+        | Cylinder::new(DVec3::ZERO, Axis::Y, 0.6, 3.0).unwrap()
+        | Cylinder::new(DVec3::ZERO, Axis::Z, 0.6, 3.0).unwrap();
+    let part = body | bores;
+    let domain = Domain::new(DVec3::splat(-1.35), 2.7, 7).unwrap();
+    let tree = voxelize(&part, domain, &Default::default()).unwrap();
+    let hermite = HermiteData::from_shape(&part, &tree);
+    let file = octsolid::io::oct::encode_with_surface(&tree, &Metadata::default(), Some(&hermite));
+    let (_, _, stored) =
+        octsolid::io::oct::decode_and_surface(&file, Path::new("part.oct"), MemoryBudget::unlimited()).unwrap();
+    write_whole_stl(&whole_surface(&tree, &stored.unwrap(), Style::Smooth), &dir.join("whole.stl"));
+    let octs = dir.join("part.octs");
+    sharded::voxelize_shape(&part, domain, Metadata::default(), &octs, &at_level(2)).unwrap();
+    let report = export(&octs, "part.stl", Style::Smooth).unwrap();
+    assert!(report.creases > 0 && report.full_cell_faces == 0, "{report:?}");
+    assert!(stl_triangles(&dir.join("part.stl")) == stl_triangles(&dir.join("whole.stl")));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -105,7 +105,9 @@ impl From<VertexKind> for CellVertexKind {
 /// `hermite`, the crossings of the window's faces (faces without one are estimated).
 /// `style` as [`super::extract`] takes it, the staircase always in unit faces (merged
 /// rectangles would cross the seams). `separate_sheets`: vertices of sheets sharing a
-/// position moved apart as [`crate::mesh::separate_sheets`] does, for STL.
+/// position moved apart as [`crate::mesh::separate_sheets`] does, for STL, over the
+/// faces within two voxels of the cell (a vertex's move depends on its own triangles
+/// and the other copies at its position, all within one voxel of it).
 ///
 /// # Errors
 /// When the window's mesh would need more than `2^32` vertices, or `separate_sheets`
@@ -173,12 +175,23 @@ impl Piece {
     /// renumbered in order of first use and named.
     fn owned_by(self, cell: NodeKey, separate_sheets: bool) -> Result<CellSurface> {
         let Piece { vertices, corners, kinds, clamped, faces, quads, triangles, vertex_distance } = self;
-        let (vertices, triangles) = if separate_sheets {
-            let mesh = TriangleMesh { vertices, triangles, groups: Vec::new() };
-            let moved = separate(&mesh).map_err(|reason| Error::invalid("mesh for STL", reason))?;
-            (moved.vertices, mesh.triangles)
+        let (lo, size) = (morton::decode(cell.start()), 1u32 << cell.k());
+        let vertices = if separate_sheets {
+            // The faces within two voxels of the cell: every owned vertex with all its
+            // triangles, and none of the window's cut edge, whose vertices may sit
+            // where f32 cannot tell them from a real one.
+            let near = |f: &FaceKey| {
+                let v = f.voxel();
+                (0..3).all(|a| v[a].saturating_add(2) >= lo[a] && v[a] < (lo[a] + size).saturating_add(2))
+            };
+            let around: Vec<[u32; 3]> = (0..faces.len())
+                .filter(|&f| near(&faces[f]))
+                .flat_map(|f| [triangles[2 * f], triangles[2 * f + 1]])
+                .collect();
+            let mesh = TriangleMesh { vertices, triangles: around, groups: Vec::new() };
+            separate(&mesh).map_err(|reason| Error::invalid("mesh for STL", reason))?.vertices
         } else {
-            (vertices, triangles)
+            vertices
         };
         // Each vertex's least face.
         let mut least = vec![FaceKey { voxel: u64::MAX, direction: u8::MAX }; vertices.len()];
@@ -187,7 +200,6 @@ impl Piece {
                 least[v as usize] = least[v as usize].min(faces[f]);
             }
         }
-        let (lo, size) = (morton::decode(cell.start()), 1u32 << cell.k());
         let (first, end) = (cell.start(), cell.end());
         let on_box = |c: [u32; 3]| (0..3).any(|a| c[a] == lo[a] || c[a] == lo[a] + size);
         let mut out = CellSurface { vertex_distance, ..CellSurface::default() };
