@@ -127,6 +127,44 @@ pub fn write_atomic(path: impl AsRef<Path>, write: impl FnOnce(&mut dyn Write) -
     })
 }
 
+/// [`write_atomic`] for a file whose head is known only once its body is written (a
+/// binary STL's triangle count): `write` gets the temporary file itself, buffered, and
+/// may seek back into what it wrote. A destination that is a device or fifo is
+/// refused, as it cannot seek. Returns the file's length.
+pub(crate) fn write_atomic_seekable(
+    path: impl AsRef<Path>,
+    write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
+) -> Result<u64> {
+    let path = path.as_ref();
+    let io_error = |source| Error::Io { path: path.to_path_buf(), source };
+    let mut target = path.to_path_buf();
+    if let Ok(meta) = std::fs::symlink_metadata(path) {
+        if meta.file_type().is_symlink() {
+            target = std::fs::canonicalize(path).map_err(io_error)?;
+        }
+        let followed = std::fs::metadata(&target).map_err(io_error)?;
+        if !followed.is_file() && !followed.is_dir() {
+            return Err(io_error(std::io::Error::other("not a regular file: this format is written by seeking back")));
+        }
+    }
+    remove_stale_temporaries(&target);
+    let (file, temp) = create_temporary(&target).map_err(io_error)?;
+    let result = (|| {
+        let mut out = BufWriter::new(file);
+        write(&mut out)?;
+        out.flush()?;
+        let file = out.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        let bytes = file.metadata()?.len();
+        std::fs::rename(&temp, &target)?;
+        Ok(bytes)
+    })();
+    result.map_err(|source| {
+        let _ = std::fs::remove_file(&temp);
+        io_error(source)
+    })
+}
+
 /// Writes into an existing device or fifo.
 fn write_in_place(path: &Path, write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> std::io::Result<u64> {
     let file = OpenOptions::new().write(true).open(path)?;

@@ -1095,6 +1095,46 @@ fn sharded_solids_made_combined_converted_and_read_by_every_command() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A binary STL's triangles, each as its three `f32` corners' bits from the least, sorted.
+fn stl_triangles(path: &Path) -> Vec<[[u32; 3]; 3]> {
+    let bytes = std::fs::read(path).unwrap();
+    let n = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+    assert_eq!(bytes.len(), 84 + 50 * n, "{}: the head's count is the triangles'", path.display());
+    let mut out: Vec<[[u32; 3]; 3]> = (0..n)
+        .map(|t| {
+            let corner = |k: usize| {
+                let at = 84 + 50 * t + 12 + 12 * k;
+                [0, 1, 2].map(|a| u32::from_le_bytes(bytes[at + 4 * a..at + 4 * a + 4].try_into().unwrap()))
+            };
+            let c = [corner(0), corner(1), corner(2)];
+            let least = (0..3).min_by_key(|&k| c[k]).unwrap();
+            [c[least], c[(least + 1) % 3], c[(least + 2) % 3]]
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+/// `export BIG.octs`: cell by cell, the same triangles as the single file's export,
+/// smooth and as the staircase in unit faces; what it cannot stream is refused.
+#[test]
+fn a_sharded_solid_exports_cell_by_cell_the_triangles_of_its_single_file() {
+    let dir = scratch("sharded-export");
+    let shape = ["shape", "torus", "--radius", "0.7", "--tube", "0.25", "--center", "0.03,0.01,-0.02", "--depth", "6"];
+    ok(&dir, &[&shape[..], &["--shard-level", "2", "-o", "t.octs"]].concat());
+    ok(&dir, &[&shape[..], &["-o", "t.oct"]].concat());
+    let out = ok(&dir, &["export", "t.octs", "-o", "cells.stl"]);
+    assert!(out.contains("cell by cell") && out.contains("seams") && out.contains("exact crossings"), "{out}");
+    ok(&dir, &["export", "t.oct", "-o", "whole.stl"]);
+    assert!(stl_triangles(&dir.join("cells.stl")) == stl_triangles(&dir.join("whole.stl")));
+    ok(&dir, &["export", "t.octs", "-o", "cells-v.stl", "--surface", "voxels", "--unit-faces"]);
+    ok(&dir, &["export", "t.oct", "-o", "whole-v.stl", "--surface", "voxels", "--unit-faces"]);
+    assert!(stl_triangles(&dir.join("cells-v.stl")) == stl_triangles(&dir.join("whole-v.stl")));
+    assert!(fails(&dir, &["export", "t.octs", "-o", "t.ply"]).contains(".stl or .obj"));
+    assert!(fails(&dir, &["export", "t.octs", "-o", "t.stl", "--tolerance", "0.5"]).contains("cell by cell"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `--voxel-size S`: the domain's lattice on the multiples of S, so a box and a mesh
 /// whose faces lie on them keep their dimensions; `info` reports the voxel's edge; a
 /// depth too small for the grid, or a voxel size with a domain, is refused.

@@ -26,6 +26,10 @@
 //! - every writer stages in a folder of its own and publishes the solid in one atomic
 //!   step, so concurrent writers of one output leave one complete solid.
 //!
+//! - the surface leaves cell by cell ([`export_surface`]): each cell meshed from a
+//!   window of its neighbours' voxels and the crossings its shards carry, the seams
+//!   welded by vertices named in the whole solid's frame, triangles streamed out.
+//!
 //! Reading: [`ShardedSolid::open`] reads only the index; [`ShardedSolid::read`] the
 //! whole solid within a memory budget, [`ShardedSolid::read_within`] the finest level
 //! of detail that fits one (for rendering), [`Cursor`] the nodes of a range.
@@ -36,6 +40,7 @@ mod layout;
 mod solid;
 mod staging;
 mod stream;
+mod surface;
 mod writer;
 
 pub use index::{INDEX_MAGIC, INDEX_VERSION, ShardEntry, ShardIndex};
@@ -43,6 +48,7 @@ pub use job::JobId;
 pub use layout::Layout;
 pub use solid::{Cursor, ShardedSolid};
 pub use stream::{StreamOptions, combine, voxelize_mesh, voxelize_shape, write};
+pub use surface::{SurfaceExport, SurfaceExportOptions, export_surface};
 pub use writer::{ShardWriter, join};
 
 /// The index's file name in a sharded solid's folder.

@@ -15,6 +15,7 @@ use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::io::oct::{self, Metadata};
 use crate::octree::{CoarsenRule, Domain, LinearOctree, NodeKey};
+use crate::surface::HermiteData;
 
 /// Bytes a node takes in memory once loaded.
 const NODE_BYTES: u64 = 8;
@@ -64,6 +65,18 @@ impl ShardedSolid {
     /// voxel bounds equal to the entry's, and every node inside its cell and smaller
     /// than it.
     pub fn read_shard(&self, i: usize, budget: MemoryBudget) -> Result<Vec<NodeKey>> {
+        self.read_shard_and_surface(i, budget).map(|(keys, _)| keys)
+    }
+
+    /// [`ShardedSolid::read_shard`] with the shard's surface data (`None` for a shard
+    /// without a surface section): the crossings of the solid's boundary faces whose
+    /// voxel lies in the shard's cell, keyed in the domain's frame, checked as
+    /// [`crate::io::oct::read_and_surface`] checks them.
+    pub fn read_shard_and_surface(
+        &self,
+        i: usize,
+        budget: MemoryBudget,
+    ) -> Result<(Vec<NodeKey>, Option<HermiteData>)> {
         let index = &self.index;
         read_shard(&self.shard_path(i), &index.shards[i], index.domain, index.meta, index.layout(), budget)
     }
@@ -210,7 +223,8 @@ impl Cursor<'_> {
 /// Reads and checks the shard file `path` of `entry`: a regular file of the length
 /// the entry records (checked before reading), its CRC-32, then the `.oct` checks,
 /// its domain and metadata equal to the index's, its counts and voxel bounds equal
-/// to the entry's, and every node inside its cell and smaller than it.
+/// to the entry's, and every node inside its cell and smaller than it. Returns its
+/// nodes and its surface data, if it carries any.
 pub(crate) fn read_shard(
     path: &Path,
     entry: &ShardEntry,
@@ -218,7 +232,7 @@ pub(crate) fn read_shard(
     meta: Metadata,
     layout: Layout,
     budget: MemoryBudget,
-) -> Result<Vec<NodeKey>> {
+) -> Result<(Vec<NodeKey>, Option<HermiteData>)> {
     let fail = |offset: u64, reason: String| Error::Format { path: path.to_path_buf(), offset, reason };
     budget.check(
         format!("reading shard {}", path.display()),
@@ -229,7 +243,7 @@ pub(crate) fn read_shard(
     if crc != entry.crc32 {
         return Err(fail(0, format!("checksum mismatch with the index: file {crc:08x}, index {:08x}", entry.crc32)));
     }
-    let (tree, shard_meta) = oct::decode_and_metadata(&bytes, path, budget)?;
+    let (tree, shard_meta, surface) = oct::decode_and_surface(&bytes, path, budget)?;
     if *tree.domain() != domain || shard_meta != meta {
         return Err(fail(12, "the shard's domain or metadata differ from the index's".into()));
     }
@@ -269,5 +283,5 @@ pub(crate) fn read_shard(
             ),
         ));
     }
-    Ok(tree.keys().to_vec())
+    Ok((tree.into_keys(), surface))
 }

@@ -26,6 +26,7 @@ use crate::octree::{
 };
 use crate::progress::{NoProgress, Progress};
 use crate::shape::Shape;
+use crate::surface::HermiteData;
 
 /// What a streaming job writes and within what.
 #[derive(Clone, Copy)]
@@ -136,7 +137,9 @@ pub fn write(tree: &LinearOctree, meta: Metadata, out: &Path, options: &StreamOp
 }
 
 /// Voxelizes `shape` in `domain` into the sharded solid `out`, a cell at a time
-/// ([`voxelize_cells`]): the same solid as [`crate::octree::voxelize`].
+/// ([`voxelize_cells`]): the same solid as [`crate::octree::voxelize`]. Each shard
+/// carries the exact crossings of the solid's boundary faces in its cell, seams
+/// included, in a surface section ([`HermiteData::from_shape_in_cell`]).
 pub fn voxelize_shape(
     shape: &dyn Shape,
     domain: Domain,
@@ -146,8 +149,26 @@ pub fn voxelize_shape(
 ) -> Result<Option<ShardIndex>> {
     let mut job = Job::start(domain, meta, options.level, out, options, |_| {})?;
     let voxelize = VoxelizeOptions { budget: options.budget, progress: options.progress };
-    voxelize_cells(shape, domain, &voxelize, &job.cells, &mut job.writer)?;
+    let layout = Layout { depth: domain.depth(), level: job.cells.level };
+    let mut sink = WithSurface { shape, layout, writer: &mut job.writer };
+    voxelize_cells(shape, domain, &voxelize, &job.cells, &mut sink)?;
     job.finish()
+}
+
+/// A shape's cells written as shards with their surface data: the exact crossings of
+/// the whole solid's boundary faces in each cell ([`HermiteData::from_shape_in_cell`]).
+struct WithSurface<'a> {
+    shape: &'a dyn Shape,
+    layout: Layout,
+    writer: &'a mut ShardWriter,
+}
+
+impl CellSink for WithSurface<'_> {
+    fn cell(&mut self, index: u64, nodes: CellNodes) -> Result<()> {
+        let cell = self.layout.cell_key(index);
+        let shape = self.shape;
+        self.writer.cell_with_surface(index, nodes, |tree| Some(HermiteData::from_shape_in_cell(shape, tree, cell)))
+    }
 }
 
 /// Voxelizes the solid bounded by `mesh` into the sharded solid `out`, a cell at a

@@ -30,6 +30,7 @@ use crate::error::{Error, Result};
 use crate::io::oct::{self, Metadata};
 use crate::morton;
 use crate::octree::{CellNodes, CellSink, Cells, Domain, LinearOctree, NodeKey, check_level};
+use crate::surface::HermiteData;
 
 /// The prefix of part files in a job's folder.
 const PART_PREFIX: &str = "part-";
@@ -155,6 +156,20 @@ fn task_folder(root: &Path, folder: &Path) -> Result<()> {
 
 impl CellSink for ShardWriter {
     fn cell(&mut self, index: u64, nodes: CellNodes) -> Result<()> {
+        self.cell_with_surface(index, nodes, |_| None)
+    }
+}
+
+impl ShardWriter {
+    /// Takes cell `index` as [`CellSink::cell`] does, a shard with the surface data
+    /// `surface` gives for its nodes (`None`: no surface section; every face must be
+    /// a boundary face of the shard's own nodes, `crate::io::oct` checks on reading).
+    pub fn cell_with_surface(
+        &mut self,
+        index: u64,
+        nodes: CellNodes,
+        surface: impl FnOnce(&LinearOctree) -> Option<HermiteData>,
+    ) -> Result<()> {
         let keys = match nodes {
             CellNodes::Full => {
                 self.full.push(index);
@@ -174,7 +189,8 @@ impl CellSink for ShardWriter {
         }
         debug_assert!(keys.iter().all(|k| k.level(depth) > self.cells.level));
         let tree = LinearOctree::from_canonical(self.domain, keys);
-        let bytes = oct::encode_with(&tree, &self.meta);
+        let surface = surface(&tree);
+        let bytes = oct::encode_with_surface(&tree, &self.meta, surface.as_ref());
         let path = self.folder.join(self.layout().shard_file(index));
         write_atomic(&path, |w| w.write_all(&bytes))?;
         let entry = ShardEntry {

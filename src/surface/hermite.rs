@@ -25,7 +25,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use crate::morton;
-use crate::octree::{Domain, LinearOctree};
+use crate::octree::{Domain, LinearOctree, NodeKey};
 use crate::shape::{Shape, Surface};
 
 /// One of the six faces of a voxel: `2 * axis + 1` for the face towards `+axis`,
@@ -176,6 +176,30 @@ impl HermiteData {
         let faces = super::faces::boundary_faces(tree);
         let faces: Vec<(FaceKey, Crossing)> =
             faces.par_iter().map(|&key| (key, crossing_of_shape(shape, &domain, key))).collect();
+        HermiteData { faces }
+    }
+
+    /// Exact crossings and normals of `shape` on the boundary faces of `tree`, the
+    /// nodes of `shape`'s voxelization inside the aligned node `cell` (one shard of a
+    /// sharded solid): the whole solid's boundary faces whose full voxel lies in
+    /// `cell`, keyed in the domain's frame as every face is. A face towards a voxel
+    /// outside `cell` (on the cell's seam) is kept only where that voxel is empty, its
+    /// centre outside `shape`, as the voxelizer decides a voxel; within `cell`,
+    /// `tree` says.
+    #[must_use]
+    pub fn from_shape_in_cell(shape: &(impl Shape + ?Sized), tree: &LinearOctree, cell: NodeKey) -> Self {
+        let domain = *tree.domain();
+        let (lo, size) = (morton::decode(cell.start()), 1u32 << cell.k());
+        let inside = |v: [u32; 3]| (0..3).all(|a| v[a] >= lo[a] && v[a] - lo[a] < size);
+        let faces = super::faces::boundary_faces(tree);
+        let faces: Vec<(FaceKey, Crossing)> = faces
+            .par_iter()
+            .filter(|&&key| match super::faces::neighbour(key, domain.resolution()) {
+                Some(n) if !inside(n) => !shape.contains(domain.voxel_center(n)),
+                _ => true,
+            })
+            .map(|&key| (key, crossing_of_shape(shape, &domain, key)))
+            .collect();
         HermiteData { faces }
     }
 }

@@ -18,6 +18,8 @@
 //! - `untangle`: crossing triangles' vertices moved back towards the staircase.
 //! - `simplify`: edge collapses under a distance bound, kept manifold and uncrossed.
 //! - `extract`: [`extract`], the surface as an indexed mesh.
+//! - `window`: [`extract_cell`], the part of the surface one cell of a larger solid
+//!   owns, from a window of its neighbours, named to weld with the other cells'.
 
 mod combine;
 mod dual;
@@ -31,9 +33,11 @@ mod resample;
 mod simplify;
 mod transform;
 mod untangle;
+mod window;
 
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub(crate) use faces::{boundary_faces, is_boundary_face};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use resample::resample_with_surface;
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};
+pub use window::{CELL_BORDER, CellSurface, CellVertexKind, VertexKey, extract_cell};

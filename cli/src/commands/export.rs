@@ -6,6 +6,10 @@
 //! them apart: one mesh a solid with its vertex normals and its colour as the
 //! material's base colour, for web viewers and Blender.
 //!
+//! A sharded solid (`.octs`) is exported cell by cell to STL or OBJ, streamed: memory
+//! follows one cell and a border of its neighbours, and the cells' seams are welded
+//! ([`octsolid::sharded::export_surface`]).
+//!
 //! STL has no vertex indices, so the vertices the mesh keeps apart where voxels touch
 //! only along an edge or at a corner are written moved apart
 //! ([`octsolid::mesh::separate_sheets`]); the printed volume is the moved mesh's.
@@ -17,17 +21,20 @@ use anyhow::{Context, Result, bail};
 use octsolid::io::WriteOptions;
 use octsolid::mesh::{separate_sheets, write_mesh};
 use octsolid::shape::Axis;
+use octsolid::sharded::{ShardedSolid, SurfaceExportOptions, export_surface};
 use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
 use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
 use crate::output::check_not_an_input;
 use crate::progress_bar::Bar;
+use crate::sharded_output::{is_sharded, peak_memory};
 use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid export`.
 #[derive(clap::Args, Debug)]
 pub struct ExportArgs {
-    /// The solid file: .oct, .vox, .binvox or .vdb.
+    /// The solid file: .oct, .octs (sharded: exported cell by cell to .stl or .obj),
+    /// .vox, .binvox or .vdb.
     pub file: PathBuf,
     /// Output mesh: .obj, .stl, .ply or .3mf (STL: vertices where voxels touch moved
     /// apart; 3MF: one object in millimetres, for printers), or .glb (binary glTF: a mesh with normals and colour a solid).
@@ -72,6 +79,9 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
             Err(e) => return Err(e.into()),
         };
     check_not_an_input(output, &[file])?;
+    if is_sharded(file) {
+        return export_sharded(a, budget);
+    }
     let mut read = read_solid_file(file, &a.read, budget)?;
     if read.solids.solids.iter().all(|s| s.tree.is_empty()) {
         bail!("{}: the solid is empty; there is no boundary to export", file.display());
@@ -164,6 +174,84 @@ fn print_surface(surface: &SurfaceMesh, carries_crossings: bool, unit_faces: boo
             report.max_distance_bound / voxel
         );
     }
+}
+
+/// `export BIG.octs -o OUT.(stl|obj)`: the surface cell by cell, streamed
+/// ([`octsolid::sharded::export_surface`]): memory follows one cell and its border.
+fn export_sharded(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
+    let (file, output) = (&a.file, &a.output);
+    if a.tolerance > 0.0 {
+        bail!(
+            "{}: --tolerance simplifies a whole mesh; a sharded solid is exported cell by cell without it (export at 0, or a .oct)",
+            file.display()
+        );
+    }
+    if a.surface == Style::Voxels && !a.unit_faces {
+        warn!("a sharded solid's staircase is written in unit faces (merged faces would cross the cells' seams)");
+    }
+    let started = Instant::now();
+    let solid = ShardedSolid::open(file)?;
+    let bar = Bar::new("cells");
+    let options = SurfaceExportOptions { style: a.surface, budget, progress: &bar };
+    let report =
+        export_surface(&solid, output, &options).with_context(|| format!("{}: cannot export", file.display()))?;
+    drop(bar);
+    let index = solid.index();
+    let voxel = index.domain.voxel_size();
+    out!(
+        "read       {} (sharded: {} shards, cell level {}, depth {}), cell by cell",
+        file.display(),
+        index.shards.len(),
+        index.level,
+        index.domain.depth()
+    );
+    out!(
+        "cells      {} meshed, at most {} nodes in a window (the cell and a border of its neighbours)",
+        report.cells,
+        report.largest_window
+    );
+    let what = if a.surface == Style::Voxels { "the voxels' staircase, unit faces" } else { "smooth: dual contouring" };
+    out!("mesh       {} triangles, {} vertices ({what})", report.triangles, report.vertices);
+    if a.surface == Style::Smooth {
+        if report.is_estimate() {
+            out!(
+                "surface    estimated from the voxels (Surface Nets quality) at {} of {} vertices: the shards carry no crossings there",
+                report.estimated,
+                report.vertices
+            );
+        } else {
+            out!(
+                "surface    exact crossings: {} smooth vertices, {} on creases, {} at corners",
+                report.smooth,
+                report.creases,
+                report.corners
+            );
+            out!("distance   vertices within {:.3} voxel of their crossings' tangent planes", report.vertex_distance);
+        }
+    }
+    if report.full_cell_faces > 0 {
+        out!(
+            "full cells {} faces of cells full to their seams carry no crossings (the index holds those cells whole): read as the voxel faces there",
+            report.full_cell_faces
+        );
+    }
+    out!(
+        "seams      {} vertices shared by cells, placed alike from both sides within {:.2e} voxel",
+        report.seam_vertices,
+        report.seam_gap / voxel
+    );
+    let volume = index.voxels as f64 * voxel.powi(3);
+    out!(
+        "volume     {:.6} enclosed, {volume:.6} octree ({:+.1e} relative)",
+        report.volume,
+        report.volume / volume - 1.0
+    );
+    out!("time       {:.1} ms ({} surface)", started.elapsed().as_secs_f64() * 1e3, a.surface);
+    out!("wrote {} ({})", output.display(), human_bytes(report.bytes));
+    if let Some(peak) = peak_memory() {
+        out!("peak mem.  {}", human_bytes(peak));
+    }
+    Ok(())
 }
 
 /// `export FILE -o OUT.glb`: one mesh a solid, with its colour.
