@@ -33,10 +33,13 @@
 //!
 //! [`Material::diffuse_reflectance`]: crate::render::Material::diffuse_reflectance
 
+mod cover;
 mod file;
 mod form_factor;
 mod patches;
+mod regions;
 mod shoot;
+mod surface_patches;
 
 use std::path::Path;
 
@@ -313,7 +316,7 @@ impl Radiosity {
     /// patch `i`.
     fn element_value(&self, i: usize, s: f64, t: f64) -> DVec3 {
         let p = &self.mesh.patches[i];
-        self.radiosity[self.mesh.leaf_at(i, s, t)] + p.reflectance * self.ambient
+        self.radiosity[self.mesh.shown_leaf(i, s, t)] + p.reflectance * self.ambient
     }
 
     /// The element grid `(nu, nv)` of patch `i` at the level of the leaf holding `(s, t)`.
@@ -326,8 +329,7 @@ impl Radiosity {
     /// How much of its light a point keeps near element borders (a tenth of a voxel's
     /// width of the line: 0.5) and patch borders (0.15); 1 elsewhere.
     fn border_shade(&self, i: usize, s: f64, t: f64) -> f64 {
-        let p = &self.mesh.patches[i];
-        let (w, h) = (f64::from(p.rect.w), f64::from(p.rect.h));
+        let (w, h) = self.mesh.sides_in_voxels(i);
         let line = 0.1;
         // Distances in voxels to the nearest patch and element border.
         let patch = (s * w).min((1.0 - s) * w).min((t * h).min((1.0 - t) * h));

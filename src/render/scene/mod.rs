@@ -75,6 +75,11 @@ impl SceneSolid {
         (s.distance.abs() <= 2.0 * self.tree.domain().voxel_size()).then_some(s)
     }
 
+    /// The shape it was voxelized from, when it came from one.
+    pub(crate) fn shape(&self) -> Option<&dyn Shape> {
+        self.source.as_ref().map(|s| &*s.0)
+    }
+
     /// The octree's estimate of the outward normal at the surface point `p`, `None`
     /// where the occupancy has no gradient.
     pub(crate) fn estimated_normal(&self, p: DVec3) -> Option<DVec3> {
