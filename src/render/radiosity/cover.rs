@@ -27,10 +27,19 @@ pub(crate) struct Piece {
     pub scale: f64,
 }
 
+impl Piece {
+    /// Its box, lowest and highest corner.
+    fn bounds(&self) -> (DVec2, DVec2) {
+        self.points.iter().fold((DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)))
+    }
+}
+
 /// The covered part of a patch's rectangle (module doc).
 #[derive(Clone, Debug)]
 pub(crate) struct Cover {
     pieces: Vec<Piece>,
+    /// Each piece's box.
+    boxes: Vec<(DVec2, DVec2)>,
     /// The covered fraction of the rectangle in its plane (the pieces' own areas).
     plane_fraction: f64,
     /// The centroid of the covered part.
@@ -106,9 +115,7 @@ impl Cover {
             if piece.points.len() < 3 {
                 continue;
             }
-            let (lo, hi) = piece.points.iter().fold((DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)), |(lo, hi), p| {
-                (lo.min(*p), hi.max(*p))
-            });
+            let (lo, hi) = piece.bounds();
             let cells = |a: f64, b: f64| {
                 let first = ((a * n - 0.5).ceil().max(0.0)) as usize;
                 let last = ((b * n - 0.5).floor().min(n - 1.0)) as i64;
@@ -131,7 +138,8 @@ impl Cover {
             moment += c * a;
         }
         let centroid = if plane_fraction > 0.0 { moment / plane_fraction } else { DVec2::splat(0.5) };
-        Cover { pieces, plane_fraction, centroid, raster }
+        let boxes = pieces.iter().map(Piece::bounds).collect();
+        Cover { pieces, boxes, plane_fraction, centroid, raster }
     }
 
     /// The covered fraction of the rectangle, in its plane.
@@ -158,9 +166,16 @@ impl Cover {
     /// nothing of it is covered).
     pub fn within(&self, s0: f64, s1: f64, t0: f64, t1: f64) -> (f64, DVec2) {
         let (mut area, mut moment, mut plane) = (0.0, DVec2::ZERO, 0.0);
-        for piece in &self.pieces {
-            let clipped = clip_to_rect(&piece.points, s0, s1, t0, t1);
-            let (a, c) = area_and_centroid(&clipped);
+        for (piece, &(lo, hi)) in self.pieces.iter().zip(&self.boxes) {
+            if hi.x <= s0 || lo.x >= s1 || hi.y <= t0 || lo.y >= t1 {
+                continue;
+            }
+            let inside = lo.x >= s0 && hi.x <= s1 && lo.y >= t0 && hi.y <= t1;
+            let (a, c) = if inside {
+                area_and_centroid(&piece.points)
+            } else {
+                area_and_centroid(&clip_to_rect(&piece.points, s0, s1, t0, t1))
+            };
             area += a * piece.scale;
             moment += c * a;
             plane += a;

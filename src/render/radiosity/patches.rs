@@ -402,21 +402,29 @@ impl Patches {
             Surface(Vec<Patch>),
             Faces(Vec<BoundaryRect>),
         }
+        // The solids side by side (each surface's extraction is within `budget`).
+        let found: Vec<(Part, u64, u64)> = scene
+            .solids
+            .par_iter()
+            .enumerate()
+            .map(|(i, solid)| {
+                Ok(if solid.shape().is_some() {
+                    let found = surface_patches(solid, i as u32, patch_size, elements, budget)?;
+                    let count = found.patches.len() as u64;
+                    (Part::Surface(found.patches), count, found.elements)
+                } else {
+                    let rects = boundary_rects(&solid.tree);
+                    let (p, e) = face_counts(&rects, cells[i], elements);
+                    (Part::Faces(rects), p, e)
+                })
+            })
+            .collect::<Result<_>>()?;
         let (mut patch_count, mut element_count) = (0u64, 0u64);
         let mut parts = Vec::with_capacity(scene.solids.len());
-        for (i, solid) in scene.solids.iter().enumerate() {
-            if solid.shape().is_some() {
-                let found = surface_patches(solid, i as u32, patch_size, elements, budget)?;
-                patch_count += found.patches.len() as u64;
-                element_count += found.elements;
-                parts.push(Part::Surface(found.patches));
-            } else {
-                let rects = boundary_rects(&solid.tree);
-                let (p, e) = face_counts(&rects, cells[i], elements);
-                patch_count += p;
-                element_count += e;
-                parts.push(Part::Faces(rects));
-            }
+        for (part, p, e) in found {
+            patch_count += p;
+            element_count += e;
+            parts.push(part);
         }
         check_counts(patch_count, element_count, budget)?;
         let mut patches = Vec::with_capacity(patch_count as usize);

@@ -12,6 +12,15 @@
 //! as the region grows): dual contouring puts the vertices of a flat face exactly on
 //! its plane (their QEF has one plane), so the seed's plane is the face's.
 //!
+//! A region is kept as planar only with [`MIN_AREA`] and a mean width of
+//! [`MIN_WIDTH`] voxels: where a crease crosses the lattice at an angle, dual
+//! contouring's quads span it (their corners lie on the crease and on either face), and
+//! along a straight crease their triangles can make a plane of their own, one voxel
+//! wide. Then these bent triangles: an unassigned triangle edge-adjacent to a planar
+//! region joins the one whose plane its corners lie nearest, within [`BENT_DISTANCE`]
+//! voxels, layer after layer; the distance keeps a curved part next to a flat face
+//! from being eaten into beyond its first voxel.
+//!
 //! What is left (triangles of curved parts, and the bent ones where a crease crosses
 //! the lattice at an angle) is grouped by a second, looser walk: a **cluster** takes
 //! edge-adjacent triangles whose normals are within [`CLUSTER_DEGREES`] of its seed's
@@ -38,6 +47,13 @@ pub(crate) const PLANAR_DEGREES: f64 = 1.0;
 pub(crate) const PLANAR_DISTANCE: f64 = 0.02;
 /// Most angle between a cluster's seed normal and a member's, degrees.
 pub(crate) const CLUSTER_DEGREES: f64 = 30.0;
+/// Least area of a planar region, in square voxels.
+const MIN_AREA: f64 = 2.0;
+/// Least mean width of a planar region (its area over its box's diagonal), in voxels.
+const MIN_WIDTH: f64 = 1.5;
+/// Most distance of a bent triangle's corner from the plane of the region it joins, in
+/// voxels.
+pub(crate) const BENT_DISTANCE: f64 = 1.0;
 /// Triangles of at most this area (in square voxels) have no normal of their own.
 const SLIVER_AREA: f64 = 1e-9;
 
@@ -48,8 +64,12 @@ pub(crate) struct Region {
     pub normal: DVec3,
     /// A point of its plane.
     pub point: DVec3,
-    /// Its triangles (indices into the mesh), in the order the walk took them.
+    /// Its triangles (indices into the mesh), in the order the walk took them, the
+    /// bent ones it took in last.
     pub triangles: Vec<u32>,
+    /// How many of `triangles` lie on its plane (the rest are bent triangles, within
+    /// [`BENT_DISTANCE`] voxels of it).
+    pub own: usize,
     /// Whether every triangle lies on the plane (a planar region), not only near it (a
     /// cluster of a curved part).
     pub planar: bool,
@@ -123,15 +143,23 @@ pub(crate) fn planar_regions(mesh: &TriangleMesh, voxel: f64, cluster_size: f64)
         };
         let id = regions.len() as u32;
         let triangles = grow(seed, id, &around, &mut region_of, &mut queue, fits);
-        regions.push(Region { normal: n, point, triangles, planar: true });
+        let own = triangles.len();
+        regions.push(Region { normal: n, point, triangles, own, planar: true });
     }
-    // A region is planar only with some area of its own: lone triangles and slivers
-    // (a crease's bent triangles) are released to the clusters.
-    let min_area = 2.0 * voxel * voxel;
+    // A region is planar only with some area of its own and some width: lone
+    // triangles and strips (a crease's bent triangles, one voxel wide) are released.
+    let min_area = MIN_AREA * voxel * voxel;
     let mut kept = Vec::with_capacity(regions.len());
     for r in regions {
         let area: f64 = r.triangles.iter().map(|&t| normals[t as usize].1).sum();
-        if area >= min_area {
+        let (mut lo, mut hi) = (DVec3::MAX, DVec3::MIN);
+        for &t in &r.triangles {
+            for p in corners(t) {
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        if area >= min_area && area >= MIN_WIDTH * voxel * (hi - lo).length() {
             let id = kept.len() as u32;
             for &t in &r.triangles {
                 region_of[t as usize] = id;
@@ -144,6 +172,7 @@ pub(crate) fn planar_regions(mesh: &TriangleMesh, voxel: f64, cluster_size: f64)
         }
     }
     let mut regions = kept;
+    absorb_bent(mesh, &around, &mut regions, &mut region_of, voxel);
     // Clusters of the rest.
     let cluster_cos = CLUSTER_DEGREES.to_radians().cos();
     let half = 0.5 * cluster_size.max(voxel);
@@ -170,9 +199,53 @@ pub(crate) fn planar_regions(mesh: &TriangleMesh, voxel: f64, cluster_size: f64)
         }
         let normal = normal.try_normalize().unwrap_or(if n == DVec3::ZERO { DVec3::Z } else { n });
         let point = if area > 0.0 { point / area } else { center };
-        regions.push(Region { normal, point, triangles, planar: false });
+        let own = triangles.len();
+        regions.push(Region { normal, point, triangles, own, planar: false });
     }
     regions
+}
+
+/// Gives each unassigned triangle edge-adjacent to a planar region's triangle to the
+/// adjacent region whose plane its corners lie nearest (within [`BENT_DISTANCE`]
+/// voxels), layer after layer while any joins: the bent (and the few folded)
+/// triangles where a crease crosses the lattice at an angle (their corners lie on the
+/// crease and on either face) join a face, so the faces tile the surface up to their
+/// creases. The distance keeps it to the voxel next to a face.
+fn absorb_bent(
+    mesh: &TriangleMesh,
+    around: &[[u32; 3]],
+    regions: &mut [Region],
+    region_of: &mut [u32],
+    voxel: f64,
+) {
+    let corners = |t: u32| mesh.triangles[t as usize].map(|i| mesh.vertices[i as usize]);
+    let limit = BENT_DISTANCE * voxel;
+    let mut open: Vec<u32> = (0..mesh.triangles.len() as u32).filter(|&t| region_of[t as usize] == u32::MAX).collect();
+    loop {
+        let before = open.len();
+        let layer = region_of.to_vec();
+        open.retain(|&t| {
+            let mut best: Option<(f64, u32)> = None;
+            for &n in &around[t as usize] {
+                let Some(&id) = layer.get(n as usize) else { continue };
+                if id == u32::MAX {
+                    continue;
+                }
+                let r = &regions[id as usize];
+                let d = corners(t).iter().map(|&p| r.normal.dot(p - r.point).abs()).fold(0.0, f64::max);
+                if d <= limit && best.is_none_or(|b| d < b.0) {
+                    best = Some((d, id));
+                }
+            }
+            let Some((_, id)) = best else { return true };
+            region_of[t as usize] = id;
+            regions[id as usize].triangles.push(t);
+            false
+        });
+        if open.len() == before || open.is_empty() {
+            break;
+        }
+    }
 }
 
 /// Breadth-first from `seed` over edge neighbours that are unassigned and `fit`,
