@@ -202,11 +202,15 @@ fn element(scene: &Scene, p: &Patch, patch: u32, level: u8, cell: [u32; 2]) -> E
     };
     let mut center = p.point(s, t);
     let solid = &scene.solids[p.solid as usize];
-    let surface = solid.shape_surface(center).filter(|s| s.normal.is_finite() && s.normal.dot(p.normal) > 0.0);
+    let facing = |c: DVec3| solid.shape_surface(c).filter(|s| s.normal.is_finite() && s.normal.dot(p.normal) > 0.0);
+    let mut surface = facing(center);
     if p.face.is_none()
         && let Some(s) = surface
+        && s.distance != 0.0
     {
+        // Onto the surface, and its normal there.
         center -= s.normal * s.distance;
+        surface = facing(center).or(surface);
     }
     let normal = surface.map_or(p.normal, |s| s.normal);
     let lifted = if p.face.is_some() { p.normal } else { normal };
