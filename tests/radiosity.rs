@@ -228,7 +228,12 @@ fn a_turned_furnace_of_true_surface_patches_shows_e_over_one_minus_rho_over_the_
         // open: pi E A over the three channels; nothing of the room's inside.
         let s = r.stats();
         let outer = std::f64::consts::PI * emission * 6.0 * 1.6 * 1.6 * 3.0;
-        assert!((s.escaped - outer).abs() < 0.01 * s.emitted, "escaped {} of {}, outer walls {outer}", s.escaped, s.emitted);
+        assert!(
+            (s.escaped - outer).abs() < 0.01 * s.emitted,
+            "escaped {} of {}, outer walls {outer}",
+            s.escaped,
+            s.emitted
+        );
     }
 }
 

@@ -30,7 +30,9 @@ pub(crate) struct Piece {
 impl Piece {
     /// Its box, lowest and highest corner.
     fn bounds(&self) -> (DVec2, DVec2) {
-        self.points.iter().fold((DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)))
+        self.points
+            .iter()
+            .fold((DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)))
     }
 }
 

@@ -214,7 +214,16 @@ fn element(scene: &Scene, p: &Patch, patch: u32, level: u8, cell: [u32; 2]) -> E
     }
     let normal = surface.map_or(p.normal, |s| s.normal);
     let lifted = if p.face.is_some() { p.normal } else { normal };
-    Element { center, origin: center + lifted * p.lift, normal, area, patch, children: 0, level, cell: [cell[0], cell[1]] }
+    Element {
+        center,
+        origin: center + lifted * p.lift,
+        normal,
+        area,
+        patch,
+        children: 0,
+        level,
+        cell: [cell[0], cell[1]],
+    }
 }
 
 /// Refuses a patch size that is not finite and positive, or elements a patch side

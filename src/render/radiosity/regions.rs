@@ -139,7 +139,8 @@ pub(crate) fn planar_regions(mesh: &TriangleMesh, voxel: f64, cluster_size: f64)
         let point = corners(seed)[0];
         let fits = |t: u32| {
             let (m, _) = normals[t as usize];
-            (m == DVec3::ZERO || m.dot(n) >= planar_cos) && corners(t).iter().all(|&p| n.dot(p - point).abs() <= distance)
+            (m == DVec3::ZERO || m.dot(n) >= planar_cos)
+                && corners(t).iter().all(|&p| n.dot(p - point).abs() <= distance)
         };
         let id = regions.len() as u32;
         let triangles = grow(seed, id, &around, &mut region_of, &mut queue, fits);
@@ -211,13 +212,7 @@ pub(crate) fn planar_regions(mesh: &TriangleMesh, voxel: f64, cluster_size: f64)
 /// triangles where a crease crosses the lattice at an angle (their corners lie on the
 /// crease and on either face) join a face, so the faces tile the surface up to their
 /// creases. The distance keeps it to the voxel next to a face.
-fn absorb_bent(
-    mesh: &TriangleMesh,
-    around: &[[u32; 3]],
-    regions: &mut [Region],
-    region_of: &mut [u32],
-    voxel: f64,
-) {
+fn absorb_bent(mesh: &TriangleMesh, around: &[[u32; 3]], regions: &mut [Region], region_of: &mut [u32], voxel: f64) {
     let corners = |t: u32| mesh.triangles[t as usize].map(|i| mesh.vertices[i as usize]);
     let limit = BENT_DISTANCE * voxel;
     let mut open: Vec<u32> = (0..mesh.triangles.len() as u32).filter(|&t| region_of[t as usize] == u32::MAX).collect();

@@ -56,7 +56,8 @@ fn convex_hull(mut points: Vec<DVec2>) -> Vec<DVec2> {
         let order: Box<dyn Iterator<Item = &DVec2>> =
             if pass == 0 { Box::new(points.iter()) } else { Box::new(points.iter().rev()) };
         for &p in order {
-            while hull.len() >= start + 2 && (hull[hull.len() - 1] - hull[hull.len() - 2]).perp_dot(p - hull[hull.len() - 2]) <= 0.0
+            while hull.len() >= start + 2
+                && (hull[hull.len() - 1] - hull[hull.len() - 2]).perp_dot(p - hull[hull.len() - 2]) <= 0.0
             {
                 hull.pop();
             }
@@ -225,54 +226,6 @@ fn region_patches(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    #[ignore]
-    fn scratch_timing() {
-        let t = std::time::Instant::now();
-        let file = crate::scene_file::read_scene("scenes/cornell-turned.toml", MemoryBudget::default()).unwrap();
-        let scene = &file.scene;
-        eprintln!("read {:?}", t.elapsed());
-        for (i, solid) in scene.solids.iter().enumerate() {
-            let t = std::time::Instant::now();
-            let shape = solid.shape().unwrap();
-            let hermite = HermiteData::from_shape(shape, &solid.tree);
-            let t1 = t.elapsed();
-            let options = ExtractOptions { style: Style::Smooth, tolerance: 0.0, ..ExtractOptions::default() };
-            let surface = extract(&solid.tree, &hermite, &options, &crate::NoProgress).unwrap();
-            let t2 = t.elapsed();
-            let regions = planar_regions(&surface.mesh, solid.tree.domain().voxel_size(), 0.3);
-            let t3 = t.elapsed();
-            let found = surface_patches(solid, i as u32, 0.3, 4, MemoryBudget::default()).unwrap();
-            let t4 = t.elapsed();
-            let planar = regions.iter().filter(|r| r.planar).count();
-            if i == 0 {
-                for r in regions.iter().filter(|r| !r.planar).take(12) {
-                    eprintln!("  cluster of {} at {:.4} normal {:.3}", r.triangles.len(), r.point, r.normal);
-                }
-                for r in regions.iter().filter(|r| r.planar) {
-                    let ps = region_patches(&surface.mesh, r, solid.tree.domain().voxel_size(), 0.3, 4);
-                    let partial = ps.iter().filter(|p| p.cover.is_some()).count();
-                    let area: f64 = ps.iter().map(|p| p.area).sum();
-                    eprintln!(
-                        "  region of {} ({} own) at {:.4} normal {:.3}: {} patches ({partial} partial), area {area:.5}",
-                        r.triangles.len(),
-                        r.own,
-                        r.point,
-                        r.normal,
-                        ps.len()
-                    );
-                }
-            }
-            let partial = found.patches.iter().filter(|p| p.cover.is_some()).count();
-            eprintln!(
-                "solid {i}: {} triangles, hermite {t1:?} extract {t2:?} regions {t3:?} all {t4:?}; {planar} planar, {} clusters, {} patches ({partial} partial)",
-                surface.mesh.triangles.len(),
-                regions.len() - planar,
-                found.patches.len()
-            );
-        }
-    }
 
     /// A box of `size` turned `degrees` about z and then 9 degrees about x (no face on
     /// the lattice), voxelized at depth 6 in [-1, 1]^3, as a scene solid.
