@@ -23,11 +23,12 @@
 //! receive and are shown. An element at level `L` is cell `(k, j)` of the patch's
 //! `(nu 2^L) x (nv 2^L)` grid. Children are never narrower than a voxel.
 //!
-//! Normals: an element's normal is its face's outward axis normal, or the source
-//! shape's smooth normal at the element's centre where the solid came from a shape
-//! whose surface lies within two voxels of it ([`SceneSolid::shape_surface`]), so a
-//! sphere's elements are lit as the sphere is, not as its voxel staircase. Patches
-//! shoot from their flat faces (their light leaves by their axis normal).
+//! Normals: an element's normal is its patch's (a face's outward axis normal, a
+//! tile's plane normal), or the source shape's smooth normal at the element's centre
+//! where the solid came from a shape whose surface lies within two voxels of it
+//! ([`SceneSolid::shape_surface`]), so a sphere's elements are lit as the sphere is,
+//! not as its voxel staircase. Patches shoot from their flat rectangles (their light
+//! leaves by the patch's normal).
 //!
 //! Elements of no area (the cells of a partly covered tile that the surface misses)
 //! keep their place in the grid but receive nothing; the display shows the nearest
