@@ -163,43 +163,60 @@ fn region_patches(
     let tiles = |len: f64| (len / patch_size - 1e-6).ceil().max(1.0) as usize;
     let (tu, tv) = (tiles(size.x), tiles(size.y));
     let tile = DVec2::new(size.x / tu as f64, size.y / tv as f64);
-    // Each triangle clipped to the tiles its box meets, in tile coordinates.
-    let mut pieces: Vec<Vec<Piece>> = vec![Vec::new(); tu * tv];
-    for &t in &region.triangles {
-        let [a, b, c] = mesh.triangles[t as usize].map(|i| mesh.vertices[i as usize]);
-        let tilt = (b - a).cross(c - a).normalize_or_zero().dot(n).abs();
-        let scale = if region.planar || tilt <= 0.0 { 1.0 } else { 1.0 / tilt.max(0.2) };
-        let grid: [DVec2; 3] = [a, b, c].map(|p| (frame(p) - lo) / tile);
-        let (glo, ghi) = (grid[0].min(grid[1]).min(grid[2]), grid[0].max(grid[1]).max(grid[2]));
-        let range = |a: f64, b: f64, n: usize| {
-            let first = (a.floor().max(0.0) as usize).min(n - 1);
-            let last = (b.ceil() as usize).clamp(first + 1, n);
-            first..last
-        };
-        for j in range(glo.y, ghi.y, tv) {
-            for i in range(glo.x, ghi.x, tu) {
-                let local: SmallVec<[DVec2; 8]> = grid.iter().map(|&g| g - DVec2::new(i as f64, j as f64)).collect();
-                let inside = local.iter().all(|p| (0.0..=1.0).contains(&p.x) && (0.0..=1.0).contains(&p.y));
-                let clipped = if inside { local } else { clip_to_rect(&local, 0.0, 1.0, 0.0, 1.0) };
-                if clipped.len() >= 3 && area_and_centroid(&clipped).0 > 0.0 {
-                    pieces[j * tu + i].push(Piece { points: clipped, scale });
+    // Each triangle clipped to the tiles its box meets, in tile coordinates: first
+    // each tile's areas (covered in its plane, and true), then the pieces of the tiles
+    // covered only in part, which alone keep theirs.
+    let clipped_pieces = |keep: &dyn Fn(usize) -> bool, found: &mut dyn FnMut(usize, Piece)| {
+        for &t in &region.triangles {
+            let [a, b, c] = mesh.triangles[t as usize].map(|i| mesh.vertices[i as usize]);
+            let tilt = (b - a).cross(c - a).normalize_or_zero().dot(n).abs();
+            let scale = if region.planar || tilt <= 0.0 { 1.0 } else { 1.0 / tilt.max(0.2) };
+            let grid: [DVec2; 3] = [a, b, c].map(|p| (frame(p) - lo) / tile);
+            let (glo, ghi) = (grid[0].min(grid[1]).min(grid[2]), grid[0].max(grid[1]).max(grid[2]));
+            let range = |a: f64, b: f64, n: usize| {
+                let first = (a.floor().max(0.0) as usize).min(n - 1);
+                let last = (b.ceil() as usize).clamp(first + 1, n);
+                first..last
+            };
+            for j in range(glo.y, ghi.y, tv) {
+                for i in range(glo.x, ghi.x, tu) {
+                    if !keep(j * tu + i) {
+                        continue;
+                    }
+                    let local: SmallVec<[DVec2; 8]> =
+                        grid.iter().map(|&g| g - DVec2::new(i as f64, j as f64)).collect();
+                    let inside = local.iter().all(|p| (0.0..=1.0).contains(&p.x) && (0.0..=1.0).contains(&p.y));
+                    let clipped = if inside { local } else { clip_to_rect(&local, 0.0, 1.0, 0.0, 1.0) };
+                    if clipped.len() >= 3 {
+                        found(j * tu + i, Piece { points: clipped, scale });
+                    }
                 }
             }
         }
-    }
+    };
+    let mut areas = vec![(0.0, 0.0); tu * tv];
+    clipped_pieces(&|_| true, &mut |k, piece| {
+        let a = area_and_centroid(&piece.points).0;
+        areas[k].0 += a;
+        areas[k].1 += a * piece.scale;
+    });
+    let full = |&(plane, _): &(f64, f64)| region.planar && plane >= 1.0 - FULL;
+    let partial: Vec<bool> = areas.iter().map(|a| a.1 > 0.0 && !full(a)).collect();
+    let mut pieces: Vec<Vec<Piece>> = vec![Vec::new(); tu * tv];
+    clipped_pieces(&|k| partial[k], &mut |k, piece| {
+        if area_and_centroid(&piece.points).0 > 0.0 {
+            pieces[k].push(piece);
+        }
+    });
     let tile_area = tile.x * tile.y;
     let mut patches = Vec::new();
     for (k, tile_pieces) in pieces.into_iter().enumerate() {
-        if tile_pieces.is_empty() {
-            continue;
-        }
         let (i, j) = (k % tu, k / tu);
-        let covered: f64 = tile_pieces.iter().map(|p| area_and_centroid(&p.points).0 * p.scale).sum();
-        let plane: f64 = tile_pieces.iter().map(|p| area_and_centroid(&p.points).0).sum();
+        let covered = areas[k].1;
         if covered <= 0.0 {
             continue;
         }
-        let full = region.planar && plane >= 1.0 - FULL;
+        let full = full(&areas[k]);
         let corner = region.point + u * (lo.x + i as f64 * tile.x) + v * (lo.y + j as f64 * tile.y);
         let side = |len: f64| elements.min((len / voxel * (1.0 + 1e-9)).floor().max(1.0) as u32);
         let lift = (0.5 * n.abs().element_sum() + 0.05) * voxel;
