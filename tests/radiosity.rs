@@ -4,7 +4,9 @@
 //! furnace (a closed box that emits E and reflects rho everywhere shows E / (1 - rho)),
 //! the energy book, the same bits on 1 and 2 threads, `.rad` files (reloaded bit for
 //! bit, refused for another scene, refused when damaged or claiming what no solver
-//! writes), a sphere's elements taking the sphere's own normal, and adaptive
+//! writes), a sphere's elements taking the sphere's own normal, the furnace again in
+//! a room turned off the lattice whose patches come from its true surface (its walls'
+//! analytic area, no light lost), and adaptive
 //! subdivision (closer to a solution on much finer uniform elements than the base
 //! elements alone, the furnace still exact, the energy book balanced).
 
@@ -176,6 +178,62 @@ fn the_furnace_shows_e_over_one_minus_rho_and_exactly_e_without_reflection() {
             }
         }
         assert_eq!(seen, 6 * 16 * 16, "the inner walls' elements");
+    }
+}
+
+/// A closed room made from a shape, turned off the lattice (17 degrees about z, 9 about
+/// x): the hollow between the cubes of half sides 0.5 and 0.8, as a scene solid with
+/// its shape (so its patches are tiles of its true surface's planar regions), and
+/// whether a point lies on its inner walls.
+fn turned_room(rho: f64, emission: f64) -> (Scene, impl Fn(DVec3) -> bool) {
+    use octsolid::shape::Transformed;
+    let map = glam::DAffine3::from_rotation_x(9f64.to_radians()) * glam::DAffine3::from_rotation_z(17f64.to_radians());
+    let room = Transformed::new(cuboid([-0.8; 3], [0.8; 3]) - cuboid([-0.5; 3], [0.5; 3]), map).unwrap();
+    let mut scene = Scene::new();
+    scene.lights.clear();
+    scene.add_shaped("room", tree(&room), diffuse(rho, emission), std::sync::Arc::new(room));
+    let back = map.inverse();
+    (scene, move |p: DVec3| back.transform_point3(p).abs().max_element() <= 0.5 + 1e-6)
+}
+
+#[test]
+fn a_turned_furnace_of_true_surface_patches_shows_e_over_one_minus_rho_over_the_walls_whole_area() {
+    let emission = 0.8;
+    for rho in [0.0, 0.5] {
+        let (scene, inside) = turned_room(rho, emission);
+        let r = Radiosity::solve(&scene, &RadiosityOptions { until: 1e-4, ..options(0.25, 4) }, &NoProgress).unwrap();
+        let want = emission / (1.0 - rho);
+        let mut area = 0.0;
+        for (center, normal, a, shown) in r.elements().filter(|e| inside(e.0)) {
+            area += a;
+            if a == 0.0 {
+                continue;
+            }
+            // The element is on the surface, facing into the room.
+            assert!(normal.dot(-center) > 0.0, "{normal} at {center}");
+            for c in shown.to_array() {
+                if rho == 0.0 {
+                    assert_eq!(c, emission, "at {center}");
+                } else {
+                    // Light leaking out of the room (rays slipping between the voxels of
+                    // the turned walls) would show here as a deficit.
+                    assert!((c - want).abs() < 0.02 * want, "{c} at {center}, want {want}");
+                }
+            }
+        }
+        // The inner walls' elements cover the six unit faces, not their staircase
+        // (whose area is larger by the normals' 1-norm).
+        assert!((area - 6.0).abs() < 0.01 * 6.0, "inner area {area}");
+        // What escapes is what the outer walls (6 faces of side 1.6) emit into the
+        // open: pi E A over the three channels; nothing of the room's inside.
+        let s = r.stats();
+        let outer = std::f64::consts::PI * emission * 6.0 * 1.6 * 1.6 * 3.0;
+        assert!(
+            (s.escaped - outer).abs() < 0.01 * s.emitted,
+            "escaped {} of {}, outer walls {outer}",
+            s.escaped,
+            s.emitted
+        );
     }
 }
 

@@ -19,6 +19,12 @@
 //! unoccluded pair is exact even where the patch is near or large (where the disc sum
 //! is far off), and the rays only decide the shadows.
 //!
+//! A tile of the true surface that its surface covers only in part (`cover`) takes
+//! the same rectangle's form factor, its sample points off the surface counted as
+//! occluded; a far one (one sample) takes the covered fraction of the rectangle's
+//! form factor, seen or not from the covered part's centroid. Exact for full tiles,
+//! the kernel-weighted estimate of the covered part for the rest.
+//!
 //! Samples: the centres of an `m = s x s` grid on the patch, `s = ceil(4 L / d)`
 //! clamped to `1..=MAX_SAMPLES_A_SIDE`, `L` the patch's longer edge and `d` the
 //! distance to its centre: one ray for a far patch, up to 64 for a near one. The
@@ -87,6 +93,21 @@ pub(crate) fn element_to_patch(scene: &Scene, e: &Element, shooter: &Patch) -> (
     let edge = shooter.du.length().max(shooter.dv.length());
     let d = (shooter.center() - e.center).length();
     let side = (SAMPLE_DENSITY * edge / d.max(1e-300)).ceil().clamp(1.0, f64::from(MAX_SAMPLES_A_SIDE)) as u32;
+    let cover = shooter.cover.as_deref();
+    if side == 1
+        && let Some(cover) = cover
+    {
+        // A far, partly covered tile: its covered fraction of the rectangle's form
+        // factor, seen or not from its surface's centroid.
+        let c = cover.centroid();
+        let q = shooter.point(c.x, c.y) + shooter.normal * shooter.lift;
+        let v = q - e.origin;
+        let r = v.length();
+        if r <= 0.0 || scene.occluded(&Ray::segment(e.origin, v / r, r)) {
+            return (0.0, 1);
+        }
+        return (unoccluded * cover.plane_fraction(), 1);
+    }
     let disc = shooter.area / f64::from(side * side);
     let (mut seen, mut total) = (0.0, 0.0);
     for j in 0..side {
@@ -103,6 +124,9 @@ pub(crate) fn element_to_patch(scene: &Scene, e: &Element, shooter: &Patch) -> (
                 continue;
             }
             total += w;
+            if cover.is_some_and(|c| !c.covers(s, t)) {
+                continue;
+            }
             if !scene.occluded(&Ray::segment(e.origin, dir, r)) {
                 seen += w;
             }

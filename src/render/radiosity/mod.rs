@@ -4,9 +4,11 @@
 //! In a closed environment of ideal diffuse surfaces each patch's radiosity is
 //! `B_i = E_i + rho_i sum_j F_ij B_j`, with the form factors
 //! `F_ij = (1/A_i) int int cos(theta_i) cos(theta_j) / (pi r^2) V dA_j dA_i` and
-//! reciprocity `A_i F_ij = A_j F_ji`. The octree gives both halves: the exposed faces
-//! of its full nodes are the patches (`patches`: coplanar rectangles up to a size,
-//! elements below them), and its ray walk is the visibility term (`form_factor`:
+//! reciprocity `A_i F_ij = A_j F_ji`. The octree gives both halves: the surface is
+//! cut into patches (`patches`: rectangles up to a size, elements below them; for a
+//! solid made from a shape, tiles of the planar regions of its true surface,
+//! `surface_patches`, `regions`, `cover`; for any other, the exposed faces of its full
+//! nodes merged into coplanar rectangles), and its ray walk is the visibility term (`form_factor`:
 //! ray-traced form factors after Wallace et al. 1989, on all cores). The system is
 //! solved by progressive refinement (`shoot`, Cohen et al. 1988), stopped at a
 //! fraction of unshot energy or a shot count, with the ambient correction for display.
@@ -18,7 +20,8 @@
 //! `emission` is its emitted radiance and a surface's `B` is the radiance it shows;
 //! the diffuse reflectance is `color * kd` ([`Material::diffuse_reflectance`]).
 //!
-//! Display ([`Illumination`]): a surface point finds its patch and interpolates the
+//! Display ([`Illumination`]): a surface point (on the voxels the renderer draws) finds
+//! its patch (a surface tile within a voxel or two of it) and interpolates the
 //! displayed values (`B_j + rho_j ambient`) of the four element centres around it
 //! bilinearly (Gouraud's interpolation on the element grid; after subdivision, on the
 //! grid of the level of the leaf holding the point, each centre taking the value of
@@ -33,10 +36,13 @@
 //!
 //! [`Material::diffuse_reflectance`]: crate::render::Material::diffuse_reflectance
 
+mod cover;
 mod file;
 mod form_factor;
 mod patches;
+mod regions;
 mod shoot;
+mod surface_patches;
 
 use std::path::Path;
 
@@ -313,7 +319,7 @@ impl Radiosity {
     /// patch `i`.
     fn element_value(&self, i: usize, s: f64, t: f64) -> DVec3 {
         let p = &self.mesh.patches[i];
-        self.radiosity[self.mesh.leaf_at(i, s, t)] + p.reflectance * self.ambient
+        self.radiosity[self.mesh.shown_leaf(i, s, t)] + p.reflectance * self.ambient
     }
 
     /// The element grid `(nu, nv)` of patch `i` at the level of the leaf holding `(s, t)`.
@@ -326,8 +332,7 @@ impl Radiosity {
     /// How much of its light a point keeps near element borders (a tenth of a voxel's
     /// width of the line: 0.5) and patch borders (0.15); 1 elsewhere.
     fn border_shade(&self, i: usize, s: f64, t: f64) -> f64 {
-        let p = &self.mesh.patches[i];
-        let (w, h) = (f64::from(p.rect.w), f64::from(p.rect.h));
+        let (w, h) = self.mesh.sides_in_voxels(i);
         let line = 0.1;
         // Distances in voxels to the nearest patch and element border.
         let patch = (s * w).min((1.0 - s) * w).min((t * h).min((1.0 - t) * h));

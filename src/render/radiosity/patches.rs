@@ -1,7 +1,11 @@
-//! Patches and elements: the two-level hierarchy radiosity solves on, cut from the
-//! octree's own boundary.
+//! Patches and elements: the two-level hierarchy radiosity solves on, cut from each
+//! solid's true surface where it came from a shape, else from the octree's own
+//! boundary.
 //!
-//! Each solid's boundary is the set of exposed faces of its full nodes, merged into
+//! A solid made from a shape gives its patches from its true surface
+//! (`surface_patches`: the planar regions of its dual contouring mesh, each cut into
+//! tiles of its plane; elements as below, their areas and centres those of the
+//! surface each covers). Any other solid's boundary is the set of exposed faces of its full nodes, merged into
 //! coplanar rectangles (`mesh::boundary_rects`: they tile the voxel boundary without
 //! overlap). A rectangle longer than `patch_size` (world units, at least one voxel) is
 //! cut into the fewest equal tiles (whole voxels, the first ones a voxel longer) no
@@ -19,15 +23,26 @@
 //! receive and are shown. An element at level `L` is cell `(k, j)` of the patch's
 //! `(nu 2^L) x (nv 2^L)` grid. Children are never narrower than a voxel.
 //!
-//! Normals: an element's normal is its face's outward axis normal, or the source
-//! shape's smooth normal at the element's centre where the solid came from a shape
-//! whose surface lies within two voxels of it ([`SceneSolid::shape_surface`]), so a
-//! sphere's elements are lit as the sphere is, not as its voxel staircase. Patches
-//! shoot from their flat faces (their light leaves by their axis normal).
+//! Normals: an element's normal is its patch's (a face's outward axis normal, a
+//! tile's plane normal), or the source shape's smooth normal at the element's centre
+//! where the solid came from a shape whose surface lies within two voxels of it
+//! ([`SceneSolid::shape_surface`]), so a sphere's elements are lit as the sphere is,
+//! not as its voxel staircase. Patches shoot from their flat rectangles (their light
+//! leaves by the patch's normal).
 //!
-//! Lookup for display: a point on a face finds its patch through a hash of the face's
-//! plane and the cell of a grid of `patch_size` cells in that plane (a patch meets at
-//! most four cells), then its place in the element grid.
+//! Elements of no area (the cells of a partly covered tile that the surface misses)
+//! keep their place in the grid but receive nothing; the display shows the nearest
+//! element of area of their patch in their place.
+//!
+//! Lookup for display: a point on a face of a voxel-boundary patch finds its patch
+//! through a hash of the face's plane and the cell of a grid of `patch_size` cells in
+//! that plane (a patch meets at most four cells); a point on the voxels of a solid
+//! with surface patches (the staircase the renderer shows lies within a voxel of the
+//! true surface) finds, among the patches registered in its cell of a 3D grid of
+//! `patch_size` cells, the nearest rectangle whose normal faces the same way as the
+//! voxel face (`n . face > 0`). Then its place in the element grid.
+
+use std::sync::Arc;
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -40,21 +55,30 @@ use crate::mesh::{BoundaryRect, boundary_rects};
 use crate::octree::Domain;
 use crate::render::scene::Scene;
 
-/// A shooting patch: a rectangle of one face plane of one solid.
+use super::cover::Cover;
+use super::surface_patches::surface_patches;
+
+/// A shooting patch: a rectangle of one face plane of one solid, or a tile of a
+/// region of its true surface.
 #[derive(Clone, Debug)]
 pub(crate) struct Patch {
     /// The solid it belongs to.
     pub solid: u32,
-    /// Its rectangle in the solid's lattice.
-    pub rect: BoundaryRect,
+    /// Its rectangle in the solid's lattice, for a patch of the voxels' boundary
+    /// (`None`: a tile of the true surface).
+    pub face: Option<BoundaryRect>,
+    /// The part of a tile the surface covers, where it covers only part of it
+    /// (`None`: all of it).
+    pub cover: Option<Arc<Cover>>,
     /// World corner at the rectangle's lowest `(u, v)`, and its world edges along `u`
     /// and `v`.
     pub corner: DVec3,
     pub du: DVec3,
     pub dv: DVec3,
-    /// Outward unit axis normal.
+    /// Outward unit normal: an axis for a voxel-boundary patch, its region's plane's
+    /// for a tile.
     pub normal: DVec3,
-    /// Area (world units squared).
+    /// Area (world units squared): of the surface, for a partly covered tile.
     pub area: f64,
     /// Diffuse reflectance, `color * kd`.
     pub reflectance: DVec3,
@@ -65,7 +89,9 @@ pub(crate) struct Patch {
     pub first: u32,
     pub nu: u32,
     pub nv: u32,
-    /// Offset off the face for rays leaving it: a thousandth of the solid's voxel.
+    /// Offset off the face for rays leaving it: a thousandth of the solid's voxel on
+    /// a voxel face; off a tile, far enough that the voxel holding the lifted point is
+    /// empty (half a voxel times the normal's 1-norm, and a little).
     pub lift: f64,
 }
 
@@ -84,6 +110,11 @@ impl Patch {
     pub fn center(&self) -> DVec3 {
         self.point(0.5, 0.5)
     }
+
+    /// The area of its rectangle (its `area` unless it is partly covered).
+    pub fn rect_area(&self) -> f64 {
+        self.du.length() * self.dv.length()
+    }
 }
 
 /// A receiving element.
@@ -91,11 +122,12 @@ impl Patch {
 pub(crate) struct Element {
     /// Centre, on the face.
     pub center: DVec3,
-    /// The point rays leave from: the centre lifted off the face along its axis normal.
+    /// The point rays leave from: the centre lifted off the face along its axis normal
+    /// (off a tile, along its own normal).
     pub origin: DVec3,
     /// Unit normal: the smooth shape normal where there is one, else the axis normal.
     pub normal: DVec3,
-    /// Area.
+    /// Area (0 for a cell of a tile the surface misses).
     pub area: f64,
     /// Its patch.
     pub patch: u32,
@@ -122,6 +154,9 @@ pub(crate) const MAX_LEVEL: u8 = 4;
 /// in-plane grid.
 type CellKey = (u32, u8, bool, u32, u32, u32);
 
+/// Key of a lookup cell of the surface patches: solid and the cell of a 3D grid.
+type SpaceKey = (u32, [i64; 3]);
+
 /// The patches and elements of a scene, and the lookup from surface points to them.
 #[derive(Clone, Debug)]
 pub(crate) struct Patches {
@@ -132,6 +167,10 @@ pub(crate) struct Patches {
     /// Each solid's domain.
     domains: Vec<Domain>,
     lookup: FxHashMap<CellKey, SmallVec<[u32; 2]>>,
+    /// The surface patches meeting each cell of each solid's 3D grid.
+    space: FxHashMap<SpaceKey, SmallVec<[u32; 4]>>,
+    /// Whether each solid's patches are tiles of its true surface.
+    on_surface: Vec<bool>,
     /// The elements split, in order (what a `.rad` file stores to rebuild them).
     pub splits: Vec<u32>,
 }
@@ -147,19 +186,45 @@ fn split(len: u32, n: u32) -> impl Iterator<Item = (u32, u32)> {
     (0..n).map(move |i| (i * base + i.min(extra), base + u32::from(i < extra)))
 }
 
-/// Element `cell` of patch `p` (index `patch`) at `level`: its centre on the face, the
-/// smooth shape normal there (else the axis normal) and its area.
+/// Element `cell` of patch `p` (index `patch`) at `level`: its centre on the face (of
+/// a partly covered tile: the centroid of the surface in its cell, moved onto the
+/// shape's surface), the smooth shape normal there (else the patch's normal) and its
+/// area.
 fn element(scene: &Scene, p: &Patch, patch: u32, level: u8, cell: [u32; 2]) -> Element {
-    let (nu, nv) = (p.nu << level, p.nv << level);
-    let [k, j] = cell;
-    let center = p.point((f64::from(k) + 0.5) / f64::from(nu), (f64::from(j) + 0.5) / f64::from(nv));
-    let normal = scene.solids[p.solid as usize]
-        .shape_surface(center)
-        .map(|s| s.normal)
-        .filter(|n| n.is_finite() && n.dot(p.normal) > 0.0)
-        .unwrap_or(p.normal);
-    let area = p.area / f64::from(p.nu * p.nv) / f64::from(1u32 << (2 * level));
-    Element { center, origin: center + p.normal * p.lift, normal, area, patch, children: 0, level, cell }
+    let (nu, nv) = (f64::from(p.nu << level), f64::from(p.nv << level));
+    let [k, j] = cell.map(f64::from);
+    let cells = f64::from(p.nu * p.nv) * f64::from(1u32 << (2 * level));
+    let ((s, t), area) = match &p.cover {
+        None => (((k + 0.5) / nu, (j + 0.5) / nv), p.area / cells),
+        Some(cover) => {
+            let (fraction, c) = cover.within(k / nu, (k + 1.0) / nu, j / nv, (j + 1.0) / nv);
+            ((c.x, c.y), fraction * p.rect_area())
+        }
+    };
+    let mut center = p.point(s, t);
+    let solid = &scene.solids[p.solid as usize];
+    let facing = |c: DVec3| solid.shape_surface(c).filter(|s| s.normal.is_finite() && s.normal.dot(p.normal) > 0.0);
+    let mut surface = facing(center);
+    if p.face.is_none()
+        && let Some(s) = surface
+        && s.distance != 0.0
+    {
+        // Onto the surface, and its normal there.
+        center -= s.normal * s.distance;
+        surface = facing(center).or(surface);
+    }
+    let normal = surface.map_or(p.normal, |s| s.normal);
+    let lifted = if p.face.is_some() { p.normal } else { normal };
+    Element {
+        center,
+        origin: center + lifted * p.lift,
+        normal,
+        area,
+        patch,
+        children: 0,
+        level,
+        cell: [cell[0], cell[1]],
+    }
 }
 
 /// Refuses a patch size that is not finite and positive, or elements a patch side
@@ -184,44 +249,43 @@ fn patch_cells(scene: &Scene, patch_size: f64) -> Vec<u32> {
         .collect()
 }
 
-/// The patch and element counts, counted before building, once their estimated
-/// memory fits `budget` and the elements can be numbered in a `u32`.
-fn counts_within_budget(
-    rects: &[Vec<BoundaryRect>],
-    cells: &[u32],
-    elements: u32,
-    budget: MemoryBudget,
-) -> Result<(u64, u64)> {
+/// The patch and element counts of one solid's boundary rectangles, counted before
+/// building.
+fn face_counts(rects: &[BoundaryRect], cell: u32, elements: u32) -> (u64, u64) {
     let (mut patch_count, mut element_count) = (0u64, 0u64);
-    for (rects, &cell) in rects.iter().zip(cells) {
-        for r in rects {
-            let (nu, nv) = (r.w.div_ceil(cell), r.h.div_ceil(cell));
-            patch_count += u64::from(nu) * u64::from(nv);
-            // The tiles of the build below, each with up to `elements` a side.
-            let side = |len: u32, n: u32| split(len, n).map(|(_, w)| u64::from(elements.min(w))).sum::<u64>();
-            element_count += side(r.w, nu) * side(r.h, nv);
-        }
+    for r in rects {
+        let (nu, nv) = (r.w.div_ceil(cell), r.h.div_ceil(cell));
+        patch_count += u64::from(nu) * u64::from(nv);
+        // The tiles of the build below, each with up to `elements` a side.
+        let side = |len: u32, n: u32| split(len, n).map(|(_, w)| u64::from(elements.min(w))).sum::<u64>();
+        element_count += side(r.w, nu) * side(r.h, nv);
     }
+    (patch_count, element_count)
+}
+
+/// Refuses patch and element counts whose estimated memory exceeds `budget`, or whose
+/// elements cannot be numbered in a `u32`.
+fn check_counts(patch_count: u64, element_count: u64, budget: MemoryBudget) -> Result<()> {
     let job = format!("radiosity on {patch_count} patches of {element_count} elements");
     budget.check(job, patch_count * BYTES_PER_PATCH + element_count * BYTES_PER_ELEMENT)?;
     if element_count > u64::from(u32::MAX) {
         return Err(Error::invalid("radiosity", format!("{element_count} elements are more than 2^32")));
     }
-    Ok((patch_count, element_count))
+    Ok(())
 }
 
-/// Every boundary rectangle of every solid cut into equal-as-possible patches of at
-/// most its solid's cell a side, each with up to `elements` elements a side; their
-/// first elements are not numbered yet.
+/// Every boundary rectangle of solid `solid` cut into equal-as-possible patches of at
+/// most `cell` voxels a side, each with up to `elements` elements a side, appended to
+/// `patches`; their first elements are not numbered yet.
 fn cut_into_patches(
     scene: &Scene,
-    rects: &[Vec<BoundaryRect>],
-    cells: &[u32],
+    solid: usize,
+    rects: &[BoundaryRect],
+    cell: u32,
     elements: u32,
-    patch_count: u64,
-) -> Vec<Patch> {
-    let mut patches = Vec::with_capacity(patch_count as usize);
-    for (solid, (rects, &cell)) in rects.iter().zip(cells).enumerate() {
+    patches: &mut Vec<Patch>,
+) {
+    {
         let s = &scene.solids[solid];
         let domain = s.tree.domain();
         let h = domain.voxel_size();
@@ -243,7 +307,8 @@ fn cut_into_patches(
                     dv[va] = f64::from(hv) * h;
                     patches.push(Patch {
                         solid: solid as u32,
-                        rect,
+                        face: Some(rect),
+                        cover: None,
                         corner: domain.lattice_point(lattice),
                         du,
                         dv,
@@ -260,7 +325,6 @@ fn cut_into_patches(
             }
         }
     }
-    patches
 }
 
 /// Numbers each patch's first element, the patches' elements following one another;
@@ -285,15 +349,54 @@ fn first_level_elements(scene: &Scene, patches: &[Patch]) -> Vec<Element> {
         .collect()
 }
 
-/// The lookup from each cell of each solid's face planes to the patches that meet it.
+/// The lookup from each cell of each solid's face planes to the voxel-boundary
+/// patches that meet it.
 fn patch_lookup(patches: &[Patch], cells: &[u32]) -> FxHashMap<CellKey, SmallVec<[u32; 2]>> {
     let mut lookup: FxHashMap<CellKey, SmallVec<[u32; 2]>> = FxHashMap::default();
     for (i, p) in patches.iter().enumerate() {
+        let Some(r) = &p.face else { continue };
         let c = cells[p.solid as usize];
-        let r = &p.rect;
         for cv in r.v / c..=(r.v + r.h - 1) / c {
             for cu in r.u / c..=(r.u + r.w - 1) / c {
                 lookup.entry((p.solid, r.axis, r.positive, r.plane, cu, cv)).or_default().push(i as u32);
+            }
+        }
+    }
+    lookup
+}
+
+/// Margin, in voxels, around a tile's rectangle within which points find it: the
+/// staircase lies within a voxel of the true surface.
+const SPACE_MARGIN: f64 = 2.0;
+
+/// The cell of `p` in the 3D lookup grid of cells `cell` voxels across of `domain`.
+fn space_cell(domain: &Domain, cell: u32, p: DVec3) -> [i64; 3] {
+    let q = (p - domain.min()) / (domain.voxel_size() * f64::from(cell));
+    [q.x, q.y, q.z].map(|c| c.floor().clamp(-1e15, 1e15) as i64)
+}
+
+/// The lookup from each cell of each solid's 3D grid to the surface patches whose
+/// rectangle (grown by [`SPACE_MARGIN`] voxels and, for a partly covered tile, by half
+/// its longer side: a curved cluster's surface bulges off its plane) meets it.
+fn space_lookup(patches: &[Patch], cells: &[u32], domains: &[Domain]) -> FxHashMap<SpaceKey, SmallVec<[u32; 4]>> {
+    let mut lookup: FxHashMap<SpaceKey, SmallVec<[u32; 4]>> = FxHashMap::default();
+    for (i, p) in patches.iter().enumerate() {
+        if p.face.is_some() {
+            continue;
+        }
+        let domain = &domains[p.solid as usize];
+        let bulge = if p.cover.is_some() { 0.5 * p.du.length().max(p.dv.length()) } else { 0.0 };
+        let margin = DVec3::splat(SPACE_MARGIN * domain.voxel_size() + bulge);
+        let corners = p.corners();
+        let lo = corners.iter().fold(DVec3::MAX, |a, &c| a.min(c)) - margin;
+        let hi = corners.iter().fold(DVec3::MIN, |a, &c| a.max(c)) + margin;
+        let cell = cells[p.solid as usize];
+        let (a, b) = (space_cell(domain, cell, lo), space_cell(domain, cell, hi));
+        for z in a[2]..=b[2] {
+            for y in a[1]..=b[1] {
+                for x in a[0]..=b[0] {
+                    lookup.entry((p.solid, [x, y, z])).or_default().push(i as u32);
+                }
             }
         }
     }
@@ -306,16 +409,86 @@ impl Patches {
     /// memory exceeds `budget`.
     pub fn build(scene: &Scene, patch_size: f64, elements: u32, budget: MemoryBudget) -> Result<Patches> {
         check_settings(patch_size, elements)?;
-        let rects: Vec<Vec<BoundaryRect>> = scene.solids.iter().map(|s| boundary_rects(&s.tree)).collect();
         let cells = patch_cells(scene, patch_size);
-        let (patch_count, element_count) = counts_within_budget(&rects, &cells, elements, budget)?;
-        let mut patches = cut_into_patches(scene, &rects, &cells, elements, patch_count);
+        // Each solid's true surface tiles (a solid made from a shape), or its boundary
+        // rectangles, counted before any element is made.
+        enum Part {
+            Surface(Vec<Patch>),
+            Faces(Vec<BoundaryRect>),
+        }
+        // The solids side by side (each surface's extraction is within `budget`).
+        let found: Vec<(Part, u64, u64)> = scene
+            .solids
+            .par_iter()
+            .enumerate()
+            .map(|(i, solid)| {
+                Ok(if solid.shape().is_some() {
+                    let found = surface_patches(solid, i as u32, patch_size, elements, budget)?;
+                    let count = found.patches.len() as u64;
+                    (Part::Surface(found.patches), count, found.elements)
+                } else {
+                    let rects = boundary_rects(&solid.tree);
+                    let (p, e) = face_counts(&rects, cells[i], elements);
+                    (Part::Faces(rects), p, e)
+                })
+            })
+            .collect::<Result<_>>()?;
+        let (mut patch_count, mut element_count) = (0u64, 0u64);
+        let mut parts = Vec::with_capacity(scene.solids.len());
+        for (part, p, e) in found {
+            patch_count += p;
+            element_count += e;
+            parts.push(part);
+        }
+        check_counts(patch_count, element_count, budget)?;
+        let mut patches = Vec::with_capacity(patch_count as usize);
+        let on_surface = parts.iter().map(|p| matches!(p, Part::Surface(_))).collect();
+        for (solid, part) in parts.into_iter().enumerate() {
+            match part {
+                Part::Surface(tiles) => patches.extend(tiles),
+                Part::Faces(rects) => cut_into_patches(scene, solid, &rects, cells[solid], elements, &mut patches),
+            }
+        }
         let first = number_elements(&mut patches);
         debug_assert_eq!(u64::from(first), element_count, "the count before building is the build's");
         let elements = first_level_elements(scene, &patches);
         let lookup = patch_lookup(&patches, &cells);
-        let domains = scene.solids.iter().map(|s| *s.tree.domain()).collect();
-        Ok(Patches { patches, elements, cells, domains, lookup, splits: Vec::new() })
+        let domains: Vec<Domain> = scene.solids.iter().map(|s| *s.tree.domain()).collect();
+        let space = space_lookup(&patches, &cells, &domains);
+        Ok(Patches { patches, elements, cells, domains, lookup, space, on_surface, splits: Vec::new() })
+    }
+
+    /// A patch's sides in its solid's voxels.
+    pub fn sides_in_voxels(&self, i: usize) -> (f64, f64) {
+        let p = &self.patches[i];
+        let h = self.domains[p.solid as usize].voxel_size();
+        (p.du.length() / h, p.dv.length() / h)
+    }
+
+    /// The leaf to show at `(s, t)` of patch `i`: the leaf holding it, or where that
+    /// has no area (a cell of a tile the surface misses), the base element of area
+    /// nearest to it (its leaf at the element's centre).
+    pub fn shown_leaf(&self, i: usize, s: f64, t: f64) -> usize {
+        let leaf = self.leaf_at(i, s, t);
+        if self.elements[leaf].area > 0.0 {
+            return leaf;
+        }
+        let p = &self.patches[i];
+        let (w, h) = (p.du.length(), p.dv.length());
+        let mut best = (f64::MAX, leaf);
+        for e in p.first..p.first + p.nu * p.nv {
+            let el = &self.elements[e as usize];
+            if el.area <= 0.0 {
+                continue;
+            }
+            let [k, j] = el.cell;
+            let (cs, ct) = ((f64::from(k) + 0.5) / f64::from(p.nu), (f64::from(j) + 0.5) / f64::from(p.nv));
+            let d = ((cs - s) * w).powi(2) + ((ct - t) * h).powi(2);
+            if d < best.0 {
+                best = (d, self.leaf_at(i, cs, ct));
+            }
+        }
+        best.1
     }
 
     /// Most elements (split ones included) whose estimated memory, with the patches',
@@ -374,6 +547,7 @@ impl Patches {
         let h = self.domains[p.solid as usize].voxel_size();
         let scale = f64::from(1u32 << (el.level + 1));
         el.is_leaf()
+            && el.area > 0.0
             && el.level < MAX_LEVEL
             && p.du.length() / (f64::from(p.nu) * scale) >= h * (1.0 - 1e-9)
             && p.dv.length() / (f64::from(p.nv) * scale) >= h * (1.0 - 1e-9)
@@ -396,8 +570,12 @@ impl Patches {
     }
 
     /// The patch holding the point `p` on the face of outward axis normal `face` of
-    /// solid `solid`, and `p`'s fractions along its `u` and `v` edges.
+    /// solid `solid` (see the module doc for surface patches), and `p`'s fractions
+    /// along its `u` and `v` edges.
     pub fn find(&self, solid: usize, p: DVec3, face: DVec3) -> Option<(usize, f64, f64)> {
+        if *self.on_surface.get(solid)? {
+            return self.find_on_surface(solid, p, face);
+        }
         let a = (0..3).find(|&a| face[a] != 0.0)?;
         let positive = face[a] > 0.0;
         let domain = self.domains.get(solid)?;
@@ -412,11 +590,37 @@ impl Patches {
         let key = (solid as u32, a as u8, positive, plane as u32, cu, cv);
         let tolerance = 1e-6;
         self.lookup.get(&key)?.iter().find_map(|&i| {
-            let r = &self.patches[i as usize].rect;
+            let r = self.patches[i as usize].face.as_ref()?;
             let s = (q[ua] - f64::from(r.u)) / f64::from(r.w);
             let t = (q[va] - f64::from(r.v)) / f64::from(r.h);
             let inside = (-tolerance..=1.0 + tolerance).contains(&s) && (-tolerance..=1.0 + tolerance).contains(&t);
             inside.then_some((i as usize, s.clamp(0.0, 1.0), t.clamp(0.0, 1.0)))
         })
+    }
+
+    /// [`Patches::find`] on a solid with surface patches: the nearest rectangle of the
+    /// patches registered in `p`'s cell whose normal faces the way `face` does.
+    fn find_on_surface(&self, solid: usize, p: DVec3, face: DVec3) -> Option<(usize, f64, f64)> {
+        let domain = self.domains.get(solid)?;
+        if !p.is_finite() {
+            return None;
+        }
+        let key = (solid as u32, space_cell(domain, self.cells[solid], p));
+        let mut best: Option<(f64, usize, f64, f64)> = None;
+        for &i in self.space.get(&key)? {
+            let patch = &self.patches[i as usize];
+            if patch.normal.dot(face) <= 1e-9 {
+                continue;
+            }
+            let q = p - patch.corner;
+            let (s, t) = (q.dot(patch.du) / patch.du.length_squared(), q.dot(patch.dv) / patch.dv.length_squared());
+            let (cs, ct) = (s.clamp(0.0, 1.0), t.clamp(0.0, 1.0));
+            let off = q.dot(patch.normal);
+            let d = off * off + ((s - cs) * patch.du.length()).powi(2) + ((t - ct) * patch.dv.length()).powi(2);
+            if best.is_none_or(|b| d < b.0) {
+                best = Some((d, i as usize, cs, ct));
+            }
+        }
+        best.map(|(_, i, s, t)| (i, s, t))
     }
 }

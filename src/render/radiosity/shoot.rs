@@ -263,7 +263,7 @@ impl<'a> Shooter<'a> {
             .par_iter()
             .with_min_len(64)
             .map(|e| {
-                if e.patch as usize == i || !e.is_leaf() {
+                if e.patch as usize == i || !e.is_leaf() || e.area <= 0.0 {
                     return (DVec3::ZERO, 0);
                 }
                 let (f, rays) = element_to_patch(scene, e, shooter);
@@ -283,7 +283,7 @@ impl<'a> Shooter<'a> {
             .elements
             .par_iter()
             .with_min_len(64)
-            .map(|e| if e.is_leaf() { from_light(scene, &self.patches, e, light) } else { DVec3::ZERO })
+            .map(|e| if e.is_leaf() && e.area > 0.0 { from_light(scene, &self.patches, e, light) } else { DVec3::ZERO })
             .collect();
         self.rays += self.patches.leaf_count() as u64;
         let power = match light {
@@ -342,6 +342,9 @@ impl<'a> Shooter<'a> {
             .flat_map_iter(|&(_, first)| first..first + 4)
             .map(|c| {
                 let child = &mesh.elements[c];
+                if child.area <= 0.0 {
+                    return (DVec3::ZERO, 0);
+                }
                 let mut inc: DVec3 = lights.iter().map(|l| from_light(scene, mesh, child, l)).sum();
                 let mut rays = lights.len() as u64;
                 for (j, (patch, s)) in mesh.patches.iter().zip(shot).enumerate() {

@@ -93,6 +93,11 @@ impl SceneSolid {
         self.crossings.as_ref()?.normal(self.tree.domain(), p)
     }
 
+    /// The shape it was voxelized from, when it came from one.
+    pub(crate) fn shape(&self) -> Option<&dyn Shape> {
+        self.source.as_ref().map(|s| &*s.0)
+    }
+
     /// The octree's estimate of the outward normal at the surface point `p`, `None`
     /// where the occupancy has no gradient.
     pub(crate) fn estimated_normal(&self, p: DVec3) -> Option<DVec3> {
