@@ -117,8 +117,11 @@ fn offset_by_zero_or_under_a_voxel_is_the_identity() {
 fn an_opening_never_exceeds_the_solid_and_a_closing_covers_it() {
     let mut rng = Rng(0x39_39);
     let options = OffsetOptions::default();
+    // Kept 8 voxels from the domain's faces, which cut a growth (and so a closing).
+    let inset = Cuboid::new(DVec3::splat(0.5), DVec3::splat(1.0 - 16.0 / 128.0)).unwrap();
     for round in 0..4 {
-        let tree = voxelize(&random_csg(&mut rng, 3), unit_domain(7), &VoxelizeOptions::default()).unwrap();
+        let shape = random_csg(&mut rng, 3) & Csg::from(inset.clone());
+        let tree = voxelize(&shape, unit_domain(7), &VoxelizeOptions::default()).unwrap();
         for r in [2.0, 3.5, 7.0] {
             let opened = tree.offset(-r, &options).unwrap().offset(r, &options).unwrap();
             assert!(opened.difference(&tree).unwrap().is_empty(), "round {round} radius {r}");
@@ -143,8 +146,7 @@ fn offsets_are_the_same_on_one_and_two_threads() {
 /// A cube of `a` voxels a side at the centre of a depth-8 domain.
 fn cube(a: u32) -> LinearOctree {
     let d = unit_domain(8);
-    let half = f64::from(a) * d.voxel_size() / 2.0;
-    let shape = Cuboid::new(DVec3::splat(0.5), DVec3::splat(half)).unwrap();
+    let shape = Cuboid::new(DVec3::splat(0.5), DVec3::splat(f64::from(a) * d.voxel_size())).unwrap();
     let tree = voxelize(&shape, d, &VoxelizeOptions::default()).unwrap();
     assert_eq!(tree.voxel_count(), u64::from(a).pow(3));
     tree
@@ -161,17 +163,22 @@ fn a_cube_grown_shrunk_and_rounded_follows_steiners_formula() {
     let (a, r) = (96.0, 16.0);
     let steiner = |a: f64, r: f64| a.powi(3) + 6.0 * a * a * r + 3.0 * PI * a * r * r + 4.0 / 3.0 * PI * r.powi(3);
     let tree = cube(96);
-    assert_close(tree.offset(r, &options).unwrap().voxel_count(), steiner(a, r), 0.002, "grown");
+    // Growth is measured between voxel centres, so an edge's quarter cylinder is
+    // centred on the last voxels' centres, half a voxel inside the cube's edge: about
+    // `12 a r` voxels under Steiner's count, 1.1% here; faces and shrinking are exact.
+    assert_close(tree.offset(r, &options).unwrap().voxel_count(), steiner(a, r), 0.015, "grown");
     assert_eq!(tree.offset(-r, &options).unwrap().voxel_count(), (a - 2.0 * r).powi(3) as u64, "shrunk");
     let rounded = tree.round(r, true, true, &options).unwrap();
-    assert_close(rounded.voxel_count(), steiner(a - 2.0 * r, r), 0.002, "rounded");
+    assert_close(rounded.voxel_count(), steiner(a - 2.0 * r, r), 0.015, "rounded");
 }
 
 #[test]
 fn a_spheres_shell_has_the_volume_between_its_spheres() {
-    let d = unit_domain(8);
+    // Depth 9: the lattice's bias (the nearest voxel centre of the other phase lies a
+    // little beyond a curved surface, about 0.1 voxel at 40 voxels) is 0.3% of the wall.
+    let d = unit_domain(9);
     let options = OffsetOptions::default();
-    let (radius, t) = (100.0, 12.0);
+    let (radius, t) = (200.0, 40.0);
     let ball = Sphere::new(DVec3::splat(0.5), radius * d.voxel_size()).unwrap();
     let tree = voxelize(&ball, d, &VoxelizeOptions::default()).unwrap();
     let want = 4.0 / 3.0 * PI * (radius.powi(3) - (radius - t).powi(3));
@@ -182,11 +189,15 @@ fn a_spheres_shell_has_the_volume_between_its_spheres() {
 
 #[test]
 fn rounding_a_ball_by_less_than_its_radius_gives_the_ball() {
+    // Up to the lattice: an opening keeps a voxel only when some lattice point's ball
+    // holds it and fits inside, which a few voxels of a digital sphere's rim miss.
     let d = unit_domain(7);
     let ball = Sphere::new(DVec3::new(0.5, 0.47, 0.52), 40.0 * d.voxel_size()).unwrap();
     let tree = voxelize(&ball, d, &VoxelizeOptions::default()).unwrap();
     for r in [3.0, 10.0, 25.0] {
         let rounded = tree.round(r, true, true, &OffsetOptions::default()).unwrap();
-        assert_eq!(rounded.symmetric_difference(&tree).unwrap().voxel_count(), 0, "radius {r}");
+        assert!(rounded.difference(&tree).unwrap().is_empty(), "radius {r}: grew");
+        let lost = tree.difference(&rounded).unwrap().voxel_count();
+        assert!(lost * 200 < tree.voxel_count(), "radius {r}: {lost} of {} voxels lost", tree.voxel_count());
     }
 }
