@@ -6,8 +6,8 @@ use clap::{Parser, Subcommand};
 use octsolid::MemoryBudget;
 
 use crate::commands::{
-    bench, build, convert, csg, demo, export, info, join, mesh_info, offset, radiosity, render, shape, slice, transform, view,
-    voxelize,
+    bench, build, convert, csg, demo, export, info, join, mesh_info, offset, radiosity, render, shape, slice,
+    transform, view, voxelize,
 };
 use crate::values::parse_bytes;
 

@@ -140,8 +140,7 @@ mod tests {
         let (mut sites, mut starts) = (Vec::new(), Vec::new());
         for _ in 0..2000 {
             let n = 1 + rng.below(40) as usize;
-            let g: Vec<i64> =
-                (0..n).map(|_| if rng.below(3) == 0 { rng.below(200) as i64 } else { FAR }).collect();
+            let g: Vec<i64> = (0..n).map(|_| if rng.below(3) == 0 { rng.below(200) as i64 } else { FAR }).collect();
             let lo = rng.below(n as u64) as usize;
             let len = 1 + rng.below((n - lo) as u64) as usize;
             let mut out = vec![0; len];

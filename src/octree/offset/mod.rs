@@ -90,7 +90,13 @@ impl LinearOctree {
     /// opening, then the closing.
     ///
     /// Fails when `radius` is not finite and positive or the budget is exceeded.
-    pub fn round(&self, radius_in_voxels: f64, convex: bool, concave: bool, options: &OffsetOptions) -> Result<LinearOctree> {
+    pub fn round(
+        &self,
+        radius_in_voxels: f64,
+        convex: bool,
+        concave: bool,
+        options: &OffsetOptions,
+    ) -> Result<LinearOctree> {
         positive("round radius", radius_in_voxels)?;
         let mut tree = self.clone();
         if convex {
