@@ -16,6 +16,8 @@
 //!   Huttenlocher's real intersection), so the result is exact and the same bits on
 //!   every machine; infinite values (no site on the line) are left out of the envelope
 //!   rather than carried as a large number;
+//! - the first pass, whose input is 0 (a site) or infinite, is the distance to the
+//!   nearest site along the row, two sweeps, not an envelope;
 //! - each pass computes only the part later passes read: the input is the brick and a
 //!   halo of `R` voxels each side (`H = B + 2R` a side), pass one (x) gives the `B`
 //!   columns of the brick for all `H^2` rows, pass two (y) the `B x B` of the brick for
@@ -84,6 +86,29 @@ fn lower_envelope(g: &[i64], lo: usize, out: &mut [i64], sites: &mut Vec<usize>,
     }
 }
 
+/// `out[x - lo]`: the squared distance from `x` to the nearest set entry of `row`,
+/// `FAR` when none is: the first pass, whose input is 0 or infinite, as two sweeps.
+fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64]) {
+    let hi = lo + out.len();
+    // The nearest site at or before each x, then at or after it.
+    let mut last: Option<usize> = row[..lo].iter().rposition(|&s| s);
+    for x in lo..hi {
+        if row[x] {
+            last = Some(x);
+        }
+        out[x - lo] = last.map_or(FAR, |s| ((x - s) as i64).pow(2));
+    }
+    let mut next: Option<usize> = row[hi..].iter().position(|&s| s).map(|i| hi + i);
+    for x in (lo..hi).rev() {
+        if row[x] {
+            next = Some(x);
+        }
+        if let Some(s) = next {
+            out[x - lo] = out[x - lo].min(((s - x) as i64).pow(2));
+        }
+    }
+}
+
 /// The squared distance from each voxel of a brick of `b` voxels a side to the nearest
 /// site of a cube of `h = b + 2 r` voxels a side around it (`site[x + h (y + h z)]`,
 /// the brick at offsets `r..r + b`), written to `dist[x + b (y + b z)]`.
@@ -96,10 +121,7 @@ pub(super) fn brick_distances(site: &[bool], b: usize, r: usize, scratch: &mut S
     // Pass one, along x: every row of the halo, the brick's columns.
     pass_x.resize(b * h * h, 0);
     for row in 0..h * h {
-        for (x, l) in line.iter_mut().enumerate() {
-            *l = if site[x + h * row] { 0 } else { FAR };
-        }
-        lower_envelope(line, r, &mut pass_x[b * row..b * (row + 1)], sites, starts);
+        nearest_site_along_row(&site[h * row..h * (row + 1)], r, &mut pass_x[b * row..b * (row + 1)]);
     }
     // Pass two, along y: the brick's columns of every layer.
     pass_y.resize(b * b * h, 0);
