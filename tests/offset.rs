@@ -33,9 +33,15 @@ fn unit_domain(depth: u8) -> Domain {
     Domain::new(DVec3::ZERO, 1.0, depth).unwrap()
 }
 
-/// Squared distances of every voxel of the domain to the nearest voxel of the other
-/// phase (outside the domain empty), by brute force over every lattice offset of
-/// length at most `cap` voxels; `None` when none is that near.
+/// Four times the squared distance from a voxel's centre to the voxel `o` voxels away
+/// along one axis, as a cube: the gap to its near face is `|o| - 1/2`.
+fn cost(o: i64) -> i64 {
+    if o == 0 { 0 } else { (2 * o.abs() - 1).pow(2) }
+}
+
+/// Four times the squared distance from every voxel's centre of the domain to the
+/// nearest voxel of the other phase (outside the domain empty), by brute force over
+/// every lattice offset up to `cap` voxels an axis; `None` when none is that near.
 fn brute_distances(tree: &LinearOctree, cap: i64) -> Vec<Option<i64>> {
     let n = i64::from(tree.domain().resolution());
     let full = tree.occupancy([0; 3], n as u32);
@@ -44,8 +50,8 @@ fn brute_distances(tree: &LinearOctree, cap: i64) -> Vec<Option<i64>> {
     for z in -cap..=cap {
         for y in -cap..=cap {
             for x in -cap..=cap {
-                let d = x * x + y * y + z * z;
-                if d > 0 && d <= cap * cap {
+                let d = cost(x) + cost(y) + cost(z);
+                if d > 0 && d < 4 * cap * cap {
                     ball.push(([x, y, z], d));
                 }
             }
@@ -69,9 +75,8 @@ fn brute_distances(tree: &LinearOctree, cap: i64) -> Vec<Option<i64>> {
 fn oracle_offset(tree: &LinearOctree, dist: &[Option<i64>], d: f64) -> LinearOctree {
     let n = tree.domain().resolution();
     let full = tree.occupancy([0; 3], n);
-    let limit = (d * d).floor() as i64;
     let keep = |i: usize| {
-        let near = dist[i].is_some_and(|s| s <= limit);
+        let near = dist[i].is_some_and(|s| (s as f64) < 4.0 * d * d);
         if d > 0.0 { full[i] || near } else { full[i] && !near }
     };
     let voxels = (0..full.len())
@@ -96,7 +101,7 @@ fn offsets_of_random_csg_solids_are_the_brute_force_ones_voxel_for_voxel() {
             voxelize(&random_csg(&mut rng, 3), unit_domain(depth), &VoxelizeOptions::default()).unwrap()
         };
         let dist = brute_distances(&tree, 5);
-        for d in [1.0, 1.5, 2.9, 4.0, 5.0, -1.0, -1.5, -2.9, -4.0, -5.0] {
+        for d in [0.7, 1.0, 1.5, 2.9, 4.0, 5.0, -0.7, -1.0, -1.5, -2.9, -4.0, -5.0] {
             let got = tree.offset(d, &options).unwrap();
             got.validate().unwrap();
             assert!(got == oracle_offset(&tree, &dist, d), "round {round} depth {depth} offset {d}");
@@ -105,10 +110,10 @@ fn offsets_of_random_csg_solids_are_the_brute_force_ones_voxel_for_voxel() {
 }
 
 #[test]
-fn offset_by_zero_or_under_a_voxel_is_the_identity() {
+fn offset_by_zero_or_up_to_half_a_voxel_is_the_identity() {
     let mut rng = Rng(39);
     let tree = voxelize(&random_csg(&mut rng, 3), unit_domain(6), &VoxelizeOptions::default()).unwrap();
-    for d in [0.0, 0.5, -0.5, -0.99] {
+    for d in [0.0, 0.5, -0.5, 0.25] {
         assert_eq!(tree.offset(d, &OffsetOptions::default()).unwrap(), tree, "offset {d}");
     }
 }
@@ -163,34 +168,32 @@ fn a_cube_grown_shrunk_and_rounded_follows_steiners_formula() {
     let (a, r) = (96.0, 16.0);
     let steiner = |a: f64, r: f64| a.powi(3) + 6.0 * a * a * r + 3.0 * PI * a * r * r + 4.0 / 3.0 * PI * r.powi(3);
     let tree = cube(96);
-    // Growth is measured between voxel centres, so an edge's quarter cylinder is
-    // centred on the last voxels' centres, half a voxel inside the cube's edge: about
-    // `12 a r` voxels under Steiner's count, 1.1% here; faces and shrinking are exact.
-    assert_close(tree.offset(r, &options).unwrap().voxel_count(), steiner(a, r), 0.015, "grown");
+    assert_close(tree.offset(r, &options).unwrap().voxel_count(), steiner(a, r), 0.002, "grown");
     assert_eq!(tree.offset(-r, &options).unwrap().voxel_count(), (a - 2.0 * r).powi(3) as u64, "shrunk");
     let rounded = tree.round(r, true, true, &options).unwrap();
-    assert_close(rounded.voxel_count(), steiner(a - 2.0 * r, r), 0.015, "rounded");
+    assert_close(rounded.voxel_count(), steiner(a - 2.0 * r, r), 0.002, "rounded");
 }
 
 #[test]
 fn a_spheres_shell_has_the_volume_between_its_spheres() {
-    // Depth 9: the lattice's bias (the nearest voxel centre of the other phase lies a
-    // little beyond a curved surface, about 0.1 voxel at 40 voxels) is 0.3% of the wall.
+    // Distances are to the voxel solid, whose staircase corners lie up to half a voxel
+    // inside a curved surface: the wall comes out about half a voxel thicker than the
+    // smooth sphere's: 1.3% inward, 1.9% outward (the smooth surface's data would remove it).
     let d = unit_domain(9);
     let options = OffsetOptions::default();
     let (radius, t) = (200.0, 40.0);
     let ball = Sphere::new(DVec3::splat(0.5), radius * d.voxel_size()).unwrap();
     let tree = voxelize(&ball, d, &VoxelizeOptions::default()).unwrap();
     let want = 4.0 / 3.0 * PI * (radius.powi(3) - (radius - t).powi(3));
-    assert_close(tree.shell(t, false, &options).unwrap().voxel_count(), want, 0.005, "inward shell");
+    assert_close(tree.shell(t, false, &options).unwrap().voxel_count(), want, 0.015, "inward shell");
     let want = 4.0 / 3.0 * PI * ((radius + t).powi(3) - radius.powi(3));
-    assert_close(tree.shell(t, true, &options).unwrap().voxel_count(), want, 0.005, "outward shell");
+    assert_close(tree.shell(t, true, &options).unwrap().voxel_count(), want, 0.025, "outward shell");
 }
 
 #[test]
 fn rounding_a_ball_by_less_than_its_radius_gives_the_ball() {
-    // Up to the lattice: an opening keeps a voxel only when some lattice point's ball
-    // holds it and fits inside, which a few voxels of a digital sphere's rim miss.
+    // Up to the staircase: the opening rounds the digital sphere's own convex corners,
+    // which no ball of the radius inside it reaches (2.3% of the voxels at 25 of 40).
     let d = unit_domain(7);
     let ball = Sphere::new(DVec3::new(0.5, 0.47, 0.52), 40.0 * d.voxel_size()).unwrap();
     let tree = voxelize(&ball, d, &VoxelizeOptions::default()).unwrap();
@@ -198,6 +201,6 @@ fn rounding_a_ball_by_less_than_its_radius_gives_the_ball() {
         let rounded = tree.round(r, true, true, &OffsetOptions::default()).unwrap();
         assert!(rounded.difference(&tree).unwrap().is_empty(), "radius {r}: grew");
         let lost = tree.difference(&rounded).unwrap().voxel_count();
-        assert!(lost * 200 < tree.voxel_count(), "radius {r}: {lost} of {} voxels lost", tree.voxel_count());
+        assert!(lost * 33 < tree.voxel_count(), "radius {r}: {lost} of {} voxels lost", tree.voxel_count());
     }
 }

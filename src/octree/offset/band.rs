@@ -1,10 +1,10 @@
 //! The band of a morphological step: the bricks of voxels whose phase a ball of radius
 //! `D` can change, each transformed exactly with a halo read from the octree.
 //!
-//! A dilation by `D` adds the empty voxels within `D` of a full one; an erosion removes
-//! the full voxels within `D` of an empty one (voxels outside the domain are empty).
-//! Either changes only voxels within `R = floor(D)` voxels on each axis of a voxel of the
-//! other phase, so the domain is cut into aligned bricks of `B = 2^k >= R` voxels (at
+//! A dilation by `D` adds the empty voxels whose centre lies under `D` from a full
+//! voxel; an erosion removes the full voxels whose centre lies under `D` from an empty
+//! one (voxels outside the domain are empty). Either changes only voxels within `R =
+//! ceil(D + 1/2) - 1` voxels on each axis of a voxel of the other phase, so the domain is cut into aligned bricks of `B = 2^k >= R` voxels (at
 //! least 32, at most the domain) and only these bricks are read:
 //!
 //! - every brick holding a key smaller than a brick (a mixed brick), and the bricks
@@ -44,14 +44,16 @@ pub(super) struct Step {
 }
 
 impl Step {
-    /// `R`: the most voxels a step can reach along one axis.
+    /// `R`: the most voxels a step can reach along one axis (a voxel `o` voxels away
+    /// is `|o| - 1/2` away, which must be under the radius).
     fn reach(self) -> u32 {
-        self.radius.floor().min(f64::from(u32::MAX / 4)) as u32
+        ((self.radius + 0.5).ceil() - 1.0).clamp(0.0, f64::from(u32::MAX / 4)) as u32
     }
 
-    /// `floor(radius^2)`: a voxel changes when its squared distance is at most this.
+    /// A voxel changes when four times its squared distance is at most this (strictly
+    /// under `4 radius^2`).
     fn limit(self) -> i64 {
-        (self.radius * self.radius).floor().min(1e18) as i64
+        ((4.0 * self.radius * self.radius).ceil() - 1.0).min(1e18) as i64
     }
 }
 

@@ -1,32 +1,39 @@
-//! The exact squared Euclidean distance transform of one brick of voxels, read with a
-//! halo: separable lower envelopes of parabolas, in integers.
+//! The exact Euclidean distance from each voxel centre of one brick to the nearest
+//! voxel (as a cube) of the other phase, read with a halo: separable lower envelopes,
+//! in integers.
 //!
-//! Formula: for sites `S` (the voxels of one phase) the squared distance of a voxel `p`
-//! is `d^2(p) = min_{s in S} |p - s|^2 = min_{s_z} ((p_z - s_z)^2 + min_{s_y} ((p_y -
-//! s_y)^2 + min_{s_x} (p_x - s_x)^2))`, so three passes of the one-dimensional transform
-//! `D(x) = min_i ((x - i)^2 + g(i))`, along x, then y, then z, give it exactly (Saito and
-//! Toriwaki 1994; Meijster, Roerdink and Hesselink 2000; Felzenszwalb and Huttenlocher,
-//! "Distance transforms of sampled functions", Theory of Computing 8, 2012). Each pass
-//! is the lower envelope of the parabolas `(x - i)^2 + g(i)`: kept on a stack, a new
-//! parabola `u` beats the top `v` from `x = floor(N / (2 (u - v))) + 1` on, where `N =
-//! g(u) + u^2 - g(v) - v^2`, and pops the top when it beats it from the top's own start.
+//! Formula: the squared distance from a centre `p` to the cube of the voxel `s` is a
+//! sum over the axes of `c(p_a - s_a) / 4`, where `c(o) = (2|o| - 1)^2` (`c(0) = 0`:
+//! the gap to the cube's nearest face is `|o| - 1/2`), so `4 d^2(p) = min_s sum_a
+//! c(p_a - s_a) = min_{s_z} (c(p_z - s_z) + min_{s_y} (c(p_y - s_y) + min_{s_x} c(p_x -
+//! s_x)))`: three passes of the one-dimensional transform `D(x) = min_i (c(x - i) +
+//! g(i))`, along x, then y, then z (Saito and Toriwaki 1994; Meijster, Roerdink and
+//! Hesselink 2000; Felzenszwalb and Huttenlocher, "Distance transforms of sampled
+//! functions", Theory of Computing 8, 2012). Each pass is the lower envelope of the
+//! translates `c(x - i) + g(i)`, kept on a stack: a new one `u` beats the top `v` from
+//! the first `x` where it is strictly lower, and pops the top when that is at or
+//! before the top's own start.
 //!
 //! Where this departs from the papers:
-//! - integers throughout (Meijster's separator, floored, not Felzenszwalb and
-//!   Huttenlocher's real intersection), so the result is exact and the same bits on
-//!   every machine; infinite values (no site on the line) are left out of the envelope
-//!   rather than carried as a large number;
-//! - the first pass, whose input is 0 (a site) or infinite, is the distance to the
-//!   nearest site along the row, two sweeps, not an envelope;
+//! - the papers' cost is the squared distance between centres, `o^2`; this one, to
+//!   the cube, makes a dilation the Minkowski sum of the voxel solid (not of its
+//!   centres) with the ball, which is what Steiner's formula measures. `c` is convex,
+//!   so two translates cross once (Meijster's condition for a separator), found by
+//!   bisection over the range rather than by a closed form;
+//! - integers throughout, so the result is exact and the same bits on every machine;
+//!   infinite values (no site on the line) are left out of the envelope rather than
+//!   carried as a large number;
+//! - the first pass, whose input is 0 (a site) or infinite, is the cost to the nearest
+//!   site along the row, two sweeps, not an envelope;
 //! - each pass computes only the part later passes read: the input is the brick and a
 //!   halo of `R` voxels each side (`H = B + 2R` a side), pass one (x) gives the `B`
 //!   columns of the brick for all `H^2` rows, pass two (y) the `B x B` of the brick for
 //!   all `H` layers, pass three (z) the brick: `H^3 + B H^2 + B^2 H` line steps rather
-//!   than `3 H^3`. Distances are exact for every voxel of the brick whose nearest site
-//!   is within `R` voxels on each axis, in particular whenever `d <= R`; elsewhere they
-//!   are the distance to the nearest site in the halo, never less than the true one.
+//!   than `3 H^3`. Values are exact for every voxel of the brick whose nearest site is
+//!   within `R` voxels on each axis, in particular whenever `d < R + 1/2`; elsewhere
+//!   they are the distance to the nearest site in the halo, never less than the true one.
 
-/// The squared distance of a voxel with no site in reach.
+/// The value of a voxel with no site in reach.
 pub(super) const FAR: i64 = i64::MAX / 4;
 
 /// Scratch buffers of one thread, reused brick after brick.
@@ -40,8 +47,15 @@ pub(super) struct Scratch {
     pass_y: Vec<i64>,
 }
 
-/// `out[x - lo] = min_i ((x - i)^2 + g[i])` for `x` in `lo..lo + out.len()`, `FAR`
-/// where every `g[i]` is `FAR` (see the module doc).
+/// Four times the squared distance, along one axis, from a voxel's centre to the voxel
+/// `o` voxels away (its nearest face, half a voxel nearer than its centre): `(2|o| -
+/// 1)^2`, or 0 for the voxel itself. Convex, so any two of its translates cross once.
+pub(super) fn axis_cost(o: i64) -> i64 {
+    if o == 0 { 0 } else { (2 * o.abs() - 1).pow(2) }
+}
+
+/// `out[x - lo] = min_i (axis_cost(x - i) + g[i])` for `x` in `lo..lo + out.len()`,
+/// `FAR` where every `g[i]` is `FAR` (see the module doc).
 fn lower_envelope(g: &[i64], lo: usize, out: &mut [i64], sites: &mut Vec<usize>, starts: &mut Vec<i64>) {
     let (lo_x, hi_x) = (lo as i64, (lo + out.len()) as i64);
     sites.clear();
@@ -56,17 +70,22 @@ fn lower_envelope(g: &[i64], lo: usize, out: &mut [i64], sites: &mut Vec<usize>,
                 starts.push(lo_x);
                 break;
             };
-            let (ui, vi) = (u as i64, v as i64);
-            let n = gu + ui * ui - g[v] - vi * vi;
-            let from = n.div_euclid(2 * (ui - vi)) + 1;
-            if from <= *starts.last().expect("one start a site") {
+            // The first x of the range where u lies strictly below v (their difference
+            // only falls as x grows), else the range's end.
+            let (ui, vi, gv) = (u as i64, v as i64, g[v]);
+            let (mut a, mut b) = (lo_x, hi_x);
+            while a < b {
+                let m = a + (b - a) / 2;
+                if gu + axis_cost(m - ui) < gv + axis_cost(m - vi) { b = m } else { a = m + 1 }
+            }
+            if a <= *starts.last().expect("one start a site") {
                 sites.pop();
                 starts.pop();
                 continue;
             }
-            if from < hi_x {
+            if a < hi_x {
                 sites.push(u);
-                starts.push(from);
+                starts.push(a);
             }
             break;
         }
@@ -81,12 +100,11 @@ fn lower_envelope(g: &[i64], lo: usize, out: &mut [i64], sites: &mut Vec<usize>,
         while k + 1 < sites.len() && starts[k + 1] <= x {
             k += 1;
         }
-        let dx = x - sites[k] as i64;
-        *o = dx * dx + g[sites[k]];
+        *o = axis_cost(x - sites[k] as i64) + g[sites[k]];
     }
 }
 
-/// `out[x - lo]`: the squared distance from `x` to the nearest set entry of `row`,
+/// `out[x - lo]`: [`axis_cost`] from `x` to the nearest set entry of `row`,
 /// `FAR` when none is: the first pass, whose input is 0 or infinite, as two sweeps.
 fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64]) {
     let hi = lo + out.len();
@@ -96,7 +114,7 @@ fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64]) {
         if row[x] {
             last = Some(x);
         }
-        out[x - lo] = last.map_or(FAR, |s| ((x - s) as i64).pow(2));
+        out[x - lo] = last.map_or(FAR, |s| axis_cost((x - s) as i64));
     }
     let mut next: Option<usize> = row[hi..].iter().position(|&s| s).map(|i| hi + i);
     for x in (lo..hi).rev() {
@@ -104,13 +122,13 @@ fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64]) {
             next = Some(x);
         }
         if let Some(s) = next {
-            out[x - lo] = out[x - lo].min(((s - x) as i64).pow(2));
+            out[x - lo] = out[x - lo].min(axis_cost((s - x) as i64));
         }
     }
 }
 
-/// The squared distance from each voxel of a brick of `b` voxels a side to the nearest
-/// site of a cube of `h = b + 2 r` voxels a side around it (`site[x + h (y + h z)]`,
+/// Four times the squared distance from each voxel's centre of a brick of `b` voxels a side to the nearest
+/// site (voxel, as a cube) of a cube of `h = b + 2 r` voxels a side around it (`site[x + h (y + h z)]`,
 /// the brick at offsets `r..r + b`), written to `dist[x + b (y + b z)]`.
 pub(super) fn brick_distances(site: &[bool], b: usize, r: usize, scratch: &mut Scratch, dist: &mut Vec<i64>) {
     let h = b + 2 * r;
@@ -173,7 +191,7 @@ mod tests {
                     .iter()
                     .enumerate()
                     .filter(|(_, gi)| **gi < FAR)
-                    .map(|(i, gi)| (x - i as i64).pow(2) + gi)
+                    .map(|(i, gi)| axis_cost(x - i as i64) + gi)
                     .min()
                     .unwrap_or(FAR);
                 assert_eq!(o, brute, "g {g:?} lo {lo} x {x}");
@@ -200,7 +218,7 @@ mod tests {
                             .filter(|&i| site[i])
                             .map(|i| {
                                 let s = [i % h, i / h % h, i / (h * h)].map(|c| c as i64);
-                                (0..3).map(|a| (p[a] - s[a]).pow(2)).sum::<i64>()
+                                (0..3).map(|a| axis_cost(p[a] - s[a])).sum::<i64>()
                             })
                             .min()
                             .unwrap_or(FAR);

@@ -1,21 +1,23 @@
 //! Offsets, shells and rounds: a solid grown or shrunk by a ball, exactly to the voxel,
 //! from the Euclidean distance computed only in the band the ball reaches.
 //!
-//! Definitions (distances in voxels, between voxel centres, Euclidean):
+//! Definitions (distances in voxels, Euclidean, from a voxel's centre to the voxels of
+//! the other phase as cubes):
 //!
 //! - **offset by `D > 0`** (dilation by the ball of radius `D`): the solid and every
-//!   voxel whose centre lies within `D` of a full voxel's centre. As a set of cubes it
-//!   is the Minkowski sum of the voxel solid with the ball, sampled at voxel centres;
-//! - **offset by `D < 0`** (erosion): the full voxels farther than `|D|` from every
-//!   empty voxel (voxels outside the domain are empty), the complement's dilation's
-//!   complement;
+//!   voxel whose centre lies less than `D` from it: the Minkowski sum of the voxel
+//!   solid with the open ball, sampled at voxel centres;
+//! - **offset by `D < 0`** (erosion): the full voxels whose centre lies at least `|D|`
+//!   from every empty voxel (voxels outside the domain are empty), the complement's
+//!   dilation's complement;
 //! - **shell** of thickness `T`: the solid minus its offset by `-T` (the wall inside
 //!   the surface), or, outward, the offset by `T` minus the solid;
 //! - **round** by `R`: convex edges by the opening (offset by `-R`, then by `R`: what no
 //!   ball of radius `R` inside the solid can reach goes), concave edges by the closing
 //!   (offset by `R`, then by `-R`); both: the opening, then the closing.
 //!
-//! A ball is a union of voxels, so for a cube of side `a` (voxels) these follow
+//! Measured from the cubes, not the centres, an offset is the true offset of the voxel
+//! solid sampled at the centres, so for a cube of side `a` (voxels) these follow
 //! Steiner's formula as the lattice samples it: grown by `r`, `a^3 + 6 a^2 r + 3 pi a
 //! r^2 + 4/3 pi r^3`; shrunk, `(a - 2r)^3`.
 //!
@@ -54,7 +56,7 @@ impl Default for OffsetOptions<'_> {
 
 impl LinearOctree {
     /// The solid grown (`distance > 0`) or shrunk (`distance < 0`) by a ball of radius
-    /// `|distance|` voxels (see the module doc); below one voxel nothing changes.
+    /// `|distance|` voxels (see the module doc); up to half a voxel nothing changes.
     ///
     /// Fails when `distance` is not finite or a step's estimate exceeds the budget.
     pub fn offset(&self, distance_in_voxels: f64, options: &OffsetOptions) -> Result<LinearOctree> {
