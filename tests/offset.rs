@@ -178,16 +178,17 @@ fn a_cube_grown_shrunk_and_rounded_follows_steiners_formula() {
 fn a_spheres_shell_has_the_volume_between_its_spheres() {
     // Distances are to the voxel solid, whose staircase corners lie up to half a voxel
     // inside a curved surface: the wall comes out about half a voxel thicker than the
-    // smooth sphere's: 1.3% inward, 1.9% outward (the smooth surface's data would remove it).
-    let d = unit_domain(9);
+    // smooth sphere's inward (2.6% of 20 voxels), 0.75 voxel outward (3.8%); at depth 9
+    // and 40 voxels 1.3% and 1.9%. The smooth surface's data (issue 39, point 5) would remove it.
+    let d = unit_domain(8);
     let options = OffsetOptions::default();
-    let (radius, t) = (200.0, 40.0);
+    let (radius, t) = (100.0, 20.0);
     let ball = Sphere::new(DVec3::splat(0.5), radius * d.voxel_size()).unwrap();
     let tree = voxelize(&ball, d, &VoxelizeOptions::default()).unwrap();
     let want = 4.0 / 3.0 * PI * (radius.powi(3) - (radius - t).powi(3));
-    assert_close(tree.shell(t, false, &options).unwrap().voxel_count(), want, 0.015, "inward shell");
+    assert_close(tree.shell(t, false, &options).unwrap().voxel_count(), want, 0.03, "inward shell");
     let want = 4.0 / 3.0 * PI * ((radius + t).powi(3) - radius.powi(3));
-    assert_close(tree.shell(t, true, &options).unwrap().voxel_count(), want, 0.025, "outward shell");
+    assert_close(tree.shell(t, true, &options).unwrap().voxel_count(), want, 0.045, "outward shell");
 }
 
 #[test]
