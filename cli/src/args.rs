@@ -6,8 +6,8 @@ use clap::{Parser, Subcommand};
 use octsolid::MemoryBudget;
 
 use crate::commands::{
-    bench, build, convert, csg, demo, export, info, join, mesh_info, radiosity, render, shape, slice, transform, view,
-    voxelize,
+    bench, build, convert, csg, demo, export, info, join, mesh_info, offset, radiosity, render, shape, slice,
+    transform, view, voxelize,
 };
 use crate::values::parse_bytes;
 
@@ -48,6 +48,18 @@ octsolid shape box --size 80,40,30 --center 40,20,15 --voxel-size 0.5 -o bracket
     /// depth --depth, else the input's.
     #[command(after_help = "Example:\n  octsolid transform hollow.oct --rotate z,45 --translate 0,0,1 -o turned.oct")]
     Transform(transform::TransformArgs),
+    /// Grow (positive) or shrink (negative) a solid by a ball: every point within the
+    /// distance of it, or of its outside, exact to the voxel.
+    #[command(after_help = "Examples:\n  octsolid offset part.oct --by 0.2 -o grown.oct\n  \
+octsolid offset part.oct --voxels -3 -o shrunk.oct")]
+    Offset(offset::OffsetArgs),
+    /// Hollow a solid to a wall of a thickness inside its surface (--outward: outside).
+    #[command(after_help = "Example:\n  octsolid shell part.oct --thickness 2 -o wall.oct")]
+    Shell(offset::ShellArgs),
+    /// Round a solid's convex edges (an opening by a ball) and concave edges (a
+    /// closing); --convex or --concave for one kind.
+    #[command(after_help = "Example:\n  octsolid round part.oct --radius 1 -o rounded.oct")]
+    Round(offset::RoundArgs),
     /// Print what a solid file holds (.oct, .octs, .vox, .binvox, .vdb) and measure it
     /// (area, centre of mass, inertia, components).
     #[command(after_help = "Example:\n  octsolid info hollow.oct --json")]
@@ -120,6 +132,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Command::Csg(a) => csg::run(&a, budget),
         Command::Build(a) => build::run(&a, budget),
         Command::Transform(a) => transform::run(&a, budget),
+        Command::Offset(a) => offset::run_offset(&a, budget),
+        Command::Shell(a) => offset::run_shell(&a, budget),
+        Command::Round(a) => offset::run_round(&a, budget),
         Command::Info(a) => info::run(&a, budget),
         Command::Join(a) => join::run(&a),
         Command::Convert(a) => convert::run(&a, budget),

@@ -11,6 +11,7 @@ pub mod export;
 pub mod info;
 pub mod join;
 pub mod mesh_info;
+pub mod offset;
 pub mod radiosity;
 pub mod render;
 pub mod shape;
