@@ -81,7 +81,22 @@ fn csg_brings_operands_into_one_domain_and_says_how() {
         4.0 / 3.0 * std::f64::consts::PI - 6.0 * std::f64::consts::PI * h * h * (3.0 - h) / 3.0
     };
     let want = 1.6f64.powi(3) - clipped_ball;
-    assert!((v - want).abs() < 0.03 * want, "{v} vs {want}");
+    assert!((v - want).abs() < 0.08 * want, "{v} vs {want}");
+    // Voxel for voxel: the ball carries its crossings, so it is resampled from its
+    // smooth surface, and the difference is the common lattice's voxels whose centres
+    // lie in the box and outside the unit ball, counted densely here (to the voxels
+    // whose centres lie within a hair of the sphere).
+    let (n, edge) = (128, 2.1 / 128.0);
+    let centres: Vec<f64> =
+        (0..n).map(|i| -1.05 + (f64::from(i) + 0.5) * edge).filter(|c: &f64| c.abs() <= 0.8).collect();
+    let mut outside = 0u64;
+    for &x in &centres {
+        for &y in &centres {
+            outside += centres.iter().filter(|&&z| x * x + y * y + z * z > 1.0).count() as u64;
+        }
+    }
+    let dense = outside as f64 * edge.powi(3);
+    assert!((v - dense).abs() < 1e-3 * dense, "{v} vs {dense} counted densely");
     // An octant-aligned pair nests: exact, one level deeper, volumes add.
     ok(
         &dir,
