@@ -28,53 +28,7 @@ use crate::morton;
 use crate::octree::{Domain, LinearOctree, NodeKey};
 use crate::shape::{Shape, Surface};
 
-/// One of the six faces of a voxel: `2 * axis + 1` for the face towards `+axis`,
-/// `2 * axis` towards `-axis`.
-pub type Direction = u8;
-
-/// A boundary face: the full voxel (its Morton code at the domain's depth) and the
-/// direction of its face towards the empty neighbour.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct FaceKey {
-    /// Morton code of the full voxel.
-    pub voxel: u64,
-    /// The face's direction ([`Direction`]).
-    pub direction: Direction,
-}
-
-impl FaceKey {
-    /// The face of voxel `v` (lattice coordinates) towards `direction`.
-    #[must_use]
-    pub fn new(v: [u32; 3], direction: Direction) -> Self {
-        FaceKey { voxel: morton::encode(v[0], v[1], v[2]), direction }
-    }
-
-    /// The full voxel's lattice coordinates.
-    #[must_use]
-    pub fn voxel(self) -> [u32; 3] {
-        morton::decode(self.voxel)
-    }
-
-    /// The axis the face is normal to.
-    #[must_use]
-    pub fn axis(self) -> usize {
-        usize::from(self.direction / 2)
-    }
-
-    /// Whether the face looks towards `+axis`.
-    #[must_use]
-    pub fn positive(self) -> bool {
-        self.direction & 1 == 1
-    }
-
-    /// The outward unit vector of the face.
-    #[must_use]
-    pub fn outward(self) -> DVec3 {
-        let mut n = DVec3::ZERO;
-        n[self.axis()] = if self.positive() { 1.0 } else { -1.0 };
-        n
-    }
-}
+pub use super::faces::{Direction, FaceKey};
 
 /// Where the surface crosses a boundary face's segment, and its normal there.
 #[derive(Clone, Copy, Debug, PartialEq)]

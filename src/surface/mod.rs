@@ -7,7 +7,7 @@
 //!   triangles under the voxelizer's inside rule.
 //! - `hermite_patch`: [`HermiteData::from_patches`], a patch set's: its tessellation's
 //!   crossings moved onto the patches by Newton's method.
-//! - `faces`: a solid's boundary faces, one a voxel face.
+//! - `faces`: a solid's boundary faces, one a voxel face, each named by its [`FaceKey`].
 //! - `combine`: Hermite data through a set operation ([`HermiteData::combine`]: a
 //!   CSG result's crossings from its operands').
 //! - `transform`: Hermite data through the exact whole-voxel moves.

@@ -35,7 +35,8 @@
 use glam::DVec3;
 use smallvec::SmallVec;
 
-use super::patches::{Element, Patch};
+use super::patch::Patch;
+use super::patches::Element;
 use crate::ray::{Ray, RayCast};
 use crate::render::scene::Scene;
 

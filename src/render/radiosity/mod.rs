@@ -39,6 +39,7 @@
 mod cover;
 mod file;
 mod form_factor;
+mod patch;
 mod patches;
 mod regions;
 mod shoot;

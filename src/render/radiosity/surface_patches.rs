@@ -26,7 +26,7 @@ use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 
 use super::cover::{Cover, Piece, area_and_centroid, clip_to_rect};
-use super::patches::Patch;
+use super::patch::Patch;
 use super::regions::{PLANAR_DISTANCE, Region, planar_regions};
 use crate::budget::MemoryBudget;
 use crate::error::Result;
