@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::mesh_checks::stl_triangles;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -1093,26 +1094,6 @@ fn sharded_solids_made_combined_converted_and_read_by_every_command() {
     std::fs::write(dir.join("part.octs").join(&shard), bytes).unwrap();
     assert!(fails(&dir, &["convert", "part.octs", "broken.oct"]).contains(&shard));
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// A binary STL's triangles, each as its three `f32` corners' bits from the least, sorted.
-fn stl_triangles(path: &Path) -> Vec<[[u32; 3]; 3]> {
-    let bytes = std::fs::read(path).unwrap();
-    let n = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
-    assert_eq!(bytes.len(), 84 + 50 * n, "{}: the head's count is the triangles'", path.display());
-    let mut out: Vec<[[u32; 3]; 3]> = (0..n)
-        .map(|t| {
-            let corner = |k: usize| {
-                let at = 84 + 50 * t + 12 + 12 * k;
-                [0, 1, 2].map(|a| u32::from_le_bytes(bytes[at + 4 * a..at + 4 * a + 4].try_into().unwrap()))
-            };
-            let c = [corner(0), corner(1), corner(2)];
-            let least = (0..3).min_by_key(|&k| c[k]).unwrap();
-            [c[least], c[(least + 1) % 3], c[(least + 2) % 3]]
-        })
-        .collect();
-    out.sort_unstable();
-    out
 }
 
 /// `export BIG.octs`: cell by cell, the same triangles as the single file's export,

@@ -5,9 +5,8 @@
 
 mod common;
 
-use std::collections::HashMap;
-
 use common::Rng;
+use common::mesh_checks::assert_closed_manifold;
 #[path = "common/self_intersection.rs"]
 mod self_intersection;
 use octsolid::NoProgress;
@@ -28,47 +27,6 @@ fn surface_of(shape: &dyn Shape, domain: Domain, tolerance: f64) -> (LinearOctre
     let hermite = HermiteData::from_shape(shape, &tree);
     let surface = extract(&tree, &hermite, &smooth(tolerance), &NoProgress).unwrap();
     (tree, surface)
-}
-
-/// Every directed edge once, and its reverse once: closed, oriented, 2-manifold.
-fn assert_closed_manifold(mesh: &TriangleMesh, what: &str) {
-    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
-    for t in &mesh.triangles {
-        assert!(t[0] != t[1] && t[1] != t[2] && t[2] != t[0], "{what}: degenerate triangle {t:?}");
-        for i in 0..3 {
-            *edges.entry((t[i], t[(i + 1) % 3])).or_default() += 1;
-        }
-    }
-    for (&(a, b), &n) in &edges {
-        assert_eq!(n, 1, "{what}: edge {a}-{b} runs {n} times one way");
-        assert_eq!(edges.get(&(b, a)), Some(&1), "{what}: edge {a}-{b} has no twin");
-    }
-    // Every vertex's triangles form one fan (a disc), not several joined at the vertex.
-    let mut around: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
-    for t in &mesh.triangles {
-        for i in 0..3 {
-            around.entry(t[i]).or_default().push((t[(i + 1) % 3], t[(i + 2) % 3]));
-        }
-    }
-    for (v, fan) in around {
-        let next: HashMap<u32, u32> = fan.iter().copied().collect();
-        let mut at = fan[0].0;
-        for _ in 0..fan.len() {
-            at = next[&at];
-        }
-        let mut steps = 0;
-        let start = fan[0].0;
-        let mut at2 = start;
-        loop {
-            at2 = next[&at2];
-            steps += 1;
-            if at2 == start {
-                break;
-            }
-        }
-        assert_eq!(steps, fan.len(), "{what}: vertex {v} is a pinch of several fans");
-        let _ = at;
-    }
 }
 
 fn assert_uncrossed(mesh: &TriangleMesh, cell: f64, what: &str) {

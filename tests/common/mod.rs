@@ -1,9 +1,11 @@
 //! Shared by the test suites: a seeded generator, random solids, scratch folders, a
-//! folder's files, the exact surfaces of analytic solids (the oracle of a mesh's
-//! distance and normals) and the distance to a reference mesh.
+//! folder's files, mesh checks (closed and manifold; an STL's triangles), the exact
+//! surfaces of analytic solids (the oracle of a mesh's distance and normals) and the
+//! distance to a reference mesh.
 #![allow(dead_code)]
 
 pub mod exact_surface;
+pub mod mesh_checks;
 pub mod mesh_distance;
 mod rng;
 
