@@ -99,31 +99,16 @@ fn remove_stale_temporaries(path: &Path) {
 pub fn write_atomic(path: impl AsRef<Path>, write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<u64> {
     let path = path.as_ref();
     let io_error = |source| Error::Io { path: path.to_path_buf(), source };
-    let mut target = path.to_path_buf();
-    if let Ok(meta) = std::fs::symlink_metadata(path) {
-        if meta.file_type().is_symlink() {
-            target = std::fs::canonicalize(path).map_err(io_error)?;
-        }
-        let followed = std::fs::metadata(&target).map_err(io_error)?;
-        if !followed.is_file() && !followed.is_dir() {
-            return write_in_place(&target, write).map_err(io_error);
-        }
-    }
-    remove_stale_temporaries(&target);
-    let (file, temp) = create_temporary(&target).map_err(io_error)?;
-    let result = (|| {
+    let target = match destination(path)? {
+        Destination::File(target) => target,
+        Destination::Device(device) => return write_in_place(&device, write).map_err(io_error),
+    };
+    replace(path, &target, |file| {
         let mut out = Counting { inner: BufWriter::new(file), bytes: 0 };
         write(&mut out)?;
         out.flush()?;
         let bytes = out.bytes;
-        let file = out.inner.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        std::fs::rename(&temp, &target)?;
-        Ok(bytes)
-    })();
-    result.map_err(|source| {
-        let _ = std::fs::remove_file(&temp);
-        io_error(source)
+        Ok((out.inner.into_inner().map_err(|e| e.into_error())?, bytes))
     })
 }
 
@@ -136,27 +121,54 @@ pub(crate) fn write_atomic_seekable(
     write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 ) -> Result<u64> {
     let path = path.as_ref();
-    let io_error = |source| Error::Io { path: path.to_path_buf(), source };
-    let mut target = path.to_path_buf();
-    if let Ok(meta) = std::fs::symlink_metadata(path) {
-        if meta.file_type().is_symlink() {
-            target = std::fs::canonicalize(path).map_err(io_error)?;
+    let target = match destination(path)? {
+        Destination::File(target) => target,
+        Destination::Device(_) => {
+            let source = std::io::Error::other("not a regular file: this format is written by seeking back");
+            return Err(Error::Io { path: path.to_path_buf(), source });
         }
-        let followed = std::fs::metadata(&target).map_err(io_error)?;
-        if !followed.is_file() && !followed.is_dir() {
-            return Err(io_error(std::io::Error::other("not a regular file: this format is written by seeking back")));
-        }
-    }
-    remove_stale_temporaries(&target);
-    let (file, temp) = create_temporary(&target).map_err(io_error)?;
-    let result = (|| {
+    };
+    replace(path, &target, |file| {
         let mut out = BufWriter::new(file);
         write(&mut out)?;
         out.flush()?;
         let file = out.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
         let bytes = file.metadata()?.len();
-        std::fs::rename(&temp, &target)?;
+        Ok((file, bytes))
+    })
+}
+
+/// Where a write to a path lands: a file replaced by renaming (the path itself, or
+/// the file its symbolic link leads to), or a device or fifo written in place.
+enum Destination {
+    File(PathBuf),
+    Device(PathBuf),
+}
+
+/// The [`Destination`] of a write to `path`; errors name `path`.
+fn destination(path: &Path) -> Result<Destination> {
+    let io_error = |source| Error::Io { path: path.to_path_buf(), source };
+    let Ok(meta) = std::fs::symlink_metadata(path) else {
+        return Ok(Destination::File(path.to_path_buf()));
+    };
+    let target =
+        if meta.file_type().is_symlink() { std::fs::canonicalize(path).map_err(io_error)? } else { path.to_path_buf() };
+    let followed = std::fs::metadata(&target).map_err(io_error)?;
+    Ok(if followed.is_file() || followed.is_dir() { Destination::File(target) } else { Destination::Device(target) })
+}
+
+/// Writes `target`'s new contents into a temporary file beside it with `body` (which
+/// returns the file and the count to report), makes them durable and renames the
+/// temporary over `target`. On any error the temporary is removed and `target` is
+/// untouched; the error names `path` (what the caller was asked to write).
+fn replace(path: &Path, target: &Path, body: impl FnOnce(File) -> std::io::Result<(File, u64)>) -> Result<u64> {
+    let io_error = |source| Error::Io { path: path.to_path_buf(), source };
+    remove_stale_temporaries(target);
+    let (file, temp) = create_temporary(target).map_err(io_error)?;
+    let result = (|| {
+        let (file, bytes) = body(file)?;
+        file.sync_all()?;
+        std::fs::rename(&temp, target)?;
         Ok(bytes)
     })();
     result.map_err(|source| {

@@ -66,31 +66,22 @@ impl TriangleTree {
     /// Calls `visit` with the mesh index of every triangle whose bounding box meets the
     /// closed box `b` (exact box comparisons; no triangle test).
     pub(crate) fn for_each_near(&self, b: &Aabb, mut visit: impl FnMut(u32)) {
-        let mut stack = [0u32; 64];
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let index = stack[top];
-            let node = &self.nodes[index as usize];
-            if !overlaps(&node.bounds, b) {
-                continue;
-            }
-            if node.count > 0 {
-                let range = node.first as usize..(node.first + node.count) as usize;
-                for t in range.filter(|&t| overlaps(&self.boxes[t], b)) {
-                    visit(self.indices[t]);
-                }
-            } else {
-                stack[top] = index + 1;
-                stack[top + 1] = node.second;
-                top += 2;
-            }
-        }
+        self.find_in_leaves(b, |t| {
+            visit(self.indices[t]);
+            false
+        });
     }
 
     /// Whether some triangle meets the closed box `b` (conservative, see the module doc).
     pub(crate) fn meets(&self, b: &Aabb) -> bool {
         let (center, half) = (b.center(), b.size() * 0.5);
+        self.find_in_leaves(b, |t| triangle_box_overlap(&self.corners[t], center, half))
+    }
+
+    /// Walks the nodes whose bounds meet `b` and asks `found` about each leaf triangle
+    /// (by its place in the tree's order) whose box meets `b`, until it says yes;
+    /// whether it did.
+    fn find_in_leaves(&self, b: &Aabb, mut found: impl FnMut(usize) -> bool) -> bool {
         let mut stack = [0u32; 64];
         let mut top = 1;
         while top > 0 {
@@ -102,10 +93,7 @@ impl TriangleTree {
             }
             if node.count > 0 {
                 let range = node.first as usize..(node.first + node.count) as usize;
-                let hit = range
-                    .into_iter()
-                    .any(|t| overlaps(&self.boxes[t], b) && triangle_box_overlap(&self.corners[t], center, half));
-                if hit {
+                if range.into_iter().any(|t| overlaps(&self.boxes[t], b) && found(t)) {
                     return true;
                 }
             } else {
