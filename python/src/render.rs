@@ -44,7 +44,7 @@ fn drawing(py: Python<'_>, subject: &Subject<'_>, cache: bool) -> PyResult<Drawi
             py.detach(|| Drawing::open(path, &options)).py()
         }
         Subject::Solid(solid) => {
-            let surface = solid.surface_data(py)?;
+            let surface = solid.surface_read_back(py)?;
             let up = Up::Axis(solid.meta.up.unwrap_or(octsolid::shape::Axis::Z));
             let tree = &solid.tree;
             py.detach(|| {

@@ -69,6 +69,12 @@ impl Solid {
         py.detach(|| surface.get(tree)).py()
     }
 
+    /// The surface data as the solid's `.oct` file gives it back, to draw and mesh.
+    pub fn surface_read_back(&self, py: Python<'_>) -> PyResult<Option<Arc<HermiteData>>> {
+        let (surface, tree) = (&self.surface, &self.tree);
+        py.detach(|| surface.as_read_back(tree)).py()
+    }
+
     /// The set operation `op` of `operands`, as `octsolid csg` makes it (module doc).
     fn combine(py: Python<'_>, op: SetOp, operands: &[&Solid]) -> PyResult<Solid> {
         let mut trees: Vec<Arc<LinearOctree>> = operands.iter().map(|s| s.tree.clone()).collect();
@@ -130,7 +136,7 @@ impl Solid {
 
     /// The solid's extracted boundary mesh, as `octsolid export` makes it.
     fn extracted(&self, py: Python<'_>, style: Style, tolerance: f64) -> PyResult<TriangleMesh> {
-        let hermite = self.surface_data(py)?;
+        let hermite = self.surface_read_back(py)?;
         let tree = &self.tree;
         py.detach(|| {
             let hermite = hermite.as_deref().cloned().unwrap_or_else(HermiteData::none);
@@ -614,6 +620,6 @@ pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Solid> {
     FileKind::of(&path, FileKind::SOLIDS).py()?;
     let mut file = py.detach(|| SolidFile::read(&path, &ReadOptions::default())).py()?;
     let meta = file.meta;
-    let surface = LazySurface::ready(file.surface.take());
+    let surface = LazySurface::read(file.surface.take());
     Ok(Solid { tree: Arc::new(file.into_union()), meta, surface })
 }
