@@ -15,9 +15,8 @@ fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check "maturin>=1.5,<2" numpy pytest trimesh
 export CARGO_TARGET_DIR="$root/target"
 export PYO3_PYTHON="$root/$venv/bin/python"
-# The venv's maturin on PATH, for the build without an isolated environment.
+# maturin is in the venv already (on PATH), so the build needs no isolated environment.
 export PATH="$root/$venv/bin:$PATH"
-# maturin is in the venv already, so the build needs no isolated environment of its own.
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-build-isolation --force-reinstall --no-deps ./python
 cargo fmt --check --manifest-path python/Cargo.toml
 cargo clippy --manifest-path python/Cargo.toml --all-targets -- -D warnings

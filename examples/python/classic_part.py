@@ -3,7 +3,8 @@ radius 1.3, minus three cylinders of radius 0.6 along x, y and z, voxelized at d
 9 (512^3 voxels over [-1, 1]^3), as the Rust example examples/classic_csg.rs makes it.
 
 Run: python examples/python/classic_part.py [OUT_FOLDER] [--depth D]
-(writes classic_part.oct into OUT_FOLDER, default example-output/python/).
+(writes classic_part.oct and classic_part.png, a slice at z = 0.8, into OUT_FOLDER,
+default example-output/python/): the Rust example's work, step for step.
 """
 
 import argparse
@@ -43,12 +44,13 @@ def main():
 
     started = time.perf_counter()
     solid = o.voxelize(classic_part(), args.depth, domain=((-1, -1, -1), 2.0))
-    seconds = time.perf_counter() - started
     solid.save(out / "classic_part.oct")
+    o.write_png(out / "classic_part.png", solid.slice("z", 0.8, 768))
+    seconds = time.perf_counter() - started
     exact = analytic_volume()
     print(f"classic CSG part at depth {args.depth}: {solid.node_count} nodes, {solid.voxel_count} voxels")
     print(f"volume {solid.volume:.5f}, analytic {exact:.5f} ({100 * (solid.volume / exact - 1):+.3f}%)")
-    print(f"voxelized in {seconds * 1e3:.1f} ms; wrote {out / 'classic_part.oct'}")
+    print(f"voxelized and written in {seconds * 1e3:.1f} ms: {out / 'classic_part.oct'} and classic_part.png")
 
 
 if __name__ == "__main__":

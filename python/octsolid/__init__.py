@@ -24,6 +24,7 @@ from ._octsolid import (
     polar_array,
     render,
     voxelize,
+    write_png,
 )
 from .errors import ArgumentError, BudgetError, Error, FileError, FormatError
 
@@ -49,6 +50,7 @@ __all__ = [
     "polar_array",
     "render",
     "voxelize",
+    "write_png",
 ]
 
 

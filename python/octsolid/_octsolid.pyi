@@ -162,6 +162,10 @@ class Solid:
         """Hollowed to a wall ``thickness`` thick inside the surface (``outward``: outside)."""
     def round(self, radius: float, convex: bool = False, concave: bool = False) -> Solid:
         """Edges rounded to ``radius``: both kinds unless ``convex`` or ``concave`` picks one."""
+    def slice(
+        self, axis: Literal["x", "y", "z"] = "z", at: Optional[float] = None, size: int = 768
+    ) -> npt.NDArray[np.uint8]:
+        """A cross-section as a ``(size, size, 3)`` uint8 picture, as ``octsolid slice`` draws it."""
     def contains(self, p: Vec3) -> bool:
         """Whether the point ``p`` lies in a full voxel."""
     def _repr_png_(self) -> bytes:
@@ -229,3 +233,7 @@ def render(
 ) -> npt.NDArray[np.float32]:
     """Renders a solid or a file as ``octsolid render`` does: ``(h, w, 3)`` uint8 sRGB, the
     PNG's pixels bit for bit, or with ``hdr=True`` float32 linear radiance."""
+
+def write_png(path: PathLikeStr, picture: npt.NDArray[np.uint8]) -> int:
+    """Writes an ``(h, w, 3)`` uint8 picture (a render, a slice) as a PNG, as ``octsolid`` writes
+    its pictures; returns the bytes written."""

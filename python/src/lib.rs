@@ -37,5 +37,6 @@ fn _octsolid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solid::load_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(solid::load, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(render::write_png, m)?)?;
     Ok(())
 }

@@ -9,9 +9,10 @@
 
 use std::path::PathBuf;
 
-use numpy::IntoPyArray;
 use numpy::ndarray::Array3;
+use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
 use octsolid::glam::DVec3;
+use octsolid::image::RgbImage;
 use octsolid::render::{CameraRequest, Method, Picture, RenderOverrides, Up, render_picture};
 use octsolid::scene_file::CachePolicy;
 use octsolid::{Drawing, DrawingOptions, MemoryBudget, NoProgress};
@@ -135,15 +136,38 @@ pub fn render<'py>(
         ..RenderOverrides::default()
     };
     let picture = picture(py, &subject, &Request { camera, overrides, cache })?;
-    let (w, h) = (picture.width() as usize, picture.height() as usize);
     if hdr {
+        let (w, h) = (picture.width() as usize, picture.height() as usize);
         let radiance: Vec<f32> = picture.pixels().iter().flat_map(|p| p.to_array().map(|c| c as f32)).collect();
         let array = Array3::from_shape_vec((h, w, 3), radiance).expect("3 channels a pixel");
         return Ok(array.into_pyarray(py).into_any());
     }
-    let srgb = picture.to_srgb8().into_raw();
-    let array = Array3::from_shape_vec((h, w, 3), srgb).expect("3 channels a pixel");
-    Ok(array.into_pyarray(py).into_any())
+    Ok(picture_array(py, picture.to_srgb8()).into_any())
+}
+
+/// An 8-bit RGB picture as an `(h, w, 3)` uint8 array, its buffer not copied.
+pub fn picture_array(py: Python<'_>, image: RgbImage) -> Bound<'_, PyArray3<u8>> {
+    let (w, h) = (image.width() as usize, image.height() as usize);
+    let array = Array3::from_shape_vec((h, w, 3), image.into_raw()).expect("3 channels a pixel");
+    array.into_pyarray(py)
+}
+
+/// Writes an `(h, w, 3)` uint8 picture (a render, a slice) as a PNG file, as
+/// `octsolid` writes its pictures; returns the bytes written.
+#[pyfunction]
+pub fn write_png(py: Python<'_>, path: PathBuf, picture: PyReadonlyArray3<'_, u8>) -> PyResult<u64> {
+    let a = picture.as_array();
+    let &[h, w, 3] = a.shape() else {
+        return Err(invalid("picture", format!("need shape (h, w, 3), not {:?}", a.shape())));
+    };
+    let raw: Vec<u8> = a.iter().copied().collect();
+    let (w, h) = (u32::try_from(w), u32::try_from(h));
+    let image = match (w, h) {
+        (Ok(w), Ok(h)) => RgbImage::from_raw(w, h, raw),
+        _ => None,
+    }
+    .ok_or_else(|| invalid("picture", "too large"))?;
+    py.detach(|| octsolid::io::png::write(&image, &path)).py()
 }
 
 /// A solid's picture as PNG bytes, for notebooks (`Solid._repr_png_`): 480x360.

@@ -322,12 +322,7 @@ impl Solid {
     /// The boundary as numpy arrays `(vertices, faces)`: float64 `(n, 3)` and uint32
     /// `(m, 3)` (counter-clockwise seen from outside), as `.export` meshes it.
     #[pyo3(signature = (surface="smooth", tolerance=DEFAULT_TOLERANCE))]
-    fn mesh<'py>(
-        &self,
-        py: Python<'py>,
-        surface: &str,
-        tolerance: f64,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>)> {
+    fn mesh<'py>(&self, py: Python<'py>, surface: &str, tolerance: f64) -> PyResult<MeshArrays<'py>> {
         let mesh = self.extracted(py, style_of(surface)?, tolerance)?;
         Ok(mesh_arrays(py, mesh))
     }
@@ -465,15 +460,37 @@ impl Solid {
         crate::render::repr_png(py, self)
     }
 
+    /// A cross-section as an `(size, size, 3)` uint8 picture, as `octsolid slice`
+    /// draws it: the plane across `axis` (`"x"`, `"y"`, `"z"`) at `at` (default: the
+    /// domain's middle).
+    #[pyo3(signature = (axis="z", at=None, size=768))]
+    fn slice<'py>(
+        &self,
+        py: Python<'py>,
+        axis: &str,
+        at: Option<f64>,
+        size: u32,
+    ) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        let axis: octsolid::shape::Axis = axis.to_ascii_lowercase().parse().map_err(|e: String| invalid("axis", e))?;
+        let d = self.tree.domain();
+        let at = at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
+        let tree = &self.tree;
+        let image = py.detach(|| octsolid::slice::slice_image(tree, axis, at, size)).py()?;
+        Ok(crate::render::picture_array(py, image))
+    }
+
     /// Whether the point `p` lies in a full voxel.
     fn contains(&self, p: [f64; 3]) -> bool {
         self.tree.contains_point(DVec3::from_array(p))
     }
 }
 
+/// A mesh's vertices `(n, 3)` float64 and triangles `(m, 3)` uint32.
+pub type MeshArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>);
+
 /// A mesh as numpy arrays without copying its buffers: the vertices' `Vec<DVec3>` is
 /// the `(n, 3)` float64 array's memory, the triangles' the `(m, 3)` uint32 one's.
-pub fn mesh_arrays(py: Python<'_>, mesh: TriangleMesh) -> (Bound<'_, PyArray2<f64>>, Bound<'_, PyArray2<u32>>) {
+pub fn mesh_arrays(py: Python<'_>, mesh: TriangleMesh) -> MeshArrays<'_> {
     let (n, m) = (mesh.vertices.len(), mesh.triangles.len());
     let vertices: Vec<f64> = crate::flat::vertices(mesh.vertices);
     let triangles: Vec<u32> = crate::flat::triangles(mesh.triangles);
@@ -570,7 +587,7 @@ pub fn from_mesh(
     }
     let faces: PyReadonlyArray2<'_, i64> = faces
         .call_method1("astype", ("int64",))
-        .and_then(|a| a.extract().map_err(PyErr::from))
+        .and_then(|a| a.extract())
         .map_err(|_| invalid("faces", "need an integer array of shape (m, 3)"))?;
     let f = faces.as_array();
     if f.ncols() != 3 {

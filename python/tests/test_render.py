@@ -81,3 +81,19 @@ def test_repr_png_is_a_png_of_the_solid():
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
     with pytest.raises(o.ArgumentError, match="empty"):
         (solid - solid)._repr_png_()
+
+
+def test_pictures_write_the_cli_png_bytes(tmp_path):
+    path = tmp_path / "part.oct"
+    solid = o.voxelize(o.Sphere((0, 0, 0), 1) - o.Box((0.5, 0.5, 0.5), 1), 6)
+    solid.save(path)
+    (tmp_path / "py").mkdir()
+    o.write_png(tmp_path / "py" / "r.png", o.render(solid, size=(64, 48)))
+    cli("render", path, "-o", tmp_path / "r.png", "--size", "64x48")
+    assert (tmp_path / "py" / "r.png").read_bytes() == (tmp_path / "r.png").read_bytes()
+    for axis, at in [("z", 0.25), ("x", -0.5)]:
+        o.write_png(tmp_path / "py" / "s.png", solid.slice(axis, at, 100))
+        cli("slice", path, "--axis", axis, "--at", at, "--size", 100, "-o", tmp_path / "s.png")
+        assert (tmp_path / "py" / "s.png").read_bytes() == (tmp_path / "s.png").read_bytes()
+    middle = solid.slice()
+    assert middle.shape == (768, 768, 3)
