@@ -44,7 +44,8 @@ def main():
 
     started = time.perf_counter()
     solid = o.voxelize(classic_part(), args.depth, domain=((-1, -1, -1), 2.0))
-    solid.save(out / "classic_part.oct")
+    # Without the surface section, as the Rust example's oct::write.
+    solid.save(out / "classic_part.oct", surface=False)
     o.write_png(out / "classic_part.png", solid.slice("z", 0.8, 768))
     seconds = time.perf_counter() - started
     exact = analytic_volume()

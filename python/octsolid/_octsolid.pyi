@@ -128,10 +128,10 @@ class Solid:
         """A voxel's edge in world units."""
     def measure(self) -> Measures:
         """Volume, boundary area, centre of mass, inertia (3x3 about it) and face-connected components."""
-    def save(self, path: PathLikeStr) -> int:
-        """Writes the solid in the format the extension names (``.oct`` with its surface data,
-        ``.octs``, ``.vox``, ``.binvox``, ``.vdb``, ``.glb``, or the voxel boundary as ``.obj``,
-        ``.stl``, ``.ply``, ``.3mf``); returns the bytes written."""
+    def save(self, path: PathLikeStr, surface: bool = True) -> int:
+        """Writes the solid in the format the extension names (``.oct`` with its surface data
+        unless ``surface=False``, ``.octs``, ``.vox``, ``.binvox``, ``.vdb``, ``.glb``, or the
+        voxel boundary as ``.obj``, ``.stl``, ``.ply``, ``.3mf``); returns the bytes written."""
     def export(
         self, path: PathLikeStr, surface: Literal["smooth", "voxels"] = "smooth", tolerance: float = 0.0
     ) -> int:

@@ -85,12 +85,12 @@ pub fn invalid(what: &'static str, reason: impl Into<String>) -> PyErr {
 }
 
 /// `.map_err(to_py)` for library results.
-pub trait IntoPy<T> {
+pub trait ToPyResult<T> {
     /// The result with its error as the Python exception of its kind.
     fn py(self) -> PyResult<T>;
 }
 
-impl<T> IntoPy<T> for octsolid::Result<T> {
+impl<T> ToPyResult<T> for octsolid::Result<T> {
     fn py(self) -> PyResult<T> {
         self.map_err(to_py)
     }

@@ -19,7 +19,7 @@ use octsolid::{Drawing, DrawingOptions, MemoryBudget, NoProgress};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::errors::{IntoPy, invalid};
+use crate::errors::{ToPyResult, invalid};
 use crate::solid::Solid;
 
 /// What is drawn: a solid in memory or a file.

@@ -15,7 +15,7 @@ use octsolid::shape::{Axis, Csg, Shape as _, ShapeSpec};
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
-use crate::errors::{IntoPy, invalid};
+use crate::errors::{ToPyResult, invalid};
 
 /// Reads an axis: `"x"`, `"y"` or `"z"`, or a unit vector along one of them.
 pub fn axis_of(value: &Bound<'_, PyAny>) -> PyResult<Axis> {

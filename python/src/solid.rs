@@ -39,7 +39,7 @@ use octsolid::{FileKind, MemoryBudget, NoProgress, SolidFile};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::errors::{IntoPy, invalid};
+use crate::errors::{ToPyResult, invalid};
 use crate::shapes::{Shape, axis_of};
 use crate::surface::LazySurface;
 
@@ -52,17 +52,15 @@ const DENSE_LIMIT: u64 = 1 << 27;
 /// csg` does); measure, save, export, mesh, move, offset and render it.
 #[pyclass(frozen, module = "octsolid")]
 pub struct Solid {
+    /// The octree, shared with solids made from it and with `keys()` arrays.
     pub tree: Arc<LinearOctree>,
+    /// What an `.oct` file records of its source (up axis, units).
     pub meta: Metadata,
+    /// The surface data, made when first needed.
     pub surface: Arc<LazySurface>,
 }
 
 impl Solid {
-    /// A solid without surface data.
-    pub fn plain(tree: LinearOctree) -> Solid {
-        Solid { tree: Arc::new(tree), meta: Metadata::default(), surface: LazySurface::none() }
-    }
-
     /// The surface data, made now if it was not yet (without the GIL).
     pub fn surface_data(&self, py: Python<'_>) -> PyResult<Option<Arc<HermiteData>>> {
         let (surface, tree) = (&self.surface, &self.tree);
@@ -269,10 +267,13 @@ impl Solid {
     /// Writes the solid to `path` in the format its extension names: `.oct` (with the
     /// surface data, as `octsolid` writes it), `.octs`, `.vox`, `.binvox`, `.vdb`,
     /// `.glb`, or its voxel boundary as a mesh (`.obj`, `.stl`, `.ply`, `.3mf`).
-    /// Returns the bytes written.
-    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<u64> {
+    /// `surface=False` leaves the `.oct` file's surface section out (a smaller file,
+    /// written sooner, as the library's `oct::write`; its smooth surface is then
+    /// estimated from the voxels). Returns the bytes written.
+    #[pyo3(signature = (path, surface=true))]
+    fn save(&self, py: Python<'_>, path: PathBuf, surface: bool) -> PyResult<u64> {
         let kind = FileKind::of(&path, FileKind::SOLID_OUTPUTS).py()?;
-        let surface = if kind == FileKind::Oct { self.surface_data(py)? } else { None };
+        let surface = if kind == FileKind::Oct && surface { self.surface_data(py)? } else { None };
         let (tree, meta) = (&self.tree, self.meta);
         py.detach(|| {
             let options = WriteOptions { meta, surface, ..WriteOptions::default() };

@@ -50,3 +50,27 @@ def test_turntable(tmp_path):
     # Three different views.
     frames = [sheet[:, 32 * i : 32 * (i + 1)] for i in range(3)]
     assert not (frames[0] == frames[1]).all() and not (frames[1] == frames[2]).all()
+
+
+def test_classic_part_writes_the_rust_examples_files(tmp_path):
+    # The Rust example's .oct (no surface section) and slice, byte for byte: the same
+    # library calls.
+    import numpy as np
+
+    from conftest import cli
+
+    run("classic_part.py", tmp_path, "--depth", 6)
+    solid = o.voxelize(
+        (o.Box((0, 0, 0), 2) & o.Sphere((0, 0, 0), 1.3))
+        - o.Cylinder((0, 0, 0), "x", 0.6, 3)
+        - o.Cylinder((0, 0, 0), "y", 0.6, 3)
+        - o.Cylinder((0, 0, 0), "z", 0.6, 3),
+        6,
+        ((-1, -1, -1), 2.0),
+    )
+    assert np.array_equal(o.load(tmp_path / "classic_part.oct").keys(), solid.keys())
+    with_surface = tmp_path / "with.oct"
+    solid.save(with_surface)
+    assert with_surface.stat().st_size > (tmp_path / "classic_part.oct").stat().st_size
+    cli("slice", tmp_path / "classic_part.oct", "--axis", "z", "--at", 0.8, "-o", tmp_path / "cli.png")
+    assert (tmp_path / "cli.png").read_bytes() == (tmp_path / "classic_part.png").read_bytes()
