@@ -4,7 +4,8 @@
 # the .oct file without a surface section, the slice at z = 0.8 as a PNG) and write the
 # same bytes (checked here); each is run N times (default 11), alternately, in a
 # scratch folder, and the median wall time printed, with the median time Python takes
-# to start and import numpy and octsolid (a constant the Rust binary does not pay).
+# to start and import numpy and octsolid (a constant the Rust binary does not pay);
+# then the Python work repeated in one process, each run timed.
 # Needs: cargo build --release --example classic_csg, and python/ci.sh's venv.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,3 +29,6 @@ cmp example-output/classic_csg/classic_csg.png py/classic_part.png
 echo "rust example   $(median <rust.txt) s"
 echo "python example $(median <python.txt) s"
 echo "python start   $(median <start.txt) s (interpreter, numpy and octsolid imported)"
+echo "python, the work $runs times in one process:"
+"$python" "$root/examples/python/classic_part.py" py --repeat "$runs" | grep '^run'
+

@@ -38,16 +38,20 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", nargs="?", default="example-output/python")
     parser.add_argument("--depth", type=int, default=9)
+    parser.add_argument("--repeat", type=int, default=1, help="do the work this many times, timing each")
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
-    started = time.perf_counter()
-    solid = o.voxelize(classic_part(), args.depth, domain=((-1, -1, -1), 2.0))
-    # Without the surface section, as the Rust example's oct::write.
-    solid.save(out / "classic_part.oct", surface=False)
-    o.write_png(out / "classic_part.png", solid.slice("z", 0.8, 768))
-    seconds = time.perf_counter() - started
+    for run in range(args.repeat):
+        started = time.perf_counter()
+        solid = o.voxelize(classic_part(), args.depth, domain=((-1, -1, -1), 2.0))
+        # Without the surface section, as the Rust example's oct::write.
+        solid.save(out / "classic_part.oct", surface=False)
+        o.write_png(out / "classic_part.png", solid.slice("z", 0.8, 768))
+        seconds = time.perf_counter() - started
+        if args.repeat > 1:
+            print(f"run {run + 1}: {seconds:.3f} s")
     exact = analytic_volume()
     print(f"classic CSG part at depth {args.depth}: {solid.node_count} nodes, {solid.voxel_count} voxels")
     print(f"volume {solid.volume:.5f}, analytic {exact:.5f} ({100 * (solid.volume / exact - 1):+.3f}%)")
