@@ -569,6 +569,25 @@ fn cannot(what: &str, e: octsolid::Error) -> PyErr {
     })
 }
 
+/// `value` as a contiguous 2-D numpy array of `dtype`, refused (naming `what`)
+/// when numpy cannot convert it or it is not 2-D.
+fn as_2d<'py>(
+    py: Python<'py>,
+    value: &Bound<'py, PyAny>,
+    dtype: &str,
+    what: &'static str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let array = py
+        .import("numpy")?
+        .call_method1("ascontiguousarray", (value, dtype))
+        .map_err(|e| invalid(what, e.to_string()))?;
+    if array.getattr("ndim")?.extract::<usize>()? != 2 {
+        let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+        return Err(invalid(what, format!("need a 2-D array, not shape {shape:?}")));
+    }
+    Ok(array)
+}
+
 /// The solid a triangle mesh encloses: `vertices` `(n, 3)` floats, `faces` `(m, 3)`
 /// integer indices, voxelized at `depth` in the cube around it (2% margin) or
 /// `domain`, inside by `inside`: `"auto"`, `"parity"` (watertight) or `"winding"`.
@@ -576,20 +595,21 @@ fn cannot(what: &str, e: octsolid::Error) -> PyErr {
 #[pyo3(signature = (vertices, faces, depth, inside="auto", domain=None))]
 pub fn from_mesh(
     py: Python<'_>,
-    vertices: PyReadonlyArray2<'_, f64>,
+    vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
     depth: u8,
     inside: &str,
     domain: Option<([f64; 3], f64)>,
 ) -> PyResult<Solid> {
+    // Any array-like (lists, other dtypes, trimesh's tracked arrays) as numpy's own.
+    let vertices = as_2d(py, vertices, "float64", "vertices")?;
+    let faces = as_2d(py, faces, "int64", "faces")?;
+    let vertices: PyReadonlyArray2<'_, f64> = vertices.extract()?;
+    let faces: PyReadonlyArray2<'_, i64> = faces.extract()?;
     let v = vertices.as_array();
     if v.ncols() != 3 {
         return Err(invalid("vertices", format!("need shape (n, 3), not {:?}", v.shape())));
     }
-    let faces: PyReadonlyArray2<'_, i64> = faces
-        .call_method1("astype", ("int64",))
-        .and_then(|a| a.extract())
-        .map_err(|_| invalid("faces", "need an integer array of shape (m, 3)"))?;
     let f = faces.as_array();
     if f.ncols() != 3 {
         return Err(invalid("faces", format!("need shape (m, 3), not {:?}", f.shape())));

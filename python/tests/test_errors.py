@@ -74,3 +74,17 @@ def test_an_empty_solid_has_nothing_to_export_or_draw(tmp_path):
         empty.export(tmp_path / "e.stl")
     with pytest.raises(o.Error, match="empty"):
         o.render(empty)
+
+
+def test_mesh_arrays_may_be_lists_or_other_dtypes():
+    # A tetrahedron as plain lists, integer coordinates: converted as numpy converts.
+    v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    f = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    tet = o.from_mesh(v, f, 5)
+    assert tet.volume == pytest.approx(1 / 6, rel=0.15)
+    as_arrays = o.from_mesh(np.array(v, dtype=np.float32), np.array(f, dtype=np.uint16), 5)
+    assert np.array_equal(tet.keys(), as_arrays.keys())
+    with pytest.raises(o.ArgumentError, match="2-D"):
+        o.from_mesh(np.zeros(9), f, 5)
+    with pytest.raises(o.ArgumentError, match="vertices"):
+        o.from_mesh([["a", "b", "c"]], f, 5)
