@@ -3,8 +3,10 @@
 # `octsolid` binary in target/release the tests compare against): a virtual
 # environment in target/python-venv (made once, then reused), the package built and
 # installed as a user installs it (`pip install ./python`, its Rust build in the
-# repository's target/ so the library's release build is shared), the Python crate's
-# formatting and lints, then pytest (python/tests, which also runs examples/python).
+# repository's target/, kept from run to run; the library is compiled once more for it,
+# since the module's dependencies unify to other features than the workspace's), the
+# Python crate's formatting and lints, then pytest (python/tests, which also runs
+# examples/python).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
