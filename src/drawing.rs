@@ -34,6 +34,7 @@ use crate::progress::{NoProgress, Progress};
 use crate::render::{Camera, CameraRequest, Framing, RenderOptions, RenderOverrides, Scene, Section, Up};
 use crate::scene_file::{self, CachePolicy, SceneReadOptions};
 use crate::solid_file::SolidFile;
+use crate::surface::HermiteData;
 use crate::warning::Warning;
 
 /// How [`Drawing::open`] reads a file.
@@ -179,11 +180,11 @@ impl Drawing {
         // One solid without a colour is drawn as it always was; else each in its colour.
         let mut drawing = if matches!(file.solids.solids.as_slice(), [one] if one.color.is_none()) {
             let surface = file.surface.take();
-            let mut drawing = Drawing::of_solid(file.into_union(), &name, up).map_err(|_| empty(path))?;
-            if let Some(surface) = surface {
-                drawing.scene.solids[0].set_surface(surface);
+            let drawing = Drawing::of_solid(file.into_union(), &name, up).map_err(|_| empty(path))?;
+            match surface {
+                Some(surface) => drawing.with_surface(surface),
+                None => drawing,
             }
-            drawing
         } else {
             let tree = file.union();
             let bounds = tree.bounds().ok_or_else(|| empty(path))?;
@@ -235,6 +236,17 @@ impl Drawing {
         }
         let framing = Framing::of_solid(&tree, up);
         Ok(Drawing::framing(Scene::of_solid(tree, name, up), framing))
+    }
+
+    /// The drawing of one solid ([`Drawing::of_solid`]) with its surface data, its
+    /// shading normals then the smooth surface's: what [`Drawing::open`] makes of a
+    /// `.oct` file with a surface section.
+    #[must_use]
+    pub fn with_surface(mut self, surface: HermiteData) -> Drawing {
+        if let [solid] = self.scene.solids.as_mut_slice() {
+            solid.set_surface(surface);
+        }
+        self
     }
 
     /// `scene` framed by `framing` with the default options.

@@ -43,7 +43,8 @@
 #![deny(missing_docs)]
 
 // Every Rust block of the README compiles (`cargo test --doc`; its shell commands are
-// run in order by tests/readme_walkthrough.rs).
+// run in order by tests/readme_walkthrough.rs; rustdoc leaves its `python` blocks
+// alone: python/tests/test_readme.py runs each of them).
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 struct ReadmeRustBlocks;

@@ -148,6 +148,16 @@ impl LinearOctree {
         &self.keys
     }
 
+    /// The sorted canonical keys as their `u64` encodings (see [`NodeKey`]'s module
+    /// doc), the same memory as [`LinearOctree::keys`]: what bindings hand out as an
+    /// array without copying.
+    #[must_use]
+    pub fn key_bits(&self) -> &[u64] {
+        // SAFETY: `NodeKey` is `#[repr(transparent)]` over a `u64`, so a slice of keys
+        // is a slice of `u64`s of the same length, alignment and lifetime.
+        unsafe { std::slice::from_raw_parts(self.keys.as_ptr().cast::<u64>(), self.keys.len()) }
+    }
+
     /// The sorted, canonical node keys, taken out.
     #[must_use]
     pub fn into_keys(self) -> Vec<NodeKey> {

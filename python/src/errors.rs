@@ -1,0 +1,97 @@
+//! The library's [`octsolid::Error`] as a Python exception: one class a kind of
+//! failure, all subclasses of `octsolid.Error` (defined in `octsolid/errors.py`, so
+//! that each can also subclass the built-in exception it is a case of), carrying the
+//! library's message with its file and place, and the file as `filename`.
+//!
+//! | library error | Python class | also a |
+//! | --- | --- | --- |
+//! | `Io`, `Unwritable` | `octsolid.FileError` | `OSError` |
+//! | `Format`, `Parse`, `Toml`, `Scene`, `UnknownExtension`, `Undrawable` | `octsolid.FormatError` | `ValueError` |
+//! | `InvalidArgument`, `DomainMismatch`, `InvalidOctree` | `octsolid.ArgumentError` | `ValueError` |
+//! | `OverBudget` | `octsolid.BudgetError` | `MemoryError` |
+//!
+//! A scene's error takes the class of its cause (a scene naming a missing file is a
+//! `FileError`), with the scene's place in the message.
+
+use std::path::Path;
+
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::PyType;
+
+/// The Python class a library error is raised as, by name in `octsolid.errors`.
+fn class_name(e: &octsolid::Error) -> &'static str {
+    use octsolid::Error as E;
+    match e {
+        E::Io { .. } | E::Unwritable { .. } => "FileError",
+        E::Scene { source, .. } => class_name(source),
+        E::Undrawable { cause: Some(cause), .. } => class_name(cause),
+        E::OverBudget { .. } => "BudgetError",
+        E::InvalidArgument { .. } | E::DomainMismatch { .. } | E::InvalidOctree { .. } => "ArgumentError",
+        _ => "FormatError",
+    }
+}
+
+/// The file an error names, if any.
+fn file_of(e: &octsolid::Error) -> Option<&Path> {
+    use octsolid::Error as E;
+    match e {
+        E::Io { path, .. }
+        | E::Format { path, .. }
+        | E::UnknownExtension { path, .. }
+        | E::Scene { path, .. }
+        | E::Unwritable { path, .. }
+        | E::Undrawable { path, .. }
+        | E::Parse { path, .. } => Some(path),
+        _ => None,
+    }
+}
+
+/// The class `name` of the module `octsolid.errors`, looked up once.
+fn error_class<'py>(py: Python<'py>, name: &'static str) -> PyResult<Bound<'py, PyType>> {
+    static MODULE: PyOnceLock<Py<PyModule>> = PyOnceLock::new();
+    let module = MODULE.get_or_try_init(py, || py.import("octsolid.errors").map(Bound::unbind))?;
+    Ok(module.bind(py).getattr(name)?.cast_into::<PyType>()?)
+}
+
+/// A library error as the Python exception of its kind (see the module doc).
+pub fn to_py(e: octsolid::Error) -> PyErr {
+    Python::attach(|py| {
+        let class = match error_class(py, class_name(&e)) {
+            Ok(class) => class,
+            Err(lookup) => return lookup,
+        };
+        let message = e.to_string();
+        let made = match file_of(&e) {
+            // OSError's (errno, strerror, filename) form sets `filename`; the message
+            // already names the file, so `str(error)` is the library's message.
+            Some(path) => class.call1((message,)).and_then(|err| {
+                err.setattr("filename", path.to_string_lossy().into_owned())?;
+                Ok(err)
+            }),
+            None => class.call1((message,)),
+        };
+        match made {
+            Ok(err) => PyErr::from_value(err),
+            Err(failed) => failed,
+        }
+    })
+}
+
+/// A refused argument of the Python layer itself (a wrong array shape, an unknown
+/// name), raised as `octsolid.ArgumentError` with the library's wording.
+pub fn invalid(what: &'static str, reason: impl Into<String>) -> PyErr {
+    to_py(octsolid::Error::InvalidArgument { what, reason: reason.into() })
+}
+
+/// `.map_err(to_py)` for library results.
+pub trait ToPyResult<T> {
+    /// The result with its error as the Python exception of its kind.
+    fn py(self) -> PyResult<T>;
+}
+
+impl<T> ToPyResult<T> for octsolid::Result<T> {
+    fn py(self) -> PyResult<T> {
+        self.map_err(to_py)
+    }
+}

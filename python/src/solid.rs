@@ -1,0 +1,663 @@
+//! `Solid`: a linear octree ([`LinearOctree`], shared, never changed) with its file
+//! metadata and its lazily made surface data ([`crate::surface`]), and the functions
+//! that make one: `voxelize` (a shape), `from_mesh` and `load_mesh` (triangles),
+//! `load` (any solid file). Every method is one or a few library calls, the ones the
+//! matching `octsolid` command makes, so the answers and the files are the CLI's:
+//!
+//! | Python | `octsolid` | library |
+//! | --- | --- | --- |
+//! | `voxelize(shape, depth)` | `shape` | `Domain::around` (2% margin), `octree::voxelize` |
+//! | `load_mesh(path, depth)`, `from_mesh` | `voxelize` | `import::voxelize_input` |
+//! | `load(path)` | any command's input | `SolidFile::read`, its union |
+//! | `a | b`, `&`, `-`, `^` | `csg` | `common_domain`, `fit_to`, `combine_all`, `HermiteData::combine` |
+//! | `.save(path)` | `-o path` | `write_solid_file` (`.oct` with its surface data) |
+//! | `.export(path)` | `export` | `surface::extract`, `separate_sheets` (STL), `write_mesh` |
+//! | `.transform(...)` | `transform` | `Motion`, `LinearOctree::transformed`, `resample_with_surface` |
+//! | `.offset`, `.shell`, `.round` | `offset`, `shell`, `round` | `LinearOctree::offset`, `shell`, `round` |
+//! | `.measure()` | `info` | `LinearOctree::measure` |
+//!
+//! The GIL is released (`Python::detach`) for every step that voxelizes, combines,
+//! moves, meshes, measures or touches a file.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use numpy::ndarray::{Array2, Array3, ArrayView1};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2};
+use octsolid::glam::{DAffine3, DVec3};
+use octsolid::import::{self, Fill, ImportOptions, Input};
+use octsolid::io::oct::Metadata;
+use octsolid::io::{ReadOptions, SolidsRef, WriteOptions};
+use octsolid::mesh::{InsideRule, TriangleMesh, separate_sheets, write_mesh};
+use octsolid::octree::{
+    Domain, Fit, LinearOctree, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
+    voxelize as voxelize_shape,
+};
+use octsolid::shape::Shape as _;
+use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, extract, resample_with_surface};
+use octsolid::{FileKind, MemoryBudget, NoProgress, SolidFile};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::{ToPyResult, invalid};
+use crate::shapes::{Shape, axis_of};
+use crate::surface::LazySurface;
+
+/// The most voxels `Solid.to_numpy` makes an array of unless told otherwise (2^27, a
+/// 512^3 grid, 128 MiB of bools).
+const DENSE_LIMIT: u64 = 1 << 27;
+
+/// A solid: the full nodes of a linear octree over a cubic domain. Combine with `|`,
+/// `&`, `-` and `^` (operands over other domains are brought into one as `octsolid
+/// csg` does); measure, save, export, mesh, move, offset and render it.
+#[pyclass(frozen, module = "octsolid")]
+pub struct Solid {
+    /// The octree, shared with solids made from it and with `keys()` arrays.
+    pub tree: Arc<LinearOctree>,
+    /// What an `.oct` file records of its source (up axis, units).
+    pub meta: Metadata,
+    /// The surface data, made when first needed.
+    pub surface: Arc<LazySurface>,
+}
+
+impl Solid {
+    /// The surface data, made now if it was not yet (without the GIL).
+    pub fn surface_data(&self, py: Python<'_>) -> PyResult<Option<Arc<HermiteData>>> {
+        let (surface, tree) = (&self.surface, &self.tree);
+        py.detach(|| surface.get(tree)).py()
+    }
+
+    /// The surface data as the solid's `.oct` file gives it back, to draw and mesh.
+    pub fn surface_read_back(&self, py: Python<'_>) -> PyResult<Option<Arc<HermiteData>>> {
+        let (surface, tree) = (&self.surface, &self.tree);
+        py.detach(|| surface.as_read_back(tree)).py()
+    }
+
+    /// The set operation `op` of `operands`, as `octsolid csg` makes it (module doc).
+    fn combine(py: Python<'_>, op: SetOp, operands: &[&Solid]) -> PyResult<Solid> {
+        let mut trees: Vec<Arc<LinearOctree>> = operands.iter().map(|s| s.tree.clone()).collect();
+        let mut surfaces: Vec<Arc<LazySurface>> = operands.iter().map(|s| s.surface.clone()).collect();
+        let target = common_domain(&trees.iter().map(|t| *t.domain()).collect::<Vec<_>>()).py()?;
+        for i in 0..trees.len() {
+            if *trees[i].domain() == target {
+                continue;
+            }
+            let data = if surfaces[i].is_some() { operands[i].surface_data(py)? } else { None };
+            let tree = trees[i].clone();
+            let (fitted, surface) = py
+                .detach(|| -> octsolid::Result<_> {
+                    let options = VoxelizeOptions::default();
+                    let (fitted, fit) = tree.fit_to(target, &options)?;
+                    Ok(match (fit, data) {
+                        // A resampling with surface data is made again from the smooth surface.
+                        (Fit::Resampled, Some(data)) => {
+                            let (again, data) =
+                                resample_with_surface(&tree, &data, DAffine3::IDENTITY, target, &options)?;
+                            (again, Some(data))
+                        }
+                        (fit, Some(data)) => {
+                            let kept = data.transformed(tree.domain(), DAffine3::IDENTITY, &fitted, fit);
+                            (fitted, kept)
+                        }
+                        (_, None) => (fitted, None),
+                    })
+                })
+                .py()?;
+            trees[i] = Arc::new(fitted);
+            surfaces[i] = LazySurface::ready(surface);
+        }
+        let operand_trees = trees.clone();
+        let result = py
+            .detach(|| LinearOctree::combine_all(&operand_trees.iter().map(|t| &**t).collect::<Vec<_>>(), op))
+            .py()?;
+        let surface = if surfaces.iter().any(|s| s.is_some()) {
+            LazySurface::later(Box::new(move |result: &LinearOctree| {
+                let none = HermiteData::none();
+                let data = trees.iter().zip(&surfaces).map(|(t, s)| s.get(t)).collect::<octsolid::Result<Vec<_>>>()?;
+                let operands: Vec<_> =
+                    trees.iter().zip(&data).map(|(t, d)| (&**t, d.as_deref().unwrap_or(&none))).collect();
+                HermiteData::combine(op, &operands, result).map(Some)
+            }))
+        } else {
+            LazySurface::none()
+        };
+        Ok(Solid { tree: Arc::new(result), meta: operands[0].meta, surface })
+    }
+
+    /// `self` and `other` (a solid) under `op`.
+    fn with(&self, py: Python<'_>, other: &Bound<'_, PyAny>, op: SetOp) -> PyResult<Solid> {
+        let other = other
+            .cast::<Solid>()
+            .map_err(|_| invalid("operand", "a set operation of solids needs two solids (voxelize a shape first)"))?;
+        Solid::combine(py, op, &[self, other.get()])
+    }
+
+    /// The solid's extracted boundary mesh, as `octsolid export` makes it.
+    fn extracted(&self, py: Python<'_>, style: Style, tolerance: f64) -> PyResult<TriangleMesh> {
+        let hermite = self.surface_read_back(py)?;
+        let tree = &self.tree;
+        py.detach(|| {
+            let hermite = hermite.as_deref().cloned().unwrap_or_else(HermiteData::none);
+            let options = ExtractOptions { style, tolerance, unit_faces: false, budget: MemoryBudget::default() };
+            Ok(extract(tree, &hermite, &options, &NoProgress)?.mesh)
+        })
+        .py()
+    }
+
+    /// A solid made by `op` from this one's tree, without surface data.
+    fn derived(
+        &self,
+        py: Python<'_>,
+        op: impl FnOnce(&LinearOctree) -> octsolid::Result<LinearOctree> + Send,
+    ) -> PyResult<Solid> {
+        let tree = &self.tree;
+        let result = py.detach(|| op(tree)).py()?;
+        Ok(Solid { tree: Arc::new(result), meta: self.meta, surface: LazySurface::none() })
+    }
+}
+
+/// A style name: `"smooth"` or `"voxels"`.
+fn style_of(name: &str) -> PyResult<Style> {
+    match name {
+        "smooth" => Ok(Style::Smooth),
+        "voxels" => Ok(Style::Voxels),
+        other => Err(invalid("surface", format!("{other:?} is not \"smooth\" or \"voxels\""))),
+    }
+}
+
+/// A domain given as `(min, edge)` at `depth`.
+fn domain_of(domain: ([f64; 3], f64), depth: u8) -> PyResult<Domain> {
+    Domain::new(DVec3::from_array(domain.0), domain.1, depth).py()
+}
+
+#[pymethods]
+impl Solid {
+    fn __or__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<Solid> {
+        self.with(py, other, SetOp::Union)
+    }
+    fn __and__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<Solid> {
+        self.with(py, other, SetOp::Intersection)
+    }
+    fn __sub__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<Solid> {
+        self.with(py, other, SetOp::Difference)
+    }
+    fn __xor__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<Solid> {
+        self.with(py, other, SetOp::SymmetricDifference)
+    }
+
+    /// Volume in world units: full voxels times the voxel's volume.
+    #[getter]
+    fn volume(&self) -> f64 {
+        self.tree.volume()
+    }
+
+    /// Number of full octree nodes (the solid's size in memory is 8 bytes a node).
+    #[getter]
+    fn node_count(&self) -> usize {
+        self.tree.node_count()
+    }
+
+    /// Number of full voxels.
+    #[getter]
+    fn voxel_count(&self) -> u64 {
+        self.tree.voxel_count()
+    }
+
+    /// The full voxels' bounding box `(min, max)`, or `None` for the empty solid.
+    #[getter]
+    fn bounds(&self) -> Option<([f64; 3], [f64; 3])> {
+        self.tree.bounds().map(|b| (b.min.to_array(), b.max.to_array()))
+    }
+
+    /// Octree depth: the domain is 2^depth voxels a side.
+    #[getter]
+    fn depth(&self) -> u8 {
+        self.tree.depth()
+    }
+
+    /// The domain cube `(min, edge)`.
+    #[getter]
+    fn domain(&self) -> ([f64; 3], f64) {
+        let d = self.tree.domain();
+        (d.min().to_array(), d.edge())
+    }
+
+    /// A voxel's edge in world units.
+    #[getter]
+    fn voxel_size(&self) -> f64 {
+        self.tree.domain().voxel_size()
+    }
+
+    fn __len__(&self) -> usize {
+        self.tree.node_count()
+    }
+
+    fn __repr__(&self) -> String {
+        let d = self.tree.domain();
+        format!(
+            "<octsolid.Solid {} nodes, depth {}, volume {:.6}, domain min {:?} edge {}>",
+            self.tree.node_count(),
+            d.depth(),
+            self.tree.volume(),
+            d.min().to_array(),
+            d.edge()
+        )
+    }
+
+    /// Volume, boundary area, centre of mass, inertia and components, as a dict:
+    /// `volume`, `area` (converging to a smooth surface's), `voxel_face_area`,
+    /// `centroid` (`None` when empty), `inertia` (3x3 about the centroid), `components`.
+    fn measure<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let tree = &self.tree;
+        let m = py.detach(|| tree.measure());
+        let dict = PyDict::new(py);
+        dict.set_item("volume", m.volume)?;
+        dict.set_item("area", m.surface_area)?;
+        dict.set_item("voxel_face_area", m.voxel_face_area)?;
+        dict.set_item("centroid", m.centre_of_mass.map(|c| c.to_array()))?;
+        let inertia = m.inertia.transpose().to_cols_array_2d();
+        dict.set_item(
+            "inertia",
+            PyArray2::from_vec2(py, &inertia.map(Vec::from)).map_err(|e| invalid("inertia", e.to_string()))?,
+        )?;
+        dict.set_item("components", m.components)?;
+        Ok(dict)
+    }
+
+    /// Writes the solid to `path` in the format its extension names: `.oct` (with the
+    /// surface data, as `octsolid` writes it), `.octs`, `.vox`, `.binvox`, `.vdb`,
+    /// `.glb`, or its voxel boundary as a mesh (`.obj`, `.stl`, `.ply`, `.3mf`).
+    /// `surface=False` leaves the `.oct` file's surface section out (a smaller file,
+    /// written sooner, as the library's `oct::write`; its smooth surface is then
+    /// estimated from the voxels). Returns the bytes written.
+    #[pyo3(signature = (path, surface=true))]
+    fn save(&self, py: Python<'_>, path: PathBuf, surface: bool) -> PyResult<u64> {
+        let kind = FileKind::of(&path, FileKind::SOLID_OUTPUTS).py()?;
+        let surface = if kind == FileKind::Oct && surface { self.surface_data(py)? } else { None };
+        let (tree, meta) = (&self.tree, self.meta);
+        py.detach(|| {
+            let options = WriteOptions { meta, surface, ..WriteOptions::default() };
+            octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, &NoProgress)
+        })
+        .py()
+    }
+
+    /// Writes the solid's boundary as a mesh, as `octsolid export` does: `.obj`,
+    /// `.stl` (vertices where voxels touch moved apart), `.ply`, `.3mf` or `.glb`;
+    /// `surface` `"smooth"` (dual contouring of the surface data) or `"voxels"`.
+    /// Returns the bytes written.
+    #[pyo3(signature = (path, surface="smooth", tolerance=DEFAULT_TOLERANCE))]
+    fn export(&self, py: Python<'_>, path: PathBuf, surface: &str, tolerance: f64) -> PyResult<u64> {
+        let mesh_kinds = [FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::ThreeMf, FileKind::Glb];
+        let kind = FileKind::of(&path, &mesh_kinds).py()?;
+        if self.tree.is_empty() {
+            return Err(crate::errors::to_py(octsolid::Error::Unwritable {
+                path,
+                reason: "the solid is empty; there is no boundary to export".into(),
+            }));
+        }
+        if kind == FileKind::Glb {
+            let (tree, meta) = (&self.tree, self.meta);
+            return py
+                .detach(|| {
+                    let up = meta.up.unwrap_or(octsolid::shape::Axis::Z);
+                    let options = WriteOptions { up, ..WriteOptions::default() };
+                    octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, &NoProgress)
+                })
+                .py();
+        }
+        let mesh = self.extracted(py, style_of(surface)?, tolerance)?;
+        py.detach(|| {
+            if kind == FileKind::Stl {
+                let separated = separate_sheets(&mesh).map_err(|e| octsolid::Error::Unwritable {
+                    path: path.clone(),
+                    reason: format!("cannot write STL ({e}); write .obj or .ply"),
+                })?;
+                return write_mesh(&separated, &path);
+            }
+            write_mesh(&mesh, &path)
+        })
+        .py()
+    }
+
+    /// The boundary as numpy arrays `(vertices, faces)`: float64 `(n, 3)` and uint32
+    /// `(m, 3)` (counter-clockwise seen from outside), as `.export` meshes it.
+    #[pyo3(signature = (surface="smooth", tolerance=DEFAULT_TOLERANCE))]
+    fn mesh<'py>(&self, py: Python<'py>, surface: &str, tolerance: f64) -> PyResult<MeshArrays<'py>> {
+        let mesh = self.extracted(py, style_of(surface)?, tolerance)?;
+        Ok(mesh_arrays(py, mesh))
+    }
+
+    /// The Morton keys of the full nodes, a read-only uint64 array sharing the
+    /// solid's memory (no copy; see the `.oct` format for their encoding).
+    fn keys<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<u64>>> {
+        let bits = slf.get().tree.key_bits();
+        let view = ArrayView1::from(bits);
+        // SAFETY: the array borrows the tree's keys, which the solid holds (frozen,
+        // behind an Arc, never changed) for as long as the array, whose base it is,
+        // lives; the array is made read-only below.
+        let array = unsafe { PyArray1::borrow_from_array(&view, slf.clone().into_any()) };
+        array.getattr("flags")?.setattr("writeable", false)?;
+        Ok(array)
+    }
+
+    /// The solid as a dense bool array `a[x, y, z]` of 2^depth voxels a side, refused
+    /// above `max_voxels` voxels (default 2^27).
+    #[pyo3(signature = (max_voxels=DENSE_LIMIT))]
+    fn to_numpy<'py>(&self, py: Python<'py>, max_voxels: u64) -> PyResult<Bound<'py, PyArray3<bool>>> {
+        let d = self.tree.domain();
+        if d.voxel_total() > max_voxels {
+            return Err(invalid(
+                "to_numpy",
+                format!("depth {} is {} voxels, more than max_voxels = {max_voxels}", d.depth(), d.voxel_total()),
+            ));
+        }
+        let n = d.resolution() as usize;
+        let tree = &self.tree;
+        let grid = py.detach(|| {
+            let mut grid = Array3::from_elem((n, n, n), false);
+            for node in tree.nodes() {
+                let [x, y, z] = node.min.map(|c| c as usize);
+                let s = node.size as usize;
+                grid.slice_mut(numpy::ndarray::s![x..x + s, y..y + s, z..z + s]).fill(true);
+            }
+            grid
+        });
+        Ok(grid.into_pyarray(py))
+    }
+
+    /// The solid moved as `octsolid transform` moves it: scaled by `scale` about the
+    /// origin, turned by each `(axis, degrees)` of `rotate` in order, moved by
+    /// `translate`; exact where voxels map to voxels, else resampled. `domain` `(min,
+    /// edge)` and `depth` choose the target (default: the moved domain when exact, else
+    /// a cube around the moved solid, at this depth).
+    #[pyo3(signature = (translate=None, rotate=None, scale=1.0, domain=None, depth=None))]
+    fn transform(
+        &self,
+        py: Python<'_>,
+        translate: Option<[f64; 3]>,
+        rotate: Option<Vec<(Bound<'_, PyAny>, f64)>>,
+        scale: f64,
+        domain: Option<([f64; 3], f64)>,
+        depth: Option<u8>,
+    ) -> PyResult<Solid> {
+        let turns = rotate
+            .unwrap_or_default()
+            .iter()
+            .map(|(axis, degrees)| Ok(Turn { axis: axis_of(axis)?, degrees: *degrees }))
+            .collect::<PyResult<Vec<_>>>()?;
+        let motion = Motion { scale, turns, translate: translate.map_or(DVec3::ZERO, DVec3::from) };
+        let map = motion.checked_affine().py()?;
+        let data = if self.surface.is_some() { self.surface_data(py)? } else { None };
+        let tree = &self.tree;
+        let (moved, surface) = py
+            .detach(|| -> octsolid::Result<_> {
+                let target = |default: Domain| -> octsolid::Result<Domain> {
+                    match (domain, depth) {
+                        (Some((min, edge)), d) => {
+                            Domain::new(DVec3::from_array(min), edge, d.unwrap_or(default.depth()))
+                        }
+                        (None, Some(d)) => default.with_depth(d),
+                        (None, None) => Ok(default),
+                    }
+                };
+                let options = VoxelizeOptions::default();
+                let (moved, fit) = tree.transformed(map, target, &options)?;
+                Ok(match data {
+                    // A resampling with surface data is made again from the moved smooth surface.
+                    Some(data) if fit == Fit::Resampled => {
+                        let (moved, data) = resample_with_surface(tree, &data, map, *moved.domain(), &options)?;
+                        (moved, Some(data))
+                    }
+                    Some(data) => {
+                        let kept = data.transformed(tree.domain(), map, &moved, fit);
+                        (moved, kept)
+                    }
+                    None => (moved, None),
+                })
+            })
+            .py()?;
+        Ok(Solid { tree: Arc::new(moved), meta: self.meta, surface: LazySurface::ready(surface) })
+    }
+
+    /// The solid grown (positive `by`) or shrunk (negative) by a ball of radius `|by|`
+    /// world units, as `octsolid offset --by` (`voxels=True`: `by` counts voxels).
+    #[pyo3(signature = (by, voxels=false))]
+    fn offset(&self, py: Python<'_>, by: f64, voxels: bool) -> PyResult<Solid> {
+        let d = if voxels { by } else { by * self.tree.domain().voxels_per_unit() };
+        self.derived(py, |t| t.offset(d, &OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress }))
+    }
+
+    /// The solid hollowed to a wall `thickness` world units thick inside its surface
+    /// (`outward=True`: outside it), as `octsolid shell`.
+    #[pyo3(signature = (thickness, outward=false))]
+    fn shell(&self, py: Python<'_>, thickness: f64, outward: bool) -> PyResult<Solid> {
+        if thickness <= 0.0 {
+            return Err(invalid("thickness", format!("must be positive, not {thickness}")));
+        }
+        let t = thickness * self.tree.domain().voxels_per_unit();
+        self.derived(py, |tree| {
+            tree.shell(t, outward, &OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress })
+        })
+    }
+
+    /// The solid with its edges rounded to `radius` world units, as `octsolid round`:
+    /// both kinds of edge unless `convex` or `concave` picks one.
+    #[pyo3(signature = (radius, convex=false, concave=false))]
+    fn round(&self, py: Python<'_>, radius: f64, convex: bool, concave: bool) -> PyResult<Solid> {
+        if radius <= 0.0 {
+            return Err(invalid("radius", format!("must be positive, not {radius}")));
+        }
+        let (convex, concave) = if convex || concave { (convex, concave) } else { (true, true) };
+        let r = radius * self.tree.domain().voxels_per_unit();
+        self.derived(py, |tree| {
+            tree.round(r, convex, concave, &OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress })
+        })
+    }
+
+    /// The solid's picture as PNG bytes (480x360, as `octsolid.render` draws it), so a
+    /// notebook shows a solid.
+    fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        crate::render::repr_png(py, self)
+    }
+
+    /// A cross-section as an `(size, size, 3)` uint8 picture, as `octsolid slice`
+    /// draws it: the plane across `axis` (`"x"`, `"y"`, `"z"`) at `at` (default: the
+    /// domain's middle).
+    #[pyo3(signature = (axis="z", at=None, size=768))]
+    fn slice<'py>(
+        &self,
+        py: Python<'py>,
+        axis: &str,
+        at: Option<f64>,
+        size: u32,
+    ) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        let axis: octsolid::shape::Axis = axis.to_ascii_lowercase().parse().map_err(|e: String| invalid("axis", e))?;
+        let d = self.tree.domain();
+        let at = at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
+        let tree = &self.tree;
+        let image = py.detach(|| octsolid::slice::slice_image(tree, axis, at, size)).py()?;
+        Ok(crate::render::picture_array(py, image))
+    }
+
+    /// Whether the point `p` lies in a full voxel.
+    fn contains(&self, p: [f64; 3]) -> bool {
+        self.tree.contains_point(DVec3::from_array(p))
+    }
+}
+
+/// A mesh's vertices `(n, 3)` float64 and triangles `(m, 3)` uint32.
+pub type MeshArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>);
+
+/// A mesh as numpy arrays without copying its buffers: the vertices' `Vec<DVec3>` is
+/// the `(n, 3)` float64 array's memory, the triangles' the `(m, 3)` uint32 one's.
+pub fn mesh_arrays(py: Python<'_>, mesh: TriangleMesh) -> MeshArrays<'_> {
+    let (n, m) = (mesh.vertices.len(), mesh.triangles.len());
+    let vertices: Vec<f64> = crate::flat::vertices(mesh.vertices);
+    let triangles: Vec<u32> = crate::flat::triangles(mesh.triangles);
+    let vertices = Array2::from_shape_vec((n, 3), vertices).expect("3 coordinates a vertex");
+    let triangles = Array2::from_shape_vec((m, 3), triangles).expect("3 corners a triangle");
+    (vertices.into_pyarray(py), triangles.into_pyarray(py))
+}
+
+/// The default domain of a shape at `depth`: a cube around it with a 2% margin, as
+/// `octsolid shape` makes it.
+fn shape_domain(shape: &octsolid::shape::Csg, depth: u8) -> PyResult<Domain> {
+    let bounds = shape.bounds().ok_or_else(|| {
+        invalid("domain", "the shape is unbounded (a half-space, a complement); give domain=(min, edge)")
+    })?;
+    Domain::around(&bounds, 0.02, depth).py()
+}
+
+/// Voxelizes `shape` at `depth` (2^depth voxels a side) over `domain` `(min, edge)`,
+/// default a cube around the shape (2% margin), as `octsolid shape` does.
+#[pyfunction]
+#[pyo3(signature = (shape, depth, domain=None))]
+pub fn voxelize(py: Python<'_>, shape: &Shape, depth: u8, domain: Option<([f64; 3], f64)>) -> PyResult<Solid> {
+    let built = Arc::new(shape.build()?);
+    let domain = match domain {
+        Some(d) => domain_of(d, depth)?,
+        None => shape_domain(&built, depth)?,
+    };
+    let tree = py.detach(|| voxelize_shape(&*built, domain, &VoxelizeOptions::default())).py()?;
+    let surface =
+        LazySurface::later(Box::new(move |tree: &LinearOctree| Ok(Some(HermiteData::from_shape(&*built, tree)))));
+    Ok(Solid { tree: Arc::new(tree), meta: Metadata::default(), surface })
+}
+
+/// An inside rule by name: `"auto"`, `"parity"` or `"winding"`.
+fn inside_of(name: &str) -> PyResult<InsideRule> {
+    name.parse().map_err(|e: String| invalid("inside", e))
+}
+
+/// Voxelizes a loaded mesh or patch set as `octsolid voxelize` does, keeping how to
+/// make its surface data.
+fn voxelize_input(
+    py: Python<'_>,
+    input: Input,
+    depth: u8,
+    inside: &str,
+    domain: Option<([f64; 3], f64)>,
+    up: octsolid::shape::Axis,
+    what: &str,
+) -> PyResult<Solid> {
+    let inside = inside_of(inside)?;
+    let domain = match domain {
+        Some(d) => domain_of(d, depth)?,
+        None => import::default_domain(&input, depth).map_err(|e| cannot(what, e))?,
+    };
+    let (tree, summary) = py
+        .detach(|| {
+            import::voxelize_input(&input, domain, &ImportOptions { fill: Fill::Solid, inside, ..Default::default() })
+        })
+        .map_err(|e| cannot(what, e))?;
+    let surface = LazySurface::later(Box::new(move |tree: &LinearOctree| {
+        import::surface_of_input(&input, tree, &summary, MemoryBudget::default())
+    }));
+    Ok(Solid { tree: Arc::new(tree), meta: Metadata { up: Some(up), units: None }, surface })
+}
+
+/// `what: cannot voxelize: error` as an `octsolid.Error` of the error's kind.
+fn cannot(what: &str, e: octsolid::Error) -> PyErr {
+    let err = crate::errors::to_py(e);
+    Python::attach(|py| {
+        let message = format!("{what}: cannot voxelize: {}", err.value(py));
+        match err.get_type(py).call1((message,)) {
+            Ok(value) => PyErr::from_value(value),
+            Err(e) => e,
+        }
+    })
+}
+
+/// `value` as a contiguous 2-D numpy array of `dtype`, refused (naming `what`)
+/// when numpy cannot convert it or it is not 2-D.
+fn as_2d<'py>(
+    py: Python<'py>,
+    value: &Bound<'py, PyAny>,
+    dtype: &str,
+    what: &'static str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let array = py
+        .import("numpy")?
+        .call_method1("ascontiguousarray", (value, dtype))
+        .map_err(|e| invalid(what, e.to_string()))?;
+    if array.getattr("ndim")?.extract::<usize>()? != 2 {
+        let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+        return Err(invalid(what, format!("need a 2-D array, not shape {shape:?}")));
+    }
+    Ok(array)
+}
+
+/// The solid a triangle mesh encloses: `vertices` `(n, 3)` floats, `faces` `(m, 3)`
+/// integer indices, voxelized at `depth` in the cube around it (2% margin) or
+/// `domain`, inside by `inside`: `"auto"`, `"parity"` (watertight) or `"winding"`.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, depth, inside="auto", domain=None))]
+pub fn from_mesh(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    depth: u8,
+    inside: &str,
+    domain: Option<([f64; 3], f64)>,
+) -> PyResult<Solid> {
+    // Any array-like (lists, other dtypes, trimesh's tracked arrays) as numpy's own.
+    let vertices = as_2d(py, vertices, "float64", "vertices")?;
+    let faces = as_2d(py, faces, "int64", "faces")?;
+    let vertices: PyReadonlyArray2<'_, f64> = vertices.extract()?;
+    let faces: PyReadonlyArray2<'_, i64> = faces.extract()?;
+    let v = vertices.as_array();
+    if v.ncols() != 3 {
+        return Err(invalid("vertices", format!("need shape (n, 3), not {:?}", v.shape())));
+    }
+    let f = faces.as_array();
+    if f.ncols() != 3 {
+        return Err(invalid("faces", format!("need shape (m, 3), not {:?}", f.shape())));
+    }
+    let n = v.nrows();
+    let vertices: Vec<DVec3> = v.rows().into_iter().map(|r| DVec3::new(r[0], r[1], r[2])).collect();
+    let triangles = f
+        .rows()
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let corner = |c: i64| {
+                u32::try_from(c)
+                    .ok()
+                    .filter(|&c| (c as usize) < n)
+                    .ok_or_else(|| invalid("faces", format!("face {i} names vertex {c}, outside 0..{n}")))
+            };
+            Ok([corner(r[0])?, corner(r[1])?, corner(r[2])?])
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let mesh = TriangleMesh::new(vertices, triangles).py()?;
+    voxelize_input(py, Input::Mesh(mesh), depth, inside, domain, octsolid::shape::Axis::Z, "mesh")
+}
+
+/// The solid the mesh or patch file at `path` encloses (`.obj`, `.stl`, `.ply`,
+/// `.patches`), voxelized as `octsolid voxelize path --depth depth` does.
+#[pyfunction]
+#[pyo3(signature = (path, depth=8, inside="auto", domain=None))]
+pub fn load_mesh(
+    py: Python<'_>,
+    path: PathBuf,
+    depth: u8,
+    inside: &str,
+    domain: Option<([f64; 3], f64)>,
+) -> PyResult<Solid> {
+    let up = FileKind::of(&path, FileKind::SURFACES).py()?.default_up();
+    let input = py.detach(|| Input::read(&path)).py()?;
+    voxelize_input(py, input, depth, inside, domain, up, &path.display().to_string())
+}
+
+/// The solid in the file at `path`: `.oct`, `.octs`, `.vox`, `.binvox` or `.vdb` (a
+/// file of several solids gives their union), with the surface data and metadata the
+/// file carries.
+#[pyfunction]
+pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Solid> {
+    FileKind::of(&path, FileKind::SOLIDS).py()?;
+    let mut file = py.detach(|| SolidFile::read(&path, &ReadOptions::default())).py()?;
+    let meta = file.meta;
+    let surface = LazySurface::read(file.surface.take());
+    Ok(Solid { tree: Arc::new(file.into_union()), meta, surface })
+}

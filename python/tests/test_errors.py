@@ -1,0 +1,90 @@
+"""Bad input raises octsolid.Error (of the kind that fits: OSError, ValueError,
+MemoryError) with the library's message naming the file and place; it never crashes
+the interpreter."""
+
+import numpy as np
+import pytest
+
+import octsolid as o
+
+
+def test_a_missing_file_is_a_file_error(tmp_path):
+    missing = tmp_path / "missing.oct"
+    with pytest.raises(o.FileError) as caught:
+        o.load(missing)
+    e = caught.value
+    assert isinstance(e, o.Error) and isinstance(e, OSError)
+    assert str(missing) in str(e) and e.filename == str(missing)
+    with pytest.raises(OSError):
+        o.load_mesh(tmp_path / "missing.stl")
+
+
+def test_a_malformed_file_names_the_file_and_place(tmp_path):
+    bad = tmp_path / "bad.oct"
+    bad.write_bytes(b"OCTS" + bytes(range(60)))
+    with pytest.raises(o.FormatError) as caught:
+        o.load(bad)
+    assert isinstance(caught.value, ValueError) and str(bad) in str(caught.value)
+    obj = tmp_path / "bad.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 nine\n")
+    with pytest.raises(o.Error) as caught:
+        o.load_mesh(obj, depth=4)
+    assert str(obj) in str(caught.value) and "line 4" in str(caught.value)
+    scene = tmp_path / "bad.toml"
+    scene.write_text('[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = -1 } }\n')
+    with pytest.raises(o.Error) as caught:
+        o.render(scene)
+    assert f"{scene}:2:" in str(caught.value)
+
+
+def test_unknown_extensions_are_refused(tmp_path):
+    solid = o.voxelize(o.Sphere((0, 0, 0), 1), 3)
+    with pytest.raises(o.FormatError, match="use"):
+        solid.save(tmp_path / "x.docx")
+    with pytest.raises(o.FormatError):
+        solid.export(tmp_path / "x.oct")
+    with pytest.raises(o.FileError):
+        solid.save(tmp_path / "no-such-folder" / "x.oct")
+
+
+def test_bad_arguments_are_value_errors():
+    with pytest.raises(o.ArgumentError, match="radius"):
+        o.Sphere((0, 0, 0), -1)
+    with pytest.raises(ValueError):
+        o.Cylinder((0, 0, 0), "w", 1, 1)
+    with pytest.raises(o.ArgumentError, match="depth"):
+        o.voxelize(o.Sphere((0, 0, 0), 1), 40)
+    with pytest.raises(o.ArgumentError, match="vertex 7"):
+        o.from_mesh(np.zeros((3, 3)), np.array([[0, 1, 7]]), 4)
+    with pytest.raises(o.ArgumentError, match=r"\(n, 3\)"):
+        o.from_mesh(np.zeros((3, 2)), np.array([[0, 1, 2]]), 4)
+    with pytest.raises(o.ArgumentError, match="method"):
+        o.render(o.voxelize(o.Sphere((0, 0, 0), 1), 3), method="magic")
+    with pytest.raises(o.ArgumentError):
+        o.voxelize(o.Sphere((0, 0, 0), 1), 3).shell(-1)
+    with pytest.raises(TypeError):
+        o.Sphere((0, 0, 0), 1) | 3
+
+
+def test_an_empty_solid_has_nothing_to_export_or_draw(tmp_path):
+    ball = o.voxelize(o.Sphere((0, 0, 0), 1), 3)
+    empty = ball - ball
+    assert empty.volume == 0 and empty.bounds is None
+    with pytest.raises(o.FileError, match="empty"):
+        empty.export(tmp_path / "e.stl")
+    with pytest.raises(o.Error, match="empty"):
+        o.render(empty)
+
+
+def test_mesh_arrays_may_be_lists_or_other_dtypes():
+    # A tetrahedron as plain lists, integer coordinates: converted as numpy converts.
+    v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    f = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    tet = o.from_mesh(v, f, 5)
+    assert tet.volume == pytest.approx(1 / 6, rel=0.15)
+    as_arrays = o.from_mesh(np.array(v, dtype=np.float32), np.array(f, dtype=np.uint16), 5)
+    assert np.array_equal(tet.keys(), as_arrays.keys())
+    with pytest.raises(o.ArgumentError, match="2-D"):
+        o.from_mesh(np.zeros(9), f, 5)
+    with pytest.raises(o.ArgumentError, match="vertices"):
+        o.from_mesh([["a", "b", "c"]], f, 5)
