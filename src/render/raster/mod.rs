@@ -14,6 +14,7 @@
 //! - Z-buffer: the faces in any order (here: the octree's, with children in storage
 //!   order), kept where nearer than the depth stored for the sample.
 
+mod depth_sort;
 mod face;
 mod front_to_back;
 pub mod polygon;
