@@ -45,12 +45,8 @@ fn the_chapter_script_runs_and_makes_every_picture_the_chapter_shows() {
     }
     assert_eq!(made, chapter_pictures(&root.join("docs/images")), "the script's pictures and the committed ones");
     let chapter = std::fs::read_to_string(root.join("docs/CHAPTER.md")).unwrap();
-    let shown: BTreeSet<String> = chapter
-        .split("images/")
-        .skip(1)
-        .filter_map(|rest| rest.split(')').next())
-        .map(str::to_string)
-        .collect();
+    let shown: BTreeSet<String> =
+        chapter.split("](images/").skip(1).filter_map(|rest| rest.split(')').next()).map(str::to_string).collect();
     assert!(!shown.is_empty());
     assert!(shown.is_subset(&made), "shown but not made: {:?}", shown.difference(&made).collect::<Vec<_>>());
     std::fs::remove_dir_all(&out).unwrap();
