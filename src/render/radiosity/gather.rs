@@ -98,94 +98,142 @@ pub(crate) fn gather(
         ));
     }
     budget.check(what, bytes)?;
-    let live = |e: usize| patches.elements[e].is_leaf() && patches.elements[e].area > 0.0;
-    // The matrix, row by row, and each element's light from the lights.
-    progress.start(n_e as u64);
-    let mut matrix = vec![0.0f64; n_e * n_p];
-    let rows: Vec<(DVec3, u64)> = matrix
-        .par_chunks_mut(n_p.max(1))
-        .enumerate()
-        .with_min_len(16)
-        .map(|(e, row)| {
-            if !live(e) {
+    let (system, rays) = System::build(scene, patches, progress);
+    let (radiosity, patch_b, iterations, history) = system.solve(tolerance);
+    let (emitted, absorbed) = system.energy_book(scene, &patch_b);
+    Ok(Gathered { radiosity, iterations, history, rays, emitted, absorbed, escaped: emitted - absorbed })
+}
+
+/// The linear system: the form factors, each element's source and what it needs.
+struct System<'a> {
+    patches: &'a Patches,
+    /// `F(dA_e -> A_j)`, row `e` at `e n_p`.
+    matrix: Vec<f64>,
+    /// Each element's light from the scene's lights, before reflection.
+    lit: Vec<DVec3>,
+    /// Each element's `E_e`: its patch's emission plus its reflected direct light.
+    source: Vec<DVec3>,
+    /// The elements that gather: leaves of some area.
+    live: Vec<usize>,
+}
+
+impl<'a> System<'a> {
+    /// The matrix, row by row in parallel, and the sources; the rays cast.
+    fn build(scene: &Scene, patches: &'a Patches, progress: &dyn Progress) -> (Self, u64) {
+        let (n_e, n_p) = (patches.elements.len(), patches.patches.len());
+        let is_live = |e: usize| patches.elements[e].is_leaf() && patches.elements[e].area > 0.0;
+        progress.start(n_e as u64);
+        let mut matrix = vec![0.0f64; n_e * n_p];
+        let rows: Vec<(DVec3, u64)> = matrix
+            .par_chunks_mut(n_p.max(1))
+            .enumerate()
+            .with_min_len(16)
+            .map(|(e, row)| {
+                let result = if is_live(e) { Self::row(scene, patches, e, row) } else { (DVec3::ZERO, 0) };
                 progress.advance(1);
-                return (DVec3::ZERO, 0);
+                result
+            })
+            .collect();
+        progress.finish();
+        let rays = rows.iter().map(|r| r.1).sum();
+        let lit: Vec<DVec3> = rows.into_iter().map(|r| r.0).collect();
+        let source = (0..n_e)
+            .map(|e| {
+                let p = &patches.patches[patches.elements[e].patch as usize];
+                p.emission + lit[e] * p.reflectance
+            })
+            .collect();
+        let live = (0..n_e).filter(|&e| is_live(e)).collect();
+        (System { patches, matrix, lit, source, live }, rays)
+    }
+
+    /// Element `e`'s row of form factors (to every patch but its own), its light from
+    /// the lights, and the rays cast.
+    fn row(scene: &Scene, patches: &Patches, e: usize, row: &mut [f64]) -> (DVec3, u64) {
+        let element = &patches.elements[e];
+        let mut rays = scene.lights.len() as u64;
+        for (j, (f, patch)) in row.iter_mut().zip(&patches.patches).enumerate() {
+            if j != element.patch as usize {
+                let (ff, r) = element_to_patch(scene, element, patch);
+                *f = ff;
+                rays += u64::from(r);
             }
-            let element = &patches.elements[e];
-            let mut rays = scene.lights.len() as u64;
-            for (j, (f, patch)) in row.iter_mut().zip(&patches.patches).enumerate() {
-                if j != element.patch as usize {
-                    let (ff, r) = element_to_patch(scene, element, patch);
-                    *f = ff;
-                    rays += u64::from(r);
-                }
+        }
+        let lit = scene.lights.iter().map(|l| from_light(scene, patches, element, l)).sum();
+        (lit, rays)
+    }
+
+    /// `rho_e`.
+    fn rho(&self, e: usize) -> DVec3 {
+        self.patches.patches[self.patches.elements[e].patch as usize].reflectance
+    }
+
+    /// `A_e / A_p(e)`.
+    fn share(&self, e: usize) -> f64 {
+        let el = &self.patches.elements[e];
+        el.area / self.patches.patches[el.patch as usize].area
+    }
+
+    /// `sum_j F_ej B_j`.
+    fn gathered(&self, e: usize, patch_b: &[DVec3]) -> DVec3 {
+        let n_p = patch_b.len();
+        self.matrix[e * n_p..(e + 1) * n_p].iter().zip(patch_b).map(|(f, bj)| *bj * *f).sum()
+    }
+
+    /// Gauss-Seidel from the sources: the elements' and patches' radiosities, the
+    /// sweeps and the relative residual after each.
+    fn solve(&self, tolerance: f64) -> (Vec<DVec3>, Vec<DVec3>, u64, Vec<f64>) {
+        let patches = self.patches;
+        let mut b = self.source.clone();
+        let mut patch_b = vec![DVec3::ZERO; patches.patches.len()];
+        for &e in &self.live {
+            patch_b[patches.elements[e].patch as usize] += b[e] * self.share(e);
+        }
+        let mut history = Vec::new();
+        let mut iterations = 0;
+        while iterations < MAX_ITERATIONS {
+            iterations += 1;
+            for &e in &self.live {
+                let new = self.source[e] + self.rho(e) * self.gathered(e, &patch_b);
+                patch_b[patches.elements[e].patch as usize] += (new - b[e]) * self.share(e);
+                b[e] = new;
             }
-            let lit: DVec3 = scene.lights.iter().map(|l| from_light(scene, patches, element, l)).sum();
-            progress.advance(1);
-            (lit, rays)
-        })
-        .collect();
-    progress.finish();
-    let rays = rows.iter().map(|r| r.1).sum();
-    let lit: Vec<DVec3> = rows.into_iter().map(|r| r.0).collect();
-    let rho = |e: usize| patches.patches[patches.elements[e].patch as usize].reflectance;
-    let source: Vec<DVec3> = (0..n_e)
-        .map(|e| {
-            let p = &patches.patches[patches.elements[e].patch as usize];
-            p.emission + if live(e) { lit[e] * p.reflectance } else { DVec3::ZERO }
-        })
-        .collect();
-    let share = |e: usize| {
-        let el = &patches.elements[e];
-        el.area / patches.patches[el.patch as usize].area
-    };
-    // Start from the sources; the patches' radiosities their elements' area means.
-    let mut b = source.clone();
-    let mut patch_b = vec![DVec3::ZERO; n_p];
-    for e in (0..n_e).filter(|&e| live(e)) {
-        patch_b[patches.elements[e].patch as usize] += b[e] * share(e);
-    }
-    let gathered = |e: usize, patch_b: &[DVec3]| -> DVec3 {
-        matrix[e * n_p..(e + 1) * n_p].iter().zip(patch_b).map(|(f, bj)| *bj * *f).sum()
-    };
-    let mut history = Vec::new();
-    let mut iterations = 0;
-    while iterations < MAX_ITERATIONS {
-        iterations += 1;
-        for e in (0..n_e).filter(|&e| live(e)) {
-            let new = source[e] + rho(e) * gathered(e, &patch_b);
-            patch_b[patches.elements[e].patch as usize] += (new - b[e]) * share(e);
-            b[e] = new;
+            let largest_residual = self
+                .live
+                .par_iter()
+                .map(|&e| total((self.source[e] + self.rho(e) * self.gathered(e, &patch_b) - b[e]).abs()))
+                .reduce(|| 0.0, f64::max);
+            let largest = b.iter().map(|v| total(v.abs())).fold(0.0, f64::max);
+            let residual = if largest > 0.0 { largest_residual / largest } else { 0.0 };
+            history.push(residual);
+            if residual <= tolerance {
+                break;
+            }
         }
-        let largest_residual = (0..n_e)
-            .into_par_iter()
-            .filter(|&e| live(e))
-            .map(|e| total((source[e] + rho(e) * gathered(e, &patch_b) - b[e]).abs()))
-            .reduce(|| 0.0, f64::max);
-        let largest = b.iter().map(|v| total(v.abs())).fold(0.0, f64::max);
-        let residual = if largest > 0.0 { largest_residual / largest } else { 0.0 };
-        history.push(residual);
-        if residual <= tolerance {
-            break;
+        (b, patch_b, iterations, history)
+    }
+
+    /// Power emitted (the patches' `pi A E`, the point lights' `4 pi I`, what the
+    /// elements receive of directional lights) and absorbed (`(1 - rho)` of what the
+    /// elements receive), summed over the channels.
+    fn energy_book(&self, scene: &Scene, patch_b: &[DVec3]) -> (f64, f64) {
+        let patches = self.patches;
+        let mut emitted: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
+        emitted += scene.lights.iter().map(point_power).sum::<f64>();
+        let mut absorbed = 0.0;
+        for &e in &self.live {
+            let incident = self.lit[e] + self.gathered(e, patch_b);
+            absorbed += PI * patches.elements[e].area * total(incident * (DVec3::ONE - self.rho(e)));
         }
-    }
-    // The energy book: emitted = absorbed + escaped (nothing is left unshot).
-    let mut emitted: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
-    emitted += scene.lights.iter().map(point_power).sum::<f64>();
-    let mut absorbed = 0.0;
-    for e in (0..n_e).filter(|&e| live(e)) {
-        let area = patches.elements[e].area;
-        let incident = lit[e] + gathered(e, &patch_b);
-        absorbed += PI * area * total(incident * (DVec3::ONE - rho(e)));
-    }
-    for light in &scene.lights {
-        if let Light::Directional { .. } = light {
-            let incident = (0..n_e).filter(|&e| live(e)).map(|e| {
-                let el = &patches.elements[e];
-                PI * el.area * total(from_light(scene, patches, el, light))
-            });
-            emitted += incident.sum::<f64>();
+        for light in &scene.lights {
+            if let Light::Directional { .. } = light {
+                let incident = self.live.iter().map(|&e| {
+                    let el = &patches.elements[e];
+                    PI * el.area * total(from_light(scene, patches, el, light))
+                });
+                emitted += incident.sum::<f64>();
+            }
         }
+        (emitted, absorbed)
     }
-    Ok(Gathered { radiosity: b, iterations, history, rays, emitted, absorbed, escaped: emitted - absorbed })
 }
