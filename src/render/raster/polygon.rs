@@ -1,7 +1,10 @@
-//! Polygon rendering of triangle meshes (seed: shading of polygon objects): a scan-line
-//! Z-buffer with flat, Gouraud or Phong interpolation shading, no shadows.
+//! Polygon rendering of triangle meshes (seed: shading of polygon objects): visibility
+//! by the scan-line Z-buffer (the default), a whole-image Z-buffer or the depth sort
+//! ([`MeshVisibility`]; painter's in `depth_sort`), then flat, Gouraud or Phong
+//! interpolation shading, no shadows.
 //!
-//! Visibility: every triangle is projected by the camera; a row of the image gathers
+//! Visibility by scan lines ([`fragments`]; the Z-buffer, [`z_buffer_fragments`], tests
+//! the same pixel centres with the same barycentrics and depths): every triangle is projected by the camera; a row of the image gathers
 //! the triangles whose projected rows cover it (the active polygons of that scan line),
 //! and for each pixel centre `(x, y)` inside a triangle's projection (screen-space
 //! barycentrics `l0, l1, l2` from the edge functions, all `>= 0`; top-left rule-free:
