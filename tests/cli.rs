@@ -934,6 +934,75 @@ shape = {{ box = {{ center = [0, 0, 0.45], size = [0.25, 0.25, 0.0625] }} }}
 }
 
 #[test]
+fn radiosity_gathers_by_gauss_seidel_and_agrees_with_shooting() {
+    let dir = scratch("gathering");
+    std::fs::write(dir.join("room.toml"), room_scene(4.0)).unwrap();
+    let solve = |solver: &str, out: &str| -> serde_json::Value {
+        let args = ["radiosity", "room.toml", "--solver", solver, "--until", "1e-4", "-o", out, "--json"];
+        serde_json::from_str(&ok(&dir, &args)).unwrap()
+    };
+    let gathered = solve("gathering", "g.rad");
+    assert_eq!(gathered["solver"], "gathering");
+    assert!(gathered["iterations"].as_u64().unwrap() >= 1 && gathered["residual"].as_f64().unwrap() <= 1e-6);
+    let shot = solve("shooting", "s.rad");
+    assert_eq!((shot["solver"].as_str(), shot["iterations"].as_u64()), (Some("shooting"), Some(0)));
+    // Both solutions render to nearly the same picture.
+    let picture = |rad: &str, png: &str| {
+        ok(&dir, &["render", "room.toml", "--radiosity", rad, "--size", "40x30", "--no-cache", "-o", png]);
+        image::open(dir.join(png)).unwrap().to_rgb8()
+    };
+    let (g, s) = (picture("g.rad", "g.png"), picture("s.rad", "s.png"));
+    let worst = g.pixels().zip(s.pixels()).flat_map(|(a, b)| (0..3).map(move |c| a[c].abs_diff(b[c]))).max().unwrap();
+    assert!(worst <= 3, "the pictures differ by up to {worst} of 255");
+    let text = ok(&dir, &["radiosity", "room.toml", "--solver", "gathering", "-o", "t.rad"]);
+    assert!(text.contains("Gauss-Seidel iterations, residual"), "{text}");
+    let e = String::from_utf8_lossy(
+        &octsolid(&dir, &["radiosity", "room.toml", "--solver", "gathering", "--max-shots", "3", "-o", "x.rad"]).stderr,
+    )
+    .into_owned();
+    assert!(e.contains("--max-shots"), "{e}");
+    let tight = ["--memory-budget", "64KiB", "radiosity", "room.toml", "--solver", "gathering", "-o", "x.rad"];
+    let e = String::from_utf8_lossy(&octsolid(&dir, &tight).stderr).into_owned();
+    assert!(e.contains("form-factor matrix") || e.contains("budget"), "{e}");
+}
+
+#[test]
+fn render_meshes_by_the_depth_sort_the_z_buffer_and_the_scan_line() {
+    let dir = scratch("mesh-methods");
+    let spot = repo().join("models/spot.obj");
+    let mut pictures = Vec::new();
+    for method in ["painter", "zbuffer", "scanline"] {
+        let png = format!("spot_{method}.png");
+        let out = ok(
+            &dir,
+            &[
+                "render",
+                spot.to_str().unwrap(),
+                "--shading",
+                "phong",
+                "--method",
+                method,
+                "--size",
+                "80x60",
+                "-o",
+                &png,
+            ],
+        );
+        assert!(out.contains(&format!("by {method}")), "{out}");
+        assert_eq!(out.contains("pairs settled by x extents"), method == "painter", "{out}");
+        pictures.push(image::open(dir.join(&png)).unwrap().to_rgb8());
+    }
+    // The same picture but where two triangles meet within rounding.
+    for other in &pictures[1..] {
+        let differ = pictures[0].pixels().zip(other.pixels()).filter(|(a, b)| a != b).count();
+        assert!(differ <= 10, "{differ} pixels differ");
+    }
+    let bad =
+        octsolid(&dir, &["render", spot.to_str().unwrap(), "--shading", "flat", "--method", "trace", "-o", "x.png"]);
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("painter, zbuffer or scanline"));
+}
+
+#[test]
 fn radiosity_solves_saves_and_renders_from_any_camera() {
     let dir = scratch("radiosity");
     std::fs::write(dir.join("room.toml"), room_scene(4.0)).unwrap();
@@ -941,8 +1010,8 @@ fn radiosity_solves_saves_and_renders_from_any_camera() {
     let json: serde_json::Value =
         serde_json::from_str(&ok(&dir, &["radiosity", "room.toml", "-o", "room.rad", "--json"])).unwrap();
     let keys: Vec<&str> = json.as_object().unwrap().keys().map(String::as_str).collect();
-    assert_eq!(keys.len(), 5, "{json}");
-    for key in ["patches", "elements", "shots", "unshot_fraction", "seconds"] {
+    assert_eq!(keys.len(), 8, "{json}");
+    for key in ["solver", "patches", "elements", "shots", "unshot_fraction", "iterations", "residual", "seconds"] {
         assert!(json.get(key).is_some(), "missing {key}: {json}");
     }
     assert!(json["unshot_fraction"].as_f64().unwrap() <= 0.01);

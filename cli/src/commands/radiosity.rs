@@ -1,19 +1,23 @@
-//! `octsolid radiosity SCENE.toml -o SOLUTION.rad [--until F] [--max-shots N]
-//! [--patch-size S] [--subdivide T [--max-elements N]] [--plot PLOT.png] [--json]`: solves a scene's diffuse interreflection by progressive refinement and
-//! saves the view-independent solution (render it with `render --radiosity`).
+//! `octsolid radiosity SCENE.toml -o SOLUTION.rad [--solver shooting|gathering]
+//! [--until F] [--max-shots N] [--tolerance T] [--patch-size S] [--subdivide T
+//! [--max-elements N]] [--plot PLOT.png] [--json]`: solves a scene's diffuse
+//! interreflection by progressive refinement (shooting) or by the chapter's
+//! `[F][B] = [E]` with Gauss-Seidel (gathering) and saves the view-independent
+//! solution (render it with `render --radiosity`).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use octsolid::render::Scene;
-use octsolid::render::radiosity::{DEFAULT_UNTIL, Radiosity, RadiosityOptions};
+use octsolid::render::radiosity::{DEFAULT_TOLERANCE, DEFAULT_UNTIL, Radiosity, RadiosityOptions, Solver};
 use octsolid::{FileKind, MemoryBudget, scene_file};
 use serde::Serialize;
 
 use super::print_warnings;
 use crate::output::{check_extension, check_not_an_input};
 use crate::progress_bar::Bar;
+use crate::values::names;
 
 /// Arguments of `octsolid radiosity`.
 #[derive(clap::Args, Debug)]
@@ -23,10 +27,20 @@ pub struct RadiosityArgs {
     /// The solution file to write (.rad).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Stop when the unshot energy is at most this fraction of the emitted energy.
+    /// shooting (progressive refinement, the default) or gathering (the chapter's
+    /// [F][B] = [E]: the whole form-factor matrix, refused with its size above 4 GiB or
+    /// the memory budget, then Gauss-Seidel sweeps to --tolerance).
+    #[arg(long, default_value = "shooting", value_parser = names::<Solver>(Solver::ALL.map(Solver::name)))]
+    pub solver: Solver,
+    /// Gathering: stop when the largest residual is at most this fraction of the
+    /// largest radiosity.
+    #[arg(long, default_value_t = DEFAULT_TOLERANCE, value_parser = crate::values::parse_finite)]
+    pub tolerance: f64,
+    /// Shooting: stop when the unshot energy is at most this fraction of the emitted
+    /// energy.
     #[arg(long, default_value_t = DEFAULT_UNTIL, value_parser = crate::values::parse_finite)]
     pub until: f64,
-    /// Stop after N shots (lights included) even if --until is not reached.
+    /// Shooting: stop after N shots (lights included) even if --until is not reached.
     #[arg(long)]
     pub max_shots: Option<u64>,
     /// Longest patch edge in world units (default: an eighth of the scene's extent).
@@ -53,10 +67,13 @@ pub struct RadiosityArgs {
 /// What `octsolid radiosity --json` prints; the key names are a contract.
 #[derive(Serialize)]
 struct Summary {
+    solver: String,
     patches: usize,
     elements: usize,
     shots: u64,
     unshot_fraction: f64,
+    iterations: u64,
+    residual: f64,
     seconds: f64,
 }
 
@@ -82,6 +99,17 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
         check_extension(plot, &[FileKind::Png])?;
         check_not_an_input(plot, &[&a.scene])?;
     }
+    if a.solver == Solver::Gathering {
+        if a.plot.is_some() {
+            bail!("--plot draws shooting's unshot energy: it is for --solver shooting");
+        }
+        if a.max_shots.is_some() {
+            bail!("--max-shots is for --solver shooting (gathering stops at --tolerance)");
+        }
+        if !(a.tolerance > 0.0 && a.tolerance < 1.0) {
+            bail!("--tolerance {}: the residual fraction must be above 0 and below 1", a.tolerance);
+        }
+    }
     if !(0.0..1.0).contains(&a.until) {
         bail!("--until {}: the unshot fraction must be at least 0 and below 1", a.until);
     }
@@ -93,6 +121,8 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
         subdivide: a.subdivide,
         max_elements: a.max_elements,
         budget,
+        solver: a.solver,
+        tolerance: a.tolerance,
         ..Default::default()
     };
     let started = Instant::now();
@@ -105,10 +135,13 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
         octsolid_harness::plots::convergence_plot(&s.history, solution.timeline(), &title, plot)?;
     }
     let summary = Summary {
+        solver: a.solver.to_string(),
         patches: s.patches,
         elements: s.elements,
         shots: s.shots,
         unshot_fraction: s.unshot_fraction,
+        iterations: s.iterations,
+        residual: s.residual,
         seconds,
     };
     if a.json {
@@ -120,9 +153,21 @@ pub fn run(a: &RadiosityArgs, budget: MemoryBudget) -> Result<()> {
     } else {
         out!("patches    {} ({} elements)", s.patches, s.elements);
     }
-    let per_shot = 1e3 * seconds / s.shots.max(1) as f64;
-    out!("shots      {} ({} rays; {per_shot:.2} ms a shot)", s.shots, s.rays);
-    out!("unshot     {:.4} of the emitted energy", s.unshot_fraction);
+    if a.solver == Solver::Gathering {
+        let matrix = octsolid::render::radiosity::form_factor_matrix_bytes(s.elements, s.patches);
+        out!(
+            "matrix     {} x {} form factors ({:.1} MiB; {} rays)",
+            s.elements,
+            s.patches,
+            matrix as f64 / 1048576.0,
+            s.rays
+        );
+        out!("sweeps     {} Gauss-Seidel iterations, residual {:.2e}", s.iterations, s.residual);
+    } else {
+        let per_shot = 1e3 * seconds / s.shots.max(1) as f64;
+        out!("shots      {} ({} rays; {per_shot:.2} ms a shot)", s.shots, s.rays);
+        out!("unshot     {:.4} of the emitted energy", s.unshot_fraction);
+    }
     out!("time       {seconds:.2} s");
     out!("wrote {}", a.output.display());
     Ok(())

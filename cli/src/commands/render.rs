@@ -15,7 +15,7 @@ use clap::ValueEnum;
 use octsolid::import::Input;
 use octsolid::io::write_picture;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
-use octsolid::render::polygon::Interpolation;
+use octsolid::render::polygon::{DepthSortCounts, Interpolation, MeshVisibility};
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{
     self, AntiAliasingKind, Framing, Material, Method, Normals, RenderOverrides, Scene, Section, Up,
@@ -56,7 +56,8 @@ pub struct RenderArgs {
     /// How primary visibility is decided: trace (rays through the octree),
     /// front-to-back (Meagher's display), painter, zbuffer or scanline (every method
     /// finds the same hits; the front-to-back display, the default, a whole image's
-    /// fastest).
+    /// fastest). With --shading (polygons): painter (the depth sort with its five
+    /// overlap tests, swaps and splits), zbuffer or scanline (the default).
     #[arg(long, value_parser = names::<Method>(Method::ALL.map(Method::name)))]
     pub method: Option<Method>,
     /// Depth to voxelize a mesh at (default 9; not for solid files or scenes).
@@ -245,6 +246,10 @@ fn polygon_command(
     budget: MemoryBudget,
 ) -> Result<()> {
     let input = &a.input;
+    let method = a.method.unwrap_or(Method::ScanLine);
+    let Some(visibility) = method.for_meshes() else {
+        bail!("--method {method} walks octrees: polygons are drawn by painter, zbuffer or scanline");
+    };
     let mut stages = Stages::new();
     let (mesh, recorded_up) = if FileKind::SOLIDS.contains(&kind) {
         // The solid's boundary (several solids': their union's), in unit faces so that
@@ -279,11 +284,33 @@ fn polygon_command(
     };
     let (spp, exposure) = (a.spp.unwrap_or(2), a.exposure.unwrap_or(0.0));
     let options = render::polygon::MeshRenderOptions { width, height, spp, interpolation, budget, exposure };
-    let picture = render::polygon::render_mesh(&scene, &camera, &options)
+    let (picture, counts) = render::polygon::render_mesh_by(&scene, &camera, &options, visibility)
         .with_context(|| format!("{}: cannot render", input.display()))?;
     stages.done("drawing");
-    out!("drew {} triangles with {interpolation} shading", mesh.triangles.len());
+    out!("drew {} triangles with {interpolation} shading by {method}", mesh.triangles.len());
+    if visibility == MeshVisibility::Painter {
+        report_depth_sort(&counts);
+    }
     write_out(&picture, output, stages)
+}
+
+/// The depth sort's summary: the pairs each of the five tests settled, swaps, splits.
+fn report_depth_sort(c: &DepthSortCounts) {
+    out!(
+        "depth sort: pairs settled by x extents {}, y extents {}, behind plane {}, in front of plane {}, \
+         disjoint projections {}; {} swaps, {} splits, {} polygons drawn",
+        c.x_extents,
+        c.y_extents,
+        c.behind_plane,
+        c.in_front_of_plane,
+        c.projections_disjoint,
+        c.swaps,
+        c.splits,
+        c.drawn
+    );
+    if c.unresolved > 0 {
+        warn!("depth sort: {} polygons drawn with their order undecided", c.unresolved);
+    }
 }
 
 /// Writes the picture, then the stages' report.

@@ -110,6 +110,8 @@ pub(super) fn read(path: &Path, scene: &Scene, budget: MemoryBudget) -> Result<R
         absorbed: 0.0,
         escaped: 0.0,
         history: Vec::new(),
+        iterations: 0,
+        residual: 0.0,
     };
     Ok(Radiosity {
         mesh,

@@ -11,7 +11,9 @@
 //! nodes merged into coplanar rectangles), and its ray walk is the visibility term (`form_factor`:
 //! ray-traced form factors after Wallace et al. 1989, on all cores). The system is
 //! solved by progressive refinement (`shoot`, Cohen et al. 1988), stopped at a
-//! fraction of unshot energy or a shot count, with the ambient correction for display.
+//! fraction of unshot energy or a shot count, with the ambient correction for display,
+//! or ([`Solver::Gathering`]) as the chapter writes it, `[F][B] = [E]` with the whole
+//! form-factor matrix, by Gauss-Seidel iteration to a tolerance (`gather`).
 //! Optionally ([`RadiosityOptions::subdivide`]), elements are split where the solution
 //! varies (adaptive subdivision, Cohen et al. 1986): once refinement reaches
 //! [`SUBDIVIDE_AT`], round after round, then refinement goes on to `until`.
@@ -39,6 +41,7 @@
 mod cover;
 mod file;
 mod form_factor;
+mod gather;
 mod patch;
 mod patches;
 mod regions;
@@ -56,6 +59,39 @@ use crate::progress::Progress;
 use crate::render::scene::{Illumination, Light, Scene};
 use patches::Patches;
 use shoot::{Shooter, Stop};
+
+pub use gather::{MAX_FORM_FACTOR_BYTES, MAX_ITERATIONS, form_factor_matrix_bytes};
+
+/// How the radiosity system is solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Solver {
+    /// Progressive refinement: the brightest patch shoots its unshot light, until a
+    /// fraction of the emitted light is left (Cohen et al. 1988).
+    #[default]
+    Shooting,
+    /// The chapter's `[F][B] = [E]`: the whole form-factor matrix, then Gauss-Seidel
+    /// sweeps to a tolerance.
+    Gathering,
+}
+
+impl Solver {
+    /// Every value, in the order `--help` lists them.
+    pub const ALL: [Solver; 2] = [Solver::Shooting, Solver::Gathering];
+
+    /// The value's one spelling (the command line's, `Display`'s).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Shooting => "shooting",
+            Solver::Gathering => "gathering",
+        }
+    }
+}
+
+crate::spelling::spelled!(Solver);
+
+/// Default relative residual at which gathering stops (`--tolerance`).
+pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 
 /// Default unshot fraction at which refinement stops (`--until`).
 pub const DEFAULT_UNTIL: f64 = 0.01;
@@ -90,8 +126,14 @@ pub struct RadiosityOptions {
     /// Most elements (leaves) subdivision may leave (default:
     /// [`DEFAULT_MAX_ELEMENTS_FACTOR`] times the base elements).
     pub max_elements: Option<usize>,
-    /// Refuse a solution whose patches and elements would exceed this.
+    /// Refuse a solution whose patches and elements would exceed this (and, when
+    /// gathering, its form-factor matrix).
     pub budget: MemoryBudget,
+    /// Progressive refinement (the default) or gathering.
+    pub solver: Solver,
+    /// Gathering: stop when the largest residual is at most this times the largest
+    /// radiosity (red + green + blue), in `(0, 1)`.
+    pub tolerance: f64,
 }
 
 impl Default for RadiosityOptions {
@@ -104,6 +146,8 @@ impl Default for RadiosityOptions {
             subdivide: None,
             max_elements: None,
             budget: MemoryBudget::default(),
+            solver: Solver::Shooting,
+            tolerance: DEFAULT_TOLERANCE,
         }
     }
 }
@@ -132,9 +176,14 @@ pub struct RadiosityStats {
     /// less what elements received, so slightly negative where the estimated form
     /// factors of a shooter add up to a little more than one.
     pub escaped: f64,
-    /// The unshot fraction before the first shot and after each (empty for a loaded
-    /// solution).
+    /// The unshot fraction before the first shot and after each (gathering: the
+    /// relative residual after each sweep; empty for a loaded solution).
     pub history: Vec<f64>,
+    /// Gathering's Gauss-Seidel sweeps (0 for shooting and a loaded solution).
+    pub iterations: u64,
+    /// Gathering's final relative residual: the largest `|E_e + rho_e sum_j F_ej B_j -
+    /// B_e|` over the largest `B_e` (0 for shooting and a loaded solution).
+    pub residual: f64,
 }
 
 /// A radiosity solution of a scene: its patches and elements and each element's
@@ -182,6 +231,9 @@ impl Radiosity {
         }
         let size = patch_size(scene, options)?;
         let mesh = Patches::build(scene, size, options.elements, options.budget)?;
+        if options.solver == Solver::Gathering {
+            return Self::gathered(scene, options, size, mesh, progress);
+        }
         let base = mesh.elements.len();
         let mut shooter = Shooter::new(scene, mesh);
         let stop = Stop { until: options.until, max_shots: options.max_shots };
@@ -215,6 +267,8 @@ impl Radiosity {
             absorbed,
             escaped,
             history,
+            iterations: 0,
+            residual: 0.0,
         };
         Ok(Radiosity {
             mesh,
@@ -225,6 +279,53 @@ impl Radiosity {
             elements: options.elements,
             stats,
             timeline,
+            show_elements: false,
+        })
+    }
+
+    /// The gathering solver on the patches `mesh` (see [`Solver::Gathering`]).
+    fn gathered(
+        scene: &Scene,
+        options: &RadiosityOptions,
+        size: f64,
+        mesh: Patches,
+        progress: &dyn Progress,
+    ) -> Result<Radiosity> {
+        if options.subdivide.is_some() {
+            return Err(Error::invalid(
+                "radiosity solver",
+                "adaptive subdivision refines a shooting solution; gathering solves on the base elements",
+            ));
+        }
+        if !(options.tolerance.is_finite() && options.tolerance > 0.0 && options.tolerance < 1.0) {
+            return Err(Error::invalid("tolerance", format!("{} is outside (0, 1)", options.tolerance)));
+        }
+        let started = std::time::Instant::now();
+        let g = gather::gather(scene, &mesh, options.tolerance, options.budget, progress)?;
+        let stats = RadiosityStats {
+            patches: mesh.patches.len(),
+            elements: mesh.leaf_count(),
+            splits: 0,
+            shots: 0,
+            unshot_fraction: 0.0,
+            rays: g.rays,
+            emitted: g.emitted,
+            absorbed: g.absorbed,
+            escaped: g.escaped,
+            residual: g.history.last().copied().unwrap_or(0.0),
+            history: g.history,
+            iterations: g.iterations,
+        };
+        let seconds = started.elapsed().as_secs_f64();
+        Ok(Radiosity {
+            mesh,
+            radiosity: g.radiosity,
+            ambient: DVec3::ZERO,
+            fingerprint: fingerprint(scene),
+            patch_size: size,
+            elements: options.elements,
+            timeline: vec![seconds; stats.history.len()],
+            stats,
             show_elements: false,
         })
     }

@@ -101,7 +101,7 @@ pub(crate) struct Shooter<'a> {
 
 /// The radiance a light gives element `e` before reflection (irradiance over pi: what
 /// a white Lambertian surface would reflect), 0 where its shadow ray is blocked.
-fn from_light(scene: &Scene, patches: &Patches, e: &Element, light: &Light) -> DVec3 {
+pub(super) fn from_light(scene: &Scene, patches: &Patches, e: &Element, light: &Light) -> DVec3 {
     let ray = light.shadow_ray(e.origin);
     let cos = e.normal.dot(ray.dir);
     let face = patches.patches[e.patch as usize].normal.dot(ray.dir);
@@ -116,13 +116,13 @@ fn from_light(scene: &Scene, patches: &Patches, e: &Element, light: &Light) -> D
 }
 
 /// Sum of a colour's channels.
-fn total(c: DVec3) -> f64 {
+pub(super) fn total(c: DVec3) -> f64 {
     c.x + c.y + c.z
 }
 
 /// The power a point light emits, `4 pi I` summed over the channels; 0 for a
 /// directional light (its power is what the scene's patches receive of it).
-fn point_power(light: &Light) -> f64 {
+pub(super) fn point_power(light: &Light) -> f64 {
     match light {
         Light::Point { color, .. } => 4.0 * PI * total(*color),
         Light::Directional { .. } => 0.0,

@@ -1,7 +1,9 @@
 //! Object-order visibility: the solids' voxel faces drawn into the sample grid, by
 //! Meagher's front-to-back octree display (`front_to_back`), painter's algorithm,
 //! a Z-buffer and the seed's scan-line Z-buffer (`scan_line`); and triangle meshes
-//! drawn as polygons with interpolation shading ([`polygon`]).
+//! drawn as polygons with interpolation shading ([`polygon`]), their visibility by the
+//! scan-line Z-buffer, a Z-buffer or the chapter's depth sort (`depth_sort`: the five
+//! overlap tests, swaps and splits).
 //!
 //! A face covers a sample when the sample's ray crosses the face's plane (at the time
 //! `(plane - o) / d`, the formula of the ray walk) and then enters the node's interior
@@ -14,6 +16,7 @@
 //! - Z-buffer: the faces in any order (here: the octree's, with children in storage
 //!   order), kept where nearer than the depth stored for the sample.
 
+mod depth_sort;
 mod face;
 mod front_to_back;
 pub mod polygon;

@@ -1,7 +1,10 @@
-//! Polygon rendering of triangle meshes (seed: shading of polygon objects): a scan-line
-//! Z-buffer with flat, Gouraud or Phong interpolation shading, no shadows.
+//! Polygon rendering of triangle meshes (seed: shading of polygon objects): visibility
+//! by the scan-line Z-buffer (the default), a whole-image Z-buffer or the depth sort
+//! ([`MeshVisibility`]; painter's in `depth_sort`), then flat, Gouraud or Phong
+//! interpolation shading, no shadows.
 //!
-//! Visibility: every triangle is projected by the camera; a row of the image gathers
+//! Visibility by scan lines ([`fragments`]; the Z-buffer, [`z_buffer_fragments`], tests
+//! the same pixel centres with the same barycentrics and depths): every triangle is projected by the camera; a row of the image gathers
 //! the triangles whose projected rows cover it (the active polygons of that scan line),
 //! and for each pixel centre `(x, y)` inside a triangle's projection (screen-space
 //! barycentrics `l0, l1, l2` from the edge functions, all `>= 0`; top-left rule-free:
@@ -31,6 +34,9 @@ use crate::render::film::{Camera, Projection};
 use crate::render::pipeline::MAX_IMAGE_SIZE;
 use crate::render::scene::{Light, Material};
 use crate::render::shade::phong;
+
+pub use super::depth_sort::DepthSortCounts;
+use super::depth_sort::depth_sort_fragments;
 
 /// How colour is spread over a triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,18 +93,36 @@ pub struct Fragment {
 }
 
 /// A triangle as drawn: its projected corners in pixels and their view depths.
-struct Projected {
-    screen: [(f64, f64); 3],
-    depth: [f64; 3],
+pub(super) struct Projected {
+    /// The corners in pixels (x right, y down).
+    pub(super) screen: [(f64, f64); 3],
+    /// The corners' view depths (distance along the view axis).
+    pub(super) depth: [f64; 3],
     /// Twice the signed screen area (edge function normalizer).
-    area: f64,
+    pub(super) area: f64,
 }
 
-/// The triangle seen at every pixel centre of a `width x height` image, row-major.
-/// Triangles with a corner behind a perspective camera are skipped. Refused when the
-/// rows' triangle lists (8 bytes for every row a triangle covers, counted after
-/// projecting and before listing) exceed `budget`: a few thousand triangles that each
-/// span the picture would otherwise list millions of entries.
+/// How a triangle mesh's visibility is decided (`octsolid render MESH --shading S
+/// --method painter|zbuffer|scanline`): each gives the same nearest triangle at every
+/// pixel centre, except where two surfaces lie within rounding of each other.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MeshVisibility {
+    /// The chapter's depth sort (Newell, Newell and Sancha): far to near with the five
+    /// overlap tests, swaps and splits ([`DepthSortCounts`] says what settled what).
+    Painter,
+    /// A whole-image depth buffer, the triangles drawn in mesh order.
+    ZBuffer,
+    /// The scan-line Z-buffer: one row of depths, the row's active triangles
+    /// ([`fragments`]).
+    #[default]
+    ScanLine,
+}
+
+/// The triangle seen at every pixel centre of a `width x height` image, row-major, by
+/// the scan-line Z-buffer. Triangles with a corner behind a perspective camera are
+/// skipped. Refused when the rows' triangle lists (8 bytes for every row a triangle
+/// covers, counted after projecting and before listing) exceed `budget`: a few thousand
+/// triangles that each span the picture would otherwise list millions of entries.
 pub fn fragments(
     mesh: &TriangleMesh,
     camera: &Camera,
@@ -106,26 +130,8 @@ pub fn fragments(
     height: u32,
     budget: MemoryBudget,
 ) -> Result<Vec<Option<Fragment>>> {
-    let aspect = f64::from(width) / f64::from(height);
-    let forward = (camera.target - camera.eye).normalize();
     // Polygon table: the projected triangles, and for each row the ones covering it.
-    let projected: Vec<Option<Projected>> = mesh
-        .triangles
-        .par_iter()
-        .map(|t| {
-            let mut screen = [(0.0, 0.0); 3];
-            let mut depth = [0.0; 3];
-            for k in 0..3 {
-                let p = mesh.vertices[t[k] as usize];
-                let (x, y) = camera.project(p, aspect)?;
-                screen[k] = ((x + 1.0) * 0.5 * f64::from(width), (1.0 - y) * 0.5 * f64::from(height));
-                depth[k] = (p - camera.eye).dot(forward);
-            }
-            let [a, b, c] = screen;
-            let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
-            (area != 0.0).then_some(Projected { screen, depth, area })
-        })
-        .collect();
+    let projected = project_triangles(mesh, camera, width, height);
     let rows = height as usize;
     let row_span = |p: &Projected| {
         let ys = p.screen.map(|s| s.1);
@@ -162,11 +168,7 @@ pub fn fragments(
                 for (col, slot) in line.iter_mut().enumerate().take(last as usize + 1).skip(first) {
                     let x = col as f64 + 0.5;
                     let Some(weights) = barycentric(p, x, y) else { continue };
-                    let depth = if perspective {
-                        1.0 / (0..3).map(|k| weights[k] / p.depth[k]).sum::<f64>()
-                    } else {
-                        (0..3).map(|k| weights[k] * p.depth[k]).sum()
-                    };
+                    let depth = p.depth_at(weights, perspective);
                     if slot.is_none_or(|f| depth < f.depth) {
                         *slot = Some(Fragment { triangle: i, weights, depth });
                     }
@@ -176,6 +178,111 @@ pub fn fragments(
         })
         .collect::<Vec<_>>();
     Ok(seen)
+}
+
+/// The triangle seen at every pixel centre by a whole-image Z-buffer: the triangles in
+/// mesh order, each over the pixel centres of its projected bounding box, a fragment
+/// kept where nearer than the one stored (the same tie rule as [`fragments`]: the
+/// earlier triangle keeps an equal depth).
+pub fn z_buffer_fragments(mesh: &TriangleMesh, camera: &Camera, width: u32, height: u32) -> Vec<Option<Fragment>> {
+    let projected = project_triangles(mesh, camera, width, height);
+    let perspective = matches!(camera.projection, Projection::Perspective { .. });
+    let mut buffer: Vec<Option<Fragment>> = vec![None; width as usize * height as usize];
+    for (i, p) in projected.iter().enumerate() {
+        let Some(p) = p else { continue };
+        p.for_each_pixel(width, height, |pixel, x, y| {
+            let Some(weights) = barycentric(p, x, y) else { return };
+            let depth = p.depth_at(weights, perspective);
+            let slot = &mut buffer[pixel];
+            if slot.is_none_or(|f| depth < f.depth) {
+                *slot = Some(Fragment { triangle: i, weights, depth });
+            }
+        });
+    }
+    buffer
+}
+
+/// The triangle seen at every pixel centre by `method`, and the depth sort's counts
+/// (zero unless `method` is [`MeshVisibility::Painter`]). The budget bounds the
+/// scan-line's row lists and the depth sort's polygons.
+pub fn visible_fragments(
+    mesh: &TriangleMesh,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    budget: MemoryBudget,
+    method: MeshVisibility,
+) -> Result<(Vec<Option<Fragment>>, DepthSortCounts)> {
+    Ok(match method {
+        MeshVisibility::ScanLine => (fragments(mesh, camera, width, height, budget)?, DepthSortCounts::default()),
+        MeshVisibility::ZBuffer => (z_buffer_fragments(mesh, camera, width, height), DepthSortCounts::default()),
+        MeshVisibility::Painter => depth_sort_fragments(mesh, camera, width, height, budget)?,
+    })
+}
+
+/// Every triangle projected to the `width x height` pixel grid (`None`: a corner behind
+/// a perspective camera, or no screen area).
+pub(super) fn project_triangles(
+    mesh: &TriangleMesh,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> Vec<Option<Projected>> {
+    let aspect = f64::from(width) / f64::from(height);
+    let forward = (camera.target - camera.eye).normalize();
+    mesh.triangles
+        .par_iter()
+        .map(|t| {
+            let mut screen = [(0.0, 0.0); 3];
+            let mut depth = [0.0; 3];
+            for k in 0..3 {
+                let p = mesh.vertices[t[k] as usize];
+                screen[k] = to_pixels(camera.project(p, aspect)?, width, height);
+                depth[k] = (p - camera.eye).dot(forward);
+            }
+            let [a, b, c] = screen;
+            let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+            (area != 0.0).then_some(Projected { screen, depth, area })
+        })
+        .collect()
+}
+
+/// A projected point (`[-1, 1]^2`, y up) in pixels of a `width x height` grid (y down).
+pub(super) fn to_pixels((x, y): (f64, f64), width: u32, height: u32) -> (f64, f64) {
+    ((x + 1.0) * 0.5 * f64::from(width), (1.0 - y) * 0.5 * f64::from(height))
+}
+
+impl Projected {
+    /// The view depth at screen barycentrics `weights`: perspective-correct
+    /// (`1/z = sum wi / zi`) under a perspective camera, linear under a parallel one.
+    pub(super) fn depth_at(&self, weights: [f64; 3], perspective: bool) -> f64 {
+        if perspective {
+            1.0 / (0..3).map(|k| weights[k] / self.depth[k]).sum::<f64>()
+        } else {
+            (0..3).map(|k| weights[k] * self.depth[k]).sum()
+        }
+    }
+
+    /// `visit(pixel, x, y)` for every pixel centre `(x, y)` of the triangle's bounding
+    /// box within the grid.
+    fn for_each_pixel(&self, width: u32, height: u32, mut visit: impl FnMut(usize, f64, f64)) {
+        let (xs, ys) = (self.screen.map(|s| s.0), self.screen.map(|s| s.1));
+        let (c0, c1) = pixel_range(xs, width);
+        let (r0, r1) = pixel_range(ys, height);
+        for r in r0..r1 {
+            for c in c0..c1 {
+                visit(r * width as usize + c, c as f64 + 0.5, r as f64 + 0.5);
+            }
+        }
+    }
+}
+
+/// The pixel indices `first..end` whose centres lie within the span of `coords`.
+pub(super) fn pixel_range(coords: impl IntoIterator<Item = f64>, n: u32) -> (usize, usize) {
+    let (lo, hi) = coords.into_iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+    let first = (lo - 0.5).ceil().max(0.0);
+    let last = (hi - 0.5).floor().min(f64::from(n) - 1.0);
+    if first > last { (0, 0) } else { (first as usize, last as usize + 1) }
 }
 
 /// The columns `[x0, x1]` where the row `y` crosses the projected triangle.
@@ -194,7 +301,7 @@ fn span(p: &Projected, y: f64) -> Option<(f64, f64)> {
 }
 
 /// Screen-space barycentrics of `(x, y)`, `None` outside the triangle.
-fn barycentric(p: &Projected, x: f64, y: f64) -> Option<[f64; 3]> {
+pub(super) fn barycentric(p: &Projected, x: f64, y: f64) -> Option<[f64; 3]> {
     let edge = |a: (f64, f64), b: (f64, f64)| (b.0 - a.0) * (y - a.1) - (b.1 - a.1) * (x - a.0);
     let [a, b, c] = p.screen;
     let w = [edge(b, c) / p.area, edge(c, a) / p.area, edge(a, b) / p.area];
@@ -254,6 +361,17 @@ pub fn estimate_mesh_render_bytes(options: &MeshRenderOptions, vertices: usize) 
 /// work when the size, samples or exposure are out of range, the camera cannot make a
 /// picture ([`Camera::validate`]) or the estimate exceeds the budget.
 pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptions) -> Result<Picture> {
+    Ok(render_mesh_by(scene, camera, options, MeshVisibility::ScanLine)?.0)
+}
+
+/// [`render_mesh`] with the visibility decided by `method`, and the depth sort's
+/// counts (zero unless `method` is [`MeshVisibility::Painter`]).
+pub fn render_mesh_by(
+    scene: &MeshScene,
+    camera: &Camera,
+    options: &MeshRenderOptions,
+    method: MeshVisibility,
+) -> Result<(Picture, DepthSortCounts)> {
     let MeshRenderOptions { width, height, spp, interpolation, budget, exposure } = *options;
     if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
         return Err(Error::invalid("image size", format!("{width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
@@ -269,7 +387,7 @@ pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptio
     )?;
     scene.material.validate()?;
     let (w, h) = (width * spp, height * spp);
-    let seen = fragments(scene.mesh, camera, w, h, budget)?;
+    let (seen, counts) = visible_fragments(scene.mesh, camera, w, h, budget, method)?;
     let normals = vertex_normals(scene.mesh);
     let shader = Shader { scene, camera };
     // Gouraud: the vertex colours, once.
@@ -317,7 +435,7 @@ pub fn render_mesh(scene: &MeshScene, camera: &Camera, options: &MeshRenderOptio
             picture.set(x, y, resolve(sum, spp * spp, scale));
         }
     }
-    Ok(picture)
+    Ok((picture, counts))
 }
 
 /// The Phong model for a mesh scene.

@@ -1,0 +1,239 @@
+//! Gathering: the radiosity system as the chapter writes it, `[F][B] = [E]`, its
+//! form-factor matrix built whole and solved by Gauss-Seidel iteration (Cohen and
+//! Greenberg, "The hemi-cube", 1985; Cohen and Wallace, "Radiosity and realistic
+//! image synthesis", 1993, chapter 5).
+//!
+//! The chapter's equations, one a patch, are `B_i = E_i + rho_i sum_j F_ij B_j`, that
+//! is `[F][B] = [E]` with `F_ii = 1` and `-rho_i F_ij` off the diagonal. Here, as in
+//! shooting (module `shoot`), the unknowns are the elements' radiosities and the
+//! sources the patches: element `e` of patch `p(e)` gathers
+//!
+//! ```text
+//! B_e = E_e + rho_e sum_j F(dA_e -> A_j) B_j,    B_j = sum_{e in j} (A_e / A_j) B_e
+//! ```
+//!
+//! with the same form factors (module `form_factor`: the exact unoccluded form factor
+//! of the rectangle times its ray-cast visibility) and the lights' direct light in
+//! `E_e` (`rho_e` times what a light gives the element, as shooting's first shots).
+//! Progressive refinement converges to the same fixed point (its shooters' shot light
+//! is the same area-weighted mean of their elements), so both solvers agree to their
+//! tolerances.
+//!
+//! Gauss-Seidel: the elements in order, each new `B_e` at once folded into its patch's
+//! `B_j`, so later elements gather it in the same sweep. The system is diagonally
+//! dominant (`rho < 1`, each row's form factors sum to at most about one), so the
+//! sweeps converge. After each sweep the residual `r_e = E_e + rho_e sum_j F_ej B_j -
+//! B_e` is measured; iteration stops when the largest `|r_e|` (red + green + blue) is
+//! at most `tolerance` times the largest `B_e`, or after [`MAX_ITERATIONS`] sweeps.
+//!
+//! Cost: the matrix holds one `f64` a leaf element and patch (`8 n_e n_p` bytes),
+//! refused above [`MAX_FORM_FACTOR_BYTES`] and above the memory budget before it is
+//! built; every entry casts its visibility rays (as one shot per patch would), the
+//! rows in parallel, each row's entries in patch order (the same bits on any number
+//! of threads). Departures from the book: elements gather from patches (the book's
+//! patch-to-patch `F_ij` is the area-weighted mean of a patch's element rows), and no
+//! ambient term is needed (the solution is converged, nothing is left unshot).
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::form_factor::element_to_patch;
+use super::patches::Patches;
+use super::shoot::{from_light, point_power, total};
+use crate::budget::MemoryBudget;
+use crate::error::{Error, Result};
+use crate::progress::Progress;
+use crate::render::scene::{Light, Scene};
+
+use std::f64::consts::PI;
+
+/// The largest form-factor matrix gathering builds, in bytes (whatever the budget).
+pub const MAX_FORM_FACTOR_BYTES: u64 = 4 << 30;
+
+/// Most Gauss-Seidel sweeps.
+pub const MAX_ITERATIONS: u64 = 1000;
+
+/// Bytes of the form-factor matrix of `elements` leaf elements and `patches` patches.
+#[must_use]
+pub fn form_factor_matrix_bytes(elements: usize, patches: usize) -> u64 {
+    (elements as u64).saturating_mul(patches as u64).saturating_mul(8)
+}
+
+/// A gathered solution and how it was reached.
+pub(crate) struct Gathered {
+    /// Each element's radiosity (radiance units).
+    pub radiosity: Vec<DVec3>,
+    /// Gauss-Seidel sweeps made.
+    pub iterations: u64,
+    /// The relative residual after each sweep.
+    pub history: Vec<f64>,
+    /// Rays cast for the form factors and the lights.
+    pub rays: u64,
+    /// Power emitted, absorbed and escaped (sum of the three channels).
+    pub emitted: f64,
+    pub absorbed: f64,
+    pub escaped: f64,
+}
+
+/// Solves `patches` of `scene` by gathering (see the module doc); `progress` counts
+/// the matrix's rows.
+pub(crate) fn gather(
+    scene: &Scene,
+    patches: &Patches,
+    tolerance: f64,
+    budget: MemoryBudget,
+    progress: &dyn Progress,
+) -> Result<Gathered> {
+    let (n_e, n_p) = (patches.elements.len(), patches.patches.len());
+    let bytes = form_factor_matrix_bytes(n_e, n_p);
+    let what = format!("a form-factor matrix of {n_e} elements by {n_p} patches");
+    if bytes > MAX_FORM_FACTOR_BYTES {
+        return Err(Error::invalid(
+            "gathering",
+            format!(
+                "{what} takes {:.1} GiB, more than the {} GiB gathering allows: use shooting or larger patches",
+                bytes as f64 / f64::from(1u32 << 30),
+                MAX_FORM_FACTOR_BYTES >> 30
+            ),
+        ));
+    }
+    budget.check(what, bytes)?;
+    let (system, rays) = System::build(scene, patches, progress);
+    let (radiosity, patch_b, iterations, history) = system.solve(tolerance);
+    let (emitted, absorbed) = system.energy_book(scene, &patch_b);
+    Ok(Gathered { radiosity, iterations, history, rays, emitted, absorbed, escaped: emitted - absorbed })
+}
+
+/// The linear system: the form factors, each element's source and what it needs.
+struct System<'a> {
+    patches: &'a Patches,
+    /// `F(dA_e -> A_j)`, row `e` at `e n_p`.
+    matrix: Vec<f64>,
+    /// Each element's light from the scene's lights, before reflection.
+    lit: Vec<DVec3>,
+    /// Each element's `E_e`: its patch's emission plus its reflected direct light.
+    source: Vec<DVec3>,
+    /// The elements that gather: leaves of some area.
+    live: Vec<usize>,
+}
+
+impl<'a> System<'a> {
+    /// The matrix, row by row in parallel, and the sources; the rays cast.
+    fn build(scene: &Scene, patches: &'a Patches, progress: &dyn Progress) -> (Self, u64) {
+        let (n_e, n_p) = (patches.elements.len(), patches.patches.len());
+        let is_live = |e: usize| patches.elements[e].is_leaf() && patches.elements[e].area > 0.0;
+        progress.start(n_e as u64);
+        let mut matrix = vec![0.0f64; n_e * n_p];
+        let rows: Vec<(DVec3, u64)> = matrix
+            .par_chunks_mut(n_p.max(1))
+            .enumerate()
+            .with_min_len(16)
+            .map(|(e, row)| {
+                let result = if is_live(e) { Self::row(scene, patches, e, row) } else { (DVec3::ZERO, 0) };
+                progress.advance(1);
+                result
+            })
+            .collect();
+        progress.finish();
+        let rays = rows.iter().map(|r| r.1).sum();
+        let lit: Vec<DVec3> = rows.into_iter().map(|r| r.0).collect();
+        let source = (0..n_e)
+            .map(|e| {
+                let p = &patches.patches[patches.elements[e].patch as usize];
+                p.emission + lit[e] * p.reflectance
+            })
+            .collect();
+        let live = (0..n_e).filter(|&e| is_live(e)).collect();
+        (System { patches, matrix, lit, source, live }, rays)
+    }
+
+    /// Element `e`'s row of form factors (to every patch but its own), its light from
+    /// the lights, and the rays cast.
+    fn row(scene: &Scene, patches: &Patches, e: usize, row: &mut [f64]) -> (DVec3, u64) {
+        let element = &patches.elements[e];
+        let mut rays = scene.lights.len() as u64;
+        for (j, (f, patch)) in row.iter_mut().zip(&patches.patches).enumerate() {
+            if j != element.patch as usize {
+                let (ff, r) = element_to_patch(scene, element, patch);
+                *f = ff;
+                rays += u64::from(r);
+            }
+        }
+        let lit = scene.lights.iter().map(|l| from_light(scene, patches, element, l)).sum();
+        (lit, rays)
+    }
+
+    /// `rho_e`.
+    fn rho(&self, e: usize) -> DVec3 {
+        self.patches.patches[self.patches.elements[e].patch as usize].reflectance
+    }
+
+    /// `A_e / A_p(e)`.
+    fn share(&self, e: usize) -> f64 {
+        let el = &self.patches.elements[e];
+        el.area / self.patches.patches[el.patch as usize].area
+    }
+
+    /// `sum_j F_ej B_j`.
+    fn gathered(&self, e: usize, patch_b: &[DVec3]) -> DVec3 {
+        let n_p = patch_b.len();
+        self.matrix[e * n_p..(e + 1) * n_p].iter().zip(patch_b).map(|(f, bj)| *bj * *f).sum()
+    }
+
+    /// Gauss-Seidel from the sources: the elements' and patches' radiosities, the
+    /// sweeps and the relative residual after each.
+    fn solve(&self, tolerance: f64) -> (Vec<DVec3>, Vec<DVec3>, u64, Vec<f64>) {
+        let patches = self.patches;
+        let mut b = self.source.clone();
+        let mut patch_b = vec![DVec3::ZERO; patches.patches.len()];
+        for &e in &self.live {
+            patch_b[patches.elements[e].patch as usize] += b[e] * self.share(e);
+        }
+        let mut history = Vec::new();
+        let mut iterations = 0;
+        while iterations < MAX_ITERATIONS {
+            iterations += 1;
+            for &e in &self.live {
+                let new = self.source[e] + self.rho(e) * self.gathered(e, &patch_b);
+                patch_b[patches.elements[e].patch as usize] += (new - b[e]) * self.share(e);
+                b[e] = new;
+            }
+            let largest_residual = self
+                .live
+                .par_iter()
+                .map(|&e| total((self.source[e] + self.rho(e) * self.gathered(e, &patch_b) - b[e]).abs()))
+                .reduce(|| 0.0, f64::max);
+            let largest = b.iter().map(|v| total(v.abs())).fold(0.0, f64::max);
+            let residual = if largest > 0.0 { largest_residual / largest } else { 0.0 };
+            history.push(residual);
+            if residual <= tolerance {
+                break;
+            }
+        }
+        (b, patch_b, iterations, history)
+    }
+
+    /// Power emitted (the patches' `pi A E`, the point lights' `4 pi I`, what the
+    /// elements receive of directional lights) and absorbed (`(1 - rho)` of what the
+    /// elements receive), summed over the channels.
+    fn energy_book(&self, scene: &Scene, patch_b: &[DVec3]) -> (f64, f64) {
+        let patches = self.patches;
+        let mut emitted: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
+        emitted += scene.lights.iter().map(point_power).sum::<f64>();
+        let mut absorbed = 0.0;
+        for &e in &self.live {
+            let incident = self.lit[e] + self.gathered(e, patch_b);
+            absorbed += PI * patches.elements[e].area * total(incident * (DVec3::ONE - self.rho(e)));
+        }
+        for light in &scene.lights {
+            if let Light::Directional { .. } = light {
+                let incident = self.live.iter().map(|&e| {
+                    let el = &patches.elements[e];
+                    PI * el.area * total(from_light(scene, patches, el, light))
+                });
+                emitted += incident.sum::<f64>();
+            }
+        }
+        (emitted, absorbed)
+    }
+}
