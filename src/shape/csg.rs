@@ -28,8 +28,8 @@ use glam::DVec3;
 use super::bounds::both;
 use super::pattern::MAX_COPIES;
 use super::{
-    Class, Cone, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Placement, Shape, Sphere, Surface,
-    Torus, Transformed,
+    Class, Cone, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, Extrude, HalfSpace, Menger, Placement, Revolve, Shape,
+    Sphere, Surface, Torus, Transformed,
 };
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
@@ -663,8 +663,33 @@ macro_rules! leaf_conversions {
     )*};
 }
 
-leaf_conversions!(Sphere, Ellipsoid, Cuboid, Cylinder, Cone, Torus, HalfSpace, Menger, DisplacedSphere);
-csg_operators!(Csg, Sphere, Ellipsoid, Cuboid, Cylinder, Cone, Torus, HalfSpace, Menger, DisplacedSphere);
+leaf_conversions!(
+    Sphere,
+    Ellipsoid,
+    Cuboid,
+    Cylinder,
+    Cone,
+    Torus,
+    HalfSpace,
+    Menger,
+    DisplacedSphere,
+    Extrude,
+    Revolve
+);
+csg_operators!(
+    Csg,
+    Sphere,
+    Ellipsoid,
+    Cuboid,
+    Cylinder,
+    Cone,
+    Torus,
+    HalfSpace,
+    Menger,
+    DisplacedSphere,
+    Extrude,
+    Revolve
+);
 
 /// A transformed tree is a [`CsgNode::Placed`] node of one placement, whose leaves a
 /// pruning voxelizer sees; any other transformed shape is a leaf.

@@ -31,8 +31,10 @@ use super::bounds::both;
 use crate::error::{Error, Result};
 
 mod polygon;
+mod spec;
 
 pub use polygon::{Polygon, ProfileSurface};
+pub use spec::{MAX_PROFILE_NESTING, ProfileSpec};
 
 /// Quadtree levels of a set operation's [`Profile::area`].
 pub const AREA_LEVELS: u32 = 11;
