@@ -55,6 +55,29 @@ fn dot(a: [i128; 3], b: [i128; 3]) -> i128 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// The distinct planes of `faces` (coplanar triangles of a flat side merged): each
+/// as its normal divided by the gcd of its components, its offset divided likewise,
+/// and a corner of a face on it.
+pub(crate) fn distinct_planes(faces: &[HullFace]) -> Vec<([i128; 3], i128, u32)> {
+    let mut keyed: Vec<([i128; 3], i128, u32)> = faces
+        .iter()
+        .map(|f| {
+            let g = f.normal.iter().fold(0i128, |g, &c| gcd(g, c.abs())).max(1);
+            (f.normal.map(|c| c / g), f.offset / g, f.vertices[0])
+        })
+        .collect();
+    keyed.sort_unstable();
+    keyed.dedup_by_key(|(n, o, _)| (*n, *o));
+    keyed
+}
+
+fn gcd(mut a: i128, mut b: i128) -> i128 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
 /// The largest coordinate magnitude accepted (exclusive).
 pub(crate) const LIMIT: i64 = 1 << 31;
 

@@ -28,7 +28,7 @@
 
 use glam::DVec3;
 
-use super::convex_hull::{LIMIT, Point, convex_hull};
+use super::convex_hull::{LIMIT, Point, convex_hull, distinct_planes};
 use super::{Csg, Cuboid, HalfSpace, Shape};
 use crate::error::{Error, Result};
 
@@ -102,11 +102,11 @@ impl Hull {
         let mut lattice: Vec<Point> = points.iter().map(|&p| snap(p)).collect();
         for _ in 0..options.rounds {
             let faces = convex_hull(&lattice).ok_or_else(flat)?;
-            let planes = merged_planes(&faces);
+            let planes = distinct_planes(&faces);
             let mut added = false;
             let mut cut = Vec::with_capacity(planes.len());
-            for (normal, corner) in planes {
-                let n = normal.normalize();
+            for (normal, _, corner) in planes {
+                let n = DVec3::new(normal[0] as f64, normal[1] as f64, normal[2] as f64).normalize();
                 let s = support(n)?;
                 let face = n.dot(unsnap(lattice[corner as usize]));
                 if s.dot(n) - face > tolerance {
@@ -158,27 +158,6 @@ impl From<Hull> for Csg {
     fn from(hull: Hull) -> Csg {
         hull.tree
     }
-}
-
-/// The faces' planes, one a plane: each as its normal (in lattice units) and a corner.
-fn merged_planes(faces: &[super::convex_hull::HullFace]) -> Vec<(DVec3, u32)> {
-    let mut keyed: Vec<([i128; 3], i128, u32)> = faces
-        .iter()
-        .map(|f| {
-            let g = f.normal.iter().fold(0i128, |g, &c| gcd(g, c.abs())).max(1);
-            (f.normal.map(|c| c / g), f.offset / g, f.vertices[0])
-        })
-        .collect();
-    keyed.sort_unstable();
-    keyed.dedup_by_key(|(n, o, _)| (*n, *o));
-    keyed.into_iter().map(|(n, _, v)| (DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64), v)).collect()
-}
-
-fn gcd(mut a: i128, mut b: i128) -> i128 {
-    while b != 0 {
-        (a, b) = (b, a % b);
-    }
-    a
 }
 
 /// `n` directions spread evenly over the sphere (a Fibonacci lattice).

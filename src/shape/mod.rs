@@ -125,6 +125,7 @@ mod transformed;
 
 pub use axis::Axis;
 pub use cone::Cone;
+pub(crate) use convex_hull::{LIMIT as HULL_LIMIT, convex_hull, distinct_planes};
 pub use csg::{Csg, CsgNode, MAX_RECURSION};
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
