@@ -51,14 +51,15 @@ fn extrusions_have_area_times_height() {
     let (area, _) = shoelace(&ELL);
     let plain = Extrude::new(polygon(&ELL), Axis::Z, 1.6, true, 0.0, DVec2::ONE).unwrap();
     close(voxel_volume(&plain, -1.0, 2.0), area * 1.6, "an L extruded");
-    // A plate with a round hole, along x: area 1.6 x 1.2 - pi 0.3^2.
+    // A plate with a round hole, along x: area 1.5 x 1.25 - pi 0.3^2 (its sides on
+    // voxel planes).
     let plate = Profile::difference(vec![
-        Profile::rectangle(DVec2::ZERO, DVec2::new(1.6, 1.2)).unwrap(),
+        Profile::rectangle(DVec2::ZERO, DVec2::new(1.5, 1.25)).unwrap(),
         Profile::circle(DVec2::new(0.2, 0.1), 0.3).unwrap(),
     ])
     .unwrap();
     let along_x = Extrude::new(plate, Axis::X, 1.5, true, 0.0, DVec2::ONE).unwrap();
-    close(voxel_volume(&along_x, -1.0, 2.0), (1.6 * 1.2 - PI * 0.09) * 1.5, "a plate with a hole along x");
+    close(voxel_volume(&along_x, -1.0, 2.0), (1.5 * 1.25 - PI * 0.09) * 1.5, "a plate with a hole along x");
 }
 
 #[test]
