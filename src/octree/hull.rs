@@ -131,8 +131,8 @@ impl Voxelizer for PlaneVoxelizer {
         for &i in node.iter() {
             let plane = &self.planes[i as usize];
             let (mut least, mut most) = (0i128, 0i128);
-            for a in 0..3 {
-                let (low, high) = (plane.n[a] * lo[a], plane.n[a] * (lo[a] + span));
+            for (n, low) in plane.n.iter().zip(lo) {
+                let (low, high) = (n * low, n * (low + span));
                 least += low.min(high);
                 most += low.max(high);
             }

@@ -68,7 +68,7 @@ impl Profile {
 
     /// The disc of `radius` around `center`.
     pub fn circle(center: DVec2, radius: f64) -> Result<Profile> {
-        if !center.is_finite() || !(radius.is_finite() && radius > 0.0) {
+        if !(center.is_finite() && radius.is_finite() && radius > 0.0) {
             return Err(Error::invalid("circle", format!("center {center} must be finite, radius {radius} positive")));
         }
         Ok(Profile(Node::Circle { center, radius }))
@@ -76,7 +76,7 @@ impl Profile {
 
     /// The axis-aligned rectangle of `size` around `center`.
     pub fn rectangle(center: DVec2, size: DVec2) -> Result<Profile> {
-        if !center.is_finite() || !(size.is_finite() && size.min_element() > 0.0) {
+        if !(center.is_finite() && size.is_finite() && size.min_element() > 0.0) {
             return Err(Error::invalid("rectangle", format!("center {center} must be finite, size {size} positive")));
         }
         Ok(Profile(Node::Rectangle { center, half: size * 0.5 }))

@@ -83,12 +83,12 @@ impl Polygon {
             .collect();
         let outward = (0..closed.len())
             .map(|i| {
-                let even = if depth[i] % 2 == 0 { 1.0 } else { -1.0 };
+                let even = if depth[i].is_multiple_of(2) { 1.0 } else { -1.0 };
                 shoelace(&closed[i]).signum() * even
             })
             .collect();
         let area = (0..closed.len())
-            .map(|i| if depth[i] % 2 == 0 { shoelace(&closed[i]).abs() } else { -shoelace(&closed[i]).abs() })
+            .map(|i| if depth[i].is_multiple_of(2) { shoelace(&closed[i]).abs() } else { -shoelace(&closed[i]).abs() })
             .sum();
         Ok(Polygon { rings: closed, outward, area })
     }
