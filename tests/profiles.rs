@@ -144,3 +144,39 @@ fn bad_profiles_are_refused_naming_the_file_and_place() {
         assert!(e.contains(&format!("{name}.toml")) && e.contains(":3:") && e.contains(says), "{name}: {e}");
     }
 }
+
+/// What voxelizing takes Hermite data from: the distance's sign agrees with the
+/// point test wherever the distance is not within rounding of zero, and the normal
+/// is a unit vector.
+#[test]
+fn distances_agree_with_the_point_test() {
+    let ring = Profile::difference(vec![
+        Profile::circle(DVec2::new(0.6, 0.0), 0.3).unwrap(),
+        Profile::rectangle(DVec2::new(0.6, 0.2), DVec2::new(0.2, 0.2)).unwrap(),
+    ])
+    .unwrap();
+    let shapes: Vec<Box<dyn Shape>> = vec![
+        Box::new(Extrude::new(polygon(&ELL), Axis::Z, 1.6, true, 0.0, DVec2::ONE).unwrap()),
+        Box::new(Extrude::new(polygon(&ELL), Axis::X, 1.6, true, 120.0, DVec2::new(0.5, 1.2)).unwrap()),
+        Box::new(Revolve::new(polygon(&[[0.3, -0.6], [0.9, -0.4], [0.7, 0.6], [0.3, 0.5]]), Axis::Y, 360.0).unwrap()),
+        Box::new(Revolve::new(ring, Axis::Z, 200.0).unwrap()),
+    ];
+    let mut seed = 99u64;
+    let mut r = || {
+        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.4 - 1.2
+    };
+    for (i, shape) in shapes.iter().enumerate() {
+        let mut checked = 0;
+        for _ in 0..20_000 {
+            let p = DVec3::new(r(), r(), r());
+            let Some(s) = shape.surface(p) else { continue };
+            assert!((s.normal.length() - 1.0).abs() < 1e-9, "shape {i} at {p}: {s:?}");
+            if s.distance.abs() > 1e-9 {
+                assert_eq!(s.distance < 0.0, shape.contains(p), "shape {i} at {p}: {s:?}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 19_000, "shape {i}: {checked}");
+    }
+}

@@ -20,7 +20,7 @@
 //! Volume by Pappus's centroid theorem is `A theta r_c` (`r_c` the profile's centroid's
 //! `r`); the tests hold the voxels to it.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 
 use glam::{DVec2, DVec3};
 
@@ -40,6 +40,8 @@ pub struct Revolve {
     angle: f64,
     /// `(cos A, sin A)`.
     end: DVec2,
+    /// Whether the angle is a full turn (360 degrees as given, not as rounded).
+    full: bool,
 }
 
 impl Revolve {
@@ -57,7 +59,7 @@ impl Revolve {
             ));
         }
         let angle = angle_degrees.to_radians();
-        Ok(Revolve { profile, axis, angle, end: DVec2::new(angle.cos(), angle.sin()) })
+        Ok(Revolve { profile, axis, angle, end: DVec2::new(angle.cos(), angle.sin()), full: angle_degrees == 360.0 })
     }
 
     /// The profile turned.
@@ -67,7 +69,7 @@ impl Revolve {
     }
 
     fn full(&self) -> bool {
-        self.angle >= TAU
+        self.full
     }
 
     /// The two half-planes' functions at `(u, v)` (each `<= 0` on the wedge's side).
