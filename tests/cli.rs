@@ -1441,3 +1441,41 @@ fn a_drawing_that_cannot_open_names_the_file() {
     let e = open("bad.obj");
     assert!(e.to_string().starts_with(&dir.join("bad.obj").display().to_string()), "{e}");
 }
+
+/// `octsolid hull IN -o OUT` (issue 39): the hull of two separate boxes is the box
+/// around both (their corners' hull), through `.oct` and `.binvox` alike.
+#[test]
+fn hull_of_a_solid_file_round_trips_through_formats() {
+    let dir = scratch("hull");
+    let domain = "0,0,0,4";
+    ok(
+        &dir,
+        &["shape", "box", "--center", "1,1,1", "--size", "1,1,1", "--depth", "5", "--domain", domain, "-o", "a.oct"],
+    );
+    ok(
+        &dir,
+        &["shape", "box", "--center", "3,3,3", "--size", "1,1,1", "--depth", "5", "--domain", domain, "-o", "b.oct"],
+    );
+    ok(&dir, &["csg", "union", "a.oct", "b.oct", "-o", "two.oct"]);
+    let out = ok(&dir, &["hull", "two.oct", "-o", "hull.oct"]);
+    assert!(out.contains("wrote hull.oct"), "{out}");
+    // The hull of the cubes [0.5, 1.5]^3 and [2.5, 3.5]^3: the cube minus two
+    // corner prisms; its voxels are counted here by the planes x - y <= 1 and
+    // the like, at the centres of the 32^3 lattice.
+    let mut want = 0u64;
+    for x in 0..32 {
+        for y in 0..32 {
+            for z in 0..32 {
+                let c = [x, y, z].map(|v| (f64::from(v) + 0.5) / 8.0);
+                let in_box = c.iter().all(|&v| (0.5..=3.5).contains(&v));
+                let near = (0..3).all(|i| (0..3).all(|j| c[i] - c[j] <= 1.0));
+                want += u64::from(in_box && near);
+            }
+        }
+    }
+    let info = info_json(&dir, "hull.oct");
+    assert_eq!(info["voxels"].as_u64(), Some(want), "{info}");
+    ok(&dir, &["hull", "two.oct", "-o", "hull.binvox"]);
+    assert_eq!(info_json(&dir, "hull.binvox")["voxels"].as_u64(), Some(want));
+    fails(&dir, &["hull", "missing.oct", "-o", "x.oct"]);
+}

@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use octsolid::MemoryBudget;
 
 use crate::commands::{
-    bench, build, convert, csg, demo, export, info, join, mesh_info, offset, radiosity, render, shape, slice,
+    bench, build, convert, csg, demo, export, hull, info, join, mesh_info, offset, radiosity, render, shape, slice,
     transform, view, voxelize,
 };
 use crate::values::parse_bytes;
@@ -60,6 +60,10 @@ octsolid offset part.oct --voxels -3 -o shrunk.oct")]
     /// closing); --convex or --concave for one kind.
     #[command(after_help = "Example:\n  octsolid round part.oct --radius 1 -o rounded.oct")]
     Round(offset::RoundArgs),
+    /// The convex hull of a solid: the hull of its voxels' corners, voxelized into the
+    /// same domain, exactly.
+    #[command(after_help = "Example:\n  octsolid hull part.oct -o hull.oct")]
+    Hull(hull::HullArgs),
     /// Print what a solid file holds (.oct, .octs, .vox, .binvox, .vdb) and measure it
     /// (area, centre of mass, inertia, components).
     #[command(after_help = "Example:\n  octsolid info hollow.oct --json")]
@@ -135,6 +139,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Command::Offset(a) => offset::run_offset(&a, budget),
         Command::Shell(a) => offset::run_shell(&a, budget),
         Command::Round(a) => offset::run_round(&a, budget),
+        Command::Hull(a) => hull::run(&a, budget),
         Command::Info(a) => info::run(&a, budget),
         Command::Join(a) => join::run(&a),
         Command::Convert(a) => convert::run(&a, budget),

@@ -20,6 +20,7 @@
 mod csg;
 mod domain;
 mod driver;
+mod hull;
 mod linear;
 mod measure;
 mod neighbourhood;

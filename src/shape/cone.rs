@@ -88,6 +88,15 @@ impl Shape for Cone {
         Some(side.intersection(slab))
     }
 
+    /// The apex or the base's rim point towards `d`'s radial part, the farther.
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        let (_, [u, v]) = self.axis.split(d);
+        let across = u.hypot(v);
+        let rim = if across > 0.0 { [u / across, v / across].map(|x| x * self.radius) } else { [0.0, 0.0] };
+        let (apex, rim) = (self.base + self.axis.unit() * self.height, self.base + self.axis.join(0.0, rim));
+        Some(if apex.dot(d) > rim.dot(d) { apex } else { rim })
+    }
+
     fn bounds(&self) -> Option<Aabb> {
         let mut half = DVec3::splat(self.radius);
         half[self.axis.index()] = self.height * 0.5;

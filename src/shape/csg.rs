@@ -28,8 +28,8 @@ use glam::DVec3;
 use super::bounds::both;
 use super::pattern::MAX_COPIES;
 use super::{
-    Class, Cone, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Placement, Shape, Sphere, Surface,
-    Torus, Transformed,
+    Class, Cone, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, Extrude, HalfSpace, Menger, Placement, Revolve, Shape,
+    Sphere, Surface, Torus, Transformed,
 };
 use crate::aabb::Aabb;
 use crate::error::{Error, Result};
@@ -421,6 +421,39 @@ impl Query for SurfaceAt {
     }
 }
 
+/// [`Shape::support`]: a union's is the farthest of its children's (a pattern's of
+/// its copies'); the other operations and complements have none (a cut may remove
+/// the farthest point). The answer carries the direction in its frame, to compare.
+struct Support;
+
+impl Query for Support {
+    type At = DVec3;
+    type Out = Option<(DVec3, DVec3)>;
+    fn leaf(&self, shape: &dyn Shape, d: DVec3) -> Self::Out {
+        Some((shape.support(d)?, d))
+    }
+    fn enter(&self, placement: &Placement, d: DVec3) -> DVec3 {
+        placement.local_direction(d)
+    }
+    fn leave(&self, placement: &Placement, out: Self::Out) -> Self::Out {
+        let (p, d) = out?;
+        Some((placement.world_point(p), placement.world_direction(d)))
+    }
+    fn combine(&self, op: Op, acc: Self::Out, next: Self::Out) -> Self::Out {
+        let ((a, d), (b, _)) = (acc?, next?);
+        match op {
+            Op::Union => Some(if b.dot(d) > a.dot(d) { (b, d) } else { (a, d) }),
+            Op::Intersection | Op::Difference | Op::Xor => None,
+        }
+    }
+    fn decided(&self, _: Op, acc: Self::Out) -> bool {
+        acc.is_none()
+    }
+    fn complement(&self, _: Self::Out) -> Self::Out {
+        None
+    }
+}
+
 /// [`Shape::bounds`]: a union's is the union of its children's, an intersection's
 /// their intersection (a point when it is empty), a difference's its first child's.
 struct Bounds;
@@ -474,6 +507,12 @@ impl Shape for Csg {
 
     fn bounds(&self) -> Option<Aabb> {
         self.ask(&Bounds, ())
+    }
+
+    /// A union's farthest child's support (see `Support`); none for the other
+    /// operations.
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        self.ask(&Support, d).map(|(p, _)| p)
     }
 
     fn as_csg(&self) -> Option<&Csg> {
@@ -624,8 +663,33 @@ macro_rules! leaf_conversions {
     )*};
 }
 
-leaf_conversions!(Sphere, Ellipsoid, Cuboid, Cylinder, Cone, Torus, HalfSpace, Menger, DisplacedSphere);
-csg_operators!(Csg, Sphere, Ellipsoid, Cuboid, Cylinder, Cone, Torus, HalfSpace, Menger, DisplacedSphere);
+leaf_conversions!(
+    Sphere,
+    Ellipsoid,
+    Cuboid,
+    Cylinder,
+    Cone,
+    Torus,
+    HalfSpace,
+    Menger,
+    DisplacedSphere,
+    Extrude,
+    Revolve
+);
+csg_operators!(
+    Csg,
+    Sphere,
+    Ellipsoid,
+    Cuboid,
+    Cylinder,
+    Cone,
+    Torus,
+    HalfSpace,
+    Menger,
+    DisplacedSphere,
+    Extrude,
+    Revolve
+);
 
 /// A transformed tree is a [`CsgNode::Placed`] node of one placement, whose leaves a
 /// pruning voxelizer sees; any other transformed shape is a leaf.

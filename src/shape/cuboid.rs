@@ -53,6 +53,11 @@ impl Shape for Cuboid {
         self.b.contains(p)
     }
 
+    /// The corner on `d`'s side.
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        Some(DVec3::select(d.cmpge(DVec3::ZERO), self.b.max, self.b.min))
+    }
+
     fn bounds(&self) -> Option<Aabb> {
         Some(self.b)
     }

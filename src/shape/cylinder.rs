@@ -75,6 +75,14 @@ impl Shape for Cylinder {
         }
     }
 
+    /// The cap on `d`'s side, at its rim towards `d`'s radial part.
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        let (w, [u, v]) = self.axis.split(d);
+        let across = u.hypot(v);
+        let rim = if across > 0.0 { [u / across, v / across].map(|x| x * self.radius) } else { [0.0, 0.0] };
+        Some(self.center + self.axis.join((self.height * 0.5).copysign(w), rim))
+    }
+
     fn bounds(&self) -> Option<Aabb> {
         let mut half = DVec3::splat(self.radius);
         half[self.axis.index()] = self.height * 0.5;

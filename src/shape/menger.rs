@@ -82,6 +82,11 @@ impl Shape for Menger {
         Class::Inside
     }
 
+    /// The cube's corner on `d`'s side (the sponge keeps its corners).
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        Some(self.min + DVec3::select(d.cmpge(DVec3::ZERO), DVec3::splat(self.size), DVec3::ZERO))
+    }
+
     fn bounds(&self) -> Option<Aabb> {
         Some(Aabb::new(self.min, self.min + DVec3::splat(self.size)))
     }

@@ -56,6 +56,14 @@ pub trait Shape: Send + Sync {
         None
     }
 
+    /// A point of the solid farthest along `direction` (a support point: `p` in the
+    /// closed solid maximizing `direction . p`), what [`Hull`] builds convex hulls
+    /// from; `None` (the default) when the shape cannot tell.
+    fn support(&self, direction: DVec3) -> Option<DVec3> {
+        let _ = direction;
+        None
+    }
+
     /// The CSG tree this shape is, if it is one: what lets a voxelizer see the tree's
     /// leaves and their bounds and prune it ([`PrunedCsg`]); `None` (the default) for
     /// a shape that is classified only as a whole.
@@ -80,6 +88,9 @@ macro_rules! forward_shape {
             fn surface(&self, p: DVec3) -> Option<Surface> {
                 (**self).surface(p)
             }
+            fn support(&self, direction: DVec3) -> Option<DVec3> {
+                (**self).support(direction)
+            }
             fn as_csg(&self) -> Option<&Csg> {
                 (**self).as_csg()
             }
@@ -92,15 +103,20 @@ forward_shape!(&S, Box<S>, std::sync::Arc<S>);
 mod axis;
 mod bounds;
 mod cone;
+mod convex_hull;
 mod csg;
 mod cuboid;
 mod cylinder;
 mod displaced;
+mod extrude;
 mod half_space;
+mod hull;
 mod menger;
 mod pattern;
 mod placement;
+mod profile;
 mod pruned;
+mod revolve;
 mod spec;
 mod sphere;
 mod surface;
@@ -109,16 +125,21 @@ mod transformed;
 
 pub use axis::Axis;
 pub use cone::Cone;
+pub(crate) use convex_hull::{LIMIT as HULL_LIMIT, convex_hull, distinct_planes};
 pub use csg::{Csg, CsgNode, MAX_RECURSION};
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use displaced::DisplacedSphere;
+pub use extrude::Extrude;
 pub use half_space::HalfSpace;
+pub use hull::{Hull, HullOptions};
 pub use menger::Menger;
 pub use pattern::{MAX_COPIES, linear_array, mirrored, polar_array};
 pub use placement::Placement;
+pub use profile::{AREA_LEVELS, MAX_PROFILE_NESTING, Polygon, Profile, ProfileSpec, ProfileSurface};
 pub use pruned::{PrunedCsg, Reduced, Residual};
-pub use spec::{FileLeaves, MAX_NESTING, ShapeSpec, TransformSpec};
+pub use revolve::Revolve;
+pub use spec::{FileLeaves, MAX_NESTING, ScaleSpec, ShapeSpec, TransformSpec};
 pub use sphere::{Ellipsoid, Sphere};
 pub use surface::Surface;
 pub use torus::Torus;

@@ -76,6 +76,35 @@ impl Placement {
         }
     }
 
+    /// The copy's point `p` in the world.
+    #[must_use]
+    pub fn world_point(&self, p: DVec3) -> DVec3 {
+        match self {
+            Placement::Identity => p,
+            Placement::Translation(offset) => p + *offset,
+            Placement::Affine { to_world, .. } => to_world.transform_point3(p),
+        }
+    }
+
+    /// The world direction `d` of a linear function `d . p` in the copy's frame (the
+    /// function's gradient pulled back: `M^T d`).
+    #[must_use]
+    pub fn local_direction(&self, d: DVec3) -> DVec3 {
+        match self {
+            Placement::Identity | Placement::Translation(_) => d,
+            Placement::Affine { to_world, .. } => to_world.matrix3.transpose() * d,
+        }
+    }
+
+    /// The inverse of [`Placement::local_direction`]: `M^-T d`.
+    #[must_use]
+    pub fn world_direction(&self, d: DVec3) -> DVec3 {
+        match self {
+            Placement::Identity | Placement::Translation(_) => d,
+            Placement::Affine { to_local, .. } => to_local.matrix3.transpose() * d,
+        }
+    }
+
     /// The copy's surface `s` (found at the local point) seen in the world; `None`
     /// where the mapped normal vanishes.
     #[must_use]

@@ -36,13 +36,20 @@
 //! spec made in code (without recursion) before building it. Dropping, cloning or
 //! printing a spec made in code deeper than that still recurses.
 //!
+//! Three nodes are made of profiles and hulls: `{ extrude = { profile = ..., height =
+//! H } }` (with `axis`, `center`, `twist`, `scale`; [`super::Extrude`]), `{ revolve = {
+//! profile = ..., axis = "z" } }` (with `angle`; [`super::Revolve`]), whose `profile`
+//! is a [`ProfileSpec`] built (and so checked) as the node is read, and `{ hull =
+//! [shape, ...] }` ([`super::Hull`], built with its default tolerance).
+//!
 //! Two leaves name files, `{ mesh = "part.obj" }` (a closed triangle mesh) and
 //! `{ oct = "part.oct" }` (a stored octree). The shape layer knows no mesh or octree:
 //! [`ShapeSpec::build_with`] asks a [`FileLeaves`] (the scene loader) for their shapes;
 //! [`ShapeSpec::build`] refuses them.
 //!
 //! [`ShapeSpec::volume`] is the exact volume where there is a closed form: each
-//! primitive's formula (the Menger sponge's `size^3 (20/27)^level` included), and a
+//! primitive's formula (the Menger sponge's `size^3 (20/27)^level` included; an
+//! extrusion's of a profile without set operations, [`super::Extrude::volume`]), and a
 //! transform's inner volume times `|det M|` of its linear part. Half-spaces and
 //! complements are unbounded, a displaced sphere and the set operations have none.
 
@@ -54,8 +61,8 @@ use serde::de::{self, Deserializer, IgnoredAny, MapAccess, Visitor};
 
 use super::pattern::{check_linear, check_mirror, check_mirror_copies, check_polar};
 use super::{
-    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Sphere, Torus, Transformed,
-    linear_array, mirrored, polar_array,
+    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, Extrude, HalfSpace, Hull, HullOptions, Menger,
+    ProfileSpec, Revolve, Sphere, Torus, Transformed, linear_array, mirrored, polar_array,
 };
 use crate::error::{Error, Result};
 
@@ -221,7 +228,54 @@ pub enum ShapeSpec {
         /// Translation (default none).
         translate: Option<[f64; 3]>,
     },
+    /// A 2D profile swept along an axis ([`super::Extrude`]).
+    Extrude {
+        /// The profile, in the plane across the axis.
+        profile: ProfileSpec,
+        /// Length along the axis.
+        height: f64,
+        /// The axis swept along (default z).
+        axis: Option<Axis>,
+        /// Centred on the plane `w = 0` instead of standing on it (default false).
+        center: Option<bool>,
+        /// Degrees turned over the height, clockwise seen from `+axis` (default 0).
+        twist: Option<f64>,
+        /// The top's scale, one number or one a profile axis (default 1).
+        scale: Option<ScaleSpec>,
+    },
+    /// A profile in the `(r, z)` half-plane turned about an axis ([`super::Revolve`]).
+    Revolve {
+        /// The profile, `r >= 0`.
+        profile: ProfileSpec,
+        /// The axis turned about, through the origin (default z).
+        axis: Option<Axis>,
+        /// Degrees turned, in `(0, 360]` (default 360).
+        angle: Option<f64>,
+    },
+    /// The convex hull of shapes ([`super::Hull`]).
+    Hull(Vec<ShapeSpec>),
 }
+}
+
+/// An extrusion's top scale: one factor, or one a profile axis.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum ScaleSpec {
+    /// The same factor along both profile axes.
+    Uniform(f64),
+    /// Factors along the profile's x and y.
+    Axes([f64; 2]),
+}
+
+impl ScaleSpec {
+    /// The factors along the profile's x and y.
+    #[must_use]
+    pub fn factors(self) -> glam::DVec2 {
+        match self {
+            ScaleSpec::Uniform(s) => glam::DVec2::splat(s),
+            ScaleSpec::Axes(s) => glam::DVec2::from_array(s),
+        }
+    }
 }
 
 /// A `[x, y, z]` of a spec as a vector.
@@ -334,6 +388,10 @@ impl ShapeSpec {
             }
             ShapeSpec::Mesh(file) => files.mesh(file)?,
             ShapeSpec::Oct(file) => files.oct(file)?,
+            ShapeSpec::Hull(parts) => {
+                let parts = parts.iter().map(|p| p.build_nested(files)).collect::<Result<Vec<_>>>()?;
+                Hull::new(&parts, HullOptions::default())?.into()
+            }
             primitive => primitive.primitive()?,
         })
     }
@@ -357,8 +415,30 @@ impl ShapeSpec {
             ShapeSpec::DisplacedSphere { center, radius, amplitude, frequency } => {
                 DisplacedSphere::new(v(*center), *radius, *amplitude, *frequency)?.into()
             }
+            ShapeSpec::Extrude { .. } => self.extrude()?.into(),
+            ShapeSpec::Revolve { profile, axis, angle } => {
+                Revolve::new(profile.build()?, axis.unwrap_or(Axis::Z), angle.unwrap_or(360.0))?.into()
+            }
             other => unreachable!("{other:?} is not a primitive"),
         })
+    }
+
+    /// The shape of an `extrude` node.
+    ///
+    /// # Panics
+    /// When `self` is another kind.
+    fn extrude(&self) -> Result<Extrude> {
+        let ShapeSpec::Extrude { profile, height, axis, center, twist, scale } = self else {
+            unreachable!("{self:?} is not an extrusion")
+        };
+        Extrude::new(
+            profile.build()?,
+            axis.unwrap_or(Axis::Z),
+            *height,
+            center.unwrap_or(false),
+            twist.unwrap_or(0.0),
+            scale.map_or(glam::DVec2::ONE, ScaleSpec::factors),
+        )
     }
 
     /// Checks this node alone (its children were checked when they were read): a
@@ -369,6 +449,7 @@ impl ShapeSpec {
             | ShapeSpec::Intersection(parts)
             | ShapeSpec::Difference(parts)
             | ShapeSpec::Xor(parts)
+            | ShapeSpec::Hull(parts)
                 if parts.is_empty() =>
             {
                 Err(no_operands())
@@ -387,6 +468,7 @@ impl ShapeSpec {
             | ShapeSpec::Difference(_)
             | ShapeSpec::Xor(_)
             | ShapeSpec::Complement(_)
+            | ShapeSpec::Hull(_)
             | ShapeSpec::Mesh(_)
             | ShapeSpec::Oct(_) => Ok(()),
             primitive => primitive.primitive().map(drop),
@@ -415,7 +497,11 @@ impl ShapeSpec {
             ShapeSpec::Transform { shape, .. } => {
                 Some(shape.volume()? * self.transform().ok()?.matrix3.determinant().abs())
             }
+            ShapeSpec::Extrude { profile, .. } if profile.has_exact_area() => Some(self.extrude().ok()?.volume()),
             ShapeSpec::HalfSpace { .. }
+            | ShapeSpec::Extrude { .. }
+            | ShapeSpec::Revolve { .. }
+            | ShapeSpec::Hull(_)
             | ShapeSpec::DisplacedSphere { .. }
             | ShapeSpec::Union(_)
             | ShapeSpec::Intersection(_)
@@ -437,7 +523,8 @@ impl ShapeSpec {
             ShapeSpec::Union(parts)
             | ShapeSpec::Intersection(parts)
             | ShapeSpec::Difference(parts)
-            | ShapeSpec::Xor(parts) => parts,
+            | ShapeSpec::Xor(parts)
+            | ShapeSpec::Hull(parts) => parts,
             ShapeSpec::Complement(shape)
             | ShapeSpec::Array { shape, .. }
             | ShapeSpec::Polar { shape, .. }

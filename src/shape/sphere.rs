@@ -54,6 +54,13 @@ impl Shape for Ellipsoid {
         ((p - self.center) / self.radii).length_squared() <= 1.0
     }
 
+    /// `c + R^2 d / |R d|` (`R` the radii): the image of the unit sphere's support.
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        let scaled = self.radii * d;
+        let length = scaled.length();
+        (length > 0.0 && length.is_finite()).then(|| self.center + self.radii * scaled / length)
+    }
+
     fn bounds(&self) -> Option<Aabb> {
         Some(Aabb::from_center_half(self.center, self.radii))
     }
@@ -88,6 +95,9 @@ impl Shape for Sphere {
     }
     fn contains(&self, p: DVec3) -> bool {
         self.0.contains(p)
+    }
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        self.0.support(d)
     }
     fn bounds(&self) -> Option<Aabb> {
         self.0.bounds()

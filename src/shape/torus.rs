@@ -72,6 +72,15 @@ impl Shape for Torus {
         Surface::exact(across.hypot(w) - self.minor, self.axis.join(w, [across * u / rho, across * v / rho]))
     }
 
+    /// The centre circle's support plus the tube's: `c + R e + r d / |d|`, `e` the
+    /// unit radial part of `d`.
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        let (_, [u, v]) = self.axis.split(d);
+        let across = u.hypot(v);
+        let e = if across > 0.0 { [u / across, v / across] } else { [1.0, 0.0] };
+        Some(self.center + self.axis.join(0.0, e.map(|x| x * self.major)) + d.try_normalize()? * self.minor)
+    }
+
     fn bounds(&self) -> Option<Aabb> {
         let mut half = DVec3::splat(self.major + self.minor);
         half[self.axis.index()] = self.minor;

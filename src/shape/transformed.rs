@@ -68,6 +68,12 @@ impl<S: Shape> Shape for Transformed<S> {
         Surface::from_field(s.distance, g)
     }
 
+    /// `M s(M^T d)`: the inner support along the direction pulled back.
+    fn support(&self, d: DVec3) -> Option<DVec3> {
+        let local = self.to_world.matrix3.transpose() * d;
+        Some(self.to_world.transform_point3(self.inner.support(local)?))
+    }
+
     fn bounds(&self) -> Option<Aabb> {
         self.inner.bounds().map(|b| map_box(&self.to_world, &b))
     }

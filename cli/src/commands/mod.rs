@@ -8,6 +8,7 @@ pub mod convert;
 pub mod csg;
 pub mod demo;
 pub mod export;
+pub mod hull;
 pub mod info;
 pub mod join;
 pub mod mesh_info;
