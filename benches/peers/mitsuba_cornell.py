@@ -4,9 +4,9 @@ Mitsuba's reference (`render`): `mi.cornell_box()` as it ships (its geometry, ca
 light and RGB reflectances), variant `scalar_rgb`, its path tracer with `max_depth`
 raised to 64 (Russian roulette from depth 5, as Mitsuba does by default: unbiased),
 2048 samples a pixel, written as linear float32 EXR. Two views: Mitsuba's own camera
-(`front`, 256 x 256) and one looking straight down on the tall block from under the
-ceiling (`top`, 64 x 64), because the tall block's top lies above the front camera's eye
-and cannot be seen from it.
+(`front`, 256 x 256) and one looking straight down on the floor from just under the
+ceiling (`top`, 128 x 128, 65 degrees), because the tall block's top lies above the
+front camera's eye, and the blocks hide most of the floor's back from it.
 
 The regions (`compare`): every pixel's primary ray is intersected with Mitsuba's scene
 (the pixel centre, through the sensor itself), and a region is the pixels whose ray
@@ -26,7 +26,7 @@ wall reddens the strip beside it, off the green wall greens the other, so the ra
 above 1 by how much the walls bleed; a renderer that loses interreflected light brings
 it towards 1.
 
-    mitsuba_cornell.py render  --out DIR [--spp 2048]
+    mitsuba_cornell.py render  --out DIR [--spp 2048] [--views front,top]
     mitsuba_cornell.py compare --out DIR --octsolid-front F.exr --octsolid-top T.exr [--json J]
 
 `mitsuba_cornell.sh` installs Mitsuba into the peers venv, renders the reference (kept
@@ -46,12 +46,12 @@ import mitsuba as mi
 mi.set_variant("scalar_rgb")
 
 FRONT_SIZE = 256
-TOP_SIZE = 64
-# The top view: from under the ceiling, straight down on the tall block's top.
-TOP_EYE = (-0.33, 0.9, -0.28)
-TOP_TARGET = (-0.33, 0.21, -0.28)
+TOP_SIZE = 128
+# The top view: from just under the ceiling (and the light), straight down on the floor.
+TOP_EYE = (0.0, 0.95, 0.0)
+TOP_TARGET = (0.0, -1.0, 0.0)
 TOP_UP = (0.0, 0.0, -1.0)
-TOP_FOV = 40.0
+TOP_FOV = 65.0
 MAX_DEPTH = 64
 
 
@@ -70,9 +70,9 @@ def scene_dict(view, spp):
     return d
 
 
-def render(out, spp):
+def render(out, spp, views):
     os.makedirs(out, exist_ok=True)
-    for view in ("front", "top"):
+    for view in views:
         scene = mi.load_dict(scene_dict(view, spp))
         start = time.time()
         image = mi.render(scene)
@@ -82,19 +82,13 @@ def render(out, spp):
         print(json.dumps({"view": view, "spp": spp, "seconds": round(seconds, 1), "exr": path}), flush=True)
 
 
-def shape_names(scene):
-    """Each shape of `scene` by its id."""
-    return {s.id(): s for s in scene.shapes()}
-
-
 def first_hits(view):
-    """Per pixel (row, column): the id of the shape the centre's ray meets first, the
-    hit point and the shading normal (NaN where it meets nothing)."""
+    """Per pixel (row, column): the point where the centre's ray first meets the scene
+    and the normal there (NaN where it meets nothing)."""
     scene = mi.load_dict(scene_dict(view, 1))
     sensor = scene.sensors()[0]
     size = sensor.film().crop_size()
     w, h = int(size[0]), int(size[1])
-    ids = np.full((h, w), "", dtype=object)
     points = np.full((h, w, 3), np.nan)
     normals = np.full((h, w, 3), np.nan)
     for row in range(h):
@@ -103,10 +97,9 @@ def first_hits(view):
             si = scene.ray_intersect(ray)
             if not si.is_valid():
                 continue
-            ids[row, col] = si.shape.id()
             points[row, col] = [si.p[0], si.p[1], si.p[2]]
             normals[row, col] = [si.n[0], si.n[1], si.n[2]]
-    return ids, points, normals
+    return points, normals
 
 
 def shrink(mask, pixels=2):
@@ -124,33 +117,39 @@ def shrink(mask, pixels=2):
     return m
 
 
-def region(hits, shape, normal, box):
-    """Pixels meeting `shape` on a face whose normal is within ~25 degrees of `normal`,
-    inside the world box `box` ((xmin, xmax), (ymin, ymax), (zmin, zmax)), shrunk."""
-    ids, points, normals = hits
-    m = ids == shape
+def region(hits, normal, box):
+    """Pixels whose first hit lies on a face whose normal is within ~25 degrees of
+    `normal`, inside the world box `box` ((xmin, xmax), (ymin, ymax), (zmin, zmax)),
+    shrunk. (Mitsuba merges the shapes of one material into one mesh, so the faces are
+    told apart by their normals and places, not by shape.)"""
+    points, normals = hits
     with np.errstate(invalid="ignore"):
-        m &= normals @ np.asarray(normal, dtype=float) > 0.9
+        m = normals @ np.asarray(normal, dtype=float) > 0.9
         for axis, (lo, hi) in enumerate(box):
             m &= (points[..., axis] >= lo) & (points[..., axis] <= hi)
     return shrink(m)
 
 
 ANY = (-10.0, 10.0)
-# name: (view, shape id, face normal, world box)
+ON_LOW = (-1.01, -0.99)  # on the plane -1
+SHORT = ((0.0, 0.75), (-0.99, -0.41), (0.0, 0.8))  # the short block's sides
+TALL = ((-0.75, 0.1), (-0.99, 0.2), (-0.7, 0.15))  # the tall block's sides
+SHORT_TOP = ((0.0, 0.75), (-0.41, -0.39), (0.0, 0.8))
+TALL_TOP = ((-0.75, 0.1), (0.2, 0.22), (-0.7, 0.15))
+# name: (view, face normal, world box)
 REGIONS = {
-    "back wall top": ("front", "back", (0, 0, 1), ((-0.6, 0.6), (0.4, 0.9), ANY)),
-    "back wall bottom": ("front", "back", (0, 0, 1), ((-0.6, 0.6), (-0.8, -0.4), ANY)),
-    "floor front": ("front", "floor", (0, 1, 0), ((-0.6, 0.6), ANY, (0.5, 0.95))),
-    "floor back": ("front", "floor", (0, 1, 0), ((-0.6, 0.6), ANY, (-0.95, -0.6))),
-    "ceiling": ("front", "ceiling", (0, -1, 0), ((-0.9, 0.9), ANY, (-0.9, 0.9))),
-    "short block front": ("front", "small-box", (-0.292, 0, 0.956), (ANY, ANY, ANY)),
-    "short block top": ("front", "small-box", (0, 1, 0), (ANY, ANY, ANY)),
-    "tall block front": ("front", "large-box", (0.313, 0, 0.950), (ANY, ANY, ANY)),
-    "tall block top": ("top", "large-box", (0, 1, 0), (ANY, ANY, ANY)),
+    "back wall top": ("front", (0, 0, 1), ((-0.6, 0.6), (0.4, 0.9), ON_LOW)),
+    "back wall bottom": ("front", (0, 0, 1), ((-0.6, 0.6), (-0.8, -0.4), ON_LOW)),
+    "floor front": ("top", (0, 1, 0), ((-0.9, 0.9), ON_LOW, (0.5, 0.95))),
+    "floor back": ("top", (0, 1, 0), ((-0.9, 0.9), ON_LOW, (-0.95, -0.6))),
+    "ceiling": ("front", (0, -1, 0), ((-0.9, 0.9), (0.995, 1.01), (-0.9, 0.9))),  # not the light (y = 0.99)
+    "short block front": ("front", (-0.292, 0, 0.956), SHORT),
+    "short block top": ("top", (0, 1, 0), SHORT_TOP),
+    "tall block front": ("front", (0.313, 0, 0.950), TALL),
+    "tall block top": ("top", (0, 1, 0), TALL_TOP),
 }
-BLEED_RED_SIDE = ("front", "back", (0, 0, 1), ((-0.95, -0.75), (-0.3, 0.3), ANY))
-BLEED_GREEN_SIDE = ("front", "back", (0, 0, 1), ((0.75, 0.95), (-0.3, 0.3), ANY))
+BLEED_RED_SIDE = ("front", (0, 0, 1), ((-0.95, -0.75), (-0.3, 0.3), ON_LOW))
+BLEED_GREEN_SIDE = ("front", (0, 0, 1), ((0.75, 0.95), (-0.3, 0.3), ON_LOW))
 
 
 def read_exr(path):
@@ -232,6 +231,7 @@ def main():
     r = sub.add_parser("render")
     r.add_argument("--out", required=True)
     r.add_argument("--spp", type=int, default=2048)
+    r.add_argument("--views", default="front,top")
     c = sub.add_parser("compare")
     c.add_argument("--out", required=True)
     c.add_argument("--octsolid-front", required=True)
@@ -240,7 +240,7 @@ def main():
     c.add_argument("--masks", action="store_true", help="also write side-by-side PNGs with the regions outlined")
     args = p.parse_args()
     if args.command == "render":
-        render(args.out, args.spp)
+        render(args.out, args.spp, args.views.split(","))
     else:
         compare(args)
 

@@ -362,7 +362,7 @@ impl Patches {
             .enumerate()
             .map(|(i, solid)| {
                 Ok(if solid.shape().is_some() {
-                    let found = surface_patches(solid, i as u32, patch_size, elements, budget)?;
+                    let found = surface_patches(scene, i as u32, patch_size, elements, budget)?;
                     let count = found.patches.len() as u64;
                     (Part::Surface(found.patches), count, found.elements)
                 } else {
