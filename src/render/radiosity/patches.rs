@@ -437,6 +437,14 @@ impl Patches {
         (budget.0.saturating_sub(patches) / BYTES_PER_ELEMENT).min(u64::from(u32::MAX)) as usize
     }
 
+    /// The base element (level 0) element `e` lies in.
+    pub fn base_element(&self, e: usize) -> usize {
+        let el = &self.elements[e];
+        let p = &self.patches[el.patch as usize];
+        let [k, j] = el.cell.map(|c| c >> el.level);
+        (p.first + j * p.nu + k) as usize
+    }
+
     /// Elements that receive and are shown (not split).
     pub fn leaf_count(&self) -> usize {
         self.elements.len() - self.splits.len()

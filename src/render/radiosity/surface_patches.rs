@@ -20,8 +20,10 @@
 //! one's surface runs on between them, where no light can come or go. A triangle whose
 //! outside, half a voxel beyond its centroid along its normal, lies in a full voxel of
 //! another solid faces into that solid and is left out before the regions are grown
-//! ([`facing_out`]), so the regions, their rectangles and the patches are the exposed
-//! surface alone (to half a voxel). Kept, such a face would take a patch's share of the
+//! ([`facing_out`]); so is one whose inside, half a voxel within, lies in an earlier
+//! solid (two overlapping solids ending in one plane: the earlier keeps the face). So
+//! the regions, their rectangles and the patches are the exposed surface of the
+//! solids' union, each part once (to half a voxel). Kept, such a face would take a patch's share of the
 //! light it receives into its elements (which receive nothing) and dim every patch that
 //! crosses it: the walls' borders of a Cornell box built of overlapping boxes lost a
 //! third of their light, and the colour bled off them with it.
@@ -111,18 +113,21 @@ pub(crate) struct SolidPatches {
 
 /// `mesh` (the surface of solid `index` of `scene`) less its triangles that face into
 /// another solid of the scene (module doc): those whose point half a voxel of that
-/// solid out of their centroid, along their normal, lies in one of its full voxels.
-/// Triangles of no area have no normal and are kept.
+/// solid out of their centroid, along their normal, lies in one of its full voxels, and
+/// those whose point half a voxel within lies in an earlier solid's. Triangles of no
+/// area have no normal and are kept.
 fn facing_out(mesh: TriangleMesh, scene: &Scene, index: usize) -> TriangleMesh {
-    let others: Vec<_> = scene.solids.iter().enumerate().filter(|&(i, _)| i != index).map(|(_, s)| s).collect();
-    if others.is_empty() {
+    if scene.solids.len() < 2 {
         return mesh;
     }
     let hidden = |t: &[u32; 3]| {
         let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
         let Some(n) = (b - a).cross(c - a).try_normalize() else { return false };
         let centroid = (a + b + c) / 3.0;
-        others.iter().any(|o| o.tree.contains_point(centroid + n * (0.5 * o.tree.domain().voxel_size())))
+        scene.solids.iter().enumerate().filter(|&(i, _)| i != index).any(|(i, o)| {
+            let half = n * (0.5 * o.tree.domain().voxel_size());
+            o.tree.contains_point(centroid + half) || (i < index && o.tree.contains_point(centroid - half))
+        })
     };
     let keep: Vec<bool> = mesh.triangles.par_iter().map(|t| !hidden(t)).collect();
     if keep.iter().all(|&k| k) {
