@@ -8,7 +8,9 @@
 //! a room turned off the lattice whose patches come from its true surface (its walls'
 //! analytic area, no light lost), the furnace once more in a room of six overlapping
 //! slabs, each its own solid (the faces where they touch are no patch: the elements'
-//! area is the union's exposed surface), and adaptive
+//! area is the union's exposed surface), patches shooting near receivers by their
+//! elements against patches of one element each on the same grid (brute force), and
+//! adaptive
 //! subdivision (closer to a solution on much finer uniform elements than the base
 //! elements alone, the furnace still exact, the energy book balanced).
 
@@ -250,7 +252,12 @@ fn slab_room(rho: f64, emission: f64) -> Scene {
             let (mut min, mut max) = ([-0.75; 3], [0.75; 3]);
             (min[a], max[a]) = if sign > 0.0 { (0.5, 0.75) } else { (-0.75, -0.5) };
             let slab = cuboid(min, max);
-            scene.add_shaped(&format!("slab {a} {sign}"), tree(&slab), diffuse(rho, emission), std::sync::Arc::new(slab));
+            scene.add_shaped(
+                &format!("slab {a} {sign}"),
+                tree(&slab),
+                diffuse(rho, emission),
+                std::sync::Arc::new(slab),
+            );
         }
     }
     scene
@@ -459,6 +466,27 @@ fn display_error(scene: &Scene, r: &Radiosity, fine: &Radiosity) -> f64 {
     }
     assert!(area > 0.0 && scene.solids.len() == 3);
     sum / area
+}
+
+#[test]
+fn patches_of_four_by_four_elements_shoot_as_their_elements_would_where_receivers_are_near() {
+    // The reference shoots from every element itself: patches of one element each, on
+    // the same element grid (the room's faces: 16 x 16 elements of 2 voxels either way).
+    let scene = lit_room();
+    let solve = |patch, elements| {
+        let options = RadiosityOptions { until: 1e-4, ..options(patch, elements) };
+        Radiosity::solve(&scene, &options, &NoProgress).unwrap()
+    };
+    let (patches, elements) = (solve(0.25, 4), solve(0.0625, 1));
+    let error = display_error(&scene, &patches, &elements);
+    let mean = {
+        let inner = elements.elements().filter(|e| inside_room(e.0) && elements.patch_at(0, e.0, e.1).is_some());
+        let (sum, area) = inner.fold((0.0, 0.0), |(s, a), e| (s + e.2 * e.3.element_sum(), a + e.2));
+        sum / area
+    };
+    // Patches shooting their mean light to every receiver, near ones too, were 3.3%
+    // off (the far field's remaining 2.4% is each patch's sampled visibility and mean).
+    assert!(error < 0.028 * mean, "mean difference {error} against a mean of {mean}");
 }
 
 #[test]

@@ -27,6 +27,7 @@ above 1 by how much the walls bleed; a renderer that loses interreflected light 
 it towards 1.
 
     mitsuba_cornell.py render  --out DIR [--spp 2048] [--views front,top]
+    mitsuba_cornell.py params  (what decides the reference: views, cameras, depth, Mitsuba)
     mitsuba_cornell.py compare --out DIR --octsolid-front F.exr --octsolid-top T.exr [--json J]
 
 `mitsuba_cornell.sh` installs Mitsuba into the peers venv, renders the reference (kept
@@ -100,6 +101,12 @@ def first_hits(view):
             points[row, col] = [si.p[0], si.p[1], si.p[2]]
             normals[row, col] = [si.n[0], si.n[1], si.n[2]]
     return points, normals
+
+
+def params():
+    """Everything that decides the reference pictures but the sample count."""
+    return {"mitsuba": mi.__version__, "max_depth": MAX_DEPTH, "front": FRONT_SIZE, "top": [TOP_SIZE, TOP_EYE,
+            TOP_TARGET, TOP_UP, TOP_FOV]}
 
 
 def shrink(mask, pixels=2):
@@ -232,6 +239,7 @@ def main():
     r.add_argument("--out", required=True)
     r.add_argument("--spp", type=int, default=2048)
     r.add_argument("--views", default="front,top")
+    sub.add_parser("params")
     c = sub.add_parser("compare")
     c.add_argument("--out", required=True)
     c.add_argument("--octsolid-front", required=True)
@@ -241,6 +249,8 @@ def main():
     args = p.parse_args()
     if args.command == "render":
         render(args.out, args.spp, args.views.split(","))
+    elif args.command == "params":
+        print(json.dumps(params()))
     else:
         compare(args)
 

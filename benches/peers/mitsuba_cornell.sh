@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Radiosity against Mitsuba 3 (issue 42): Mitsuba's built-in Cornell box path traced by
-# Mitsuba (the reference, rendered once and kept while the script and Mitsuba's version
-# are unchanged) and solved by `octsolid radiosity` on scenes/cornell-mitsuba.toml, the
+# Mitsuba (the reference, rendered once and kept while its views, samples and Mitsuba's
+# version are unchanged) and solved by `octsolid radiosity` on scenes/cornell-mitsuba.toml, the
 # same nine regions and the bleeding ratio measured in both (mitsuba_cornell.py).
 #
 #   benches/peers/mitsuba_cornell.sh                 # writes target/mitsuba-cornell/
@@ -29,9 +29,9 @@ fi
 [ -x "$octsolid" ] || { echo "missing $octsolid: cargo build --release -p octsolid-cli" >&2; exit 1; }
 mkdir -p "$out"
 
-# The reference, unless one of this script, these samples and this Mitsuba is there.
+# The reference, unless one of these views, samples and Mitsuba is there.
 stamp="$out/mitsuba.stamp"
-want="$(sha256sum "$here/mitsuba_cornell.py" | cut -d' ' -f1) spp=$spp mitsuba=$mitsuba_version"
+want="$("$venv/bin/python" "$here/mitsuba_cornell.py" params) spp=$spp"
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ]; then
     echo "mitsuba: rendering the reference at $spp samples a pixel (minutes)"
     "$venv/bin/python" "$here/mitsuba_cornell.py" render --out "$out" --spp "$spp"

@@ -57,8 +57,12 @@ use crate::render::scene::{Illumination, Light, Scene};
 use patches::Patches;
 use shoot::{Shooter, Stop};
 
-/// Default unshot fraction at which refinement stops (`--until`).
-pub const DEFAULT_UNTIL: f64 = 0.01;
+/// Default unshot fraction at which refinement stops (`--until`). The ambient term
+/// stands in for the light not yet shot, spread evenly; in an open room most of it
+/// would never reach the dark corners it is added to, so stopping at 1% showed the
+/// darkest region of Mitsuba's Cornell box (a block's front towards the open side) 21%
+/// too bright, at 0.1% 4% (BENCHMARKS.md, "Radiosity against Mitsuba").
+pub const DEFAULT_UNTIL: f64 = 0.001;
 /// Default elements along a patch side.
 pub const DEFAULT_ELEMENTS: u32 = 4;
 /// Default patch edge as a fraction of the scene's longest extent.

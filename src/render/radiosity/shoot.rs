@@ -154,8 +154,11 @@ impl<'a> Shooter<'a> {
     pub fn new(scene: &'a Scene, patches: Patches) -> Self {
         let radiosity = patches.elements.iter().map(|e| patches.patches[e.patch as usize].emission).collect();
         let unshot: Vec<DVec3> = patches.patches.iter().map(|p| p.emission).collect();
-        let element_unshot =
-            patches.elements.iter().map(|e| if e.level == 0 { patches.patches[e.patch as usize].emission } else { DVec3::ZERO }).collect();
+        let element_unshot = patches
+            .elements
+            .iter()
+            .map(|e| if e.level == 0 { patches.patches[e.patch as usize].emission } else { DVec3::ZERO })
+            .collect();
         let (incident, shot) = (vec![DVec3::ZERO; patches.elements.len()], vec![DVec3::ZERO; patches.patches.len()]);
         let from_patches: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
         let from_lights: f64 = scene.lights.iter().map(point_power).sum();

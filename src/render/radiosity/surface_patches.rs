@@ -169,13 +169,7 @@ pub(crate) fn surface_patches(
 }
 
 /// The tiles of one region (module doc), with their covers.
-fn region_patches(
-    mesh: &TriangleMesh,
-    region: &Region,
-    voxel: f64,
-    patch_size: f64,
-    elements: u32,
-) -> Vec<Patch> {
+fn region_patches(mesh: &TriangleMesh, region: &Region, voxel: f64, patch_size: f64, elements: u32) -> Vec<Patch> {
     let n = region.normal;
     let (e1, e2) = plane_basis(n);
     let flat = |p: DVec3| DVec2::new((p - region.point).dot(e1), (p - region.point).dot(e2));
