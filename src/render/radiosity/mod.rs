@@ -8,9 +8,11 @@
 //! cut into patches (`patches`: rectangles up to a size, elements below them; for a
 //! solid made from a shape, tiles of the planar regions of its true surface,
 //! `surface_patches`, `regions`, `cover`; for any other, the exposed faces of its full
-//! nodes merged into coplanar rectangles), and its ray walk is the visibility term (`form_factor`:
+//! nodes merged into coplanar rectangles; where a solid made from a shape touches
+//! another, the faces between them are no patch), and its ray walk is the visibility term (`form_factor`:
 //! ray-traced form factors after Wallace et al. 1989, on all cores). The system is
-//! solved by progressive refinement (`shoot`, Cohen et al. 1988), stopped at a
+//! solved by progressive refinement (`shoot`, Cohen et al. 1988; near receivers take
+//! the shooter's elements one by one), stopped at a
 //! fraction of unshot energy or a shot count, with the ambient correction for display.
 //! Optionally ([`RadiosityOptions::subdivide`]), elements are split where the solution
 //! varies (adaptive subdivision, Cohen et al. 1986): once refinement reaches

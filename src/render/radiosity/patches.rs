@@ -4,8 +4,10 @@
 //!
 //! A solid made from a shape gives its patches from its true surface
 //! (`surface_patches`: the planar regions of its dual contouring mesh, each cut into
-//! tiles of its plane; elements as below, their areas and centres those of the
-//! surface each covers). Any other solid's boundary is the set of exposed faces of its full nodes, merged into
+//! tiles of its plane, less the faces it turns towards other solids; elements as
+//! below, their areas and centres those of the surface each covers). Any other solid's
+//! boundary is the set of exposed faces of its full nodes (faces against other solids
+//! included: a limitation), merged into
 //! coplanar rectangles (`mesh::boundary_rects`: they tile the voxel boundary without
 //! overlap). A rectangle longer than `patch_size` (world units, at least one voxel) is
 //! cut into the fewest equal tiles (whole voxels, the first ones a voxel longer) no
