@@ -253,7 +253,7 @@ fn slab_room(rho: f64, emission: f64) -> Scene {
             (min[a], max[a]) = if sign > 0.0 { (0.5, 0.75) } else { (-0.75, -0.5) };
             let slab = cuboid(min, max);
             scene.add_shaped(
-                &format!("slab {a} {sign}"),
+                format!("slab {a} {sign}"),
                 tree(&slab),
                 diffuse(rho, emission),
                 std::sync::Arc::new(slab),
