@@ -50,7 +50,8 @@
 //! Each child gathers what the element would have received had it been there from
 //! the start: from every light already shot, and from every patch `j` the radiance
 //! `S_j` it has shot in all, `dB_c = rho_c (sum_lights E / pi + sum_j S_j F(dA_c -> A_j))`
-//! (form factors are fixed, so the order of shots does not matter). The parent's
+//! (form factors are fixed, so the order of shots does not matter; a patch near the
+//! child gives it its elements' own shot radiance, as a shot would). The parent's
 //! share of the energy book is replaced by its children's: the change of received
 //! power moves between escaped and received, the change of reflected power goes into
 //! the patch's unshot light (which can so grow, or fall below zero: a patch that has
@@ -99,6 +100,8 @@ pub(crate) struct Shooter<'a> {
     /// Each base element's unshot radiance (0 for the elements subdivision adds); a
     /// patch's `unshot` is their area-weighted mean.
     element_unshot: Vec<DVec3>,
+    /// Each base element's radiance shot so far (its patch's `shot`, element by element).
+    element_shot: Vec<DVec3>,
     /// Each patch's radiance shot so far, all its shots added.
     shot: Vec<DVec3>,
     /// The scene's lights shot so far (they shoot first, in order, once each).
@@ -140,6 +143,45 @@ fn total(c: DVec3) -> f64 {
     c.x + c.y + c.z
 }
 
+/// Patch `shooter`'s base elements as rectangles of their own, each with its value
+/// of `values` (the patch's elements' slice), for the receivers near it: none for a
+/// partly covered tile or a patch of one element (module doc, near field).
+fn element_parts(shooter: &Patch, values: &[DVec3]) -> Vec<(Patch, DVec3)> {
+    let count = values.len();
+    if shooter.cover.is_some() || count <= 1 {
+        return Vec::new();
+    }
+    let (du, dv) = (shooter.du / f64::from(shooter.nu), shooter.dv / f64::from(shooter.nv));
+    let area = shooter.area / count as f64;
+    values
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            let (col, row) = (f64::from(k as u32 % shooter.nu), f64::from(k as u32 / shooter.nu));
+            (Patch { corner: shooter.corner + du * col + dv * row, du, dv, area, ..shooter.clone() }, *v)
+        })
+        .collect()
+}
+
+/// Whether `e` is a near receiver of `shooter` (within [`NEAR`] edges of its centre).
+fn is_near(e: &Element, shooter: &Patch) -> bool {
+    (e.center - shooter.center()).length() < NEAR * shooter.du.length().max(shooter.dv.length())
+}
+
+/// The radiance `e` receives from `shooter` sending `light` (its mean), or from each
+/// of `parts` (its elements and their own light, [`element_parts`]) when `e` is near
+/// it; and the rays cast.
+fn from_patch(scene: &Scene, e: &Element, shooter: &Patch, light: DVec3, parts: &[(Patch, DVec3)]) -> (DVec3, u32) {
+    if !parts.is_empty() && is_near(e, shooter) {
+        return parts.iter().fold((DVec3::ZERO, 0), |(sum, rays), (part, u)| {
+            let (f, r) = element_to_patch(scene, e, part);
+            (sum + *u * f, rays + r)
+        });
+    }
+    let (f, rays) = element_to_patch(scene, e, shooter);
+    (light * f, rays)
+}
+
 /// The power a point light emits, `4 pi I` summed over the channels; 0 for a
 /// directional light (its power is what the scene's patches receive of it).
 fn point_power(light: &Light) -> f64 {
@@ -154,7 +196,7 @@ impl<'a> Shooter<'a> {
     pub fn new(scene: &'a Scene, patches: Patches) -> Self {
         let radiosity = patches.elements.iter().map(|e| patches.patches[e.patch as usize].emission).collect();
         let unshot: Vec<DVec3> = patches.patches.iter().map(|p| p.emission).collect();
-        let element_unshot = patches
+        let element_unshot: Vec<DVec3> = patches
             .elements
             .iter()
             .map(|e| if e.level == 0 { patches.patches[e.patch as usize].emission } else { DVec3::ZERO })
@@ -168,6 +210,7 @@ impl<'a> Shooter<'a> {
             radiosity,
             incident,
             unshot,
+            element_shot: vec![DVec3::ZERO; element_unshot.len()],
             element_unshot,
             shot,
             lights_shot: 0,
@@ -285,30 +328,12 @@ impl<'a> Shooter<'a> {
         let light = std::mem::take(&mut self.unshot[i]);
         self.shot[i] += light;
         let scene = self.scene;
-        // The shooter's elements as rectangles of their own, with their unshot light,
-        // for the receivers near it (none for a partly covered tile or a single element).
-        let first = shooter.first as usize;
-        let count = (shooter.nu * shooter.nv) as usize;
-        let mut parts: Vec<(Patch, DVec3)> = Vec::new();
-        if shooter.cover.is_none() && count > 1 {
-            let (du, dv) = (shooter.du / f64::from(shooter.nu), shooter.dv / f64::from(shooter.nv));
-            for (k, u) in self.element_unshot[first..first + count].iter().enumerate() {
-                let (col, row) = ((k as u32 % shooter.nu) as f64, (k as u32 / shooter.nu) as f64);
-                let part = Patch {
-                    corner: shooter.corner + du * col + dv * row,
-                    du,
-                    dv,
-                    area: shooter.area / count as f64,
-                    ..shooter.clone()
-                };
-                parts.push((part, *u));
-            }
+        // The shooter's elements with their unshot light, for the receivers near it.
+        let (first, count) = (shooter.first as usize, (shooter.nu * shooter.nv) as usize);
+        let parts = element_parts(shooter, &self.element_unshot[first..first + count]);
+        for k in first..first + count {
+            self.element_shot[k] += std::mem::take(&mut self.element_unshot[k]);
         }
-        for u in &mut self.element_unshot[first..first + count] {
-            *u = DVec3::ZERO;
-        }
-        let near = NEAR * shooter.du.length().max(shooter.dv.length());
-        let center = shooter.center();
         let found: Vec<(DVec3, u32)> = self
             .patches
             .elements
@@ -318,16 +343,7 @@ impl<'a> Shooter<'a> {
                 if e.patch as usize == i || !e.is_leaf() || e.area <= 0.0 {
                     return (DVec3::ZERO, 0);
                 }
-                if !parts.is_empty() && (e.center - center).length() < near {
-                    let mut sum = (DVec3::ZERO, 0);
-                    for (part, u) in &parts {
-                        let (f, rays) = element_to_patch(scene, e, part);
-                        sum = (sum.0 + *u * f, sum.1 + rays);
-                    }
-                    return sum;
-                }
-                let (f, rays) = element_to_patch(scene, e, shooter);
-                (light * f, rays)
+                from_patch(scene, e, shooter, light, &parts)
             })
             .collect();
         self.rays += found.iter().map(|(_, r)| u64::from(*r)).sum::<u64>();
@@ -396,7 +412,7 @@ impl<'a> Shooter<'a> {
         // What each child would have received from the start: the lights shot and every
         // patch's light shot so far (each child in parallel, its sum in patch order).
         let lights = &scene.lights[..self.lights_shot];
-        let (mesh, shot) = (&self.patches, &self.shot);
+        let (mesh, shot, element_shot) = (&self.patches, &self.shot, &self.element_shot);
         let gathered: Vec<(DVec3, u64)> = parents
             .par_iter()
             .flat_map_iter(|&(_, first)| first..first + 4)
@@ -411,8 +427,14 @@ impl<'a> Shooter<'a> {
                     if *s == DVec3::ZERO || j == child.patch as usize {
                         continue;
                     }
-                    let (f, r) = element_to_patch(scene, child, patch);
-                    inc += *s * f;
+                    let (first, count) = (patch.first as usize, (patch.nu * patch.nv) as usize);
+                    let parts = if is_near(child, patch) {
+                        element_parts(patch, &element_shot[first..first + count])
+                    } else {
+                        Vec::new()
+                    };
+                    let (l, r) = from_patch(scene, child, patch, *s, &parts);
+                    inc += l;
                     rays += u64::from(r);
                 }
                 (inc, rays)
@@ -434,6 +456,7 @@ impl<'a> Shooter<'a> {
                 self.radiosity.push(emission + *inc * rho);
                 self.incident.push(*inc);
                 self.element_unshot.push(DVec3::ZERO);
+                self.element_shot.push(DVec3::ZERO);
                 self.rays += rays;
                 received += PI * area * total(*inc);
                 reflected += PI * area * total(*inc * rho);
