@@ -6,7 +6,11 @@
 //! bit, refused for another scene, refused when damaged or claiming what no solver
 //! writes), a sphere's elements taking the sphere's own normal, the furnace again in
 //! a room turned off the lattice whose patches come from its true surface (its walls'
-//! analytic area, no light lost), and adaptive
+//! analytic area, no light lost), the furnace once more in a room of six overlapping
+//! slabs, each its own solid (the faces where they touch are no patch: the elements'
+//! area is the union's exposed surface), patches shooting near receivers by their
+//! elements against patches of one element each on the same grid (brute force), and
+//! adaptive
 //! subdivision (closer to a solution on much finer uniform elements than the base
 //! elements alone, the furnace still exact, the energy book balanced).
 
@@ -237,6 +241,52 @@ fn a_turned_furnace_of_true_surface_patches_shows_e_over_one_minus_rho_over_the_
     }
 }
 
+/// A closed room of six slabs, each its own solid made from a shape, overlapping at the
+/// room's edges as walls are modelled: slab `a, sign` is `[-0.75, 0.75]^2` across axis
+/// `a` and `0.5..0.75` along it on the `sign` side; the room is `[-0.5, 0.5]^3`.
+fn slab_room(rho: f64, emission: f64) -> Scene {
+    let mut scene = Scene::new();
+    scene.lights.clear();
+    for a in 0..3 {
+        for sign in [-1.0, 1.0] {
+            let (mut min, mut max) = ([-0.75; 3], [0.75; 3]);
+            (min[a], max[a]) = if sign > 0.0 { (0.5, 0.75) } else { (-0.75, -0.5) };
+            let slab = cuboid(min, max);
+            scene.add_shaped(
+                format!("slab {a} {sign}"),
+                tree(&slab),
+                diffuse(rho, emission),
+                std::sync::Arc::new(slab),
+            );
+        }
+    }
+    scene
+}
+
+#[test]
+fn a_furnace_of_overlapping_slabs_shows_e_over_one_minus_rho_and_only_the_exposed_surface_has_patches() {
+    let (rho, emission) = (0.5, 0.8);
+    let scene = slab_room(rho, emission);
+    // Tiles of 0.3 straddle the lines where the slabs meet (a face of 1.5 is five of
+    // them; the room's inside starts 0.25 in), so a face against another slab that
+    // kept its patches would dim the room's borders.
+    let r = Radiosity::solve(&scene, &RadiosityOptions { until: 1e-4, ..options(0.3, 4) }, &NoProgress).unwrap();
+    // The elements cover the exposed surface of the slabs' union, the hollow between
+    // the cubes of half sides 0.5 and 0.75: 6 (1^2 + 1.5^2) = 19.5 (each slab's own
+    // surface is 6, 36 in all).
+    let area: f64 = r.elements().map(|e| e.2).sum();
+    assert!((area - 19.5).abs() < 0.005 * 19.5, "element area {area}, exposed surface 19.5");
+    let want = emission / (1.0 - rho);
+    let mut seen = 0.0;
+    for (center, _, a, shown) in r.elements().filter(|e| inside_room(e.0) && e.2 > 0.0) {
+        seen += a;
+        for c in shown.to_array() {
+            assert!((c - want).abs() < 0.01 * want, "{c} at {center}, want {want}");
+        }
+    }
+    assert!((seen - 6.0).abs() < 0.005 * 6.0, "inner area {seen}");
+}
+
 /// A closed room lit by an emissive block and a point light, with an occluder.
 fn lit_room() -> Scene {
     let mut scene = Scene::new();
@@ -416,6 +466,27 @@ fn display_error(scene: &Scene, r: &Radiosity, fine: &Radiosity) -> f64 {
     }
     assert!(area > 0.0 && scene.solids.len() == 3);
     sum / area
+}
+
+#[test]
+fn patches_of_four_by_four_elements_shoot_as_their_elements_would_where_receivers_are_near() {
+    // The reference shoots from every element itself: patches of one element each, on
+    // the same element grid (the room's faces: 16 x 16 elements of 2 voxels either way).
+    let scene = lit_room();
+    let solve = |patch, elements| {
+        let options = RadiosityOptions { until: 1e-4, ..options(patch, elements) };
+        Radiosity::solve(&scene, &options, &NoProgress).unwrap()
+    };
+    let (patches, elements) = (solve(0.25, 4), solve(0.0625, 1));
+    let error = display_error(&scene, &patches, &elements);
+    let mean = {
+        let inner = elements.elements().filter(|e| inside_room(e.0) && elements.patch_at(0, e.0, e.1).is_some());
+        let (sum, area) = inner.fold((0.0, 0.0), |(s, a), e| (s + e.2 * e.3.element_sum(), a + e.2));
+        sum / area
+    };
+    // Patches shooting their mean light to every receiver, near ones too, were 3.3%
+    // off (the far field's remaining 2.4% is each patch's sampled visibility and mean).
+    assert!(error < 0.028 * mean, "mean difference {error} against a mean of {mean}");
 }
 
 #[test]

@@ -8,12 +8,14 @@
 //! cut into patches (`patches`: rectangles up to a size, elements below them; for a
 //! solid made from a shape, tiles of the planar regions of its true surface,
 //! `surface_patches`, `regions`, `cover`; for any other, the exposed faces of its full
-//! nodes merged into coplanar rectangles), and its ray walk is the visibility term (`form_factor`:
+//! nodes merged into coplanar rectangles; where a solid made from a shape touches
+//! another, the faces between them are no patch), and its ray walk is the visibility term (`form_factor`:
 //! ray-traced form factors after Wallace et al. 1989, on all cores). The system is
-//! solved by progressive refinement (`shoot`, Cohen et al. 1988), stopped at a
-//! fraction of unshot energy or a shot count, with the ambient correction for display,
-//! or ([`Solver::Gathering`]) as the chapter writes it, `[F][B] = [E]` with the whole
-//! form-factor matrix, by Gauss-Seidel iteration to a tolerance (`gather`).
+//! solved by progressive refinement (`shoot`, Cohen et al. 1988; near receivers take
+//! the shooter's elements one by one), stopped at a fraction of unshot energy or a
+//! shot count, with the ambient correction for display, or ([`Solver::Gathering`]) as
+//! the chapter writes it, `[F][B] = [E]` with the whole form-factor matrix, by
+//! Gauss-Seidel iteration to a tolerance (`gather`).
 //! Optionally ([`RadiosityOptions::subdivide`]), elements are split where the solution
 //! varies (adaptive subdivision, Cohen et al. 1986): once refinement reaches
 //! [`SUBDIVIDE_AT`], round after round, then refinement goes on to `until`.
@@ -93,8 +95,12 @@ crate::spelling::spelled!(Solver);
 /// Default relative residual at which gathering stops (`--tolerance`).
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 
-/// Default unshot fraction at which refinement stops (`--until`).
-pub const DEFAULT_UNTIL: f64 = 0.01;
+/// Default unshot fraction at which refinement stops (`--until`). The ambient term
+/// stands in for the light not yet shot, spread evenly; in an open room most of it
+/// would never reach the dark corners it is added to, so stopping at 1% showed the
+/// darkest region of Mitsuba's Cornell box (a block's front towards the open side) 21%
+/// too bright, at 0.1% 4% (BENCHMARKS.md, "Radiosity against Mitsuba").
+pub const DEFAULT_UNTIL: f64 = 0.001;
 /// Default elements along a patch side.
 pub const DEFAULT_ELEMENTS: u32 = 4;
 /// Default patch edge as a fraction of the scene's longest extent.

@@ -4,8 +4,10 @@
 //!
 //! A solid made from a shape gives its patches from its true surface
 //! (`surface_patches`: the planar regions of its dual contouring mesh, each cut into
-//! tiles of its plane; elements as below, their areas and centres those of the
-//! surface each covers). Any other solid's boundary is the set of exposed faces of its full nodes, merged into
+//! tiles of its plane, less the faces it turns towards other solids; elements as
+//! below, their areas and centres those of the surface each covers). Any other solid's
+//! boundary is the set of exposed faces of its full nodes (faces against other solids
+//! included: a limitation), merged into
 //! coplanar rectangles (`mesh::boundary_rects`: they tile the voxel boundary without
 //! overlap). A rectangle longer than `patch_size` (world units, at least one voxel) is
 //! cut into the fewest equal tiles (whole voxels, the first ones a voxel longer) no
@@ -362,7 +364,7 @@ impl Patches {
             .enumerate()
             .map(|(i, solid)| {
                 Ok(if solid.shape().is_some() {
-                    let found = surface_patches(solid, i as u32, patch_size, elements, budget)?;
+                    let found = surface_patches(scene, i as u32, patch_size, elements, budget)?;
                     let count = found.patches.len() as u64;
                     (Part::Surface(found.patches), count, found.elements)
                 } else {
@@ -435,6 +437,14 @@ impl Patches {
     pub fn elements_within(&self, budget: MemoryBudget) -> usize {
         let patches = self.patches.len() as u64 * BYTES_PER_PATCH;
         (budget.0.saturating_sub(patches) / BYTES_PER_ELEMENT).min(u64::from(u32::MAX)) as usize
+    }
+
+    /// The base element (level 0) element `e` lies in.
+    pub fn base_element(&self, e: usize) -> usize {
+        let el = &self.elements[e];
+        let p = &self.patches[el.patch as usize];
+        let [k, j] = el.cell.map(|c| c >> el.level);
+        (p.first + j * p.nu + k) as usize
     }
 
     /// Elements that receive and are shown (not split).

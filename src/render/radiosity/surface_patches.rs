@@ -15,6 +15,19 @@
 //! `elements` a side, none narrower than a voxel); each element's area and centre are
 //! those of the covered part of its cell.
 //!
+//! Faces against other solids: where two solids of a scene touch (a wall's end against
+//! the next wall, a block standing on the floor, a lamp set into the ceiling), each
+//! one's surface runs on between them, where no light can come or go. A triangle whose
+//! outside, half a voxel beyond its centroid along its normal, lies in a full voxel of
+//! another solid faces into that solid and is left out before the regions are grown
+//! ([`facing_out`]); so is one whose inside, half a voxel within, lies in an earlier
+//! solid (two overlapping solids ending in one plane: the earlier keeps the face). So
+//! the regions, their rectangles and the patches are the exposed surface of the
+//! solids' union, each part once (to half a voxel). Kept, such a face would take a patch's share of the
+//! light it receives into its elements (which receive nothing) and dim every patch that
+//! crosses it: the walls' borders of a Cornell box built of overlapping boxes lost a
+//! third of their light, and the colour bled off them with it.
+//!
 //! Departures: a cluster of a curved part is cut in the plane of its mean normal, its
 //! pieces' areas corrected by their tilt (`cover`), its elements' centres moved onto
 //! the shape's surface (`patches::element`); the rectangle's form factor stands in for
@@ -23,6 +36,7 @@
 use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 use smallvec::SmallVec;
 
 use super::cover::{Cover, Piece, area_and_centroid, clip_to_rect};
@@ -30,7 +44,8 @@ use super::patch::Patch;
 use super::regions::{PLANAR_DISTANCE, Region, planar_regions};
 use crate::budget::MemoryBudget;
 use crate::error::Result;
-use crate::render::scene::SceneSolid;
+use crate::mesh::TriangleMesh;
+use crate::render::scene::Scene;
 use crate::surface::{ExtractOptions, HermiteData, Style, extract};
 
 /// A tile whose covered area is within this fraction of its own is full.
@@ -96,20 +111,47 @@ pub(crate) struct SolidPatches {
     pub elements: u64,
 }
 
-/// The patches of `solid` (index `index`), which has a source shape, cut from its true
-/// surface (module doc).
+/// `mesh` (the surface of solid `index` of `scene`) less its triangles that face into
+/// another solid of the scene (module doc): those whose point half a voxel of that
+/// solid out of their centroid, along their normal, lies in one of its full voxels, and
+/// those whose point half a voxel within lies in an earlier solid's. Triangles of no
+/// area have no normal and are kept.
+fn facing_out(mesh: TriangleMesh, scene: &Scene, index: usize) -> TriangleMesh {
+    if scene.solids.len() < 2 {
+        return mesh;
+    }
+    let hidden = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+        let Some(n) = (b - a).cross(c - a).try_normalize() else { return false };
+        let centroid = (a + b + c) / 3.0;
+        scene.solids.iter().enumerate().filter(|&(i, _)| i != index).any(|(i, o)| {
+            let half = n * (0.5 * o.tree.domain().voxel_size());
+            o.tree.contains_point(centroid + half) || (i < index && o.tree.contains_point(centroid - half))
+        })
+    };
+    let keep: Vec<bool> = mesh.triangles.par_iter().map(|t| !hidden(t)).collect();
+    if keep.iter().all(|&k| k) {
+        return mesh;
+    }
+    let triangles = mesh.triangles.iter().zip(&keep).filter(|(_, k)| **k).map(|(t, _)| *t).collect();
+    TriangleMesh { vertices: mesh.vertices, triangles, groups: Vec::new() }
+}
+
+/// The patches of solid `index` of `scene`, which has a source shape, cut from its true
+/// surface where no other solid covers it (module doc).
 pub(crate) fn surface_patches(
-    solid: &SceneSolid,
+    scene: &Scene,
     index: u32,
     patch_size: f64,
     elements: u32,
     budget: MemoryBudget,
 ) -> Result<SolidPatches> {
+    let solid = &scene.solids[index as usize];
     let shape = solid.shape().expect("a solid with a shape");
     let hermite = HermiteData::from_shape(shape, &solid.tree);
     let options = ExtractOptions { style: Style::Smooth, tolerance: 0.0, budget, ..ExtractOptions::default() };
     let surface = extract(&solid.tree, &hermite, &options, &crate::NoProgress)?;
-    let mesh = &surface.mesh;
+    let mesh = &facing_out(surface.mesh, scene, index as usize);
     let voxel = solid.tree.domain().voxel_size();
     let regions = planar_regions(mesh, voxel, patch_size);
     let (reflectance, emission) = (solid.material.diffuse_reflectance(), solid.material.emission);
@@ -127,13 +169,7 @@ pub(crate) fn surface_patches(
 }
 
 /// The tiles of one region (module doc), with their covers.
-fn region_patches(
-    mesh: &crate::mesh::TriangleMesh,
-    region: &Region,
-    voxel: f64,
-    patch_size: f64,
-    elements: u32,
-) -> Vec<Patch> {
+fn region_patches(mesh: &TriangleMesh, region: &Region, voxel: f64, patch_size: f64, elements: u32) -> Vec<Patch> {
     let n = region.normal;
     let (e1, e2) = plane_basis(n);
     let flat = |p: DVec3| DVec2::new((p - region.point).dot(e1), (p - region.point).dot(e2));
