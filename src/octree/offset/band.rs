@@ -104,7 +104,9 @@ pub(super) fn changed_runs(
     // 12 along the surface with the nearest sites); the result: the keys in, the
     // bricks, a boundary layer of keys a brick face (and of crossings along a surface).
     let per_value = if surface.is_some() { 12 } else { 8 };
-    let scratch = (h * h * h) as u64 + per_value * (m * h * h + m * m * h + 2 * m * m * m) as u64;
+    // Along the surface also each voxel's distance and direction (32 bytes).
+    let field = if surface.is_some() { 32 * (m * m * m) as u64 } else { 0 };
+    let scratch = (h * h * h) as u64 + per_value * (m * h * h + m * m * h + 2 * m * m * m) as u64 + field;
     let layer = if surface.is_some() { 16 + 24 } else { 16 };
     let estimate = rayon::current_num_threads() as u64 * scratch
         + 8 * bricks.len() as u64
