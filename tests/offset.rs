@@ -152,6 +152,15 @@ fn offsets_are_the_same_on_one_and_two_threads() {
     for d in [6.0, -6.0, 40.0] {
         assert_eq!(run(1, d), run(2, d), "offset {d}");
     }
+    // Along the surface, the crossings too.
+    let data = HermiteData::from_shape(&random_csg(&mut Rng(7), 4), &tree);
+    let run = |threads: usize, d: f64| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| offset_with_surface(&tree, &data, d, &OffsetOptions::default()).unwrap())
+    };
+    for d in [6.0, -6.0] {
+        assert!(run(1, d) == run(2, d), "offset {d} along the surface");
+    }
 }
 
 /// A cube of `a` voxels a side at the centre of a depth-8 domain.
