@@ -1479,3 +1479,25 @@ fn hull_of_a_solid_file_round_trips_through_formats() {
     assert_eq!(info_json(&dir, "hull.binvox")["voxels"].as_u64(), Some(want));
     fails(&dir, &["hull", "missing.oct", "-o", "x.oct"]);
 }
+
+#[test]
+fn a_shell_of_a_ball_with_surface_data_exports_a_true_wall() {
+    // Issue 39, point 5: `shell --thickness 2` of a ball of radius 20 (a voxel of
+    // 0.31 mm) measured on the exported mesh: its inner sheet at radius 18, not half a
+    // voxel inside it as the staircase would put it.
+    let dir = scratch("shell-wall");
+    ok(&dir, &["shape", "sphere", "--radius", "20", "--depth", "7", "-o", "ball.oct"]);
+    ok(&dir, &["shell", "ball.oct", "--thickness", "2", "-o", "wall.oct"]);
+    ok(&dir, &["export", "wall.oct", "-o", "wall.obj"]);
+    let obj = std::fs::read_to_string(dir.join("wall.obj")).unwrap();
+    let radii: Vec<f64> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| l.split_whitespace().map(|c| c.parse::<f64>().unwrap()).map(|c| c * c).sum::<f64>().sqrt())
+        .collect();
+    let mean = |sheet: Vec<f64>| sheet.iter().sum::<f64>() / sheet.len() as f64;
+    let inner = mean(radii.iter().copied().filter(|&r| r < 19.0).collect());
+    let outer = mean(radii.iter().copied().filter(|&r| r >= 19.0).collect());
+    assert!((outer - 20.0).abs() < 0.03, "outer sheet at {outer}");
+    assert!((outer - inner - 2.0).abs() < 0.03, "wall {} mm thick", outer - inner);
+}

@@ -39,7 +39,7 @@ pub(crate) use driver::{Counters, Decision, Plan, Voxelizer};
 pub use linear::LinearOctree;
 pub use measure::{MassProperties, Measures, SurfaceArea};
 pub use node::{Node, NodeKey};
-pub use offset::OffsetOptions;
+pub use offset::{FaceCrossings, NewCrossing, OffsetOptions, Staircase};
 pub(crate) use transform::CubeSymmetry;
 pub use transform::{CoarsenRule, Fit, Motion, OctreeShape, Turn, common_domain};
 pub(crate) use voxelize::check_level;

@@ -11,6 +11,9 @@
 //! - `combine`: Hermite data through a set operation ([`HermiteData::combine`]: a
 //!   CSG result's crossings from its operands').
 //! - `transform`: Hermite data through the exact whole-voxel moves.
+//! - `offset`: [`offset_with_surface`], [`shell_with_surface`],
+//!   [`round_with_surface`]: offsets measured to the true surface, with the results'
+//!   crossings from the distance field.
 //! - `resample`: [`resample_with_surface`], a solid moved where its voxels do not
 //!   follow, voxelized again from its moved smooth surface, with new crossings.
 //! - `qef`: the point nearest a cell's tangent planes, and their rank.
@@ -28,6 +31,7 @@ mod faces;
 pub mod hermite;
 mod hermite_mesh;
 mod hermite_patch;
+mod offset;
 mod qef;
 mod resample;
 mod simplify;
@@ -38,6 +42,7 @@ mod window;
 pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub(crate) use faces::{boundary_faces, is_boundary_face};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
+pub use offset::{offset_with_surface, round_with_surface, shell_with_surface};
 pub use resample::resample_with_surface;
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};
 pub use window::{CELL_BORDER, CellSurface, CellVertexKind, VertexKey, extract_cell};

@@ -3,13 +3,17 @@
 //! a solid grown or shrunk by a ball, hollowed to a wall, or with its edges rounded, by
 //! the library's exact band distance (`LinearOctree::offset`, `shell`, `round`).
 //! Distances are world units unless `--voxels` says voxels; a file of several solids
-//! works on their union.
+//! works on their union. A solid that carries surface data (an `.oct` with a surface
+//! section, a `.vdb` level set) is measured to its true surface
+//! (`surface::offset_with_surface` and its kin) and its result written with its new
+//! crossings, so `export` meshes a wall of the asked thickness.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use octsolid::octree::{LinearOctree, OffsetOptions};
+use octsolid::surface::{HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::print_summary;
@@ -78,9 +82,15 @@ pub struct RoundArgs {
 /// `octsolid offset IN (--by D | --voxels N) -o OUT`
 pub fn run_offset(a: &OffsetArgs, budget: MemoryBudget) -> Result<()> {
     let (by, voxels) = (a.by, a.voxels);
-    apply(&a.input, &a.output, &a.read, budget, "offset", |tree, per_unit, options| {
+    apply(&a.input, &a.output, &a.read, budget, "offset", |tree, surface, per_unit, options| {
         let d = voxels.unwrap_or_else(|| by.unwrap_or(0.0) * per_unit);
-        Ok(tree.offset(d, options)?)
+        Ok(match surface {
+            Some(data) => {
+                let (tree, data) = offset_with_surface(tree, data, d, options)?;
+                (tree, Some(data))
+            }
+            None => (tree.offset(d, options)?, None),
+        })
     })
 }
 
@@ -89,8 +99,15 @@ pub fn run_shell(a: &ShellArgs, budget: MemoryBudget) -> Result<()> {
     if a.thickness <= 0.0 {
         bail!("--thickness must be positive, not {}", a.thickness);
     }
-    apply(&a.input, &a.output, &a.read, budget, "shell", |tree, per_unit, options| {
-        Ok(tree.shell(a.thickness * per_unit, a.outward, options)?)
+    apply(&a.input, &a.output, &a.read, budget, "shell", |tree, surface, per_unit, options| {
+        let t = a.thickness * per_unit;
+        Ok(match surface {
+            Some(data) => {
+                let (tree, data) = shell_with_surface(tree, data, t, a.outward, options)?;
+                (tree, Some(data))
+            }
+            None => (tree.shell(t, a.outward, options)?, None),
+        })
     })
 }
 
@@ -101,33 +118,42 @@ pub fn run_round(a: &RoundArgs, budget: MemoryBudget) -> Result<()> {
     }
     // Neither flag: both kinds of edge.
     let (convex, concave) = if a.convex || a.concave { (a.convex, a.concave) } else { (true, true) };
-    apply(&a.input, &a.output, &a.read, budget, "round", |tree, per_unit, options| {
-        Ok(tree.round(a.radius * per_unit, convex, concave, options)?)
+    apply(&a.input, &a.output, &a.read, budget, "round", |tree, surface, per_unit, options| {
+        let r = a.radius * per_unit;
+        Ok(match surface {
+            Some(data) => {
+                let (tree, data) = round_with_surface(tree, data, r, convex, concave, options)?;
+                (tree, Some(data))
+            }
+            None => (tree.round(r, convex, concave, options)?, None),
+        })
     })
 }
 
-/// Reads `input`'s union, runs `op` on it (given voxels a world unit) with a bar, and
-/// writes the result to `output`.
+/// Reads `input`'s union (and its surface data, for a file of one solid), runs `op`
+/// on it (given voxels a world unit) with a bar, and writes the result (with its
+/// surface data) to `output`.
 fn apply(
     input: &std::path::Path,
     output: &std::path::Path,
     read: &ReadFlags,
     budget: MemoryBudget,
     name: &str,
-    op: impl FnOnce(&LinearOctree, f64, &OffsetOptions) -> Result<LinearOctree>,
+    op: impl FnOnce(&LinearOctree, Option<&HermiteData>, f64, &OffsetOptions) -> Result<(LinearOctree, Option<HermiteData>)>,
 ) -> Result<()> {
     check_extension(output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(output, &[input])?;
-    let file = read_solid_file(input, read, budget)?;
+    let mut file = read_solid_file(input, read, budget)?;
     let meta = file.meta;
+    let surface = if file.solids.solids.len() == 1 { file.surface.take() } else { None };
     let tree = file.into_union();
     let started = Instant::now();
     let bar = Bar::new("band");
     let per_unit = tree.domain().voxels_per_unit();
-    let result = op(&tree, per_unit, &OffsetOptions { budget, progress: &bar })
+    let (result, surface) = op(&tree, surface.as_ref(), per_unit, &OffsetOptions { budget, progress: &bar })
         .with_context(|| format!("{}: cannot {name}", input.display()))?;
     out!("{}: {name} in {:.1} ms", input.display(), started.elapsed().as_secs_f64() * 1e3);
-    let bytes = write_solid_file(output, &result, &meta, None, budget)?;
+    let bytes = write_solid_file(output, &result, &meta, surface, budget)?;
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     print_summary(&result, None);
     Ok(())

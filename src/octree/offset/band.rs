@@ -20,10 +20,22 @@
 //! memory and time follow the band's bricks (`(B + 2R)^3` voxels each), not the domain.
 //! Bricks are processed in parallel and joined in Morton order, so the result does not
 //! depend on the number of threads.
+//!
+//! Along a surface (the sub-voxel rule of [`super::subvoxel`]) the reach is `ceil(D)`
+//! (a voxel whose nearest cube lies `D + 1/2` away can still be under `D` from the
+//! surface), a brick is transformed with one voxel more each side (the faces it
+//! shares with its neighbours) and one beyond (its sites' own faces), its feature
+//! transform names each voxel's nearest site, and the voxels whose lattice distance is
+//! within `[D - 1, D + 3/2]` are measured to that site's tangent planes. The result's
+//! crossing on a face between `g_full` and `g_empty` is where the distance, linear
+//! between the two centres, meets `D` (a site, at `-t |n_axis|` from its old crossing).
 
 use rayon::prelude::*;
 
-use super::edt::{Scratch, brick_distances};
+use glam::DVec3;
+
+use super::edt::{FAR, Scratch, brick_distances};
+use super::subvoxel::{FaceCrossings, NewCrossing, Plane, distance_to_site};
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::morton;
@@ -50,6 +62,12 @@ impl Step {
         ((self.radius + 0.5).ceil() - 1.0).clamp(0.0, f64::from(u32::MAX / 4)) as u32
     }
 
+    /// `R` along the surface: a voxel changes only when its nearest site's cube lies
+    /// under `radius + 1/2` away (see [`super::subvoxel`]), so `|o| < radius + 1`.
+    fn reach_along_surface(self) -> u32 {
+        self.radius.ceil().clamp(0.0, f64::from(u32::MAX / 4)) as u32
+    }
+
     /// A voxel changes when four times its squared distance is at most this (strictly
     /// under `4 radius^2`).
     fn limit(self) -> i64 {
@@ -57,44 +75,255 @@ impl Step {
     }
 }
 
-/// The Morton runs of the voxels of `tree` that `step` changes, sorted.
+/// What a step or a brick of it gives: the Morton runs of the voxels that change, and
+/// along a surface the crossings of the result's faces.
+pub(super) type Changes = (Vec<(u64, u64)>, Vec<NewCrossing>);
+
+/// The Morton runs of the voxels of `tree` that `step` changes, sorted, and, along a
+/// surface, the crossings of the result's boundary faces in the band from its
+/// distance field (in brick order; a face two bricks meet comes twice).
 pub(super) fn changed_runs(
     tree: &LinearOctree,
     step: Step,
+    surface: Option<&dyn FaceCrossings>,
     budget: MemoryBudget,
     progress: &dyn Progress,
-) -> Result<Vec<(u64, u64)>> {
+) -> Result<Changes> {
     let depth = u32::from(tree.depth());
-    let r = step.reach();
+    let r = if surface.is_some() { step.reach_along_surface() } else { step.reach() };
     if r == 0 {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), Vec::new()));
     }
     let k = (32 - (r - 1).leading_zeros()).clamp(MIN_BRICK_K, depth.max(1)).min(depth);
     let bricks = band_bricks(tree, k, r, step.grow);
-    let (b, h) = (1usize << k, (1usize << k) + 2 * r as usize);
-    // Per thread: the halo (1 byte a voxel) and the passes' buffers (8 bytes a value);
-    // the result: the keys in, the bricks, and a boundary layer of keys a brick face.
-    let scratch = (h * h * h) as u64 + 8 * (b * h * h + b * b * h + b * b * b) as u64;
+    // Along the surface a brick is read with one more voxel each side (its faces) and
+    // one more beyond (its sites' faces).
+    let (b, m) = if surface.is_some() { (1usize << k, (1usize << k) + 2) } else { (1usize << k, 1usize << k) };
+    let h = b + 2 * r as usize + 2 * (m - b);
+    // Per thread: the halo (1 byte a voxel) and the passes' buffers (8 bytes a value,
+    // 12 along the surface with the nearest sites); the result: the keys in, the
+    // bricks, a boundary layer of keys a brick face (and of crossings along a surface).
+    let per_value = if surface.is_some() { 12 } else { 8 };
+    // Along the surface also each voxel's distance and direction (32 bytes).
+    let field = if surface.is_some() { 32 * (m * m * m) as u64 } else { 0 };
+    let scratch = (h * h * h) as u64 + per_value * (m * h * h + m * m * h + 2 * m * m * m) as u64 + field;
+    let layer = if surface.is_some() { 16 + 24 } else { 16 };
     let estimate = rayon::current_num_threads() as u64 * scratch
         + 8 * bricks.len() as u64
-        + 16 * 6 * (b * b) as u64 * bricks.len() as u64
+        + layer * 6 * (b * b) as u64 * bricks.len() as u64
         + 3 * tree.bytes() as u64;
     budget.check(format!("offset by {} voxels", step.radius), estimate)?;
     progress.start(bricks.len() as u64);
     let limit = step.limit();
-    let runs: Vec<Vec<(u64, u64)>> = bricks
+    let parts: Vec<Changes> = bricks
         .par_iter()
         .map_init(
-            || (Scratch::default(), Vec::new()),
-            |(scratch, dist), &brick| {
-                let runs = brick_changes(tree, brick, k, r, step.grow, limit, scratch, dist);
+            || (Scratch::default(), Vec::new(), Vec::new()),
+            |(scratch, dist, nearest), &brick| {
+                let part = match surface {
+                    Some(surface) => brick_along_surface(tree, brick, k, r, step, surface, scratch, dist, nearest),
+                    None => (brick_changes(tree, brick, k, r, step.grow, limit, scratch, dist), Vec::new()),
+                };
                 progress.advance(1);
-                runs
+                part
             },
         )
         .collect();
     progress.finish();
-    Ok(runs.into_iter().flatten().collect())
+    let crossings = parts.iter().map(|p| p.1.len()).sum();
+    let (mut runs, mut faces) = (Vec::new(), Vec::with_capacity(crossings));
+    for (r, f) in parts {
+        runs.extend(r);
+        faces.extend(f);
+    }
+    Ok((runs, faces))
+}
+
+/// The voxels of brick `brick` that `step` changes along `surface`, by the sub-voxel
+/// rule of [`super::subvoxel`], as Morton runs, and the crossings of the result's
+/// faces that touch the brick (interpolated where the distance field meets the radius;
+/// see the module doc).
+#[allow(clippy::too_many_arguments)]
+fn brick_along_surface(
+    tree: &LinearOctree,
+    brick: u64,
+    k: u32,
+    r: u32,
+    step: Step,
+    surface: &dyn FaceCrossings,
+    scratch: &mut Scratch,
+    dist: &mut Vec<i64>,
+    nearest: &mut Vec<u32>,
+) -> Changes {
+    let (b, grow, radius) = (1usize << k, step.grow, step.radius);
+    // The region: the brick and one voxel each side; its halo: the reach and one more.
+    let (m, o) = (b + 2, r as usize + 1);
+    let h = m + 2 * o;
+    let min = morton::decode(brick).map(|c| i64::from(c << k));
+    let lo = min.map(|c| c - 1 - o as i64);
+    let full = tree.occupancy(lo, h as u32);
+    let site: Vec<bool> = if grow { full } else { full.into_iter().map(|f| !f).collect() };
+    if !site.contains(&true) {
+        return (Vec::new(), Vec::new());
+    }
+    brick_distances(&site, m, o, scratch, dist, Some(nearest));
+    let n = i64::from(tree.domain().resolution());
+    let window = |c: [usize; 3]| c[0] + h * (c[1] + h * c[2]);
+    let crossing = |voxel: [i64; 3], direction: u8| {
+        let code = morton::encode(voxel[0] as u32, voxel[1] as u32, voxel[2] as u32);
+        let (t, normal) = surface.face_crossing(code, direction).unwrap_or_else(|| {
+            let mut axis = [0.0; 3];
+            axis[usize::from(direction / 2)] = if direction & 1 == 1 { 1.0 } else { -1.0 };
+            (0.5, axis)
+        });
+        (f64::from(t), DVec3::from(normal.map(f64::from)))
+    };
+    // Four times the squared lattice distance where the sub-voxel distance is needed:
+    // it lies within [d_cube - 1/2, d_cube + sqrt 3 / 2], and a face's far end is a
+    // voxel farther.
+    let exact_lo = if radius > 1.0 { (2.0 * radius - 2.0).powi(2) } else { 0.0 };
+    let exact_hi = (2.0 * radius + 3.0).powi(2);
+    // The distance of each voxel of the region (a site: minus infinity) and the
+    // direction from its foot point on the surface.
+    let mut g = vec![f64::INFINITY; m * m * m];
+    let mut away = vec![DVec3::ZERO; m * m * m];
+    let mut planes: Vec<Plane> = Vec::with_capacity(6);
+    for z in 0..m {
+        for y in 0..m {
+            for x in 0..m {
+                let i = x + m * (y + m * z);
+                let p = [x + o, y + o, z + o];
+                if site[window(p)] {
+                    g[i] = f64::NEG_INFINITY;
+                    continue;
+                }
+                let cost = dist[i];
+                if cost >= FAR {
+                    continue;
+                }
+                let c = cost as f64;
+                let d_cube = c.sqrt() / 2.0;
+                if c >= exact_hi {
+                    g[i] = d_cube - 0.5;
+                    continue;
+                }
+                if c < exact_lo {
+                    g[i] = d_cube;
+                    continue;
+                }
+                let s = nearest[i] as usize;
+                let sc = [s % h, s / h % h, s / (h * h)];
+                let rel =
+                    DVec3::new(sc[0] as f64 - p[0] as f64, sc[1] as f64 - p[1] as f64, sc[2] as f64 - p[2] as f64);
+                planes.clear();
+                for direction in 0..6u8 {
+                    let (axis, positive) = (usize::from(direction / 2), direction & 1 == 1);
+                    let mut nc = sc;
+                    if positive {
+                        nc[axis] += 1;
+                    } else if nc[axis] == 0 {
+                        continue;
+                    } else {
+                        nc[axis] -= 1;
+                    }
+                    if nc[axis] >= h || site[window(nc)] {
+                        continue;
+                    }
+                    let mut e = DVec3::ZERO;
+                    e[axis] = if positive { 1.0 } else { -1.0 };
+                    let lattice = |c: [usize; 3]| -> [i64; 3] { std::array::from_fn(|a| lo[a] + c[a] as i64) };
+                    let plane = if grow {
+                        let (t, normal) = crossing(lattice(sc), direction);
+                        Plane { point: rel + e * t, normal }
+                    } else {
+                        // The face belongs to the full neighbour, seen from its side.
+                        let (t, normal) = crossing(lattice(nc), direction ^ 1);
+                        Plane { point: rel + e * (1.0 - t), normal: -normal }
+                    };
+                    planes.push(plane);
+                }
+                let (d, foot) = distance_to_site(&planes, d_cube);
+                g[i] = d;
+                away[i] = -foot;
+            }
+        }
+    }
+    let flips = |i: usize| g[i] > f64::NEG_INFINITY && g[i] < radius;
+    let mut runs: Vec<(u64, u64)> = Vec::new();
+    let base = brick << (3 * k);
+    for code in 0..(b * b * b) as u64 {
+        let [x, y, z] = morton::decode(code).map(|c| c as usize + 1);
+        if flips(x + m * (y + m * z)) {
+            let code = base + code;
+            match runs.last_mut() {
+                Some(last) if last.1 == code => last.1 = code + 1,
+                _ => runs.push((code, code + 1)),
+            }
+        }
+    }
+    // The result's faces that touch the brick: voxel `v` and `v + e_axis`, the first
+    // from one voxel before the brick, both inside the domain.
+    let result_full = |i: usize| if g[i] == f64::NEG_INFINITY { grow } else { flips(i) == grow };
+    let mut faces = Vec::new();
+    for axis in 0..3 {
+        let stride = [1, m, m * m][axis];
+        for z in 0..m {
+            for y in 0..m {
+                for x in 0..m {
+                    let v = [x, y, z];
+                    if (0..3).any(|a| if a == axis { v[a] > b } else { v[a] == 0 || v[a] > b }) {
+                        continue;
+                    }
+                    let lattice: [i64; 3] = std::array::from_fn(|a| min[a] - 1 + v[a] as i64);
+                    if lattice.iter().any(|&c| c < 0 || c >= n) || lattice[axis] + 1 >= n {
+                        continue;
+                    }
+                    let (i, j) = (x + m * (y + m * z), x + m * (y + m * z) + stride);
+                    let (fi, fj) = (result_full(i), result_full(j));
+                    if fi == fj {
+                        continue;
+                    }
+                    let (f, e, direction) = if fi { (i, j, 2 * axis as u8 + 1) } else { (j, i, 2 * axis as u8) };
+                    let mut fv = lattice;
+                    if !fi {
+                        fv[axis] += 1;
+                    }
+                    // A site's value: minus its distance to the original crossing
+                    // between the two, along the normal.
+                    let value = |at: usize| {
+                        if g[at] > f64::NEG_INFINITY {
+                            return g[at];
+                        }
+                        let (t, normal) = crossing(fv, direction);
+                        let along = if at == f { t } else { 1.0 - t };
+                        -along * normal[axis].abs()
+                    };
+                    let (gf, ge) = (value(f), value(e));
+                    let t = if grow { (radius - gf) / (ge - gf) } else { (gf - radius) / (gf - ge) };
+                    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.5 };
+                    // The normal: the direction from the foot point (to the voxel
+                    // growing, from it shrinking) of the end whose direction is the
+                    // nearer the face's own (the other end may have a different
+                    // surface nearest, as an edge voxel has two faces equally near).
+                    let mut axis_normal = DVec3::ZERO;
+                    axis_normal[axis] = if fi { 1.0 } else { -1.0 };
+                    let sign = if grow { 1.0 } else { -1.0 };
+                    let normal = [f, e]
+                        .into_iter()
+                        .map(|at| away[at] * sign)
+                        .filter(|a| a.length_squared() > 1e-18)
+                        .map(DVec3::normalize)
+                        .max_by(|a, b| a.dot(axis_normal).total_cmp(&b.dot(axis_normal)))
+                        .unwrap_or(axis_normal)
+                        .as_vec3()
+                        .to_array();
+                    let voxel = morton::encode(fv[0] as u32, fv[1] as u32, fv[2] as u32);
+                    faces.push(NewCrossing { voxel, direction, t: t as f32, normal });
+                }
+            }
+        }
+    }
+    (runs, faces)
 }
 
 /// The Morton runs of the voxels of brick `brick` (Morton code of its brick
@@ -120,7 +349,7 @@ fn brick_changes(
     if !site.contains(&true) {
         return Vec::new();
     }
-    brick_distances(&site, b, r as usize, scratch, dist);
+    brick_distances(&site, b, r as usize, scratch, dist, None);
     let mut runs: Vec<(u64, u64)> = Vec::new();
     let base = brick << (3 * k);
     for i in 0..(b * b * b) as u64 {

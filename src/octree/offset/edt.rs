@@ -14,6 +14,10 @@
 //! the first `x` where it is strictly lower, and pops the top when that is at or
 //! before the top's own start.
 //!
+//! The transform can name a nearest site of each voxel too (the feature transform,
+//! Maurer, Qi and Raghavan 2003): each pass carries the index of the site its winning
+//! value came from, which [`super::subvoxel`] reads the site's crossings by.
+//!
 //! Where this departs from the papers:
 //! - the papers' cost is the squared distance between centres, `o^2`; this one, to
 //!   the cube, makes a dilation the Minkowski sum of the voxel solid (not of its
@@ -45,6 +49,11 @@ pub(super) struct Scratch {
     starts: Vec<i64>,
     pass_x: Vec<i64>,
     pass_y: Vec<i64>,
+    /// The nearest site of each value of the passes (its index in the halo), when asked.
+    line_site: Vec<u32>,
+    out_site: Vec<u32>,
+    site_x: Vec<u32>,
+    site_y: Vec<u32>,
 }
 
 /// Four times the squared distance, along one axis, from a voxel's centre to the voxel
@@ -55,8 +64,16 @@ pub(super) fn axis_cost(o: i64) -> i64 {
 }
 
 /// `out[x - lo] = min_i (axis_cost(x - i) + g[i])` for `x` in `lo..lo + out.len()`,
-/// `FAR` where every `g[i]` is `FAR` (see the module doc).
-fn lower_envelope(g: &[i64], lo: usize, out: &mut [i64], sites: &mut Vec<usize>, starts: &mut Vec<i64>) {
+/// `FAR` where every `g[i]` is `FAR` (see the module doc); with `nearest = (of, to)`,
+/// `to[x - lo] = of[i]` for the minimizing `i` (the first of equal ones along the line).
+fn lower_envelope(
+    g: &[i64],
+    lo: usize,
+    out: &mut [i64],
+    sites: &mut Vec<usize>,
+    starts: &mut Vec<i64>,
+    nearest: Option<(&[u32], &mut [u32])>,
+) {
     let (lo_x, hi_x) = (lo as i64, (lo + out.len()) as i64);
     sites.clear();
     starts.clear();
@@ -95,19 +112,26 @@ fn lower_envelope(g: &[i64], lo: usize, out: &mut [i64], sites: &mut Vec<usize>,
         return;
     }
     let mut k = 0;
+    let mut nearest = nearest;
     for (j, o) in out.iter_mut().enumerate() {
         let x = lo_x + j as i64;
         while k + 1 < sites.len() && starts[k + 1] <= x {
             k += 1;
         }
         *o = axis_cost(x - sites[k] as i64) + g[sites[k]];
+        if let Some((of, to)) = nearest.as_mut() {
+            to[j] = of[sites[k]];
+        }
     }
 }
 
 /// `out[x - lo]`: [`axis_cost`] from `x` to the nearest set entry of `row`,
-/// `FAR` when none is: the first pass, whose input is 0 or infinite, as two sweeps.
-fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64]) {
+/// `FAR` when none is: the first pass, whose input is 0 or infinite, as two sweeps;
+/// with `nearest = (base, to)`, `to[x - lo] = base + ` that entry's index (the
+/// earlier of two as near).
+fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64], nearest: Option<(u32, &mut [u32])>) {
     let hi = lo + out.len();
+    let mut nearest = nearest;
     // The nearest site at or before each x, then at or after it.
     let mut last: Option<usize> = row[..lo].iter().rposition(|&s| s);
     for x in lo..hi {
@@ -115,6 +139,9 @@ fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64]) {
             last = Some(x);
         }
         out[x - lo] = last.map_or(FAR, |s| axis_cost((x - s) as i64));
+        if let (Some(s), Some((base, to))) = (last, nearest.as_mut()) {
+            to[x - lo] = *base + s as u32;
+        }
     }
     let mut next: Option<usize> = row[hi..].iter().position(|&s| s).map(|i| hi + i);
     for x in (lo..hi).rev() {
@@ -122,24 +149,48 @@ fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64]) {
             next = Some(x);
         }
         if let Some(s) = next {
-            out[x - lo] = out[x - lo].min(axis_cost((s - x) as i64));
+            let cost = axis_cost((s - x) as i64);
+            if cost < out[x - lo] {
+                out[x - lo] = cost;
+                if let Some((base, to)) = nearest.as_mut() {
+                    to[x - lo] = *base + s as u32;
+                }
+            }
         }
     }
 }
 
-/// Four times the squared distance from each voxel's centre of a brick of `b` voxels a side to the nearest
-/// site (voxel, as a cube) of a cube of `h = b + 2 r` voxels a side around it (`site[x + h (y + h z)]`,
-/// the brick at offsets `r..r + b`), written to `dist[x + b (y + b z)]`.
-pub(super) fn brick_distances(site: &[bool], b: usize, r: usize, scratch: &mut Scratch, dist: &mut Vec<i64>) {
+/// Four times the squared distance from each voxel's centre of a brick of `b` voxels a
+/// side to the nearest site (voxel, as a cube) of a cube of `h = b + 2 r` voxels a side
+/// around it (`site[x + h (y + h z)]`, the brick at offsets `r..r + b`), written to
+/// `dist[x + b (y + b z)]`; with `nearest`, the index in `site` of a nearest site
+/// written to it the same way (the feature transform; of equally near sites, the one
+/// the passes meet first along x, then y, then z).
+pub(super) fn brick_distances(
+    site: &[bool],
+    b: usize,
+    r: usize,
+    scratch: &mut Scratch,
+    dist: &mut Vec<i64>,
+    nearest: Option<&mut Vec<u32>>,
+) {
     let h = b + 2 * r;
     debug_assert_eq!(site.len(), h * h * h);
-    let Scratch { line, out, sites, starts, pass_x, pass_y } = scratch;
+    let track = nearest.is_some();
+    let Scratch { line, out, sites, starts, pass_x, pass_y, line_site, out_site, site_x, site_y } = scratch;
     line.resize(h, 0);
     out.resize(b, 0);
+    if track {
+        line_site.resize(h, 0);
+        out_site.resize(b, 0);
+        site_x.resize(b * h * h, 0);
+        site_y.resize(b * b * h, 0);
+    }
     // Pass one, along x: every row of the halo, the brick's columns.
     pass_x.resize(b * h * h, 0);
     for row in 0..h * h {
-        nearest_site_along_row(&site[h * row..h * (row + 1)], r, &mut pass_x[b * row..b * (row + 1)]);
+        let to = track.then(|| ((h * row) as u32, &mut site_x[b * row..b * (row + 1)]));
+        nearest_site_along_row(&site[h * row..h * (row + 1)], r, &mut pass_x[b * row..b * (row + 1)], to);
     }
     // Pass two, along y: the brick's columns of every layer.
     pass_y.resize(b * b * h, 0);
@@ -148,22 +199,46 @@ pub(super) fn brick_distances(site: &[bool], b: usize, r: usize, scratch: &mut S
             for (y, l) in line.iter_mut().enumerate() {
                 *l = pass_x[x + b * (y + h * z)];
             }
-            lower_envelope(line, r, out, sites, starts);
+            if track {
+                for (y, l) in line_site.iter_mut().enumerate() {
+                    *l = site_x[x + b * (y + h * z)];
+                }
+            }
+            lower_envelope(line, r, out, sites, starts, track.then(|| (&line_site[..], &mut out_site[..])));
             for (y, &d) in out.iter().enumerate() {
                 pass_y[x + b * (y + b * z)] = d;
+            }
+            if track {
+                for (y, &s) in out_site.iter().enumerate() {
+                    site_y[x + b * (y + b * z)] = s;
+                }
             }
         }
     }
     // Pass three, along z: the brick.
     dist.resize(b * b * b, 0);
+    let mut nearest = nearest;
+    if let Some(n) = nearest.as_mut() {
+        n.resize(b * b * b, 0);
+    }
     for y in 0..b {
         for x in 0..b {
             for (z, l) in line.iter_mut().enumerate() {
                 *l = pass_y[x + b * (y + b * z)];
             }
-            lower_envelope(line, r, out, sites, starts);
+            if track {
+                for (z, l) in line_site.iter_mut().enumerate() {
+                    *l = site_y[x + b * (y + b * z)];
+                }
+            }
+            lower_envelope(line, r, out, sites, starts, track.then(|| (&line_site[..], &mut out_site[..])));
             for (z, &d) in out.iter().enumerate() {
                 dist[x + b * (y + b * z)] = d;
+            }
+            if let Some(n) = nearest.as_mut() {
+                for (z, &s) in out_site.iter().enumerate() {
+                    n[x + b * (y + b * z)] = s;
+                }
             }
         }
     }
@@ -184,7 +259,7 @@ mod tests {
             let lo = rng.below(n as u64) as usize;
             let len = 1 + rng.below((n - lo) as u64) as usize;
             let mut out = vec![0; len];
-            lower_envelope(&g, lo, &mut out, &mut sites, &mut starts);
+            lower_envelope(&g, lo, &mut out, &mut sites, &mut starts, None);
             for (j, &o) in out.iter().enumerate() {
                 let x = (lo + j) as i64;
                 let brute = g
@@ -200,16 +275,16 @@ mod tests {
     }
 
     #[test]
-    fn brick_distances_are_the_brute_force_distances_to_the_halos_sites() {
+    fn brick_distances_and_nearest_sites_are_the_brute_force_ones() {
         let mut rng = Rng(11);
         let mut scratch = Scratch::default();
-        let mut dist = Vec::new();
+        let (mut dist, mut nearest) = (Vec::new(), Vec::new());
         for _ in 0..20 {
             let (b, r) = (1 + rng.below(6) as usize, rng.below(4) as usize);
             let h = b + 2 * r;
             let sparse = 1 + rng.below(20);
             let site: Vec<bool> = (0..h * h * h).map(|_| rng.below(sparse) == 0).collect();
-            brick_distances(&site, b, r, &mut scratch, &mut dist);
+            brick_distances(&site, b, r, &mut scratch, &mut dist, Some(&mut nearest));
             for z in 0..b {
                 for y in 0..b {
                     for x in 0..b {
@@ -222,7 +297,15 @@ mod tests {
                             })
                             .min()
                             .unwrap_or(FAR);
-                        assert_eq!(dist[x + b * (y + b * z)], brute);
+                        let i = x + b * (y + b * z);
+                        assert_eq!(dist[i], brute);
+                        if brute < FAR {
+                            // The feature transform names a site at that distance.
+                            let n = nearest[i] as usize;
+                            assert!(site[n]);
+                            let s = [n % h, n / h % h, n / (h * h)].map(|c| c as i64);
+                            assert_eq!((0..3).map(|a| axis_cost(p[a] - s[a])).sum::<i64>(), brute);
+                        }
                     }
                 }
             }

@@ -21,6 +21,16 @@
 //! Steiner's formula as the lattice samples it: grown by `r`, `a^3 + 6 a^2 r + 3 pi a
 //! r^2 + 4/3 pi r^3`; shrunk, `(a - 2r)^3`.
 //!
+//! Along the surface ([`LinearOctree::offset_along_surface`], with a solid's crossings
+//! through [`FaceCrossings`]; `surface::offset_with_surface` over Hermite data): the
+//! distance is measured to the true surface near each voxel's nearest site, the
+//! tangent planes of its crossings ([`subvoxel`]), so a curved solid's offsets lose
+//! the staircase's half-voxel bias (a sphere's shell within 0.2% of
+//! `4/3 pi (R^3 - (R - t)^3)` at depth 9, where the cubes give 1-4% too much), and the
+//! result's crossings are interpolated from that distance. The rule the dense brute
+//! force checks: a voxel of the phase the step spreads into flips when `d(p) < |D|`
+//! for its nearest site by the cube metric (of equally near sites, any).
+//!
 //! Method: [`band`] finds the bricks the ball can change and computes in each the exact
 //! squared distance to the other phase ([`edt`]: separable lower envelopes of
 //! parabolas, Felzenszwalb and Huttenlocher 2012, in integers after Meijster et al.
@@ -31,8 +41,10 @@
 
 mod band;
 mod edt;
+mod subvoxel;
 
 use band::{Step, changed_runs};
+pub use subvoxel::{FaceCrossings, NewCrossing, Staircase};
 
 use super::linear::LinearOctree;
 use crate::budget::MemoryBudget;
@@ -60,17 +72,44 @@ impl LinearOctree {
     ///
     /// Fails when `distance` is not finite or a step's estimate exceeds the budget.
     pub fn offset(&self, distance_in_voxels: f64, options: &OffsetOptions) -> Result<LinearOctree> {
+        Ok(self.step(distance_in_voxels, None, options)?.0)
+    }
+
+    /// The solid grown or shrunk by `distance` voxels measured to its true surface,
+    /// the one `surface`'s crossings describe (the sub-voxel rule of `subvoxel`,
+    /// in the module doc), and the crossings of the result's boundary faces in the
+    /// band, from the distance field (in brick order; a face two bricks meet comes
+    /// twice, the first to keep). Faces the step leaves alone keep `surface`'s.
+    ///
+    /// Fails when `distance` is not finite or a step's estimate exceeds the budget.
+    pub fn offset_along_surface(
+        &self,
+        distance_in_voxels: f64,
+        surface: &dyn FaceCrossings,
+        options: &OffsetOptions,
+    ) -> Result<(LinearOctree, Vec<NewCrossing>)> {
+        self.step(distance_in_voxels, Some(surface), options)
+    }
+
+    /// One morphological step by either rule.
+    fn step(
+        &self,
+        distance_in_voxels: f64,
+        surface: Option<&dyn FaceCrossings>,
+        options: &OffsetOptions,
+    ) -> Result<(LinearOctree, Vec<NewCrossing>)> {
         if !distance_in_voxels.is_finite() {
             return Err(Error::invalid("offset distance", format!("{distance_in_voxels} is not finite")));
         }
         let grow = distance_in_voxels > 0.0;
         let step = Step { radius: distance_in_voxels.abs(), grow };
-        let runs = changed_runs(self, step, options.budget, options.progress)?;
+        let (runs, crossings) = changed_runs(self, step, surface, options.budget, options.progress)?;
         if runs.is_empty() {
-            return Ok(self.clone());
+            return Ok((self.clone(), crossings));
         }
         let changed = LinearOctree::from_sorted_runs(*self.domain(), runs);
-        if grow { self.union(&changed) } else { self.difference(&changed) }
+        let tree = if grow { self.union(&changed)? } else { self.difference(&changed)? };
+        Ok((tree, crossings))
     }
 
     /// The wall of `thickness` voxels inside the surface (the solid minus its offset by
