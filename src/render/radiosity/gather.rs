@@ -15,9 +15,12 @@
 //! with the same form factors (module `form_factor`: the exact unoccluded form factor
 //! of the rectangle times its ray-cast visibility) and the lights' direct light in
 //! `E_e` (`rho_e` times what a light gives the element, as shooting's first shots).
-//! Progressive refinement converges to the same fixed point (its shooters' shot light
-//! is the same area-weighted mean of their elements), so both solvers agree to their
-//! tolerances.
+//! Near field as in shooting: an element within `shoot::NEAR` patch edges of patch
+//! `j`'s centre gathers from `j`'s elements one by one, `sum_k F(dA_e -> A_k) B_k`,
+//! instead of `F(dA_e -> A_j) B_j` (those entries are kept beside the matrix, whose
+//! `F_ej` is then zero). Progressive refinement converges to the same fixed point
+//! (its shooters' shot light is the same area-weighted mean of their elements, or the
+//! elements' own light for near receivers), so both solvers agree to their tolerances.
 //!
 //! Gauss-Seidel: the elements in order, each new `B_e` at once folded into its patch's
 //! `B_j`, so later elements gather it in the same sweep. The system is diagonally
@@ -39,7 +42,7 @@ use rayon::prelude::*;
 
 use super::form_factor::element_to_patch;
 use super::patches::Patches;
-use super::shoot::{from_light, point_power, total};
+use super::shoot::{element_parts, from_light, is_near, point_power, total};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::progress::Progress;
@@ -100,15 +103,18 @@ pub(crate) fn gather(
     budget.check(what, bytes)?;
     let (system, rays) = System::build(scene, patches, progress);
     let (radiosity, patch_b, iterations, history) = system.solve(tolerance);
-    let (emitted, absorbed) = system.energy_book(scene, &patch_b);
+    let (emitted, absorbed) = system.energy_book(scene, &radiosity, &patch_b);
     Ok(Gathered { radiosity, iterations, history, rays, emitted, absorbed, escaped: emitted - absorbed })
 }
 
 /// The linear system: the form factors, each element's source and what it needs.
 struct System<'a> {
     patches: &'a Patches,
-    /// `F(dA_e -> A_j)`, row `e` at `e n_p`.
+    /// `F(dA_e -> A_j)`, row `e` at `e n_p`; zero where `e` is near `j`.
     matrix: Vec<f64>,
+    /// Each element's near-field entries: `(k, F(dA_e -> A_k))` for the elements `k`
+    /// of the patches it is near.
+    near: Vec<Vec<(u32, f64)>>,
     /// Each element's light from the scene's lights, before reflection.
     lit: Vec<DVec3>,
     /// Each element's `E_e`: its patch's emission plus its reflected direct light.
@@ -124,19 +130,19 @@ impl<'a> System<'a> {
         let is_live = |e: usize| patches.elements[e].is_leaf() && patches.elements[e].area > 0.0;
         progress.start(n_e as u64);
         let mut matrix = vec![0.0f64; n_e * n_p];
-        let rows: Vec<(DVec3, u64)> = matrix
+        let rows: Vec<(DVec3, Vec<(u32, f64)>, u64)> = matrix
             .par_chunks_mut(n_p.max(1))
             .enumerate()
             .with_min_len(16)
             .map(|(e, row)| {
-                let result = if is_live(e) { Self::row(scene, patches, e, row) } else { (DVec3::ZERO, 0) };
+                let result = if is_live(e) { Self::row(scene, patches, e, row) } else { (DVec3::ZERO, Vec::new(), 0) };
                 progress.advance(1);
                 result
             })
             .collect();
         progress.finish();
-        let rays = rows.iter().map(|r| r.1).sum();
-        let lit: Vec<DVec3> = rows.into_iter().map(|r| r.0).collect();
+        let rays = rows.iter().map(|r| r.2).sum();
+        let (lit, near): (Vec<DVec3>, Vec<_>) = rows.into_iter().map(|r| (r.0, r.1)).unzip();
         let source = (0..n_e)
             .map(|e| {
                 let p = &patches.patches[patches.elements[e].patch as usize];
@@ -144,23 +150,35 @@ impl<'a> System<'a> {
             })
             .collect();
         let live = (0..n_e).filter(|&e| is_live(e)).collect();
-        (System { patches, matrix, lit, source, live }, rays)
+        (System { patches, matrix, near, lit, source, live }, rays)
     }
 
-    /// Element `e`'s row of form factors (to every patch but its own), its light from
-    /// the lights, and the rays cast.
-    fn row(scene: &Scene, patches: &Patches, e: usize, row: &mut [f64]) -> (DVec3, u64) {
+    /// Element `e`'s row of form factors (to every patch but its own), its near-field
+    /// entries, its light from the lights, and the rays cast.
+    fn row(scene: &Scene, patches: &Patches, e: usize, row: &mut [f64]) -> (DVec3, Vec<(u32, f64)>, u64) {
         let element = &patches.elements[e];
         let mut rays = scene.lights.len() as u64;
+        let mut near = Vec::new();
         for (j, (f, patch)) in row.iter_mut().zip(&patches.patches).enumerate() {
-            if j != element.patch as usize {
+            if j == element.patch as usize {
+                continue;
+            }
+            let count = (patch.nu * patch.nv) as usize;
+            let parts = element_parts(patch, &vec![DVec3::ZERO; count]);
+            if !parts.is_empty() && is_near(element, patch) {
+                for (k, (part, _)) in parts.iter().enumerate() {
+                    let (ff, r) = element_to_patch(scene, element, part);
+                    near.push((patch.first + k as u32, ff));
+                    rays += u64::from(r);
+                }
+            } else {
                 let (ff, r) = element_to_patch(scene, element, patch);
                 *f = ff;
                 rays += u64::from(r);
             }
         }
         let lit = scene.lights.iter().map(|l| from_light(scene, patches, element, l)).sum();
-        (lit, rays)
+        (lit, near, rays)
     }
 
     /// `rho_e`.
@@ -174,10 +192,11 @@ impl<'a> System<'a> {
         el.area / self.patches.patches[el.patch as usize].area
     }
 
-    /// `sum_j F_ej B_j`.
-    fn gathered(&self, e: usize, patch_b: &[DVec3]) -> DVec3 {
+    /// `sum_j F_ej B_j`, with the near patches' elements `sum_k F_ek B_k`.
+    fn gathered(&self, e: usize, b: &[DVec3], patch_b: &[DVec3]) -> DVec3 {
         let n_p = patch_b.len();
-        self.matrix[e * n_p..(e + 1) * n_p].iter().zip(patch_b).map(|(f, bj)| *bj * *f).sum()
+        let far: DVec3 = self.matrix[e * n_p..(e + 1) * n_p].iter().zip(patch_b).map(|(f, bj)| *bj * *f).sum();
+        far + self.near[e].iter().map(|&(k, f)| b[k as usize] * f).sum::<DVec3>()
     }
 
     /// Gauss-Seidel from the sources: the elements' and patches' radiosities, the
@@ -194,14 +213,14 @@ impl<'a> System<'a> {
         while iterations < MAX_ITERATIONS {
             iterations += 1;
             for &e in &self.live {
-                let new = self.source[e] + self.rho(e) * self.gathered(e, &patch_b);
+                let new = self.source[e] + self.rho(e) * self.gathered(e, &b, &patch_b);
                 patch_b[patches.elements[e].patch as usize] += (new - b[e]) * self.share(e);
                 b[e] = new;
             }
             let largest_residual = self
                 .live
                 .par_iter()
-                .map(|&e| total((self.source[e] + self.rho(e) * self.gathered(e, &patch_b) - b[e]).abs()))
+                .map(|&e| total((self.source[e] + self.rho(e) * self.gathered(e, &b, &patch_b) - b[e]).abs()))
                 .reduce(|| 0.0, f64::max);
             let largest = b.iter().map(|v| total(v.abs())).fold(0.0, f64::max);
             let residual = if largest > 0.0 { largest_residual / largest } else { 0.0 };
@@ -216,13 +235,13 @@ impl<'a> System<'a> {
     /// Power emitted (the patches' `pi A E`, the point lights' `4 pi I`, what the
     /// elements receive of directional lights) and absorbed (`(1 - rho)` of what the
     /// elements receive), summed over the channels.
-    fn energy_book(&self, scene: &Scene, patch_b: &[DVec3]) -> (f64, f64) {
+    fn energy_book(&self, scene: &Scene, b: &[DVec3], patch_b: &[DVec3]) -> (f64, f64) {
         let patches = self.patches;
         let mut emitted: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
         emitted += scene.lights.iter().map(point_power).sum::<f64>();
         let mut absorbed = 0.0;
         for &e in &self.live {
-            let incident = self.lit[e] + self.gathered(e, patch_b);
+            let incident = self.lit[e] + self.gathered(e, b, patch_b);
             absorbed += PI * patches.elements[e].area * total(incident * (DVec3::ONE - self.rho(e)));
         }
         for light in &scene.lights {

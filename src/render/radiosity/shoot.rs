@@ -24,7 +24,11 @@
 //! shooter, whose light is not the patch's mean: the dark floor in a block's shadow
 //! lit the block's foot as if it had the floor patch's mean radiosity (Mitsuba's
 //! Cornell box: the short block's front 11% too bright, its foot 40 to 90%). A partly
-//! covered tile still shoots its mean. The shooter is the patch of largest unshot
+//! covered tile still shoots its mean. Not conservative: the far receivers still take
+//! the mean, so where near receivers see the shooter's brighter elements more than its
+//! darker ones a shot delivers more than it sends (a closed room lit by a point light,
+//! tests/gathering.rs: 4.3% more absorbed than emitted). Splitting the shooter's light
+//! so that far receivers take what the near ones left would conserve it. The shooter is the patch of largest unshot
 //! power `pi A_i (dB_r + dB_g + dB_b)` (ties: the lowest index). Point lights shoot
 //! first, once each: irradiance `I cos(theta) / r^2` where a ray reaches the light,
 //! `dB_j = rho_j E / pi`; directional lights the same with `I cos(theta)`.
@@ -146,7 +150,7 @@ pub(super) fn total(c: DVec3) -> f64 {
 /// Patch `shooter`'s base elements as rectangles of their own, each with its value
 /// of `values` (the patch's elements' slice), for the receivers near it: none for a
 /// partly covered tile or a patch of one element (module doc, near field).
-fn element_parts(shooter: &Patch, values: &[DVec3]) -> Vec<(Patch, DVec3)> {
+pub(super) fn element_parts(shooter: &Patch, values: &[DVec3]) -> Vec<(Patch, DVec3)> {
     let count = values.len();
     if shooter.cover.is_some() || count <= 1 {
         return Vec::new();
@@ -164,7 +168,7 @@ fn element_parts(shooter: &Patch, values: &[DVec3]) -> Vec<(Patch, DVec3)> {
 }
 
 /// Whether `e` is a near receiver of `shooter` (within [`NEAR`] edges of its centre).
-fn is_near(e: &Element, shooter: &Patch) -> bool {
+pub(super) fn is_near(e: &Element, shooter: &Patch) -> bool {
     (e.center - shooter.center()).length() < NEAR * shooter.du.length().max(shooter.dv.length())
 }
 
