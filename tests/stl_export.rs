@@ -336,7 +336,7 @@ fn trimesh_reads_the_stl_closed() {
     let script = "import sys, json, trimesh\n\
                   out = []\n\
                   for path in sys.argv[1:]:\n\
-                  \x20   m = trimesh.read_mesh(path)\n\
+                  \x20   m = trimesh.load_mesh(path)\n\
                   \x20   out.append([m.is_watertight, m.is_winding_consistent, float(m.volume), len(m.vertices)])\n\
                   print(json.dumps(out))\n";
     let mut files = Vec::new();
