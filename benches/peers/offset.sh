@@ -13,7 +13,8 @@
 #    voxels, the same two ways.
 # 3. OpenSCAD PR 6647's case (offset_openscad_6647.toml): cube(10) minus sphere(6) at
 #    depth 9 in a domain of edge 14, `offset --by 1`: the offset command alone and the
-#    whole pipeline (build + offset); its volume against offset_6647_volume.py (the exact
+#    whole pipeline (build + offset); also the same voxels without the surface section
+#    (`convert` to .binvox and back: the band transform over the cubes); its volume against offset_6647_volume.py (the exact
 #    distance to the solid integrated on a grid).
 #
 # Times are medians of RUNS whole processes (wall clock, load and write included);
@@ -104,6 +105,10 @@ inner_cmd="" timed pr6647-build "$bin" build "$here/offset_openscad_6647.toml" -
 build_s=$median
 inner_cmd=octsolid_inner timed pr6647-offset "$bin" offset pr6647.oct --by 1 -o pr6647-grown.oct
 offset_s=$median offset_inner=$inner_median
+"$bin" convert pr6647.oct pr6647.binvox >/dev/null
+"$bin" convert pr6647.binvox pr6647-voxels.oct >/dev/null
+inner_cmd=octsolid_inner timed pr6647-offset-voxels "$bin" offset pr6647-voxels.oct --by 1 -o pr6647-voxels-grown.oct
+voxels_s=$median voxels_inner=$inner_median
 pipeline() { "$bin" build "$here/offset_openscad_6647.toml" -o pr6647-p.oct && "$bin" offset pr6647-p.oct --by 1 -o pr6647-p-grown.oct; }
 inner_cmd="" timed pr6647-pipeline pipeline
 pipeline_s=$median
@@ -118,6 +123,7 @@ echo "| step | median | volume | exact | error |"
 echo "|---|---|---|---|---|"
 echo "| \`build offset_openscad_6647.toml -o pr6647.oct\` | $build_s s | $solid_volume | $exact_solid | $(err "$solid_volume" "$exact_solid") |"
 echo "| \`offset pr6647.oct --by 1 -o pr6647-grown.oct\` | $offset_s s ($offset_inner s offset) | $grown_volume | $exact_grown (grid, offset_6647_volume.py) | $(err "$grown_volume" "$exact_grown") |"
+echo "| the same without the surface section (\`offset pr6647-voxels.oct --by 1\`, over the cubes) | $voxels_s s ($voxels_inner s offset) | $("$bin" info pr6647-voxels-grown.oct | awk '/^volume/ {print $2; exit}') | $exact_grown | $(err "$("$bin" info pr6647-voxels-grown.oct | awk '/^volume/ {print $2; exit}')" "$exact_grown") |"
 echo "| build + offset (the pipeline) | $pipeline_s s | | cube(10) grown by 1, the upper bound: $bound | |"
 echo
 echo "load after: $(uptime)"

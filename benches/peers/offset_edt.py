@@ -23,6 +23,7 @@ before and after, and the package's version.
 
 import argparse
 import json
+import os
 import sys
 import time
 from importlib.metadata import version
@@ -80,8 +81,6 @@ def write_binvox(path, header, grid):
     with open(tmp, "wb") as f:
         f.write(header)
         f.write(out.tobytes())
-    import os
-
     os.replace(tmp, path)
 
 
