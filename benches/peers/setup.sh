@@ -2,7 +2,7 @@
 # Installs the peer tools octsolid is measured against, when they are missing:
 #   Debian: povray (POV-Ray 3.7), libembree-dev (Embree 3), python3-openvdb, openscad
 #   a Python venv in target/peers-venv with manifold3d, embreex (Embree 4),
-#   trimesh, numpy, fast-simplification, scipy and pillow, pinned in requirements.txt.
+#   trimesh, numpy, fast-simplification, scipy, pillow and edt, pinned in requirements.txt.
 # Idempotent: a second run installs nothing and only prints the versions.
 #
 #   benches/peers/setup.sh            # everything
@@ -51,7 +51,7 @@ dpkg-query -W -f='  python3-openvdb: ${Version}\n' python3-openvdb 2>/dev/null |
 command -v openscad >/dev/null && echo "  openscad: $(openscad --version 2>&1 | head -1)"
 "$venv/bin/python" - <<'EOF'
 from importlib.metadata import version
-for name in ("manifold3d", "embreex", "trimesh", "numpy", "fast-simplification", "scipy", "pillow"):
+for name in ("manifold3d", "embreex", "trimesh", "numpy", "fast-simplification", "scipy", "pillow", "edt"):
     print(f"  {name}: {version(name)}")
 EOF
 echo "venv: $venv/bin/python"
