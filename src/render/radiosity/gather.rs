@@ -107,6 +107,10 @@ pub(crate) fn gather(
     Ok(Gathered { radiosity, iterations, history, rays, emitted, absorbed, escaped: emitted - absorbed })
 }
 
+/// What one element's row gives besides its form factors: its light from the lights,
+/// its near-field entries `(k, F(dA_e -> A_k))` and the rays cast.
+type Row = (DVec3, Vec<(u32, f64)>, u64);
+
 /// The linear system: the form factors, each element's source and what it needs.
 struct System<'a> {
     patches: &'a Patches,
@@ -130,7 +134,7 @@ impl<'a> System<'a> {
         let is_live = |e: usize| patches.elements[e].is_leaf() && patches.elements[e].area > 0.0;
         progress.start(n_e as u64);
         let mut matrix = vec![0.0f64; n_e * n_p];
-        let rows: Vec<(DVec3, Vec<(u32, f64)>, u64)> = matrix
+        let rows: Vec<Row> = matrix
             .par_chunks_mut(n_p.max(1))
             .enumerate()
             .with_min_len(16)
@@ -155,7 +159,7 @@ impl<'a> System<'a> {
 
     /// Element `e`'s row of form factors (to every patch but its own), its near-field
     /// entries, its light from the lights, and the rays cast.
-    fn row(scene: &Scene, patches: &Patches, e: usize, row: &mut [f64]) -> (DVec3, Vec<(u32, f64)>, u64) {
+    fn row(scene: &Scene, patches: &Patches, e: usize, row: &mut [f64]) -> Row {
         let element = &patches.elements[e];
         let mut rays = scene.lights.len() as u64;
         let mut near = Vec::new();
