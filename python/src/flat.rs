@@ -1,8 +1,13 @@
 //! Vectors of small fixed arrays (a mesh's `Vec<DVec3>` vertices, `Vec<[u32; 3]>`
 //! triangles) handed to numpy as the flat vectors of their scalars, without copying:
-//! the allocation is reused, its element count times 3.
+//! the allocation is reused, its element count times 3; and pictures as `(h, w, 3)`
+//! arrays over their own buffers.
 
+use numpy::ndarray::Array3;
+use numpy::{IntoPyArray, PyArray3};
 use octsolid::glam::DVec3;
+use octsolid::image::RgbImage;
+use pyo3::prelude::*;
 
 /// Vertices as their `3 * n` coordinates, x, y, z a vertex.
 pub fn vertices(v: Vec<DVec3>) -> Vec<f64> {
@@ -34,4 +39,11 @@ unsafe fn flat_vec<T, S>(v: Vec<T>) -> Vec<S> {
     // allocation of `Vec<S>`; its first `3 * len` scalars are initialized; the original
     // vector is forgotten, so the allocation has one owner.
     unsafe { Vec::from_raw_parts(ptr.cast::<S>(), 3 * len, 3 * cap) }
+}
+
+/// An 8-bit RGB picture as an `(h, w, 3)` uint8 array, its buffer not copied.
+pub fn picture_array(py: Python<'_>, image: RgbImage) -> Bound<'_, PyArray3<u8>> {
+    let (w, h) = (image.width() as usize, image.height() as usize);
+    let array = Array3::from_shape_vec((h, w, 3), image.into_raw()).expect("3 channels a pixel");
+    array.into_pyarray(py)
 }

@@ -10,14 +10,13 @@
 use std::path::PathBuf;
 
 use numpy::ndarray::Array3;
-use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
+use numpy::{IntoPyArray, PyReadonlyArray3};
 use octsolid::glam::DVec3;
 use octsolid::image::RgbImage;
 use octsolid::render::{CameraRequest, Method, Picture, RenderOverrides, Up, render_picture};
 use octsolid::scene_file::CachePolicy;
 use octsolid::{Drawing, DrawingOptions, MemoryBudget, NoProgress};
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
 
 use crate::errors::{ToPyResult, invalid};
 use crate::solid::Solid;
@@ -44,19 +43,7 @@ fn drawing(py: Python<'_>, subject: &Subject<'_>, cache: bool) -> PyResult<Drawi
             let options = DrawingOptions { cache, ..DrawingOptions::default() };
             py.detach(|| Drawing::open(path, &options)).py()
         }
-        Subject::Solid(solid) => {
-            let surface = solid.surface_read_back(py)?;
-            let up = Up::Axis(solid.meta.up.unwrap_or(octsolid::shape::Axis::Z));
-            let tree = &solid.tree;
-            py.detach(|| {
-                let mut drawing = Drawing::of_solid((**tree).clone(), "solid", up)?;
-                if let Some(surface) = surface {
-                    drawing = drawing.with_surface((*surface).clone());
-                }
-                Ok(drawing)
-            })
-            .py()
-        }
+        Subject::Solid(solid) => solid.drawing(py),
     }
 }
 
@@ -142,14 +129,7 @@ pub fn render<'py>(
         let array = Array3::from_shape_vec((h, w, 3), radiance).expect("3 channels a pixel");
         return Ok(array.into_pyarray(py).into_any());
     }
-    Ok(picture_array(py, picture.to_srgb8()).into_any())
-}
-
-/// An 8-bit RGB picture as an `(h, w, 3)` uint8 array, its buffer not copied.
-pub fn picture_array(py: Python<'_>, image: RgbImage) -> Bound<'_, PyArray3<u8>> {
-    let (w, h) = (image.width() as usize, image.height() as usize);
-    let array = Array3::from_shape_vec((h, w, 3), image.into_raw()).expect("3 channels a pixel");
-    array.into_pyarray(py)
+    Ok(crate::flat::picture_array(py, picture.to_srgb8()).into_any())
 }
 
 /// Writes an `(h, w, 3)` uint8 picture (a render, a slice) as a PNG file, as
@@ -168,12 +148,4 @@ pub fn write_png(py: Python<'_>, path: PathBuf, picture: PyReadonlyArray3<'_, u8
     }
     .ok_or_else(|| invalid("picture", "too large"))?;
     py.detach(|| octsolid::io::png::write(&image, &path)).py()
-}
-
-/// A solid's picture as PNG bytes, for notebooks (`Solid._repr_png_`): 480x360.
-pub fn repr_png<'py>(py: Python<'py>, solid: &Solid) -> PyResult<Bound<'py, PyBytes>> {
-    let overrides = RenderOverrides { size: Some([480, 360]), ..RenderOverrides::default() };
-    let picture = picture(py, &Subject::Solid(solid), &Request { overrides, ..Request::default() })?;
-    let png = py.detach(|| octsolid::io::png::encode(&picture.to_srgb8())).py()?;
-    Ok(PyBytes::new(py, &png))
 }

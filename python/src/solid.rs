@@ -33,9 +33,10 @@ use octsolid::octree::{
     Domain, Fit, LinearOctree, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
     voxelize as voxelize_shape,
 };
+use octsolid::render::{CameraRequest, RenderOverrides, Up, render_picture};
 use octsolid::shape::Shape as _;
 use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, extract, resample_with_surface};
-use octsolid::{FileKind, MemoryBudget, NoProgress, SolidFile};
+use octsolid::{Drawing, FileKind, MemoryBudget, NoProgress, SolidFile};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -71,6 +72,22 @@ impl Solid {
     pub fn surface_read_back(&self, py: Python<'_>) -> PyResult<Option<Arc<HermiteData>>> {
         let (surface, tree) = (&self.surface, &self.tree);
         py.detach(|| surface.as_read_back(tree)).py()
+    }
+
+    /// The solid's drawing with its surface data as its `.oct` file gives it back (what
+    /// `octsolid render` of that file draws), made without the GIL.
+    pub fn drawing(&self, py: Python<'_>) -> PyResult<Drawing> {
+        let surface = self.surface_read_back(py)?;
+        let up = Up::Axis(self.meta.up.unwrap_or(octsolid::shape::Axis::Z));
+        let tree = &self.tree;
+        py.detach(|| {
+            let mut drawing = Drawing::of_solid((**tree).clone(), "solid", up)?;
+            if let Some(surface) = surface {
+                drawing = drawing.with_surface((*surface).clone());
+            }
+            Ok(drawing)
+        })
+        .py()
     }
 
     /// The set operation `op` of `operands`, as `octsolid csg` makes it (module doc).
@@ -458,7 +475,17 @@ impl Solid {
     /// The solid's picture as PNG bytes (480x360, as `octsolid.render` draws it), so a
     /// notebook shows a solid.
     fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
-        crate::render::repr_png(py, self)
+        let drawing = self.drawing(py)?;
+        let png = py
+            .detach(|| {
+                let overrides = RenderOverrides { size: Some([480, 360]), ..RenderOverrides::default() };
+                let camera = drawing.camera(&CameraRequest::default(), &overrides, None)?;
+                let options = drawing.options(&overrides, MemoryBudget::default());
+                let picture = render_picture(&drawing.into_scene(None), &camera, &options, &NoProgress)?.0;
+                octsolid::io::png::encode(&picture.to_srgb8())
+            })
+            .py()?;
+        Ok(pyo3::types::PyBytes::new(py, &png))
     }
 
     /// A cross-section as an `(size, size, 3)` uint8 picture, as `octsolid slice`
@@ -477,7 +504,7 @@ impl Solid {
         let at = at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
         let tree = &self.tree;
         let image = py.detach(|| octsolid::slice::slice_image(tree, axis, at, size)).py()?;
-        Ok(crate::render::picture_array(py, image))
+        Ok(crate::flat::picture_array(py, image))
     }
 
     /// Whether the point `p` lies in a full voxel.

@@ -69,21 +69,6 @@ impl Method {
 
 crate::spelling::spelled!(Method);
 
-impl Method {
-    /// The same method for triangle meshes drawn as polygons (painter's, the Z-buffer
-    /// and the scan-line Z-buffer); `None` for the octree's own (trace, front-to-back).
-    #[must_use]
-    pub fn for_meshes(self) -> Option<raster::polygon::MeshVisibility> {
-        use raster::polygon::MeshVisibility;
-        match self {
-            Method::Painter => Some(MeshVisibility::Painter),
-            Method::ZBuffer => Some(MeshVisibility::ZBuffer),
-            Method::ScanLine => Some(MeshVisibility::ScanLine),
-            Method::Trace | Method::FrontToBack => None,
-        }
-    }
-}
-
 /// What a visibility pass did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct VisibilityStats {

@@ -247,7 +247,7 @@ fn polygon_command(
 ) -> Result<()> {
     let input = &a.input;
     let method = a.method.unwrap_or(Method::ScanLine);
-    let Some(visibility) = method.for_meshes() else {
+    let Some(visibility) = MeshVisibility::of(method) else {
         bail!("--method {method} walks octrees: polygons are drawn by painter, zbuffer or scanline");
     };
     let mut stages = Stages::new();

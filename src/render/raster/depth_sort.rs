@@ -45,7 +45,7 @@
 
 use glam::DVec3;
 
-use super::polygon::{Fragment, Projected, barycentric, pixel_range, project_triangles, to_pixels};
+use super::projected::{Fragment, Projected, barycentric, pixel_range, project_triangles, to_pixels};
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::mesh::TriangleMesh;

@@ -20,6 +20,7 @@ mod depth_sort;
 mod face;
 mod front_to_back;
 pub mod polygon;
+mod projected;
 mod scan_line;
 
 use glam::DVec3;
