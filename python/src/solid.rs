@@ -35,7 +35,10 @@ use octsolid::octree::{
 };
 use octsolid::render::{CameraRequest, RenderOverrides, Up, render_picture};
 use octsolid::shape::Shape as _;
-use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, extract, resample_with_surface};
+use octsolid::surface::{
+    DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, extract, offset_with_surface, resample_with_surface,
+    round_with_surface, shell_with_surface,
+};
 use octsolid::{Drawing, FileKind, MemoryBudget, NoProgress, SolidFile};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -161,15 +164,28 @@ impl Solid {
         .py()
     }
 
-    /// A solid made by `op` from this one's tree, without surface data.
-    fn derived(
+    /// An offset, shell or round as `octsolid` makes it of this solid's `.oct` file:
+    /// `along` the surface data as that file gives it back when the solid has some
+    /// (the result then carries its new crossings), else `plain` on the voxels.
+    fn derived_along_surface(
         &self,
         py: Python<'_>,
-        op: impl FnOnce(&LinearOctree) -> octsolid::Result<LinearOctree> + Send,
+        plain: impl FnOnce(&LinearOctree, &OffsetOptions) -> octsolid::Result<LinearOctree> + Send,
+        along: impl FnOnce(&LinearOctree, &HermiteData, &OffsetOptions) -> octsolid::Result<(LinearOctree, HermiteData)>
+        + Send,
     ) -> PyResult<Solid> {
+        let surface = self.surface_read_back(py)?;
         let tree = &self.tree;
-        let result = py.detach(|| op(tree)).py()?;
-        Ok(Solid { tree: Arc::new(result), meta: self.meta, surface: LazySurface::none() })
+        let (result, data) = py
+            .detach(|| {
+                let options = OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress };
+                match surface {
+                    Some(surface) => along(tree, &surface, &options).map(|(t, d)| (t, Some(d))),
+                    None => plain(tree, &options).map(|t| (t, None)),
+                }
+            })
+            .py()?;
+        Ok(Solid { tree: Arc::new(result), meta: self.meta, surface: LazySurface::ready(data) })
     }
 }
 
@@ -442,7 +458,11 @@ impl Solid {
     #[pyo3(signature = (by, voxels=false))]
     fn offset(&self, py: Python<'_>, by: f64, voxels: bool) -> PyResult<Solid> {
         let d = if voxels { by } else { by * self.tree.domain().voxels_per_unit() };
-        self.derived(py, |t| t.offset(d, &OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress }))
+        self.derived_along_surface(
+            py,
+            |tree, options| tree.offset(d, options),
+            |tree, surface, options| offset_with_surface(tree, surface, d, options),
+        )
     }
 
     /// The solid hollowed to a wall `thickness` world units thick inside its surface
@@ -453,9 +473,11 @@ impl Solid {
             return Err(invalid("thickness", format!("must be positive, not {thickness}")));
         }
         let t = thickness * self.tree.domain().voxels_per_unit();
-        self.derived(py, |tree| {
-            tree.shell(t, outward, &OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress })
-        })
+        self.derived_along_surface(
+            py,
+            |tree, options| tree.shell(t, outward, options),
+            |tree, surface, options| shell_with_surface(tree, surface, t, outward, options),
+        )
     }
 
     /// The solid with its edges rounded to `radius` world units, as `octsolid round`:
@@ -467,9 +489,11 @@ impl Solid {
         }
         let (convex, concave) = if convex || concave { (convex, concave) } else { (true, true) };
         let r = radius * self.tree.domain().voxels_per_unit();
-        self.derived(py, |tree| {
-            tree.round(r, convex, concave, &OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress })
-        })
+        self.derived_along_surface(
+            py,
+            |tree, options| tree.round(r, convex, concave, options),
+            |tree, surface, options| round_with_surface(tree, surface, r, convex, concave, options),
+        )
     }
 
     /// The solid's picture as PNG bytes (480x360, as `octsolid.render` draws it), so a
