@@ -4,31 +4,14 @@
 //! unshot fraction (the same system's fixed point, reached another way) within 1% on
 //! every element of lit rooms, and refusals (a matrix over the budget, subdivision).
 
+mod common;
+
+use common::radiosity_room::{cuboid, diffuse, tree};
 use glam::DVec3;
-use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::octree::LinearOctree;
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions, Solver, form_factor_matrix_bytes};
 use octsolid::render::{Light, Material, Scene};
-use octsolid::shape::{Cuboid, Shape};
 use octsolid::{MemoryBudget, NoProgress};
-
-/// The cube [-1, 1]^3 at depth 6: voxels of 1/32, every box below on the lattice.
-fn domain() -> Domain {
-    Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap()
-}
-
-fn cuboid(min: [f64; 3], max: [f64; 3]) -> Cuboid {
-    let (min, max) = (DVec3::from(min), DVec3::from(max));
-    Cuboid::new((min + max) * 0.5, max - min).unwrap()
-}
-
-fn tree(shape: &dyn Shape) -> LinearOctree {
-    voxelize(shape, domain(), &VoxelizeOptions::default()).unwrap()
-}
-
-/// A diffuse material of reflectance `rho` (grey) emitting `emission` (grey).
-fn diffuse(rho: f64, emission: f64) -> Material {
-    Material { color: DVec3::splat(rho), kd: 1.0, emission: DVec3::splat(emission), ..Material::default() }
-}
 
 /// A closed room: the hollow between [-0.5, 0.5]^3 and [-0.75, 0.75]^3.
 fn room() -> LinearOctree {

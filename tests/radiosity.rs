@@ -16,32 +16,14 @@
 
 use std::path::PathBuf;
 
+mod common;
+
+use common::radiosity_room::{cuboid, diffuse, tree};
 use glam::DVec3;
-use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::octree::LinearOctree;
 use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
 use octsolid::render::{Illumination, Light, Material, Scene};
-use octsolid::shape::{Cuboid, Shape};
 use octsolid::{Error, MemoryBudget, NoProgress};
-
-/// The domain of every scene here: the cube [-1, 1]^3 at depth 6 (voxels of 1/32, so
-/// every box below lies on the lattice and is voxelized exactly).
-fn domain() -> Domain {
-    Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap()
-}
-
-fn cuboid(min: [f64; 3], max: [f64; 3]) -> Cuboid {
-    let (min, max) = (DVec3::from(min), DVec3::from(max));
-    Cuboid::new((min + max) * 0.5, max - min).unwrap()
-}
-
-fn tree(shape: &dyn Shape) -> LinearOctree {
-    voxelize(shape, domain(), &VoxelizeOptions::default()).unwrap()
-}
-
-/// A diffuse material of reflectance `rho` (grey) emitting `emission` (grey).
-fn diffuse(rho: f64, emission: f64) -> Material {
-    Material { color: DVec3::splat(rho), kd: 1.0, emission: DVec3::splat(emission), ..Material::default() }
-}
 
 fn options(patch_size: f64, elements: u32) -> RadiosityOptions {
     RadiosityOptions { patch_size: Some(patch_size), elements, ..RadiosityOptions::default() }

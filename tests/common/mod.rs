@@ -7,6 +7,7 @@
 pub mod exact_surface;
 pub mod mesh_checks;
 pub mod mesh_distance;
+pub mod radiosity_room;
 mod rng;
 
 pub use rng::Rng;
