@@ -7,17 +7,32 @@
 //! first light's, then the second's; `lights-shuffled` in random order; N unused),
 //! `random` (N random rays, the harness's set), `display` (the primary rays answered
 //! by the front-to-back display, a frustum walk for the rays of one eye, checked hit
-//! for hit against the walk). `SIZE` (default 512) sets the primary rays' image edge.
+//! for hit against the walk), and issue 41's sets leaving the primary hits
+//! (`harness/src/secondary_rays.rs`, the report's `--issue-rays` section): `bounce`
+//! (cosine-weighted about the normal) and `hit-shadow` (to a point light), the first N
+//! of them (0: all; `SIZE=1024` for the issue's). `SIZE` (default 512) sets the primary
+//! rays' image edge.
 //! Prints the hit count, and on stderr the best CPU time a ray over `REPEAT` runs
 //! (default 1); for `display` also the best wall time a ray on 2 threads. Under
 //! callgrind, collect only the tracing:
 //! `valgrind --tool=callgrind --branch-sim=yes --toggle-collect='walk_one::trace*'`.
+//!
+//! `CONTENDER=NAME` (a `ContenderKind::slug`: `octree`, `obvhs-faces`, `bvh-faces`,
+//! `embree-faces`, `embree-mesh`, ...; Embree's need `--features embree`) traces the
+//! primary, bounce and hit-shadow rays through that structure instead, as the report
+//! does (a 1-thread rayon pool, chunks of 256 rays). Under `perf stat --delay=-1
+//! --control fifo:CTL,ACK` with `PERF_CTL_FIFO` and `PERF_ACK_FIFO` naming the fifos,
+//! the counters run only while rays are traced (`benches/peers/branch_misses.sh`).
 use glam::DVec3;
-use octsolid::mesh::{MeshVoxelizeOptions, read_mesh, voxelize_mesh};
-use octsolid::octree::Domain;
+use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
 use octsolid::render::{Camera, Method, PACKET, SampleGrid, Scene, TILE, Traversal, visibility_into};
-use octsolid::{MemoryBudget, Ray, RayCast};
-use octsolid_harness::rays::random_rays;
+use octsolid::{MemoryBudget, NoProgress, Ray, RayCast};
+use octsolid_harness::any_contender::{Inputs, Traced, build_contender};
+use octsolid_harness::perf_window::counted;
+use octsolid_harness::rays::{RayKind, RaySet, random_rays};
+use octsolid_harness::scenes::voxelized_model;
+use octsolid_harness::secondary_rays::{SEED, secondary_rays, view_camera, view_rays};
+use octsolid_harness::ContenderKind;
 
 /// CPU time of this thread, ns (schedstat), so a loaded machine does not count.
 fn cpu_ns() -> u64 {
@@ -47,19 +62,32 @@ fn main() {
     let depth: u8 = args[2].parse().unwrap();
     let kind = args[3].as_str();
     let n: usize = args[4].parse().unwrap();
-    let mesh = read_mesh(&args[1]).unwrap();
+    let (tree, mesh) = voxelized_model(args[1].as_ref(), depth, MemoryBudget::unlimited()).unwrap();
     let bounds = mesh.bounds();
-    let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
-    let (tree, _) = voxelize_mesh(&mesh, Domain::around(&bounds, 0.02, depth).unwrap(), &options).unwrap();
     let t = Traversal::new(&tree);
     let size: u32 = std::env::var("SIZE").map_or(512, |v| v.parse().unwrap());
-    let camera = Camera::look_at(DVec3::new(8.0, 9.0, 22.0), bounds.center(), DVec3::Y, 30.0);
-    let primary: Vec<Ray> = (0..size * size)
-        .map(|i| {
-            let (x, y) = (f64::from(i % size) + 0.5, f64::from(i / size) + 0.5);
-            camera.ray(2.0 * x / f64::from(size) - 1.0, 1.0 - 2.0 * y / f64::from(size), 1.0)
-        })
-        .collect();
+    let camera = view_camera(&bounds);
+    let primary = view_rays(&camera, size);
+    let cap = |rays: Vec<Ray>| if n == 0 { rays } else { rays.into_iter().take(n).collect() };
+    if let Ok(name) = std::env::var("CONTENDER") {
+        let contender =
+            ContenderKind::from_slug(&name).unwrap_or_else(|| panic!("CONTENDER={name}: no such contender"));
+        let secondary = secondary_rays(&t, &bounds, size, SEED);
+        let set = match kind {
+            "primary" => RaySet { kind: RayKind::Primary, rays: cap(primary) },
+            "bounce" => RaySet { kind: RayKind::Bounce, rays: cap(secondary.bounce.rays) },
+            "hit-shadow" => RaySet { kind: RayKind::Shadow, rays: cap(secondary.shadow.rays) },
+            other => panic!("CONTENDER={name}: KIND must be primary, bounce or hit-shadow, not {other}"),
+        };
+        let faces = if contender == ContenderKind::Octree {
+            octsolid::mesh::TriangleMesh::default()
+        } else {
+            try_boundary_mesh(&tree, &BoundaryOptions::default(), MemoryBudget::unlimited(), &NoProgress).unwrap()
+        };
+        let c = build_contender(contender, Inputs { tree: &tree, faces: &faces, mesh: Some(&mesh) }).unwrap();
+        trace_contender(&*c, &set, kind, repeat());
+        return;
+    }
     let diag = bounds.size().length();
     let light = bounds.center() + DVec3::new(2.0, 3.0, 4.0) * diag;
     let primary_all = primary.clone();
@@ -75,13 +103,15 @@ fn main() {
             })
             .take(n)
             .collect(),
+        "bounce" => cap(secondary_rays(&t, &bounds, size, SEED).bounce.rays),
+        "hit-shadow" => cap(secondary_rays(&t, &bounds, size, SEED).shadow.rays),
         "lights" | "lights-batched" | "lights-shuffled" => {
             let second = bounds.center() + DVec3::new(-3.0, 2.0, 1.0) * diag;
             two_lights(&t, &primary, [light, second], diag, kind)
         }
         _ => random_rays(&bounds, n, 1).rays,
     };
-    let repeat: usize = std::env::var("REPEAT").map_or(1, |v| v.parse().unwrap());
+    let repeat = repeat();
     if kind == "display" {
         display(tree, &t, &camera, &primary_all, size, repeat);
         return;
@@ -102,13 +132,48 @@ fn main() {
             }
             trace_packets(&t, &tiles)
         } else {
-            trace(&t, &rays, kind == "shadow" || kind.starts_with("lights"))
+            counted(|| trace(&t, &rays, kind.ends_with("shadow") || kind.starts_with("lights"))).0
         };
         best = best.min((cpu_ns() - start) as f64 * 1e-9);
     }
     let count = if kind == "packet" { primary_all.len() } else { rays.len() };
     eprintln!("{kind}: {:.1} ns/ray (best of {repeat})", best * 1e9 / count as f64);
     println!("{kind}: {hits} of {}", rays.len());
+}
+
+/// Runs of the timing (`REPEAT`, default 1).
+fn repeat() -> usize {
+    std::env::var("REPEAT").map_or(1, |v| v.parse().unwrap())
+}
+
+/// CPU time of the calling thread around `work`, seconds, and its result.
+fn cpu_timed<T>(work: impl FnOnce() -> T) -> (f64, T) {
+    let start = cpu_ns();
+    let out = work();
+    ((cpu_ns() - start) as f64 * 1e-9, out)
+}
+
+#[inline(never)]
+fn trace_any(c: &dyn Traced, set: &RaySet) -> u64 {
+    c.trace_set(set)
+}
+
+/// `set` through contender `c` in a 1-thread rayon pool (the report's way), timed by the
+/// pool thread's CPU time, best of `repeat`; the counters of `perf stat` on (see the
+/// module doc) during every run.
+fn trace_contender(c: &dyn Traced, set: &RaySet, kind: &str, repeat: usize) {
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let mut best = f64::INFINITY;
+    let mut hits = 0;
+    for _ in 0..repeat {
+        let (seconds, (h, perf)) = one.install(|| cpu_timed(|| counted(|| trace_any(c, set))));
+        perf.expect("perf's control fifos");
+        best = best.min(seconds);
+        hits = h;
+    }
+    let count = set.rays.len();
+    eprintln!("{kind}: {:.1} ns/ray (best of {repeat})", best * 1e9 / count as f64);
+    println!("{kind}: {hits} of {count}");
 }
 
 /// The primary rays of `camera` (`primary`, row by row) answered by the front-to-back

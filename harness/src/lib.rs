@@ -7,8 +7,12 @@
 //! library, one ray a call and 8-ray packets) over the same meshes. [`run_matrix`]
 //! traces the same [`RaySet`]s (primary, shadow, random) through each on one thread and
 //! on all threads and returns build times, bytes and rays a second; [`write_report`]
-//! turns the results into a Markdown section and plots.
+//! turns the results into a Markdown section and plots. Issue 41's incoherent rays
+//! (bounce and shadow rays leaving the primary hits of one view, [`secondary_rays`])
+//! have their own section: [`run_secondary`] measures them on one thread with the peers
+//! outside Rust (embreex, `perf stat`) and [`write_secondary_report`] splices it in.
 
+pub mod any_contender;
 pub mod bvh_contender;
 pub mod contender;
 #[cfg(feature = "embree")]
@@ -18,10 +22,15 @@ pub mod markdown;
 pub mod matrix;
 pub mod obvhs_contender;
 pub mod octree_contender;
+pub mod perf_window;
 pub mod plots;
+pub mod ray_file;
 pub mod rays;
 pub mod report;
 pub mod scenes;
+pub mod secondary_bench;
+pub mod secondary_markdown;
+pub mod secondary_rays;
 
 pub use bvh_contender::BvhCrateBvh;
 pub use contender::{Contender, SurfaceHit};
@@ -33,3 +42,6 @@ pub use obvhs_contender::ObvhsBvh;
 pub use rays::{RayKind, RaySet};
 pub use report::write_report;
 pub use scenes::{BenchScene, SceneKind, build_scene};
+pub use secondary_bench::{SecondaryOptions, SecondaryResults, run_secondary};
+pub use secondary_markdown::write_secondary_report;
+pub use secondary_rays::{SecondaryRays, secondary_rays};

@@ -32,7 +32,13 @@ pub fn page(section: &str, top: &str) -> String {
 /// section yet. Everything outside the markers is kept byte for byte. `name` names the
 /// file in errors (a begin marker without an end).
 pub fn splice_section(existing: &str, section: &str, name: &std::path::Path) -> Result<String> {
-    let Some(begin) = existing.find(BEGIN) else {
+    splice_between(existing, section, [BEGIN, END], name)
+}
+
+/// [`splice_section`] for the section between the marker lines `markers` (begin, end).
+pub fn splice_between(existing: &str, section: &str, markers: [&str; 2], name: &std::path::Path) -> Result<String> {
+    let [begin_marker, end_marker] = markers;
+    let Some(begin) = existing.find(begin_marker) else {
         let mut out = existing.to_string();
         if !out.is_empty() && !out.ends_with('\n') {
             out.push('\n');
@@ -43,12 +49,12 @@ pub fn splice_section(existing: &str, section: &str, name: &std::path::Path) -> 
         out.push_str(section);
         return Ok(out);
     };
-    let Some(end) = existing[begin..].find(END).map(|e| begin + e + END.len()) else {
+    let Some(end) = existing[begin..].find(end_marker).map(|e| begin + e + end_marker.len()) else {
         let line = existing[..begin].lines().count() + 1;
         return Err(Error::Parse {
             path: name.to_path_buf(),
             line,
-            reason: format!("'{BEGIN}' has no '{END}' after it"),
+            reason: format!("'{begin_marker}' has no '{end_marker}' after it"),
         });
     };
     // The section ends with a newline; keep the one after the old end marker out.

@@ -97,6 +97,28 @@ impl ContenderKind {
         OVER_MESH
     }
 
+    /// Short name on command lines (`walk_one`'s `CONTENDER`), e.g. `embree-mesh`.
+    #[must_use]
+    pub fn slug(self) -> &'static str {
+        match self {
+            ContenderKind::Octree => "octree",
+            ContenderKind::ObvhsFaces => "obvhs-faces",
+            ContenderKind::BvhFaces => "bvh-faces",
+            ContenderKind::EmbreeFaces => "embree-faces",
+            ContenderKind::EmbreePacketsFaces => "embree-packets-faces",
+            ContenderKind::ObvhsMesh => "obvhs-mesh",
+            ContenderKind::BvhMesh => "bvh-mesh",
+            ContenderKind::EmbreeMesh => "embree-mesh",
+            ContenderKind::EmbreePacketsMesh => "embree-packets-mesh",
+        }
+    }
+
+    /// The contender whose [`ContenderKind::slug`] is `slug`.
+    #[must_use]
+    pub fn from_slug(slug: &str) -> Option<ContenderKind> {
+        ContenderKind::ALL.into_iter().find(|k| k.slug() == slug)
+    }
+
     /// Name in tables and plots.
     #[must_use]
     pub fn label(self) -> &'static str {

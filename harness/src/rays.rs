@@ -28,10 +28,14 @@ pub enum RayKind {
     Shadow,
     /// Random origins and directions through the scene's box: incoherent; closest hit.
     Random,
+    /// Cosine-weighted rays leaving primary hits (issue 41's set,
+    /// [`crate::secondary_rays`]): incoherent; closest hit.
+    Bounce,
 }
 
 impl RayKind {
-    /// All kinds, in report order.
+    /// The kinds of the matrix, in report order (the bounce rays and the shadow rays
+    /// from primary hits are [`crate::secondary_rays`]'s, measured in their own section).
     pub const ALL: [RayKind; 3] = [RayKind::Primary, RayKind::Shadow, RayKind::Random];
 
     /// Lower-case name, e.g. `primary`.
@@ -41,6 +45,7 @@ impl RayKind {
             RayKind::Primary => "primary",
             RayKind::Shadow => "shadow",
             RayKind::Random => "random",
+            RayKind::Bounce => "bounce",
         }
     }
 

@@ -111,11 +111,18 @@ pub fn build_scene(kind: SceneKind, depth: u8, models: &Path, budget: MemoryBudg
             (voxelize(&classic_csg(), Domain::new(DVec3::splat(-1.1), 2.2, depth)?, &options)?, None)
         }
         SceneKind::Bunny => {
-            let mesh = read_mesh(models.join(BUNNY_FILE))?;
-            let domain = Domain::around(&mesh.bounds(), 0.02, depth)?;
-            let (tree, _) = voxelize_mesh(&mesh, domain, &MeshVoxelizeOptions { budget, ..Default::default() })?;
+            let (tree, mesh) = voxelized_model(&models.join(BUNNY_FILE), depth, budget)?;
             (tree, Some(mesh))
         }
     };
     Ok(BenchScene { kind, tree, mesh })
+}
+
+/// The mesh of `path` voxelized at `depth` in its bounding cube with a 2% margin (the
+/// bunny's scene, `walk_one`'s solid), and the mesh.
+pub fn voxelized_model(path: &Path, depth: u8, budget: MemoryBudget) -> Result<(LinearOctree, TriangleMesh)> {
+    let mesh = read_mesh(path)?;
+    let domain = Domain::around(&mesh.bounds(), 0.02, depth)?;
+    let (tree, _) = voxelize_mesh(&mesh, domain, &MeshVoxelizeOptions { budget, ..Default::default() })?;
+    Ok((tree, mesh))
 }
