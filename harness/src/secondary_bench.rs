@@ -369,7 +369,12 @@ fn branch_misses(options: &SecondaryOptions, rows: &mut [SecondaryRow]) -> std::
     args.extend(&slugs);
     let out = run(Path::new("bash"), &args)?;
     let mut counted = false;
+    let mut why = None;
     for line in out.lines() {
+        if let Some(reason) = line.strip_prefix('#') {
+            why.get_or_insert_with(|| reason.trim().to_string());
+            continue;
+        }
         let words: Vec<&str> = line.split_whitespace().collect();
         let [slug, set, ref values @ ..] = words[..] else { continue };
         let (Some(kind), Some(set)) = (ContenderKind::from_slug(slug), set_kind(set)) else { continue };
@@ -382,5 +387,9 @@ fn branch_misses(options: &SecondaryOptions, rows: &mut [SecondaryRow]) -> std::
         result.instructions = instructions;
         counted |= misses.is_some();
     }
-    if counted { Ok(()) } else { Err("perf stat could not count branch-misses here (no hardware counters)".into()) }
+    match (counted, why) {
+        (true, _) => Ok(()),
+        (false, Some(why)) => Err(why),
+        (false, None) => Err("branch_misses.sh counted nothing".into()),
+    }
 }

@@ -1,5 +1,7 @@
 //! `octsolid bench [--report] [--quick] [--out FILE] [--threads N] [--models DIR]`: the
-//! octree against BVH crates (the harness's matrix).
+//! octree against BVH crates (the harness's matrix); with `--issue-rays [--no-perf]`
+//! issue 41's incoherent rays instead (the harness's `secondary_bench`), in their own
+//! section of the same file.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -8,7 +10,8 @@ use anyhow::{Result, bail};
 use octsolid::MemoryBudget;
 use octsolid_harness::markdown::render_section;
 use octsolid_harness::report::IMAGES;
-use octsolid_harness::{MatrixOptions, run_matrix, write_report};
+use octsolid_harness::secondary_markdown::render_secondary;
+use octsolid_harness::{MatrixOptions, SecondaryOptions, run_matrix, run_secondary, write_report, write_secondary_report};
 
 use crate::progress_bar::Bar;
 
@@ -18,7 +21,7 @@ pub struct BenchArgs {
     /// Write the report: the section of --out between its bvh-report markers (the whole page for a new file), and plots in docs/images/.
     #[arg(long)]
     pub report: bool,
-    /// A smaller matrix (depths 8 and 10, fewer rays, fewer runs).
+    /// A smaller matrix (depths 8 and 10, fewer rays, fewer runs); with --issue-rays a 256x256 view and one run.
     #[arg(long)]
     pub quick: bool,
     /// The Markdown file of the report.
@@ -30,10 +33,19 @@ pub struct BenchArgs {
     /// Folder holding stanford-bunny.obj.
     #[arg(long, default_value = "models")]
     pub models: PathBuf,
+    /// Only issue 41's incoherent rays: primary, bounce and shadow rays of a 1024x1024 view of models/bunny-watertight.obj at depth 10, one thread, with embreex (target/peers-venv) and branch misses (perf stat) when available.
+    #[arg(long)]
+    pub issue_rays: bool,
+    /// With --issue-rays: do not count branch misses (no perf stat, no build of walk_one).
+    #[arg(long, requires = "issue_rays")]
+    pub no_perf: bool,
 }
 
 /// `octsolid bench [--report] [--quick] [--out FILE] [--threads N] [--models DIR]`
 pub fn run(a: &BenchArgs, budget: MemoryBudget) -> Result<()> {
+    if a.issue_rays {
+        return issue_rays(a, budget);
+    }
     let mut options = if a.quick { MatrixOptions::quick() } else { MatrixOptions::full() };
     if let Some(n) = a.threads {
         if n == 0 {
@@ -53,6 +65,32 @@ pub fn run(a: &BenchArgs, budget: MemoryBudget) -> Result<()> {
         }
     } else {
         out!("{}", render_section(&results, IMAGES, &[]));
+    }
+    Ok(())
+}
+
+/// `octsolid bench --issue-rays [--report] [--quick] [--out FILE] [--models DIR] [--no-perf]`: `--quick`
+/// is a 256x256 view and one run.
+fn issue_rays(a: &BenchArgs, budget: MemoryBudget) -> Result<()> {
+    let defaults = SecondaryOptions::default();
+    let mut options = SecondaryOptions {
+        model: a.models.join(defaults.model.file_name().unwrap_or_default()),
+        branch_misses: !a.no_perf,
+        budget,
+        ..defaults
+    };
+    if a.quick {
+        (options.size, options.repeats) = (256, 1);
+    }
+    let started = Instant::now();
+    let bar = Bar::new("issue 41's rays");
+    let results = run_secondary(&options, &bar)?;
+    out!("measured issue 41's rays in {:.0} s", started.elapsed().as_secs_f64());
+    if a.report {
+        write_secondary_report(&results, &a.out)?;
+        out!("wrote {}", a.out.display());
+    } else {
+        out!("{}", render_secondary(&results));
     }
     Ok(())
 }
