@@ -11,7 +11,8 @@ Rays are handed to Embree in float32, tnear 0 (embreex's only choice).
 One core: embreex's EmbreeScene.run loops over the rays one at a time holding the GIL.
 Prints `embreex VERSION EMBREE_VERSION BUILD_MS`, then one line a file present:
 `SET RAYS HITS SECONDS` (hits = closest hits found, or occluded rays; seconds = the
-median of --runs runs after a warm-up, wall time).
+median of --runs runs after a warm-up, CPU time of the tracing thread, so other work
+on a shared machine does not count).
 
     target/peers-venv/bin/python benches/peers/embreex_ray_files.py MODEL.obj RAYS_DIR [--runs 3]
 """
@@ -66,10 +67,10 @@ def main():
         o, d, t = read_rays(path)
         times, hits = [], 0
         for run in range(max(1, args.runs) + 1):
-            start = time.perf_counter()
+            start = time.thread_time()
             hits = trace(scene, name == "shadow", o, d, t)
             if run:
-                times.append(time.perf_counter() - start)
+                times.append(time.thread_time() - start)
         print(f"{name} {len(o)} {hits} {statistics.median(times):.6f}")
 
 

@@ -6,9 +6,10 @@
 //! (`benches/peers/branch_misses.sh`).
 //!
 //! Fairness: every contender traces the same rays in the same order in a 1-thread rayon
-//! pool (chunks of 256 rays a task, as the matrix); times are medians of `repeats` runs
-//! after one warm-up run (CPU and wall time agree on one thread of an otherwise idle
-//! core). A peer that cannot run leaves its cells "n/a" and says why in the notes; the
+//! pool (chunks of 256 rays a task, as the matrix); times are the CPU time of that
+//! thread (`/proc/thread-self/schedstat`, wall time where it cannot be read), so other
+//! work on a shared machine does not count, medians of `repeats` runs after one warm-up
+//! run; embreex's are its thread's CPU time too. A peer that cannot run leaves its cells "n/a" and says why in the notes; the
 //! section is still written.
 
 use std::path::{Path, PathBuf};
@@ -159,6 +160,24 @@ fn median(times: &mut [f64]) -> f64 {
     if n % 2 == 1 { times[n / 2] } else { 0.5 * (times[n / 2 - 1] + times[n / 2]) }
 }
 
+/// Seconds of CPU the calling thread has used (the first field of
+/// `/proc/thread-self/schedstat`, nanoseconds on CPU), `None` where it cannot be read.
+fn thread_cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    Some(text.split_whitespace().next()?.parse::<u64>().ok()? as f64 * 1e-9)
+}
+
+/// Seconds `work` takes on the calling thread: its CPU time, or wall time where that
+/// cannot be read.
+fn timed(work: impl FnOnce()) -> f64 {
+    let (cpu, wall) = (thread_cpu_seconds(), Instant::now());
+    work();
+    match (cpu, thread_cpu_seconds()) {
+        (Some(a), Some(b)) => b - a,
+        _ => wall.elapsed().as_secs_f64(),
+    }
+}
+
 /// A rayon pool of `n` threads.
 fn pool(n: usize) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
@@ -268,9 +287,11 @@ fn measure(
             let hits = one.install(|| structure.trace_set(set));
             let mut times: Vec<f64> = (0..repeats.max(1))
                 .map(|_| {
-                    let started = Instant::now();
-                    one.install(|| structure.trace_set(set));
-                    started.elapsed().as_secs_f64()
+                    one.install(|| {
+                        timed(|| {
+                            structure.trace_set(set);
+                        })
+                    })
                 })
                 .collect();
             SetResult {

@@ -52,7 +52,7 @@ pub fn render_secondary(r: &SecondaryResults) -> String {
          peers): **primary** = {} rays, one a pixel of a {size}x{size} view from the eye ({}, {}, {}) at \
          the box's centre, {FOV_Y} degrees; from each primary hit of the octree, {LIFT_DIAGONALS} voxel \
          diagonals off the surface along the face's normal, **bounce** = {} cosine-weighted rays about the \
-         normal (seed {}, closest hit) and **shadow** = {} rays to a point light (any hit). One thread; \
+         normal (seed {}, closest hit) and **shadow** = {} rays to a point light (any hit). One thread, its CPU time; \
          median of {} runs after a warm-up; builds on all threads. Cells are Mrays/s with the ratio to the \
          octree in brackets; branch misses and instructions are a ray, primary / bounce / shadow, counted \
          by `perf stat` around `walk_one` on one contender and one set (`benches/peers/branch_misses.sh`).\n",
