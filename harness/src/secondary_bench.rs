@@ -414,3 +414,68 @@ fn branch_misses(options: &SecondaryOptions, rows: &mut [SecondaryRow]) -> std::
         (false, None) => Err("branch_misses.sh counted nothing".into()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A folder of its own under the system's temporary folder.
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("octsolid-secondary-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// A row of `kind` with 1,000 rays of each set.
+    fn row(kind: ContenderKind) -> SecondaryRow {
+        let set = |kind| SetResult { kind, rays: 1000, hits: 1, seconds: 1.0, branch_misses: None, instructions: None };
+        SecondaryRow {
+            kind: Some(kind),
+            label: kind.label().into(),
+            skipped: None,
+            triangles: 0,
+            build_ms: 1.0,
+            bytes: 1,
+            sets: vec![set(RayKind::Primary), set(RayKind::Bounce), set(RayKind::Shadow)],
+        }
+    }
+
+    #[test]
+    fn the_peer_scripts_output_lands_in_its_rows_and_a_reason_explains_n_a() {
+        let peers = scratch("peers");
+        let script = peers.join("branch_misses.sh");
+        // Echoes its arguments back, so the test sees what the harness passed.
+        std::fs::write(
+            &script,
+            "echo \"# args $*\"\necho 'octree primary 1000 12.50 800.00'\necho 'octree bounce 1000 n/a n/a'\n\
+             echo 'embree-mesh shadow 1000 3.25 410.5'\n",
+        )
+        .unwrap();
+        let options = SecondaryOptions { peers: peers.clone(), ..SecondaryOptions::default() };
+        let mut rows = vec![row(ContenderKind::Octree), row(ContenderKind::EmbreeMesh)];
+        branch_misses(&options, &mut rows).unwrap();
+        assert_eq!(rows[0].set(RayKind::Primary).unwrap().branch_misses, Some(12.5));
+        assert_eq!(rows[0].set(RayKind::Primary).unwrap().instructions, Some(800.0));
+        assert_eq!(rows[0].set(RayKind::Bounce).unwrap().branch_misses, None);
+        assert_eq!(rows[1].set(RayKind::Shadow).unwrap().branch_misses, Some(3.25));
+        assert_eq!(rows[1].set(RayKind::Primary).unwrap().branch_misses, None);
+
+        std::fs::write(&script, "echo '# no hardware counters'\necho 'octree primary n/a n/a n/a'\n").unwrap();
+        let why = branch_misses(&options, &mut [row(ContenderKind::Octree)]).unwrap_err();
+        assert_eq!(why, "no hardware counters");
+
+        // embreex: a stand-in "python" printing the script's lines.
+        let python = peers.join("python");
+        std::fs::write(&python, "#!/bin/sh\necho 'embreex 9.9 4.4.0 12.5'\necho 'bounce 400 37 0.0002'\n").unwrap();
+        std::process::Command::new("chmod").arg("+x").arg(&python).status().unwrap();
+        let options = SecondaryOptions { python, ..options };
+        let peer = embreex(&options, 3700).unwrap();
+        assert_eq!(peer.label, "embreex 9.9 (Embree 4.4.0), original mesh");
+        let bounce = peer.set(RayKind::Bounce).unwrap();
+        assert_eq!((bounce.rays, bounce.hits), (400, 37));
+        assert!((bounce.mrays() - 2.0).abs() < 1e-9);
+        let missing = SecondaryOptions { python: peers.join("nowhere"), ..options };
+        assert!(embreex(&missing, 3700).unwrap_err().contains("setup.sh"));
+        std::fs::remove_dir_all(&peers).unwrap();
+    }
+}

@@ -141,6 +141,60 @@ pub fn secondary_rays(octree: &Traversal, bounds: &Aabb, size: u32, seed: u64) -
 #[cfg(test)]
 mod tests {
     use super::*;
+    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+    use octsolid::shape::Sphere;
+
+    /// A ball of radius 0.9 at depth 6 and the rays of a 256x256 view of it (the
+    /// ball about 34 pixels across from the eye 25 units away), made in a pool of
+    /// `threads` threads.
+    fn ball_rays(threads: usize, seed: u64) -> (Traversal, Aabb, SecondaryRays) {
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+        let tree = voxelize(&Sphere::new(DVec3::ZERO, 0.9).unwrap(), domain, &VoxelizeOptions::default()).unwrap();
+        let bounds = Aabb::new(DVec3::splat(-0.9), DVec3::splat(0.9));
+        let octree = Traversal::new(&tree);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let rays = pool.install(|| secondary_rays(&octree, &bounds, 256, seed));
+        (octree, bounds, rays)
+    }
+
+    #[test]
+    fn secondary_rays_leave_every_primary_hit_three_diagonals_out() {
+        let (octree, bounds, rays) = ball_rays(2, SEED);
+        let lift = 3.0 * 3f64.sqrt() * 2.0 / 64.0;
+        let light = light_position(&bounds);
+        let hits: Vec<(Ray, octsolid::render::Hit)> =
+            rays.primary.rays.iter().filter_map(|r| Some((*r, octree.hit(r)?))).collect();
+        // A disc about 34 pixels across: some 900 hits, one bounce and one shadow ray each.
+        assert!((700..1100).contains(&hits.len()), "{}", hits.len());
+        assert_eq!(rays.bounce.rays.len(), hits.len());
+        assert_eq!(rays.shadow.rays.len(), hits.len());
+        for (((primary, hit), bounce), shadow) in hits.iter().zip(&rays.bounce.rays).zip(&rays.shadow.rays) {
+            let p = primary.origin + primary.dir * hit.t;
+            let n = hit.normal(primary.dir);
+            assert!((bounce.origin - (p + n * lift)).length() < 1e-12);
+            assert_eq!(bounce.origin, shadow.origin);
+            assert!((bounce.dir.length() - 1.0).abs() < 1e-12 && bounce.dir.dot(n) >= 0.0);
+            assert_eq!(bounce.t_max, f64::INFINITY);
+            assert!((shadow.origin + shadow.dir * shadow.t_max - light).length() < 1e-9);
+            // The origin is outside the ball: lifted along an outward face normal from
+            // a surface point at least 0.9 - sqrt(3) h from the centre (the
+            // voxelization is within a voxel diagonal of the sphere).
+            assert!(p.length() > 0.9 - 3f64.sqrt() * 2.0 / 64.0 && p.dot(n) > 0.0);
+            assert!(octree.hit(bounce).is_none_or(|h| h.t > 0.0), "a bounce ray starts inside the solid");
+        }
+    }
+
+    #[test]
+    fn the_sets_are_the_same_on_any_thread_count_and_the_seed_moves_only_bounces() {
+        let (_, _, two) = ball_rays(2, SEED);
+        let (_, _, one) = ball_rays(1, SEED);
+        assert_eq!(one, two);
+        let (_, _, other) = ball_rays(2, SEED + 1);
+        assert_eq!(other.shadow, two.shadow);
+        assert_eq!(other.primary, two.primary);
+        let same = other.bounce.rays.iter().zip(&two.bounce.rays).filter(|(a, b)| a.dir == b.dir).count();
+        assert_eq!(same, 0);
+    }
 
     #[test]
     fn cosine_directions_have_the_cosine_law_mean() {
