@@ -27,12 +27,12 @@ use glam::DVec3;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
 use octsolid::render::{Camera, Method, PACKET, SampleGrid, Scene, TILE, Traversal, visibility_into};
 use octsolid::{MemoryBudget, NoProgress, Ray, RayCast};
+use octsolid_harness::ContenderKind;
 use octsolid_harness::any_contender::{Inputs, Traced, build_contender};
 use octsolid_harness::perf_window::counted;
 use octsolid_harness::rays::{RayKind, RaySet, random_rays};
 use octsolid_harness::scenes::voxelized_model;
 use octsolid_harness::secondary_rays::{SEED, secondary_rays, view_camera, view_rays};
-use octsolid_harness::ContenderKind;
 
 /// CPU time of this thread, ns (schedstat), so a loaded machine does not count.
 fn cpu_ns() -> u64 {

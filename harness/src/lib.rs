@@ -8,7 +8,7 @@
 //! traces the same [`RaySet`]s (primary, shadow, random) through each on one thread and
 //! on all threads and returns build times, bytes and rays a second; [`write_report`]
 //! turns the results into a Markdown section and plots. Issue 41's incoherent rays
-//! (bounce and shadow rays leaving the primary hits of one view, [`secondary_rays`])
+//! (bounce and shadow rays leaving the primary hits of one view, [`secondary_rays()`])
 //! have their own section: [`run_secondary`] measures them on one thread with the peers
 //! outside Rust (embreex, `perf stat`) and [`write_secondary_report`] splices it in.
 

@@ -29,13 +29,13 @@ pub enum RayKind {
     /// Random origins and directions through the scene's box: incoherent; closest hit.
     Random,
     /// Cosine-weighted rays leaving primary hits (issue 41's set,
-    /// [`crate::secondary_rays`]): incoherent; closest hit.
+    /// [`crate::secondary_rays()`]): incoherent; closest hit.
     Bounce,
 }
 
 impl RayKind {
     /// The kinds of the matrix, in report order (the bounce rays and the shadow rays
-    /// from primary hits are [`crate::secondary_rays`]'s, measured in their own section).
+    /// from primary hits are [`crate::secondary_rays()`]'s, measured in their own section).
     pub const ALL: [RayKind; 3] = [RayKind::Primary, RayKind::Shadow, RayKind::Random];
 
     /// Lower-case name, e.g. `primary`.

@@ -1,5 +1,5 @@
 //! Issue 41's incoherent rays measured: the primary, bounce and shadow rays of
-//! [`crate::secondary_rays`] through every contender on one thread, with the peers that
+//! [`crate::secondary_rays()`] through every contender on one thread, with the peers that
 //! live outside Rust: embreex (Embree 4 from PyPI) on the source mesh, reading the rays
 //! from files the harness writes ([`crate::ray_file`]), and the branch misses and
 //! instructions a ray of each contender, counted by `perf stat` around `walk_one`
@@ -309,10 +309,8 @@ fn measure(
 
 /// Runs `program` with `args`; its standard output, or why it failed.
 fn run(program: &Path, args: &[&str]) -> std::result::Result<String, String> {
-    let out = Command::new(program)
-        .args(args)
-        .output()
-        .map_err(|e| format!("cannot run {}: {e}", program.display()))?;
+    let out =
+        Command::new(program).args(args).output().map_err(|e| format!("cannot run {}: {e}", program.display()))?;
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
         let last = err.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("").trim();
@@ -378,7 +376,8 @@ fn embreex(options: &SecondaryOptions, triangles: usize) -> std::result::Result<
 /// `CONTENDER SET RAYS BRANCH_MISSES INSTRUCTIONS` a contender and set (each a ray,
 /// `n/a` when perf cannot count them).
 fn branch_misses(options: &SecondaryOptions, rows: &mut [SecondaryRow]) -> std::result::Result<(), String> {
-    let slugs: Vec<&str> = rows.iter().filter(|r| r.skipped.is_none()).filter_map(|r| r.kind.map(|k| k.slug())).collect();
+    let slugs: Vec<&str> =
+        rows.iter().filter(|r| r.skipped.is_none()).filter_map(|r| r.kind.map(|k| k.slug())).collect();
     let script = options.peers.join("branch_misses.sh");
     let (model, depth, size, seed) = (
         options.model.to_string_lossy().into_owned(),
@@ -400,7 +399,8 @@ fn branch_misses(options: &SecondaryOptions, rows: &mut [SecondaryRow]) -> std::
         let [slug, set, ref values @ ..] = words[..] else { continue };
         let (Some(kind), Some(set)) = (ContenderKind::from_slug(slug), set_kind(set)) else { continue };
         let [_, misses, instructions] = numbers(values)?[..] else { return Err(format!("unexpected line {line:?}")) };
-        let Some(result) = rows.iter_mut().find(|r| r.kind == Some(kind)).and_then(|r| r.sets.iter_mut().find(|s| s.kind == set))
+        let Some(result) =
+            rows.iter_mut().find(|r| r.kind == Some(kind)).and_then(|r| r.sets.iter_mut().find(|s| s.kind == set))
         else {
             continue;
         };

@@ -26,7 +26,9 @@ const SETS: [RayKind; 3] = [RayKind::Primary, RayKind::Bounce, RayKind::Shadow];
 fn speed(row: &SecondaryRow, octree: Option<&SecondaryRow>, kind: RayKind) -> String {
     let Some(s) = row.set(kind) else { return "-".into() };
     match octree.and_then(|o| o.set(kind)) {
-        Some(o) if row.kind != Some(ContenderKind::Octree) => format!("{:.2} ({:.2}x)", s.mrays(), s.mrays() / o.mrays()),
+        Some(o) if row.kind != Some(ContenderKind::Octree) => {
+            format!("{:.2} ({:.2}x)", s.mrays(), s.mrays() / o.mrays())
+        }
         _ => format!("{:.2}", s.mrays()),
     }
 }

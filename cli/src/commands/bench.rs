@@ -11,7 +11,9 @@ use octsolid::MemoryBudget;
 use octsolid_harness::markdown::render_section;
 use octsolid_harness::report::IMAGES;
 use octsolid_harness::secondary_markdown::render_secondary;
-use octsolid_harness::{MatrixOptions, SecondaryOptions, run_matrix, run_secondary, write_report, write_secondary_report};
+use octsolid_harness::{
+    MatrixOptions, SecondaryOptions, run_matrix, run_secondary, write_report, write_secondary_report,
+};
 
 use crate::progress_bar::Bar;
 
