@@ -80,3 +80,54 @@ pub fn build_contender(kind: ContenderKind, inputs: Inputs<'_>) -> Result<Box<dy
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rays::RayKind;
+    use crate::secondary_rays::{SEED, secondary_rays};
+    use glam::DVec3;
+    use octsolid::mesh::{BoundaryOptions, boundary_mesh};
+    use octsolid::octree::{Domain, VoxelizeOptions, voxelize};
+    use octsolid::shape::Menger;
+    use octsolid::{Aabb, RayCast};
+
+    #[test]
+    fn contenders_by_name_answer_the_secondary_rays_as_the_octree_does() {
+        // A level-2 Menger sponge at depth 6 (holes, so bounce and shadow rays hit it
+        // again): its boundary faces are the octree's surface, so every contender
+        // over them must find the octree's hits (an f32 BVH may slip through an edge
+        // now and then: at most 1 ray in 200).
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+        let tree = voxelize(&Menger::new(DVec3::ZERO, 1.8, 2).unwrap(), domain, &VoxelizeOptions::default()).unwrap();
+        let faces = boundary_mesh(&tree, &BoundaryOptions::default());
+        let octree = Traversal::new(&tree);
+        let rays = secondary_rays(&octree, &Aabb::new(DVec3::splat(-0.9), DVec3::splat(0.9)), 256, SEED);
+        let inputs = Inputs { tree: &tree, faces: &faces, mesh: None };
+        let mut kinds = vec![ContenderKind::Octree, ContenderKind::ObvhsFaces];
+        if cfg!(feature = "embree") {
+            kinds.push(ContenderKind::EmbreeFaces);
+        }
+        for set in rays.sets() {
+            let any = set.kind == RayKind::Shadow;
+            let expected =
+                set.rays.iter().filter(|r| if any { octree.occluded(r) } else { octree.hit(r).is_some() }).count()
+                    as u64;
+            assert!(expected > 0, "{}: nothing hit", set.kind.name());
+            for &kind in &kinds {
+                let c = build_contender(kind, inputs).unwrap();
+                let got = c.trace_set(set);
+                assert!(
+                    got.abs_diff(expected) * 200 <= expected,
+                    "{} {}: {got} against {expected}",
+                    kind.slug(),
+                    set.kind.name()
+                );
+            }
+        }
+        let no_mesh = build_contender(ContenderKind::ObvhsMesh, inputs).err().unwrap();
+        assert!(no_mesh.contains("no source mesh"), "{no_mesh}");
+        assert_eq!(ContenderKind::from_slug("embree-mesh"), Some(ContenderKind::EmbreeMesh));
+        assert!(ContenderKind::ALL.iter().all(|&k| ContenderKind::from_slug(k.slug()) == Some(k)));
+    }
+}
