@@ -38,6 +38,27 @@ fn per_ray(row: &SecondaryRow, value: impl Fn(&super::secondary_bench::SetResult
     SETS.map(|k| row.set(k).and_then(&value).map_or("n/a".to_string(), |v| format!("{v:.1}"))).join(" / ")
 }
 
+/// The issue's measure in words: the octree's bounce and shadow rays a second over each
+/// Embree's on the source mesh (target: at least 1x), one line a row of Embree.
+fn against_embree(r: &SecondaryResults, octree: Option<&SecondaryRow>) -> String {
+    let Some(octree) = octree else { return String::new() };
+    let mut out = String::new();
+    let embree = r.rows.iter().filter(|row| {
+        row.skipped.is_none() && (row.kind == Some(ContenderKind::EmbreeMesh) || row.label.starts_with("embreex"))
+    });
+    for row in embree {
+        let ratio = |k| Some(octree.set(k)?.mrays() / row.set(k)?.mrays());
+        let (Some(bounce), Some(shadow)) = (ratio(RayKind::Bounce), ratio(RayKind::Shadow)) else { continue };
+        let _ = writeln!(
+            out,
+            "- **Octree against {}** (issue 41's target: at least 1x): bounce rays {bounce:.2}x, shadow rays \
+             {shadow:.2}x.",
+            row.label
+        );
+    }
+    if out.is_empty() { out } else { format!("\n{out}") }
+}
+
 /// The section, markers included.
 #[must_use]
 pub fn render_secondary(r: &SecondaryResults) -> String {
@@ -110,6 +131,7 @@ pub fn render_secondary(r: &SecondaryResults) -> String {
         let hits = SETS.map(|k| row.set(k).map_or("-".to_string(), |x| x.hits.to_string()));
         let _ = writeln!(s, "| {} | {} |", row.label, hits.join(" | "));
     }
+    let _ = write!(s, "{}", against_embree(r, octree));
     if !r.notes.is_empty() {
         let _ = writeln!(s);
         for note in &r.notes {
@@ -131,4 +153,53 @@ pub fn write_secondary_report(r: &SecondaryResults, markdown: &Path) -> Result<(
     let text = splice_between(&existing, &render_secondary(r), [BEGIN, END], markdown)?;
     write_atomic(markdown, |w| w.write_all(text.as_bytes()))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::secondary_bench::{SecondaryOptions, SetResult};
+
+    /// A row whose sets take `seconds` (primary, bounce, shadow) for 1,000,000 rays.
+    fn row(kind: Option<ContenderKind>, label: &str, seconds: [f64; 3], misses: Option<f64>) -> SecondaryRow {
+        let sets = SETS
+            .iter()
+            .zip(seconds)
+            .map(|(&kind, seconds)| SetResult {
+                kind,
+                rays: 1_000_000,
+                hits: 10,
+                seconds,
+                branch_misses: misses,
+                instructions: None,
+            })
+            .collect();
+        SecondaryRow { kind, label: label.into(), skipped: None, triangles: 3700, build_ms: 2.0, bytes: 0, sets }
+    }
+
+    #[test]
+    fn the_section_has_its_markers_rows_ratios_and_notes() {
+        let r = SecondaryResults {
+            machine: crate::Machine::current(),
+            options: SecondaryOptions::default(),
+            mesh_triangles: 3700,
+            face_triangles: 100,
+            rays: vec![(RayKind::Primary, 1_000_000), (RayKind::Bounce, 400_000), (RayKind::Shadow, 400_000)],
+            rows: vec![
+                row(Some(ContenderKind::Octree), "octree (ours)", [0.2, 0.5, 0.25], Some(21.0)),
+                row(Some(ContenderKind::EmbreeMesh), "embree, original mesh", [0.1, 0.125, 0.1], None),
+            ],
+            notes: vec!["branch misses: n/a, no counters".into()],
+        };
+        let s = render_secondary(&r);
+        assert!(s.starts_with(BEGIN) && s.ends_with(&format!("{END}\n")), "{s}");
+        // 1 M rays in 0.5 s against 0.125 s: 2 against 8 Mrays/s.
+        assert!(s.contains("| 8.00 (4.00x) |"), "{s}");
+        assert!(s.contains("| 21.0 / 21.0 / 21.0 | n/a / n/a / n/a |"), "{s}");
+        assert!(s.contains("bounce rays 0.25x, shadow rays 0.40x."), "{s}");
+        assert!(s.contains("- branch misses: n/a, no counters"), "{s}");
+        let doc = format!("# Report\n\n{s}\nafter\n");
+        let again = splice_between(&doc, &s, [BEGIN, END], Path::new("r.md")).unwrap();
+        assert_eq!(again, doc);
+    }
 }
