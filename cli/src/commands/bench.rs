@@ -1,7 +1,8 @@
-//! `octsolid bench [--report] [--quick] [--out FILE] [--threads N] [--models DIR]`: the
-//! octree against BVH crates (the harness's matrix); with `--issue-rays [--no-perf]`
-//! issue 41's incoherent rays instead (the harness's `secondary_bench`), in their own
-//! section of the same file.
+//! `octsolid bench [--report] [--quick] [--out FILE] [--threads N] [--models DIR]
+//! [--issue-rays | --matrix-only] [--no-perf]`: the octree against BVH crates (the
+//! harness's matrix), then issue 41's incoherent rays (the harness's `secondary_bench`)
+//! in their own section of the same file; `--issue-rays` runs only the latter,
+//! `--matrix-only` only the former.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -23,7 +24,7 @@ pub struct BenchArgs {
     /// Write the report: the section of --out between its bvh-report markers (the whole page for a new file), and plots in docs/images/.
     #[arg(long)]
     pub report: bool,
-    /// A smaller matrix (depths 8 and 10, fewer rays, fewer runs); with --issue-rays a 256x256 view and one run.
+    /// A smaller matrix (depths 8 and 10, fewer rays, fewer runs), and issue 41's rays from a 256x256 view, one run.
     #[arg(long)]
     pub quick: bool,
     /// The Markdown file of the report.
@@ -32,18 +33,21 @@ pub struct BenchArgs {
     /// Threads of the "all threads" runs (default: all hardware threads).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Folder holding stanford-bunny.obj.
+    /// Folder holding stanford-bunny.obj (the matrix) and bunny-watertight.obj (issue 41's rays).
     #[arg(long, default_value = "models")]
     pub models: PathBuf,
-    /// Only issue 41's incoherent rays: primary, bounce and shadow rays of a 1024x1024 view of models/bunny-watertight.obj at depth 10, one thread, with embreex (target/peers-venv) and branch misses (perf stat) when available.
-    #[arg(long)]
+    /// Only issue 41's incoherent rays (run after the matrix otherwise): primary, bounce and shadow rays of a 1024x1024 view of models/bunny-watertight.obj at depth 10, one thread, with embreex (target/peers-venv) and branch misses (perf stat) when available.
+    #[arg(long, conflicts_with = "matrix_only")]
     pub issue_rays: bool,
-    /// With --issue-rays: do not count branch misses (no perf stat, no build of walk_one).
-    #[arg(long, requires = "issue_rays")]
+    /// Only the matrix, not issue 41's rays.
+    #[arg(long)]
+    pub matrix_only: bool,
+    /// Issue 41's rays without branch misses (no perf stat, no build of walk_one).
+    #[arg(long)]
     pub no_perf: bool,
 }
 
-/// `octsolid bench [--report] [--quick] [--out FILE] [--threads N] [--models DIR]`
+/// `octsolid bench [--report] [--quick] [--out FILE] [--threads N] [--models DIR] [--issue-rays | --matrix-only] [--no-perf]`
 pub fn run(a: &BenchArgs, budget: MemoryBudget) -> Result<()> {
     if a.issue_rays {
         return issue_rays(a, budget);
@@ -68,7 +72,7 @@ pub fn run(a: &BenchArgs, budget: MemoryBudget) -> Result<()> {
     } else {
         out!("{}", render_section(&results, IMAGES, &[]));
     }
-    Ok(())
+    if a.matrix_only { Ok(()) } else { issue_rays(a, budget) }
 }
 
 /// `octsolid bench --issue-rays [--report] [--quick] [--out FILE] [--models DIR] [--no-perf]`: `--quick`
