@@ -7,7 +7,7 @@
 //!
 //! Fairness: every contender traces the same rays in the same order in a 1-thread rayon
 //! pool (chunks of 256 rays a task, as the matrix); times are the CPU time of that
-//! thread (`/proc/thread-self/schedstat`, wall time where it cannot be read), so other
+//! thread (`CLOCK_THREAD_CPUTIME_ID`, wall time where it cannot be read), so other
 //! work on a shared machine does not count, medians of `repeats` runs after one warm-up
 //! run; embreex's are its thread's CPU time too. A peer that cannot run leaves its cells "n/a" and says why in the notes; the
 //! section is still written.
@@ -160,11 +160,14 @@ fn median(times: &mut [f64]) -> f64 {
     if n % 2 == 1 { times[n / 2] } else { 0.5 * (times[n / 2 - 1] + times[n / 2]) }
 }
 
-/// Seconds of CPU the calling thread has used (the first field of
-/// `/proc/thread-self/schedstat`, nanoseconds on CPU), `None` where it cannot be read.
+/// Seconds of CPU the calling thread has used (`CLOCK_THREAD_CPUTIME_ID`, to the
+/// nanosecond; `/proc/thread-self/schedstat` is only brought up to date at scheduler
+/// ticks, too coarse for runs of tens of milliseconds), `None` where it cannot be read.
 fn thread_cpu_seconds() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    Some(text.split_whitespace().next()?.parse::<u64>().ok()? as f64 * 1e-9)
+    let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: `t` is a valid timespec for the call to write.
+    let ok = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) } == 0;
+    ok.then(|| t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9)
 }
 
 /// Seconds `work` takes on the calling thread: its CPU time, or wall time where that
