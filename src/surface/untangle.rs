@@ -98,7 +98,29 @@ pub(crate) fn untangle(dual: &mut DualMesh) -> Vec<[u32; 3]> {
             }
         }
     }
+    let moved_distance = moved_plane_distance(dual, &step);
+    dual.vertex_distance = dual.vertex_distance.max(moved_distance);
     triangles
+}
+
+/// The largest distance, lattice units, from a vertex the untangling moved (`step`
+/// past 0) to the tangent plane of a crossing on one of its faces: the placement's
+/// bound ([`DualMesh::vertex_distance`]) holds the QEF's points, not the moved ones.
+fn moved_plane_distance(dual: &DualMesh, step: &[usize]) -> f64 {
+    dual.quads
+        .par_iter()
+        .zip(&dual.crossings)
+        .zip(&dual.faces)
+        .with_min_len(4096)
+        .filter_map(|((q, c), key)| c.map(|c| (q, c, *key)))
+        .map(|(q, c, key)| {
+            let (point, normal) = (c.point(key), c.normal.as_dvec3());
+            q.iter()
+                .filter(|&&v| step[v as usize] > 0)
+                .map(|&v| normal.dot(dual.positions[v as usize] - point).abs())
+                .fold(0.0, f64::max)
+        })
+        .reduce(|| 0.0, f64::max)
 }
 
 /// Face `f`'s two triangles, cut by [`split_quad`] at the current positions.
