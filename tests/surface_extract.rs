@@ -6,6 +6,7 @@
 mod common;
 
 use common::Rng;
+use common::exact_surface::{ExactSolid, measure_with, par_map};
 use common::mesh_checks::assert_closed_manifold;
 #[path = "common/self_intersection.rs"]
 mod self_intersection;
@@ -111,6 +112,27 @@ fn a_concave_corner_is_kept() {
     let nearest = mesh.vertices.iter().map(|v| (*v - corner).length()).fold(f64::INFINITY, f64::min) / voxel;
     assert!(nearest < 0.05, "the concave corner has no vertex within {nearest} voxel");
     assert_uncrossed(mesh, voxel, "cut ball");
+}
+
+#[test]
+fn the_classic_part_stays_within_a_quarter_voxel_of_its_exact_surface() {
+    // Issue 38's bound on the classic part, against its exact surface (the oracle of
+    // tests/common/exact_surface.rs): area-weighted samples of the mesh and every
+    // vertex. Its bores meet along creases running diagonally through the lattice,
+    // where neighbouring cells' vertices meet and the untangling must part them.
+    let part = octsolid::samples::classic_csg();
+    let domain = Domain::new(DVec3::splat(-1.1), 2.2, 8).unwrap();
+    let voxel = domain.voxel_size();
+    let (_, surface) = surface_of(&part, domain, 0.0);
+    let mesh = &surface.mesh;
+    let exact = ExactSolid::classic();
+    let quality = measure_with(mesh, &exact, voxel, 100_000, 1);
+    assert!(quality.max <= 0.25 && quality.rms <= 0.02, "{quality:?}");
+    assert!(quality.median_normal_deg <= 0.2, "{quality:?}");
+    let off = par_map(&mesh.vertices, |v| exact.nearest(*v).distance / voxel);
+    let (worst, at) =
+        off.iter().zip(&mesh.vertices).fold((0.0, DVec3::ZERO), |b, (&d, &v)| if d > b.0 { (d, v) } else { b });
+    assert!(worst <= 0.25, "vertex {at} is {worst} voxel off the exact surface");
 }
 
 /// A random CSG tree of balls, boxes and cylinders in the unit cube.
