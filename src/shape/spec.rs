@@ -42,6 +42,12 @@
 //! is a [`ProfileSpec`] built (and so checked) as the node is read, and `{ hull =
 //! [shape, ...] }` ([`super::Hull`], built with its default tolerance).
 //!
+//! Three nodes are offsets, not pointwise shapes ([`super::Morphed`], resolved on the
+//! lattice of the solid they are voxelized into): `{ offset = { solid = SHAPE, by = D
+//! } }` (or `voxels = N`), `{ shell = { solid = SHAPE, thickness = T, outward = false }
+//! }` and `{ round = { solid = SHAPE, radius = R, convex = true, concave = true } }`;
+//! their distances are checked as they are read.
+//!
 //! Two leaves name files, `{ mesh = "part.obj" }` (a closed triangle mesh) and
 //! `{ oct = "part.oct" }` (a stored octree). The shape layer knows no mesh or octree:
 //! [`ShapeSpec::build_with`] asks a [`FileLeaves`] (the scene loader) for their shapes;
@@ -61,8 +67,8 @@ use serde::de::{self, Deserializer, IgnoredAny, MapAccess, Visitor};
 
 use super::pattern::{check_linear, check_mirror, check_mirror_copies, check_polar};
 use super::{
-    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, Extrude, HalfSpace, Hull, HullOptions, Menger,
-    ProfileSpec, Revolve, Sphere, Torus, Transformed, linear_array, mirrored, polar_array,
+    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Distance, Ellipsoid, Extrude, HalfSpace, Hull, HullOptions,
+    Menger, Morphology, ProfileSpec, Revolve, Sphere, Torus, Transformed, linear_array, mirrored, morphed, polar_array,
 };
 use crate::error::{Error, Result};
 
@@ -254,6 +260,36 @@ pub enum ShapeSpec {
     },
     /// The convex hull of shapes ([`super::Hull`]).
     Hull(Vec<ShapeSpec>),
+    /// A solid grown or shrunk by a ball ([`super::offset`]): `by` world units or
+    /// `voxels` voxels (one of them), positive grows.
+    Offset {
+        /// The solid offset.
+        solid: Box<ShapeSpec>,
+        /// The distance in world units.
+        by: Option<f64>,
+        /// The distance in voxels of the solid's lattice.
+        voxels: Option<f64>,
+    },
+    /// The wall of a solid ([`super::shell`]).
+    Shell {
+        /// The solid hollowed.
+        solid: Box<ShapeSpec>,
+        /// The wall's thickness in world units.
+        thickness: f64,
+        /// The wall outside the surface instead of inside (default false).
+        outward: Option<bool>,
+    },
+    /// A solid with its edges rounded ([`super::round`]).
+    Round {
+        /// The solid rounded.
+        solid: Box<ShapeSpec>,
+        /// The rounding radius in world units.
+        radius: f64,
+        /// Round the convex edges (default true).
+        convex: Option<bool>,
+        /// Round the concave edges (default true).
+        concave: Option<bool>,
+    },
 }
 }
 
@@ -392,6 +428,9 @@ impl ShapeSpec {
                 let parts = parts.iter().map(|p| p.build_nested(files)).collect::<Result<Vec<_>>>()?;
                 Hull::new(&parts, HullOptions::default())?.into()
             }
+            ShapeSpec::Offset { solid, .. } | ShapeSpec::Shell { solid, .. } | ShapeSpec::Round { solid, .. } => {
+                morphed(solid.build_nested(files)?, self.morphology()?)
+            }
             primitive => primitive.primitive()?,
         })
     }
@@ -441,6 +480,33 @@ impl ShapeSpec {
         )
     }
 
+    /// The operation of an `offset`, `shell` or `round` node, checked.
+    ///
+    /// # Panics
+    /// When `self` is another kind.
+    fn morphology(&self) -> Result<Morphology> {
+        let operation = match *self {
+            ShapeSpec::Offset { by, voxels, .. } => Morphology::Offset {
+                by: match (by, voxels) {
+                    (Some(d), None) => Distance::World(d),
+                    (None, Some(n)) => Distance::Voxels(n),
+                    _ => return Err(Error::invalid("offset", "give one of by (world units) or voxels")),
+                },
+            },
+            ShapeSpec::Shell { thickness, outward, .. } => {
+                Morphology::Shell { thickness: Distance::World(thickness), outward: outward.unwrap_or(false) }
+            }
+            ShapeSpec::Round { radius, convex, concave, .. } => Morphology::Round {
+                radius: Distance::World(radius),
+                convex: convex.unwrap_or(true),
+                concave: concave.unwrap_or(true),
+            },
+            ref other => unreachable!("{other:?} is not an offset, shell or round"),
+        };
+        operation.check()?;
+        Ok(operation)
+    }
+
     /// Checks this node alone (its children were checked when they were read): a
     /// primitive builds, a set operation has an operand, a transform's map is valid.
     fn check_node(&self) -> Result<()> {
@@ -455,6 +521,7 @@ impl ShapeSpec {
                 Err(no_operands())
             }
             ShapeSpec::Transform { .. } => self.transform().map(drop),
+            ShapeSpec::Offset { .. } | ShapeSpec::Shell { .. } | ShapeSpec::Round { .. } => self.morphology().map(drop),
             ShapeSpec::Array { shape, count, step } => check_linear(*count, v(*step), shape.copies()),
             ShapeSpec::Polar { shape, count, center, step_degrees, .. } => {
                 check_polar(origin(*center), *count, *step_degrees, shape.copies()).map(drop)
@@ -512,7 +579,10 @@ impl ShapeSpec {
             | ShapeSpec::Polar { .. }
             | ShapeSpec::Mirror { .. }
             | ShapeSpec::Mesh(_)
-            | ShapeSpec::Oct(_) => None,
+            | ShapeSpec::Oct(_)
+            | ShapeSpec::Offset { .. }
+            | ShapeSpec::Shell { .. }
+            | ShapeSpec::Round { .. } => None,
         }
     }
 
@@ -530,6 +600,9 @@ impl ShapeSpec {
             | ShapeSpec::Polar { shape, .. }
             | ShapeSpec::Mirror { shape, .. }
             | ShapeSpec::Transform { shape, .. } => std::slice::from_ref(shape),
+            ShapeSpec::Offset { solid, .. } | ShapeSpec::Shell { solid, .. } | ShapeSpec::Round { solid, .. } => {
+                std::slice::from_ref(solid)
+            }
             _ => &[],
         }
     }
