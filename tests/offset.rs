@@ -391,13 +391,13 @@ fn scene_solid(name: &str, shape: &str, depth: u8) -> LinearOctree {
 fn offset_nodes_are_the_operations_on_their_voxelized_child_voxel_for_voxel() {
     // The scene's round(shell(box)) united with a ball, its child voxelized with its
     // crossings and the operations applied one after the other as the commands do.
-    let (depth, voxel) = (7, unit_domain(7).voxel_size());
+    let (depth, per) = (7, unit_domain(7).voxels_per_unit());
     let part = Cuboid::new(DVec3::new(0.45, 0.5, 0.5), DVec3::new(0.6, 0.5, 0.4)).unwrap();
     let ball = Sphere::new(DVec3::new(0.8, 0.5, 0.5), 0.15).unwrap();
     let (tree, data) = with_surface(&part, depth);
     let options = OffsetOptions::default();
-    let (walled, data) = shell_with_surface(&tree, &data, 0.08 / voxel, false, &options).unwrap();
-    let rounded = round_with_surface(&walled, &data, 0.02 / voxel, true, true, &options).unwrap().0;
+    let (walled, data) = shell_with_surface(&tree, &data, 0.08 * per, false, &options).unwrap();
+    let rounded = round_with_surface(&walled, &data, 0.02 * per, true, true, &options).unwrap().0;
     let want = rounded.union(&voxelize(&ball, unit_domain(depth), &VoxelizeOptions::default()).unwrap()).unwrap();
     let text = "{ union = [\n  { round = { solid = { shell = { solid = { box = { center = [0.45, 0.5, 0.5], size = \
                 [0.6, 0.5, 0.4] } }, thickness = 0.08 } }, radius = 0.02 } },\n  { sphere = { center = [0.8, 0.5, 0.5], \
@@ -481,4 +481,24 @@ fn an_offset_node_in_a_pattern_is_made_once_in_its_own_frame() {
     assert!(left.translate([32, 0, 0]).keys() == right.keys());
     let alone = "{ offset = { solid = { box = { center = [0.25, 0.5, 0.5], size = [0.2, 0.2, 0.2] } }, by = 0.05 } }";
     assert!(scene_solid("pattern-alone", alone, depth).keys() == left.keys());
+}
+
+#[test]
+fn the_offset_example_of_the_scene_docs_is_its_commands_run_in_turn() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/SCENES.md")).unwrap();
+    let after = doc.split("parsed and built by tests/offset.rs").nth(1).expect("the marker");
+    let block = after.split("```toml\n").nth(1).expect("a toml block").split("```").next().unwrap();
+    let path = common::scratch_dir("offset", "docs-example").join("tray.toml");
+    std::fs::write(&path, block).unwrap();
+    let built = build_solid(&path, None, &VoxelizeOptions::default()).unwrap();
+    // The tray's child voxelized in the scene's domain, its wall outward, then rounded.
+    let (_, domain) = octsolid::scene_file::build_shape(&path, None, octsolid::MemoryBudget::default()).unwrap();
+    let tub: Csg = Csg::from(Cuboid::new(DVec3::ZERO, DVec3::new(4.0, 3.0, 1.0)).unwrap())
+        - Cuboid::new(DVec3::new(0.0, 0.0, 0.6), DVec3::new(3.6, 2.6, 1.0)).unwrap();
+    let tree = voxelize(&tub, domain, &VoxelizeOptions::default()).unwrap();
+    let data = HermiteData::from_shape(&tub, &tree);
+    let (per, options) = (domain.voxels_per_unit(), OffsetOptions::default());
+    let (wall, data) = shell_with_surface(&tree, &data, 0.2 * per, true, &options).unwrap();
+    let want = round_with_surface(&wall, &data, 0.05 * per, true, true, &options).unwrap().0;
+    assert!(built.voxel_count() > 0 && built.keys() == want.keys());
 }

@@ -40,11 +40,12 @@ pub enum Distance {
 }
 
 impl Distance {
-    /// The length in voxels of `voxel_size` world units each.
+    /// The length in voxels, `voxels_per_unit` of them a world unit (multiplied, as
+    /// the commands do, so a node's distance is theirs to the bit).
     #[must_use]
-    pub fn in_voxels(self, voxel_size: f64) -> f64 {
+    pub fn in_voxels(self, voxels_per_unit: f64) -> f64 {
         match self {
-            Distance::World(d) => d / voxel_size,
+            Distance::World(d) => d * voxels_per_unit,
             Distance::Voxels(n) => n,
         }
     }
@@ -158,9 +159,7 @@ impl Morphed {
     pub fn bounds_with_voxel(&self, voxel_size: f64) -> Option<Aabb> {
         let b = self.child.bounds()?;
         let reach = self.operation.reach().unwrap_or_else(|| match self.operation {
-            Morphology::Offset { by } | Morphology::Shell { thickness: by, .. } => {
-                by.in_voxels(1.0).max(0.0) * voxel_size
-            }
+            Morphology::Offset { by } | Morphology::Shell { thickness: by, .. } => by.value().max(0.0) * voxel_size,
             Morphology::Round { .. } => 0.0,
         });
         Some(Aabb::new(b.min - DVec3::splat(reach), b.max + DVec3::splat(reach)))

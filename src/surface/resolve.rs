@@ -127,15 +127,15 @@ fn evaluate(node: &Morphed, lattice: Lattice, options: &VoxelizeOptions) -> Resu
             (tree, data)
         }
     };
-    let voxel = domain.voxel_size();
+    let per_unit = domain.voxels_per_unit();
     let offset = OffsetOptions { budget: options.budget, progress: options.progress };
     match node.operation() {
-        Morphology::Offset { by } => offset_with_surface(&tree, &data, by.in_voxels(voxel), &offset),
+        Morphology::Offset { by } => offset_with_surface(&tree, &data, by.in_voxels(per_unit), &offset),
         Morphology::Shell { thickness, outward } => {
-            shell_with_surface(&tree, &data, thickness.in_voxels(voxel), outward, &offset)
+            shell_with_surface(&tree, &data, thickness.in_voxels(per_unit), outward, &offset)
         }
         Morphology::Round { radius, convex, concave } => {
-            round_with_surface(&tree, &data, radius.in_voxels(voxel), convex, concave, &offset)
+            round_with_surface(&tree, &data, radius.in_voxels(per_unit), convex, concave, &offset)
         }
     }
 }
