@@ -1522,3 +1522,32 @@ fn a_scenes_round_of_a_shell_is_the_shape_shell_and_round_commands_voxel_for_vox
     // Neither a plain box nor its shell: the operations were applied.
     assert!(scene.keys() != read("wall.oct").keys() && scene.keys() != read("box.oct").keys());
 }
+
+#[test]
+fn offsets_over_the_memory_budget_are_refused_with_the_estimate_and_the_budget() {
+    // Issue 39, point 1: `--memory-budget` honoured with an estimate before work.
+    let dir = scratch("offset-budget");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "7", "-o", "ball.oct"]);
+    for op in [
+        &["offset", "ball.oct", "--by", "0.2"][..],
+        &["shell", "ball.oct", "--thickness", "0.2"],
+        &["round", "ball.oct", "--radius", "0.2"],
+    ] {
+        let mut args = vec!["--memory-budget", "3MiB"];
+        args.extend_from_slice(op);
+        args.extend_from_slice(&["-o", "out.oct"]);
+        let e = fails(&dir, &args);
+        // "... needs an estimated N MiB but the memory budget is 3.0 MiB ..."
+        let estimate: f64 = e
+            .split("needs an estimated ")
+            .nth(1)
+            .and_then(|rest| rest.split(" MiB").next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no estimate in {e}"));
+        assert!(estimate > 3.0 && e.contains("the memory budget is 3.0 MiB"), "{e}");
+        assert!(!dir.join("out.oct").exists(), "{op:?} wrote its output");
+        args[1] = "1GiB";
+        ok(&dir, &args);
+        std::fs::remove_file(dir.join("out.oct")).unwrap();
+    }
+}
