@@ -809,6 +809,35 @@ mod tests {
     }
 
     #[test]
+    fn offset_nodes_read_with_their_defaults_and_bound_their_grown_solid() {
+        let s = spec(
+            "shape = { round = { solid = { shell = { solid = { box = { center = [0, 0, 0], size = [2, 2, 2] } }, \
+             thickness = 0.5 } }, radius = 0.25, concave = false } }",
+        )
+        .unwrap();
+        let cube = ShapeSpec::Box { center: [0.0; 3], size: [2.0; 3] };
+        let shell = ShapeSpec::Shell { solid: Box::new(cube.clone()), thickness: 0.5, outward: None };
+        let want = ShapeSpec::Round { solid: Box::new(shell), radius: 0.25, convex: None, concave: Some(false) };
+        assert_eq!(s, want);
+        assert_eq!(
+            want.morphology().unwrap(),
+            Morphology::Round { radius: Distance::World(0.25), convex: true, concave: false }
+        );
+        // Grown by 0.5 the cube's box grows by 0.5; shrunk, a shell or a round stays in it.
+        let grown = ShapeSpec::Offset { solid: Box::new(cube.clone()), by: Some(0.5), voxels: None };
+        let b = grown.build().unwrap().bounds().unwrap();
+        assert_eq!((b.min, b.max), (DVec3::splat(-1.5), DVec3::splat(1.5)));
+        let shrunk = ShapeSpec::Offset { solid: Box::new(cube), by: Some(-0.5), voxels: None };
+        let b = shrunk.build().unwrap().bounds().unwrap();
+        assert_eq!((b.min, b.max), (DVec3::splat(-1.0), DVec3::splat(1.0)));
+        assert_eq!(want.build().unwrap().bounds().unwrap().max, DVec3::splat(1.0));
+        let e = spec("shape = { offset = { solid = { sphere = { center = [0, 0, 0], radius = 1 } }, by = nan } }")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("offset distance") && e.contains("not a finite number"), "{e}");
+    }
+
+    #[test]
     fn a_spec_past_the_nesting_is_refused_before_it_is_built() {
         let mut deep = ShapeSpec::Sphere { center: [0.0; 3], radius: 1.0 };
         for _ in 0..MAX_NESTING - 1 {
