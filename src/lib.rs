@@ -111,6 +111,8 @@ pub mod prelude {
     //!   [`Torus`], [`HalfSpace`], [`Menger`], [`DisplacedSphere`]), [`Csg`] trees and
     //!   [`CsgNode`]s, [`Transformed`] and [`ShapeExt`] (`.translate()`, `.rotate()`, `.scale()`, `.transform()`),
     //!   the patterns ([`linear_array`], [`polar_array`], [`mirrored`], [`Placement`]), the
+    //!   offset nodes ([`offset`], [`shell`], [`round`], made on a lattice by
+    //!   [`resolve_offsets`] before [`voxelize`]), the
     //!   [`Shape`] trait with [`Surface`] and [`Axis`], and [`MeshShape`] with
     //!   [`read_mesh`] for a closed mesh as a shape;
     //! - files and pictures: the [`oct`] and [`png`] modules, [`slice_image`];
@@ -122,9 +124,10 @@ pub mod prelude {
     pub use crate::octree::{CoarsenRule, Domain, LinearOctree, SetOp, VoxelizeOptions, voxelize};
     pub use crate::shape::{
         Axis, Cone, Csg, CsgNode, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, HalfSpace, Menger, Placement, Shape,
-        ShapeExt, Sphere, Surface, Torus, Transformed, linear_array, mirrored, polar_array,
+        ShapeExt, Sphere, Surface, Torus, Transformed, linear_array, mirrored, offset, polar_array, round, shell,
     };
     pub use crate::slice::slice_image;
+    pub use crate::surface::resolve_offsets;
     pub use crate::{Aabb, Error, MemoryBudget, Result};
     pub use glam::{DMat3, DMat4, DVec3};
 }

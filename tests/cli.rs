@@ -1501,3 +1501,53 @@ fn a_shell_of_a_ball_with_surface_data_exports_a_true_wall() {
     assert!((outer - 20.0).abs() < 0.03, "outer sheet at {outer}");
     assert!((outer - inner - 2.0).abs() < 0.03, "wall {} mm thick", outer - inner);
 }
+
+#[test]
+fn a_scenes_round_of_a_shell_is_the_shape_shell_and_round_commands_voxel_for_voxel() {
+    // Issue 39, point 2: `round(shell(part, T), R)` as scene nodes against the commands
+    // run one after the other on the files.
+    let dir = scratch("offset-nodes");
+    let scene = "[domain]\ndepth = 6\n[[solid]]\nshape = { round = { solid = { shell = { solid = { box = { center = \
+                 [0, 0, 0], size = [4, 4, 4] } }, thickness = 1.0 } }, radius = 0.25 } }\n";
+    std::fs::write(dir.join("part.toml"), scene).unwrap();
+    let built = ok(&dir, &["build", "part.toml", "-o", "scene.oct"]);
+    assert!(built.contains("offsets, shells and rounds at depth 6"), "{built}");
+    ok(&dir, &["shape", "box", "--size", "4,4,4", "--depth", "6", "-o", "box.oct"]);
+    ok(&dir, &["shell", "box.oct", "--thickness", "1.0", "-o", "wall.oct"]);
+    ok(&dir, &["round", "wall.oct", "--radius", "0.25", "-o", "round.oct"]);
+    let read = |f: &str| octsolid::io::oct::read(dir.join(f), octsolid::MemoryBudget::default()).unwrap();
+    let (scene, commands) = (read("scene.oct"), read("round.oct"));
+    assert_eq!(scene.domain(), commands.domain());
+    assert!(scene.voxel_count() > 0 && scene.keys() == commands.keys());
+    // Neither a plain box nor its shell: the operations were applied.
+    assert!(scene.keys() != read("wall.oct").keys() && scene.keys() != read("box.oct").keys());
+}
+
+#[test]
+fn offsets_over_the_memory_budget_are_refused_with_the_estimate_and_the_budget() {
+    // Issue 39, point 1: `--memory-budget` honoured with an estimate before work.
+    let dir = scratch("offset-budget");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "7", "-o", "ball.oct"]);
+    for op in [
+        &["offset", "ball.oct", "--by", "0.2"][..],
+        &["shell", "ball.oct", "--thickness", "0.2"],
+        &["round", "ball.oct", "--radius", "0.2"],
+    ] {
+        let mut args = vec!["--memory-budget", "3MiB"];
+        args.extend_from_slice(op);
+        args.extend_from_slice(&["-o", "out.oct"]);
+        let e = fails(&dir, &args);
+        // "... needs an estimated N MiB but the memory budget is 3.0 MiB ..."
+        let estimate: f64 = e
+            .split("needs an estimated ")
+            .nth(1)
+            .and_then(|rest| rest.split(" MiB").next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no estimate in {e}"));
+        assert!(estimate > 3.0 && e.contains("the memory budget is 3.0 MiB"), "{e}");
+        assert!(!dir.join("out.oct").exists(), "{op:?} wrote its output");
+        args[1] = "1GiB";
+        ok(&dir, &args);
+        std::fs::remove_file(dir.join("out.oct")).unwrap();
+    }
+}

@@ -11,8 +11,11 @@ use std::f64::consts::PI;
 use common::{Rng, random_octree};
 use glam::DVec3;
 use octsolid::octree::{Domain, LinearOctree, OffsetOptions, VoxelizeOptions, voxelize};
-use octsolid::shape::{Csg, Cuboid, Sphere};
-use octsolid::surface::{FaceKey, HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
+use octsolid::scene_file::build_solid;
+use octsolid::shape::{Csg, Cuboid, Sphere, round, shell};
+use octsolid::surface::{
+    FaceKey, HermiteData, offset_with_surface, resolve_offsets, round_with_surface, shell_with_surface,
+};
 
 /// A random CSG tree of boxes and spheres.
 fn random_csg(rng: &mut Rng, levels: u32) -> Csg {
@@ -373,4 +376,129 @@ fn offsets_along_the_surface_of_random_csg_solids_are_the_brute_force_ones() {
             assert!(checked * 100 > oracle.len() * 99, "round {round} offset {d}: only {checked} voxels decided");
         }
     }
+}
+
+/// A scene of one shape solid `shape` in the unit domain at `depth`, built.
+fn scene_solid(name: &str, shape: &str, depth: u8) -> LinearOctree {
+    let dir = common::scratch_dir("offset", name);
+    let path = dir.join("scene.toml");
+    let text = format!("[domain]\nmin = [0, 0, 0]\nedge = 1\ndepth = {depth}\n[[solid]]\nshape = {shape}\n");
+    std::fs::write(&path, text).unwrap();
+    build_solid(&path, None, &VoxelizeOptions::default()).unwrap()
+}
+
+#[test]
+fn offset_nodes_are_the_operations_on_their_voxelized_child_voxel_for_voxel() {
+    // The scene's round(shell(box)) united with a ball, its child voxelized with its
+    // crossings and the operations applied one after the other as the commands do.
+    let (depth, per) = (7, unit_domain(7).voxels_per_unit());
+    let part = Cuboid::new(DVec3::new(0.45, 0.5, 0.5), DVec3::new(0.6, 0.5, 0.4)).unwrap();
+    let ball = Sphere::new(DVec3::new(0.8, 0.5, 0.5), 0.15).unwrap();
+    let (tree, data) = with_surface(&part, depth);
+    let options = OffsetOptions::default();
+    let (walled, data) = shell_with_surface(&tree, &data, 0.08 * per, false, &options).unwrap();
+    let rounded = round_with_surface(&walled, &data, 0.02 * per, true, true, &options).unwrap().0;
+    let want = rounded.union(&voxelize(&ball, unit_domain(depth), &VoxelizeOptions::default()).unwrap()).unwrap();
+    let text = "{ union = [\n  { round = { solid = { shell = { solid = { box = { center = [0.45, 0.5, 0.5], size = \
+                [0.6, 0.5, 0.4] } }, thickness = 0.08 } }, radius = 0.02 } },\n  { sphere = { center = [0.8, 0.5, 0.5], \
+                radius = 0.15 } },\n] }";
+    let built = scene_solid("round-shell", text, depth);
+    assert!(built.keys() == want.keys(), "{} voxels against {}", built.voxel_count(), want.voxel_count());
+    // The shape API's functions make the same tree.
+    let api: Csg = round(shell(part, 0.08), 0.02) | ball;
+    let resolved = resolve_offsets(&api, unit_domain(depth), &VoxelizeOptions::default()).unwrap();
+    assert!(voxelize(&resolved, unit_domain(depth), &VoxelizeOptions::default()).unwrap().keys() == want.keys());
+    // Unresolved, the voxelizer refuses it.
+    let e = voxelize(&api, unit_domain(depth), &VoxelizeOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("resolve_offsets"), "{e}");
+}
+
+#[test]
+fn offset_and_shell_nodes_follow_steiners_formula_at_depth_9() {
+    let voxel = unit_domain(9).voxel_size();
+    // A cube of 192 voxels on the lattice grown by 24 voxels, in world units.
+    let (a, r): (f64, f64) = (192.0, 24.0);
+    let steiner = a.powi(3) + 6.0 * a * a * r + 3.0 * PI * a * r * r + 4.0 / 3.0 * PI * r.powi(3);
+    let text = format!(
+        "{{ offset = {{ solid = {{ box = {{ center = [0.5, 0.5, 0.5], size = [{s}, {s}, {s}] }} }}, by = {by} }} }}",
+        s = a * voxel,
+        by = r * voxel
+    );
+    assert_close(scene_solid("grown-cube", &text, 9).voxel_count(), steiner, 0.002, "grown cube");
+    // A ball's wall, `voxels` thick.
+    let (radius, t): (f64, f64) = (100.0, 10.0);
+    let text = format!(
+        "{{ shell = {{ solid = {{ sphere = {{ center = [0.5, 0.49, 0.51], radius = {} }} }}, thickness = {} }} }}",
+        radius * voxel,
+        t * voxel
+    );
+    let want = 4.0 / 3.0 * PI * (radius.powi(3) - (radius - t).powi(3));
+    assert_close(scene_solid("ball-wall", &text, 9).voxel_count(), want, 0.002, "ball's shell");
+}
+
+#[test]
+fn offset_nodes_refuse_bad_distances_where_the_scene_writes_them() {
+    let dir = common::scratch_dir("offset", "bad-nodes");
+    let path = dir.join("scene.toml");
+    let cases = [
+        ("{ shell = { solid = { sphere = { center = [0, 0, 0], radius = 1 } }, thickness = -1 } }", "thickness"),
+        ("{ offset = { solid = { sphere = { center = [0, 0, 0], radius = 1 } }, by = 1, voxels = 2 } }", "one of by"),
+        (
+            "{ round = { solid = { sphere = { center = [0, 0, 0], radius = 1 } }, radius = 1, convex = false, \
+          concave = false } }",
+            "convex edges, concave edges or both",
+        ),
+    ];
+    for (shape, says) in cases {
+        std::fs::write(&path, format!("[[solid]]\nshape = {shape}\n")).unwrap();
+        let e = build_solid(&path, None, &VoxelizeOptions::default()).unwrap_err().to_string();
+        assert!(e.contains("scene.toml:2:") && e.contains(says), "{e}");
+    }
+}
+
+#[test]
+fn an_offset_node_in_a_pattern_is_made_once_in_its_own_frame() {
+    // Two copies of a grown box along x, 0.5 apart (32 voxels): the copies are the
+    // node's solid moved, so each is the other moved by 32 voxels, and the first is
+    // the node resolved in the domain (the node's own lattice is the domain's there).
+    let depth = 6;
+    let text = "{ array = { shape = { offset = { solid = { box = { center = [0.25, 0.5, 0.5], size = [0.2, 0.2, 0.2] } }, \
+                by = 0.05 } }, count = [2, 1, 1], step = [0.5, 0, 0] } }";
+    let built = scene_solid("pattern", text, depth);
+    let d = unit_domain(depth);
+    let left = built
+        .intersection(
+            &voxelize(
+                &Cuboid::new(DVec3::new(0.25, 0.5, 0.5), DVec3::splat(0.5)).unwrap(),
+                d,
+                &VoxelizeOptions::default(),
+            )
+            .unwrap(),
+        )
+        .unwrap();
+    let right = built.difference(&left).unwrap();
+    assert!(left.voxel_count() > 0 && left.voxel_count() == right.voxel_count());
+    assert!(left.translate([32, 0, 0]).keys() == right.keys());
+    let alone = "{ offset = { solid = { box = { center = [0.25, 0.5, 0.5], size = [0.2, 0.2, 0.2] } }, by = 0.05 } }";
+    assert!(scene_solid("pattern-alone", alone, depth).keys() == left.keys());
+}
+
+#[test]
+fn the_offset_example_of_the_scene_docs_is_its_commands_run_in_turn() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/SCENES.md")).unwrap();
+    let after = doc.split("parsed and built by tests/offset.rs").nth(1).expect("the marker");
+    let block = after.split("```toml\n").nth(1).expect("a toml block").split("```").next().unwrap();
+    let path = common::scratch_dir("offset", "docs-example").join("tray.toml");
+    std::fs::write(&path, block).unwrap();
+    let built = build_solid(&path, None, &VoxelizeOptions::default()).unwrap();
+    // The tray's child voxelized in the scene's domain, its wall outward, then rounded.
+    let (_, domain) = octsolid::scene_file::build_shape(&path, None, octsolid::MemoryBudget::default()).unwrap();
+    let tub: Csg = Csg::from(Cuboid::new(DVec3::ZERO, DVec3::new(4.0, 3.0, 1.0)).unwrap())
+        - Cuboid::new(DVec3::new(0.0, 0.0, 0.6), DVec3::new(3.6, 2.6, 1.0)).unwrap();
+    let tree = voxelize(&tub, domain, &VoxelizeOptions::default()).unwrap();
+    let data = HermiteData::from_shape(&tub, &tree);
+    let (per, options) = (domain.voxels_per_unit(), OffsetOptions::default());
+    let (wall, data) = shell_with_surface(&tree, &data, 0.2 * per, true, &options).unwrap();
+    let want = round_with_surface(&wall, &data, 0.05 * per, true, true, &options).unwrap().0;
+    assert!(built.voxel_count() > 0 && built.keys() == want.keys());
 }

@@ -31,6 +31,12 @@ class Shape:
         """The shape turned by ``degrees`` (right-handed) about ``axis`` through the origin."""
     def scale(self, s: Union[float, Vec3]) -> Shape:
         """The shape scaled about the origin by ``s``: a number, or factors along x, y, z."""
+    def offset(self, by: float, voxels: bool = False) -> Shape:
+        """An offset node: grown (``by`` > 0) or shrunk by a ball, made on the lattice :func:`voxelize` uses."""
+    def shell(self, thickness: float, outward: bool = False) -> Shape:
+        """A shell node: the wall ``thickness`` thick inside the surface (``outward``: outside)."""
+    def round(self, radius: float, convex: bool = False, concave: bool = False) -> Shape:
+        """A round node: edges rounded to ``radius``, both kinds unless ``convex`` or ``concave`` picks one."""
     @property
     def bounds(self) -> Optional[Bounds]:
         """The bounding box ``(min, max)``, or ``None`` when the shape is unbounded."""

@@ -4,7 +4,8 @@
 //! building it when made (a negative radius raises at once). The operators build set
 //! operation nodes (`a - b` is `Difference([a, b])`, so a chain folds as the Rust
 //! operators do: `(a - b) - c`), the moves `Transform` nodes, the patterns `Array` and
-//! `Polar` nodes; [`ShapeSpec::build`] makes the [`Csg`] the voxelizer samples.
+//! `Polar` nodes, `offset`, `shell` and `round` their nodes (resolved on the lattice
+//! by `voxelize`); [`ShapeSpec::build`] makes the [`Csg`] the voxelizer samples.
 //!
 //! Departure from `octsolid shape`: none for the primitives: `Cone(center, ...)` puts
 //! its base `height / 2` below `center`, as `octsolid shape cone --center` does, and
@@ -124,6 +125,35 @@ impl Shape {
     /// The shape scaled about the origin by `s`: a number, or factors along x, y, z.
     fn scale(&self, s: &Bound<'_, PyAny>) -> PyResult<Shape> {
         self.moved(Some(vec3_or_scalar(s)?), None, None)
+    }
+
+    /// The shape grown (positive `by`) or shrunk (negative) by a ball of radius `|by|`
+    /// world units (`voxels=True`: `by` counts voxels): an offset node, made on the
+    /// lattice it is voxelized into as `Solid.offset` makes it.
+    #[pyo3(signature = (by, voxels=false))]
+    fn offset(&self, by: f64, voxels: bool) -> PyResult<Shape> {
+        let (by, voxels) = if voxels { (None, Some(by)) } else { (Some(by), None) };
+        Shape::checked(ShapeSpec::Offset { solid: Box::new(self.spec.clone()), by, voxels })
+    }
+
+    /// The wall `thickness` world units thick inside the shape's surface
+    /// (`outward=True`: outside it): a shell node, as `Solid.shell`.
+    #[pyo3(signature = (thickness, outward=false))]
+    fn shell(&self, thickness: f64, outward: bool) -> PyResult<Shape> {
+        Shape::checked(ShapeSpec::Shell { solid: Box::new(self.spec.clone()), thickness, outward: Some(outward) })
+    }
+
+    /// The shape with its edges rounded to `radius` world units, both kinds unless
+    /// `convex` or `concave` picks one: a round node, as `Solid.round`.
+    #[pyo3(signature = (radius, convex=false, concave=false))]
+    fn round(&self, radius: f64, convex: bool, concave: bool) -> PyResult<Shape> {
+        let (convex, concave) = if convex || concave { (convex, concave) } else { (true, true) };
+        Shape::checked(ShapeSpec::Round {
+            solid: Box::new(self.spec.clone()),
+            radius,
+            convex: Some(convex),
+            concave: Some(concave),
+        })
     }
 
     /// The shape's bounding box `(min, max)`, or `None` when it is unbounded.

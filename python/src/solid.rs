@@ -37,7 +37,7 @@ use octsolid::render::{CameraRequest, RenderOverrides, Up, render_picture};
 use octsolid::shape::Shape as _;
 use octsolid::surface::{
     DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, extract, offset_with_surface, resample_with_surface,
-    round_with_surface, shell_with_surface,
+    resolve_offsets, round_with_surface, shell_with_surface,
 };
 use octsolid::{Drawing, FileKind, MemoryBudget, NoProgress, SolidFile};
 use pyo3::prelude::*;
@@ -561,7 +561,8 @@ fn shape_domain(shape: &octsolid::shape::Csg, depth: u8) -> PyResult<Domain> {
 }
 
 /// Voxelizes `shape` at `depth` (2^depth voxels a side) over `domain` `(min, edge)`,
-/// default a cube around the shape (2% margin), as `octsolid shape` does.
+/// default a cube around the shape (2% margin), as `octsolid shape` does; its offset,
+/// shell and round nodes made on that lattice first (`surface::resolve_offsets`).
 #[pyfunction]
 #[pyo3(signature = (shape, depth, domain=None))]
 pub fn voxelize(py: Python<'_>, shape: &Shape, depth: u8, domain: Option<([f64; 3], f64)>) -> PyResult<Solid> {
@@ -570,7 +571,14 @@ pub fn voxelize(py: Python<'_>, shape: &Shape, depth: u8, domain: Option<([f64; 
         Some(d) => domain_of(d, depth)?,
         None => shape_domain(&built, depth)?,
     };
-    let tree = py.detach(|| voxelize_shape(&*built, domain, &VoxelizeOptions::default())).py()?;
+    let tree = py
+        .detach(|| {
+            let resolved = resolve_offsets(&built, domain, &VoxelizeOptions::default())?;
+            let tree = voxelize_shape(&resolved, domain, &VoxelizeOptions::default())?;
+            Ok::<_, octsolid::Error>((tree, Arc::new(resolved)))
+        })
+        .py()?;
+    let (tree, built) = tree;
     let surface =
         LazySurface::later(Box::new(move |tree: &LinearOctree| Ok(Some(HermiteData::from_shape(&*built, tree)))));
     Ok(Solid { tree: Arc::new(tree), meta: Metadata::default(), surface })

@@ -103,10 +103,15 @@ TREES = [
         "intersection = [ { sphere = { center = [0, 0, 0], radius = 1.2 } }, "
         "{ complement = { half_space = { normal = [0, 0, 1], offset = 0.25 } } } ]",
     ),
+    (
+        lambda: o.Box((0, 0, 0), (1.6, 1.2, 1.0)).shell(0.3).round(0.1) | o.Sphere((0.8, 0, 0), 0.4),
+        "union = [ { round = { solid = { shell = { solid = { box = { center = [0, 0, 0], size = [1.6, 1.2, 1.0] } }, "
+        "thickness = 0.3 } }, radius = 0.1 } }, { sphere = { center = [0.8, 0, 0], radius = 0.4 } } ]",
+    ),
 ]
 
 
-@pytest.mark.parametrize("make, spec", TREES, ids=["classic", "xor", "transform", "array", "polar", "complement"])
+@pytest.mark.parametrize("make, spec", TREES, ids=["classic", "xor", "transform", "array", "polar", "complement", "offsets"])
 def test_shape_tree_matches_a_scene_build(tmp_path, make, spec):
     scene = tmp_path / "tree.toml"
     scene.write_text(SCENE.format(spec=spec))
@@ -115,6 +120,22 @@ def test_shape_tree_matches_a_scene_build(tmp_path, make, spec):
     solid = o.voxelize(make(), 6, domain=((-1.5, -1.5, -1.5), 3.0))
     solid.save(py_file)
     assert py_file.read_bytes() == cli_file.read_bytes()
+
+
+def test_offset_nodes_are_the_solid_methods_on_the_voxelized_shape():
+    # A node voxelizes its child on the lattice, with its crossings, and applies the
+    # operation as the Solid's method does: the same voxels.
+    box, domain = o.Box((0, 0, 0), (1.2, 0.9, 0.7)), ((-1, -1, -1), 2.0)
+    solid = o.voxelize(box, 6, domain)
+    for node, method in [
+        (box.offset(0.1), solid.offset(0.1)),
+        (box.offset(-2, voxels=True), solid.offset(-2, voxels=True)),
+        (box.shell(0.2, outward=True), solid.shell(0.2, outward=True)),
+        (box.round(0.15, convex=True), solid.round(0.15, convex=True)),
+    ]:
+        assert np.array_equal(o.voxelize(node, 6, domain).keys(), method.keys())
+    with pytest.raises(o.ArgumentError):
+        box.shell(-1)
 
 
 def test_shape_operators_agree_with_solid_operators():

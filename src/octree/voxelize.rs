@@ -15,6 +15,10 @@
 //! whole tree, and the voxels are the same (see [`PrunedCsg`] for why), so the keys
 //! are the same as the unpruned walk's.
 //!
+//! Offset, shell and round nodes ([`crate::shape::Morphed`]) are made on a lattice,
+//! not decided point by point: a shape that still holds one is refused (resolve it
+//! first, `surface::resolve_offsets`).
+//!
 //! Departure: the pruned walk classifies the box of a node's voxel *centres*, half a
 //! voxel inside its cube, not the cube. Voxels are decided by their centres, so a
 //! class for that box decides the node's voxels exactly as well (the soundness
@@ -30,7 +34,7 @@ use super::node::NodeKey;
 use crate::aabb::Aabb;
 use crate::error::Result;
 use crate::morton;
-use crate::shape::{Class, PrunedCsg, Reduced, Residual, Shape};
+use crate::shape::{Class, PrunedCsg, Reduced, Residual, Shape, has_morphed, unresolved};
 
 /// Estimated peak bytes to voxelize `shape` in `domain`: nodes near the surface,
 /// taken as twice the area of the shape's box (clipped to the domain) in voxel faces,
@@ -66,8 +70,12 @@ fn bytes_for_faces(faces: f64) -> u64 {
 
 /// Voxelizes `shape` into the canonical linear octree of `domain`.
 ///
-/// Refuses (before any work) when [`estimate_bytes`] exceeds `options.budget`.
+/// Refuses (before any work) when [`estimate_bytes`] exceeds `options.budget`, and
+/// a shape holding an offset, shell or round node not yet resolved.
 pub fn voxelize(shape: &dyn Shape, domain: Domain, options: &VoxelizeOptions) -> Result<LinearOctree> {
+    if has_morphed(shape) {
+        return Err(unresolved());
+    }
     let plan = Plan::new("voxelizing", estimate_bytes(shape, &domain), domain, options)?;
     match shape.as_csg() {
         Some(tree) => {
@@ -93,6 +101,9 @@ pub fn voxelize_cells(
     sink: &mut dyn CellSink,
 ) -> Result<()> {
     check_level(cells, &domain)?;
+    if has_morphed(shape) {
+        return Err(unresolved());
+    }
     let estimate = estimate_cell_bytes(shape, &domain, cells.level);
     let plan = Plan::new("voxelizing a cell", estimate, domain, options)?;
     match shape.as_csg() {

@@ -1,7 +1,7 @@
 //! Building a read scene: the [`Context`] every step shares (the file, its text for
 //! places, its folder, the budget and the solid cache), each `[[solid]]` as a
 //! [`SolidBuild`] (its one source: a `shape` tree voxelized in the shapes' shared
-//! domain, a `mesh` voxelized in its own cube, an `oct` solid file read and moved),
+//! domain, its offset, shell and round nodes resolved there first, a `mesh` voxelized in its own cube, an `oct` solid file read and moved),
 //! through the cache when the load uses one, then lights, image and camera. Every
 //! failure is an [`Error::Scene`] at the place of the key it concerns.
 
@@ -28,6 +28,7 @@ use crate::progress::NoProgress;
 use crate::render::{Light, Material, Scene};
 use crate::shape::{Csg, FileLeaves, Shape, Transformed};
 use crate::solid_file::SolidFile;
+use crate::surface::resolve_offsets;
 use crate::warning::Warning;
 
 /// The solid [`build_solid`] makes from the parsed file.
@@ -46,7 +47,9 @@ pub(super) fn solid_octree(
         let union = shapes.iter().flatten().cloned().reduce(|a, b| a | b);
         let union =
             union.ok_or_else(|| whole(Error::invalid("scene", "it has no shape solid; name the solid to build")))?;
-        return voxelize(&union, domain.expect("shapes have a domain"), options).map_err(whole);
+        let domain = domain.expect("shapes have a domain");
+        let union = resolve_offsets(&union, domain, options).map_err(whole)?;
+        return voxelize(&union, domain, options).map_err(whole);
     };
     let i = named(&solids, name, cx)?;
     Ok(solids[i].octree(shapes[i].as_ref(), domain, depth, options)?.0)
@@ -383,7 +386,9 @@ impl SolidBuild<'_> {
         Ok(match (shape, &s.mesh, &s.oct) {
             (Some(shape), _, _) => {
                 let domain = shape_domain.expect("shapes have a domain");
-                let tree = voxelize(shape, domain, options).map_err(self.at(s.shape.as_ref().map(Spanned::span)))?;
+                let at_shape = self.at(s.shape.as_ref().map(Spanned::span));
+                let shape = resolve_offsets(shape, domain, options).map_err(&at_shape)?;
+                let tree = voxelize(&shape, domain, options).map_err(at_shape)?;
                 (tree, Vec::new())
             }
             (None, Some(mesh), _) => self.mesh_tree(mesh, depth, options)?,

@@ -126,7 +126,9 @@ pub fn build_solid(path: impl AsRef<Path>, solid: Option<&str>, options: &Voxeli
 }
 
 /// The shape and domain [`build_solid`] would voxelize, without voxelizing: for
-/// streaming the solid out cell by cell (`crate::sharded`). Refuses a named solid
+/// streaming the solid out cell by cell (`crate::sharded`). Its offset, shell and
+/// round nodes are left to resolve on the lattice it is voxelized into
+/// ([`crate::surface::resolve_offsets`]). Refuses a named solid
 /// that is a `mesh` or an `oct` (those are voxelized or read whole).
 pub fn build_shape(path: impl AsRef<Path>, solid: Option<&str>, budget: MemoryBudget) -> Result<(Csg, Domain)> {
     parse_scene(path.as_ref(), budget, CachePolicy::Off, |spec, cx| {

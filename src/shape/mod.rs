@@ -70,6 +70,13 @@ pub trait Shape: Send + Sync {
     fn as_csg(&self) -> Option<&Csg> {
         None
     }
+
+    /// The offset, shell or round node this shape is, if it is one: what
+    /// `surface::resolve_offsets` replaces by its solid on a lattice ([`Morphed`]);
+    /// `None` (the default) for every other shape.
+    fn as_morphed(&self) -> Option<&Morphed> {
+        None
+    }
 }
 
 /// Shapes behind references and smart pointers are shapes.
@@ -94,6 +101,9 @@ macro_rules! forward_shape {
             fn as_csg(&self) -> Option<&Csg> {
                 (**self).as_csg()
             }
+            fn as_morphed(&self) -> Option<&Morphed> {
+                (**self).as_morphed()
+            }
         }
     )*};
 }
@@ -112,6 +122,7 @@ mod extrude;
 mod half_space;
 mod hull;
 mod menger;
+mod morphed;
 mod pattern;
 mod placement;
 mod profile;
@@ -134,6 +145,9 @@ pub use extrude::Extrude;
 pub use half_space::HalfSpace;
 pub use hull::{Hull, HullOptions};
 pub use menger::Menger;
+pub use morphed::{
+    Distance, Morphed, Morphology, VOXELS_ACROSS, has_morphed, morphed, offset, round, shell, unresolved,
+};
 pub use pattern::{MAX_COPIES, linear_array, mirrored, polar_array};
 pub use placement::Placement;
 pub use profile::{AREA_LEVELS, MAX_PROFILE_NESTING, Polygon, Profile, ProfileSpec, ProfileSurface};

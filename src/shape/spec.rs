@@ -42,6 +42,12 @@
 //! is a [`ProfileSpec`] built (and so checked) as the node is read, and `{ hull =
 //! [shape, ...] }` ([`super::Hull`], built with its default tolerance).
 //!
+//! Three nodes are offsets, not pointwise shapes ([`super::Morphed`], resolved on the
+//! lattice of the solid they are voxelized into): `{ offset = { solid = SHAPE, by = D
+//! } }` (or `voxels = N`), `{ shell = { solid = SHAPE, thickness = T, outward = false }
+//! }` and `{ round = { solid = SHAPE, radius = R, convex = true, concave = true } }`;
+//! their distances are checked as they are read.
+//!
 //! Two leaves name files, `{ mesh = "part.obj" }` (a closed triangle mesh) and
 //! `{ oct = "part.oct" }` (a stored octree). The shape layer knows no mesh or octree:
 //! [`ShapeSpec::build_with`] asks a [`FileLeaves`] (the scene loader) for their shapes;
@@ -61,8 +67,8 @@ use serde::de::{self, Deserializer, IgnoredAny, MapAccess, Visitor};
 
 use super::pattern::{check_linear, check_mirror, check_mirror_copies, check_polar};
 use super::{
-    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Ellipsoid, Extrude, HalfSpace, Hull, HullOptions, Menger,
-    ProfileSpec, Revolve, Sphere, Torus, Transformed, linear_array, mirrored, polar_array,
+    Axis, Cone, Csg, Cuboid, Cylinder, DisplacedSphere, Distance, Ellipsoid, Extrude, HalfSpace, Hull, HullOptions,
+    Menger, Morphology, ProfileSpec, Revolve, Sphere, Torus, Transformed, linear_array, mirrored, morphed, polar_array,
 };
 use crate::error::{Error, Result};
 
@@ -254,6 +260,36 @@ pub enum ShapeSpec {
     },
     /// The convex hull of shapes ([`super::Hull`]).
     Hull(Vec<ShapeSpec>),
+    /// A solid grown or shrunk by a ball ([`super::offset`]): `by` world units or
+    /// `voxels` voxels (one of them), positive grows.
+    Offset {
+        /// The solid offset.
+        solid: Box<ShapeSpec>,
+        /// The distance in world units.
+        by: Option<f64>,
+        /// The distance in voxels of the solid's lattice.
+        voxels: Option<f64>,
+    },
+    /// The wall of a solid ([`super::shell`]).
+    Shell {
+        /// The solid hollowed.
+        solid: Box<ShapeSpec>,
+        /// The wall's thickness in world units.
+        thickness: f64,
+        /// The wall outside the surface instead of inside (default false).
+        outward: Option<bool>,
+    },
+    /// A solid with its edges rounded ([`super::round`]).
+    Round {
+        /// The solid rounded.
+        solid: Box<ShapeSpec>,
+        /// The rounding radius in world units.
+        radius: f64,
+        /// Round the convex edges (default true).
+        convex: Option<bool>,
+        /// Round the concave edges (default true).
+        concave: Option<bool>,
+    },
 }
 }
 
@@ -392,6 +428,9 @@ impl ShapeSpec {
                 let parts = parts.iter().map(|p| p.build_nested(files)).collect::<Result<Vec<_>>>()?;
                 Hull::new(&parts, HullOptions::default())?.into()
             }
+            ShapeSpec::Offset { solid, .. } | ShapeSpec::Shell { solid, .. } | ShapeSpec::Round { solid, .. } => {
+                morphed(solid.build_nested(files)?, self.morphology()?)
+            }
             primitive => primitive.primitive()?,
         })
     }
@@ -441,6 +480,33 @@ impl ShapeSpec {
         )
     }
 
+    /// The operation of an `offset`, `shell` or `round` node, checked.
+    ///
+    /// # Panics
+    /// When `self` is another kind.
+    fn morphology(&self) -> Result<Morphology> {
+        let operation = match *self {
+            ShapeSpec::Offset { by, voxels, .. } => Morphology::Offset {
+                by: match (by, voxels) {
+                    (Some(d), None) => Distance::World(d),
+                    (None, Some(n)) => Distance::Voxels(n),
+                    _ => return Err(Error::invalid("offset", "give one of by (world units) or voxels")),
+                },
+            },
+            ShapeSpec::Shell { thickness, outward, .. } => {
+                Morphology::Shell { thickness: Distance::World(thickness), outward: outward.unwrap_or(false) }
+            }
+            ShapeSpec::Round { radius, convex, concave, .. } => Morphology::Round {
+                radius: Distance::World(radius),
+                convex: convex.unwrap_or(true),
+                concave: concave.unwrap_or(true),
+            },
+            ref other => unreachable!("{other:?} is not an offset, shell or round"),
+        };
+        operation.check()?;
+        Ok(operation)
+    }
+
     /// Checks this node alone (its children were checked when they were read): a
     /// primitive builds, a set operation has an operand, a transform's map is valid.
     fn check_node(&self) -> Result<()> {
@@ -455,6 +521,7 @@ impl ShapeSpec {
                 Err(no_operands())
             }
             ShapeSpec::Transform { .. } => self.transform().map(drop),
+            ShapeSpec::Offset { .. } | ShapeSpec::Shell { .. } | ShapeSpec::Round { .. } => self.morphology().map(drop),
             ShapeSpec::Array { shape, count, step } => check_linear(*count, v(*step), shape.copies()),
             ShapeSpec::Polar { shape, count, center, step_degrees, .. } => {
                 check_polar(origin(*center), *count, *step_degrees, shape.copies()).map(drop)
@@ -512,7 +579,10 @@ impl ShapeSpec {
             | ShapeSpec::Polar { .. }
             | ShapeSpec::Mirror { .. }
             | ShapeSpec::Mesh(_)
-            | ShapeSpec::Oct(_) => None,
+            | ShapeSpec::Oct(_)
+            | ShapeSpec::Offset { .. }
+            | ShapeSpec::Shell { .. }
+            | ShapeSpec::Round { .. } => None,
         }
     }
 
@@ -530,6 +600,9 @@ impl ShapeSpec {
             | ShapeSpec::Polar { shape, .. }
             | ShapeSpec::Mirror { shape, .. }
             | ShapeSpec::Transform { shape, .. } => std::slice::from_ref(shape),
+            ShapeSpec::Offset { solid, .. } | ShapeSpec::Shell { solid, .. } | ShapeSpec::Round { solid, .. } => {
+                std::slice::from_ref(solid)
+            }
             _ => &[],
         }
     }
@@ -733,6 +806,35 @@ mod tests {
         ]);
         let tree = xor.build().unwrap();
         assert!(tree.contains(DVec3::new(-0.9, 0.0, 0.0)) && !tree.contains(DVec3::new(0.5, 0.0, 0.0)));
+    }
+
+    #[test]
+    fn offset_nodes_read_with_their_defaults_and_bound_their_grown_solid() {
+        let s = spec(
+            "shape = { round = { solid = { shell = { solid = { box = { center = [0, 0, 0], size = [2, 2, 2] } }, \
+             thickness = 0.5 } }, radius = 0.25, concave = false } }",
+        )
+        .unwrap();
+        let cube = ShapeSpec::Box { center: [0.0; 3], size: [2.0; 3] };
+        let shell = ShapeSpec::Shell { solid: Box::new(cube.clone()), thickness: 0.5, outward: None };
+        let want = ShapeSpec::Round { solid: Box::new(shell), radius: 0.25, convex: None, concave: Some(false) };
+        assert_eq!(s, want);
+        assert_eq!(
+            want.morphology().unwrap(),
+            Morphology::Round { radius: Distance::World(0.25), convex: true, concave: false }
+        );
+        // Grown by 0.5 the cube's box grows by 0.5; shrunk, a shell or a round stays in it.
+        let grown = ShapeSpec::Offset { solid: Box::new(cube.clone()), by: Some(0.5), voxels: None };
+        let b = grown.build().unwrap().bounds().unwrap();
+        assert_eq!((b.min, b.max), (DVec3::splat(-1.5), DVec3::splat(1.5)));
+        let shrunk = ShapeSpec::Offset { solid: Box::new(cube), by: Some(-0.5), voxels: None };
+        let b = shrunk.build().unwrap().bounds().unwrap();
+        assert_eq!((b.min, b.max), (DVec3::splat(-1.0), DVec3::splat(1.0)));
+        assert_eq!(want.build().unwrap().bounds().unwrap().max, DVec3::splat(1.0));
+        let e = spec("shape = { offset = { solid = { sphere = { center = [0, 0, 0], radius = 1 } }, by = nan } }")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("offset distance") && e.contains("not a finite number"), "{e}");
     }
 
     #[test]

@@ -16,6 +16,9 @@
 //!   crossings from the distance field.
 //! - `resample`: [`resample_with_surface`], a solid moved where its voxels do not
 //!   follow, voxelized again from its moved smooth surface, with new crossings.
+//! - `resolve`: [`resolve_offsets`], a CSG tree's offset, shell and round nodes
+//!   replaced by their solids on a lattice ([`SurfacedOctree`]: an octree with its
+//!   crossings as a shape).
 //! - `qef`: the point nearest a cell's tangent planes, and their rank.
 //! - `dual`: a vertex a sheet at each boundary voxel corner, the faces as quads.
 //! - `untangle`: crossing triangles' vertices moved back towards the staircase.
@@ -34,6 +37,7 @@ mod hermite_patch;
 mod offset;
 mod qef;
 mod resample;
+mod resolve;
 mod simplify;
 mod transform;
 mod untangle;
@@ -44,5 +48,6 @@ pub(crate) use faces::{boundary_faces, is_boundary_face};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use offset::{offset_with_surface, round_with_surface, shell_with_surface};
 pub use resample::resample_with_surface;
+pub use resolve::{SurfacedOctree, resolve_offsets};
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};
 pub use window::{CELL_BORDER, CellSurface, CellVertexKind, VertexKey, extract_cell};

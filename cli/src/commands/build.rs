@@ -6,9 +6,11 @@ use std::time::Instant;
 
 use anyhow::Result;
 use octsolid::io::oct::Metadata;
-use octsolid::octree::VoxelizeOptions;
+use octsolid::octree::{Domain, VoxelizeOptions};
 use octsolid::scene_file::{build_shape, build_solid};
+use octsolid::shape::{Csg, has_morphed};
 use octsolid::sharded;
+use octsolid::surface::resolve_offsets;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::{print_summary, surface_for, voxelize_with_bar};
@@ -37,17 +39,41 @@ pub struct BuildArgs {
     pub shards: ShardFlags,
 }
 
+/// The offset, shell and round nodes of `shape` resolved on `domain`'s lattice, with a
+/// bar when there are any.
+fn resolve_with_bar(shape: &Csg, domain: Domain, budget: MemoryBudget) -> Result<Csg> {
+    if !has_morphed(shape) {
+        return Ok(shape.clone());
+    }
+    let bar = Bar::new("offsets");
+    let started = Instant::now();
+    let shape = resolve_offsets(shape, domain, &VoxelizeOptions { budget, progress: &bar })?;
+    out!("offsets, shells and rounds at depth {} in {:.1} ms", domain.depth(), started.elapsed().as_secs_f64() * 1e3);
+    Ok(shape)
+}
+
 /// `octsolid build SCENE.toml -o OUT.oct [--solid NAME]`
 pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     check_extension(&a.output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(&a.output, &[a.scene.as_path()])?;
     a.shards.check_for(&a.output)?;
-    if is_sharded(&a.output) || a.depth.is_some() {
-        let (shape, domain) = build_shape(&a.scene, a.solid.as_deref(), budget)?;
+    // A shape with offset nodes goes through its shape, once: resolving them is the work.
+    let to_oct = FileKind::of(&a.output, &[FileKind::Oct]).is_ok();
+    let with_offsets = if to_oct {
+        build_shape(&a.scene, a.solid.as_deref(), budget).ok().filter(|(shape, _)| has_morphed(shape))
+    } else {
+        None
+    };
+    if is_sharded(&a.output) || a.depth.is_some() || with_offsets.is_some() {
+        let (shape, domain) = match with_offsets {
+            Some(built) => built,
+            None => build_shape(&a.scene, a.solid.as_deref(), budget)?,
+        };
         let domain = match a.depth {
             Some(depth) => domain.with_depth(depth)?,
             None => domain,
         };
+        let shape = resolve_with_bar(&shape, domain, budget)?;
         if !is_sharded(&a.output) {
             let tree = voxelize_with_bar(&shape, domain, budget)?;
             let surface = surface_for(&a.output, &shape, &tree);
@@ -72,7 +98,6 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     }
     // A shape solid's surface data, from the CSG tree it was voxelized from (a mesh or
     // oct solid has no shape here, and gets none).
-    let to_oct = FileKind::of(&a.output, &[FileKind::Oct]).is_ok();
     let shape = if to_oct { build_shape(&a.scene, a.solid.as_deref(), budget).ok() } else { None };
     let surface = match shape {
         Some((shape, domain)) if domain == *tree.domain() => surface_for(&a.output, &shape, &tree),
