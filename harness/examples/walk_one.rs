@@ -8,6 +8,9 @@
 //! `random` (N random rays, the harness's set), `display` (the primary rays answered
 //! by the front-to-back display, a frustum walk for the rays of one eye, checked hit
 //! for hit against the walk). `SIZE` (default 512) sets the primary rays' image edge.
+//! `TREE=tree64` traces the kinds of single rays through the 64-tree (`Tree64`, issue
+//! 41) instead of the traversal octree, after checking every hit against the octree's;
+//! either way the build time (best of 5) and bytes of both trees go to stderr.
 //! Prints the hit count, and on stderr the best CPU time a ray over `REPEAT` runs
 //! (default 1); for `display` also the best wall time a ray on 2 threads. Under
 //! callgrind, collect only the tracing:
@@ -15,7 +18,7 @@
 use glam::DVec3;
 use octsolid::mesh::{MeshVoxelizeOptions, read_mesh, voxelize_mesh};
 use octsolid::octree::Domain;
-use octsolid::render::{Camera, Method, PACKET, SampleGrid, Scene, TILE, Traversal, visibility_into};
+use octsolid::render::{Camera, Method, PACKET, SampleGrid, Scene, TILE, Traversal, Tree64, visibility_into};
 use octsolid::{MemoryBudget, Ray, RayCast};
 use octsolid_harness::rays::random_rays;
 
@@ -38,7 +41,7 @@ fn trace_packets(t: &Traversal, tiles: &[Ray]) -> usize {
 }
 
 #[inline(never)]
-fn trace(t: &Traversal, rays: &[Ray], any: bool) -> usize {
+fn trace<T: RayCast>(t: &T, rays: &[Ray], any: bool) -> usize {
     rays.iter().filter(|r| if any { t.occluded(r) } else { t.hit(r).is_some() }).count()
 }
 
@@ -52,6 +55,25 @@ fn main() {
     let options = MeshVoxelizeOptions { budget: MemoryBudget::unlimited(), ..Default::default() };
     let (tree, _) = voxelize_mesh(&mesh, Domain::around(&bounds, 0.02, depth).unwrap(), &options).unwrap();
     let t = Traversal::new(&tree);
+    let tree64 = std::env::var("TREE").is_ok_and(|v| v == "tree64");
+    let t64 = Tree64::new(&tree);
+    let build = |f: &dyn Fn() -> usize| {
+        (0..5)
+            .map(|_| {
+                let start = cpu_ns();
+                std::hint::black_box(f());
+                (cpu_ns() - start) as f64 * 1e-6
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    eprintln!(
+        "octree: {} bytes, built in {:.2} ms; 64-tree: {} bytes, built in {:.2} ms ({} voxels)",
+        t.bytes(),
+        build(&|| Traversal::new(&tree).node_count()),
+        t64.bytes(),
+        build(&|| Tree64::new(&tree).node_count()),
+        tree.voxel_count()
+    );
     let size: u32 = std::env::var("SIZE").map_or(512, |v| v.parse().unwrap());
     let camera = Camera::look_at(DVec3::new(8.0, 9.0, 22.0), bounds.center(), DVec3::Y, 30.0);
     let primary: Vec<Ray> = (0..size * size)
@@ -81,6 +103,11 @@ fn main() {
         }
         _ => random_rays(&bounds, n, 1).rays,
     };
+    if tree64 {
+        for ray in &rays {
+            assert_eq!(t64.hit(ray), t.hit(ray), "the 64-tree and the octree differ on {ray:?}");
+        }
+    }
     let repeat: usize = std::env::var("REPEAT").map_or(1, |v| v.parse().unwrap());
     if kind == "display" {
         display(tree, &t, &camera, &primary_all, size, repeat);
@@ -101,13 +128,16 @@ fn main() {
                 }
             }
             trace_packets(&t, &tiles)
+        } else if tree64 {
+            trace(&t64, &rays, kind == "shadow" || kind.starts_with("lights"))
         } else {
             trace(&t, &rays, kind == "shadow" || kind.starts_with("lights"))
         };
         best = best.min((cpu_ns() - start) as f64 * 1e-9);
     }
     let count = if kind == "packet" { primary_all.len() } else { rays.len() };
-    eprintln!("{kind}: {:.1} ns/ray (best of {repeat})", best * 1e9 / count as f64);
+    let name = if tree64 { "64-tree" } else { "octree" };
+    eprintln!("{kind} ({name}): {:.1} ns/ray (best of {repeat})", best * 1e9 / count as f64);
     println!("{kind}: {hits} of {}", rays.len());
 }
 

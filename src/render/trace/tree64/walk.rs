@@ -170,35 +170,22 @@ impl Tree64 {
                 continue;
             }
             // An empty child: step to its far planes, or to its group's when the
-            // whole 2x2x2 group is empty.
-            let group = (c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1);
+            // whole 2x2x2 group is empty (`skip` on the axes where the cell is the
+            // group's near one), without a branch on the axes that move.
+            let empty_group = u32::from(node.groups >> ((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) & 1 == 0);
             let old = cell;
-            if node.groups >> group & 1 == 0 {
-                let tg: [f64; 3] = std::array::from_fn(|a| if cell[a] & 1 == 1 { tn[a] } else { m.time(a, (cell[a] + 2) << shift) });
-                t = earlier(earlier(tg[0], tg[1]), tg[2]);
-                if t >= limit {
-                    return None;
-                }
-                for a in 0..3 {
-                    if tg[a] <= t {
-                        cell[a] = (cell[a] | 1) + 1;
-                        tn[a] = m.time(a, (cell[a] + 1) << shift);
-                    } else if tn[a] <= t {
-                        cell[a] += 1;
-                        tn[a] = tg[a];
-                    }
-                }
-            } else {
-                t = earlier(earlier(tn[0], tn[1]), tn[2]);
-                if t >= limit {
-                    return None;
-                }
-                for a in 0..3 {
-                    if tn[a] <= t {
-                        cell[a] += 1;
-                        tn[a] = m.time(a, (cell[a] + 1) << shift);
-                    }
-                }
+            let skip: [u32; 3] = std::array::from_fn(|a| empty_group & !cell[a] & 1);
+            let tt: [f64; 3] = std::array::from_fn(|a| m.time(a, (cell[a] + 1 + skip[a]) << shift));
+            t = earlier(earlier(tt[0], tt[1]), tt[2]);
+            if t >= limit {
+                return None;
+            }
+            for a in 0..3 {
+                // Past the target plane (the cell's or the group's far plane), or
+                // only past the group's mid plane.
+                let (past, mid) = (u32::from(tt[a] <= t), u32::from(tn[a] <= t));
+                cell[a] += mid + (past & skip[a]);
+                tn[a] = m.time(a, (cell[a] + 1) << shift);
             }
             let moved = (old[0] ^ cell[0]) | (old[1] ^ cell[1]) | (old[2] ^ cell[2]);
             if moved >= 4 {
@@ -233,12 +220,7 @@ fn descend(m: &Mirrored, cell: &mut [u32; 3], tn: &mut [f64; 3], shift: u32, t: 
         let far = if root { m.time(a, (base + 4) << shift) } else { tn[a] };
         let k = u32::from(t1 <= t) + u32::from(t2 <= t) + u32::from(t3 <= t);
         cell[a] = base + k;
-        tn[a] = match k {
-            0 => t1,
-            1 => t2,
-            2 => t3,
-            _ => far,
-        };
+        tn[a] = [t1, t2, t3, far][k as usize];
     }
 }
 
