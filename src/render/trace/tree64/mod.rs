@@ -40,6 +40,17 @@ pub(crate) struct Node64 {
 
 const _: () = assert!(std::mem::size_of::<Node64>() == 24);
 
+/// `GROUP_CELLS[g]`: the cells of the 2x2x2 group `g` (bit `gx + 2 gy + 4 gz`).
+const GROUP_CELLS: [u64; 8] = {
+    let mut masks = [0u64; 8];
+    let mut c = 0;
+    while c < 64 {
+        masks[c >> 1 & 1 | c >> 2 & 2 | c >> 3 & 4] |= 1 << c;
+        c += 1;
+    }
+    masks
+};
+
 const EMPTY: Node64 = Node64 { present: 0, full: 0, first: 0, groups: 0, _pad: [0; 3] };
 
 /// The 64-tree of one solid.
@@ -71,14 +82,15 @@ impl Tree64 {
     /// Fills node `index` for `key`, whose solid is `keys`, splitting it `split` octree
     /// levels down (2, or 1 for an odd depth's root, whose children sit in cells 0..2).
     fn build(&mut self, index: usize, key: NodeKey, keys: &[NodeKey], split: u32) {
-        let mut cells: [Option<(NodeKey, usize, usize)>; 64] = [None; 64];
+        // The inner children's keys and key ranges, by cell.
+        let mut cells = [(key, 0u32, 0u32); 64];
         let (mut present, mut full) = (0u64, 0u64);
         let mut mark = |cell: usize, child: NodeKey, a: usize, b: usize, is_full: bool| {
             present |= 1 << cell;
             if is_full {
                 full |= 1 << cell;
             } else {
-                cells[cell] = Some((child, a, b));
+                cells[cell] = (child, a as u32, b as u32);
             }
         };
         let mut pos = 0;
@@ -115,15 +127,17 @@ impl Tree64 {
                 }
             }
         }
-        let groups = (0..64).filter(|&c| present >> c & 1 == 1).fold(0u8, |g, c| g | 1 << (c >> 1 & 1 | c >> 2 & 2 | c >> 3 & 4));
+        let groups = (0..8).fold(0u8, |g, i| g | u8::from(present & GROUP_CELLS[i] != 0) << i);
         let inner = present & !full;
         let first = self.nodes.len();
         self.nodes[index] = Node64 { present, full, first: first as u32, groups, _pad: [0; 3] };
         self.nodes.extend(std::iter::repeat_n(EMPTY, inner.count_ones() as usize));
-        let mut slot = first;
-        for (child, a, b) in cells.into_iter().flatten() {
-            self.build(slot, child, &keys[a..b], 2);
+        let (mut slot, mut bits) = (first, inner);
+        while bits != 0 {
+            let (child, a, b) = cells[bits.trailing_zeros() as usize];
+            self.build(slot, child, &keys[a as usize..b as usize], 2);
             slot += 1;
+            bits &= bits - 1;
         }
     }
 
