@@ -42,6 +42,8 @@
 //! in two steps here, in one by the octree's counting; that needs an origin more than
 //! 2^50 voxels from the planes, which no ray the reach test lets through has.
 
+use std::mem::MaybeUninit;
+
 use super::{Node64, Tree64};
 use crate::octree::MAX_DEPTH;
 use crate::ray::{Ray, RayCast};
@@ -145,7 +147,8 @@ impl Tree64 {
         if t >= limit {
             return None;
         }
-        let mut stack = [Node64 { present: 0, full: 0, first: 0, groups: 0, _pad: [0; 3] }; LEVELS];
+        // The nodes above the current one, root first (left uninitialized until written).
+        let mut stack = [const { MaybeUninit::<Node64>::uninit() }; LEVELS];
         let mut level = 0usize;
         let mut node = self.nodes[0];
         // log2 of the current level's child edge, the ray's cell there (mirrored, in
@@ -161,7 +164,7 @@ impl Tree64 {
                 if node.full >> child & 1 == 1 {
                     return Some(hit::<FACE>(&m, cell, shift, t, span));
                 }
-                stack[level] = node;
+                stack[level].write(node);
                 level += 1;
                 let inner = node.present & !node.full;
                 node = self.nodes[(node.first + (inner & ((1u64 << child) - 1)).count_ones()) as usize];
@@ -195,7 +198,8 @@ impl Tree64 {
                     return None;
                 }
                 level -= up;
-                node = stack[level];
+                // SAFETY: the nodes `0..level` above were written on the way down.
+                node = unsafe { stack[level].assume_init() };
                 shift += 2 * up as u32;
                 for a in 0..3 {
                     cell[a] >>= 2 * up;
