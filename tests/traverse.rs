@@ -338,7 +338,11 @@ fn check_tree64(tree: &LinearOctree, rays: &[(DVec3, DVec3)], rng: &mut Rng) {
     let small = units.nodes().all(|n| n.size <= 16);
     for &(o, d) in rays {
         let ray = Ray::new(o, d);
-        let ray = if rng.below(5) == 0 { ray.until(rng.range(0.0, 2.0) * f64::from(tree.domain().resolution())) } else { ray };
+        let ray = if rng.below(5) == 0 {
+            ray.until(rng.range(0.0, 2.0) * f64::from(tree.domain().resolution()))
+        } else {
+            ray
+        };
         let got = tree64.hit(&ray);
         same_hit(got, walk.hit(&ray), &ray);
         assert_eq!(tree64.occluded(&ray), walk.occluded(&ray), "any hit, ray {ray:?}");
@@ -445,7 +449,7 @@ fn rays_at_nodes(rng: &mut Rng, tree: &LinearOctree, count: usize) -> Vec<(DVec3
 
 #[test]
 fn tree64_matches_the_walk_and_brute_force_at_depths_1_to_12() {
-    let mut rng = Rng(0x64_64_64);
+    let mut rng = Rng(0x6464_6464);
     for depth in 1..=12u8 {
         let d = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
         let solids = if depth <= 6 { 6 } else { 2 };

@@ -125,7 +125,6 @@ impl Traversal {
             self.walk::<true, FACE>(&ray, t_max, span, start, from)
         }
     }
-
 }
 
 impl Outline {

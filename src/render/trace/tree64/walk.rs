@@ -233,7 +233,8 @@ fn descend(m: &Mirrored, cell: &mut [u32; 3], tn: &mut [f64; 3], shift: u32, t: 
 #[inline(always)]
 fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span: RootSpan) -> Entry {
     let size = 1u32 << shift;
-    let min = std::array::from_fn(|a| if m.flip[a] == 0 { cell[a] << shift } else { m.plane(a, (cell[a] + 1) << shift) });
+    let min =
+        std::array::from_fn(|a| if m.flip[a] == 0 { cell[a] << shift } else { m.plane(a, (cell[a] + 1) << shift) });
     let face = if FACE {
         let near = (0..3).find(|&a| m.time(a, cell[a] << shift) == t);
         let root = if t == span.ta { span.face } else { None };
@@ -246,4 +247,3 @@ fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span:
     };
     Entry { min, size, t, face }
 }
-
