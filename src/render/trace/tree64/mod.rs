@@ -2,7 +2,7 @@
 //! ray walk of `walk` (a contender beside the traversal octree, [`super::Traversal`]).
 //!
 //! After the sparse 64-trees of voxel engines (dubiousconst282's study of 64-tree
-//! walks, 2024; Laine and Karras's octree for the comparison): a node is a cube of
+//! walks; Laine and Karras's octree for the comparison): a node is a cube of
 //! 4x4x4 children, each empty, full or inner, with two 64-bit masks (present, full),
 //! the index of its first inner child and a byte of the non-empty 2x2x2 groups. The
 //! inner children of a node are stored together in child order, so child `i` (`i =

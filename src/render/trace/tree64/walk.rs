@@ -1,7 +1,7 @@
 //! The exact first-hit walk through a [`Tree64`]: the traversal octree's walk
 //! (`super::super::walk`) with the same hits, bit for bit, over 4x4x4 nodes.
 //!
-//! The walk (after dubiousconst282's 64-tree study, 2024, and Amanatides and Woo's
+//! The walk (after dubiousconst282's 64-tree study and Amanatides and Woo's
 //! 3D DDA, 1987): the ray is mirrored into the octant of positive directions, so that
 //! in every node it only moves to higher cells; at each level it keeps its cell in the
 //! mirrored lattice of that level's children and the time `tn[a]` it crosses the
