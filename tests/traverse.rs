@@ -8,7 +8,7 @@ use common::{Rng, random_octree};
 use glam::DVec3;
 use octsolid::morton;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-use octsolid::render::{Camera, PACKET, TILE, Traversal};
+use octsolid::render::{Camera, PACKET, TILE, Traversal, Tree64};
 use octsolid::samples;
 use octsolid::{Ray, RayCast};
 
@@ -326,4 +326,193 @@ fn packets_match_single_rays() {
             }
         }
     }
+}
+
+/// The 64-tree's walk against the traversal octree's, bit for bit (time, voxel, face),
+/// and any-hit answers against it, on the world rays of `tree`'s own domain and on the
+/// voxel-unit rays `rays` (also against the brute force where the node it would search
+/// holds at most `16^3` voxels and the direction's reciprocal is finite).
+fn check_tree64(tree: &LinearOctree, rays: &[(DVec3, DVec3)], rng: &mut Rng) {
+    let units = in_voxel_units(tree);
+    let (walk, tree64) = (Traversal::new(&units), Tree64::new(&units));
+    let small = units.nodes().all(|n| n.size <= 16);
+    for &(o, d) in rays {
+        let ray = Ray::new(o, d);
+        let ray = if rng.below(5) == 0 {
+            ray.until(rng.range(0.0, 2.0) * f64::from(tree.domain().resolution()))
+        } else {
+            ray
+        };
+        let got = tree64.hit(&ray);
+        same_hit(got, walk.hit(&ray), &ray);
+        assert_eq!(tree64.occluded(&ray), walk.occluded(&ray), "any hit, ray {ray:?}");
+        assert_eq!(tree64.occluded(&ray), got.is_some(), "any hit, ray {ray:?}");
+        // (A subnormal direction follows the walk's rule of `off_lattice`, not the
+        // brute force's: a plane through the origin is behind the ray.)
+        if small && ray.t_max == f64::INFINITY && (DVec3::ONE / d).is_finite() {
+            let want = brute_force(&units, o, d);
+            assert_eq!(got.map(|h| (h.voxel, h.axis.map(usize::from))), want.map(|(_, v, f)| (v, f)), "ray {o} {d}");
+        }
+    }
+    // The same solid in a domain of its own (world units, the reach test first).
+    let (walk, tree64) = (Traversal::new(tree), Tree64::new(tree));
+    let d = tree.domain();
+    let h = d.voxel_size();
+    for &(o, dir) in rays.iter().step_by(3) {
+        let ray = Ray::new(d.min() + o * h, dir);
+        same_hit(tree64.hit(&ray), walk.hit(&ray), &ray);
+        assert_eq!(tree64.occluded(&ray), walk.occluded(&ray), "world ray {ray:?}");
+    }
+}
+
+/// The 64-tree's hit `got` is the walk's `want`, bit for bit, but where the direction
+/// is subnormal on an axis: there the walks keep the ray on the low side of a plane
+/// through the origin (`off_lattice`), and the voxel of a hit is placed by the position
+/// (`VoxelRay::entry`), clamped to the full node entered, which may be finer in the
+/// 64-tree (the rule in its walk's module doc): the time, the face and the voxel on
+/// every other axis are the same.
+fn same_hit(got: Option<octsolid::render::Hit>, want: Option<octsolid::render::Hit>, ray: &Ray) {
+    let subnormal = ray.dir.to_array().map(|x| x != 0.0 && (1.0 / x).is_infinite());
+    if !subnormal.contains(&true) {
+        assert_eq!(got, want, "ray {ray:?}");
+        return;
+    }
+    let strip = |h: Option<octsolid::render::Hit>| {
+        h.map(|mut h| {
+            for a in (0..3).filter(|&a| subnormal[a]) {
+                h.voxel[a] = 0;
+            }
+            h
+        })
+    };
+    assert_eq!(strip(got), strip(want), "ray {ray:?}");
+}
+
+/// A solid of small nodes and voxels crowded into a random box of at most 48 voxels a
+/// side, and a few large nodes elsewhere: deep trees whose rays meet many levels.
+fn crowded_octree(rng: &mut Rng, domain: Domain) -> LinearOctree {
+    let n = domain.resolution();
+    let side = n.min(48);
+    let lo = [0; 3].map(|_| rng.below(u64::from(n - side + 1)) as u32);
+    let mut nodes = Vec::new();
+    for _ in 0..300 {
+        let k = rng.below(u64::from(domain.depth().min(3))) as u32;
+        let min: [u32; 3] = std::array::from_fn(|a| (lo[a] + rng.below(u64::from(side)) as u32) >> k << k);
+        nodes.push(octsolid::octree::Node { level: domain.depth() - k as u8, min, size: 1 << k });
+    }
+    for _ in 0..rng.below(4) {
+        let k = rng.below(u64::from(domain.depth())) as u32;
+        let min = [0; 3].map(|_| (rng.below(u64::from(n >> k)) as u32) << k);
+        nodes.push(octsolid::octree::Node { level: domain.depth() - k as u8, min, size: 1 << k });
+    }
+    LinearOctree::from_nodes(domain, nodes).unwrap()
+}
+
+/// Rays aimed at the solid's own nodes (`rays`' kinds miss a small solid in a deep
+/// domain): from outside or inside, to a node's centre, corner or a point of its face,
+/// along axes through it, and starting inside it.
+fn rays_at_nodes(rng: &mut Rng, tree: &LinearOctree, count: usize) -> Vec<(DVec3, DVec3)> {
+    let nodes: Vec<_> = tree.nodes().collect();
+    let n = f64::from(tree.domain().resolution());
+    if nodes.is_empty() {
+        return Vec::new();
+    }
+    (0..count)
+        .map(|i| {
+            let node = nodes[rng.below(nodes.len() as u64) as usize];
+            let lo = DVec3::from(node.min.map(f64::from));
+            let s = f64::from(node.size);
+            let target = match i % 3 {
+                0 => lo + DVec3::splat(0.5 * s),
+                1 => lo,
+                _ => lo + rng.vec(0.0, s).floor(),
+            };
+            match i % 5 {
+                0 | 1 => {
+                    let o = rng.vec(-0.2 * n, 1.2 * n);
+                    (o, target - o)
+                }
+                2 => {
+                    let mut d = DVec3::ZERO;
+                    let a = rng.below(3) as usize;
+                    d[a] = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+                    let mut o = target;
+                    o[a] = if d[a] > 0.0 { -1.0 } else { n + 1.0 };
+                    (o, d)
+                }
+                3 => (lo + rng.vec(0.0, s), rng.vec(-1.0, 1.0)),
+                _ => (target - DVec3::new(1.0, 1.0, 1.0) * rng.range(1.0, 2.0 * s + 2.0), DVec3::ONE),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn tree64_matches_the_walk_and_brute_force_at_depths_1_to_12() {
+    let mut rng = Rng(0x6464_6464);
+    for depth in 1..=12u8 {
+        let d = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
+        let solids = if depth <= 6 { 6 } else { 2 };
+        let count = if depth <= 6 { 400 } else { 150 };
+        for i in 0..solids {
+            let tree = if depth <= 5 || i % 2 == 1 { random_octree(&mut rng, d) } else { crowded_octree(&mut rng, d) };
+            let n = f64::from(d.resolution());
+            let mut all = rays(&mut rng, n, count);
+            all.extend(rays_at_nodes(&mut rng, &tree, count));
+            check_tree64(&tree, &all, &mut rng);
+        }
+        let n = f64::from(d.resolution());
+        let few = rays(&mut rng, n, 60);
+        check_tree64(&LinearOctree::full(d), &few, &mut rng);
+        check_tree64(&LinearOctree::empty(d), &few, &mut rng);
+    }
+    let d = samples::showcase_domain(6).unwrap();
+    let tree = voxelize(&samples::showcase(), d, &VoxelizeOptions::default()).unwrap();
+    let mut all = rays(&mut rng, 64.0, 1500);
+    all.extend(rays_at_nodes(&mut rng, &tree, 1500));
+    check_tree64(&tree, &all, &mut rng);
+}
+
+#[test]
+fn tree64_matches_the_walk_on_subnormal_nan_and_axis_rays() {
+    let mut rng = Rng(0x5ab_0e11);
+    let tiny = f64::from_bits(1); // the least subnormal
+    for depth in [3u8, 4, 7, 8] {
+        let d = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
+        let tree = random_octree(&mut rng, d);
+        let n = f64::from(d.resolution());
+        let mut all = Vec::new();
+        for _ in 0..300 {
+            let o = match rng.below(3) {
+                0 => rng.vec(0.0, n).floor(),
+                1 => rng.vec(0.0, n).floor() + DVec3::splat(0.5),
+                _ => rng.vec(-1.0, n + 1.0),
+            };
+            let pick = |rng: &mut Rng| match rng.below(6) {
+                0 => 0.0,
+                1 => tiny,
+                2 => -tiny,
+                3 => 1e-310,
+                4 => -1.0,
+                _ => 1.0,
+            };
+            let dir = DVec3::new(pick(&mut rng), pick(&mut rng), pick(&mut rng));
+            if dir != DVec3::ZERO {
+                all.push((o, dir));
+            }
+        }
+        all.push((DVec3::splat(0.5), DVec3::new(f64::NAN, 1.0, 0.0)));
+        all.push((DVec3::new(f64::NAN, 0.5, 0.5), DVec3::X));
+        check_tree64(&tree, &all, &mut rng);
+    }
+}
+
+#[test]
+fn tree64_takes_no_more_bytes_than_the_traversal_octree() {
+    // Per voxel, on a solid of many levels (the showcase at depth 8): the 64-tree's
+    // 24-byte nodes stand for two octree levels each.
+    let d = samples::showcase_domain(8).unwrap();
+    let tree = voxelize(&samples::showcase(), d, &VoxelizeOptions::default()).unwrap();
+    let (walk, tree64) = (Traversal::new(&tree), Tree64::new(&tree));
+    assert!(tree64.bytes() <= walk.bytes(), "{} against {} bytes", tree64.bytes(), walk.bytes());
 }

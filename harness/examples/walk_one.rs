@@ -12,6 +12,9 @@
 //! (cosine-weighted about the normal) and `hit-shadow` (to a point light), the first N
 //! of them (0: all; `SIZE=1024` for the issue's). `SIZE` (default 512) sets the primary
 //! rays' image edge.
+//! `TREE=tree64` traces the kinds of single rays through the 64-tree (`Tree64`, issue
+//! 41) instead of the traversal octree, after checking every hit against the octree's;
+//! either way the build time (best of 5) and bytes of both trees go to stderr.
 //! Prints the hit count, and on stderr the best CPU time a ray over `REPEAT` runs
 //! (default 1); for `display` also the best wall time a ray on 2 threads. Under
 //! callgrind, collect only the tracing:
@@ -25,7 +28,7 @@
 //! the counters run only while rays are traced (`benches/peers/branch_misses.sh`).
 use glam::DVec3;
 use octsolid::mesh::{BoundaryOptions, try_boundary_mesh};
-use octsolid::render::{Camera, Method, PACKET, SampleGrid, Scene, TILE, Traversal, visibility_into};
+use octsolid::render::{Camera, Method, PACKET, SampleGrid, Scene, TILE, Traversal, Tree64, visibility_into};
 use octsolid::{MemoryBudget, NoProgress, Ray, RayCast};
 use octsolid_harness::ContenderKind;
 use octsolid_harness::any_contender::{Inputs, Traced, build_contender};
@@ -53,7 +56,7 @@ fn trace_packets(t: &Traversal, tiles: &[Ray]) -> usize {
 }
 
 #[inline(never)]
-fn trace(t: &Traversal, rays: &[Ray], any: bool) -> usize {
+fn trace<T: RayCast>(t: &T, rays: &[Ray], any: bool) -> usize {
     rays.iter().filter(|r| if any { t.occluded(r) } else { t.hit(r).is_some() }).count()
 }
 
@@ -65,6 +68,25 @@ fn main() {
     let (tree, mesh) = voxelized_model(args[1].as_ref(), depth, MemoryBudget::unlimited()).unwrap();
     let bounds = mesh.bounds();
     let t = Traversal::new(&tree);
+    let tree64 = std::env::var("TREE").is_ok_and(|v| v == "tree64");
+    let t64 = Tree64::new(&tree);
+    let build = |f: &dyn Fn() -> usize| {
+        (0..5)
+            .map(|_| {
+                let start = cpu_ns();
+                std::hint::black_box(f());
+                (cpu_ns() - start) as f64 * 1e-6
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    eprintln!(
+        "octree: {} bytes, built in {:.2} ms; 64-tree: {} bytes, built in {:.2} ms ({} voxels)",
+        t.bytes(),
+        build(&|| Traversal::new(&tree).node_count()),
+        t64.bytes(),
+        build(&|| Tree64::new(&tree).node_count()),
+        tree.voxel_count()
+    );
     let size: u32 = std::env::var("SIZE").map_or(512, |v| v.parse().unwrap());
     let camera = view_camera(&bounds);
     let primary = view_rays(&camera, size);
@@ -111,6 +133,11 @@ fn main() {
         }
         _ => random_rays(&bounds, n, 1).rays,
     };
+    if tree64 {
+        for ray in &rays {
+            assert_eq!(t64.hit(ray), t.hit(ray), "the 64-tree and the octree differ on {ray:?}");
+        }
+    }
     let repeat = repeat();
     if kind == "display" {
         display(tree, &t, &camera, &primary_all, size, repeat);
@@ -131,13 +158,16 @@ fn main() {
                 }
             }
             trace_packets(&t, &tiles)
+        } else if tree64 {
+            trace(&t64, &rays, kind.ends_with("shadow") || kind.starts_with("lights"))
         } else {
             counted(|| trace(&t, &rays, kind.ends_with("shadow") || kind.starts_with("lights"))).0
         };
         best = best.min((cpu_ns() - start) as f64 * 1e-9);
     }
     let count = if kind == "packet" { primary_all.len() } else { rays.len() };
-    eprintln!("{kind}: {:.1} ns/ray (best of {repeat})", best * 1e9 / count as f64);
+    let name = if tree64 { "64-tree" } else { "octree" };
+    eprintln!("{kind} ({name}): {:.1} ns/ray (best of {repeat})", best * 1e9 / count as f64);
     println!("{kind}: {hits} of {}", rays.len());
 }
 

@@ -48,5 +48,5 @@ pub use raster::polygon;
 pub use recursive_aa::MAX_AA_DEPTH;
 pub use scene::{Bump, Illumination, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Section, Texture};
 pub use shade::{Normals, ShadeOptions, radiance, reflect, refract};
-pub use trace::{Hit, PACKET, TILE, Traversal};
+pub use trace::{Hit, PACKET, TILE, Traversal, Tree64};
 pub use visibility::{Method, VisibilityStats, visibility, visibility_into};

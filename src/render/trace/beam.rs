@@ -203,7 +203,7 @@ impl Traversal {
     /// none), with the inner nodes above it recorded in `above`: the rays that enter
     /// the root by `start` begin their walks there instead of at the root.
     fn start_node<'a>(&self, beam: &Beam, start: f64, above: &'a mut [u32; MAX_DEPTH as usize]) -> Subtree<'a> {
-        if self.root != Root::Inner {
+        if self.outline.root != Root::Inner {
             return Subtree::ROOT;
         }
         let (mut index, mut min, mut size, mut depth) = (0u32, [0u32; 3], self.domain().resolution(), 0);
@@ -243,7 +243,7 @@ impl Traversal {
         let n = self.domain().resolution();
         let enters = |(lo, hi): (f64, f64), best: f64| lo < hi && hi > 0.0 && lo < best;
         let root = beam.span([0; 3], n);
-        match self.root {
+        match self.outline.root {
             Root::Empty => return None,
             Root::Full => return enters(root, limit).then_some(root.0),
             Root::Inner if !enters(root, limit) => return None,

@@ -35,41 +35,58 @@ pub(super) enum Root {
     Inner,
 }
 
+/// What every walk of one solid reads before its tree: the domain, what the root is,
+/// and the boxes of the full voxels (shared by the traversal octree and the 64-tree,
+/// `tree64`).
+#[derive(Clone, Debug)]
+pub(super) struct Outline {
+    pub domain: Domain,
+    pub root: Root,
+    /// The planes bounding the full voxels, `[low, high)` in voxel units (all 0 when
+    /// empty): a walk meets no full voxel outside them (see `walk`).
+    pub occupied: [[f64; 3]; 2],
+    /// The full voxels' box in world space, grown by more than any rounding: a ray
+    /// that cannot meet it is not walked.
+    pub reach: Reach,
+}
+
+impl Outline {
+    /// The outline of a canonical linear octree.
+    pub fn of(tree: &LinearOctree) -> Self {
+        let domain = *tree.domain();
+        let keys = tree.keys();
+        let root = match keys {
+            [] => Root::Empty,
+            [k] if *k == NodeKey::new(0, u32::from(domain.depth())) => Root::Full,
+            _ => Root::Inner,
+        };
+        let bounds = tree.voxel_bounds().unwrap_or(([0; 3], [0; 3]));
+        let occupied = [bounds.0.map(f64::from), bounds.1.map(f64::from)];
+        let reach = Reach::around(&domain, bounds.0, bounds.1);
+        Outline { domain, root, occupied, reach }
+    }
+}
+
 /// The traversal octree of one solid.
 #[derive(Clone, Debug)]
 pub struct Traversal {
-    pub(super) domain: Domain,
+    pub(super) outline: Outline,
     /// The instruction set the walk runs on (the best this CPU has).
     pub(super) isa: Isa,
-    pub(super) root: Root,
     pub(super) nodes: Vec<Inner>,
-    /// The planes bounding the full voxels, `[low, high)` in voxel units (all 0 when
-    /// empty): a walk meets no full voxel outside them (see `walk`).
-    pub(super) occupied: [[f64; 3]; 2],
-    /// The full voxels' box in world space, grown by more than any rounding: a ray
-    /// that cannot meet it is not walked.
-    pub(super) reach: Reach,
 }
 
 impl Traversal {
     /// Builds the pointer octree from a canonical linear octree.
     #[must_use]
     pub fn new(tree: &LinearOctree) -> Self {
-        let domain = *tree.domain();
-        let keys = tree.keys();
-        let root_key = NodeKey::new(0, u32::from(domain.depth()));
-        let root = match keys {
-            [] => Root::Empty,
-            [k] if *k == root_key => Root::Full,
-            _ => Root::Inner,
-        };
-        let bounds = tree.voxel_bounds().unwrap_or(([0; 3], [0; 3]));
-        let occupied = [bounds.0.map(f64::from), bounds.1.map(f64::from)];
-        let reach = Reach::around(&domain, bounds.0, bounds.1);
-        let mut t = Traversal { domain, isa: Isa::detect(), root, nodes: Vec::new(), occupied, reach };
-        if root == Root::Inner {
+        let outline = Outline::of(tree);
+        let root_key = NodeKey::new(0, u32::from(outline.domain.depth()));
+        let inner = outline.root == Root::Inner;
+        let mut t = Traversal { outline, isa: Isa::detect(), nodes: Vec::new() };
+        if inner {
             t.nodes.push(Inner { first: 0, valid: 0, full: 0, _pad: 0 });
-            t.build(0, root_key, keys);
+            t.build(0, root_key, tree.keys());
         }
         t
     }
@@ -110,7 +127,7 @@ impl Traversal {
     /// The domain.
     #[must_use]
     pub fn domain(&self) -> &Domain {
-        &self.domain
+        &self.outline.domain
     }
 
     /// Number of inner nodes.
@@ -128,7 +145,7 @@ impl Traversal {
     /// The root for walks of their own (the front-to-back display): `None` when empty,
     /// `Some([])` when wholly full, else the inner nodes with the root at index 0.
     pub(crate) fn inner_nodes(&self) -> Option<&[Inner]> {
-        match self.root {
+        match self.outline.root {
             Root::Empty => None,
             Root::Full => Some(&[]),
             Root::Inner => Some(&self.nodes),
@@ -147,8 +164,8 @@ impl Traversal {
         enter: &mut impl FnMut([u32; 3], u32) -> bool,
         full: &mut impl FnMut([u32; 3], u32),
     ) {
-        let n = self.domain.resolution();
-        match self.root {
+        let n = self.outline.domain.resolution();
+        match self.outline.root {
             Root::Empty => {}
             Root::Full => full([0, 0, 0], n),
             Root::Inner => self.front_to_back_node(0, [0, 0, 0], n, eye_high, enter, full),

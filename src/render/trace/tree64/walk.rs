@@ -1,0 +1,249 @@
+//! The exact first-hit walk through a [`Tree64`]: the traversal octree's walk
+//! (`super::super::walk`) with the same hits, bit for bit, over 4x4x4 nodes.
+//!
+//! The walk (after dubiousconst282's 64-tree study and Amanatides and Woo's
+//! 3D DDA, 1987): the ray is mirrored into the octant of positive directions, so that
+//! in every node it only moves to higher cells; at each level it keeps its cell in the
+//! mirrored lattice of that level's children and the time `tn[a]` it crosses the
+//! cell's far plane on each axis. A step takes the least `tn` and moves every axis
+//! whose `tn` is that time (edges and corners step together); an empty child whose
+//! 2x2x2 group is empty too (the node's group byte) is left at the group's far planes
+//! in one step. Leaving a node is found from the cells alone: the highest bit of
+//! `old ^ new` over the stepped axes says how many levels up the new cell's node is
+//! (two bits a level), and the walk re-enters that ancestor off its stack (one
+//! leading-zero count, no pop loop). A present child is the hit when full (at any
+//! level: so a shadow ray ends on the largest full node it meets) or is entered.
+//!
+//! Exactness (the rule of the traversal octree's walk, `super::super::walk`): the ray
+//! is in the cell `[m, m + 1)` of an axis at time `t` when the computed times of the
+//! cell's near and far planes satisfy `near <= t < far`, every plane's time is `(plane
+//! - o) * inv` in the original frame (mirroring computes the plane, `E - x` for a
+//! mirrored axis with `E` the root's edge, an exact integer, never `E - o`, which would
+//! round), and a plane's time is monotone in the plane. So the cell a walk places the
+//! ray in at a time is the same in both trees; a descent places it by counting its
+//! child's three inner planes per axis whose time `<= t` (Revelles et al., 2000); the
+//! first time the ray is in a full cell is a plane time both walks visit; and the
+//! entered face (the lowest axis of a plane crossed at that time, or of the root's
+//! entry plane when it is the root's entry time) is the lowest axis whose near plane
+//! of the hit cell is crossed then (a nearer plane crossed at that time would put
+//! that plane's time at it too, by monotony). Rays with infinite reciprocals are moved
+//! off the lattice as in the octree's walk (`Lattice`). Where the hit node is finer
+//! than the octree's (a full octree node at an odd level is 8 cells here), the voxel
+//! and face worked out by `VoxelRay::entry` are the same: both follow plane times.
+//!
+//! Departure, tested: where the direction is subnormal on an axis (its reciprocal is
+//! infinite), both walks keep the ray on the low side of a plane through its origin
+//! (`off_lattice`), while `VoxelRay::entry` places the hit's voxel by the position,
+//! clamped to the full node entered; when the octree's full node spans that plane and
+//! the 64-tree's cell does not (an octree node at an odd level is 8 cells here), the
+//! voxel differs on that axis by one (the time and face do not).
+//!
+//! Departure: two consecutive planes whose times round to the same value are crossed
+//! in two steps here, in one by the octree's counting; that needs an origin more than
+//! 2^50 voxels from the planes, which no ray the reach test lets through has.
+
+use std::mem::MaybeUninit;
+
+use super::{Node64, Tree64};
+use crate::octree::MAX_DEPTH;
+use crate::ray::{Ray, RayCast};
+use crate::render::trace::lanes::earlier;
+use crate::render::trace::voxel_ray::{Entry, Hit, VoxelRay};
+use crate::render::trace::walk::{Lattice, Opening, RootSpan};
+
+/// Most levels of a 64-tree.
+const LEVELS: usize = (MAX_DEPTH as usize).div_ceil(2);
+
+/// The walk through a 64-tree: the first full voxel a world-space ray enters, the
+/// same hit as [`super::super::Traversal`]'s walk.
+impl RayCast for Tree64 {
+    type Hit = Hit;
+
+    fn hit(&self, ray: &Ray) -> Option<Hit> {
+        if !self.outline.reach.may_meet(ray) {
+            return None;
+        }
+        let r = VoxelRay::new(&self.outline.domain, ray);
+        Some(r.entry(&self.first_full::<true>(&r, ray.t_max)?))
+    }
+
+    /// The walk of [`RayCast::hit`] without working out the voxel and face.
+    #[inline(always)]
+    fn occluded(&self, ray: &Ray) -> bool {
+        if !self.outline.reach.may_meet(ray) {
+            return false;
+        }
+        let r = VoxelRay::new(&self.outline.domain, ray);
+        self.first_full::<false>(&r, ray.t_max).is_some()
+    }
+}
+
+/// The ray as the walk reads it: origin and reciprocal direction in voxel units (off
+/// the lattice where the reciprocal is infinite), and per axis the map from a mirrored
+/// coordinate `q` to the plane `q ^ flip + add` (wrapping): `q`, or `E - q` mirrored.
+struct Mirrored {
+    o: [f64; 3],
+    inv: [f64; 3],
+    flip: [u32; 3],
+    add: [u32; 3],
+    /// 3 on mirrored axes: a mirrored child coordinate `c` is `c ^ 3` in the node.
+    child_flip: [u32; 3],
+}
+
+impl Mirrored {
+    fn new(ray: &Lattice, edge: u32) -> Self {
+        let m = |a: usize| ray.mirror >> a & 1 == 1;
+        // The walk never crosses the root's far planes (it ends at the root's exit),
+        // but it would take one whose time is before the origin's as crossed: the
+        // plane 0 under a ray running down from it with a subnormal direction (moved
+        // off the lattice to -0.5, where the octree's walk, counting mid planes only,
+        // keeps it in cell 0). Moved to 0.5, it crosses no plane and stays there.
+        let o = std::array::from_fn(|a| if m(a) && ray.o[a] < 0.0 { 0.5 } else { ray.o[a] });
+        Mirrored {
+            o,
+            inv: ray.inv,
+            flip: std::array::from_fn(|a| if m(a) { u32::MAX } else { 0 }),
+            add: std::array::from_fn(|a| if m(a) { edge.wrapping_add(1) } else { 0 }),
+            child_flip: std::array::from_fn(|a| if m(a) { 3 } else { 0 }),
+        }
+    }
+
+    /// The plane at mirrored coordinate `q` (voxels) on axis `a`, in the original frame.
+    #[inline(always)]
+    fn plane(&self, a: usize, q: u32) -> u32 {
+        (q ^ self.flip[a]).wrapping_add(self.add[a])
+    }
+
+    /// The time the ray crosses the plane at mirrored coordinate `q` on axis `a`.
+    #[inline(always)]
+    fn time(&self, a: usize, q: u32) -> f64 {
+        (f64::from(self.plane(a, q)) - self.o[a]) * self.inv[a]
+    }
+}
+
+impl Tree64 {
+    /// The first full node the ray enters before `t_max` (see `Traversal::first_full`):
+    /// `FACE` false skips the entered face, for any-hit queries.
+    fn first_full<const FACE: bool>(&self, r: &VoxelRay, t_max: f64) -> Option<Entry> {
+        let Opening { span, t_max, enter } = match self.outline.opening(r, t_max, 0.0) {
+            Ok(opening) => opening,
+            Err(full) => {
+                let n = self.outline.domain.resolution();
+                return full.map(|RootSpan { ta, face, .. }| Entry { min: [0, 0, 0], size: n, t: ta, face });
+            }
+        };
+        let start = 0.0f64.max(enter);
+        self.walk::<FACE>(&Lattice::new(r), t_max, span, start)
+    }
+
+    /// The walk from the root at `max(ta, start)` (see the module doc).
+    #[inline(always)]
+    fn walk<const FACE: bool>(&self, ray: &Lattice, t_max: f64, span: RootSpan, start: f64) -> Option<Entry> {
+        let edge = 1u32 << (2 * self.levels);
+        let m = Mirrored::new(ray, edge);
+        // No hit at or after the ray's limit or the root's exit.
+        let limit = if t_max < span.tb { t_max } else { span.tb };
+        let mut t = span.ta.max(start);
+        if t >= limit {
+            return None;
+        }
+        // The nodes above the current one, root first (left uninitialized until written).
+        let mut stack = [const { MaybeUninit::<Node64>::uninit() }; LEVELS];
+        let mut level = 0usize;
+        let mut node = self.nodes[0];
+        // log2 of the current level's child edge, the ray's cell there (mirrored, in
+        // units of that edge) and the times of the cell's far planes.
+        let mut shift = 2 * self.levels - 2;
+        let mut cell = [0u32; 3];
+        let mut tn = [0.0; 3];
+        descend(&m, &mut cell, &mut tn, shift, t, true);
+        loop {
+            let c: [u32; 3] = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
+            let child = c[0] + 4 * c[1] + 16 * c[2];
+            if node.present >> child & 1 == 1 {
+                if node.full >> child & 1 == 1 {
+                    return Some(hit::<FACE>(&m, cell, shift, t, span));
+                }
+                stack[level].write(node);
+                level += 1;
+                let inner = node.present & !node.full;
+                node = self.nodes[(node.first + (inner & ((1u64 << child) - 1)).count_ones()) as usize];
+                shift -= 2;
+                descend(&m, &mut cell, &mut tn, shift, t, false);
+                continue;
+            }
+            // An empty child: step to its far planes, or to its group's when the
+            // whole 2x2x2 group is empty (`skip` on the axes where the cell is the
+            // group's near one), without a branch on the axes that move.
+            let empty_group = u32::from(node.groups >> ((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) & 1 == 0);
+            let old = cell;
+            let skip: [u32; 3] = std::array::from_fn(|a| empty_group & !cell[a] & 1);
+            let tt: [f64; 3] = std::array::from_fn(|a| m.time(a, (cell[a] + 1 + skip[a]) << shift));
+            t = earlier(earlier(tt[0], tt[1]), tt[2]);
+            if t >= limit {
+                return None;
+            }
+            for a in 0..3 {
+                // Past the target plane (the cell's or the group's far plane), or
+                // only past the group's mid plane.
+                let (past, mid) = (u32::from(tt[a] <= t), u32::from(tn[a] <= t));
+                cell[a] += mid + (past & skip[a]);
+                tn[a] = m.time(a, (cell[a] + 1) << shift);
+            }
+            let moved = (old[0] ^ cell[0]) | (old[1] ^ cell[1]) | (old[2] ^ cell[2]);
+            if moved >= 4 {
+                // The new cell is in another node: the ancestor `up` levels above holds it.
+                let up = ((31 - moved.leading_zeros()) / 2) as usize;
+                if up > level {
+                    return None;
+                }
+                level -= up;
+                // SAFETY: the nodes `0..level` above were written on the way down.
+                node = unsafe { stack[level].assume_init() };
+                shift += 2 * up as u32;
+                for a in 0..3 {
+                    cell[a] >>= 2 * up;
+                    tn[a] = m.time(a, (cell[a] + 1) << shift);
+                }
+            }
+        }
+    }
+}
+
+/// Places the ray at time `t` in the node at the current cell (`root`: the root, whose
+/// cell is 0): the child cell per axis is the count of the node's three inner planes
+/// crossed by `t`, and `tn` becomes that cell's far-plane times (`shift` is log2 of the
+/// child edge; the node's far plane keeps its time, the same bits).
+#[inline(always)]
+fn descend(m: &Mirrored, cell: &mut [u32; 3], tn: &mut [f64; 3], shift: u32, t: f64, root: bool) {
+    for a in 0..3 {
+        let base = cell[a] * 4;
+        let t1 = m.time(a, (base + 1) << shift);
+        let t2 = m.time(a, (base + 2) << shift);
+        let t3 = m.time(a, (base + 3) << shift);
+        let far = if root { m.time(a, (base + 4) << shift) } else { tn[a] };
+        let k = u32::from(t1 <= t) + u32::from(t2 <= t) + u32::from(t3 <= t);
+        cell[a] = base + k;
+        tn[a] = [t1, t2, t3, far][k as usize];
+    }
+}
+
+/// The hit on entering the full cell `cell` (mirrored, edge `1 << shift`) at `t`: its
+/// corner in the original frame, and the entered face when `FACE` (see the module doc).
+#[inline(always)]
+fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span: RootSpan) -> Entry {
+    let size = 1u32 << shift;
+    let min =
+        std::array::from_fn(|a| if m.flip[a] == 0 { cell[a] << shift } else { m.plane(a, (cell[a] + 1) << shift) });
+    let face = if FACE {
+        let near = (0..3).find(|&a| m.time(a, cell[a] << shift) == t);
+        let root = if t == span.ta { span.face } else { None };
+        match (near, root) {
+            (Some(x), Some(y)) => Some(x.min(y)),
+            (x, y) => x.or(y),
+        }
+    } else {
+        None
+    };
+    Entry { min, size, t, face }
+}
