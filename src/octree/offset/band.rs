@@ -166,7 +166,10 @@ fn brick_along_surface(
     if !site.contains(&true) {
         return (Vec::new(), Vec::new());
     }
-    brick_distances(&site, m, o, scratch, dist, Some(nearest));
+    // Values over this are never read: a voxel that flips lies under `radius + 1/2`
+    // from its nearest cube, and a face's far end one voxel farther.
+    let cap = (2.0 * radius + 3.0).powi(2).ceil().min(1e18) as i64;
+    brick_distances(&site, m, o, cap, scratch, dist, Some(nearest));
     let n = i64::from(tree.domain().resolution());
     let window = |c: [usize; 3]| c[0] + h * (c[1] + h * c[2]);
     let crossing = |voxel: [i64; 3], direction: u8| {
@@ -349,14 +352,14 @@ fn brick_changes(
     if !site.contains(&true) {
         return Vec::new();
     }
-    brick_distances(&site, b, r as usize, scratch, dist, None);
+    brick_distances(&boundary_sites(&site, h), b, r as usize, limit, scratch, dist, None);
     let mut runs: Vec<(u64, u64)> = Vec::new();
     let base = brick << (3 * k);
+    let r = r as usize;
     for i in 0..(b * b * b) as u64 {
         let [x, y, z] = morton::decode(i).map(|c| c as usize);
-        let d = dist[x + b * (y + b * z)];
-        // A site is at distance 0: it keeps its phase; another voxel within reach flips.
-        if d > 0 && d <= limit {
+        // A site keeps its phase; another voxel within reach flips.
+        if dist[x + b * (y + b * z)] <= limit && !site[x + r + h * (y + r + h * (z + r))] {
             let code = base + i;
             match runs.last_mut() {
                 Some(last) if last.1 == code => last.1 = code + 1,
@@ -365,6 +368,35 @@ fn brick_changes(
         }
     }
     runs
+}
+
+/// The sites of the cube of `h` voxels a side (`site[x + h (y + h z)]`) that touch a
+/// voxel of the other phase across a face, or the cube's own faces (whose neighbours
+/// beyond are unknown): the nearest point of the sites' union to a voxel outside it lies
+/// on such a face, so the distance to these sites is the distance to all of them, and
+/// the transform's lines through the inside of the phase hold no site.
+fn boundary_sites(site: &[bool], h: usize) -> Vec<bool> {
+    let mut out = vec![false; h * h * h];
+    for z in 0..h {
+        for y in 0..h {
+            let row = h * (y + h * z);
+            let edge = y == 0 || z == 0 || y + 1 == h || z + 1 == h;
+            for x in 0..h {
+                let i = row + x;
+                out[i] = site[i]
+                    && (edge
+                        || x == 0
+                        || x + 1 == h
+                        || !site[i - 1]
+                        || !site[i + 1]
+                        || !site[i - h]
+                        || !site[i + h]
+                        || !site[i - h * h]
+                        || !site[i + h * h]);
+            }
+        }
+    }
+    out
 }
 
 /// The bricks of `2^k` voxels a step of reach `r` must read, as the sorted Morton codes
