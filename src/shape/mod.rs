@@ -114,6 +114,7 @@ mod hull;
 mod menger;
 mod pattern;
 mod placement;
+mod polytope;
 mod profile;
 mod pruned;
 mod revolve;
