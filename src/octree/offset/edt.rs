@@ -23,7 +23,13 @@
 //!   the cube, makes a dilation the Minkowski sum of the voxel solid (not of its
 //!   centres) with the ball, which is what Steiner's formula measures. `c` is convex,
 //!   so two translates cross once (Meijster's condition for a separator), found by
-//!   bisection over the range rather than by a closed form;
+//!   walking from where the parabolas `4 o^2` without `c`'s linear part cross (a step
+//!   or two) rather than by a closed form;
+//! - a cap: a step only asks whether a distance is under its radius (or, along a
+//!   surface, near it), so each pass drops values over the cap (the later passes only
+//!   add to them), and a line of a pass with none left is not transformed at all; the
+//!   caller may also pass only the sites on the phase's boundary (see
+//!   [`super::band`]), so the lines through the inside of a phase hold no value;
 //! - integers throughout, so the result is exact and the same bits on every machine;
 //!   infinite values (no site on the line) are left out of the envelope rather than
 //!   carried as a large number;
@@ -49,6 +55,8 @@ pub(super) struct Scratch {
     starts: Vec<i64>,
     pass_x: Vec<i64>,
     pass_y: Vec<i64>,
+    /// Whether a line of the next pass holds a value in reach.
+    live: Vec<bool>,
     /// The nearest site of each value of the passes (its index in the halo), when asked.
     line_site: Vec<u32>,
     out_site: Vec<u32>,
@@ -148,6 +156,10 @@ fn separator(g: &[i64], v: usize, u: usize, lo: i64, hi: i64) -> i64 {
 /// earlier of two as near).
 fn nearest_site_along_row(row: &[bool], lo: usize, cap: i64, out: &mut [i64], nearest: Option<(u32, &mut [u32])>) {
     let hi = lo + out.len();
+    if !row.contains(&true) {
+        out.fill(FAR);
+        return;
+    }
     let mut nearest = nearest;
     // The nearest site at or before each x, then at or after it.
     let mut last: Option<usize> = row[..lo].iter().rposition(|&s| s);
@@ -201,7 +213,7 @@ pub(super) fn brick_distances(
     let h = b + 2 * r;
     debug_assert_eq!(site.len(), h * h * h);
     let track = nearest.is_some();
-    let Scratch { line, out, sites, starts, pass_x, pass_y, line_site, out_site, site_x, site_y } = scratch;
+    let Scratch { line, out, sites, starts, pass_x, pass_y, live, line_site, out_site, site_x, site_y } = scratch;
     line.resize(h, 0);
     out.resize(b, 0);
     if track {
@@ -219,7 +231,21 @@ pub(super) fn brick_distances(
     // Pass two, along y: the brick's columns of every layer.
     pass_y.resize(b * b * h, 0);
     for z in 0..h {
+        // The columns with a value in reach; the others stay out of reach.
+        live.clear();
+        live.resize(b, false);
+        for row in pass_x[b * h * z..b * h * (z + 1)].chunks_exact(b) {
+            for (l, &d) in live.iter_mut().zip(row) {
+                *l |= d <= cap;
+            }
+        }
         for x in 0..b {
+            if !live[x] {
+                for y in 0..b {
+                    pass_y[x + b * (y + b * z)] = FAR;
+                }
+                continue;
+            }
             for (y, l) in line.iter_mut().enumerate() {
                 *l = pass_x[x + b * (y + h * z)];
             }
@@ -245,8 +271,21 @@ pub(super) fn brick_distances(
     if let Some(n) = nearest.as_mut() {
         n.resize(b * b * b, 0);
     }
+    live.clear();
+    live.resize(b * b, false);
+    for layer in pass_y.chunks_exact(b * b) {
+        for (l, &d) in live.iter_mut().zip(layer) {
+            *l |= d <= cap;
+        }
+    }
     for y in 0..b {
         for x in 0..b {
+            if !live[x + b * y] {
+                for z in 0..b {
+                    dist[x + b * (y + b * z)] = FAR;
+                }
+                continue;
+            }
             for (z, l) in line.iter_mut().enumerate() {
                 *l = pass_y[x + b * (y + b * z)];
             }
