@@ -393,8 +393,14 @@ fn boundary_sites(site: &[bool], h: usize) -> Vec<bool> {
             let i = h * (y + h * z) + 1;
             let n = h - 2;
             let inner = |d: isize| &site[(i as isize + d) as usize..][..n];
-            let (left, right, down, up, back, front) =
-                (inner(-1), inner(1), inner(-(h as isize)), inner(h as isize), inner(-(layer as isize)), inner(layer as isize));
+            let (left, right, down, up, back, front) = (
+                inner(-1),
+                inner(1),
+                inner(-(h as isize)),
+                inner(h as isize),
+                inner(-(layer as isize)),
+                inner(layer as isize),
+            );
             for (x, o) in out[i..i + n].iter_mut().enumerate() {
                 *o &= !(left[x] & right[x] & down[x] & up[x] & back[x] & front[x]);
             }
