@@ -22,21 +22,20 @@
 //! largest extent ([`HullOptions`]): a quarter voxel at depth 9 in a domain the hull
 //! fills.
 //!
-//! The solid is a [`Csg`] intersection of [`HalfSpace`]s and a [`Cuboid`], so it
-//! voxelizes pruned (each octree node keeps only the planes that cross it) and its
-//! surface is the planes' (the farthest plane's distance and normal; exact inside).
-//!
-//! Departure (a known cost): a surface query asks every plane (a ball of radius `R`
-//! in a hull of extent `E` makes about `5 R 2048 / E` of them), so the crossings a
-//! solid carries cost `O(planes)` a boundary face: the hull of two balls and a box in
-//! `scenes/profiles.toml` voxelizes in well under a second at depth 9 but takes about
-//! 14 s of CPU for its crossings. An index of the planes by direction from an
-//! interior point would make it `O(1)`; not done yet.
+//! The solid is the intersection of those half-spaces and a [`Cuboid`], a
+//! [`super::polytope`] leaf: its surface is the planes' (the farthest plane's distance
+//! and normal; exact inside), the same bits as the CSG intersection of the
+//! [`super::HalfSpace`]s gives, but each point query walks a tree of the planes' normal
+//! cones instead of asking every plane (a ball of radius `R` in a hull of extent `E`
+//! makes about `5 R 2048 / E` of them): the crossings of the hull of two balls and a
+//! box in `scenes/profiles.toml` at depth 9, which cost `O(planes)` a boundary face
+//! (14 s of CPU), take about a second.
 
 use glam::DVec3;
 
 use super::convex_hull::{LIMIT, Point, convex_hull, distinct_planes};
-use super::{Csg, Cuboid, HalfSpace, Shape};
+use super::polytope::Polytope;
+use super::{Csg, Cuboid, Shape};
 use crate::error::{Error, Result};
 
 /// Options of [`Hull::new`].
@@ -123,10 +122,9 @@ impl Hull {
                 cut.push((n, s.dot(n)));
             }
             if !added {
-                let mut tree = Csg::leaf(Cuboid::new(centre, (hi - lo).max(DVec3::splat(unit)))?);
-                for &(n, h) in &cut {
-                    tree = tree & Csg::leaf(HalfSpace::new(n, h)?);
-                }
+                let cuboid = Cuboid::new(centre, (hi - lo).max(DVec3::splat(unit)))?;
+                let inner = lattice.iter().map(|&q| unsnap(q)).sum::<DVec3>() / lattice.len() as f64;
+                let tree = Csg::leaf(Polytope::new(cuboid, &cut, inner)?);
                 return Ok(Hull { tree, planes: cut.len(), points: lattice.len(), tolerance });
             }
         }

@@ -125,6 +125,7 @@ mod menger;
 mod morphed;
 mod pattern;
 mod placement;
+mod polytope;
 mod profile;
 mod pruned;
 mod revolve;

@@ -16,7 +16,12 @@
 //! Dilating drops the bricks already full, eroding those already empty. A brick is
 //! read with its halo of `R` voxels ([`LinearOctree::occupancy`]), its squared
 //! distances to the other phase computed by [`super::edt`], and the voxels that change
-//! are returned as Morton runs. Coarse nodes far from the surface are never read:
+//! are returned as Morton runs. Only the sites with a neighbour of the other phase (or
+//! on the halo's faces) seed the transform: the nearest point of the sites' cubes to
+//! any other voxel lies on such a face, so the distances are the same, and the lines
+//! through the inside of the phase hold no value under the radius and are skipped (the
+//! sites themselves are told apart by their occupancy). Coarse nodes far from the
+//! surface are never read:
 //! memory and time follow the band's bricks (`(B + 2R)^3` voxels each), not the domain.
 //! Bricks are processed in parallel and joined in Morton order, so the result does not
 //! depend on the number of threads.
@@ -166,7 +171,10 @@ fn brick_along_surface(
     if !site.contains(&true) {
         return (Vec::new(), Vec::new());
     }
-    brick_distances(&site, m, o, scratch, dist, Some(nearest));
+    // Values over this are never read: a voxel that flips lies under `radius + 1/2`
+    // from its nearest cube, and a face's far end one voxel farther.
+    let cap = (2.0 * radius + 3.0).powi(2).ceil().min(1e18) as i64;
+    brick_distances(&site, m, o, cap, scratch, dist, Some(nearest));
     let n = i64::from(tree.domain().resolution());
     let window = |c: [usize; 3]| c[0] + h * (c[1] + h * c[2]);
     let crossing = |voxel: [i64; 3], direction: u8| {
@@ -349,14 +357,14 @@ fn brick_changes(
     if !site.contains(&true) {
         return Vec::new();
     }
-    brick_distances(&site, b, r as usize, scratch, dist, None);
+    brick_distances(&boundary_sites(&site, h), b, r as usize, limit, scratch, dist, None);
     let mut runs: Vec<(u64, u64)> = Vec::new();
     let base = brick << (3 * k);
+    let r = r as usize;
     for i in 0..(b * b * b) as u64 {
         let [x, y, z] = morton::decode(i).map(|c| c as usize);
-        let d = dist[x + b * (y + b * z)];
-        // A site is at distance 0: it keeps its phase; another voxel within reach flips.
-        if d > 0 && d <= limit {
+        // A site keeps its phase; another voxel within reach flips.
+        if dist[x + b * (y + b * z)] <= limit && !site[x + r + h * (y + r + h * (z + r))] {
             let code = base + i;
             match runs.last_mut() {
                 Some(last) if last.1 == code => last.1 = code + 1,
@@ -365,6 +373,40 @@ fn brick_changes(
         }
     }
     runs
+}
+
+/// The sites of the cube of `h` voxels a side (`site[x + h (y + h z)]`) that touch a
+/// voxel of the other phase across a face, or the cube's own faces (whose neighbours
+/// beyond are unknown): the nearest point of the sites' union to a voxel outside it lies
+/// on such a face, so the distance to these sites is the distance to all of them, and
+/// the transform's lines through the inside of the phase hold no site.
+fn boundary_sites(site: &[bool], h: usize) -> Vec<bool> {
+    let mut out = site.to_vec();
+    if h < 3 {
+        return out;
+    }
+    let layer = h * h;
+    for z in 1..h - 1 {
+        for y in 1..h - 1 {
+            // The row's inner voxels, against their six neighbours (the slices line up
+            // so the loop runs over whole rows, vectorized).
+            let i = h * (y + h * z) + 1;
+            let n = h - 2;
+            let inner = |d: isize| &site[(i as isize + d) as usize..][..n];
+            let (left, right, down, up, back, front) = (
+                inner(-1),
+                inner(1),
+                inner(-(h as isize)),
+                inner(h as isize),
+                inner(-(layer as isize)),
+                inner(layer as isize),
+            );
+            for (x, o) in out[i..i + n].iter_mut().enumerate() {
+                *o &= !(left[x] & right[x] & down[x] & up[x] & back[x] & front[x]);
+            }
+        }
+    }
+    out
 }
 
 /// The bricks of `2^k` voxels a step of reach `r` must read, as the sorted Morton codes

@@ -23,7 +23,13 @@
 //!   the cube, makes a dilation the Minkowski sum of the voxel solid (not of its
 //!   centres) with the ball, which is what Steiner's formula measures. `c` is convex,
 //!   so two translates cross once (Meijster's condition for a separator), found by
-//!   bisection over the range rather than by a closed form;
+//!   walking from where the parabolas `4 o^2` without `c`'s linear part cross (a step
+//!   or two) rather than by a closed form;
+//! - a cap: a step only asks whether a distance is under its radius (or, along a
+//!   surface, near it), so each pass drops values over the cap (the later passes only
+//!   add to them), and a line of a pass with none left is not transformed at all; the
+//!   caller may also pass only the sites on the phase's boundary (see
+//!   [`super::band`]), so the lines through the inside of a phase hold no value;
 //! - integers throughout, so the result is exact and the same bits on every machine;
 //!   infinite values (no site on the line) are left out of the envelope rather than
 //!   carried as a large number;
@@ -49,6 +55,8 @@ pub(super) struct Scratch {
     starts: Vec<i64>,
     pass_x: Vec<i64>,
     pass_y: Vec<i64>,
+    /// Whether a line of the next pass holds a value in reach.
+    live: Vec<bool>,
     /// The nearest site of each value of the passes (its index in the halo), when asked.
     line_site: Vec<u32>,
     out_site: Vec<u32>,
@@ -63,12 +71,14 @@ pub(super) fn axis_cost(o: i64) -> i64 {
     if o == 0 { 0 } else { (2 * o.abs() - 1).pow(2) }
 }
 
-/// `out[x - lo] = min_i (axis_cost(x - i) + g[i])` for `x` in `lo..lo + out.len()`,
-/// `FAR` where every `g[i]` is `FAR` (see the module doc); with `nearest = (of, to)`,
-/// `to[x - lo] = of[i]` for the minimizing `i` (the first of equal ones along the line).
+/// `out[x - lo] = min_i (axis_cost(x - i) + g[i])` over the `g[i]` at most `cap`, for
+/// `x` in `lo..lo + out.len()`, `FAR` where there is none (see the module doc); with
+/// `nearest = (of, to)`, `to[x - lo] = of[i]` for the minimizing `i` (the first of equal
+/// ones along the line).
 fn lower_envelope(
     g: &[i64],
     lo: usize,
+    cap: i64,
     out: &mut [i64],
     sites: &mut Vec<usize>,
     starts: &mut Vec<i64>,
@@ -78,7 +88,7 @@ fn lower_envelope(
     sites.clear();
     starts.clear();
     for (u, &gu) in g.iter().enumerate() {
-        if gu >= FAR {
+        if gu > cap {
             continue;
         }
         loop {
@@ -87,14 +97,7 @@ fn lower_envelope(
                 starts.push(lo_x);
                 break;
             };
-            // The first x of the range where u lies strictly below v (their difference
-            // only falls as x grows), else the range's end.
-            let (ui, vi, gv) = (u as i64, v as i64, g[v]);
-            let (mut a, mut b) = (lo_x, hi_x);
-            while a < b {
-                let m = a + (b - a) / 2;
-                if gu + axis_cost(m - ui) < gv + axis_cost(m - vi) { b = m } else { a = m + 1 }
-            }
+            let a = separator(g, v, u, lo_x, hi_x);
             if a <= *starts.last().expect("one start a site") {
                 sites.pop();
                 starts.pop();
@@ -125,12 +128,38 @@ fn lower_envelope(
     }
 }
 
+/// The first `x` of `lo..hi` where the translate of site `u` lies strictly below that of
+/// the earlier site `v` (`g[u] + axis_cost(x - u) < g[v] + axis_cost(x - v)`), else `hi`.
+///
+/// Their difference only falls as `x` grows (the cost is convex), so the answer is
+/// unique; it is walked to from where the parabolas `4 o^2` (the cost without its
+/// linear part, which moves the crossing by at most a voxel) cross, `x > (u + v) / 2 +
+/// (g[u] - g[v]) / (8 (u - v))`, a step or two rather than a bisection.
+fn separator(g: &[i64], v: usize, u: usize, lo: i64, hi: i64) -> i64 {
+    let (ui, vi, gu, gv) = (u as i64, v as i64, g[u], g[v]);
+    let below = |x: i64| gu + axis_cost(x - ui) < gv + axis_cost(x - vi);
+    let estimate = (4 * (ui + vi) * (ui - vi) + gu - gv).div_euclid(8 * (ui - vi)) + 1;
+    let mut x = estimate.clamp(lo, hi);
+    while x > lo && below(x - 1) {
+        x -= 1;
+    }
+    while x < hi && !below(x) {
+        x += 1;
+    }
+    x
+}
+
 /// `out[x - lo]`: [`axis_cost`] from `x` to the nearest set entry of `row`,
-/// `FAR` when none is: the first pass, whose input is 0 or infinite, as two sweeps;
+/// `FAR` when none is or that is over `cap`: the first pass, whose input is 0 or
+/// infinite, as two sweeps;
 /// with `nearest = (base, to)`, `to[x - lo] = base + ` that entry's index (the
 /// earlier of two as near).
-fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64], nearest: Option<(u32, &mut [u32])>) {
+fn nearest_site_along_row(row: &[bool], lo: usize, cap: i64, out: &mut [i64], nearest: Option<(u32, &mut [u32])>) {
     let hi = lo + out.len();
+    if !row.contains(&true) {
+        out.fill(FAR);
+        return;
+    }
     let mut nearest = nearest;
     // The nearest site at or before each x, then at or after it.
     let mut last: Option<usize> = row[..lo].iter().rposition(|&s| s);
@@ -138,10 +167,15 @@ fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64], nearest: Opt
         if row[x] {
             last = Some(x);
         }
-        out[x - lo] = last.map_or(FAR, |s| axis_cost((x - s) as i64));
-        if let (Some(s), Some((base, to))) = (last, nearest.as_mut()) {
-            to[x - lo] = *base + s as u32;
-        }
+        out[x - lo] = match last.map(|s| (s, axis_cost((x - s) as i64))) {
+            Some((s, cost)) if cost <= cap => {
+                if let Some((base, to)) = nearest.as_mut() {
+                    to[x - lo] = *base + s as u32;
+                }
+                cost
+            }
+            _ => FAR,
+        };
     }
     let mut next: Option<usize> = row[hi..].iter().position(|&s| s).map(|i| hi + i);
     for x in (lo..hi).rev() {
@@ -150,7 +184,7 @@ fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64], nearest: Opt
         }
         if let Some(s) = next {
             let cost = axis_cost((s - x) as i64);
-            if cost < out[x - lo] {
+            if cost < out[x - lo] && cost <= cap {
                 out[x - lo] = cost;
                 if let Some((base, to)) = nearest.as_mut() {
                     to[x - lo] = *base + s as u32;
@@ -165,11 +199,13 @@ fn nearest_site_along_row(row: &[bool], lo: usize, out: &mut [i64], nearest: Opt
 /// around it (`site[x + h (y + h z)]`, the brick at offsets `r..r + b`), written to
 /// `dist[x + b (y + b z)]`; with `nearest`, the index in `site` of a nearest site
 /// written to it the same way (the feature transform; of equally near sites, the one
-/// the passes meet first along x, then y, then z).
+/// the passes meet first along x, then y, then z). Values over `cap` are `FAR`: each
+/// pass drops them, as no later pass can bring them under it.
 pub(super) fn brick_distances(
     site: &[bool],
     b: usize,
     r: usize,
+    cap: i64,
     scratch: &mut Scratch,
     dist: &mut Vec<i64>,
     nearest: Option<&mut Vec<u32>>,
@@ -177,7 +213,7 @@ pub(super) fn brick_distances(
     let h = b + 2 * r;
     debug_assert_eq!(site.len(), h * h * h);
     let track = nearest.is_some();
-    let Scratch { line, out, sites, starts, pass_x, pass_y, line_site, out_site, site_x, site_y } = scratch;
+    let Scratch { line, out, sites, starts, pass_x, pass_y, live, line_site, out_site, site_x, site_y } = scratch;
     line.resize(h, 0);
     out.resize(b, 0);
     if track {
@@ -190,12 +226,26 @@ pub(super) fn brick_distances(
     pass_x.resize(b * h * h, 0);
     for row in 0..h * h {
         let to = track.then(|| ((h * row) as u32, &mut site_x[b * row..b * (row + 1)]));
-        nearest_site_along_row(&site[h * row..h * (row + 1)], r, &mut pass_x[b * row..b * (row + 1)], to);
+        nearest_site_along_row(&site[h * row..h * (row + 1)], r, cap, &mut pass_x[b * row..b * (row + 1)], to);
     }
     // Pass two, along y: the brick's columns of every layer.
     pass_y.resize(b * b * h, 0);
     for z in 0..h {
+        // The columns with a value in reach; the others stay out of reach.
+        live.clear();
+        live.resize(b, false);
+        for row in pass_x[b * h * z..b * h * (z + 1)].chunks_exact(b) {
+            for (l, &d) in live.iter_mut().zip(row) {
+                *l |= d <= cap;
+            }
+        }
         for x in 0..b {
+            if !live[x] {
+                for y in 0..b {
+                    pass_y[x + b * (y + b * z)] = FAR;
+                }
+                continue;
+            }
             for (y, l) in line.iter_mut().enumerate() {
                 *l = pass_x[x + b * (y + h * z)];
             }
@@ -204,7 +254,7 @@ pub(super) fn brick_distances(
                     *l = site_x[x + b * (y + h * z)];
                 }
             }
-            lower_envelope(line, r, out, sites, starts, track.then(|| (&line_site[..], &mut out_site[..])));
+            lower_envelope(line, r, cap, out, sites, starts, track.then(|| (&line_site[..], &mut out_site[..])));
             for (y, &d) in out.iter().enumerate() {
                 pass_y[x + b * (y + b * z)] = d;
             }
@@ -221,8 +271,21 @@ pub(super) fn brick_distances(
     if let Some(n) = nearest.as_mut() {
         n.resize(b * b * b, 0);
     }
+    live.clear();
+    live.resize(b * b, false);
+    for layer in pass_y.chunks_exact(b * b) {
+        for (l, &d) in live.iter_mut().zip(layer) {
+            *l |= d <= cap;
+        }
+    }
     for y in 0..b {
         for x in 0..b {
+            if !live[x + b * y] {
+                for z in 0..b {
+                    dist[x + b * (y + b * z)] = FAR;
+                }
+                continue;
+            }
             for (z, l) in line.iter_mut().enumerate() {
                 *l = pass_y[x + b * (y + b * z)];
             }
@@ -231,9 +294,9 @@ pub(super) fn brick_distances(
                     *l = site_y[x + b * (y + b * z)];
                 }
             }
-            lower_envelope(line, r, out, sites, starts, track.then(|| (&line_site[..], &mut out_site[..])));
+            lower_envelope(line, r, cap, out, sites, starts, track.then(|| (&line_site[..], &mut out_site[..])));
             for (z, &d) in out.iter().enumerate() {
-                dist[x + b * (y + b * z)] = d;
+                dist[x + b * (y + b * z)] = if d > cap { FAR } else { d };
             }
             if let Some(n) = nearest.as_mut() {
                 for (z, &s) in out_site.iter().enumerate() {
@@ -258,14 +321,15 @@ mod tests {
             let g: Vec<i64> = (0..n).map(|_| if rng.below(3) == 0 { rng.below(200) as i64 } else { FAR }).collect();
             let lo = rng.below(n as u64) as usize;
             let len = 1 + rng.below((n - lo) as u64) as usize;
+            let cap = if rng.below(2) == 0 { FAR - 1 } else { rng.below(300) as i64 };
             let mut out = vec![0; len];
-            lower_envelope(&g, lo, &mut out, &mut sites, &mut starts, None);
+            lower_envelope(&g, lo, cap, &mut out, &mut sites, &mut starts, None);
             for (j, &o) in out.iter().enumerate() {
                 let x = (lo + j) as i64;
                 let brute = g
                     .iter()
                     .enumerate()
-                    .filter(|(_, gi)| **gi < FAR)
+                    .filter(|(_, gi)| **gi <= cap)
                     .map(|(i, gi)| axis_cost(x - i as i64) + gi)
                     .min()
                     .unwrap_or(FAR);
@@ -284,7 +348,8 @@ mod tests {
             let h = b + 2 * r;
             let sparse = 1 + rng.below(20);
             let site: Vec<bool> = (0..h * h * h).map(|_| rng.below(sparse) == 0).collect();
-            brick_distances(&site, b, r, &mut scratch, &mut dist, Some(&mut nearest));
+            let cap = if rng.below(2) == 0 { FAR - 1 } else { rng.below(60) as i64 };
+            brick_distances(&site, b, r, cap, &mut scratch, &mut dist, Some(&mut nearest));
             for z in 0..b {
                 for y in 0..b {
                     for x in 0..b {
@@ -296,6 +361,7 @@ mod tests {
                                 (0..3).map(|a| axis_cost(p[a] - s[a])).sum::<i64>()
                             })
                             .min()
+                            .filter(|&d| d <= cap)
                             .unwrap_or(FAR);
                         let i = x + b * (y + b * z);
                         assert_eq!(dist[i], brute);
