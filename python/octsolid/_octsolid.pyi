@@ -166,6 +166,14 @@ class Solid:
         self, axis: Literal["x", "y", "z"] = "z", at: Optional[float] = None, size: int = 768
     ) -> npt.NDArray[np.uint8]:
         """A cross-section as a ``(size, size, 3)`` uint8 picture, as ``octsolid slice`` draws it."""
+    def save_slice(
+        self,
+        path: PathLikeStr,
+        axis: Literal["x", "y", "z"] = "z",
+        at: Optional[float] = None,
+        size: int = 768,
+    ) -> int:
+        """Writes ``slice``'s cross-section as a PNG (as ``octsolid slice -o``), no numpy needed; the bytes written."""
     def contains(self, p: Vec3) -> bool:
         """Whether the point ``p`` lies in a full voxel."""
     def _repr_png_(self) -> bytes:
