@@ -242,6 +242,34 @@ def render(
     """Renders a solid or a file as ``octsolid render`` does: ``(h, w, 3)`` uint8 sRGB, the
     PNG's pixels bit for bit, or with ``hdr=True`` float32 linear radiance."""
 
+class RadiosityStats(TypedDict):
+    solver: str
+    patches: int
+    elements: int
+    shots: int
+    unshot_fraction: float
+    iterations: int
+    residual: float
+    emitted: float
+    absorbed: float
+    escaped: float
+    bytes: int
+
+def radiosity(
+    scene: PathLikeStr,
+    output: Optional[PathLikeStr] = None,
+    solver: Literal["shooting", "gathering"] = "shooting",
+    until: float = 0.001,
+    max_shots: Optional[int] = None,
+    tolerance: float = 1e-6,
+    patch_size: Optional[float] = None,
+    subdivide: Optional[float] = None,
+    max_elements: Optional[int] = None,
+) -> RadiosityStats:
+    """Solves a scene file's radiosity as ``octsolid radiosity`` does, writing the ``.rad``
+    solution to ``output`` when given (the CLI's bytes); returns its ``--json`` summary
+    with the energy book and the bytes written."""
+
 def write_png(path: PathLikeStr, picture: npt.NDArray[np.uint8]) -> int:
     """Writes an ``(h, w, 3)`` uint8 picture (a render, a slice) as a PNG, as ``octsolid`` writes
     its pictures; returns the bytes written."""
