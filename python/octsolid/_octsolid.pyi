@@ -219,6 +219,7 @@ def render(
     up: Optional[str] = None,
     exposure: Optional[float] = None,
     cache: bool = True,
+    progress: bool = False,
 ) -> npt.NDArray[np.uint8]: ...
 @overload
 def render(
@@ -238,9 +239,11 @@ def render(
     up: Optional[str] = None,
     exposure: Optional[float] = None,
     cache: bool = True,
+    progress: bool = False,
 ) -> npt.NDArray[np.float32]:
     """Renders a solid or a file as ``octsolid render`` does: ``(h, w, 3)`` uint8 sRGB, the
-    PNG's pixels bit for bit, or with ``hdr=True`` float32 linear radiance."""
+    PNG's pixels bit for bit, or with ``hdr=True`` float32 linear radiance; ``progress=True``
+    shows a bar on the terminal (only there) while it draws."""
 
 class RadiosityStats(TypedDict):
     solver: str
@@ -265,10 +268,11 @@ def radiosity(
     patch_size: Optional[float] = None,
     subdivide: Optional[float] = None,
     max_elements: Optional[int] = None,
+    progress: bool = False,
 ) -> RadiosityStats:
     """Solves a scene file's radiosity as ``octsolid radiosity`` does, writing the ``.rad``
     solution to ``output`` when given (the CLI's bytes); returns its ``--json`` summary
-    with the energy book and the bytes written."""
+    with the energy book and the bytes written; ``progress=True`` shows a bar on the terminal."""
 
 def write_png(path: PathLikeStr, picture: npt.NDArray[np.uint8]) -> int:
     """Writes an ``(h, w, 3)`` uint8 picture (a render, a slice) as a PNG, as ``octsolid`` writes

@@ -7,10 +7,11 @@
 //! Rooms: [`shapes`] (`Shape` and the primitives, the patterns), [`solid`] (`Solid`,
 //! `voxelize`, `from_mesh`, `load_mesh`, `load`), [`surface`] (a solid's surface data,
 //! made when needed), [`render`] (`render`, `Solid._repr_png_`), [`radiosity`] (`radiosity`), [`errors`] (the
-//! library's errors as `octsolid.Error`s), [`flat`] (mesh buffers as numpy's).
+//! library's errors as `octsolid.Error`s), [`flat`] (mesh buffers as numpy's), [`progress`] (the terminal's bar of `progress=True`).
 
 mod errors;
 mod flat;
+mod progress;
 mod radiosity;
 mod render;
 mod shapes;

@@ -6,11 +6,12 @@
 use std::path::PathBuf;
 
 use octsolid::render::radiosity::{DEFAULT_TOLERANCE, DEFAULT_UNTIL, Radiosity, RadiosityOptions, Solver};
-use octsolid::{MemoryBudget, NoProgress, scene_file};
+use octsolid::{MemoryBudget, scene_file};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{ToPyResult, invalid};
+use crate::progress::Bar;
 
 /// Solves a scene file's radiosity as `octsolid radiosity` does: `solver`
 /// (`"shooting"`, the default, or `"gathering"`), `until` (shooting's unshot fraction),
@@ -18,11 +19,12 @@ use crate::errors::{ToPyResult, invalid};
 /// `max_elements`; writes the solution to `output` (a `.rad` file, the CLI's bytes)
 /// when given. Returns the summary `octsolid radiosity --json` prints (`solver`,
 /// `patches`, `elements`, `shots`, `unshot_fraction`, `iterations`, `residual`) with
-/// the energy book (`emitted`, `absorbed`, `escaped`) and `bytes` written.
+/// the energy book (`emitted`, `absorbed`, `escaped`) and `bytes` written. With
+/// `progress=True`, a bar on the terminal while it solves.
 #[pyfunction]
 #[pyo3(signature = (
     scene, output=None, solver="shooting", until=DEFAULT_UNTIL, max_shots=None,
-    tolerance=DEFAULT_TOLERANCE, patch_size=None, subdivide=None, max_elements=None
+    tolerance=DEFAULT_TOLERANCE, patch_size=None, subdivide=None, max_elements=None, progress=false
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn radiosity<'py>(
@@ -36,6 +38,7 @@ pub fn radiosity<'py>(
     patch_size: Option<f64>,
     subdivide: Option<f64>,
     max_elements: Option<usize>,
+    progress: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let solver = Solver::ALL.into_iter().find(|s| s.name() == solver).ok_or_else(|| {
         invalid("solver", format!("{solver:?} is not one of {}", Solver::ALL.map(Solver::name).join(", ")))
@@ -61,7 +64,7 @@ pub fn radiosity<'py>(
     let (solution, bytes) = py
         .detach(|| -> octsolid::Result<(Radiosity, u64)> {
             let file = scene_file::read_scene(&scene, budget)?;
-            let solution = Radiosity::solve(&file.scene, &options, &NoProgress)?;
+            let solution = Radiosity::solve(&file.scene, &options, &Bar::new("radiosity", progress))?;
             let bytes = match &output {
                 Some(path) => solution.write(path)?,
                 None => 0,
