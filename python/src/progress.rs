@@ -8,7 +8,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use octsolid::progress::Progress;
+use octsolid::Progress;
 
 /// Least time between two redraws.
 const REDRAW: Duration = Duration::from_millis(100);
