@@ -49,7 +49,7 @@ impl Bar {
         }
         *drawn = Some(now);
         let (done, total) = (self.done.load(Ordering::Relaxed), self.total.load(Ordering::Relaxed));
-        let percent = if total > 0 { (100 * done.min(total)) / total } else { 0 };
+        let percent = (100 * done.min(total)).checked_div(total).unwrap_or(0);
         let seconds = (now - self.started).as_secs_f64();
         let mut err = std::io::stderr().lock();
         let _ = write!(err, "\r{}: {percent:>3}% ({seconds:.1} s)", self.label);
