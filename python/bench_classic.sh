@@ -3,8 +3,9 @@
 # examples/python/classic_part.py and examples/classic_csg.rs do the same work (voxelize,
 # the .oct file without a surface section, the slice at z = 0.8 as a PNG) and write the
 # same bytes (checked here); each is run N times (default 11), alternately, in a
-# scratch folder, and the median wall time printed, with the median time Python takes
-# to start and import numpy and octsolid (a constant the Rust binary does not pay);
+# scratch folder, and the median wall time printed, with the median times Python takes
+# to start bare and to start and import octsolid (constants the Rust binary does not
+# pay; the script imports no numpy, octsolid imports it only when it makes an array);
 # then the Python work repeated in one process, each run timed.
 # Needs: cargo build --release --example classic_csg, and python/ci.sh's venv.
 set -euo pipefail
@@ -18,17 +19,19 @@ trap 'rm -rf "$scratch"' EXIT
 cd "$scratch"
 wall() { /usr/bin/time -f %e "$@" 2>&1 >/dev/null | tail -1; }
 median() { sort -n | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
-: >rust.txt; : >python.txt; : >start.txt
+: >rust.txt; : >python.txt; : >bare.txt; : >start.txt
 for _ in $(seq "$runs"); do
   wall "$rust" >>rust.txt
   wall "$python" "$root/examples/python/classic_part.py" py >>python.txt
-  wall "$python" -c "import numpy, octsolid" >>start.txt
+  wall "$python" -c pass >>bare.txt
+  wall "$python" -c "import octsolid" >>start.txt
 done
 cmp example-output/classic_csg/classic_csg.oct py/classic_part.oct
 cmp example-output/classic_csg/classic_csg.png py/classic_part.png
 echo "rust example   $(median <rust.txt) s"
 echo "python example $(median <python.txt) s"
-echo "python start   $(median <start.txt) s (interpreter, numpy and octsolid imported)"
+echo "python start   $(median <bare.txt) s (the interpreter alone)"
+echo "python import  $(median <start.txt) s (the interpreter and import octsolid)"
 echo "python, the work $runs times in one process:"
 "$python" "$root/examples/python/classic_part.py" py --repeat "$runs" | grep '^run'
 

@@ -79,20 +79,12 @@ fn gathering_agrees_with_shooting_within_one_percent_on_every_element() {
     }
     assert!(lit > g.len() / 3, "{lit} of {} elements lit", g.len());
     // The energy book balances: what the lights and the lamp emit is absorbed or
-    // escapes, and a closed room lets next to nothing escape. The near field (module
-    // shoot) is not conservative: near receivers take the shooter's elements' own
-    // light while the far ones take its mean, so this lit room absorbs 4.3% more than
-    // is emitted (-0.2154 of 5.042 "escaped"; within 2% without the near field). Both
-    // solvers make the same 4.3%, so it is a property of the near field, not of
-    // gathering; the bound below holds it there until the split is made conservative.
+    // escapes, and a closed room lets next to nothing escape (the near field's far
+    // receivers take what the near ones leave, module near_field, so no shot delivers
+    // more than it sends).
     let st = gathered.stats();
     assert!((st.absorbed + st.escaped - st.emitted).abs() < 1e-9 * st.emitted);
-    assert!(
-        st.escaped < 0.02 * st.emitted && st.escaped > -0.05 * st.emitted,
-        "escaped {} of {}",
-        st.escaped,
-        st.emitted
-    );
+    assert!(st.escaped.abs() < 0.02 * st.emitted, "escaped {} of {}", st.escaped, st.emitted);
     let sh = shot.stats();
     assert!(
         (sh.escaped - st.escaped).abs() < 0.002 * st.emitted,

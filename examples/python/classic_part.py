@@ -7,9 +7,9 @@ Run: python examples/python/classic_part.py [OUT_FOLDER] [--depth D]
 default example-output/python/): the Rust example's work, step for step.
 """
 
-import argparse
 import math
-import pathlib
+import os
+import sys
 import time
 
 import octsolid as o
@@ -34,28 +34,42 @@ def analytic_volume(r_ball=1.3, r_bore=0.6):
     return clipped - bores
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("out", nargs="?", default="example-output/python")
-    parser.add_argument("--depth", type=int, default=9)
-    parser.add_argument("--repeat", type=int, default=1, help="do the work this many times, timing each")
-    args = parser.parse_args()
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+def arguments(argv):
+    """OUT_FOLDER, --depth D and --repeat N (times to do the work, timing each). Parsed
+    by hand: importing argparse (and pathlib) takes a few percent of the work's time,
+    which a one-shot script against the Rust example pays at every start."""
+    out, options = "example-output/python", {"--depth": 9, "--repeat": 1}
+    rest = list(argv)
+    while rest:
+        arg = rest.pop(0)
+        if arg in options and rest:
+            options[arg] = int(rest.pop(0))
+        elif arg.startswith("-"):
+            sys.exit(f"usage: classic_part.py [OUT_FOLDER] [--depth D] [--repeat N] (not {arg!r})")
+        else:
+            out = arg
+    return out, options["--depth"], options["--repeat"]
 
-    for run in range(args.repeat):
+
+def main():
+    out, depth, repeat = arguments(sys.argv[1:])
+    os.makedirs(out, exist_ok=True)
+    oct_path, png_path = os.path.join(out, "classic_part.oct"), os.path.join(out, "classic_part.png")
+
+    for run in range(repeat):
         started = time.perf_counter()
-        solid = o.voxelize(classic_part(), args.depth, domain=((-1, -1, -1), 2.0))
+        solid = o.voxelize(classic_part(), depth, domain=((-1, -1, -1), 2.0))
         # Without the surface section, as the Rust example's oct::write.
-        solid.save(out / "classic_part.oct", surface=False)
-        o.write_png(out / "classic_part.png", solid.slice("z", 0.8, 768))
+        solid.save(oct_path, surface=False)
+        # Straight to the PNG, as the Rust example: no numpy array (nor numpy) needed.
+        solid.save_slice(png_path, "z", 0.8, 768)
         seconds = time.perf_counter() - started
-        if args.repeat > 1:
+        if repeat > 1:
             print(f"run {run + 1}: {seconds:.3f} s")
     exact = analytic_volume()
-    print(f"classic CSG part at depth {args.depth}: {solid.node_count} nodes, {solid.voxel_count} voxels")
+    print(f"classic CSG part at depth {depth}: {solid.node_count} nodes, {solid.voxel_count} voxels")
     print(f"volume {solid.volume:.5f}, analytic {exact:.5f} ({100 * (solid.volume / exact - 1):+.3f}%)")
-    print(f"voxelized and written in {seconds * 1e3:.1f} ms: {out / 'classic_part.oct'} and classic_part.png")
+    print(f"voxelized and written in {seconds * 1e3:.1f} ms: {oct_path} and classic_part.png")
 
 
 if __name__ == "__main__":

@@ -172,6 +172,14 @@ class Solid:
         self, axis: Literal["x", "y", "z"] = "z", at: Optional[float] = None, size: int = 768
     ) -> npt.NDArray[np.uint8]:
         """A cross-section as a ``(size, size, 3)`` uint8 picture, as ``octsolid slice`` draws it."""
+    def save_slice(
+        self,
+        path: PathLikeStr,
+        axis: Literal["x", "y", "z"] = "z",
+        at: Optional[float] = None,
+        size: int = 768,
+    ) -> int:
+        """Writes ``slice``'s cross-section as a PNG (as ``octsolid slice -o``), no numpy needed; the bytes written."""
     def contains(self, p: Vec3) -> bool:
         """Whether the point ``p`` lies in a full voxel."""
     def _repr_png_(self) -> bytes:
@@ -217,6 +225,7 @@ def render(
     up: Optional[str] = None,
     exposure: Optional[float] = None,
     cache: bool = True,
+    progress: bool = False,
 ) -> npt.NDArray[np.uint8]: ...
 @overload
 def render(
@@ -236,9 +245,40 @@ def render(
     up: Optional[str] = None,
     exposure: Optional[float] = None,
     cache: bool = True,
+    progress: bool = False,
 ) -> npt.NDArray[np.float32]:
     """Renders a solid or a file as ``octsolid render`` does: ``(h, w, 3)`` uint8 sRGB, the
-    PNG's pixels bit for bit, or with ``hdr=True`` float32 linear radiance."""
+    PNG's pixels bit for bit, or with ``hdr=True`` float32 linear radiance; ``progress=True``
+    shows a bar on the terminal (only there) while it draws."""
+
+class RadiosityStats(TypedDict):
+    solver: str
+    patches: int
+    elements: int
+    shots: int
+    unshot_fraction: float
+    iterations: int
+    residual: float
+    emitted: float
+    absorbed: float
+    escaped: float
+    bytes: int
+
+def radiosity(
+    scene: PathLikeStr,
+    output: Optional[PathLikeStr] = None,
+    solver: Literal["shooting", "gathering"] = "shooting",
+    until: float = 0.001,
+    max_shots: Optional[int] = None,
+    tolerance: float = 1e-6,
+    patch_size: Optional[float] = None,
+    subdivide: Optional[float] = None,
+    max_elements: Optional[int] = None,
+    progress: bool = False,
+) -> RadiosityStats:
+    """Solves a scene file's radiosity as ``octsolid radiosity`` does, writing the ``.rad``
+    solution to ``output`` when given (the CLI's bytes); returns its ``--json`` summary
+    with the energy book and the bytes written; ``progress=True`` shows a bar on the terminal."""
 
 def write_png(path: PathLikeStr, picture: npt.NDArray[np.uint8]) -> int:
     """Writes an ``(h, w, 3)`` uint8 picture (a render, a slice) as a PNG, as ``octsolid`` writes

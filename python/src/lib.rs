@@ -6,11 +6,13 @@
 //!
 //! Rooms: [`shapes`] (`Shape` and the primitives, the patterns), [`solid`] (`Solid`,
 //! `voxelize`, `from_mesh`, `load_mesh`, `load`), [`surface`] (a solid's surface data,
-//! made when needed), [`render`] (`render`, `Solid._repr_png_`), [`errors`] (the
-//! library's errors as `octsolid.Error`s), [`flat`] (mesh buffers as numpy's).
+//! made when needed), [`render`] (`render`, `Solid._repr_png_`), [`radiosity`] (`radiosity`), [`errors`] (the
+//! library's errors as `octsolid.Error`s), [`flat`] (mesh buffers as numpy's), [`progress`] (the terminal's bar of `progress=True`).
 
 mod errors;
 mod flat;
+mod progress;
+mod radiosity;
 mod render;
 mod shapes;
 mod solid;
@@ -38,5 +40,6 @@ fn _octsolid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solid::load, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::write_png, m)?)?;
+    m.add_function(wrap_pyfunction!(radiosity::radiosity, m)?)?;
     Ok(())
 }

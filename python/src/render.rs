@@ -15,10 +15,11 @@ use octsolid::glam::DVec3;
 use octsolid::image::RgbImage;
 use octsolid::render::{CameraRequest, Method, Picture, RenderOverrides, Up, render_picture};
 use octsolid::scene_file::CachePolicy;
-use octsolid::{Drawing, DrawingOptions, MemoryBudget, NoProgress};
+use octsolid::{Drawing, DrawingOptions, MemoryBudget};
 use pyo3::prelude::*;
 
 use crate::errors::{ToPyResult, invalid};
+use crate::progress::Bar;
 use crate::solid::Solid;
 
 /// What is drawn: a solid in memory or a file.
@@ -33,6 +34,8 @@ struct Request {
     camera: CameraRequest,
     overrides: RenderOverrides,
     cache: bool,
+    /// Whether to show a bar on the terminal.
+    progress: bool,
 }
 
 /// The drawing of `subject` (a solid's surface data made first, without the GIL).
@@ -54,7 +57,7 @@ fn picture(py: Python<'_>, subject: &Subject<'_>, request: &Request) -> PyResult
         let camera = drawing.camera(&request.camera, &request.overrides, None)?;
         let options = drawing.options(&request.overrides, MemoryBudget::default());
         let scene = drawing.into_scene(None);
-        Ok(render_picture(&scene, &camera, &options, &NoProgress)?.0)
+        Ok(render_picture(&scene, &camera, &options, &Bar::new("render", request.progress))?.0)
     })
     .py()
 }
@@ -72,11 +75,12 @@ fn method_of(name: &str) -> PyResult<Method> {
 /// `hdr=True` a float32 array of linear radiance (the OpenEXR's). `size` `(w, h)`
 /// (default: the scene's, or 960x720); `view` a named view (`front`, `top`, `iso`,
 /// ...); `eye`, `target`, `fov` (degrees); `azimuth`, `elevation`, `zoom`, `up`;
-/// `spp` samples a pixel side; `method` how visibility is decided; `exposure` in stops.
+/// `spp` samples a pixel side; `method` how visibility is decided; `exposure` in stops;
+/// `progress=True` a bar on the terminal while it draws.
 #[pyfunction]
 #[pyo3(signature = (
     solid_or_scene, size=None, view=None, eye=None, target=None, fov=None, spp=None, method=None,
-    hdr=false, azimuth=None, elevation=None, zoom=None, up=None, exposure=None, cache=true
+    hdr=false, azimuth=None, elevation=None, zoom=None, up=None, exposure=None, cache=true, progress=false
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
@@ -96,6 +100,7 @@ pub fn render<'py>(
     up: Option<&str>,
     exposure: Option<f64>,
     cache: bool,
+    progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let solid = solid_or_scene.cast::<Solid>().ok();
     let subject = match &solid {
@@ -122,7 +127,7 @@ pub fn render<'py>(
         exposure,
         ..RenderOverrides::default()
     };
-    let picture = picture(py, &subject, &Request { camera, overrides, cache })?;
+    let picture = picture(py, &subject, &Request { camera, overrides, cache, progress })?;
     if hdr {
         let (w, h) = (picture.width() as usize, picture.height() as usize);
         let radiance: Vec<f32> = picture.pixels().iter().flat_map(|p| p.to_array().map(|c| c as f32)).collect();

@@ -531,6 +531,18 @@ impl Solid {
         Ok(crate::flat::picture_array(py, image))
     }
 
+    /// Writes the cross-section `slice` makes as a PNG file at `path`, as `octsolid
+    /// slice -o` does, without a numpy array in between (so a script that only writes
+    /// pictures never imports numpy); returns the bytes written.
+    #[pyo3(signature = (path, axis="z", at=None, size=768))]
+    fn save_slice(&self, py: Python<'_>, path: PathBuf, axis: &str, at: Option<f64>, size: u32) -> PyResult<u64> {
+        let axis: octsolid::shape::Axis = axis.to_ascii_lowercase().parse().map_err(|e: String| invalid("axis", e))?;
+        let d = self.tree.domain();
+        let at = at.unwrap_or(d.min()[axis.index()] + 0.5 * d.edge());
+        let tree = &self.tree;
+        py.detach(|| octsolid::io::png::write(&octsolid::slice::slice_image(tree, axis, at, size)?, &path)).py()
+    }
+
     /// Whether the point `p` lies in a full voxel.
     fn contains(&self, p: [f64; 3]) -> bool {
         self.tree.contains_point(DVec3::from_array(p))

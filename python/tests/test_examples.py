@@ -15,6 +15,23 @@ def run(name, *args):
     return done.stdout
 
 
+def test_importing_octsolid_and_the_classic_part_never_import_numpy(tmp_path):
+    # Start-up: numpy is imported only when an array is made (it costs more than the
+    # interpreter's own start), and the classic part makes none.
+    script = EXAMPLES / "classic_part.py"
+    code = (
+        "import runpy, sys\n"
+        "import octsolid\n"
+        "assert 'numpy' not in sys.modules, 'import octsolid imported numpy'\n"
+        f"sys.argv = [{str(script)!r}, {str(tmp_path)!r}, '--depth', '5']\n"
+        "runpy.run_path(sys.argv[0], run_name='__main__')\n"
+        "assert 'numpy' not in sys.modules, 'the classic part imported numpy'\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "classic_part.png").stat().st_size > 0
+
+
 def test_classic_part(tmp_path):
     out = run("classic_part.py", tmp_path, "--depth", 6)
     assert "analytic" in out

@@ -95,5 +95,8 @@ def test_pictures_write_the_cli_png_bytes(tmp_path):
         o.write_png(tmp_path / "py" / "s.png", solid.slice(axis, at, 100))
         cli("slice", path, "--axis", axis, "--at", at, "--size", 100, "-o", tmp_path / "s.png")
         assert (tmp_path / "py" / "s.png").read_bytes() == (tmp_path / "s.png").read_bytes()
+        written = solid.save_slice(tmp_path / "py" / "direct.png", axis, at, 100)
+        assert (tmp_path / "py" / "direct.png").read_bytes() == (tmp_path / "s.png").read_bytes()
+        assert written == (tmp_path / "s.png").stat().st_size
     middle = solid.slice()
     assert middle.shape == (768, 768, 3)

@@ -15,12 +15,16 @@
 //! with the same form factors (module `form_factor`: the exact unoccluded form factor
 //! of the rectangle times its ray-cast visibility) and the lights' direct light in
 //! `E_e` (`rho_e` times what a light gives the element, as shooting's first shots).
-//! Near field as in shooting: an element within `shoot::NEAR` patch edges of patch
-//! `j`'s centre gathers from `j`'s elements one by one, `sum_k F(dA_e -> A_k) B_k`,
-//! instead of `F(dA_e -> A_j) B_j` (those entries are kept beside the matrix, whose
-//! `F_ej` is then zero). Progressive refinement converges to the same fixed point
-//! (its shooters' shot light is the same area-weighted mean of their elements, or the
-//! elements' own light for near receivers), so both solvers agree to their tolerances.
+//! Near field as in shooting (module `near_field`): an element within `NEAR` patch
+//! edges of patch `j`'s centre gathers from `j`'s elements one by one,
+//! `sum_k F(dA_e -> A_k) B_k`, instead of `F(dA_e -> A_j) B_j` (those entries are kept
+//! beside the matrix, whose `F_ej` is then zero), and the far elements gather `j`'s far
+//! light, `B_far,j = B_j - (sum_k N_k B_k - B_j sum_k N_k) / M_j` with the near
+//! receivers' shares `N_k = sum_{e near} A_e F(dA_e -> A_k)` and the far ones' weight
+//! `M_j = sum_{e far} A_e F(dA_e -> A_j)`, so what `j` gives is what its mean would
+//! give. Progressive refinement converges to the same fixed point (a shot's far light
+//! is the same linear function of the shooter's elements' unshot light, and the shots
+//! add up to their radiosity), so both solvers agree to their tolerances.
 //!
 //! Gauss-Seidel: the elements in order, each new `B_e` at once folded into its patch's
 //! `B_j`, so later elements gather it in the same sweep. The system is diagonally
@@ -41,8 +45,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::form_factor::element_to_patch;
+use super::near_field::{element_parts, far_light, is_near};
 use super::patches::Patches;
-use super::shoot::{element_parts, from_light, is_near, point_power, total};
+use super::shoot::{from_light, point_power, total};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::progress::Progress;
@@ -102,8 +107,8 @@ pub(crate) fn gather(
     }
     budget.check(what, bytes)?;
     let (system, rays) = System::build(scene, patches, progress);
-    let (radiosity, patch_b, iterations, history) = system.solve(tolerance);
-    let (emitted, absorbed) = system.energy_book(scene, &radiosity, &patch_b);
+    let (radiosity, far_b, iterations, history) = system.solve(tolerance);
+    let (emitted, absorbed) = system.energy_book(scene, &radiosity, &far_b);
     Ok(Gathered { radiosity, iterations, history, rays, emitted, absorbed, escaped: emitted - absorbed })
 }
 
@@ -119,6 +124,12 @@ struct System<'a> {
     /// Each element's near-field entries: `(k, F(dA_e -> A_k))` for the elements `k`
     /// of the patches it is near.
     near: Vec<Vec<(u32, f64)>>,
+    /// Each element's `N_k`: its near receivers' `sum A_e F(dA_e -> A_k)`.
+    near_share: Vec<f64>,
+    /// Each patch's `sum_k N_k` over its elements.
+    near_sum: Vec<f64>,
+    /// Each patch's `M_j`: its far receivers' `sum A_e F(dA_e -> A_j)`.
+    far_weight: Vec<f64>,
     /// Each element's light from the scene's lights, before reflection.
     lit: Vec<DVec3>,
     /// Each element's `E_e`: its patch's emission plus its reflected direct light.
@@ -146,15 +157,41 @@ impl<'a> System<'a> {
             .collect();
         progress.finish();
         let rays = rows.iter().map(|r| r.2).sum();
-        let (lit, near): (Vec<DVec3>, Vec<_>) = rows.into_iter().map(|r| (r.0, r.1)).unzip();
+        let (lit, mut near): (Vec<DVec3>, Vec<_>) = rows.into_iter().map(|r| (r.0, r.1)).unzip();
+        let live: Vec<usize> = (0..n_e).filter(|&e| is_live(e)).collect();
+        let mut far_weight = vec![0.0; n_p];
+        for &e in &live {
+            let area = patches.elements[e].area;
+            for (m, f) in far_weight.iter_mut().zip(&matrix[e * n_p..(e + 1) * n_p]) {
+                *m += area * f;
+            }
+        }
+        // A patch without far receivers gives its near ones its mean (module
+        // `near_field`): their entries go back into the matrix, summed.
+        let patch_of = |k: u32| patches.elements[k as usize].patch as usize;
+        for (e, entries) in near.iter_mut().enumerate() {
+            for &(k, f) in entries.iter() {
+                if far_weight[patch_of(k)] <= 0.0 {
+                    matrix[e * n_p + patch_of(k)] += f;
+                }
+            }
+            entries.retain(|&(k, _)| far_weight[patch_of(k)] > 0.0);
+        }
+        let (mut near_share, mut near_sum) = (vec![0.0; n_e], vec![0.0; n_p]);
+        for &e in &live {
+            for &(k, f) in &near[e] {
+                let share = patches.elements[e].area * f;
+                near_share[k as usize] += share;
+                near_sum[patch_of(k)] += share;
+            }
+        }
         let source = (0..n_e)
             .map(|e| {
                 let p = &patches.patches[patches.elements[e].patch as usize];
                 p.emission + lit[e] * p.reflectance
             })
             .collect();
-        let live = (0..n_e).filter(|&e| is_live(e)).collect();
-        (System { patches, matrix, near, lit, source, live }, rays)
+        (System { patches, matrix, near, near_share, near_sum, far_weight, lit, source, live }, rays)
     }
 
     /// Element `e`'s row of form factors (to every patch but its own), its near-field
@@ -196,35 +233,48 @@ impl<'a> System<'a> {
         el.area / self.patches.patches[el.patch as usize].area
     }
 
-    /// `sum_j F_ej B_j`, with the near patches' elements `sum_k F_ek B_k`.
-    fn gathered(&self, e: usize, b: &[DVec3], patch_b: &[DVec3]) -> DVec3 {
-        let n_p = patch_b.len();
-        let far: DVec3 = self.matrix[e * n_p..(e + 1) * n_p].iter().zip(patch_b).map(|(f, bj)| *bj * *f).sum();
+    /// `sum_j F_ej B_far,j`, with the near patches' elements `sum_k F_ek B_k`.
+    fn gathered(&self, e: usize, b: &[DVec3], far_b: &[DVec3]) -> DVec3 {
+        let n_p = far_b.len();
+        let far: DVec3 = self.matrix[e * n_p..(e + 1) * n_p].iter().zip(far_b).map(|(f, bj)| *bj * *f).sum();
         far + self.near[e].iter().map(|&(k, f)| b[k as usize] * f).sum::<DVec3>()
     }
 
-    /// Gauss-Seidel from the sources: the elements' and patches' radiosities, the
-    /// sweeps and the relative residual after each.
+    /// Patch `j`'s far light from its mean `B_j` and its `sum_k N_k B_k`.
+    fn far(&self, j: usize, patch_b: DVec3, weighted: DVec3) -> DVec3 {
+        far_light(patch_b, weighted - patch_b * self.near_sum[j], self.far_weight[j])
+    }
+
+    /// Gauss-Seidel from the sources: the elements' radiosities and the patches' far
+    /// light, the sweeps and the relative residual after each.
     fn solve(&self, tolerance: f64) -> (Vec<DVec3>, Vec<DVec3>, u64, Vec<f64>) {
         let patches = self.patches;
+        let n_p = patches.patches.len();
         let mut b = self.source.clone();
-        let mut patch_b = vec![DVec3::ZERO; patches.patches.len()];
+        // Each patch's mean B_j and sum_k N_k B_k, kept up to date, and its far light.
+        let (mut patch_b, mut weighted) = (vec![DVec3::ZERO; n_p], vec![DVec3::ZERO; n_p]);
         for &e in &self.live {
-            patch_b[patches.elements[e].patch as usize] += b[e] * self.share(e);
+            let p = patches.elements[e].patch as usize;
+            patch_b[p] += b[e] * self.share(e);
+            weighted[p] += b[e] * self.near_share[e];
         }
+        let mut far_b: Vec<DVec3> = (0..n_p).map(|j| self.far(j, patch_b[j], weighted[j])).collect();
         let mut history = Vec::new();
         let mut iterations = 0;
         while iterations < MAX_ITERATIONS {
             iterations += 1;
             for &e in &self.live {
-                let new = self.source[e] + self.rho(e) * self.gathered(e, &b, &patch_b);
-                patch_b[patches.elements[e].patch as usize] += (new - b[e]) * self.share(e);
+                let new = self.source[e] + self.rho(e) * self.gathered(e, &b, &far_b);
+                let p = patches.elements[e].patch as usize;
+                patch_b[p] += (new - b[e]) * self.share(e);
+                weighted[p] += (new - b[e]) * self.near_share[e];
+                far_b[p] = self.far(p, patch_b[p], weighted[p]);
                 b[e] = new;
             }
             let largest_residual = self
                 .live
                 .par_iter()
-                .map(|&e| total((self.source[e] + self.rho(e) * self.gathered(e, &b, &patch_b) - b[e]).abs()))
+                .map(|&e| total((self.source[e] + self.rho(e) * self.gathered(e, &b, &far_b) - b[e]).abs()))
                 .reduce(|| 0.0, f64::max);
             let largest = b.iter().map(|v| total(v.abs())).fold(0.0, f64::max);
             let residual = if largest > 0.0 { largest_residual / largest } else { 0.0 };
@@ -233,19 +283,19 @@ impl<'a> System<'a> {
                 break;
             }
         }
-        (b, patch_b, iterations, history)
+        (b, far_b, iterations, history)
     }
 
     /// Power emitted (the patches' `pi A E`, the point lights' `4 pi I`, what the
     /// elements receive of directional lights) and absorbed (`(1 - rho)` of what the
     /// elements receive), summed over the channels.
-    fn energy_book(&self, scene: &Scene, b: &[DVec3], patch_b: &[DVec3]) -> (f64, f64) {
+    fn energy_book(&self, scene: &Scene, b: &[DVec3], far_b: &[DVec3]) -> (f64, f64) {
         let patches = self.patches;
         let mut emitted: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
         emitted += scene.lights.iter().map(point_power).sum::<f64>();
         let mut absorbed = 0.0;
         for &e in &self.live {
-            let incident = self.lit[e] + self.gathered(e, b, patch_b);
+            let incident = self.lit[e] + self.gathered(e, b, far_b);
             absorbed += PI * patches.elements[e].area * total(incident * (DVec3::ONE - self.rho(e)));
         }
         for light in &scene.lights {

@@ -14,22 +14,18 @@
 //! the one the rays compute), adds it to `B_j` and `dB_j A_j / A_patch` to its patch's
 //! unshot radiance, and zeroes `dB_i`.
 //!
-//! Near field (a departure from Cohen et al., in the spirit of hierarchical radiosity's
-//! refinement of the shooter, Hanrahan, Salzman and Aupperle 1991): each patch also
-//! keeps the unshot radiance of each of its base elements, `dB_k` (their area-weighted
-//! mean is the patch's `dB_i`), and an element within [`NEAR`] patch edges of the
-//! shooter's centre receives from the shooter's elements one by one,
-//! `dB_j = rho_j sum_k dB_k F(dA_j -> A_k)`, instead of from the patch's mean. Where a
-//! receiver is close, its form factor is concentrated on the nearest part of the
-//! shooter, whose light is not the patch's mean: the dark floor in a block's shadow
-//! lit the block's foot as if it had the floor patch's mean radiosity (Mitsuba's
-//! Cornell box: the short block's front 11% too bright, its foot 40 to 90%). A partly
-//! covered tile still shoots its mean. Not conservative: the far receivers still take
-//! the mean, so where near receivers see the shooter's brighter elements more than its
-//! darker ones a shot delivers more than it sends (a closed room lit by a point light,
-//! tests/gathering.rs: 4.3% more absorbed than emitted). Splitting the shooter's light
-//! so that far receivers take what the near ones left would conserve it. The shooter is the patch of largest unshot
-//! power `pi A_i (dB_r + dB_g + dB_b)` (ties: the lowest index). Point lights shoot
+//! Near field (module `near_field`): an element near the shooter receives from the
+//! shooter's elements one by one, each with its own unshot radiance `dB_k`, the far
+//! elements from the mean `dB_i` less what the near ones took in excess,
+//! `dB_far = dB_i - (sum_k N_k dB_k - dB_i sum_k N_k) / M`, so a shot delivers what it
+//! would with the mean everywhere, never more than it sends. Each patch also keeps
+//! the unshot radiance of each of its base elements (their area-weighted mean is the
+//! patch's `dB_i`), and each shot's `N_k` and `M` come from the receivers' own form
+//! factors (a near receiver's to the whole patch is the sum of its form factors to
+//! the elements).
+//!
+//! The shooter is the patch of largest unshot power `pi A_i (dB_r + dB_g + dB_b)`
+//! (ties: the lowest index). Point lights shoot
 //! first, once each: irradiance `I cos(theta) / r^2` where a ray reaches the light,
 //! `dB_j = rho_j E / pi`; directional lights the same with `I cos(theta)`.
 //!
@@ -55,7 +51,8 @@
 //! the start: from every light already shot, and from every patch `j` the radiance
 //! `S_j` it has shot in all, `dB_c = rho_c (sum_lights E / pi + sum_j S_j F(dA_c -> A_j))`
 //! (form factors are fixed, so the order of shots does not matter; a patch near the
-//! child gives it its elements' own shot radiance, as a shot would). The parent's
+//! child gives it its elements' own shot radiance, a far one what it shot to its far
+//! receivers, `sum dB_far`, as a shot would). The parent's
 //! share of the energy book is replaced by its children's: the change of received
 //! power moves between escaped and received, the change of reflected power goes into
 //! the patch's unshot light (which can so grow, or fall below zero: a patch that has
@@ -71,6 +68,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::form_factor::element_to_patch;
+use super::near_field::{element_parts, far_light, is_near};
 use super::patch::Patch;
 use super::patches::{Element, Patches};
 use crate::progress::Progress;
@@ -78,10 +76,6 @@ use crate::ray::RayCast;
 use crate::render::scene::{Light, Scene};
 
 use std::f64::consts::PI;
-
-/// Receivers within this many patch edges (the longer) of a shooting patch's centre
-/// receive from its elements one by one (module doc).
-pub(crate) const NEAR: f64 = 1.5;
 
 /// How far to refine.
 #[derive(Clone, Copy, Debug)]
@@ -108,6 +102,8 @@ pub(crate) struct Shooter<'a> {
     element_shot: Vec<DVec3>,
     /// Each patch's radiance shot so far, all its shots added.
     shot: Vec<DVec3>,
+    /// Each patch's radiance shot to its far receivers so far (module `near_field`).
+    far_shot: Vec<DVec3>,
     /// The scene's lights shot so far (they shoot first, in order, once each).
     lights_shot: usize,
     /// Shots so far (lights included).
@@ -147,43 +143,30 @@ pub(super) fn total(c: DVec3) -> f64 {
     c.x + c.y + c.z
 }
 
-/// Patch `shooter`'s base elements as rectangles of their own, each with its value
-/// of `values` (the patch's elements' slice), for the receivers near it: none for a
-/// partly covered tile or a patch of one element (module doc, near field).
-pub(super) fn element_parts(shooter: &Patch, values: &[DVec3]) -> Vec<(Patch, DVec3)> {
-    let count = values.len();
-    if shooter.cover.is_some() || count <= 1 {
-        return Vec::new();
-    }
-    let (du, dv) = (shooter.du / f64::from(shooter.nu), shooter.dv / f64::from(shooter.nv));
-    let area = shooter.area / count as f64;
-    values
-        .iter()
-        .enumerate()
-        .map(|(k, v)| {
-            let (col, row) = (f64::from(k as u32 % shooter.nu), f64::from(k as u32 / shooter.nu));
-            (Patch { corner: shooter.corner + du * col + dv * row, du, dv, area, ..shooter.clone() }, *v)
-        })
-        .collect()
+/// What a receiver takes of a shooting patch.
+enum Take {
+    /// A far receiver: its form factor to the patch, to be multiplied by the far light.
+    Far(f64),
+    /// A near receiver: the radiance from the patch's elements one by one, and its
+    /// form factor to the whole patch (the sum of those to the elements).
+    Near { light: DVec3, form_factor: f64 },
 }
 
-/// Whether `e` is a near receiver of `shooter` (within [`NEAR`] edges of its centre).
-pub(super) fn is_near(e: &Element, shooter: &Patch) -> bool {
-    (e.center - shooter.center()).length() < NEAR * shooter.du.length().max(shooter.dv.length())
-}
-
-/// The radiance `e` receives from `shooter` sending `light` (its mean), or from each
-/// of `parts` (its elements and their own light, [`element_parts`]) when `e` is near
-/// it; and the rays cast.
-fn from_patch(scene: &Scene, e: &Element, shooter: &Patch, light: DVec3, parts: &[(Patch, DVec3)]) -> (DVec3, u32) {
+/// What `e` takes of `shooter`: from each of `parts` (its elements and their own light,
+/// [`element_parts`]) when `e` is near it, else its form factor to it; and the rays cast.
+fn take(scene: &Scene, e: &Element, shooter: &Patch, parts: &[(Patch, DVec3)]) -> (Take, u32) {
     if !parts.is_empty() && is_near(e, shooter) {
-        return parts.iter().fold((DVec3::ZERO, 0), |(sum, rays), (part, u)| {
+        let (mut light, mut form_factor, mut rays) = (DVec3::ZERO, 0.0, 0);
+        for (part, u) in parts {
             let (f, r) = element_to_patch(scene, e, part);
-            (sum + *u * f, rays + r)
-        });
+            light += *u * f;
+            form_factor += f;
+            rays += r;
+        }
+        return (Take::Near { light, form_factor }, rays);
     }
     let (f, rays) = element_to_patch(scene, e, shooter);
-    (light * f, rays)
+    (Take::Far(f), rays)
 }
 
 /// The power a point light emits, `4 pi I` summed over the channels; 0 for a
@@ -216,6 +199,7 @@ impl<'a> Shooter<'a> {
             unshot,
             element_shot: vec![DVec3::ZERO; element_unshot.len()],
             element_unshot,
+            far_shot: shot.clone(),
             shot,
             lights_shot: 0,
             shots: 0,
@@ -338,20 +322,47 @@ impl<'a> Shooter<'a> {
         for k in first..first + count {
             self.element_shot[k] += std::mem::take(&mut self.element_unshot[k]);
         }
-        let found: Vec<(DVec3, u32)> = self
+        let found: Vec<(Option<Take>, u32)> = self
             .patches
             .elements
             .par_iter()
             .with_min_len(64)
             .map(|e| {
                 if e.patch as usize == i || !e.is_leaf() || e.area <= 0.0 {
-                    return (DVec3::ZERO, 0);
+                    return (None, 0);
                 }
-                from_patch(scene, e, shooter, light, &parts)
+                let (t, rays) = take(scene, e, shooter, &parts);
+                (Some(t), rays)
             })
             .collect();
         self.rays += found.iter().map(|(_, r)| u64::from(*r)).sum::<u64>();
-        let incident: Vec<DVec3> = found.into_iter().map(|(l, _)| l).collect();
+        // The near receivers' excess over the mean and the far receivers' weight, in
+        // element order; then the far light (module `near_field`).
+        let (mut excess, mut far_weight) = (DVec3::ZERO, 0.0);
+        for (e, (t, _)) in self.patches.elements.iter().zip(&found) {
+            match t {
+                Some(Take::Near { light: l, form_factor: f }) => excess += (*l - light * *f) * e.area,
+                Some(Take::Far(f)) => far_weight += e.area * f,
+                None => {}
+            }
+        }
+        let far = far_light(light, excess, far_weight);
+        self.far_shot[i] += far;
+        let incident: Vec<DVec3> = found
+            .into_iter()
+            .map(|(t, _)| match t {
+                // Without far receivers, the near ones take the mean (module `near_field`).
+                Some(Take::Near { light: l, form_factor: f }) => {
+                    if far_weight > 0.0 {
+                        l
+                    } else {
+                        light * f
+                    }
+                }
+                Some(Take::Far(f)) => far * f,
+                None => DVec3::ZERO,
+            })
+            .collect();
         self.receive(&incident, PI * shooter.area * total(light));
     }
 
@@ -416,7 +427,7 @@ impl<'a> Shooter<'a> {
         // What each child would have received from the start: the lights shot and every
         // patch's light shot so far (each child in parallel, its sum in patch order).
         let lights = &scene.lights[..self.lights_shot];
-        let (mesh, shot, element_shot) = (&self.patches, &self.shot, &self.element_shot);
+        let (mesh, shot, far_shot, element_shot) = (&self.patches, &self.shot, &self.far_shot, &self.element_shot);
         let gathered: Vec<(DVec3, u64)> = parents
             .par_iter()
             .flat_map_iter(|&(_, first)| first..first + 4)
@@ -437,8 +448,11 @@ impl<'a> Shooter<'a> {
                     } else {
                         Vec::new()
                     };
-                    let (l, r) = from_patch(scene, child, patch, *s, &parts);
-                    inc += l;
+                    let (t, r) = take(scene, child, patch, &parts);
+                    inc += match t {
+                        Take::Near { light, .. } => light,
+                        Take::Far(f) => far_shot[j] * f,
+                    };
                     rays += u64::from(r);
                 }
                 (inc, rays)
