@@ -546,7 +546,10 @@ fn shells_and_rounds_over_the_budget_are_refused_before_any_step_runs() {
                 "{op}: {e}"
             );
             let message = e.to_string();
-            assert!(message.contains(&human_bytes(largest)) && message.contains(&human_bytes(largest - 1)), "{message}");
+            assert!(
+                message.contains(&human_bytes(largest)) && message.contains(&human_bytes(largest - 1)),
+                "{message}"
+            );
             assert_eq!(progress.read().0, 0, "{op} (along the surface: {along_surface}) started a step");
         }
     }
