@@ -502,3 +502,55 @@ fn the_offset_example_of_the_scene_docs_is_its_commands_run_in_turn() {
     let want = round_with_surface(&wall, &data, 0.05 * per, true, true, &options).unwrap().0;
     assert!(built.voxel_count() > 0 && built.keys() == want.keys());
 }
+
+#[test]
+fn shells_and_rounds_over_the_budget_are_refused_before_any_step_runs() {
+    // Issue 39, point 3: the largest step's estimate is checked before the first step,
+    // so a round whose first step fits but whose other does not starts no work.
+    use octsolid::{Error, MemoryBudget, human_bytes};
+    let ball = Sphere::new(DVec3::new(0.45, 0.5, 0.55), 0.3).unwrap();
+    let (tree, data) = with_surface(&ball, 7);
+    let r = 6.0;
+    for along_surface in [false, true] {
+        let (shrink, grow) = (tree.offset_estimate(-r, along_surface), tree.offset_estimate(r, along_surface));
+        // The two steps' bands differ (the ball's inside and outside), so a budget
+        // under the larger lets the smaller through: a round starting with it would
+        // have run a step before this check.
+        assert!(shrink != grow && shrink.min(grow) > 0, "{shrink} {grow}");
+        let largest = shrink.max(grow);
+        let budget = MemoryBudget(largest - 1);
+        // Every operation (shells inward and outward, rounds convex then concave or
+        // concave alone) is refused naming the largest estimate and the budget.
+        for (job, op) in [(0, "shell in"), (1, "shell out"), (2, "round convex"), (3, "round concave")] {
+            let progress = common::Recorder::default();
+            let options = OffsetOptions { budget, progress: &progress };
+            let result = match (job, along_surface) {
+                (0 | 1, false) => tree.shell(r, job == 1, &options),
+                (2 | 3, false) => tree.round(r, job == 2, true, &options),
+                (0 | 1, true) => shell_with_surface(&tree, &data, r, job == 1, &options).map(|s| s.0),
+                _ => round_with_surface(&tree, &data, r, job == 2, true, &options).map(|s| s.0),
+            };
+            let step = match job {
+                0 => shrink,
+                1 => grow,
+                _ => largest,
+            };
+            if step < largest {
+                // A shell's one step fits: it runs.
+                assert!(result.is_ok(), "{op}: {result:?}");
+                continue;
+            }
+            let e = result.expect_err(op);
+            assert!(
+                matches!(e, Error::OverBudget { estimate, budget: b, .. } if estimate == largest && b == largest - 1),
+                "{op}: {e}"
+            );
+            let message = e.to_string();
+            assert!(
+                message.contains(&human_bytes(largest)) && message.contains(&human_bytes(largest - 1)),
+                "{message}"
+            );
+            assert_eq!(progress.read().0, 0, "{op} (along the surface: {along_surface}) started a step");
+        }
+    }
+}

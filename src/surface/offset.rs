@@ -64,6 +64,8 @@ pub fn shell_with_surface(
     options: &OffsetOptions,
 ) -> Result<(LinearOctree, HermiteData)> {
     positive("shell thickness", thickness_in_voxels)?;
+    let step = if outward { thickness_in_voxels } else { -thickness_in_voxels };
+    tree.check_offset_steps(format!("shell of {thickness_in_voxels} voxels"), &[step], true, options.budget)?;
     let (a, b) = if outward {
         (offset_with_surface(tree, surface, thickness_in_voxels, options)?, (tree.clone(), surface.clone()))
     } else {
@@ -87,6 +89,8 @@ pub fn round_with_surface(
     options: &OffsetOptions,
 ) -> Result<(LinearOctree, HermiteData)> {
     positive("round radius", radius_in_voxels)?;
+    let steps = if convex || concave { vec![-radius_in_voxels, radius_in_voxels] } else { Vec::new() };
+    tree.check_offset_steps(format!("round by {radius_in_voxels} voxels"), &steps, true, options.budget)?;
     let mut solid = (tree.clone(), surface.clone());
     if convex {
         let (eroded, data) = offset_with_surface(&solid.0, &solid.1, -radius_in_voxels, options)?;

@@ -84,6 +84,49 @@ impl Step {
 /// along a surface the crossings of the result's faces.
 pub(super) type Changes = (Vec<(u64, u64)>, Vec<NewCrossing>);
 
+/// The bricks a step reads and the memory it is estimated to need.
+pub(super) struct Band {
+    /// Brick edge, as a power of two.
+    k: u32,
+    /// The reach `R` of the step (see the module doc).
+    r: u32,
+    /// The bricks to transform, as Morton codes of their corners at brick scale.
+    bricks: Vec<u64>,
+    /// Estimated peak memory of the step, in bytes.
+    pub estimate: u64,
+}
+
+impl Band {
+    /// The band of `step` on `tree` (along a surface when `along_surface`), `None` when
+    /// the step reaches no voxel.
+    pub(super) fn of(tree: &LinearOctree, step: Step, along_surface: bool) -> Option<Band> {
+        let depth = u32::from(tree.depth());
+        let r = if along_surface { step.reach_along_surface() } else { step.reach() };
+        if r == 0 {
+            return None;
+        }
+        let k = (32 - (r - 1).leading_zeros()).clamp(MIN_BRICK_K, depth.max(1)).min(depth);
+        let bricks = band_bricks(tree, k, r, step.grow);
+        // Along the surface a brick is read with one more voxel each side (its faces) and
+        // one more beyond (its sites' faces).
+        let (b, m) = if along_surface { (1usize << k, (1usize << k) + 2) } else { (1usize << k, 1usize << k) };
+        let h = b + 2 * r as usize + 2 * (m - b);
+        // Per thread: the halo (1 byte a voxel) and the passes' buffers (8 bytes a value,
+        // 12 along the surface with the nearest sites); the result: the keys in, the
+        // bricks, a boundary layer of keys a brick face (and of crossings along a surface).
+        let per_value = if along_surface { 12 } else { 8 };
+        // Along the surface also each voxel's distance and direction (32 bytes).
+        let field = if along_surface { 32 * (m * m * m) as u64 } else { 0 };
+        let scratch = (h * h * h) as u64 + per_value * (m * h * h + m * m * h + 2 * m * m * m) as u64 + field;
+        let layer = if along_surface { 16 + 24 } else { 16 };
+        let estimate = rayon::current_num_threads() as u64 * scratch
+            + 8 * bricks.len() as u64
+            + layer * 6 * (b * b) as u64 * bricks.len() as u64
+            + 3 * tree.bytes() as u64;
+        Some(Band { k, r, bricks, estimate })
+    }
+}
+
 /// The Morton runs of the voxels of `tree` that `step` changes, sorted, and, along a
 /// surface, the crossings of the result's boundary faces in the band from its
 /// distance field (in brick order; a face two bricks meet comes twice).
@@ -94,29 +137,9 @@ pub(super) fn changed_runs(
     budget: MemoryBudget,
     progress: &dyn Progress,
 ) -> Result<Changes> {
-    let depth = u32::from(tree.depth());
-    let r = if surface.is_some() { step.reach_along_surface() } else { step.reach() };
-    if r == 0 {
+    let Some(Band { k, r, bricks, estimate }) = Band::of(tree, step, surface.is_some()) else {
         return Ok((Vec::new(), Vec::new()));
-    }
-    let k = (32 - (r - 1).leading_zeros()).clamp(MIN_BRICK_K, depth.max(1)).min(depth);
-    let bricks = band_bricks(tree, k, r, step.grow);
-    // Along the surface a brick is read with one more voxel each side (its faces) and
-    // one more beyond (its sites' faces).
-    let (b, m) = if surface.is_some() { (1usize << k, (1usize << k) + 2) } else { (1usize << k, 1usize << k) };
-    let h = b + 2 * r as usize + 2 * (m - b);
-    // Per thread: the halo (1 byte a voxel) and the passes' buffers (8 bytes a value,
-    // 12 along the surface with the nearest sites); the result: the keys in, the
-    // bricks, a boundary layer of keys a brick face (and of crossings along a surface).
-    let per_value = if surface.is_some() { 12 } else { 8 };
-    // Along the surface also each voxel's distance and direction (32 bytes).
-    let field = if surface.is_some() { 32 * (m * m * m) as u64 } else { 0 };
-    let scratch = (h * h * h) as u64 + per_value * (m * h * h + m * m * h + 2 * m * m * m) as u64 + field;
-    let layer = if surface.is_some() { 16 + 24 } else { 16 };
-    let estimate = rayon::current_num_threads() as u64 * scratch
-        + 8 * bricks.len() as u64
-        + layer * 6 * (b * b) as u64 * bricks.len() as u64
-        + 3 * tree.bytes() as u64;
+    };
     budget.check(format!("offset by {} voxels", step.radius), estimate)?;
     progress.start(bricks.len() as u64);
     let limit = step.limit();

@@ -38,12 +38,18 @@
 //! are Morton runs, cut into keys and combined with the solid by one set operation.
 //! The result is canonical and the same on any number of threads. Voxels beyond the
 //! domain are never added: a solid grown past the domain's faces is cut by them.
+//!
+//! Memory: a step is refused before it starts when the estimate of its band
+//! ([`LinearOctree::offset_estimate`]) exceeds the budget; shells and rounds first
+//! check the largest of their steps' estimates, each taken on the input, so they are
+//! refused before any step runs (each step is still checked as it starts, its band
+//! being an intermediate solid's).
 
 mod band;
 mod edt;
 mod subvoxel;
 
-use band::{Step, changed_runs};
+use band::{Band, Step, changed_runs};
 pub use subvoxel::{FaceCrossings, NewCrossing, Staircase};
 
 use super::linear::LinearOctree;
@@ -91,6 +97,34 @@ impl LinearOctree {
         self.step(distance_in_voxels, Some(surface), options)
     }
 
+    /// The memory one step of `distance` voxels (along a surface when `along_surface`)
+    /// is estimated to need, from its band: each thread's brick with its halo and the
+    /// transform's buffers, a boundary layer of keys a brick of the band, and the
+    /// trees in and out; 0 when the step reaches no voxel or `distance` is not finite.
+    #[must_use]
+    pub fn offset_estimate(&self, distance_in_voxels: f64, along_surface: bool) -> u64 {
+        if !distance_in_voxels.is_finite() {
+            return 0;
+        }
+        let step = Step { radius: distance_in_voxels.abs(), grow: distance_in_voxels > 0.0 };
+        Band::of(self, step, along_surface).map_or(0, |band| band.estimate)
+    }
+
+    /// Refuses `job` before any of its steps (offsets by `steps` voxels) runs when the
+    /// largest of their estimates ([`LinearOctree::offset_estimate`], each taken on this
+    /// solid) exceeds `budget`, naming that estimate and the budget. A later step's
+    /// band is an intermediate solid's, so each step is checked again as it starts.
+    pub fn check_offset_steps(
+        &self,
+        job: impl Into<String>,
+        steps: &[f64],
+        along_surface: bool,
+        budget: MemoryBudget,
+    ) -> Result<()> {
+        let estimate = steps.iter().map(|&d| self.offset_estimate(d, along_surface)).max().unwrap_or(0);
+        budget.check(job, estimate)
+    }
+
     /// One morphological step by either rule.
     fn step(
         &self,
@@ -119,6 +153,8 @@ impl LinearOctree {
     /// Fails when `thickness` is not finite and positive or the budget is exceeded.
     pub fn shell(&self, thickness_in_voxels: f64, outward: bool, options: &OffsetOptions) -> Result<LinearOctree> {
         positive("shell thickness", thickness_in_voxels)?;
+        let step = if outward { thickness_in_voxels } else { -thickness_in_voxels };
+        self.check_offset_steps(format!("shell of {thickness_in_voxels} voxels"), &[step], false, options.budget)?;
         if outward {
             self.offset(thickness_in_voxels, options)?.difference(self)
         } else {
@@ -139,6 +175,8 @@ impl LinearOctree {
         options: &OffsetOptions,
     ) -> Result<LinearOctree> {
         positive("round radius", radius_in_voxels)?;
+        let steps = if convex || concave { vec![-radius_in_voxels, radius_in_voxels] } else { Vec::new() };
+        self.check_offset_steps(format!("round by {radius_in_voxels} voxels"), &steps, false, options.budget)?;
         let mut tree = self.clone();
         if convex {
             tree = tree.offset(-radius_in_voxels, options)?.offset(radius_in_voxels, options)?;
