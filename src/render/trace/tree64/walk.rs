@@ -14,6 +14,14 @@
 //! leading-zero count, no pop loop). A present child is the hit when full (at any
 //! level: so a shadow ray ends on the largest full node it meets) or is entered.
 //!
+//! Lanes (`lanes`, as the octree's walk): the three axes' plane times are one lane
+//! operation, `(p - o) * inv`, in the build `lanes::Isa::detect` picks (AVX2, SSE2,
+//! scalar; the same bits). The cell's far planes `p` are kept as f64 in the original
+//! frame, exact integers below `2^53`: a step adds the signed child edge in the lanes
+//! that move, a descent takes the parent's far plane less 3, 2, 1 child edges, so no
+//! integer is converted a step (only on re-entering an ancestor). The integer cell
+//! (for the masks and `old ^ new`) follows from the lanes' compare bits.
+//!
 //! Exactness (the rule of the traversal octree's walk, `super::super::walk`): the ray
 //! is in the cell `[m, m + 1)` of an axis at time `t` when the computed times of the
 //! cell's near and far planes satisfy `near <= t < far`, every plane's time is `(plane
