@@ -250,10 +250,9 @@ impl Tree64 {
             // An empty child: step to its far planes, or to its group's when the
             // whole 2x2x2 group is empty (`skip` on the axes where the cell is the
             // group's near one), without a branch on the axes that move.
-            // (Masked, not branched on: whether a group is empty is hard to predict.)
-            let group_bit = u32::from(node.groups) >> ((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) & 1;
+            let empty_group = node.groups >> ((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) & 1 == 0;
             let even = (!cell[0] & 1) | (!cell[1] & 1) << 1 | (!cell[2] & 1) << 2;
-            let skip = L::new(SKIP[(even & (group_bit.wrapping_sub(1))) as usize], 0.0);
+            let skip = L::new(SKIP[if empty_group { even as usize } else { 0 }], 0.0);
             let tt = lanes.time(pn.add(skip.and(step)));
             t = tt.min3();
             if t >= limit {
