@@ -48,7 +48,7 @@
 //! the ray's mid-plane crossings cut (a third fewer mispredictions, 1.6x the
 //! instructions, 1.5x the time).
 //! A full 64-tree with a mirrored DDA walk is kept as a contender (`tree64`, the same
-//! hits): 40% fewer mispredictions, 1.75x the instructions, 1.1-1.3x the time.
+//! hits): in lanes too, 1.25-1.3x the instructions and 1.1-1.5x the time (benchmark log).
 
 use std::mem::MaybeUninit;
 
