@@ -628,7 +628,7 @@ fn entered_face(path: impl Iterator<Item = [f64; 3]>, t: f64, ta: f64, root_face
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use glam::DVec3;
 
     use super::*;
@@ -639,7 +639,7 @@ mod tests {
     /// Rays of every kind in world units of `domain`: through the box from outside,
     /// from inside, axis-parallel on and off the lattice, diagonals through lattice
     /// corners, grazing, and segments ending inside.
-    fn rays(rng: &mut Rng, domain: &Domain, count: usize) -> Vec<Ray> {
+    pub(in crate::render::trace) fn rays(rng: &mut Rng, domain: &Domain, count: usize) -> Vec<Ray> {
         let (min, edge, h) = (domain.min(), domain.edge(), domain.voxel_size());
         let n = f64::from(domain.resolution());
         let lattice = |rng: &mut Rng| DVec3::new(rng.range(0.0, n), rng.range(0.0, n), rng.range(0.0, n)).floor();
