@@ -48,7 +48,7 @@
 //! the ray's mid-plane crossings cut (a third fewer mispredictions, 1.6x the
 //! instructions, 1.5x the time).
 //! A full 64-tree with a mirrored DDA walk is kept as a contender (`tree64`, the same
-//! hits): 40% fewer mispredictions, 1.75x the instructions, 1.1-1.3x the time.
+//! hits): in lanes too, 1.25-1.3x the instructions and 1.1-1.5x the time (benchmark log).
 
 use std::mem::MaybeUninit;
 
@@ -628,7 +628,7 @@ fn entered_face(path: impl Iterator<Item = [f64; 3]>, t: f64, ta: f64, root_face
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use glam::DVec3;
 
     use super::*;
@@ -639,7 +639,7 @@ mod tests {
     /// Rays of every kind in world units of `domain`: through the box from outside,
     /// from inside, axis-parallel on and off the lattice, diagonals through lattice
     /// corners, grazing, and segments ending inside.
-    fn rays(rng: &mut Rng, domain: &Domain, count: usize) -> Vec<Ray> {
+    pub(in crate::render::trace) fn rays(rng: &mut Rng, domain: &Domain, count: usize) -> Vec<Ray> {
         let (min, edge, h) = (domain.min(), domain.edge(), domain.voxel_size());
         let n = f64::from(domain.resolution());
         let lattice = |rng: &mut Rng| DVec3::new(rng.range(0.0, n), rng.range(0.0, n), rng.range(0.0, n)).floor();

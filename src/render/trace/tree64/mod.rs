@@ -20,6 +20,7 @@
 
 mod walk;
 
+use super::lanes::Isa;
 use super::traversal::{Outline, Root};
 use crate::octree::{Domain, LinearOctree, NodeKey};
 
@@ -57,6 +58,8 @@ const EMPTY: Node64 = Node64 { present: 0, full: 0, first: 0, groups: 0, _pad: [
 #[derive(Clone, Debug)]
 pub struct Tree64 {
     outline: Outline,
+    /// The build the walk runs (`lanes::Isa`).
+    isa: Isa,
     /// Levels of 4x4x4 nodes: `ceil(depth / 2)`; the root's edge is `4^levels` voxels.
     levels: u32,
     nodes: Vec<Node64>,
@@ -70,7 +73,7 @@ impl Tree64 {
         let depth = u32::from(outline.domain.depth());
         let levels = depth.div_ceil(2);
         let inner = outline.root == Root::Inner;
-        let mut t = Tree64 { outline, levels, nodes: Vec::new() };
+        let mut t = Tree64 { outline, isa: Isa::detect(), levels, nodes: Vec::new() };
         if inner {
             t.nodes.push(EMPTY);
             // An odd depth's root holds the domain's octants only (see the module doc).

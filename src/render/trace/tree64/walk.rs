@@ -14,6 +14,14 @@
 //! leading-zero count, no pop loop). A present child is the hit when full (at any
 //! level: so a shadow ray ends on the largest full node it meets) or is entered.
 //!
+//! Lanes (`lanes`, as the octree's walk): the three axes' plane times are one lane
+//! operation, `(p - o) * inv`, in the build `lanes::Isa::detect` picks (AVX2, SSE2,
+//! scalar; the same bits). The cell's far planes `p` are kept as f64 in the original
+//! frame, exact integers below `2^53`: a step adds the signed child edge in the lanes
+//! that move, a descent takes the parent's far plane less 3, 2, 1 child edges, so no
+//! integer is converted a step (only on re-entering an ancestor). The integer cell
+//! (for the masks and `old ^ new`) follows from the lanes' compare bits.
+//!
 //! Exactness (the rule of the traversal octree's walk, `super::super::walk`): the ray
 //! is in the cell `[m, m + 1)` of an axis at time `t` when the computed times of the
 //! cell's near and far planes satisfy `near <= t < far`, every plane's time is `(plane
@@ -47,7 +55,9 @@ use std::mem::MaybeUninit;
 use super::{Node64, Tree64};
 use crate::octree::MAX_DEPTH;
 use crate::ray::{Ray, RayCast};
-use crate::render::trace::lanes::earlier;
+#[cfg(target_arch = "x86_64")]
+use crate::render::trace::lanes::{Avx2, Sse2};
+use crate::render::trace::lanes::{Isa, Lanes, Scalar};
 use crate::render::trace::voxel_ray::{Entry, Hit, VoxelRay};
 use crate::render::trace::walk::{Lattice, Opening, RootSpan};
 
@@ -121,6 +131,50 @@ impl Mirrored {
     }
 }
 
+/// The ray in lanes (`lanes`), as the step reads it: origin and reciprocal direction
+/// (the idle AVX2 lane at `-inf` and `+inf`: its times are `+inf`, never crossed), and
+/// the sign of a mirrored coordinate's step in the original frame (-1 on mirrored axes).
+#[derive(Clone, Copy)]
+struct RayLanes<L> {
+    o: L,
+    inv: L,
+    sign: L,
+}
+
+impl<L: Lanes> RayLanes<L> {
+    #[inline(always)]
+    fn new(m: &Mirrored) -> Self {
+        RayLanes {
+            o: L::new(m.o, f64::NEG_INFINITY),
+            inv: L::new(m.inv, f64::INFINITY),
+            sign: L::new(std::array::from_fn(|a| if m.flip[a] == 0 { 1.0 } else { -1.0 }), 1.0),
+        }
+    }
+
+    /// The times the ray crosses the planes `p` (original frame, exact integers).
+    #[inline(always)]
+    fn time(&self, p: L) -> L {
+        p.sub(self.o).mul(self.inv)
+    }
+}
+
+/// `SKIP[s]`: all ones in the lanes of the axes set in `s` (bit `a`), zero elsewhere.
+const SKIP: [[f64; 3]; 8] = {
+    let mut masks = [[0.0; 3]; 8];
+    let mut s = 0;
+    while s < 8 {
+        let mut a = 0;
+        while a < 3 {
+            if s >> a & 1 == 1 {
+                masks[s][a] = f64::from_bits(u64::MAX);
+            }
+            a += 1;
+        }
+        s += 1;
+    }
+    masks
+};
+
 impl Tree64 {
     /// The first full node the ray enters before `t_max` (see `Traversal::first_full`):
     /// `FACE` false skips the entered face, for any-hit queries.
@@ -133,12 +187,28 @@ impl Tree64 {
             }
         };
         let start = 0.0f64.max(enter);
-        self.walk::<FACE>(&Lattice::new(r), t_max, span, start)
+        let ray = Lattice::new(r);
+        match self.isa {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `Isa::Avx2` is only chosen where the CPU has AVX2.
+            Isa::Avx2 => unsafe { self.walk_avx2::<FACE>(&ray, t_max, span, start) },
+            #[cfg(target_arch = "x86_64")]
+            Isa::Sse2 => self.walk::<Sse2, FACE>(&ray, t_max, span, start),
+            _ => self.walk::<Scalar, FACE>(&ray, t_max, span, start),
+        }
     }
 
-    /// The walk from the root at `max(ta, start)` (see the module doc).
+    /// [`Tree64::walk`] compiled with AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn walk_avx2<const FACE: bool>(&self, ray: &Lattice, t_max: f64, span: RootSpan, start: f64) -> Option<Entry> {
+        self.walk::<Avx2, FACE>(ray, t_max, span, start)
+    }
+
+    /// The walk from the root at `max(ta, start)` (see the module doc), its plane
+    /// times three axes at once in lanes `L`.
     #[inline(always)]
-    fn walk<const FACE: bool>(&self, ray: &Lattice, t_max: f64, span: RootSpan, start: f64) -> Option<Entry> {
+    fn walk<L: Lanes, const FACE: bool>(&self, ray: &Lattice, t_max: f64, span: RootSpan, start: f64) -> Option<Entry> {
         let edge = 1u32 << (2 * self.levels);
         let m = Mirrored::new(ray, edge);
         // No hit at or after the ray's limit or the root's exit.
@@ -147,16 +217,20 @@ impl Tree64 {
         if t >= limit {
             return None;
         }
+        let lanes = RayLanes::<L>::new(&m);
         // The nodes above the current one, root first (left uninitialized until written).
         let mut stack = [const { MaybeUninit::<Node64>::uninit() }; LEVELS];
         let mut level = 0usize;
         let mut node = self.nodes[0];
         // log2 of the current level's child edge, the ray's cell there (mirrored, in
-        // units of that edge) and the times of the cell's far planes.
+        // units of that edge), the cell's far planes (original frame, f64), their
+        // times, and the child edge in lanes, signed as the mirrored coordinate runs.
         let mut shift = 2 * self.levels - 2;
         let mut cell = [0u32; 3];
-        let mut tn = [0.0; 3];
-        descend(&m, &mut cell, &mut tn, shift, t, true);
+        let mut pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, edge))), 0.0);
+        let mut tn = lanes.time(pn);
+        let mut step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
+        descend(&lanes, &mut cell, &mut pn, &mut tn, step, t);
         loop {
             let c: [u32; 3] = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
             let child = c[0] + 4 * c[1] + 16 * c[2];
@@ -169,27 +243,32 @@ impl Tree64 {
                 let inner = node.present & !node.full;
                 node = self.nodes[(node.first + (inner & ((1u64 << child) - 1)).count_ones()) as usize];
                 shift -= 2;
-                descend(&m, &mut cell, &mut tn, shift, t, false);
+                step = step.mul(L::splat(0.25));
+                descend(&lanes, &mut cell, &mut pn, &mut tn, step, t);
                 continue;
             }
             // An empty child: step to its far planes, or to its group's when the
             // whole 2x2x2 group is empty (`skip` on the axes where the cell is the
             // group's near one), without a branch on the axes that move.
-            let empty_group = u32::from(node.groups >> ((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) & 1 == 0);
-            let old = cell;
-            let skip: [u32; 3] = std::array::from_fn(|a| empty_group & !cell[a] & 1);
-            let tt: [f64; 3] = std::array::from_fn(|a| m.time(a, (cell[a] + 1 + skip[a]) << shift));
-            t = earlier(earlier(tt[0], tt[1]), tt[2]);
+            let empty_group = node.groups >> ((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) & 1 == 0;
+            let even = (!cell[0] & 1) | (!cell[1] & 1) << 1 | (!cell[2] & 1) << 2;
+            let skip = L::new(SKIP[if empty_group { even as usize } else { 0 }], 0.0);
+            let tt = lanes.time(pn.add(skip.and(step)));
+            t = tt.min3();
             if t >= limit {
                 return None;
             }
-            for a in 0..3 {
-                // Past the target plane (the cell's or the group's far plane), or
-                // only past the group's mid plane.
-                let (past, mid) = (u32::from(tt[a] <= t), u32::from(tn[a] <= t));
-                cell[a] += mid + (past & skip[a]);
-                tn[a] = m.time(a, (cell[a] + 1) << shift);
+            // Past the target plane (the cell's or the group's far plane), or only
+            // past the group's mid plane.
+            let at = L::splat(t);
+            let (mid, past) = (tn.le(at), tt.le(at).and(skip));
+            let (mid_bits, past_bits) = (mid.bits() as u32, past.bits() as u32);
+            let old = cell;
+            for (a, c) in cell.iter_mut().enumerate() {
+                *c += (mid_bits >> a & 1) + (past_bits >> a & 1);
             }
+            pn = pn.add(mid.and(step)).add(past.and(step));
+            tn = lanes.time(pn);
             let moved = (old[0] ^ cell[0]) | (old[1] ^ cell[1]) | (old[2] ^ cell[2]);
             if moved >= 4 {
                 // The new cell is in another node: the ancestor `up` levels above holds it.
@@ -201,31 +280,37 @@ impl Tree64 {
                 // SAFETY: the nodes `0..level` above were written on the way down.
                 node = unsafe { stack[level].assume_init() };
                 shift += 2 * up as u32;
-                for a in 0..3 {
-                    cell[a] >>= 2 * up;
-                    tn[a] = m.time(a, (cell[a] + 1) << shift);
+                for c in &mut cell {
+                    *c >>= 2 * up;
                 }
+                pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, (cell[a] + 1) << shift))), 0.0);
+                tn = lanes.time(pn);
+                step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
             }
         }
     }
 }
 
-/// Places the ray at time `t` in the node at the current cell (`root`: the root, whose
-/// cell is 0): the child cell per axis is the count of the node's three inner planes
-/// crossed by `t`, and `tn` becomes that cell's far-plane times (`shift` is log2 of the
-/// child edge; the node's far plane keeps its time, the same bits).
+/// Places the ray at time `t` in the node at the current cell, whose far planes are
+/// `pn` at times `tn` (bits as carried down): the child cell per axis is the count of
+/// the node's three inner planes crossed by `t` (`step` apart, signed: the child edge),
+/// and `pn`, `tn` become that child's far planes and their times (the node's far plane
+/// keeps its time, the same bits).
 #[inline(always)]
-fn descend(m: &Mirrored, cell: &mut [u32; 3], tn: &mut [f64; 3], shift: u32, t: f64, root: bool) {
-    for a in 0..3 {
-        let base = cell[a] * 4;
-        let t1 = m.time(a, (base + 1) << shift);
-        let t2 = m.time(a, (base + 2) << shift);
-        let t3 = m.time(a, (base + 3) << shift);
-        let far = if root { m.time(a, (base + 4) << shift) } else { tn[a] };
-        let k = u32::from(t1 <= t) + u32::from(t2 <= t) + u32::from(t3 <= t);
-        cell[a] = base + k;
-        tn[a] = [t1, t2, t3, far][k as usize];
+fn descend<L: Lanes>(lanes: &RayLanes<L>, cell: &mut [u32; 3], pn: &mut L, tn: &mut L, step: L, t: f64) {
+    let p1 = pn.sub(step.mul(L::splat(3.0)));
+    let p2 = p1.add(step);
+    let p3 = p2.add(step);
+    let (t1, t2, t3) = (lanes.time(p1), lanes.time(p2), lanes.time(p3));
+    let at = L::splat(t);
+    let (m1, m2, m3) = (t1.le(at), t2.le(at), t3.le(at));
+    let (b1, b2, b3) = (m1.bits() as u32, m2.bits() as u32, m3.bits() as u32);
+    for (a, c) in cell.iter_mut().enumerate() {
+        *c = *c * 4 + (b1 >> a & 1) + (b2 >> a & 1) + (b3 >> a & 1);
     }
+    // The times are monotone in the plane, so the crossed planes are the first ones.
+    *tn = L::select(m1, L::select(m2, L::select(m3, *tn, t3), t2), t1);
+    *pn = L::select(m1, L::select(m2, L::select(m3, *pn, p3), p2), p1);
 }
 
 /// The hit on entering the full cell `cell` (mirrored, edge `1 << shift`) at `t`: its
@@ -246,4 +331,43 @@ fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span:
         None
     };
     Entry { min, size, t, face }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+    use crate::render::trace::walk::tests::rays;
+    use crate::samples;
+    use crate::test_util::Rng;
+
+    /// Every build of the 64-tree's walk (AVX2, SSE2 where the CPU has them) gives the
+    /// scalar build's hits, bit for bit, and the same any-hit answers, at even and odd
+    /// depths (the tests in `tests/traverse.rs` run the detected build only).
+    #[test]
+    fn every_build_matches_the_scalar_walk() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let mut trees = Vec::new();
+        for depth in [1, 2, 5, 6] {
+            let d = samples::showcase_domain(depth).unwrap();
+            trees.push(voxelize(&samples::showcase(), d, &VoxelizeOptions::default()).unwrap());
+        }
+        let d = Domain::new(DVec3::new(-0.3, 0.2, 0.1), 1.7, 7).unwrap();
+        let voxels: Vec<[u32; 3]> = (0..400).map(|_| [0; 3].map(|_| (rng.next() % 128) as u32)).collect();
+        trees.push(LinearOctree::from_voxels(d, voxels).unwrap());
+        for tree in &trees {
+            let mut scalar = Tree64::new(tree);
+            scalar.isa = Isa::Scalar;
+            for isa in Isa::available() {
+                let mut t = Tree64::new(tree);
+                t.isa = isa;
+                for ray in rays(&mut rng, tree.domain(), 3000) {
+                    assert_eq!(t.hit(&ray), scalar.hit(&ray), "{isa:?} {ray:?}");
+                    assert_eq!(t.occluded(&ray), scalar.occluded(&ray), "{isa:?} {ray:?}");
+                }
+            }
+        }
+    }
 }
