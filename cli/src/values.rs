@@ -107,19 +107,8 @@ fn parse_floats(s: &str, n: usize) -> Result<Vec<f64>, String> {
     Ok(v)
 }
 
-/// Parses a byte size such as `4096`, `512MiB`, `8GiB`, `2G`.
+/// Parses a byte size such as `4096`, `512MiB`, `8GiB`, `2G` (the library's
+/// [`MemoryBudget`](octsolid::MemoryBudget) parser, shared with the Python package).
 pub(crate) fn parse_bytes(s: &str) -> Result<u64, String> {
-    let s = s.trim();
-    let split = s.find(|c: char| !c.is_ascii_digit() && c != '.').unwrap_or(s.len());
-    let (num, unit) = s.split_at(split);
-    let num: f64 = num.parse().map_err(|_| format!("'{s}' is not a size like 512MiB or 8GiB"))?;
-    let scale: u64 = match unit.trim().to_ascii_lowercase().as_str() {
-        "" | "b" => 1,
-        "k" | "kb" | "kib" => 1 << 10,
-        "m" | "mb" | "mib" => 1 << 20,
-        "g" | "gb" | "gib" => 1 << 30,
-        "t" | "tb" | "tib" => 1 << 40,
-        other => return Err(format!("unknown unit '{other}' (use B, KiB, MiB, GiB or TiB)")),
-    };
-    Ok((num * scale as f64) as u64)
+    Ok(s.parse::<octsolid::MemoryBudget>()?.0)
 }
