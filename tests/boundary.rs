@@ -8,7 +8,7 @@ mod common;
 
 use std::collections::{HashMap, HashSet};
 
-use common::{Rng, random_octree};
+use common::{Rng, random_csg, random_octree};
 use glam::DVec3;
 use octsolid::mesh::{BoundaryOptions, PolygonTables, TriangleMesh, boundary_mesh, read_mesh, write_mesh};
 use octsolid::octree::{Domain, LinearOctree, Node, VoxelizeOptions, voxelize};
@@ -260,23 +260,8 @@ fn random_nodes_and_voxel_sets() {
     }
 }
 
-/// A random CSG tree of boxes and spheres.
-fn random_csg(rng: &mut Rng, levels: u32) -> Csg {
-    if levels == 0 || rng.below(4) == 0 {
-        let center = rng.vec(0.2, 0.8);
-        return if rng.below(2) == 0 {
-            Cuboid::new(center, rng.vec(0.1, 0.6)).unwrap().into()
-        } else {
-            Sphere::new(center, rng.range(0.08, 0.35)).unwrap().into()
-        };
-    }
-    let (a, b) = (random_csg(rng, levels - 1), random_csg(rng, levels - 1));
-    match rng.below(4) {
-        0 | 1 => a | b,
-        2 => a - b,
-        _ => a & b,
-    }
-}
+/// Where the random CSG trees' primitives are centred, on each axis.
+const CENTRES: (f64, f64) = (0.2, 0.8);
 
 #[test]
 fn random_csg_of_boxes_and_spheres() {
@@ -284,7 +269,7 @@ fn random_csg_of_boxes_and_spheres() {
     for round in 0..16 {
         let depth = 4 + (round % 2) as u8;
         let d = Domain::new(DVec3::ZERO, 1.0, depth).unwrap();
-        let tree = voxelize(&random_csg(&mut rng, 3), d, &VoxelizeOptions::default()).unwrap();
+        let tree = voxelize(&random_csg(&mut rng, 3, CENTRES), d, &VoxelizeOptions::default()).unwrap();
         check_both(&tree, &format!("random csg {round}"));
     }
 }

@@ -8,7 +8,7 @@ mod common;
 
 use std::f64::consts::PI;
 
-use common::{Rng, random_octree};
+use common::{Rng, random_csg, random_octree};
 use glam::DVec3;
 use octsolid::octree::{Domain, LinearOctree, OffsetOptions, VoxelizeOptions, voxelize};
 use octsolid::scene_file::build_solid;
@@ -17,23 +17,8 @@ use octsolid::surface::{
     FaceKey, HermiteData, offset_with_surface, resolve_offsets, round_with_surface, shell_with_surface,
 };
 
-/// A random CSG tree of boxes and spheres.
-fn random_csg(rng: &mut Rng, levels: u32) -> Csg {
-    if levels == 0 || rng.below(4) == 0 {
-        let center = rng.vec(0.1, 0.9);
-        return if rng.below(2) == 0 {
-            Cuboid::new(center, rng.vec(0.1, 0.6)).unwrap().into()
-        } else {
-            Sphere::new(center, rng.range(0.08, 0.35)).unwrap().into()
-        };
-    }
-    let (a, b) = (random_csg(rng, levels - 1), random_csg(rng, levels - 1));
-    match rng.below(4) {
-        0 | 1 => a | b,
-        2 => a - b,
-        _ => a & b,
-    }
-}
+/// Where the random CSG trees' primitives are centred, on each axis.
+const UNIT_CENTRES: (f64, f64) = (0.1, 0.9);
 
 fn unit_domain(depth: u8) -> Domain {
     Domain::new(DVec3::ZERO, 1.0, depth).unwrap()
@@ -104,7 +89,7 @@ fn offsets_of_random_csg_solids_are_the_brute_force_ones_voxel_for_voxel() {
         let tree = if round % 3 == 2 {
             random_octree(&mut rng, unit_domain(depth))
         } else {
-            voxelize(&random_csg(&mut rng, 3), unit_domain(depth), &VoxelizeOptions::default()).unwrap()
+            voxelize(&random_csg(&mut rng, 3, UNIT_CENTRES), unit_domain(depth), &VoxelizeOptions::default()).unwrap()
         };
         let dist = brute_distances(&tree, 5);
         for d in [0.7, 1.0, 1.5, 2.9, 4.0, 5.0, -0.7, -1.0, -1.5, -2.9, -4.0, -5.0] {
@@ -118,12 +103,12 @@ fn offsets_of_random_csg_solids_are_the_brute_force_ones_voxel_for_voxel() {
 #[test]
 fn offset_by_zero_or_up_to_half_a_voxel_is_the_identity() {
     let mut rng = Rng(39);
-    let tree = voxelize(&random_csg(&mut rng, 3), unit_domain(6), &VoxelizeOptions::default()).unwrap();
+    let tree = voxelize(&random_csg(&mut rng, 3, UNIT_CENTRES), unit_domain(6), &VoxelizeOptions::default()).unwrap();
     for d in [0.0, 0.5, -0.5, 0.25] {
         assert_eq!(tree.offset(d, &OffsetOptions::default()).unwrap(), tree, "offset {d}");
     }
     // Along the surface only 0 is: a voxel a quarter voxel off the surface is reached.
-    let data = HermiteData::from_shape(&random_csg(&mut Rng(39), 3), &tree);
+    let data = HermiteData::from_shape(&random_csg(&mut Rng(39), 3, UNIT_CENTRES), &tree);
     assert_eq!(offset_with_surface(&tree, &data, 0.0, &OffsetOptions::default()).unwrap().0, tree);
 }
 
@@ -134,7 +119,7 @@ fn an_opening_never_exceeds_the_solid_and_a_closing_covers_it() {
     // Kept 8 voxels from the domain's faces, which cut a growth (and so a closing).
     let inset = Cuboid::new(DVec3::splat(0.5), DVec3::splat(1.0 - 16.0 / 128.0)).unwrap();
     for round in 0..4 {
-        let shape = random_csg(&mut rng, 3) & Csg::from(inset.clone());
+        let shape = random_csg(&mut rng, 3, UNIT_CENTRES) & Csg::from(inset.clone());
         let tree = voxelize(&shape, unit_domain(7), &VoxelizeOptions::default()).unwrap();
         for r in [2.0, 3.5, 7.0] {
             let opened = tree.offset(-r, &options).unwrap().offset(r, &options).unwrap();
@@ -147,7 +132,8 @@ fn an_opening_never_exceeds_the_solid_and_a_closing_covers_it() {
 
 #[test]
 fn offsets_are_the_same_on_one_and_two_threads() {
-    let tree = voxelize(&random_csg(&mut Rng(7), 4), unit_domain(8), &VoxelizeOptions::default()).unwrap();
+    let tree =
+        voxelize(&random_csg(&mut Rng(7), 4, UNIT_CENTRES), unit_domain(8), &VoxelizeOptions::default()).unwrap();
     let run = |threads: usize, d: f64| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| tree.offset(d, &OffsetOptions::default()).unwrap())
@@ -156,7 +142,7 @@ fn offsets_are_the_same_on_one_and_two_threads() {
         assert_eq!(run(1, d), run(2, d), "offset {d}");
     }
     // Along the surface, the crossings too.
-    let data = HermiteData::from_shape(&random_csg(&mut Rng(7), 4), &tree);
+    let data = HermiteData::from_shape(&random_csg(&mut Rng(7), 4, UNIT_CENTRES), &tree);
     let run = |threads: usize, d: f64| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| offset_with_surface(&tree, &data, d, &OffsetOptions::default()).unwrap())
@@ -355,7 +341,7 @@ fn offsets_along_the_surface_of_random_csg_solids_are_the_brute_force_ones() {
     let mut rng = Rng(0x0005_eb39);
     let options = OffsetOptions::default();
     for round in 0..4 {
-        let shape = random_csg(&mut rng, 3);
+        let shape = random_csg(&mut rng, 3, UNIT_CENTRES);
         let (tree, data) = with_surface(&shape, 5);
         let n = tree.domain().resolution();
         for d in [0.3, 1.3, 2.7, 4.0, -0.3, -1.3, -2.7, -4.0] {

@@ -1,4 +1,4 @@
-//! Shared by the test suites: a seeded generator, random solids, scratch folders, a
+//! Shared by the test suites: a seeded generator, random solids and CSG trees, scratch folders, a
 //! folder's files, mesh checks (closed and manifold; an STL's triangles), the exact
 //! surfaces of analytic solids (the oracle of a mesh's distance and normals) and the
 //! distance to a reference mesh.
@@ -13,6 +13,7 @@ mod rng;
 pub use rng::Rng;
 
 use octsolid::octree::{Domain, LinearOctree, Node};
+use octsolid::shape::{Csg, Cuboid, Sphere};
 
 /// A random solid in `domain`: a few aligned nodes of random sizes and scattered
 /// voxels, so both big nodes and ragged boundaries occur.
@@ -35,6 +36,26 @@ pub fn random_octree(rng: &mut Rng, domain: Domain) -> LinearOctree {
     let tree = LinearOctree::from_nodes(domain, nodes).unwrap();
     tree.validate().unwrap();
     tree
+}
+
+/// A random CSG tree of boxes (edges 0.1 to 0.6) and spheres (radii 0.08 to 0.35)
+/// centred in `centres` on each axis, combined by union (half the nodes), difference
+/// and intersection, at most `levels` deep.
+pub fn random_csg(rng: &mut Rng, levels: u32, centres: (f64, f64)) -> Csg {
+    if levels == 0 || rng.below(4) == 0 {
+        let center = rng.vec(centres.0, centres.1);
+        return if rng.below(2) == 0 {
+            Cuboid::new(center, rng.vec(0.1, 0.6)).unwrap().into()
+        } else {
+            Sphere::new(center, rng.range(0.08, 0.35)).unwrap().into()
+        };
+    }
+    let (a, b) = (random_csg(rng, levels - 1, centres), random_csg(rng, levels - 1, centres));
+    match rng.below(4) {
+        0 | 1 => a | b,
+        2 => a - b,
+        _ => a & b,
+    }
 }
 
 /// A [`Progress`](octsolid::Progress) that records what it was told, to
