@@ -6,10 +6,8 @@ Run: python examples/python/bracket.py [OUT_FOLDER] [--depth D]
 (writes bracket.oct and bracket.stl into OUT_FOLDER, default example-output/python/).
 """
 
-import argparse
-import pathlib
-
 import octsolid as o
+from command_line import command_line
 
 
 def bracket():
@@ -27,12 +25,8 @@ def bracket():
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("out", nargs="?", default="example-output/python")
-    parser.add_argument("--depth", type=int, default=8)
-    args = parser.parse_args()
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    args = command_line(__doc__, depth=8)
+    out = args.out
 
     solid = o.voxelize(bracket(), args.depth)
     solid.save(out / "bracket.oct")

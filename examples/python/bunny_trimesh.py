@@ -6,23 +6,19 @@ Run: python examples/python/bunny_trimesh.py [OUT_FOLDER] [--depth D]
 (writes bunny.oct and bunny.ply into OUT_FOLDER, default example-output/python/).
 """
 
-import argparse
 import pathlib
 
 import trimesh
 
 import octsolid as o
+from command_line import command_line
 
 MODEL = pathlib.Path(__file__).resolve().parents[2] / "models" / "bunny-watertight.obj"
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("out", nargs="?", default="example-output/python")
-    parser.add_argument("--depth", type=int, default=7)
-    args = parser.parse_args()
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    args = command_line(__doc__, depth=7)
+    out = args.out
 
     mesh = trimesh.load(MODEL, force="mesh", process=False)
     bunny = o.from_mesh(mesh.vertices, mesh.faces, args.depth)

@@ -6,24 +6,16 @@ Run: python examples/python/turntable.py [OUT_FOLDER] [--depth D] [--frames N]
 (writes turntable.png into OUT_FOLDER, default example-output/python/).
 """
 
-import argparse
-import pathlib
-
 import numpy as np
 
 import octsolid as o
 from classic_part import classic_part
+from command_line import command_line
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("out", nargs="?", default="example-output/python")
-    parser.add_argument("--depth", type=int, default=7)
-    parser.add_argument("--frames", type=int, default=8)
-    parser.add_argument("--size", type=int, default=160)
-    args = parser.parse_args()
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    args = command_line(__doc__, depth=7, frames=8, size=160)
+    out = args.out
 
     solid = o.voxelize(classic_part(), args.depth, domain=((-1, -1, -1), 2.0))
     frames = [
