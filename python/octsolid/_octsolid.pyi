@@ -1,7 +1,7 @@
 """Type stubs of the extension module ``octsolid._octsolid`` (re-exported by ``octsolid``)."""
 
 from os import PathLike
-from typing import Literal, Optional, Sequence, Tuple, TypedDict, Union, overload
+from typing import Callable, Literal, Optional, Sequence, Tuple, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -11,6 +11,10 @@ AxisLike = Union[Literal["x", "y", "z", "X", "Y", "Z"], Vec3]
 Domain = Tuple[Vec3, float]
 PathLikeStr = Union[str, "PathLike[str]"]
 Bounds = Tuple[list[float], list[float]]
+# ``memory_budget=``: bytes, or a size as ``--memory-budget`` takes it (``"512MiB"``, ``"2GiB"``).
+MemoryBudget = Union[int, str]
+# ``progress=``: ``True`` for a bar on the terminal, or ``f(done, total)``.
+ProgressLike = Union[bool, Callable[[int, int], object], None]
 
 class Shape:
     """A shape: a CSG tree of primitives, set operations, moves and patterns.
@@ -111,6 +115,14 @@ class Solid:
     def __sub__(self, other: Solid) -> Solid: ...
     def __xor__(self, other: Solid) -> Solid: ...
     def __len__(self) -> int: ...
+    def union(self, other: Solid, memory_budget: Optional[MemoryBudget] = None) -> Solid:
+        """``self | other`` as ``octsolid csg union``, the whole job within ``memory_budget``."""
+    def intersection(self, other: Solid, memory_budget: Optional[MemoryBudget] = None) -> Solid:
+        """``self & other`` as ``octsolid csg intersection``, within ``memory_budget``."""
+    def difference(self, other: Solid, memory_budget: Optional[MemoryBudget] = None) -> Solid:
+        """``self - other`` as ``octsolid csg difference``, within ``memory_budget``."""
+    def symmetric_difference(self, other: Solid, memory_budget: Optional[MemoryBudget] = None) -> Solid:
+        """``self ^ other`` as ``octsolid csg xor``, within ``memory_budget``."""
     @property
     def volume(self) -> float:
         """Volume in world units: full voxels times the voxel's volume."""
@@ -134,17 +146,32 @@ class Solid:
         """A voxel's edge in world units."""
     def measure(self) -> Measures:
         """Volume, boundary area, centre of mass, inertia (3x3 about it) and face-connected components."""
-    def save(self, path: PathLikeStr, surface: bool = True) -> int:
+    def save(
+        self,
+        path: PathLikeStr,
+        surface: bool = True,
+        memory_budget: Optional[MemoryBudget] = None,
+        progress: ProgressLike = None,
+    ) -> int:
         """Writes the solid in the format the extension names (``.oct`` with its surface data
         unless ``surface=False``, ``.octs``, ``.vox``, ``.binvox``, ``.vdb``, ``.glb``, or the
         voxel boundary as ``.obj``, ``.stl``, ``.ply``, ``.3mf``); returns the bytes written."""
     def export(
-        self, path: PathLikeStr, surface: Literal["smooth", "voxels"] = "smooth", tolerance: float = 0.0
+        self,
+        path: PathLikeStr,
+        surface: Literal["smooth", "voxels"] = "smooth",
+        tolerance: float = 0.0,
+        memory_budget: Optional[MemoryBudget] = None,
+        progress: ProgressLike = None,
     ) -> int:
         """Writes the boundary as a mesh as ``octsolid export`` does (``.obj``, ``.stl``, ``.ply``,
         ``.3mf``, ``.glb``); returns the bytes written."""
     def mesh(
-        self, surface: Literal["smooth", "voxels"] = "smooth", tolerance: float = 0.0
+        self,
+        surface: Literal["smooth", "voxels"] = "smooth",
+        tolerance: float = 0.0,
+        memory_budget: Optional[MemoryBudget] = None,
+        progress: ProgressLike = None,
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.uint32]]:
         """The boundary as ``(vertices, faces)``: float64 ``(n, 3)`` and uint32 ``(m, 3)``."""
     def to_trimesh(self, surface: Literal["smooth", "voxels"] = "smooth", tolerance: float = 0.0) -> "trimesh.Trimesh":  # type: ignore[name-defined]  # noqa: F821
@@ -160,13 +187,30 @@ class Solid:
         scale: float = 1.0,
         domain: Optional[Domain] = None,
         depth: Optional[int] = None,
+        memory_budget: Optional[MemoryBudget] = None,
+        progress: ProgressLike = None,
     ) -> Solid:
         """The solid scaled, turned (each ``(axis, degrees)`` in order) and moved, as ``octsolid transform``."""
-    def offset(self, by: float, voxels: bool = False) -> Solid:
+    def offset(
+        self, by: float, voxels: bool = False, memory_budget: Optional[MemoryBudget] = None, progress: ProgressLike = None
+    ) -> Solid:
         """Grown (``by`` > 0) or shrunk (``by`` < 0) by a ball, world units (``voxels=True``: voxels)."""
-    def shell(self, thickness: float, outward: bool = False) -> Solid:
+    def shell(
+        self,
+        thickness: float,
+        outward: bool = False,
+        memory_budget: Optional[MemoryBudget] = None,
+        progress: ProgressLike = None,
+    ) -> Solid:
         """Hollowed to a wall ``thickness`` thick inside the surface (``outward``: outside)."""
-    def round(self, radius: float, convex: bool = False, concave: bool = False) -> Solid:
+    def round(
+        self,
+        radius: float,
+        convex: bool = False,
+        concave: bool = False,
+        memory_budget: Optional[MemoryBudget] = None,
+        progress: ProgressLike = None,
+    ) -> Solid:
         """Edges rounded to ``radius``: both kinds unless ``convex`` or ``concave`` picks one."""
     def slice(
         self, axis: Literal["x", "y", "z"] = "z", at: Optional[float] = None, size: int = 768
@@ -185,8 +229,16 @@ class Solid:
     def _repr_png_(self) -> bytes:
         """A 480x360 PNG of the solid, so a notebook shows it."""
 
-def voxelize(shape: Shape, depth: int, domain: Optional[Domain] = None) -> Solid:
-    """Voxelizes ``shape`` at ``depth`` over ``domain`` ``(min, edge)`` (default: a cube around it)."""
+def voxelize(
+    shape: Shape,
+    depth: int,
+    domain: Optional[Domain] = None,
+    memory_budget: Optional[MemoryBudget] = None,
+    progress: ProgressLike = None,
+) -> Solid:
+    """Voxelizes ``shape`` at ``depth`` over ``domain`` ``(min, edge)`` (default: a cube around it),
+    refused above ``memory_budget`` (default half the RAM); ``progress``: ``True`` for a bar on
+    the terminal, or ``f(done, total)``."""
 
 def from_mesh(
     vertices: npt.ArrayLike,
@@ -194,6 +246,8 @@ def from_mesh(
     depth: int,
     inside: Literal["auto", "parity", "winding"] = "auto",
     domain: Optional[Domain] = None,
+    memory_budget: Optional[MemoryBudget] = None,
+    progress: ProgressLike = None,
 ) -> Solid:
     """The solid a triangle mesh ``(n, 3)`` vertices, ``(m, 3)`` faces encloses, voxelized at ``depth``."""
 
@@ -202,10 +256,12 @@ def load_mesh(
     depth: int = 8,
     inside: Literal["auto", "parity", "winding"] = "auto",
     domain: Optional[Domain] = None,
+    memory_budget: Optional[MemoryBudget] = None,
+    progress: ProgressLike = None,
 ) -> Solid:
     """The solid a mesh or patch file encloses, as ``octsolid voxelize PATH --depth DEPTH``."""
 
-def load(path: PathLikeStr) -> Solid:
+def load(path: PathLikeStr, memory_budget: Optional[MemoryBudget] = None) -> Solid:
     """The solid in a ``.oct``, ``.octs``, ``.vox``, ``.binvox`` or ``.vdb`` file (several: their union)."""
 
 @overload
@@ -225,7 +281,8 @@ def render(
     up: Optional[str] = None,
     exposure: Optional[float] = None,
     cache: bool = True,
-    progress: bool = False,
+    progress: ProgressLike = None,
+    memory_budget: Optional[MemoryBudget] = None,
 ) -> npt.NDArray[np.uint8]: ...
 @overload
 def render(
@@ -245,7 +302,8 @@ def render(
     up: Optional[str] = None,
     exposure: Optional[float] = None,
     cache: bool = True,
-    progress: bool = False,
+    progress: ProgressLike = None,
+    memory_budget: Optional[MemoryBudget] = None,
 ) -> npt.NDArray[np.float32]:
     """Renders a solid or a file as ``octsolid render`` does: ``(h, w, 3)`` uint8 sRGB, the
     PNG's pixels bit for bit, or with ``hdr=True`` float32 linear radiance; ``progress=True``
@@ -274,7 +332,8 @@ def radiosity(
     patch_size: Optional[float] = None,
     subdivide: Optional[float] = None,
     max_elements: Optional[int] = None,
-    progress: bool = False,
+    progress: ProgressLike = None,
+    memory_budget: Optional[MemoryBudget] = None,
 ) -> RadiosityStats:
     """Solves a scene file's radiosity as ``octsolid radiosity`` does, writing the ``.rad``
     solution to ``output`` when given (the CLI's bytes); returns its ``--json`` summary

@@ -6,9 +6,12 @@
 //!
 //! Rooms: [`shapes`] (`Shape` and the primitives, the patterns), [`solid`] (`Solid`,
 //! `voxelize`, `from_mesh`, `load_mesh`, `load`), [`surface`] (a solid's surface data,
-//! made when needed), [`render`] (`render`, `Solid._repr_png_`), [`radiosity`] (`radiosity`), [`errors`] (the
-//! library's errors as `octsolid.Error`s), [`flat`] (mesh buffers as numpy's), [`progress`] (the terminal's bar of `progress=True`).
+//! made when needed), [`render`] (`render`, `Solid._repr_png_`), [`radiosity`]
+//! (`radiosity`), [`errors`] (the library's errors as `octsolid.Error`s), [`flat`] (mesh
+//! buffers as numpy's), and the arguments long calls share: [`budget`]
+//! (`memory_budget=`), [`progress`] (`progress=`: a bar on the terminal or a callable).
 
+mod budget;
 mod errors;
 mod flat;
 mod progress;

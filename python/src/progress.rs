@@ -1,22 +1,134 @@
-//! A progress bar for long calls given `progress=True`: the library's [`Progress`]
-//! drawn on the standard error as `label: 42% (3.1 s)`, redrawn at most ten times a
-//! second, and only when the standard error is a terminal (a notebook, a pipe or a
-//! log gets nothing), as the `octsolid` command's bars.
+//! `progress=`: what a long call reports its progress to, as the library's
+//! [`Progress`]. `True` draws a bar on the standard error as `label: 42% (3.1 s)`,
+//! redrawn at most ten times a second, and only when the standard error is a terminal
+//! (a notebook, a pipe or a log gets nothing), as the `octsolid` command's bars. A
+//! callable `f(done, total)` is called instead (tqdm's `update`, a notebook widget): at
+//! the start with `(0, total)`, then at most twenty times a second while `done` grows
+//! (never backwards, even when the library's threads report out of order), and at the
+//! end with `(total, total)`. A call made of stages (a mesh's voxelizing, then its
+//! writing) starts again at `(0, total)` for each.
+//!
+//! The library calls [`Progress`] from its worker threads with the GIL released; a
+//! callable is called with the GIL taken back for the call. If it raises, it is not
+//! called again and its exception is raised when the library's work returns
+//! ([`Reporter::check`]); the work itself is not stopped (the library has no way to).
 
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use octsolid::Progress;
+use octsolid::{NoProgress, Progress};
+use pyo3::prelude::*;
+use pyo3::types::PyBool;
 
-/// Least time between two redraws.
+use crate::errors::invalid;
+
+/// Least time between two redraws of a bar.
 const REDRAW: Duration = Duration::from_millis(100);
+
+/// Least time between two calls of a callable (besides the first and the last).
+const RECALL: Duration = Duration::from_millis(50);
+
+/// The `progress=` argument: `None`/`False` (nothing), `True` (a bar on the terminal)
+/// or a callable `f(done, total)`.
+pub enum Want {
+    /// Report nothing.
+    Nothing,
+    /// A bar on the standard error when it is a terminal.
+    Bar,
+    /// Call this with `(done, total)`.
+    Call(Py<PyAny>),
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Want {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        if obj.is_none() {
+            return Ok(Want::Nothing);
+        }
+        if let Ok(wanted) = obj.cast::<PyBool>() {
+            return Ok(if wanted.is_true() { Want::Bar } else { Want::Nothing });
+        }
+        if obj.is_callable() {
+            return Ok(Want::Call(obj.to_owned().unbind()));
+        }
+        let given = obj.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+        Err(invalid("progress", format!("need True, False, None or a callable f(done, total), not a {given}")))
+    }
+}
+
+impl Want {
+    /// What reports this call's progress, a bar labelled `label` for `True`.
+    pub fn reporter(self, label: &'static str) -> Reporter {
+        match self {
+            Want::Nothing => Reporter::Nothing(NoProgress),
+            Want::Bar => Reporter::Bar(Bar::new(label)),
+            Want::Call(f) => Reporter::Call(Callback::new(f)),
+        }
+    }
+}
+
+/// Where one call's progress goes: the library's [`Progress`].
+pub enum Reporter {
+    /// Nowhere.
+    Nothing(NoProgress),
+    /// A bar on the terminal.
+    Bar(Bar),
+    /// A Python callable.
+    Call(Callback),
+}
+
+impl Reporter {
+    /// The callable's exception, if it raised one while the work ran.
+    pub fn check(self) -> PyResult<()> {
+        match self {
+            Reporter::Call(c) => c.raised.into_inner().map_or(Ok(()), |raised| raised.map_or(Ok(()), Err)),
+            _ => Ok(()),
+        }
+    }
+
+    /// Reports a step the library did not report as one whole step (`start(1)`,
+    /// `finish()`), so a callable always ends at `(total, total)`: a file written at
+    /// once. Nothing when the library reported steps.
+    pub fn end_in_one_step(&self) {
+        let silent = match self {
+            Reporter::Nothing(_) => false,
+            Reporter::Bar(b) => b.drawn.lock().is_ok_and(|d| d.is_none()) && b.total.load(Ordering::Relaxed) == 0,
+            Reporter::Call(c) => c.last.lock().is_ok_and(|l| l.is_none()),
+        };
+        if silent {
+            self.start(1);
+            self.finish();
+        }
+    }
+
+    fn inner(&self) -> &dyn Progress {
+        match self {
+            Reporter::Nothing(n) => n,
+            Reporter::Bar(b) => b,
+            Reporter::Call(c) => c,
+        }
+    }
+}
+
+impl Progress for Reporter {
+    fn start(&self, total: u64) {
+        self.inner().start(total);
+    }
+    fn advance(&self, n: u64) {
+        self.inner().advance(n);
+    }
+    fn finish(&self) {
+        self.inner().finish();
+    }
+}
 
 /// A bar on the terminal, or nothing.
 pub struct Bar {
     label: &'static str,
-    /// Whether anything is drawn: asked for, and the standard error a terminal.
+    /// Whether anything is drawn: the standard error is a terminal.
     on: bool,
     started: Instant,
     total: AtomicU64,
@@ -26,11 +138,11 @@ pub struct Bar {
 }
 
 impl Bar {
-    /// A bar labelled `label`, drawn when `wanted` and the standard error is a terminal.
-    pub fn new(label: &'static str, wanted: bool) -> Self {
+    /// A bar labelled `label`, drawn when the standard error is a terminal.
+    pub fn new(label: &'static str) -> Self {
         Bar {
             label,
-            on: wanted && std::io::stderr().is_terminal(),
+            on: std::io::stderr().is_terminal(),
             started: Instant::now(),
             total: AtomicU64::new(0),
             done: AtomicU64::new(0),
@@ -75,5 +187,70 @@ impl Progress for Bar {
             self.draw(true);
             let _ = writeln!(std::io::stderr());
         }
+    }
+}
+
+/// A Python callable `f(done, total)` as a [`Progress`] (module doc).
+pub struct Callback {
+    f: Py<PyAny>,
+    total: AtomicU64,
+    done: AtomicU64,
+    /// The last `done` reported and when; held while calling, so calls never overlap.
+    last: Mutex<Option<(u64, Instant)>>,
+    /// The callable's exception; once set, the callable is not called again.
+    raised: Mutex<Option<PyErr>>,
+}
+
+impl Callback {
+    fn new(f: Py<PyAny>) -> Self {
+        Callback {
+            f,
+            total: AtomicU64::new(0),
+            done: AtomicU64::new(0),
+            last: Mutex::new(None),
+            raised: Mutex::new(None),
+        }
+    }
+
+    /// Calls `f(done, total)` unless it raised before or `done` did not grow since the
+    /// last call; `force` skips the rate limit, `fresh` (a stage's start) both rules.
+    fn report(&self, force: bool, fresh: bool) {
+        let Ok(mut last) = self.last.lock() else { return };
+        let total = self.total.load(Ordering::Relaxed);
+        let done = self.done.load(Ordering::Relaxed).min(total);
+        let now = Instant::now();
+        if let Some((before, at)) = *last
+            && !fresh
+            && (done <= before || (!force && now - at < RECALL))
+        {
+            return;
+        }
+        if self.raised.lock().map_or(true, |r| r.is_some()) {
+            return;
+        }
+        *last = Some((done, now));
+        if let Err(e) = Python::attach(|py| self.f.call1(py, (done, total)).map(drop))
+            && let Ok(mut raised) = self.raised.lock()
+        {
+            raised.get_or_insert(e);
+        }
+    }
+}
+
+impl Progress for Callback {
+    fn start(&self, total: u64) {
+        self.total.store(total, Ordering::Relaxed);
+        self.done.store(0, Ordering::Relaxed);
+        self.report(true, true);
+    }
+
+    fn advance(&self, n: u64) {
+        self.done.fetch_add(n, Ordering::Relaxed);
+        self.report(false, false);
+    }
+
+    fn finish(&self) {
+        self.done.store(self.total.load(Ordering::Relaxed), Ordering::Relaxed);
+        self.report(true, false);
     }
 }

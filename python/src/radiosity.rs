@@ -6,12 +6,13 @@
 use std::path::PathBuf;
 
 use octsolid::render::radiosity::{DEFAULT_TOLERANCE, DEFAULT_UNTIL, Radiosity, RadiosityOptions, Solver};
-use octsolid::{MemoryBudget, scene_file};
+use octsolid::scene_file;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::budget::{Budget, budget_of};
 use crate::errors::{ToPyResult, invalid};
-use crate::progress::Bar;
+use crate::progress::Want;
 
 /// Solves a scene file's radiosity as `octsolid radiosity` does: `solver`
 /// (`"shooting"`, the default, or `"gathering"`), `until` (shooting's unshot fraction),
@@ -20,11 +21,13 @@ use crate::progress::Bar;
 /// when given. Returns the summary `octsolid radiosity --json` prints (`solver`,
 /// `patches`, `elements`, `shots`, `unshot_fraction`, `iterations`, `residual`) with
 /// the energy book (`emitted`, `absorbed`, `escaped`) and `bytes` written. With
-/// `progress=True`, a bar on the terminal while it solves.
+/// `progress=True`, a bar on the terminal while it solves (or a callable `f(done,
+/// total)`); `memory_budget`: bytes or a size like `"2GiB"` (`--memory-budget`).
 #[pyfunction]
 #[pyo3(signature = (
     scene, output=None, solver="shooting", until=DEFAULT_UNTIL, max_shots=None,
-    tolerance=DEFAULT_TOLERANCE, patch_size=None, subdivide=None, max_elements=None, progress=false
+    tolerance=DEFAULT_TOLERANCE, patch_size=None, subdivide=None, max_elements=None, progress=None,
+    memory_budget=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn radiosity<'py>(
@@ -38,7 +41,8 @@ pub fn radiosity<'py>(
     patch_size: Option<f64>,
     subdivide: Option<f64>,
     max_elements: Option<usize>,
-    progress: bool,
+    progress: Option<Want>,
+    memory_budget: Option<Budget>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let solver = Solver::ALL.into_iter().find(|s| s.name() == solver).ok_or_else(|| {
         invalid("solver", format!("{solver:?} is not one of {}", Solver::ALL.map(Solver::name).join(", ")))
@@ -49,7 +53,7 @@ pub fn radiosity<'py>(
     if solver == Solver::Gathering && !(tolerance > 0.0 && tolerance < 1.0) {
         return Err(invalid("tolerance", format!("{tolerance}: the residual fraction must be above 0 and below 1")));
     }
-    let budget = MemoryBudget::default();
+    let budget = budget_of(memory_budget);
     let options = RadiosityOptions {
         until,
         max_shots,
@@ -61,17 +65,18 @@ pub fn radiosity<'py>(
         tolerance,
         ..RadiosityOptions::default()
     };
-    let (solution, bytes) = py
-        .detach(|| -> octsolid::Result<(Radiosity, u64)> {
-            let file = scene_file::read_scene(&scene, budget)?;
-            let solution = Radiosity::solve(&file.scene, &options, &Bar::new("radiosity", progress))?;
-            let bytes = match &output {
-                Some(path) => solution.write(path)?,
-                None => 0,
-            };
-            Ok((solution, bytes))
-        })
-        .py()?;
+    let reporter = progress.unwrap_or(Want::Nothing).reporter("radiosity");
+    let solved = py.detach(|| -> octsolid::Result<(Radiosity, u64)> {
+        let file = scene_file::read_scene(&scene, budget)?;
+        let solution = Radiosity::solve(&file.scene, &options, &reporter)?;
+        let bytes = match &output {
+            Some(path) => solution.write(path)?,
+            None => 0,
+        };
+        Ok((solution, bytes))
+    });
+    reporter.check()?;
+    let (solution, bytes) = solved.py()?;
     let s = solution.stats();
     let d = PyDict::new(py);
     d.set_item("solver", solver.name())?;

@@ -18,8 +18,9 @@ use octsolid::scene_file::CachePolicy;
 use octsolid::{Drawing, DrawingOptions, MemoryBudget};
 use pyo3::prelude::*;
 
+use crate::budget::{Budget, budget_of};
 use crate::errors::{ToPyResult, invalid};
-use crate::progress::Bar;
+use crate::progress::Want;
 use crate::solid::Solid;
 
 /// What is drawn: a solid in memory or a file.
@@ -29,21 +30,21 @@ enum Subject<'a> {
 }
 
 /// The camera and picture options of a call.
-#[derive(Default)]
 struct Request {
     camera: CameraRequest,
     overrides: RenderOverrides,
     cache: bool,
-    /// Whether to show a bar on the terminal.
-    progress: bool,
+    /// Where the progress goes.
+    progress: Option<Want>,
+    budget: MemoryBudget,
 }
 
 /// The drawing of `subject` (a solid's surface data made first, without the GIL).
-fn drawing(py: Python<'_>, subject: &Subject<'_>, cache: bool) -> PyResult<Drawing> {
+fn drawing(py: Python<'_>, subject: &Subject<'_>, cache: bool, budget: MemoryBudget) -> PyResult<Drawing> {
     match subject {
         Subject::File(path) => {
             let cache = if cache { CachePolicy::ReadWrite } else { CachePolicy::Off };
-            let options = DrawingOptions { cache, ..DrawingOptions::default() };
+            let options = DrawingOptions { cache, budget, ..DrawingOptions::default() };
             py.detach(|| Drawing::open(path, &options)).py()
         }
         Subject::Solid(solid) => solid.drawing(py),
@@ -51,15 +52,18 @@ fn drawing(py: Python<'_>, subject: &Subject<'_>, cache: bool) -> PyResult<Drawi
 }
 
 /// Renders `subject` as asked, without the GIL.
-fn picture(py: Python<'_>, subject: &Subject<'_>, request: &Request) -> PyResult<Picture> {
-    let drawing = drawing(py, subject, request.cache)?;
-    py.detach(|| {
-        let camera = drawing.camera(&request.camera, &request.overrides, None)?;
-        let options = drawing.options(&request.overrides, MemoryBudget::default());
+fn picture(py: Python<'_>, subject: &Subject<'_>, request: Request) -> PyResult<Picture> {
+    let drawing = drawing(py, subject, request.cache, request.budget)?;
+    let reporter = request.progress.unwrap_or(Want::Nothing).reporter("render");
+    let (camera, overrides) = (&request.camera, &request.overrides);
+    let drawn = py.detach(|| {
+        let camera = drawing.camera(camera, overrides, None)?;
+        let options = drawing.options(overrides, request.budget);
         let scene = drawing.into_scene(None);
-        Ok(render_picture(&scene, &camera, &options, &Bar::new("render", request.progress))?.0)
-    })
-    .py()
+        Ok(render_picture(&scene, &camera, &options, &reporter)?.0)
+    });
+    reporter.check()?;
+    drawn.py()
 }
 
 /// A method by its CLI name (`trace`, `front-to-back`, `painter`, `zbuffer`, `scanline`).
@@ -76,11 +80,13 @@ fn method_of(name: &str) -> PyResult<Method> {
 /// (default: the scene's, or 960x720); `view` a named view (`front`, `top`, `iso`,
 /// ...); `eye`, `target`, `fov` (degrees); `azimuth`, `elevation`, `zoom`, `up`;
 /// `spp` samples a pixel side; `method` how visibility is decided; `exposure` in stops;
-/// `progress=True` a bar on the terminal while it draws.
+/// `progress=True` a bar on the terminal while it draws (or a callable `f(done,
+/// total)`); `memory_budget`: bytes or a size like `"2GiB"` (`--memory-budget`).
 #[pyfunction]
 #[pyo3(signature = (
     solid_or_scene, size=None, view=None, eye=None, target=None, fov=None, spp=None, method=None,
-    hdr=false, azimuth=None, elevation=None, zoom=None, up=None, exposure=None, cache=true, progress=false
+    hdr=false, azimuth=None, elevation=None, zoom=None, up=None, exposure=None, cache=true, progress=None,
+    memory_budget=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
@@ -100,7 +106,8 @@ pub fn render<'py>(
     up: Option<&str>,
     exposure: Option<f64>,
     cache: bool,
-    progress: bool,
+    progress: Option<Want>,
+    memory_budget: Option<Budget>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let solid = solid_or_scene.cast::<Solid>().ok();
     let subject = match &solid {
@@ -127,7 +134,8 @@ pub fn render<'py>(
         exposure,
         ..RenderOverrides::default()
     };
-    let picture = picture(py, &subject, &Request { camera, overrides, cache, progress })?;
+    let request = Request { camera, overrides, cache, progress, budget: budget_of(memory_budget) };
+    let picture = picture(py, &subject, request)?;
     if hdr {
         let (w, h) = (picture.width() as usize, picture.height() as usize);
         let radiance: Vec<f32> = picture.pixels().iter().flat_map(|p| p.to_array().map(|c| c as f32)).collect();

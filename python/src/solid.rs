@@ -43,7 +43,9 @@ use octsolid::{Drawing, FileKind, MemoryBudget, NoProgress, SolidFile};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::budget::{Budget, budget_of};
 use crate::errors::{ToPyResult, invalid};
+use crate::progress::{Reporter, Want};
 use crate::shapes::{Shape, axis_of};
 use crate::surface::LazySurface;
 
@@ -93,9 +95,12 @@ impl Solid {
         .py()
     }
 
-    /// The set operation `op` of `operands`, as `octsolid csg` makes it (module doc).
-    fn combine(py: Python<'_>, op: SetOp, operands: &[&Solid]) -> PyResult<Solid> {
+    /// The set operation `op` of `operands`, as `octsolid csg` makes it (module doc),
+    /// within `budget` as the whole job's (the operands are held while they are fitted
+    /// into one domain and the result is made beside them).
+    fn combine(py: Python<'_>, op: SetOp, operands: &[&Solid], budget: MemoryBudget) -> PyResult<Solid> {
         let mut trees: Vec<Arc<LinearOctree>> = operands.iter().map(|s| s.tree.clone()).collect();
+        let held = |trees: &[Arc<LinearOctree>]| trees.iter().map(|t| t.bytes() as u64).sum::<u64>();
         let mut surfaces: Vec<Arc<LazySurface>> = operands.iter().map(|s| s.surface.clone()).collect();
         let target = common_domain(&trees.iter().map(|t| *t.domain()).collect::<Vec<_>>()).py()?;
         for i in 0..trees.len() {
@@ -104,9 +109,10 @@ impl Solid {
             }
             let data = if surfaces[i].is_some() { operands[i].surface_data(py)? } else { None };
             let tree = trees[i].clone();
+            let left = MemoryBudget(budget.0.saturating_sub(held(&trees)));
             let (fitted, surface) = py
                 .detach(|| -> octsolid::Result<_> {
-                    let options = VoxelizeOptions::default();
+                    let options = VoxelizeOptions { budget: left, progress: &NoProgress };
                     let (fitted, fit) = tree.fit_to(target, &options)?;
                     Ok(match (fit, data) {
                         // A resampling with surface data is made again from the smooth surface.
@@ -122,10 +128,15 @@ impl Solid {
                         (_, None) => (fitted, None),
                     })
                 })
+                .map_err(|e| whole_job(e, held(&trees), operands.len(), budget))
                 .py()?;
             trees[i] = Arc::new(fitted);
             surfaces[i] = LazySurface::ready(surface);
         }
+        // The result: at most as many nodes as the operands together (what the merge reserves).
+        let nodes: u64 = trees.iter().map(|t| t.node_count() as u64).sum();
+        let job = format!("the {op} of {} solids of {nodes} nodes beside them", trees.len());
+        budget.check(job, held(&trees).saturating_add(nodes.saturating_mul(8))).py()?;
         let operand_trees = trees.clone();
         let result = py
             .detach(|| LinearOctree::combine_all(&operand_trees.iter().map(|t| &**t).collect::<Vec<_>>(), op))
@@ -144,22 +155,29 @@ impl Solid {
         Ok(Solid { tree: Arc::new(result), meta: operands[0].meta, surface })
     }
 
-    /// `self` and `other` (a solid) under `op`.
-    fn with(&self, py: Python<'_>, other: &Bound<'_, PyAny>, op: SetOp) -> PyResult<Solid> {
+    /// `self` and `other` (a solid) under `op`, within `budget`.
+    fn with(&self, py: Python<'_>, other: &Bound<'_, PyAny>, op: SetOp, budget: MemoryBudget) -> PyResult<Solid> {
         let other = other
             .cast::<Solid>()
             .map_err(|_| invalid("operand", "a set operation of solids needs two solids (voxelize a shape first)"))?;
-        Solid::combine(py, op, &[self, other.get()])
+        Solid::combine(py, op, &[self, other.get()], budget)
     }
 
     /// The solid's extracted boundary mesh, as `octsolid export` makes it.
-    fn extracted(&self, py: Python<'_>, style: Style, tolerance: f64) -> PyResult<TriangleMesh> {
+    fn extracted(
+        &self,
+        py: Python<'_>,
+        style: Style,
+        tolerance: f64,
+        budget: MemoryBudget,
+        progress: &Reporter,
+    ) -> PyResult<TriangleMesh> {
         let hermite = self.surface_read_back(py)?;
         let tree = &self.tree;
         py.detach(|| {
             let hermite = hermite.as_deref().cloned().unwrap_or_else(HermiteData::none);
-            let options = ExtractOptions { style, tolerance, unit_faces: false, budget: MemoryBudget::default() };
-            Ok(extract(tree, &hermite, &options, &NoProgress)?.mesh)
+            let options = ExtractOptions { style, tolerance, unit_faces: false, budget };
+            Ok(extract(tree, &hermite, &options, progress)?.mesh)
         })
         .py()
     }
@@ -170,23 +188,45 @@ impl Solid {
     fn derived_along_surface(
         &self,
         py: Python<'_>,
+        budget: MemoryBudget,
+        progress: Option<Want>,
         plain: impl FnOnce(&LinearOctree, &OffsetOptions) -> octsolid::Result<LinearOctree> + Send,
         along: impl FnOnce(&LinearOctree, &HermiteData, &OffsetOptions) -> octsolid::Result<(LinearOctree, HermiteData)>
         + Send,
     ) -> PyResult<Solid> {
         let surface = self.surface_read_back(py)?;
         let tree = &self.tree;
-        let (result, data) = py
-            .detach(|| {
-                let options = OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress };
-                match surface {
-                    Some(surface) => along(tree, &surface, &options).map(|(t, d)| (t, Some(d))),
-                    None => plain(tree, &options).map(|t| (t, None)),
-                }
-            })
-            .py()?;
+        let reporter = reporter(progress, "band");
+        let made = py.detach(|| {
+            let options = OffsetOptions { budget, progress: &reporter };
+            match surface {
+                Some(surface) => along(tree, &surface, &options).map(|(t, d)| (t, Some(d))),
+                None => plain(tree, &options).map(|t| (t, None)),
+            }
+        });
+        reporter.check()?;
+        let (result, data) = made.py()?;
         Ok(Solid { tree: Arc::new(result), meta: self.meta, surface: LazySurface::ready(data) })
     }
+}
+
+/// A refusal of one step of a set operation, whose budget was what the operands left
+/// of the job's, as the whole job's: the step's estimate beside the `n` operands'
+/// `held` bytes, against the job's `budget`.
+fn whole_job(e: octsolid::Error, held: u64, n: usize, budget: MemoryBudget) -> octsolid::Error {
+    match e {
+        octsolid::Error::OverBudget { job, estimate, .. } => octsolid::Error::OverBudget {
+            job: format!("{job} beside the {n} operands' {}", octsolid::human_bytes(held)),
+            estimate: estimate.saturating_add(held),
+            budget: budget.0,
+        },
+        e => e,
+    }
+}
+
+/// What reports a call's progress (`progress=`), a bar labelled `label` for `True`.
+fn reporter(progress: Option<Want>, label: &'static str) -> Reporter {
+    progress.unwrap_or(Want::Nothing).reporter(label)
 }
 
 /// A style name: `"smooth"` or `"voxels"`.
@@ -206,16 +246,49 @@ fn domain_of(domain: ([f64; 3], f64), depth: u8) -> PyResult<Domain> {
 #[pymethods]
 impl Solid {
     fn __or__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<Solid> {
-        self.with(py, other, SetOp::Union)
+        self.with(py, other, SetOp::Union, MemoryBudget::default())
     }
     fn __and__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<Solid> {
-        self.with(py, other, SetOp::Intersection)
+        self.with(py, other, SetOp::Intersection, MemoryBudget::default())
     }
     fn __sub__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<Solid> {
-        self.with(py, other, SetOp::Difference)
+        self.with(py, other, SetOp::Difference, MemoryBudget::default())
     }
     fn __xor__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<Solid> {
-        self.with(py, other, SetOp::SymmetricDifference)
+        self.with(py, other, SetOp::SymmetricDifference, MemoryBudget::default())
+    }
+
+    /// The union `self | other`, as `octsolid csg union`; `memory_budget` (bytes, or a
+    /// size like `"2GiB"`) bounds the whole job (the operands held, the result made).
+    #[pyo3(signature = (other, memory_budget=None))]
+    fn union(&self, py: Python<'_>, other: &Bound<'_, PyAny>, memory_budget: Option<Budget>) -> PyResult<Solid> {
+        self.with(py, other, SetOp::Union, budget_of(memory_budget))
+    }
+
+    /// The intersection `self & other`, as `octsolid csg intersection` (`memory_budget`:
+    /// as `union`).
+    #[pyo3(signature = (other, memory_budget=None))]
+    fn intersection(&self, py: Python<'_>, other: &Bound<'_, PyAny>, memory_budget: Option<Budget>) -> PyResult<Solid> {
+        self.with(py, other, SetOp::Intersection, budget_of(memory_budget))
+    }
+
+    /// The difference `self - other`, as `octsolid csg difference` (`memory_budget`: as
+    /// `union`).
+    #[pyo3(signature = (other, memory_budget=None))]
+    fn difference(&self, py: Python<'_>, other: &Bound<'_, PyAny>, memory_budget: Option<Budget>) -> PyResult<Solid> {
+        self.with(py, other, SetOp::Difference, budget_of(memory_budget))
+    }
+
+    /// The symmetric difference `self ^ other`, as `octsolid csg xor` (`memory_budget`:
+    /// as `union`).
+    #[pyo3(signature = (other, memory_budget=None))]
+    fn symmetric_difference(
+        &self,
+        py: Python<'_>,
+        other: &Bound<'_, PyAny>,
+        memory_budget: Option<Budget>,
+    ) -> PyResult<Solid> {
+        self.with(py, other, SetOp::SymmetricDifference, budget_of(memory_budget))
     }
 
     /// Volume in world units: full voxels times the voxel's volume.
@@ -302,25 +375,50 @@ impl Solid {
     /// `.glb`, or its voxel boundary as a mesh (`.obj`, `.stl`, `.ply`, `.3mf`).
     /// `surface=False` leaves the `.oct` file's surface section out (a smaller file,
     /// written sooner, as the library's `oct::write`; its smooth surface is then
-    /// estimated from the voxels). Returns the bytes written.
-    #[pyo3(signature = (path, surface=true))]
-    fn save(&self, py: Python<'_>, path: PathBuf, surface: bool) -> PyResult<u64> {
+    /// estimated from the voxels). Returns the bytes written. `memory_budget`: bytes
+    /// or a size like `"2GiB"` (`--memory-budget`); `progress`: `True` for a bar on the
+    /// terminal, or `f(done, total)` (a mesh format's meshing; the others are written
+    /// in one step, reported `(0, 1)`, `(1, 1)`).
+    #[pyo3(signature = (path, surface=true, memory_budget=None, progress=None))]
+    fn save(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        surface: bool,
+        memory_budget: Option<Budget>,
+        progress: Option<Want>,
+    ) -> PyResult<u64> {
         let kind = FileKind::of(&path, FileKind::SOLID_OUTPUTS).py()?;
         let surface = if kind == FileKind::Oct && surface { self.surface_data(py)? } else { None };
-        let (tree, meta) = (&self.tree, self.meta);
-        py.detach(|| {
-            let options = WriteOptions { meta, surface, ..WriteOptions::default() };
-            octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, &NoProgress)
-        })
-        .py()
+        let (tree, meta, budget) = (&self.tree, self.meta, budget_of(memory_budget));
+        let reporter = reporter(progress, if kind.writes_mesh() { "meshing" } else { "writing" });
+        let written = py.detach(|| {
+            let options = WriteOptions { meta, surface, budget, ..WriteOptions::default() };
+            let written = octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, &reporter);
+            reporter.end_in_one_step();
+            written
+        });
+        reporter.check()?;
+        written.py()
     }
 
     /// Writes the solid's boundary as a mesh, as `octsolid export` does: `.obj`,
     /// `.stl` (vertices where voxels touch moved apart), `.ply`, `.3mf` or `.glb`;
     /// `surface` `"smooth"` (dual contouring of the surface data) or `"voxels"`.
-    /// Returns the bytes written.
-    #[pyo3(signature = (path, surface="smooth", tolerance=DEFAULT_TOLERANCE))]
-    fn export(&self, py: Python<'_>, path: PathBuf, surface: &str, tolerance: f64) -> PyResult<u64> {
+    /// Returns the bytes written. `memory_budget`: bytes or a size like `"2GiB"`
+    /// (`--memory-budget`); `progress`: `True` for a bar on the terminal, or `f(done,
+    /// total)` (the meshing; `.glb`, written in one step, reports `(0, 1)`, `(1, 1)`).
+    #[pyo3(signature = (path, surface="smooth", tolerance=DEFAULT_TOLERANCE, memory_budget=None, progress=None))]
+    fn export(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        surface: &str,
+        tolerance: f64,
+        memory_budget: Option<Budget>,
+        progress: Option<Want>,
+    ) -> PyResult<u64> {
+        let budget = budget_of(memory_budget);
         let mesh_kinds = [FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::ThreeMf, FileKind::Glb];
         let kind = FileKind::of(&path, &mesh_kinds).py()?;
         if self.tree.is_empty() {
@@ -329,17 +427,23 @@ impl Solid {
                 reason: "the solid is empty; there is no boundary to export".into(),
             }));
         }
+        let style = style_of(surface)?;
+        let reporter = reporter(progress, "meshing");
         if kind == FileKind::Glb {
             let (tree, meta) = (&self.tree, self.meta);
-            return py
-                .detach(|| {
-                    let up = meta.up.unwrap_or(octsolid::shape::Axis::Z);
-                    let options = WriteOptions { up, ..WriteOptions::default() };
-                    octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, &NoProgress)
-                })
-                .py();
+            let written = py.detach(|| {
+                let up = meta.up.unwrap_or(octsolid::shape::Axis::Z);
+                let options = WriteOptions { up, budget, ..WriteOptions::default() };
+                let written = octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, &reporter);
+                reporter.end_in_one_step();
+                written
+            });
+            reporter.check()?;
+            return written.py();
         }
-        let mesh = self.extracted(py, style_of(surface)?, tolerance)?;
+        let mesh = self.extracted(py, style, tolerance, budget, &reporter);
+        reporter.check()?;
+        let mesh = mesh?;
         py.detach(|| {
             if kind == FileKind::Stl {
                 let separated = separate_sheets(&mesh).map_err(|e| octsolid::Error::Unwritable {
@@ -354,11 +458,21 @@ impl Solid {
     }
 
     /// The boundary as numpy arrays `(vertices, faces)`: float64 `(n, 3)` and uint32
-    /// `(m, 3)` (counter-clockwise seen from outside), as `.export` meshes it.
-    #[pyo3(signature = (surface="smooth", tolerance=DEFAULT_TOLERANCE))]
-    fn mesh<'py>(&self, py: Python<'py>, surface: &str, tolerance: f64) -> PyResult<MeshArrays<'py>> {
-        let mesh = self.extracted(py, style_of(surface)?, tolerance)?;
-        Ok(mesh_arrays(py, mesh))
+    /// `(m, 3)` (counter-clockwise seen from outside), as `.export` meshes it
+    /// (`memory_budget`, `progress`: as `.export`'s).
+    #[pyo3(signature = (surface="smooth", tolerance=DEFAULT_TOLERANCE, memory_budget=None, progress=None))]
+    fn mesh<'py>(
+        &self,
+        py: Python<'py>,
+        surface: &str,
+        tolerance: f64,
+        memory_budget: Option<Budget>,
+        progress: Option<Want>,
+    ) -> PyResult<MeshArrays<'py>> {
+        let reporter = reporter(progress, "meshing");
+        let mesh = self.extracted(py, style_of(surface)?, tolerance, budget_of(memory_budget), &reporter);
+        reporter.check()?;
+        Ok(mesh_arrays(py, mesh?))
     }
 
     /// The Morton keys of the full nodes, a read-only uint64 array sharing the
@@ -403,8 +517,11 @@ impl Solid {
     /// origin, turned by each `(axis, degrees)` of `rotate` in order, moved by
     /// `translate`; exact where voxels map to voxels, else resampled. `domain` `(min,
     /// edge)` and `depth` choose the target (default: the moved domain when exact, else
-    /// a cube around the moved solid, at this depth).
-    #[pyo3(signature = (translate=None, rotate=None, scale=1.0, domain=None, depth=None))]
+    /// a cube around the moved solid, at this depth). `memory_budget`: bytes or a size
+    /// like `"2GiB"` (`--memory-budget`); `progress`: `True` for a bar on the terminal,
+    /// or `f(done, total)` (a resampling's).
+    #[pyo3(signature = (translate=None, rotate=None, scale=1.0, domain=None, depth=None, memory_budget=None, progress=None))]
+    #[allow(clippy::too_many_arguments)]
     fn transform(
         &self,
         py: Python<'_>,
@@ -413,7 +530,11 @@ impl Solid {
         scale: f64,
         domain: Option<([f64; 3], f64)>,
         depth: Option<u8>,
+        memory_budget: Option<Budget>,
+        progress: Option<Want>,
     ) -> PyResult<Solid> {
+        let budget = budget_of(memory_budget);
+        let reporter = reporter(progress, "resampling");
         let turns = rotate
             .unwrap_or_default()
             .iter()
@@ -423,67 +544,95 @@ impl Solid {
         let map = motion.checked_affine().py()?;
         let data = if self.surface.is_some() { self.surface_data(py)? } else { None };
         let tree = &self.tree;
-        let (moved, surface) = py
-            .detach(|| -> octsolid::Result<_> {
-                let target = |default: Domain| -> octsolid::Result<Domain> {
-                    match (domain, depth) {
-                        (Some((min, edge)), d) => {
-                            Domain::new(DVec3::from_array(min), edge, d.unwrap_or(default.depth()))
-                        }
-                        (None, Some(d)) => default.with_depth(d),
-                        (None, None) => Ok(default),
-                    }
-                };
-                let options = VoxelizeOptions::default();
-                let (moved, fit) = tree.transformed(map, target, &options)?;
-                Ok(match data {
-                    // A resampling with surface data is made again from the moved smooth surface.
-                    Some(data) if fit == Fit::Resampled => {
-                        let (moved, data) = resample_with_surface(tree, &data, map, *moved.domain(), &options)?;
-                        (moved, Some(data))
-                    }
-                    Some(data) => {
-                        let kept = data.transformed(tree.domain(), map, &moved, fit);
-                        (moved, kept)
-                    }
-                    None => (moved, None),
-                })
+        let moved = py.detach(|| -> octsolid::Result<_> {
+            let target = |default: Domain| -> octsolid::Result<Domain> {
+                match (domain, depth) {
+                    (Some((min, edge)), d) => Domain::new(DVec3::from_array(min), edge, d.unwrap_or(default.depth())),
+                    (None, Some(d)) => default.with_depth(d),
+                    (None, None) => Ok(default),
+                }
+            };
+            let options = VoxelizeOptions { budget, progress: &reporter };
+            let (moved, fit) = tree.transformed(map, target, &options)?;
+            Ok(match data {
+                // A resampling with surface data is made again from the moved smooth surface.
+                Some(data) if fit == Fit::Resampled => {
+                    let (moved, data) = resample_with_surface(tree, &data, map, *moved.domain(), &options)?;
+                    (moved, Some(data))
+                }
+                Some(data) => {
+                    let kept = data.transformed(tree.domain(), map, &moved, fit);
+                    (moved, kept)
+                }
+                None => (moved, None),
             })
-            .py()?;
+        });
+        reporter.check()?;
+        let (moved, surface) = moved.py()?;
         Ok(Solid { tree: Arc::new(moved), meta: self.meta, surface: LazySurface::ready(surface) })
     }
 
     /// The solid grown (positive `by`) or shrunk (negative) by a ball of radius `|by|`
     /// world units, as `octsolid offset --by` (`voxels=True`: `by` counts voxels).
-    #[pyo3(signature = (by, voxels=false))]
-    fn offset(&self, py: Python<'_>, by: f64, voxels: bool) -> PyResult<Solid> {
+    /// `memory_budget`: bytes or a size like `"2GiB"` (`--memory-budget`); `progress`:
+    /// `True` for a bar on the terminal, or `f(done, total)` (the band's).
+    #[pyo3(signature = (by, voxels=false, memory_budget=None, progress=None))]
+    fn offset(
+        &self,
+        py: Python<'_>,
+        by: f64,
+        voxels: bool,
+        memory_budget: Option<Budget>,
+        progress: Option<Want>,
+    ) -> PyResult<Solid> {
         let d = if voxels { by } else { by * self.tree.domain().voxels_per_unit() };
         self.derived_along_surface(
             py,
+            budget_of(memory_budget),
+            progress,
             |tree, options| tree.offset(d, options),
             |tree, surface, options| offset_with_surface(tree, surface, d, options),
         )
     }
 
     /// The solid hollowed to a wall `thickness` world units thick inside its surface
-    /// (`outward=True`: outside it), as `octsolid shell`.
-    #[pyo3(signature = (thickness, outward=false))]
-    fn shell(&self, py: Python<'_>, thickness: f64, outward: bool) -> PyResult<Solid> {
+    /// (`outward=True`: outside it), as `octsolid shell` (`memory_budget`, `progress`:
+    /// as `.offset`'s).
+    #[pyo3(signature = (thickness, outward=false, memory_budget=None, progress=None))]
+    fn shell(
+        &self,
+        py: Python<'_>,
+        thickness: f64,
+        outward: bool,
+        memory_budget: Option<Budget>,
+        progress: Option<Want>,
+    ) -> PyResult<Solid> {
         if thickness <= 0.0 {
             return Err(invalid("thickness", format!("must be positive, not {thickness}")));
         }
         let t = thickness * self.tree.domain().voxels_per_unit();
         self.derived_along_surface(
             py,
+            budget_of(memory_budget),
+            progress,
             |tree, options| tree.shell(t, outward, options),
             |tree, surface, options| shell_with_surface(tree, surface, t, outward, options),
         )
     }
 
     /// The solid with its edges rounded to `radius` world units, as `octsolid round`:
-    /// both kinds of edge unless `convex` or `concave` picks one.
-    #[pyo3(signature = (radius, convex=false, concave=false))]
-    fn round(&self, py: Python<'_>, radius: f64, convex: bool, concave: bool) -> PyResult<Solid> {
+    /// both kinds of edge unless `convex` or `concave` picks one (`memory_budget`,
+    /// `progress`: as `.offset`'s).
+    #[pyo3(signature = (radius, convex=false, concave=false, memory_budget=None, progress=None))]
+    fn round(
+        &self,
+        py: Python<'_>,
+        radius: f64,
+        convex: bool,
+        concave: bool,
+        memory_budget: Option<Budget>,
+        progress: Option<Want>,
+    ) -> PyResult<Solid> {
         if radius <= 0.0 {
             return Err(invalid("radius", format!("must be positive, not {radius}")));
         }
@@ -491,6 +640,8 @@ impl Solid {
         let r = radius * self.tree.domain().voxels_per_unit();
         self.derived_along_surface(
             py,
+            budget_of(memory_budget),
+            progress,
             |tree, options| tree.round(r, convex, concave, options),
             |tree, surface, options| round_with_surface(tree, surface, r, convex, concave, options),
         )
@@ -575,22 +726,33 @@ fn shape_domain(shape: &octsolid::shape::Csg, depth: u8) -> PyResult<Domain> {
 /// Voxelizes `shape` at `depth` (2^depth voxels a side) over `domain` `(min, edge)`,
 /// default a cube around the shape (2% margin), as `octsolid shape` does; its offset,
 /// shell and round nodes made on that lattice first (`surface::resolve_offsets`).
+/// `memory_budget`: bytes or a size like `"2GiB"` (`--memory-budget`; default half the
+/// RAM), a larger job refused before it starts; `progress`: `True` for a bar on the
+/// terminal, or a callable `f(done, total)`.
 #[pyfunction]
-#[pyo3(signature = (shape, depth, domain=None))]
-pub fn voxelize(py: Python<'_>, shape: &Shape, depth: u8, domain: Option<([f64; 3], f64)>) -> PyResult<Solid> {
+#[pyo3(signature = (shape, depth, domain=None, memory_budget=None, progress=None))]
+pub fn voxelize(
+    py: Python<'_>,
+    shape: &Shape,
+    depth: u8,
+    domain: Option<([f64; 3], f64)>,
+    memory_budget: Option<Budget>,
+    progress: Option<Want>,
+) -> PyResult<Solid> {
     let built = Arc::new(shape.build()?);
     let domain = match domain {
         Some(d) => domain_of(d, depth)?,
         None => shape_domain(&built, depth)?,
     };
-    let tree = py
-        .detach(|| {
-            let resolved = resolve_offsets(&built, domain, &VoxelizeOptions::default())?;
-            let tree = voxelize_shape(&resolved, domain, &VoxelizeOptions::default())?;
-            Ok::<_, octsolid::Error>((tree, Arc::new(resolved)))
-        })
-        .py()?;
-    let (tree, built) = tree;
+    let budget = budget_of(memory_budget);
+    let reporter = reporter(progress, "voxelizing");
+    let made = py.detach(|| {
+        let resolved = resolve_offsets(&built, domain, &VoxelizeOptions { budget, progress: &NoProgress })?;
+        let tree = voxelize_shape(&resolved, domain, &VoxelizeOptions { budget, progress: &reporter })?;
+        Ok::<_, octsolid::Error>((tree, Arc::new(resolved)))
+    });
+    reporter.check()?;
+    let (tree, built) = made.py()?;
     let surface =
         LazySurface::later(Box::new(move |tree: &LinearOctree| Ok(Some(HermiteData::from_shape(&*built, tree)))));
     Ok(Solid { tree: Arc::new(tree), meta: Metadata::default(), surface })
@@ -603,6 +765,7 @@ fn inside_of(name: &str) -> PyResult<InsideRule> {
 
 /// Voxelizes a loaded mesh or patch set as `octsolid voxelize` does, keeping how to
 /// make its surface data.
+#[allow(clippy::too_many_arguments)]
 fn voxelize_input(
     py: Python<'_>,
     input: Input,
@@ -611,19 +774,26 @@ fn voxelize_input(
     domain: Option<([f64; 3], f64)>,
     up: octsolid::shape::Axis,
     what: &str,
+    budget: MemoryBudget,
+    progress: Option<Want>,
 ) -> PyResult<Solid> {
     let inside = inside_of(inside)?;
     let domain = match domain {
         Some(d) => domain_of(d, depth)?,
         None => import::default_domain(&input, depth).map_err(|e| cannot(what, e))?,
     };
-    let (tree, summary) = py
-        .detach(|| {
-            import::voxelize_input(&input, domain, &ImportOptions { fill: Fill::Solid, inside, ..Default::default() })
-        })
-        .map_err(|e| cannot(what, e))?;
+    let reporter = reporter(progress, "voxelizing");
+    let made = py.detach(|| {
+        import::voxelize_input(
+            &input,
+            domain,
+            &ImportOptions { fill: Fill::Solid, inside, budget, progress: &reporter },
+        )
+    });
+    reporter.check()?;
+    let (tree, summary) = made.map_err(|e| cannot(what, e))?;
     let surface = LazySurface::later(Box::new(move |tree: &LinearOctree| {
-        import::surface_of_input(&input, tree, &summary, MemoryBudget::default())
+        import::surface_of_input(&input, tree, &summary, budget)
     }));
     Ok(Solid { tree: Arc::new(tree), meta: Metadata { up: Some(up), units: None }, surface })
 }
@@ -661,9 +831,10 @@ fn as_2d<'py>(
 
 /// The solid a triangle mesh encloses: `vertices` `(n, 3)` floats, `faces` `(m, 3)`
 /// integer indices, voxelized at `depth` in the cube around it (2% margin) or
-/// `domain`, inside by `inside`: `"auto"`, `"parity"` (watertight) or `"winding"`.
+/// `domain`, inside by `inside`: `"auto"`, `"parity"` (watertight) or `"winding"`
+/// (`memory_budget`, `progress`: as `voxelize`'s).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, depth, inside="auto", domain=None))]
+#[pyo3(signature = (vertices, faces, depth, inside="auto", domain=None, memory_budget=None, progress=None))]
 pub fn from_mesh(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
@@ -671,6 +842,8 @@ pub fn from_mesh(
     depth: u8,
     inside: &str,
     domain: Option<([f64; 3], f64)>,
+    memory_budget: Option<Budget>,
+    progress: Option<Want>,
 ) -> PyResult<Solid> {
     // Any array-like (lists, other dtypes, trimesh's tracked arrays) as numpy's own.
     let vertices = as_2d(py, vertices, "float64", "vertices")?;
@@ -702,32 +875,40 @@ pub fn from_mesh(
         })
         .collect::<PyResult<Vec<_>>>()?;
     let mesh = TriangleMesh::new(vertices, triangles).py()?;
-    voxelize_input(py, Input::Mesh(mesh), depth, inside, domain, octsolid::shape::Axis::Z, "mesh")
+    let budget = budget_of(memory_budget);
+    voxelize_input(py, Input::Mesh(mesh), depth, inside, domain, octsolid::shape::Axis::Z, "mesh", budget, progress)
 }
 
 /// The solid the mesh or patch file at `path` encloses (`.obj`, `.stl`, `.ply`,
-/// `.patches`), voxelized as `octsolid voxelize path --depth depth` does.
+/// `.patches`), voxelized as `octsolid voxelize path --depth depth` does
+/// (`memory_budget`, `progress`: as `voxelize`'s).
 #[pyfunction]
-#[pyo3(signature = (path, depth=8, inside="auto", domain=None))]
+#[pyo3(signature = (path, depth=8, inside="auto", domain=None, memory_budget=None, progress=None))]
 pub fn load_mesh(
     py: Python<'_>,
     path: PathBuf,
     depth: u8,
     inside: &str,
     domain: Option<([f64; 3], f64)>,
+    memory_budget: Option<Budget>,
+    progress: Option<Want>,
 ) -> PyResult<Solid> {
     let up = FileKind::of(&path, FileKind::SURFACES).py()?.default_up();
     let input = py.detach(|| Input::read(&path)).py()?;
-    voxelize_input(py, input, depth, inside, domain, up, &path.display().to_string())
+    let (what, budget) = (path.display().to_string(), budget_of(memory_budget));
+    voxelize_input(py, input, depth, inside, domain, up, &what, budget, progress)
 }
 
 /// The solid in the file at `path`: `.oct`, `.octs`, `.vox`, `.binvox` or `.vdb` (a
 /// file of several solids gives their union), with the surface data and metadata the
-/// file carries.
+/// file carries; `memory_budget`: bytes or a size like `"2GiB"` (`--memory-budget`),
+/// a larger file refused before it is read.
 #[pyfunction]
-pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Solid> {
+#[pyo3(signature = (path, memory_budget=None))]
+pub fn load(py: Python<'_>, path: PathBuf, memory_budget: Option<Budget>) -> PyResult<Solid> {
     FileKind::of(&path, FileKind::SOLIDS).py()?;
-    let mut file = py.detach(|| SolidFile::read(&path, &ReadOptions::default())).py()?;
+    let options = ReadOptions { budget: budget_of(memory_budget), ..ReadOptions::default() };
+    let mut file = py.detach(|| SolidFile::read(&path, &options)).py()?;
     let meta = file.meta;
     let surface = LazySurface::read(file.surface.take());
     Ok(Solid { tree: Arc::new(file.into_union()), meta, surface })

@@ -1,5 +1,6 @@
 """`progress=True` draws a bar on the standard error when it is a terminal (a
-pseudo-terminal here) and nothing otherwise; the result is the same either way."""
+pseudo-terminal here) and nothing otherwise; the result is the same either way. A
+callable `progress=f` is called with `(done, total)`, `done` growing to `total`."""
 
 import os
 import pty
@@ -7,12 +8,16 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 import octsolid as o
-from conftest import SCENES
+from conftest import MODELS, SCENES
 
 CODE = (
-    "import octsolid as o\n"
+    "import octsolid as o, tempfile, os\n"
+    "s = o.voxelize(o.Sphere((0, 0, 0), 1), 5, progress=True)\n"
+    "d = tempfile.TemporaryDirectory()\n"
+    "s.export(os.path.join(d.name, 'ball.obj'), progress=True)\n"
     "o.render(o.voxelize(o.Sphere((0, 0, 0), 1), 5), size=(32, 24), progress=True)\n"
     f"o.radiosity({str(SCENES / 'cornell.toml')!r}, max_shots=20, progress=True)\n"
 )
@@ -39,7 +44,8 @@ def stderr_on_a_terminal(code):
 
 def test_progress_draws_a_bar_on_a_terminal_only():
     shown = stderr_on_a_terminal(CODE)
-    assert "render: 100%" in shown and "radiosity: 100%" in shown, shown
+    for label in ("voxelizing", "meshing", "render", "radiosity"):
+        assert f"{label}: 100%" in shown, shown
     piped = subprocess.run([sys.executable, "-c", CODE], capture_output=True, text=True)
     assert piped.returncode == 0 and piped.stderr == "", piped.stderr
 
@@ -48,3 +54,65 @@ def test_progress_changes_nothing_of_the_result():
     solid = o.voxelize(o.Sphere((0, 0, 0), 1), 5)
     with_bar = o.render(solid, size=(32, 24), progress=True)
     assert np.array_equal(with_bar, o.render(solid, size=(32, 24)))
+
+
+class Calls:
+    """A `progress=` callable that records its calls."""
+
+    def __init__(self):
+        self.calls = []
+
+    def __call__(self, done, total):
+        self.calls.append((done, total))
+
+    def check(self, stages=1):
+        """Called; within each stage `done` grows from 0 to `total`, never backwards."""
+        assert self.calls, "never called"
+        starts = [i for i, (done, _) in enumerate(self.calls) if done == 0]
+        assert starts and starts[0] == 0 and len(starts) <= stages + 1, self.calls
+        for i, (done, total) in enumerate(self.calls):
+            assert 0 <= done <= total and total > 0, self.calls
+            if i > 0 and done != 0:
+                before, before_total = self.calls[i - 1]
+                assert total == before_total and done > before, self.calls
+        assert self.calls[-1][0] == self.calls[-1][1], self.calls
+
+
+def test_a_callable_sees_every_call_grow_to_its_total(tmp_path):
+    part = (o.Box((0, 0, 0), 2) & o.Sphere((0, 0, 0), 1.3)) - o.Cylinder((0, 0, 0), "z", 0.6, 3)
+    f = Calls()
+    solid = o.voxelize(part, 6, progress=f)
+    f.check()
+    assert np.array_equal(solid.keys(), o.voxelize(part, 6).keys())
+    vertices, faces = solid.mesh()
+    calls = {
+        "from_mesh": lambda p: o.from_mesh(vertices, faces, 6, progress=p),
+        "load_mesh": lambda p: o.load_mesh(MODELS / "bunny-watertight.obj", 6, progress=p),
+        "save .stl": lambda p: solid.save(tmp_path / "part.stl", progress=p),
+        "save .oct": lambda p: solid.save(tmp_path / "part.oct", progress=p),
+        "export": lambda p: solid.export(tmp_path / "part.obj", progress=p),
+        "export .glb": lambda p: solid.export(tmp_path / "part.glb", progress=p),
+        "offset": lambda p: solid.offset(0.05, progress=p),
+        # Three stages: the voxels resampled, the surface data moved, the voxels again
+        # from the moved surface.
+        "transform": lambda p: solid.transform(rotate=[("z", 30)], progress=p),
+        "render": lambda p: o.render(solid, size=(64, 48), progress=p),
+        "radiosity": lambda p: o.radiosity(SCENES / "cornell.toml", max_shots=20, progress=p),
+    }
+    for name, call in calls.items():
+        f = Calls()
+        call(f)
+        try:
+            f.check(stages=3 if name == "transform" else 1)
+        except AssertionError as e:
+            raise AssertionError(f"{name}: {e}") from None
+
+
+def test_a_callable_that_raises_raises_from_the_call():
+    def broken(done, total):
+        raise KeyError("stop")
+
+    with pytest.raises(KeyError, match="stop"):
+        o.voxelize(o.Sphere((0, 0, 0), 1), 7, progress=broken)
+    with pytest.raises(o.ArgumentError, match="progress"):
+        o.voxelize(o.Sphere((0, 0, 0), 1), 4, progress="yes")
