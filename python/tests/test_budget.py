@@ -69,7 +69,6 @@ def test_every_budgeted_call_refuses_a_tiny_budget(tmp_path):
         # cannot write (`FileError`), the budget's words in the message.
         message = refused(call, 64, o.FileError if name == "save" else o.BudgetError)
         assert "the memory budget is 64 B" in message, (name, message)
-        call(memory_budget=PLENTY)
 
 
 def test_a_generous_budget_changes_nothing(tmp_path):
