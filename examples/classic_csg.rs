@@ -2,8 +2,12 @@
 //! minus three cylinders of radius 0.6 along x, y and z.
 //!
 //! Run: `cargo run --release --example classic_csg` (writes example-output/classic_csg/classic_csg.oct and .png).
+//! With `-- --time`, also prints the time of the work itself (from the model to the
+//! PNG written, timed in the process), as `examples/python/classic_part.py` prints its
+//! own: `python/bench_classic.sh` sets the two against each other.
 
 use std::f64::consts::PI;
+use std::time::Instant;
 
 use octsolid::prelude::*;
 
@@ -14,6 +18,7 @@ fn main() -> std::process::ExitCode {
 }
 
 fn classic_csg(out: &std::path::Path) -> Result<()> {
+    let started = Instant::now();
     // Model: (cube & ball) minus three bores.
     let cube = Cuboid::new(DVec3::ZERO, DVec3::splat(2.0))?;
     let ball = Sphere::new(DVec3::ZERO, 1.3)?;
@@ -25,6 +30,7 @@ fn classic_csg(out: &std::path::Path) -> Result<()> {
     let solid = voxelize(&part, domain, &VoxelizeOptions::default())?;
     oct::write(&solid, out.join("classic_csg.oct"))?;
     png::write(&slice_image(&solid, Axis::Z, 0.8, 768)?, out.join("classic_csg.png"))?;
+    let work = started.elapsed();
 
     // Analytic volume: the ball clipped by the cube loses six caps of height h = R - 1
     // (they never overlap since 2 > R^2); the three bores lie wholly inside it and
@@ -38,5 +44,8 @@ fn classic_csg(out: &std::path::Path) -> Result<()> {
     println!("classic CSG part at depth 9: {} nodes, {} voxels", solid.node_count(), solid.voxel_count());
     println!("volume {:.5}, analytic {:.5} ({:+.3}%)", solid.volume(), exact, 100.0 * (solid.volume() / exact - 1.0));
     println!("classic_csg.oct and classic_csg.png (slice at z = 0.8)");
+    if std::env::args().any(|a| a == "--time") {
+        println!("work {:.1} ms (voxelize, the .oct, the slice's PNG)", work.as_secs_f64() * 1e3);
+    }
     Ok(())
 }
