@@ -12,7 +12,7 @@ use common::{Rng, random_csg, random_octree};
 use glam::DVec3;
 use octsolid::mesh::{BoundaryOptions, PolygonTables, TriangleMesh, boundary_mesh, read_mesh, write_mesh};
 use octsolid::octree::{Domain, LinearOctree, Node, VoxelizeOptions, voxelize};
-use octsolid::shape::{Csg, Cuboid, Sphere};
+use octsolid::shape::Sphere;
 
 const MODES: [BoundaryOptions; 2] = [BoundaryOptions { unit_faces: false }, BoundaryOptions { unit_faces: true }];
 

@@ -9,7 +9,7 @@
 //! | `voxelize(shape, depth)` | `shape` | `Domain::around` (2% margin), `octree::voxelize` |
 //! | `load_mesh(path, depth)`, `from_mesh` | `voxelize` | `import::voxelize_input` |
 //! | `load(path)` | any command's input | `SolidFile::read`, its union |
-//! | `a | b`, `&`, `-`, `^` | `csg` | `common_domain`, `fit_to`, `combine_all`, `HermiteData::combine` |
+//! | `a | b`, `&`, `-`, `^`; `.union(b)`, `.intersection`, `.difference`, `.symmetric_difference` | `csg` | `common_domain`, `fit_to`, `combine_all`, `HermiteData::combine` |
 //! | `.save(path)` | `-o path` | `write_solid_file` (`.oct` with its surface data) |
 //! | `.export(path)` | `export` | `surface::extract`, `separate_sheets` (STL), `write_mesh` |
 //! | `.transform(...)` | `transform` | `Motion`, `LinearOctree::transformed`, `resample_with_surface` |
@@ -17,7 +17,11 @@
 //! | `.measure()` | `info` | `LinearOctree::measure` |
 //!
 //! The GIL is released (`Python::detach`) for every step that voxelizes, combines,
-//! moves, meshes, measures or touches a file.
+//! moves, meshes, measures or touches a file. The calls that do long work take
+//! `memory_budget=` (the CLI's `--memory-budget`, [`crate::budget`]) and most take
+//! `progress=` (a bar or a callable, [`crate::progress`]); the operators use the
+//! default budget, the named set operations take one (the whole job's, as `octsolid
+//! csg` counts it: the operands held, the result made beside them).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -835,6 +839,7 @@ fn as_2d<'py>(
 /// (`memory_budget`, `progress`: as `voxelize`'s).
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, depth, inside="auto", domain=None, memory_budget=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
 pub fn from_mesh(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
