@@ -75,7 +75,7 @@ pub(super) fn axis_cost(o: i64) -> i64 {
 /// `x` in `lo..lo + out.len()`, `FAR` where there is none (see the module doc); with
 /// `nearest = (of, to)`, `to[x - lo] = of[i]` for the minimizing `i` (the first of equal
 /// ones along the line).
-fn lower_envelope(
+pub(super) fn lower_envelope(
     g: &[i64],
     lo: usize,
     cap: i64,
@@ -154,7 +154,7 @@ fn separator(g: &[i64], v: usize, u: usize, lo: i64, hi: i64) -> i64 {
 /// infinite, as two sweeps;
 /// with `nearest = (base, to)`, `to[x - lo] = base + ` that entry's index (the
 /// earlier of two as near).
-fn nearest_site_along_row(row: &[bool], lo: usize, cap: i64, out: &mut [i64], nearest: Option<(u32, &mut [u32])>) {
+pub(super) fn nearest_site_along_row(row: &[bool], lo: usize, cap: i64, out: &mut [i64], nearest: Option<(u32, &mut [u32])>) {
     let hi = lo + out.len();
     if !row.contains(&true) {
         out.fill(FAR);

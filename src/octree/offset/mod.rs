@@ -48,8 +48,9 @@
 mod band;
 mod edt;
 mod subvoxel;
+mod tiles;
 
-use band::{Band, Step, changed_runs};
+use band::{Step, changed_runs};
 pub use subvoxel::{FaceCrossings, NewCrossing, Staircase};
 
 use super::linear::LinearOctree;
@@ -107,7 +108,7 @@ impl LinearOctree {
             return 0;
         }
         let step = Step { radius: distance_in_voxels.abs(), grow: distance_in_voxels > 0.0 };
-        Band::of(self, step, along_surface).map_or(0, |band| band.estimate)
+        band::estimate(self, step, along_surface)
     }
 
     /// Refuses `job` before any of its steps (offsets by `steps` voxels) runs when the

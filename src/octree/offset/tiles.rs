@@ -1,0 +1,458 @@
+//! The band of a step over the cubes as a sparse set of small tiles: the exact squared
+//! distance of every voxel near the surface, each pass of the separable transform run
+//! once along whole lines of tiles, no halo recomputed.
+//!
+//! The transform is [`super::edt`]'s (Saito and Toriwaki 1994, Meijster et al. 2000,
+//! Felzenszwalb and Huttenlocher 2012, the cost to the nearest cube of the other
+//! phase), but its domain is not a brick with a halo: it is the set of tiles of `T =
+//! 2^k` voxels a side (`T = 8`) the step can reach, and each pass (x, then y, then z)
+//! walks the lines of that set along its axis, a run of consecutive tiles at a time,
+//! so a voxel is computed once a pass (the bricks of [`super::band`], each with a halo
+//! of `R` voxels, computed `(B + 2R)^3 / B^3` voxels a brick voxel: 3.6 at `R = 10`).
+//!
+//! Which tiles (`t = ceil(R / T)`, `R` the reach of the step, [`super::band`]):
+//! a tile is *site* when all its voxels are of the phase the step spreads (full
+//! growing, empty shrinking), *mixed*, or *free* (none of that phase). The tiles
+//! computed are the mixed and free tiles within `t` tiles (Chebyshev) of a seed: a
+//! mixed tile, or a free tile touching a site tile (26 neighbours; shrinking, the
+//! outside of the domain counts as site). Why that is enough: a voxel that changes
+//! lies within `R` voxels on each axis of a site with a neighbour of the other phase,
+//! and so do the two corners of the box between them the passes go through (`(p_x,
+//! s_y, s_z)` and `(p_x, p_y, s_z)`); their tiles are within `t` of that site's tile;
+//! the nearest tile with a site to a free tile `Y` is mixed or site, and the tile
+//! before it on the way from `Y` is a seed, so `Y` lies within `t` of a seed.
+//!
+//! Site tiles are never stored: every pass value in them is 0 (all sites are seeds
+//! here, not only the boundary's, so a site's own value is 0), and along a line the
+//! first voxel of the site tile beyond a run's end is nearer than any other site
+//! beyond it, so a run carries at most one site or zero each end. Tiles that are none
+//! of these hold no value under the cap. Shrinking, the voxel past a domain face is a
+//! site. Every value the passes keep is the exact one over this reduced set, which is
+//! the true one for every voxel that can change (by the argument above), so the result
+//! is exactly [`super::band`]'s bricks' (checked voxel for voxel against the dense
+//! brute force, tests/offset.rs).
+//!
+//! Memory follows the tiles: 4 bytes a voxel for each of two passes' values and a
+//! byte a voxel of a mixed tile's occupancy; the tile lists. Runs are transformed in
+//! parallel, each writing only its own tiles, and the changes are gathered in Morton
+//! order, so the result does not depend on the number of threads.
+
+use rayon::prelude::*;
+
+use super::band::Step;
+use super::edt::{FAR, lower_envelope, nearest_site_along_row};
+use crate::morton;
+use crate::octree::window::keys_meeting;
+use crate::octree::{LinearOctree, NodeKey};
+use crate::progress::Progress;
+
+/// Tile edge, as a power of two (at most the domain's).
+const TILE_K: u32 = 3;
+
+/// A tile's phase as the step sees it.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Kind {
+    /// Every voxel of the phase the step spreads.
+    Site,
+    /// Both phases.
+    Mixed,
+    /// No voxel of that phase.
+    Free,
+}
+
+/// A tile position, packed `z << 42 | y << 21 | x` (sorting gives lines along x).
+type Packed = u64;
+
+fn pack(c: [u32; 3]) -> Packed {
+    (u64::from(c[2]) << 42) | (u64::from(c[1]) << 21) | u64::from(c[0])
+}
+
+fn unpack(p: Packed) -> [u32; 3] {
+    [(p & 0x1f_ffff) as u32, ((p >> 21) & 0x1f_ffff) as u32, (p >> 42) as u32]
+}
+
+/// The tiles a step over the cubes transforms and the memory it is estimated to need.
+pub(super) struct TileBand {
+    /// Tile edge, as a power of two.
+    k: u32,
+    /// The tiles, sorted by packed position.
+    tiles: Vec<Packed>,
+    /// Estimated peak memory of the step, in bytes.
+    pub estimate: u64,
+}
+
+/// What a step's tile classification reads: the tree's keys and the tile scale.
+struct Tiles<'a> {
+    keys: &'a [NodeKey],
+    k: u32,
+    /// Tiles a side of the domain.
+    n: u32,
+    grow: bool,
+}
+
+impl Tiles<'_> {
+    /// The kind of the tile at `c` (outside the domain: site when shrinking, free else).
+    fn kind(&self, c: [i64; 3]) -> Kind {
+        if c.iter().any(|&x| x < 0 || x >= i64::from(self.n)) {
+            return if self.grow { Kind::Free } else { Kind::Site };
+        }
+        let code = morton::encode(c[0] as u32, c[1] as u32, c[2] as u32);
+        let full = match keys_meeting(self.keys, NodeKey::new(code << (3 * self.k), self.k)) {
+            [] => Some(false),
+            [key] if key.k() >= self.k => Some(true),
+            _ => None,
+        };
+        match full {
+            None => Kind::Mixed,
+            Some(full) if full == self.grow => Kind::Site,
+            Some(_) => Kind::Free,
+        }
+    }
+}
+
+impl TileBand {
+    /// The tiles of `step` (reach `r` voxels, at least 1) on `tree` (see the module doc).
+    pub(super) fn of(tree: &LinearOctree, step: Step, r: u32) -> TileBand {
+        let depth = u32::from(tree.depth());
+        let k = TILE_K.min(depth);
+        let n = tree.domain().resolution() >> k;
+        let tiles = Tiles { keys: tree.keys(), k, n, grow: step.grow };
+        let t = r.div_ceil(1 << k);
+        let seeds = seeds(&tiles);
+        let mut band = dilate(seeds, t, n);
+        band.retain(|&p| tiles.kind(unpack(p).map(i64::from)) != Kind::Site);
+        let voxels = band.len() as u64 * (1u64 << (3 * k));
+        // Two passes' values (4 bytes each), the occupancy of mixed tiles (at most a
+        // byte a voxel), three orders of the tiles and the runs, the trees in and out.
+        let estimate = 9 * voxels + 40 * band.len() as u64 + 3 * tree.bytes() as u64;
+        TileBand { k, tiles: band, estimate }
+    }
+
+    /// The Morton runs of the voxels `step` changes (sorted), with its `limit` on four
+    /// times the squared distance; progress in tiles, three passes each.
+    pub(super) fn changed_runs(&self, tree: &LinearOctree, step: Step, limit: i64, progress: &dyn Progress) -> Vec<(u64, u64)> {
+        let (k, grow) = (self.k, step.grow);
+        let t = 1usize << k;
+        let v = t * t * t;
+        let n = tree.domain().resolution() >> k;
+        let kinds = Tiles { keys: tree.keys(), k, n, grow };
+        progress.start(3 * self.tiles.len() as u64);
+        // Each tile's sites (none for a free tile), x fastest.
+        let sites: Vec<Option<Vec<bool>>> = self
+            .tiles
+            .par_iter()
+            .map(|&p| {
+                let c = unpack(p).map(|x| i64::from(x) << k);
+                let full = tree.occupancy(c, t as u32);
+                let any = full.iter().any(|&f| f == grow);
+                any.then(|| full.into_iter().map(|f| f == grow).collect())
+            })
+            .collect();
+        let cap = limit;
+        // Pass one, along x: the cost to the nearest site along each row.
+        let mut pass_x = vec![u32::MAX; self.tiles.len() * v];
+        let runs_x = runs(&self.tiles, 0);
+        for_runs(&runs_x, &mut pass_x, v, &kinds, progress, |run, slots| {
+            let len = run.len() * t;
+            let mut row = vec![false; len + 2];
+            let mut costs = vec![0i64; len];
+            let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+            if !before && !after && run.slots.iter().all(|&s| sites[s].is_none()) {
+                return;
+            }
+            for yz in 0..t * t {
+                row[0] = before;
+                row[len + 1] = after;
+                for (j, &s) in run.slots.iter().enumerate() {
+                    let cells = &mut row[1 + j * t..1 + (j + 1) * t];
+                    match &sites[s] {
+                        Some(site) => cells.copy_from_slice(&site[t * yz..t * (yz + 1)]),
+                        None => cells.fill(false),
+                    }
+                }
+                nearest_site_along_row(&row, 1, cap, &mut costs, None);
+                for (j, o) in slots.iter_mut().enumerate() {
+                    for (x, c) in costs[j * t..(j + 1) * t].iter().enumerate() {
+                        o[x + t * yz] = to_u32(*c);
+                    }
+                }
+            }
+        });
+        // Passes two and three, along y then z: lower envelopes of the last pass's values.
+        let mut pass_y = vec![u32::MAX; self.tiles.len() * v];
+        let runs_y = runs(&self.tiles, 1);
+        envelope_pass(&runs_y, &pass_x, &mut pass_y, v, t, [t, 1, t * t], cap, &kinds, progress);
+        let runs_z = runs(&self.tiles, 2);
+        // Pass three writes over pass one's values, no longer read.
+        envelope_pass(&runs_z, &pass_y, &mut pass_x, v, t, [t * t, 1, t], cap, &kinds, progress);
+        drop(pass_y);
+        progress.finish();
+        // The voxels that change: not sites, within the limit; in Morton order.
+        let mut order: Vec<(u64, usize)> =
+            self.tiles.iter().enumerate().map(|(s, &p)| (encode(unpack(p)), s)).collect();
+        order.par_sort_unstable();
+        let parts: Vec<Vec<(u64, u64)>> = order
+            .par_chunks(1024)
+            .map(|chunk| {
+                let mut runs: Vec<(u64, u64)> = Vec::new();
+                for &(code, s) in chunk {
+                    let base = code << (3 * k);
+                    let d = &pass_x[s * v..(s + 1) * v];
+                    for i in 0..v as u64 {
+                        let [x, y, z] = morton::decode(i).map(|c| c as usize);
+                        let at = x + t * (y + t * z);
+                        let site = sites[s].as_ref().is_some_and(|site| site[at]);
+                        if i64::from(d[at]) <= limit && d[at] != u32::MAX && !site {
+                            let code = base + i;
+                            match runs.last_mut() {
+                                Some(last) if last.1 == code => last.1 = code + 1,
+                                _ => runs.push((code, code + 1)),
+                            }
+                        }
+                    }
+                }
+                runs
+            })
+            .collect();
+        let mut out: Vec<(u64, u64)> = Vec::new();
+        for part in parts {
+            for run in part {
+                match out.last_mut() {
+                    Some(last) if last.1 == run.0 => last.1 = run.1,
+                    _ => out.push(run),
+                }
+            }
+        }
+        out
+    }
+}
+
+fn encode(c: [u32; 3]) -> u64 {
+    morton::encode(c[0], c[1], c[2])
+}
+
+/// A value of a pass as stored: `u32::MAX` for none in reach.
+fn to_u32(c: i64) -> u32 {
+    if c >= FAR { u32::MAX } else { c as u32 }
+}
+
+/// A run of consecutive tiles along one axis and what lies just beyond each end.
+struct Run {
+    /// The tiles' slots (indices into the band's tiles), in order along the axis.
+    slots: Vec<usize>,
+    /// The first tile's position.
+    first: [u32; 3],
+    /// The axis.
+    axis: usize,
+    /// The kinds of the tiles just before and after the run (filled in by [`for_runs`]).
+    before: Kind,
+    after: Kind,
+}
+
+impl Run {
+    fn len(&self) -> usize {
+        self.slots.len()
+    }
+}
+
+/// The runs of consecutive tiles of `tiles` (sorted by packed position) along `axis`.
+fn runs(tiles: &[Packed], axis: usize) -> Vec<Run> {
+    // Order by the other two coordinates, then this one.
+    let key = |c: [u32; 3]| -> u64 {
+        let (a, b) = match axis {
+            0 => (c[2], c[1]),
+            1 => (c[2], c[0]),
+            _ => (c[1], c[0]),
+        };
+        (u64::from(a) << 42) | (u64::from(b) << 21) | u64::from(c[axis])
+    };
+    let mut order: Vec<(u64, usize)> = tiles.iter().enumerate().map(|(s, &p)| (key(unpack(p)), s)).collect();
+    order.par_sort_unstable();
+    let mut out: Vec<Run> = Vec::new();
+    let mut last: Option<u64> = None;
+    for (k, s) in order {
+        match (last, out.last_mut()) {
+            (Some(l), Some(run)) if k == l + 1 => run.slots.push(s),
+            _ => out.push(Run { slots: vec![s], first: unpack(tiles[s]), axis, before: Kind::Free, after: Kind::Free }),
+        }
+        last = Some(k);
+    }
+    out
+}
+
+/// Runs `f(run, its tiles' output slices)` over every run in parallel, each run's
+/// tiles' values in `values` (`v` a tile) given to it alone; the kinds beyond the
+/// run's ends filled in first.
+fn for_runs<F>(runs: &[Run], values: &mut [u32], v: usize, kinds: &Tiles, progress: &dyn Progress, f: F)
+where
+    F: Fn(&Run, &mut [&mut [u32]]) + Sync,
+{
+    let mut tiles: Vec<Option<&mut [u32]>> = values.chunks_mut(v).map(Some).collect();
+    let mut jobs: Vec<(Run, Vec<&mut [u32]>)> = Vec::with_capacity(runs.len());
+    for run in runs {
+        let slots: Vec<&mut [u32]> =
+            run.slots.iter().map(|&s| tiles[s].take().expect("a tile in one run an axis")).collect();
+        let mut before = run.first.map(i64::from);
+        before[run.axis] -= 1;
+        let mut after = run.first.map(i64::from);
+        after[run.axis] += run.len() as i64;
+        let run = Run {
+            slots: run.slots.clone(),
+            first: run.first,
+            axis: run.axis,
+            before: kinds.kind(before),
+            after: kinds.kind(after),
+        };
+        jobs.push((run, slots));
+    }
+    jobs.par_iter_mut().for_each(|(run, slots)| {
+        f(run, slots);
+        progress.advance(run.len() as u64);
+    });
+}
+
+/// One envelope pass along `runs`' axis: `to = min_i (axis_cost(x - i) + from(i))` along
+/// each line, a site tile beyond a run's end giving 0 there; `strides` are the steps
+/// within a tile along the axis and the two others.
+#[allow(clippy::too_many_arguments)]
+fn envelope_pass(
+    runs: &[Run],
+    from: &[u32],
+    to: &mut [u32],
+    v: usize,
+    t: usize,
+    strides: [usize; 3],
+    cap: i64,
+    kinds: &Tiles,
+    progress: &dyn Progress,
+) {
+    for_runs(runs, to, v, kinds, progress, |run, slots| {
+        let len = run.len() * t;
+        let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+        let mut g = vec![FAR; len + 2];
+        let mut out = vec![0i64; len];
+        let (mut sites, mut starts) = (Vec::new(), Vec::new());
+        for b in 0..t {
+            for a in 0..t {
+                let base = a * strides[1] + b * strides[2];
+                g[0] = if before { 0 } else { FAR };
+                g[len + 1] = if after { 0 } else { FAR };
+                let mut any = before || after;
+                for (j, &s) in run.slots.iter().enumerate() {
+                    let tile = &from[s * v..(s + 1) * v];
+                    for i in 0..t {
+                        let d = tile[base + i * strides[0]];
+                        let d = if d == u32::MAX { FAR } else { i64::from(d) };
+                        any |= d <= cap;
+                        g[1 + j * t + i] = d;
+                    }
+                }
+                if !any {
+                    continue;
+                }
+                lower_envelope(&g, 1, cap, &mut out, &mut sites, &mut starts, None);
+                for (j, tile) in slots.iter_mut().enumerate() {
+                    for i in 0..t {
+                        let o = out[j * t + i];
+                        tile[base + i * strides[0]] = if o > cap { u32::MAX } else { o as u32 };
+                    }
+                }
+            }
+        }
+    });
+}
+
+/// The seeds (see the module doc): the mixed tiles and the free tiles touching a site
+/// tile, sorted by packed position.
+fn seeds(tiles: &Tiles) -> Vec<Packed> {
+    let k = tiles.k;
+    let n = i64::from(tiles.n);
+    let mut out: Vec<Packed> = tiles
+        .keys
+        .par_chunks(4096)
+        .flat_map_iter(|chunk| {
+            let mut out = Vec::new();
+            let mut last_mixed = u64::MAX;
+            for key in chunk {
+                if key.k() < k {
+                    let tile = key.start() >> (3 * k);
+                    if tile != last_mixed {
+                        last_mixed = tile;
+                        out.push(pack(morton::decode(tile)));
+                    }
+                    continue;
+                }
+                // A key of whole tiles: growing, the tiles around it that are free;
+                // shrinking, its own tiles touching an empty one or the outside.
+                let min = morton::decode(key.start() >> (3 * k)).map(i64::from);
+                let size = 1i64 << (key.k() - k);
+                let inside = |c: [i64; 3]| (0..3).all(|a| c[a] >= min[a] && c[a] < min[a] + size);
+                if tiles.grow {
+                    for_shell(min.map(|c| c - 1), min.map(|c| c + size + 1), n, |c| {
+                        if !inside(c) && tiles.kind(c) == Kind::Free {
+                            out.push(pack(c.map(|x| x as u32)));
+                        }
+                    });
+                } else {
+                    for_shell(min, min.map(|c| c + size), n, |c| {
+                        let touches = (0..27).filter(|&d| d != 13).any(|d| {
+                            let e = [d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1];
+                            let nb: [i64; 3] = std::array::from_fn(|a| c[a] + e[a]);
+                            !inside(nb) && tiles.kind(nb) == Kind::Site
+                        });
+                        if touches {
+                            out.push(pack(c.map(|x| x as u32)));
+                        }
+                    });
+                }
+            }
+            out
+        })
+        .collect();
+    out.par_sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Calls `f` for each tile of the box `[lo, hi)` on its boundary layer, clipped to the
+/// domain (`0..n`); rows through the box's inside visit only their two ends.
+fn for_shell(lo: [i64; 3], hi: [i64; 3], n: i64, mut f: impl FnMut([i64; 3])) {
+    let inside = |x: i64| (0..n).contains(&x);
+    for z in lo[2].max(0)..hi[2].min(n) {
+        for y in lo[1].max(0)..hi[1].min(n) {
+            if z == lo[2] || z == hi[2] - 1 || y == lo[1] || y == hi[1] - 1 {
+                (lo[0].max(0)..hi[0].min(n)).for_each(|x| f([x, y, z]));
+                continue;
+            }
+            if inside(lo[0]) {
+                f([lo[0], y, z]);
+            }
+            if hi[0] - 1 != lo[0] && inside(hi[0] - 1) {
+                f([hi[0] - 1, y, z]);
+            }
+        }
+    }
+}
+
+/// The tiles within `t` (Chebyshev) of `set`, inside the domain of `n` tiles a side,
+/// sorted by packed position: one axis at a time.
+fn dilate(mut set: Vec<Packed>, t: u32, n: u32) -> Vec<Packed> {
+    for axis in 0..3 {
+        let mut next: Vec<Packed> = set
+            .par_iter()
+            .flat_map_iter(|&p| {
+                let c = unpack(p);
+                let (lo, hi) = (c[axis].saturating_sub(t), (c[axis] + t).min(n - 1));
+                (lo..=hi).map(move |x| {
+                    let mut d = c;
+                    d[axis] = x;
+                    pack(d)
+                })
+            })
+            .collect();
+        next.par_sort_unstable();
+        next.dedup();
+        set = next;
+    }
+    set
+}
