@@ -40,8 +40,8 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::edt::{FAR, Scratch, brick_distances};
-use super::tiles::TileBand;
 use super::subvoxel::{FaceCrossings, NewCrossing, Plane, distance_to_site};
+use super::tiles::TileBand;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::morton;
@@ -116,7 +116,8 @@ impl Band {
         // with the nearest sites), each voxel's distance and direction (32 bytes); the
         // result: the keys in, the bricks, a boundary layer of keys and crossings a
         // brick face.
-        let scratch = (h * h * h) as u64 + 12 * (m * h * h + m * m * h + 2 * m * m * m) as u64 + 32 * (m * m * m) as u64;
+        let scratch =
+            (h * h * h) as u64 + 12 * (m * h * h + m * m * h + 2 * m * m * m) as u64 + 32 * (m * m * m) as u64;
         let estimate = rayon::current_num_threads() as u64 * scratch
             + 8 * bricks.len() as u64
             + (16 + 24) * 6 * (b * b) as u64 * bricks.len() as u64

@@ -154,7 +154,13 @@ fn separator(g: &[i64], v: usize, u: usize, lo: i64, hi: i64) -> i64 {
 /// infinite, as two sweeps;
 /// with `nearest = (base, to)`, `to[x - lo] = base + ` that entry's index (the
 /// earlier of two as near).
-pub(super) fn nearest_site_along_row(row: &[bool], lo: usize, cap: i64, out: &mut [i64], nearest: Option<(u32, &mut [u32])>) {
+pub(super) fn nearest_site_along_row(
+    row: &[bool],
+    lo: usize,
+    cap: i64,
+    out: &mut [i64],
+    nearest: Option<(u32, &mut [u32])>,
+) {
     let hi = lo + out.len();
     if !row.contains(&true) {
         out.fill(FAR);

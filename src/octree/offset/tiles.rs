@@ -42,7 +42,7 @@ use rayon::prelude::*;
 use super::band::Step;
 use super::edt::{FAR, lower_envelope, nearest_site_along_row};
 use crate::morton;
-use crate::octree::window::keys_meeting;
+use crate::octree::window::{keys_meeting_near, range_meeting_near};
 use crate::octree::{LinearOctree, NodeKey};
 use crate::progress::Progress;
 
@@ -75,8 +75,14 @@ fn unpack(p: Packed) -> [u32; 3] {
 pub(super) struct TileBand {
     /// Tile edge, as a power of two.
     k: u32,
+    /// Tiles a side of the domain.
+    n: u32,
+    /// Whether the step grows (the outside of the domain is no site).
+    grow: bool,
     /// The tiles, sorted by packed position.
     tiles: Vec<Packed>,
+    /// The site tiles next to them (and others), sorted by packed position.
+    sites: Vec<Packed>,
     /// Estimated peak memory of the step, in bytes.
     pub estimate: u64,
 }
@@ -91,13 +97,20 @@ struct Tiles<'a> {
 }
 
 impl Tiles<'_> {
-    /// The kind of the tile at `c` (outside the domain: site when shrinking, free else).
-    fn kind(&self, c: [i64; 3]) -> Kind {
+    /// The kind of the tile at `c` (outside the domain: site when shrinking, free else),
+    /// the keys searched from index `hint` (a key near the tile in Morton order).
+    fn kind_near(&self, c: [i64; 3], hint: usize) -> Kind {
         if c.iter().any(|&x| x < 0 || x >= i64::from(self.n)) {
             return if self.grow { Kind::Free } else { Kind::Site };
         }
         let code = morton::encode(c[0] as u32, c[1] as u32, c[2] as u32);
-        let full = match keys_meeting(self.keys, NodeKey::new(code << (3 * self.k), self.k)) {
+        let node = NodeKey::new(code << (3 * self.k), self.k);
+        self.kind_of(keys_meeting_near(self.keys, hint, node))
+    }
+
+    /// The kind of a tile the keys `meeting` meet.
+    fn kind_of(&self, meeting: &[NodeKey]) -> Kind {
+        let full = match meeting {
             [] => Some(false),
             [key] if key.k() >= self.k => Some(true),
             _ => None,
@@ -118,24 +131,53 @@ impl TileBand {
         let n = tree.domain().resolution() >> k;
         let tiles = Tiles { keys: tree.keys(), k, n, grow: step.grow };
         let t = r.div_ceil(1 << k);
-        let seeds = seeds(&tiles);
-        let mut band = dilate(seeds, t, n);
-        band.retain(|&p| tiles.kind(unpack(p).map(i64::from)) != Kind::Site);
+        let (mixed, free) = seeds(&tiles);
+        // Free seeds by at least one: then every site tile next to a tile of the band
+        // is in the dilated set (a free tile touching one is a seed).
+        let mut dilated = dilate(mixed, t, n);
+        dilated.extend(dilate(free, (t - 1).max(1), n));
+        dilated.par_sort_unstable();
+        dilated.dedup();
+        let kinds = kinds_of(&tiles, &dilated);
+        let (mut band, mut sites) = (Vec::new(), Vec::new());
+        for (p, kind) in dilated.into_iter().zip(kinds) {
+            if kind == Kind::Site { sites.push(p) } else { band.push(p) }
+        }
         let voxels = band.len() as u64 * (1u64 << (3 * k));
         // Two passes' values (4 bytes each), the occupancy of mixed tiles (at most a
         // byte a voxel), three orders of the tiles and the runs, the trees in and out.
         let estimate = 9 * voxels + 40 * band.len() as u64 + 3 * tree.bytes() as u64;
-        TileBand { k, tiles: band, estimate }
+        TileBand { k, n, grow: step.grow, tiles: band, sites, estimate }
     }
 
     /// The Morton runs of the voxels `step` changes (sorted), with its `limit` on four
-    /// times the squared distance; progress in tiles, three passes each.
-    pub(super) fn changed_runs(&self, tree: &LinearOctree, step: Step, limit: i64, progress: &dyn Progress) -> Vec<(u64, u64)> {
+    /// times the squared distance (under `u32::MAX`); progress in tiles, three passes
+    /// each. Values are kept in 16 bits when the limit allows (radii under 128 voxels).
+    pub(super) fn changed_runs(
+        &self,
+        tree: &LinearOctree,
+        step: Step,
+        limit: i64,
+        progress: &dyn Progress,
+    ) -> Vec<(u64, u64)> {
+        if limit < i64::from(u16::MAX) {
+            self.transform::<u16>(tree, step, limit, progress)
+        } else {
+            self.transform::<u32>(tree, step, limit, progress)
+        }
+    }
+
+    /// [`TileBand::changed_runs`] with the passes' values stored as `V`.
+    fn transform<V: Value>(
+        &self,
+        tree: &LinearOctree,
+        step: Step,
+        limit: i64,
+        progress: &dyn Progress,
+    ) -> Vec<(u64, u64)> {
         let (k, grow) = (self.k, step.grow);
         let t = 1usize << k;
         let v = t * t * t;
-        let n = tree.domain().resolution() >> k;
-        let kinds = Tiles { keys: tree.keys(), k, n, grow };
         progress.start(3 * self.tiles.len() as u64);
         // Each tile's sites (none for a free tile), x fastest.
         let sites: Vec<Option<Vec<bool>>> = self
@@ -150,9 +192,9 @@ impl TileBand {
             .collect();
         let cap = limit;
         // Pass one, along x: the cost to the nearest site along each row.
-        let mut pass_x = vec![u32::MAX; self.tiles.len() * v];
+        let mut pass_x = vec![V::NONE; self.tiles.len() * v];
         let runs_x = runs(&self.tiles, 0);
-        for_runs(&runs_x, &mut pass_x, v, &kinds, progress, |run, slots| {
+        for_runs(&runs_x, &mut pass_x, v, self, progress, |run, slots| {
             let len = run.len() * t;
             let mut row = vec![false; len + 2];
             let mut costs = vec![0i64; len];
@@ -173,24 +215,31 @@ impl TileBand {
                 nearest_site_along_row(&row, 1, cap, &mut costs, None);
                 for (j, o) in slots.iter_mut().enumerate() {
                     for (x, c) in costs[j * t..(j + 1) * t].iter().enumerate() {
-                        o[x + t * yz] = to_u32(*c);
+                        o[x + t * yz] = V::of(*c, cap);
                     }
                 }
             }
         });
         // Passes two and three, along y then z: lower envelopes of the last pass's values.
-        let mut pass_y = vec![u32::MAX; self.tiles.len() * v];
+        let mut pass_y = vec![V::NONE; self.tiles.len() * v];
         let runs_y = runs(&self.tiles, 1);
-        envelope_pass(&runs_y, &pass_x, &mut pass_y, v, t, [t, 1, t * t], cap, &kinds, progress);
+        envelope_pass(&runs_y, &pass_x, &mut pass_y, v, t, [t, 1, t * t], cap, self, progress);
         let runs_z = runs(&self.tiles, 2);
         // Pass three writes over pass one's values, no longer read.
-        envelope_pass(&runs_z, &pass_y, &mut pass_x, v, t, [t * t, 1, t], cap, &kinds, progress);
+        envelope_pass(&runs_z, &pass_y, &mut pass_x, v, t, [t * t, 1, t], cap, self, progress);
         drop(pass_y);
         progress.finish();
         // The voxels that change: not sites, within the limit; in Morton order.
         let mut order: Vec<(u64, usize)> =
             self.tiles.iter().enumerate().map(|(s, &p)| (encode(unpack(p)), s)).collect();
         order.par_sort_unstable();
+        // The index in a tile of each Morton offset.
+        let at_morton: Vec<usize> = (0..v as u64)
+            .map(|i| {
+                let [x, y, z] = morton::decode(i).map(|c| c as usize);
+                x + t * (y + t * z)
+            })
+            .collect();
         let parts: Vec<Vec<(u64, u64)>> = order
             .par_chunks(1024)
             .map(|chunk| {
@@ -198,11 +247,9 @@ impl TileBand {
                 for &(code, s) in chunk {
                     let base = code << (3 * k);
                     let d = &pass_x[s * v..(s + 1) * v];
-                    for i in 0..v as u64 {
-                        let [x, y, z] = morton::decode(i).map(|c| c as usize);
-                        let at = x + t * (y + t * z);
+                    for (i, &at) in (0..v as u64).zip(&at_morton) {
                         let site = sites[s].as_ref().is_some_and(|site| site[at]);
-                        if i64::from(d[at]) <= limit && d[at] != u32::MAX && !site {
+                        if d[at].cost() <= limit && !site {
                             let code = base + i;
                             match runs.last_mut() {
                                 Some(last) if last.1 == code => last.1 = code + 1,
@@ -227,13 +274,77 @@ impl TileBand {
     }
 }
 
+impl TileBand {
+    /// The kind of a tile next to the band, not in it: site or free (see [`TileBand::of`]).
+    fn beyond(&self, c: [i64; 3]) -> Kind {
+        let n = i64::from(self.n);
+        if c.iter().any(|&x| x < 0 || x >= n) {
+            return if self.grow { Kind::Free } else { Kind::Site };
+        }
+        match self.sites.binary_search(&pack(c.map(|x| x as u32))) {
+            Ok(_) => Kind::Site,
+            Err(_) => Kind::Free,
+        }
+    }
+}
+
+/// The kinds of the tiles `set` (inside the domain), walked in Morton order so each
+/// search of the keys starts from the last one's.
+fn kinds_of(tiles: &Tiles, set: &[Packed]) -> Vec<Kind> {
+    let mut order: Vec<(u64, usize)> = set.iter().enumerate().map(|(i, &p)| (encode(unpack(p)), i)).collect();
+    order.par_sort_unstable();
+    let found: Vec<(usize, Kind)> = order
+        .par_chunks(4096)
+        .flat_map_iter(|chunk| {
+            let mut hint = 0;
+            chunk.iter().map(move |&(code, i)| {
+                let node = NodeKey::new(code << (3 * tiles.k), tiles.k);
+                let range = range_meeting_near(tiles.keys, hint, node);
+                hint = range.start.min(tiles.keys.len().saturating_sub(1));
+                (i, tiles.kind_of(&tiles.keys[range]))
+            })
+        })
+        .collect();
+    let mut kinds = vec![Kind::Free; set.len()];
+    for (i, kind) in found {
+        kinds[i] = kind;
+    }
+    kinds
+}
+
 fn encode(c: [u32; 3]) -> u64 {
     morton::encode(c[0], c[1], c[2])
 }
 
-/// A value of a pass as stored: `u32::MAX` for none in reach.
-fn to_u32(c: i64) -> u32 {
-    if c >= FAR { u32::MAX } else { c as u32 }
+/// A value of a pass as stored: four times a squared distance, at most the cap, or
+/// none in reach.
+trait Value: Copy + Send + Sync {
+    /// No value in reach.
+    const NONE: Self;
+    /// `cost` as stored: `NONE` when over `cap` (which is under `Self`'s largest).
+    fn of(cost: i64, cap: i64) -> Self;
+    /// The cost stored, [`FAR`] for `NONE`.
+    fn cost(self) -> i64;
+}
+
+impl Value for u16 {
+    const NONE: Self = u16::MAX;
+    fn of(cost: i64, cap: i64) -> Self {
+        if cost > cap { Self::NONE } else { cost as u16 }
+    }
+    fn cost(self) -> i64 {
+        if self == Self::NONE { FAR } else { i64::from(self) }
+    }
+}
+
+impl Value for u32 {
+    const NONE: Self = u32::MAX;
+    fn of(cost: i64, cap: i64) -> Self {
+        if cost > cap { Self::NONE } else { cost as u32 }
+    }
+    fn cost(self) -> i64 {
+        if self == Self::NONE { FAR } else { i64::from(self) }
+    }
 }
 
 /// A run of consecutive tiles along one axis and what lies just beyond each end.
@@ -283,14 +394,14 @@ fn runs(tiles: &[Packed], axis: usize) -> Vec<Run> {
 /// Runs `f(run, its tiles' output slices)` over every run in parallel, each run's
 /// tiles' values in `values` (`v` a tile) given to it alone; the kinds beyond the
 /// run's ends filled in first.
-fn for_runs<F>(runs: &[Run], values: &mut [u32], v: usize, kinds: &Tiles, progress: &dyn Progress, f: F)
+fn for_runs<V: Value, F>(runs: &[Run], values: &mut [V], v: usize, band: &TileBand, progress: &dyn Progress, f: F)
 where
-    F: Fn(&Run, &mut [&mut [u32]]) + Sync,
+    F: Fn(&Run, &mut [&mut [V]]) + Sync,
 {
-    let mut tiles: Vec<Option<&mut [u32]>> = values.chunks_mut(v).map(Some).collect();
-    let mut jobs: Vec<(Run, Vec<&mut [u32]>)> = Vec::with_capacity(runs.len());
+    let mut tiles: Vec<Option<&mut [V]>> = values.chunks_mut(v).map(Some).collect();
+    let mut jobs: Vec<(Run, Vec<&mut [V]>)> = Vec::with_capacity(runs.len());
     for run in runs {
-        let slots: Vec<&mut [u32]> =
+        let slots: Vec<&mut [V]> =
             run.slots.iter().map(|&s| tiles[s].take().expect("a tile in one run an axis")).collect();
         let mut before = run.first.map(i64::from);
         before[run.axis] -= 1;
@@ -300,8 +411,8 @@ where
             slots: run.slots.clone(),
             first: run.first,
             axis: run.axis,
-            before: kinds.kind(before),
-            after: kinds.kind(after),
+            before: band.beyond(before),
+            after: band.beyond(after),
         };
         jobs.push((run, slots));
     }
@@ -315,18 +426,18 @@ where
 /// each line, a site tile beyond a run's end giving 0 there; `strides` are the steps
 /// within a tile along the axis and the two others.
 #[allow(clippy::too_many_arguments)]
-fn envelope_pass(
+fn envelope_pass<V: Value>(
     runs: &[Run],
-    from: &[u32],
-    to: &mut [u32],
+    from: &[V],
+    to: &mut [V],
     v: usize,
     t: usize,
     strides: [usize; 3],
     cap: i64,
-    kinds: &Tiles,
+    band: &TileBand,
     progress: &dyn Progress,
 ) {
-    for_runs(runs, to, v, kinds, progress, |run, slots| {
+    for_runs(runs, to, v, band, progress, |run, slots| {
         let len = run.len() * t;
         let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
         let mut g = vec![FAR; len + 2];
@@ -341,8 +452,7 @@ fn envelope_pass(
                 for (j, &s) in run.slots.iter().enumerate() {
                     let tile = &from[s * v..(s + 1) * v];
                     for i in 0..t {
-                        let d = tile[base + i * strides[0]];
-                        let d = if d == u32::MAX { FAR } else { i64::from(d) };
+                        let d = tile[base + i * strides[0]].cost();
                         any |= d <= cap;
                         g[1 + j * t + i] = d;
                     }
@@ -353,8 +463,7 @@ fn envelope_pass(
                 lower_envelope(&g, 1, cap, &mut out, &mut sites, &mut starts, None);
                 for (j, tile) in slots.iter_mut().enumerate() {
                     for i in 0..t {
-                        let o = out[j * t + i];
-                        tile[base + i * strides[0]] = if o > cap { u32::MAX } else { o as u32 };
+                        tile[base + i * strides[0]] = V::of(out[j * t + i], cap);
                     }
                 }
             }
@@ -362,23 +471,25 @@ fn envelope_pass(
     });
 }
 
-/// The seeds (see the module doc): the mixed tiles and the free tiles touching a site
-/// tile, sorted by packed position.
-fn seeds(tiles: &Tiles) -> Vec<Packed> {
+/// The seeds (see the module doc): the mixed tiles, and the free tiles touching a site
+/// tile, each sorted by packed position.
+fn seeds(tiles: &Tiles) -> (Vec<Packed>, Vec<Packed>) {
     let k = tiles.k;
     let n = i64::from(tiles.n);
-    let mut out: Vec<Packed> = tiles
+    let parts: Vec<(Vec<Packed>, Vec<Packed>)> = tiles
         .keys
         .par_chunks(4096)
-        .flat_map_iter(|chunk| {
-            let mut out = Vec::new();
+        .enumerate()
+        .map(|(c, chunk)| {
+            let (mut mixed, mut out) = (Vec::new(), Vec::new());
             let mut last_mixed = u64::MAX;
-            for key in chunk {
+            for (j, key) in chunk.iter().enumerate() {
+                let hint = 4096 * c + j;
                 if key.k() < k {
                     let tile = key.start() >> (3 * k);
                     if tile != last_mixed {
                         last_mixed = tile;
-                        out.push(pack(morton::decode(tile)));
+                        mixed.push(pack(morton::decode(tile)));
                     }
                     continue;
                 }
@@ -389,7 +500,7 @@ fn seeds(tiles: &Tiles) -> Vec<Packed> {
                 let inside = |c: [i64; 3]| (0..3).all(|a| c[a] >= min[a] && c[a] < min[a] + size);
                 if tiles.grow {
                     for_shell(min.map(|c| c - 1), min.map(|c| c + size + 1), n, |c| {
-                        if !inside(c) && tiles.kind(c) == Kind::Free {
+                        if !inside(c) && tiles.kind_near(c, hint) == Kind::Free {
                             out.push(pack(c.map(|x| x as u32)));
                         }
                     });
@@ -398,7 +509,7 @@ fn seeds(tiles: &Tiles) -> Vec<Packed> {
                         let touches = (0..27).filter(|&d| d != 13).any(|d| {
                             let e = [d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1];
                             let nb: [i64; 3] = std::array::from_fn(|a| c[a] + e[a]);
-                            !inside(nb) && tiles.kind(nb) == Kind::Site
+                            !inside(nb) && tiles.kind_near(nb, hint) == Kind::Site
                         });
                         if touches {
                             out.push(pack(c.map(|x| x as u32)));
@@ -406,12 +517,19 @@ fn seeds(tiles: &Tiles) -> Vec<Packed> {
                     });
                 }
             }
-            out
+            (mixed, out)
         })
         .collect();
-    out.par_sort_unstable();
-    out.dedup();
-    out
+    let (mut mixed, mut free): (Vec<Packed>, Vec<Packed>) = (Vec::new(), Vec::new());
+    for (m, f) in parts {
+        mixed.extend(m);
+        free.extend(f);
+    }
+    for set in [&mut mixed, &mut free] {
+        set.par_sort_unstable();
+        set.dedup();
+    }
+    (mixed, free)
 }
 
 /// Calls `f` for each tile of the box `[lo, hi)` on its boundary layer, clipped to the
