@@ -1,10 +1,13 @@
-//! The band of a morphological step: the bricks of voxels whose phase a ball of radius
-//! `D` can change, each transformed exactly with a halo read from the octree.
+//! The band of a morphological step: which voxels a ball of radius `D` can change, and
+//! the step's entry point (over the cubes, the sparse tiles of [`super::tiles`]; along
+//! a surface, the bricks below).
 //!
 //! A dilation by `D` adds the empty voxels whose centre lies under `D` from a full
 //! voxel; an erosion removes the full voxels whose centre lies under `D` from an empty
 //! one (voxels outside the domain are empty). Either changes only voxels within `R =
-//! ceil(D + 1/2) - 1` voxels on each axis of a voxel of the other phase, so the domain is cut into aligned bricks of `B = 2^k >= R` voxels (at
+//! ceil(D + 1/2) - 1` voxels on each axis of a voxel of the other phase.
+//!
+//! Along a surface the domain is cut into aligned bricks of `B = 2^k >= R` voxels (at
 //! least 32, at most the domain) and only these bricks are read:
 //!
 //! - every brick holding a key smaller than a brick (a mixed brick), and the bricks
@@ -14,17 +17,11 @@
 //!   shell of bricks of thickness `t` outside it; eroding, the shell inside it.
 //!
 //! Dilating drops the bricks already full, eroding those already empty. A brick is
-//! read with its halo of `R` voxels ([`LinearOctree::occupancy`]), its squared
-//! distances to the other phase computed by [`super::edt`], and the voxels that change
-//! are returned as Morton runs. Only the sites with a neighbour of the other phase (or
-//! on the halo's faces) seed the transform: the nearest point of the sites' cubes to
-//! any other voxel lies on such a face, so the distances are the same, and the lines
-//! through the inside of the phase hold no value under the radius and are skipped (the
-//! sites themselves are told apart by their occupancy). Coarse nodes far from the
-//! surface are never read:
-//! memory and time follow the band's bricks (`(B + 2R)^3` voxels each), not the domain.
-//! Bricks are processed in parallel and joined in Morton order, so the result does not
-//! depend on the number of threads.
+//! read with its halo ([`LinearOctree::occupancy`]), its squared distances to the
+//! other phase computed by [`super::edt`], and the voxels that change are returned as
+//! Morton runs. Coarse nodes far from the surface are never read. Bricks are
+//! processed in parallel and joined in Morton order, so the result does not depend on
+//! the number of threads.
 //!
 //! Along a surface (the sub-voxel rule of [`super::subvoxel`]) the reach is `ceil(D)`
 //! (a voxel whose nearest cube lies `D + 1/2` away can still be under `D` from the

@@ -13,14 +13,16 @@
 //! Which tiles (`t = ceil(R / T)`, `R` the reach of the step, [`super::band`]):
 //! a tile is *site* when all its voxels are of the phase the step spreads (full
 //! growing, empty shrinking), *mixed*, or *free* (none of that phase). The tiles
-//! computed are the mixed and free tiles within `t` tiles (Chebyshev) of a seed: a
-//! mixed tile, or a free tile touching a site tile (26 neighbours; shrinking, the
-//! outside of the domain counts as site). Why that is enough: a voxel that changes
-//! lies within `R` voxels on each axis of a site with a neighbour of the other phase,
-//! and so do the two corners of the box between them the passes go through (`(p_x,
-//! s_y, s_z)` and `(p_x, p_y, s_z)`); their tiles are within `t` of that site's tile;
-//! the nearest tile with a site to a free tile `Y` is mixed or site, and the tile
-//! before it on the way from `Y` is a seed, so `Y` lies within `t` of a seed.
+//! computed are the mixed and free tiles within `t` tiles (Chebyshev) of a mixed tile
+//! or within `max(t - 1, 1)` of a free tile touching a site tile (26 neighbours;
+//! shrinking, the outside of the domain counts as site). Why that is enough: a voxel
+//! that changes lies within `R` voxels on each axis of a site with a neighbour of the
+//! other phase, and so do the two corners of the box between them the passes go
+//! through (`(p_x, s_y, s_z)` and `(p_x, p_y, s_z)`); their tiles are within `t` of
+//! that site's tile. For such a free tile `Y`, take the nearest tile holding a site
+//! (at most `t` away): if it is mixed, `Y` is within `t` of it; if it is a site tile,
+//! the tile before it on the way from `Y` is a free tile touching it, at most `t - 1`
+//! from `Y`. The kinds are found in one walk of the keys in Morton order.
 //!
 //! Site tiles are never stored: every pass value in them is 0 (all sites are seeds
 //! here, not only the boundary's, so a site's own value is 0), and along a line the
@@ -29,13 +31,16 @@
 //! of these hold no value under the cap. Shrinking, the voxel past a domain face is a
 //! site. Every value the passes keep is the exact one over this reduced set, which is
 //! the true one for every voxel that can change (by the argument above), so the result
-//! is exactly [`super::band`]'s bricks' (checked voxel for voxel against the dense
-//! brute force, tests/offset.rs).
+//! is the exact offset (checked voxel for voxel against a dense brute force,
+//! tests/offset.rs), the same voxels as the bricks with halos it replaces.
 //!
-//! Memory follows the tiles: 4 bytes a voxel for each of two passes' values and a
-//! byte a voxel of a mixed tile's occupancy; the tile lists. Runs are transformed in
-//! parallel, each writing only its own tiles, and the changes are gathered in Morton
-//! order, so the result does not depend on the number of threads.
+//! Memory follows the tiles: for each of two passes 2 bytes a voxel (4 when the radius
+//! is 128 voxels or more, the squared distances beyond 16 bits) and a byte a voxel of
+//! a mixed tile's occupancy; the tile lists. Radii over `2n + 2` (`n` the domain's
+//! voxels a side) are taken as `2n + 2`, which reaches every voxel as they do ([`super::band`]).
+//! Runs are transformed in parallel, each writing only its own tiles, and the changes
+//! are gathered in Morton order, so the result does not depend on the number of
+//! threads.
 
 use rayon::prelude::*;
 
@@ -144,9 +149,11 @@ impl TileBand {
             if kind == Kind::Site { sites.push(p) } else { band.push(p) }
         }
         let voxels = band.len() as u64 * (1u64 << (3 * k));
-        // Two passes' values (4 bytes each), the occupancy of mixed tiles (at most a
-        // byte a voxel), three orders of the tiles and the runs, the trees in and out.
-        let estimate = 9 * voxels + 40 * band.len() as u64 + 3 * tree.bytes() as u64;
+        // Two passes' values (2 or 4 bytes each), the occupancy of mixed tiles (at most
+        // a byte a voxel), the tile lists, their orders and runs (about 64 bytes a
+        // tile), the trees in and out.
+        let value = if step.limit() < i64::from(u16::MAX) { 2 } else { 4 };
+        let estimate = (2 * value + 1) * voxels + 64 * (band.len() + sites.len()) as u64 + 3 * tree.bytes() as u64;
         TileBand { k, n, grow: step.grow, tiles: band, sites, estimate }
     }
 
@@ -186,7 +193,7 @@ impl TileBand {
             .map(|&p| {
                 let c = unpack(p).map(|x| i64::from(x) << k);
                 let full = tree.occupancy(c, t as u32);
-                let any = full.iter().any(|&f| f == grow);
+                let any = full.contains(&grow);
                 any.then(|| full.into_iter().map(|f| f == grow).collect())
             })
             .collect();
