@@ -100,6 +100,59 @@ fn offsets_of_random_csg_solids_are_the_brute_force_ones_voxel_for_voxel() {
     }
 }
 
+/// Four times the squared distance from each voxel's centre to the nearest voxel (as a
+/// cube) of the other phase, the outside of the domain empty: the minimum over every
+/// voxel of the other phase with a face towards this phase (the nearest point of a
+/// union of cubes to a point outside it lies on such a face) and the domain's faces.
+fn brute_distances_far(tree: &LinearOctree) -> Vec<i64> {
+    let n = i64::from(tree.domain().resolution());
+    let full = tree.occupancy([0; 3], n as u32);
+    let at = |p: [i64; 3]| p.iter().all(|&c| (0..n).contains(&c)) && full[(p[0] + n * (p[1] + n * p[2])) as usize];
+    let mut exposed: [Vec<[i64; 3]>; 2] = [Vec::new(), Vec::new()];
+    for i in 0..n * n * n {
+        let p = [i % n, i / n % n, i / (n * n)];
+        let faces = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]];
+        if faces.iter().any(|f| at([p[0] + f[0], p[1] + f[1], p[2] + f[2]]) != at(p)) {
+            exposed[usize::from(at(p))].push(p);
+        }
+    }
+    (0..n * n * n)
+        .map(|i| {
+            let p = [i % n, i / n % n, i / (n * n)];
+            let phase = at(p);
+            let to_cubes = exposed[usize::from(!phase)]
+                .iter()
+                .map(|s| (0..3).map(|a| cost(p[a] - s[a])).sum::<i64>())
+                .min()
+                .unwrap_or(i64::MAX);
+            // A full voxel is also near the empty outside, across the nearest face.
+            let to_outside =
+                if phase { (0..3).map(|a| cost(p[a] + 1).min(cost(n - p[a]))).min().unwrap() } else { i64::MAX };
+            to_cubes.min(to_outside)
+        })
+        .collect()
+}
+
+#[test]
+fn offsets_reaching_over_several_tiles_are_the_brute_force_ones_voxel_for_voxel() {
+    let mut rng = Rng(0x7113_5039);
+    let options = OffsetOptions::default();
+    for round in 0..4 {
+        let tree = if round % 2 == 1 {
+            random_octree(&mut rng, unit_domain(5))
+        } else {
+            voxelize(&random_csg(&mut rng, 3), unit_domain(5), &VoxelizeOptions::default()).unwrap()
+        };
+        let dist: Vec<Option<i64>> =
+            brute_distances_far(&tree).into_iter().map(|d| (d < i64::MAX).then_some(d)).collect();
+        for d in [7.9, 8.5, 9.3, 12.0, 16.5, 23.2, 60.0, -7.9, -8.5, -9.3, -12.0, -16.5, -60.0] {
+            let got = tree.offset(d, &options).unwrap();
+            got.validate().unwrap();
+            assert!(got == oracle_offset(&tree, &dist, d), "round {round} offset {d}");
+        }
+    }
+}
+
 #[test]
 fn offset_by_zero_or_up_to_half_a_voxel_is_the_identity() {
     let mut rng = Rng(39);

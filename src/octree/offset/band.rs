@@ -1,10 +1,13 @@
-//! The band of a morphological step: the bricks of voxels whose phase a ball of radius
-//! `D` can change, each transformed exactly with a halo read from the octree.
+//! The band of a morphological step: which voxels a ball of radius `D` can change, and
+//! the step's entry point (over the cubes, the sparse tiles of [`super::tiles`]; along
+//! a surface, the bricks below).
 //!
 //! A dilation by `D` adds the empty voxels whose centre lies under `D` from a full
 //! voxel; an erosion removes the full voxels whose centre lies under `D` from an empty
 //! one (voxels outside the domain are empty). Either changes only voxels within `R =
-//! ceil(D + 1/2) - 1` voxels on each axis of a voxel of the other phase, so the domain is cut into aligned bricks of `B = 2^k >= R` voxels (at
+//! ceil(D + 1/2) - 1` voxels on each axis of a voxel of the other phase.
+//!
+//! Along a surface the domain is cut into aligned bricks of `B = 2^k >= R` voxels (at
 //! least 32, at most the domain) and only these bricks are read:
 //!
 //! - every brick holding a key smaller than a brick (a mixed brick), and the bricks
@@ -14,17 +17,11 @@
 //!   shell of bricks of thickness `t` outside it; eroding, the shell inside it.
 //!
 //! Dilating drops the bricks already full, eroding those already empty. A brick is
-//! read with its halo of `R` voxels ([`LinearOctree::occupancy`]), its squared
-//! distances to the other phase computed by [`super::edt`], and the voxels that change
-//! are returned as Morton runs. Only the sites with a neighbour of the other phase (or
-//! on the halo's faces) seed the transform: the nearest point of the sites' cubes to
-//! any other voxel lies on such a face, so the distances are the same, and the lines
-//! through the inside of the phase hold no value under the radius and are skipped (the
-//! sites themselves are told apart by their occupancy). Coarse nodes far from the
-//! surface are never read:
-//! memory and time follow the band's bricks (`(B + 2R)^3` voxels each), not the domain.
-//! Bricks are processed in parallel and joined in Morton order, so the result does not
-//! depend on the number of threads.
+//! read with its halo ([`LinearOctree::occupancy`]), its squared distances to the
+//! other phase computed by [`super::edt`], and the voxels that change are returned as
+//! Morton runs. Coarse nodes far from the surface are never read. Bricks are
+//! processed in parallel and joined in Morton order, so the result does not depend on
+//! the number of threads.
 //!
 //! Along a surface (the sub-voxel rule of [`super::subvoxel`]) the reach is `ceil(D)`
 //! (a voxel whose nearest cube lies `D + 1/2` away can still be under `D` from the
@@ -41,8 +38,9 @@ use glam::DVec3;
 
 use super::edt::{FAR, Scratch, brick_distances};
 use super::subvoxel::{FaceCrossings, NewCrossing, Plane, distance_to_site};
+use super::tiles::TileBand;
 use crate::budget::MemoryBudget;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::morton;
 use crate::octree::window::keys_meeting;
 use crate::octree::{LinearOctree, NodeKey};
@@ -63,7 +61,7 @@ pub(super) struct Step {
 impl Step {
     /// `R`: the most voxels a step can reach along one axis (a voxel `o` voxels away
     /// is `|o| - 1/2` away, which must be under the radius).
-    fn reach(self) -> u32 {
+    pub(super) fn reach(self) -> u32 {
         ((self.radius + 0.5).ceil() - 1.0).clamp(0.0, f64::from(u32::MAX / 4)) as u32
     }
 
@@ -75,7 +73,7 @@ impl Step {
 
     /// A voxel changes when four times its squared distance is at most this (strictly
     /// under `4 radius^2`).
-    fn limit(self) -> i64 {
+    pub(super) fn limit(self) -> i64 {
         ((4.0 * self.radius * self.radius).ceil() - 1.0).min(1e18) as i64
     }
 }
@@ -84,7 +82,7 @@ impl Step {
 /// along a surface the crossings of the result's faces.
 pub(super) type Changes = (Vec<(u64, u64)>, Vec<NewCrossing>);
 
-/// The bricks a step reads and the memory it is estimated to need.
+/// The bricks a step along a surface reads and the memory it is estimated to need.
 pub(super) struct Band {
     /// Brick edge, as a power of two.
     k: u32,
@@ -97,33 +95,52 @@ pub(super) struct Band {
 }
 
 impl Band {
-    /// The band of `step` on `tree` (along a surface when `along_surface`), `None` when
-    /// the step reaches no voxel.
-    pub(super) fn of(tree: &LinearOctree, step: Step, along_surface: bool) -> Option<Band> {
+    /// The band of `step` along a surface on `tree`, `None` when the step reaches no
+    /// voxel.
+    pub(super) fn of(tree: &LinearOctree, step: Step) -> Option<Band> {
         let depth = u32::from(tree.depth());
-        let r = if along_surface { step.reach_along_surface() } else { step.reach() };
+        let r = step.reach_along_surface();
         if r == 0 {
             return None;
         }
         let k = (32 - (r - 1).leading_zeros()).clamp(MIN_BRICK_K, depth.max(1)).min(depth);
         let bricks = band_bricks(tree, k, r, step.grow);
-        // Along the surface a brick is read with one more voxel each side (its faces) and
-        // one more beyond (its sites' faces).
-        let (b, m) = if along_surface { (1usize << k, (1usize << k) + 2) } else { (1usize << k, 1usize << k) };
-        let h = b + 2 * r as usize + 2 * (m - b);
-        // Per thread: the halo (1 byte a voxel) and the passes' buffers (8 bytes a value,
-        // 12 along the surface with the nearest sites); the result: the keys in, the
-        // bricks, a boundary layer of keys a brick face (and of crossings along a surface).
-        let per_value = if along_surface { 12 } else { 8 };
-        // Along the surface also each voxel's distance and direction (32 bytes).
-        let field = if along_surface { 32 * (m * m * m) as u64 } else { 0 };
-        let scratch = (h * h * h) as u64 + per_value * (m * h * h + m * m * h + 2 * m * m * m) as u64 + field;
-        let layer = if along_surface { 16 + 24 } else { 16 };
+        // A brick is read with one more voxel each side (its faces) and one more beyond
+        // (its sites' faces).
+        let (b, m) = (1usize << k, (1usize << k) + 2);
+        let h = m + 2 * r as usize + 2;
+        // Per thread: the halo (1 byte a voxel), the passes' buffers (12 bytes a value
+        // with the nearest sites), each voxel's distance and direction (32 bytes); the
+        // result: the keys in, the bricks, a boundary layer of keys and crossings a
+        // brick face.
+        let scratch =
+            (h * h * h) as u64 + 12 * (m * h * h + m * m * h + 2 * m * m * m) as u64 + 32 * (m * m * m) as u64;
         let estimate = rayon::current_num_threads() as u64 * scratch
             + 8 * bricks.len() as u64
-            + layer * 6 * (b * b) as u64 * bricks.len() as u64
+            + (16 + 24) * 6 * (b * b) as u64 * bricks.len() as u64
             + 3 * tree.bytes() as u64;
         Some(Band { k, r, bricks, estimate })
+    }
+}
+
+/// `step` over the cubes with a radius no larger than the domain needs: every voxel
+/// centre lies within `sqrt 3 n` of every voxel, so radii of `2n + 2` and more all
+/// flip the same voxels (and the squared distances stay small).
+fn clamped(tree: &LinearOctree, step: Step) -> Step {
+    let n = f64::from(tree.domain().resolution());
+    Step { radius: step.radius.min(2.0 * n + 2.0), ..step }
+}
+
+/// The memory `step` (along a surface when `along_surface`) is estimated to need; 0
+/// when it reaches no voxel.
+pub(super) fn estimate(tree: &LinearOctree, step: Step, along_surface: bool) -> u64 {
+    if along_surface {
+        return Band::of(tree, step).map_or(0, |band| band.estimate);
+    }
+    let step = clamped(tree, step);
+    match step.reach() {
+        0 => 0,
+        r => TileBand::of(tree, step, r).estimate,
     }
 }
 
@@ -137,21 +154,34 @@ pub(super) fn changed_runs(
     budget: MemoryBudget,
     progress: &dyn Progress,
 ) -> Result<Changes> {
-    let Some(Band { k, r, bricks, estimate }) = Band::of(tree, step, surface.is_some()) else {
+    let Some(surface) = surface else {
+        // Over the cubes: the sparse tiles of [`super::tiles`].
+        let step = clamped(tree, step);
+        let r = step.reach();
+        if r == 0 {
+            return Ok((Vec::new(), Vec::new()));
+        }
+        if step.limit() >= i64::from(u32::MAX) {
+            return Err(Error::invalid(
+                "offset distance",
+                format!("{} voxels is more than the band transform holds on this domain", step.radius),
+            ));
+        }
+        let band = TileBand::of(tree, step, r);
+        budget.check(format!("offset by {} voxels", step.radius), band.estimate)?;
+        return Ok((band.changed_runs(tree, step, step.limit(), progress), Vec::new()));
+    };
+    let Some(Band { k, r, bricks, estimate }) = Band::of(tree, step) else {
         return Ok((Vec::new(), Vec::new()));
     };
     budget.check(format!("offset by {} voxels", step.radius), estimate)?;
     progress.start(bricks.len() as u64);
-    let limit = step.limit();
     let parts: Vec<Changes> = bricks
         .par_iter()
         .map_init(
             || (Scratch::default(), Vec::new(), Vec::new()),
             |(scratch, dist, nearest), &brick| {
-                let part = match surface {
-                    Some(surface) => brick_along_surface(tree, brick, k, r, step, surface, scratch, dist, nearest),
-                    None => (brick_changes(tree, brick, k, r, step.grow, limit, scratch, dist), Vec::new()),
-                };
+                let part = brick_along_surface(tree, brick, k, r, step, surface, scratch, dist, nearest);
                 progress.advance(1);
                 part
             },
@@ -355,81 +385,6 @@ fn brick_along_surface(
         }
     }
     (runs, faces)
-}
-
-/// The Morton runs of the voxels of brick `brick` (Morton code of its brick
-/// coordinates, bricks of `2^k`) that the step changes.
-#[allow(clippy::too_many_arguments)]
-fn brick_changes(
-    tree: &LinearOctree,
-    brick: u64,
-    k: u32,
-    r: u32,
-    grow: bool,
-    limit: i64,
-    scratch: &mut Scratch,
-    dist: &mut Vec<i64>,
-) -> Vec<(u64, u64)> {
-    let b = 1usize << k;
-    let h = b + 2 * r as usize;
-    let min = morton::decode(brick).map(|c| c << k);
-    let lo = min.map(|c| i64::from(c) - i64::from(r));
-    let full = tree.occupancy(lo, h as u32);
-    // Sites: the phase the step spreads (full voxels when growing, empty ones else).
-    let site: Vec<bool> = if grow { full } else { full.into_iter().map(|f| !f).collect() };
-    if !site.contains(&true) {
-        return Vec::new();
-    }
-    brick_distances(&boundary_sites(&site, h), b, r as usize, limit, scratch, dist, None);
-    let mut runs: Vec<(u64, u64)> = Vec::new();
-    let base = brick << (3 * k);
-    let r = r as usize;
-    for i in 0..(b * b * b) as u64 {
-        let [x, y, z] = morton::decode(i).map(|c| c as usize);
-        // A site keeps its phase; another voxel within reach flips.
-        if dist[x + b * (y + b * z)] <= limit && !site[x + r + h * (y + r + h * (z + r))] {
-            let code = base + i;
-            match runs.last_mut() {
-                Some(last) if last.1 == code => last.1 = code + 1,
-                _ => runs.push((code, code + 1)),
-            }
-        }
-    }
-    runs
-}
-
-/// The sites of the cube of `h` voxels a side (`site[x + h (y + h z)]`) that touch a
-/// voxel of the other phase across a face, or the cube's own faces (whose neighbours
-/// beyond are unknown): the nearest point of the sites' union to a voxel outside it lies
-/// on such a face, so the distance to these sites is the distance to all of them, and
-/// the transform's lines through the inside of the phase hold no site.
-fn boundary_sites(site: &[bool], h: usize) -> Vec<bool> {
-    let mut out = site.to_vec();
-    if h < 3 {
-        return out;
-    }
-    let layer = h * h;
-    for z in 1..h - 1 {
-        for y in 1..h - 1 {
-            // The row's inner voxels, against their six neighbours (the slices line up
-            // so the loop runs over whole rows, vectorized).
-            let i = h * (y + h * z) + 1;
-            let n = h - 2;
-            let inner = |d: isize| &site[(i as isize + d) as usize..][..n];
-            let (left, right, down, up, back, front) = (
-                inner(-1),
-                inner(1),
-                inner(-(h as isize)),
-                inner(h as isize),
-                inner(-(layer as isize)),
-                inner(layer as isize),
-            );
-            for (x, o) in out[i..i + n].iter_mut().enumerate() {
-                *o &= !(left[x] & right[x] & down[x] & up[x] & back[x] & front[x]);
-            }
-        }
-    }
-    out
 }
 
 /// The bricks of `2^k` voxels a step of reach `r` must read, as the sorted Morton codes

@@ -1,6 +1,8 @@
-//! The exact Euclidean distance from each voxel centre of one brick to the nearest
-//! voxel (as a cube) of the other phase, read with a halo: separable lower envelopes,
-//! in integers.
+//! The exact Euclidean distance from each voxel centre to the nearest voxel (as a
+//! cube) of the other phase: separable lower envelopes, in integers; the
+//! one-dimensional transforms (which [`super::tiles`] runs along lines of tiles) and
+//! the whole transform of one brick read with a halo (along a surface,
+//! [`super::band`]).
 //!
 //! Formula: the squared distance from a centre `p` to the cube of the voxel `s` is a
 //! sum over the axes of `c(p_a - s_a) / 4`, where `c(o) = (2|o| - 1)^2` (`c(0) = 0`:
@@ -27,9 +29,7 @@
 //!   or two) rather than by a closed form;
 //! - a cap: a step only asks whether a distance is under its radius (or, along a
 //!   surface, near it), so each pass drops values over the cap (the later passes only
-//!   add to them), and a line of a pass with none left is not transformed at all; the
-//!   caller may also pass only the sites on the phase's boundary (see
-//!   [`super::band`]), so the lines through the inside of a phase hold no value;
+//!   add to them), and a line of a pass with none left is not transformed at all;
 //! - integers throughout, so the result is exact and the same bits on every machine;
 //!   infinite values (no site on the line) are left out of the envelope rather than
 //!   carried as a large number;
@@ -75,7 +75,7 @@ pub(super) fn axis_cost(o: i64) -> i64 {
 /// `x` in `lo..lo + out.len()`, `FAR` where there is none (see the module doc); with
 /// `nearest = (of, to)`, `to[x - lo] = of[i]` for the minimizing `i` (the first of equal
 /// ones along the line).
-fn lower_envelope(
+pub(super) fn lower_envelope(
     g: &[i64],
     lo: usize,
     cap: i64,
@@ -154,7 +154,13 @@ fn separator(g: &[i64], v: usize, u: usize, lo: i64, hi: i64) -> i64 {
 /// infinite, as two sweeps;
 /// with `nearest = (base, to)`, `to[x - lo] = base + ` that entry's index (the
 /// earlier of two as near).
-fn nearest_site_along_row(row: &[bool], lo: usize, cap: i64, out: &mut [i64], nearest: Option<(u32, &mut [u32])>) {
+pub(super) fn nearest_site_along_row(
+    row: &[bool],
+    lo: usize,
+    cap: i64,
+    out: &mut [i64],
+    nearest: Option<(u32, &mut [u32])>,
+) {
     let hi = lo + out.len();
     if !row.contains(&true) {
         out.fill(FAR);

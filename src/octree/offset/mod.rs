@@ -31,13 +31,17 @@
 //! force checks: a voxel of the phase the step spreads into flips when `d(p) < |D|`
 //! for its nearest site by the cube metric (of equally near sites, any).
 //!
-//! Method: [`band`] finds the bricks the ball can change and computes in each the exact
-//! squared distance to the other phase ([`edt`]: separable lower envelopes of
-//! parabolas, Felzenszwalb and Huttenlocher 2012, in integers after Meijster et al.
-//! 2000), with a halo of `floor(D)` voxels read from the octree; the voxels that change
-//! are Morton runs, cut into keys and combined with the solid by one set operation.
-//! The result is canonical and the same on any number of threads. Voxels beyond the
-//! domain are never added: a solid grown past the domain's faces is cut by them.
+//! Method: over the cubes, [`tiles`] takes the tiles of 8^3 voxels the ball can reach
+//! (the mixed ones and those within reach of them, never the coarse full and empty
+//! nodes far from the surface) and runs the exact separable transform of the squared
+//! distance to the other phase ([`edt`]: lower envelopes of parabolas, Felzenszwalb
+//! and Huttenlocher 2012, in integers after Meijster et al. 2000) along whole lines of
+//! them, each voxel once a pass; along a surface, [`band`] transforms bricks with a
+//! halo of the reach read from the octree, tracking each voxel's nearest site. The
+//! voxels that change are Morton runs, cut into keys and combined with the solid by
+//! one set operation. The result is canonical and the same on any number of threads.
+//! Voxels beyond the domain are never added: a solid grown past the domain's faces is
+//! cut by them.
 //!
 //! Memory: a step is refused before it starts when the estimate of its band
 //! ([`LinearOctree::offset_estimate`]) exceeds the budget; shells and rounds first
@@ -48,8 +52,9 @@
 mod band;
 mod edt;
 mod subvoxel;
+mod tiles;
 
-use band::{Band, Step, changed_runs};
+use band::{Step, changed_runs};
 pub use subvoxel::{FaceCrossings, NewCrossing, Staircase};
 
 use super::linear::LinearOctree;
@@ -62,7 +67,8 @@ use crate::progress::{NoProgress, Progress};
 pub struct OffsetOptions<'a> {
     /// Refuse a step when its estimated memory exceeds this.
     pub budget: MemoryBudget,
-    /// Receives progress in bricks of the band, once a step (a round makes up to four).
+    /// Receives progress once a step (a round makes up to four): in tiles of the band,
+    /// three passes each, over the cubes; in bricks along a surface.
     pub progress: &'a dyn Progress,
 }
 
@@ -98,16 +104,18 @@ impl LinearOctree {
     }
 
     /// The memory one step of `distance` voxels (along a surface when `along_surface`)
-    /// is estimated to need, from its band: each thread's brick with its halo and the
-    /// transform's buffers, a boundary layer of keys a brick of the band, and the
-    /// trees in and out; 0 when the step reaches no voxel or `distance` is not finite.
+    /// is estimated to need, from its band: over the cubes, two passes' values a voxel
+    /// of its tiles and their occupancy; along a surface, each thread's brick with its
+    /// halo and the transform's buffers and a boundary layer of keys and crossings a
+    /// brick; and the trees in and out; 0 when the step reaches no voxel or `distance`
+    /// is not finite.
     #[must_use]
     pub fn offset_estimate(&self, distance_in_voxels: f64, along_surface: bool) -> u64 {
         if !distance_in_voxels.is_finite() {
             return 0;
         }
         let step = Step { radius: distance_in_voxels.abs(), grow: distance_in_voxels > 0.0 };
-        Band::of(self, step, along_surface).map_or(0, |band| band.estimate)
+        band::estimate(self, step, along_surface)
     }
 
     /// Refuses `job` before any of its steps (offsets by `steps` voxels) runs when the

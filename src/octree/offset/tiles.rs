@@ -1,0 +1,583 @@
+//! The band of a step over the cubes as a sparse set of small tiles: the exact squared
+//! distance of every voxel near the surface, each pass of the separable transform run
+//! once along whole lines of tiles, no halo recomputed.
+//!
+//! The transform is [`super::edt`]'s (Saito and Toriwaki 1994, Meijster et al. 2000,
+//! Felzenszwalb and Huttenlocher 2012, the cost to the nearest cube of the other
+//! phase), but its domain is not a brick with a halo: it is the set of tiles of `T =
+//! 2^k` voxels a side (`T = 8`) the step can reach, and each pass (x, then y, then z)
+//! walks the lines of that set along its axis, a run of consecutive tiles at a time,
+//! so a voxel is computed once a pass (the bricks of [`super::band`], each with a halo
+//! of `R` voxels, computed `(B + 2R)^3 / B^3` voxels a brick voxel: 3.6 at `R = 10`).
+//!
+//! Which tiles (`t = ceil(R / T)`, `R` the reach of the step, [`super::band`]):
+//! a tile is *site* when all its voxels are of the phase the step spreads (full
+//! growing, empty shrinking), *mixed*, or *free* (none of that phase). The tiles
+//! computed are the mixed and free tiles within `t` tiles (Chebyshev) of a mixed tile
+//! or within `max(t - 1, 1)` of a free tile touching a site tile (26 neighbours;
+//! shrinking, the outside of the domain counts as site). Why that is enough: a voxel
+//! that changes lies within `R` voxels on each axis of a site with a neighbour of the
+//! other phase, and so do the two corners of the box between them the passes go
+//! through (`(p_x, s_y, s_z)` and `(p_x, p_y, s_z)`); their tiles are within `t` of
+//! that site's tile. For such a free tile `Y`, take the nearest tile holding a site
+//! (at most `t` away): if it is mixed, `Y` is within `t` of it; if it is a site tile,
+//! the tile before it on the way from `Y` is a free tile touching it, at most `t - 1`
+//! from `Y`. The kinds are found in one walk of the keys in Morton order.
+//!
+//! Site tiles are never stored: every pass value in them is 0 (all sites are seeds
+//! here, not only the boundary's, so a site's own value is 0), and along a line the
+//! first voxel of the site tile beyond a run's end is nearer than any other site
+//! beyond it, so a run carries at most one site or zero each end. Tiles that are none
+//! of these hold no value under the cap. Shrinking, the voxel past a domain face is a
+//! site. Every value the passes keep is the exact one over this reduced set, which is
+//! the true one for every voxel that can change (by the argument above), so the result
+//! is the exact offset (checked voxel for voxel against a dense brute force,
+//! tests/offset.rs), the same voxels as the bricks with halos it replaces.
+//!
+//! Memory follows the tiles: for each of two passes 2 bytes a voxel (4 when the radius
+//! is 128 voxels or more, the squared distances beyond 16 bits) and a byte a voxel of
+//! a mixed tile's occupancy; the tile lists. Radii over `2n + 2` (`n` the domain's
+//! voxels a side) are taken as `2n + 2`, which reaches every voxel as they do ([`super::band`]).
+//! Runs are transformed in parallel, each writing only its own tiles, and the changes
+//! are gathered in Morton order, so the result does not depend on the number of
+//! threads.
+
+use rayon::prelude::*;
+
+use super::band::Step;
+use super::edt::{FAR, lower_envelope, nearest_site_along_row};
+use crate::morton;
+use crate::octree::window::{keys_meeting_near, range_meeting_near};
+use crate::octree::{LinearOctree, NodeKey};
+use crate::progress::Progress;
+
+/// Tile edge, as a power of two (at most the domain's).
+const TILE_K: u32 = 3;
+
+/// A tile's phase as the step sees it.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Kind {
+    /// Every voxel of the phase the step spreads.
+    Site,
+    /// Both phases.
+    Mixed,
+    /// No voxel of that phase.
+    Free,
+}
+
+/// A tile position, packed `z << 42 | y << 21 | x` (sorting gives lines along x).
+type Packed = u64;
+
+fn pack(c: [u32; 3]) -> Packed {
+    (u64::from(c[2]) << 42) | (u64::from(c[1]) << 21) | u64::from(c[0])
+}
+
+fn unpack(p: Packed) -> [u32; 3] {
+    [(p & 0x1f_ffff) as u32, ((p >> 21) & 0x1f_ffff) as u32, (p >> 42) as u32]
+}
+
+/// The tiles a step over the cubes transforms and the memory it is estimated to need.
+pub(super) struct TileBand {
+    /// Tile edge, as a power of two.
+    k: u32,
+    /// Tiles a side of the domain.
+    n: u32,
+    /// Whether the step grows (the outside of the domain is no site).
+    grow: bool,
+    /// The tiles, sorted by packed position.
+    tiles: Vec<Packed>,
+    /// The site tiles next to them (and others), sorted by packed position.
+    sites: Vec<Packed>,
+    /// Estimated peak memory of the step, in bytes.
+    pub estimate: u64,
+}
+
+/// What a step's tile classification reads: the tree's keys and the tile scale.
+struct Tiles<'a> {
+    keys: &'a [NodeKey],
+    k: u32,
+    /// Tiles a side of the domain.
+    n: u32,
+    grow: bool,
+}
+
+impl Tiles<'_> {
+    /// The kind of the tile at `c` (outside the domain: site when shrinking, free else),
+    /// the keys searched from index `hint` (a key near the tile in Morton order).
+    fn kind_near(&self, c: [i64; 3], hint: usize) -> Kind {
+        if c.iter().any(|&x| x < 0 || x >= i64::from(self.n)) {
+            return if self.grow { Kind::Free } else { Kind::Site };
+        }
+        let code = morton::encode(c[0] as u32, c[1] as u32, c[2] as u32);
+        let node = NodeKey::new(code << (3 * self.k), self.k);
+        self.kind_of(keys_meeting_near(self.keys, hint, node))
+    }
+
+    /// The kind of a tile the keys `meeting` meet.
+    fn kind_of(&self, meeting: &[NodeKey]) -> Kind {
+        let full = match meeting {
+            [] => Some(false),
+            [key] if key.k() >= self.k => Some(true),
+            _ => None,
+        };
+        match full {
+            None => Kind::Mixed,
+            Some(full) if full == self.grow => Kind::Site,
+            Some(_) => Kind::Free,
+        }
+    }
+}
+
+impl TileBand {
+    /// The tiles of `step` (reach `r` voxels, at least 1) on `tree` (see the module doc).
+    pub(super) fn of(tree: &LinearOctree, step: Step, r: u32) -> TileBand {
+        let depth = u32::from(tree.depth());
+        let k = TILE_K.min(depth);
+        let n = tree.domain().resolution() >> k;
+        let tiles = Tiles { keys: tree.keys(), k, n, grow: step.grow };
+        let t = r.div_ceil(1 << k);
+        let (mixed, free) = seeds(&tiles);
+        // Free seeds by at least one: then every site tile next to a tile of the band
+        // is in the dilated set (a free tile touching one is a seed).
+        let mut dilated = dilate(mixed, t, n);
+        dilated.extend(dilate(free, (t - 1).max(1), n));
+        dilated.par_sort_unstable();
+        dilated.dedup();
+        let kinds = kinds_of(&tiles, &dilated);
+        let (mut band, mut sites) = (Vec::new(), Vec::new());
+        for (p, kind) in dilated.into_iter().zip(kinds) {
+            if kind == Kind::Site { sites.push(p) } else { band.push(p) }
+        }
+        let voxels = band.len() as u64 * (1u64 << (3 * k));
+        // Two passes' values (2 or 4 bytes each), the occupancy of mixed tiles (at most
+        // a byte a voxel), the tile lists, their orders and runs (about 64 bytes a
+        // tile), the trees in and out.
+        let value = if step.limit() < i64::from(u16::MAX) { 2 } else { 4 };
+        let estimate = (2 * value + 1) * voxels + 64 * (band.len() + sites.len()) as u64 + 3 * tree.bytes() as u64;
+        TileBand { k, n, grow: step.grow, tiles: band, sites, estimate }
+    }
+
+    /// The Morton runs of the voxels `step` changes (sorted), with its `limit` on four
+    /// times the squared distance (under `u32::MAX`); progress in tiles, three passes
+    /// each. Values are kept in 16 bits when the limit allows (radii under 128 voxels).
+    pub(super) fn changed_runs(
+        &self,
+        tree: &LinearOctree,
+        step: Step,
+        limit: i64,
+        progress: &dyn Progress,
+    ) -> Vec<(u64, u64)> {
+        if limit < i64::from(u16::MAX) {
+            self.transform::<u16>(tree, step, limit, progress)
+        } else {
+            self.transform::<u32>(tree, step, limit, progress)
+        }
+    }
+
+    /// [`TileBand::changed_runs`] with the passes' values stored as `V`.
+    fn transform<V: Value>(
+        &self,
+        tree: &LinearOctree,
+        step: Step,
+        limit: i64,
+        progress: &dyn Progress,
+    ) -> Vec<(u64, u64)> {
+        let (k, grow) = (self.k, step.grow);
+        let t = 1usize << k;
+        let v = t * t * t;
+        progress.start(3 * self.tiles.len() as u64);
+        // Each tile's sites (none for a free tile), x fastest.
+        let sites: Vec<Option<Vec<bool>>> = self
+            .tiles
+            .par_iter()
+            .map(|&p| {
+                let c = unpack(p).map(|x| i64::from(x) << k);
+                let full = tree.occupancy(c, t as u32);
+                let any = full.contains(&grow);
+                any.then(|| full.into_iter().map(|f| f == grow).collect())
+            })
+            .collect();
+        let cap = limit;
+        // Pass one, along x: the cost to the nearest site along each row.
+        let mut pass_x = vec![V::NONE; self.tiles.len() * v];
+        let runs_x = runs(&self.tiles, 0);
+        for_runs(&runs_x, &mut pass_x, v, self, progress, |run, slots| {
+            let len = run.len() * t;
+            let mut row = vec![false; len + 2];
+            let mut costs = vec![0i64; len];
+            let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+            if !before && !after && run.slots.iter().all(|&s| sites[s].is_none()) {
+                return;
+            }
+            for yz in 0..t * t {
+                row[0] = before;
+                row[len + 1] = after;
+                for (j, &s) in run.slots.iter().enumerate() {
+                    let cells = &mut row[1 + j * t..1 + (j + 1) * t];
+                    match &sites[s] {
+                        Some(site) => cells.copy_from_slice(&site[t * yz..t * (yz + 1)]),
+                        None => cells.fill(false),
+                    }
+                }
+                nearest_site_along_row(&row, 1, cap, &mut costs, None);
+                for (j, o) in slots.iter_mut().enumerate() {
+                    for (x, c) in costs[j * t..(j + 1) * t].iter().enumerate() {
+                        o[x + t * yz] = V::of(*c, cap);
+                    }
+                }
+            }
+        });
+        // Passes two and three, along y then z: lower envelopes of the last pass's values.
+        let mut pass_y = vec![V::NONE; self.tiles.len() * v];
+        let runs_y = runs(&self.tiles, 1);
+        envelope_pass(&runs_y, &pass_x, &mut pass_y, v, t, [t, 1, t * t], cap, self, progress);
+        let runs_z = runs(&self.tiles, 2);
+        // Pass three writes over pass one's values, no longer read.
+        envelope_pass(&runs_z, &pass_y, &mut pass_x, v, t, [t * t, 1, t], cap, self, progress);
+        drop(pass_y);
+        progress.finish();
+        // The voxels that change: not sites, within the limit; in Morton order.
+        let mut order: Vec<(u64, usize)> =
+            self.tiles.iter().enumerate().map(|(s, &p)| (encode(unpack(p)), s)).collect();
+        order.par_sort_unstable();
+        // The index in a tile of each Morton offset.
+        let at_morton: Vec<usize> = (0..v as u64)
+            .map(|i| {
+                let [x, y, z] = morton::decode(i).map(|c| c as usize);
+                x + t * (y + t * z)
+            })
+            .collect();
+        let parts: Vec<Vec<(u64, u64)>> = order
+            .par_chunks(1024)
+            .map(|chunk| {
+                let mut runs: Vec<(u64, u64)> = Vec::new();
+                for &(code, s) in chunk {
+                    let base = code << (3 * k);
+                    let d = &pass_x[s * v..(s + 1) * v];
+                    for (i, &at) in (0..v as u64).zip(&at_morton) {
+                        let site = sites[s].as_ref().is_some_and(|site| site[at]);
+                        if d[at].cost() <= limit && !site {
+                            let code = base + i;
+                            match runs.last_mut() {
+                                Some(last) if last.1 == code => last.1 = code + 1,
+                                _ => runs.push((code, code + 1)),
+                            }
+                        }
+                    }
+                }
+                runs
+            })
+            .collect();
+        let mut out: Vec<(u64, u64)> = Vec::new();
+        for part in parts {
+            for run in part {
+                match out.last_mut() {
+                    Some(last) if last.1 == run.0 => last.1 = run.1,
+                    _ => out.push(run),
+                }
+            }
+        }
+        out
+    }
+}
+
+impl TileBand {
+    /// The kind of a tile next to the band, not in it: site or free (see [`TileBand::of`]).
+    fn beyond(&self, c: [i64; 3]) -> Kind {
+        let n = i64::from(self.n);
+        if c.iter().any(|&x| x < 0 || x >= n) {
+            return if self.grow { Kind::Free } else { Kind::Site };
+        }
+        match self.sites.binary_search(&pack(c.map(|x| x as u32))) {
+            Ok(_) => Kind::Site,
+            Err(_) => Kind::Free,
+        }
+    }
+}
+
+/// The kinds of the tiles `set` (inside the domain), walked in Morton order so each
+/// search of the keys starts from the last one's.
+fn kinds_of(tiles: &Tiles, set: &[Packed]) -> Vec<Kind> {
+    let mut order: Vec<(u64, usize)> = set.iter().enumerate().map(|(i, &p)| (encode(unpack(p)), i)).collect();
+    order.par_sort_unstable();
+    let found: Vec<(usize, Kind)> = order
+        .par_chunks(4096)
+        .flat_map_iter(|chunk| {
+            let mut hint = 0;
+            chunk.iter().map(move |&(code, i)| {
+                let node = NodeKey::new(code << (3 * tiles.k), tiles.k);
+                let range = range_meeting_near(tiles.keys, hint, node);
+                hint = range.start.min(tiles.keys.len().saturating_sub(1));
+                (i, tiles.kind_of(&tiles.keys[range]))
+            })
+        })
+        .collect();
+    let mut kinds = vec![Kind::Free; set.len()];
+    for (i, kind) in found {
+        kinds[i] = kind;
+    }
+    kinds
+}
+
+fn encode(c: [u32; 3]) -> u64 {
+    morton::encode(c[0], c[1], c[2])
+}
+
+/// A value of a pass as stored: four times a squared distance, at most the cap, or
+/// none in reach.
+trait Value: Copy + Send + Sync {
+    /// No value in reach.
+    const NONE: Self;
+    /// `cost` as stored: `NONE` when over `cap` (which is under `Self`'s largest).
+    fn of(cost: i64, cap: i64) -> Self;
+    /// The cost stored, [`FAR`] for `NONE`.
+    fn cost(self) -> i64;
+}
+
+impl Value for u16 {
+    const NONE: Self = u16::MAX;
+    fn of(cost: i64, cap: i64) -> Self {
+        if cost > cap { Self::NONE } else { cost as u16 }
+    }
+    fn cost(self) -> i64 {
+        if self == Self::NONE { FAR } else { i64::from(self) }
+    }
+}
+
+impl Value for u32 {
+    const NONE: Self = u32::MAX;
+    fn of(cost: i64, cap: i64) -> Self {
+        if cost > cap { Self::NONE } else { cost as u32 }
+    }
+    fn cost(self) -> i64 {
+        if self == Self::NONE { FAR } else { i64::from(self) }
+    }
+}
+
+/// A run of consecutive tiles along one axis and what lies just beyond each end.
+struct Run {
+    /// The tiles' slots (indices into the band's tiles), in order along the axis.
+    slots: Vec<usize>,
+    /// The first tile's position.
+    first: [u32; 3],
+    /// The axis.
+    axis: usize,
+    /// The kinds of the tiles just before and after the run (filled in by [`for_runs`]).
+    before: Kind,
+    after: Kind,
+}
+
+impl Run {
+    fn len(&self) -> usize {
+        self.slots.len()
+    }
+}
+
+/// The runs of consecutive tiles of `tiles` (sorted by packed position) along `axis`.
+fn runs(tiles: &[Packed], axis: usize) -> Vec<Run> {
+    // Order by the other two coordinates, then this one.
+    let key = |c: [u32; 3]| -> u64 {
+        let (a, b) = match axis {
+            0 => (c[2], c[1]),
+            1 => (c[2], c[0]),
+            _ => (c[1], c[0]),
+        };
+        (u64::from(a) << 42) | (u64::from(b) << 21) | u64::from(c[axis])
+    };
+    let mut order: Vec<(u64, usize)> = tiles.iter().enumerate().map(|(s, &p)| (key(unpack(p)), s)).collect();
+    order.par_sort_unstable();
+    let mut out: Vec<Run> = Vec::new();
+    let mut last: Option<u64> = None;
+    for (k, s) in order {
+        match (last, out.last_mut()) {
+            (Some(l), Some(run)) if k == l + 1 => run.slots.push(s),
+            _ => out.push(Run { slots: vec![s], first: unpack(tiles[s]), axis, before: Kind::Free, after: Kind::Free }),
+        }
+        last = Some(k);
+    }
+    out
+}
+
+/// Runs `f(run, its tiles' output slices)` over every run in parallel, each run's
+/// tiles' values in `values` (`v` a tile) given to it alone; the kinds beyond the
+/// run's ends filled in first.
+fn for_runs<V: Value, F>(runs: &[Run], values: &mut [V], v: usize, band: &TileBand, progress: &dyn Progress, f: F)
+where
+    F: Fn(&Run, &mut [&mut [V]]) + Sync,
+{
+    let mut tiles: Vec<Option<&mut [V]>> = values.chunks_mut(v).map(Some).collect();
+    let mut jobs: Vec<(Run, Vec<&mut [V]>)> = Vec::with_capacity(runs.len());
+    for run in runs {
+        let slots: Vec<&mut [V]> =
+            run.slots.iter().map(|&s| tiles[s].take().expect("a tile in one run an axis")).collect();
+        let mut before = run.first.map(i64::from);
+        before[run.axis] -= 1;
+        let mut after = run.first.map(i64::from);
+        after[run.axis] += run.len() as i64;
+        let run = Run {
+            slots: run.slots.clone(),
+            first: run.first,
+            axis: run.axis,
+            before: band.beyond(before),
+            after: band.beyond(after),
+        };
+        jobs.push((run, slots));
+    }
+    jobs.par_iter_mut().for_each(|(run, slots)| {
+        f(run, slots);
+        progress.advance(run.len() as u64);
+    });
+}
+
+/// One envelope pass along `runs`' axis: `to = min_i (axis_cost(x - i) + from(i))` along
+/// each line, a site tile beyond a run's end giving 0 there; `strides` are the steps
+/// within a tile along the axis and the two others.
+#[allow(clippy::too_many_arguments)]
+fn envelope_pass<V: Value>(
+    runs: &[Run],
+    from: &[V],
+    to: &mut [V],
+    v: usize,
+    t: usize,
+    strides: [usize; 3],
+    cap: i64,
+    band: &TileBand,
+    progress: &dyn Progress,
+) {
+    for_runs(runs, to, v, band, progress, |run, slots| {
+        let len = run.len() * t;
+        let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+        let mut g = vec![FAR; len + 2];
+        let mut out = vec![0i64; len];
+        let (mut sites, mut starts) = (Vec::new(), Vec::new());
+        for b in 0..t {
+            for a in 0..t {
+                let base = a * strides[1] + b * strides[2];
+                g[0] = if before { 0 } else { FAR };
+                g[len + 1] = if after { 0 } else { FAR };
+                let mut any = before || after;
+                for (j, &s) in run.slots.iter().enumerate() {
+                    let tile = &from[s * v..(s + 1) * v];
+                    for i in 0..t {
+                        let d = tile[base + i * strides[0]].cost();
+                        any |= d <= cap;
+                        g[1 + j * t + i] = d;
+                    }
+                }
+                if !any {
+                    continue;
+                }
+                lower_envelope(&g, 1, cap, &mut out, &mut sites, &mut starts, None);
+                for (j, tile) in slots.iter_mut().enumerate() {
+                    for i in 0..t {
+                        tile[base + i * strides[0]] = V::of(out[j * t + i], cap);
+                    }
+                }
+            }
+        }
+    });
+}
+
+/// The seeds (see the module doc): the mixed tiles, and the free tiles touching a site
+/// tile, each sorted by packed position.
+fn seeds(tiles: &Tiles) -> (Vec<Packed>, Vec<Packed>) {
+    let k = tiles.k;
+    let n = i64::from(tiles.n);
+    let parts: Vec<(Vec<Packed>, Vec<Packed>)> = tiles
+        .keys
+        .par_chunks(4096)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let (mut mixed, mut out) = (Vec::new(), Vec::new());
+            let mut last_mixed = u64::MAX;
+            for (j, key) in chunk.iter().enumerate() {
+                let hint = 4096 * c + j;
+                if key.k() < k {
+                    let tile = key.start() >> (3 * k);
+                    if tile != last_mixed {
+                        last_mixed = tile;
+                        mixed.push(pack(morton::decode(tile)));
+                    }
+                    continue;
+                }
+                // A key of whole tiles: growing, the tiles around it that are free;
+                // shrinking, its own tiles touching an empty one or the outside.
+                let min = morton::decode(key.start() >> (3 * k)).map(i64::from);
+                let size = 1i64 << (key.k() - k);
+                let inside = |c: [i64; 3]| (0..3).all(|a| c[a] >= min[a] && c[a] < min[a] + size);
+                if tiles.grow {
+                    for_shell(min.map(|c| c - 1), min.map(|c| c + size + 1), n, |c| {
+                        if !inside(c) && tiles.kind_near(c, hint) == Kind::Free {
+                            out.push(pack(c.map(|x| x as u32)));
+                        }
+                    });
+                } else {
+                    for_shell(min, min.map(|c| c + size), n, |c| {
+                        let touches = (0..27).filter(|&d| d != 13).any(|d| {
+                            let e = [d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1];
+                            let nb: [i64; 3] = std::array::from_fn(|a| c[a] + e[a]);
+                            !inside(nb) && tiles.kind_near(nb, hint) == Kind::Site
+                        });
+                        if touches {
+                            out.push(pack(c.map(|x| x as u32)));
+                        }
+                    });
+                }
+            }
+            (mixed, out)
+        })
+        .collect();
+    let (mut mixed, mut free): (Vec<Packed>, Vec<Packed>) = (Vec::new(), Vec::new());
+    for (m, f) in parts {
+        mixed.extend(m);
+        free.extend(f);
+    }
+    for set in [&mut mixed, &mut free] {
+        set.par_sort_unstable();
+        set.dedup();
+    }
+    (mixed, free)
+}
+
+/// Calls `f` for each tile of the box `[lo, hi)` on its boundary layer, clipped to the
+/// domain (`0..n`); rows through the box's inside visit only their two ends.
+fn for_shell(lo: [i64; 3], hi: [i64; 3], n: i64, mut f: impl FnMut([i64; 3])) {
+    let inside = |x: i64| (0..n).contains(&x);
+    for z in lo[2].max(0)..hi[2].min(n) {
+        for y in lo[1].max(0)..hi[1].min(n) {
+            if z == lo[2] || z == hi[2] - 1 || y == lo[1] || y == hi[1] - 1 {
+                (lo[0].max(0)..hi[0].min(n)).for_each(|x| f([x, y, z]));
+                continue;
+            }
+            if inside(lo[0]) {
+                f([lo[0], y, z]);
+            }
+            if hi[0] - 1 != lo[0] && inside(hi[0] - 1) {
+                f([hi[0] - 1, y, z]);
+            }
+        }
+    }
+}
+
+/// The tiles within `t` (Chebyshev) of `set`, inside the domain of `n` tiles a side,
+/// sorted by packed position: one axis at a time.
+fn dilate(mut set: Vec<Packed>, t: u32, n: u32) -> Vec<Packed> {
+    for axis in 0..3 {
+        let mut next: Vec<Packed> = set
+            .par_iter()
+            .flat_map_iter(|&p| {
+                let c = unpack(p);
+                let (lo, hi) = (c[axis].saturating_sub(t), (c[axis] + t).min(n - 1));
+                (lo..=hi).map(move |x| {
+                    let mut d = c;
+                    d[axis] = x;
+                    pack(d)
+                })
+            })
+            .collect();
+        next.par_sort_unstable();
+        next.dedup();
+        set = next;
+    }
+    set
+}
