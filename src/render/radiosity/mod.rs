@@ -43,6 +43,7 @@
 mod cover;
 mod file;
 mod form_factor;
+mod form_factor_cache;
 mod gather;
 mod near_field;
 mod patch;
@@ -242,7 +243,7 @@ impl Radiosity {
             return Self::gathered(scene, options, size, mesh, progress);
         }
         let base = mesh.elements.len();
-        let mut shooter = Shooter::new(scene, mesh);
+        let mut shooter = Shooter::new(scene, mesh, options.budget);
         let stop = Stop { until: options.until, max_shots: options.max_shots };
         if let Some(threshold) = options.subdivide {
             // Split where the light has been laid down (most of it: the lights and the
