@@ -20,12 +20,9 @@
 //! cell (the cube of one voxel centred on the corner; a minimiser outside slides along
 //! the cell's faces), so every vertex stays within its cell as the paper asks. A cell
 //! whose edges cross only two of the three faces at a corner of the solid sees a
-//! crease, and its vertex would land on the crease's line, up to a third of a voxel
-//! past the corner (Manifold DC shares this). Departure from the paper: such a vertex
-//! looks at its two-ring (the planes of the faces around its quads' other vertices);
-//! where the crease's line meets one of them running across it (`|n . d| >= 1/2`,
-//! `d` the crease's direction) within the cell, the vertex goes to that point, the
-//! corner, and counts as one. A vertex none of whose faces carries a crossing
+//! crease, and its vertex lands on the crease's line, up to a third of a voxel past the
+//! corner (the Manifold DC shares this; a vertex of the two-ring's planes
+//! would find the corner, not tried yet). A vertex none of whose faces carries a crossing
 //! (occupancy only: a `.vox`, an old `.oct`) starts at the mean of its faces' centres
 //! and is relaxed towards the mean of its neighbours within its cell, a few rounds, as
 //! Surface Nets do (Gibson 1998): an estimate, reported as such.
@@ -134,14 +131,7 @@ impl DualMesh {
         let placed: Vec<Placed> = (0..points.len())
             .into_par_iter()
             .with_min_len(CHUNK)
-            .map(|v| {
-                let placed = place(points[v], fans.of_vertex(v), &faces, &crossings);
-                if placed.kind != VertexKind::Crease {
-                    return placed;
-                }
-                let ring = Ring { fans: &fans, quads: &quads, faces: &faces, crossings: &crossings };
-                corner_on_crease(v, points[v], &placed, &ring).unwrap_or(placed)
-            })
+            .map(|v| place(points[v], fans.of_vertex(v), &faces, &crossings))
             .collect();
         let vertex_distance = placed.iter().map(|p| p.distance).fold(0.0, f64::max);
         let mut positions: Vec<DVec3> = placed.iter().map(|p| p.position).collect();
@@ -225,59 +215,6 @@ fn place(corner: [u32; 3], fan: &[u32], faces: &[FaceKey], crossings: &[Option<C
         .map(|(key, c)| c.normal.as_dvec3().dot(x - (c.point(key) - p)).abs())
         .fold(0.0, f64::max);
     Placed { position: p + x, kind, clamped, distance }
-}
-
-/// Least `|n . d|` of a plane (unit normal `n`) that a crease of direction `d` counts
-/// as running into (module doc): the third face at a box's corner has `|n . d| = 1`,
-/// the planes along a crease (its own two faces, a curved face beside it) about 0.
-const TRANSVERSE: f64 = 0.5;
-
-/// What a vertex's two-ring is read from: the faces around each vertex, their quads,
-/// keys and crossings.
-struct Ring<'a> {
-    fans: &'a Fans,
-    quads: &'a [[u32; 4]],
-    faces: &'a [FaceKey],
-    crossings: &'a [Option<Crossing>],
-}
-
-/// Crease vertex `v` at voxel corner `corner`, placed on its crease's line as
-/// `placed`, moved to where that line meets a plane of its two-ring (the crossings of
-/// the faces around its quads' other vertices) running across it, if that point lies
-/// in its cell: the corner of the solid its own faces' planes miss (module doc). The
-/// nearest such point along the line; `None` when there is none.
-fn corner_on_crease(v: usize, corner: [u32; 3], placed: &Placed, ring: &Ring) -> Option<Placed> {
-    let p = DVec3::new(f64::from(corner[0]), f64::from(corner[1]), f64::from(corner[2]));
-    let own = ring.fans.of_vertex(v);
-    let plane = |f: u32| ring.crossings[f as usize].map(|c| (c.point(ring.faces[f as usize]) - p, c.normal.as_dvec3()));
-    let mut qef = Qef::default();
-    for (q, n) in own.iter().filter_map(|&f| plane(f)) {
-        qef.add(q, n);
-    }
-    let d = qef.crease_direction()?;
-    let x = placed.position - p;
-    let mut best: Option<(f64, DVec3)> = None;
-    for &f in own {
-        for &u in &ring.quads[f as usize] {
-            if u as usize == v {
-                continue;
-            }
-            for (q, n) in ring.fans.of_vertex(u as usize).iter().filter_map(|&g| plane(g)) {
-                let across = n.dot(d);
-                if across.abs() < TRANSVERSE {
-                    continue;
-                }
-                let s = n.dot(q - x) / across;
-                let y = x + d * s;
-                if y.abs().max_element() <= 0.5 && best.is_none_or(|(t, _)| s.abs() < t) {
-                    best = Some((s.abs(), y));
-                }
-            }
-        }
-    }
-    let (_, y) = best?;
-    let distance = own.iter().filter_map(|&f| plane(f)).map(|(q, n)| n.dot(y - q).abs()).fold(0.0, f64::max);
-    Some(Placed { position: p + y, kind: VertexKind::Corner, clamped: false, distance })
 }
 
 /// Surface Nets' relaxation of the estimated vertices: each moves to the mean of its

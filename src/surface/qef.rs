@@ -83,20 +83,6 @@ impl Qef {
         (x.dot(self.matrix() * x) - 2.0 * self.b.dot(x) + self.c).max(0.0)
     }
 
-    /// The direction of a crease: the axis the planes leave free when their rank is 2
-    /// (the eigenvector of `A`'s least eigenvalue), `None` at any other rank.
-    #[must_use]
-    pub fn crease_direction(&self) -> Option<DVec3> {
-        let (values, vectors) = symmetric_eigen(self.matrix());
-        let largest = values.max_element();
-        let kept = (0..3).filter(|&i| values[i] > TRUNCATION * largest).count();
-        if largest <= 0.0 || kept != 2 {
-            return None;
-        }
-        let least = (0..3).min_by(|&i, &j| values[i].total_cmp(&values[j]))?;
-        vectors.col(least).try_normalize()
-    }
-
     /// The minimiser nearest the mass point (module doc).
     #[must_use]
     pub fn solve(&self) -> QefSolution {
