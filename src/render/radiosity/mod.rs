@@ -12,7 +12,8 @@
 //! another, the faces between them are no patch), and its ray walk is the visibility term (`form_factor`:
 //! ray-traced form factors after Wallace et al. 1989, on all cores). The system is
 //! solved by progressive refinement (`shoot`, Cohen et al. 1988; near receivers take
-//! the shooter's elements one by one, far ones what that leaves, `near_field`), stopped at a fraction of unshot energy or a
+//! the shooter's elements one by one, far ones what that leaves, `near_field`; a
+//! patch's form factors kept for its next shot, `form_factor_cache`), stopped at a fraction of unshot energy or a
 //! shot count, with the ambient correction for display, or ([`Solver::Gathering`]) as
 //! the chapter writes it, `[F][B] = [E]` with the whole form-factor matrix, by
 //! Gauss-Seidel iteration to a tolerance (`gather`).

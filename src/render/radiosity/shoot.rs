@@ -60,6 +60,10 @@
 //! magnitude of its unshot power). Refinement then goes on to `until` on the finer
 //! elements, and subdivision is tried again, one level deeper each round.
 //!
+//! Form factors do not change from shot to shot, so a patch's are kept after its
+//! first shot and its later shots read them instead of casting rays (module
+//! `form_factor_cache`, within a memory limit): the same bits.
+//!
 //! Threads: each shot computes the elements' increments in parallel into a vector in
 //! element order and adds them up in that order, so the solution is the same bits on
 //! any number of threads.
