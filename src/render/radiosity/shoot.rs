@@ -595,3 +595,62 @@ impl<'a> Shooter<'a> {
         (unshot / (DVec3::ONE - rho.min(DVec3::splat(0.999)))).max(DVec3::ZERO)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::octree::{Domain, VoxelizeOptions, voxelize};
+    use crate::render::Material;
+    use crate::shape::Cuboid;
+
+    /// A closed room (the hollow of a box in a box) with a lamp under its ceiling and a
+    /// block on its floor, at depth 5.
+    fn room() -> Scene {
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 5).unwrap();
+        let cuboid = |min: DVec3, max: DVec3| Cuboid::new((min + max) * 0.5, max - min).unwrap();
+        let tree = |shape: &dyn crate::shape::Shape| voxelize(shape, domain, &VoxelizeOptions::default()).unwrap();
+        let diffuse = |rho: f64, emission: f64| Material {
+            color: DVec3::splat(rho),
+            kd: 1.0,
+            emission: DVec3::splat(emission),
+            ..Material::default()
+        };
+        let mut scene = Scene::new();
+        let walls = cuboid(DVec3::splat(-0.875), DVec3::splat(0.875)) - cuboid(DVec3::splat(-0.5), DVec3::splat(0.5));
+        scene.add("room", tree(&walls), diffuse(0.7, 0.0));
+        scene.add(
+            "lamp",
+            tree(&cuboid(DVec3::new(-0.125, -0.125, 0.375), DVec3::new(0.125, 0.125, 0.5))),
+            diffuse(0.6, 2.0),
+        );
+        scene.add("block", tree(&cuboid(DVec3::new(-0.3125, -0.3125, -0.5), DVec3::ZERO)), diffuse(0.6, 0.0));
+        scene
+    }
+
+    #[test]
+    fn kept_form_factors_give_the_bits_of_form_factors_cast_at_every_shot() {
+        let scene = room();
+        // A budget of nothing keeps no row: every shot casts its rays.
+        let solve = |budget: MemoryBudget| {
+            let patches = Patches::build(&scene, 0.25, 4, MemoryBudget::unlimited()).unwrap();
+            let mut s = Shooter::new(&scene, patches, budget);
+            let stop = Stop { until: 1e-3, max_shots: Some(400) };
+            s.run(stop, &crate::NoProgress);
+            // A subdivision round empties the cache; the shots after it must agree too.
+            s.subdivide(0.25, usize::MAX, usize::MAX);
+            s.run(Stop { until: 1e-4, max_shots: Some(600) }, &crate::NoProgress);
+            s
+        };
+        let (kept, cast) = (solve(MemoryBudget::unlimited()), solve(MemoryBudget(0)));
+        let bits = |s: &Shooter| s.radiosity.iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&kept), bits(&cast));
+        assert_eq!(kept.shots, cast.shots);
+        assert_eq!(
+            (kept.absorbed.to_bits(), kept.escaped.to_bits()),
+            (cast.absorbed.to_bits(), cast.escaped.to_bits())
+        );
+        // Patches shot more than once, and their later shots cast no ray.
+        assert!(kept.shots > kept.patches.patches.len() as u64, "{} shots", kept.shots);
+        assert!(kept.rays < cast.rays, "{} rays kept against {} cast", kept.rays, cast.rays);
+    }
+}
