@@ -10,6 +10,8 @@
 use std::io::Write;
 use std::path::Path;
 
+use rayon::prelude::*;
+
 use super::TriangleMesh;
 use super::separate::separate;
 use crate::atomic::write_atomic;
@@ -53,13 +55,40 @@ pub fn write_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
 
 /// OBJ: `v x y z` lines, then `f a b c` with one-based indices. Coordinates are
 /// written with Rust's shortest round-trip formatting, so they reload exactly.
+/// The lines are formatted in parallel, a few thousand a task, and written in order.
 pub fn write_obj(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
     writeln!(w, "# written by octsolid")?;
-    for v in &mesh.vertices {
-        writeln!(w, "v {} {} {}", v.x, v.y, v.z)?;
-    }
-    for t in &mesh.triangles {
-        writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
+    write_lines(&mesh.vertices, w, |out, v| writeln!(out, "v {} {} {}", v.x, v.y, v.z))?;
+    write_lines(&mesh.triangles, w, |out, t| writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1))
+}
+
+/// Lines of text a formatting task makes.
+const LINES_A_TASK: usize = 1 << 14;
+/// Tasks formatted side by side before their text is written (so a batch holds a few
+/// megabytes, never the whole file).
+const TASKS_A_BATCH: usize = 16;
+
+/// Writes `line` of each of `items` to `w`, in order: batches of tasks formatted in
+/// parallel into memory, each batch written before the next is made.
+fn write_lines<T: Sync>(
+    items: &[T],
+    w: &mut dyn Write,
+    line: impl Fn(&mut Vec<u8>, &T) -> std::io::Result<()> + Sync,
+) -> std::io::Result<()> {
+    for batch in items.chunks(LINES_A_TASK * TASKS_A_BATCH) {
+        let texts = batch
+            .par_chunks(LINES_A_TASK)
+            .map(|chunk| {
+                let mut text = Vec::with_capacity(48 * chunk.len());
+                for item in chunk {
+                    line(&mut text, item)?;
+                }
+                Ok(text)
+            })
+            .collect::<std::io::Result<Vec<Vec<u8>>>>()?;
+        for text in &texts {
+            w.write_all(text)?;
+        }
     }
     Ok(())
 }

@@ -121,9 +121,10 @@ fn crossings_of(faces: &[FaceKey], hermite: &HermiteData) -> Vec<Option<Crossing
 }
 
 impl DualMesh {
-    /// Dual contouring of `tree`'s boundary with the crossings of `hermite`.
-    pub(crate) fn of(tree: &LinearOctree, hermite: &HermiteData) -> Result<DualMesh> {
-        let UnitFaceQuads { faces: rects, points, quads } = unit_face_quads(tree, BoundarySize::of(tree))?;
+    /// Dual contouring of `tree`'s boundary with the crossings of `hermite`; `size` is
+    /// [`BoundarySize::of`] `tree` (its caller's budget check counted it already).
+    pub(crate) fn of(tree: &LinearOctree, size: BoundarySize, hermite: &HermiteData) -> Result<DualMesh> {
+        let UnitFaceQuads { faces: rects, points, quads } = unit_face_quads(tree, size)?;
         let faces: Vec<FaceKey> = rects.par_iter().map(|r| face_key(r, 0, 0)).collect();
         let crossings = crossings_of(&faces, hermite);
         let fans = Fans::of(points.len(), &quads);

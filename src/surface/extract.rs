@@ -143,7 +143,7 @@ pub fn extract(
     let bytes = u64::try_from(size.unit_faces).unwrap_or(u64::MAX).saturating_mul(BYTES_PER_FACE);
     options.budget.check(format!("the surface of {} boundary voxel faces", size.unit_faces), bytes)?;
     progress.start(3);
-    let dual = DualMesh::of(tree, hermite)?;
+    let dual = DualMesh::of(tree, size, hermite)?;
     progress.advance(1);
     let mut dual = dual;
     let triangles = untangle(&mut dual);

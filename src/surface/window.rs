@@ -125,7 +125,7 @@ pub fn extract_cell(
     let domain = *window.domain();
     let piece = match style {
         Style::Smooth => {
-            let mut dual = DualMesh::of(window, hermite)?;
+            let mut dual = DualMesh::of(window, BoundarySize::of(window), hermite)?;
             let triangles = untangle(&mut dual);
             let (min, voxel) = (domain.min(), domain.voxel_size());
             Piece {

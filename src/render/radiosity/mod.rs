@@ -12,7 +12,8 @@
 //! another, the faces between them are no patch), and its ray walk is the visibility term (`form_factor`:
 //! ray-traced form factors after Wallace et al. 1989, on all cores). The system is
 //! solved by progressive refinement (`shoot`, Cohen et al. 1988; near receivers take
-//! the shooter's elements one by one, far ones what that leaves, `near_field`), stopped at a fraction of unshot energy or a
+//! the shooter's elements one by one, far ones what that leaves, `near_field`; a
+//! patch's form factors kept for its next shot, `form_factor_cache`), stopped at a fraction of unshot energy or a
 //! shot count, with the ambient correction for display, or ([`Solver::Gathering`]) as
 //! the chapter writes it, `[F][B] = [E]` with the whole form-factor matrix, by
 //! Gauss-Seidel iteration to a tolerance (`gather`).
@@ -43,6 +44,7 @@
 mod cover;
 mod file;
 mod form_factor;
+mod form_factor_cache;
 mod gather;
 mod near_field;
 mod patch;
@@ -242,7 +244,7 @@ impl Radiosity {
             return Self::gathered(scene, options, size, mesh, progress);
         }
         let base = mesh.elements.len();
-        let mut shooter = Shooter::new(scene, mesh);
+        let mut shooter = Shooter::new(scene, mesh, options.budget);
         let stop = Stop { until: options.until, max_shots: options.max_shots };
         if let Some(threshold) = options.subdivide {
             // Split where the light has been laid down (most of it: the lights and the

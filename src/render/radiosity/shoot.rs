@@ -60,6 +60,10 @@
 //! magnitude of its unshot power). Refinement then goes on to `until` on the finer
 //! elements, and subdivision is tried again, one level deeper each round.
 //!
+//! Form factors do not change from shot to shot, so a patch's are kept after its
+//! first shot and its later shots read them instead of casting rays (module
+//! `form_factor_cache`, within a memory limit): the same bits.
+//!
 //! Threads: each shot computes the elements' increments in parallel into a vector in
 //! element order and adds them up in that order, so the solution is the same bits on
 //! any number of threads.
@@ -67,10 +71,14 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use smallvec::SmallVec;
+
 use super::form_factor::element_to_patch;
+use super::form_factor_cache::{FormFactorCache, Row};
 use super::near_field::{element_parts, far_light, is_near};
 use super::patch::Patch;
 use super::patches::{Element, Patches};
+use crate::budget::MemoryBudget;
 use crate::progress::Progress;
 use crate::ray::RayCast;
 use crate::render::scene::{Light, Scene};
@@ -120,6 +128,8 @@ pub(crate) struct Shooter<'a> {
     pub timeline: Vec<f64>,
     /// When refinement started.
     started: std::time::Instant,
+    /// Form factors of past shots, for the shooters' next (module `form_factor_cache`).
+    cache: FormFactorCache,
 }
 
 /// The radiance a light gives element `e` before reflection (irradiance over pi: what
@@ -152,21 +162,50 @@ enum Take {
     Near { light: DVec3, form_factor: f64 },
 }
 
-/// What `e` takes of `shooter`: from each of `parts` (its elements and their own light,
-/// [`element_parts`]) when `e` is near it, else its form factor to it; and the rays cast.
-fn take(scene: &Scene, e: &Element, shooter: &Patch, parts: &[(Patch, DVec3)]) -> (Take, u32) {
+/// A near receiver's take of `parts` (the shooter's elements with their light) from
+/// its form factors to them, `factors`, in the parts' order.
+fn near_take(factors: &[f64], parts: &[(Patch, DVec3)]) -> Take {
+    let (mut light, mut form_factor) = (DVec3::ZERO, 0.0);
+    for (f, (_, u)) in factors.iter().zip(parts) {
+        light += *u * *f;
+        form_factor += *f;
+    }
+    Take::Near { light, form_factor }
+}
+
+/// The form factors of `e` to `shooter`: to each of `parts` (its elements and their
+/// own light, [`element_parts`]) when `e` is near it, else to the whole patch; and the
+/// rays cast.
+fn factors(scene: &Scene, e: &Element, shooter: &Patch, parts: &[(Patch, DVec3)]) -> (Factors, u32) {
     if !parts.is_empty() && is_near(e, shooter) {
-        let (mut light, mut form_factor, mut rays) = (DVec3::ZERO, 0.0, 0);
-        for (part, u) in parts {
-            let (f, r) = element_to_patch(scene, e, part);
-            light += *u * f;
-            form_factor += f;
-            rays += r;
-        }
-        return (Take::Near { light, form_factor }, rays);
+        let mut rays = 0;
+        let near = parts
+            .iter()
+            .map(|(part, _)| {
+                let (f, r) = element_to_patch(scene, e, part);
+                rays += r;
+                f
+            })
+            .collect();
+        return (Factors::Near(near), rays);
     }
     let (f, rays) = element_to_patch(scene, e, shooter);
-    (Take::Far(f), rays)
+    (Factors::Far(f), rays)
+}
+
+/// A receiver's form factors to a shooting patch: to the whole patch (far), or to
+/// each of its elements (near).
+enum Factors {
+    Far(f64),
+    Near(SmallVec<[f64; 16]>),
+}
+
+/// What `e` takes of `shooter` (see [`factors`]), and the rays cast.
+fn take(scene: &Scene, e: &Element, shooter: &Patch, parts: &[(Patch, DVec3)]) -> (Take, u32) {
+    match factors(scene, e, shooter, parts) {
+        (Factors::Near(f), rays) => (near_take(&f, parts), rays),
+        (Factors::Far(f), rays) => (Take::Far(f), rays),
+    }
 }
 
 /// The power a point light emits, `4 pi I` summed over the channels; 0 for a
@@ -179,8 +218,9 @@ pub(super) fn point_power(light: &Light) -> f64 {
 }
 
 impl<'a> Shooter<'a> {
-    /// Every element at its patch's emission, every patch's emission unshot.
-    pub fn new(scene: &'a Scene, patches: Patches) -> Self {
+    /// Every element at its patch's emission, every patch's emission unshot; form
+    /// factors kept for later shots within `budget` (module `form_factor_cache`).
+    pub fn new(scene: &'a Scene, patches: Patches, budget: MemoryBudget) -> Self {
         let radiosity = patches.elements.iter().map(|e| patches.patches[e.patch as usize].emission).collect();
         let unshot: Vec<DVec3> = patches.patches.iter().map(|p| p.emission).collect();
         let element_unshot: Vec<DVec3> = patches
@@ -189,6 +229,7 @@ impl<'a> Shooter<'a> {
             .map(|e| if e.level == 0 { patches.patches[e.patch as usize].emission } else { DVec3::ZERO })
             .collect();
         let (incident, shot) = (vec![DVec3::ZERO; patches.elements.len()], vec![DVec3::ZERO; patches.patches.len()]);
+        let patches_count = patches.patches.len();
         let from_patches: f64 = patches.patches.iter().map(|p| PI * p.area * total(p.emission)).sum();
         let from_lights: f64 = scene.lights.iter().map(point_power).sum();
         let mut s = Shooter {
@@ -210,6 +251,7 @@ impl<'a> Shooter<'a> {
             history: Vec::new(),
             timeline: vec![0.0],
             started: std::time::Instant::now(),
+            cache: FormFactorCache::new(patches_count, budget),
         };
         s.history.push(s.unshot_fraction_with(from_lights));
         s
@@ -322,19 +364,67 @@ impl<'a> Shooter<'a> {
         for k in first..first + count {
             self.element_shot[k] += std::mem::take(&mut self.element_unshot[k]);
         }
-        let found: Vec<(Option<Take>, u32)> = self
-            .patches
-            .elements
-            .par_iter()
-            .with_min_len(64)
-            .map(|e| {
-                if e.patch as usize == i || !e.is_leaf() || e.area <= 0.0 {
-                    return (None, 0);
-                }
-                let (t, rays) = take(scene, e, shooter, &parts);
-                (Some(t), rays)
-            })
-            .collect();
+        let skipped = |e: &Element| e.patch as usize == i || !e.is_leaf() || e.area <= 0.0;
+        let found: Vec<(Option<Take>, u32)> = if let Some(row) = self.cache.row(i) {
+            // A shot before this one left its form factors (module `form_factor_cache`).
+            self.patches
+                .elements
+                .par_iter()
+                .with_min_len(64)
+                .enumerate()
+                .map(|(j, e)| {
+                    if skipped(e) {
+                        return (None, 0);
+                    }
+                    let take = match row.near(j as u32) {
+                        Some(f) => near_take(f, &parts),
+                        None => Take::Far(row.far[j]),
+                    };
+                    (Some(take), 0)
+                })
+                .collect()
+        } else {
+            let computed: Vec<(Option<Factors>, u32)> = self
+                .patches
+                .elements
+                .par_iter()
+                .with_min_len(64)
+                .map(|e| {
+                    if skipped(e) {
+                        return (None, 0);
+                    }
+                    let (f, rays) = factors(scene, e, shooter, &parts);
+                    (Some(f), rays)
+                })
+                .collect();
+            let n = computed.len();
+            let mut row = self.cache.has_room_for(n).then(|| Row::new(vec![0.0; n], parts.len()));
+            let found = computed
+                .into_iter()
+                .enumerate()
+                .map(|(j, (f, rays))| {
+                    let take = f.map(|f| match f {
+                        Factors::Far(f) => {
+                            if let Some(row) = &mut row {
+                                row.far[j] = f;
+                            }
+                            Take::Far(f)
+                        }
+                        Factors::Near(f) => {
+                            if let Some(row) = &mut row {
+                                row.push_near(j as u32, &f);
+                            }
+                            near_take(&f, &parts)
+                        }
+                    });
+                    (take, rays)
+                })
+                .collect();
+            if let Some(row) = row {
+                self.cache.keep(i, row);
+            }
+            found
+        };
         self.rays += found.iter().map(|(_, r)| u64::from(*r)).sum::<u64>();
         // The near receivers' excess over the mean and the far receivers' weight, in
         // element order; then the far light (module `near_field`).
@@ -419,6 +509,9 @@ impl<'a> Shooter<'a> {
         let room =
             (max_elements.saturating_sub(mesh.leaf_count()) / 3).min(max_total.saturating_sub(mesh.elements.len()) / 4);
         let split: Vec<usize> = candidates.into_iter().take(room).collect();
+        if !split.is_empty() {
+            self.cache.clear();
+        }
         let scene = self.scene;
         let mut parents = Vec::with_capacity(split.len());
         for &e in &split {
@@ -500,5 +593,64 @@ impl<'a> Shooter<'a> {
             self.patches.patches.iter().zip(&self.unshot).map(|(p, u)| *u * p.area).sum::<DVec3>() / area;
         // Never below zero: negative unshot light (after subdivision) darkens nothing.
         (unshot / (DVec3::ONE - rho.min(DVec3::splat(0.999)))).max(DVec3::ZERO)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::octree::{Domain, VoxelizeOptions, voxelize};
+    use crate::render::Material;
+    use crate::shape::Cuboid;
+
+    /// A closed room (the hollow of a box in a box) with a lamp under its ceiling and a
+    /// block on its floor, at depth 5.
+    fn room() -> Scene {
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 5).unwrap();
+        let cuboid = |min: DVec3, max: DVec3| Cuboid::new((min + max) * 0.5, max - min).unwrap();
+        let tree = |shape: &dyn crate::shape::Shape| voxelize(shape, domain, &VoxelizeOptions::default()).unwrap();
+        let diffuse = |rho: f64, emission: f64| Material {
+            color: DVec3::splat(rho),
+            kd: 1.0,
+            emission: DVec3::splat(emission),
+            ..Material::default()
+        };
+        let mut scene = Scene::new();
+        let walls = cuboid(DVec3::splat(-0.875), DVec3::splat(0.875)) - cuboid(DVec3::splat(-0.5), DVec3::splat(0.5));
+        scene.add("room", tree(&walls), diffuse(0.7, 0.0));
+        scene.add(
+            "lamp",
+            tree(&cuboid(DVec3::new(-0.125, -0.125, 0.375), DVec3::new(0.125, 0.125, 0.5))),
+            diffuse(0.6, 2.0),
+        );
+        scene.add("block", tree(&cuboid(DVec3::new(-0.3125, -0.3125, -0.5), DVec3::ZERO)), diffuse(0.6, 0.0));
+        scene
+    }
+
+    #[test]
+    fn kept_form_factors_give_the_bits_of_form_factors_cast_at_every_shot() {
+        let scene = room();
+        // A budget of nothing keeps no row: every shot casts its rays.
+        let solve = |budget: MemoryBudget| {
+            let patches = Patches::build(&scene, 0.25, 4, MemoryBudget::unlimited()).unwrap();
+            let mut s = Shooter::new(&scene, patches, budget);
+            let stop = Stop { until: 1e-3, max_shots: Some(400) };
+            s.run(stop, &crate::NoProgress);
+            // A subdivision round empties the cache; the shots after it must agree too.
+            s.subdivide(0.25, usize::MAX, usize::MAX);
+            s.run(Stop { until: 1e-4, max_shots: Some(600) }, &crate::NoProgress);
+            s
+        };
+        let (kept, cast) = (solve(MemoryBudget::unlimited()), solve(MemoryBudget(0)));
+        let bits = |s: &Shooter| s.radiosity.iter().flat_map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&kept), bits(&cast));
+        assert_eq!(kept.shots, cast.shots);
+        assert_eq!(
+            (kept.absorbed.to_bits(), kept.escaped.to_bits()),
+            (cast.absorbed.to_bits(), cast.escaped.to_bits())
+        );
+        // Patches shot more than once, and their later shots cast no ray.
+        assert!(kept.shots > kept.patches.patches.len() as u64, "{} shots", kept.shots);
+        assert!(kept.rays < cast.rays, "{} rays kept against {} cast", kept.rays, cast.rays);
     }
 }

@@ -120,13 +120,27 @@ fn facing_out(mesh: TriangleMesh, scene: &Scene, index: usize) -> TriangleMesh {
     if scene.solids.len() < 2 {
         return mesh;
     }
+    // Each other solid with the bounds of its full voxels: a point whose voxel lies
+    // outside them is in none, without a search of the tree.
+    let others: Vec<(usize, &crate::octree::LinearOctree, [u32; 3], [u32; 3])> = scene
+        .solids
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != index)
+        .filter_map(|(i, o)| o.tree.voxel_bounds().map(|(lo, hi)| (i, &o.tree, lo, hi)))
+        .collect();
+    let contains = |tree: &crate::octree::LinearOctree, lo: [u32; 3], hi: [u32; 3], p: DVec3| {
+        tree.domain()
+            .voxel_of(p)
+            .is_some_and(|v| (0..3).all(|a| lo[a] <= v[a] && v[a] < hi[a]) && tree.contains_voxel(v))
+    };
     let hidden = |t: &[u32; 3]| {
         let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
         let Some(n) = (b - a).cross(c - a).try_normalize() else { return false };
         let centroid = (a + b + c) / 3.0;
-        scene.solids.iter().enumerate().filter(|&(i, _)| i != index).any(|(i, o)| {
-            let half = n * (0.5 * o.tree.domain().voxel_size());
-            o.tree.contains_point(centroid + half) || (i < index && o.tree.contains_point(centroid - half))
+        others.iter().any(|&(i, tree, lo, hi)| {
+            let half = n * (0.5 * tree.domain().voxel_size());
+            contains(tree, lo, hi, centroid + half) || (i < index && contains(tree, lo, hi, centroid - half))
         })
     };
     let keep: Vec<bool> = mesh.triangles.par_iter().map(|t| !hidden(t)).collect();
