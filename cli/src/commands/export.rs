@@ -166,9 +166,17 @@ fn print_surface(surface: &SurfaceMesh, carries_crossings: bool, unit_faces: boo
     if !surface.is_estimate() {
         out!("distance   vertices within {:.3} voxel of their crossings' tangent planes", surface.vertex_distance);
     }
+    if let Some(merge) = &surface.merged {
+        out!(
+            "merged     {} flat blocks of cells ({} vertices) into one vertex each, within {:.3} voxel of their planes",
+            merge.blocks,
+            merge.vertices,
+            merge.max_plane_distance
+        );
+    }
     if let Some(report) = &surface.simplified {
         out!(
-            "simplified {} -> {} triangles, within {:.3} voxel of the dual mesh both ways (a true bound)",
+            "simplified {} -> {} triangles, within {:.3} voxel of the merged mesh both ways (a true bound)",
             report.triangles_before,
             report.triangles_after,
             report.max_distance_bound / voxel
