@@ -91,7 +91,8 @@ pub struct CellMerge {
     pub blocks: usize,
     /// Dual contouring vertices those blocks held.
     pub vertices: usize,
-    /// The largest distance of a merged vertex from its block's plane, in voxels.
+    /// The largest distance of a merged vertex's original from its block's plane, in
+    /// voxels.
     pub max_plane_distance: f64,
 }
 
