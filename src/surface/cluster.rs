@@ -81,7 +81,11 @@ struct Block {
 /// of cells merged (module doc), each block's distance to its plane at most `limit`
 /// lattice units. Returns the positions and triangles (vertices kept in their order,
 /// a block's at its first vertex's place) and what was merged.
-pub(crate) fn merge_cells(dual: &DualMesh, triangles: &[[u32; 3]], limit: f64) -> (Vec<DVec3>, Vec<[u32; 3]>, MergeReport) {
+pub(crate) fn merge_cells(
+    dual: &DualMesh,
+    triangles: &[[u32; 3]],
+    limit: f64,
+) -> (Vec<DVec3>, Vec<[u32; 3]>, MergeReport) {
     let unchanged = || (dual.positions.clone(), triangles.to_vec(), MergeReport::default());
     let n = dual.positions.len();
     if n == 0 || limit <= 0.0 {
