@@ -46,7 +46,8 @@ pub struct ExportArgs {
     #[arg(long, default_value_t = Style::Smooth)]
     pub surface: Style,
     /// How far, in voxels, simplification may move the smooth surface (0: a vertex every
-    /// boundary voxel corner).
+    /// boundary voxel corner): flat blocks of cells merged within a quarter of it, then
+    /// edge collapses within the rest (a true bound).
     #[arg(long, default_value_t = DEFAULT_TOLERANCE, value_parser = parse_tolerance)]
     pub tolerance: f64,
     /// With `--surface voxels`: one voxel face = two triangles (default: coplanar faces
