@@ -24,10 +24,10 @@
 //! between merged vertices, which pass about half as far from the surface), but
 //! allowing twice the limit made the classic part's simplified mesh worse for little
 //! time (RMS 0.022 voxel against 0.015 at `--tolerance 0.1`, 11.2 s of CPU against
-//! 12.4). The merged vertex is the member nearest the faces'
-//! centroid, so it stays on the surface (a point of the fitted plane lies inside a
-//! convex patch: on the classic part that bias doubled the simplified mesh's RMS
-//! distance, 0.028 voxel against 0.015), and the plane is taken through it.
+//! 12.4). The merged vertex is the member nearest the faces' centroid, so it stays on
+//! the surface (a point of the fitted plane lies inside a convex patch: on the classic
+//! part that bias doubled the simplified mesh's RMS distance, 0.028 voxel against
+//! 0.015), and the plane is taken through it.
 //!
 //! Departure from the papers: rather than deciding manifoldness from each cell's signs
 //! (Manifold DC's tables), the merged mesh is checked, and blocks whose vertices take
@@ -36,7 +36,8 @@
 //! merged vertex's faces one fan (a disk), the Euler characteristic unchanged (so the
 //! genus too, the mesh staying closed and manifold), and no face at a merged vertex
 //! meeting another face beyond their shared corners (the exact test of
-//! [`super::simplify`]). After [`MAX_CHECK_ROUNDS`] rounds, or when only the Euler
+//! [`super::simplify`]; two faces across an edge, facing the same side, are not
+//! tested: oriented, they could meet beyond it only folded flat). After [`MAX_CHECK_ROUNDS`] rounds, or when only the Euler
 //! characteristic fails, nothing is merged. The limit is a fitted plane's, not a true
 //! bound like the one [`super::simplify`] keeps: the extraction gives the merge a
 //! quarter of the tolerance and simplification the rest, and the tests measure the
