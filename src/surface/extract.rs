@@ -11,6 +11,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::cluster::merge_cells;
 use super::dual::{DualMesh, VertexKind};
 use super::hermite::HermiteData;
 use super::simplify::{SimplifyOptions, SimplifyReport, simplify};
@@ -20,6 +21,10 @@ use crate::error::Result;
 use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, try_boundary_mesh};
 use crate::octree::LinearOctree;
 use crate::progress::Progress;
+
+/// The share of the tolerance the cell merge takes before simplification (module
+/// `cluster`); simplification takes the rest.
+const MERGE_SHARE: f64 = 0.25;
 
 /// Estimated peak bytes a boundary face of the extraction takes (the staircase's
 /// quads and sheets, the fans, the QEF's results, the triangles).
@@ -77,6 +82,20 @@ impl Default for ExtractOptions {
     }
 }
 
+/// Flat blocks of cells merged into one vertex each before simplification: Ju et al.'s
+/// octree simplification (2002, section 4), each block's vertices within a quarter of
+/// the tolerance of one plane (a fitted plane's distance, not a bound).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CellMerge {
+    /// Blocks merged.
+    pub blocks: usize,
+    /// Dual contouring vertices those blocks held.
+    pub vertices: usize,
+    /// The largest distance of a merged vertex's original from its block's plane, in
+    /// voxels.
+    pub max_plane_distance: f64,
+}
+
 /// The tolerance without one given, in voxels.
 pub const DEFAULT_TOLERANCE: f64 = 0.0;
 
@@ -89,6 +108,9 @@ pub struct SurfaceMesh {
     pub style: Style,
     /// What simplification did (`None` at tolerance 0 and for the staircase).
     pub simplified: Option<SimplifyReport>,
+    /// What merging flat blocks of cells did before simplification (`None` when there
+    /// was no simplification).
+    pub merged: Option<CellMerge>,
     /// The largest distance, in voxels, from a dual contouring vertex to the tangent
     /// planes of its crossings (0 for the staircase).
     pub vertex_distance: f64,
@@ -131,6 +153,7 @@ pub fn extract(
             mesh,
             style: Style::Voxels,
             simplified: None,
+            merged: None,
             vertex_distance: 0.0,
             smooth: 0,
             creases: 0,
@@ -149,18 +172,29 @@ pub fn extract(
     let triangles = untangle(&mut dual);
     let domain = tree.domain();
     let (min, voxel) = (domain.min(), domain.voxel_size());
-    let vertices: Vec<DVec3> = dual.positions.par_iter().map(|&p| min + p * voxel).collect();
+    let to_world = |positions: &[DVec3]| positions.par_iter().map(|&p| min + p * voxel).collect::<Vec<DVec3>>();
     let count = |kind| dual.kinds.iter().filter(|&&k| k == kind).count();
-    let mut mesh = TriangleMesh { vertices, triangles, groups: Vec::new() };
-    let mut simplified = None;
-    if options.tolerance > 0.0 && !mesh.triangles.is_empty() {
-        let (smaller, report) = simplify(&mesh, &SimplifyOptions::new(options.tolerance * voxel))?;
+    let (mut simplified, mut merged) = (None, None);
+    let mut mesh;
+    if options.tolerance > 0.0 && !triangles.is_empty() {
+        let (positions, triangles, report) = merge_cells(&dual, &triangles, MERGE_SHARE * options.tolerance);
+        merged = Some(CellMerge {
+            blocks: report.blocks,
+            vertices: report.merged_vertices,
+            max_plane_distance: report.max_plane_distance,
+        });
+        mesh = TriangleMesh { vertices: to_world(&positions), triangles, groups: Vec::new() };
+        let rest = (1.0 - MERGE_SHARE) * options.tolerance * voxel;
+        let (smaller, report) = simplify(&mesh, &SimplifyOptions::new(rest))?;
         mesh = smaller;
         simplified = Some(report);
+    } else {
+        mesh = TriangleMesh { vertices: to_world(&dual.positions), triangles, groups: Vec::new() };
     }
     let surface = SurfaceMesh {
         mesh,
         simplified,
+        merged,
         style: Style::Smooth,
         vertex_distance: dual.vertex_distance,
         smooth: count(VertexKind::Smooth),

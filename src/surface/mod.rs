@@ -22,11 +22,13 @@
 //! - `qef`: the point nearest a cell's tangent planes, and their rank.
 //! - `dual`: a vertex a sheet at each boundary voxel corner, the faces as quads.
 //! - `untangle`: crossing triangles' vertices moved back towards the staircase.
+//! - `cluster`: flat blocks of cells merged into one vertex each, before simplifying.
 //! - `simplify`: edge collapses under a distance bound, kept manifold and uncrossed.
 //! - `extract`: [`extract`], the surface as an indexed mesh.
 //! - `window`: [`extract_cell`], the part of the surface one cell of a larger solid
 //!   owns, from a window of its neighbours, named to weld with the other cells'.
 
+mod cluster;
 mod combine;
 mod dual;
 mod extract;
@@ -43,7 +45,7 @@ mod transform;
 mod untangle;
 mod window;
 
-pub use extract::{DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
+pub use extract::{CellMerge, DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub(crate) use faces::{boundary_faces, is_boundary_face};
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use offset::{offset_with_surface, round_with_surface, shell_with_surface};

@@ -1,0 +1,165 @@
+//! The simplified surface (`extract` with a tolerance: flat blocks of cells merged,
+//! then edge collapses) against the exact surfaces of analytic solids (the oracle of
+//! tests/common/exact_surface.rs), and checked closed, oriented, manifold, of the
+//! input's genus and uncrossed (an exact triangle-triangle test), the same on one
+//! thread and two.
+
+mod common;
+
+use common::Rng;
+use common::exact_surface::{ExactSolid, measure_with, par_map};
+use common::mesh_checks::assert_closed_manifold;
+#[path = "common/self_intersection.rs"]
+mod self_intersection;
+use octsolid::NoProgress;
+use octsolid::glam::DVec3;
+use octsolid::mesh::TriangleMesh;
+use octsolid::octree::{Domain, voxelize};
+use octsolid::shape::{Axis, Cuboid, Cylinder, Shape, ShapeExt, Sphere, Torus};
+use octsolid::surface::{ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
+use self_intersection::self_crossings;
+
+/// The surface of `shape` voxelized in `domain`, with its exact crossings, simplified
+/// within `tolerance` voxels.
+fn surface_of(shape: &dyn Shape, domain: Domain, tolerance: f64) -> SurfaceMesh {
+    let tree = voxelize(shape, domain, &Default::default()).unwrap();
+    let hermite = HermiteData::from_shape(shape, &tree);
+    let options = ExtractOptions { style: Style::Smooth, tolerance, ..ExtractOptions::default() };
+    extract(&tree, &hermite, &options, &NoProgress).unwrap()
+}
+
+fn assert_uncrossed(mesh: &TriangleMesh, cell: f64, what: &str) {
+    let crossings = self_crossings(mesh, cell, 5);
+    assert!(crossings.is_empty(), "{what}: triangles cross: {crossings:?}");
+}
+
+/// Vertices less half the faces: the Euler characteristic of a closed mesh.
+fn euler(mesh: &TriangleMesh) -> i64 {
+    let used: std::collections::HashSet<u32> = mesh.triangles.iter().flatten().copied().collect();
+    used.len() as i64 - mesh.triangles.len() as i64 / 2
+}
+
+/// The checks every simplified surface passes, and its distance to `exact`: the
+/// dual mesh's own error (a tenth of a voxel on these solids) plus the tolerance.
+fn check(surface: &SurfaceMesh, exact: &ExactSolid, voxel: f64, tolerance: f64, genus: i64, what: &str) {
+    let mesh = &surface.mesh;
+    assert_closed_manifold(mesh, what);
+    assert_eq!(euler(mesh), 2 - 2 * genus, "{what}: the genus changed");
+    assert_uncrossed(mesh, 8.0 * voxel, what);
+    let merged = surface.merged.expect("a tolerance merges cells");
+    assert!(merged.blocks > 0 && merged.max_plane_distance <= tolerance / 4.0 + 1e-12, "{what}: {merged:?}");
+    let quality = measure_with(mesh, exact, voxel, 40_000, 1);
+    assert!(quality.max <= tolerance + 0.1, "{what}: {quality:?}");
+    let off = par_map(&mesh.vertices, |v| exact.nearest(*v).distance / voxel);
+    let worst = off.iter().copied().fold(0.0, f64::max);
+    assert!(worst <= tolerance + 0.1, "{what}: a vertex is {worst} voxel off the exact surface");
+}
+
+#[test]
+fn a_simplified_sphere_is_closed_uncrossed_and_near_the_sphere() {
+    let (centre, radius) = (DVec3::new(0.013, -0.021, 0.007), 0.77);
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let voxel = domain.voxel_size();
+    let surface = surface_of(&Sphere::new(centre, radius).unwrap(), domain, 0.1);
+    check(&surface, &ExactSolid::sphere(centre, radius), voxel, 0.1, 0, "sphere");
+    let fine = surface_of(&Sphere::new(centre, radius).unwrap(), domain, 0.0).mesh.triangles.len();
+    assert!(surface.mesh.triangles.len() * 10 < fine, "{} triangles of {fine}", surface.mesh.triangles.len());
+    let exact = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+    // Every point within 0.2 voxel of the sphere: the volume within that shell.
+    let shell = 4.0 * std::f64::consts::PI * radius * radius * 0.2 * voxel;
+    assert!((surface.mesh.volume() - exact).abs() <= shell, "volume {} against {exact}", surface.mesh.volume());
+}
+
+#[test]
+fn a_simplified_cube_keeps_its_faces_flat_and_its_corners() {
+    let (min, max) = (DVec3::new(-0.61, -0.53, -0.47), DVec3::new(0.57, 0.49, 0.63));
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let voxel = domain.voxel_size();
+    let shape = Cuboid::new((min + max) / 2.0, max - min).unwrap();
+    let surface = surface_of(&shape, domain, 0.1);
+    check(&surface, &ExactSolid::cuboid(min, max), voxel, 0.1, 0, "cube");
+    // Six flat faces: a few hundred triangles where the dual mesh has 2 a voxel face.
+    assert!(surface.mesh.triangles.len() < 2_000, "{} triangles", surface.mesh.triangles.len());
+    let relative = surface.mesh.volume() / (max - min).element_product() - 1.0;
+    assert!(relative.abs() < 1e-3, "volume off by {relative}");
+}
+
+#[test]
+fn a_simplified_torus_keeps_its_hole() {
+    let centre = DVec3::new(0.011, 0.006, -0.013);
+    let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
+    let voxel = domain.voxel_size();
+    let surface = surface_of(&Torus::new(centre, Axis::Z, 0.6, 0.25).unwrap(), domain, 0.1);
+    check(&surface, &ExactSolid::torus(centre, 0.6, 0.25), voxel, 0.1, 1, "torus");
+}
+
+#[test]
+fn the_simplified_classic_part_meets_the_issue_bounds() {
+    // Issue 38's distance targets (RMS 0.02, max 0.25 voxel) on the classic part at
+    // depth 8, simplified within a tenth of a voxel.
+    let part = octsolid::samples::classic_csg();
+    let domain = Domain::new(DVec3::splat(-1.1), 2.2, 8).unwrap();
+    let voxel = domain.voxel_size();
+    let surface = surface_of(&part, domain, 0.1);
+    let exact = ExactSolid::classic();
+    check(&surface, &exact, voxel, 0.1, 5, "classic part");
+    let quality = measure_with(&surface.mesh, &exact, voxel, 100_000, 1);
+    assert!(quality.rms <= 0.02 && quality.max <= 0.25, "{quality:?}");
+    assert!(quality.share_within_5deg_away_from_edges >= 0.99, "{quality:?}");
+}
+
+#[test]
+fn random_csg_trees_simplify_to_closed_uncrossed_surfaces_of_their_genus() {
+    let mut rng = Rng(3838);
+    let domain = Domain::new(DVec3::new(-1.0, -0.993, -1.007), 2.0, 6).unwrap();
+    let leaf = |rng: &mut Rng| -> octsolid::shape::Csg {
+        let c = DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), rng.range(-0.5, 0.5));
+        match rng.below(3) {
+            0 => Sphere::new(c, rng.range(0.05, 0.6)).unwrap().into(),
+            1 => Cuboid::new(c, DVec3::new(rng.range(0.02, 0.9), rng.range(0.02, 0.9), rng.range(0.02, 0.9)))
+                .unwrap()
+                .rotate(DVec3::new(rng.range(-1.0, 1.0), 1.0, rng.range(-1.0, 1.0)), rng.range(0.0, 3.0))
+                .into(),
+            _ => Cylinder::new(c, Axis::Z, rng.range(0.02, 0.4), rng.range(0.1, 1.5)).unwrap().into(),
+        }
+    };
+    for case in 0..24 {
+        let mut tree = leaf(&mut rng);
+        for _ in 0..1 + rng.below(3) {
+            let other = leaf(&mut rng);
+            tree = match rng.below(3) {
+                0 => tree | other,
+                1 => tree & other,
+                _ => tree - other,
+            };
+        }
+        let solid = voxelize(&tree, domain, &Default::default()).unwrap();
+        if solid.is_empty() {
+            continue;
+        }
+        let hermite = HermiteData::from_shape(&tree, &solid);
+        let at = |tolerance: f64| {
+            let options = ExtractOptions { style: Style::Smooth, tolerance, ..ExtractOptions::default() };
+            extract(&solid, &hermite, &options, &NoProgress).unwrap()
+        };
+        let (fine, coarse) = (at(0.0), at(0.25));
+        let what = format!("case {case}");
+        assert_closed_manifold(&coarse.mesh, &what);
+        assert_eq!(euler(&coarse.mesh), euler(&fine.mesh), "{what}: the topology changed");
+        assert_uncrossed(&coarse.mesh, 4.0 * domain.voxel_size(), &what);
+    }
+}
+
+#[test]
+fn one_and_two_threads_give_the_same_simplified_mesh() {
+    let part = octsolid::samples::classic_csg();
+    let domain = Domain::new(DVec3::splat(-1.1), 2.2, 7).unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| surface_of(&part, domain, 0.1).mesh)
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one.triangles, two.triangles);
+    assert_eq!(one.vertices.len(), two.vertices.len());
+    assert!(one.vertices.iter().zip(&two.vertices).all(|(a, b)| a.to_array() == b.to_array()));
+}
