@@ -151,6 +151,26 @@ impl Morph {
     }
 }
 
+impl std::fmt::Display for Morph {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Morph::Offset(d) => write!(f, "offset by {d} voxels"),
+            Morph::Shell { thickness, outward } => {
+                write!(f, "shell of {thickness} voxels {}", if outward { "outward" } else { "inward" })
+            }
+            Morph::Round { radius, convex, concave } => {
+                let edges = match (convex, concave) {
+                    (true, true) => "every edge",
+                    (true, false) => "convex edges",
+                    (false, true) => "concave edges",
+                    (false, false) => "no edge",
+                };
+                write!(f, "round of {edges} by {radius} voxels")
+            }
+        }
+    }
+}
+
 /// `morph` of the sharded solid `solid` into the sharded solid `out`, cell by cell
 /// (module doc): the same solid (and crossings, when the shards carry them) as the
 /// operation on the merged solid, cut into cells at the options' level (default: the
@@ -184,7 +204,7 @@ pub fn morph(solid: &ShardedSolid, morph: Morph, out: &Path, options: &StreamOpt
     if let Some(cell) = largest {
         let (window, _) = windows.read(cell, along, &mut cache, options)?;
         window.check_offset_steps(
-            format!("{morph:?} of {} (the window of cell {cell})", solid.dir().display()),
+            format!("{morph} of {} (the window of cell {cell})", solid.dir().display()),
             &steps,
             along,
             options.budget,
