@@ -202,4 +202,3 @@ fn a_budget_too_small_for_a_window_is_refused_before_anything_is_written() {
     assert!(e.to_string().contains("shell thickness"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
-

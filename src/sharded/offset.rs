@@ -107,7 +107,10 @@ impl Morph {
         if value.is_finite() && (!positive || value > 0.0) {
             Ok(())
         } else {
-            Err(Error::invalid(what, format!("{value} is not a finite{} number of voxels", if positive { " positive" } else { "" })))
+            Err(Error::invalid(
+                what,
+                format!("{value} is not a finite{} number of voxels", if positive { " positive" } else { "" }),
+            ))
         }
     }
 
@@ -189,9 +192,6 @@ pub fn morph(solid: &ShardedSolid, morph: Morph, out: &Path, options: &StreamOpt
     let output = Layout { depth: domain.depth(), level: level.min(domain.depth()) };
     let halo = morph.halo();
     let steps = morph.steps();
-    // Surface data goes through when the input's shards carry it (all of a solid's do
-    // or none do; the first tells).
-    let along = if index.shards.is_empty() { false } else { solid.read_shard_and_surface(0, options.budget)?.1.is_some() };
     let windows = Windows { solid, input, output, halo };
     let all = 0..output.cell_count();
     let range = options.cells.cloned().unwrap_or(all);
@@ -200,6 +200,18 @@ pub fn morph(solid: &ShardedSolid, morph: Morph, out: &Path, options: &StreamOpt
         .clone()
         .filter(|&c| windows.kind(c) == Kind::Mixed)
         .max_by_key(|&c| windows.shards_meeting(c).iter().map(|&i| solid.shard_bytes(i)).sum::<u64>());
+    // First from the index alone: the window's shards held and the window cut from them.
+    if let Some(cell) = largest {
+        let bytes: u64 = windows.shards_meeting(cell).iter().map(|&i| solid.shard_bytes(i)).sum();
+        options.budget.check(
+            format!("the {morph} of {} (the window of cell {cell}: its shards and their crop)", solid.dir().display()),
+            bytes.saturating_mul(2),
+        )?;
+    }
+    // Surface data goes through when the input's shards carry it (all of a solid's do
+    // or none do; the first tells).
+    let along =
+        if index.shards.is_empty() { false } else { solid.read_shard_and_surface(0, options.budget)?.1.is_some() };
     let mut cache = ShardCache::default();
     if let Some(cell) = largest {
         let (window, _) = windows.read(cell, along, &mut cache, options)?;
@@ -229,16 +241,17 @@ pub fn morph(solid: &ShardedSolid, morph: Morph, out: &Path, options: &StreamOpt
             }
             Kind::Mixed => {
                 let (window, surface) = windows.read(cell, along, &mut cache, options)?;
-                let (result, data) = morph
-                    .apply(&window, surface.as_ref(), &step_options)
-                    .map_err(|e| in_cell(e, solid, cell))?;
+                let (result, data) =
+                    morph.apply(&window, surface.as_ref(), &step_options).map_err(|e| in_cell(e, solid, cell))?;
                 let key = output.cell_key(cell);
                 match clip(&result, key) {
                     None => {}
                     Some(CellNodes::Full) => writer.cell(cell, CellNodes::Full)?,
                     Some(nodes) => writer.cell_with_surface(cell, nodes, |_| {
                         data.map(|data| {
-                            HermiteData::from_faces(data.faces().iter().filter(|(f, _)| face_in(*f, key)).copied().collect())
+                            HermiteData::from_faces(
+                                data.faces().iter().filter(|(f, _)| face_in(*f, key)).copied().collect(),
+                            )
                         })
                     })?,
                 }

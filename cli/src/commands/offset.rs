@@ -173,7 +173,8 @@ fn cell_by_cell(
     let solid = ShardedSolid::open(input)?;
     let morph = morph(solid.index().domain.voxels_per_unit());
     shards.write(output, budget, Instant::now(), |options| {
-        sharded::morph(&solid, morph, output, options).with_context(|| format!("{}: cannot make the {morph}", input.display()))
+        sharded::morph(&solid, morph, output, options)
+            .with_context(|| format!("{}: cannot make the {morph}", input.display()))
     })?;
     Ok(true)
 }
