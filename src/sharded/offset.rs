@@ -427,11 +427,12 @@ impl ShardCache {
         i: usize,
         options: &StreamOptions,
     ) -> Result<&(Vec<NodeKey>, Option<HermiteData>)> {
-        if !self.shards.contains_key(&i) {
-            let shard = solid.read_shard_and_surface(i, options.budget)?;
-            self.shards.insert(i, shard);
-        }
-        Ok(&self.shards[&i])
+        Ok(match self.shards.entry(i) {
+            std::collections::hash_map::Entry::Occupied(kept) => kept.into_mut(),
+            std::collections::hash_map::Entry::Vacant(slot) => {
+                slot.insert(solid.read_shard_and_surface(i, options.budget)?)
+            }
+        })
     }
 }
 
