@@ -236,7 +236,7 @@ mod tests {
             (DVec3::new(0.5, 0.5, 0.4), DVec3::new(0.6, 0.5, 0.3), DVec3::new(0.3, 0.3, 0.3), 0.3),
         ];
         for (n, (centre, size, hole, radius)) in cases.into_iter().enumerate() {
-            let shape = Csg::from(Cuboid::new(centre, size).unwrap()) - Sphere::new(hole, radius).unwrap()
+            let shape = (Csg::from(Cuboid::new(centre, size).unwrap()) - Sphere::new(hole, radius).unwrap())
                 | Sphere::new(DVec3::new(0.8, 0.2, 0.75), 0.1).unwrap();
             let tree = voxelize(&shape, domain, &VoxelizeOptions::default()).unwrap();
             let hull = tree.hull(&VoxelizeOptions::default()).unwrap();
