@@ -1551,3 +1551,50 @@ fn offsets_over_the_memory_budget_are_refused_with_the_estimate_and_the_budget()
         std::fs::remove_file(dir.join("out.oct")).unwrap();
     }
 }
+
+#[test]
+fn a_sharded_solid_is_offset_shelled_and_rounded_cell_by_cell_into_a_sharded_solid() {
+    // Issue 39, point 1: `.octs` in and out cell by cell with a halo of the distance,
+    // the same voxels as the single file's, and the budget checked before any cell.
+    let dir = scratch("offset-sharded");
+    ok(&dir, &["shape", "torus", "--radius", "0.6", "--tube", "0.25", "--depth", "6", "-o", "ring.oct"]);
+    ok(
+        &dir,
+        &[
+            "shape",
+            "torus",
+            "--radius",
+            "0.6",
+            "--tube",
+            "0.25",
+            "--depth",
+            "6",
+            "--shard-level",
+            "2",
+            "-o",
+            "ring.octs",
+        ],
+    );
+    let read = |f: &str| octsolid::SolidFile::read(dir.join(f), &Default::default()).unwrap().into_union();
+    for op in [
+        &["offset", "--voxels", "3"][..],
+        &["offset", "--by", "-0.05"],
+        &["shell", "--thickness", "0.1"],
+        &["round", "--radius", "0.05", "--convex"],
+    ] {
+        let mut args = vec![op[0], "ring.octs"];
+        args.extend_from_slice(&op[1..]);
+        args.extend_from_slice(&["-o", "out.octs"]);
+        let said = ok(&dir, &args);
+        assert!(said.contains("at cell level 2"), "{said}");
+        args[1] = "ring.oct";
+        *args.last_mut().unwrap() = "out.oct";
+        ok(&dir, &args);
+        let (cells, whole) = (read("out.octs"), read("out.oct"));
+        assert!(whole.voxel_count() > 0 && cells.keys() == whole.keys(), "{op:?}");
+        std::fs::remove_dir_all(dir.join("out.octs")).unwrap();
+    }
+    let e = fails(&dir, &["--memory-budget", "20KiB", "offset", "ring.octs", "--voxels", "3", "-o", "out.octs"]);
+    assert!(e.contains("the window of cell") && e.contains("memory budget"), "{e}");
+    assert!(!dir.join("out.octs").exists() && !dir.join("out.octs.partial").exists());
+}

@@ -155,10 +155,41 @@ impl Voxelizer for PlaneVoxelizer {
 mod tests {
     use super::*;
     use crate::octree::Domain;
+    use crate::shape::Csg;
     use glam::DVec3;
 
-    /// Brute force: every plane through three corners with all corners on one side is
-    /// a hull plane; a centre is in the hull when it is on the inner side of each.
+    /// Brute force: every plane through three of `corners` with all of them on one
+    /// side is a hull plane (as `n . x <= d`, lattice units).
+    fn brute_planes(corners: &[[i128; 3]]) -> Vec<([i128; 3], i128)> {
+        let mut planes = Vec::new();
+        for (i, a) in corners.iter().enumerate() {
+            for (j, b) in corners.iter().enumerate().skip(i + 1) {
+                for c in corners.iter().skip(j + 1) {
+                    let (u, w) = ([0, 1, 2].map(|k| b[k] - a[k]), [0, 1, 2].map(|k| c[k] - a[k]));
+                    let n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+                    if n == [0; 3] {
+                        continue;
+                    }
+                    let d: i128 = (0..3).map(|k| n[k] * a[k]).sum();
+                    let side = |p: &[i128; 3]| (0..3).map(|k| n[k] * p[k]).sum::<i128>() - d;
+                    if corners.iter().all(|p| side(p) <= 0) {
+                        planes.push((n, d));
+                    } else if corners.iter().all(|p| side(p) >= 0) {
+                        planes.push((n.map(|x| -x), -d));
+                    }
+                }
+            }
+        }
+        planes
+    }
+
+    /// Whether the voxel `v`'s centre is inside every plane (doubled units).
+    fn inside(planes: &[([i128; 3], i128)], v: [u32; 3]) -> bool {
+        let c = v.map(|x| 2 * i128::from(x) + 1);
+        planes.iter().all(|(n, d)| (0..3).map(|k| n[k] * c[k]).sum::<i128>() <= 2 * d)
+    }
+
+    /// Brute force over every corner of the scattered voxels (module doc's oracle).
     #[test]
     fn the_hull_of_scattered_voxels_is_the_brute_force_hull_of_their_corners() {
         let domain = Domain::new(DVec3::ZERO, 1.0, 4).unwrap();
@@ -176,37 +207,69 @@ mod tests {
                 .iter()
                 .flat_map(|v| (0..8).map(move |c| [0, 1, 2].map(|a| i128::from(v[a] + (c >> a & 1)))))
                 .collect();
-            let mut planes = Vec::new();
-            for (i, a) in corners.iter().enumerate() {
-                for (j, b) in corners.iter().enumerate().skip(i + 1) {
-                    for c in corners.iter().skip(j + 1) {
-                        let (u, w) = ([0, 1, 2].map(|k| b[k] - a[k]), [0, 1, 2].map(|k| c[k] - a[k]));
-                        let n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
-                        if n == [0; 3] {
-                            continue;
-                        }
-                        let d: i128 = (0..3).map(|k| n[k] * a[k]).sum();
-                        let side = |p: &[i128; 3]| (0..3).map(|k| n[k] * p[k]).sum::<i128>() - d;
-                        if corners.iter().all(|p| side(p) <= 0) {
-                            planes.push((n, d));
-                        } else if corners.iter().all(|p| side(p) >= 0) {
-                            planes.push((n.map(|x| -x), -d));
-                        }
-                    }
-                }
-            }
-            let mut inside = 0;
+            let planes = brute_planes(&corners);
+            let mut count = 0;
             for x in 0..16u32 {
                 for y in 0..16u32 {
                     for z in 0..16u32 {
-                        let c = [x, y, z].map(|v| 2 * i128::from(v) + 1);
-                        let want = planes.iter().all(|(n, d)| (0..3).map(|k| n[k] * c[k]).sum::<i128>() <= 2 * d);
+                        let want = inside(&planes, [x, y, z]);
                         assert_eq!(hull.contains_voxel([x, y, z]), want, "round {round} voxel {x} {y} {z}");
-                        inside += usize::from(want);
+                        count += usize::from(want);
                     }
                 }
             }
-            assert_eq!(hull.voxel_count(), inside as u64);
+            assert_eq!(hull.voxel_count(), count as u64);
+        }
+    }
+
+    /// Non-convex solids at depth 5 (a box minus a ball, with a ball beside it): the
+    /// brute force over the corners of their voxels that lie at both ends of their
+    /// lines along x, y and z (a point between two others on a line is no hull vertex,
+    /// so the hull of these is the hull of all corners).
+    #[test]
+    fn the_hull_of_a_difference_at_depth_5_is_the_brute_force_hull_of_its_corners() {
+        use crate::octree::voxelize;
+        use crate::shape::{Cuboid, Sphere};
+        let domain = Domain::new(DVec3::ZERO, 1.0, 5).unwrap();
+        let cases = [
+            (DVec3::new(0.4, 0.45, 0.5), DVec3::new(0.5, 0.3, 0.4), DVec3::new(0.6, 0.6, 0.7), 0.25),
+            (DVec3::new(0.5, 0.5, 0.4), DVec3::new(0.6, 0.5, 0.3), DVec3::new(0.3, 0.3, 0.3), 0.3),
+        ];
+        for (n, (centre, size, hole, radius)) in cases.into_iter().enumerate() {
+            let shape = (Csg::from(Cuboid::new(centre, size).unwrap()) - Sphere::new(hole, radius).unwrap())
+                | Sphere::new(DVec3::new(0.8, 0.2, 0.75), 0.1).unwrap();
+            let tree = voxelize(&shape, domain, &VoxelizeOptions::default()).unwrap();
+            let hull = tree.hull(&VoxelizeOptions::default()).unwrap();
+            // Every corner of a full voxel, then those at both ends of their three lines.
+            let mut corners = std::collections::BTreeSet::new();
+            for v in (0..32u32 * 32 * 32).map(|i| [i % 32, i / 32 % 32, i / 1024]).filter(|&v| tree.contains_voxel(v)) {
+                for c in 0..8u32 {
+                    corners.insert([0, 1, 2].map(|a| i128::from(v[a] + (c >> a & 1))));
+                }
+            }
+            let extreme = |p: &[i128; 3]| {
+                (0..3).all(|a| {
+                    let step = |s: i128| {
+                        let mut q = *p;
+                        q[a] += s;
+                        corners.contains(&q)
+                    };
+                    !(step(-1) && step(1))
+                })
+            };
+            let kept: Vec<[i128; 3]> = corners.iter().filter(|p| extreme(p)).copied().collect();
+            assert!(kept.len() < 400, "case {n}: {} corners for the brute force", kept.len());
+            let planes = brute_planes(&kept);
+            let mut count = 0u64;
+            for i in 0..32u32 * 32 * 32 {
+                let v = [i % 32, i / 32 % 32, i / 1024];
+                let want = inside(&planes, v);
+                assert_eq!(hull.contains_voxel(v), want, "case {n} voxel {v:?}");
+                count += u64::from(want);
+                assert!(!tree.contains_voxel(v) || want, "case {n}: the hull holds the solid");
+            }
+            assert_eq!(hull.voxel_count(), count);
+            assert!(count > tree.voxel_count(), "case {n}: the solid is not convex");
         }
     }
 }

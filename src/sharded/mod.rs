@@ -26,6 +26,8 @@
 //! - every writer stages in a folder of its own and publishes the solid in one atomic
 //!   step, so concurrent writers of one output leave one complete solid.
 //!
+//! - offsets, shells and rounds go cell by cell ([`morph`]): each cell from a window of
+//!   it and a halo of the distance read from its neighbours' shards;
 //! - the surface leaves cell by cell ([`export_surface`]): each cell meshed from a
 //!   window of its neighbours' voxels and the crossings its shards carry, the seams
 //!   welded by vertices named in the whole solid's frame, triangles streamed out.
@@ -37,6 +39,7 @@
 mod index;
 mod job;
 mod layout;
+mod offset;
 mod solid;
 mod staging;
 mod stream;
@@ -46,6 +49,7 @@ mod writer;
 pub use index::{INDEX_MAGIC, INDEX_VERSION, ShardEntry, ShardIndex};
 pub use job::JobId;
 pub use layout::Layout;
+pub use offset::{Morph, morph};
 pub use solid::{Cursor, ShardedSolid};
 pub use stream::{StreamOptions, combine, voxelize_mesh, voxelize_shape, write};
 pub use surface::{SurfaceExport, SurfaceExportOptions, export_surface};

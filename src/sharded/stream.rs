@@ -71,14 +71,14 @@ impl StreamOptions<'_> {
 /// leaves a part even when its range is every cell. The job's identity hashes the
 /// options' `source`, the domain, metadata and level, and what `input` adds (a
 /// mesh's triangles, the operands of a set operation).
-struct Job {
-    writer: ShardWriter,
-    cells: Cells,
+pub(super) struct Job {
+    pub(super) writer: ShardWriter,
+    pub(super) cells: Cells,
     whole: bool,
 }
 
 impl Job {
-    fn start(
+    pub(super) fn start(
         domain: Domain,
         meta: Metadata,
         level: Option<u8>,
@@ -96,7 +96,7 @@ impl Job {
     }
 
     /// Ends the job: the join when it made every cell (the index), else the task's part.
-    fn finish(self) -> Result<Option<ShardIndex>> {
+    pub(super) fn finish(self) -> Result<Option<ShardIndex>> {
         if self.whole { self.writer.finish().map(Some) } else { self.writer.finish_part().map(|()| None) }
     }
 }

@@ -280,7 +280,7 @@ fn mesh_cell(
 
 /// Appends the parts of node `key` inside the box `lo..hi` (voxels) to `out`, split
 /// into the largest aligned nodes inside it, in Morton order.
-fn crop(key: NodeKey, depth: u8, lo: &[u32; 3], hi: &[u32; 3], out: &mut Vec<NodeKey>) {
+pub(super) fn crop(key: NodeKey, depth: u8, lo: &[u32; 3], hi: &[u32; 3], out: &mut Vec<NodeKey>) {
     let node = key.node(depth);
     let (min, size) = (node.min, node.size);
     if (0..3).any(|a| min[a] >= hi[a] || min[a] + size <= lo[a]) {

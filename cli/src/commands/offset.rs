@@ -7,18 +7,26 @@
 //! section, a `.vdb` level set) is measured to its true surface
 //! (`surface::offset_with_surface` and its kin) and its result written with its new
 //! crossings, so `export` meshes a wall of the asked thickness.
+//!
+//! A sharded solid into a sharded solid (`IN.octs -o OUT.octs`) goes cell by cell
+//! (`sharded::morph`: each cell from a window of it and a halo of the distance read
+//! from its neighbours' shards), never whole in memory: `--memory-budget` is checked
+//! on the largest window before any cell is written; `--shard-level` and `--cells` as
+//! for `csg`. A sharded input to any other output is read whole within the budget.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use octsolid::octree::{LinearOctree, OffsetOptions};
+use octsolid::sharded::{self, Morph, ShardedSolid};
 use octsolid::surface::{HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::print_summary;
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
+use crate::sharded_output::{ShardFlags, is_sharded};
 use crate::solid_input::{ReadFlags, read_solid_file};
 
 /// Arguments of `octsolid offset`.
@@ -38,6 +46,8 @@ pub struct OffsetArgs {
     pub voxels: Option<f64>,
     #[command(flatten)]
     pub read: ReadFlags,
+    #[command(flatten)]
+    pub shards: ShardFlags,
 }
 
 /// Arguments of `octsolid shell`.
@@ -56,6 +66,8 @@ pub struct ShellArgs {
     pub outward: bool,
     #[command(flatten)]
     pub read: ReadFlags,
+    #[command(flatten)]
+    pub shards: ShardFlags,
 }
 
 /// Arguments of `octsolid round`.
@@ -77,11 +89,17 @@ pub struct RoundArgs {
     pub concave: bool,
     #[command(flatten)]
     pub read: ReadFlags,
+    #[command(flatten)]
+    pub shards: ShardFlags,
 }
 
 /// `octsolid offset IN (--by D | --voxels N) -o OUT`
 pub fn run_offset(a: &OffsetArgs, budget: MemoryBudget) -> Result<()> {
     let (by, voxels) = (a.by, a.voxels);
+    let morph = |per_unit: f64| Morph::Offset(voxels.unwrap_or_else(|| by.unwrap_or(0.0) * per_unit));
+    if cell_by_cell(&a.input, &a.output, &a.shards, budget, morph)? {
+        return Ok(());
+    }
     apply(&a.input, &a.output, &a.read, budget, "offset", |tree, surface, per_unit, options| {
         let d = voxels.unwrap_or_else(|| by.unwrap_or(0.0) * per_unit);
         Ok(match surface {
@@ -98,6 +116,10 @@ pub fn run_offset(a: &OffsetArgs, budget: MemoryBudget) -> Result<()> {
 pub fn run_shell(a: &ShellArgs, budget: MemoryBudget) -> Result<()> {
     if a.thickness <= 0.0 {
         bail!("--thickness must be positive, not {}", a.thickness);
+    }
+    let morph = |per_unit: f64| Morph::Shell { thickness: a.thickness * per_unit, outward: a.outward };
+    if cell_by_cell(&a.input, &a.output, &a.shards, budget, morph)? {
+        return Ok(());
     }
     apply(&a.input, &a.output, &a.read, budget, "shell", |tree, surface, per_unit, options| {
         let t = a.thickness * per_unit;
@@ -118,6 +140,10 @@ pub fn run_round(a: &RoundArgs, budget: MemoryBudget) -> Result<()> {
     }
     // Neither flag: both kinds of edge.
     let (convex, concave) = if a.convex || a.concave { (a.convex, a.concave) } else { (true, true) };
+    let morph = |per_unit: f64| Morph::Round { radius: a.radius * per_unit, convex, concave };
+    if cell_by_cell(&a.input, &a.output, &a.shards, budget, morph)? {
+        return Ok(());
+    }
     apply(&a.input, &a.output, &a.read, budget, "round", |tree, surface, per_unit, options| {
         let r = a.radius * per_unit;
         Ok(match surface {
@@ -128,6 +154,29 @@ pub fn run_round(a: &RoundArgs, budget: MemoryBudget) -> Result<()> {
             None => (tree.round(r, convex, concave, options)?, None),
         })
     })
+}
+
+/// A sharded `input` into a sharded `output`: `morph` (given voxels a world unit) cell
+/// by cell with a bar of cells; false (nothing done) for any other pair of files.
+fn cell_by_cell(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    shards: &ShardFlags,
+    budget: MemoryBudget,
+    morph: impl FnOnce(f64) -> Morph,
+) -> Result<bool> {
+    shards.check_for(output)?;
+    if !(is_sharded(input) && is_sharded(output)) {
+        return Ok(false);
+    }
+    check_not_an_input(output, &[input])?;
+    let solid = ShardedSolid::open(input)?;
+    let morph = morph(solid.index().domain.voxels_per_unit());
+    shards.write(output, budget, Instant::now(), |options| {
+        sharded::morph(&solid, morph, output, options)
+            .with_context(|| format!("{}: cannot make the {morph}", input.display()))
+    })?;
+    Ok(true)
 }
 
 /// Reads `input`'s union (and its surface data, for a file of one solid), runs `op`
