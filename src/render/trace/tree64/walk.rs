@@ -335,29 +335,18 @@ fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span:
 
 #[cfg(test)]
 mod tests {
-    use glam::DVec3;
-
     use super::*;
-    use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-    use crate::render::trace::walk::tests::rays;
-    use crate::samples;
+    use crate::render::trace::walk::tests::{isa_trees, rays};
     use crate::test_util::Rng;
 
     /// Every build of the 64-tree's walk (AVX2, SSE2 where the CPU has them) gives the
     /// scalar build's hits, bit for bit, and the same any-hit answers, at even and odd
-    /// depths (the tests in `tests/traverse.rs` run the detected build only).
+    /// depths, on the octree walk's solids (the tests in `tests/traverse.rs` run the
+    /// detected build only).
     #[test]
     fn every_build_matches_the_scalar_walk() {
         let mut rng = Rng(0x2545_f491_4f6c_dd1d);
-        let mut trees = Vec::new();
-        for depth in [1, 2, 5, 6] {
-            let d = samples::showcase_domain(depth).unwrap();
-            trees.push(voxelize(&samples::showcase(), d, &VoxelizeOptions::default()).unwrap());
-        }
-        let d = Domain::new(DVec3::new(-0.3, 0.2, 0.1), 1.7, 7).unwrap();
-        let voxels: Vec<[u32; 3]> = (0..400).map(|_| [0; 3].map(|_| (rng.next() % 128) as u32)).collect();
-        trees.push(LinearOctree::from_voxels(d, voxels).unwrap());
-        for tree in &trees {
+        for tree in &isa_trees(&mut rng) {
             let mut scalar = Tree64::new(tree);
             scalar.isa = Isa::Scalar;
             for isa in Isa::available() {
