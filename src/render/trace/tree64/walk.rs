@@ -6,9 +6,15 @@
 //! in every node it only moves to higher cells; at each level it keeps its cell in the
 //! mirrored lattice of that level's children and the time `tn[a]` it crosses the
 //! cell's far plane on each axis. A step takes the least `tn` and moves every axis
-//! whose `tn` is that time (edges and corners step together); an empty child whose
-//! 2x2x2 group is empty too (the node's group byte) is left at the group's far planes
-//! in one step. Leaving a node is found from the cells alone: the highest bit of
+//! whose `tn` is that time (edges and corners step together). Empty steps coalesce
+//! off the masks: the ray in a node's child of mirrored coordinates `q` only reaches
+//! the children at or past `q` on every axis (`Mirrored::ahead`, three table masks
+//! ANDed); when none of them is present the node is left at once, taken as an empty
+//! cell of its parent (and so on up), the exit time and cell of stepping through it
+//! cell by cell (the cells skipped are empty, the planes crossed the same); and an
+//! empty child whose 2x2x2 group is empty too (the node's group byte) is left at the
+//! group's far planes in one step. Leaving a node is found from the cells alone: the
+//! highest bit of
 //! `old ^ new` over the stepped axes says how many levels up the new cell's node is
 //! (two bits a level), and the walk re-enters that ancestor off its stack (one
 //! leading-zero count, no pop loop). A present child is the hit when full (at any
@@ -127,7 +133,9 @@ impl Mirrored {
     /// `cell` (the low two bits of each axis): those at or past it on every axis.
     #[inline(always)]
     fn ahead(&self, cell: [u32; 3]) -> u64 {
-        self.ahead[0][(cell[0] & 3) as usize] & self.ahead[1][(cell[1] & 3) as usize] & self.ahead[2][(cell[2] & 3) as usize]
+        self.ahead[0][(cell[0] & 3) as usize]
+            & self.ahead[1][(cell[1] & 3) as usize]
+            & self.ahead[2][(cell[2] & 3) as usize]
     }
 
     /// The plane at mirrored coordinate `q` (voxels) on axis `a`, in the original frame.
