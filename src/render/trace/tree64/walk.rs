@@ -6,9 +6,15 @@
 //! in every node it only moves to higher cells; at each level it keeps its cell in the
 //! mirrored lattice of that level's children and the time `tn[a]` it crosses the
 //! cell's far plane on each axis. A step takes the least `tn` and moves every axis
-//! whose `tn` is that time (edges and corners step together); an empty child whose
-//! 2x2x2 group is empty too (the node's group byte) is left at the group's far planes
-//! in one step. Leaving a node is found from the cells alone: the highest bit of
+//! whose `tn` is that time (edges and corners step together). Empty steps coalesce
+//! off the masks: the ray in a node's child of mirrored coordinates `q` only reaches
+//! the children at or past `q` on every axis (`Mirrored::ahead`, three table masks
+//! ANDed); when none of them is present the node is left at once, taken as an empty
+//! cell of its parent (and so on up), the exit time and cell of stepping through it
+//! cell by cell (the cells skipped are empty, the planes crossed the same); and an
+//! empty child whose 2x2x2 group is empty too (the node's group byte) is left at the
+//! group's far planes in one step. Leaving a node is found from the cells alone: the
+//! highest bit of
 //! `old ^ new` over the stepped axes says how many levels up the new cell's node is
 //! (two bits a level), and the walk re-enters that ancestor off its stack (one
 //! leading-zero count, no pop loop). A present child is the hit when full (at any
@@ -98,6 +104,10 @@ struct Mirrored {
     add: [u32; 3],
     /// 3 on mirrored axes: a mirrored child coordinate `c` is `c ^ 3` in the node.
     child_flip: [u32; 3],
+    /// `ahead[a][q]`: the children whose mirrored coordinate on axis `a` is at least `q`
+    /// (the ray in a child of mirrored coordinates `q` only ever reaches the children of
+    /// `ahead[0][q0] & ahead[1][q1] & ahead[2][q2]` of the node).
+    ahead: [[u64; 4]; 3],
 }
 
 impl Mirrored {
@@ -115,7 +125,17 @@ impl Mirrored {
             flip: std::array::from_fn(|a| if m(a) { u32::MAX } else { 0 }),
             add: std::array::from_fn(|a| if m(a) { edge.wrapping_add(1) } else { 0 }),
             child_flip: std::array::from_fn(|a| if m(a) { 3 } else { 0 }),
+            ahead: std::array::from_fn(|a| AHEAD[a][usize::from(m(a))]),
         }
+    }
+
+    /// The children of a node the ray can still reach from its child at mirrored cell
+    /// `cell` (the low two bits of each axis): those at or past it on every axis.
+    #[inline(always)]
+    fn ahead(&self, cell: [u32; 3]) -> u64 {
+        self.ahead[0][(cell[0] & 3) as usize]
+            & self.ahead[1][(cell[1] & 3) as usize]
+            & self.ahead[2][(cell[2] & 3) as usize]
     }
 
     /// The plane at mirrored coordinate `q` (voxels) on axis `a`, in the original frame.
@@ -157,6 +177,32 @@ impl<L: Lanes> RayLanes<L> {
         p.sub(self.o).mul(self.inv)
     }
 }
+
+/// `AHEAD[a][m][q]`: the children `x + 4 y + 16 z` of a node whose coordinate on axis
+/// `a`, mirrored when `m` is 1 (`c ^ 3`), is at least `q`.
+const AHEAD: [[[u64; 4]; 2]; 3] = {
+    let mut masks = [[[0u64; 4]; 2]; 3];
+    let mut child = 0;
+    while child < 64 {
+        let mut a = 0;
+        while a < 3 {
+            let c = child >> (2 * a) & 3;
+            let mut q = 0;
+            while q < 4 {
+                if c >= q {
+                    masks[a][0][q] |= 1 << child;
+                }
+                if c ^ 3 >= q {
+                    masks[a][1][q] |= 1 << child;
+                }
+                q += 1;
+            }
+            a += 1;
+        }
+        child += 1;
+    }
+    masks
+};
 
 /// `SKIP[s]`: all ones in the lanes of the axes set in `s` (bit `a`), zero elsewhere.
 const SKIP: [[f64; 3]; 8] = {
@@ -232,7 +278,7 @@ impl Tree64 {
         let mut step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
         descend(&lanes, &mut cell, &mut pn, &mut tn, step, t);
         loop {
-            let c: [u32; 3] = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
+            let mut c: [u32; 3] = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
             let child = c[0] + 4 * c[1] + 16 * c[2];
             if node.present >> child & 1 == 1 {
                 if node.full >> child & 1 == 1 {
@@ -247,9 +293,34 @@ impl Tree64 {
                 descend(&lanes, &mut cell, &mut pn, &mut tn, step, t);
                 continue;
             }
-            // An empty child: step to its far planes, or to its group's when the
-            // whole 2x2x2 group is empty (`skip` on the axes where the cell is the
-            // group's near one), without a branch on the axes that move.
+            // An empty child. When no child the ray can still reach in this node is
+            // present, the node is left at once: it is taken as an empty cell of its
+            // parent, and so on up (the same exit time and cell as stepping through it).
+            if node.present & m.ahead(cell) == 0 {
+                loop {
+                    if level == 0 {
+                        return None;
+                    }
+                    level -= 1;
+                    // SAFETY: the nodes `0..level` above were written on the way down.
+                    node = unsafe { stack[level].assume_init() };
+                    shift += 2;
+                    for c in &mut cell {
+                        *c >>= 2;
+                    }
+                    c = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
+                    let left = c[0] + 4 * c[1] + 16 * c[2];
+                    if node.present & m.ahead(cell) & !(1u64 << left) != 0 {
+                        break;
+                    }
+                }
+                pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, (cell[a] + 1) << shift))), 0.0);
+                tn = lanes.time(pn);
+                step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
+            }
+            // Step to the cell's far planes, or to its group's when the whole 2x2x2
+            // group is empty (`skip` on the axes where the cell is the group's near
+            // one), without a branch on the axes that move.
             let empty_group = node.groups >> ((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) & 1 == 0;
             let even = (!cell[0] & 1) | (!cell[1] & 1) << 1 | (!cell[2] & 1) << 2;
             let skip = L::new(SKIP[if empty_group { even as usize } else { 0 }], 0.0);
@@ -335,29 +406,18 @@ fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span:
 
 #[cfg(test)]
 mod tests {
-    use glam::DVec3;
-
     use super::*;
-    use crate::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
-    use crate::render::trace::walk::tests::rays;
-    use crate::samples;
+    use crate::render::trace::walk::tests::{isa_trees, rays};
     use crate::test_util::Rng;
 
     /// Every build of the 64-tree's walk (AVX2, SSE2 where the CPU has them) gives the
     /// scalar build's hits, bit for bit, and the same any-hit answers, at even and odd
-    /// depths (the tests in `tests/traverse.rs` run the detected build only).
+    /// depths, on the octree walk's solids (the tests in `tests/traverse.rs` run the
+    /// detected build only).
     #[test]
     fn every_build_matches_the_scalar_walk() {
         let mut rng = Rng(0x2545_f491_4f6c_dd1d);
-        let mut trees = Vec::new();
-        for depth in [1, 2, 5, 6] {
-            let d = samples::showcase_domain(depth).unwrap();
-            trees.push(voxelize(&samples::showcase(), d, &VoxelizeOptions::default()).unwrap());
-        }
-        let d = Domain::new(DVec3::new(-0.3, 0.2, 0.1), 1.7, 7).unwrap();
-        let voxels: Vec<[u32; 3]> = (0..400).map(|_| [0; 3].map(|_| (rng.next() % 128) as u32)).collect();
-        trees.push(LinearOctree::from_voxels(d, voxels).unwrap());
-        for tree in &trees {
+        for tree in &isa_trees(&mut rng) {
             let mut scalar = Tree64::new(tree);
             scalar.isa = Isa::Scalar;
             for isa in Isa::available() {
