@@ -47,7 +47,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use super::dual::{DualMesh, VertexKind};
+use super::dual::{DualMesh, Fans, VertexKind};
 use super::simplify::triangles_clash;
 
 /// Largest block merged: `2^MAX_LEVEL` voxel corners a side.
@@ -174,39 +174,6 @@ pub(crate) fn merge_cells(
     unchanged()
 }
 
-/// Each vertex's faces, in face order (compressed rows).
-struct Fans {
-    start: Vec<u32>,
-    faces: Vec<u32>,
-}
-
-impl Fans {
-    fn of(n: usize, triangles: &[[u32; 3]]) -> Self {
-        let mut start = vec![0u32; n + 1];
-        for t in triangles {
-            for &v in t {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            start[i + 1] += start[i];
-        }
-        let mut next = start.clone();
-        let mut faces = vec![0u32; start[n] as usize];
-        for (f, t) in triangles.iter().enumerate() {
-            for &v in t {
-                faces[next[v as usize] as usize] = f as u32;
-                next[v as usize] += 1;
-            }
-        }
-        Fans { start, faces }
-    }
-
-    fn of_vertex(&self, v: u32) -> &[u32] {
-        &self.faces[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
-    }
-}
-
 /// What deciding a block reads.
 struct Context<'a> {
     dual: &'a DualMesh,
@@ -223,7 +190,7 @@ impl Context<'_> {
         if members.len() < 2 {
             return None;
         }
-        let mut faces: Vec<u32> = members.iter().flat_map(|&v| self.fans.of_vertex(v).iter().copied()).collect();
+        let mut faces: Vec<u32> = members.iter().flat_map(|&v| self.fans.of_vertex(v as usize).iter().copied()).collect();
         faces.sort_unstable();
         faces.dedup();
         let (mut normal, mut area, mut centre) = (DVec3::ZERO, 0.0, DVec3::ZERO);
@@ -260,7 +227,7 @@ impl Context<'_> {
         reached[0] = true;
         let mut count = 1;
         while let Some(i) = stack.pop() {
-            for &f in self.fans.of_vertex(members[i]) {
+            for &f in self.fans.of_vertex(members[i] as usize) {
                 for w in self.triangles[f as usize] {
                     if let Ok(j) = members.binary_search(&w)
                         && !reached[j]
@@ -387,7 +354,7 @@ fn defects(merged: &(Vec<DVec3>, Vec<[u32; 3]>, Vec<u32>)) -> Option<Vec<u32>> {
         .with_min_len(4096)
         .filter(|&v| origin[v as usize] != u32::MAX)
         .filter(|&v| {
-            let fan = fans.of_vertex(v);
+            let fan = fans.of_vertex(v as usize);
             let next: FxHashMap<u32, u32> = fan
                 .iter()
                 .map(|&f| {

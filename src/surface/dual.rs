@@ -144,17 +144,19 @@ impl DualMesh {
     }
 }
 
-/// The faces around each vertex (compressed rows: `faces[offsets[v]..offsets[v + 1]]`).
-struct Fans {
+/// The faces around each vertex (compressed rows: `faces[offsets[v]..offsets[v + 1]]`),
+/// of quads here and of triangles in [`super::cluster`].
+pub(super) struct Fans {
     offsets: Vec<u32>,
     faces: Vec<u32>,
 }
 
 impl Fans {
-    fn of(vertices: usize, quads: &[[u32; 4]]) -> Fans {
+    /// The fans of `vertices` vertices over polygons of `N` corners, in polygon order.
+    pub(super) fn of<const N: usize>(vertices: usize, polygons: &[[u32; N]]) -> Fans {
         let mut offsets = vec![0u32; vertices + 1];
-        for q in quads {
-            for &v in q {
+        for p in polygons {
+            for &v in p {
                 offsets[v as usize + 1] += 1;
             }
         }
@@ -162,9 +164,9 @@ impl Fans {
             offsets[v + 1] += offsets[v];
         }
         let mut fill = offsets.clone();
-        let mut faces = vec![0u32; 4 * quads.len()];
-        for (f, q) in quads.iter().enumerate() {
-            for &v in q {
+        let mut faces = vec![0u32; N * polygons.len()];
+        for (f, p) in polygons.iter().enumerate() {
+            for &v in p {
                 faces[fill[v as usize] as usize] = f as u32;
                 fill[v as usize] += 1;
             }
@@ -172,7 +174,8 @@ impl Fans {
         Fans { offsets, faces }
     }
 
-    fn of_vertex(&self, v: usize) -> &[u32] {
+    /// The polygons around vertex `v`.
+    pub(super) fn of_vertex(&self, v: usize) -> &[u32] {
         &self.faces[self.offsets[v] as usize..self.offsets[v + 1] as usize]
     }
 }
