@@ -45,7 +45,7 @@
 use rayon::prelude::*;
 
 use super::band::Step;
-use super::edt::{FAR, axis_cost, lower_envelope, nearest_site_along_row};
+use super::edt::{FAR, lower_envelope, nearest_site_along_row};
 use crate::morton;
 use crate::octree::window::{keys_meeting_near, range_meeting_near};
 use crate::octree::{LinearOctree, NodeKey};
@@ -137,7 +137,6 @@ impl TileBand {
         let tiles = Tiles { keys: tree.keys(), k, n, grow: step.grow };
         let t = r.div_ceil(1 << k);
         let (mixed, free) = seeds(&tiles);
-        let near = in_reach(&mixed, &free, t, k, step.limit(), n);
         // Free seeds by at least one: then every site tile next to a tile of the band
         // is in the dilated set (a free tile touching one is a seed).
         let mut dilated = dilate(mixed, t, n);
@@ -147,11 +146,7 @@ impl TileBand {
         let kinds = kinds_of(&tiles, &dilated);
         let (mut band, mut sites) = (Vec::new(), Vec::new());
         for (p, kind) in dilated.into_iter().zip(kinds) {
-            if kind == Kind::Site {
-                sites.push(p)
-            } else if near.as_ref().is_none_or(|near| near.binary_search(&p).is_ok()) {
-                band.push(p)
-            }
+            if kind == Kind::Site { sites.push(p) } else { band.push(p) }
         }
         let voxels = band.len() as u64 * (1u64 << (3 * k));
         // Two passes' values (2 or 4 bytes each), the occupancy of mixed tiles (at most
@@ -585,46 +580,4 @@ fn dilate(mut set: Vec<Packed>, t: u32, n: u32) -> Vec<Packed> {
         set = next;
     }
     set
-}
-
-/// The most tiles [`in_reach`] lists before it gives up (the band is then the
-/// Chebyshev one alone): a bound on its memory, 8 bytes a tile.
-const MOST_IN_REACH: usize = 1 << 26;
-
-/// The tiles within reach of a seed (see the module doc): those whose box is within
-/// the cost `limit` of a seed's box grown by one voxel, of `n` tiles a side, sorted by
-/// packed position; `None` when they would be more than [`MOST_IN_REACH`].
-fn in_reach(mixed: &[Packed], free: &[Packed], t: u32, k: u32, limit: i64, n: u32) -> Option<Vec<Packed>> {
-    let t = i64::from(t);
-    // The voxels between two boxes `d` tiles apart on an axis, one fewer (the seed's
-    // box grown by one): none when `|d| <= 1`.
-    let gap = |d: i64| (d.abs() - 1).max(0) << k;
-    let mut ball: Vec<[i64; 3]> = Vec::new();
-    for z in -t..=t {
-        for y in -t..=t {
-            for x in -t..=t {
-                if [x, y, z].iter().map(|&d| axis_cost(gap(d))).sum::<i64>() <= limit {
-                    ball.push([x, y, z]);
-                }
-            }
-        }
-    }
-    if (mixed.len() + free.len()).saturating_mul(ball.len()) > MOST_IN_REACH {
-        return None;
-    }
-    let n = i64::from(n);
-    let mut near: Vec<Packed> = mixed
-        .par_iter()
-        .chain(free.par_iter())
-        .flat_map_iter(|&p| {
-            let c = unpack(p).map(i64::from);
-            ball.iter().filter_map(move |d| {
-                let e: [i64; 3] = std::array::from_fn(|a| c[a] + d[a]);
-                e.iter().all(|&x| (0..n).contains(&x)).then(|| pack(e.map(|x| x as u32)))
-            })
-        })
-        .collect();
-    near.par_sort_unstable();
-    near.dedup();
-    Some(near)
 }
