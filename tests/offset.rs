@@ -141,7 +141,7 @@ fn offsets_reaching_over_several_tiles_are_the_brute_force_ones_voxel_for_voxel(
         let tree = if round % 2 == 1 {
             random_octree(&mut rng, unit_domain(5))
         } else {
-            voxelize(&random_csg(&mut rng, 3), unit_domain(5), &VoxelizeOptions::default()).unwrap()
+            voxelize(&random_csg(&mut rng, 3, UNIT_CENTRES), unit_domain(5), &VoxelizeOptions::default()).unwrap()
         };
         let dist: Vec<Option<i64>> =
             brute_distances_far(&tree).into_iter().map(|d| (d < i64::MAX).then_some(d)).collect();

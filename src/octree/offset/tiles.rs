@@ -429,10 +429,10 @@ where
     });
 }
 
-/// One envelope pass along `runs`' axis, in place: `values(x) <- min_i (axis_cost(x - i)
-/// + values(i))` along each line (read whole before it is written), a site tile beyond a
-/// run's end giving 0 there; `strides` are the steps within a tile along the axis and
-/// the two others.
+/// One envelope pass along `runs`' axis, in place: along each line (read whole before
+/// it is written), `values(x) <- min_i (axis_cost(x - i) + values(i))`, a site tile
+/// beyond a run's end giving 0 there; `strides` are the steps within a tile along the
+/// axis and the two others.
 #[allow(clippy::too_many_arguments)]
 fn envelope_pass<V: Value>(
     runs: &[Run],
