@@ -104,7 +104,7 @@ impl LinearOctree {
     }
 
     /// The memory one step of `distance` voxels (along a surface when `along_surface`)
-    /// is estimated to need, from its band: over the cubes, two passes' values a voxel
+    /// is estimated to need, from its band: over the cubes, one array of the passes' values a voxel
     /// of its tiles and their occupancy; along a surface, each thread's brick with its
     /// halo and the transform's buffers and a boundary layer of keys and crossings a
     /// brick; and the trees in and out; 0 when the step reaches no voxel or `distance`

@@ -34,9 +34,11 @@
 //! is the exact offset (checked voxel for voxel against a dense brute force,
 //! tests/offset.rs), the same voxels as the bricks with halos it replaces.
 //!
-//! Memory follows the tiles: for each of two passes 2 bytes a voxel (4 when the radius
-//! is 128 voxels or more, the squared distances beyond 16 bits) and a byte a voxel of
-//! a mixed tile's occupancy; the tile lists. Radii over `2n + 2` (`n` the domain's
+//! Memory follows the tiles: one array of values, 2 bytes a voxel (4 when the radius
+//! is 128 voxels or more, the squared distances beyond 16 bits), which each pass
+//! rewrites in place (a line is read whole before it is written, and a run reads and
+//! writes only its own tiles), and a byte a voxel of a mixed tile's occupancy; the tile
+//! lists. Radii over `2n + 2` (`n` the domain's
 //! voxels a side) are taken as `2n + 2`, which reaches every voxel as they do ([`super::band`]).
 //! Runs are transformed in parallel, each writing only its own tiles, and the changes
 //! are gathered in Morton order, so the result does not depend on the number of
@@ -149,11 +151,11 @@ impl TileBand {
             if kind == Kind::Site { sites.push(p) } else { band.push(p) }
         }
         let voxels = band.len() as u64 * (1u64 << (3 * k));
-        // Two passes' values (2 or 4 bytes each), the occupancy of mixed tiles (at most
+        // The passes' values (2 or 4 bytes), the occupancy of mixed tiles (at most
         // a byte a voxel), the tile lists, their orders and runs (about 64 bytes a
         // tile), the trees in and out.
         let value = if step.limit() < i64::from(u16::MAX) { 2 } else { 4 };
-        let estimate = (2 * value + 1) * voxels + 64 * (band.len() + sites.len()) as u64 + 3 * tree.bytes() as u64;
+        let estimate = (value + 1) * voxels + 64 * (band.len() + sites.len()) as u64 + 3 * tree.bytes() as u64;
         TileBand { k, n, grow: step.grow, tiles: band, sites, estimate }
     }
 
@@ -227,14 +229,12 @@ impl TileBand {
                 }
             }
         });
-        // Passes two and three, along y then z: lower envelopes of the last pass's values.
-        let mut pass_y = vec![V::NONE; self.tiles.len() * v];
+        // Passes two and three, along y then z: lower envelopes of the last pass's values,
+        // each line read whole before it is written over.
         let runs_y = runs(&self.tiles, 1);
-        envelope_pass(&runs_y, &pass_x, &mut pass_y, v, t, [t, 1, t * t], cap, self, progress);
+        envelope_pass(&runs_y, &mut pass_x, v, t, [t, 1, t * t], cap, self, progress);
         let runs_z = runs(&self.tiles, 2);
-        // Pass three writes over pass one's values, no longer read.
-        envelope_pass(&runs_z, &pass_y, &mut pass_x, v, t, [t * t, 1, t], cap, self, progress);
-        drop(pass_y);
+        envelope_pass(&runs_z, &mut pass_x, v, t, [t * t, 1, t], cap, self, progress);
         progress.finish();
         // The voxels that change: not sites, within the limit; in Morton order.
         let mut order: Vec<(u64, usize)> =
@@ -429,14 +429,14 @@ where
     });
 }
 
-/// One envelope pass along `runs`' axis: `to = min_i (axis_cost(x - i) + from(i))` along
-/// each line, a site tile beyond a run's end giving 0 there; `strides` are the steps
-/// within a tile along the axis and the two others.
+/// One envelope pass along `runs`' axis, in place: along each line (read whole before
+/// it is written), `values(x) <- min_i (axis_cost(x - i) + values(i))`, a site tile
+/// beyond a run's end giving 0 there; `strides` are the steps within a tile along the
+/// axis and the two others.
 #[allow(clippy::too_many_arguments)]
 fn envelope_pass<V: Value>(
     runs: &[Run],
-    from: &[V],
-    to: &mut [V],
+    values: &mut [V],
     v: usize,
     t: usize,
     strides: [usize; 3],
@@ -444,7 +444,7 @@ fn envelope_pass<V: Value>(
     band: &TileBand,
     progress: &dyn Progress,
 ) {
-    for_runs(runs, to, v, band, progress, |run, slots| {
+    for_runs(runs, values, v, band, progress, |run, slots| {
         let len = run.len() * t;
         let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
         let mut g = vec![FAR; len + 2];
@@ -456,8 +456,7 @@ fn envelope_pass<V: Value>(
                 g[0] = if before { 0 } else { FAR };
                 g[len + 1] = if after { 0 } else { FAR };
                 let mut any = before || after;
-                for (j, &s) in run.slots.iter().enumerate() {
-                    let tile = &from[s * v..(s + 1) * v];
+                for (j, tile) in slots.iter().enumerate() {
                     for i in 0..t {
                         let d = tile[base + i * strides[0]].cost();
                         any |= d <= cap;
