@@ -190,7 +190,8 @@ impl Context<'_> {
         if members.len() < 2 {
             return None;
         }
-        let mut faces: Vec<u32> = members.iter().flat_map(|&v| self.fans.of_vertex(v as usize).iter().copied()).collect();
+        let mut faces: Vec<u32> =
+            members.iter().flat_map(|&v| self.fans.of_vertex(v as usize).iter().copied()).collect();
         faces.sort_unstable();
         faces.dedup();
         let (mut normal, mut area, mut centre) = (DVec3::ZERO, 0.0, DVec3::ZERO);
