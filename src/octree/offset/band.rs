@@ -37,6 +37,7 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::edt::{FAR, Scratch, brick_distances};
+use super::step::Step;
 use super::subvoxel::{FaceCrossings, NewCrossing, Plane, distance_to_site};
 use super::tiles::TileBand;
 use crate::budget::MemoryBudget;
@@ -48,35 +49,6 @@ use crate::progress::Progress;
 
 /// Smallest brick edge, as a power of two.
 const MIN_BRICK_K: u32 = 5;
-
-/// One morphological step: grow (dilate) or shrink (erode) by a ball.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Step {
-    /// The ball's radius in voxels (between voxel centres), positive.
-    pub radius: f64,
-    /// Dilation (add empty voxels near full ones) or erosion (the reverse).
-    pub grow: bool,
-}
-
-impl Step {
-    /// `R`: the most voxels a step can reach along one axis (a voxel `o` voxels away
-    /// is `|o| - 1/2` away, which must be under the radius).
-    pub(super) fn reach(self) -> u32 {
-        ((self.radius + 0.5).ceil() - 1.0).clamp(0.0, f64::from(u32::MAX / 4)) as u32
-    }
-
-    /// `R` along the surface: a voxel changes only when its nearest site's cube lies
-    /// under `radius + 1/2` away (see [`super::subvoxel`]), so `|o| < radius + 1`.
-    fn reach_along_surface(self) -> u32 {
-        self.radius.ceil().clamp(0.0, f64::from(u32::MAX / 4)) as u32
-    }
-
-    /// A voxel changes when four times its squared distance is at most this (strictly
-    /// under `4 radius^2`).
-    pub(super) fn limit(self) -> i64 {
-        ((4.0 * self.radius * self.radius).ceil() - 1.0).min(1e18) as i64
-    }
-}
 
 /// What a step or a brick of it gives: the Morton runs of the voxels that change, and
 /// along a surface the crossings of the result's faces.

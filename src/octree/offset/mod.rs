@@ -51,10 +51,12 @@
 
 mod band;
 mod edt;
+mod step;
 mod subvoxel;
 mod tiles;
 
-use band::{Step, changed_runs};
+use band::changed_runs;
+use step::Step;
 pub use subvoxel::{FaceCrossings, NewCrossing, Staircase};
 
 use super::linear::LinearOctree;

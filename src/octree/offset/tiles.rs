@@ -46,8 +46,8 @@
 
 use rayon::prelude::*;
 
-use super::band::Step;
 use super::edt::{FAR, lower_envelope, nearest_site_along_row};
+use super::step::Step;
 use crate::morton;
 use crate::octree::window::{keys_meeting_near, range_meeting_near};
 use crate::octree::{LinearOctree, NodeKey};
