@@ -37,8 +37,9 @@
 //! genus too, the mesh staying closed and manifold), and no face at a merged vertex
 //! meeting another face beyond their shared corners (the exact test of
 //! [`super::simplify`]; two faces across an edge, facing the same side, are not
-//! tested: oriented, they could meet beyond it only folded flat). After [`MAX_CHECK_ROUNDS`] rounds, or when only the Euler
-//! characteristic fails, nothing is merged. The limit is a fitted plane's, not a true
+//! tested: oriented, they could meet beyond it only folded flat). After
+//! [`MAX_CHECK_ROUNDS`] rounds, or when only the Euler characteristic fails, nothing is
+//! merged. The limit is a fitted plane's, not a true
 //! bound like the one [`super::simplify`] keeps: the extraction gives the merge a
 //! quarter of the tolerance and simplification the rest, and the tests measure the
 //! result against the exact surface.
