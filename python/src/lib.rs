@@ -9,11 +9,13 @@
 //! made when needed), [`render`] (`render`, `Solid._repr_png_`), [`radiosity`]
 //! (`radiosity`), [`errors`] (the library's errors as `octsolid.Error`s), [`flat`] (mesh
 //! buffers as numpy's), and the arguments long calls share: [`budget`]
-//! (`memory_budget=`), [`progress`] (`progress=`: a bar on the terminal or a callable).
+//! (`memory_budget=`), [`progress`] (`progress=`: a bar on the terminal or a callable),
+//! and [`job`] (both made ready and the work run without the GIL).
 
 mod budget;
 mod errors;
 mod flat;
+mod job;
 mod progress;
 mod radiosity;
 mod render;

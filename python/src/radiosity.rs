@@ -10,8 +10,9 @@ use octsolid::scene_file;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::budget::{Budget, budget_of};
-use crate::errors::{ToPyResult, invalid};
+use crate::budget::Budget;
+use crate::errors::invalid;
+use crate::job::Job;
 use crate::progress::Want;
 
 /// Solves a scene file's radiosity as `octsolid radiosity` does: `solver`
@@ -53,7 +54,8 @@ pub fn radiosity<'py>(
     if solver == Solver::Gathering && !(tolerance > 0.0 && tolerance < 1.0) {
         return Err(invalid("tolerance", format!("{tolerance}: the residual fraction must be above 0 and below 1")));
     }
-    let budget = budget_of(memory_budget);
+    let job = Job::new(memory_budget, progress, "radiosity");
+    let budget = job.budget;
     let options = RadiosityOptions {
         until,
         max_shots,
@@ -65,18 +67,15 @@ pub fn radiosity<'py>(
         tolerance,
         ..RadiosityOptions::default()
     };
-    let reporter = progress.unwrap_or(Want::Nothing).reporter("radiosity");
-    let solved = py.detach(|| -> octsolid::Result<(Radiosity, u64)> {
+    let (solution, bytes) = job.run(py, |budget, progress| {
         let file = scene_file::read_scene(&scene, budget)?;
-        let solution = Radiosity::solve(&file.scene, &options, &reporter)?;
+        let solution = Radiosity::solve(&file.scene, &options, progress)?;
         let bytes = match &output {
             Some(path) => solution.write(path)?,
             None => 0,
         };
         Ok((solution, bytes))
-    });
-    reporter.check()?;
-    let (solution, bytes) = solved.py()?;
+    })?;
     let s = solution.stats();
     let d = PyDict::new(py);
     d.set_item("solver", solver.name())?;

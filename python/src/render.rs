@@ -18,8 +18,9 @@ use octsolid::scene_file::CachePolicy;
 use octsolid::{Drawing, DrawingOptions, MemoryBudget};
 use pyo3::prelude::*;
 
-use crate::budget::{Budget, budget_of};
+use crate::budget::Budget;
 use crate::errors::{ToPyResult, invalid};
+use crate::job::Job;
 use crate::progress::Want;
 use crate::solid::Solid;
 
@@ -34,9 +35,8 @@ struct Request {
     camera: CameraRequest,
     overrides: RenderOverrides,
     cache: bool,
-    /// Where the progress goes.
-    progress: Option<Want>,
-    budget: MemoryBudget,
+    /// The budget and where the progress goes.
+    job: Job,
 }
 
 /// The drawing of `subject` (a solid's surface data made first, without the GIL).
@@ -53,17 +53,14 @@ fn drawing(py: Python<'_>, subject: &Subject<'_>, cache: bool, budget: MemoryBud
 
 /// Renders `subject` as asked, without the GIL.
 fn picture(py: Python<'_>, subject: &Subject<'_>, request: Request) -> PyResult<Picture> {
-    let drawing = drawing(py, subject, request.cache, request.budget)?;
-    let reporter = request.progress.unwrap_or(Want::Nothing).reporter("render");
+    let drawing = drawing(py, subject, request.cache, request.job.budget)?;
     let (camera, overrides) = (&request.camera, &request.overrides);
-    let drawn = py.detach(|| {
+    request.job.run(py, |budget, progress| {
         let camera = drawing.camera(camera, overrides, None)?;
-        let options = drawing.options(overrides, request.budget);
+        let options = drawing.options(overrides, budget);
         let scene = drawing.into_scene(None);
-        Ok(render_picture(&scene, &camera, &options, &reporter)?.0)
-    });
-    reporter.check()?;
-    drawn.py()
+        Ok(render_picture(&scene, &camera, &options, progress)?.0)
+    })
 }
 
 /// A method by its CLI name (`trace`, `front-to-back`, `painter`, `zbuffer`, `scanline`).
@@ -134,7 +131,8 @@ pub fn render<'py>(
         exposure,
         ..RenderOverrides::default()
     };
-    let request = Request { camera, overrides, cache, progress, budget: budget_of(memory_budget) };
+    let job = Job::new(memory_budget, progress, "render");
+    let request = Request { camera, overrides, cache, job };
     let picture = picture(py, &subject, request)?;
     if hdr {
         let (w, h) = (picture.width() as usize, picture.height() as usize);

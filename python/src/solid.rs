@@ -19,8 +19,8 @@
 //! The GIL is released (`Python::detach`) for every step that voxelizes, combines,
 //! moves, meshes, measures or touches a file. The calls that do long work take
 //! `memory_budget=` (the CLI's `--memory-budget`, [`crate::budget`]) and most take
-//! `progress=` (a bar or a callable, [`crate::progress`]); the operators use the
-//! default budget, the named set operations take one (the whole job's, as `octsolid
+//! `progress=` (a bar or a callable, [`crate::progress`]), made ready and run by a
+//! [`crate::job::Job`]; the operators use the default budget, the named set operations take one (the whole job's, as `octsolid
 //! csg` counts it: the operands held, the result made beside them).
 
 use std::path::PathBuf;
@@ -49,7 +49,8 @@ use pyo3::types::PyDict;
 
 use crate::budget::{Budget, budget_of};
 use crate::errors::{ToPyResult, invalid};
-use crate::progress::{Reporter, Want};
+use crate::job::Job;
+use crate::progress::Want;
 use crate::shapes::{Shape, axis_of};
 use crate::surface::LazySurface;
 
@@ -168,22 +169,14 @@ impl Solid {
     }
 
     /// The solid's extracted boundary mesh, as `octsolid export` makes it.
-    fn extracted(
-        &self,
-        py: Python<'_>,
-        style: Style,
-        tolerance: f64,
-        budget: MemoryBudget,
-        progress: &Reporter,
-    ) -> PyResult<TriangleMesh> {
+    fn extracted(&self, py: Python<'_>, style: Style, tolerance: f64, job: Job) -> PyResult<TriangleMesh> {
         let hermite = self.surface_read_back(py)?;
         let tree = &self.tree;
-        py.detach(|| {
+        job.run(py, |budget, progress| {
             let hermite = hermite.as_deref().cloned().unwrap_or_else(HermiteData::none);
             let options = ExtractOptions { style, tolerance, unit_faces: false, budget };
             Ok(extract(tree, &hermite, &options, progress)?.mesh)
         })
-        .py()
     }
 
     /// An offset, shell or round as `octsolid` makes it of this solid's `.oct` file:
@@ -192,24 +185,20 @@ impl Solid {
     fn derived_along_surface(
         &self,
         py: Python<'_>,
-        budget: MemoryBudget,
-        progress: Option<Want>,
+        job: Job,
         plain: impl FnOnce(&LinearOctree, &OffsetOptions) -> octsolid::Result<LinearOctree> + Send,
         along: impl FnOnce(&LinearOctree, &HermiteData, &OffsetOptions) -> octsolid::Result<(LinearOctree, HermiteData)>
         + Send,
     ) -> PyResult<Solid> {
         let surface = self.surface_read_back(py)?;
         let tree = &self.tree;
-        let reporter = reporter(progress, "band");
-        let made = py.detach(|| {
-            let options = OffsetOptions { budget, progress: &reporter };
+        let (result, data) = job.run(py, |budget, progress| {
+            let options = OffsetOptions { budget, progress };
             match surface {
                 Some(surface) => along(tree, &surface, &options).map(|(t, d)| (t, Some(d))),
                 None => plain(tree, &options).map(|t| (t, None)),
             }
-        });
-        reporter.check()?;
-        let (result, data) = made.py()?;
+        })?;
         Ok(Solid { tree: Arc::new(result), meta: self.meta, surface: LazySurface::ready(data) })
     }
 }
@@ -226,11 +215,6 @@ fn whole_job(e: octsolid::Error, held: u64, n: usize, budget: MemoryBudget) -> o
         },
         e => e,
     }
-}
-
-/// What reports a call's progress (`progress=`), a bar labelled `label` for `True`.
-fn reporter(progress: Option<Want>, label: &'static str) -> Reporter {
-    progress.unwrap_or(Want::Nothing).reporter(label)
 }
 
 /// A style name: `"smooth"` or `"voxels"`.
@@ -394,16 +378,14 @@ impl Solid {
     ) -> PyResult<u64> {
         let kind = FileKind::of(&path, FileKind::SOLID_OUTPUTS).py()?;
         let surface = if kind == FileKind::Oct && surface { self.surface_data(py)? } else { None };
-        let (tree, meta, budget) = (&self.tree, self.meta, budget_of(memory_budget));
-        let reporter = reporter(progress, if kind.writes_mesh() { "meshing" } else { "writing" });
-        let written = py.detach(|| {
+        let (tree, meta) = (&self.tree, self.meta);
+        let job = Job::new(memory_budget, progress, if kind.writes_mesh() { "meshing" } else { "writing" });
+        job.run(py, |budget, progress| {
             let options = WriteOptions { meta, surface, budget, ..WriteOptions::default() };
-            let written = octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, &reporter);
-            reporter.end_in_one_step();
+            let written = octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, progress);
+            progress.end_in_one_step();
             written
-        });
-        reporter.check()?;
-        written.py()
+        })
     }
 
     /// Writes the solid's boundary as a mesh, as `octsolid export` does: `.obj`,
@@ -422,7 +404,6 @@ impl Solid {
         memory_budget: Option<Budget>,
         progress: Option<Want>,
     ) -> PyResult<u64> {
-        let budget = budget_of(memory_budget);
         let mesh_kinds = [FileKind::Obj, FileKind::Stl, FileKind::Ply, FileKind::ThreeMf, FileKind::Glb];
         let kind = FileKind::of(&path, &mesh_kinds).py()?;
         if self.tree.is_empty() {
@@ -432,22 +413,18 @@ impl Solid {
             }));
         }
         let style = style_of(surface)?;
-        let reporter = reporter(progress, "meshing");
+        let job = Job::new(memory_budget, progress, "meshing");
         if kind == FileKind::Glb {
             let (tree, meta) = (&self.tree, self.meta);
-            let written = py.detach(|| {
+            return job.run(py, |budget, progress| {
                 let up = meta.up.unwrap_or(octsolid::shape::Axis::Z);
                 let options = WriteOptions { up, budget, ..WriteOptions::default() };
-                let written = octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, &reporter);
-                reporter.end_in_one_step();
+                let written = octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, progress);
+                progress.end_in_one_step();
                 written
             });
-            reporter.check()?;
-            return written.py();
         }
-        let mesh = self.extracted(py, style, tolerance, budget, &reporter);
-        reporter.check()?;
-        let mesh = mesh?;
+        let mesh = self.extracted(py, style, tolerance, job)?;
         py.detach(|| {
             if kind == FileKind::Stl {
                 let separated = separate_sheets(&mesh).map_err(|e| octsolid::Error::Unwritable {
@@ -473,10 +450,9 @@ impl Solid {
         memory_budget: Option<Budget>,
         progress: Option<Want>,
     ) -> PyResult<MeshArrays<'py>> {
-        let reporter = reporter(progress, "meshing");
-        let mesh = self.extracted(py, style_of(surface)?, tolerance, budget_of(memory_budget), &reporter);
-        reporter.check()?;
-        Ok(mesh_arrays(py, mesh?))
+        let style = style_of(surface)?;
+        let mesh = self.extracted(py, style, tolerance, Job::new(memory_budget, progress, "meshing"))?;
+        Ok(mesh_arrays(py, mesh))
     }
 
     /// The Morton keys of the full nodes, a read-only uint64 array sharing the
@@ -537,8 +513,6 @@ impl Solid {
         memory_budget: Option<Budget>,
         progress: Option<Want>,
     ) -> PyResult<Solid> {
-        let budget = budget_of(memory_budget);
-        let reporter = reporter(progress, "resampling");
         let turns = rotate
             .unwrap_or_default()
             .iter()
@@ -548,7 +522,8 @@ impl Solid {
         let map = motion.checked_affine().py()?;
         let data = if self.surface.is_some() { self.surface_data(py)? } else { None };
         let tree = &self.tree;
-        let moved = py.detach(|| -> octsolid::Result<_> {
+        let job = Job::new(memory_budget, progress, "resampling");
+        let (moved, surface) = job.run(py, |budget, progress| {
             let target = |default: Domain| -> octsolid::Result<Domain> {
                 match (domain, depth) {
                     (Some((min, edge)), d) => Domain::new(DVec3::from_array(min), edge, d.unwrap_or(default.depth())),
@@ -556,7 +531,7 @@ impl Solid {
                     (None, None) => Ok(default),
                 }
             };
-            let options = VoxelizeOptions { budget, progress: &reporter };
+            let options = VoxelizeOptions { budget, progress };
             let (moved, fit) = tree.transformed(map, target, &options)?;
             Ok(match data {
                 // A resampling with surface data is made again from the moved smooth surface.
@@ -570,9 +545,7 @@ impl Solid {
                 }
                 None => (moved, None),
             })
-        });
-        reporter.check()?;
-        let (moved, surface) = moved.py()?;
+        })?;
         Ok(Solid { tree: Arc::new(moved), meta: self.meta, surface: LazySurface::ready(surface) })
     }
 
@@ -592,8 +565,7 @@ impl Solid {
         let d = if voxels { by } else { by * self.tree.domain().voxels_per_unit() };
         self.derived_along_surface(
             py,
-            budget_of(memory_budget),
-            progress,
+            Job::new(memory_budget, progress, "band"),
             |tree, options| tree.offset(d, options),
             |tree, surface, options| offset_with_surface(tree, surface, d, options),
         )
@@ -617,8 +589,7 @@ impl Solid {
         let t = thickness * self.tree.domain().voxels_per_unit();
         self.derived_along_surface(
             py,
-            budget_of(memory_budget),
-            progress,
+            Job::new(memory_budget, progress, "band"),
             |tree, options| tree.shell(t, outward, options),
             |tree, surface, options| shell_with_surface(tree, surface, t, outward, options),
         )
@@ -644,8 +615,7 @@ impl Solid {
         let r = radius * self.tree.domain().voxels_per_unit();
         self.derived_along_surface(
             py,
-            budget_of(memory_budget),
-            progress,
+            Job::new(memory_budget, progress, "band"),
             |tree, options| tree.round(r, convex, concave, options),
             |tree, surface, options| round_with_surface(tree, surface, r, convex, concave, options),
         )
@@ -748,15 +718,11 @@ pub fn voxelize(
         Some(d) => domain_of(d, depth)?,
         None => shape_domain(&built, depth)?,
     };
-    let budget = budget_of(memory_budget);
-    let reporter = reporter(progress, "voxelizing");
-    let made = py.detach(|| {
+    let (tree, built) = Job::new(memory_budget, progress, "voxelizing").run(py, |budget, progress| {
         let resolved = resolve_offsets(&built, domain, &VoxelizeOptions { budget, progress: &NoProgress })?;
-        let tree = voxelize_shape(&resolved, domain, &VoxelizeOptions { budget, progress: &reporter })?;
-        Ok::<_, octsolid::Error>((tree, Arc::new(resolved)))
-    });
-    reporter.check()?;
-    let (tree, built) = made.py()?;
+        let tree = voxelize_shape(&resolved, domain, &VoxelizeOptions { budget, progress })?;
+        Ok((tree, Arc::new(resolved)))
+    })?;
     let surface =
         LazySurface::later(Box::new(move |tree: &LinearOctree| Ok(Some(HermiteData::from_shape(&*built, tree)))));
     Ok(Solid { tree: Arc::new(tree), meta: Metadata::default(), surface })
@@ -778,24 +744,21 @@ fn voxelize_input(
     domain: Option<([f64; 3], f64)>,
     up: octsolid::shape::Axis,
     what: &str,
-    budget: MemoryBudget,
-    progress: Option<Want>,
+    job: Job,
 ) -> PyResult<Solid> {
     let inside = inside_of(inside)?;
     let domain = match domain {
         Some(d) => domain_of(d, depth)?,
         None => import::default_domain(&input, depth).map_err(|e| cannot(what, e))?,
     };
-    let reporter = reporter(progress, "voxelizing");
-    let made = py.detach(|| {
-        import::voxelize_input(
-            &input,
-            domain,
-            &ImportOptions { fill: Fill::Solid, inside, budget, progress: &reporter },
-        )
-    });
-    reporter.check()?;
-    let (tree, summary) = made.map_err(|e| cannot(what, e))?;
+    let budget = job.budget;
+    let (tree, summary) = job.run_or(
+        py,
+        |budget, progress| {
+            import::voxelize_input(&input, domain, &ImportOptions { fill: Fill::Solid, inside, budget, progress })
+        },
+        |e| cannot(what, e),
+    )?;
     let surface = LazySurface::later(Box::new(move |tree: &LinearOctree| {
         import::surface_of_input(&input, tree, &summary, budget)
     }));
@@ -880,8 +843,8 @@ pub fn from_mesh(
         })
         .collect::<PyResult<Vec<_>>>()?;
     let mesh = TriangleMesh::new(vertices, triangles).py()?;
-    let budget = budget_of(memory_budget);
-    voxelize_input(py, Input::Mesh(mesh), depth, inside, domain, octsolid::shape::Axis::Z, "mesh", budget, progress)
+    let job = Job::new(memory_budget, progress, "voxelizing");
+    voxelize_input(py, Input::Mesh(mesh), depth, inside, domain, octsolid::shape::Axis::Z, "mesh", job)
 }
 
 /// The solid the mesh or patch file at `path` encloses (`.obj`, `.stl`, `.ply`,
@@ -900,8 +863,8 @@ pub fn load_mesh(
 ) -> PyResult<Solid> {
     let up = FileKind::of(&path, FileKind::SURFACES).py()?.default_up();
     let input = py.detach(|| Input::read(&path)).py()?;
-    let (what, budget) = (path.display().to_string(), budget_of(memory_budget));
-    voxelize_input(py, input, depth, inside, domain, up, &what, budget, progress)
+    let job = Job::new(memory_budget, progress, "voxelizing");
+    voxelize_input(py, input, depth, inside, domain, up, &path.display().to_string(), job)
 }
 
 /// The solid in the file at `path`: `.oct`, `.octs`, `.vox`, `.binvox` or `.vdb` (a
