@@ -134,7 +134,8 @@ impl SolidFile {
 /// default cell level, in one job: a command with its own cells writes through
 /// [`sharded::write`]), `.binvox`, and `.obj`, `.stl`,
 /// `.ply` and `.3mf` the solid's boundary mesh with merged faces (`progress` counts its steps),
-/// refused for an empty solid, which has none.
+/// refused for an empty solid, which has none, and as [`Error::OverBudget`] (naming the
+/// file) when the mesh's estimate exceeds `options.budget`.
 pub fn write_solid_file(
     path: impl AsRef<Path>,
     solids: &SolidsRef<'_>,
@@ -154,8 +155,15 @@ pub fn write_solid_file(
         if tree.is_empty() {
             return Err(unwritable(path, "the solid is empty; there is no boundary to write as a mesh".into()));
         }
-        let mesh = try_boundary_mesh(tree, &BoundaryOptions::default(), options.budget, progress)
-            .map_err(|e| unwritable(path, format!("cannot mesh the solid: {e}")))?;
+        let mesh =
+            try_boundary_mesh(tree, &BoundaryOptions::default(), options.budget, progress).map_err(|e| match e {
+                // A refusal for memory stays one (the caller tells it from a file that cannot
+                // be written), naming the output as the voxel formats' refusals do.
+                Error::OverBudget { job, estimate, budget } => {
+                    Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
+                }
+                e => unwritable(path, format!("cannot mesh the solid: {e}")),
+            })?;
         return write_mesh(&mesh, path);
     }
     crate::io::write_voxel_solids(path, kind, solids, options)

@@ -92,7 +92,9 @@ fn estimate<T>(result: octsolid::Result<T>) -> Option<u64> {
 /// `.vdb` and `.binvox` used to write whatever they were given (a full domain of
 /// depth 20 took 2.7 GiB as `.vdb`, of depth 14 34 GB as `.binvox`), and `.glb`
 /// refused only after listing the boundary's squares: each is now refused, naming
-/// the output, before it allocates a fraction of the budget, and writes nothing.
+/// the output, before it allocates a fraction of the budget, and writes nothing. The
+/// mesh formats' refusal was once folded into "cannot write" (`Error::Unwritable`):
+/// it is a refusal for memory like the others.
 #[test]
 fn writers_refuse_over_budget_before_allocating() {
     let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
@@ -102,7 +104,16 @@ fn writers_refuse_over_budget_before_allocating() {
     // A full domain of depth 17 is 32,768 root tiles; of depth 9 134 million voxels
     // that a binvox reader holds at a bit and a node each; a sphere at depth 8 has
     // 330,000 exposed squares.
-    for (name, tree) in [("full.vdb", full(17)), ("full.binvox", full(9)), ("ball.glb", sphere(8))] {
+    let formats = [
+        ("full.vdb", full(17)),
+        ("full.binvox", full(9)),
+        ("ball.glb", sphere(8)),
+        ("ball.stl", sphere(8)),
+        ("ball.obj", sphere(8)),
+        ("ball.ply", sphere(8)),
+        ("ball.3mf", sphere(8)),
+    ];
+    for (name, tree) in formats {
         let path = dir.join(name);
         let solids = one(&tree);
         let (result, held) = peak(|| octsolid::write_solid_file(&path, &solids.borrowed(), &options, &NoProgress));

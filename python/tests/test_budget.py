@@ -65,10 +65,26 @@ def test_every_budgeted_call_refuses_a_tiny_budget(tmp_path):
         "radiosity": lambda **kw: o.radiosity(SCENES / "cornell.toml", max_shots=5, **kw),
     }
     for name, call in calls.items():
-        # The library reports a mesh file it cannot mesh within the budget as a file it
-        # cannot write (`FileError`), the budget's words in the message.
-        message = refused(call, 64, o.FileError if name == "save" else o.BudgetError)
+        message = refused(call, 64)
         assert "the memory budget is 64 B" in message, (name, message)
+
+
+def test_a_mesh_file_over_the_budget_is_a_budget_error_naming_it(tmp_path):
+    """`save` to a mesh format meshes the voxels' boundary first: over the budget it is
+    refused as a `BudgetError` (not a file that cannot be written) naming the file, and
+    `octsolid convert` refuses the same file with the same words, writing nothing."""
+    solid = o.voxelize(PART, 6)
+    solid.save(tmp_path / "part.oct", surface=False)
+    # Enough to read the file back (8 bytes a node), far too little for its mesh.
+    budget = 8 * solid.node_count + 1024
+    for ext in ["stl", "obj", "ply"]:
+        path = tmp_path / f"part.{ext}"
+        message = refused(lambda **kw: solid.save(path, **kw), budget)
+        assert f"writing {path} (the boundary mesh of" in message, message
+        assert not path.exists(), path
+        cli = cli_refusal("--memory-budget", budget, "convert", tmp_path / "part.oct", path)
+        assert message in cli, (message, cli)
+        assert not path.exists(), path
 
 
 def test_a_generous_budget_changes_nothing(tmp_path):
