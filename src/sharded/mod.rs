@@ -44,6 +44,7 @@ mod solid;
 mod staging;
 mod stream;
 mod surface;
+mod window;
 mod writer;
 
 pub use index::{INDEX_MAGIC, INDEX_VERSION, ShardEntry, ShardIndex};

@@ -40,15 +40,12 @@
 
 use std::path::Path;
 
-use rustc_hash::FxHashMap;
-
 use super::index::ShardIndex;
 use super::layout::Layout;
 use super::solid::ShardedSolid;
 use super::stream::{Job, StreamOptions};
-use super::surface::crop;
+use super::window::{ShardCache, Window, is_full, shard_of};
 use crate::error::{Error, Result};
-use crate::morton;
 use crate::octree::{CellNodes, CellSink, LinearOctree, NodeKey, OffsetOptions};
 use crate::progress::NoProgress;
 use crate::surface::{FaceKey, HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
@@ -306,65 +303,27 @@ struct Windows<'a> {
 }
 
 impl Windows<'_> {
-    /// The window of output cell `cell`, voxels `lo..hi` (clipped to the domain), and
-    /// whether the clip cut it.
-    fn bounds(&self, cell: u64) -> ([u32; 3], [u32; 3], bool) {
-        let resolution = self.solid.index().domain.resolution();
-        let lo = self.output.cell_min(cell);
-        let size = 1u32 << self.output.cell_k();
-        let (mut clipped, mut wlo, mut whi) = (false, [0; 3], [0; 3]);
-        for a in 0..3 {
-            wlo[a] = lo[a].saturating_sub(self.halo);
-            let hi = u64::from(lo[a]) + u64::from(size) + u64::from(self.halo);
-            whi[a] = hi.min(u64::from(resolution)) as u32;
-            clipped |= u64::from(lo[a]) < u64::from(self.halo) || hi > u64::from(resolution);
-        }
-        (wlo, whi, clipped)
-    }
-
-    /// The input cells meeting the window of `cell`, in Morton order.
-    fn cells_meeting(&self, cell: u64) -> Vec<u64> {
-        let (lo, hi, _) = self.bounds(cell);
-        let k = self.input.cell_k();
-        let (first, last) = (lo.map(|c| c >> k), hi.map(|c| (c - 1) >> k));
-        let mut cells = Vec::new();
-        for z in first[2]..=last[2] {
-            for y in first[1]..=last[1] {
-                for x in first[0]..=last[0] {
-                    cells.push(morton::encode(x, y, z));
-                }
-            }
-        }
-        cells.sort_unstable();
-        cells
+    /// The window of output cell `cell`: the halo around it.
+    fn window(&self, cell: u64) -> Window {
+        Window::around(self.output, cell, self.halo, self.solid.index().domain.resolution())
     }
 
     /// The shards meeting the window of `cell`.
     fn shards_meeting(&self, cell: u64) -> Vec<usize> {
-        let shards = &self.solid.index().shards;
-        self.cells_meeting(cell).into_iter().filter_map(|c| shards.binary_search_by_key(&c, |s| s.cell).ok()).collect()
-    }
-
-    /// Whether input cell `cell` lies in a full node of the index.
-    fn is_full(&self, cell: u64) -> bool {
-        let index = self.solid.index();
-        let start = self.input.cell_key(cell).start();
-        let at = index.full.partition_point(|k| k.end() <= start);
-        index.full.get(at).is_some_and(|k| k.start() <= start)
+        self.window(cell).cells_meeting(self.input).into_iter().filter_map(|c| shard_of(self.solid, c)).collect()
     }
 
     /// What the index says of the window of `cell`.
     fn kind(&self, cell: u64) -> Kind {
-        let (_, _, clipped) = self.bounds(cell);
-        let shards = &self.solid.index().shards;
+        let window = self.window(cell);
         let (mut any, mut all) = (false, true);
-        for c in self.cells_meeting(cell) {
-            let full = self.is_full(c);
-            let shard = shards.binary_search_by_key(&c, |s| s.cell).is_ok();
+        for c in window.cells_meeting(self.input) {
+            let full = is_full(self.solid, c);
+            let shard = shard_of(self.solid, c).is_some();
             any |= full || shard;
             all &= full;
         }
-        match (any, all && !clipped) {
+        match (any, all && !window.clipped) {
             (false, _) => Kind::Empty,
             (true, true) => Kind::Full,
             (true, false) => Kind::Mixed,
@@ -381,58 +340,8 @@ impl Windows<'_> {
         cache: &mut ShardCache,
         options: &StreamOptions,
     ) -> Result<(LinearOctree, Option<HermiteData>)> {
-        let index = self.solid.index();
-        let depth = index.domain.depth();
-        let (lo, hi, _) = self.bounds(cell);
-        let inside = |v: [u32; 3]| (0..3).all(|a| v[a] >= lo[a] && v[a] < hi[a]);
-        let meeting = self.cells_meeting(cell);
-        let wanted: Vec<usize> =
-            meeting.iter().filter_map(|&c| index.shards.binary_search_by_key(&c, |s| s.cell).ok()).collect();
-        cache.keep(&wanted);
-        let (mut keys, mut faces) = (Vec::new(), Vec::new());
-        for c in meeting {
-            if self.is_full(c) {
-                crop(self.input.cell_key(c), depth, &lo, &hi, &mut keys);
-            } else if let Ok(i) = index.shards.binary_search_by_key(&c, |s| s.cell) {
-                let (nodes, surface) = cache.get(self.solid, i, options)?;
-                for &node in nodes {
-                    crop(node, depth, &lo, &hi, &mut keys);
-                }
-                if along && let Some(surface) = surface {
-                    faces.extend(surface.faces().iter().filter(|(f, _)| inside(f.voxel())).copied());
-                }
-            }
-        }
-        let window = LinearOctree::from_keys_unsorted(index.domain, keys);
-        Ok((window, along.then(|| HermiteData::from_faces(faces))))
-    }
-}
-
-/// Shards read for the last window, kept for the next (neighbouring cells share most).
-#[derive(Default)]
-struct ShardCache {
-    shards: FxHashMap<usize, (Vec<NodeKey>, Option<HermiteData>)>,
-}
-
-impl ShardCache {
-    /// Drops every shard but `wanted`.
-    fn keep(&mut self, wanted: &[usize]) {
-        self.shards.retain(|i, _| wanted.contains(i));
-    }
-
-    /// Shard `i`, read (and checked) unless kept.
-    fn get(
-        &mut self,
-        solid: &ShardedSolid,
-        i: usize,
-        options: &StreamOptions,
-    ) -> Result<&(Vec<NodeKey>, Option<HermiteData>)> {
-        Ok(match self.shards.entry(i) {
-            std::collections::hash_map::Entry::Occupied(kept) => kept.into_mut(),
-            std::collections::hash_map::Entry::Vacant(slot) => {
-                slot.insert(solid.read_shard_and_surface(i, options.budget)?)
-            }
-        })
+        let (window, crossings) = self.window(cell).read(self.solid, along, Some(cache), options.budget)?;
+        Ok((window, along.then_some(crossings)))
     }
 }
 

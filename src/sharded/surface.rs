@@ -40,17 +40,16 @@ use std::path::Path;
 use glam::DVec3;
 use rustc_hash::FxHashMap;
 
-use super::layout::Layout;
 use super::solid::ShardedSolid;
+use super::window::{Window, is_full};
 use crate::atomic::write_atomic_seekable;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
 use crate::mesh::BoundarySize;
 use crate::morton;
-use crate::octree::{LinearOctree, NodeKey};
 use crate::progress::Progress;
-use crate::surface::{CELL_BORDER, CellSurface, CellVertexKind, HermiteData, Style, VertexKey, extract_cell};
+use crate::surface::{CELL_BORDER, CellSurface, CellVertexKind, Style, VertexKey, extract_cell};
 
 /// Estimated peak bytes a boundary face of a window takes while its cell is meshed
 /// (the staircase's quads and sheets, the fans, the QEF's results, the triangles: as
@@ -212,19 +211,6 @@ fn cell_number(c: [u64; 3]) -> u64 {
     morton::encode(c[0] as u32, c[1] as u32, c[2] as u32)
 }
 
-/// Whether cell `cell` lies in a full node of the index.
-fn is_full(solid: &ShardedSolid, cell: u64) -> bool {
-    let index = solid.index();
-    let start = index.layout().cell_key(cell).start();
-    let at = index.full.partition_point(|k| k.end() <= start);
-    index.full.get(at).is_some_and(|k| k.start() <= start)
-}
-
-/// The shard of cell `cell`, if it has one.
-fn shard_of(solid: &ShardedSolid, cell: u64) -> Option<usize> {
-    solid.index().shards.binary_search_by_key(&cell, |s| s.cell).ok()
-}
-
 /// The surface cell `cell` owns, from its window, and the window's node count;
 /// `separate_sheets` for STL.
 fn mesh_cell(
@@ -234,67 +220,14 @@ fn mesh_cell(
     options: &SurfaceExportOptions,
 ) -> Result<(CellSurface, u64)> {
     let index = solid.index();
-    let layout: Layout = index.layout();
-    let resolution = index.domain.resolution();
-    let key = layout.cell_key(cell);
-    let lo = layout.cell_min(cell);
-    let size = 1u32 << layout.cell_k();
-    let window_lo = lo.map(|c| c.saturating_sub(CELL_BORDER));
-    let window_hi = lo.map(|c| (c + size).saturating_add(CELL_BORDER).min(resolution));
-    // The neighbouring cells meeting the window, in Morton order.
-    let k = layout.cell_k();
-    let (first, last) = (window_lo.map(|c| c >> k), window_hi.map(|c| (c - 1) >> k));
-    let mut around = Vec::new();
-    for x in first[0]..=last[0] {
-        for y in first[1]..=last[1] {
-            for z in first[2]..=last[2] {
-                around.push(morton::encode(x, y, z));
-            }
-        }
-    }
-    around.sort_unstable();
-    let inside = |v: [u32; 3]| (0..3).all(|a| v[a] >= window_lo[a] && v[a] < window_hi[a]);
-    let mut keys = Vec::new();
-    let mut faces = Vec::new();
-    for c in around {
-        if is_full(solid, c) {
-            crop(layout.cell_key(c), index.domain.depth(), &window_lo, &window_hi, &mut keys);
-        } else if let Some(i) = shard_of(solid, c) {
-            let (nodes, surface) = solid.read_shard_and_surface(i, options.budget)?;
-            for node in nodes {
-                crop(node, index.domain.depth(), &window_lo, &window_hi, &mut keys);
-            }
-            if let Some(surface) = surface {
-                faces.extend(surface.faces().iter().filter(|(f, _)| inside(f.voxel())).copied());
-            }
-        }
-    }
-    let window = LinearOctree::from_keys_unsorted(index.domain, keys);
+    let layout = index.layout();
+    let window = Window::around(layout, cell, CELL_BORDER, index.domain.resolution());
+    let (window, hermite) = window.read(solid, true, None, options.budget)?;
     let size = BoundarySize::of(&window);
     let bytes = u64::try_from(size.unit_faces).unwrap_or(u64::MAX).saturating_mul(BYTES_PER_FACE);
     options.budget.check(format!("meshing cell {cell} of {} with its border", solid.dir().display()), bytes)?;
-    let hermite = HermiteData::from_faces(faces);
-    let piece = extract_cell(&window, &hermite, key, options.style, separate_sheets)?;
+    let piece = extract_cell(&window, &hermite, layout.cell_key(cell), options.style, separate_sheets)?;
     Ok((piece, window.node_count() as u64))
-}
-
-/// Appends the parts of node `key` inside the box `lo..hi` (voxels) to `out`, split
-/// into the largest aligned nodes inside it, in Morton order.
-pub(super) fn crop(key: NodeKey, depth: u8, lo: &[u32; 3], hi: &[u32; 3], out: &mut Vec<NodeKey>) {
-    let node = key.node(depth);
-    let (min, size) = (node.min, node.size);
-    if (0..3).any(|a| min[a] >= hi[a] || min[a] + size <= lo[a]) {
-        return;
-    }
-    if (0..3).all(|a| min[a] >= lo[a] && min[a] + size <= hi[a]) {
-        out.push(key);
-        return;
-    }
-    for c in 0..8 {
-        if let Some(child) = key.child(c) {
-            crop(child, depth, lo, hi, out);
-        }
-    }
 }
 
 /// The output as cells come: the seam table and the running counts.
