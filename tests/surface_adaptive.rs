@@ -163,3 +163,34 @@ fn one_and_two_threads_give_the_same_simplified_mesh() {
     assert_eq!(one.vertices.len(), two.vertices.len());
     assert!(one.vertices.iter().zip(&two.vertices).all(|(a, b)| a.to_array() == b.to_array()));
 }
+
+#[test]
+fn a_normal_tolerance_keeps_the_checks_and_the_threads_agree() {
+    // The classic part (planes, sphere, bores) within a tenth of a voxel and 2 degrees
+    // of the merged mesh's normals: closed, uncrossed, of the unbounded mesh's genus,
+    // within its bounds, and the same bytes on one thread and two.
+    let part = octsolid::samples::classic_csg();
+    let domain = Domain::new(DVec3::splat(-1.1), 2.2, 7).unwrap();
+    let tree = voxelize(&part, domain, &Default::default()).unwrap();
+    let hermite = HermiteData::from_shape(&part, &tree);
+    let at = |normal_tolerance: Option<f64>, threads: usize| {
+        let options =
+            ExtractOptions { style: Style::Smooth, tolerance: 0.1, normal_tolerance, ..ExtractOptions::default() };
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| extract(&tree, &hermite, &options, &NoProgress).unwrap())
+    };
+    let plain = at(None, 2);
+    let (one, two) = (at(Some(2.0), 1), at(Some(2.0), 2));
+    assert_eq!(one.mesh.triangles, two.mesh.triangles);
+    assert!(one.mesh.vertices.iter().zip(&two.mesh.vertices).all(|(a, b)| a.to_array() == b.to_array()));
+    let mesh = &one.mesh;
+    assert_closed_manifold(mesh, "bounded normals");
+    assert_eq!(euler(mesh), euler(&plain.mesh), "the genus changed");
+    assert_uncrossed(mesh, 8.0 * domain.voxel_size(), "bounded normals");
+    let report = one.simplified.as_ref().unwrap();
+    let bound = report.max_normal_bound.expect("a normal tolerance keeps the bound");
+    assert!(bound <= 2f64.to_radians() && report.max_distance_bound <= 0.075 * domain.voxel_size(), "{report:?}");
+    // The bound refuses collapses the distance alone allows, never the reverse.
+    assert!(mesh.triangles.len() > plain.mesh.triangles.len(), "{report:?}");
+    assert!(plain.simplified.unwrap().max_normal_bound.is_none());
+}

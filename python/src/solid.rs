@@ -174,7 +174,7 @@ impl Solid {
         let tree = &self.tree;
         job.run(py, |budget, progress| {
             let hermite = hermite.as_deref().cloned().unwrap_or_else(HermiteData::none);
-            let options = ExtractOptions { style, tolerance, unit_faces: false, budget };
+            let options = ExtractOptions { style, tolerance, unit_faces: false, budget, ..ExtractOptions::default() };
             Ok(extract(tree, &hermite, &options, progress)?.mesh)
         })
     }

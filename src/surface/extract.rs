@@ -65,6 +65,10 @@ pub struct ExtractOptions {
     /// The largest distance, in voxels, simplification may move the smooth surface
     /// (0: none, a vertex every boundary voxel corner).
     pub tolerance: f64,
+    /// With a tolerance: the largest angle, in degrees, between a simplified face's
+    /// normal and the normals of the merged mesh's faces under it (a true bound,
+    /// module `simplify`); `None`: no bound.
+    pub normal_tolerance: Option<f64>,
     /// [`Style::Voxels`]: one voxel face two triangles (else coplanar faces merged).
     pub unit_faces: bool,
     /// Refuse before allocating when the estimate exceeds this.
@@ -76,6 +80,7 @@ impl Default for ExtractOptions {
         ExtractOptions {
             style: Style::Smooth,
             tolerance: DEFAULT_TOLERANCE,
+            normal_tolerance: None,
             unit_faces: false,
             budget: MemoryBudget::unlimited(),
         }
@@ -185,7 +190,11 @@ pub fn extract(
         });
         mesh = TriangleMesh { vertices: to_world(&positions), triangles, groups: Vec::new() };
         let rest = (1.0 - MERGE_SHARE) * options.tolerance * voxel;
-        let (smaller, report) = simplify(&mesh, &SimplifyOptions::new(rest))?;
+        let simplify_options = SimplifyOptions {
+            normal_tolerance: options.normal_tolerance.map(f64::to_radians),
+            ..SimplifyOptions::new(rest)
+        };
+        let (smaller, report) = simplify(&mesh, &simplify_options)?;
         mesh = smaller;
         simplified = Some(report);
     } else {

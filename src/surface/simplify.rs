@@ -21,6 +21,14 @@
 //!   [`SimplifyReport::max_distance_bound`] of the input everywhere, both ways. The
 //!   bound adds up over the collapses a point goes through; it is conservative, not
 //!   an estimate;
+//! - **the normals stay within [`SimplifyOptions::normal_tolerance`]**, when one is
+//!   given: every face carries the cone of the normals of the input faces under it,
+//!   carried through the collapses over the same vertical pairing (`normal`), and a
+//!   collapse is refused when a new face's normal would leave its cone by more than
+//!   the tolerance (the angle to the cone's axis plus its half-angle). So triangles go where the surface turns: the distance
+//!   bound alone lets a face of a cylinder or a sphere tilt by about
+//!   `sqrt(8 tolerance / radius)` across its width, which at a tenth of a voxel and a
+//!   radius of a hundred voxels is degrees;
 //! - **topology is kept**: the link condition (Dey, Edelsbrunner et al. 1999: the links
 //!   of the two ends share exactly the two opposite vertices), and no two new faces on
 //!   the same three vertices (so no tetrahedron closes and no edge gets three faces);
@@ -46,6 +54,7 @@
 
 mod block;
 mod gap;
+mod normal;
 mod quadric;
 mod tri_tri;
 pub(crate) use tri_tri::triangles_clash;
@@ -57,6 +66,7 @@ use rustc_hash::FxHashMap;
 use crate::error::{Error, Result};
 use crate::mesh::TriangleMesh;
 use block::{BlockInput, BlockOutput, Limits, simplify_block};
+use normal::Cone;
 use quadric::Quadric;
 
 /// Blocks along the mesh's longest side in the first round.
@@ -76,6 +86,10 @@ pub struct SimplifyOptions {
     pub tolerance: f64,
     /// Largest angle, in radians, a face's normal may turn in one collapse.
     pub max_normal_change: f64,
+    /// Largest angle, in radians, between an output face's normal and the normal of
+    /// any input face under it (a true bound, module doc); `None`: normals are bounded
+    /// only by `max_normal_change` a collapse.
+    pub normal_tolerance: Option<f64>,
 }
 
 impl SimplifyOptions {
@@ -83,7 +97,7 @@ impl SimplifyOptions {
     /// degrees a collapse.
     #[must_use]
     pub fn new(tolerance: f64) -> Self {
-        SimplifyOptions { tolerance, max_normal_change: 30f64.to_radians() }
+        SimplifyOptions { tolerance, max_normal_change: 30f64.to_radians(), normal_tolerance: None }
     }
 }
 
@@ -99,6 +113,10 @@ pub struct SimplifyReport {
     /// A true bound on the distance between the output and the input surface, both
     /// ways (the largest of the faces' bounds; at most the tolerance).
     pub max_distance_bound: f64,
+    /// With a normal tolerance, a true bound, in radians, on the angle between an
+    /// output face's normal and the input's normals under it (the largest of the
+    /// faces' bounds; at most the tolerance).
+    pub max_normal_bound: Option<f64>,
     /// The root mean square distance of the output vertices to the planes of the input
     /// faces they replaced, weighted by those faces' areas (the quadrics' measure).
     pub rms_quadric_distance: f64,
@@ -123,12 +141,20 @@ pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(Trian
     if !(options.max_normal_change.is_finite() && options.max_normal_change >= 0.0) {
         return Err(Error::invalid("max normal change", "it is not a finite non-negative angle"));
     }
+    if let Some(angle) = options.normal_tolerance
+        && !(angle.is_finite() && angle >= 0.0)
+    {
+        return Err(Error::invalid("normal tolerance", format!("{angle} is not a finite non-negative angle")));
+    }
     mesh.validate()?;
     if !mesh.is_watertight() {
         return Err(Error::invalid("mesh", "it is not closed, manifold and consistently oriented"));
     }
-    let limits =
-        Limits { tolerance: options.tolerance, min_normal_cosine: options.max_normal_change.min(PI_HALF).cos() };
+    let limits = Limits {
+        tolerance: options.tolerance,
+        min_normal_cosine: options.max_normal_change.min(PI_HALF).cos(),
+        max_turn: options.normal_tolerance,
+    };
     let mut state = State::new(mesh);
     let bounds = mesh.bounds();
     let extent = (bounds.max - bounds.min).max_element().max(f64::MIN_POSITIVE);
@@ -160,19 +186,21 @@ pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(Trian
             width *= 2.0;
         }
     }
-    Ok(state.finish(mesh.triangles.len(), collapses, rounds))
+    Ok(state.finish(mesh.triangles.len(), collapses, rounds, options.normal_tolerance.is_some()))
 }
 
 const PI_HALF: f64 = std::f64::consts::FRAC_PI_2;
 
-/// The mesh between rounds: positions and quadrics by input vertex, faces and their
-/// distance bounds.
+/// The mesh between rounds: positions, quadrics and distance bounds by input vertex,
+/// faces and their normal bounds.
 struct State {
     positions: Vec<DVec3>,
     quadrics: Vec<Quadric>,
     /// Each vertex's distance bound (module `gap`).
     bounds: Vec<f64>,
     faces: Vec<[u32; 3]>,
+    /// Each face's cone of input normals (module `normal`).
+    cones: Vec<Cone>,
     /// The input's total face area (the quadrics' weight).
     area: f64,
 }
@@ -199,6 +227,7 @@ impl State {
             quadrics,
             bounds: vec![0.0; mesh.vertices.len()],
             faces: mesh.triangles.clone(),
+            cones: (0..mesh.triangles.len()).map(|t| Cone::of_face(&mesh.corners(t))).collect(),
             area,
         }
     }
@@ -268,6 +297,7 @@ impl State {
                     quadrics: &self.quadrics,
                     bounds: &self.bounds,
                     faces: &self.faces,
+                    cones: &self.cones,
                     own: &own[id],
                     halo: &halo[id],
                 };
@@ -276,15 +306,18 @@ impl State {
             .collect();
         // Join: the faces no block owned, in order, then each block's in block order.
         let mut faces = Vec::with_capacity(self.faces.len());
+        let mut cones = Vec::with_capacity(self.faces.len());
         for (f, t) in self.faces.iter().enumerate() {
             if owner[f].is_none() {
                 faces.push(*t);
+                cones.push(self.cones[f]);
             }
         }
         let mut made = 0;
         for out in outputs {
             made += out.collapses;
             faces.extend(out.faces);
+            cones.extend(out.cones);
             for (v, p, q, e) in out.moved {
                 self.positions[v as usize] = p;
                 self.quadrics[v as usize] = q;
@@ -292,10 +325,17 @@ impl State {
             }
         }
         self.faces = faces;
+        self.cones = cones;
         made
     }
 
-    fn finish(self, triangles_before: usize, collapses: usize, rounds: usize) -> (TriangleMesh, SimplifyReport) {
+    fn finish(
+        self,
+        triangles_before: usize,
+        collapses: usize,
+        rounds: usize,
+        normals_bounded: bool,
+    ) -> (TriangleMesh, SimplifyReport) {
         let mut remap = vec![u32::MAX; self.positions.len()];
         for &v in self.faces.iter().flatten() {
             remap[v as usize] = 0;
@@ -316,6 +356,16 @@ impl State {
             triangles_after: triangles.len(),
             vertices_after: vertices.len(),
             max_distance_bound: bound,
+            max_normal_bound: normals_bounded.then(|| {
+                self.faces
+                    .iter()
+                    .zip(&self.cones)
+                    .map(|(t, c)| {
+                        let [a, b, c0] = t.map(|v| self.positions[v as usize]);
+                        c.deviation((b - a).cross(c0 - a))
+                    })
+                    .fold(0.0, f64::max)
+            }),
             // Each input face's plane is counted at its three corners.
             rms_quadric_distance: if self.area > 0.0 { (squared / (3.0 * self.area)).sqrt() } else { 0.0 },
             collapses,

@@ -50,6 +50,11 @@ pub struct ExportArgs {
     /// edge collapses within the rest (a true bound).
     #[arg(long, default_value_t = DEFAULT_TOLERANCE, value_parser = parse_tolerance)]
     pub tolerance: f64,
+    /// With `--tolerance`: the largest angle, in degrees, a simplified face's normal may
+    /// turn from the normals of the merged mesh under it (a true bound; default: none,
+    /// only the distance bounds the normals).
+    #[arg(long, value_name = "DEGREES", value_parser = parse_angle)]
+    pub normal_tolerance: Option<f64>,
     /// With `--surface voxels`: one voxel face = two triangles (default: coplanar faces
     /// merged into rectangles; .glb always merges).
     #[arg(long)]
@@ -66,7 +71,15 @@ fn parse_tolerance(s: &str) -> std::result::Result<f64, String> {
     }
 }
 
-/// `octsolid export FILE -o OUT.(obj|stl|ply|3mf|glb) [--surface smooth|voxels] [--tolerance T] [--unit-faces]`
+/// An angle in degrees: finite, 0 or more.
+fn parse_angle(s: &str) -> std::result::Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(t) if t.is_finite() && t >= 0.0 => Ok(t),
+        _ => Err(format!("{s:?} is not an angle in degrees (a number, 0 or more)")),
+    }
+}
+
+/// `octsolid export FILE -o OUT.(obj|stl|ply|3mf|glb) [--surface smooth|voxels] [--tolerance T] [--normal-tolerance DEGREES] [--unit-faces]`
 pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let (file, output, unit_faces) = (&a.file, &a.output, a.unit_faces);
     let format =
@@ -80,6 +93,9 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
             Err(e) => return Err(e.into()),
         };
     check_not_an_input(output, &[file])?;
+    if a.normal_tolerance.is_some() && (a.tolerance == 0.0 || a.surface == Style::Voxels) {
+        warn!("--normal-tolerance bounds simplification's normals: it is for the smooth surface with --tolerance");
+    }
     if is_sharded(file) {
         return export_sharded(a, budget);
     }
@@ -99,7 +115,13 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     let tree = read.into_union();
     let started = Instant::now();
     let bar = Bar::new("meshing");
-    let options = ExtractOptions { style: a.surface, tolerance: a.tolerance, unit_faces, budget };
+    let options = ExtractOptions {
+        style: a.surface,
+        tolerance: a.tolerance,
+        normal_tolerance: a.normal_tolerance,
+        unit_faces,
+        budget,
+    };
     let surface =
         extract(&tree, &hermite, &options, &bar).with_context(|| format!("{}: cannot export", file.display()))?;
     let mesh = &surface.mesh;
@@ -182,6 +204,9 @@ fn print_surface(surface: &SurfaceMesh, carries_crossings: bool, unit_faces: boo
             report.triangles_after,
             report.max_distance_bound / voxel
         );
+        if let Some(angle) = report.max_normal_bound {
+            out!("normals    within {:.3} degrees of the merged mesh's under them (a true bound)", angle.to_degrees());
+        }
     }
 }
 

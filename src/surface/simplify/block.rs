@@ -14,6 +14,10 @@
 //! midpoint. A refused edge is not tried again in this block; the next round (other
 //! blocks) tries it again. Self-intersection is tested on the block's result, and
 //! only a block whose result clashes tests each collapse ([`simplify_block`]).
+//!
+//! With a normal limit ([`Limits::max_turn`]) every face carries its normal bound
+//! (module `normal`): its cone of input normals, worked out for a candidate's fan after
+//! its distance bound passes.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -23,6 +27,7 @@ use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
 use super::gap::{Patches, vertex_bound};
+use super::normal::{Cone, fan_cones};
 use super::quadric::Quadric;
 use super::tri_tri::triangles_clash;
 
@@ -40,6 +45,8 @@ pub(crate) struct BlockInput<'a> {
     pub quadrics: &'a [Quadric],
     pub bounds: &'a [f64],
     pub faces: &'a [[u32; 3]],
+    /// Each face's cone of input normals (module `normal`), by face.
+    pub cones: &'a [Cone],
     /// The block's own faces (indices into `faces`, ascending).
     pub own: &'a [u32],
     /// The halo (indices into `faces`, ascending).
@@ -53,6 +60,9 @@ pub(crate) struct Limits {
     pub tolerance: f64,
     /// Least cosine between a face's normal before and after a collapse.
     pub min_normal_cosine: f64,
+    /// Largest angle between a face's normal and its cone of input normals (module
+    /// `normal`), in radians; `None`: the cones are not kept.
+    pub max_turn: Option<f64>,
 }
 
 /// What one block gives back: its faces now, the vertices it moved, its collapses.
@@ -60,6 +70,8 @@ pub(crate) struct Limits {
 pub(crate) struct BlockOutput {
     /// Its faces (global vertex indices).
     pub faces: Vec<[u32; 3]>,
+    /// Their cones of input normals (as given when not kept).
+    pub cones: Vec<Cone>,
     /// Kept vertices that moved: global index, position, merged quadric, bound.
     pub moved: Vec<(u32, DVec3, Quadric, f64)>,
     /// Collapses made.
@@ -80,6 +92,8 @@ struct Local {
     stamp: Vec<u32>,
     incident: Vec<SmallVec<[u32; 8]>>,
     faces: Vec<[u32; 3]>,
+    /// Each face's cone of input normals (module `normal`).
+    cone: Vec<Cone>,
     alive: Vec<bool>,
     /// Whether the face is the block's own (else halo).
     own: Vec<bool>,
@@ -174,6 +188,7 @@ impl Local {
             stamp: Vec::new(),
             incident: Vec::new(),
             faces: Vec::with_capacity(input.own.len() + input.halo.len()),
+            cone: Vec::new(),
             alive: Vec::new(),
             own: Vec::new(),
             seen: Vec::new(),
@@ -209,7 +224,7 @@ impl Local {
                     local.free[v as usize] = false;
                 }
             }
-            local.add_face(face, own);
+            local.add_face(face, own, input.cones[f as usize]);
         }
         local
     }
@@ -236,9 +251,10 @@ impl Local {
         self.grid = vec![Vec::new(); self.dims[0] * self.dims[1] * self.dims[2]];
     }
 
-    fn add_face(&mut self, face: [u32; 3], own: bool) -> u32 {
+    fn add_face(&mut self, face: [u32; 3], own: bool, cone: Cone) -> u32 {
         let id = self.faces.len() as u32;
         self.faces.push(face);
+        self.cone.push(cone);
         self.alive.push(true);
         self.own.push(own);
         self.seen.push(0);
@@ -361,6 +377,14 @@ impl Local {
             region.iter().map(|&f| self.faces[f as usize].map(|v| self.bound[v as usize])).collect();
         let new_bounds: SmallVec<[[f64; 3]; 24]> =
             fan.iter().map(|(t, _)| t.map(|v| if v == a { 0.0 } else { self.bound[v as usize] })).collect();
+        // The normal bounds' projection, as `vertex_bound` takes it.
+        let (old_cones, direction): (SmallVec<[Cone; 24]>, _) = match limits.max_turn {
+            Some(_) => (
+                region.iter().map(|&f| self.cone[f as usize]).collect(),
+                old.iter().map(|t| (t[1] - t[0]).cross(t[2] - t[0])).sum::<DVec3>().try_normalize(),
+            ),
+            None => (SmallVec::new(), None),
+        };
         let candidates = self.candidates(a, b);
         for (i, &(_, x)) in candidates.iter().enumerate() {
             if candidates[..i].iter().any(|&(_, y)| y == x) || !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
@@ -396,10 +420,20 @@ impl Local {
             if bound > limits.tolerance {
                 continue;
             }
+            // The projection `vertex_bound` used (it refused the collapse without one).
+            let cones = match (limits.max_turn, direction) {
+                (Some(limit), Some(direction)) => {
+                    let Some(cones) = fan_cones(&old, &old_cones, &new, direction, limit) else {
+                        continue;
+                    };
+                    cones
+                }
+                _ => SmallVec::from_elem(Cone::default(), fan.len()),
+            };
             if self.test == ClashTest::EachCollapse && self.clashes(&new, &region) {
                 continue;
             }
-            self.apply(a, b, x, &fan, &region, bound);
+            self.apply(a, b, x, &fan, &cones, &region, bound);
             return true;
         }
         false
@@ -451,7 +485,8 @@ impl Local {
         false
     }
 
-    fn apply(&mut self, a: u32, b: u32, x: DVec3, fan: &[([u32; 3], u32)], region: &[u32], bound: f64) {
+    #[allow(clippy::too_many_arguments)]
+    fn apply(&mut self, a: u32, b: u32, x: DVec3, fan: &[([u32; 3], u32)], cones: &[Cone], region: &[u32], bound: f64) {
         for &f in region {
             self.alive[f as usize] = false;
             for v in self.faces[f as usize] {
@@ -465,8 +500,8 @@ impl Local {
         self.quadric[ua] += qb;
         self.bound[ua] = bound;
         self.stamp[ua] += 1;
-        for (t, _) in fan {
-            self.add_face(*t, true);
+        for ((t, _), &cone) in fan.iter().zip(cones) {
+            self.add_face(*t, true, cone);
         }
     }
 
@@ -534,6 +569,7 @@ impl Local {
         for f in 0..self.faces.len() {
             if self.alive[f] && self.own[f] {
                 out.faces.push(self.faces[f].map(|v| self.global[v as usize]));
+                out.cones.push(self.cone[f]);
             }
         }
         for v in 0..self.global.len() {

@@ -239,6 +239,62 @@ fn a_cylinder_keeps_its_rims_and_stays_on_the_cylinder() {
     }
 }
 
+/// The largest angle between a face's normal and the cylinder's outward radial
+/// direction at its corners, over the wall faces whose corners all lie at least `away`
+/// from the caps' planes (on the wall the angle is largest at a corner).
+fn wall_normal_error(mesh: &TriangleMesh, half: f64, away: f64) -> f64 {
+    (0..mesh.triangles.len())
+        .filter_map(|t| {
+            let c = mesh.corners(t);
+            if c.iter().any(|p| p.z.abs() > half - away) {
+                return None;
+            }
+            let n = (c[1] - c[0]).cross(c[2] - c[0]).normalize();
+            Some(c.iter().map(|p| n.angle_between(p.truncate().extend(0.0).normalize())).fold(0.0, f64::max))
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_normal_tolerance_keeps_the_cylinders_normals_and_threads_agree() {
+    // Oracle: an input wall face's normal is within half a side's angle of the radial
+    // direction at each of its points; an output point lies within the distance bound
+    // d of input points whose faces' normals its face's normal is within the normal
+    // tolerance of, and radial directions of points d apart, both at least r from the
+    // axis, differ by at most asin(d / r), r = radius cos(side) - d (chords and bound).
+    let (radius, half, sides) = (1.0, 1.0, 256);
+    let input = cylinder(radius, half, sides, 64, 16);
+    let tolerance = 0.002;
+    let side = std::f64::consts::PI / f64::from(sides);
+    let plain = simplify(&input, &SimplifyOptions::new(tolerance)).unwrap();
+    let angle = 1f64.to_radians();
+    let options = SimplifyOptions { normal_tolerance: Some(angle), ..SimplifyOptions::new(tolerance) };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| simplify(&input, &options).unwrap())
+    };
+    let ((output, report), (two, report_two)) = (run(1), run(2));
+    assert_eq!(report, report_two);
+    assert!(output.triangles == two.triangles && output.vertices == two.vertices);
+    check_output(&input, &output, &report, tolerance);
+    let bound = report.max_normal_bound.unwrap();
+    assert!(bound <= angle && plain.1.max_normal_bound.is_none(), "{report:?}");
+    let d = report.max_distance_bound;
+    let oracle = bound + side + (d / (radius * side.cos() - d)).asin() + 1e-9;
+    let error = wall_normal_error(&output, half, 2.0 * d);
+    assert!(error <= oracle, "{} > {} degrees", error.to_degrees(), oracle.to_degrees());
+    // The bound is what holds the normals: without it the strips widen past the
+    // oracle, with it the mesh is still simplified.
+    let plain_error = wall_normal_error(&plain.0, half, 2.0 * plain.1.max_distance_bound);
+    assert!(plain_error > oracle, "{} degrees without the bound", plain_error.to_degrees());
+    assert!(output.triangles.len() * 4 < input.triangles.len(), "{report:?}");
+    // A bad normal tolerance is refused.
+    for bad in [f64::NAN, -1.0, f64::INFINITY] {
+        let options = SimplifyOptions { normal_tolerance: Some(bad), ..SimplifyOptions::new(tolerance) };
+        assert!(simplify(&input, &options).is_err());
+    }
+}
+
 #[test]
 fn a_finely_cut_cube_becomes_twelve_triangles_on_its_corners() {
     let input = fine_cube(12);
