@@ -152,11 +152,16 @@ pub(crate) fn merge_cells(
     }
     let euler = n as i64 - triangles.len() as i64 / 2;
     let mut alive = vec![true; blocks.len()];
+    // The blocks alive when the faces were last tested for clashes (none yet).
+    let mut tested: Option<Vec<bool>> = None;
     for _ in 0..MAX_CHECK_ROUNDS {
-        let merged = apply(dual, triangles, &blocks, &block_of, &alive);
-        let Some(bad) = defects(&merged) else { return unchanged() };
+        let merged = apply(dual, triangles, &blocks, &block_of, &alive, tested.as_deref());
+        let Some(Defects { blocks: bad, clashes_tested }) = defects(&merged) else { return unchanged() };
+        if clashes_tested {
+            tested = Some(alive.clone());
+        }
         if bad.is_empty() {
-            let euler_after = merged.0.len() as i64 - merged.1.len() as i64 / 2;
+            let euler_after = merged.positions.len() as i64 - merged.triangles.len() as i64 / 2;
             if euler_after != euler {
                 return unchanged();
             }
@@ -166,7 +171,7 @@ pub(crate) fn merge_cells(
                 merged_vertices: r.merged_vertices + b.members.len(),
                 max_plane_distance: r.max_plane_distance.max(b.distance),
             });
-            return (merged.0, merged.1, report);
+            return (merged.positions, merged.triangles, report);
         }
         for b in bad {
             alive[b as usize] = false;
@@ -245,14 +250,35 @@ impl Context<'_> {
     }
 }
 
-/// The merged mesh: positions and triangles, with the `alive` blocks merged.
+/// The dual mesh with some blocks merged.
+struct Merged {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    /// Each vertex's block, `u32::MAX` for a vertex not merged.
+    origin: Vec<u32>,
+    /// Each vertex's freshness: split back from a block that was merged when the faces
+    /// were last tested for clashes (`None`: never tested, every vertex fresh).
+    fresh: Option<Vec<bool>>,
+}
+
+/// What [`defects`] found.
+struct Defects {
+    /// The blocks to split back, ascending.
+    blocks: Vec<u32>,
+    /// Whether the faces were tested for clashes (the topology being sound).
+    clashes_tested: bool,
+}
+
+/// The merged mesh, with the `alive` blocks merged; `tested`, the blocks alive when
+/// the faces were last tested for clashes, says which vertices are fresh.
 fn apply(
     dual: &DualMesh,
     triangles: &[[u32; 3]],
     blocks: &[Block],
     block_of: &[u32],
     alive: &[bool],
-) -> (Vec<DVec3>, Vec<[u32; 3]>, Vec<u32>) {
+    tested: Option<&[bool]>,
+) -> Merged {
     let n = dual.positions.len();
     let live_block = |v: usize| {
         let b = block_of[v];
@@ -287,14 +313,23 @@ fn apply(
         .map(|t| t.map(|v| index[v as usize]))
         .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
         .collect();
-    (positions, merged, origin)
+    let fresh = tested.map(|tested| {
+        let mut fresh = vec![false; positions.len()];
+        for v in 0..n {
+            let b = block_of[v];
+            if b != u32::MAX && !alive[b as usize] && tested[b as usize] {
+                fresh[index[v] as usize] = true;
+            }
+        }
+        fresh
+    });
+    Merged { positions, triangles: merged, origin, fresh }
 }
 
 /// The blocks whose merged vertices take part in a defect of the merged mesh (module
-/// doc), ascending: empty when it has none, `None` when a defect touches no merged
-/// vertex.
-fn defects(merged: &(Vec<DVec3>, Vec<[u32; 3]>, Vec<u32>)) -> Option<Vec<u32>> {
-    let (positions, triangles, origin) = merged;
+/// doc): none when it has none, `None` when a defect touches no merged vertex.
+fn defects(merged: &Merged) -> Option<Defects> {
+    let Merged { positions, triangles, origin, fresh } = merged;
     let mut bad: Vec<u32> = Vec::new();
     let blame = |vs: &[u32], bad: &mut Vec<u32>| {
         for &v in vs {
@@ -346,7 +381,7 @@ fn defects(merged: &(Vec<DVec3>, Vec<[u32; 3]>, Vec<u32>)) -> Option<Vec<u32>> {
     if defect {
         bad.sort_unstable();
         bad.dedup();
-        return (!bad.is_empty()).then_some(bad);
+        return (!bad.is_empty()).then_some(Defects { blocks: bad, clashes_tested: false });
     }
     // Each merged vertex's faces one fan: following each face's next corner around it
     // comes back after visiting them all.
@@ -379,63 +414,119 @@ fn defects(merged: &(Vec<DVec3>, Vec<[u32; 3]>, Vec<u32>)) -> Option<Vec<u32>> {
         .collect();
     bad.extend(pinched.iter().map(|&v| origin[v as usize]));
     // Faces at merged vertices against faces near them.
-    let mut grid: FxHashMap<[i64; 3], Vec<u32>> = FxHashMap::default();
-    let corners = |f: u32| triangles[f as usize].map(|v| positions[v as usize]);
-    let cells = |t: [DVec3; 3]| {
-        let lo = (t[0].min(t[1]).min(t[2]) / CLASH_CELL).floor();
-        let hi = (t[0].max(t[1]).max(t[2]) / CLASH_CELL).floor();
-        (lo, hi)
-    };
-    for f in 0..triangles.len() as u32 {
-        let (lo, hi) = cells(corners(f));
-        for x in lo.x as i64..=hi.x as i64 {
-            for y in lo.y as i64..=hi.y as i64 {
-                for z in lo.z as i64..=hi.z as i64 {
-                    grid.entry([x, y, z]).or_default().push(f);
-                }
-            }
-        }
+    for (f, g) in clashing_pairs(positions, triangles, origin, fresh.as_deref()) {
+        blame(&triangles[f as usize], &mut bad);
+        blame(&triangles[g as usize], &mut bad);
     }
-    let touches_merged = |f: u32| triangles[f as usize].iter().any(|&v| origin[v as usize] != u32::MAX);
-    let clashing: Vec<u32> = (0..triangles.len() as u32)
+    bad.sort_unstable();
+    bad.dedup();
+    Some(Defects { blocks: bad, clashes_tested: true })
+}
+
+/// The pairs of faces that meet beyond what they share (the exact test of
+/// [`faces_cross`], faces across an edge facing the same side left out), among the
+/// pairs **due**: one face at a merged vertex (`origin` not `u32::MAX`) and one fresh
+/// (at a `fresh` vertex; every face when `fresh` is `None`). Each pair is tested once.
+///
+/// Why only fresh pairs: between two tests, blocks are only split back, so a face
+/// with no fresh vertex is a face of the last test, at the same points and on the
+/// same vertices; two such faces, one at a merged vertex, were tested then (or, not
+/// due then, at an earlier test) and did not clash, else the blocks at both would
+/// have been split back and neither would be at a merged vertex now.
+///
+/// Broad phase: a grid of cells [`CLASH_CELL`] a side, each face listed in every cell
+/// its box meets (sorted by cell, so the lists are slices of one array). A pair whose
+/// boxes meet is tested only in the cell holding the low corner of their boxes'
+/// intersection, so faces sharing several cells are tested once. Faces at a merged
+/// vertex and fresh look for every other face (of two such, the lower looks for the
+/// higher); fresh faces not at a merged vertex look for faces at one that are not
+/// fresh.
+fn clashing_pairs(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    origin: &[u32],
+    fresh: Option<&[bool]>,
+) -> Vec<(u32, u32)> {
+    let corners = |f: u32| triangles[f as usize].map(|v| positions[v as usize]);
+    // Per face: at a merged vertex, and fresh.
+    let (merged, new): (Vec<bool>, Vec<bool>) = triangles
+        .par_iter()
+        .with_min_len(4096)
+        .map(|t| {
+            let merged = t.iter().any(|&v| origin[v as usize] != u32::MAX);
+            (merged, fresh.is_none_or(|fresh| t.iter().any(|&v| fresh[v as usize])))
+        })
+        .unzip();
+    let boxes: Vec<(DVec3, DVec3)> = (0..triangles.len() as u32)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|f| {
+            let p = corners(f);
+            (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
+        })
+        .collect();
+    let cell_range = |(lo, hi): (DVec3, DVec3)| {
+        let lo = (lo / CLASH_CELL).floor();
+        let hi = (hi / CLASH_CELL).floor();
+        ([lo.x as i64, lo.y as i64, lo.z as i64], [hi.x as i64, hi.y as i64, hi.z as i64])
+    };
+    let mut listed: Vec<([i64; 3], u32)> = (0..triangles.len() as u32)
+        .into_par_iter()
+        .with_min_len(4096)
+        .flat_map_iter(|f| {
+            let (lo, hi) = cell_range(boxes[f as usize]);
+            (lo[0]..=hi[0])
+                .flat_map(move |x| (lo[1]..=hi[1]).flat_map(move |y| (lo[2]..=hi[2]).map(move |z| ([x, y, z], f))))
+        })
+        .collect();
+    listed.par_sort_unstable();
+    let in_cell = |cell: [i64; 3]| {
+        let start = listed.partition_point(|e| e.0 < cell);
+        let end = start + listed[start..].partition_point(|e| e.0 == cell);
+        &listed[start..end]
+    };
+    let looks_for = |f: u32, g: u32| {
+        let (f, g) = (f as usize, g as usize);
+        if merged[f] { !(merged[g] && new[g] && g <= f) } else { merged[g] && !new[g] }
+    };
+    (0..triangles.len() as u32)
         .into_par_iter()
         .with_min_len(1024)
-        .filter(|&f| touches_merged(f))
-        .filter(|&f| {
+        .filter(|&f| new[f as usize] && (merged[f as usize] || fresh.is_some()))
+        .flat_map_iter(|f| {
             let p = corners(f);
-            let (plo, phi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
-            let (lo, hi) = cells(p);
-            for x in lo.x as i64..=hi.x as i64 {
-                for y in lo.y as i64..=hi.y as i64 {
-                    for z in lo.z as i64..=hi.z as i64 {
-                        for &g in grid.get(&[x, y, z]).map_or(&[][..], Vec::as_slice) {
-                            if g == f {
+            let (plo, phi) = boxes[f as usize];
+            let (lo, hi) = cell_range((plo, phi));
+            let mut found = Vec::new();
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        for &(_, g) in in_cell([x, y, z]) {
+                            if !looks_for(f, g) {
                                 continue;
                             }
-                            let q = corners(g);
-                            let (qlo, qhi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
+                            let (qlo, qhi) = boxes[g as usize];
                             if plo.cmpgt(qhi).any() || qlo.cmpgt(phi).any() {
                                 continue;
                             }
+                            let (glo, _) = cell_range((qlo, qhi));
+                            if [x, y, z] != [lo[0].max(glo[0]), lo[1].max(glo[1]), lo[2].max(glo[2])] {
+                                continue;
+                            }
+                            let q = corners(g);
                             if across_an_edge(triangles[f as usize], p, triangles[g as usize], q) {
                                 continue;
                             }
                             if faces_cross(triangles[f as usize], p, triangles[g as usize], q) {
-                                return true;
+                                found.push((f, g));
                             }
                         }
                     }
                 }
             }
-            false
+            found
         })
-        .collect();
-    for f in clashing {
-        blame(&triangles[f as usize], &mut bad);
-    }
-    bad.sort_unstable();
-    bad.dedup();
-    Some(bad)
+        .collect()
 }
 
 /// Whether two faces share an edge (by index) and face the same side: run opposite

@@ -84,19 +84,20 @@ pub(crate) fn untangle(dual: &mut DualMesh) -> Vec<[u32; 3]> {
             dual.positions[v] = safe[v] + (qef[v] - safe[v]) * weight(step[v]);
             risky[v] = true;
         }
-        // Faces at moved vertices are cut again; all-safe faces as the staircase is.
-        let moved: FxHashSet<u32> = (0..n as u32).filter(|&v| risky[v as usize]).collect();
-        for (f, q) in dual.quads.iter().enumerate() {
-            if q.iter().any(|v| moved.contains(v)) {
-                let pair = if q.iter().all(|&v| step[v as usize] >= WEIGHTS.len()) {
+        // Faces at moved vertices (the risky ones now) are cut again; all-safe faces as
+        // the staircase is.
+        let placed = &*dual;
+        triangles.par_chunks_mut(2).with_min_len(4096).enumerate().for_each(|(f, pair)| {
+            let q = placed.quads[f];
+            if q.iter().any(|&v| risky[v as usize]) {
+                let cut = if q.iter().all(|&v| step[v as usize] >= WEIGHTS.len()) {
                     [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
                 } else {
-                    split_face(dual, f)
+                    split_face(placed, f)
                 };
-                triangles[2 * f] = pair[0];
-                triangles[2 * f + 1] = pair[1];
+                pair.copy_from_slice(&cut);
             }
-        }
+        });
     }
     let moved_distance = moved_plane_distance(dual, &step);
     dual.vertex_distance = dual.vertex_distance.max(moved_distance);
@@ -220,9 +221,11 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
     let mut cells: Vec<(&[i64; 3], &Vec<u32>)> = grid.iter().collect();
     cells.sort_unstable_by_key(|(k, _)| **k);
     let is_risky = |t: u32| triangles[t as usize].iter().any(|&v| risky[v as usize]);
+    // A pair whose boxes meet is tested only in the cell holding the low corner of
+    // their intersection (it is in both lists), not again in every cell they share.
     let pairs: Vec<(u32, u32)> = cells
         .par_iter()
-        .flat_map_iter(|(_, list)| {
+        .flat_map_iter(|&(cell, list)| {
             let mut found = Vec::new();
             for (i, &s) in list.iter().enumerate() {
                 for &t in &list[i + 1..] {
@@ -233,6 +236,10 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
                     let (alo, ahi) = (a[0].min(a[1]).min(a[2]), a[0].max(a[1]).max(a[2]));
                     let (blo, bhi) = (b[0].min(b[1]).min(b[2]), b[0].max(b[1]).max(b[2]));
                     if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
+                        continue;
+                    }
+                    let low = alo.floor().max(blo.floor());
+                    if [low.x as i64, low.y as i64, low.z as i64] != *cell {
                         continue;
                     }
                     if triangles_cross(triangles[s as usize], a, triangles[t as usize], b) {
