@@ -92,6 +92,8 @@ pub(crate) trait Lanes: Copy {
     fn xor(self, o: Self) -> Self;
     /// `mask ? a : b`, lane by lane.
     fn select(mask: Self, a: Self, b: Self) -> Self;
+    /// The lanes turned one place: `[y, z, x]` (the idle lane, where there is one, kept).
+    fn rotate(self) -> Self;
     /// `earlier(earlier(x, y), z)`.
     fn min3(self) -> f64;
     /// The lanes `[x, y, z]`.
@@ -145,6 +147,10 @@ impl Lanes for Scalar {
         Scalar(std::array::from_fn(|i| if mask.0[i].to_bits() >> 63 == 1 { a.0[i] } else { b.0[i] }))
     }
     #[inline(always)]
+    fn rotate(self) -> Self {
+        Scalar([self.0[1], self.0[2], self.0[0]])
+    }
+    #[inline(always)]
     fn min3(self) -> f64 {
         earlier(earlier(self.0[0], self.0[1]), self.0[2])
     }
@@ -161,10 +167,10 @@ pub(crate) use x86::{Avx2, Sse2};
 mod x86 {
     use std::arch::x86_64::{
         __m128d, __m256d, _CMP_LE_OQ, _mm_add_pd, _mm_and_pd, _mm_andnot_pd, _mm_cmple_pd, _mm_cvtsd_f64, _mm_min_sd,
-        _mm_movemask_pd, _mm_mul_pd, _mm_or_pd, _mm_set_pd, _mm_set1_pd, _mm_sub_pd, _mm_unpackhi_pd, _mm_xor_pd,
-        _mm256_add_pd, _mm256_and_pd, _mm256_blendv_pd, _mm256_castpd256_pd128, _mm256_cmp_pd, _mm256_extractf128_pd,
-        _mm256_movemask_pd, _mm256_mul_pd, _mm256_set_pd, _mm256_set1_pd, _mm256_storeu_pd, _mm256_sub_pd,
-        _mm256_xor_pd,
+        _mm_movemask_pd, _mm_mul_pd, _mm_or_pd, _mm_set_pd, _mm_set1_pd, _mm_shuffle_pd, _mm_sub_pd, _mm_unpackhi_pd,
+        _mm_xor_pd, _mm256_add_pd, _mm256_and_pd, _mm256_blendv_pd, _mm256_castpd256_pd128, _mm256_cmp_pd,
+        _mm256_extractf128_pd, _mm256_movemask_pd, _mm256_mul_pd, _mm256_permute4x64_pd, _mm256_set_pd, _mm256_set1_pd,
+        _mm256_storeu_pd, _mm256_sub_pd, _mm256_xor_pd,
     };
 
     use super::Lanes;
@@ -216,6 +222,10 @@ mod x86 {
         #[inline(always)]
         fn select(mask: Self, a: Self, b: Self) -> Self {
             unsafe { Avx2(_mm256_blendv_pd(b.0, a.0, mask.0)) }
+        }
+        #[inline(always)]
+        fn rotate(self) -> Self {
+            unsafe { Avx2(_mm256_permute4x64_pd::<0b11_00_10_01>(self.0)) }
         }
         #[inline(always)]
         fn min3(self) -> f64 {
@@ -285,6 +295,11 @@ mod x86 {
             Sse2 { xy: pick(mask.xy, a.xy, b.xy), z: pick(mask.z, a.z, b.z) }
         }
         #[inline(always)]
+        fn rotate(self) -> Self {
+            // (y, z) and (x, idle).
+            unsafe { Sse2 { xy: _mm_shuffle_pd::<0b01>(self.xy, self.z), z: _mm_shuffle_pd::<0b10>(self.xy, self.z) } }
+        }
+        #[inline(always)]
         fn min3(self) -> f64 {
             unsafe {
                 let x_y = _mm_min_sd(self.xy, _mm_unpackhi_pd(self.xy, self.xy));
@@ -312,7 +327,7 @@ mod tests {
                     for &t in &values {
                         let s = Scalar::new([x, y, z], f64::INFINITY);
                         let st = Scalar::splat(t);
-                        let want = (s.le(st).bits(), s.min3().to_bits(), s.sub(st).mul(st).add(s).to_array());
+                        let want = (s.le(st).bits(), s.min3().to_bits(), s.sub(st).mul(st).add(s.rotate()).to_array());
                         for isa in Isa::available() {
                             let got = match isa {
                                 #[cfg(target_arch = "x86_64")]
@@ -341,7 +356,7 @@ mod tests {
         let sel = L::select(m.xor(L::splat(0.0)).and(m), s, st).to_array();
         let direct = L::select(m, s, st).to_array();
         assert_eq!(sel.map(f64::to_bits), direct.map(f64::to_bits));
-        (m.bits(), s.min3().to_bits(), s.sub(st).mul(st).add(s).to_array())
+        (m.bits(), s.min3().to_bits(), s.sub(st).mul(st).add(s.rotate()).to_array())
     }
 
     #[cfg(target_arch = "x86_64")]

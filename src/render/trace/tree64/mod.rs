@@ -3,8 +3,8 @@
 //!
 //! After the sparse 64-trees of voxel engines (dubiousconst282's study of 64-tree
 //! walks; Laine and Karras's octree for the comparison): a node is a cube of
-//! 4x4x4 children, each empty, full or inner, with two 64-bit masks (present, full),
-//! the index of its first inner child and a byte of the non-empty 2x2x2 groups. The
+//! 4x4x4 children, each empty, full or inner, with two 64-bit masks (present, full)
+//! and the index of its first inner child. The
 //! inner children of a node are stored together in child order, so child `i` (`i =
 //! x + 4 y + 16 z`) is at `first + popcount(inner & ((1 << i) - 1))`, `inner =
 //! present & !full`.
@@ -34,25 +34,12 @@ pub(crate) struct Node64 {
     pub full: u64,
     /// Index of the first inner child.
     pub first: u32,
-    /// The non-empty 2x2x2 groups of children (bit `gx + 2 gy + 4 gz`, `g = c / 2`).
-    pub groups: u8,
-    _pad: [u8; 3],
+    _pad: [u8; 4],
 }
 
 const _: () = assert!(std::mem::size_of::<Node64>() == 24);
 
-/// `GROUP_CELLS[g]`: the cells of the 2x2x2 group `g` (bit `gx + 2 gy + 4 gz`).
-const GROUP_CELLS: [u64; 8] = {
-    let mut masks = [0u64; 8];
-    let mut c = 0;
-    while c < 64 {
-        masks[c >> 1 & 1 | c >> 2 & 2 | c >> 3 & 4] |= 1 << c;
-        c += 1;
-    }
-    masks
-};
-
-const EMPTY: Node64 = Node64 { present: 0, full: 0, first: 0, groups: 0, _pad: [0; 3] };
+const EMPTY: Node64 = Node64 { present: 0, full: 0, first: 0, _pad: [0; 4] };
 
 /// The 64-tree of one solid.
 #[derive(Clone, Debug)]
@@ -130,10 +117,9 @@ impl Tree64 {
                 }
             }
         }
-        let groups = (0..8).fold(0u8, |g, i| g | u8::from(present & GROUP_CELLS[i] != 0) << i);
         let inner = present & !full;
         let first = self.nodes.len();
-        self.nodes[index] = Node64 { present, full, first: first as u32, groups, _pad: [0; 3] };
+        self.nodes[index] = Node64 { present, full, first: first as u32, _pad: [0; 4] };
         self.nodes.extend(std::iter::repeat_n(EMPTY, inner.count_ones() as usize));
         let (mut slot, mut bits) = (first, inner);
         while bits != 0 {

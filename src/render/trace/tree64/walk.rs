@@ -9,11 +9,14 @@
 //! whose `tn` is that time (edges and corners step together). Empty steps coalesce
 //! off the masks: the ray in a node's child of mirrored coordinates `q` only reaches
 //! the children at or past `q` on every axis (`Mirrored::ahead`, three table masks
-//! ANDed); when none of them is present the node is left at once, taken as an empty
-//! cell of its parent (and so on up), the exit time and cell of stepping through it
-//! cell by cell (the cells skipped are empty, the planes crossed the same); and an
-//! empty child whose 2x2x2 group is empty too (the node's group byte) is left at the
-//! group's far planes in one step. Leaving a node is found from the cells alone: the
+//! ANDed), and of those only the ones its line can touch (`line_children`: per pair of
+//! axes, the staircase of cells between its crossings of the two axes' inner planes,
+//! worked out once a node is entered from the plane times the descent computes and
+//! kept beside the node on the stack); when none of them is present the node is left
+//! at once, taken as an empty cell of its parent (and so on up), the exit time and
+//! cell of stepping through it cell by cell (the cells skipped are empty, the planes
+//! crossed the same); and an empty child whose 2x2x2 group holds no present child the
+//! line touches is left at the group's far planes in one step. Leaving a node is found from the cells alone: the
 //! highest bit of
 //! `old ^ new` over the stepped axes says how many levels up the new cell's node is
 //! (two bits a level), and the walk re-enters that ancestor off its stack (one
@@ -108,6 +111,9 @@ struct Mirrored {
     /// (the ray in a child of mirrored coordinates `q` only ever reaches the children of
     /// `ahead[0][q0] & ahead[1][q1] & ahead[2][q2]` of the node).
     ahead: [[u64; 4]; 3],
+    /// `line[a]`: the children the ray's line can touch, by the pair of axes `a`, `a + 1`
+    /// (`LINE`, for this ray's mirroring of the two axes).
+    line: [&'static [u64; 64]; 3],
 }
 
 impl Mirrored {
@@ -126,6 +132,7 @@ impl Mirrored {
             add: std::array::from_fn(|a| if m(a) { edge.wrapping_add(1) } else { 0 }),
             child_flip: std::array::from_fn(|a| if m(a) { 3 } else { 0 }),
             ahead: std::array::from_fn(|a| AHEAD[a][usize::from(m(a))]),
+            line: std::array::from_fn(|a| &LINE[a][usize::from(m(a)) + 2 * usize::from(m((a + 1) % 3))]),
         }
     }
 
@@ -204,6 +211,52 @@ const AHEAD: [[[u64; 4]; 2]; 3] = {
     masks
 };
 
+/// `LINE[a][f][c1 + 4 c2 + 16 c3]`: the children `x + 4 y + 16 z` of a node that a line
+/// can touch whose cell on axis `b = a + 1 (mod 3)` is `ck` where it crosses axis `a`'s
+/// inner plane `k` (`k` in `1..4`; coordinates mirrored on axis `a` when bit 0 of `f`
+/// is set, on `b` when bit 1 is): in the slab `i` of axis `a` (`i` in `0..4`), the
+/// cells `c_i..=c_{i+1}` of axis `b`, with `c_0 = 0` and `c_4 = 3`. A tuple that is not
+/// non-decreasing (no line has one) gets every child.
+const LINE: [[[u64; 64]; 4]; 3] = {
+    let mut masks = [[[0u64; 64]; 4]; 3];
+    let mut a = 0;
+    while a < 3 {
+        let b = (a + 1) % 3;
+        let mut f = 0;
+        while f < 4 {
+            let mut idx = 0;
+            while idx < 64 {
+                let c = [0, idx & 3, idx >> 2 & 3, idx >> 4, 3];
+                let monotone = c[1] <= c[2] && c[2] <= c[3];
+                let mut child = 0;
+                while child < 64 {
+                    let ca = (child >> (2 * a) & 3) ^ if f & 1 == 1 { 3 } else { 0 };
+                    let cb = (child >> (2 * b) & 3) ^ if f & 2 == 2 { 3 } else { 0 };
+                    if !monotone || (c[ca] <= cb && cb <= c[ca + 1]) {
+                        masks[a][f][idx] |= 1 << child;
+                    }
+                    child += 1;
+                }
+                idx += 1;
+            }
+            f += 1;
+        }
+        a += 1;
+    }
+    masks
+};
+
+/// `GROUP_CELLS[g]`: the cells of the 2x2x2 group `g` (bit `gx + 2 gy + 4 gz`).
+const GROUP_CELLS: [u64; 8] = {
+    let mut masks = [0u64; 8];
+    let mut c = 0;
+    while c < 64 {
+        masks[c >> 1 & 1 | c >> 2 & 2 | c >> 3 & 4] |= 1 << c;
+        c += 1;
+    }
+    masks
+};
+
 /// `SKIP[s]`: all ones in the lanes of the axes set in `s` (bit `a`), zero elsewhere.
 const SKIP: [[f64; 3]; 8] = {
     let mut masks = [[0.0; 3]; 8];
@@ -265,7 +318,8 @@ impl Tree64 {
         }
         let lanes = RayLanes::<L>::new(&m);
         // The nodes above the current one, root first (left uninitialized until written).
-        let mut stack = [const { MaybeUninit::<Node64>::uninit() }; LEVELS];
+        // Each beside the children of it the ray's line can touch (`line_children`).
+        let mut stack = [const { MaybeUninit::<(Node64, u64)>::uninit() }; LEVELS];
         let mut level = 0usize;
         let mut node = self.nodes[0];
         // log2 of the current level's child edge, the ray's cell there (mirrored, in
@@ -276,7 +330,7 @@ impl Tree64 {
         let mut pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, edge))), 0.0);
         let mut tn = lanes.time(pn);
         let mut step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
-        descend(&lanes, &mut cell, &mut pn, &mut tn, step, t);
+        let mut line = descend(&lanes, &m, &mut cell, &mut pn, &mut tn, step, t);
         loop {
             let mut c: [u32; 3] = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
             let child = c[0] + 4 * c[1] + 16 * c[2];
@@ -284,33 +338,33 @@ impl Tree64 {
                 if node.full >> child & 1 == 1 {
                     return Some(hit::<FACE>(&m, cell, shift, t, span));
                 }
-                stack[level].write(node);
+                stack[level].write((node, line));
                 level += 1;
                 let inner = node.present & !node.full;
                 node = self.nodes[(node.first + (inner & ((1u64 << child) - 1)).count_ones()) as usize];
                 shift -= 2;
                 step = step.mul(L::splat(0.25));
-                descend(&lanes, &mut cell, &mut pn, &mut tn, step, t);
+                line = descend(&lanes, &m, &mut cell, &mut pn, &mut tn, step, t);
                 continue;
             }
             // An empty child. When no child the ray can still reach in this node is
             // present, the node is left at once: it is taken as an empty cell of its
             // parent, and so on up (the same exit time and cell as stepping through it).
-            if node.present & m.ahead(cell) == 0 {
+            if node.present & line & m.ahead(cell) == 0 {
                 loop {
                     if level == 0 {
                         return None;
                     }
                     level -= 1;
                     // SAFETY: the nodes `0..level` above were written on the way down.
-                    node = unsafe { stack[level].assume_init() };
+                    (node, line) = unsafe { stack[level].assume_init() };
                     shift += 2;
                     for c in &mut cell {
                         *c >>= 2;
                     }
                     c = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
                     let left = c[0] + 4 * c[1] + 16 * c[2];
-                    if node.present & m.ahead(cell) & !(1u64 << left) != 0 {
+                    if node.present & line & m.ahead(cell) & !(1u64 << left) != 0 {
                         break;
                     }
                 }
@@ -318,10 +372,11 @@ impl Tree64 {
                 tn = lanes.time(pn);
                 step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
             }
-            // Step to the cell's far planes, or to its group's when the whole 2x2x2
-            // group is empty (`skip` on the axes where the cell is the group's near
-            // one), without a branch on the axes that move.
-            let empty_group = node.groups >> ((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) & 1 == 0;
+            // Step to the cell's far planes, or to its group's when no present child of
+            // its 2x2x2 group is on the ray's line (`skip` on the axes where the cell is
+            // the group's near one), without a branch on the axes that move.
+            let group = GROUP_CELLS[((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) as usize];
+            let empty_group = node.present & line & group == 0;
             let even = (!cell[0] & 1) | (!cell[1] & 1) << 1 | (!cell[2] & 1) << 2;
             let skip = L::new(SKIP[if empty_group { even as usize } else { 0 }], 0.0);
             let tt = lanes.time(pn.add(skip.and(step)));
@@ -349,7 +404,7 @@ impl Tree64 {
                 }
                 level -= up;
                 // SAFETY: the nodes `0..level` above were written on the way down.
-                node = unsafe { stack[level].assume_init() };
+                (node, line) = unsafe { stack[level].assume_init() };
                 shift += 2 * up as u32;
                 for c in &mut cell {
                     *c >>= 2 * up;
@@ -366,9 +421,18 @@ impl Tree64 {
 /// `pn` at times `tn` (bits as carried down): the child cell per axis is the count of
 /// the node's three inner planes crossed by `t` (`step` apart, signed: the child edge),
 /// and `pn`, `tn` become that child's far planes and their times (the node's far plane
-/// keeps its time, the same bits).
+/// keeps its time, the same bits). Returns the children of the node the ray's line can
+/// touch (`line_children`).
 #[inline(always)]
-fn descend<L: Lanes>(lanes: &RayLanes<L>, cell: &mut [u32; 3], pn: &mut L, tn: &mut L, step: L, t: f64) {
+fn descend<L: Lanes>(
+    lanes: &RayLanes<L>,
+    m: &Mirrored,
+    cell: &mut [u32; 3],
+    pn: &mut L,
+    tn: &mut L,
+    step: L,
+    t: f64,
+) -> u64 {
     let p1 = pn.sub(step.mul(L::splat(3.0)));
     let p2 = p1.add(step);
     let p3 = p2.add(step);
@@ -382,6 +446,32 @@ fn descend<L: Lanes>(lanes: &RayLanes<L>, cell: &mut [u32; 3], pn: &mut L, tn: &
     // The times are monotone in the plane, so the crossed planes are the first ones.
     *tn = L::select(m1, L::select(m2, L::select(m3, *tn, t3), t2), t1);
     *pn = L::select(m1, L::select(m2, L::select(m3, *pn, p3), p2), p1);
+    line_children(m, [t1, t2, t3])
+}
+
+/// The children of a node the ray's line can touch, from the times `t[k - 1]` it
+/// crosses the node's inner planes `k` (mirrored order; lane `a`: axis `a`): a superset
+/// of the cells it passes through, so a child outside it is never visited. A cell is
+/// passed through when its three time spans `[near, far)` meet, that is when they meet
+/// two by two (intervals on a line: Helly); per pair of axes `a`, `b = a + 1` that is
+/// the staircase `LINE[a]` of the cell on `b` at each crossing of `a`'s inner planes,
+/// `ck = #{j : t_b,j <= t_a,k}` (counted with `<=`, so a tie keeps both cells: the
+/// superset). The three counts per pair are taken in lanes, `a` in lane `a`, against
+/// the times turned one lane (`Lanes::rotate`), as one weighted sum `c1 + 4 c2 + 16 c3`.
+/// Every lane operation is exact (small integers), so every build gives the same mask.
+#[inline(always)]
+fn line_children<L: Lanes>(m: &Mirrored, t: [L; 3]) -> u64 {
+    let turned = t.map(Lanes::rotate);
+    // Started at 2^52, so the sum's low mantissa bits are the index (no conversion).
+    let mut sum = L::splat(4_503_599_627_370_496.0);
+    for (tk, weight) in t.into_iter().zip([1.0, 4.0, 16.0]) {
+        let w = L::splat(weight);
+        for tj in turned {
+            sum = sum.add(tj.le(tk).and(w));
+        }
+    }
+    let i = sum.to_array().map(|x| x.to_bits() as usize & 63);
+    m.line[0][i[0]] & m.line[1][i[1]] & m.line[2][i[2]]
 }
 
 /// The hit on entering the full cell `cell` (mirrored, edge `1 << shift`) at `t`: its
