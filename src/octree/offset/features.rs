@@ -574,21 +574,29 @@ impl<'a, F: Feature> Measure<'a, F> {
         let t = if grow { (radius - gf) / (ge - gf) } else { (gf - radius) / (gf - ge) };
         let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.5 };
         // The normal: the direction from the foot point (to the voxel growing, from it
-        // shrinking) of the end whose direction is the nearer the face's own (the
-        // other end may have a different surface nearest, as an edge voxel has two
-        // faces equally near).
+        // shrinking), the two ends' interpolated at the crossing (the distance's
+        // gradient there) when they are within 45 degrees of each other (one surface
+        // nearest both, as on a grown edge's round); else the end's whose direction is
+        // the nearer the face's own (two surfaces nearest, as at an edge voxel with two
+        // faces equally near: a crease, not to be blurred).
         let mut axis_normal = DVec3::ZERO;
         axis_normal[axis] = if fi { 1.0 } else { -1.0 };
         let sign = if grow { 1.0 } else { -1.0 };
-        let normal = [af, ae]
-            .into_iter()
-            .map(|a| a * sign)
-            .filter(|a| a.length_squared() > 1e-18)
-            .map(DVec3::normalize)
-            .max_by(|a, b| a.dot(axis_normal).total_cmp(&b.dot(axis_normal)))
-            .unwrap_or(axis_normal)
-            .as_vec3()
-            .to_array();
+        let unit = |a: DVec3| (a.length_squared() > 1e-18).then(|| (a * sign).normalize());
+        let normal = match (unit(af), unit(ae)) {
+            (Some(f), Some(e)) if f.dot(e) > std::f64::consts::FRAC_1_SQRT_2 => f.lerp(e, t).normalize(),
+            (Some(f), Some(e)) => {
+                if e.dot(axis_normal) >= f.dot(axis_normal) {
+                    e
+                } else {
+                    f
+                }
+            }
+            (Some(a), None) | (None, Some(a)) => a,
+            (None, None) => axis_normal,
+        }
+        .as_vec3()
+        .to_array();
         let voxel = morton::encode(fv[0] as u32, fv[1] as u32, fv[2] as u32);
         out.push(NewCrossing { voxel, direction, t: t as f32, normal });
     }
