@@ -593,3 +593,68 @@ fn shells_and_rounds_over_the_budget_are_refused_before_any_step_runs() {
         }
     }
 }
+
+/// Issue 39: a bore's rim, the convex edge where a box's top face meets a cylindrical
+/// bore's wall, grown by `D` along the surface is the round of radius `D` around the
+/// rim circle (a quarter of a torus): the result's crossings near it lie `D` from the
+/// solid, with the distance's gradient as their normal. (The faces next to the rim
+/// took the normal of the end nearest the face's axis, snapping the round's normals
+/// towards the axes: 21 degrees off at worst, 3 on average, at 2.4 voxels.)
+#[test]
+fn along_the_surface_a_grown_rim_is_the_round_of_radius_d_around_it() {
+    use octsolid::shape::{Axis, Cylinder};
+    let n = 128.0;
+    // In voxels: the box's centre and half side, the bore's radius.
+    let (c, half, bore) = (DVec3::new(64.3, 63.8, 64.2), 40.0, 20.3);
+    let top = c.z + half;
+    let part = Cuboid::new(c / n, DVec3::splat(2.0 * half / n)).unwrap()
+        - Cylinder::new(c / n, Axis::Z, bore / n, 3.0 * half / n).unwrap();
+    let (tree, data) = with_surface(&part, 7);
+    // The distance from the solid near the rim and its gradient.
+    let field = |q: DVec3| -> (f64, DVec3) {
+        let radial = DVec3::new(q.x - c.x, q.y - c.y, 0.0);
+        let r = radial.length();
+        let radial = radial / r;
+        if q.z < top {
+            (bore - r, -radial)
+        } else if r >= bore {
+            (q.z - top, DVec3::Z)
+        } else {
+            let away = q - (DVec3::new(c.x, c.y, top) + radial * bore);
+            (away.length(), away.normalize())
+        }
+    };
+    let mut stats = Vec::new();
+    for d in [2.4, 3.3, 6.7] {
+        let (_, grown) = offset_with_surface(&tree, &data, d, &OffsetOptions::default()).unwrap();
+        let (mut worst, mut worst_angle, mut sum, mut sum_angle, mut count) = (0.0f64, 0.0f64, 0.0, 0.0, 0);
+        for &(key, crossing) in grown.faces() {
+            let q = crossing.point(key);
+            let r = DVec3::new(q.x - c.x, q.y - c.y, 0.0).length();
+            if (r - bore).hypot((q.z - top).max(0.0)) > 2.0 * d || q.z < top - 2.0 * d {
+                continue;
+            }
+            let (dist, gradient) = field(q);
+            let angle = crossing.normal.as_dvec3().dot(gradient).clamp(-1.0, 1.0).acos().to_degrees();
+            worst = worst.max((dist - d).abs());
+            worst_angle = worst_angle.max(angle);
+            sum += (dist - d).abs();
+            sum_angle += angle;
+            count += 1;
+        }
+        let (mean, mean_angle) = (sum / f64::from(count), sum_angle / f64::from(count));
+        eprintln!(
+            "rim grown by {d}: {count} crossings, |dist - D| worst {worst:.3} mean {mean:.4} voxels, \
+             normal worst {worst_angle:.1} mean {mean_angle:.2} degrees"
+        );
+        stats.push((d, count, worst, mean, worst_angle, mean_angle));
+    }
+    for (d, count, worst, mean, worst_angle, mean_angle) in stats {
+        assert!(count > 1000, "{d}: {count} crossings near the rim");
+        assert!(worst < 0.25 && mean < 0.05, "{d}: distance off D by {worst} at worst, {mean} on average");
+        assert!(
+            worst_angle < 15.0 && mean_angle < 2.0,
+            "{d}: normal off by {worst_angle} degrees, {mean_angle} on average"
+        );
+    }
+}

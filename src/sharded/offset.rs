@@ -9,7 +9,7 @@
 //! computed from a **window**: the cell and a halo of `h` voxels a side read from the
 //! input cells it meets (each neighbour's shard read, cropped to the window; full cells
 //! cropped from the index), the window offset as a whole solid of the same domain (the
-//! same aligned bricks, the same band transform), and the result clipped to the cell.
+//! same aligned tiles, the same band transform), and the result clipped to the cell.
 //! Outside the window the window is empty, so the result is wrong only within `D` (and
 //! a voxel) of the window's faces, which the halo keeps out of the cell: for one step
 //! `h = ceil(|D|) + 4` (the reach of the step, the voxel one beyond the cell whose face
@@ -29,8 +29,8 @@
 //! from the surface are decided from the index alone: a window with no solid voxel
 //! gives an empty cell (no step makes voxels from nothing), a window all full inside the
 //! domain gives a full cell for an offset or a round and an empty one for a shell. The
-//! window's crop leaves nodes smaller than a brick on its faces, so the band transform
-//! also reads the bricks along the window's faces where the solid meets them (at most
+//! window's crop leaves nodes smaller than a tile on its faces, so the band transform
+//! also reads the tiles along the window's faces where the solid meets them (at most
 //! the window's surface again).
 //!
 //! Memory: before any cell is written the largest window (by the bytes its shards take

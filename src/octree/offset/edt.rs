@@ -1,8 +1,7 @@
 //! The exact Euclidean distance from each voxel centre to the nearest voxel (as a
 //! cube) of the other phase: separable lower envelopes, in integers; the
-//! one-dimensional transforms (which [`super::tiles`] runs along lines of tiles) and
-//! the whole transform of one brick read with a halo (along a surface,
-//! [`super::band`]).
+//! one-dimensional transforms, which [`super::tiles`] and, naming each voxel's nearest
+//! site, [`super::features`] run along lines of tiles.
 //!
 //! Formula: the squared distance from a centre `p` to the cube of the voxel `s` is a
 //! sum over the axes of `c(p_a - s_a) / 4`, where `c(o) = (2|o| - 1)^2` (`c(0) = 0`:
@@ -16,9 +15,9 @@
 //! the first `x` where it is strictly lower, and pops the top when that is at or
 //! before the top's own start.
 //!
-//! The transform can name a nearest site of each voxel too (the feature transform,
-//! Maurer, Qi and Raghavan 2003): each pass carries the index of the site its winning
-//! value came from, which [`super::subvoxel`] reads the site's crossings by.
+//! Each transform can name the entry its winning value came from (the first of equal
+//! ones along the line), from which [`super::features`] carries each voxel's nearest
+//! site (the feature transform, Maurer, Qi and Raghavan 2003).
 //!
 //! Where this departs from the papers:
 //! - the papers' cost is the squared distance between centres, `o^2`; this one, to
@@ -34,35 +33,10 @@
 //!   infinite values (no site on the line) are left out of the envelope rather than
 //!   carried as a large number;
 //! - the first pass, whose input is 0 (a site) or infinite, is the cost to the nearest
-//!   site along the row, two sweeps, not an envelope;
-//! - each pass computes only the part later passes read: the input is the brick and a
-//!   halo of `R` voxels each side (`H = B + 2R` a side), pass one (x) gives the `B`
-//!   columns of the brick for all `H^2` rows, pass two (y) the `B x B` of the brick for
-//!   all `H` layers, pass three (z) the brick: `H^3 + B H^2 + B^2 H` line steps rather
-//!   than `3 H^3`. Values are exact for every voxel of the brick whose nearest site is
-//!   within `R` voxels on each axis, in particular whenever `d < R + 1/2`; elsewhere
-//!   they are the distance to the nearest site in the halo, never less than the true one.
+//!   site along the row, two sweeps, not an envelope.
 
 /// The value of a voxel with no site in reach.
 pub(super) const FAR: i64 = i64::MAX / 4;
-
-/// Scratch buffers of one thread, reused brick after brick.
-#[derive(Default)]
-pub(super) struct Scratch {
-    line: Vec<i64>,
-    out: Vec<i64>,
-    sites: Vec<usize>,
-    starts: Vec<i64>,
-    pass_x: Vec<i64>,
-    pass_y: Vec<i64>,
-    /// Whether a line of the next pass holds a value in reach.
-    live: Vec<bool>,
-    /// The nearest site of each value of the passes (its index in the halo), when asked.
-    line_site: Vec<u32>,
-    out_site: Vec<u32>,
-    site_x: Vec<u32>,
-    site_y: Vec<u32>,
-}
 
 /// Four times the squared distance, along one axis, from a voxel's centre to the voxel
 /// `o` voxels away (its nearest face, half a voxel nearer than its centre): `(2|o| -
@@ -200,119 +174,6 @@ pub(super) fn nearest_site_along_row(
     }
 }
 
-/// Four times the squared distance from each voxel's centre of a brick of `b` voxels a
-/// side to the nearest site (voxel, as a cube) of a cube of `h = b + 2 r` voxels a side
-/// around it (`site[x + h (y + h z)]`, the brick at offsets `r..r + b`), written to
-/// `dist[x + b (y + b z)]`; with `nearest`, the index in `site` of a nearest site
-/// written to it the same way (the feature transform; of equally near sites, the one
-/// the passes meet first along x, then y, then z). Values over `cap` are `FAR`: each
-/// pass drops them, as no later pass can bring them under it.
-pub(super) fn brick_distances(
-    site: &[bool],
-    b: usize,
-    r: usize,
-    cap: i64,
-    scratch: &mut Scratch,
-    dist: &mut Vec<i64>,
-    nearest: Option<&mut Vec<u32>>,
-) {
-    let h = b + 2 * r;
-    debug_assert_eq!(site.len(), h * h * h);
-    let track = nearest.is_some();
-    let Scratch { line, out, sites, starts, pass_x, pass_y, live, line_site, out_site, site_x, site_y } = scratch;
-    line.resize(h, 0);
-    out.resize(b, 0);
-    if track {
-        line_site.resize(h, 0);
-        out_site.resize(b, 0);
-        site_x.resize(b * h * h, 0);
-        site_y.resize(b * b * h, 0);
-    }
-    // Pass one, along x: every row of the halo, the brick's columns.
-    pass_x.resize(b * h * h, 0);
-    for row in 0..h * h {
-        let to = track.then(|| ((h * row) as u32, &mut site_x[b * row..b * (row + 1)]));
-        nearest_site_along_row(&site[h * row..h * (row + 1)], r, cap, &mut pass_x[b * row..b * (row + 1)], to);
-    }
-    // Pass two, along y: the brick's columns of every layer.
-    pass_y.resize(b * b * h, 0);
-    for z in 0..h {
-        // The columns with a value in reach; the others stay out of reach.
-        live.clear();
-        live.resize(b, false);
-        for row in pass_x[b * h * z..b * h * (z + 1)].chunks_exact(b) {
-            for (l, &d) in live.iter_mut().zip(row) {
-                *l |= d <= cap;
-            }
-        }
-        for x in 0..b {
-            if !live[x] {
-                for y in 0..b {
-                    pass_y[x + b * (y + b * z)] = FAR;
-                }
-                continue;
-            }
-            for (y, l) in line.iter_mut().enumerate() {
-                *l = pass_x[x + b * (y + h * z)];
-            }
-            if track {
-                for (y, l) in line_site.iter_mut().enumerate() {
-                    *l = site_x[x + b * (y + h * z)];
-                }
-            }
-            lower_envelope(line, r, cap, out, sites, starts, track.then(|| (&line_site[..], &mut out_site[..])));
-            for (y, &d) in out.iter().enumerate() {
-                pass_y[x + b * (y + b * z)] = d;
-            }
-            if track {
-                for (y, &s) in out_site.iter().enumerate() {
-                    site_y[x + b * (y + b * z)] = s;
-                }
-            }
-        }
-    }
-    // Pass three, along z: the brick.
-    dist.resize(b * b * b, 0);
-    let mut nearest = nearest;
-    if let Some(n) = nearest.as_mut() {
-        n.resize(b * b * b, 0);
-    }
-    live.clear();
-    live.resize(b * b, false);
-    for layer in pass_y.chunks_exact(b * b) {
-        for (l, &d) in live.iter_mut().zip(layer) {
-            *l |= d <= cap;
-        }
-    }
-    for y in 0..b {
-        for x in 0..b {
-            if !live[x + b * y] {
-                for z in 0..b {
-                    dist[x + b * (y + b * z)] = FAR;
-                }
-                continue;
-            }
-            for (z, l) in line.iter_mut().enumerate() {
-                *l = pass_y[x + b * (y + b * z)];
-            }
-            if track {
-                for (z, l) in line_site.iter_mut().enumerate() {
-                    *l = site_y[x + b * (y + b * z)];
-                }
-            }
-            lower_envelope(line, r, cap, out, sites, starts, track.then(|| (&line_site[..], &mut out_site[..])));
-            for (z, &d) in out.iter().enumerate() {
-                dist[x + b * (y + b * z)] = if d > cap { FAR } else { d };
-            }
-            if let Some(n) = nearest.as_mut() {
-                for (z, &s) in out_site.iter().enumerate() {
-                    n[x + b * (y + b * z)] = s;
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -340,46 +201,6 @@ mod tests {
                     .min()
                     .unwrap_or(FAR);
                 assert_eq!(o, brute, "g {g:?} lo {lo} x {x}");
-            }
-        }
-    }
-
-    #[test]
-    fn brick_distances_and_nearest_sites_are_the_brute_force_ones() {
-        let mut rng = Rng(11);
-        let mut scratch = Scratch::default();
-        let (mut dist, mut nearest) = (Vec::new(), Vec::new());
-        for _ in 0..20 {
-            let (b, r) = (1 + rng.below(6) as usize, rng.below(4) as usize);
-            let h = b + 2 * r;
-            let sparse = 1 + rng.below(20);
-            let site: Vec<bool> = (0..h * h * h).map(|_| rng.below(sparse) == 0).collect();
-            let cap = if rng.below(2) == 0 { FAR - 1 } else { rng.below(60) as i64 };
-            brick_distances(&site, b, r, cap, &mut scratch, &mut dist, Some(&mut nearest));
-            for z in 0..b {
-                for y in 0..b {
-                    for x in 0..b {
-                        let p = [x + r, y + r, z + r].map(|c| c as i64);
-                        let brute = (0..h * h * h)
-                            .filter(|&i| site[i])
-                            .map(|i| {
-                                let s = [i % h, i / h % h, i / (h * h)].map(|c| c as i64);
-                                (0..3).map(|a| axis_cost(p[a] - s[a])).sum::<i64>()
-                            })
-                            .min()
-                            .filter(|&d| d <= cap)
-                            .unwrap_or(FAR);
-                        let i = x + b * (y + b * z);
-                        assert_eq!(dist[i], brute);
-                        if brute < FAR {
-                            // The feature transform names a site at that distance.
-                            let n = nearest[i] as usize;
-                            assert!(site[n]);
-                            let s = [n % h, n / h % h, n / (h * h)].map(|c| c as i64);
-                            assert_eq!((0..3).map(|a| axis_cost(p[a] - s[a])).sum::<i64>(), brute);
-                        }
-                    }
-                }
             }
         }
     }

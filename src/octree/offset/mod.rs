@@ -36,9 +36,9 @@
 //! nodes far from the surface) and runs the exact separable transform of the squared
 //! distance to the other phase ([`edt`]: lower envelopes of parabolas, Felzenszwalb
 //! and Huttenlocher 2012, in integers after Meijster et al. 2000) along whole lines of
-//! them, each voxel once a pass; along a surface, [`band`] transforms bricks with a
-//! halo of the reach read from the octree, tracking each voxel's nearest site. The
-//! voxels that change are Morton runs, cut into keys and combined with the solid by
+//! them, each voxel once a pass; along a surface, [`features`] carries each voxel's
+//! nearest site through the same passes over the same tiles (the feature transform).
+//! The voxels that change are Morton runs, cut into keys and combined with the solid by
 //! one set operation. The result is canonical and the same on any number of threads.
 //! Voxels beyond the domain are never added: a solid grown past the domain's faces is
 //! cut by them.
@@ -51,6 +51,7 @@
 
 mod band;
 mod edt;
+mod features;
 mod step;
 mod subvoxel;
 mod tiles;
@@ -70,7 +71,7 @@ pub struct OffsetOptions<'a> {
     /// Refuse a step when its estimated memory exceeds this.
     pub budget: MemoryBudget,
     /// Receives progress once a step (a round makes up to four): in tiles of the band,
-    /// three passes each, over the cubes; in bricks along a surface.
+    /// three passes each over the cubes, four along a surface.
     pub progress: &'a dyn Progress,
 }
 
@@ -92,8 +93,8 @@ impl LinearOctree {
     /// The solid grown or shrunk by `distance` voxels measured to its true surface,
     /// the one `surface`'s crossings describe (the sub-voxel rule of `subvoxel`,
     /// in the module doc), and the crossings of the result's boundary faces in the
-    /// band, from the distance field (in brick order; a face two bricks meet comes
-    /// twice, the first to keep). Faces the step leaves alone keep `surface`'s.
+    /// band, from the distance field (each face once, in the tiles' Morton order).
+    /// Faces the step leaves alone keep `surface`'s.
     ///
     /// Fails when `distance` is not finite or a step's estimate exceeds the budget.
     pub fn offset_along_surface(
@@ -107,10 +108,9 @@ impl LinearOctree {
 
     /// The memory one step of `distance` voxels (along a surface when `along_surface`)
     /// is estimated to need, from its band: over the cubes, one array of the passes' values a voxel
-    /// of its tiles and their occupancy; along a surface, each thread's brick with its
-    /// halo and the transform's buffers and a boundary layer of keys and crossings a
-    /// brick; and the trees in and out; 0 when the step reaches no voxel or `distance`
-    /// is not finite.
+    /// of its tiles and their occupancy; along a surface, a nearest site a voxel of its
+    /// tiles, their occupancy and the crossings out; and the trees in and out; 0 when
+    /// the step reaches no voxel or `distance` is not finite.
     #[must_use]
     pub fn offset_estimate(&self, distance_in_voxels: f64, along_surface: bool) -> u64 {
         if !distance_in_voxels.is_finite() {

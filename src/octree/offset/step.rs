@@ -1,6 +1,6 @@
 //! One morphological step of an offset: a ball's radius in voxels and whether it grows
-//! or shrinks the solid, with the reach and the squared-distance limit both the band's
-//! bricks ([`super::band`]) and the sparse tiles ([`super::tiles`]) compute from it.
+//! or shrinks the solid, with the reach and the squared-distance limit the sparse tiles
+//! ([`super::tiles`], and along a surface [`super::features`]) compute from it.
 
 /// One morphological step: grow (dilate) or shrink (erode) by a ball.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,8 +7,8 @@
 //! phase), but its domain is not a brick with a halo: it is the set of tiles of `T =
 //! 2^k` voxels a side (`T = 8`) the step can reach, and each pass (x, then y, then z)
 //! walks the lines of that set along its axis, a run of consecutive tiles at a time,
-//! so a voxel is computed once a pass (the bricks of [`super::band`], each with a halo
-//! of `R` voxels, computed `(B + 2R)^3 / B^3` voxels a brick voxel: 3.6 at `R = 10`).
+//! so a voxel is computed once a pass (bricks of `B` voxels each read with a halo of
+//! `R` voxels compute `(B + 2R)^3 / B^3` voxels a brick voxel: 3.6 at `R = 10`).
 //!
 //! Which tiles (`t = ceil(R / T)`, `R` the reach of the step, [`super::band`]):
 //! a tile is *site* when all its voxels are of the phase the step spreads (full
@@ -32,7 +32,7 @@
 //! site. Every value the passes keep is the exact one over this reduced set, which is
 //! the true one for every voxel that can change (by the argument above), so the result
 //! is the exact offset (checked voxel for voxel against a dense brute force,
-//! tests/offset.rs), the same voxels as the bricks with halos it replaces.
+//! tests/offset.rs), the same voxels as the bricks with halos it replaced.
 //!
 //! Memory follows the tiles: one array of values, 2 bytes a voxel (4 when the radius
 //! is 128 voxels or more, the squared distances beyond 16 bits), which each pass
@@ -58,7 +58,7 @@ const TILE_K: u32 = 3;
 
 /// A tile's phase as the step sees it.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-enum Kind {
+pub(super) enum Kind {
     /// Every voxel of the phase the step spreads.
     Site,
     /// Both phases.
@@ -68,28 +68,28 @@ enum Kind {
 }
 
 /// A tile position, packed `z << 42 | y << 21 | x` (sorting gives lines along x).
-type Packed = u64;
+pub(super) type Packed = u64;
 
-fn pack(c: [u32; 3]) -> Packed {
+pub(super) fn pack(c: [u32; 3]) -> Packed {
     (u64::from(c[2]) << 42) | (u64::from(c[1]) << 21) | u64::from(c[0])
 }
 
-fn unpack(p: Packed) -> [u32; 3] {
+pub(super) fn unpack(p: Packed) -> [u32; 3] {
     [(p & 0x1f_ffff) as u32, ((p >> 21) & 0x1f_ffff) as u32, (p >> 42) as u32]
 }
 
 /// The tiles a step over the cubes transforms and the memory it is estimated to need.
 pub(super) struct TileBand {
     /// Tile edge, as a power of two.
-    k: u32,
+    pub(super) k: u32,
     /// Tiles a side of the domain.
     n: u32,
     /// Whether the step grows (the outside of the domain is no site).
     grow: bool,
     /// The tiles, sorted by packed position.
-    tiles: Vec<Packed>,
+    pub(super) tiles: Vec<Packed>,
     /// The site tiles next to them (and others), sorted by packed position.
-    sites: Vec<Packed>,
+    pub(super) sites: Vec<Packed>,
     /// Estimated peak memory of the step, in bytes.
     pub estimate: u64,
 }
@@ -283,7 +283,7 @@ impl TileBand {
 
 impl TileBand {
     /// The kind of a tile next to the band, not in it: site or free (see [`TileBand::of`]).
-    fn beyond(&self, c: [i64; 3]) -> Kind {
+    pub(super) fn beyond(&self, c: [i64; 3]) -> Kind {
         let n = i64::from(self.n);
         if c.iter().any(|&x| x < 0 || x >= n) {
             return if self.grow { Kind::Free } else { Kind::Site };
@@ -319,7 +319,7 @@ fn kinds_of(tiles: &Tiles, set: &[Packed]) -> Vec<Kind> {
     kinds
 }
 
-fn encode(c: [u32; 3]) -> u64 {
+pub(super) fn encode(c: [u32; 3]) -> u64 {
     morton::encode(c[0], c[1], c[2])
 }
 
@@ -355,26 +355,26 @@ impl Value for u32 {
 }
 
 /// A run of consecutive tiles along one axis and what lies just beyond each end.
-struct Run {
+pub(super) struct Run {
     /// The tiles' slots (indices into the band's tiles), in order along the axis.
-    slots: Vec<usize>,
+    pub(super) slots: Vec<usize>,
     /// The first tile's position.
     first: [u32; 3],
     /// The axis.
     axis: usize,
     /// The kinds of the tiles just before and after the run (filled in by [`for_runs`]).
-    before: Kind,
-    after: Kind,
+    pub(super) before: Kind,
+    pub(super) after: Kind,
 }
 
 impl Run {
-    fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.slots.len()
     }
 }
 
 /// The runs of consecutive tiles of `tiles` (sorted by packed position) along `axis`.
-fn runs(tiles: &[Packed], axis: usize) -> Vec<Run> {
+pub(super) fn runs(tiles: &[Packed], axis: usize) -> Vec<Run> {
     // Order by the other two coordinates, then this one.
     let key = |c: [u32; 3]| -> u64 {
         let (a, b) = match axis {
@@ -401,8 +401,14 @@ fn runs(tiles: &[Packed], axis: usize) -> Vec<Run> {
 /// Runs `f(run, its tiles' output slices)` over every run in parallel, each run's
 /// tiles' values in `values` (`v` a tile) given to it alone; the kinds beyond the
 /// run's ends filled in first.
-fn for_runs<V: Value, F>(runs: &[Run], values: &mut [V], v: usize, band: &TileBand, progress: &dyn Progress, f: F)
-where
+pub(super) fn for_runs<V: Send, F>(
+    runs: &[Run],
+    values: &mut [V],
+    v: usize,
+    band: &TileBand,
+    progress: &dyn Progress,
+    f: F,
+) where
     F: Fn(&Run, &mut [&mut [V]]) + Sync,
 {
     let mut tiles: Vec<Option<&mut [V]>> = values.chunks_mut(v).map(Some).collect();

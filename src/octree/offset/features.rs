@@ -1,0 +1,705 @@
+//! A step along a surface on the sparse tiles: the feature transform (each voxel's
+//! nearest site) carried through the tiles' separable passes, then the sub-voxel
+//! distance to that site's tangent planes ([`super::subvoxel`]) and the result's
+//! crossings from it.
+//!
+//! The band is [`super::tiles`]'s, taken with the reach `R = ceil(D) + 1`: a voxel the
+//! sub-voxel rule reads (four times its squared lattice distance at most the cap
+//! `(2D + 3)^2`: a voxel that changes, or a face's far end) lies within `R` voxels on
+//! each axis of its nearest site, so the argument of [`super::tiles`] makes its value
+//! exact. The passes are [`super::edt`]'s one-dimensional transforms along whole runs
+//! of tiles, but a voxel stores its nearest site rather than its value (Maurer, Qi
+//! and Raghavan 2003: the feature transform), as the offset from the voxel to the site,
+//! and a pass's input value is recomputed from it (`sum_a c(o_a)`, the cost of
+//! [`super::edt`]): pass one names the nearest site along the row, passes two and three
+//! the line entry whose value wins, and the site it names moves by the entry's offset.
+//! A site tile beyond a run's end is its first voxel (offset zero: a site is its own).
+//!
+//! Of equally near sites, the least in the order (z, y, x): each pass keeps the earlier
+//! of two equal entries on its line, so pass three takes the least `z` among them,
+//! pass two the least `y` of those, pass one the least `x` (checked against a brute
+//! force below). The bricks with halos this replaced followed the same rule, and as
+//! every site under the cap lies in the band, each pass sees the entries theirs saw
+//! that can win, so the result is theirs byte for byte.
+//!
+//! Then each tile (in parallel, joined in Morton order) measures its voxels: a voxel
+//! whose lattice distance `d_cube` lies within `[D - 1, D + 3/2]` is measured to its
+//! site's tangent planes (its exposed faces' crossings; a neighbour's phase read from
+//! the tiles, or beyond them from the band's site tiles), others take `d_cube` (under
+//! the range: they flip) or `d_cube - 1/2` (over it: they do not, but a face's far end
+//! reads it). The result's crossing on a face between a full and an empty voxel of the
+//! result is where the distance, linear between the two centres, meets `D` (a site's
+//! value: minus its old crossing's distance along the normal); its normal is the
+//! direction from the foot point of the end whose direction is nearer the face's own.
+//! Each face is measured by the tile of its lower voxel, or of its upper one when the
+//! lower lies outside the band, so once.
+//!
+//! Memory: a feature a voxel of the band (4 bytes, 8 when the reach passes 510 voxels),
+//! a byte a voxel of a mixed tile's occupancy, and the crossings out.
+
+use glam::DVec3;
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
+
+use super::band::Changes;
+use super::edt::{FAR, axis_cost, lower_envelope, nearest_site_along_row};
+use super::step::Step;
+use super::subvoxel::{FaceCrossings, NewCrossing, Plane, distance_to_site};
+use super::tiles::{Kind, Packed, Run, TileBand, encode, for_runs, pack, runs, unpack};
+use crate::morton;
+use crate::octree::LinearOctree;
+use crate::progress::Progress;
+
+/// A voxel's nearest site, as the offset from the voxel to it, or none in reach.
+trait Feature: Copy + Send + Sync {
+    /// No site in reach.
+    const NONE: Self;
+    /// The largest offset on an axis it holds.
+    const MAX_OFFSET: i64;
+    /// The feature of the offset `o` (each axis within `MAX_OFFSET`).
+    fn of(o: [i64; 3]) -> Self;
+    /// The offset, `None` for [`Feature::NONE`].
+    fn offset(self) -> Option<[i64; 3]>;
+}
+
+impl Feature for u32 {
+    const NONE: Self = u32::MAX;
+    const MAX_OFFSET: i64 = 511;
+    fn of(o: [i64; 3]) -> Self {
+        o.iter().enumerate().map(|(a, &c)| ((c + 512) as u32) << (10 * a)).sum()
+    }
+    fn offset(self) -> Option<[i64; 3]> {
+        (self != Self::NONE).then(|| std::array::from_fn(|a| i64::from((self >> (10 * a)) & 0x3ff) - 512))
+    }
+}
+
+impl Feature for u64 {
+    const NONE: Self = u64::MAX;
+    const MAX_OFFSET: i64 = (1 << 20) - 1;
+    fn of(o: [i64; 3]) -> Self {
+        o.iter().enumerate().map(|(a, &c)| ((c + (1 << 20)) as u64) << (21 * a)).sum()
+    }
+    fn offset(self) -> Option<[i64; 3]> {
+        (self != Self::NONE).then(|| std::array::from_fn(|a| ((self >> (21 * a)) & 0x1f_ffff) as i64 - (1 << 20)))
+    }
+}
+
+/// Four times the squared distance from a voxel to the cube `o` voxels away.
+fn cost_of(o: [i64; 3]) -> i64 {
+    o.iter().map(|&c| axis_cost(c)).sum()
+}
+
+/// The band of `step` along a surface on `tree` (see the module doc), `None` when the
+/// step reaches no voxel.
+pub(super) fn band(tree: &LinearOctree, step: Step) -> Option<TileBand> {
+    match step.reach_along_surface() {
+        0 => None,
+        r => Some(TileBand::of(tree, step, r + 1)),
+    }
+}
+
+/// Whether the features hold the offsets of `step`'s reach (and the one beyond).
+pub(super) fn holds(step: Step) -> bool {
+    i64::from(step.reach_along_surface()) + 2 <= u64::MAX_OFFSET
+}
+
+/// The memory a step along a surface on `band` is estimated to need: its features
+/// and occupancy, the tile lists and trees [`TileBand`] counts, the crossings out (about
+/// a face a voxel of a tile's face).
+pub(super) fn estimate(band: &TileBand, step: Step) -> u64 {
+    let t = 1u64 << band.k;
+    let tiles = band.tiles.len() as u64;
+    let value = if step.limit() < i64::from(u16::MAX) { 2 } else { 4 };
+    let feature = if i64::from(step.reach_along_surface()) + 2 <= u32::MAX_OFFSET { 4 } else { 8 };
+    band.estimate - value * tiles * t * t * t + feature * tiles * t * t * t + 40 * tiles * t * t
+}
+
+/// The Morton runs of the voxels of `tree` that `step` changes along `surface` (sorted),
+/// and the crossings of the result's faces in the band, on the tiles of `band`.
+pub(super) fn changed_runs(
+    tree: &LinearOctree,
+    step: Step,
+    band: &TileBand,
+    surface: &dyn FaceCrossings,
+    progress: &dyn Progress,
+) -> Changes {
+    if i64::from(step.reach_along_surface()) + 2 <= u32::MAX_OFFSET {
+        transform::<u32>(tree, step, band, surface, progress)
+    } else {
+        transform::<u64>(tree, step, band, surface, progress)
+    }
+}
+
+/// [`changed_runs`] with the features stored as `F`.
+fn transform<F: Feature>(
+    tree: &LinearOctree,
+    step: Step,
+    band: &TileBand,
+    surface: &dyn FaceCrossings,
+    progress: &dyn Progress,
+) -> Changes {
+    let (k, grow, radius) = (band.k, step.grow, step.radius);
+    let t = 1usize << k;
+    let v = t * t * t;
+    progress.start(4 * band.tiles.len() as u64);
+    let sites = tile_sites(tree, band, grow);
+    // Values over this are never read: a voxel that flips lies under `radius + 1/2`
+    // from its nearest cube, and a face's far end one voxel farther.
+    let cap = (2.0 * radius + 3.0).powi(2).ceil().min(1e18) as i64;
+    let features: Vec<F> = feature_transform(band, &sites, cap, progress);
+    let measure = Measure::new(tree, band, &sites, &features, surface, step, cap);
+    // The tiles in Morton order, each measured alone.
+    let mut order: Vec<(u64, usize)> = band.tiles.iter().enumerate().map(|(s, &p)| (encode(unpack(p)), s)).collect();
+    order.par_sort_unstable();
+    let at_morton: Vec<usize> = (0..v as u64)
+        .map(|i| {
+            let [x, y, z] = morton::decode(i).map(|c| c as usize);
+            x + t * (y + t * z)
+        })
+        .collect();
+    let parts: Vec<Changes> = order
+        .par_chunks(64)
+        .map_init(
+            || (vec![(0.0, DVec3::ZERO); v], SiteCache::default()),
+            |(g, cache), chunk| {
+                let (mut runs, mut faces): (Vec<(u64, u64)>, Vec<NewCrossing>) = (Vec::new(), Vec::new());
+                for &(code, s) in chunk {
+                    measure.tile(s, g, cache);
+                    let base = code << (3 * k);
+                    for (i, &at) in (0..v as u64).zip(&at_morton) {
+                        if flips(g[at].0, radius) {
+                            let code = base + i;
+                            match runs.last_mut() {
+                                Some(last) if last.1 == code => last.1 = code + 1,
+                                _ => runs.push((code, code + 1)),
+                            }
+                        }
+                    }
+                    measure.faces(s, g, &mut faces, cache);
+                    progress.advance(1);
+                }
+                (runs, faces)
+            },
+        )
+        .collect();
+    progress.finish();
+    let crossings = parts.iter().map(|p| p.1.len()).sum();
+    let (mut out, mut faces): (Vec<(u64, u64)>, Vec<NewCrossing>) = (Vec::new(), Vec::with_capacity(crossings));
+    for (runs, f) in parts {
+        for run in runs {
+            match out.last_mut() {
+                Some(last) if last.1 == run.0 => last.1 = run.1,
+                _ => out.push(run),
+            }
+        }
+        faces.extend(f);
+    }
+    (out, faces)
+}
+
+/// Each tile's sites (none for a free tile), x fastest.
+fn tile_sites(tree: &LinearOctree, band: &TileBand, grow: bool) -> Vec<Option<Vec<bool>>> {
+    let t = 1u32 << band.k;
+    band.tiles
+        .par_iter()
+        .map(|&p| {
+            let c = unpack(p).map(|x| i64::from(x) << band.k);
+            let full = tree.occupancy(c, t);
+            full.contains(&grow).then(|| full.into_iter().map(|f| f == grow).collect())
+        })
+        .collect()
+}
+
+/// The nearest site of every voxel of `band`'s tiles (their `sites`) whose cost is at
+/// most `cap`, else [`Feature::NONE`], `v` a tile in the tiles' order (see the module
+/// doc); progress three a tile.
+fn feature_transform<F: Feature>(
+    band: &TileBand,
+    sites: &[Option<Vec<bool>>],
+    cap: i64,
+    progress: &dyn Progress,
+) -> Vec<F> {
+    let t = 1usize << band.k;
+    let v = t * t * t;
+    let mut features = vec![F::NONE; band.tiles.len() * v];
+    // Pass one, along x: the nearest site along each row.
+    for_runs(&runs(&band.tiles, 0), &mut features, v, band, progress, |run, slots| {
+        let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+        if !before && !after && run.slots.iter().all(|&s| sites[s].is_none()) {
+            return;
+        }
+        let len = run.len() * t;
+        let mut row = vec![false; len + 2];
+        let (mut costs, mut nearest) = (vec![0i64; len], vec![0u32; len]);
+        for yz in 0..t * t {
+            row[0] = before;
+            row[len + 1] = after;
+            for (j, &s) in run.slots.iter().enumerate() {
+                let cells = &mut row[1 + j * t..1 + (j + 1) * t];
+                match &sites[s] {
+                    Some(site) => cells.copy_from_slice(&site[t * yz..t * (yz + 1)]),
+                    None => cells.fill(false),
+                }
+            }
+            nearest_site_along_row(&row, 1, cap, &mut costs, Some((0, &mut nearest[..])));
+            for (j, tile) in slots.iter_mut().enumerate() {
+                for x in 0..t {
+                    let at = j * t + x;
+                    tile[x + t * yz] =
+                        if costs[at] <= cap { F::of([i64::from(nearest[at]) - 1 - at as i64, 0, 0]) } else { F::NONE };
+                }
+            }
+        }
+    });
+    // Passes two and three, along y then z.
+    feature_pass(&runs(&band.tiles, 1), &mut features, 1, [t, 1, t * t], cap, band, progress);
+    feature_pass(&runs(&band.tiles, 2), &mut features, 2, [t * t, 1, t], cap, band, progress);
+    features
+}
+
+/// Whether a voxel at distance `g` (minus infinity: a site) flips.
+fn flips(g: f64, radius: f64) -> bool {
+    g > f64::NEG_INFINITY && g < radius
+}
+
+/// Passes two and three of the feature transform along `runs`' axis, in place: along
+/// each line (read whole before it is written), the entry minimizing `axis_cost(x - i)
+/// + cost(i)` (the first of equal ones), a site tile beyond a run's end giving its first
+/// voxel; `strides` are the steps within a tile along the axis and the two others.
+fn feature_pass<F: Feature>(
+    runs: &[Run],
+    features: &mut [F],
+    axis: usize,
+    strides: [usize; 3],
+    cap: i64,
+    band: &TileBand,
+    progress: &dyn Progress,
+) {
+    let t = 1usize << band.k;
+    let v = t * t * t;
+    for_runs(runs, features, v, band, progress, |run, slots| {
+        let len = run.len() * t;
+        let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+        let mut g = vec![FAR; len + 2];
+        let mut line = vec![F::NONE; len + 2];
+        let entries: Vec<u32> = (0..len as u32 + 2).collect();
+        let (mut out, mut nearest) = (vec![0i64; len], vec![0u32; len]);
+        let (mut sites, mut starts) = (Vec::new(), Vec::new());
+        let own = F::of([0; 3]);
+        for b in 0..t {
+            for a in 0..t {
+                let base = a * strides[1] + b * strides[2];
+                (g[0], line[0]) = if before { (0, own) } else { (FAR, F::NONE) };
+                (g[len + 1], line[len + 1]) = if after { (0, own) } else { (FAR, F::NONE) };
+                let mut any = before || after;
+                for (j, tile) in slots.iter().enumerate() {
+                    for i in 0..t {
+                        let f = tile[base + i * strides[0]];
+                        let d = f.offset().map_or(FAR, cost_of);
+                        any |= d <= cap;
+                        (g[1 + j * t + i], line[1 + j * t + i]) = (d, f);
+                    }
+                }
+                if !any {
+                    continue;
+                }
+                lower_envelope(&g, 1, cap, &mut out, &mut sites, &mut starts, Some((&entries[..], &mut nearest[..])));
+                for (j, tile) in slots.iter_mut().enumerate() {
+                    for i in 0..t {
+                        let at = j * t + i;
+                        let from = nearest[at] as usize;
+                        tile[base + i * strides[0]] = match line[from].offset() {
+                            Some(mut o) if out[at] <= cap => {
+                                o[axis] += from as i64 - 1 - at as i64;
+                                F::of(o)
+                            }
+                            _ => F::NONE,
+                        };
+                    }
+                }
+            }
+        }
+    });
+}
+
+/// Where a tile lies: in the band (its slot) or a site tile next to it.
+#[derive(Clone, Copy)]
+enum Place {
+    Band(usize),
+    Site,
+}
+
+/// The exposed faces' planes of sites measured lately, relative to the site's centre
+/// (a direct-mapped cache of one thread: a site is the nearest of several voxels).
+struct SiteCache {
+    keys: Vec<u64>,
+    planes: Vec<([Plane; 6], usize)>,
+}
+
+impl SiteCache {
+    const SIZE: usize = 512;
+}
+
+impl Default for SiteCache {
+    fn default() -> Self {
+        let none = Plane { point: DVec3::ZERO, normal: DVec3::ZERO };
+        SiteCache { keys: vec![u64::MAX; Self::SIZE], planes: vec![([none; 6], 0); Self::SIZE] }
+    }
+}
+
+/// What measuring a tile's voxels reads.
+struct Measure<'a, F> {
+    tree: &'a LinearOctree,
+    band: &'a TileBand,
+    /// The band's tiles and the site tiles next to them, by packed position.
+    places: FxHashMap<Packed, Place>,
+    sites: &'a [Option<Vec<bool>>],
+    features: &'a [F],
+    surface: &'a dyn FaceCrossings,
+    step: Step,
+    cap: i64,
+}
+
+impl<'a, F: Feature> Measure<'a, F> {
+    fn new(
+        tree: &'a LinearOctree,
+        band: &'a TileBand,
+        sites: &'a [Option<Vec<bool>>],
+        features: &'a [F],
+        surface: &'a dyn FaceCrossings,
+        step: Step,
+        cap: i64,
+    ) -> Self {
+        let mut places = FxHashMap::default();
+        places.reserve(band.tiles.len() + band.sites.len());
+        places.extend(band.tiles.iter().enumerate().map(|(s, &p)| (p, Place::Band(s))));
+        places.extend(band.sites.iter().map(|&p| (p, Place::Site)));
+        Measure { tree, band, places, sites, features, surface, step, cap }
+    }
+
+    /// Where the tile of voxel `p` (inside the domain) lies, `None` for a free tile
+    /// beyond the band.
+    fn place(&self, p: [i64; 3]) -> Option<Place> {
+        self.places.get(&pack(p.map(|c| (c >> self.band.k) as u32))).copied()
+    }
+
+    /// The index of voxel `p` in its tile.
+    fn index(&self, p: [i64; 3]) -> usize {
+        let t = 1i64 << self.band.k;
+        let l = p.map(|c| (c & (t - 1)) as usize);
+        l[0] + (t as usize) * (l[1] + (t as usize) * l[2])
+    }
+
+    /// Whether voxel `p` is of the phase the step spreads (outside the domain: when
+    /// shrinking).
+    fn is_site(&self, p: [i64; 3]) -> bool {
+        let n = i64::from(self.tree.domain().resolution());
+        if p.iter().any(|&c| c < 0 || c >= n) {
+            return !self.step.grow;
+        }
+        match self.place(p) {
+            Some(Place::Band(s)) => self.sites[s].as_ref().is_some_and(|site| site[self.index(p)]),
+            Some(Place::Site) => true,
+            None => false,
+        }
+    }
+
+    /// The crossing of the face of the full voxel `voxel` towards `direction`, or the
+    /// face itself.
+    fn crossing(&self, voxel: [i64; 3], direction: u8) -> (f64, DVec3) {
+        let code = morton::encode(voxel[0] as u32, voxel[1] as u32, voxel[2] as u32);
+        let (t, normal) = self.surface.face_crossing(code, direction).unwrap_or_else(|| {
+            let mut axis = [0.0; 3];
+            axis[usize::from(direction / 2)] = if direction & 1 == 1 { 1.0 } else { -1.0 };
+            (0.5, axis)
+        });
+        (f64::from(t), DVec3::from(normal.map(f64::from)))
+    }
+
+    /// The distance of voxel `p` (inside the domain) and the direction from its foot
+    /// point on the surface (see the module doc): minus infinity for a site, infinity
+    /// beyond the cap.
+    fn distance(&self, p: [i64; 3], cache: &mut SiteCache) -> (f64, DVec3) {
+        match self.place(p) {
+            Some(Place::Band(s)) => self.distance_in(p, s, self.index(p), cache),
+            Some(Place::Site) => (f64::NEG_INFINITY, DVec3::ZERO),
+            None => (f64::INFINITY, DVec3::ZERO),
+        }
+    }
+
+    /// [`Measure::distance`] of voxel `p`, the `i`th of tile `s`.
+    fn distance_in(&self, p: [i64; 3], s: usize, i: usize, cache: &mut SiteCache) -> (f64, DVec3) {
+        if self.sites[s].as_ref().is_some_and(|site| site[i]) {
+            return (f64::NEG_INFINITY, DVec3::ZERO);
+        }
+        let v = 1usize << (3 * self.band.k);
+        let Some(o) = self.features[s * v + i].offset() else {
+            return (f64::INFINITY, DVec3::ZERO);
+        };
+        let cost = cost_of(o);
+        if cost > self.cap {
+            return (f64::INFINITY, DVec3::ZERO);
+        }
+        let radius = self.step.radius;
+        // Four times the squared lattice distance where the sub-voxel distance is
+        // needed: it lies within [d_cube - 1/2, d_cube + sqrt 3 / 2], and a face's far
+        // end is a voxel farther.
+        let exact_lo = if radius > 1.0 { (2.0 * radius - 2.0).powi(2) } else { 0.0 };
+        let exact_hi = (2.0 * radius + 3.0).powi(2);
+        let c = cost as f64;
+        let d_cube = c.sqrt() / 2.0;
+        if c >= exact_hi {
+            return (d_cube - 0.5, DVec3::ZERO);
+        }
+        if c < exact_lo {
+            return (d_cube, DVec3::ZERO);
+        }
+        let site: [i64; 3] = std::array::from_fn(|a| p[a] + o[a]);
+        let (own, count) = self.site_planes(site, cache);
+        let rel = DVec3::new(o[0] as f64, o[1] as f64, o[2] as f64);
+        let mut planes = own;
+        for plane in &mut planes[..count] {
+            plane.point = rel + plane.point;
+        }
+        let (d, foot) = distance_to_site(&planes[..count], d_cube);
+        (d, -foot)
+    }
+
+    /// The tangent planes of site `site`'s exposed faces, their points relative to its
+    /// centre (through `cache`).
+    fn site_planes(&self, site: [i64; 3], cache: &mut SiteCache) -> ([Plane; 6], usize) {
+        let key = pack(site.map(|c| (c + 1) as u32));
+        let slot = (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 55) as usize;
+        if cache.keys[slot] == key {
+            return cache.planes[slot];
+        }
+        let mut planes = [Plane { point: DVec3::ZERO, normal: DVec3::ZERO }; 6];
+        let mut count = 0;
+        for direction in 0..6u8 {
+            let (axis, positive) = (usize::from(direction / 2), direction & 1 == 1);
+            let mut next = site;
+            next[axis] += if positive { 1 } else { -1 };
+            if self.is_site(next) {
+                continue;
+            }
+            let mut e = DVec3::ZERO;
+            e[axis] = if positive { 1.0 } else { -1.0 };
+            planes[count] = if self.step.grow {
+                let (t, normal) = self.crossing(site, direction);
+                Plane { point: e * t, normal }
+            } else {
+                // The face belongs to the full neighbour, seen from its side.
+                let (t, normal) = self.crossing(next, direction ^ 1);
+                Plane { point: e * (1.0 - t), normal: -normal }
+            };
+            count += 1;
+        }
+        cache.keys[slot] = key;
+        cache.planes[slot] = (planes, count);
+        (planes, count)
+    }
+
+    /// The distance and direction of each voxel of tile `s`, x fastest.
+    fn tile(&self, s: usize, out: &mut [(f64, DVec3)], cache: &mut SiteCache) {
+        let k = self.band.k;
+        let t = 1usize << k;
+        let min = unpack(self.band.tiles[s]).map(|c| i64::from(c) << k);
+        for (i, o) in out.iter_mut().enumerate() {
+            let p = [min[0] + (i % t) as i64, min[1] + (i / t % t) as i64, min[2] + (i / (t * t)) as i64];
+            *o = self.distance_in(p, s, i, cache);
+        }
+    }
+
+    /// Pushes the crossings of the result's faces tile `s` measures (its voxels'
+    /// distances `g`): each voxel's faces towards `+axis`, and towards `-axis` where
+    /// that neighbour lies outside the band; both ends inside the domain.
+    fn faces(&self, s: usize, g: &[(f64, DVec3)], out: &mut Vec<NewCrossing>, cache: &mut SiteCache) {
+        let k = self.band.k;
+        let t = 1usize << k;
+        let n = i64::from(self.tree.domain().resolution());
+        let min = unpack(self.band.tiles[s]).map(|c| i64::from(c) << k);
+        for (i, &gi) in g.iter().enumerate() {
+            let l = [i % t, i / t % t, i / (t * t)];
+            let p: [i64; 3] = std::array::from_fn(|a| min[a] + l[a] as i64);
+            for axis in 0..3 {
+                let stride = [1, t, t * t][axis];
+                let mut q = p;
+                q[axis] += 1;
+                if q[axis] < n {
+                    let gq = if l[axis] + 1 < t { g[i + stride] } else { self.distance(q, cache) };
+                    self.face(p, gi, gq, axis, out);
+                }
+                let mut q = p;
+                q[axis] -= 1;
+                if l[axis] == 0 && q[axis] >= 0 && !matches!(self.place(q), Some(Place::Band(_))) {
+                    self.face(q, self.distance(q, cache), gi, axis, out);
+                }
+            }
+        }
+    }
+
+    /// Pushes the result's crossing on the face between voxel `p` (distance and
+    /// direction `gi`) and `p + e_axis` (`gj`), when the result has one there.
+    fn face(
+        &self,
+        p: [i64; 3],
+        (gi, ai): (f64, DVec3),
+        (gj, aj): (f64, DVec3),
+        axis: usize,
+        out: &mut Vec<NewCrossing>,
+    ) {
+        let (grow, radius) = (self.step.grow, self.step.radius);
+        let result_full = |g: f64| if g == f64::NEG_INFINITY { grow } else { flips(g, radius) == grow };
+        let (fi, fj) = (result_full(gi), result_full(gj));
+        if fi == fj {
+            return;
+        }
+        let ((gf, af), (ge, ae), direction) =
+            if fi { ((gi, ai), (gj, aj), 2 * axis as u8 + 1) } else { ((gj, aj), (gi, ai), 2 * axis as u8) };
+        let mut fv = p;
+        if !fi {
+            fv[axis] += 1;
+        }
+        // A site's value: minus its distance to the original crossing between the
+        // two, along the normal.
+        let value = |g: f64, full_end: bool| {
+            if g > f64::NEG_INFINITY {
+                return g;
+            }
+            let (t, normal) = self.crossing(fv, direction);
+            let along = if full_end { t } else { 1.0 - t };
+            -along * normal[axis].abs()
+        };
+        let (gf, ge) = (value(gf, true), value(ge, false));
+        let t = if grow { (radius - gf) / (ge - gf) } else { (gf - radius) / (gf - ge) };
+        let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.5 };
+        // The normal: the direction from the foot point (to the voxel growing, from it
+        // shrinking), the two ends' interpolated at the crossing (the distance's
+        // gradient there) when they are within 45 degrees of each other (one surface
+        // nearest both, as on a grown edge's round); else the end's whose direction is
+        // the nearer the face's own (two surfaces nearest, as at an edge voxel with two
+        // faces equally near: a crease, not to be blurred).
+        let mut axis_normal = DVec3::ZERO;
+        axis_normal[axis] = if fi { 1.0 } else { -1.0 };
+        let sign = if grow { 1.0 } else { -1.0 };
+        let unit = |a: DVec3| (a.length_squared() > 1e-18).then(|| (a * sign).normalize());
+        let normal = match (unit(af), unit(ae)) {
+            (Some(f), Some(e)) if f.dot(e) > std::f64::consts::FRAC_1_SQRT_2 => f.lerp(e, t).normalize(),
+            (Some(f), Some(e)) => {
+                if e.dot(axis_normal) >= f.dot(axis_normal) {
+                    e
+                } else {
+                    f
+                }
+            }
+            (Some(a), None) | (None, Some(a)) => a,
+            (None, None) => axis_normal,
+        }
+        .as_vec3()
+        .to_array();
+        let voxel = morton::encode(fv[0] as u32, fv[1] as u32, fv[2] as u32);
+        out.push(NewCrossing { voxel, direction, t: t as f32, normal });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::octree::Domain;
+    use crate::progress::NoProgress;
+    use crate::test_util::Rng;
+
+    /// A solid at depth 5 of a few random boxes and scattered voxels: site, mixed and
+    /// free tiles, and ties between equally near sites.
+    fn random_solid(rng: &mut Rng) -> LinearOctree {
+        let domain = Domain::new(DVec3::ZERO, 1.0, 5).unwrap();
+        let boxes: Vec<([u32; 3], [u32; 3])> = (0..1 + rng.below(4))
+            .map(|_| {
+                let lo: [u32; 3] = std::array::from_fn(|_| rng.below(28) as u32);
+                let hi = lo.map(|c| (c + 1 + rng.below(20) as u32).min(32));
+                (lo, hi)
+            })
+            .collect();
+        let mut voxels = Vec::new();
+        for z in 0..32 {
+            for y in 0..32 {
+                for x in 0..32 {
+                    let p = [x, y, z];
+                    let boxed = boxes.iter().any(|(lo, hi)| (0..3).all(|a| lo[a] <= p[a] && p[a] < hi[a]));
+                    if boxed != (rng.below(60) == 0) {
+                        voxels.push(p);
+                    }
+                }
+            }
+        }
+        LinearOctree::from_voxels(domain, voxels).unwrap()
+    }
+
+    #[test]
+    fn features_name_the_least_nearest_site_in_z_y_x_order_by_brute_force() {
+        let mut rng = Rng(0x39_f7a3);
+        for round in 0..4 {
+            let tree = random_solid(&mut rng);
+            let full = tree.occupancy([0; 3], 32);
+            for (radius, grow) in [(0.7, true), (2.3, false), (4.6, true), (4.6, false), (7.2, true)] {
+                let step = Step { radius, grow };
+                let band = band(&tree, step).unwrap();
+                let sites = tile_sites(&tree, &band, grow);
+                let cap = (2.0 * radius + 3.0).powi(2).ceil() as i64;
+                let features: Vec<u32> = feature_transform(&band, &sites, cap, &NoProgress);
+                let is_site = |p: [i64; 3]| {
+                    if p.iter().any(|&c| !(0..32).contains(&c)) {
+                        return !grow;
+                    }
+                    full[(p[0] + 32 * (p[1] + 32 * p[2])) as usize] == grow
+                };
+                let w = i64::from(step.reach_along_surface()) + 2;
+                let t = 1usize << band.k;
+                let v = t * t * t;
+                let mut named = 0;
+                for (s, &tile) in band.tiles.iter().enumerate() {
+                    let min = unpack(tile).map(|c| i64::from(c) << band.k);
+                    for i in 0..v {
+                        let p = [min[0] + (i % t) as i64, min[1] + (i / t % t) as i64, min[2] + (i / (t * t)) as i64];
+                        if is_site(p) {
+                            continue;
+                        }
+                        // The least (cost, z, y, x) of the sites in reach.
+                        let mut best: Option<(i64, [i64; 3])> = None;
+                        for oz in -w..=w {
+                            for oy in -w..=w {
+                                for ox in -w..=w {
+                                    let o = [ox, oy, oz];
+                                    if !is_site(std::array::from_fn(|a| p[a] + o[a])) {
+                                        continue;
+                                    }
+                                    let key = (cost_of(o), [oz, oy, ox]);
+                                    if best.is_none_or(|b| key < b) {
+                                        best = Some(key);
+                                    }
+                                }
+                            }
+                        }
+                        let want = best.filter(|b| b.0 <= cap).map(|(_, [z, y, x])| [x, y, z]);
+                        assert_eq!(features[s * v + i].offset(), want, "round {round} step {step:?} voxel {p:?}");
+                        named += usize::from(want.is_some());
+                    }
+                }
+                assert!(named > 100, "round {round} step {step:?}: {named} voxels named a site");
+            }
+        }
+    }
+
+    #[test]
+    fn features_hold_every_offset_in_their_range() {
+        for o in [[0, 0, 0], [-511, 511, 3], [511, -512 + 1, -7]] {
+            assert_eq!(<u32 as Feature>::of(o).offset(), Some(o));
+        }
+        let big = (1 << 20) - 1;
+        for o in [[0, 0, 0], [-big, big, 3], [big, -big, -7]] {
+            assert_eq!(<u64 as Feature>::of(o).offset(), Some(o));
+        }
+        assert_eq!(<u32 as Feature>::NONE.offset(), None);
+        assert_eq!(<u64 as Feature>::NONE.offset(), None);
+    }
+}
