@@ -35,7 +35,8 @@
 //! (the mixed ones and those within reach of them, never the coarse full and empty
 //! nodes far from the surface) and runs the exact separable transform of the squared
 //! distance to the other phase ([`edt`]: lower envelopes of parabolas, Felzenszwalb
-//! and Huttenlocher 2012, in integers after Meijster et al. 2000) along whole lines of
+//! and Huttenlocher 2012, in integers after Meijster et al. 2000; for small reaches the
+//! minimum over the window of the reach, in vector lanes) along whole lines of
 //! them, each voxel once a pass; along a surface, [`band`] transforms bricks with a
 //! halo of the reach read from the octree, tracking each voxel's nearest site. The
 //! voxels that change are Morton runs, cut into keys and combined with the solid by
@@ -107,7 +108,7 @@ impl LinearOctree {
 
     /// The memory one step of `distance` voxels (along a surface when `along_surface`)
     /// is estimated to need, from its band: over the cubes, one array of the passes' values a voxel
-    /// of its tiles and their occupancy; along a surface, each thread's brick with its
+    /// of its tiles; along a surface, each thread's brick with its
     /// halo and the transform's buffers and a boundary layer of keys and crossings a
     /// brick; and the trees in and out; 0 when the step reaches no voxel or `distance`
     /// is not finite.
