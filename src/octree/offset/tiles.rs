@@ -59,7 +59,7 @@ use rayon::prelude::*;
 use super::edt::{FAR, axis_cost, lower_envelope};
 use super::step::Step;
 use crate::morton;
-use crate::octree::window::{keys_meeting_near, range_meeting_near};
+use crate::octree::window::{keys_meeting, keys_meeting_near, range_meeting_near};
 use crate::octree::{LinearOctree, NodeKey};
 use crate::progress::Progress;
 
@@ -206,15 +206,26 @@ impl TileBand {
         let t = 1usize << k;
         let v = t * t * t;
         progress.start(3 * self.tiles.len() as u64);
-        // The passes' input: 0 at each site (of a mixed tile; a free tile has none),
-        // none elsewhere.
+        // The index in a tile of each Morton offset.
+        let at_morton: Vec<usize> = (0..v as u64)
+            .map(|i| {
+                let [x, y, z] = morton::decode(i).map(|c| c as usize);
+                x + t * (y + t * z)
+            })
+            .collect();
+        // The passes' input: 0 at each site (of a mixed tile, from the keys inside it;
+        // a free tile has none), none elsewhere.
         let mut values = vec![V::NONE; self.tiles.len() * v];
+        let keys = tree.keys();
         values.par_chunks_mut(v).zip(&self.tiles).zip(&self.mixed).filter(|(_, mixed)| **mixed).for_each(
             |((tile, &p), _)| {
-                let c = unpack(p).map(|x| i64::from(x) << k);
-                for (value, full) in tile.iter_mut().zip(tree.occupancy(c, t as u32)) {
-                    if full == grow {
-                        *value = V::ZERO;
+                let base = encode(unpack(p)) << (3 * k);
+                let (full, other) = if grow { (V::ZERO, V::NONE) } else { (V::NONE, V::ZERO) };
+                tile.fill(other);
+                for key in keys_meeting(keys, NodeKey::new(base, k)) {
+                    let (start, end) = (key.start().max(base) - base, key.end().min(base + v as u64) - base);
+                    for &at in &at_morton[start as usize..end as usize] {
+                        tile[at] = full;
                     }
                 }
             },
@@ -237,13 +248,6 @@ impl TileBand {
         let mut order: Vec<(u64, usize)> =
             self.tiles.iter().enumerate().map(|(s, &p)| (encode(unpack(p)), s)).collect();
         order.par_sort_unstable();
-        // The index in a tile of each Morton offset.
-        let at_morton: Vec<usize> = (0..v as u64)
-            .map(|i| {
-                let [x, y, z] = morton::decode(i).map(|c| c as usize);
-                x + t * (y + t * z)
-            })
-            .collect();
         let parts: Vec<Vec<(u64, u64)>> = order
             .par_chunks(1024)
             .map(|chunk| {
@@ -518,18 +522,20 @@ fn window_pass<V: Value>(
         g[LANES * (r + len)..LANES * (r + len + 1)].fill(if after { V::ZERO } else { V::NONE });
         let mut out = vec![V::NONE; LANES * len];
         for b in 0..t {
-            let mut any = before || after;
             for (j, tile) in slots.iter().enumerate() {
                 for i in 0..t {
                     let at = b * strides[2] + i * strides[0];
                     let lanes = &mut g[LANES * (r + j * t + i)..][..t];
-                    for (a, lane) in lanes.iter_mut().enumerate() {
-                        *lane = tile[at + a * strides[1]];
-                        any |= *lane != V::NONE;
+                    if strides[1] == 1 {
+                        lanes.copy_from_slice(&tile[at..at + t]);
+                    } else {
+                        for (a, lane) in lanes.iter_mut().enumerate() {
+                            *lane = tile[at + a * strides[1]];
+                        }
                     }
                 }
             }
-            if !any {
+            if g.iter().all(|&d| d == V::NONE) {
                 continue;
             }
             // One tap of the window at a time over the whole line (which vectorizes).
@@ -542,8 +548,15 @@ fn window_pass<V: Value>(
             for (j, tile) in slots.iter_mut().enumerate() {
                 for i in 0..t {
                     let at = b * strides[2] + i * strides[0];
-                    for (a, &d) in out[LANES * (j * t + i)..][..t].iter().enumerate() {
-                        tile[at + a * strides[1]] = if d > top { V::NONE } else { d };
+                    let lanes = out[LANES * (j * t + i)..][..t].iter().map(|&d| if d > top { V::NONE } else { d });
+                    if strides[1] == 1 {
+                        for (value, d) in tile[at..at + t].iter_mut().zip(lanes) {
+                            *value = d;
+                        }
+                    } else {
+                        for (a, d) in lanes.enumerate() {
+                            tile[at + a * strides[1]] = d;
+                        }
                     }
                 }
             }
