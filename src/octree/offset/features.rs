@@ -111,7 +111,8 @@ pub(super) fn estimate(band: &TileBand, step: Step) -> u64 {
     let tiles = band.tiles.len() as u64;
     let value = if step.limit() < i64::from(u16::MAX) { 2 } else { 4 };
     let feature = if i64::from(step.reach_along_surface()) + 2 <= u32::MAX_OFFSET { 4 } else { 8 };
-    band.estimate - value * tiles * t * t * t + feature * tiles * t * t * t + 40 * tiles * t * t
+    // The cubes' values out, the features and a byte of occupancy a voxel in.
+    band.estimate - value * tiles * t * t * t + (feature + 1) * tiles * t * t * t + 40 * tiles * t * t
 }
 
 /// The Morton runs of the voxels of `tree` that `step` changes along `surface` (sorted),

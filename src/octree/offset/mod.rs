@@ -35,7 +35,8 @@
 //! (the mixed ones and those within reach of them, never the coarse full and empty
 //! nodes far from the surface) and runs the exact separable transform of the squared
 //! distance to the other phase ([`edt`]: lower envelopes of parabolas, Felzenszwalb
-//! and Huttenlocher 2012, in integers after Meijster et al. 2000) along whole lines of
+//! and Huttenlocher 2012, in integers after Meijster et al. 2000; for small reaches the
+//! minimum over the window of the reach, in vector lanes) along whole lines of
 //! them, each voxel once a pass; along a surface, [`features`] carries each voxel's
 //! nearest site through the same passes over the same tiles (the feature transform).
 //! The voxels that change are Morton runs, cut into keys and combined with the solid by
@@ -108,9 +109,9 @@ impl LinearOctree {
 
     /// The memory one step of `distance` voxels (along a surface when `along_surface`)
     /// is estimated to need, from its band: over the cubes, one array of the passes' values a voxel
-    /// of its tiles and their occupancy; along a surface, a nearest site a voxel of its
-    /// tiles, their occupancy and the crossings out; and the trees in and out; 0 when
-    /// the step reaches no voxel or `distance` is not finite.
+    /// of its tiles; along a surface, a nearest site a voxel of its tiles, their
+    /// occupancy and the crossings out; and the trees in and out; 0 when the step
+    /// reaches no voxel or `distance` is not finite.
     #[must_use]
     pub fn offset_estimate(&self, distance_in_voxels: f64, along_surface: bool) -> u64 {
         if !distance_in_voxels.is_finite() {

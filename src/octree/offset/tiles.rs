@@ -34,11 +34,21 @@
 //! is the exact offset (checked voxel for voxel against a dense brute force,
 //! tests/offset.rs), the same voxels as the bricks with halos it replaced.
 //!
+//! The passes: the values start at 0 on the sites (read from the tree for the mixed
+//! tiles only) and none elsewhere, and all three passes are the same one-dimensional
+//! transform in place (the first, over 0 and none, gives the cost to the nearest site
+//! along the row; a site's value stays 0 and every other voxel's is at least 1, so the
+//! changed voxels are read from the values alone). Where the papers take the lower
+//! envelope for any reach, a reach `R` of at most [`WINDOW_REACH`] takes the minimum
+//! over the window `|o| <= R` directly ([`window_pass`]): `2R + 1` saturating adds and
+//! minimums a value, but the eight lines of a tile side by side in 16-bit lanes, which
+//! vectorize, where the envelope's stack branches on every value; the same values, as
+//! no cost beyond `R` is under the cap.
+//!
 //! Memory follows the tiles: one array of values, 2 bytes a voxel (4 when the radius
 //! is 128 voxels or more, the squared distances beyond 16 bits), which each pass
 //! rewrites in place (a line is read whole before it is written, and a run reads and
-//! writes only its own tiles), and a byte a voxel of a mixed tile's occupancy; the tile
-//! lists. Radii over `2n + 2` (`n` the domain's
+//! writes only its own tiles); the tile lists. Radii over `2n + 2` (`n` the domain's
 //! voxels a side) are taken as `2n + 2`, which reaches every voxel as they do ([`super::band`]).
 //! Runs are transformed in parallel, each writing only its own tiles, and the changes
 //! are gathered in Morton order, so the result does not depend on the number of
@@ -46,10 +56,10 @@
 
 use rayon::prelude::*;
 
-use super::edt::{FAR, lower_envelope, nearest_site_along_row};
+use super::edt::{FAR, axis_cost, lower_envelope};
 use super::step::Step;
 use crate::morton;
-use crate::octree::window::{keys_meeting_near, range_meeting_near};
+use crate::octree::window::{keys_meeting, keys_meeting_near, range_meeting_near};
 use crate::octree::{LinearOctree, NodeKey};
 use crate::progress::Progress;
 
@@ -88,6 +98,10 @@ pub(super) struct TileBand {
     grow: bool,
     /// The tiles, sorted by packed position.
     pub(super) tiles: Vec<Packed>,
+    /// Whether each tile is mixed (else free: no site).
+    mixed: Vec<bool>,
+    /// The reach of the step, in voxels.
+    reach: u32,
     /// The site tiles next to them (and others), sorted by packed position.
     pub(super) sites: Vec<Packed>,
     /// Estimated peak memory of the step, in bytes.
@@ -146,17 +160,21 @@ impl TileBand {
         dilated.par_sort_unstable();
         dilated.dedup();
         let kinds = kinds_of(&tiles, &dilated);
-        let (mut band, mut sites) = (Vec::new(), Vec::new());
+        let (mut band, mut mixed, mut sites) = (Vec::new(), Vec::new(), Vec::new());
         for (p, kind) in dilated.into_iter().zip(kinds) {
-            if kind == Kind::Site { sites.push(p) } else { band.push(p) }
+            if kind == Kind::Site {
+                sites.push(p);
+            } else {
+                band.push(p);
+                mixed.push(kind == Kind::Mixed);
+            }
         }
         let voxels = band.len() as u64 * (1u64 << (3 * k));
-        // The passes' values (2 or 4 bytes), the occupancy of mixed tiles (at most
-        // a byte a voxel), the tile lists, their orders and runs (about 64 bytes a
-        // tile), the trees in and out.
+        // The passes' values (2 or 4 bytes a voxel), the tile lists, their orders and
+        // runs (about 64 bytes a tile), the trees in and out.
         let value = if step.limit() < i64::from(u16::MAX) { 2 } else { 4 };
-        let estimate = (value + 1) * voxels + 64 * (band.len() + sites.len()) as u64 + 3 * tree.bytes() as u64;
-        TileBand { k, n, grow: step.grow, tiles: band, sites, estimate }
+        let estimate = value * voxels + 64 * (band.len() + sites.len()) as u64 + 3 * tree.bytes() as u64;
+        TileBand { k, n, grow: step.grow, tiles: band, mixed, reach: r, sites, estimate }
     }
 
     /// The Morton runs of the voxels `step` changes (sorted), with its `limit` on four
@@ -188,58 +206,6 @@ impl TileBand {
         let t = 1usize << k;
         let v = t * t * t;
         progress.start(3 * self.tiles.len() as u64);
-        // Each tile's sites (none for a free tile), x fastest.
-        let sites: Vec<Option<Vec<bool>>> = self
-            .tiles
-            .par_iter()
-            .map(|&p| {
-                let c = unpack(p).map(|x| i64::from(x) << k);
-                let full = tree.occupancy(c, t as u32);
-                let any = full.contains(&grow);
-                any.then(|| full.into_iter().map(|f| f == grow).collect())
-            })
-            .collect();
-        let cap = limit;
-        // Pass one, along x: the cost to the nearest site along each row.
-        let mut pass_x = vec![V::NONE; self.tiles.len() * v];
-        let runs_x = runs(&self.tiles, 0);
-        for_runs(&runs_x, &mut pass_x, v, self, progress, |run, slots| {
-            let len = run.len() * t;
-            let mut row = vec![false; len + 2];
-            let mut costs = vec![0i64; len];
-            let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
-            if !before && !after && run.slots.iter().all(|&s| sites[s].is_none()) {
-                return;
-            }
-            for yz in 0..t * t {
-                row[0] = before;
-                row[len + 1] = after;
-                for (j, &s) in run.slots.iter().enumerate() {
-                    let cells = &mut row[1 + j * t..1 + (j + 1) * t];
-                    match &sites[s] {
-                        Some(site) => cells.copy_from_slice(&site[t * yz..t * (yz + 1)]),
-                        None => cells.fill(false),
-                    }
-                }
-                nearest_site_along_row(&row, 1, cap, &mut costs, None);
-                for (j, o) in slots.iter_mut().enumerate() {
-                    for (x, c) in costs[j * t..(j + 1) * t].iter().enumerate() {
-                        o[x + t * yz] = V::of(*c, cap);
-                    }
-                }
-            }
-        });
-        // Passes two and three, along y then z: lower envelopes of the last pass's values,
-        // each line read whole before it is written over.
-        let runs_y = runs(&self.tiles, 1);
-        envelope_pass(&runs_y, &mut pass_x, v, t, [t, 1, t * t], cap, self, progress);
-        let runs_z = runs(&self.tiles, 2);
-        envelope_pass(&runs_z, &mut pass_x, v, t, [t * t, 1, t], cap, self, progress);
-        progress.finish();
-        // The voxels that change: not sites, within the limit; in Morton order.
-        let mut order: Vec<(u64, usize)> =
-            self.tiles.iter().enumerate().map(|(s, &p)| (encode(unpack(p)), s)).collect();
-        order.par_sort_unstable();
         // The index in a tile of each Morton offset.
         let at_morton: Vec<usize> = (0..v as u64)
             .map(|i| {
@@ -247,16 +213,51 @@ impl TileBand {
                 x + t * (y + t * z)
             })
             .collect();
+        // The passes' input: 0 at each site (of a mixed tile, from the keys inside it;
+        // a free tile has none), none elsewhere.
+        let mut values = vec![V::NONE; self.tiles.len() * v];
+        let keys = tree.keys();
+        values.par_chunks_mut(v).zip(&self.tiles).zip(&self.mixed).filter(|(_, mixed)| **mixed).for_each(
+            |((tile, &p), _)| {
+                let base = encode(unpack(p)) << (3 * k);
+                let (full, other) = if grow { (V::ZERO, V::NONE) } else { (V::NONE, V::ZERO) };
+                tile.fill(other);
+                for key in keys_meeting(keys, NodeKey::new(base, k)) {
+                    let (start, end) = (key.start().max(base) - base, key.end().min(base + v as u64) - base);
+                    for &at in &at_morton[start as usize..end as usize] {
+                        tile[at] = full;
+                    }
+                }
+            },
+        );
+        // Along x, then y, then z, in place: `values(x) <- min_i (axis_cost(x - i) +
+        // values(i))` along each line; the first pass, over 0 and none, is the cost to
+        // the nearest site along the row. Lanes are the tile's rows across the line.
+        let strides = [[1, t, t * t], [t, 1, t * t], [t * t, 1, t]];
+        for (axis, strides) in strides.into_iter().enumerate() {
+            let runs = runs(&self.tiles, axis);
+            if self.reach <= WINDOW_REACH {
+                window_pass(&runs, &mut values, v, t, strides, self.reach, limit, self, progress);
+            } else {
+                envelope_pass(&runs, &mut values, v, t, strides, limit, self, progress);
+            }
+        }
+        progress.finish();
+        // The voxels that change: within the limit and not sites (a site's value is
+        // 0, every other voxel's at least 1); in Morton order.
+        let mut order: Vec<(u64, usize)> =
+            self.tiles.iter().enumerate().map(|(s, &p)| (encode(unpack(p)), s)).collect();
+        order.par_sort_unstable();
         let parts: Vec<Vec<(u64, u64)>> = order
             .par_chunks(1024)
             .map(|chunk| {
                 let mut runs: Vec<(u64, u64)> = Vec::new();
                 for &(code, s) in chunk {
                     let base = code << (3 * k);
-                    let d = &pass_x[s * v..(s + 1) * v];
+                    let d = &values[s * v..(s + 1) * v];
                     for (i, &at) in (0..v as u64).zip(&at_morton) {
-                        let site = sites[s].as_ref().is_some_and(|site| site[at]);
-                        if d[at].cost() <= limit && !site {
+                        let cost = d[at].cost();
+                        if cost <= limit && cost != 0 {
                             let code = base + i;
                             match runs.last_mut() {
                                 Some(last) if last.1 == code => last.1 = code + 1,
@@ -325,34 +326,39 @@ pub(super) fn encode(c: [u32; 3]) -> u64 {
 
 /// A value of a pass as stored: four times a squared distance, at most the cap, or
 /// none in reach.
-trait Value: Copy + Send + Sync {
-    /// No value in reach.
+trait Value: Copy + Ord + Send + Sync {
+    /// No value in reach (the type's largest, so a saturating sum with it stays none).
     const NONE: Self;
+    /// A site's value.
+    const ZERO: Self;
     /// `cost` as stored: `NONE` when over `cap` (which is under `Self`'s largest).
     fn of(cost: i64, cap: i64) -> Self;
     /// The cost stored, [`FAR`] for `NONE`.
     fn cost(self) -> i64;
+    /// The sum, `NONE` when it is more than the type holds.
+    fn saturating_add(self, other: Self) -> Self;
 }
 
-impl Value for u16 {
-    const NONE: Self = u16::MAX;
-    fn of(cost: i64, cap: i64) -> Self {
-        if cost > cap { Self::NONE } else { cost as u16 }
-    }
-    fn cost(self) -> i64 {
-        if self == Self::NONE { FAR } else { i64::from(self) }
-    }
+/// [`Value`] for unsigned integer types.
+macro_rules! unsigned_value {
+    ($($t:ty),*) => {$(
+        impl Value for $t {
+            const NONE: Self = <$t>::MAX;
+            const ZERO: Self = 0;
+            fn of(cost: i64, cap: i64) -> Self {
+                if cost > cap { Self::NONE } else { cost as $t }
+            }
+            fn cost(self) -> i64 {
+                if self == Self::NONE { FAR } else { i64::from(self) }
+            }
+            fn saturating_add(self, other: Self) -> Self {
+                <$t>::saturating_add(self, other)
+            }
+        }
+    )*};
 }
 
-impl Value for u32 {
-    const NONE: Self = u32::MAX;
-    fn of(cost: i64, cap: i64) -> Self {
-        if cost > cap { Self::NONE } else { cost as u32 }
-    }
-    fn cost(self) -> i64 {
-        if self == Self::NONE { FAR } else { i64::from(self) }
-    }
-}
+unsigned_value!(u16, u32);
 
 /// A run of consecutive tiles along one axis and what lies just beyond each end.
 pub(super) struct Run {
@@ -438,7 +444,8 @@ pub(super) fn for_runs<V: Send, F>(
 /// One envelope pass along `runs`' axis, in place: along each line (read whole before
 /// it is written), `values(x) <- min_i (axis_cost(x - i) + values(i))`, a site tile
 /// beyond a run's end giving 0 there; `strides` are the steps within a tile along the
-/// axis and the two others.
+/// axis and the two others. For any reach; [`window_pass`] gives the same values faster
+/// for small ones.
 #[allow(clippy::too_many_arguments)]
 fn envelope_pass<V: Value>(
     runs: &[Run],
@@ -476,6 +483,86 @@ fn envelope_pass<V: Value>(
                 for (j, tile) in slots.iter_mut().enumerate() {
                     for i in 0..t {
                         tile[base + i * strides[0]] = V::of(out[j * t + i], cap);
+                    }
+                }
+            }
+        }
+    });
+}
+
+/// The largest reach [`window_pass`] is used for: it costs `2 R + 1` lane steps a value
+/// where the envelope costs a few dozen instructions whatever the reach.
+const WINDOW_REACH: u32 = 32;
+
+/// Lanes of a window pass: the `t` (at most 8) lines of a tile side by side.
+const LANES: usize = 8;
+
+/// [`envelope_pass`]'s values by the window of the reach `r`: `values(x) <- min over
+/// |o| <= r of (axis_cost(o) + values(x + o))`, in saturating integers, `t` lines side
+/// by side (those along `strides[1]`). Exact: beyond `r` voxels along an axis a cost
+/// is over the cap (`(2r + 1)^2 >= 4 radius^2`), so the window holds every value the
+/// envelope could keep, and a sum over the cap becomes none as there.
+#[allow(clippy::too_many_arguments)]
+fn window_pass<V: Value>(
+    runs: &[Run],
+    values: &mut [V],
+    v: usize,
+    t: usize,
+    strides: [usize; 3],
+    reach: u32,
+    cap: i64,
+    band: &TileBand,
+    progress: &dyn Progress,
+) {
+    let r = reach as usize;
+    // costs[j]: the cost of the offset j - r, as stored.
+    let costs: Vec<V> = (0..=2 * r).map(|j| V::of(axis_cost(j as i64 - i64::from(reach)), cap)).collect();
+    let top = V::of(cap, cap);
+    for_runs(runs, values, v, band, progress, |run, slots| {
+        let len = run.len() * t;
+        let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+        // g[LANES (r + x) + a]: lane a's value at x; none beyond the run but for a site
+        // tile's 0 just beyond each end.
+        let mut g = vec![V::NONE; LANES * (len + 2 * r)];
+        g[LANES * (r - 1)..LANES * r].fill(if before { V::ZERO } else { V::NONE });
+        g[LANES * (r + len)..LANES * (r + len + 1)].fill(if after { V::ZERO } else { V::NONE });
+        let mut out = vec![V::NONE; LANES * len];
+        for b in 0..t {
+            for (j, tile) in slots.iter().enumerate() {
+                for i in 0..t {
+                    let at = b * strides[2] + i * strides[0];
+                    let lanes = &mut g[LANES * (r + j * t + i)..][..t];
+                    if strides[1] == 1 {
+                        lanes.copy_from_slice(&tile[at..at + t]);
+                    } else {
+                        for (a, lane) in lanes.iter_mut().enumerate() {
+                            *lane = tile[at + a * strides[1]];
+                        }
+                    }
+                }
+            }
+            if g.iter().all(|&d| d == V::NONE) {
+                continue;
+            }
+            // One tap of the window at a time over the whole line (which vectorizes).
+            out.fill(V::NONE);
+            for (j, &c) in costs.iter().enumerate() {
+                for (m, &d) in out.iter_mut().zip(&g[LANES * j..]) {
+                    *m = (*m).min(d.saturating_add(c));
+                }
+            }
+            for (j, tile) in slots.iter_mut().enumerate() {
+                for i in 0..t {
+                    let at = b * strides[2] + i * strides[0];
+                    let lanes = out[LANES * (j * t + i)..][..t].iter().map(|&d| if d > top { V::NONE } else { d });
+                    if strides[1] == 1 {
+                        for (value, d) in tile[at..at + t].iter_mut().zip(lanes) {
+                            *value = d;
+                        }
+                    } else {
+                        for (a, d) in lanes.enumerate() {
+                            tile[at + a * strides[1]] = d;
+                        }
                     }
                 }
             }
