@@ -14,17 +14,13 @@
 //! of threads.
 
 use super::features;
-use super::step::Step;
-use super::subvoxel::{FaceCrossings, NewCrossing};
+use super::step::{Changes, Step};
+use super::subvoxel::FaceCrossings;
 use super::tiles::TileBand;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::LinearOctree;
 use crate::progress::Progress;
-
-/// What a step gives: the Morton runs of the voxels that change, and along a surface
-/// the crossings of the result's faces.
-pub(super) type Changes = (Vec<(u64, u64)>, Vec<NewCrossing>);
 
 /// `step` over the cubes with a radius no larger than the domain needs: every voxel
 /// centre lies within `sqrt 3 n` of every voxel, so radii of `2n + 2` and more all

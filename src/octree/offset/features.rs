@@ -41,9 +41,8 @@ use glam::DVec3;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use super::band::Changes;
 use super::edt::{FAR, axis_cost, lower_envelope, nearest_site_along_row};
-use super::step::Step;
+use super::step::{Changes, Step};
 use super::subvoxel::{FaceCrossings, NewCrossing, Plane, distance_to_site};
 use super::tiles::{Kind, Packed, Run, TileBand, encode, for_runs, pack, runs, unpack};
 use crate::morton;

@@ -1,6 +1,13 @@
 //! One morphological step of an offset: a ball's radius in voxels and whether it grows
 //! or shrinks the solid, with the reach and the squared-distance limit the sparse tiles
-//! ([`super::tiles`], and along a surface [`super::features`]) compute from it.
+//! ([`super::tiles`], and along a surface [`super::features`]) compute from it, and what
+//! a step gives.
+
+use super::subvoxel::NewCrossing;
+
+/// What a step gives: the Morton runs of the voxels that change, and along a surface
+/// the crossings of the result's faces.
+pub(super) type Changes = (Vec<(u64, u64)>, Vec<NewCrossing>);
 
 /// One morphological step: grow (dilate) or shrink (erode) by a ball.
 #[derive(Clone, Copy, Debug, PartialEq)]
