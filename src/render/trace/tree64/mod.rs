@@ -18,7 +18,6 @@
 //! Built by one recursive partition of the sorted keys, as the traversal octree is
 //! (O(n * depth)); a full octree node at an odd level marks its 8 cells full.
 
-mod fast;
 mod walk;
 
 use super::lanes::Isa;

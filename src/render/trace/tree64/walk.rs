@@ -58,6 +58,18 @@
 //! Departure: two consecutive planes whose times round to the same value are crossed
 //! in two steps here, in one by the octree's counting; that needs an origin more than
 //! 2^50 voxels from the planes, which no ray the reach test lets through has.
+//!
+//! Measured and not kept (benchmark log, "descents off the ray's voxel"): the descent
+//! of dubiousconst282's walk, the cell at every level below read off one integer voxel
+//! (the mirrored position rounded down, checked by its near and far plane times,
+//! placed by bisection where the check fails: the same hits), so going down several
+//! levels costs no plane times. Without the line mask (which needs the inner plane
+//! times) 4-7% fewer instructions on bounce and shadow rays but 16-26% more
+//! mispredicts (primary rays: 3% more instructions, two thirds more mispredicts), 4-13% slower on
+//! bounce, far-light shadow and primary rays, even on shadow rays to a near light;
+//! with the line mask worked out for the node a descent ends in, 2-3% more
+//! instructions, as many or more mispredicts and 14-27% slower (each descent waits on
+//! the voxel's placement, a chain of rounding, conversion and two plane-time checks).
 
 use std::mem::MaybeUninit;
 
@@ -71,7 +83,7 @@ use crate::render::trace::voxel_ray::{Entry, Hit, VoxelRay};
 use crate::render::trace::walk::{Lattice, Opening, RootSpan};
 
 /// Most levels of a 64-tree.
-pub(super) const LEVELS: usize = (MAX_DEPTH as usize).div_ceil(2);
+const LEVELS: usize = (MAX_DEPTH as usize).div_ceil(2);
 
 /// The walk through a 64-tree: the first full voxel a world-space ray enters, the
 /// same hit as [`super::super::Traversal`]'s walk.
@@ -100,13 +112,13 @@ impl RayCast for Tree64 {
 /// The ray as the walk reads it: origin and reciprocal direction in voxel units (off
 /// the lattice where the reciprocal is infinite), and per axis the map from a mirrored
 /// coordinate `q` to the plane `q ^ flip + add` (wrapping): `q`, or `E - q` mirrored.
-pub(super) struct Mirrored {
-    pub o: [f64; 3],
-    pub inv: [f64; 3],
-    pub flip: [u32; 3],
+struct Mirrored {
+    o: [f64; 3],
+    inv: [f64; 3],
+    flip: [u32; 3],
     add: [u32; 3],
     /// 3 on mirrored axes: a mirrored child coordinate `c` is `c ^ 3` in the node.
-    pub child_flip: [u32; 3],
+    child_flip: [u32; 3],
     /// `ahead[a][q]`: the children whose mirrored coordinate on axis `a` is at least `q`
     /// (the ray in a child of mirrored coordinates `q` only ever reaches the children of
     /// `ahead[0][q0] & ahead[1][q1] & ahead[2][q2]` of the node).
@@ -117,7 +129,7 @@ pub(super) struct Mirrored {
 }
 
 impl Mirrored {
-    pub(super) fn new(ray: &Lattice, edge: u32) -> Self {
+    fn new(ray: &Lattice, edge: u32) -> Self {
         let m = |a: usize| ray.mirror >> a & 1 == 1;
         // The walk never crosses the root's far planes (it ends at the root's exit),
         // but it would take one whose time is before the origin's as crossed: the
@@ -139,7 +151,7 @@ impl Mirrored {
     /// The children of a node the ray can still reach from its child at mirrored cell
     /// `cell` (the low two bits of each axis): those at or past it on every axis.
     #[inline(always)]
-    pub(super) fn ahead(&self, cell: [u32; 3]) -> u64 {
+    fn ahead(&self, cell: [u32; 3]) -> u64 {
         self.ahead[0][(cell[0] & 3) as usize]
             & self.ahead[1][(cell[1] & 3) as usize]
             & self.ahead[2][(cell[2] & 3) as usize]
@@ -147,13 +159,13 @@ impl Mirrored {
 
     /// The plane at mirrored coordinate `q` (voxels) on axis `a`, in the original frame.
     #[inline(always)]
-    pub(super) fn plane(&self, a: usize, q: u32) -> u32 {
+    fn plane(&self, a: usize, q: u32) -> u32 {
         (q ^ self.flip[a]).wrapping_add(self.add[a])
     }
 
     /// The time the ray crosses the plane at mirrored coordinate `q` on axis `a`.
     #[inline(always)]
-    pub(super) fn time(&self, a: usize, q: u32) -> f64 {
+    fn time(&self, a: usize, q: u32) -> f64 {
         (f64::from(self.plane(a, q)) - self.o[a]) * self.inv[a]
     }
 }
@@ -162,15 +174,15 @@ impl Mirrored {
 /// (the idle AVX2 lane at `-inf` and `+inf`: its times are `+inf`, never crossed), and
 /// the sign of a mirrored coordinate's step in the original frame (-1 on mirrored axes).
 #[derive(Clone, Copy)]
-pub(super) struct RayLanes<L> {
+struct RayLanes<L> {
     o: L,
     inv: L,
-    pub sign: L,
+    sign: L,
 }
 
 impl<L: Lanes> RayLanes<L> {
     #[inline(always)]
-    pub(super) fn new(m: &Mirrored) -> Self {
+    fn new(m: &Mirrored) -> Self {
         RayLanes {
             o: L::new(m.o, f64::NEG_INFINITY),
             inv: L::new(m.inv, f64::INFINITY),
@@ -180,7 +192,7 @@ impl<L: Lanes> RayLanes<L> {
 
     /// The times the ray crosses the planes `p` (original frame, exact integers).
     #[inline(always)]
-    pub(super) fn time(&self, p: L) -> L {
+    fn time(&self, p: L) -> L {
         p.sub(self.o).mul(self.inv)
     }
 }
@@ -247,7 +259,7 @@ const LINE: [[[u64; 64]; 4]; 3] = {
 };
 
 /// `GROUP_CELLS[g]`: the cells of the 2x2x2 group `g` (bit `gx + 2 gy + 4 gz`).
-pub(super) const GROUP_CELLS: [u64; 8] = {
+const GROUP_CELLS: [u64; 8] = {
     let mut masks = [0u64; 8];
     let mut c = 0;
     while c < 64 {
@@ -258,7 +270,7 @@ pub(super) const GROUP_CELLS: [u64; 8] = {
 };
 
 /// `SKIP[s]`: all ones in the lanes of the axes set in `s` (bit `a`), zero elsewhere.
-pub(super) const SKIP: [[f64; 3]; 8] = {
+const SKIP: [[f64; 3]; 8] = {
     let mut masks = [[0.0; 3]; 8];
     let mut s = 0;
     while s < 8 {
@@ -292,8 +304,8 @@ impl Tree64 {
             // SAFETY: `Isa::Avx2` is only chosen where the CPU has AVX2.
             Isa::Avx2 => unsafe { self.walk_avx2::<FACE>(&ray, t_max, span, start) },
             #[cfg(target_arch = "x86_64")]
-            Isa::Sse2 => self.walk_fast::<Sse2, FACE>(&ray, t_max, span, start),
-            _ => self.walk_fast::<Scalar, FACE>(&ray, t_max, span, start),
+            Isa::Sse2 => self.walk::<Sse2, FACE>(&ray, t_max, span, start),
+            _ => self.walk::<Scalar, FACE>(&ray, t_max, span, start),
         }
     }
 
@@ -301,7 +313,7 @@ impl Tree64 {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     fn walk_avx2<const FACE: bool>(&self, ray: &Lattice, t_max: f64, span: RootSpan, start: f64) -> Option<Entry> {
-        self.walk_fast::<Avx2, FACE>(ray, t_max, span, start)
+        self.walk::<Avx2, FACE>(ray, t_max, span, start)
     }
 
     /// The walk from the root at `max(ta, start)` (see the module doc), its plane
@@ -477,7 +489,7 @@ fn line_children<L: Lanes>(m: &Mirrored, t: [L; 3]) -> u64 {
 /// The hit on entering the full cell `cell` (mirrored, edge `1 << shift`) at `t`: its
 /// corner in the original frame, and the entered face when `FACE` (see the module doc).
 #[inline(always)]
-pub(super) fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span: RootSpan) -> Entry {
+fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span: RootSpan) -> Entry {
     let size = 1u32 << shift;
     let min =
         std::array::from_fn(|a| if m.flip[a] == 0 { cell[a] << shift } else { m.plane(a, (cell[a] + 1) << shift) });
