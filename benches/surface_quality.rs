@@ -177,7 +177,7 @@ fn run(o: &Options) -> Result<(), String> {
         let mesh = octsolid::mesh::read_mesh(&job.path).map_err(|e| e.to_string())?;
         let q = measure_with(&mesh, &solid, o.voxel, o.samples, o.seed);
         println!(
-            "| {} | {} | {:.3} / {:.2} voxel | {:.2} | {:.1}% | {} |",
+            "| {} | {} | {:.3} / {:.2} voxel | {:.3} | {:.1}% | {} |",
             label(job),
             thousands(q.triangles),
             q.rms,

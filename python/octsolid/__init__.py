@@ -56,13 +56,13 @@ __all__ = [
 ]
 
 
-def _to_trimesh(self, surface="smooth", tolerance=0.0):
+def _to_trimesh(self, surface="smooth", tolerance=0.0, normal_tolerance=None):
     """The boundary as a ``trimesh.Trimesh`` (needs trimesh): ``Solid.mesh``'s arrays."""
     try:
         import trimesh
     except ImportError as e:  # pragma: no cover - depends on the environment
         raise ImportError("Solid.to_trimesh needs trimesh: pip install trimesh") from e
-    vertices, faces = self.mesh(surface=surface, tolerance=tolerance)
+    vertices, faces = self.mesh(surface=surface, tolerance=tolerance, normal_tolerance=normal_tolerance)
     return trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
 
 

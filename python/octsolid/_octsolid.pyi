@@ -161,6 +161,7 @@ class Solid:
         path: PathLikeStr,
         surface: Literal["smooth", "voxels"] = "smooth",
         tolerance: float = 0.0,
+        normal_tolerance: Optional[float] = None,
         memory_budget: Optional[MemoryBudget] = None,
         progress: ProgressLike = None,
     ) -> int:
@@ -170,11 +171,12 @@ class Solid:
         self,
         surface: Literal["smooth", "voxels"] = "smooth",
         tolerance: float = 0.0,
+        normal_tolerance: Optional[float] = None,
         memory_budget: Optional[MemoryBudget] = None,
         progress: ProgressLike = None,
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.uint32]]:
         """The boundary as ``(vertices, faces)``: float64 ``(n, 3)`` and uint32 ``(m, 3)``."""
-    def to_trimesh(self, surface: Literal["smooth", "voxels"] = "smooth", tolerance: float = 0.0) -> "trimesh.Trimesh":  # type: ignore[name-defined]  # noqa: F821
+    def to_trimesh(self, surface: Literal["smooth", "voxels"] = "smooth", tolerance: float = 0.0, normal_tolerance: Optional[float] = None) -> "trimesh.Trimesh":  # type: ignore[name-defined]  # noqa: F821
         """The boundary as a ``trimesh.Trimesh`` (needs trimesh)."""
     def keys(self) -> npt.NDArray[np.uint64]:
         """The nodes' Morton keys, a read-only uint64 array sharing the solid's memory."""

@@ -168,13 +168,29 @@ impl Solid {
         Solid::combine(py, op, &[self, other.get()], budget)
     }
 
-    /// The solid's extracted boundary mesh, as `octsolid export` makes it.
-    fn extracted(&self, py: Python<'_>, style: Style, tolerance: f64, job: Job) -> PyResult<TriangleMesh> {
+    /// The solid's extracted boundary mesh, as `octsolid export` makes it
+    /// (`normal_tolerance` in degrees, `--normal-tolerance`).
+    fn extracted(
+        &self,
+        py: Python<'_>,
+        style: Style,
+        tolerance: f64,
+        normal_tolerance: Option<f64>,
+        job: Job,
+    ) -> PyResult<TriangleMesh> {
+        if let Some(angle) = normal_tolerance
+            && !(angle.is_finite() && angle >= 0.0)
+        {
+            return Err(invalid(
+                "normal_tolerance",
+                format!("{angle} is not an angle in degrees (a number, 0 or more)"),
+            ));
+        }
         let hermite = self.surface_read_back(py)?;
         let tree = &self.tree;
         job.run(py, |budget, progress| {
             let hermite = hermite.as_deref().cloned().unwrap_or_else(HermiteData::none);
-            let options = ExtractOptions { style, tolerance, unit_faces: false, budget, ..ExtractOptions::default() };
+            let options = ExtractOptions { style, tolerance, normal_tolerance, unit_faces: false, budget };
             Ok(extract(tree, &hermite, &options, progress)?.mesh)
         })
     }
@@ -390,17 +406,20 @@ impl Solid {
 
     /// Writes the solid's boundary as a mesh, as `octsolid export` does: `.obj`,
     /// `.stl` (vertices where voxels touch moved apart), `.ply`, `.3mf` or `.glb`;
-    /// `surface` `"smooth"` (dual contouring of the surface data) or `"voxels"`.
-    /// Returns the bytes written. `memory_budget`: bytes or a size like `"2GiB"`
+    /// `surface` `"smooth"` (dual contouring of the surface data) or `"voxels"`;
+    /// `tolerance` in voxels and `normal_tolerance` in degrees as `--tolerance` and
+    /// `--normal-tolerance` (`None`: no normal bound). Returns the bytes written. `memory_budget`: bytes or a size like `"2GiB"`
     /// (`--memory-budget`); `progress`: `True` for a bar on the terminal, or `f(done,
     /// total)` (the meshing; `.glb`, written in one step, reports `(0, 1)`, `(1, 1)`).
-    #[pyo3(signature = (path, surface="smooth", tolerance=DEFAULT_TOLERANCE, memory_budget=None, progress=None))]
+    #[pyo3(signature = (path, surface="smooth", tolerance=DEFAULT_TOLERANCE, normal_tolerance=None, memory_budget=None, progress=None))]
+    #[allow(clippy::too_many_arguments)]
     fn export(
         &self,
         py: Python<'_>,
         path: PathBuf,
         surface: &str,
         tolerance: f64,
+        normal_tolerance: Option<f64>,
         memory_budget: Option<Budget>,
         progress: Option<Want>,
     ) -> PyResult<u64> {
@@ -424,7 +443,7 @@ impl Solid {
                 written
             });
         }
-        let mesh = self.extracted(py, style, tolerance, job)?;
+        let mesh = self.extracted(py, style, tolerance, normal_tolerance, job)?;
         py.detach(|| {
             if kind == FileKind::Stl {
                 let separated = separate_sheets(&mesh).map_err(|e| octsolid::Error::Unwritable {
@@ -440,18 +459,20 @@ impl Solid {
 
     /// The boundary as numpy arrays `(vertices, faces)`: float64 `(n, 3)` and uint32
     /// `(m, 3)` (counter-clockwise seen from outside), as `.export` meshes it
-    /// (`memory_budget`, `progress`: as `.export`'s).
-    #[pyo3(signature = (surface="smooth", tolerance=DEFAULT_TOLERANCE, memory_budget=None, progress=None))]
+    /// (`tolerance`, `normal_tolerance`, `memory_budget`, `progress`: as `.export`'s).
+    #[pyo3(signature = (surface="smooth", tolerance=DEFAULT_TOLERANCE, normal_tolerance=None, memory_budget=None, progress=None))]
     fn mesh<'py>(
         &self,
         py: Python<'py>,
         surface: &str,
         tolerance: f64,
+        normal_tolerance: Option<f64>,
         memory_budget: Option<Budget>,
         progress: Option<Want>,
     ) -> PyResult<MeshArrays<'py>> {
         let style = style_of(surface)?;
-        let mesh = self.extracted(py, style, tolerance, Job::new(memory_budget, progress, "meshing"))?;
+        let job = Job::new(memory_budget, progress, "meshing");
+        let mesh = self.extracted(py, style, tolerance, normal_tolerance, job)?;
         Ok(mesh_arrays(py, mesh))
     }
 

@@ -76,6 +76,37 @@ def test_export_writes_the_cli_bytes(tmp_path, ext, flags):
     assert py_file.read_bytes() == cli_file.read_bytes()
 
 
+def test_export_with_a_normal_tolerance_writes_the_cli_bytes(tmp_path):
+    source = tmp_path / "ball.oct"
+    o.voxelize(o.Sphere((0.01, -0.02, 0.03), 0.8), 6).save(source)
+    py_file, cli_file = same_names(tmp_path, "ball.obj")
+    o.load(source).export(py_file, tolerance=0.2, normal_tolerance=1.5)
+    cli("export", source, "-o", cli_file, "--tolerance", 0.2, "--normal-tolerance", 1.5)
+    assert py_file.read_bytes() == cli_file.read_bytes()
+
+
+def test_a_normal_tolerance_turns_the_faces_less_from_the_sphere():
+    # The oracle: the sphere's exact normal, the direction from its centre to each
+    # face's centroid.
+    centre = np.array((0.01, -0.02, 0.03))
+    solid = o.voxelize(o.Sphere(tuple(centre), 0.8), 6)
+
+    def faces_and_turns(normal_tolerance):
+        vertices, faces = solid.mesh(tolerance=0.5, normal_tolerance=normal_tolerance)
+        corners = vertices[faces]
+        normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        radial = corners.mean(axis=1) - centre
+        cosines = np.einsum("ij,ij->i", normals, radial) / np.linalg.norm(normals, axis=1) / np.linalg.norm(radial, axis=1)
+        return len(faces), np.degrees(np.arccos(np.clip(cosines, -1, 1)))
+
+    loose_count, loose = faces_and_turns(None)
+    tight_count, tight = faces_and_turns(1.0)
+    assert tight_count > loose_count
+    assert np.median(tight) < np.median(loose) and tight.max() < loose.max()
+    with pytest.raises(ValueError, match="normal_tolerance"):
+        solid.mesh(tolerance=0.1, normal_tolerance=-1.0)
+
+
 def test_mesh_arrays_are_the_exported_mesh(tmp_path):
     solid = o.voxelize(o.Sphere((0, 0, 0), 0.9), 5)
     vertices, faces = solid.mesh()

@@ -17,9 +17,10 @@
 //! with its corner inside it is free (not merged in a larger block), smooth (the QEF's
 //! rank 1: no crease, no corner, not clamped to its cell, its corner not shared with
 //! another sheet), the vertices are connected through the mesh's edges, every face
-//! around them turns less than 25 degrees from their area-weighted mean normal `n`,
-//! and every vertex lies within the limit of the plane with normal `n` through the
-//! merged vertex (the paper's QEF error, here of that one plane, taken as a maximum
+//! around them, before the merge and after, turns from their area-weighted mean normal
+//! `n` by less than the fan's bound (module `fan_cone`: twice the limit over the fan's
+//! reach, the distance limit carried to the whole fan; at most 25 degrees), and every
+//! vertex lies within the limit of the plane with normal `n` through the merged vertex (the paper's QEF error, here of that one plane, taken as a maximum
 //! rather than a sum). That distance overestimates the error (the new faces are chords
 //! between merged vertices, which pass about half as far from the surface), but
 //! allowing twice the limit made the classic part's simplified mesh worse for little
@@ -49,12 +50,11 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use super::dual::{DualMesh, Fans, VertexKind};
+use super::fan_cone::fan_within_cone;
 use super::simplify::triangles_clash;
 
 /// Largest block merged: `2^MAX_LEVEL` voxel corners a side.
 const MAX_LEVEL: u32 = 4;
-/// Least cosine between a face's normal and its block's mean normal (25 degrees).
-const MAX_TURN_COSINE: f64 = 0.906_307_787_036_649_9;
 /// Rounds of checking and splitting blocks back before giving up on merging.
 const MAX_CHECK_ROUNDS: usize = 6;
 /// Side of the grid cells the clash test sorts faces into, lattice units.
@@ -209,7 +209,7 @@ impl Context<'_> {
             area += w;
         }
         let normal = normal.try_normalize()?;
-        if area <= 0.0 || faces.iter().any(|&f| self.normals[f as usize].dot(normal) < MAX_TURN_COSINE) {
+        if area <= 0.0 {
             return None;
         }
         let centre = centre / area;
@@ -220,6 +220,13 @@ impl Context<'_> {
             (position(u) - centre).length_squared().total_cmp(&(position(v) - centre).length_squared())
         })?;
         let point = position(nearest);
+        let face = |f: &u32| {
+            let t = self.triangles[*f as usize];
+            (self.normals[*f as usize], t.map(position), t.map(|v| members.binary_search(&v).is_ok()))
+        };
+        if !fan_within_cone(normal, point, faces.iter().map(face), self.limit) {
+            return None;
+        }
         let distance = members.iter().map(|&v| normal.dot(position(v) - point).abs()).fold(0.0, f64::max);
         if distance > self.limit {
             return None;

@@ -89,7 +89,8 @@ impl Default for ExtractOptions {
 
 /// Flat blocks of cells merged into one vertex each before simplification: Ju et al.'s
 /// octree simplification (2002, section 4), each block's vertices within a quarter of
-/// the tolerance of one plane (a fitted plane's distance, not a bound).
+/// the tolerance of one plane (a fitted plane's distance, not a bound) and the faces
+/// around it within the normal bound that distance gives the fan (module `fan_cone`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CellMerge {
     /// Blocks merged.

@@ -23,6 +23,7 @@
 //! - `dual`: a vertex a sheet at each boundary voxel corner, the faces as quads.
 //! - `untangle`: crossing triangles' vertices moved back towards the staircase.
 //! - `cluster`: flat blocks of cells merged into one vertex each, before simplifying.
+//! - `fan_cone`: the merge's normal bound, from its distance limit and a block's fan.
 //! - `simplify`: edge collapses under a distance bound, kept manifold and uncrossed.
 //! - `extract`: [`extract`], the surface as an indexed mesh.
 //! - `window`: [`extract_cell`], the part of the surface one cell of a larger solid
@@ -33,6 +34,7 @@ mod combine;
 mod dual;
 mod extract;
 mod faces;
+mod fan_cone;
 pub mod hermite;
 mod hermite_mesh;
 mod hermite_patch;
