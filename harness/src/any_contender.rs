@@ -5,7 +5,7 @@
 
 use octsolid::mesh::TriangleMesh;
 use octsolid::octree::LinearOctree;
-use octsolid::render::Traversal;
+use octsolid::render::{Traversal, Tree64};
 
 use super::bvh_contender::BvhCrateBvh;
 use super::contender::Contender;
@@ -59,6 +59,7 @@ pub fn build_contender(kind: ContenderKind, inputs: Inputs<'_>) -> Result<Box<dy
     };
     match kind {
         ContenderKind::Octree => Ok(Box::new(Traversal::build(inputs.tree))),
+        ContenderKind::Tree64 => Ok(Box::new(Tree64::build(inputs.tree))),
         ContenderKind::ObvhsFaces => Ok(Box::new(ObvhsBvh::build(inputs.faces))),
         ContenderKind::BvhFaces => Ok(Box::new(BvhCrateBvh::build(inputs.faces))),
         ContenderKind::ObvhsMesh => Ok(Box::new(ObvhsBvh::build(mesh()?))),
@@ -104,7 +105,7 @@ mod tests {
         let octree = Traversal::new(&tree);
         let rays = secondary_rays(&octree, &Aabb::new(DVec3::splat(-0.9), DVec3::splat(0.9)), 256, SEED);
         let inputs = Inputs { tree: &tree, faces: &faces, mesh: None };
-        let mut kinds = vec![ContenderKind::Octree, ContenderKind::ObvhsFaces];
+        let mut kinds = vec![ContenderKind::Octree, ContenderKind::Tree64, ContenderKind::ObvhsFaces];
         if cfg!(feature = "embree") {
             kinds.push(ContenderKind::EmbreeFaces);
         }

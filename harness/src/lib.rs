@@ -1,7 +1,7 @@
 //! Octree traversal against bounding volume hierarchies, measured on the same work.
 //!
 //! Contenders ([`Contender`]: built from their input, then asked for closest and any
-//! hits): our traversal octree, and the BVH crates `obvhs` (CWBVH) and `bvh` (binary SAH
+//! hits): our traversal octree and our 64-tree (4x4x4 nodes, the same hits), and the BVH crates `obvhs` (CWBVH) and `bvh` (binary SAH
 //! BVH), each built over the octree's boundary faces and, where the solid came from a
 //! triangle mesh, over that mesh; with the `embree` feature also Embree 3 (the system
 //! library, one ray a call and 8-ray packets) over the same meshes. [`run_matrix`]
@@ -31,6 +31,7 @@ pub mod scenes;
 pub mod secondary_bench;
 pub mod secondary_markdown;
 pub mod secondary_rays;
+pub mod tree64_contender;
 
 pub use bvh_contender::BvhCrateBvh;
 pub use contender::{Contender, SurfaceHit};

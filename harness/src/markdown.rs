@@ -353,11 +353,12 @@ pub fn render_section(r: &MatrixResults, images: &str, plots: &[String]) -> Stri
     );
     let _ = writeln!(
         s,
-        "Contenders: **octree** = our traversal octree (`src/render/trace/`, f64); **obvhs** = \
-         obvhs CWBVH (`medium_build` preset, f32, SIMD); **bvh** = bvh crate binary SAH BVH (f64, \
+        "Contenders: **octree** = our traversal octree (`src/render/trace/`, f64); **64-tree** = our \
+         traversal tree of 4x4x4 nodes (`src/render/trace/tree64/`, f64), the octree's hits bit for bit; \
+         **obvhs** = obvhs CWBVH (`medium_build` preset, f32, SIMD); **bvh** = bvh crate binary SAH BVH (f64, \
          best-first traversal). *Boundary faces* = the octree's boundary mesh (`mesh::boundary_mesh`, \
          coplanar faces merged); *original mesh* = the triangles the bunny was voxelized from. Bytes: the \
-         octree's traversal nodes; a BVH's node array plus the primitive data it keeps.\n"
+         octree's and the 64-tree's nodes; a BVH's node array plus the primitive data it keeps.\n"
     );
     if let Some(version) = &r.embree {
         let _ = writeln!(
@@ -383,10 +384,10 @@ pub fn render_section(r: &MatrixResults, images: &str, plots: &[String]) -> Stri
         for case in r.cases.iter().filter(|c| c.scene == *scene) {
             let octree = case.contender(ContenderKind::Octree);
             for c in &case.contenders {
-                let tris = if c.kind == ContenderKind::Octree {
-                    format!("({} nodes)", case.octree_nodes)
-                } else {
-                    c.triangles.to_string()
+                let tris = match c.kind {
+                    ContenderKind::Octree => format!("({} nodes)", case.octree_nodes),
+                    ContenderKind::Tree64 => format!("({} 4x4x4 nodes)", c.nodes),
+                    _ => c.triangles.to_string(),
                 };
                 if let Some(why) = &c.skipped {
                     let _ =

@@ -23,7 +23,7 @@ use octsolid::MemoryBudget;
 use octsolid::NoProgress;
 use octsolid::Progress;
 use octsolid::mesh::{BoundaryOptions, TriangleMesh, try_boundary_mesh};
-use octsolid::render::Traversal;
+use octsolid::render::{Traversal, Tree64};
 use octsolid::{Error, Result};
 
 /// The structures under test.
@@ -31,6 +31,8 @@ use octsolid::{Error, Result};
 pub enum ContenderKind {
     /// Our traversal octree and its ray walk.
     Octree,
+    /// Our 64-tree (4x4x4 nodes) and its mirrored walk, the octree's hits.
+    Tree64,
     /// `obvhs` CWBVH over the octree's boundary faces.
     ObvhsFaces,
     /// `bvh` crate BVH over the octree's boundary faces.
@@ -71,8 +73,9 @@ const OVER_MESH: &[ContenderKind] =
 impl ContenderKind {
     /// All contenders, in report order (Embree's are measured only with the `embree`
     /// feature).
-    pub const ALL: [ContenderKind; 9] = [
+    pub const ALL: [ContenderKind; 10] = [
         ContenderKind::Octree,
+        ContenderKind::Tree64,
         ContenderKind::ObvhsFaces,
         ContenderKind::BvhFaces,
         ContenderKind::EmbreeFaces,
@@ -97,11 +100,18 @@ impl ContenderKind {
         OVER_MESH
     }
 
+    /// Whether it is one of ours, built from the linear octree (no triangles).
+    #[must_use]
+    pub fn is_ours(self) -> bool {
+        matches!(self, ContenderKind::Octree | ContenderKind::Tree64)
+    }
+
     /// Short name on command lines (`walk_one`'s `CONTENDER`), e.g. `embree-mesh`.
     #[must_use]
     pub fn slug(self) -> &'static str {
         match self {
             ContenderKind::Octree => "octree",
+            ContenderKind::Tree64 => "tree64",
             ContenderKind::ObvhsFaces => "obvhs-faces",
             ContenderKind::BvhFaces => "bvh-faces",
             ContenderKind::EmbreeFaces => "embree-faces",
@@ -124,6 +134,7 @@ impl ContenderKind {
     pub fn label(self) -> &'static str {
         match self {
             ContenderKind::Octree => "octree (ours)",
+            ContenderKind::Tree64 => "64-tree (ours)",
             ContenderKind::ObvhsFaces => "obvhs, boundary faces",
             ContenderKind::BvhFaces => "bvh, boundary faces",
             ContenderKind::EmbreeFaces => "embree, boundary faces",
@@ -198,7 +209,7 @@ impl MatrixOptions {
     pub fn work_units(&self) -> u64 {
         let per_contender = 1 + 2 * RayKind::ALL.len() as u64;
         let mesh = ContenderKind::over_mesh().len();
-        let faces = 1 + ContenderKind::over_faces().len();
+        let faces = 2 + ContenderKind::over_faces().len();
         let contenders = |s: SceneKind| (if s == SceneKind::Bunny { faces + mesh } else { faces }) as u64;
         self.scenes.iter().map(|&s| contenders(s) * per_contender * self.depths_of(s).count() as u64).sum()
     }
@@ -424,8 +435,10 @@ fn run_case(scene: &BenchScene, options: &MatrixOptions, pools: &Pools, progress
     drop(octree);
 
     let repeats = options.repeats;
-    let mut contenders =
-        vec![measure::<Traversal>(ContenderKind::Octree, &scene.tree, 0, &ray_sets, pools, repeats, progress)];
+    let mut contenders = vec![
+        measure::<Traversal>(ContenderKind::Octree, &scene.tree, 0, &ray_sets, pools, repeats, progress),
+        measure::<Tree64>(ContenderKind::Tree64, &scene.tree, 0, &ray_sets, pools, repeats, progress),
+    ];
     let started = Instant::now();
     // The boundary faces: the export's default, coplanar faces merged into rectangles.
     // A mesh over the memory budget skips the BVHs over it (the octree still runs).

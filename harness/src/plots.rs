@@ -30,6 +30,7 @@ fn register_font() {
 fn color(kind: ContenderKind) -> RGBColor {
     match kind {
         ContenderKind::Octree => RGBColor(200, 60, 20),
+        ContenderKind::Tree64 => RGBColor(240, 150, 30),
         ContenderKind::ObvhsFaces => RGBColor(30, 90, 200),
         ContenderKind::BvhFaces => RGBColor(20, 150, 90),
         ContenderKind::ObvhsMesh => RGBColor(120, 60, 180),

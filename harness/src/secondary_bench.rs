@@ -57,7 +57,7 @@ pub struct SecondaryOptions {
 
 impl Default for SecondaryOptions {
     /// Issue 41's sitting: `models/bunny-watertight.obj` at depth 10, a 1024 x 1024
-    /// view, 3 runs; the octree, the BVHs over its boundary faces and Embree over the
+    /// view, 3 runs; the octree, the 64-tree, the BVHs over its boundary faces and Embree over the
     /// boundary faces and over the source mesh.
     fn default() -> Self {
         SecondaryOptions {
@@ -68,6 +68,7 @@ impl Default for SecondaryOptions {
             repeats: 3,
             contenders: vec![
                 ContenderKind::Octree,
+                ContenderKind::Tree64,
                 ContenderKind::ObvhsFaces,
                 ContenderKind::BvhFaces,
                 ContenderKind::EmbreeFaces,
@@ -216,7 +217,7 @@ pub fn run_secondary(options: &SecondaryOptions, progress: &dyn Progress) -> Res
     let mut rows = Vec::new();
     for &kind in &options.contenders {
         let triangles = match kind {
-            ContenderKind::Octree => 0,
+            ContenderKind::Octree | ContenderKind::Tree64 => 0,
             ContenderKind::ObvhsMesh
             | ContenderKind::BvhMesh
             | ContenderKind::EmbreeMesh

@@ -46,7 +46,9 @@ pub use pipeline::{
 };
 pub use raster::polygon;
 pub use recursive_aa::MAX_AA_DEPTH;
-pub use scene::{Bump, Illumination, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Section, Texture};
+pub use scene::{
+    Bump, Cast, Illumination, Light, Mapping, Material, Scene, SceneHit, SceneSolid, Section, Texture, Walker,
+};
 pub use shade::{Normals, ShadeOptions, radiance, reflect, refract};
 pub use trace::{Hit, PACKET, TILE, Traversal, Tree64};
 pub use visibility::{Method, VisibilityStats, visibility, visibility_into};

@@ -37,8 +37,8 @@ use smallvec::SmallVec;
 
 use super::patch::Patch;
 use super::patches::Element;
-use crate::ray::{Ray, RayCast};
-use crate::render::scene::Scene;
+use crate::ray::Ray;
+use crate::render::scene::{Cast, Scene};
 
 /// Most sample points along a patch edge.
 pub(crate) const MAX_SAMPLES_A_SIDE: u32 = 8;
@@ -104,7 +104,7 @@ pub(crate) fn element_to_patch(scene: &Scene, e: &Element, shooter: &Patch) -> (
         let q = shooter.point(c.x, c.y) + shooter.normal * shooter.lift;
         let v = q - e.origin;
         let r = v.length();
-        if r <= 0.0 || scene.occluded(&Ray::segment(e.origin, v / r, r)) {
+        if r <= 0.0 || scene.occluded_as(&Ray::segment(e.origin, v / r, r), Cast::Bounce) {
             return (0.0, 1);
         }
         return (unoccluded * cover.plane_fraction(), 1);
@@ -128,7 +128,7 @@ pub(crate) fn element_to_patch(scene: &Scene, e: &Element, shooter: &Patch) -> (
             if cover.is_some_and(|c| !c.covers(s, t)) {
                 continue;
             }
-            if !scene.occluded(&Ray::segment(e.origin, dir, r)) {
+            if !scene.occluded_as(&Ray::segment(e.origin, dir, r), Cast::Bounce) {
                 seen += w;
             }
         }

@@ -80,8 +80,7 @@ use super::patch::Patch;
 use super::patches::{Element, Patches};
 use crate::budget::MemoryBudget;
 use crate::progress::Progress;
-use crate::ray::RayCast;
-use crate::render::scene::{Light, Scene};
+use crate::render::scene::{Cast, Light, Scene};
 
 use std::f64::consts::PI;
 
@@ -138,7 +137,7 @@ pub(super) fn from_light(scene: &Scene, patches: &Patches, e: &Element, light: &
     let ray = light.shadow_ray(e.origin);
     let cos = e.normal.dot(ray.dir);
     let face = patches.patches[e.patch as usize].normal.dot(ray.dir);
-    if cos <= 0.0 || face <= 0.0 || scene.occluded(&ray) {
+    if cos <= 0.0 || face <= 0.0 || scene.occluded_as(&ray, Cast::Shadow) {
         return DVec3::ZERO;
     }
     let falloff = match light {

@@ -1,8 +1,11 @@
 //! Scenes: what a picture shows. Solids ([`SceneSolid`]: a linear octree, its
 //! traversal octree, its material, the shape it came from and the caches rays fill:
-//! the complement's traversal for rays inside, the octree's normal estimate), their
-//! materials and textures, lights, ambient light and background.
+//! the 64-tree for the kinds of rays routed to it (`cast`), the complement's traversal for rays
+//! inside, the octree's normal estimate), their materials and textures, lights, ambient
+//! light and background. A ray is cast for a purpose ([`Cast`]), which picks the
+//! structure each solid walks it through.
 
+mod cast;
 mod crossing_normals;
 mod default_scene;
 mod gradient;
@@ -14,6 +17,8 @@ mod section;
 mod texture;
 mod thread_cache;
 
+use cast::LazyTree64;
+pub use cast::{Cast, Walker};
 use crossing_normals::CrossingNormals;
 pub use light::Light;
 pub use material::{Bump, Material};
@@ -43,6 +48,8 @@ pub struct SceneSolid {
     pub traversal: Traversal,
     /// Its material.
     pub material: Material,
+    /// Its 64-tree, built on first use by the kinds of rays routed to it (`cast`).
+    tree64: LazyTree64,
     /// The complement's traversal octree, built on first use: rays inside the solid
     /// (refraction) leave it where they enter the complement.
     interior: OnceLock<Traversal>,
@@ -65,6 +72,13 @@ impl std::fmt::Debug for Source {
 }
 
 impl SceneSolid {
+    /// The structure that walks rays cast for `cast` through this solid (see
+    /// [`Cast`]; the 64-tree is built on the first ray that takes it).
+    #[must_use]
+    pub fn walker(&self, cast: Cast) -> Walker<'_> {
+        if cast.takes_tree64() { Walker::Tree64(self.tree64.get(&self.tree)) } else { Walker::Octree(&self.traversal) }
+    }
+
     /// Where `ray`, starting inside the solid, leaves it: the hit of the first empty
     /// voxel it enters (`axis` its face). `None` when it leaves through the domain's
     /// boundary first.
@@ -172,6 +186,7 @@ impl Scene {
             tree,
             traversal,
             material,
+            tree64: LazyTree64::default(),
             interior: OnceLock::new(),
             normals: NormalField::new(),
             source: None,
@@ -213,6 +228,7 @@ impl Scene {
                     traversal: Traversal::new(&tree),
                     tree,
                     material: s.material.clone(),
+                    tree64: LazyTree64::default(),
                     interior: OnceLock::new(),
                     normals: NormalField::new(),
                     source: s.source.clone(),
@@ -289,23 +305,40 @@ impl Default for Scene {
     }
 }
 
-/// The nearest hit over all solids (ties: the first solid), and whether any solid
-/// blocks the ray.
-impl RayCast for Scene {
-    type Hit = SceneHit;
-
-    fn hit(&self, ray: &Ray) -> Option<SceneHit> {
+impl Scene {
+    /// The nearest hit over all solids (ties: the first solid) of a ray cast for
+    /// `cast`, each solid walked by [`SceneSolid::walker`].
+    #[must_use]
+    pub fn hit_as(&self, ray: &Ray, cast: Cast) -> Option<SceneHit> {
         let mut best: Option<SceneHit> = None;
         for (i, s) in self.solids.iter().enumerate() {
             let limit = best.map_or(ray.t_max, |b| b.hit.t);
-            if let Some(hit) = s.traversal.hit(&ray.until(limit)) {
+            if let Some(hit) = s.walker(cast).hit(&ray.until(limit)) {
                 best = Some(SceneHit { solid: i, hit });
             }
         }
         best
     }
 
+    /// Whether any solid blocks a ray cast for `cast`, each solid walked by
+    /// [`SceneSolid::walker`].
+    #[must_use]
+    pub fn occluded_as(&self, ray: &Ray, cast: Cast) -> bool {
+        self.solids.iter().any(|s| s.walker(cast).occluded(ray))
+    }
+}
+
+/// The nearest hit over all solids (ties: the first solid) as a camera ray's
+/// ([`Cast::Primary`]), and whether any solid blocks the ray as a shadow ray's
+/// ([`Cast::Shadow`]).
+impl RayCast for Scene {
+    type Hit = SceneHit;
+
+    fn hit(&self, ray: &Ray) -> Option<SceneHit> {
+        self.hit_as(ray, Cast::Primary)
+    }
+
     fn occluded(&self, ray: &Ray) -> bool {
-        self.solids.iter().any(|s| s.traversal.occluded(ray))
+        self.occluded_as(ray, Cast::Shadow)
     }
 }

@@ -34,7 +34,7 @@ use glam::DVec3;
 use super::Normals;
 use super::normals::smooth_at;
 use crate::ray::{Ray, RayCast};
-use crate::render::scene::{Scene, SceneSolid};
+use crate::render::scene::{Cast, Scene, SceneSolid};
 
 /// Most staircase slivers one sample's rays pass through (a ray grazing a voxelized
 /// surface meets one a step); they do not count against the recursion depth.
@@ -97,7 +97,7 @@ pub(crate) fn transmittance(scene: &Scene, own: usize, ray: &Ray, lift: DVec3) -
     let mut passed = 1.0;
     for (i, solid) in scene.solids.iter().enumerate() {
         let walked = if i == own { Ray { origin: ray.origin + lift, ..*ray } } else { *ray };
-        if solid.traversal.occluded(&walked) {
+        if solid.walker(Cast::Shadow).occluded(&walked) {
             passed *= solid.material.transmittance;
             if passed == 0.0 {
                 break;

@@ -32,7 +32,7 @@ use super::optics::{reflect, refract};
 use super::phong::local;
 use super::slivers::{self, MAX_SLIVERS};
 use crate::ray::{Ray, RayCast};
-use crate::render::scene::{Scene, SceneHit, SceneSolid};
+use crate::render::scene::{Cast, Scene, SceneHit, SceneSolid};
 use crate::render::trace::Hit;
 
 /// The light seen along `ray` (unit direction) whose first hit is `sh`, and the rays
@@ -59,7 +59,7 @@ impl Tracer<'_> {
     /// Light along a secondary ray, `depth` rays deep, `weight` its share of the pixel.
     fn trace(&self, origin: DVec3, dir: DVec3, depth: u32, weight: f64) -> DVec3 {
         self.count(1);
-        match self.scene.hit(&Ray::new(origin, dir)) {
+        match self.scene.hit_as(&Ray::new(origin, dir), Cast::Bounce) {
             // The origin lies inside a solid (a ray started at a voxel's edge or corner,
             // or under a sliver of the staircase): light passes on through a
             // transparent one and out of a sliver; an opaque one shows nothing.
@@ -162,7 +162,7 @@ impl Tracer<'_> {
                 // ray goes on to where it meets the solid again.
                 self.slivers.set(self.slivers.get() + 1);
                 self.count(1);
-                if let Some(back) = solid.traversal.hit(&Ray::new(p + geometric * eps, dir)) {
+                if let Some(back) = solid.walker(Cast::Bounce).hit(&Ray::new(p + geometric * eps, dir)) {
                     let q = p + geometric * eps + dir * back.t;
                     origin = q - back.normal(dir) * eps;
                     continue;
