@@ -27,8 +27,12 @@
 //! site's tangent planes (its exposed faces' crossings; a neighbour's phase read from
 //! the tiles, or beyond them from the band's site tiles), others take `d_cube` (under
 //! the range: they flip) or `d_cube - 1/2` (over it: they do not, but a face's far end
-//! reads it). The result's crossing on a face between a full and an empty voxel of the
-//! result is where the distance, linear between the two centres, meets `D` (a site's
+//! reads it). A voxel of the range whose crossings and cube already bound its
+//! sub-voxel distance at least `D` (the bound [`distance_to_site`] keeps)
+//! does not flip, and is measured only when a face of the result needs its distance
+//! (most of the layer beyond `D + 1/2` is no face's end); the six tiles next to a tile
+//! are looked up once a tile. The result's crossing on a face between a full and an
+//! empty voxel of the result is where the distance, linear between the two centres, meets `D` (a site's
 //! value: minus its old crossing's distance along the normal); its normal is the
 //! direction from the foot point of the end whose direction is nearer the face's own.
 //! Each face is measured by the tile of its lower voxel, or of its upper one when the
@@ -50,7 +54,7 @@ use crate::octree::LinearOctree;
 use crate::progress::Progress;
 
 /// A voxel's nearest site, as the offset from the voxel to it, or none in reach.
-trait Feature: Copy + Send + Sync {
+trait Feature: Copy + PartialEq + Send + Sync {
     /// No site in reach.
     const NONE: Self;
     /// The largest offset on an axis it holds.
@@ -59,6 +63,10 @@ trait Feature: Copy + Send + Sync {
     fn of(o: [i64; 3]) -> Self;
     /// The offset, `None` for [`Feature::NONE`].
     fn offset(self) -> Option<[i64; 3]>;
+    /// The feature of this offset (not [`Feature::NONE`]) moved by `by` along `axis`, the
+    /// result within `MAX_OFFSET`: `of(o + by e_axis)` without decoding (each axis is a
+    /// biased field, so the sum carries into no other).
+    fn moved(self, axis: usize, by: i64) -> Self;
 }
 
 impl Feature for u32 {
@@ -70,6 +78,9 @@ impl Feature for u32 {
     fn offset(self) -> Option<[i64; 3]> {
         (self != Self::NONE).then(|| std::array::from_fn(|a| i64::from((self >> (10 * a)) & 0x3ff) - 512))
     }
+    fn moved(self, axis: usize, by: i64) -> Self {
+        self.wrapping_add((by << (10 * axis)) as u32)
+    }
 }
 
 impl Feature for u64 {
@@ -80,6 +91,9 @@ impl Feature for u64 {
     }
     fn offset(self) -> Option<[i64; 3]> {
         (self != Self::NONE).then(|| std::array::from_fn(|a| ((self >> (21 * a)) & 0x1f_ffff) as i64 - (1 << 20)))
+    }
+    fn moved(self, axis: usize, by: i64) -> Self {
+        self.wrapping_add((by << (21 * axis)) as u64)
     }
 }
 
@@ -262,6 +276,10 @@ fn flips(g: f64, radius: f64) -> bool {
     g > f64::NEG_INFINITY && g < radius
 }
 
+/// The distance of a voxel measured lazily that does not flip (the sub-voxel distance
+/// bounded at least the radius), not yet measured: flips nothing (NaN compares false).
+const PENDING: (f64, DVec3) = (f64::NAN, DVec3::ZERO);
+
 /// Passes two and three of the feature transform along `runs`' axis, in place: along
 /// each line (read whole before it is written), the entry minimizing `axis_cost(x - i)
 /// + cost(i)` (the first of equal ones), a site tile beyond a run's end giving its first
@@ -308,12 +326,11 @@ fn feature_pass<F: Feature>(
                     for i in 0..t {
                         let at = j * t + i;
                         let from = nearest[at] as usize;
-                        tile[base + i * strides[0]] = match line[from].offset() {
-                            Some(mut o) if out[at] <= cap => {
-                                o[axis] += from as i64 - 1 - at as i64;
-                                F::of(o)
-                            }
-                            _ => F::NONE,
+                        let f = line[from];
+                        tile[base + i * strides[0]] = if f != F::NONE && out[at] <= cap {
+                            f.moved(axis, from as i64 - 1 - at as i64)
+                        } else {
+                            F::NONE
                         };
                     }
                 }
@@ -416,19 +433,24 @@ impl<'a, F: Feature> Measure<'a, F> {
         (f64::from(t), DVec3::from(normal.map(f64::from)))
     }
 
-    /// The distance of voxel `p` (inside the domain) and the direction from its foot
-    /// point on the surface (see the module doc): minus infinity for a site, infinity
-    /// beyond the cap.
-    fn distance(&self, p: [i64; 3], cache: &mut SiteCache) -> (f64, DVec3) {
-        match self.place(p) {
-            Some(Place::Band(s)) => self.distance_in(p, s, self.index(p), cache),
+    /// The distance of voxel `p` (inside the domain, in the tile at `place`) and the
+    /// direction from its foot point on the surface (see the module doc): minus infinity
+    /// for a site, infinity beyond the cap; [`PENDING`] when `lazy` and the voxel is
+    /// known not to flip ([`Measure::distance_in`]).
+    fn distance_at(&self, p: [i64; 3], place: Option<Place>, lazy: bool, cache: &mut SiteCache) -> (f64, DVec3) {
+        match place {
+            Some(Place::Band(s)) => self.distance_in(p, s, self.index(p), lazy, cache),
             Some(Place::Site) => (f64::NEG_INFINITY, DVec3::ZERO),
             None => (f64::INFINITY, DVec3::ZERO),
         }
     }
 
-    /// [`Measure::distance`] of voxel `p`, the `i`th of tile `s`.
-    fn distance_in(&self, p: [i64; 3], s: usize, i: usize, cache: &mut SiteCache) -> (f64, DVec3) {
+    /// [`Measure::distance_at`] of voxel `p`, the `i`th of tile `s`. When `lazy`, a
+    /// voxel whose sub-voxel distance is needed but bounded at least the radius by its
+    /// crossings and its cube (`d >= min(d_cube - 1/2, min_i |p - c_i|)`, as
+    /// [`distance_to_site`] computes it) gives [`PENDING`]: it does not flip, and its
+    /// distance is measured only when a face of the result needs it.
+    fn distance_in(&self, p: [i64; 3], s: usize, i: usize, lazy: bool, cache: &mut SiteCache) -> (f64, DVec3) {
         if self.sites[s].as_ref().is_some_and(|site| site[i]) {
             return (f64::NEG_INFINITY, DVec3::ZERO);
         }
@@ -460,6 +482,9 @@ impl<'a, F: Feature> Measure<'a, F> {
         let mut planes = own;
         for plane in &mut planes[..count] {
             plane.point = rel + plane.point;
+        }
+        if lazy && d_cube - 0.5 >= radius && planes[..count].iter().all(|plane| plane.point.length() >= radius) {
+            return PENDING;
         }
         let (d, foot) = distance_to_site(&planes[..count], d_cube);
         (d, -foot)
@@ -499,26 +524,40 @@ impl<'a, F: Feature> Measure<'a, F> {
         (planes, count)
     }
 
-    /// The distance and direction of each voxel of tile `s`, x fastest.
+    /// The distance and direction of each voxel of tile `s`, x fastest, [`PENDING`]
+    /// where it is known not to flip.
     fn tile(&self, s: usize, out: &mut [(f64, DVec3)], cache: &mut SiteCache) {
         let k = self.band.k;
         let t = 1usize << k;
         let min = unpack(self.band.tiles[s]).map(|c| i64::from(c) << k);
         for (i, o) in out.iter_mut().enumerate() {
             let p = [min[0] + (i % t) as i64, min[1] + (i / t % t) as i64, min[2] + (i / (t * t)) as i64];
-            *o = self.distance_in(p, s, i, cache);
+            *o = self.distance_in(p, s, i, true, cache);
         }
     }
 
     /// Pushes the crossings of the result's faces tile `s` measures (its voxels'
-    /// distances `g`): each voxel's faces towards `+axis`, and towards `-axis` where
-    /// that neighbour lies outside the band; both ends inside the domain.
-    fn faces(&self, s: usize, g: &[(f64, DVec3)], out: &mut Vec<NewCrossing>, cache: &mut SiteCache) {
+    /// distances `g`, [`PENDING`] ones measured here when a face needs them): each
+    /// voxel's faces towards `+axis`, and towards `-axis` where that neighbour lies
+    /// outside the band; both ends inside the domain. The places of the six tiles
+    /// next to it are looked up once.
+    fn faces(&self, s: usize, g: &mut [(f64, DVec3)], out: &mut Vec<NewCrossing>, cache: &mut SiteCache) {
         let k = self.band.k;
         let t = 1usize << k;
         let n = i64::from(self.tree.domain().resolution());
-        let min = unpack(self.band.tiles[s]).map(|c| i64::from(c) << k);
-        for (i, &gi) in g.iter().enumerate() {
+        let tile = unpack(self.band.tiles[s]).map(i64::from);
+        let min = tile.map(|c| c << k);
+        let next: [[Option<Place>; 2]; 3] = std::array::from_fn(|axis| {
+            [-1, 1].map(|e| {
+                let mut c = tile;
+                c[axis] += e;
+                if c.iter().any(|&x| x < 0) {
+                    return None;
+                }
+                self.places.get(&pack(c.map(|x| x as u32))).copied()
+            })
+        });
+        for i in 0..g.len() {
             let l = [i % t, i / t % t, i / (t * t)];
             let p: [i64; 3] = std::array::from_fn(|a| min[a] + l[a] as i64);
             for axis in 0..3 {
@@ -526,16 +565,43 @@ impl<'a, F: Feature> Measure<'a, F> {
                 let mut q = p;
                 q[axis] += 1;
                 if q[axis] < n {
-                    let gq = if l[axis] + 1 < t { g[i + stride] } else { self.distance(q, cache) };
-                    self.face(p, gi, gq, axis, out);
+                    let inside = l[axis] + 1 < t;
+                    let mut gq = if inside { g[i + stride] } else { self.distance_at(q, next[axis][1], true, cache) };
+                    if self.result_full(g[i].0) != self.result_full(gq.0) {
+                        if g[i].0.is_nan() {
+                            g[i] = self.distance_in(p, s, i, false, cache);
+                        }
+                        if gq.0.is_nan() {
+                            gq = if inside {
+                                g[i + stride] = self.distance_in(q, s, i + stride, false, cache);
+                                g[i + stride]
+                            } else {
+                                self.distance_at(q, next[axis][1], false, cache)
+                            };
+                        }
+                        self.face(p, g[i], gq, axis, out);
+                    }
                 }
                 let mut q = p;
                 q[axis] -= 1;
-                if l[axis] == 0 && q[axis] >= 0 && !matches!(self.place(q), Some(Place::Band(_))) {
-                    self.face(q, self.distance(q, cache), gi, axis, out);
+                if l[axis] == 0 && q[axis] >= 0 && !matches!(next[axis][0], Some(Place::Band(_))) {
+                    let gq = self.distance_at(q, next[axis][0], false, cache);
+                    if self.result_full(gq.0) != self.result_full(g[i].0) {
+                        if g[i].0.is_nan() {
+                            g[i] = self.distance_in(p, s, i, false, cache);
+                        }
+                        self.face(q, gq, g[i], axis, out);
+                    }
                 }
             }
         }
+    }
+
+    /// Whether a voxel at distance `g` is full in the result (a site: of the phase the
+    /// step spreads; [`PENDING`]: one that does not flip).
+    fn result_full(&self, g: f64) -> bool {
+        let grow = self.step.grow;
+        if g == f64::NEG_INFINITY { grow } else { flips(g, self.step.radius) == grow }
     }
 
     /// Pushes the result's crossing on the face between voxel `p` (distance and
@@ -549,8 +615,7 @@ impl<'a, F: Feature> Measure<'a, F> {
         out: &mut Vec<NewCrossing>,
     ) {
         let (grow, radius) = (self.step.grow, self.step.radius);
-        let result_full = |g: f64| if g == f64::NEG_INFINITY { grow } else { flips(g, radius) == grow };
-        let (fi, fj) = (result_full(gi), result_full(gj));
+        let (fi, fj) = (self.result_full(gi), self.result_full(gj));
         if fi == fj {
             return;
         }
@@ -698,6 +763,15 @@ mod tests {
         let big = (1 << 20) - 1;
         for o in [[0, 0, 0], [-big, big, 3], [big, -big, -7]] {
             assert_eq!(<u64 as Feature>::of(o).offset(), Some(o));
+        }
+        // Moved along an axis in place, as decoded, moved and encoded again.
+        for (o, axis, by) in
+            [([3, -5, 7], 0, -9), ([-511, 0, 511], 2, -1022), ([0, 40, -40], 1, -80), ([9, 9, 9], 1, 500)]
+        {
+            let mut m = o;
+            m[axis] += by;
+            assert_eq!(<u32 as Feature>::of(o).moved(axis, by), <u32 as Feature>::of(m));
+            assert_eq!(<u64 as Feature>::of(o).moved(axis, by), <u64 as Feature>::of(m));
         }
         assert_eq!(<u32 as Feature>::NONE.offset(), None);
         assert_eq!(<u64 as Feature>::NONE.offset(), None);

@@ -100,7 +100,11 @@ fn distance_to_cone(planes: &[Plane]) -> Option<(f64, DVec3)> {
     // Normals are unit to a float's precision: a projection's own plane holds it to
     // about 1e-16, a neighbour's within this.
     const SLACK: f64 = 1e-9;
-    let offsets: Vec<f64> = planes.iter().map(|p| p.normal.dot(p.point)).collect();
+    // At most six planes (a voxel's faces), so the offsets live on the stack.
+    let mut offsets = [0.0; 6];
+    for (b, p) in offsets.iter_mut().zip(planes) {
+        *b = p.normal.dot(p.point);
+    }
     let inside = |x: DVec3| planes.iter().zip(&offsets).all(|(p, &b)| p.normal.dot(x) <= b + SLACK);
     if inside(DVec3::ZERO) {
         return Some((0.0, DVec3::ZERO));

@@ -43,7 +43,9 @@
 //! over the window `|o| <= R` directly ([`window_pass`]): `2R + 1` saturating adds and
 //! minimums a value, but the eight lines of a tile side by side in 16-bit lanes, which
 //! vectorize, where the envelope's stack branches on every value; the same values, as
-//! no cost beyond `R` is under the cap.
+//! no cost beyond `R` is under the cap. Over that reach the first pass, whose input is 0
+//! or none, is the two sweeps to the nearest site along the row ([`row_pass`]), and the
+//! envelope is kept for the other two.
 //!
 //! Memory follows the tiles: one array of values, 2 bytes a voxel (4 when the radius
 //! is 128 voxels or more, the squared distances beyond 16 bits), which each pass
@@ -56,7 +58,7 @@
 
 use rayon::prelude::*;
 
-use super::edt::{FAR, axis_cost, lower_envelope};
+use super::edt::{FAR, axis_cost, lower_envelope, nearest_site_along_row};
 use super::step::Step;
 use crate::morton;
 use crate::octree::window::{keys_meeting, keys_meeting_near, range_meeting_near};
@@ -238,6 +240,8 @@ impl TileBand {
             let runs = runs(&self.tiles, axis);
             if self.reach <= WINDOW_REACH {
                 window_pass(&runs, &mut values, v, t, strides, self.reach, limit, self, progress);
+            } else if axis == 0 {
+                row_pass(&runs, &mut values, v, t, limit, self, progress);
             } else {
                 envelope_pass(&runs, &mut values, v, t, strides, limit, self, progress);
             }
@@ -484,6 +488,47 @@ fn envelope_pass<V: Value>(
                     for i in 0..t {
                         tile[base + i * strides[0]] = V::of(out[j * t + i], cap);
                     }
+                }
+            }
+        }
+    });
+}
+
+/// The first pass along x for reaches over [`WINDOW_REACH`], in place: the values are 0
+/// (a site) or none, so [`envelope_pass`]'s minimum is the cost to the nearest site
+/// along the row, two sweeps ([`nearest_site_along_row`]) instead of an envelope; a site
+/// tile beyond a run's end is a site there.
+fn row_pass<V: Value>(
+    runs: &[Run],
+    values: &mut [V],
+    v: usize,
+    t: usize,
+    cap: i64,
+    band: &TileBand,
+    progress: &dyn Progress,
+) {
+    for_runs(runs, values, v, band, progress, |run, slots| {
+        let len = run.len() * t;
+        let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+        let mut row = vec![false; len + 2];
+        let mut costs = vec![0i64; len];
+        for yz in 0..t * t {
+            row[0] = before;
+            row[len + 1] = after;
+            let mut any = before || after;
+            for (j, tile) in slots.iter().enumerate() {
+                for (cell, &d) in row[1 + j * t..1 + (j + 1) * t].iter_mut().zip(&tile[t * yz..t * (yz + 1)]) {
+                    *cell = d == V::ZERO;
+                    any |= *cell;
+                }
+            }
+            if !any {
+                continue;
+            }
+            nearest_site_along_row(&row, 1, cap, &mut costs, None);
+            for (j, tile) in slots.iter_mut().enumerate() {
+                for (value, &c) in tile[t * yz..t * (yz + 1)].iter_mut().zip(&costs[j * t..(j + 1) * t]) {
+                    *value = V::of(c, cap);
                 }
             }
         }
