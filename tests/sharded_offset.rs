@@ -1,7 +1,8 @@
 //! Offsets, shells and rounds of sharded solids, cell by cell with a halo, against the
 //! same operations on the merged solid in memory: equal node for node, and crossing
-//! for crossing when the shards carry a surface; a budget too small for a window is
-//! refused before anything is written.
+//! for crossing when the shards carry a surface; a window over the budget is computed
+//! from smaller cells' windows to the same result, and a budget too small even for
+//! the smallest is refused before anything is written.
 
 mod common;
 
@@ -200,5 +201,60 @@ fn a_budget_too_small_for_a_window_is_refused_before_anything_is_written() {
     assert!(e.to_string().contains("offset distance"), "{e}");
     let e = sharded::morph(&solid, Morph::Shell { thickness: -1.0, outward: false }, &out, &at_level(2)).unwrap_err();
     assert!(e.to_string().contains("shell thickness"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The solid `whole` in the voxel box `lo..hi` (what a window holds).
+fn in_box(whole: &LinearOctree, lo: [u32; 3], hi: [u32; 3]) -> LinearOctree {
+    let voxels = (lo[2]..hi[2]).flat_map(|z| (lo[1]..hi[1]).flat_map(move |y| (lo[0]..hi[0]).map(move |x| [x, y, z])));
+    whole.intersection(&LinearOctree::from_voxels(*whole.domain(), voxels).unwrap()).unwrap()
+}
+
+#[test]
+fn a_window_over_the_budget_is_split_into_smaller_cells_with_the_same_result() {
+    let dir = scratch("split");
+    let domain = Domain::new(DVec3::ZERO, 1.0, 7).unwrap();
+    let shape = random_csg(&mut Rng(0x5e1f_0039), 3) | Sphere::new(DVec3::splat(0.5), 0.3).unwrap();
+    let whole = voxelize(&shape, domain, &VoxelizeOptions::default()).unwrap();
+    let op = Morph::Offset(3.0);
+    // The largest window of the cells of 64 voxels, built here from the whole solid:
+    // each cell and the halo around it, clipped to the domain.
+    let (size, halo, n) = (64u32, op.halo(), domain.resolution());
+    // Over the cubes and along the surface (whose crossings the step needs besides).
+    let (mut largest, mut largest_along) = (0, 0);
+    for c in 0..8u32 {
+        let min = [c & 1, (c >> 1) & 1, c >> 2].map(|b| b * size);
+        let window = in_box(&whole, min.map(|m| m.saturating_sub(halo)), min.map(|m| (m + size + halo).min(n)));
+        largest = largest.max(window.offset_estimate(3.0, false));
+        largest_along = largest_along.max(window.offset_estimate(3.0, true));
+    }
+    assert!(largest > 0 && largest_along > 0);
+    let cut = dir.join("cut.octs");
+    sharded::write(&whole, Metadata::default(), &cut, &at_level(1)).unwrap();
+    let made = dir.join("made.octs");
+    sharded::voxelize_shape(&shape, domain, Metadata::default(), &made, &at_level(1)).unwrap();
+    let options = StreamOptions { budget: MemoryBudget(largest - 1), ..at_level(1) };
+
+    // Over the cubes: the same nodes as the merged solid's offset.
+    let out = dir.join("grown.octs");
+    sharded::morph(&ShardedSolid::open(&cut).unwrap(), op, &out, &options).unwrap();
+    let got = ShardedSolid::open(&out).unwrap();
+    assert_eq!(got.index().level, 1, "the output keeps its cells");
+    let want = whole.offset(3.0, &OffsetOptions::default()).unwrap();
+    assert_eq!(got.read(MemoryBudget::unlimited()).unwrap().keys(), want.keys(), "over the cubes");
+
+    // Along the surface (its estimate larger still): the same nodes and crossings.
+    let surface = shards_surface(&made);
+    let (want, want_surface) = in_memory(&whole, Some(&surface), op);
+    let out = dir.join("grown-along.octs");
+    let options = StreamOptions { budget: MemoryBudget(largest_along - 1), ..at_level(1) };
+    sharded::morph(&ShardedSolid::open(&made).unwrap(), op, &out, &options).unwrap();
+    let got = ShardedSolid::open(&out).unwrap().read(MemoryBudget::unlimited()).unwrap();
+    assert_eq!(got.keys(), want.keys(), "along the surface");
+    assert_same_faces(
+        shards_surface(&out).faces(),
+        &on_shards(&want_surface.unwrap().as_stored(), &out),
+        "along the surface",
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -33,10 +33,26 @@
 //! also reads the tiles along the window's faces where the solid meets them (at most
 //! the window's surface again).
 //!
-//! Memory: before any cell is written the largest window (by the bytes its shards take
-//! once loaded) is read and every step's estimate taken on it
-//! ([`crate::octree::LinearOctree::check_offset_steps`]); each window is checked again
-//! as its shards are read and as each step starts.
+//! Memory: a window is read one shard at a time (only a capped share of the budget,
+//! a quarter, keeps whole shards for the next window: [`super::window`]), so reading
+//! it costs the window and one shard. Its steps' estimate
+//! ([`crate::octree::LinearOctree::offset_estimate`], with the window's crossings)
+//! is then taken before any step runs; when it does not fit the budget, the cell is
+//! computed from its eight children's windows instead (each with the whole halo, each
+//! checked the same way, down to cells of 16 voxels), their results joined in Morton
+//! order: the same bits, since every cell of any size is the merged solid's result
+//! clipped to it. So the cells the work is done in follow the budget, not the output's
+//! shard level (a depth-13 window of 2048 voxels a side estimated 3.9 GiB along the
+//! surface; its cells of 512 fit 2 GiB). Before any cell is written the largest window
+//! (by the bytes its shards take) is read and split as far as it must be, so a budget
+//! that even its smallest cells exceed is refused before work; any other window too
+//! large at the smallest cells fails as it is reached.
+//!
+//! Where this departs from a plan made ahead: the split is decided window by window
+//! from the window itself, since an estimate from the index alone (the shards'
+//! bytes) does not tell a window's band: along a surface the band holds the window's
+//! faces where they cut the solid (a window of 1024 voxels inside the bored ball
+//! estimated 3.1 GiB against 3.9 for one of 2048 that the surface crosses).
 
 use std::path::Path;
 
@@ -45,10 +61,11 @@ use super::layout::Layout;
 use super::solid::ShardedSolid;
 use super::stream::{Job, StreamOptions};
 use super::window::{ShardCache, Window, is_full, shard_of};
+use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::{CellNodes, CellSink, LinearOctree, NodeKey, OffsetOptions};
 use crate::progress::NoProgress;
-use crate::surface::{FaceKey, HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
+use crate::surface::{Crossing, FaceKey, HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
 
 /// A morphological operation, distances in voxels (see [`crate::octree::LinearOctree`]'s
 /// `offset`, `shell` and `round`).
@@ -174,12 +191,15 @@ impl std::fmt::Display for Morph {
 /// `morph` of the sharded solid `solid` into the sharded solid `out`, cell by cell
 /// (module doc): the same solid (and crossings, when the shards carry them) as the
 /// operation on the merged solid, cut into cells at the options' level (default: the
-/// input's). `options.progress` counts output cells.
+/// input's). A cell whose window's steps would not fit the budget is computed from its
+/// eight children's windows, and so on down to cells of `2^MIN_SPLIT_K` voxels.
+/// `options.progress` counts output cells.
 ///
 /// # Errors
 /// A distance that is not finite (or not positive for a shell or round); the largest
-/// window or any of its steps over the budget (before any cell is written); a shard
-/// that fails its checks (named); writing fails.
+/// window, split as far as it goes, still over the budget (before any cell is
+/// written), or any other window so; a shard that fails its checks (named); writing
+/// fails.
 pub fn morph(solid: &ShardedSolid, morph: Morph, out: &Path, options: &StreamOptions) -> Result<Option<ShardIndex>> {
     morph.check()?;
     let index = solid.index();
@@ -187,37 +207,22 @@ pub fn morph(solid: &ShardedSolid, morph: Morph, out: &Path, options: &StreamOpt
     let level = options.level.unwrap_or(index.level);
     let input = index.layout();
     let output = Layout { depth: domain.depth(), level: level.min(domain.depth()) };
-    let halo = morph.halo();
-    let steps = morph.steps();
-    let windows = Windows { solid, input, output, halo };
-    let all = 0..output.cell_count();
-    let range = options.cells.cloned().unwrap_or(all);
-    // The largest window checked before any cell is written.
-    let largest = range
-        .clone()
-        .filter(|&c| windows.kind(c) == Kind::Mixed)
-        .max_by_key(|&c| windows.shards_meeting(c).iter().map(|&i| solid.shard_bytes(i)).sum::<u64>());
-    // First from the index alone: the window's shards held and the window cut from them.
-    if let Some(cell) = largest {
-        let bytes: u64 = windows.shards_meeting(cell).iter().map(|&i| solid.shard_bytes(i)).sum();
-        options.budget.check(
-            format!("the {morph} of {} (the window of cell {cell}: its shards and their crop)", solid.dir().display()),
-            bytes.saturating_mul(2),
-        )?;
-    }
     // Surface data goes through when the input's shards carry it (all of a solid's do
     // or none do; the first tells).
     let along =
         if index.shards.is_empty() { false } else { solid.read_shard_and_surface(0, options.budget)?.1.is_some() };
-    let mut cache = ShardCache::default();
+    let windows = Windows { solid, input, morph, halo: morph.halo(), along, budget: options.budget };
+    let all = 0..output.cell_count();
+    let range = options.cells.cloned().unwrap_or(all);
+    let mut cache = ShardCache::with_cap(options.budget.0 / CACHE_SHARE);
+    // The largest window, split as far as it must be, checked before any cell is
+    // written.
+    let largest = range
+        .clone()
+        .filter(|&c| windows.kind(output, c) == Kind::Mixed)
+        .max_by_key(|&c| windows.shards_meeting(output, c).iter().map(|&i| solid.shard_bytes(i)).sum::<u64>());
     if let Some(cell) = largest {
-        let (window, _) = windows.read(cell, along, &mut cache, options)?;
-        window.check_offset_steps(
-            format!("{morph} of {} (the window of cell {cell})", solid.dir().display()),
-            &steps,
-            along,
-            options.budget,
-        )?;
+        windows.solve(output, cell, &mut cache, false)?;
     }
     let mut job = Job::start(domain, meta, Some(output.level), out, options, |h| {
         h.bytes(format!("{morph:?}").as_bytes());
@@ -226,39 +231,28 @@ pub fn morph(solid: &ShardedSolid, morph: Morph, out: &Path, options: &StreamOpt
         h.bytes(&index);
     })?;
     let writer = &mut job.writer;
-    let step_options = OffsetOptions { budget: options.budget, progress: &NoProgress };
     options.progress.start(range.end - range.start);
     for cell in range {
-        match windows.kind(cell) {
-            Kind::Empty => {}
-            Kind::Full => {
-                if morph.full_stays_full() {
-                    writer.cell(cell, CellNodes::Full)?;
-                }
-            }
-            Kind::Mixed => {
-                let (window, surface) = windows.read(cell, along, &mut cache, options)?;
-                let (result, data) =
-                    morph.apply(&window, surface.as_ref(), &step_options).map_err(|e| in_cell(e, solid, cell))?;
-                let key = output.cell_key(cell);
-                match clip(&result, key) {
-                    None => {}
-                    Some(CellNodes::Full) => writer.cell(cell, CellNodes::Full)?,
-                    Some(nodes) => writer.cell_with_surface(cell, nodes, |_| {
-                        data.map(|data| {
-                            HermiteData::from_faces(
-                                data.faces().iter().filter(|(f, _)| face_in(*f, key)).copied().collect(),
-                            )
-                        })
-                    })?,
-                }
-            }
+        let (nodes, faces) = windows.solve(output, cell, &mut cache, true)?;
+        match nodes {
+            None => {}
+            Some(CellNodes::Full) => writer.cell(cell, CellNodes::Full)?,
+            Some(nodes) => writer.cell_with_surface(cell, nodes, |_| along.then(|| HermiteData::from_sorted(faces)))?,
         }
         options.progress.advance(1);
     }
     options.progress.finish();
     job.finish()
 }
+
+/// The smallest cells (`2^MIN_SPLIT_K` voxels a side) a window is split into.
+const MIN_SPLIT_K: u8 = 4;
+
+/// The share of the budget kept shards may take (one part in this many).
+const CACHE_SHARE: u64 = 4;
+
+/// A cell's result: its nodes (`None`: none) and its voxels' crossings, sorted.
+type CellResult = (Option<CellNodes>, Vec<(FaceKey, Crossing)>);
 
 /// Names the input and the cell in an error of a window's steps.
 fn in_cell(e: Error, solid: &ShardedSolid, cell: u64) -> Error {
@@ -294,28 +288,35 @@ enum Kind {
     Mixed,
 }
 
-/// The windows of the output cells over the input's cells.
+/// The windows of cells over the input's cells.
 struct Windows<'a> {
     solid: &'a ShardedSolid,
     input: Layout,
-    output: Layout,
+    morph: Morph,
     halo: u32,
+    /// Whether the shards' crossings go through.
+    along: bool,
+    budget: MemoryBudget,
 }
 
 impl Windows<'_> {
-    /// The window of output cell `cell`: the halo around it.
-    fn window(&self, cell: u64) -> Window {
-        Window::around(self.output, cell, self.halo, self.solid.index().domain.resolution())
+    /// The window of cell `cell` of `layout`: the halo around it.
+    fn window(&self, layout: Layout, cell: u64) -> Window {
+        Window::around(layout, cell, self.halo, self.solid.index().domain.resolution())
     }
 
     /// The shards meeting the window of `cell`.
-    fn shards_meeting(&self, cell: u64) -> Vec<usize> {
-        self.window(cell).cells_meeting(self.input).into_iter().filter_map(|c| shard_of(self.solid, c)).collect()
+    fn shards_meeting(&self, layout: Layout, cell: u64) -> Vec<usize> {
+        self.window(layout, cell)
+            .cells_meeting(self.input)
+            .into_iter()
+            .filter_map(|c| shard_of(self.solid, c))
+            .collect()
     }
 
     /// What the index says of the window of `cell`.
-    fn kind(&self, cell: u64) -> Kind {
-        let window = self.window(cell);
+    fn kind(&self, layout: Layout, cell: u64) -> Kind {
+        let window = self.window(layout, cell);
         let (mut any, mut all) = (false, true);
         for c in window.cells_meeting(self.input) {
             let full = is_full(self.solid, c);
@@ -330,18 +331,82 @@ impl Windows<'_> {
         }
     }
 
-    /// The window of `cell` as a solid of the domain (empty outside it), and the
-    /// crossings the shards carry for its voxels when `along`; shards come through
-    /// `cache`, which keeps those of this window for the next.
-    fn read(
-        &self,
-        cell: u64,
-        along: bool,
-        cache: &mut ShardCache,
-        options: &StreamOptions,
-    ) -> Result<(LinearOctree, Option<HermiteData>)> {
-        let (window, crossings) = self.window(cell).read(self.solid, along, Some(cache), options.budget)?;
-        Ok((window, along.then_some(crossings)))
+    /// Cell `cell` of `layout` computed (`compute`) or only checked: from its window when
+    /// the window's steps fit the budget beside the window's crossings and the kept
+    /// shards (dropped first if that makes them fit), else from its eight children's,
+    /// down to cells of `2^MIN_SPLIT_K` voxels; unchecked cells give nothing.
+    fn solve(&self, layout: Layout, cell: u64, cache: &mut ShardCache, compute: bool) -> Result<CellResult> {
+        match self.kind(layout, cell) {
+            Kind::Empty => return Ok((None, Vec::new())),
+            Kind::Full => return Ok((self.morph.full_stays_full().then_some(CellNodes::Full), Vec::new())),
+            Kind::Mixed => {}
+        }
+        let (window, crossings) = self.window(layout, cell).read(self.solid, self.along, Some(cache), self.budget)?;
+        let crossing_bytes = (crossings.len() * std::mem::size_of::<(FaceKey, Crossing)>()) as u64;
+        let estimate = self.morph.steps().iter().map(|&d| window.offset_estimate(d, self.along)).max().unwrap_or(0);
+        let need = estimate.saturating_add(crossing_bytes);
+        if need.saturating_add(cache.bytes()) > self.budget.0 && need <= self.budget.0 {
+            cache.clear();
+        }
+        if need > self.budget.0 {
+            drop((window, crossings));
+            if layout.cell_k() <= MIN_SPLIT_K {
+                let level = if layout.level == self.input.level {
+                    String::new()
+                } else {
+                    format!(" at level {}", layout.level)
+                };
+                return Err(Error::OverBudget {
+                    job: format!(
+                        "the {} of {} (the window of cell {cell}{level}, its steps and crossings)",
+                        self.morph,
+                        self.solid.dir().display()
+                    ),
+                    estimate: need,
+                    budget: self.budget.0,
+                });
+            }
+            return self.split(layout, cell, cache, compute);
+        }
+        if !compute {
+            return Ok((None, Vec::new()));
+        }
+        let options = OffsetOptions { budget: self.budget, progress: &NoProgress };
+        let surface = self.along.then_some(crossings);
+        let (result, data) =
+            self.morph.apply(&window, surface.as_ref(), &options).map_err(|e| in_cell(e, self.solid, cell))?;
+        drop((window, surface));
+        let key = layout.cell_key(cell);
+        let faces = match data {
+            Some(data) => data.faces().iter().filter(|(f, _)| face_in(*f, key)).copied().collect(),
+            None => Vec::new(),
+        };
+        Ok((clip(&result, key), faces))
+    }
+
+    /// Cell `cell` of `layout` from its eight children (in Morton order, so their
+    /// nodes and crossings join sorted; eight full children make the cell full).
+    fn split(&self, layout: Layout, cell: u64, cache: &mut ShardCache, compute: bool) -> Result<CellResult> {
+        let finer = Layout { level: layout.level + 1, ..layout };
+        let (mut keys, mut faces, mut full) = (Vec::new(), Vec::new(), 0);
+        for child in 8 * cell..8 * cell + 8 {
+            let (nodes, child_faces) = self.solve(finer, child, cache, compute)?;
+            match nodes {
+                None => {}
+                Some(CellNodes::Full) => {
+                    keys.push(finer.cell_key(child));
+                    full += 1;
+                }
+                Some(CellNodes::Nodes(nodes)) => keys.extend(nodes),
+            }
+            faces.extend(child_faces);
+        }
+        let nodes = match (full, keys.is_empty()) {
+            (8, _) => Some(CellNodes::Full),
+            (_, true) => None,
+            _ => Some(CellNodes::Nodes(keys)),
+        };
+        Ok((nodes, faces))
     }
 }
 
