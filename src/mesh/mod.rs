@@ -41,7 +41,7 @@ pub(crate) use boundary::{
 pub(crate) use crossing::{Plane, signed_crossing};
 pub use parity::ParityGrid;
 pub use read::{mesh_from_bytes, read_mesh, read_mesh_and_warnings};
-pub(crate) use separate::separate;
+pub(crate) use separate::{separate, separated_vertices};
 pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};
 pub use shape::MeshShape;
 pub(crate) use solid::solid_triangles;
