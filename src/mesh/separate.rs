@@ -209,14 +209,9 @@ fn faces_seen_from_copies(mesh: &TriangleMesh, shared: &[bool]) -> (Vec<DVec3>, 
 fn distinct_in_f32(mesh: &TriangleMesh, out: &[DVec3], used: &[bool]) -> std::result::Result<(), String> {
     let n = mesh.vertices.len();
     let stored = |v: DVec3| (v.as_vec3() + glam::Vec3::ZERO).to_array().map(f32::to_bits);
-    let infinite =
-        (0..n).into_par_iter().with_min_len(CHUNK).find_first(|&i| used[i] && !out[i].as_vec3().is_finite());
-    let mut keyed: Vec<([u32; 3], u32)> = (0..n)
-        .into_par_iter()
-        .with_min_len(CHUNK)
-        .filter(|&i| used[i])
-        .map(|i| (stored(out[i]), i as u32))
-        .collect();
+    let infinite = (0..n).into_par_iter().with_min_len(CHUNK).find_first(|&i| used[i] && !out[i].as_vec3().is_finite());
+    let mut keyed: Vec<([u32; 3], u32)> =
+        (0..n).into_par_iter().with_min_len(CHUNK).filter(|&i| used[i]).map(|i| (stored(out[i]), i as u32)).collect();
     keyed.par_sort_unstable();
     // The first vertex whose f32 point an earlier one has: the least second of a run,
     // with the run's first.
