@@ -41,8 +41,8 @@ pub(crate) use boundary::{
 pub(crate) use crossing::{Plane, signed_crossing};
 pub use parity::ParityGrid;
 pub use read::{mesh_from_bytes, read_mesh, read_mesh_and_warnings};
-pub(crate) use separate::separate;
 pub use separate::{SEPARATION_LIMIT, SEPARATION_STEP, separate_sheets};
+pub(crate) use separate::{separate, separated_vertices};
 pub use shape::MeshShape;
 pub(crate) use solid::solid_triangles;
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh, voxelize_mesh_cells};

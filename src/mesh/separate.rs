@@ -46,7 +46,7 @@
 //! coordinates bit for bit.
 
 use glam::DVec3;
-use rustc_hash::FxHashMap;
+use rayon::prelude::*;
 
 use super::TriangleMesh;
 use crate::error::{Error, Result};
@@ -57,6 +57,8 @@ pub const SEPARATION_STEP: f64 = 1.0 / 1024.0;
 pub const SEPARATION_LIMIT: f64 = 1.0 / 16.0;
 /// The least step in units in the last place of `f32` at the vertex's coordinates.
 const STEP_ULPS: f64 = 4.0;
+/// Vertices or triangles a parallel task.
+const CHUNK: usize = 4096;
 
 /// `mesh` with the copies of each shared position moved apart, each towards its own
 /// faces and away from the others', so that STL's `f32` corners, welded by position,
@@ -77,12 +79,20 @@ pub fn separate_sheets(mesh: &TriangleMesh) -> Result<TriangleMesh> {
 /// [`separate_sheets`] after the check, with the reason of a refusal: the copies found,
 /// moved apart, and every used vertex checked distinct in `f32`.
 pub(crate) fn separate(mesh: &TriangleMesh) -> std::result::Result<TriangleMesh, String> {
+    let vertices = separated_vertices(mesh)?;
+    Ok(TriangleMesh { vertices, triangles: mesh.triangles.clone(), groups: mesh.groups.clone() })
+}
+
+/// The vertices of [`separate`]`(mesh)`. The copies are found and checked by sorting
+/// positions in parallel (the first vertex at a position, and the first refusal in
+/// vertex order, as one pass over the vertices with a hash table finds them).
+pub(crate) fn separated_vertices(mesh: &TriangleMesh) -> std::result::Result<Vec<DVec3>, String> {
     let n = mesh.vertices.len();
     let mut used = vec![false; n];
     mesh.triangles.iter().flatten().for_each(|&i| used[i as usize] = true);
     let Copies { group, shared } = copies(mesh, &used);
-    let mut out = mesh.clone();
-    if shared.iter().any(|&s| s) {
+    let mut out = mesh.vertices.clone();
+    if shared.par_iter().any(|&s| s) {
         move_copies_apart(mesh, &group, &shared, &mut out)?;
     }
     distinct_in_f32(mesh, &out, &used)?;
@@ -105,14 +115,24 @@ struct Copies {
 /// The copies among the `used` vertices of `mesh`.
 fn copies(mesh: &TriangleMesh, used: &[bool]) -> Copies {
     let n = mesh.vertices.len();
-    let mut first: FxHashMap<[u64; 3], u32> = FxHashMap::default();
-    first.reserve(n);
+    // Sorted by position, then index: each position's run starts at its first vertex.
+    let mut keyed: Vec<([u64; 3], u32)> = (0..n)
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .filter(|&i| used[i])
+        .map(|i| (exact(mesh.vertices[i]), i as u32))
+        .collect();
+    keyed.par_sort_unstable();
     let mut group = vec![u32::MAX; n];
     let mut shared = vec![false; n];
-    for i in (0..n).filter(|&i| used[i]) {
-        let j = *first.entry(exact(mesh.vertices[i])).or_insert(i as u32);
+    let mut start = 0;
+    for k in 0..keyed.len() {
+        if keyed[k].0 != keyed[start].0 {
+            start = k;
+        }
+        let (i, j) = (keyed[k].1 as usize, keyed[start].1);
         group[i] = j;
-        if j as usize != i {
+        if k != start {
             shared[i] = true;
             shared[j as usize] = true;
         }
@@ -126,7 +146,7 @@ fn move_copies_apart(
     mesh: &TriangleMesh,
     group: &[u32],
     shared: &[bool],
-    out: &mut TriangleMesh,
+    out: &mut [DVec3],
 ) -> std::result::Result<(), String> {
     let n = mesh.vertices.len();
     let (toward, shortest) = faces_seen_from_copies(mesh, shared);
@@ -147,7 +167,7 @@ fn move_copies_apart(
                 shortest[v] * SEPARATION_LIMIT
             ));
         }
-        out.vertices[v] = p + step * away;
+        out[v] = p + step * away;
     }
     Ok(())
 }
@@ -158,7 +178,13 @@ fn faces_seen_from_copies(mesh: &TriangleMesh, shared: &[bool]) -> (Vec<DVec3>, 
     let n = mesh.vertices.len();
     let mut toward = vec![DVec3::ZERO; n];
     let mut shortest = vec![f64::INFINITY; n];
-    for t in 0..mesh.triangles.len() {
+    // The triangles at a copy, in order (the sums below run in triangle order).
+    let at_copies: Vec<usize> = (0..mesh.triangles.len())
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .filter(|&t| mesh.triangles[t].iter().any(|&v| shared[v as usize]))
+        .collect();
+    for t in at_copies {
         let ids = mesh.triangles[t];
         let c = mesh.corners(t);
         for k in 0..3 {
@@ -180,29 +206,38 @@ fn faces_seen_from_copies(mesh: &TriangleMesh, shared: &[bool]) -> (Vec<DVec3>, 
 
 /// Every used vertex of `out` distinct in `f32`, as STL stores it (`mesh`: the
 /// positions before the move, named in a refusal).
-fn distinct_in_f32(mesh: &TriangleMesh, out: &TriangleMesh, used: &[bool]) -> std::result::Result<(), String> {
+fn distinct_in_f32(mesh: &TriangleMesh, out: &[DVec3], used: &[bool]) -> std::result::Result<(), String> {
     let n = mesh.vertices.len();
     let stored = |v: DVec3| (v.as_vec3() + glam::Vec3::ZERO).to_array().map(f32::to_bits);
-    let mut seen: FxHashMap<[u32; 3], u32> = FxHashMap::default();
-    seen.reserve(n);
-    for i in (0..n).filter(|&i| used[i]) {
-        let v = out.vertices[i];
-        if !v.as_vec3().is_finite() {
-            return Err(format!("vertex {i} at {} does not fit in f32", mesh.vertices[i]));
-        }
-        let j = *seen.entry(stored(v)).or_insert(i as u32) as usize;
-        if j != i {
-            let (p, q) = (mesh.vertices[j], mesh.vertices[i]);
-            return Err(if exact(p) == exact(q) {
-                format!("vertices {j} and {i} at {p} are sheets that cannot be moved apart ({} in f32)", v.as_vec3())
-            } else {
-                format!(
-                    "vertices {j} at {p} and {i} at {q} are both {} in f32; the coordinates are too large for \
-                     the distances between them",
-                    v.as_vec3()
-                )
-            });
-        }
+    let infinite = (0..n).into_par_iter().with_min_len(CHUNK).find_first(|&i| used[i] && !out[i].as_vec3().is_finite());
+    let mut keyed: Vec<([u32; 3], u32)> =
+        (0..n).into_par_iter().with_min_len(CHUNK).filter(|&i| used[i]).map(|i| (stored(out[i]), i as u32)).collect();
+    keyed.par_sort_unstable();
+    // The first vertex whose f32 point an earlier one has: the least second of a run,
+    // with the run's first.
+    let repeat = (1..keyed.len())
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .filter(|&k| keyed[k].0 == keyed[k - 1].0 && (k == 1 || keyed[k - 2].0 != keyed[k - 1].0))
+        .map(|k| (keyed[k].1 as usize, keyed[k - 1].1 as usize))
+        .min();
+    // A scan in vertex order stops at whichever comes first.
+    if let Some(i) = infinite
+        && repeat.is_none_or(|(r, _)| i <= r)
+    {
+        return Err(format!("vertex {i} at {} does not fit in f32", mesh.vertices[i]));
+    }
+    if let Some((i, j)) = repeat {
+        let (p, q, v) = (mesh.vertices[j], mesh.vertices[i], out[i]);
+        return Err(if exact(p) == exact(q) {
+            format!("vertices {j} and {i} at {p} are sheets that cannot be moved apart ({} in f32)", v.as_vec3())
+        } else {
+            format!(
+                "vertices {j} at {p} and {i} at {q} are both {} in f32; the coordinates are too large for the \
+                 distances between them",
+                v.as_vec3()
+            )
+        });
     }
     Ok(())
 }

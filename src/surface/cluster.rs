@@ -316,7 +316,8 @@ fn apply(
         }
     }
     let merged: Vec<[u32; 3]> = triangles
-        .iter()
+        .par_iter()
+        .with_min_len(4096)
         .map(|t| t.map(|v| index[v as usize]))
         .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
         .collect();
@@ -347,7 +348,7 @@ fn defects(merged: &Merged) -> Option<Defects> {
     };
     // Faces on the same three vertices.
     let mut keys: Vec<([u32; 3], u32)> = triangles
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(f, t)| {
             let mut k = *t;
@@ -365,9 +366,9 @@ fn defects(merged: &Merged) -> Option<Defects> {
     }
     // Every edge in two faces, run opposite ways.
     let mut edges: Vec<(u32, u32, bool, u32)> = triangles
-        .iter()
+        .par_iter()
         .enumerate()
-        .flat_map(|(f, t)| (0..3).map(move |k| (t[k], t[(k + 1) % 3], f as u32)))
+        .flat_map_iter(|(f, t)| (0..3).map(move |k| (t[k], t[(k + 1) % 3], f as u32)))
         .map(|(a, b, f)| (a.min(b), a.max(b), a < b, f))
         .collect();
     edges.par_sort_unstable();

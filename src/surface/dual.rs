@@ -78,6 +78,8 @@ pub(crate) struct DualMesh {
     pub crossings: Vec<Option<Crossing>>,
     /// Each face's four vertices, counter-clockwise seen from outside.
     pub quads: Vec<[u32; 4]>,
+    /// The faces around each vertex, ascending.
+    pub fans: Fans,
 }
 
 /// The crossing of each of `faces` (nearly sorted: the exposed squares come in key
@@ -140,13 +142,13 @@ impl DualMesh {
         if kinds.contains(&VertexKind::Estimated) {
             relax(&mut positions, &points, &kinds, &fans, &quads);
         }
-        Ok(DualMesh { positions, corners: points, kinds, clamped, vertex_distance, faces, crossings, quads })
+        Ok(DualMesh { positions, corners: points, kinds, clamped, vertex_distance, faces, crossings, quads, fans })
     }
 }
 
 /// The faces around each vertex (compressed rows: `faces[offsets[v]..offsets[v + 1]]`),
-/// of quads here and of triangles in [`super::cluster`].
-pub(super) struct Fans {
+/// of quads here and in [`super::untangle`], of triangles in [`super::cluster`].
+pub(crate) struct Fans {
     offsets: Vec<u32>,
     faces: Vec<u32>,
 }

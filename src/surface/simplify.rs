@@ -51,6 +51,8 @@
 //! wait for the next round, whose blocks are shifted by half a block; every second
 //! round the blocks double, until one block holds the whole mesh, which is repeated
 //! while it still collapses more than a thousandth of the faces. Ties are broken by vertex index, never by timing.
+//! An edge refused on its own faces is not tried again until a vertex near it moves
+//! (`block`: the same result, without pricing and testing it every round).
 
 mod block;
 mod gap;
@@ -62,6 +64,7 @@ pub(crate) use tri_tri::triangles_clash;
 use glam::DVec3;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use smallvec::SmallVec;
 
 use crate::error::{Error, Result};
 use crate::mesh::TriangleMesh;
@@ -174,8 +177,8 @@ pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(Trian
         } else {
             DVec3::ZERO
         };
-        let made = state.round(origin + shift, width, &limits);
         rounds += 1;
+        let made = state.round(origin + shift, width, &limits, rounds as u32);
         collapses += made;
         if single {
             last_rounds += 1;
@@ -203,6 +206,11 @@ struct State {
     cones: Vec<Cone>,
     /// The input's total face area (the quadrics' weight).
     area: f64,
+    /// Each vertex's last round moved in (0: never).
+    moved_in: Vec<u32>,
+    /// Edges refused on their neighbourhood alone, by global ends in the order tried,
+    /// with the round and their cost's bits (module `block`).
+    refused: FxHashMap<(u32, u32), (u32, u64)>,
 }
 
 impl State {
@@ -229,11 +237,14 @@ impl State {
             faces: mesh.triangles.clone(),
             cones: (0..mesh.triangles.len()).map(|t| Cone::of_face(&mesh.corners(t))).collect(),
             area,
+            moved_in: vec![0; mesh.vertices.len()],
+            refused: FxHashMap::default(),
         }
     }
 
-    /// One round of blocks of side `width` from `origin`; returns the collapses made.
-    fn round(&mut self, origin: DVec3, width: f64, limits: &Limits) -> usize {
+    /// Round `round` (from 1), of blocks of side `width` from `origin`; returns the
+    /// collapses made.
+    fn round(&mut self, origin: DVec3, width: f64, limits: &Limits, round: u32) -> usize {
         let block_of = |p: DVec3| {
             let c = ((p - origin) / width).floor();
             [c.x as i64, c.y as i64, c.z as i64]
@@ -245,7 +256,8 @@ impl State {
         let mut keys: Vec<[i64; 3]> = Vec::new();
         let owner: Vec<Option<[i64; 3]>> = self
             .faces
-            .iter()
+            .par_iter()
+            .with_min_len(4096)
             .map(|t| {
                 let b = vertex_block[t[0] as usize];
                 (vertex_block[t[1] as usize] == b && vertex_block[t[2] as usize] == b).then_some(b)
@@ -257,33 +269,43 @@ impl State {
                 keys.len() - 1
             });
         }
-        let mut own: Vec<Vec<u32>> = vec![Vec::new(); keys.len()];
-        let mut halo: Vec<Vec<u32>> = vec![Vec::new(); keys.len()];
-        for (f, t) in self.faces.iter().enumerate() {
-            if let Some(b) = owner[f] {
-                own[ids[&b]].push(f as u32);
-            }
-            let c = t.map(|v| self.positions[v as usize]);
-            let (lo, hi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
-            // Closed boxes: a face on a block's face plane meets that block too.
-            let first = ((lo - origin) / width).floor() - 1.0;
-            let last = ((hi - origin) / width).floor() + 1.0;
-            for z in first.z as i64..=last.z as i64 {
-                for y in first.y as i64..=last.y as i64 {
-                    for x in first.x as i64..=last.x as i64 {
-                        let key = [x, y, z];
-                        if Some(key) == owner[f] {
-                            continue;
-                        }
-                        let Some(&id) = ids.get(&key) else { continue };
-                        let bmin = origin + DVec3::new(x as f64, y as f64, z as f64) * width;
-                        let bmax = bmin + DVec3::splat(width);
-                        if lo.cmple(bmax).all() && bmin.cmple(hi).all() {
-                            halo[id].push(f as u32);
+        // Each face's blocks (own: true), in face order, then dealt to the blocks.
+        let listed: Vec<(u32, u32, bool)> = (0..self.faces.len())
+            .into_par_iter()
+            .with_min_len(1024)
+            .flat_map_iter(|f| {
+                let mut at: SmallVec<[(u32, u32, bool); 8]> = SmallVec::new();
+                if let Some(b) = owner[f] {
+                    at.push((ids[&b] as u32, f as u32, true));
+                }
+                let c = self.faces[f].map(|v| self.positions[v as usize]);
+                let (lo, hi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+                // Closed boxes: a face on a block's face plane meets that block too.
+                let first = ((lo - origin) / width).floor() - 1.0;
+                let last = ((hi - origin) / width).floor() + 1.0;
+                for z in first.z as i64..=last.z as i64 {
+                    for y in first.y as i64..=last.y as i64 {
+                        for x in first.x as i64..=last.x as i64 {
+                            let key = [x, y, z];
+                            if Some(key) == owner[f] {
+                                continue;
+                            }
+                            let Some(&id) = ids.get(&key) else { continue };
+                            let bmin = origin + DVec3::new(x as f64, y as f64, z as f64) * width;
+                            let bmax = bmin + DVec3::splat(width);
+                            if lo.cmple(bmax).all() && bmin.cmple(hi).all() {
+                                at.push((id as u32, f as u32, false));
+                            }
                         }
                     }
                 }
-            }
+                at
+            })
+            .collect();
+        let mut own: Vec<Vec<u32>> = vec![Vec::new(); keys.len()];
+        let mut halo: Vec<Vec<u32>> = vec![Vec::new(); keys.len()];
+        for (id, f, is_own) in listed {
+            if is_own { own[id as usize].push(f) } else { halo[id as usize].push(f) }
         }
         let outputs: Vec<BlockOutput> = (0..keys.len())
             .into_par_iter()
@@ -300,6 +322,8 @@ impl State {
                     cones: &self.cones,
                     own: &own[id],
                     halo: &halo[id],
+                    moved_in: &self.moved_in,
+                    refused: &self.refused,
                 };
                 simplify_block(&input, limits)
             })
@@ -322,7 +346,9 @@ impl State {
                 self.positions[v as usize] = p;
                 self.quadrics[v as usize] = q;
                 self.bounds[v as usize] = e;
+                self.moved_in[v as usize] = round;
             }
+            self.refused.extend(out.refused.into_iter().map(|(edge, cost)| (edge, (round, cost))));
         }
         self.faces = faces;
         self.cones = cones;

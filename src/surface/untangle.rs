@@ -36,12 +36,12 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashSet;
 
 use super::dual::{DualMesh, VertexKind, split_quad};
 use super::hermite::Crossing;
 use super::simplify::triangles_clash;
-use crate::mesh::{TriangleMesh, separate};
+use crate::mesh::{TriangleMesh, separated_vertices};
 
 /// Rounds at most before every vertex still crossing goes to its safe position.
 const MAX_ROUNDS: usize = 12;
@@ -56,14 +56,17 @@ const RISKY_NORMAL_COSINE: f64 = 0.5;
 pub(crate) fn untangle(dual: &mut DualMesh) -> Vec<[u32; 3]> {
     let n = dual.positions.len();
     let qef = dual.positions.clone();
-    let corners: Vec<DVec3> = dual.corners.iter().map(|c| DVec3::new(c[0].into(), c[1].into(), c[2].into())).collect();
-    let staircase = TriangleMesh {
-        vertices: corners.clone(),
-        triangles: dual.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect(),
-        groups: Vec::new(),
+    let safe = {
+        let staircase = TriangleMesh {
+            vertices: dual.corners.par_iter().map(|c| DVec3::new(c[0].into(), c[1].into(), c[2].into())).collect(),
+            triangles: dual.quads.par_iter().flat_map_iter(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect(),
+            groups: Vec::new(),
+        };
+        match separated_vertices(&staircase) {
+            Ok(moved) => moved,
+            Err(_) => staircase.vertices,
+        }
     };
-    let safe = separate(&staircase).map(|m| m.vertices).unwrap_or(corners);
-    drop(staircase);
     // Each vertex's step down WEIGHTS (its length: weight 0).
     let mut step = vec![0_usize; n];
     let weight = |step: usize| WEIGHTS.get(step).copied().unwrap_or(0.0);
@@ -139,12 +142,6 @@ fn split_all(dual: &DualMesh) -> Vec<[u32; 3]> {
 /// The vertices where crossings may start (module doc).
 fn risky_vertices(dual: &DualMesh) -> Vec<bool> {
     let n = dual.positions.len();
-    let mut fans: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for (f, q) in dual.quads.iter().enumerate() {
-        for &v in q {
-            fans[v as usize].push(f as u32);
-        }
-    }
     (0..n)
         .into_par_iter()
         .with_min_len(4096)
@@ -157,7 +154,7 @@ fn risky_vertices(dual: &DualMesh) -> Vec<bool> {
             if shared {
                 return true;
             }
-            let fan = &fans[v];
+            let fan = dual.fans.of_vertex(v);
             let mut directions = 0u8;
             for &f in fan {
                 directions |= 1 << dual.faces[f as usize].direction;
@@ -188,47 +185,56 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
     // Blocks of 4 voxels a side within one of a risky vertex's block: they hold every
     // voxel corner within two of it.
     let block = |c: [u32; 3]| c.map(|x| i64::from(x >> 2));
-    let mut near: FxHashSet<[i64; 3]> = FxHashSet::default();
-    for (v, _) in risky.iter().enumerate().filter(|(_, r)| **r) {
-        let b = block(dual.corners[v]);
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    near.insert([b[0] + dx, b[1] + dy, b[2] + dz]);
-                }
-            }
-        }
-    }
-    // The triangles of faces with a corner there, in a grid of unit cells by their boxes.
+    let mut around: Vec<[i64; 3]> = (0..risky.len())
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter(|&v| risky[v])
+        .flat_map_iter(|v| {
+            let b = block(dual.corners[v]);
+            (-1..=1).flat_map(move |dx| {
+                (-1..=1).flat_map(move |dy| (-1..=1).map(move |dz| [b[0] + dx, b[1] + dy, b[2] + dz]))
+            })
+        })
+        .collect();
+    around.par_sort_unstable();
+    around.dedup();
+    let near: FxHashSet<[i64; 3]> = around.into_iter().collect();
+    // The triangles of faces with a corner there, listed in every unit cell their boxes
+    // meet, sorted by cell (so each cell's list is a slice, its triangles ascending).
     let position = |v: u32| dual.positions[v as usize];
-    let mut grid: FxHashMap<[i64; 3], Vec<u32>> = FxHashMap::default();
-    for (f, q) in dual.quads.iter().enumerate() {
-        if !q.iter().any(|&v| near.contains(&block(dual.corners[v as usize]))) {
-            continue;
-        }
-        for t in [2 * f, 2 * f + 1] {
-            let p = triangles[t].map(position);
-            let (lo, hi) = (p[0].min(p[1]).min(p[2]).floor(), p[0].max(p[1]).max(p[2]).floor());
-            for x in lo.x as i64..=hi.x as i64 {
-                for y in lo.y as i64..=hi.y as i64 {
-                    for z in lo.z as i64..=hi.z as i64 {
-                        grid.entry([x, y, z]).or_default().push(t as u32);
-                    }
-                }
-            }
-        }
-    }
-    let mut cells: Vec<(&[i64; 3], &Vec<u32>)> = grid.iter().collect();
-    cells.sort_unstable_by_key(|(k, _)| **k);
+    let mut listed: Vec<([i64; 3], u32)> = (0..dual.quads.len())
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter(|&f| dual.quads[f].iter().any(|&v| near.contains(&block(dual.corners[v as usize]))))
+        .flat_map_iter(|f| {
+            [2 * f, 2 * f + 1].into_iter().flat_map(move |t| {
+                let p = triangles[t].map(position);
+                let (lo, hi) = (p[0].min(p[1]).min(p[2]).floor(), p[0].max(p[1]).max(p[2]).floor());
+                (lo.x as i64..=hi.x as i64).flat_map(move |x| {
+                    (lo.y as i64..=hi.y as i64)
+                        .flat_map(move |y| (lo.z as i64..=hi.z as i64).map(move |z| ([x, y, z], t as u32)))
+                })
+            })
+        })
+        .collect();
+    listed.par_sort_unstable();
+    let starts: Vec<usize> = (0..listed.len())
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter(|&i| i == 0 || listed[i].0 != listed[i - 1].0)
+        .chain(rayon::iter::once(listed.len()))
+        .collect();
     let is_risky = |t: u32| triangles[t as usize].iter().any(|&v| risky[v as usize]);
     // A pair whose boxes meet is tested only in the cell holding the low corner of
     // their intersection (it is in both lists), not again in every cell they share.
-    let pairs: Vec<(u32, u32)> = cells
-        .par_iter()
-        .flat_map_iter(|&(cell, list)| {
+    let pairs: Vec<(u32, u32)> = starts
+        .par_windows(2)
+        .flat_map_iter(|w| {
+            let cell = listed[w[0]].0;
+            let list = &listed[w[0]..w[1]];
             let mut found = Vec::new();
-            for (i, &s) in list.iter().enumerate() {
-                for &t in &list[i + 1..] {
+            for (i, &(_, s)) in list.iter().enumerate() {
+                for &(_, t) in &list[i + 1..] {
                     if !(is_risky(s) || is_risky(t)) {
                         continue;
                     }
@@ -239,7 +245,7 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
                         continue;
                     }
                     let low = alo.floor().max(blo.floor());
-                    if [low.x as i64, low.y as i64, low.z as i64] != *cell {
+                    if [low.x as i64, low.y as i64, low.z as i64] != cell {
                         continue;
                     }
                     if triangles_cross(triangles[s as usize], a, triangles[t as usize], b) {
@@ -252,7 +258,7 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
         .collect();
     let mut vertices: Vec<u32> =
         pairs.iter().flat_map(|&(s, t)| triangles[s as usize].into_iter().chain(triangles[t as usize])).collect();
-    vertices.sort_unstable();
+    vertices.par_sort_unstable();
     vertices.dedup();
     vertices
 }

@@ -15,6 +15,21 @@
 //! blocks) tries it again. Self-intersection is tested on the block's result, and
 //! only a block whose result clashes tests each collapse ([`simplify_block`]).
 //!
+//! **Refusals remembered across rounds.** Whether a collapse passes depends on the
+//! faces around its two ends (the region), their corners' positions, quadrics and
+//! bounds, and the faces' cones, and on two things outside the region: the block's box
+//! (the link strictly inside it, the candidate point inside it) and, when each
+//! collapse is tested, the faces near it. A refusal where every candidate failed for
+//! a reason of the region alone (`Local::refusal_kept`), on a region no collapse of
+//! the block had touched, is handed back with the edge's cost; a later round skips the
+//! edge, and takes its cost as it was, while no vertex of its region (its ends and
+//! their neighbours) has moved since (`BlockInput::moved_in`). That is exact: a
+//! collapse changes only the faces around its two ends, and leaves its kept vertex,
+//! moved, in every face it makes, so a region with no vertex moved is the region that
+//! was refused, and the same checks refuse it again. The late rounds, which try every
+//! edge for a few collapses, then try only the edges near a change or at a block's
+//! border.
+//!
 //! With a normal limit ([`Limits::max_turn`]) every face carries its normal bound
 //! (module `normal`): its cone of input normals, worked out for a candidate's fan after
 //! its distance bound passes.
@@ -51,6 +66,11 @@ pub(crate) struct BlockInput<'a> {
     pub own: &'a [u32],
     /// The halo (indices into `faces`, ascending).
     pub halo: &'a [u32],
+    /// Each vertex's last round moved in (0: never).
+    pub moved_in: &'a [u32],
+    /// Edges refused in an earlier round on their neighbourhood alone, by global ends
+    /// in the order tried, with that round and their cost's bits then (module doc).
+    pub refused: &'a FxHashMap<(u32, u32), (u32, u64)>,
 }
 
 /// The limits every collapse keeps.
@@ -76,6 +96,9 @@ pub(crate) struct BlockOutput {
     pub moved: Vec<(u32, DVec3, Quadric, f64)>,
     /// Collapses made.
     pub collapses: usize,
+    /// Edges refused on the snapshot's neighbourhood for reasons the block's box has
+    /// no part in (global ends in the order tried), with their cost's bits.
+    pub refused: Vec<((u32, u32), u64)>,
 }
 
 /// The block's working mesh, in local vertex indices.
@@ -102,6 +125,11 @@ struct Local {
     query: u32,
     /// When collapses are tested for self-intersection.
     test: ClashTest,
+    /// Whether the last refused collapse was refused for reasons of its neighbourhood
+    /// alone (not the block's box, not a clash).
+    refusal_kept: bool,
+    /// Edges refused so, global ends, with their cost's bits.
+    refused: Vec<((u32, u32), u64)>,
     /// Face ids by grid cell (stale ids of dead faces left in), over the box
     /// `min..max` in cells of side `cell`, `dims` along the axes.
     grid: Vec<Vec<u32>>,
@@ -151,15 +179,19 @@ fn collapse_all(input: &BlockInput, limits: &Limits, test: ClashTest) -> (Local,
         if local.free[a as usize] {
             for b in local.neighbours(a) {
                 if a < b && local.free[b as usize] {
-                    local.push(&mut heap, a, b);
+                    let cost = local.cost_before(input, a, b).unwrap_or_else(|| local.cost(a, b));
+                    local.push_priced(&mut heap, a, b, cost);
                 }
             }
         }
     }
     let mut collapses = 0;
-    while let Some(Reverse((_, _, a, b, sa, sb))) = heap.pop() {
+    while let Some(Reverse((cost, _, a, b, sa, sb))) = heap.pop() {
         let (ua, ub) = (a as usize, b as usize);
         if !local.alive_vertex[ua] || !local.alive_vertex[ub] || local.stamp[ua] != sa || local.stamp[ub] != sb {
+            continue;
+        }
+        if local.refused_before(input, a, b) && local.untouched(a, b) {
             continue;
         }
         if local.try_collapse(a, b, limits) {
@@ -169,6 +201,8 @@ fn collapse_all(input: &BlockInput, limits: &Limits, test: ClashTest) -> (Local,
                     local.push(&mut heap, a.min(c), a.max(c));
                 }
             }
+        } else if local.refusal_kept && local.untouched(a, b) {
+            local.refused.push(((local.global[ua], local.global[ub]), cost));
         }
     }
     (local, collapses)
@@ -194,6 +228,8 @@ impl Local {
             seen: Vec::new(),
             query: 0,
             test,
+            refusal_kept: false,
+            refused: Vec::new(),
             grid: Vec::new(),
             min: input.min,
             max: input.max,
@@ -298,6 +334,34 @@ impl Local {
         out
     }
 
+    /// Whether edge `a b` (local, as tried) was refused in an earlier round on its
+    /// neighbourhood alone and no vertex of its neighbourhood now (its ends and their
+    /// neighbours) has moved in a round since: with [`Local::untouched`], every face
+    /// around either end is as it was then (a collapse that changed one left its kept
+    /// vertex, moved, among them), so it would be refused again.
+    fn refused_before(&self, input: &BlockInput, a: u32, b: u32) -> bool {
+        let Some(&(round, _)) = input.refused.get(&(self.global[a as usize], self.global[b as usize])) else {
+            return false;
+        };
+        let unmoved = |v: u32| input.moved_in[self.global[v as usize] as usize] < round;
+        unmoved(a) && unmoved(b) && self.neighbours(a).into_iter().chain(self.neighbours(b)).all(unmoved)
+    }
+
+    /// The cost of edge `a b` (local, as tried, both unmoved in this block) when it
+    /// was refused in an earlier round and neither end has moved since.
+    fn cost_before(&self, input: &BlockInput, a: u32, b: u32) -> Option<u64> {
+        let (ga, gb) = (self.global[a as usize], self.global[b as usize]);
+        let &(round, cost) = input.refused.get(&(ga, gb))?;
+        (input.moved_in[ga as usize] < round && input.moved_in[gb as usize] < round).then_some(cost)
+    }
+
+    /// Whether no collapse of this block has touched the neighbourhood of `a b` (its
+    /// ends and their neighbours): it is then the snapshot's.
+    fn untouched(&self, a: u32, b: u32) -> bool {
+        let fresh = |v: u32| self.stamp[v as usize] == 0;
+        fresh(a) && fresh(b) && self.neighbours(a).into_iter().chain(self.neighbours(b)).all(fresh)
+    }
+
     /// The candidate points of edge `a b` and their quadric costs, cheapest first
     /// (ties in the order minimiser, `a`, `b`, midpoint).
     fn candidates(&self, a: u32, b: u32) -> [(f64, DVec3); 4] {
@@ -309,18 +373,29 @@ impl Local {
         c
     }
 
+    /// The bits of edge `a b`'s cost, its cheapest candidate's.
+    fn cost(&self, a: u32, b: u32) -> u64 {
+        self.candidates(a, b)[0].0.to_bits()
+    }
+
     fn push(&self, heap: &mut BinaryHeap<Entry>, a: u32, b: u32) {
-        let cost = self.candidates(a, b)[0].0;
+        self.push_priced(heap, a, b, self.cost(a, b));
+    }
+
+    fn push_priced(&self, heap: &mut BinaryHeap<Entry>, a: u32, b: u32, cost: u64) {
         let length = (self.position[a as usize] - self.position[b as usize]).length_squared();
-        heap.push(Reverse((cost.to_bits(), length.to_bits(), a, b, self.stamp[a as usize], self.stamp[b as usize])));
+        heap.push(Reverse((cost, length.to_bits(), a, b, self.stamp[a as usize], self.stamp[b as usize])));
     }
 
     /// Collapses `a b` into `a` at the cheapest candidate that passes every check.
+    /// A refusal says in [`Local::refusal_kept`] whether it is the neighbourhood's alone.
     fn try_collapse(&mut self, a: u32, b: u32, limits: &Limits) -> bool {
         let (ua, ub) = (a as usize, b as usize);
+        self.refusal_kept = false;
         if !self.free[ua] || !self.free[ub] {
             return false;
         }
+        self.refusal_kept = true;
         // The region: faces around a or b; exactly two hold both.
         let mut region: SmallVec<[u32; 24]> = self.incident[ua].iter().chain(&self.incident[ub]).copied().collect();
         region.sort_unstable();
@@ -370,6 +445,7 @@ impl Local {
         }
         let link_inside = fan.iter().all(|(t, _)| t.iter().all(|&v| v == a || self.interior[v as usize]));
         if !link_inside {
+            self.refusal_kept = false;
             return false;
         }
         let old: SmallVec<[[DVec3; 3]; 24]> = region.iter().map(|&f| self.corners(self.faces[f as usize])).collect();
@@ -387,7 +463,11 @@ impl Local {
         };
         let candidates = self.candidates(a, b);
         for (i, &(_, x)) in candidates.iter().enumerate() {
-            if candidates[..i].iter().any(|&(_, y)| y == x) || !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
+            if candidates[..i].iter().any(|&(_, y)| y == x) {
+                continue;
+            }
+            if !(x.cmpgt(self.min).all() && x.cmplt(self.max).all()) {
+                self.refusal_kept = false;
                 continue;
             }
             let at = |v: u32| if v == a { x } else { self.position[v as usize] };
@@ -431,6 +511,7 @@ impl Local {
                 _ => SmallVec::from_elem(Cone::default(), fan.len()),
             };
             if self.test == ClashTest::EachCollapse && self.clashes(&new, &region) {
+                self.refusal_kept = false;
                 continue;
             }
             self.apply(a, b, x, &fan, &cones, &region, bound);
@@ -565,7 +646,7 @@ impl Local {
     }
 
     fn output(self, collapses: usize) -> BlockOutput {
-        let mut out = BlockOutput { collapses, ..BlockOutput::default() };
+        let mut out = BlockOutput { collapses, refused: self.refused, ..BlockOutput::default() };
         for f in 0..self.faces.len() {
             if self.alive[f] && self.own[f] {
                 out.faces.push(self.faces[f].map(|v| self.global[v as usize]));
