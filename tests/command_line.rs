@@ -4,6 +4,10 @@
 //! `mod common;` resolves from `tests/`. Run one suite with its module's name as the
 //! filter: `cargo test --release --test command_line readme_walkthrough::`.
 
+// Every suite keeps its own `mod common;`, as when it was a crate of its own, so a
+// file of tests/common/ is a module of each suite that uses it.
+#![allow(clippy::duplicate_mod)]
+
 #[path = "chapter.rs"]
 mod chapter;
 #[path = "cli.rs"]

@@ -9,6 +9,10 @@
 //! `tests/writer_budgets.rs` stays one: its counting global allocator measures the
 //! whole process, which the other suites' tests would share.
 
+// Every suite keeps its own `mod common;`, as when it was a crate of its own, so a
+// file of tests/common/ is a module of each suite that uses it.
+#![allow(clippy::duplicate_mod)]
+
 #[path = "appearance.rs"]
 mod appearance;
 #[path = "boundary.rs"]
