@@ -73,7 +73,7 @@ pub(crate) fn fan_within_cone(
             0 | 2 | 3 => None,
             _ => {
                 let c = std::array::from_fn::<DVec3, 3, _>(|k| if inside[k] { point } else { corners[k] });
-                Some((c[1] - c[0]).cross(c[2] - c[0]).try_normalize().map_or(false, |m| m.dot(normal) >= least_cosine))
+                Some((c[1] - c[0]).cross(c[2] - c[0]).try_normalize().is_some_and(|m| m.dot(normal) >= least_cosine))
             }
         };
         n.dot(normal) >= least_cosine && merged.unwrap_or(true)
