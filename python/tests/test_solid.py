@@ -96,13 +96,18 @@ def test_a_normal_tolerance_turns_the_faces_less_from_the_sphere():
         corners = vertices[faces]
         normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         radial = corners.mean(axis=1) - centre
-        cosines = np.einsum("ij,ij->i", normals, radial) / np.linalg.norm(normals, axis=1) / np.linalg.norm(radial, axis=1)
-        return len(faces), np.degrees(np.arccos(np.clip(cosines, -1, 1)))
+        lengths = np.linalg.norm(normals, axis=1)
+        cosines = np.einsum("ij,ij->i", normals, radial) / lengths / np.linalg.norm(radial, axis=1)
+        turns = np.degrees(np.arccos(np.clip(cosines, -1, 1)))
+        # The share of the area turning more than 5 degrees: by area, because a few
+        # slivers the bound leaves alone (the same faces in both meshes, under 0.01% of
+        # the area) turn far whatever it is.
+        return len(faces), np.median(turns), lengths[turns > 5].sum() / lengths.sum()
 
-    loose_count, loose = faces_and_turns(None)
-    tight_count, tight = faces_and_turns(1.0)
+    loose_count, loose_median, loose_beyond = faces_and_turns(None)
+    tight_count, tight_median, tight_beyond = faces_and_turns(1.0)
     assert tight_count > loose_count
-    assert np.median(tight) < np.median(loose) and tight.max() < loose.max()
+    assert tight_median < loose_median and tight_beyond < loose_beyond / 2
     with pytest.raises(ValueError, match="normal_tolerance"):
         solid.mesh(tolerance=0.1, normal_tolerance=-1.0)
 
