@@ -13,6 +13,7 @@
 pub mod binvox;
 mod bitgrid;
 mod blosc;
+mod boundary_walk;
 pub mod exr;
 pub mod gltf;
 pub mod oct;

@@ -169,30 +169,38 @@ pub fn encode_with(tree: &LinearOctree, meta: &Metadata) -> Vec<u8> {
 pub fn encode_with_surface(tree: &LinearOctree, meta: &Metadata, surface: Option<&HermiteData>) -> Vec<u8> {
     let d = tree.domain();
     let version = if *meta == Metadata::default() { PLAIN_VERSION } else { VERSION };
-    let mut payload = Vec::with_capacity(tree.node_count() * 2);
+    // The payload is written in place after room for the header, which follows it.
+    let mut out = vec![0u8; HEADER_BYTES];
+    out.reserve(tree.node_count() * 2);
     let mut end = 0u64;
     for key in tree.keys() {
-        let value = (u128::from(key.start() - end) << 5) | u128::from(key.k());
-        write_varint(&mut payload, value);
+        let gap = key.start() - end;
+        // Gaps below 2^59 (every one but in the deepest, emptiest domains) fit a u64.
+        if gap < 1 << 59 {
+            write_short_varint(&mut out, (gap << 5) | u64::from(key.k()));
+        } else {
+            write_varint(&mut out, (u128::from(gap) << 5) | u128::from(key.k()));
+        }
         end = key.end();
     }
-    let mut out = Vec::with_capacity(HEADER_BYTES + payload.len());
-    out.extend_from_slice(&MAGIC);
-    out.extend_from_slice(&version.to_le_bytes());
+    let payload_len = out.len() - HEADER_BYTES;
+    let mut header = Vec::with_capacity(HEADER_BYTES);
+    header.extend_from_slice(&MAGIC);
+    header.extend_from_slice(&version.to_le_bytes());
     let flags = if surface.is_some() { SURFACE_FLAG } else { 0 };
-    out.extend_from_slice(&flags.to_le_bytes());
+    header.extend_from_slice(&flags.to_le_bytes());
     let [up, units] = meta.codes();
-    out.extend_from_slice(&[d.depth(), up, units, 0]);
+    header.extend_from_slice(&[d.depth(), up, units, 0]);
     for v in [d.min().x, d.min().y, d.min().z, d.edge()] {
-        out.extend_from_slice(&v.to_le_bytes());
+        header.extend_from_slice(&v.to_le_bytes());
     }
-    for v in [tree.node_count() as u64, tree.voxel_count(), payload.len() as u64] {
-        out.extend_from_slice(&v.to_le_bytes());
+    for v in [tree.node_count() as u64, tree.voxel_count(), payload_len as u64] {
+        header.extend_from_slice(&v.to_le_bytes());
     }
-    let crc = checksum(&out, &payload);
-    out.extend_from_slice(&crc.to_le_bytes());
-    out.extend_from_slice(&[0; 4]);
-    out.extend_from_slice(&payload);
+    let crc = checksum(&header, &out[HEADER_BYTES..]);
+    header.extend_from_slice(&crc.to_le_bytes());
+    header.extend_from_slice(&[0; 4]);
+    out[..HEADER_BYTES].copy_from_slice(&header);
     if let Some(surface) = surface {
         oct_surface::encode(surface, &mut out);
     }
@@ -252,6 +260,20 @@ fn checksum(header: &[u8], payload: &[u8]) -> u32 {
     h.finalize()
 }
 
+/// [`write_varint`] of a value that fits a `u64`, written in one piece.
+#[inline]
+fn write_short_varint(out: &mut Vec<u8>, mut v: u64) {
+    let mut bytes = [0u8; 10];
+    let mut len = 0;
+    while v >= 0x80 {
+        bytes[len] = (v as u8) | 0x80;
+        v >>= 7;
+        len += 1;
+    }
+    bytes[len] = v as u8;
+    out.extend_from_slice(&bytes[..=len]);
+}
+
 fn write_varint(out: &mut Vec<u8>, mut v: u128) {
     while v >= 0x80 {
         out.push((v as u8) | 0x80);
@@ -261,7 +283,18 @@ fn write_varint(out: &mut Vec<u8>, mut v: u128) {
 }
 
 /// Reads a varint at `*pos`; `None` when truncated or longer than 19 bytes.
+#[inline]
 fn read_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
+    // Most nodes' varint is one byte: touching nodes of up to 16^3 voxels.
+    let b = *bytes.get(*pos)?;
+    if b & 0x80 == 0 {
+        *pos += 1;
+        return Some(u128::from(b));
+    }
+    read_long_varint(bytes, pos)
+}
+
+fn read_long_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
     let mut v = 0u128;
     for shift in (0..128).step_by(7).take(19) {
         let b = *bytes.get(*pos)?;
@@ -315,26 +348,36 @@ pub fn decode_and_surface(
         return Err(fail(48, format!("{} nodes cannot fit in {} payload bytes", header.nodes, payload.len())));
     }
     budget.check(format!("loading {}", path.display()), header.nodes.saturating_mul(8))?;
-    let keys = decode_nodes(payload, &header, path)?;
-    // Canonical form (no eight full siblings), named by the node's offset.
-    let tree = LinearOctree::from_keys(header.domain, keys).map_err(|e| match e {
-        Error::InvalidOctree { index, reason } => {
-            let mut pos = 0;
-            for _ in 0..index {
-                read_varint(payload, &mut pos);
+    let decode_tree = || {
+        let keys = decode_nodes(payload, &header, path)?;
+        // Canonical form (no eight full siblings), named by the node's offset.
+        LinearOctree::from_ordered_keys(header.domain, keys).map_err(|e| match e {
+            Error::InvalidOctree { index, reason } => {
+                let mut pos = 0;
+                for _ in 0..index {
+                    read_varint(payload, &mut pos);
+                }
+                fail(HEADER_BYTES + pos, format!("node {index}: {reason}"))
             }
-            fail(HEADER_BYTES + pos, format!("node {index}: {reason}"))
-        }
-        other => other,
-    })?;
-    let surface = match header.surface {
-        true => {
-            let budget = MemoryBudget(budget.0.saturating_sub(tree.bytes() as u64));
-            Some(oct_surface::decode(&bytes[payload_end..], payload_end, &tree, path, budget)?)
-        }
-        false => None,
+            other => other,
+        })
     };
-    Ok((tree, header.meta, surface))
+    if !header.surface {
+        return Ok((decode_tree()?, header.meta, None));
+    }
+    // The section is parsed while the nodes are decoded (it needs only the domain
+    // until its faces are checked against them); the nodes' errors come first, as
+    // from a reader in file order. Its budget is what the tree leaves: the tree holds
+    // its struct and exactly the header's count of keys.
+    let tree_bytes = (std::mem::size_of::<LinearOctree>() as u64)
+        .saturating_add(header.nodes.saturating_mul(std::mem::size_of::<NodeKey>() as u64));
+    let section_budget = MemoryBudget(budget.0.saturating_sub(tree_bytes));
+    let section = || oct_surface::parse(&bytes[payload_end..], payload_end, &header.domain, path, section_budget);
+    let (tree, section) = rayon::join(decode_tree, section);
+    let tree = tree?;
+    debug_assert_eq!(tree.bytes() as u64, tree_bytes);
+    let surface = section?.check_against(&tree)?;
+    Ok((tree, header.meta, Some(surface)))
 }
 
 /// Checks the header: magic, version, reserved bytes, depth, domain, metadata codes,
@@ -422,7 +465,7 @@ fn decode_nodes(payload: &[u8], header: &Header, path: &Path) -> Result<Vec<Node
             return Err(fail(at, format!("node {index}: starts beyond the domain's {total} voxels")));
         };
         let len = 1u64 << (3 * k);
-        if start % len != 0 {
+        if start & (len - 1) != 0 {
             return Err(fail(at, format!("node {index}: start {start} is not aligned to its size {len}")));
         }
         if start + len > total {

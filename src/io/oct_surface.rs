@@ -33,8 +33,10 @@ use rayon::prelude::*;
 
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::octree::LinearOctree;
-use crate::surface::{Crossing, FaceKey, HermiteData, is_boundary_face};
+use crate::octree::{Domain, LinearOctree};
+use crate::surface::{Crossing, FaceKey, HermiteData};
+
+use super::boundary_walk::first_not_on_boundary;
 
 /// The first four bytes of the section.
 pub(crate) const SECTION_MAGIC: [u8; 4] = *b"SURF";
@@ -44,12 +46,25 @@ pub(crate) const SECTION_VERSION: u16 = 1;
 pub(crate) const SECTION_HEADER_BYTES: usize = 24;
 /// The fewest bytes a face's record takes: a one-byte varint, `t` and the normal.
 const MIN_RECORD_BYTES: u64 = 7;
+/// Faces a task of the writer encodes.
+const ENCODE_CHUNK: usize = 1 << 15;
 /// Largest code of a `u16` field, as a float.
 const CODE_MAX: f64 = 65535.0;
 
 /// `t` in `0..=1` as its `u16` code.
 pub(crate) fn encode_t(t: f32) -> u16 {
-    (f64::from(t).clamp(0.0, 1.0) * CODE_MAX).round() as u16
+    round_code(f64::from(t).clamp(0.0, 1.0) * CODE_MAX)
+}
+
+/// `x.round() as u16` for `x` in `0..=65535` or NaN (which gives 0): the nearest
+/// integer, halves away from zero. Without SSE4.1 (the baseline x86-64 target) Rust's
+/// `f64::round` is a call into a software routine, some fifty instructions, three a
+/// face; here a truncation and one comparison of the remainder, which is exact (`x`
+/// minus its integer part has fewer significant bits than `x`).
+#[inline]
+fn round_code(x: f64) -> u16 {
+    let whole = x as u16;
+    whole + u16::from(x - f64::from(whole) >= 0.5)
 }
 
 /// The `t` a code stands for.
@@ -72,7 +87,7 @@ pub(crate) fn encode_normal(n: Vec3) -> [u16; 2] {
     } else {
         DVec2::new((1.0 - n.y.abs()) * sign_not_zero(n.x), (1.0 - n.x.abs()) * sign_not_zero(n.y))
     };
-    let code = |c: f64| ((c.clamp(-1.0, 1.0) * 0.5 + 0.5) * CODE_MAX).round() as u16;
+    let code = |c: f64| round_code((c.clamp(-1.0, 1.0) * 0.5 + 0.5) * CODE_MAX);
     [code(p.x), code(p.y)]
 }
 
@@ -107,42 +122,91 @@ impl HermiteData {
 }
 
 /// Appends the section of `surface` to `out`.
+///
+/// The records are encoded in chunks in parallel: a record depends only on its face
+/// and the face before it, which every chunk can read, so the bytes are those of one
+/// pass in order whatever the threads.
 pub(crate) fn encode(surface: &HermiteData, out: &mut Vec<u8>) {
-    let mut body = Vec::with_capacity(surface.len() * 8);
-    let mut previous = 0u64;
-    for (key, crossing) in surface.faces() {
-        write_varint(&mut body, (u128::from(key.voxel - previous) << 3) | u128::from(key.direction));
-        previous = key.voxel;
-        body.extend_from_slice(&encode_t(crossing.t).to_le_bytes());
-        for code in encode_normal(crossing.normal) {
-            body.extend_from_slice(&code.to_le_bytes());
-        }
-    }
+    let faces = surface.faces();
+    let chunks: Vec<Vec<u8>> = faces
+        .par_chunks(ENCODE_CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let previous = c.checked_sub(1).map_or(0, |p| faces[(p + 1) * ENCODE_CHUNK - 1].0.voxel);
+            encode_records(chunk, previous)
+        })
+        .collect();
+    let body_len: usize = chunks.iter().map(Vec::len).sum();
+    out.reserve(SECTION_HEADER_BYTES + body_len + 4);
     let start = out.len();
     out.extend_from_slice(&SECTION_MAGIC);
     out.extend_from_slice(&SECTION_VERSION.to_le_bytes());
     out.extend_from_slice(&0u16.to_le_bytes());
     out.extend_from_slice(&(surface.len() as u64).to_le_bytes());
-    out.extend_from_slice(&(body.len() as u64).to_le_bytes());
-    out.extend_from_slice(&body);
+    out.extend_from_slice(&(body_len as u64).to_le_bytes());
+    for chunk in &chunks {
+        out.extend_from_slice(chunk);
+    }
     let crc = crc32fast::hash(&out[start..]);
     out.extend_from_slice(&crc.to_le_bytes());
 }
 
-/// Parses and checks the section `bytes` (from its magic to the file's end), which
-/// starts at byte `base` of the file `path`, against the file's solid `tree`.
-pub(crate) fn decode(
-    bytes: &[u8],
+/// The records of `faces`, the face before the first at voxel `previous`.
+fn encode_records(faces: &[(FaceKey, Crossing)], mut previous: u64) -> Vec<u8> {
+    let mut body = Vec::with_capacity(faces.len() * 8);
+    for (key, crossing) in faces {
+        // A varint of at most ten bytes, then `t` and the normal's codes.
+        let mut record = [0u8; 16];
+        let mut len = put_varint(&mut record, (u128::from(key.voxel - previous) << 3) | u128::from(key.direction));
+        previous = key.voxel;
+        let [x, y] = encode_normal(crossing.normal);
+        for code in [encode_t(crossing.t), x, y] {
+            record[len..len + 2].copy_from_slice(&code.to_le_bytes());
+            len += 2;
+        }
+        body.extend_from_slice(&record[..len]);
+    }
+    body
+}
+
+/// A section's faces as parsed, each record checked on its own and against the one
+/// before, not yet against the solid ([`ParsedSection::check_against`]).
+pub(crate) struct ParsedSection<'a> {
+    faces: Vec<(FaceKey, Crossing)>,
+    /// The records, for the offset of a face refused.
+    body: &'a [u8],
+    /// The section's offset in the file, and the file.
     base: usize,
-    tree: &LinearOctree,
-    path: &Path,
-    budget: MemoryBudget,
-) -> Result<HermiteData> {
-    let fail = |offset: usize, reason: String| Error::Format {
+    path: &'a Path,
+}
+
+/// The error at byte `offset` of the section that starts at byte `base` of `path`.
+fn section_error(path: &Path, base: usize, offset: usize, reason: String) -> Error {
+    Error::Format {
         path: path.to_path_buf(),
         offset: (base + offset) as u64,
         reason: format!("surface section: {reason}"),
-    };
+    }
+}
+
+/// Parses and checks the section `bytes` (from its magic to the file's end), which
+/// starts at byte `base` of the file `path`, against the file's solid `tree`.
+#[cfg(test)]
+fn decode(bytes: &[u8], base: usize, tree: &LinearOctree, path: &Path, budget: MemoryBudget) -> Result<HermiteData> {
+    parse(bytes, base, tree.domain(), path, budget)?.check_against(tree)
+}
+
+/// Parses the section `bytes` (from its magic to the file's end), which starts at byte
+/// `base` of the file `path` of a solid in `domain`: everything but its faces' check
+/// against the solid, which needs only the domain.
+pub(crate) fn parse<'a>(
+    bytes: &'a [u8],
+    base: usize,
+    domain: &Domain,
+    path: &'a Path,
+    budget: MemoryBudget,
+) -> Result<ParsedSection<'a>> {
+    let fail = |offset: usize, reason: String| section_error(path, base, offset, reason);
     if bytes.len() < SECTION_HEADER_BYTES + 4 {
         return Err(fail(
             bytes.len(),
@@ -183,7 +247,7 @@ pub(crate) fn decode(
     let face_bytes = std::mem::size_of::<(FaceKey, Crossing)>() as u64;
     budget.check(format!("loading the surface of {}", path.display()), count.saturating_mul(face_bytes))?;
     let body = &bytes[SECTION_HEADER_BYTES..crc_at];
-    let total = tree.domain().voxel_total();
+    let total = domain.voxel_total();
     let mut faces = Vec::with_capacity(count as usize);
     let mut pos = 0usize;
     let mut previous: Option<FaceKey> = None;
@@ -229,18 +293,30 @@ pub(crate) fn decode(
     if faces.len() as u64 != count {
         return Err(fail(crc_at, format!("{} faces found, its header says {count}", faces.len())));
     }
-    if let Some(index) = faces.par_iter().position_first(|(key, _)| !is_boundary_face(tree, *key)) {
-        let (key, _) = faces[index];
-        return Err(fail(
-            record_offset(body, index),
-            format!(
-                "face {index} (voxel {:?}, direction {}) is not a boundary face of the solid (a full voxel beside an empty one)",
-                key.voxel(),
-                key.direction
-            ),
-        ));
+    Ok(ParsedSection { faces, body, base, path })
+}
+
+impl ParsedSection<'_> {
+    /// The section's data once every face is found a boundary face of `tree`, the
+    /// file's solid (a full voxel beside an empty one or the domain's side).
+    pub(crate) fn check_against(self, tree: &LinearOctree) -> Result<HermiteData> {
+        let faces = self.faces;
+        if let Some(index) = first_not_on_boundary(tree, &faces, |(key, _)| *key) {
+            let (key, _) = faces[index];
+            return Err(section_error(
+                self.path,
+                self.base,
+                record_offset(self.body, index),
+                format!(
+                    "face {index} (voxel {:?}, direction {}) is not a boundary face of the solid (a full voxel beside an empty one)",
+                    key.voxel(),
+                    key.direction
+                ),
+            ));
+        }
+        // Strictly increasing, as checked record by record: no sort.
+        Ok(HermiteData::from_sorted(faces))
     }
-    Ok(HermiteData::from_faces(faces))
 }
 
 /// The offset in the section of face `index`'s record (the body is known to parse).
@@ -253,17 +329,32 @@ fn record_offset(body: &[u8], index: usize) -> usize {
     SECTION_HEADER_BYTES + pos
 }
 
-fn write_varint(out: &mut Vec<u8>, mut v: u128) {
+/// Writes `v` as a varint at the start of `out`; returns its length.
+fn put_varint(out: &mut [u8; 16], mut v: u128) -> usize {
+    let mut len = 0;
     while v >= 0x80 {
-        out.push((v as u8) | 0x80);
+        out[len] = (v as u8) | 0x80;
         v >>= 7;
+        len += 1;
     }
-    out.push(v as u8);
+    out[len] = v as u8;
+    len + 1
 }
 
 /// Reads a varint at `*pos`; `None` when truncated or longer than 10 bytes (a voxel
 /// gap of 63 bits and a direction take at most ten).
+#[inline]
 fn read_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
+    // Most records' varint is one byte: the faces of one voxel, or of the next.
+    let b = *bytes.get(*pos)?;
+    if b & 0x80 == 0 {
+        *pos += 1;
+        return Some(u128::from(b));
+    }
+    read_long_varint(bytes, pos)
+}
+
+fn read_long_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
     let mut v = 0u128;
     for shift in (0..70).step_by(7) {
         let b = *bytes.get(*pos)?;
@@ -332,6 +423,21 @@ mod tests {
                 let n = decode_normal([x, y]);
                 assert!(n.is_finite() && (n.length() - 1.0).abs() < 1e-6, "[{x}, {y}] -> {n}");
             }
+        }
+    }
+
+    #[test]
+    fn codes_round_as_the_library_rounds() {
+        let mut rng = crate::test_util::Rng(11);
+        let below_half = 0.5f64.next_down();
+        let mut cases = vec![f64::NAN, 0.0, below_half, 0.5, 65534.5, 65535.0, 65534.5f64.next_down()];
+        for i in 0..=65535u16 {
+            let x = f64::from(i);
+            cases.extend([x, x + 0.5, (x + 0.5).next_down(), (x + 0.5).next_up(), x.next_up()]);
+        }
+        cases.extend((0..100_000).map(|_| rng.range(0.0, 65535.0)));
+        for x in cases.into_iter().filter(|x| x.is_nan() || *x <= 65535.0) {
+            assert_eq!(round_code(x), x.round() as u16, "{x:e}");
         }
     }
 

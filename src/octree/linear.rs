@@ -103,6 +103,17 @@ impl LinearOctree {
         Ok(tree)
     }
 
+    /// An octree from keys a reader decoded in range, sorted and disjoint (its format
+    /// gives them so by construction), checked to be canonical: the check of
+    /// [`LinearOctree::from_keys`] without the parts the decoding made.
+    pub(crate) fn from_ordered_keys(domain: Domain, keys: Vec<NodeKey>) -> Result<Self> {
+        debug_assert!(keys.iter().all(|k| k.end() <= domain.voxel_total()), "a key outside the domain");
+        debug_assert!(keys.windows(2).all(|w| w[0].end() <= w[1].start()), "keys out of order or overlapping");
+        let max_k = u32::from(domain.depth());
+        (0..keys.len()).try_for_each(|i| check_canonical(&keys, i, max_k))?;
+        Ok(LinearOctree { domain, keys })
+    }
+
     /// Checks every invariant: in range, sorted, disjoint, canonical.
     pub fn validate(&self) -> Result<()> {
         let total = self.domain.voxel_total();
@@ -115,17 +126,7 @@ impl LinearOctree {
             if i > 0 && self.keys[i - 1].end() > key.start() {
                 return bad(i, format!("{key:?} is out of order or overlaps the node before it"));
             }
-            // Canonical: a key that is the last child of its parent must not complete
-            // eight full siblings (the seven before it, each a whole sibling node).
-            if key.k() < max_k && i >= 7 {
-                let parent = key.parent();
-                if key.end() == parent.end() && self.keys[i - 7] == parent.child(0).unwrap_or(*key) {
-                    let siblings = &self.keys[i - 7..=i];
-                    if siblings.iter().all(|s| s.k() == key.k()) {
-                        return bad(i, format!("eight full siblings should be their parent {parent:?}"));
-                    }
-                }
-            }
+            check_canonical(&self.keys, i, max_k)?;
         }
         Ok(())
     }
@@ -277,4 +278,25 @@ impl LinearOctree {
             Err(Error::DomainMismatch { left: self.domain.to_string(), right: other.domain.to_string() })
         }
     }
+}
+
+/// Checks that `keys[i]` (sorted, disjoint, at most `max_k` levels) does not complete
+/// eight full siblings that should be their parent: a key that is its parent's last
+/// child, the seven before it whole siblings.
+#[inline]
+fn check_canonical(keys: &[NodeKey], i: usize, max_k: u32) -> Result<()> {
+    let key = keys[i];
+    // Most keys are not a last child (their child number, the three bits above their
+    // size in the start, is not 7): out at once.
+    if key.k() < max_k && i >= 7 && (key.start() >> (3 * key.k())) & 7 == 7 {
+        let parent = key.parent();
+        if key.end() == parent.end() && keys[i - 7] == parent.child(0).unwrap_or(key) {
+            let siblings = &keys[i - 7..=i];
+            if siblings.iter().all(|s| s.k() == key.k()) {
+                let reason = format!("eight full siblings should be their parent {parent:?}");
+                return Err(Error::InvalidOctree { index: i, reason });
+            }
+        }
+    }
+    Ok(())
 }

@@ -48,7 +48,7 @@ mod untangle;
 mod window;
 
 pub use extract::{CellMerge, DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
-pub(crate) use faces::{boundary_faces, is_boundary_face};
+pub(crate) use faces::boundary_faces;
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use offset::{offset_with_surface, round_with_surface, shell_with_surface};
 pub use resample::resample_with_surface;
