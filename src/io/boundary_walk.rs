@@ -74,7 +74,7 @@ impl<'a> Walk<'a> {
         if n >= node.start() && n < node.end() {
             return false;
         }
-        !last_starting_at_or_before(self.keys, at, n).is_some_and(|i| n < self.keys[i].end())
+        last_starting_at_or_before(self.keys, at, n).is_none_or(|i| n >= self.keys[i].end())
     }
 
     /// The Morton code of the voxel across `face`, `None` outside the domain.
