@@ -519,6 +519,15 @@ impl<'a, F: Feature> Measure<'a, F> {
         if c < exact_lo {
             return (d_cube, DVec3::ZERO);
         }
+        // Each crossing lies on a segment from the site's centre to a neighbour's (`t`
+        // in `0..=1`), so at least `max(|o_a| - 1, 0)` from `p` on each axis: a bound
+        // that spares looking the planes up (with a margin for the rounding of theirs).
+        if lazy && d_cube - 0.5 >= radius {
+            let near = o.iter().map(|&c| ((c.abs() - 1).max(0) as f64).powi(2)).sum::<f64>().sqrt();
+            if near >= radius + 1e-9 {
+                return PENDING;
+            }
+        }
         let site: [i64; 3] = std::array::from_fn(|a| p[a] + o[a]);
         let (own, count) = self.site_planes(site, cache);
         let rel = DVec3::new(o[0] as f64, o[1] as f64, o[2] as f64);
