@@ -371,14 +371,53 @@ impl Mask {
         self.0.iter().all(|&w| w == 0)
     }
 
-    /// Whether the first `v` bits are all `value`.
-    fn uniform(&self, v: usize, value: bool) -> bool {
-        let fill = if value { u64::MAX } else { 0 };
-        (0..v.div_ceil(64)).all(|w| {
-            let bits = (v - 64 * w).min(64);
-            let used = if bits == 64 { u64::MAX } else { (1 << bits) - 1 };
-            (self.0[w] ^ fill) & used == 0
+    /// The first `v` bits set.
+    fn first(v: usize) -> Mask {
+        Mask(std::array::from_fn(|w| match v.saturating_sub(64 * w) {
+            0 => 0,
+            bits if bits >= 64 => u64::MAX,
+            bits => (1 << bits) - 1,
+        }))
+    }
+
+    /// The set bits, in increasing order.
+    fn ones(self) -> impl Iterator<Item = usize> {
+        self.0.into_iter().enumerate().flat_map(|(w, mut bits)| {
+            std::iter::from_fn(move || {
+                (bits != 0).then(|| {
+                    let b = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    64 * w + b
+                })
+            })
         })
+    }
+
+    /// Of a tile of 8^3 voxels (a word a z-layer, `x + 8 y` in it), the voxels whose
+    /// bit differs from a neighbour's towards `+axis` (`next[axis][1]` beyond the tile)
+    /// or, where `below[axis]`, towards `-axis` from `next[axis][0]` beyond it.
+    fn faces_8(&self, next: &[[Mask; 2]; 3], below: [bool; 3]) -> Mask {
+        const X0: u64 = 0x0101_0101_0101_0101;
+        const X7: u64 = X0 << 7;
+        const Y0: u64 = 0xff;
+        const Y7: u64 = Y0 << 56;
+        let w = &self.0;
+        Mask(std::array::from_fn(|z| {
+            let a = w[z];
+            let mut d = ((a ^ (a >> 1)) & !X7) | ((a ^ (next[0][1].0[z] << 7)) & X7);
+            d |= ((a ^ (a >> 8)) & !Y7) | ((a ^ (next[1][1].0[z] << 56)) & Y7);
+            d |= a ^ if z < 7 { w[z + 1] } else { next[2][1].0[0] };
+            if below[0] {
+                d |= (a ^ (next[0][0].0[z] >> 7)) & X0;
+            }
+            if below[1] {
+                d |= (a ^ (next[1][0].0[z] >> 56)) & Y0;
+            }
+            if below[2] && z == 0 {
+                d |= a ^ next[2][0].0[7];
+            }
+            d
+        }))
     }
 }
 
@@ -506,11 +545,7 @@ impl<'a, F: Feature> Measure<'a, F> {
             return (f64::INFINITY, DVec3::ZERO);
         }
         let radius = self.step.radius;
-        // Four times the squared lattice distance where the sub-voxel distance is
-        // needed: it lies within [d_cube - 1/2, d_cube + sqrt 3 / 2], and a face's far
-        // end is a voxel farther.
-        let exact_lo = if radius > 1.0 { (2.0 * radius - 2.0).powi(2) } else { 0.0 };
-        let exact_hi = (2.0 * radius + 3.0).powi(2);
+        let (exact_lo, exact_hi) = self.exact_range();
         let c = cost as f64;
         let d_cube = c.sqrt() / 2.0;
         if c >= exact_hi {
@@ -582,18 +617,41 @@ impl<'a, F: Feature> Measure<'a, F> {
         let k = self.band.k;
         let t = 1usize << k;
         let min = unpack(self.band.tiles[s]).map(|c| i64::from(c) << k);
+        let v = t * t * t;
+        let (site, features) = (self.sites[s].as_deref(), &self.features[s * v..(s + 1) * v]);
+        let (exact_lo, exact_hi) = self.exact_range();
         let (mut spread, mut flipped) = (Mask::default(), Mask::default());
-        for i in 0..t * t * t {
-            let p = [min[0] + (i % t) as i64, min[1] + (i / t % t) as i64, min[2] + (i / (t * t)) as i64];
-            let g = self.distance_in(p, s, i, true, cache).0;
-            if g == f64::NEG_INFINITY {
+        for (i, f) in features.iter().enumerate() {
+            if site.is_some_and(|site| site[i]) {
                 spread.set(i);
-            } else if flips(g, self.step.radius) {
+                continue;
+            }
+            // As [`Measure::distance_in`] decides, without the distance where the cost
+            // alone does.
+            let Some(o) = f.offset() else { continue };
+            let c = cost_of(o);
+            if c > self.cap || c as f64 >= exact_hi {
+                continue;
+            }
+            let flip = (c as f64) < exact_lo || {
+                let p = [min[0] + (i % t) as i64, min[1] + (i / t % t) as i64, min[2] + (i / (t * t)) as i64];
+                flips(self.distance_in(p, s, i, true, cache).0, self.step.radius)
+            };
+            if flip {
                 spread.set(i);
                 flipped.set(i);
             }
         }
         (spread, flipped)
+    }
+
+    /// The range of four times the squared lattice distance where the sub-voxel
+    /// distance is needed: it lies within `[d_cube - 1/2, d_cube + sqrt 3 / 2]`, and a
+    /// face's far end is a voxel farther. Under it a voxel flips, from its end on not.
+    fn exact_range(&self) -> (f64, f64) {
+        let radius = self.step.radius;
+        let exact_lo = if radius > 1.0 { (2.0 * radius - 2.0).powi(2) } else { 0.0 };
+        (exact_lo, (2.0 * radius + 3.0).powi(2))
     }
 
     /// The distance of voxel `p`, the `i`th of tile `s`, measured once a tile: kept in
@@ -651,16 +709,18 @@ impl<'a, F: Feature> Measure<'a, F> {
             Some(Place::Site) => true,
             None => false,
         };
-        let phase = own.get(0);
-        let alone = |place: Option<Place>| match place {
-            Some(Place::Band(b)) => spread[b].0.uniform(v, phase),
-            place => spreads(place, 0) == phase,
-        };
-        if own.uniform(v, phase) && next.iter().flatten().all(|&place| alone(place)) {
-            return;
-        }
+        let masks = next.map(|pair| {
+            pair.map(|place| match place {
+                Some(Place::Band(b)) => spread[b].0,
+                Some(Place::Site) => Mask([u64::MAX; 8]),
+                None => Mask::default(),
+            })
+        });
+        // A face towards `-axis` is this tile's only where that neighbour is not in the band.
+        let below = next.map(|pair| !matches!(pair[0], Some(Place::Band(_))));
+        let candidates = if t == 8 { own.faces_8(&masks, below) } else { Mask::first(v) };
         let mut known = Mask::default();
-        for i in 0..v {
+        for i in candidates.ones() {
             let l = [i % t, i / t % t, i / (t * t)];
             let p: [i64; 3] = std::array::from_fn(|a| min[a] + l[a] as i64);
             let fi = own.get(i) == grow;
@@ -683,7 +743,7 @@ impl<'a, F: Feature> Measure<'a, F> {
                 }
                 let mut q = p;
                 q[axis] -= 1;
-                if l[axis] == 0 && q[axis] >= 0 && !matches!(next[axis][0], Some(Place::Band(_))) {
+                if l[axis] == 0 && q[axis] >= 0 && below[axis] {
                     let fq = grow == spreads(next[axis][0], 0);
                     if fq != fi {
                         let gq = self.distance_at(q, next[axis][0], false, cache);
