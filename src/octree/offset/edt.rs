@@ -112,9 +112,7 @@ pub(super) fn lower_envelope(
 fn separator(g: &[i64], v: usize, u: usize, lo: i64, hi: i64) -> i64 {
     let (ui, vi, gu, gv) = (u as i64, v as i64, g[u], g[v]);
     let below = |x: i64| gu + axis_cost(x - ui) < gv + axis_cost(x - vi);
-    // In floating point (an integer division costs several times as much); the walks
-    // below end at the same `x` from any start.
-    let estimate = ((4 * (ui + vi) * (ui - vi) + gu - gv) as f64 / (8 * (ui - vi)) as f64).floor() as i64 + 1;
+    let estimate = (4 * (ui + vi) * (ui - vi) + gu - gv).div_euclid(8 * (ui - vi)) + 1;
     let mut x = estimate.clamp(lo, hi);
     while x > lo && below(x - 1) {
         x -= 1;
