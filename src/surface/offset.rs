@@ -126,9 +126,27 @@ fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing
             })
             .collect(),
     );
+    // All three lists are sorted by face: each chunk of the faces walks the two
+    // crossing lists from where its first face would lie.
+    let (new, old) = (new.faces(), old.faces());
     let faces: Vec<(FaceKey, Crossing)> = boundary_faces(result)
-        .par_iter()
-        .filter_map(|&key| new.get(key).or_else(|| old.get(key)).map(|c| (key, c)))
+        .par_chunks(1 << 12)
+        .flat_map_iter(|chunk| {
+            let mut a = new.partition_point(|(k, _)| *k < chunk[0]);
+            let mut b = old.partition_point(|(k, _)| *k < chunk[0]);
+            chunk.iter().filter_map(move |&key| {
+                while a < new.len() && new[a].0 < key {
+                    a += 1;
+                }
+                if a < new.len() && new[a].0 == key {
+                    return Some((key, new[a].1));
+                }
+                while b < old.len() && old[b].0 < key {
+                    b += 1;
+                }
+                (b < old.len() && old[b].0 == key).then(|| (key, old[b].1))
+            })
+        })
         .collect();
     HermiteData::from_sorted(faces)
 }

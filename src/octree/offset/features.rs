@@ -22,24 +22,29 @@
 //! every site under the cap lies in the band, each pass sees the entries theirs saw
 //! that can win, so the result is theirs byte for byte.
 //!
-//! Then each tile (in parallel, joined in Morton order) measures its voxels: a voxel
-//! whose lattice distance `d_cube` lies within `[D - 1, D + 3/2]` is measured to its
-//! site's tangent planes (its exposed faces' crossings; a neighbour's phase read from
-//! the tiles, or beyond them from the band's site tiles), others take `d_cube` (under
-//! the range: they flip) or `d_cube - 1/2` (over it: they do not, but a face's far end
-//! reads it). A voxel of the range whose crossings and cube already bound its
-//! sub-voxel distance at least `D` (the bound [`distance_to_site`] keeps)
-//! does not flip, and is measured only when a face of the result needs its distance
-//! (most of the layer beyond `D + 1/2` is no face's end); the six tiles next to a tile
-//! are looked up once a tile. The result's crossing on a face between a full and an
-//! empty voxel of the result is where the distance, linear between the two centres, meets `D` (a site's
-//! value: minus its old crossing's distance along the normal); its normal is the
-//! direction from the foot point of the end whose direction is nearer the face's own.
-//! Each face is measured by the tile of its lower voxel, or of its upper one when the
-//! lower lies outside the band, so once.
+//! Then the tiles are measured in two sweeps, each in parallel. The first decides each
+//! voxel's phase in the result (a bit a voxel, a mask a tile): a voxel whose lattice
+//! distance `d_cube` lies within `[D - 1, D + 3/2]` is measured to its site's tangent
+//! planes (its exposed faces' crossings; a neighbour's phase read from the tiles, or
+//! beyond them from the band's site tiles), others take `d_cube` (under the range:
+//! they flip) or `d_cube - 1/2` (over it: they do not, but a face's far end reads it).
+//! A voxel of the range whose crossings and cube already bound its sub-voxel distance
+//! at least `D` (the bound [`distance_to_site`] keeps) does not flip and is not
+//! measured further. The second (tiles in Morton order) gathers the flipped voxels'
+//! runs from the masks and finds the result's faces by comparing the masks of a tile
+//! and of the six next to it (looked up once a tile; a tile of one phase among
+//! neighbours of that phase has none), measuring only the faces' ends, each once a
+//! tile, where the tiles' seams were measured twice before. The result's crossing on
+//! a face between a full and an empty voxel of the result is where the distance,
+//! linear between the two centres, meets `D` (a site's value: minus its old
+//! crossing's distance along the normal); its normal is the direction from the foot
+//! point of the end whose direction is nearer the face's own. Each face is measured
+//! by the tile of its lower voxel, or of its upper one when the lower lies outside
+//! the band, so once.
 //!
 //! Memory: a feature a voxel of the band (4 bytes, 8 when the reach passes 510 voxels),
-//! a byte a voxel of a mixed tile's occupancy, and the crossings out.
+//! a byte a voxel of a mixed tile's occupancy, two bits a voxel of the masks, and the
+//! crossings out.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -162,6 +167,15 @@ fn transform<F: Feature>(
     let cap = (2.0 * radius + 3.0).powi(2).ceil().min(1e18) as i64;
     let features: Vec<F> = feature_transform(band, &sites, cap, progress);
     let measure = Measure::new(tree, band, &sites, &features, surface, step, cap);
+    // Each tile's voxels of the phase the step spreads in the result (its sites and
+    // the voxels that flip), a bit a voxel, x fastest.
+    let mut spread = vec![(Mask::default(), Mask::default()); band.tiles.len()];
+    spread.par_chunks_mut(64).enumerate().for_each_init(SiteCache::default, |cache, (c, masks)| {
+        for (j, mask) in masks.iter_mut().enumerate() {
+            *mask = measure.spread(64 * c + j, cache);
+            progress.advance(1);
+        }
+    });
     // The tiles in Morton order, each measured alone.
     let mut order: Vec<(u64, usize)> = band.tiles.iter().enumerate().map(|(s, &p)| (encode(unpack(p)), s)).collect();
     order.par_sort_unstable();
@@ -174,23 +188,24 @@ fn transform<F: Feature>(
     let parts: Vec<Changes> = order
         .par_chunks(64)
         .map_init(
-            || (vec![(0.0, DVec3::ZERO); v], SiteCache::default()),
+            || (vec![PENDING; v], SiteCache::default()),
             |(g, cache), chunk| {
                 let (mut runs, mut faces): (Vec<(u64, u64)>, Vec<NewCrossing>) = (Vec::new(), Vec::new());
                 for &(code, s) in chunk {
-                    measure.tile(s, g, cache);
-                    let base = code << (3 * k);
-                    for (i, &at) in (0..v as u64).zip(&at_morton) {
-                        if flips(g[at].0, radius) {
-                            let code = base + i;
-                            match runs.last_mut() {
-                                Some(last) if last.1 == code => last.1 = code + 1,
-                                _ => runs.push((code, code + 1)),
+                    let flipped = spread[s].1;
+                    if !flipped.is_empty() {
+                        let base = code << (3 * k);
+                        for (i, &at) in (0..v as u64).zip(&at_morton) {
+                            if flipped.get(at) {
+                                let code = base + i;
+                                match runs.last_mut() {
+                                    Some(last) if last.1 == code => last.1 = code + 1,
+                                    _ => runs.push((code, code + 1)),
+                                }
                             }
                         }
                     }
-                    measure.faces(s, g, &mut faces, cache);
-                    progress.advance(1);
+                    measure.faces(s, &spread, g, &mut faces, cache);
                 }
                 (runs, faces)
             },
@@ -339,6 +354,73 @@ fn feature_pass<F: Feature>(
     });
 }
 
+/// A bit a voxel of a tile, x fastest (tiles of at most 8^3 voxels).
+#[derive(Clone, Copy, Default)]
+struct Mask([u64; 8]);
+
+impl Mask {
+    fn get(&self, i: usize) -> bool {
+        (self.0[i >> 6] >> (i & 63)) & 1 == 1
+    }
+
+    fn set(&mut self, i: usize) {
+        self.0[i >> 6] |= 1 << (i & 63);
+    }
+
+    fn is_empty(&self) -> bool {
+        self.0.iter().all(|&w| w == 0)
+    }
+
+    /// The first `v` bits set.
+    fn first(v: usize) -> Mask {
+        Mask(std::array::from_fn(|w| match v.saturating_sub(64 * w) {
+            0 => 0,
+            bits if bits >= 64 => u64::MAX,
+            bits => (1 << bits) - 1,
+        }))
+    }
+
+    /// The set bits, in increasing order.
+    fn ones(self) -> impl Iterator<Item = usize> {
+        self.0.into_iter().enumerate().flat_map(|(w, mut bits)| {
+            std::iter::from_fn(move || {
+                (bits != 0).then(|| {
+                    let b = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    64 * w + b
+                })
+            })
+        })
+    }
+
+    /// Of a tile of 8^3 voxels (a word a z-layer, `x + 8 y` in it), the voxels whose
+    /// bit differs from a neighbour's towards `+axis` (`next[axis][1]` beyond the tile)
+    /// or, where `below[axis]`, towards `-axis` from `next[axis][0]` beyond it.
+    fn faces_8(&self, next: &[[Mask; 2]; 3], below: [bool; 3]) -> Mask {
+        const X0: u64 = 0x0101_0101_0101_0101;
+        const X7: u64 = X0 << 7;
+        const Y0: u64 = 0xff;
+        const Y7: u64 = Y0 << 56;
+        let w = &self.0;
+        Mask(std::array::from_fn(|z| {
+            let a = w[z];
+            let mut d = ((a ^ (a >> 1)) & !X7) | ((a ^ (next[0][1].0[z] << 7)) & X7);
+            d |= ((a ^ (a >> 8)) & !Y7) | ((a ^ (next[1][1].0[z] << 56)) & Y7);
+            d |= a ^ if z < 7 { w[z + 1] } else { next[2][1].0[0] };
+            if below[0] {
+                d |= (a ^ (next[0][0].0[z] >> 7)) & X0;
+            }
+            if below[1] {
+                d |= (a ^ (next[1][0].0[z] >> 56)) & Y0;
+            }
+            if below[2] && z == 0 {
+                d |= a ^ next[2][0].0[7];
+            }
+            d
+        }))
+    }
+}
+
 /// Where a tile lies: in the band (its slot) or a site tile next to it.
 #[derive(Clone, Copy)]
 enum Place {
@@ -463,11 +545,7 @@ impl<'a, F: Feature> Measure<'a, F> {
             return (f64::INFINITY, DVec3::ZERO);
         }
         let radius = self.step.radius;
-        // Four times the squared lattice distance where the sub-voxel distance is
-        // needed: it lies within [d_cube - 1/2, d_cube + sqrt 3 / 2], and a face's far
-        // end is a voxel farther.
-        let exact_lo = if radius > 1.0 { (2.0 * radius - 2.0).powi(2) } else { 0.0 };
-        let exact_hi = (2.0 * radius + 3.0).powi(2);
+        let (exact_lo, exact_hi) = self.exact_range();
         let c = cost as f64;
         let d_cube = c.sqrt() / 2.0;
         if c >= exact_hi {
@@ -475,6 +553,15 @@ impl<'a, F: Feature> Measure<'a, F> {
         }
         if c < exact_lo {
             return (d_cube, DVec3::ZERO);
+        }
+        // Each crossing lies on a segment from the site's centre to a neighbour's (`t`
+        // in `0..=1`), so at least `max(|o_a| - 1, 0)` from `p` on each axis: a bound
+        // that spares looking the planes up (with a margin for the rounding of theirs).
+        if lazy && d_cube - 0.5 >= radius {
+            let near = o.iter().map(|&c| ((c.abs() - 1).max(0) as f64).powi(2)).sum::<f64>().sqrt();
+            if near >= radius + 1e-9 {
+                return PENDING;
+            }
         }
         let site: [i64; 3] = std::array::from_fn(|a| p[a] + o[a]);
         let (own, count) = self.site_planes(site, cache);
@@ -524,26 +611,84 @@ impl<'a, F: Feature> Measure<'a, F> {
         (planes, count)
     }
 
-    /// The distance and direction of each voxel of tile `s`, x fastest, [`PENDING`]
-    /// where it is known not to flip.
-    fn tile(&self, s: usize, out: &mut [(f64, DVec3)], cache: &mut SiteCache) {
+    /// The voxels of tile `s` of the phase the step spreads in the result (its sites
+    /// and the voxels that flip), and of those the ones that flip, x fastest.
+    fn spread(&self, s: usize, cache: &mut SiteCache) -> (Mask, Mask) {
         let k = self.band.k;
         let t = 1usize << k;
         let min = unpack(self.band.tiles[s]).map(|c| i64::from(c) << k);
-        for (i, o) in out.iter_mut().enumerate() {
-            let p = [min[0] + (i % t) as i64, min[1] + (i / t % t) as i64, min[2] + (i / (t * t)) as i64];
-            *o = self.distance_in(p, s, i, true, cache);
+        let v = t * t * t;
+        let (site, features) = (self.sites[s].as_deref(), &self.features[s * v..(s + 1) * v]);
+        let (exact_lo, exact_hi) = self.exact_range();
+        let (mut spread, mut flipped) = (Mask::default(), Mask::default());
+        for (i, f) in features.iter().enumerate() {
+            if site.is_some_and(|site| site[i]) {
+                spread.set(i);
+                continue;
+            }
+            // As [`Measure::distance_in`] decides, without the distance where the cost
+            // alone does.
+            let Some(o) = f.offset() else { continue };
+            let c = cost_of(o);
+            if c > self.cap || c as f64 >= exact_hi {
+                continue;
+            }
+            let flip = (c as f64) < exact_lo || {
+                let p = [min[0] + (i % t) as i64, min[1] + (i / t % t) as i64, min[2] + (i / (t * t)) as i64];
+                flips(self.distance_in(p, s, i, true, cache).0, self.step.radius)
+            };
+            if flip {
+                spread.set(i);
+                flipped.set(i);
+            }
         }
+        (spread, flipped)
     }
 
-    /// Pushes the crossings of the result's faces tile `s` measures (its voxels'
-    /// distances `g`, [`PENDING`] ones measured here when a face needs them): each
-    /// voxel's faces towards `+axis`, and towards `-axis` where that neighbour lies
-    /// outside the band; both ends inside the domain. The places of the six tiles
-    /// next to it are looked up once.
-    fn faces(&self, s: usize, g: &mut [(f64, DVec3)], out: &mut Vec<NewCrossing>, cache: &mut SiteCache) {
+    /// The range of four times the squared lattice distance where the sub-voxel
+    /// distance is needed: it lies within `[d_cube - 1/2, d_cube + sqrt 3 / 2]`, and a
+    /// face's far end is a voxel farther. Under it a voxel flips, from its end on not.
+    fn exact_range(&self) -> (f64, f64) {
+        let radius = self.step.radius;
+        let exact_lo = if radius > 1.0 { (2.0 * radius - 2.0).powi(2) } else { 0.0 };
+        (exact_lo, (2.0 * radius + 3.0).powi(2))
+    }
+
+    /// The distance of voxel `p`, the `i`th of tile `s`, measured once a tile: kept in
+    /// `g` where `known` marks it.
+    fn measured(
+        &self,
+        p: [i64; 3],
+        s: usize,
+        i: usize,
+        (g, known): (&mut [(f64, DVec3)], &mut Mask),
+        cache: &mut SiteCache,
+    ) -> (f64, DVec3) {
+        if !known.get(i) {
+            g[i] = self.distance_in(p, s, i, false, cache);
+            known.set(i);
+        }
+        g[i]
+    }
+
+    /// Pushes the crossings of the result's faces tile `s` measures, from the result's
+    /// phases (`spread`, a tile's [`Measure::spread`] by slot) and the distances of the
+    /// faces' ends, measured here (in `g`, a tile's): each voxel's faces towards
+    /// `+axis`, and towards `-axis` where that neighbour lies outside the band; both
+    /// ends inside the domain. The places of the six tiles next to it are looked up
+    /// once; a tile of one phase whose neighbours are all of it has no face.
+    fn faces(
+        &self,
+        s: usize,
+        spread: &[(Mask, Mask)],
+        g: &mut [(f64, DVec3)],
+        out: &mut Vec<NewCrossing>,
+        cache: &mut SiteCache,
+    ) {
         let k = self.band.k;
         let t = 1usize << k;
+        let v = t * t * t;
+        let grow = self.step.grow;
         let n = i64::from(self.tree.domain().resolution());
         let tile = unpack(self.band.tiles[s]).map(i64::from);
         let min = tile.map(|c| c << k);
@@ -557,40 +702,53 @@ impl<'a, F: Feature> Measure<'a, F> {
                 self.places.get(&pack(c.map(|x| x as u32))).copied()
             })
         });
-        for i in 0..g.len() {
+        let own = spread[s].0;
+        // Whether the `i`th voxel of the tile at `place` is of the spreading phase.
+        let spreads = |place: Option<Place>, i: usize| match place {
+            Some(Place::Band(b)) => spread[b].0.get(i),
+            Some(Place::Site) => true,
+            None => false,
+        };
+        let masks = next.map(|pair| {
+            pair.map(|place| match place {
+                Some(Place::Band(b)) => spread[b].0,
+                Some(Place::Site) => Mask([u64::MAX; 8]),
+                None => Mask::default(),
+            })
+        });
+        // A face towards `-axis` is this tile's only where that neighbour is not in the band.
+        let below = next.map(|pair| !matches!(pair[0], Some(Place::Band(_))));
+        let candidates = if t == 8 { own.faces_8(&masks, below) } else { Mask::first(v) };
+        let mut known = Mask::default();
+        for i in candidates.ones() {
             let l = [i % t, i / t % t, i / (t * t)];
             let p: [i64; 3] = std::array::from_fn(|a| min[a] + l[a] as i64);
+            let fi = own.get(i) == grow;
             for axis in 0..3 {
                 let stride = [1, t, t * t][axis];
                 let mut q = p;
                 q[axis] += 1;
                 if q[axis] < n {
                     let inside = l[axis] + 1 < t;
-                    let mut gq = if inside { g[i + stride] } else { self.distance_at(q, next[axis][1], true, cache) };
-                    if self.result_full(g[i].0) != self.result_full(gq.0) {
-                        if g[i].0.is_nan() {
-                            g[i] = self.distance_in(p, s, i, false, cache);
-                        }
-                        if gq.0.is_nan() {
-                            gq = if inside {
-                                g[i + stride] = self.distance_in(q, s, i + stride, false, cache);
-                                g[i + stride]
-                            } else {
-                                self.distance_at(q, next[axis][1], false, cache)
-                            };
-                        }
-                        self.face(p, g[i], gq, axis, out);
+                    let fq = grow == if inside { own.get(i + stride) } else { spreads(next[axis][1], self.index(q)) };
+                    if fi != fq {
+                        let gi = self.measured(p, s, i, (&mut *g, &mut known), cache);
+                        let gq = if inside {
+                            self.measured(q, s, i + stride, (&mut *g, &mut known), cache)
+                        } else {
+                            self.distance_at(q, next[axis][1], false, cache)
+                        };
+                        self.face(p, gi, gq, axis, out);
                     }
                 }
                 let mut q = p;
                 q[axis] -= 1;
-                if l[axis] == 0 && q[axis] >= 0 && !matches!(next[axis][0], Some(Place::Band(_))) {
-                    let gq = self.distance_at(q, next[axis][0], false, cache);
-                    if self.result_full(gq.0) != self.result_full(g[i].0) {
-                        if g[i].0.is_nan() {
-                            g[i] = self.distance_in(p, s, i, false, cache);
-                        }
-                        self.face(q, gq, g[i], axis, out);
+                if l[axis] == 0 && q[axis] >= 0 && below[axis] {
+                    let fq = grow == spreads(next[axis][0], 0);
+                    if fq != fi {
+                        let gq = self.distance_at(q, next[axis][0], false, cache);
+                        let gi = self.measured(p, s, i, (&mut *g, &mut known), cache);
+                        self.face(q, gq, gi, axis, out);
                     }
                 }
             }
