@@ -176,9 +176,10 @@ impl NodeFaces {
             let (first, second) = if d[b] > 0.0 { (t_lo, t_hi) } else { (t_hi, t_lo) };
             (first <= t) & (t < second)
         };
+        // `t > 0` for `Face::enters`'s `!(t <= 0)`: a NaN time is inside no slab.
         let enters = |a: usize, b: usize, c: usize| {
             let inward = if self.low[a] { d[a] > 0.0 } else { d[a] < 0.0 };
-            u8::from(inward & !(t[a] <= 0.0) & inside(b, t[a]) & inside(c, t[a])) << a
+            u8::from(inward & (t[a] > 0.0) & inside(b, t[a]) & inside(c, t[a])) << a
         };
         let entered = (enters(0, 1, 2) | enters(1, 0, 2) | enters(2, 0, 1)) & self.visible;
         if entered == 0 {
