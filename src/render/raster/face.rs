@@ -119,3 +119,144 @@ fn within(ray: &VoxelRay, b: usize, lo: f64, hi: f64, t: f64) -> bool {
     let (t_lo, t_hi) = ((lo - o) * inv, (hi - o) * inv);
     if d > 0.0 { t_lo <= t && t < t_hi } else { t_hi <= t && t < t_lo }
 }
+
+/// The faces of one full node `[min, min + size)` that look at a viewer, for testing
+/// many samples' rays against them: [`Face::enters`] for each in axis order, the first
+/// entered, with the tests of all three axes made side by side and the first passed
+/// picked from a mask (a sample's ray enters one face of a node's one to three, which
+/// the branches of a face-by-face search mispredict).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NodeFaces {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    min: [u32; 3],
+    size: u32,
+    /// The plane of the face on each axis (`lo` where none looks at the viewer).
+    planes: [f64; 3],
+    /// Whether the face on each axis is the box's low one (entered moving up).
+    low: [bool; 3],
+    /// Bit `a`: the face on axis `a` looks at the viewer.
+    visible: u8,
+}
+
+impl NodeFaces {
+    /// The faces of the full node `[min, min + size)` that look at `viewer`.
+    #[inline]
+    pub(crate) fn new(viewer: &Viewer, min: [u32; 3], size: u32) -> Self {
+        let (lo, hi) = (min.map(f64::from), min.map(|c| f64::from(c + size)));
+        let (mut planes, mut visible) = (lo, 0);
+        for (axis, plane) in planes.iter_mut().enumerate() {
+            if let Some(p) = viewer.visible_plane(axis, lo, hi) {
+                *plane = p;
+                visible |= 1 << axis;
+            }
+        }
+        let low = std::array::from_fn(|a| planes[a] == lo[a]);
+        NodeFaces { lo, hi, min, size, planes, low, visible }
+    }
+
+    /// How many faces look at the viewer.
+    pub(crate) fn count(&self) -> u32 {
+        self.visible.count_ones()
+    }
+
+    /// The hit of the first face in axis order that `ray` enters ([`Face::enters`]'s
+    /// test and hit, bit for bit).
+    #[inline]
+    pub(crate) fn first_entered(&self, ray: &VoxelRay) -> Option<Hit> {
+        if !ray.inv.is_finite() {
+            return self.faces().find_map(|face| face.enters(ray));
+        }
+        let (o, d, inv) = (ray.o.to_array(), ray.d.to_array(), ray.inv.to_array());
+        let t: [f64; 3] = std::array::from_fn(|a| (self.planes[a] - o[a]) * inv[a]);
+        // `within` with a finite reciprocal, as a value: past the plane it enters by
+        // at or before `t`, not yet past the other.
+        let inside = |b: usize, t: f64| {
+            let (t_lo, t_hi) = ((self.lo[b] - o[b]) * inv[b], (self.hi[b] - o[b]) * inv[b]);
+            let (first, second) = if d[b] > 0.0 { (t_lo, t_hi) } else { (t_hi, t_lo) };
+            (first <= t) & (t < second)
+        };
+        // `t > 0` for `Face::enters`'s `!(t <= 0)`: a NaN time is inside no slab.
+        let enters = |a: usize, b: usize, c: usize| {
+            let inward = if self.low[a] { d[a] > 0.0 } else { d[a] < 0.0 };
+            u8::from(inward & (t[a] > 0.0) & inside(b, t[a]) & inside(c, t[a])) << a
+        };
+        let entered = (enters(0, 1, 2) | enters(1, 0, 2) | enters(2, 0, 1)) & self.visible;
+        if entered == 0 {
+            return None;
+        }
+        let axis = entered.trailing_zeros() as usize;
+        Some(ray.entry(&Entry { min: self.min, size: self.size, t: t[axis], face: Some(axis) }))
+    }
+
+    /// The faces one by one, by axis.
+    fn faces(&self) -> impl Iterator<Item = Face> + '_ {
+        (0..3).filter(|&a| self.visible >> a & 1 == 1).map(|axis| Face {
+            axis,
+            plane: self.planes[axis],
+            lo: self.lo,
+            hi: self.hi,
+            min: self.min,
+            size: self.size,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A xorshift in `[0, 1)`, so every run tests the same rays.
+    fn unit(state: &mut u64) -> f64 {
+        *state ^= *state << 13;
+        *state ^= *state >> 7;
+        *state ^= *state << 17;
+        (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn node_faces_find_the_face_by_face_searchs_hit() {
+        let mut state = 0x2545_f491_4f6c_dd1d;
+        let (min, size) = ([4, 6, 5], 4);
+        let (mut hits, mut tested) = (0, 0);
+        for _ in 0..40 {
+            // Eyes around the box and on its planes' lattice (rays through edges and
+            // corners), and views along directions for orthographic viewers.
+            let mut coordinate = |c: u32| f64::from(c) + (16.0 * unit(&mut state) - 8.0).round() * 0.5;
+            let eye = DVec3::new(coordinate(min[0]), coordinate(min[1]), coordinate(min[2]));
+            let along = DVec3::new(unit(&mut state) - 0.5, unit(&mut state) - 0.5, unit(&mut state) - 0.5);
+            let viewers = [Viewer::At(eye), Viewer::Along(along.normalize())];
+            for viewer in viewers {
+                let faces = NodeFaces::new(&viewer, min, size);
+                for k in 0..200 {
+                    let target = DVec3::new(
+                        f64::from(min[0]) + 6.0 * unit(&mut state) - 1.0,
+                        f64::from(min[1]) + 6.0 * unit(&mut state) - 1.0,
+                        f64::from(min[2]) + 6.0 * unit(&mut state) - 1.0,
+                    );
+                    let (o, mut d) = match viewer {
+                        Viewer::At(e) => (e, target - e),
+                        Viewer::Along(d) => (target - d * 20.0, d),
+                    };
+                    // Some rays along a lattice direction, some with a zero or
+                    // subnormal component, some aimed at corners.
+                    match k % 10 {
+                        0 => d.x = 0.0,
+                        1 => d.y = f64::from_bits(3) * d.y.signum(),
+                        2 => d = (DVec3::new(f64::from(min[0]), f64::from(min[1] + size), 7.0) - o).normalize(),
+                        _ => {}
+                    }
+                    let ray = VoxelRay { o, d, inv: DVec3::ONE / d };
+                    let want = Face::visible(&viewer, min, size).find_map(|face| face.enters(&ray));
+                    let got = faces.first_entered(&ray);
+                    let bits = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.voxel, h.axis));
+                    assert_eq!(bits(got), bits(want), "{viewer:?}, {ray:?}");
+                    hits += usize::from(want.is_some());
+                    tested += 1;
+                }
+            }
+        }
+        // Both outcomes are exercised.
+        assert!(hits > tested / 10 && hits < tested * 9 / 10, "{hits} hits of {tested}");
+    }
+}
