@@ -344,7 +344,15 @@ impl Local {
             return false;
         };
         let unmoved = |v: u32| input.moved_in[self.global[v as usize] as usize] < round;
-        unmoved(a) && unmoved(b) && self.neighbours(a).into_iter().chain(self.neighbours(b)).all(unmoved)
+        self.around(a, b, unmoved)
+    }
+
+    /// Whether `keep` holds for `a`, `b` and every vertex sharing a face with either
+    /// (their neighbourhood), read off their faces without listing it.
+    fn around(&self, a: u32, b: u32, keep: impl Fn(u32) -> bool) -> bool {
+        [a, b].iter().all(|&v| self.incident[v as usize].iter().all(|&f| self.faces[f as usize].into_iter().all(&keep)))
+            && keep(a)
+            && keep(b)
     }
 
     /// The cost of edge `a b` (local, as tried, both unmoved in this block) when it
@@ -358,8 +366,7 @@ impl Local {
     /// Whether no collapse of this block has touched the neighbourhood of `a b` (its
     /// ends and their neighbours): it is then the snapshot's.
     fn untouched(&self, a: u32, b: u32) -> bool {
-        let fresh = |v: u32| self.stamp[v as usize] == 0;
-        fresh(a) && fresh(b) && self.neighbours(a).into_iter().chain(self.neighbours(b)).all(fresh)
+        self.around(a, b, |v| self.stamp[v as usize] == 0)
     }
 
     /// The candidate points of edge `a b` and their quadric costs, cheapest first
