@@ -71,6 +71,27 @@ fn a_simplified_sphere_is_closed_uncrossed_and_near_the_sphere() {
 }
 
 #[test]
+fn no_face_of_a_coarsely_simplified_sphere_folds_over() {
+    // At coarse tolerances the faces between blocks merged side by side used to fold
+    // over (19 faces 90 to 169 degrees off the sphere's normal at tolerance 1): each
+    // face against the exact normal at its centroid.
+    let (centre, radius) = (DVec3::new(0.013, -0.021, 0.007), 0.77);
+    for (depth, tolerance) in [(6, 0.5), (6, 1.0), (7, 0.5), (7, 1.0)] {
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, depth).unwrap();
+        let surface = surface_of(&Sphere::new(centre, radius).unwrap(), domain, tolerance);
+        let mesh = &surface.mesh;
+        assert_closed_manifold(mesh, "sphere");
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|v| mesh.vertices[v as usize]);
+            let normal = (b - a).cross(c - a).normalize();
+            let radial = ((a + b + c) / 3.0 - centre).normalize();
+            let angle = normal.dot(radial).clamp(-1.0, 1.0).acos().to_degrees();
+            assert!(angle < 45.0, "depth {depth}, tolerance {tolerance}: a face {angle} degrees off: {a} {b} {c}");
+        }
+    }
+}
+
+#[test]
 fn a_simplified_cube_keeps_its_faces_flat_and_its_corners() {
     let (min, max) = (DVec3::new(-0.61, -0.53, -0.47), DVec3::new(0.57, 0.49, 0.63));
     let domain = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();

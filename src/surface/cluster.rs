@@ -38,7 +38,10 @@
 //! genus too, the mesh staying closed and manifold), and no face at a merged vertex
 //! meeting another face beyond their shared corners (the exact test of
 //! [`super::simplify`]; two faces across an edge, facing the same side, are not
-//! tested: oriented, they could meet beyond it only folded flat). After
+//! tested: oriented, they could meet beyond it only folded flat). Before that, and
+//! after each split, blocks are split back until no face between two merged blocks
+//! turns more than [`FOLD_TURN`] from its dual face (`Folds`: each block's own test
+//! saw its neighbours unmerged). After
 //! [`MAX_CHECK_ROUNDS`] rounds, or when only the Euler characteristic fails, nothing is
 //! merged. The limit is a fitted plane's, not a true
 //! bound like the one [`super::simplify`] keeps: the extraction gives the merge a
@@ -59,6 +62,9 @@ const MAX_LEVEL: u32 = 4;
 const MAX_CHECK_ROUNDS: usize = 6;
 /// Side of the grid cells the clash test sorts faces into, lattice units.
 const CLASH_CELL: f64 = 4.0;
+/// A face between merged blocks turned farther than this from its dual face is
+/// folded (module doc), radians (60 degrees).
+const FOLD_TURN: f64 = 60.0 * std::f64::consts::PI / 180.0;
 
 /// What [`merge_cells`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -152,6 +158,10 @@ pub(crate) fn merge_cells(
     }
     let euler = n as i64 - triangles.len() as i64 / 2;
     let mut alive = vec![true; blocks.len()];
+    let folds = Folds { dual, triangles, fans: &fans, normals: &normals, blocks: &blocks, block_of: &block_of };
+    let folded: Vec<u32> =
+        (0..triangles.len() as u32).into_par_iter().with_min_len(4096).filter(|&f| folds.folded(f, &alive)).collect();
+    folds.split(&mut alive, folded);
     // The blocks alive when the faces were last tested for clashes (none yet).
     let mut tested: Option<Vec<bool>> = None;
     for _ in 0..MAX_CHECK_ROUNDS {
@@ -173,9 +183,14 @@ pub(crate) fn merge_cells(
             });
             return (merged.positions, merged.triangles, report);
         }
+        let mut around = Vec::new();
         for b in bad {
             alive[b as usize] = false;
+            for &v in &blocks[b as usize].members {
+                around.extend_from_slice(fans.of_vertex(v as usize));
+            }
         }
+        folds.split(&mut alive, around);
     }
     unchanged()
 }
@@ -254,6 +269,66 @@ impl Context<'_> {
             }
         }
         count == members.len()
+    }
+}
+
+/// Faces between merged blocks that fold. Each block checked its fan with its
+/// neighbours' corners where they were (module `fan_cone`); once two neighbours have
+/// merged, a face between them has moved at two corners, and a thin one can turn over
+/// (a sphere of 49 voxels at `--tolerance 1`: 19 faces of the simplified mesh 90 to
+/// 169 degrees off the sphere's normal, before this test). Splitting a block back
+/// brings back faces its merge had collapsed, which can fold between other blocks, so
+/// the blocks are split back from a work list of faces until none folds (checking
+/// the merged mesh instead, one split a round, carried a fold across the classic
+/// part for more rounds than the merge allows).
+struct Folds<'a> {
+    dual: &'a DualMesh,
+    triangles: &'a [[u32; 3]],
+    fans: &'a Fans,
+    /// The dual faces' unit normals (zero for a face without area).
+    normals: &'a [DVec3],
+    blocks: &'a [Block],
+    block_of: &'a [u32],
+}
+
+impl Folds<'_> {
+    /// Whether dual face `f`, with corners in two or three `alive` blocks taken to
+    /// their merged points, turns more than [`FOLD_TURN`] from its own normal.
+    fn folded(&self, f: u32, alive: &[bool]) -> bool {
+        let t = self.triangles[f as usize];
+        let owner = |v: u32| {
+            let b = self.block_of[v as usize];
+            (b != u32::MAX && alive[b as usize]).then_some(b)
+        };
+        let owners = t.map(owner);
+        let merged = owners.iter().flatten().count();
+        let collapsed = (0..3).any(|k| owners[k].is_some() && owners[k] == owners[(k + 1) % 3]);
+        if merged < 2 || collapsed || self.normals[f as usize] == DVec3::ZERO {
+            return false;
+        }
+        let corner = |k: usize| owners[k].map_or(self.dual.positions[t[k] as usize], |b| self.blocks[b as usize].point);
+        let cross = (corner(1) - corner(0)).cross(corner(2) - corner(0));
+        cross.dot(self.normals[f as usize]) < FOLD_TURN.cos() * cross.length()
+    }
+
+    /// Splits back the blocks at the corners of the folded faces among `faces`, then
+    /// of the faces that moves, until none folds. Sequential, in list order: the same
+    /// blocks for any number of threads.
+    fn split(&self, alive: &mut [bool], mut faces: Vec<u32>) {
+        while let Some(f) = faces.pop() {
+            if !self.folded(f, alive) {
+                continue;
+            }
+            for v in self.triangles[f as usize] {
+                let b = self.block_of[v as usize];
+                if b != u32::MAX && alive[b as usize] {
+                    alive[b as usize] = false;
+                    for &m in &self.blocks[b as usize].members {
+                        faces.extend_from_slice(self.fans.of_vertex(m as usize));
+                    }
+                }
+            }
+        }
     }
 }
 
