@@ -22,6 +22,7 @@ mod picture;
 pub mod png;
 mod solid_set;
 mod solids;
+mod varint;
 pub mod vdb;
 mod vdb_level_set;
 pub mod vox;

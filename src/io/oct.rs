@@ -25,7 +25,7 @@ use crate::octree::{Domain, LinearOctree, MAX_DEPTH, NodeKey};
 use crate::shape::Axis;
 use crate::surface::HermiteData;
 
-use super::oct_surface;
+use super::{oct_surface, varint};
 
 /// The first eight bytes of every `.oct` file.
 pub const MAGIC: [u8; 8] = *b"OCTSOLID";
@@ -34,6 +34,8 @@ pub const MAGIC: [u8; 8] = *b"OCTSOLID";
 pub const VERSION: u16 = 2;
 /// The version written for a solid without metadata: version 1 readers open it.
 const PLAIN_VERSION: u16 = 1;
+/// The most bytes a node's varint (its gap from the node before and its level) takes.
+const NODE_VARINT_BYTES: usize = 19;
 /// Header size in bytes; the payload starts here.
 pub const HEADER_BYTES: usize = 80;
 /// Byte offset of the CRC-32 field; the checksum covers the bytes before it and the payload.
@@ -175,12 +177,7 @@ pub fn encode_with_surface(tree: &LinearOctree, meta: &Metadata, surface: Option
     let mut end = 0u64;
     for key in tree.keys() {
         let gap = key.start() - end;
-        // Gaps below 2^59 (every one but in the deepest, emptiest domains) fit a u64.
-        if gap < 1 << 59 {
-            write_short_varint(&mut out, (gap << 5) | u64::from(key.k()));
-        } else {
-            write_varint(&mut out, (u128::from(gap) << 5) | u128::from(key.k()));
-        }
+        varint::write(&mut out, (u128::from(gap) << 5) | u128::from(key.k()));
         end = key.end();
     }
     let payload_len = out.len() - HEADER_BYTES;
@@ -260,53 +257,6 @@ fn checksum(header: &[u8], payload: &[u8]) -> u32 {
     h.finalize()
 }
 
-/// [`write_varint`] of a value that fits a `u64`, written in one piece.
-#[inline]
-fn write_short_varint(out: &mut Vec<u8>, mut v: u64) {
-    let mut bytes = [0u8; 10];
-    let mut len = 0;
-    while v >= 0x80 {
-        bytes[len] = (v as u8) | 0x80;
-        v >>= 7;
-        len += 1;
-    }
-    bytes[len] = v as u8;
-    out.extend_from_slice(&bytes[..=len]);
-}
-
-fn write_varint(out: &mut Vec<u8>, mut v: u128) {
-    while v >= 0x80 {
-        out.push((v as u8) | 0x80);
-        v >>= 7;
-    }
-    out.push(v as u8);
-}
-
-/// Reads a varint at `*pos`; `None` when truncated or longer than 19 bytes.
-#[inline]
-fn read_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
-    // Most nodes' varint is one byte: touching nodes of up to 16^3 voxels.
-    let b = *bytes.get(*pos)?;
-    if b & 0x80 == 0 {
-        *pos += 1;
-        return Some(u128::from(b));
-    }
-    read_long_varint(bytes, pos)
-}
-
-fn read_long_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
-    let mut v = 0u128;
-    for shift in (0..128).step_by(7).take(19) {
-        let b = *bytes.get(*pos)?;
-        *pos += 1;
-        v |= u128::from(b & 0x7f) << shift;
-        if b & 0x80 == 0 {
-            return Some(v);
-        }
-    }
-    None
-}
-
 /// Parses and checks a whole `.oct` file; `path` names it in errors.
 pub fn decode(bytes: &[u8], path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
     Ok(decode_and_metadata(bytes, path, budget)?.0)
@@ -355,7 +305,7 @@ pub fn decode_and_surface(
             Error::InvalidOctree { index, reason } => {
                 let mut pos = 0;
                 for _ in 0..index {
-                    read_varint(payload, &mut pos);
+                    varint::read(payload, &mut pos, NODE_VARINT_BYTES);
                 }
                 fail(HEADER_BYTES + pos, format!("node {index}: {reason}"))
             }
@@ -453,7 +403,7 @@ fn decode_nodes(payload: &[u8], header: &Header, path: &Path) -> Result<Vec<Node
     while pos < payload.len() {
         let at = HEADER_BYTES + pos;
         let index = keys.len();
-        let value = read_varint(payload, &mut pos)
+        let value = varint::read(payload, &mut pos, NODE_VARINT_BYTES)
             .ok_or_else(|| fail(at, format!("node {index}: truncated or overlong varint")))?;
         let k = (value & 31) as u32;
         if k > u32::from(depth) {

@@ -37,6 +37,7 @@ use crate::octree::{Domain, LinearOctree};
 use crate::surface::{Crossing, FaceKey, HermiteData};
 
 use super::boundary_walk::first_not_on_boundary;
+use super::varint;
 
 /// The first four bytes of the section.
 pub(crate) const SECTION_MAGIC: [u8; 4] = *b"SURF";
@@ -46,6 +47,8 @@ pub(crate) const SECTION_VERSION: u16 = 1;
 pub(crate) const SECTION_HEADER_BYTES: usize = 24;
 /// The fewest bytes a face's record takes: a one-byte varint, `t` and the normal.
 const MIN_RECORD_BYTES: u64 = 7;
+/// The most bytes a record's varint takes: a voxel gap of 63 bits and a direction.
+const RECORD_VARINT_BYTES: usize = 10;
 /// Faces a task of the writer encodes.
 const ENCODE_CHUNK: usize = 1 << 15;
 /// Largest code of a `u16` field, as a float.
@@ -157,7 +160,7 @@ fn encode_records(faces: &[(FaceKey, Crossing)], mut previous: u64) -> Vec<u8> {
     for (key, crossing) in faces {
         // A varint of at most ten bytes, then `t` and the normal's codes.
         let mut record = [0u8; 16];
-        let mut len = put_varint(&mut record, (u128::from(key.voxel - previous) << 3) | u128::from(key.direction));
+        let mut len = varint::put(&mut record, (u128::from(key.voxel - previous) << 3) | u128::from(key.direction));
         previous = key.voxel;
         let [x, y] = encode_normal(crossing.normal);
         for code in [encode_t(crossing.t), x, y] {
@@ -257,7 +260,7 @@ pub(crate) fn parse<'a>(
         if index as u64 == count {
             return Err(fail(at, format!("more faces than the {count} its header says")));
         }
-        let value = read_varint(body, &mut pos)
+        let value = varint::read(body, &mut pos, RECORD_VARINT_BYTES)
             .ok_or_else(|| fail(at, format!("face {index}: truncated or overlong varint")))?;
         let direction = (value & 7) as u8;
         if direction > 5 {
@@ -323,48 +326,10 @@ impl ParsedSection<'_> {
 fn record_offset(body: &[u8], index: usize) -> usize {
     let mut pos = 0;
     for _ in 0..index {
-        read_varint(body, &mut pos);
+        varint::read(body, &mut pos, RECORD_VARINT_BYTES);
         pos += 6;
     }
     SECTION_HEADER_BYTES + pos
-}
-
-/// Writes `v` as a varint at the start of `out`; returns its length.
-fn put_varint(out: &mut [u8; 16], mut v: u128) -> usize {
-    let mut len = 0;
-    while v >= 0x80 {
-        out[len] = (v as u8) | 0x80;
-        v >>= 7;
-        len += 1;
-    }
-    out[len] = v as u8;
-    len + 1
-}
-
-/// Reads a varint at `*pos`; `None` when truncated or longer than 10 bytes (a voxel
-/// gap of 63 bits and a direction take at most ten).
-#[inline]
-fn read_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
-    // Most records' varint is one byte: the faces of one voxel, or of the next.
-    let b = *bytes.get(*pos)?;
-    if b & 0x80 == 0 {
-        *pos += 1;
-        return Some(u128::from(b));
-    }
-    read_long_varint(bytes, pos)
-}
-
-fn read_long_varint(bytes: &[u8], pos: &mut usize) -> Option<u128> {
-    let mut v = 0u128;
-    for shift in (0..70).step_by(7) {
-        let b = *bytes.get(*pos)?;
-        *pos += 1;
-        v |= u128::from(b & 0x7f) << shift;
-        if b & 0x80 == 0 {
-            return Some(v);
-        }
-    }
-    None
 }
 
 #[cfg(test)]
