@@ -6,14 +6,16 @@
 # level set of a 1024-segment exact manifold3d mesh, and manifold3d's own mesh at 96
 # segments; every mesh measured against the exact surface at 200,000 area-weighted
 # samples by the surface_quality bench (benches/surface_quality.rs). Then the Stanford
-# bunny voxelized at depth 10 and exported: its distance to the source mesh.
+# bunny voxelized at depth 10 and exported: its distance to the source mesh; and the
+# closed bunny at depth 9 simplified, against OpenVDB's adaptive mesh of the same
+# triangles.
 #
 # octsolid's exports are made as `export` does by default and, once `export` has
 # `--surface` (the smooth surface the default), with `--surface voxels` too (today's
 # staircase). Times are medians of RUNS whole commands (wall clock, load and write
 # included); for the peers the script's own inner time (OpenVDB's meshing,
 # manifold3d's boolean) is given too. Prints one Markdown table for the part, one for
-# the bunny.
+# each bunny.
 #
 #   benches/peers/setup.sh && cargo build --release
 #   benches/peers/surface.sh [RUNS=3] [OUT_DIR=target/peers/surface]
@@ -123,3 +125,23 @@ for k in "${!variants[@]}"; do
     args+=(--label "\`octsolid export bunny.oct -o bunny.obj${variants[$k]:+ ${variants[$k]}}\`" --time "$median s" "$out/bunny-$k.obj")
 done
 measure --reference "$bunny" --voxel "$bunny_voxel" "${args[@]}"
+
+# A simplified export of a model we did not make: the closed bunny
+# (models/bunny-watertight.obj, 3,700 triangles) voxelized at depth 9, exported within
+# the part's tolerance and a coarser one, against OpenVDB's adaptive mesh of a level set
+# of the same triangles at the same voxel size; all against the source mesh.
+closed="$root/models/bunny-watertight.obj"
+"$bin" voxelize "$closed" --depth 9 -o closed-bunny.oct >/dev/null
+closed_voxel=$("$bin" info closed-bunny.oct | awk '/voxel edge/ {print $NF; exit}' | tr -d ')')
+echo
+echo "The closed bunny voxelized at depth 9 (voxel $closed_voxel), simplified: distances between 200,000 samples of the export and the source mesh, and back:"
+echo
+args=(--header)
+for tolerance in 0.04 0.3; do
+    timed "closed-bunny-export-$tolerance" "$bin" export closed-bunny.oct -o "closed-bunny-$tolerance.obj" --tolerance "$tolerance"
+    args+=(--label "\`octsolid export closed-bunny.oct -o closed-bunny.obj --tolerance $tolerance\`" --time "$median s" "$out/closed-bunny-$tolerance.obj")
+done
+inner_field=meshing_s timed openvdb-closed-bunny /usr/bin/python3 "$here/surface_openvdb.py" "$closed" --voxel "$closed_voxel" --adaptivity 0.1 -o openvdb-closed-bunny.ply
+args+=(--label "OpenVDB $(json_field openvdb-closed-bunny.log version) volumeToMesh, adaptivity 0.1 (level set of the same triangles)" \
+    --time "$(median_of openvdb-closed-bunny.inner) s meshing, $median s process" "$out/openvdb-closed-bunny.ply")
+measure --reference "$closed" --voxel "$closed_voxel" "${args[@]}"

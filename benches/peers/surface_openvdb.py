@@ -3,7 +3,7 @@
 on the classic CSG part, for the surface-quality table (issue 38).
 
 Reads an exact mesh of the part (the 1024-segment manifold3d mesh that
-surface_manifold.py writes, binary PLY), makes a narrow-band level set of it with
+surface_manifold.py writes, binary PLY; or any closed triangle OBJ), makes a narrow-band level set of it with
 `FloatGrid.createLevelSetFromPolygons` at the voxel size --voxel (default 2.2 / 512:
 octsolid's depth 9 in the cube [-1.1, 1.1]^3; half-width 3 voxels, OpenVDB's
 default), and meshes its zero level with `convertToPolygons` (volumeToMesh) at
@@ -39,6 +39,23 @@ def read_ply(path):
     return points.astype(np.float64), faces["v"].astype(np.int32)
 
 
+def read_obj(path):
+    """A triangle OBJ's `v` and `f` lines (1-based indices, `f a/b/c` forms allowed)."""
+    points, triangles = [], []
+    with open(path) as f:
+        for line in f:
+            fields = line.split()
+            if not fields:
+                continue
+            if fields[0] == "v":
+                points.append([float(x) for x in fields[1:4]])
+            elif fields[0] == "f":
+                corners = [int(x.split("/")[0]) - 1 for x in fields[1:]]
+                assert len(corners) == 3, "triangles only"
+                triangles.append(corners)
+    return np.array(points, dtype=np.float64), np.array(triangles, dtype=np.int32)
+
+
 def write_ply(path, points, triangles):
     points = np.ascontiguousarray(points, dtype="<f4")
     faces = np.empty(len(triangles), dtype=[("n", "u1"), ("v", "<i4", (3,))])
@@ -58,12 +75,12 @@ def write_ply(path, points, triangles):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("input", help="the exact mesh, binary PLY (surface_manifold.py --segments 1024)")
+    ap.add_argument("input", help="the exact mesh: binary PLY (surface_manifold.py --segments 1024) or a triangle OBJ")
     ap.add_argument("--voxel", type=float, default=2.2 / 512)
     ap.add_argument("--adaptivity", type=float, default=0.0)
     ap.add_argument("-o", "--output", required=True, help="the mesh, .ply")
     args = ap.parse_args()
-    points, triangles = read_ply(args.input)
+    points, triangles = read_obj(args.input) if args.input.endswith(".obj") else read_ply(args.input)
     start = time.perf_counter()
     grid = vdb.FloatGrid.createLevelSetFromPolygons(
         points, triangles=triangles, transform=vdb.createLinearTransform(voxelSize=args.voxel)
