@@ -286,8 +286,7 @@ fn same_mesh_for_any_thread_count() {
 
 #[test]
 fn files_reload_with_the_same_volume() {
-    let dir = std::env::temp_dir().join(format!("octsolid-boundary-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("boundary", "reload");
     let d = Domain::new(DVec3::splat(-1.0), 2.0, 5).unwrap();
     let ball = voxelize(&Sphere::new(DVec3::new(0.1, 0.0, -0.05), 0.8).unwrap(), d, &VoxelizeOptions::default());
     let contacts = LinearOctree::from_voxels(d, [[4, 4, 4], [5, 5, 4], [9, 9, 9], [10, 10, 10]]).unwrap();

@@ -7,6 +7,8 @@ use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::Command;
 
+mod common;
+
 /// The `chapter-*.png` names in `dir`.
 fn chapter_pictures(dir: &Path) -> BTreeSet<String> {
     std::fs::read_dir(dir)
@@ -27,9 +29,7 @@ fn png_size(path: &Path) -> (u32, u32) {
 #[test]
 fn the_chapter_script_runs_and_makes_every_picture_the_chapter_shows() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let out = std::env::temp_dir().join(format!("octsolid-chapter-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
-    std::fs::create_dir_all(&out).unwrap();
+    let out = common::scratch_dir("chapter", "pictures");
     let run = Command::new("bash")
         .arg(root.join("scripts/chapter.sh"))
         .env("OCTSOLID", env!("CARGO_BIN_EXE_octsolid"))

@@ -24,9 +24,7 @@ fn data(path: &str) -> PathBuf {
 
 /// A folder of its own for each test (tests run in parallel).
 fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-formats-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("formats", test)
 }
 
 /// The solids of a solid file, read through the door ([`SolidFile::read`]).

@@ -39,9 +39,7 @@ use octsolid::shape::Cuboid;
 use octsolid::{Error, MemoryBudget, NoProgress};
 
 fn scratch(test: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-hardening-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("hardening", test)
 }
 
 /// `copies` pairs of the same large triangle, one of each pair turned over: closed

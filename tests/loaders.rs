@@ -14,9 +14,7 @@ use octsolid::{Error, Place};
 
 /// A folder of its own for each test (tests run in parallel).
 fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-loaders-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("loaders", test)
 }
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {

@@ -189,8 +189,7 @@ fn errors_say_what_and_where() {
 
 #[test]
 fn save_and_load_through_files_atomically() {
-    let dir = std::env::temp_dir().join(format!("octsolid-oct-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("oct", "atomic");
     let path = dir.join("solid.oct");
     let tree = solids().pop().unwrap();
     let bytes = oct::write(&tree, &path).unwrap();

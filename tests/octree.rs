@@ -216,7 +216,7 @@ fn every_constructor_keeps_exactly_eight_bytes_a_node() {
     exact("rotate90", &a.rotate90(2, 1));
     let ball = Sphere::new(d.min() + DVec3::splat(1.5), 1.2).unwrap();
     exact("voxelize", &voxelize(&ball, domain(7), &VoxelizeOptions::default()).unwrap());
-    let file = std::env::temp_dir().join(format!("octsolid-bytes-{}.oct", std::process::id()));
+    let file = common::scratch_dir("octree", "bytes").join("solid.oct");
     octsolid::io::oct::write(&a, &file).unwrap();
     let loaded = octsolid::io::oct::read(&file, octsolid::MemoryBudget::unlimited()).unwrap();
     std::fs::remove_file(&file).unwrap();

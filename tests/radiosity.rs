@@ -317,10 +317,9 @@ fn the_solution_is_the_same_bits_on_one_and_two_threads() {
     }
 }
 
+/// A file `name` in a scratch folder of its own (tests run in parallel).
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-radiosity-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    common::scratch_dir("radiosity", name).join(name)
 }
 
 /// The lit room solved for `shots` shots and saved as `name`.

@@ -8,6 +8,8 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("cli/ has a parent").to_path_buf()
 }
@@ -64,9 +66,7 @@ fn serves_its_page(dir: &Path, args: &[String]) {
 fn every_readme_command_runs_in_order() {
     let commands = walkthrough();
     assert!(commands.len() >= 10, "the walkthrough has its commands: {commands:?}");
-    let dir = std::env::temp_dir().join(format!("octsolid-readme-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("readme", "walkthrough");
     // The models linked; the scenes copied, so their solid caches (written beside a
     // scene) stay out of the checkout.
     std::os::unix::fs::symlink(repo().join("models"), dir.join("models")).unwrap();

@@ -550,8 +550,7 @@ fn quick_writes_a_default_size_picture_of_the_solid() {
     let r = 0.8;
     let d = Domain::new(DVec3::splat(-1.0), 2.0, 7).unwrap();
     let tree = voxelize(&Sphere::new(DVec3::ZERO, r).unwrap(), d, &VoxelizeOptions::default()).unwrap();
-    let dir = std::env::temp_dir().join(format!("octsolid-render-quick-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("render", "quick");
     let path = dir.join("ball.png");
     let stats = octsolid::quick(&tree, &path).unwrap();
     let img = image::open(&path).unwrap().to_rgb8();

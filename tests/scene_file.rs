@@ -25,11 +25,11 @@ use octsolid::scene_file::{
 use octsolid::shape::{Cuboid, Sphere};
 use octsolid::{Error, Result};
 
+mod common;
+
 /// A folder of its own for each test (tests run in parallel).
 fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-scenes-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("scenes", test)
 }
 
 /// Writes `text` to `dir/name` and loads it as a scene.

@@ -28,9 +28,7 @@ const MODES: [(&str, BoundaryOptions); 2] =
 
 /// A folder of its own for each test (tests run in parallel).
 fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-stl-export-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("stl-export", test)
 }
 
 fn reference(name: &str) -> PathBuf {

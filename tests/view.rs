@@ -12,6 +12,8 @@ use std::path::Path;
 use std::process::{Child, ChildStdout, Command, Stdio};
 use std::time::{Duration, Instant};
 
+mod common;
+
 /// A scratch folder of its own, removed when dropped.
 struct Scratch(std::path::PathBuf);
 
@@ -19,9 +21,7 @@ impl Scratch {
     fn new() -> Scratch {
         static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
         let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("octsolid-view-{}-{n}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        Scratch(dir)
+        Scratch(common::scratch_dir("view", &n.to_string()))
     }
 }
 

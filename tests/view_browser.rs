@@ -17,6 +17,8 @@ use std::time::{Duration, Instant};
 use serde_json::{Value, json};
 use tungstenite::{Message, WebSocket, stream::MaybeTlsStream};
 
+mod common;
+
 /// A child process killed when dropped.
 struct Killed(Child);
 
@@ -28,9 +30,7 @@ impl Drop for Killed {
 }
 
 fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-view-browser-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("view-browser", "pages")
 }
 
 /// One HTTP/1.0 GET of the viewer (which then neither chunks nor keeps the connection).

@@ -108,10 +108,12 @@ pub fn folder_files(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
     files
 }
 
-/// An empty folder `octsolid-{suite}-{name}-{pid}` in the temporary directory (emptied
-/// if an earlier run left it).
+/// An empty folder `{suite}-{name}` in the build's folder for test files
+/// (`target/tmp`, Cargo's `CARGO_TARGET_TMPDIR`), emptied if an earlier run left it: a
+/// failed test's files stay there to be looked at until the next run, and nothing is
+/// left in the system's temporary directory.
 pub fn scratch_dir(suite: &str, name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("octsolid-{suite}-{name}-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{suite}-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
