@@ -330,3 +330,30 @@ fn mesh_distance_matches_brute_force() {
         assert!(exact <= dense + 1e-12 && dense - exact < 0.01, "{p}: {exact} against {dense}");
     }
 }
+
+#[test]
+fn points_over_an_open_meshs_hole_are_told_apart() {
+    // A cube of side 2 without its top face (z = 1): the point above the hole's middle
+    // is nearest to its rim; points beside the walls and under the floor are not.
+    let mut open = generate::cuboid(DVec3::ZERO, DVec3::splat(2.0));
+    let top = |t: &[u32; 3]| t.iter().all(|&v| open.vertices[v as usize].z == 1.0);
+    let kept: Vec<[u32; 3]> = open.triangles.iter().copied().filter(|t| !top(t)).collect();
+    assert_eq!(kept.len(), open.triangles.len() - 2);
+    open.triangles = kept;
+    let tree = MeshDistance::new(&open);
+    let mut rng = Rng(23);
+    for _ in 0..200 {
+        let (x, y) = (rng.vec(-0.9, 0.9).x, rng.vec(-0.9, 0.9).y);
+        let above = tree.nearest(DVec3::new(x, y, 1.0 + rng.vec(0.0, 0.5).z));
+        let expected = 1.0 - x.abs().max(y.abs());
+        assert!(above.over_open_boundary, "({x}, {y}) above the hole");
+        assert!(above.distance >= expected - 1e-12, "({x}, {y}): {above:?}");
+        for (p, distance) in [(DVec3::new(1.3, x, y.min(0.8)), 0.3), (DVec3::new(x, y, -1.2), 0.2)] {
+            let n = tree.nearest(p);
+            assert!(!n.over_open_boundary && (n.distance - distance).abs() < 1e-12, "{p}: {n:?}");
+        }
+    }
+    // A closed mesh has no open boundary.
+    let closed = MeshDistance::new(&generate::torus(1.0, 0.3, 40, 16));
+    assert!((0..300).all(|_| !closed.nearest(rng.vec(-1.6, 1.6)).over_open_boundary));
+}
