@@ -322,6 +322,7 @@ const PENDING: (f64, DVec3) = (f64::NAN, DVec3::ZERO);
 /// each line (read whole before it is written), the entry minimizing `axis_cost(x - i)
 /// + cost(i)` (the first of equal ones), a site tile beyond a run's end giving its first
 /// voxel; `strides` are the steps within a tile along the axis and the two others.
+///
 /// Voxels whose entries cost under `settled` are left as they are (each voxel's own
 /// entry is a candidate, so its result would cost under `settled` too) unless they lie
 /// between others; the rest are transformed in stretches, each from the entries within
