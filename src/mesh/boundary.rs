@@ -290,7 +290,7 @@ pub(crate) fn boundary_mesh_of_size(
 
 /// The exposed squares of the faces of `tree`'s full nodes (step 1 of the module doc,
 /// before merging), in key order.
-fn exposed_squares(tree: &LinearOctree) -> Vec<Rect> {
+pub(crate) fn exposed_squares(tree: &LinearOctree) -> Vec<Rect> {
     let keys = tree.keys();
     let depth = tree.depth();
     keys.par_chunks(CHUNK)

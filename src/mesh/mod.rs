@@ -36,7 +36,8 @@ use crate::error::{Error, Result};
 
 pub use boundary::{BoundaryOptions, boundary_mesh, try_boundary_mesh};
 pub(crate) use boundary::{
-    BoundarySize, Rect as BoundaryRect, UnitFaceQuads, boundary_mesh_of_size, boundary_rects, unit_face_quads,
+    BoundarySize, Rect as BoundaryRect, UnitFaceQuads, boundary_mesh_of_size, boundary_rects, exposed_squares,
+    unit_face_quads,
 };
 pub(crate) use crossing::{Plane, signed_crossing};
 pub use parity::ParityGrid;

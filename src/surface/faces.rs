@@ -5,7 +5,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::mesh::{BoundaryRect, boundary_rects};
+use crate::mesh::{BoundaryRect, exposed_squares};
 use crate::morton;
 use crate::octree::LinearOctree;
 
@@ -57,11 +57,13 @@ impl FaceKey {
     }
 }
 
-/// Every boundary face of `tree`, sorted.
+/// Every boundary face of `tree`, sorted: the exposed squares cut into unit faces
+/// without merging them into rectangles first (the same faces: the squares tile the
+/// boundary without overlap).
 #[must_use]
 pub(crate) fn boundary_faces(tree: &LinearOctree) -> Vec<FaceKey> {
-    let rects = boundary_rects(tree);
-    let mut faces: Vec<FaceKey> = rects.par_iter().flat_map_iter(unit_faces).collect();
+    let squares = exposed_squares(tree);
+    let mut faces: Vec<FaceKey> = squares.par_iter().flat_map_iter(unit_faces).collect();
     faces.par_sort_unstable();
     faces
 }

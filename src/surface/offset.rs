@@ -23,7 +23,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::faces::boundary_faces;
+use super::faces::{is_boundary_face, neighbour};
 use super::hermite::{Crossing, FaceKey, HermiteData};
 use crate::error::{Error, Result};
 use crate::octree::{FaceCrossings, LinearOctree, NewCrossing, OffsetOptions, SetOp};
@@ -47,7 +47,7 @@ pub fn offset_with_surface(
     options: &OffsetOptions,
 ) -> Result<(LinearOctree, HermiteData)> {
     let (result, new) = tree.offset_along_surface(distance_in_voxels, surface, options)?;
-    let data = result_surface(&result, surface, new);
+    let data = result_surface(&result, surface, new, distance_in_voxels != 0.0);
     Ok((result, data))
 }
 
@@ -118,7 +118,13 @@ fn combined(
 
 /// The crossings of `result`'s boundary faces: the step's new ones (the first of a
 /// face given twice), else the old solid's where the face was its own, else none.
-fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing>) -> HermiteData {
+///
+/// A step that `reached` a voxel (a distance other than 0) gives a new crossing on
+/// every boundary face of its result between two voxels of the domain
+/// ([`LinearOctree::offset_along_surface`]), so the old solid's count only on the
+/// domain's own faces, where their voxel is still full: the result's faces are never
+/// listed. A step of 0 gives none, and the old crossings of the result's faces stay.
+fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing>, reached: bool) -> HermiteData {
     let new = HermiteData::from_faces(
         new.into_iter()
             .map(|c| {
@@ -126,28 +132,28 @@ fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing
             })
             .collect(),
     );
-    // All three lists are sorted by face: each chunk of the faces walks the two
-    // crossing lists from where its first face would lie.
-    let (new, old) = (new.faces(), old.faces());
-    let faces: Vec<(FaceKey, Crossing)> = boundary_faces(result)
-        .par_chunks(1 << 12)
-        .flat_map_iter(|chunk| {
-            let mut a = new.partition_point(|(k, _)| *k < chunk[0]);
-            let mut b = old.partition_point(|(k, _)| *k < chunk[0]);
-            chunk.iter().filter_map(move |&key| {
-                while a < new.len() && new[a].0 < key {
-                    a += 1;
-                }
-                if a < new.len() && new[a].0 == key {
-                    return Some((key, new[a].1));
-                }
-                while b < old.len() && old[b].0 < key {
-                    b += 1;
-                }
-                (b < old.len() && old[b].0 == key).then(|| (key, old[b].1))
-            })
-        })
+    let n = result.domain().resolution();
+    let kept: Vec<(FaceKey, Crossing)> = old
+        .faces()
+        .par_iter()
+        .filter(|(key, _)| (!reached || neighbour(*key, n).is_none()) && is_boundary_face(result, *key))
+        .copied()
         .collect();
+    // Both sorted by face; a face in both (none when `reached`) keeps the new crossing.
+    let new = new.faces();
+    let mut faces = Vec::with_capacity(new.len() + kept.len());
+    let mut b = 0;
+    for &(key, crossing) in new {
+        while b < kept.len() && kept[b].0 < key {
+            faces.push(kept[b]);
+            b += 1;
+        }
+        if b < kept.len() && kept[b].0 == key {
+            b += 1;
+        }
+        faces.push((key, crossing));
+    }
+    faces.extend_from_slice(&kept[b..]);
     HermiteData::from_sorted(faces)
 }
 
@@ -157,5 +163,88 @@ fn positive(what: &'static str, value: f64) -> Result<()> {
         Ok(())
     } else {
         Err(Error::invalid(what, format!("{value} is not a finite positive number of voxels")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::octree::Domain;
+    use crate::surface::faces::boundary_faces;
+    use crate::test_util::Rng;
+
+    /// A solid at depth 5 of a few random boxes, some against the domain's faces, and
+    /// scattered voxels, with a random crossing on every boundary face.
+    fn random_solid(rng: &mut Rng) -> (LinearOctree, HermiteData) {
+        let domain = Domain::new(DVec3::ZERO, 1.0, 5).unwrap();
+        let boxes: Vec<([u32; 3], [u32; 3])> = (0..2 + rng.below(3))
+            .map(|_| {
+                let lo: [u32; 3] = std::array::from_fn(|_| if rng.below(3) == 0 { 0 } else { rng.below(28) as u32 });
+                let hi = lo.map(|c| (c + 2 + rng.below(20) as u32).min(32));
+                (lo, hi)
+            })
+            .collect();
+        let mut voxels = Vec::new();
+        for z in 0..32 {
+            for y in 0..32 {
+                for x in 0..32 {
+                    let p = [x, y, z];
+                    let boxed = boxes.iter().any(|(lo, hi)| (0..3).all(|a| lo[a] <= p[a] && p[a] < hi[a]));
+                    if boxed != (rng.below(80) == 0) {
+                        voxels.push(p);
+                    }
+                }
+            }
+        }
+        let tree = LinearOctree::from_voxels(domain, voxels).unwrap();
+        let faces = boundary_faces(&tree)
+            .into_iter()
+            .map(|key| {
+                let normal = (key.outward() + rng.vec(-0.4, 0.4)).normalize().as_vec3();
+                (key, Crossing { t: rng.range(0.05, 0.95) as f32, normal })
+            })
+            .collect();
+        (tree, HermiteData::from_faces(faces))
+    }
+
+    /// The crossings by the definition: on each of the result's boundary faces (listed
+    /// from the tree), the step's new one, else the old one.
+    fn by_definition(result: &LinearOctree, old: &HermiteData, new: &[NewCrossing]) -> HermiteData {
+        let mut new: Vec<(FaceKey, Crossing)> = new
+            .iter()
+            .map(|c| {
+                (FaceKey { voxel: c.voxel, direction: c.direction }, Crossing { t: c.t, normal: Vec3::from(c.normal) })
+            })
+            .collect();
+        new.sort_by_key(|(key, _)| *key);
+        new.dedup_by_key(|(key, _)| *key);
+        let find =
+            |list: &[(FaceKey, Crossing)], key| list.binary_search_by_key(&key, |(k, _)| *k).ok().map(|i| list[i]);
+        HermiteData::from_sorted(
+            boundary_faces(result)
+                .into_iter()
+                .filter_map(|key| find(&new, key).or_else(|| find(old.faces(), key)))
+                .collect(),
+        )
+    }
+
+    #[test]
+    fn the_result_keeps_old_crossings_only_on_the_domain_faces_and_equals_the_definition() {
+        let mut rng = Rng(0x39_5f0e);
+        let mut on_domain_faces = 0;
+        for round in 0..4 {
+            let (tree, old) = random_solid(&mut rng);
+            for distance in [0.0, 0.8, -1.3, 2.6, -3.4, 5.1] {
+                let (result, data) = offset_with_surface(&tree, &old, distance, &OffsetOptions::default()).unwrap();
+                let (again, new) = tree.offset_along_surface(distance, &old, &OffsetOptions::default()).unwrap();
+                assert_eq!(again, result);
+                assert_eq!(data, by_definition(&result, &old, &new), "round {round} distance {distance}");
+                let n = result.domain().resolution();
+                on_domain_faces += data.faces().iter().filter(|(key, _)| neighbour(*key, n).is_none()).count();
+            }
+        }
+        assert!(on_domain_faces > 100, "{on_domain_faces} crossings on the domain's faces");
     }
 }

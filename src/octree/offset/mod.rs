@@ -95,7 +95,10 @@ impl LinearOctree {
     /// the one `surface`'s crossings describe (the sub-voxel rule of `subvoxel`,
     /// in the module doc), and the crossings of the result's boundary faces in the
     /// band, from the distance field (each face once, in the tiles' Morton order).
-    /// Faces the step leaves alone keep `surface`'s.
+    /// Every boundary face of the result between two voxels of the domain is in the
+    /// band when `distance` is not 0 (a face has a mixed tile, or a free tile touching
+    /// a site tile, on one side; see `tiles`), so it gets one; the domain's own faces
+    /// get none (they keep `surface`'s).
     ///
     /// Fails when `distance` is not finite or a step's estimate exceeds the budget.
     pub fn offset_along_surface(
