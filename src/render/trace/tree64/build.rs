@@ -162,14 +162,14 @@ pub(super) fn words(keys: &[NodeKey], levels: u32) -> (Vec<u64>, usize, usize) {
     words.reserve_exact(upper_words);
     let mut base = words.len();
     let root = if bottom == 0 { 0 } else { base };
-    for level in 0..bottom {
+    for (level, nodes) in upper.iter().enumerate() {
         // Where the next level starts: the lowest level at 0, an upper one behind this.
-        let next = if level + 1 == bottom { 0 } else { base + UPPER_WORDS * upper[level].len() };
+        let next = if level + 1 == bottom { 0 } else { base + UPPER_WORDS * nodes.len() };
         let stride = if level + 1 == bottom { 1 } else { UPPER_WORDS };
-        for &[present, full, first] in &upper[level] {
+        for &[present, full, first] in nodes {
             words.extend([present, full, (next + stride * first as usize) as u64]);
         }
-        base += UPPER_WORDS * upper[level].len();
+        base += UPPER_WORDS * nodes.len();
     }
     words.shrink_to_fit();
     (words, root, nodes)
