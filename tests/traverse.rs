@@ -509,8 +509,9 @@ fn tree64_matches_the_walk_on_subnormal_nan_and_axis_rays() {
 
 #[test]
 fn tree64_takes_no_more_bytes_than_the_traversal_octree() {
-    // Per voxel, on a solid of many levels (the showcase at depth 8): the 64-tree's
-    // 24-byte nodes stand for two octree levels each.
+    // On a solid of many levels (the showcase at depth 8): a lowest 64-tree node, one
+    // word, stands for an octree node and its inner children (8 bytes each), an upper
+    // one, three words, for an octree node and its inner children above them.
     let d = samples::showcase_domain(8).unwrap();
     let tree = voxelize(&samples::showcase(), d, &VoxelizeOptions::default()).unwrap();
     let (walk, tree64) = (Traversal::new(&tree), Tree64::new(&tree));

@@ -1,8 +1,9 @@
 //! Our second contender: the 64-tree ([`Tree64`], 4x4x4 nodes) and its mirrored walk,
 //! with the traversal octree's hits bit for bit (issue 41).
 //!
-//! Bytes counted: the 64-tree (24 bytes a node plus the struct), which is all its walk
-//! reads; the linear octree it is built from is not counted.
+//! Bytes counted: the 64-tree (8 bytes a node of the lowest level, 24 above, plus the
+//! struct), which is all its walk reads; the linear octree it is built from is not
+//! counted.
 
 use super::contender::{Contender, SurfaceHit};
 use octsolid::Ray;

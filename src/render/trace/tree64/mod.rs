@@ -4,10 +4,8 @@
 //! After the sparse 64-trees of voxel engines (dubiousconst282's study of 64-tree
 //! walks; Laine and Karras's octree for the comparison): a node is a cube of
 //! 4x4x4 children, each empty, full or inner, with two 64-bit masks (present, full)
-//! and the index of its first inner child. The
-//! inner children of a node are stored together in child order, so child `i` (`i =
-//! x + 4 y + 16 z`) is at `first + popcount(inner & ((1 << i) - 1))`, `inner =
-//! present & !full`.
+//! and the index of its first inner child (child `i = x + 4 y + 16 z`; `inner =
+//! present & !full`).
 //!
 //! Levels: a node spans two octree levels, so a domain of even depth `d` has `d / 2`
 //! levels and the root is the domain. Departure for odd depth: the root is a virtual
@@ -15,31 +13,46 @@
 //! octants (the rest absent); every level below it is whole. So the root's edge is
 //! always `4^levels`, and the walk's arithmetic is the same at every level.
 //!
-//! Built by one recursive partition of the sorted keys, as the traversal octree is
-//! (O(n * depth)); a full octree node at an odd level marks its 8 cells full.
+//! Layout (a contract, `Tree64::words`): one buffer of 64-bit words. A node of the
+//! lowest level, whose children are voxels, is one word, its full children (present
+//! and full are the same there); a node above it three: present, full, and the word
+//! index of its first inner child. The lowest level's nodes come first, then the
+//! upper levels from the root down, each level's nodes in Morton order, so the inner
+//! children of a node lie together in child order, child `i` at `first + stride *
+//! popcount(inner & ((1 << i) - 1))`, `stride` the words of a node of the child's
+//! level. Departure from the study's node (two masks and a child pointer at every
+//! level): the lowest level, most of the nodes, keeps one mask, so the tree takes
+//! about a third of the bytes it would, and less than the traversal octree's 8 bytes
+//! an inner node on every solid measured (a lowest node holds what the octree spends
+//! its two lowest levels, one to nine nodes, on; BENCHMARKS.md). The walk reads a node
+//! as three words at `i`, `i + k`, `i + 2 k` with `k` 1 above the lowest level and 0
+//! on it, no branch.
+//!
+//! Built in one pass over the sorted keys (`build`), into an exact-size buffer.
 
+mod build;
 mod walk;
 
 use super::lanes::Isa;
 use super::traversal::{Outline, Root};
-use crate::octree::{Domain, LinearOctree, NodeKey};
+use crate::octree::{Domain, LinearOctree, MAX_DEPTH};
 
-/// One node of the 64-tree: 4x4x4 children.
+/// Most levels of a 64-tree.
+const LEVELS: usize = (MAX_DEPTH as usize).div_ceil(2);
+
+/// Words of a node above the lowest level: present, full, first child.
+const UPPER_WORDS: usize = 3;
+
+/// One node of the 64-tree as the walk holds it: 4x4x4 children.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(C)]
 pub(crate) struct Node64 {
     /// Children that hold some solid (bit `x + 4 y + 16 z`).
     pub present: u64,
     /// Children that are wholly solid.
     pub full: u64,
-    /// Index of the first inner child.
-    pub first: u32,
-    _pad: [u8; 4],
+    /// Word index of the first inner child (nothing on the lowest level).
+    pub first: usize,
 }
-
-const _: () = assert!(std::mem::size_of::<Node64>() == 24);
-
-const EMPTY: Node64 = Node64 { present: 0, full: 0, first: 0, _pad: [0; 4] };
 
 /// The 64-tree of one solid.
 #[derive(Clone, Debug)]
@@ -49,7 +62,12 @@ pub struct Tree64 {
     isa: Isa,
     /// Levels of 4x4x4 nodes: `ceil(depth / 2)`; the root's edge is `4^levels` voxels.
     levels: u32,
-    nodes: Vec<Node64>,
+    /// The nodes (see the module doc), empty unless the root is inner.
+    words: Vec<u64>,
+    /// Word index of the root.
+    root: usize,
+    /// Number of nodes.
+    nodes: usize,
 }
 
 impl Tree64 {
@@ -57,77 +75,16 @@ impl Tree64 {
     #[must_use]
     pub fn new(tree: &LinearOctree) -> Self {
         let outline = Outline::of(tree);
-        let depth = u32::from(outline.domain.depth());
-        let levels = depth.div_ceil(2);
-        let inner = outline.root == Root::Inner;
-        let mut t = Tree64 { outline, isa: Isa::detect(), levels, nodes: Vec::new() };
-        if inner {
-            t.nodes.push(EMPTY);
-            // An odd depth's root holds the domain's octants only (see the module doc).
-            t.build(0, NodeKey::new(0, depth), tree.keys(), if depth % 2 == 1 { 1 } else { 2 });
-        }
-        t
+        let levels = u32::from(outline.domain.depth()).div_ceil(2);
+        let (words, root, nodes) =
+            if outline.root == Root::Inner { build::words(tree.keys(), levels) } else { (Vec::new(), 0, 0) };
+        Tree64 { outline, isa: Isa::detect(), levels, words, root, nodes }
     }
 
-    /// Fills node `index` for `key`, whose solid is `keys`, splitting it `split` octree
-    /// levels down (2, or 1 for an odd depth's root, whose children sit in cells 0..2).
-    fn build(&mut self, index: usize, key: NodeKey, keys: &[NodeKey], split: u32) {
-        // The inner children's keys and key ranges, by cell.
-        let mut cells = [(key, 0u32, 0u32); 64];
-        let (mut present, mut full) = (0u64, 0u64);
-        let mut mark = |cell: usize, child: NodeKey, a: usize, b: usize, is_full: bool| {
-            present |= 1 << cell;
-            if is_full {
-                full |= 1 << cell;
-            } else {
-                cells[cell] = (child, a as u32, b as u32);
-            }
-        };
-        let mut pos = 0;
-        for i in 0..8u64 {
-            let child = key.child(i).expect("an inner node is not a voxel");
-            let start = pos;
-            while pos < keys.len() && keys[pos].start() < child.end() {
-                pos += 1;
-            }
-            if pos == start {
-                continue;
-            }
-            let bit = |a: u64| (i >> a & 1) as usize;
-            let child_full = pos - start == 1 && keys[start] == child;
-            if split == 1 {
-                mark(bit(0) + 4 * bit(1) + 16 * bit(2), child, start, pos, child_full);
-                continue;
-            }
-            let mut sub = start;
-            for j in 0..8u64 {
-                let cell = |a: u64| 2 * bit(a) + (j >> a & 1) as usize;
-                let cell = cell(0) + 4 * cell(1) + 16 * cell(2);
-                if child_full {
-                    mark(cell, child, start, pos, true);
-                    continue;
-                }
-                let grandchild = child.child(j).expect("an inner node is not a voxel");
-                let from = sub;
-                while sub < pos && keys[sub].start() < grandchild.end() {
-                    sub += 1;
-                }
-                if sub > from {
-                    mark(cell, grandchild, from, sub, sub - from == 1 && keys[from] == grandchild);
-                }
-            }
-        }
-        let inner = present & !full;
-        let first = self.nodes.len();
-        self.nodes[index] = Node64 { present, full, first: first as u32, _pad: [0; 4] };
-        self.nodes.extend(std::iter::repeat_n(EMPTY, inner.count_ones() as usize));
-        let (mut slot, mut bits) = (first, inner);
-        while bits != 0 {
-            let (child, a, b) = cells[bits.trailing_zeros() as usize];
-            self.build(slot, child, &keys[a as usize..b as usize], 2);
-            slot += 1;
-            bits &= bits - 1;
-        }
+    /// The node at word `i`, of a level above the lowest when `upper` is 1 (else 0).
+    #[inline(always)]
+    fn node(&self, i: usize, upper: usize) -> Node64 {
+        Node64 { present: self.words[i], full: self.words[i + upper], first: self.words[i + 2 * upper] as usize }
     }
 
     /// The domain.
@@ -139,12 +96,12 @@ impl Tree64 {
     /// Number of nodes.
     #[must_use]
     pub fn node_count(&self) -> usize {
-        self.nodes.len()
+        self.nodes
     }
 
     /// Bytes used: the struct plus the node buffer.
     #[must_use]
     pub fn bytes(&self) -> usize {
-        std::mem::size_of::<Self>() + self.nodes.capacity() * std::mem::size_of::<Node64>()
+        std::mem::size_of::<Self>() + self.words.capacity() * std::mem::size_of::<u64>()
     }
 }

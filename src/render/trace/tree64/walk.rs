@@ -73,17 +73,13 @@
 
 use std::mem::MaybeUninit;
 
-use super::{Node64, Tree64};
-use crate::octree::MAX_DEPTH;
+use super::{LEVELS, Node64, Tree64, UPPER_WORDS};
 use crate::ray::{Ray, RayCast};
 #[cfg(target_arch = "x86_64")]
 use crate::render::trace::lanes::{Avx2, Sse2};
 use crate::render::trace::lanes::{Isa, Lanes, Scalar};
 use crate::render::trace::voxel_ray::{Entry, Hit, VoxelRay};
 use crate::render::trace::walk::{Lattice, Opening, RootSpan};
-
-/// Most levels of a 64-tree.
-const LEVELS: usize = (MAX_DEPTH as usize).div_ceil(2);
 
 /// The walk through a 64-tree: the first full voxel a world-space ray enters, the
 /// same hit as [`super::super::Traversal`]'s walk.
@@ -333,7 +329,9 @@ impl Tree64 {
         // Each beside the children of it the ray's line can touch (`line_children`).
         let mut stack = [const { MaybeUninit::<(Node64, u64)>::uninit() }; LEVELS];
         let mut level = 0usize;
-        let mut node = self.nodes[0];
+        // The lowest level, whose nodes are one word (see `Tree64`).
+        let bottom = self.levels as usize - 1;
+        let mut node = self.node(self.root, usize::from(bottom > 0));
         // log2 of the current level's child edge, the ray's cell there (mirrored, in
         // units of that edge), the cell's far planes (original frame, f64), their
         // times, and the child edge in lanes, signed as the mirrored coordinate runs.
@@ -353,7 +351,9 @@ impl Tree64 {
                 stack[level].write((node, line));
                 level += 1;
                 let inner = node.present & !node.full;
-                node = self.nodes[(node.first + (inner & ((1u64 << child) - 1)).count_ones()) as usize];
+                let upper = usize::from(level < bottom);
+                let before = (inner & ((1u64 << child) - 1)).count_ones() as usize;
+                node = self.node(node.first + before * (1 + (UPPER_WORDS - 1) * upper), upper);
                 shift -= 2;
                 step = step.mul(L::splat(0.25));
                 line = descend(&lanes, &m, &mut cell, &mut pn, &mut tn, step, t);
