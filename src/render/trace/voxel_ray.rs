@@ -107,8 +107,8 @@ impl VoxelRay {
         // side into a mask, the face's own bit set: a search's early exit mispredicts).
         let face = face.map(|f| {
             let mut crossed = 1u32 << f;
-            for a in 0..2 {
-                let plane = voxel[a] + u32::from(!(self.d[a] > 0.0));
+            for (a, &v) in voxel.iter().enumerate().take(2) {
+                let plane = if self.d[a] > 0.0 { v } else { v + 1 };
                 let same = (self.d[a] != 0.0) & ((f64::from(plane) - self.o[a]) * self.inv[a] == ta);
                 crossed |= u32::from(same & (a < f)) << a;
             }
