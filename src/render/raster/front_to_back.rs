@@ -28,7 +28,8 @@
 //!    subtree; the remaining children of a node whose footprint lies in one tile are
 //!    skipped once it is covered.
 //! 3. Coverage is a bit a sample, kept in 8x8 tiles (one `u64` each, bit `8 row + col`),
-//!    so a footprint test is one masked word test a tile it touches (one, mostly).
+//!    so a footprint test is one masked word test a tile it touches (one to four for
+//!    most, tested together without a branch: [`Tiles::any_uncovered`]).
 //! 4. A full node with an uncovered sample in its footprint: its faces that look at
 //!    the viewer, then each uncovered sample of the footprint makes its voxel ray once
 //!    (the camera ray from per-column and per-row terms, [`RayGrid`]) and tests those
@@ -654,14 +655,32 @@ struct Tiles<'a> {
 }
 
 impl Tiles<'_> {
-    /// Whether some sample of `rect` is not covered: one masked word test when `rect`
-    /// lies in one tile (most nodes).
+    /// Whether some sample of `rect` is not covered. A rectangle of at most 8 samples
+    /// a side (most nodes) lies in at most 2x2 tiles: the four tiles' masked words are
+    /// tested together, with no branch on how many tiles it touches (whether a
+    /// footprint crosses a tile edge is a coin toss the predictor missed). The masks
+    /// of a tile it does not reach are zero (its second row or column of tiles is then
+    /// its first).
     #[inline(always)]
     fn any_uncovered(&self, rect: Rect) -> bool {
-        match self.single_tile(rect) {
-            Some((t, mask)) => !self.covered[t] & mask != 0,
-            None => self.any_uncovered_in_tiles(rect),
+        if (rect.r1 - rect.r0 >= 8) | (rect.c1 - rect.c0 >= 8) {
+            return self.any_uncovered_in_tiles(rect);
         }
+        let (ty0, ty1, tx0, tx1) = (rect.r0 / 8, rect.r1 / 8, rect.c0 / 8, rect.c1 / 8);
+        // All ones when the rectangle stays in one row (column) of tiles.
+        let one_row = 0u64.wrapping_sub(u64::from(ty0 == ty1));
+        let one_column = 0u64.wrapping_sub(u64::from(tx0 == tx1));
+        let (from_row, to_row) = (u64::MAX << (8 * (rect.r0 & 7)), u64::MAX >> (8 * (7 - (rect.r1 & 7))));
+        let (from_column, to_column) = (columns_mask(rect.c0 & 7, 7), columns_mask(0, rect.c1 & 7));
+        let (top, bottom) = (from_row & (to_row | !one_row), to_row & !one_row);
+        let (left, right) = (from_column & (to_column | !one_column), to_column & !one_column);
+        let c = &self.covered;
+        let (row0, row1) = (ty0 * self.tiles_x, ty1 * self.tiles_x);
+        let open = (!c[row0 + tx0] & top & left)
+            | (!c[row0 + tx1] & top & right)
+            | (!c[row1 + tx0] & bottom & left)
+            | (!c[row1 + tx1] & bottom & right);
+        open != 0
     }
 
     /// [`Tiles::any_uncovered`] for a rectangle over several tiles.

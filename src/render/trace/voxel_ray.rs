@@ -103,14 +103,16 @@ impl VoxelRay {
         let voxel: [u32; 3] =
             if size == 1 { min } else { std::array::from_fn(|a| self.voxel_in(min, size, a, t, inside, face)) };
         // A voxel plane inside the node crossed at the same time is entered too: the
-        // face is the lowest axis among them.
+        // face is the lowest axis among them (the axes below the face tested side by
+        // side into a mask, the face's own bit set: a search's early exit mispredicts).
         let face = face.map(|f| {
-            (0..f)
-                .find(|&a| {
-                    let plane = if self.d[a] > 0.0 { voxel[a] } else { voxel[a] + 1 };
-                    self.d[a] != 0.0 && (f64::from(plane) - self.o[a]) * self.inv[a] == ta
-                })
-                .unwrap_or(f)
+            let mut crossed = 1u32 << f;
+            for (a, &v) in voxel.iter().enumerate().take(2) {
+                let plane = if self.d[a] > 0.0 { v } else { v + 1 };
+                let same = (self.d[a] != 0.0) & ((f64::from(plane) - self.o[a]) * self.inv[a] == ta);
+                crossed |= u32::from(same & (a < f)) << a;
+            }
+            crossed.trailing_zeros() as usize
         });
         Hit { t, voxel, axis: if inside { None } else { face.map(|a| a as u8) } }
     }
