@@ -9,10 +9,10 @@
 //! | `voxelize(shape, depth)` | `shape` | `Domain::around` (2% margin), `octree::voxelize` |
 //! | `load_mesh(path, depth)`, `from_mesh` | `voxelize` | `import::voxelize_input` |
 //! | `load(path)` | any command's input | `SolidFile::read`, its union |
-//! | `a | b`, `&`, `-`, `^`; `.union(b)`, `.intersection`, `.difference`, `.symmetric_difference` | `csg` | `common_domain`, `fit_to`, `combine_all`, `HermiteData::combine` |
+//! | `a | b`, `&`, `-`, `^`; `.union(b)`, `.intersection`, `.difference`, `.symmetric_difference` | `csg` | `common_domain`, `surface::fit_with_surface`, `combine_all`, `HermiteData::combine` |
 //! | `.save(path)` | `-o path` | `write_solid_file` (`.oct` with its surface data) |
 //! | `.export(path)` | `export` | `surface::extract`, `separate_sheets` (STL), `write_mesh` |
-//! | `.transform(...)` | `transform` | `Motion`, `LinearOctree::transformed`, `resample_with_surface` |
+//! | `.transform(...)` | `transform` | `Motion`, `surface::transform_with_surface` |
 //! | `.offset`, `.shell`, `.round` | `offset`, `shell`, `round` | `LinearOctree::offset`, `shell`, `round` |
 //! | `.measure()` | `info` | `LinearOctree::measure` |
 //!
@@ -28,20 +28,20 @@ use std::sync::Arc;
 
 use numpy::ndarray::{Array2, Array3, ArrayView1};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2};
-use octsolid::glam::{DAffine3, DVec3};
+use octsolid::glam::DVec3;
 use octsolid::import::{self, Fill, ImportOptions, Input};
 use octsolid::io::oct::Metadata;
 use octsolid::io::{ReadOptions, SolidsRef, WriteOptions};
 use octsolid::mesh::{InsideRule, TriangleMesh, separate_sheets, write_mesh};
 use octsolid::octree::{
-    Domain, Fit, LinearOctree, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
+    Domain, LinearOctree, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
     voxelize as voxelize_shape,
 };
 use octsolid::render::{CameraRequest, RenderOverrides, Up, render_picture};
 use octsolid::shape::Shape as _;
 use octsolid::surface::{
-    DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, extract, offset_with_surface, resample_with_surface,
-    resolve_offsets, round_with_surface, shell_with_surface,
+    DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, extract, fit_with_surface, offset_with_surface,
+    resolve_offsets, round_with_surface, shell_with_surface, transform_with_surface,
 };
 use octsolid::{Drawing, FileKind, MemoryBudget, NoProgress, SolidFile};
 use pyo3::prelude::*;
@@ -118,20 +118,8 @@ impl Solid {
             let (fitted, surface) = py
                 .detach(|| -> octsolid::Result<_> {
                     let options = VoxelizeOptions { budget: left, progress: &NoProgress };
-                    let (fitted, fit) = tree.fit_to(target, &options)?;
-                    Ok(match (fit, data) {
-                        // A resampling with surface data is made again from the smooth surface.
-                        (Fit::Resampled, Some(data)) => {
-                            let (again, data) =
-                                resample_with_surface(&tree, &data, DAffine3::IDENTITY, target, &options)?;
-                            (again, Some(data))
-                        }
-                        (fit, Some(data)) => {
-                            let kept = data.transformed(tree.domain(), DAffine3::IDENTITY, &fitted, fit);
-                            (fitted, kept)
-                        }
-                        (_, None) => (fitted, None),
-                    })
+                    let moved = fit_with_surface(&tree, data.as_deref(), target, &options)?;
+                    Ok((moved.tree, moved.surface))
                 })
                 .map_err(|e| whole_job(e, held(&trees), operands.len(), budget))
                 .py()?;
@@ -553,19 +541,8 @@ impl Solid {
                 }
             };
             let options = VoxelizeOptions { budget, progress };
-            let (moved, fit) = tree.transformed(map, target, &options)?;
-            Ok(match data {
-                // A resampling with surface data is made again from the moved smooth surface.
-                Some(data) if fit == Fit::Resampled => {
-                    let (moved, data) = resample_with_surface(tree, &data, map, *moved.domain(), &options)?;
-                    (moved, Some(data))
-                }
-                Some(data) => {
-                    let kept = data.transformed(tree.domain(), map, &moved, fit);
-                    (moved, kept)
-                }
-                None => (moved, None),
-            })
+            let moved = transform_with_surface(tree, data.as_deref(), map, target, &options)?;
+            Ok((moved.tree, moved.surface))
         })?;
         Ok(Solid { tree: Arc::new(moved), meta: self.meta, surface: LazySurface::ready(surface) })
     }

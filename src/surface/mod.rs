@@ -15,7 +15,9 @@
 //!   [`round_with_surface`]: offsets measured to the true surface, with the results'
 //!   crossings from the distance field.
 //! - `resample`: [`resample_with_surface`], a solid moved where its voxels do not
-//!   follow, voxelized again from its moved smooth surface, with new crossings.
+//!   follow, voxelized again from its moved smooth surface, with new crossings;
+//!   [`fit_with_surface`] and [`transform_with_surface`], a solid and its data
+//!   brought into a domain or moved, each the cheapest faithful way.
 //! - `resolve`: [`resolve_offsets`], a CSG tree's offset, shell and round nodes
 //!   replaced by their solids on a lattice ([`SurfacedOctree`]: an octree with its
 //!   crossings as a shape).
@@ -51,7 +53,7 @@ pub use extract::{CellMerge, DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMe
 pub(crate) use faces::boundary_faces;
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use offset::{offset_with_surface, round_with_surface, shell_with_surface};
-pub use resample::resample_with_surface;
+pub use resample::{Moved, fit_with_surface, resample_with_surface, transform_with_surface};
 pub use resolve::{SurfacedOctree, resolve_offsets};
 pub use simplify::{SimplifyOptions, SimplifyReport, simplify};
 pub use window::{CELL_BORDER, CellSurface, CellVertexKind, VertexKey, extract_cell};

@@ -14,6 +14,12 @@
 //! the surface was: a resampled sphere keeps its area to the true surface's accuracy,
 //! where resampling by voxels adds a ring of half-voxel steps.
 //!
+//! [`fit_with_surface`] and [`transform_with_surface`] are the one road for a solid
+//! that may carry data: exact moves carry the data along
+//! ([`HermiteData::transformed`]), a refinement leaves it out, and where the voxels
+//! would be sampled the solid is made from its smooth surface instead, without
+//! sampling the voxels first (the target domain is decided before any sampling).
+//!
 //! Departure: where two voxels of the solid touch along an edge or at a corner the
 //! mesh has a sheet (two vertices at one point), so the moved solid may be joined or
 //! parted there differently from a resampling by voxels; both are within a voxel.
@@ -24,7 +30,84 @@ use super::extract::{ExtractOptions, Style, extract};
 use super::hermite::HermiteData;
 use crate::error::{Error, Result};
 use crate::mesh::{InsideRule, MeshVoxelizeOptions, voxelize_mesh};
-use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
+use crate::octree::{Domain, Fit, LinearOctree, MovePlan, VoxelizeOptions};
+
+/// A solid brought into a domain or moved, with what became of its surface data.
+#[derive(Debug)]
+pub struct Moved {
+    /// The solid in its new domain.
+    pub tree: LinearOctree,
+    /// Its surface data: carried along by an exact move, made again from the smooth
+    /// surface where the voxels did not follow ([`Fit::Resampled`]), `None` when the
+    /// solid had none or a refinement left it out.
+    pub surface: Option<HermiteData>,
+    /// How the voxels got there.
+    pub fit: Fit,
+}
+
+/// `tree` (with its surface data `surface`, if any) in `target`: unchanged when it is
+/// there (the data copied), exact when the lattices nest ([`LinearOctree::fit_to`]; the data carried
+/// along, or left out by a refinement), else voxelized again from its smooth surface
+/// ([`resample_with_surface`]) when it has data, and sampled at the target's voxel
+/// centres when it has none.
+///
+/// # Errors
+/// When the result exceeds `options.budget`.
+pub fn fit_with_surface(
+    tree: &LinearOctree,
+    surface: Option<&HermiteData>,
+    target: Domain,
+    options: &VoxelizeOptions,
+) -> Result<Moved> {
+    match surface {
+        Some(data) if !tree.fits_exactly(&target) => {
+            let (tree, data) = resample_with_surface(tree, data, DAffine3::IDENTITY, target, options)?;
+            Ok(Moved { tree, surface: Some(data), fit: Fit::Resampled })
+        }
+        surface => {
+            let (fitted, fit) = tree.fit_to(target, options)?;
+            let surface = match fit {
+                Fit::Same => surface.cloned(),
+                _ => surface.and_then(|d| d.transformed(tree.domain(), DAffine3::IDENTITY, &fitted, fit)),
+            };
+            Ok(Moved { tree: fitted, surface, fit })
+        }
+    }
+}
+
+/// `tree` (with its surface data `surface`, if any) moved by `map` into the domain
+/// `target` makes of the default one, as [`LinearOctree::transformed`] moves it: exact
+/// for a cube symmetry times a scale plus a translation whose image nests in the target
+/// (the data carried along, or left out by a refinement); otherwise voxelized again
+/// from its moved smooth surface ([`resample_with_surface`]) when it has data, and
+/// sampled at the target's voxel centres when it has none.
+///
+/// # Errors
+/// When `map` is not finite and invertible, when `target` fails, or when the result
+/// exceeds `options.budget`.
+pub fn transform_with_surface(
+    tree: &LinearOctree,
+    surface: Option<&HermiteData>,
+    map: DAffine3,
+    target: impl FnOnce(Domain) -> Result<Domain>,
+    options: &VoxelizeOptions,
+) -> Result<Moved> {
+    let Some(data) = surface else {
+        let (tree, fit) = tree.transformed(map, target, options)?;
+        return Ok(Moved { tree, surface: None, fit });
+    };
+    match tree.plan_move(map, target)? {
+        MovePlan::Exact { image, target } if image.fits_exactly(&target) => {
+            let (moved, fit) = image.fit_image(target, options)?;
+            let surface = data.transformed(tree.domain(), map, &moved, fit);
+            Ok(Moved { tree: moved, surface, fit })
+        }
+        MovePlan::Exact { target, .. } | MovePlan::Resample { target } => {
+            let (moved, data) = resample_with_surface(tree, data, map, target, options)?;
+            Ok(Moved { tree: moved, surface: Some(data), fit: Fit::Resampled })
+        }
+    }
+}
 
 /// The solid `tree` with surface data `surface` moved by `map` (finite, invertible;
 /// a point `p` goes to `map * p`) and voxelized into `target`, from its smooth surface
@@ -68,6 +151,57 @@ mod tests {
     use super::*;
     use crate::octree::voxelize;
     use crate::shape::Sphere;
+
+    /// The one road gives what its two steps gave, sampling nothing twice: an eighth
+    /// turn, and a fit into a lattice that does not nest, are made from the smooth
+    /// surface into the domain the voxels' own move picks; a quarter turn, and a fit
+    /// by whole voxels, carry the data as [`HermiteData::transformed`] carries it; a
+    /// solid without data moves by its voxels.
+    #[test]
+    fn moves_with_surface_give_the_two_steps_answers() {
+        let sphere = Sphere::new(DVec3::new(0.05, -0.1, 0.02), 0.6).unwrap();
+        let domain = Domain::new(DVec3::splat(-1.0), 2.0, 6).unwrap();
+        let options = VoxelizeOptions::default();
+        let tree = voxelize(&sphere, domain, &options).unwrap();
+        let surface = HermiteData::from_shape(&sphere, &tree);
+        let turn = |degrees: f64| {
+            let m = DMat3::from_axis_angle(DVec3::Z, degrees.to_radians());
+            DAffine3::from_mat3_translation(m, DVec3::new(0.1, 0.0, 0.2))
+        };
+        // Turned by an eighth: remade in the domain the voxels' resampling picks.
+        let (by_voxels, fit) = tree.transformed(turn(45.0), Ok, &options).unwrap();
+        assert_eq!(fit, Fit::Resampled);
+        let (tree_want, data_want) =
+            resample_with_surface(&tree, &surface, turn(45.0), *by_voxels.domain(), &options).unwrap();
+        let got = transform_with_surface(&tree, Some(&surface), turn(45.0), Ok, &options).unwrap();
+        assert_eq!((got.fit, &got.tree, got.surface.as_ref()), (Fit::Resampled, &tree_want, Some(&data_want)));
+        // Turned by a quarter: the exact image, the data carried.
+        let (image, fit) = tree.transformed(turn(90.0), Ok, &options).unwrap();
+        assert!(matches!(fit, Fit::Exact { refined: 0, .. }));
+        let carried = surface.transformed(tree.domain(), turn(90.0), &image, fit);
+        let got = transform_with_surface(&tree, Some(&surface), turn(90.0), Ok, &options).unwrap();
+        assert_eq!((got.fit, &got.tree, &got.surface), (fit, &image, &carried));
+        assert!(carried.is_some_and(|d| d.len() == surface.len()));
+        // Without data: the voxels' move.
+        let got = transform_with_surface(&tree, None, turn(45.0), Ok, &options).unwrap();
+        assert_eq!((got.fit, &got.tree, got.surface), (Fit::Resampled, &by_voxels, None));
+        // Fitted by three whole voxels: carried; into a lattice a third of a voxel
+        // off: remade.
+        let voxel = domain.voxel_size();
+        for (shift, exact) in [(3.0, true), (1.0 / 3.0, false)] {
+            let target = Domain::new(domain.min() - DVec3::splat(shift * voxel), 2.0, 6).unwrap();
+            let got = fit_with_surface(&tree, Some(&surface), target, &options).unwrap();
+            assert_eq!(*got.tree.domain(), target);
+            if exact {
+                let (fitted, fit) = tree.fit_to(target, &options).unwrap();
+                let carried = surface.transformed(tree.domain(), DAffine3::IDENTITY, &fitted, fit);
+                assert_eq!((got.fit, &got.tree, &got.surface), (fit, &fitted, &carried));
+            } else {
+                let want = resample_with_surface(&tree, &surface, DAffine3::IDENTITY, target, &options).unwrap();
+                assert_eq!((got.fit, got.tree, got.surface), (Fit::Resampled, want.0, Some(want.1)));
+            }
+        }
+    }
 
     /// A sphere with its exact crossings turned 30 degrees about a tilted axis into a
     /// domain of other voxels: the smooth surface of the result keeps the sphere's

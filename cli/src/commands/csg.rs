@@ -8,10 +8,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use glam::DAffine3;
 use octsolid::octree::{Fit, LinearOctree, SetOp, VoxelizeOptions, common_domain};
 use octsolid::sharded::{self, ShardedSolid};
-use octsolid::surface::{HermiteData, resample_with_surface};
+use octsolid::surface::{HermiteData, Moved, fit_with_surface};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
 use super::print_summary;
@@ -99,37 +98,32 @@ pub fn run(a: &CsgArgs, budget: MemoryBudget) -> Result<()> {
         }
         let started = Instant::now();
         let options = VoxelizeOptions { budget: left(&trees), progress: &bar };
-        let (fitted, fit) = trees[i]
-            .fit_to(target, &options)
+        // A solid with surface data that its voxels cannot bring is made again from
+        // its smooth surface; exact moves carry the data.
+        let data = surfaces[i].take();
+        let had_data = data.is_some();
+        let Moved { tree: fitted, surface, fit } = fit_with_surface(&trees[i], data.as_ref(), target, &options)
             .with_context(|| format!("{}: cannot bring into {target}", path.display()))
             .map_err(|e| whole_job(e, &trees))?;
         let ms = started.elapsed().as_secs_f64() * 1e3;
-        out!("{}: {fit} into {target} in {ms:.1} ms", path.display());
-        if let (Fit::Resampled, Some(surface)) = (fit, surfaces[i].take()) {
-            // A resampling with surface data is made again from the smooth surface.
-            let started = Instant::now();
-            let (again, data) = resample_with_surface(&trees[i], &surface, DAffine3::IDENTITY, target, &options)
-                .with_context(|| format!("{}: cannot resample from its surface", path.display()))
-                .map_err(|e| whole_job(e, &trees))?;
-            let ms = started.elapsed().as_secs_f64() * 1e3;
-            out!("{}: resampled from its smooth surface, {} crossings, in {ms:.1} ms", path.display(), data.len());
-            surfaces[i] = Some(data);
-            surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
-            trees[i] = again;
-            continue;
-        }
-        resampled |= fit == Fit::Resampled;
-        if let Some(surface) = surfaces[i].take() {
-            // Whole-voxel offsets carry the data; a refinement drops it.
-            surfaces[i] = surface.transformed(trees[i].domain(), DAffine3::IDENTITY, &fitted, fit);
-            surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
-            if surfaces[i].is_none() {
+        match (&surface, had_data, fit) {
+            (Some(data), _, Fit::Resampled) => out!(
+                "{}: {fit} into {target} from its smooth surface, {} crossings, in {ms:.1} ms",
+                path.display(),
+                data.len()
+            ),
+            (None, true, _) => {
+                out!("{}: {fit} into {target} in {ms:.1} ms", path.display());
                 out!(
                     "{}: its surface data is left out ({fit}): its faces take part as the voxels' own",
                     path.display()
                 );
             }
+            _ => out!("{}: {fit} into {target} in {ms:.1} ms", path.display()),
         }
+        resampled |= fit == Fit::Resampled && !had_data;
+        surfaces[i] = surface;
+        surface_bytes.set(surfaces.iter().flatten().map(|s| s.bytes() as u64).sum());
         trees[i] = fitted;
     }
     if resampled {

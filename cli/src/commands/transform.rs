@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use glam::DVec3;
 use octsolid::io::{ColouredSolid, Solids, WriteOptions};
 use octsolid::octree::{Domain, Fit, Motion, Turn, VoxelizeOptions};
-use octsolid::surface::resample_with_surface;
+use octsolid::surface::{Moved, transform_with_surface};
 use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
 use super::print_summary;
@@ -69,27 +69,17 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
     let target = |default: Domain| a.target.target(default);
     let started = Instant::now();
     let bar = Bar::new("resampling");
-    let (moved, fit) = tree
-        .transformed(map, target, &VoxelizeOptions { budget, progress: &bar })
-        .with_context(|| format!("{}: cannot transform", a.input.display()))?;
+    // One solid keeps its surface data through an exact move, or is made again from
+    // its moved smooth surface; several solids kept apart move by their voxels.
+    let carried = if apart.is_none() { surface } else { None };
+    let had_data = carried.is_some();
+    let Moved { tree: moved, surface, fit } =
+        transform_with_surface(&tree, carried.as_ref(), map, target, &VoxelizeOptions { budget, progress: &bar })
+            .with_context(|| format!("{}: cannot transform", a.input.display()))?;
     out!("{}: {fit} into {} in {:.1} ms", a.input.display(), moved.domain(), started.elapsed().as_secs_f64() * 1e3);
-    // A resampling of one solid with surface data is made again from its moved smooth
-    // surface, with new crossings (the voxels' resampling above chose the domain).
-    let (moved, surface) = match surface {
-        Some(s) if fit == Fit::Resampled && apart.is_none() => {
-            let started = Instant::now();
-            let options = VoxelizeOptions { budget, progress: &bar };
-            let (moved, data) = resample_with_surface(&tree, &s, map, *moved.domain(), &options)
-                .with_context(|| format!("{}: cannot resample from its surface", a.input.display()))?;
-            let ms = started.elapsed().as_secs_f64() * 1e3;
-            out!("surface    resampled from the moved smooth surface, {} crossings, in {ms:.1} ms", data.len());
-            (moved, Some(data))
-        }
-        s => {
-            let kept = s.and_then(|s| s.transformed(tree.domain(), map, &moved, fit));
-            (moved, kept)
-        }
-    };
+    if let (Fit::Resampled, true, Some(data)) = (fit, had_data, &surface) {
+        out!("surface    resampled from the moved smooth surface, {} crossings", data.len());
+    }
     if moved.is_empty() && !tree.is_empty() {
         warn!("the result is empty: the moved solid lies outside the target domain");
     }

@@ -72,6 +72,17 @@ impl CubeSymmetry {
     }
 }
 
+/// Where [`LinearOctree::transformed`] takes a solid, decided before any voxel is
+/// sampled, so a caller that remakes the solid another way (from its smooth surface,
+/// [`crate::surface::transform_with_surface`]) samples nothing twice.
+pub(crate) enum MovePlan {
+    /// The map is a cube symmetry times a scale plus a translation: the exact image,
+    /// to be fitted into `target`.
+    Exact { image: LinearOctree, target: Domain },
+    /// Any other map: the solid is sampled into `target`.
+    Resample { target: Domain },
+}
+
 impl LinearOctree {
     /// The solid moved by the affine map `map` (a point `p` goes to `map * p`; finite
     /// and invertible) into the domain `target` makes of the default one: the moved
@@ -89,14 +100,32 @@ impl LinearOctree {
         target: impl FnOnce(Domain) -> Result<Domain>,
         options: &VoxelizeOptions,
     ) -> Result<(LinearOctree, Fit)> {
-        let view = OctreeShape::new(self, map)?; // refuses a map that is not finite and invertible
+        match self.plan_move(map, target)? {
+            MovePlan::Exact { image, target } => image.fit_image(target, options),
+            MovePlan::Resample { target } => {
+                Ok((voxelize(&OctreeShape::new(self, map)?, target, options)?, Fit::Resampled))
+            }
+        }
+    }
+
+    /// Where [`LinearOctree::transformed`] takes this solid (see [`MovePlan`]); fails
+    /// as it does, before any sampling.
+    pub(crate) fn plan_move(&self, map: DAffine3, target: impl FnOnce(Domain) -> Result<Domain>) -> Result<MovePlan> {
+        crate::shape::check_invertible(&map)?;
         let Some(symmetry) = CubeSymmetry::of(map.matrix3) else {
             let moved = Aabb::from_points((0..8).map(|i| map.transform_point3(self.image_corner(i))));
             let default = Domain::around(&moved.expect("eight corners"), 0.02, self.depth())?;
-            return Ok((voxelize(&view, target(default)?, options)?, Fit::Resampled));
+            return Ok(MovePlan::Resample { target: target(default)? });
         };
-        let moved = self.exact_image(map, symmetry)?;
-        let (tree, fit) = moved.fit_to(target(*moved.domain())?, options)?;
+        let image = self.exact_image(map, symmetry)?;
+        let target = target(*image.domain())?;
+        Ok(MovePlan::Exact { image, target })
+    }
+
+    /// This exact image of a solid fitted into `target`, its [`Fit::Same`] said as an
+    /// exact move (the map moved it).
+    pub(crate) fn fit_image(&self, target: Domain, options: &VoxelizeOptions) -> Result<(LinearOctree, Fit)> {
+        let (tree, fit) = self.fit_to(target, options)?;
         let fit = if fit == Fit::Same { Fit::Exact { refined: 0, offset: [0; 3] } } else { fit };
         Ok((tree, fit))
     }

@@ -134,6 +134,12 @@ impl LinearOctree {
         Ok((moved.reframed(target), Fit::Exact { refined, offset }))
     }
 
+    /// Whether [`LinearOctree::fit_to`] brings this solid into `target` without
+    /// sampling: it is there already, or the lattices nest.
+    pub(crate) fn fits_exactly(&self, target: &Domain) -> bool {
+        self.domain() == target || nesting(self.domain(), target).is_some()
+    }
+
     /// The part of this solid in its domain's lowest-corner cube of `corner`'s depth
     /// (fewer levels than this tree's, same voxel size), as keys of `corner`.
     fn lowest_corner(&self, corner: Domain) -> LinearOctree {

@@ -24,7 +24,7 @@ mod fit;
 mod motion;
 mod resample;
 
-pub(crate) use affine::CubeSymmetry;
+pub(crate) use affine::{CubeSymmetry, MovePlan};
 pub use depth::CoarsenRule;
 pub use fit::{Fit, common_domain};
 pub use motion::{Motion, Turn};
