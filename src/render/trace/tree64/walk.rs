@@ -135,7 +135,7 @@ fn axis(cell: Cell, a: usize) -> u32 {
 /// `cell` on the level `up` levels above (each field shifted down by two bits a level).
 #[inline(always)]
 fn ascend(cell: Cell, up: u32) -> Cell {
-    cell >> (2 * up) & ONES * (0xffff >> (2 * up))
+    (cell >> (2 * up)) & (ONES * (0xffff >> (2 * up)))
 }
 
 /// The ray as the walk reads it: origin and reciprocal direction in voxel units (off
