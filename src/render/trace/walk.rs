@@ -53,6 +53,7 @@
 //! on shadow rays from primary hits to a light, the same on bounce rays and shadow rays
 //! to a near point light, 1.25x on primary rays (benchmark log); not routed.
 
+use std::hint::select_unpredictable;
 use std::mem::MaybeUninit;
 
 #[cfg(target_arch = "x86_64")]
@@ -179,7 +180,9 @@ impl Outline {
         let [low, high] = self.occupied;
         let (mut enter, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
         for a in 0..3 {
-            let (near, far) = if r.d[a] > 0.0 { (low[a], high[a]) } else { (high[a], low[a]) };
+            // By a select, not a branch: the sign of an incoherent ray's axis is a coin.
+            let up = r.d[a] > 0.0;
+            let (near, far) = (pick(up, low[a], high[a]), pick(up, high[a], low[a]));
             enter = enter.max((near - r.o[a]) * r.inv[a]);
             exit = exit.min((far - r.o[a]) * r.inv[a]);
         }
@@ -200,7 +203,8 @@ impl Outline {
                 outside |= o < 0.0 || o >= n;
                 return;
             }
-            let (near, far) = if d > 0.0 { (0.0, n) } else { (n, 0.0) };
+            // By a select, not a branch (as in `occupied_span`).
+            let (near, far) = (pick(d > 0.0, 0.0, n), pick(d > 0.0, n, 0.0));
             let (t0, t1) = ((near - o) * inv, (far - o) * inv);
             if t0 > ta {
                 ta = t0;
@@ -213,6 +217,14 @@ impl Outline {
         slab(2);
         (!outside).then_some(RootSpan { ta, tb, face })
     }
+}
+
+/// `a` when `cond`, else `b`, chosen on the bits by an integer conditional move: a
+/// select of two f64 is a branch on x86-64's baseline (no SSE4.1 blend), and the
+/// conditions this takes (the signs of an incoherent ray's axes) are coins.
+#[inline(always)]
+pub(super) fn pick(cond: bool, a: f64, b: f64) -> f64 {
+    f64::from_bits(select_unpredictable(cond, a.to_bits(), b.to_bits()))
 }
 
 /// A walk of the inner root to make (see [`Traversal::opening`]): the ray crosses

@@ -20,9 +20,10 @@
 //! order (digits `hi lo`: coordinates `2 hi + lo`) into child order (`x + 4 y + 16 z`,
 //! the order the walk's ranks count). The lowest level's buffer, by far the largest, becomes the tree's buffer in
 //! place and the upper levels are appended behind it, their child indices offset to
-//! word indices (see `Tree64` for the layout); the buffer is then shrunk to its length.
+//! word indices (see `Tree64` for the layout), `PAD` zero words behind them; the buffer
+//! is then shrunk to its length.
 
-use super::{LEVELS, UPPER_WORDS};
+use super::{LEVELS, PAD, UPPER_WORDS};
 use crate::octree::NodeKey;
 
 /// The 8 cells of a node's 2x2x2 group 0 (bits `x + 4 y + 16 z`, `x, y, z` in 0..2);
@@ -159,7 +160,7 @@ pub(super) fn words(keys: &[NodeKey], levels: u32) -> (Vec<u64>, usize, usize) {
     let nodes = lowest.len() + upper.iter().map(Vec::len).sum::<usize>();
     let mut words = lowest;
     let upper_words: usize = upper.iter().map(|l| UPPER_WORDS * l.len()).sum();
-    words.reserve_exact(upper_words);
+    words.reserve_exact(upper_words + PAD);
     let mut base = words.len();
     let root = if bottom == 0 { 0 } else { base };
     for (level, nodes) in upper.iter().enumerate() {
@@ -171,6 +172,7 @@ pub(super) fn words(keys: &[NodeKey], levels: u32) -> (Vec<u64>, usize, usize) {
         }
         base += UPPER_WORDS * nodes.len();
     }
+    words.extend([0; PAD]);
     words.shrink_to_fit();
     (words, root, nodes)
 }
@@ -224,7 +226,7 @@ mod tests {
 
     /// Every node's masks against the voxels the keys hold in each cell (Morton range
     /// overlaps, counted by brute force), every inner child where its parent's first
-    /// index and rank place it, and every word of the buffer some node's, at every
+    /// index and rank place it, and every word of the buffer some node's but the zero padding, at every
     /// depth 1-8 (odd depths' padded root among them), on solids of nodes at every
     /// level, odd levels' full nodes among them.
     #[test]
@@ -249,7 +251,8 @@ mod tests {
                     continue;
                 }
                 let (words, nodes) = check(&t, tree.keys(), t.root, 0, 0);
-                assert_eq!((words, nodes), (t.words.len(), t.node_count()), "depth {depth}");
+                assert_eq!((words + super::PAD, nodes), (t.words.len(), t.node_count()), "depth {depth}");
+                assert!(t.words[words..].iter().all(|&w| w == 0), "padding");
                 assert_eq!(t.words.capacity(), t.words.len());
             }
         }

@@ -26,7 +26,8 @@
 //! an inner node on every solid measured (a lowest node holds what the octree spends
 //! its two lowest levels, one to nine nodes, on; BENCHMARKS.md). The walk reads a node
 //! as three words at `i`, `i + k`, `i + 2 k` with `k` 1 above the lowest level and 0
-//! on it, no branch.
+//! on it, no branch, out of the three words from `i` on, one bounds check: `PAD` zero
+//! words behind the last node keep them in the buffer after a lowest node too.
 //!
 //! Built in one pass over the sorted keys (`build`), into an exact-size buffer.
 
@@ -42,6 +43,10 @@ const LEVELS: usize = (MAX_DEPTH as usize).div_ceil(2);
 
 /// Words of a node above the lowest level: present, full, first child.
 const UPPER_WORDS: usize = 3;
+
+/// Zero words behind the last node, so that the `UPPER_WORDS` words from any node on
+/// are in the buffer (`Tree64::node`).
+const PAD: usize = UPPER_WORDS - 1;
 
 /// One node of the 64-tree as the walk holds it: 4x4x4 children.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,7 +67,8 @@ pub struct Tree64 {
     isa: Isa,
     /// Levels of 4x4x4 nodes: `ceil(depth / 2)`; the root's edge is `4^levels` voxels.
     levels: u32,
-    /// The nodes (see the module doc), empty unless the root is inner.
+    /// The nodes (see the module doc) and `PAD` zero words, empty unless the root is
+    /// inner.
     words: Vec<u64>,
     /// Word index of the root.
     root: usize,
@@ -84,7 +90,8 @@ impl Tree64 {
     /// The node at word `i`, of a level above the lowest when `upper` is 1 (else 0).
     #[inline(always)]
     fn node(&self, i: usize, upper: usize) -> Node64 {
-        Node64 { present: self.words[i], full: self.words[i + upper], first: self.words[i + 2 * upper] as usize }
+        let w = &self.words[i..][..UPPER_WORDS];
+        Node64 { present: w[0], full: w[upper], first: w[2 * upper] as usize }
     }
 
     /// The domain.

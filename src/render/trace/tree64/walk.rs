@@ -13,7 +13,10 @@
 //! axes, the staircase of cells between its crossings of the two axes' inner planes,
 //! worked out once a node is entered from the plane times the descent computes and
 //! kept beside the node on the stack); when none of them is present the node is left
-//! at once, taken as an empty cell of its parent (and so on up), the exit time and
+//! at once, taken as an empty cell of its parent (and so on up: to the deepest
+//! ancestor with a present child on the line ahead of the one the ray is in, known
+//! when the walk went down through it and kept as one bit a level, so found with one
+//! leading-zero count), the exit time and
 //! cell of stepping through it cell by cell (the cells skipped are empty, the planes
 //! crossed the same); and an empty child whose 2x2x2 group holds no present child the
 //! line touches is left at the group's far planes in one step. Leaving a node is found from the cells alone: the
@@ -29,7 +32,13 @@
 //! frame, exact integers below `2^53`: a step adds the signed child edge in the lanes
 //! that move, a descent takes the parent's far plane less 3, 2, 1 child edges, so no
 //! integer is converted a step (only on re-entering an ancestor). The integer cell
-//! (for the masks and `old ^ new`) follows from the lanes' compare bits.
+//! (for the masks and `old ^ new`) follows from the lanes' compare bits, kept as one
+//! word of a 16-bit field an axis (`Cell`): a descent or a step moves the three axes
+//! with one add of the compare bits spread to the fields (`SPREAD`), and the child,
+//! its 2x2x2 group and the children ahead of it are table rows of the child's index.
+//! The ray's setup (its mirroring here, the root's and the full voxels' box's near
+//! planes in `super::super::walk`) picks per axis by integer selects, not branches:
+//! the signs of an incoherent ray's axes are coins to a branch predictor.
 //!
 //! Exactness (the rule of the traversal octree's walk, `super::super::walk`): the ray
 //! is in the cell `[m, m + 1)` of an axis at time `t` when the computed times of the
@@ -79,7 +88,7 @@ use crate::ray::{Ray, RayCast};
 use crate::render::trace::lanes::{Avx2, Sse2};
 use crate::render::trace::lanes::{Isa, Lanes, Scalar};
 use crate::render::trace::voxel_ray::{Entry, Hit, VoxelRay};
-use crate::render::trace::walk::{Lattice, Opening, RootSpan};
+use crate::render::trace::walk::{Lattice, Opening, RootSpan, pick};
 
 /// The walk through a 64-tree: the first full voxel a world-space ray enters, the
 /// same hit as [`super::super::Traversal`]'s walk.
@@ -105,6 +114,30 @@ impl RayCast for Tree64 {
     }
 }
 
+/// The ray's cell on the three axes in one word, axis `a` in bits `FIELD a` up (the
+/// cells of a level are below `4^6 + 2`, so no field carries into the next): a
+/// descent, a step and the test of which node holds the new cell are a few integer
+/// operations on all three axes at once.
+type Cell = u64;
+
+/// Bits of an axis' field in a `Cell`.
+const FIELD: usize = 16;
+
+/// 1 in every field of a `Cell`.
+const ONES: Cell = 1 | 1 << FIELD | 1 << (2 * FIELD);
+
+/// Axis `a`'s coordinate in `cell`.
+#[inline(always)]
+fn axis(cell: Cell, a: usize) -> u32 {
+    (cell >> (FIELD * a)) as u32 & 0xffff
+}
+
+/// `cell` on the level `up` levels above (each field shifted down by two bits a level).
+#[inline(always)]
+fn ascend(cell: Cell, up: u32) -> Cell {
+    (cell >> (2 * up)) & (ONES * (0xffff >> (2 * up)))
+}
+
 /// The ray as the walk reads it: origin and reciprocal direction in voxel units (off
 /// the lattice where the reciprocal is infinite), and per axis the map from a mirrored
 /// coordinate `q` to the plane `q ^ flip + add` (wrapping): `q`, or `E - q` mirrored.
@@ -113,44 +146,48 @@ struct Mirrored {
     inv: [f64; 3],
     flip: [u32; 3],
     add: [u32; 3],
-    /// 3 on mirrored axes: a mirrored child coordinate `c` is `c ^ 3` in the node.
-    child_flip: [u32; 3],
-    /// `ahead[a][q]`: the children whose mirrored coordinate on axis `a` is at least `q`
-    /// (the ray in a child of mirrored coordinates `q` only ever reaches the children of
-    /// `ahead[0][q0] & ahead[1][q1] & ahead[2][q2]` of the node).
-    ahead: [[u64; 4]; 3],
+    /// 3 in the fields (`Cell`) of mirrored axes: a mirrored child coordinate `c` is
+    /// `c ^ 3` in the node.
+    child_flip: Cell,
+    /// `ahead[i]`: the children whose mirrored coordinates are at least child `i`'s on
+    /// every axis (the ray in child `i` only ever reaches these children of the node):
+    /// `AHEAD` for this ray's mirroring.
+    ahead: &'static [u64; 64],
     /// `line[a]`: the children the ray's line can touch, by the pair of axes `a`, `a + 1`
     /// (`LINE`, for this ray's mirroring of the two axes).
     line: [&'static [u64; 64]; 3],
 }
 
 impl Mirrored {
+    /// Without a branch on the mirrored axes (a coin per axis for incoherent rays):
+    /// the per-axis values are masks and table rows of the axis' mirror bit.
     fn new(ray: &Lattice, edge: u32) -> Self {
-        let m = |a: usize| ray.mirror >> a & 1 == 1;
+        let bit = |a: usize| (ray.mirror >> a & 1) as u32;
+        // All ones on a mirrored axis.
+        let flip: [u32; 3] = std::array::from_fn(|a| bit(a).wrapping_neg());
         // The walk never crosses the root's far planes (it ends at the root's exit),
         // but it would take one whose time is before the origin's as crossed: the
         // plane 0 under a ray running down from it with a subnormal direction (moved
         // off the lattice to -0.5, where the octree's walk, counting mid planes only,
         // keeps it in cell 0). Moved to 0.5, it crosses no plane and stays there.
-        let o = std::array::from_fn(|a| if m(a) && ray.o[a] < 0.0 { 0.5 } else { ray.o[a] });
+        let o = std::array::from_fn(|a| pick((bit(a) == 1) & (ray.o[a] < 0.0), 0.5, ray.o[a]));
         Mirrored {
             o,
             inv: ray.inv,
-            flip: std::array::from_fn(|a| if m(a) { u32::MAX } else { 0 }),
-            add: std::array::from_fn(|a| if m(a) { edge.wrapping_add(1) } else { 0 }),
-            child_flip: std::array::from_fn(|a| if m(a) { 3 } else { 0 }),
-            ahead: std::array::from_fn(|a| AHEAD[a][usize::from(m(a))]),
-            line: std::array::from_fn(|a| &LINE[a][usize::from(m(a)) + 2 * usize::from(m((a + 1) % 3))]),
+            flip,
+            add: flip.map(|f| edge.wrapping_add(1) & f),
+            child_flip: (0..3).fold(0, |f, a| f | u64::from(3 * bit(a)) << (FIELD * a)),
+            ahead: &AHEAD[ray.mirror & 7],
+            line: std::array::from_fn(|a| &LINE[a][(bit(a) + 2 * bit((a + 1) % 3)) as usize]),
         }
     }
 
-    /// The children of a node the ray can still reach from its child at mirrored cell
-    /// `cell` (the low two bits of each axis): those at or past it on every axis.
+    /// The child (`x + 4 y + 16 z`, original frame) of the node the ray is in at its
+    /// mirrored cell `cell` (the low two bits of each field).
     #[inline(always)]
-    fn ahead(&self, cell: [u32; 3]) -> u64 {
-        self.ahead[0][(cell[0] & 3) as usize]
-            & self.ahead[1][(cell[1] & 3) as usize]
-            & self.ahead[2][(cell[2] & 3) as usize]
+    fn child(&self, cell: Cell) -> usize {
+        let q = (cell ^ self.child_flip) & (3 * ONES);
+        (q | q >> (FIELD - 2) | q >> (2 * FIELD - 4)) as usize & 63
     }
 
     /// The plane at mirrored coordinate `q` (voxels) on axis `a`, in the original frame.
@@ -193,28 +230,31 @@ impl<L: Lanes> RayLanes<L> {
     }
 }
 
-/// `AHEAD[a][m][q]`: the children `x + 4 y + 16 z` of a node whose coordinate on axis
-/// `a`, mirrored when `m` is 1 (`c ^ 3`), is at least `q`.
-const AHEAD: [[[u64; 4]; 2]; 3] = {
-    let mut masks = [[[0u64; 4]; 2]; 3];
-    let mut child = 0;
-    while child < 64 {
-        let mut a = 0;
-        while a < 3 {
-            let c = child >> (2 * a) & 3;
-            let mut q = 0;
-            while q < 4 {
-                if c >= q {
-                    masks[a][0][q] |= 1 << child;
+/// `AHEAD[f][i]`: the children `j` (`x + 4 y + 16 z`) of a node at or past child `i`
+/// on every axis in mirrored coordinates (`c ^ 3` on the axes `a` of bit `a` of `f`).
+const AHEAD: [[u64; 64]; 8] = {
+    let mut masks = [[0u64; 64]; 8];
+    let mut f = 0;
+    while f < 8 {
+        let mut i = 0;
+        while i < 64 {
+            let mut j = 0;
+            while j < 64 {
+                let mut ahead = true;
+                let mut a = 0;
+                while a < 3 {
+                    let flip = if f >> a & 1 == 1 { 3 } else { 0 };
+                    ahead &= (j >> (2 * a) & 3) ^ flip >= (i >> (2 * a) & 3) ^ flip;
+                    a += 1;
                 }
-                if c ^ 3 >= q {
-                    masks[a][1][q] |= 1 << child;
+                if ahead {
+                    masks[f][i] |= 1 << j;
                 }
-                q += 1;
+                j += 1;
             }
-            a += 1;
+            i += 1;
         }
-        child += 1;
+        f += 1;
     }
     masks
 };
@@ -254,15 +294,32 @@ const LINE: [[[u64; 64]; 4]; 3] = {
     masks
 };
 
-/// `GROUP_CELLS[g]`: the cells of the 2x2x2 group `g` (bit `gx + 2 gy + 4 gz`).
-const GROUP_CELLS: [u64; 8] = {
-    let mut masks = [0u64; 8];
-    let mut c = 0;
-    while c < 64 {
-        masks[c >> 1 & 1 | c >> 2 & 2 | c >> 3 & 4] |= 1 << c;
-        c += 1;
+/// `GROUP_OF[i]`: the cells of child `i`'s 2x2x2 group.
+const GROUP_OF: [u64; 64] = {
+    let mut masks = [0u64; 64];
+    let mut i = 0;
+    while i < 64 {
+        let mut j = 0;
+        while j < 64 {
+            if (i ^ j) & 0b10_1010 == 0 {
+                masks[i] |= 1 << j;
+            }
+            j += 1;
+        }
+        i += 1;
     }
     masks
+};
+
+/// `SPREAD[b]`: bit `a` of `b` moved to the low bit of axis `a`'s field (`Cell`).
+const SPREAD: [Cell; 8] = {
+    let mut spread = [0; 8];
+    let mut b = 0;
+    while b < 8 {
+        spread[b] = (b as u64 & 1) | (b as u64 & 2) << (FIELD - 1) | (b as u64 & 4) << (2 * FIELD - 2);
+        b += 1;
+    }
+    spread
 };
 
 /// `SKIP[s]`: all ones in the lanes of the axes set in `s` (bit `a`), zero elsewhere.
@@ -329,6 +386,10 @@ impl Tree64 {
         // Each beside the children of it the ray's line can touch (`line_children`).
         let mut stack = [const { MaybeUninit::<(Node64, u64)>::uninit() }; LEVELS];
         let mut level = 0usize;
+        // Bit `j`: the node at level `j` above has a present child on the ray's line
+        // ahead of the child the ray is in (written on the way down; the bits from
+        // `level` on are stale).
+        let mut alive = 0u32;
         // The lowest level, whose nodes are one word (see `Tree64`).
         let bottom = self.levels as usize - 1;
         let mut node = self.node(self.root, usize::from(bottom > 0));
@@ -336,18 +397,22 @@ impl Tree64 {
         // units of that edge), the cell's far planes (original frame, f64), their
         // times, and the child edge in lanes, signed as the mirrored coordinate runs.
         let mut shift = 2 * self.levels - 2;
-        let mut cell = [0u32; 3];
+        let mut cell: Cell = 0;
         let mut pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, edge))), 0.0);
         let mut tn = lanes.time(pn);
         let mut step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
         let mut line = descend(&lanes, &m, &mut cell, &mut pn, &mut tn, step, t);
         loop {
-            let mut c: [u32; 3] = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
-            let child = c[0] + 4 * c[1] + 16 * c[2];
+            let mut child = m.child(cell);
             if node.present >> child & 1 == 1 {
                 if node.full >> child & 1 == 1 {
                     return Some(hit::<FACE>(&m, cell, shift, t, span));
                 }
+                // Whether the ray, once it leaves this child, has a present child of
+                // this node on its line ahead (the node exit's mask, this child out): the
+                // node's cell stays this child until then, so the answer is known now.
+                let more = node.present & line & m.ahead[child] & !(1u64 << child) != 0;
+                alive = (alive & !(1 << level)) | u32::from(more) << level;
                 stack[level].write((node, line));
                 level += 1;
                 let inner = node.present & !node.full;
@@ -362,35 +427,31 @@ impl Tree64 {
             // An empty child. When no child the ray can still reach in this node is
             // present, the node is left at once: it is taken as an empty cell of its
             // parent, and so on up (the same exit time and cell as stepping through it).
-            if node.present & line & m.ahead(cell) == 0 {
-                loop {
-                    if level == 0 {
-                        return None;
-                    }
-                    level -= 1;
-                    // SAFETY: the nodes `0..level` above were written on the way down.
-                    (node, line) = unsafe { stack[level].assume_init() };
-                    shift += 2;
-                    for c in &mut cell {
-                        *c >>= 2;
-                    }
-                    c = std::array::from_fn(|a| (cell[a] & 3) ^ m.child_flip[a]);
-                    let left = c[0] + 4 * c[1] + 16 * c[2];
-                    if node.present & line & m.ahead(cell) & !(1u64 << left) != 0 {
-                        break;
-                    }
+            // The ancestor left to is the deepest one with a present child ahead, the
+            // highest bit of `alive` below this level (none: the ray leaves the root).
+            if node.present & line & m.ahead[child] == 0 {
+                let below = alive & ((1u32 << level) - 1);
+                if below == 0 {
+                    return None;
                 }
-                pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, (cell[a] + 1) << shift))), 0.0);
+                let up = level - (31 - below.leading_zeros()) as usize;
+                level -= up;
+                // SAFETY: the nodes `0..level` above were written on the way down.
+                (node, line) = unsafe { stack[level].assume_init() };
+                shift += 2 * up as u32;
+                cell = ascend(cell, up as u32);
+                child = m.child(cell);
+                pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, (axis(cell, a) + 1) << shift))), 0.0);
                 tn = lanes.time(pn);
                 step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
             }
             // Step to the cell's far planes, or to its group's when no present child of
             // its 2x2x2 group is on the ray's line (`skip` on the axes where the cell is
             // the group's near one), without a branch on the axes that move.
-            let group = GROUP_CELLS[((c[0] >> 1) + 2 * (c[1] >> 1) + 4 * (c[2] >> 1)) as usize];
-            let empty_group = node.present & line & group == 0;
-            let even = (!cell[0] & 1) | (!cell[1] & 1) << 1 | (!cell[2] & 1) << 2;
-            let skip = L::new(SKIP[if empty_group { even as usize } else { 0 }], 0.0);
+            let empty_group = node.present & line & GROUP_OF[child] == 0;
+            let low = !cell & ONES;
+            let even = (low | low >> (FIELD - 1) | low >> (2 * FIELD - 2)) as usize & 7;
+            let skip = L::new(SKIP[even & usize::from(empty_group).wrapping_neg()], 0.0);
             let tt = lanes.time(pn.add(skip.and(step)));
             t = tt.min3();
             if t >= limit {
@@ -400,14 +461,12 @@ impl Tree64 {
             // past the group's mid plane.
             let at = L::splat(t);
             let (mid, past) = (tn.le(at), tt.le(at).and(skip));
-            let (mid_bits, past_bits) = (mid.bits() as u32, past.bits() as u32);
             let old = cell;
-            for (a, c) in cell.iter_mut().enumerate() {
-                *c += (mid_bits >> a & 1) + (past_bits >> a & 1);
-            }
+            cell += SPREAD[mid.bits() & 7] + SPREAD[past.bits() & 7];
             pn = pn.add(mid.and(step)).add(past.and(step));
             tn = lanes.time(pn);
-            let moved = (old[0] ^ cell[0]) | (old[1] ^ cell[1]) | (old[2] ^ cell[2]);
+            let changed = old ^ cell;
+            let moved = (changed | changed >> FIELD | changed >> (2 * FIELD)) as u32 & 0xffff;
             if moved >= 4 {
                 // The new cell is in another node: the ancestor `up` levels above holds it.
                 let up = ((31 - moved.leading_zeros()) / 2) as usize;
@@ -418,10 +477,8 @@ impl Tree64 {
                 // SAFETY: the nodes `0..level` above were written on the way down.
                 (node, line) = unsafe { stack[level].assume_init() };
                 shift += 2 * up as u32;
-                for c in &mut cell {
-                    *c >>= 2 * up;
-                }
-                pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, (cell[a] + 1) << shift))), 0.0);
+                cell = ascend(cell, up as u32);
+                pn = L::new(std::array::from_fn(|a| f64::from(m.plane(a, (axis(cell, a) + 1) << shift))), 0.0);
                 tn = lanes.time(pn);
                 step = lanes.sign.mul(L::splat(f64::from(1u32 << shift)));
             }
@@ -439,7 +496,7 @@ impl Tree64 {
 fn descend<L: Lanes>(
     lanes: &RayLanes<L>,
     m: &Mirrored,
-    cell: &mut [u32; 3],
+    cell: &mut Cell,
     pn: &mut L,
     tn: &mut L,
     step: L,
@@ -451,10 +508,7 @@ fn descend<L: Lanes>(
     let (t1, t2, t3) = (lanes.time(p1), lanes.time(p2), lanes.time(p3));
     let at = L::splat(t);
     let (m1, m2, m3) = (t1.le(at), t2.le(at), t3.le(at));
-    let (b1, b2, b3) = (m1.bits() as u32, m2.bits() as u32, m3.bits() as u32);
-    for (a, c) in cell.iter_mut().enumerate() {
-        *c = *c * 4 + (b1 >> a & 1) + (b2 >> a & 1) + (b3 >> a & 1);
-    }
+    *cell = *cell * 4 + SPREAD[m1.bits() & 7] + SPREAD[m2.bits() & 7] + SPREAD[m3.bits() & 7];
     // The times are monotone in the plane, so the crossed planes are the first ones.
     *tn = L::select(m1, L::select(m2, L::select(m3, *tn, t3), t2), t1);
     *pn = L::select(m1, L::select(m2, L::select(m3, *pn, p3), p2), p1);
@@ -489,7 +543,8 @@ fn line_children<L: Lanes>(m: &Mirrored, t: [L; 3]) -> u64 {
 /// The hit on entering the full cell `cell` (mirrored, edge `1 << shift`) at `t`: its
 /// corner in the original frame, and the entered face when `FACE` (see the module doc).
 #[inline(always)]
-fn hit<const FACE: bool>(m: &Mirrored, cell: [u32; 3], shift: u32, t: f64, span: RootSpan) -> Entry {
+fn hit<const FACE: bool>(m: &Mirrored, cell: Cell, shift: u32, t: f64, span: RootSpan) -> Entry {
+    let cell: [u32; 3] = std::array::from_fn(|a| axis(cell, a));
     let size = 1u32 << shift;
     let min =
         std::array::from_fn(|a| if m.flip[a] == 0 { cell[a] << shift } else { m.plane(a, (cell[a] + 1) << shift) });
