@@ -168,37 +168,15 @@ fn positive(what: &'static str, value: f64) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use glam::DVec3;
-
     use super::*;
-    use crate::octree::Domain;
     use crate::surface::faces::boundary_faces;
-    use crate::test_util::Rng;
+    use crate::test_util::{BoxesAndNoise, Rng, boxes_and_noise};
 
     /// A solid at depth 5 of a few random boxes, some against the domain's faces, and
     /// scattered voxels, with a random crossing on every boundary face.
     fn random_solid(rng: &mut Rng) -> (LinearOctree, HermiteData) {
-        let domain = Domain::new(DVec3::ZERO, 1.0, 5).unwrap();
-        let boxes: Vec<([u32; 3], [u32; 3])> = (0..2 + rng.below(3))
-            .map(|_| {
-                let lo: [u32; 3] = std::array::from_fn(|_| if rng.below(3) == 0 { 0 } else { rng.below(28) as u32 });
-                let hi = lo.map(|c| (c + 2 + rng.below(20) as u32).min(32));
-                (lo, hi)
-            })
-            .collect();
-        let mut voxels = Vec::new();
-        for z in 0..32 {
-            for y in 0..32 {
-                for x in 0..32 {
-                    let p = [x, y, z];
-                    let boxed = boxes.iter().any(|(lo, hi)| (0..3).all(|a| lo[a] <= p[a] && p[a] < hi[a]));
-                    if boxed != (rng.below(80) == 0) {
-                        voxels.push(p);
-                    }
-                }
-            }
-        }
-        let tree = LinearOctree::from_voxels(domain, voxels).unwrap();
+        let how = BoxesAndNoise { fewest: 2, more: 3, against_face: 3, shortest: 2, noise: 80 };
+        let tree = boxes_and_noise(rng, &how);
         let faces = boundary_faces(&tree)
             .into_iter()
             .map(|key| {

@@ -884,34 +884,13 @@ impl<'a, F: Feature> Measure<'a, F> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::octree::Domain;
     use crate::progress::NoProgress;
-    use crate::test_util::Rng;
+    use crate::test_util::{BoxesAndNoise, Rng, boxes_and_noise};
 
     /// A solid at depth 5 of a few random boxes and scattered voxels: site, mixed and
     /// free tiles, and ties between equally near sites.
     fn random_solid(rng: &mut Rng) -> LinearOctree {
-        let domain = Domain::new(DVec3::ZERO, 1.0, 5).unwrap();
-        let boxes: Vec<([u32; 3], [u32; 3])> = (0..1 + rng.below(4))
-            .map(|_| {
-                let lo: [u32; 3] = std::array::from_fn(|_| rng.below(28) as u32);
-                let hi = lo.map(|c| (c + 1 + rng.below(20) as u32).min(32));
-                (lo, hi)
-            })
-            .collect();
-        let mut voxels = Vec::new();
-        for z in 0..32 {
-            for y in 0..32 {
-                for x in 0..32 {
-                    let p = [x, y, z];
-                    let boxed = boxes.iter().any(|(lo, hi)| (0..3).all(|a| lo[a] <= p[a] && p[a] < hi[a]));
-                    if boxed != (rng.below(60) == 0) {
-                        voxels.push(p);
-                    }
-                }
-            }
-        }
-        LinearOctree::from_voxels(domain, voxels).unwrap()
+        boxes_and_noise(rng, &BoxesAndNoise { fewest: 1, more: 4, against_face: 0, shortest: 1, noise: 60 })
     }
 
     #[test]
