@@ -32,6 +32,19 @@ impl FaceCrossings for HermiteData {
     fn face_crossing(&self, voxel: u64, direction: u8) -> Option<(f32, [f32; 3])> {
         self.get(FaceKey { voxel, direction }).map(|c| (c.t, c.normal.to_array()))
     }
+
+    /// The voxel's faces lie together in the sorted list: one search finds them all.
+    fn voxel_crossings(&self, voxel: u64, directions: u8) -> [Option<(f32, [f32; 3])>; 6] {
+        let faces = self.faces();
+        let start = faces.partition_point(|(key, _)| key.voxel < voxel);
+        let mut out = [None; 6];
+        for (key, c) in faces[start..].iter().take_while(|(key, _)| key.voxel == voxel) {
+            if key.direction < 6 && directions >> key.direction & 1 == 1 {
+                out[usize::from(key.direction)] = Some((c.t, c.normal.to_array()));
+            }
+        }
+        out
+    }
 }
 
 /// `tree` (with `surface`, its crossings) grown (`distance > 0`) or shrunk by
@@ -116,8 +129,8 @@ fn combined(
     Ok((result, data))
 }
 
-/// The crossings of `result`'s boundary faces: the step's new ones (the first of a
-/// face given twice), else the old solid's where the face was its own, else none.
+/// The crossings of `result`'s boundary faces: the step's new ones (sorted by face,
+/// each once), else the old solid's where the face was its own, else none.
 ///
 /// A step that `reached` a voxel (a distance other than 0) gives a new crossing on
 /// every boundary face of its result between two voxels of the domain
@@ -125,13 +138,11 @@ fn combined(
 /// domain's own faces, where their voxel is still full: the result's faces are never
 /// listed. A step of 0 gives none, and the old crossings of the result's faces stay.
 fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing>, reached: bool) -> HermiteData {
-    let new = HermiteData::from_faces(
-        new.into_iter()
-            .map(|c| {
-                (FaceKey { voxel: c.voxel, direction: c.direction }, Crossing { t: c.t, normal: Vec3::from(c.normal) })
-            })
-            .collect(),
-    );
+    // Sorted by face, each once (`offset_along_surface`).
+    let new: Vec<(FaceKey, Crossing)> = new
+        .into_par_iter()
+        .map(|c| (FaceKey { voxel: c.voxel, direction: c.direction }, Crossing { t: c.t, normal: Vec3::from(c.normal) }))
+        .collect();
     let n = result.domain().resolution();
     let kept: Vec<(FaceKey, Crossing)> = old
         .faces()
@@ -139,11 +150,13 @@ fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing
         .filter(|(key, _)| (!reached || neighbour(*key, n).is_none()) && is_boundary_face(result, *key))
         .copied()
         .collect();
+    if kept.is_empty() {
+        return HermiteData::from_sorted(new);
+    }
     // Both sorted by face; a face in both (none when `reached`) keeps the new crossing.
-    let new = new.faces();
     let mut faces = Vec::with_capacity(new.len() + kept.len());
     let mut b = 0;
-    for &(key, crossing) in new {
+    for &(key, crossing) in &new {
         while b < kept.len() && kept[b].0 < key {
             faces.push(kept[b]);
             b += 1;
