@@ -141,7 +141,9 @@ fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing
     // Sorted by face, each once (`offset_along_surface`).
     let new: Vec<(FaceKey, Crossing)> = new
         .into_par_iter()
-        .map(|c| (FaceKey { voxel: c.voxel, direction: c.direction }, Crossing { t: c.t, normal: Vec3::from(c.normal) }))
+        .map(|c| {
+            (FaceKey { voxel: c.voxel, direction: c.direction }, Crossing { t: c.t, normal: Vec3::from(c.normal) })
+        })
         .collect();
     let n = result.domain().resolution();
     let kept: Vec<(FaceKey, Crossing)> = old

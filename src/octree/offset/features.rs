@@ -226,15 +226,19 @@ fn transform<F: Feature>(
             x + t * (y + t * z)
         })
         .collect();
-    // Each part's crossings sorted by face: those of voxels within the part's span of
-    // Morton codes (its tiles' and the codes between them, disjoint from the other
-    // parts') follow the parts' order; the few beyond it (a face keyed by a voxel of a
-    // tile next to the part's) are sorted apart and merged in.
+    // Each part's crossings sorted by face. The parts' spans of Morton codes (from its
+    // first tile's to the next part's) cover the codes once, in order: the few
+    // crossings of a part keyed by a voxel beyond its span (of a tile next to one of
+    // its own) are sorted apart and merged into the part whose span holds them, and
+    // the parts are then laid end to end.
+    let span_start = |c: usize| if c == 0 { 0 } else { order[64 * c].0 << (3 * k) };
+    let chunks = order.len().div_ceil(64);
     let parts: Vec<(Vec<(u64, u64)>, Vec<NewCrossing>, Vec<NewCrossing>)> = order
         .par_chunks(64)
+        .enumerate()
         .map_init(
             || (vec![PENDING; v], SiteCache::default()),
-            |(g, cache), chunk| {
+            |(g, cache), (c, chunk)| {
                 let (mut runs, mut faces): (Vec<(u64, u64)>, Vec<NewCrossing>) = (Vec::new(), Vec::new());
                 for &(code, s) in chunk {
                     let flipped = spread[s].1;
@@ -253,29 +257,37 @@ fn transform<F: Feature>(
                     measure.faces(s, &spread, g, &mut faces, cache);
                 }
                 faces.sort_unstable_by_key(face_order);
-                let span = chunk[0].0 << (3 * k)..(chunk[chunk.len() - 1].0 + 1) << (3 * k);
+                let span = span_start(c)..if c + 1 < chunks { span_start(c + 1) } else { u64::MAX };
                 let (own, beyond): (Vec<NewCrossing>, Vec<NewCrossing>) =
-                    faces.into_iter().partition(|c| span.contains(&c.voxel));
+                    faces.into_iter().partition(|f| span.contains(&f.voxel));
                 (runs, own, beyond)
             },
         )
         .collect();
     progress.finish();
-    let crossings = parts.iter().map(|p| p.1.len()).sum();
-    let (mut out, mut own): (Vec<(u64, u64)>, Vec<NewCrossing>) = (Vec::new(), Vec::with_capacity(crossings));
+    let mut out: Vec<(u64, u64)> = Vec::new();
     let mut beyond = Vec::new();
-    for (runs, f, b) in parts {
-        for run in runs {
+    for (runs, _, b) in &parts {
+        for &run in runs {
             match out.last_mut() {
                 Some(last) if last.1 == run.0 => last.1 = run.1,
                 _ => out.push(run),
             }
         }
-        own.extend(f);
-        beyond.extend(b);
+        beyond.extend_from_slice(b);
     }
     beyond.par_sort_unstable_by_key(face_order);
-    let faces = merged(own, beyond);
+    let lists: Vec<Vec<NewCrossing>> = parts
+        .into_par_iter()
+        .enumerate()
+        .map(|(c, (_, own, _))| {
+            let from = beyond.partition_point(|f| f.voxel < span_start(c));
+            let to =
+                if c + 1 < chunks { beyond.partition_point(|f| f.voxel < span_start(c + 1)) } else { beyond.len() };
+            merged(own, &beyond[from..to])
+        })
+        .collect();
+    let faces = end_to_end(&lists);
     debug_assert!(faces.windows(2).all(|w| face_order(&w[0]) < face_order(&w[1])), "a face measured twice");
     (out, faces)
 }
@@ -286,12 +298,12 @@ fn face_order(c: &NewCrossing) -> (u64, u8) {
 }
 
 /// The crossings of `a` and `b`, each sorted by face, merged in that order.
-fn merged(a: Vec<NewCrossing>, b: Vec<NewCrossing>) -> Vec<NewCrossing> {
+fn merged(a: Vec<NewCrossing>, b: &[NewCrossing]) -> Vec<NewCrossing> {
     if b.is_empty() {
         return a;
     }
     let mut out = Vec::with_capacity(a.len() + b.len());
-    let mut b = b.into_iter().peekable();
+    let mut b = b.iter().copied().peekable();
     for c in a {
         while let Some(d) = b.next_if(|d| face_order(d) < face_order(&c)) {
             out.push(d);
@@ -299,6 +311,22 @@ fn merged(a: Vec<NewCrossing>, b: Vec<NewCrossing>) -> Vec<NewCrossing> {
         out.push(c);
     }
     out.extend(b);
+    out
+}
+
+/// The lists one after another, copied in parallel (the pages first touched by both
+/// threads rather than one).
+fn end_to_end(lists: &[Vec<NewCrossing>]) -> Vec<NewCrossing> {
+    let none = NewCrossing { voxel: 0, direction: 0, t: 0.0, normal: [0.0; 3] };
+    let mut out: Vec<NewCrossing> = rayon::iter::repeat_n(none, lists.iter().map(Vec::len).sum()).collect();
+    let mut rest = &mut out[..];
+    let mut pieces = Vec::with_capacity(lists.len());
+    for list in lists {
+        let (piece, tail) = rest.split_at_mut(list.len());
+        pieces.push(piece);
+        rest = tail;
+    }
+    pieces.into_par_iter().zip(lists).for_each(|(piece, list)| piece.copy_from_slice(list));
     out
 }
 
