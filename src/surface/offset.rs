@@ -39,7 +39,7 @@ impl FaceCrossings for HermiteData {
         let start = faces.partition_point(|(key, _)| key.voxel < voxel);
         let mut out = [None; 6];
         for (key, c) in faces[start..].iter().take_while(|(key, _)| key.voxel == voxel) {
-            if key.direction < 6 && directions >> key.direction & 1 == 1 {
+            if key.direction < 6 && (directions >> key.direction) & 1 == 1 {
                 out[usize::from(key.direction)] = Some((c.t, c.normal.to_array()));
             }
         }

@@ -233,7 +233,7 @@ fn transform<F: Feature>(
     // the parts are then laid end to end.
     let span_start = |c: usize| if c == 0 { 0 } else { order[64 * c].0 << (3 * k) };
     let chunks = order.len().div_ceil(64);
-    let parts: Vec<(Vec<(u64, u64)>, Vec<NewCrossing>, Vec<NewCrossing>)> = order
+    let parts: Vec<Part> = order
         .par_chunks(64)
         .enumerate()
         .map_init(
@@ -291,6 +291,9 @@ fn transform<F: Feature>(
     debug_assert!(faces.windows(2).all(|w| face_order(&w[0]) < face_order(&w[1])), "a face measured twice");
     (out, faces)
 }
+
+/// A part's flipped voxels' runs, its crossings within its span and those beyond it.
+type Part = (Vec<(u64, u64)>, Vec<NewCrossing>, Vec<NewCrossing>);
 
 /// The order of faces: by voxel, then direction.
 fn face_order(c: &NewCrossing) -> (u64, u8) {
@@ -773,7 +776,7 @@ impl<'a, F: Feature> Measure<'a, F> {
         };
         let mut planes = [Plane { point: DVec3::ZERO, normal: DVec3::ZERO }; 6];
         let mut count = 0;
-        for direction in (0..6u8).filter(|d| exposed >> d & 1 == 1) {
+        for direction in (0..6u8).filter(|d| (exposed >> d) & 1 == 1) {
             let (axis, positive) = (usize::from(direction / 2), direction & 1 == 1);
             let mut e = DVec3::ZERO;
             e[axis] = if positive { 1.0 } else { -1.0 };

@@ -45,7 +45,7 @@ pub trait FaceCrossings: Sync {
     /// direction set in `directions` (bit `d` for direction `d`), `None` for the others:
     /// one look-up for all where the crossings are stored by voxel.
     fn voxel_crossings(&self, voxel: u64, directions: u8) -> [Option<(f32, [f32; 3])>; 6] {
-        std::array::from_fn(|d| if directions >> d & 1 == 1 { self.face_crossing(voxel, d as u8) } else { None })
+        std::array::from_fn(|d| if (directions >> d) & 1 == 1 { self.face_crossing(voxel, d as u8) } else { None })
     }
 }
 
