@@ -32,6 +32,19 @@ impl FaceCrossings for HermiteData {
     fn face_crossing(&self, voxel: u64, direction: u8) -> Option<(f32, [f32; 3])> {
         self.get(FaceKey { voxel, direction }).map(|c| (c.t, c.normal.to_array()))
     }
+
+    /// The voxel's faces lie together in the sorted list: one search finds them all.
+    fn voxel_crossings(&self, voxel: u64, directions: u8) -> [Option<(f32, [f32; 3])>; 6] {
+        let faces = self.faces();
+        let start = faces.partition_point(|(key, _)| key.voxel < voxel);
+        let mut out = [None; 6];
+        for (key, c) in faces[start..].iter().take_while(|(key, _)| key.voxel == voxel) {
+            if key.direction < 6 && (directions >> key.direction) & 1 == 1 {
+                out[usize::from(key.direction)] = Some((c.t, c.normal.to_array()));
+            }
+        }
+        out
+    }
 }
 
 /// `tree` (with `surface`, its crossings) grown (`distance > 0`) or shrunk by
@@ -116,8 +129,8 @@ fn combined(
     Ok((result, data))
 }
 
-/// The crossings of `result`'s boundary faces: the step's new ones (the first of a
-/// face given twice), else the old solid's where the face was its own, else none.
+/// The crossings of `result`'s boundary faces: the step's new ones (sorted by face,
+/// each once), else the old solid's where the face was its own, else none.
 ///
 /// A step that `reached` a voxel (a distance other than 0) gives a new crossing on
 /// every boundary face of its result between two voxels of the domain
@@ -125,13 +138,13 @@ fn combined(
 /// domain's own faces, where their voxel is still full: the result's faces are never
 /// listed. A step of 0 gives none, and the old crossings of the result's faces stay.
 fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing>, reached: bool) -> HermiteData {
-    let new = HermiteData::from_faces(
-        new.into_iter()
-            .map(|c| {
-                (FaceKey { voxel: c.voxel, direction: c.direction }, Crossing { t: c.t, normal: Vec3::from(c.normal) })
-            })
-            .collect(),
-    );
+    // Sorted by face, each once (`offset_along_surface`).
+    let new: Vec<(FaceKey, Crossing)> = new
+        .into_par_iter()
+        .map(|c| {
+            (FaceKey { voxel: c.voxel, direction: c.direction }, Crossing { t: c.t, normal: Vec3::from(c.normal) })
+        })
+        .collect();
     let n = result.domain().resolution();
     let kept: Vec<(FaceKey, Crossing)> = old
         .faces()
@@ -139,11 +152,13 @@ fn result_surface(result: &LinearOctree, old: &HermiteData, new: Vec<NewCrossing
         .filter(|(key, _)| (!reached || neighbour(*key, n).is_none()) && is_boundary_face(result, *key))
         .copied()
         .collect();
+    if kept.is_empty() {
+        return HermiteData::from_sorted(new);
+    }
     // Both sorted by face; a face in both (none when `reached`) keeps the new crossing.
-    let new = new.faces();
     let mut faces = Vec::with_capacity(new.len() + kept.len());
     let mut b = 0;
-    for &(key, crossing) in new {
+    for &(key, crossing) in &new {
         while b < kept.len() && kept[b].0 < key {
             faces.push(kept[b]);
             b += 1;
@@ -168,37 +183,15 @@ fn positive(what: &'static str, value: f64) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use glam::DVec3;
-
     use super::*;
-    use crate::octree::Domain;
     use crate::surface::faces::boundary_faces;
-    use crate::test_util::Rng;
+    use crate::test_util::{BoxesAndNoise, Rng, boxes_and_noise};
 
     /// A solid at depth 5 of a few random boxes, some against the domain's faces, and
     /// scattered voxels, with a random crossing on every boundary face.
     fn random_solid(rng: &mut Rng) -> (LinearOctree, HermiteData) {
-        let domain = Domain::new(DVec3::ZERO, 1.0, 5).unwrap();
-        let boxes: Vec<([u32; 3], [u32; 3])> = (0..2 + rng.below(3))
-            .map(|_| {
-                let lo: [u32; 3] = std::array::from_fn(|_| if rng.below(3) == 0 { 0 } else { rng.below(28) as u32 });
-                let hi = lo.map(|c| (c + 2 + rng.below(20) as u32).min(32));
-                (lo, hi)
-            })
-            .collect();
-        let mut voxels = Vec::new();
-        for z in 0..32 {
-            for y in 0..32 {
-                for x in 0..32 {
-                    let p = [x, y, z];
-                    let boxed = boxes.iter().any(|(lo, hi)| (0..3).all(|a| lo[a] <= p[a] && p[a] < hi[a]));
-                    if boxed != (rng.below(80) == 0) {
-                        voxels.push(p);
-                    }
-                }
-            }
-        }
-        let tree = LinearOctree::from_voxels(domain, voxels).unwrap();
+        let how = BoxesAndNoise { fewest: 2, more: 3, against_face: 3, shortest: 2, noise: 80 };
+        let tree = boxes_and_noise(rng, &how);
         let faces = boundary_faces(&tree)
             .into_iter()
             .map(|key| {

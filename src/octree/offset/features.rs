@@ -55,7 +55,9 @@
 //! crossing's distance along the normal); its normal is the direction from the foot
 //! point of the end whose direction is nearer the face's own. Each face is measured
 //! by the tile of its lower voxel, or of its upper one when the lower lies outside
-//! the band, so once.
+//! the band, so once. Each part's crossings (64 tiles) are sorted in it, so the
+//! step's come out sorted by face after a merge of the few keyed by a voxel beyond
+//! the part's tiles, without a sort of them all.
 //!
 //! Memory: a feature a voxel of the band (4 bytes, 8 when the reach passes 510 voxels),
 //! a byte a voxel of a mixed tile's occupancy, two bits a voxel of the masks, and the
@@ -87,7 +89,23 @@ trait Feature: Copy + PartialEq + Send + Sync {
     /// result within `MAX_OFFSET`: `of(o + by e_axis)` without decoding (each axis is a
     /// biased field, so the sum carries into no other).
     fn moved(self, axis: usize, by: i64) -> Self;
+    /// [`cost_of`] its offset, [`FAR`] for [`Feature::NONE`].
+    fn cost(self) -> i64 {
+        self.offset().map_or(FAR, cost_of)
+    }
 }
+
+/// [`axis_cost`] of each 10-bit field of a `u32` feature (the offset plus 512).
+const FIELD_COSTS: [i64; 1024] = {
+    let mut costs = [0; 1024];
+    let mut i = 0;
+    while i < 1024 {
+        let o = i as i64 - 512;
+        costs[i] = if o == 0 { 0 } else { (2 * o.abs() - 1) * (2 * o.abs() - 1) };
+        i += 1;
+    }
+    costs
+};
 
 impl Feature for u32 {
     const NONE: Self = u32::MAX;
@@ -100,6 +118,14 @@ impl Feature for u32 {
     }
     fn moved(self, axis: usize, by: i64) -> Self {
         self.wrapping_add((by << (10 * axis)) as u32)
+    }
+    /// Three look-ups, the fields not decoded.
+    fn cost(self) -> i64 {
+        if self == Self::NONE {
+            return FAR;
+        }
+        let field = |a: u32| FIELD_COSTS[((self >> (10 * a)) & 0x3ff) as usize];
+        field(0) + field(1) + field(2)
     }
 }
 
@@ -200,11 +226,19 @@ fn transform<F: Feature>(
             x + t * (y + t * z)
         })
         .collect();
-    let parts: Vec<Changes> = order
+    // Each part's crossings sorted by face. The parts' spans of Morton codes (from its
+    // first tile's to the next part's) cover the codes once, in order: the few
+    // crossings of a part keyed by a voxel beyond its span (of a tile next to one of
+    // its own) are sorted apart and merged into the part whose span holds them, and
+    // the parts are then laid end to end.
+    let span_start = |c: usize| if c == 0 { 0 } else { order[64 * c].0 << (3 * k) };
+    let chunks = order.len().div_ceil(64);
+    let parts: Vec<Part> = order
         .par_chunks(64)
+        .enumerate()
         .map_init(
             || (vec![PENDING; v], SiteCache::default()),
-            |(g, cache), chunk| {
+            |(g, cache), (c, chunk)| {
                 let (mut runs, mut faces): (Vec<(u64, u64)>, Vec<NewCrossing>) = (Vec::new(), Vec::new());
                 for &(code, s) in chunk {
                     let flipped = spread[s].1;
@@ -222,31 +256,94 @@ fn transform<F: Feature>(
                     }
                     measure.faces(s, &spread, g, &mut faces, cache);
                 }
-                (runs, faces)
+                faces.sort_unstable_by_key(face_order);
+                let span = span_start(c)..if c + 1 < chunks { span_start(c + 1) } else { u64::MAX };
+                let (own, beyond): (Vec<NewCrossing>, Vec<NewCrossing>) =
+                    faces.into_iter().partition(|f| span.contains(&f.voxel));
+                (runs, own, beyond)
             },
         )
         .collect();
     progress.finish();
-    let crossings = parts.iter().map(|p| p.1.len()).sum();
-    let (mut out, mut faces): (Vec<(u64, u64)>, Vec<NewCrossing>) = (Vec::new(), Vec::with_capacity(crossings));
-    for (runs, f) in parts {
-        for run in runs {
+    let mut out: Vec<(u64, u64)> = Vec::new();
+    let mut beyond = Vec::new();
+    for (runs, _, b) in &parts {
+        for &run in runs {
             match out.last_mut() {
                 Some(last) if last.1 == run.0 => last.1 = run.1,
                 _ => out.push(run),
             }
         }
-        faces.extend(f);
+        beyond.extend_from_slice(b);
     }
+    beyond.par_sort_unstable_by_key(face_order);
+    let lists: Vec<Vec<NewCrossing>> = parts
+        .into_par_iter()
+        .enumerate()
+        .map(|(c, (_, own, _))| {
+            let from = beyond.partition_point(|f| f.voxel < span_start(c));
+            let to =
+                if c + 1 < chunks { beyond.partition_point(|f| f.voxel < span_start(c + 1)) } else { beyond.len() };
+            merged(own, &beyond[from..to])
+        })
+        .collect();
+    let faces = end_to_end(&lists);
+    debug_assert!(faces.windows(2).all(|w| face_order(&w[0]) < face_order(&w[1])), "a face measured twice");
     (out, faces)
 }
 
-/// Each tile's sites (none for a free tile), x fastest.
+/// A part's flipped voxels' runs, its crossings within its span and those beyond it.
+type Part = (Vec<(u64, u64)>, Vec<NewCrossing>, Vec<NewCrossing>);
+
+/// The order of faces: by voxel, then direction.
+fn face_order(c: &NewCrossing) -> (u64, u8) {
+    (c.voxel, c.direction)
+}
+
+/// The crossings of `a` and `b`, each sorted by face, merged in that order.
+fn merged(a: Vec<NewCrossing>, b: &[NewCrossing]) -> Vec<NewCrossing> {
+    if b.is_empty() {
+        return a;
+    }
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let mut b = b.iter().copied().peekable();
+    for c in a {
+        while let Some(d) = b.next_if(|d| face_order(d) < face_order(&c)) {
+            out.push(d);
+        }
+        out.push(c);
+    }
+    out.extend(b);
+    out
+}
+
+/// The lists one after another, copied in parallel (the pages first touched by both
+/// threads rather than one).
+fn end_to_end(lists: &[Vec<NewCrossing>]) -> Vec<NewCrossing> {
+    let none = NewCrossing { voxel: 0, direction: 0, t: 0.0, normal: [0.0; 3] };
+    let mut out: Vec<NewCrossing> = rayon::iter::repeat_n(none, lists.iter().map(Vec::len).sum()).collect();
+    let mut rest = &mut out[..];
+    let mut pieces = Vec::with_capacity(lists.len());
+    for list in lists {
+        let (piece, tail) = rest.split_at_mut(list.len());
+        pieces.push(piece);
+        rest = tail;
+    }
+    pieces.into_par_iter().zip(lists).for_each(|(piece, list)| piece.copy_from_slice(list));
+    out
+}
+
+/// Each tile's sites (none for a free tile, which the tree is not asked about), x
+/// fastest.
 fn tile_sites(tree: &LinearOctree, band: &TileBand, grow: bool) -> Vec<Option<Vec<bool>>> {
     let t = 1u32 << band.k;
     band.tiles
         .par_iter()
-        .map(|&p| {
+        .zip(&band.mixed)
+        .map(|(&p, &mixed)| {
+            if !mixed {
+                return None;
+            }
             let c = unpack(p).map(|x| i64::from(x) << band.k);
             let full = tree.occupancy(c, t);
             full.contains(&grow).then(|| full.into_iter().map(|f| f == grow).collect())
@@ -274,7 +371,8 @@ fn feature_transform<F: Feature>(
 ) -> Vec<F> {
     let t = 1usize << band.k;
     let v = t * t * t;
-    let mut features = vec![F::NONE; band.tiles.len() * v];
+    // Filled in parallel: the first touch of the pages is most of the cost.
+    let mut features: Vec<F> = rayon::iter::repeat_n(F::NONE, band.tiles.len() * v).collect();
     // Pass one, along x: the nearest site along each row.
     for_runs(&runs(&band.tiles, 0), &mut features, v, band, progress, |run, slots| {
         let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
@@ -307,6 +405,17 @@ fn feature_transform<F: Feature>(
     feature_pass(&runs(&band.tiles, 1), &mut features, 1, [t, 1, t * t], (cap, 0), band, progress);
     feature_pass(&runs(&band.tiles, 2), &mut features, 2, [t * t, 1, t], (cap, settled), band, progress);
     features
+}
+
+/// A face's crossing as [`FaceCrossings`] gives it, or the face itself (`t = 1/2`, the
+/// axis towards `direction`), in `f64`.
+fn crossing_or_face(found: Option<(f32, [f32; 3])>, direction: u8) -> (f64, DVec3) {
+    let (t, normal) = found.unwrap_or_else(|| {
+        let mut axis = [0.0; 3];
+        axis[usize::from(direction / 2)] = if direction & 1 == 1 { 1.0 } else { -1.0 };
+        (0.5, axis)
+    });
+    (f64::from(t), DVec3::from(normal.map(f64::from)))
 }
 
 /// Whether a voxel at distance `g` (minus infinity: a site) flips.
@@ -359,7 +468,7 @@ fn feature_pass<F: Feature>(
                 for (j, tile) in slots.iter().enumerate() {
                     for i in 0..t {
                         let f = tile[base + i * strides[0]];
-                        let d = f.offset().map_or(FAR, cost_of);
+                        let d = f.cost();
                         any |= d <= cap;
                         (g[1 + j * t + i], line[1 + j * t + i]) = (d, f);
                     }
@@ -552,7 +661,12 @@ impl<'a, F: Feature> Measure<'a, F> {
         if p.iter().any(|&c| c < 0 || c >= n) {
             return !self.step.grow;
         }
-        match self.place(p) {
+        self.is_site_in(p, self.place(p))
+    }
+
+    /// [`Measure::is_site`] of voxel `p` inside the domain, its tile at `place`.
+    fn is_site_in(&self, p: [i64; 3], place: Option<Place>) -> bool {
+        match place {
             Some(Place::Band(s)) => self.sites[s].as_ref().is_some_and(|site| site[self.index(p)]),
             Some(Place::Site) => true,
             None => false,
@@ -563,12 +677,7 @@ impl<'a, F: Feature> Measure<'a, F> {
     /// face itself.
     fn crossing(&self, voxel: [i64; 3], direction: u8) -> (f64, DVec3) {
         let code = morton::encode(voxel[0] as u32, voxel[1] as u32, voxel[2] as u32);
-        let (t, normal) = self.surface.face_crossing(code, direction).unwrap_or_else(|| {
-            let mut axis = [0.0; 3];
-            axis[usize::from(direction / 2)] = if direction & 1 == 1 { 1.0 } else { -1.0 };
-            (0.5, axis)
-        });
-        (f64::from(t), DVec3::from(normal.map(f64::from)))
+        crossing_or_face(self.surface.face_crossing(code, direction), direction)
     }
 
     /// The distance of voxel `p` (inside the domain, in the tile at `place`) and the
@@ -641,22 +750,43 @@ impl<'a, F: Feature> Measure<'a, F> {
         if cache.keys[slot] == key {
             return cache.planes[slot];
         }
-        let mut planes = [Plane { point: DVec3::ZERO, normal: DVec3::ZERO }; 6];
-        let mut count = 0;
+        // The exposed directions; a neighbour in the site's own tile is read from the
+        // place looked up once.
+        let n = i64::from(self.tree.domain().resolution());
+        let own = site.iter().all(|&c| (0..n).contains(&c)).then(|| self.place(site));
+        let mut exposed = 0u8;
         for direction in 0..6u8 {
             let (axis, positive) = (usize::from(direction / 2), direction & 1 == 1);
             let mut next = site;
             next[axis] += if positive { 1 } else { -1 };
-            if self.is_site(next) {
-                continue;
+            let is_site = match own {
+                Some(place) if next[axis] >> self.band.k == site[axis] >> self.band.k => self.is_site_in(next, place),
+                _ => self.is_site(next),
+            };
+            if !is_site {
+                exposed |= 1 << direction;
             }
+        }
+        // Growing, the faces are the site's own: found together.
+        let own_faces = if self.step.grow {
+            let code = morton::encode(site[0] as u32, site[1] as u32, site[2] as u32);
+            self.surface.voxel_crossings(code, exposed)
+        } else {
+            [None; 6]
+        };
+        let mut planes = [Plane { point: DVec3::ZERO, normal: DVec3::ZERO }; 6];
+        let mut count = 0;
+        for direction in (0..6u8).filter(|d| (exposed >> d) & 1 == 1) {
+            let (axis, positive) = (usize::from(direction / 2), direction & 1 == 1);
             let mut e = DVec3::ZERO;
             e[axis] = if positive { 1.0 } else { -1.0 };
             planes[count] = if self.step.grow {
-                let (t, normal) = self.crossing(site, direction);
+                let (t, normal) = crossing_or_face(own_faces[usize::from(direction)], direction);
                 Plane { point: e * t, normal }
             } else {
                 // The face belongs to the full neighbour, seen from its side.
+                let mut next = site;
+                next[axis] += if positive { 1 } else { -1 };
                 let (t, normal) = self.crossing(next, direction ^ 1);
                 Plane { point: e * (1.0 - t), normal: -normal }
             };
@@ -684,8 +814,7 @@ impl<'a, F: Feature> Measure<'a, F> {
             }
             // As [`Measure::distance_in`] decides, without the distance where the cost
             // alone does.
-            let Some(o) = f.offset() else { continue };
-            let c = cost_of(o);
+            let c = f.cost();
             if c > self.cap || c as f64 >= exact_hi {
                 continue;
             }
@@ -884,34 +1013,13 @@ impl<'a, F: Feature> Measure<'a, F> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::octree::Domain;
     use crate::progress::NoProgress;
-    use crate::test_util::Rng;
+    use crate::test_util::{BoxesAndNoise, Rng, boxes_and_noise};
 
     /// A solid at depth 5 of a few random boxes and scattered voxels: site, mixed and
     /// free tiles, and ties between equally near sites.
     fn random_solid(rng: &mut Rng) -> LinearOctree {
-        let domain = Domain::new(DVec3::ZERO, 1.0, 5).unwrap();
-        let boxes: Vec<([u32; 3], [u32; 3])> = (0..1 + rng.below(4))
-            .map(|_| {
-                let lo: [u32; 3] = std::array::from_fn(|_| rng.below(28) as u32);
-                let hi = lo.map(|c| (c + 1 + rng.below(20) as u32).min(32));
-                (lo, hi)
-            })
-            .collect();
-        let mut voxels = Vec::new();
-        for z in 0..32 {
-            for y in 0..32 {
-                for x in 0..32 {
-                    let p = [x, y, z];
-                    let boxed = boxes.iter().any(|(lo, hi)| (0..3).all(|a| lo[a] <= p[a] && p[a] < hi[a]));
-                    if boxed != (rng.below(60) == 0) {
-                        voxels.push(p);
-                    }
-                }
-            }
-        }
-        LinearOctree::from_voxels(domain, voxels).unwrap()
+        boxes_and_noise(rng, &BoxesAndNoise { fewest: 1, more: 4, against_face: 0, shortest: 1, noise: 60 })
     }
 
     #[test]
@@ -998,6 +1106,10 @@ mod tests {
             assert_eq!(<u32 as Feature>::of(o).moved(axis, by), <u32 as Feature>::of(m));
             assert_eq!(<u64 as Feature>::of(o).moved(axis, by), <u64 as Feature>::of(m));
         }
+        for o in [[0, 0, 0], [-511, 511, 3], [511, -511, -7], [1, -1, 0]] {
+            assert_eq!(<u32 as Feature>::of(o).cost(), cost_of(o));
+        }
+        assert_eq!(<u32 as Feature>::NONE.cost(), FAR);
         assert_eq!(<u32 as Feature>::NONE.offset(), None);
         assert_eq!(<u64 as Feature>::NONE.offset(), None);
     }

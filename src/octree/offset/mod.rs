@@ -94,7 +94,7 @@ impl LinearOctree {
     /// The solid grown or shrunk by `distance` voxels measured to its true surface,
     /// the one `surface`'s crossings describe (the sub-voxel rule of `subvoxel`,
     /// in the module doc), and the crossings of the result's boundary faces in the
-    /// band, from the distance field (each face once, in the tiles' Morton order).
+    /// band, from the distance field (each face once, sorted by voxel and direction).
     /// Every boundary face of the result between two voxels of the domain is in the
     /// band when `distance` is not 0 (a face has a mixed tile, or a free tile touching
     /// a site tile, on one side; see `tiles`), so it gets one; the domain's own faces

@@ -6,7 +6,7 @@
 use super::subvoxel::NewCrossing;
 
 /// What a step gives: the Morton runs of the voxels that change, and along a surface
-/// the crossings of the result's faces.
+/// the crossings of the result's faces (sorted by voxel and direction).
 pub(super) type Changes = (Vec<(u64, u64)>, Vec<NewCrossing>);
 
 /// One morphological step: grow (dilate) or shrink (erode) by a ball.

@@ -40,6 +40,13 @@ pub trait FaceCrossings: Sync {
     /// its place `t` from the full voxel's centre (`0..=1`, in voxels) and the surface's
     /// outward unit normal there; `None` for the face itself (`t = 1/2`, the axis).
     fn face_crossing(&self, voxel: u64, direction: u8) -> Option<(f32, [f32; 3])>;
+
+    /// [`FaceCrossings::face_crossing`] of the full voxel `voxel` towards each
+    /// direction set in `directions` (bit `d` for direction `d`), `None` for the others:
+    /// one look-up for all where the crossings are stored by voxel.
+    fn voxel_crossings(&self, voxel: u64, directions: u8) -> [Option<(f32, [f32; 3])>; 6] {
+        std::array::from_fn(|d| if (directions >> d) & 1 == 1 { self.face_crossing(voxel, d as u8) } else { None })
+    }
 }
 
 /// No surface data: every face is itself.

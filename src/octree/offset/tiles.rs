@@ -101,7 +101,7 @@ pub(super) struct TileBand {
     /// The tiles, sorted by packed position.
     pub(super) tiles: Vec<Packed>,
     /// Whether each tile is mixed (else free: no site).
-    mixed: Vec<bool>,
+    pub(super) mixed: Vec<bool>,
     /// The reach of the step, in voxels.
     reach: u32,
     /// The site tiles next to them (and others), sorted by packed position.
