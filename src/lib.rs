@@ -87,7 +87,7 @@ pub use budget::MemoryBudget;
 pub use drawing::{Drawing, DrawingOptions, DrawingStage};
 pub use error::{Error, Result, human_bytes, printable};
 pub use file_kind::FileKind;
-pub use progress::{NoProgress, Progress};
+pub use progress::{NoProgress, Progress, Stages};
 pub use quick::quick;
 pub use ray::{Ray, RayCast};
 pub use solid_file::{SolidFile, write_solid_file};

@@ -1,7 +1,11 @@
 //! Progress reporting for long jobs, without printing from the library.
 //!
 //! Long jobs take a `&dyn Progress` and call it from any thread; the CLI implements it
-//! with a terminal progress bar, tests and library users pass [`NoProgress`].
+//! with a terminal progress bar, tests and library users pass [`NoProgress`]. A job
+//! made of several jobs in a row (a round's four offsets, a resample's extraction and
+//! voxelization) reports through [`Stages`], so its bar fills once.
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// Receives the progress of a long job. Calls may come from several threads at once.
 pub trait Progress: Sync {
@@ -18,3 +22,175 @@ pub trait Progress: Sync {
 pub struct NoProgress;
 
 impl Progress for NoProgress {}
+
+/// The bar's units a stage: a stage's own units are scaled to these.
+const STAGE_UNITS: u64 = 1 << 20;
+
+/// One job of `count` stages run one after another on one [`Progress`]: each stage
+/// reports as a job of its own (its `start`, `advance`s and `finish`, as the library's
+/// jobs do) and fills an equal share of the bar, so the bar goes once from 0 to 100%
+/// instead of once a stage. A stage's share is shown whole when the next one starts or
+/// it finishes; starts beyond `count` add nothing; the last stage's `finish` (or the
+/// drop, when a stage failed or never started) finishes the bar.
+pub struct Stages<'a> {
+    inner: &'a dyn Progress,
+    count: u64,
+    /// Stages started so far.
+    started: AtomicU64,
+    /// The current stage's total and units done, and how many bar units it has shown.
+    total: AtomicU64,
+    done: AtomicU64,
+    shown: AtomicU64,
+    finished: AtomicBool,
+}
+
+impl<'a> Stages<'a> {
+    /// Starts `inner` for a job of `count` stages.
+    pub fn new(inner: &'a dyn Progress, count: u64) -> Self {
+        inner.start(count * STAGE_UNITS);
+        Stages {
+            inner,
+            count,
+            started: AtomicU64::new(0),
+            total: AtomicU64::new(0),
+            done: AtomicU64::new(0),
+            shown: AtomicU64::new(0),
+            finished: AtomicBool::new(false),
+        }
+    }
+
+    /// Shows the current stage as whole (what it has not shown yet).
+    fn complete_stage(&self) {
+        if (1..=self.count).contains(&self.started.load(Ordering::Relaxed)) {
+            let shown = self.shown.swap(STAGE_UNITS, Ordering::Relaxed);
+            if shown < STAGE_UNITS {
+                self.inner.advance(STAGE_UNITS - shown);
+            }
+        }
+    }
+}
+
+impl Progress for Stages<'_> {
+    fn start(&self, total: u64) {
+        self.complete_stage();
+        let started = self.started.fetch_add(1, Ordering::Relaxed) + 1;
+        self.total.store(total, Ordering::Relaxed);
+        self.done.store(0, Ordering::Relaxed);
+        // Past `count` a stage shows nothing: its share is already full.
+        self.shown.store(if started > self.count { STAGE_UNITS } else { 0 }, Ordering::Relaxed);
+    }
+
+    fn advance(&self, n: u64) {
+        let total = self.total.load(Ordering::Relaxed);
+        let done = self.done.fetch_add(n, Ordering::Relaxed).saturating_add(n);
+        let units = match total {
+            0 => STAGE_UNITS,
+            _ => (u128::from(done.min(total)) * u128::from(STAGE_UNITS) / u128::from(total)) as u64,
+        };
+        let shown = self.shown.fetch_max(units, Ordering::Relaxed);
+        if units > shown {
+            self.inner.advance(units - shown);
+        }
+    }
+
+    fn finish(&self) {
+        self.complete_stage();
+        if self.started.load(Ordering::Relaxed) >= self.count && !self.finished.swap(true, Ordering::Relaxed) {
+            self.inner.finish();
+        }
+    }
+}
+
+impl Drop for Stages<'_> {
+    fn drop(&mut self) {
+        if !self.finished.load(Ordering::Relaxed) {
+            self.inner.finish();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Mutex;
+
+    use rayon::prelude::*;
+
+    use super::*;
+
+    /// Every call.
+    #[derive(Default)]
+    struct Recorded {
+        starts: Mutex<Vec<u64>>,
+        advances: Mutex<Vec<u64>>,
+        done: AtomicU64,
+        finishes: AtomicU64,
+    }
+
+    impl Progress for Recorded {
+        fn start(&self, total: u64) {
+            self.starts.lock().unwrap().push(total);
+        }
+        fn advance(&self, n: u64) {
+            self.done.fetch_add(n, Ordering::Relaxed);
+            self.advances.lock().unwrap().push(n);
+        }
+        fn finish(&self) {
+            self.finishes.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// A stage as the library's jobs report: start, advances from several threads,
+    /// finish (or not).
+    fn stage(progress: &dyn Progress, total: u64, finish: bool) {
+        progress.start(total);
+        (0..total).into_par_iter().for_each(|_| progress.advance(1));
+        if finish {
+            progress.finish();
+        }
+    }
+
+    #[test]
+    fn stages_fill_one_bar_once() {
+        let bar = Recorded::default();
+        {
+            let stages = Stages::new(&bar, 3);
+            stage(&stages, 1000, true);
+            assert_eq!(bar.done.load(Ordering::Relaxed), STAGE_UNITS);
+            // A stage that does not finish is shown whole when the next starts.
+            stage(&stages, 7, false);
+            stage(&stages, 12_345, true);
+            assert_eq!(bar.finishes.load(Ordering::Relaxed), 1, "the last stage finishes the bar");
+        }
+        assert_eq!(*bar.starts.lock().unwrap(), vec![3 * STAGE_UNITS]);
+        assert_eq!(bar.done.load(Ordering::Relaxed), 3 * STAGE_UNITS);
+        assert_eq!(bar.finishes.load(Ordering::Relaxed), 1, "and the drop does not again");
+        // The bar only moves on (its starts: one), and a stage's steps are its units
+        // scaled to its share: the first stage's 1000 units moved it 1000 times.
+        let advances = bar.advances.lock().unwrap();
+        assert!(advances.iter().all(|&n| n > 0));
+        assert!(advances.len() >= 1000 + 12_345);
+    }
+
+    #[test]
+    fn stages_past_their_count_and_missing_ones_stay_within_the_bar() {
+        let bar = Recorded::default();
+        {
+            let stages = Stages::new(&bar, 2);
+            stage(&stages, 10, true);
+            stage(&stages, 10, true);
+            stage(&stages, 10, true);
+            stage(&stages, 0, true);
+        }
+        assert_eq!(bar.done.load(Ordering::Relaxed), 2 * STAGE_UNITS);
+        assert_eq!(bar.finishes.load(Ordering::Relaxed), 1);
+        // A job that fails after its first stage: the drop finishes the bar.
+        let bar = Recorded::default();
+        {
+            let stages = Stages::new(&bar, 4);
+            stage(&stages, 10, true);
+            assert_eq!(bar.finishes.load(Ordering::Relaxed), 0);
+        }
+        assert_eq!(bar.done.load(Ordering::Relaxed), STAGE_UNITS);
+        assert_eq!(bar.finishes.load(Ordering::Relaxed), 1);
+    }
+}

@@ -322,6 +322,42 @@ fn render_reports_every_stage_and_prints_progress_lines_off_a_terminal() {
     assert!(stderr.lines().any(|l| l.starts_with("rendering: 100%")), "{stderr}");
 }
 
+/// The percentages of each bar's progress lines, in order, by the bar's name.
+fn progress_lines(stderr: &str) -> Vec<(String, u32)> {
+    stderr
+        .lines()
+        .filter_map(|l| {
+            let (name, rest) = l.split_once(": ")?;
+            Some((name.to_string(), rest.split_once('%')?.0.parse().ok()?))
+        })
+        .collect()
+}
+
+#[test]
+fn jobs_of_several_stages_fill_their_bar_once() {
+    let dir = scratch("one-bar");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "6", "-o", "ball.oct"]);
+    // A round is four offsets; a turn by an eighth resamples from the smooth surface
+    // (extraction, then voxelization).
+    for args in [
+        vec!["round", "ball.oct", "--radius", "0.1", "-o", "r.oct"],
+        vec!["transform", "ball.oct", "--rotate", "z,45", "-o", "t.oct"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_octsolid"))
+            .current_dir(&dir)
+            .env("OCTSOLID_PROGRESS_SECONDS", "0")
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{args:?}");
+        let lines = progress_lines(&String::from_utf8_lossy(&out.stderr));
+        assert!(lines.len() > 4, "{args:?}: {lines:?}");
+        assert!(lines.iter().all(|(name, _)| *name == lines[0].0), "{args:?}: one bar: {lines:?}");
+        assert!(lines.windows(2).all(|w| w[0].1 <= w[1].1), "{args:?}: the bar went back: {lines:?}");
+        assert_eq!(lines.last().unwrap().1, 100, "{args:?}");
+    }
+}
+
 #[test]
 fn outputs_never_replace_inputs_and_stdout_failures_are_errors() {
     let dir = scratch("safety");

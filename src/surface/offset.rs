@@ -27,6 +27,7 @@ use super::faces::{is_boundary_face, neighbour};
 use super::hermite::{Crossing, FaceKey, HermiteData};
 use crate::error::{Error, Result};
 use crate::octree::{FaceCrossings, LinearOctree, NewCrossing, OffsetOptions, SetOp};
+use crate::progress::Stages;
 
 impl FaceCrossings for HermiteData {
     fn face_crossing(&self, voxel: u64, direction: u8) -> Option<(f32, [f32; 3])> {
@@ -104,6 +105,9 @@ pub fn round_with_surface(
     positive("round radius", radius_in_voxels)?;
     let steps = if convex || concave { vec![-radius_in_voxels, radius_in_voxels] } else { Vec::new() };
     tree.check_offset_steps(format!("round by {radius_in_voxels} voxels"), &steps, true, options.budget)?;
+    // Two offsets a kind of edge, on one bar.
+    let stages = Stages::new(options.progress, 2 * (u64::from(convex) + u64::from(concave)));
+    let options = &OffsetOptions { progress: &stages, ..*options };
     let mut solid = (tree.clone(), surface.clone());
     if convex {
         let (eroded, data) = offset_with_surface(&solid.0, &solid.1, -radius_in_voxels, options)?;

@@ -31,6 +31,7 @@ use super::hermite::HermiteData;
 use crate::error::{Error, Result};
 use crate::mesh::{InsideRule, MeshVoxelizeOptions, voxelize_mesh};
 use crate::octree::{Domain, Fit, LinearOctree, MovePlan, VoxelizeOptions};
+use crate::progress::Stages;
 
 /// A solid brought into a domain or moved, with what became of its surface data.
 #[derive(Debug)]
@@ -127,8 +128,10 @@ pub fn resample_with_surface(
     if !(map.is_finite() && det.is_finite() && det != 0.0) {
         return Err(Error::invalid("transform", "it is not finite and invertible"));
     }
+    // The extraction and the voxelization, on one bar.
+    let stages = Stages::new(options.progress, 2);
     let extract_options = ExtractOptions { style: Style::Smooth, budget: options.budget, ..ExtractOptions::default() };
-    let mut mesh = extract(tree, surface, &extract_options, options.progress)?.mesh;
+    let mut mesh = extract(tree, surface, &extract_options, &stages)?.mesh;
     for v in &mut mesh.vertices {
         *v = map.transform_point3(*v);
     }
@@ -137,8 +140,7 @@ pub fn resample_with_surface(
             t.swap(1, 2);
         }
     }
-    let voxelize =
-        MeshVoxelizeOptions { inside: InsideRule::Parity, budget: options.budget, progress: options.progress };
+    let voxelize = MeshVoxelizeOptions { inside: InsideRule::Parity, budget: options.budget, progress: &stages };
     let (moved, _) = voxelize_mesh(&mesh, target, &voxelize)?;
     let data = HermiteData::from_mesh(&mesh, InsideRule::Parity, &moved);
     Ok((moved, data))

@@ -64,15 +64,15 @@ pub use subvoxel::{FaceCrossings, NewCrossing, Staircase};
 use super::linear::LinearOctree;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::progress::{NoProgress, Progress};
+use crate::progress::{NoProgress, Progress, Stages};
 
 /// Options of an offset, shell or round.
 #[derive(Clone, Copy)]
 pub struct OffsetOptions<'a> {
     /// Refuse a step when its estimated memory exceeds this.
     pub budget: MemoryBudget,
-    /// Receives progress once a step (a round makes up to four): in tiles of the band,
-    /// three passes each over the cubes, four along a surface.
+    /// Receives progress in tiles of the band, three passes each over the cubes, four
+    /// along a surface (a round's two or four steps as the stages of one job).
     pub progress: &'a dyn Progress,
 }
 
@@ -191,6 +191,9 @@ impl LinearOctree {
         positive("round radius", radius_in_voxels)?;
         let steps = if convex || concave { vec![-radius_in_voxels, radius_in_voxels] } else { Vec::new() };
         self.check_offset_steps(format!("round by {radius_in_voxels} voxels"), &steps, false, options.budget)?;
+        // Two offsets a kind of edge, on one bar.
+        let stages = Stages::new(options.progress, 2 * (u64::from(convex) + u64::from(concave)));
+        let options = &OffsetOptions { progress: &stages, ..*options };
         let mut tree = self.clone();
         if convex {
             tree = tree.offset(-radius_in_voxels, options)?.offset(radius_in_voxels, options)?;
