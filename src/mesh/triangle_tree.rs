@@ -3,7 +3,11 @@
 //!
 //! Build: the triangles are split at the median centroid along the longest axis of
 //! their centroids (as the winding number's hierarchy in `winding.rs`), down to leaves
-//! of at most [`LEAF_SIZE`]; each node stores the box of its triangles, O(n log n).
+//! of at most [`LEAF_SIZE`]; each node stores the box of its triangles (a leaf's from
+//! its corners, an inner node's the union of its children's), O(n log n). The nodes
+//! lie depth first; a subtree's node count follows from its triangle count alone
+//! ([`node_count`]), so both halves of a large node are built at once, each into its
+//! own part of the node array (the same array as one after the other).
 //! Query [`TriangleTree::meets`]: descend the nodes whose box meets the closed query
 //! box; at a leaf, a triangle's own box first, then the separating-axis test of
 //! `tri_box.rs`, which is conservative (the box grown by a relative hair), so a
@@ -22,6 +26,9 @@ use crate::aabb::Aabb;
 
 /// Most triangles in a leaf.
 const LEAF_SIZE: usize = 4;
+
+/// Fewest triangles in a node whose halves are built in parallel.
+const PARALLEL_SIZE: usize = 4096;
 
 /// One node: the box of its triangles; a leaf holds `count > 0` triangles from
 /// `first`, an inner node has its first child next and its second at `second`.
@@ -55,8 +62,9 @@ impl TriangleTree {
                 Item { centroid: (c[0] + c[1] + c[2]) / 3.0, corners: c, index: t as u32 }
             })
             .collect();
-        let mut nodes = Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1);
-        build(&mut items, 0, &mut nodes);
+        let placeholder = Node { bounds: Aabb { min: DVec3::ZERO, max: DVec3::ZERO }, first: 0, count: 0, second: 0 };
+        let mut nodes = vec![placeholder; node_count(items.len())];
+        build(&mut items, 0, &mut nodes, 0);
         let corners: Vec<[DVec3; 3]> = items.iter().map(|item| item.corners).collect();
         let indices = items.iter().map(|item| item.index).collect();
         let boxes = corners.iter().map(|c| Aabb::from_points(*c).expect("three corners")).collect();
@@ -119,25 +127,49 @@ struct Item {
     index: u32,
 }
 
-/// Appends the nodes over `items` (offset `first` in the final order) to `nodes`, the
-/// subtree's root first; returns the root's index.
-fn build(items: &mut [Item], first: usize, nodes: &mut Vec<Node>) -> u32 {
-    let at = nodes.len() as u32;
-    let bounds = Aabb::from_points(items.iter().flat_map(|item| item.corners)).expect("a node has triangles");
-    nodes.push(Node { bounds, first: first as u32, count: items.len() as u32, second: 0 });
+/// How many nodes the hierarchy over `n > 0` triangles has.
+fn node_count(n: usize) -> usize {
+    // (count(m), count(m + 1)) from (count(m / 2), count(m / 2 + 1)): the halves of m and
+    // of m + 1 are m / 2 and m / 2 + 1 triangles, in the pairs below.
+    fn pair(m: usize) -> (usize, usize) {
+        if m <= 2 * LEAF_SIZE {
+            return (direct(m), direct(m + 1));
+        }
+        let (h, h1) = pair(m / 2);
+        if m.is_multiple_of(2) { (1 + 2 * h, 1 + h + h1) } else { (1 + h + h1, 1 + 2 * h1) }
+    }
+    fn direct(m: usize) -> usize {
+        if m <= LEAF_SIZE { 1 } else { 1 + direct(m / 2) + direct(m - m / 2) }
+    }
+    pair(n).0
+}
+
+/// Writes the nodes over `items` (offset `first` in the final order) into `nodes`
+/// (exactly [`node_count`] of them, the subtree's root first; `at` is the index of
+/// `nodes[0]` in the whole array).
+fn build(items: &mut [Item], first: usize, nodes: &mut [Node], at: usize) {
+    debug_assert_eq!(nodes.len(), node_count(items.len()));
     if items.len() <= LEAF_SIZE {
-        return at;
+        let bounds = Aabb::from_points(items.iter().flat_map(|item| item.corners)).expect("a node has triangles");
+        nodes[0] = Node { bounds, first: first as u32, count: items.len() as u32, second: 0 };
+        return;
     }
     let centroids = Aabb::from_points(items.iter().map(|item| item.centroid)).expect("a node has triangles");
     let axis = centroids.size().max_position();
-    let mid = items.len() / 2;
+    let (n, mid) = (items.len(), items.len() / 2);
     items.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
     let (left, right) = items.split_at_mut(mid);
-    build(left, first, nodes);
-    let second = build(right, first + mid, nodes);
-    nodes[at as usize].count = 0;
-    nodes[at as usize].second = second;
-    at
+    let (root, below) = nodes.split_first_mut().expect("a node");
+    let (left_nodes, right_nodes) = below.split_at_mut(node_count(mid));
+    let second = at + 1 + left_nodes.len();
+    if n >= PARALLEL_SIZE {
+        rayon::join(|| build(left, first, left_nodes, at + 1), || build(right, first + mid, right_nodes, second));
+    } else {
+        build(left, first, left_nodes, at + 1);
+        build(right, first + mid, right_nodes, second);
+    }
+    let bounds = left_nodes[0].bounds.union(&right_nodes[0].bounds);
+    *root = Node { bounds, first: first as u32, count: 0, second: second as u32 };
 }
 
 #[cfg(test)]
@@ -182,5 +214,47 @@ mod tests {
             found_some += usize::from(!want.is_empty());
         }
         assert!(found_some > 300, "{found_some} boxes met triangles");
+    }
+
+    /// The triangles (by their place in the tree's order) under node `i`, checking on
+    /// the way that each node's box is exactly its triangles' box.
+    fn check_node(tree: &TriangleTree, i: usize) -> std::ops::Range<usize> {
+        let node = tree.nodes[i];
+        let range = if node.count > 0 {
+            node.first as usize..(node.first + node.count) as usize
+        } else {
+            let (left, right) = (check_node(tree, i + 1), check_node(tree, node.second as usize));
+            assert_eq!(left.end, right.start, "node {i}'s halves follow each other");
+            left.start..right.end
+        };
+        let want = Aabb::from_points(tree.corners[range.clone()].iter().flatten().copied()).unwrap();
+        assert_eq!((node.bounds.min, node.bounds.max), (want.min, want.max), "node {i}");
+        range
+    }
+
+    #[test]
+    fn every_node_bounds_exactly_its_triangles_built_in_parallel_or_not() {
+        // 20,480 triangles: the top nodes' halves are built in parallel.
+        let mesh = icosphere(DVec3::new(0.1, -0.2, 0.05), 1.0, 5);
+        assert!(mesh.triangles.len() > 4 * PARALLEL_SIZE);
+        let tree = TriangleTree::new(&mesh);
+        assert_eq!(check_node(&tree, 0), 0..mesh.triangles.len());
+        assert_eq!(tree.nodes.len(), node_count(mesh.triangles.len()));
+        let mut indices = tree.indices.clone();
+        indices.sort_unstable();
+        assert!(indices.iter().enumerate().all(|(i, &t)| i == t as usize), "every triangle once");
+        for (i, &t) in tree.indices.iter().enumerate() {
+            assert_eq!(tree.corners[i], mesh.corners(t as usize));
+        }
+    }
+
+    #[test]
+    fn node_count_is_the_count_of_the_median_splits() {
+        fn splits(n: usize) -> usize {
+            if n <= LEAF_SIZE { 1 } else { 1 + splits(n / 2) + splits(n - n / 2) }
+        }
+        for n in (1..3000).chain([4095, 4096, 4097, 65_535, 65_536, 100_003, 1 << 20]) {
+            assert_eq!(node_count(n), splits(n), "{n}");
+        }
     }
 }
