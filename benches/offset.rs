@@ -14,7 +14,7 @@ fn bench(c: &mut Criterion) {
     let domain = Domain::new(DVec3::splat(-1.1), 2.2, 8).unwrap();
     let options = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };
     let part = voxelize(&classic_csg(), domain, &options).unwrap();
-    let offset = OffsetOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };
+    let offset = OffsetOptions { budget: MemoryBudget::unlimited(), ..OffsetOptions::default() };
     eprintln!("stats: depth 8: {} nodes, {} voxels", part.node_count(), part.voxel_count());
     let mut group = c.benchmark_group("offset");
     group.sample_size(10);

@@ -359,6 +359,23 @@ fn jobs_of_several_stages_fill_their_bar_once() {
 }
 
 #[test]
+fn offsets_take_a_metric_and_say_what_it_leaves_out() {
+    let dir = scratch("metric");
+    // A box of 16 voxels at depth 6 (64 a side), with its surface data.
+    ok(&dir, &["shape", "box", "--size", "0.5,0.5,0.5", "--depth", "6", "--domain", "-1,-1,-1,2", "-o", "box.oct"]);
+    let (out, _) = ok(&dir, &["offset", "box.oct", "--voxels", "3", "--metric", "chebyshev", "-o", "grown.oct"]);
+    assert!(out.contains("chebyshev distance is measured over the voxels"), "{out}");
+    // Grown by a cube of reach 3: a box of 22 voxels a side.
+    let (info, _) = ok(&dir, &["info", "grown.oct", "--json"]);
+    assert!(info.contains(&format!("\"voxels\":{}", 22u64.pow(3))), "{info}");
+    let e = fails(&dir, &["round", "box.oct", "--radius", "0.1", "--metric", "l2", "-o", "r.oct"]);
+    assert!(e.contains("euclidean, manhattan, chebyshev"), "{e}");
+    ok(&dir, &["shape", "box", "--size", "0.5,0.5,0.5", "--depth", "6", "--shard-level", "1", "-o", "box.octs"]);
+    let e = fails(&dir, &["shell", "box.octs", "--thickness", "0.1", "--metric", "manhattan", "-o", "s.octs"]);
+    assert!(e.contains("euclidean distance only"), "{e}");
+}
+
+#[test]
 fn outputs_never_replace_inputs_and_stdout_failures_are_errors() {
     let dir = scratch("safety");
     ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "4", "-o", "ball.oct"]);

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 
 use common::{Rng, random_csg, random_octree};
 use glam::DVec3;
-use octsolid::octree::{Domain, LinearOctree, OffsetOptions, VoxelizeOptions, voxelize};
+use octsolid::octree::{Domain, LinearOctree, Metric, OffsetOptions, VoxelizeOptions, voxelize};
 use octsolid::scene_file::build_solid;
 use octsolid::shape::{Csg, Cuboid, Sphere, round, shell};
 use octsolid::surface::{
@@ -98,6 +98,105 @@ fn offsets_of_random_csg_solids_are_the_brute_force_ones_voxel_for_voxel() {
             assert!(got == oracle_offset(&tree, &dist, d), "round {round} depth {depth} offset {d}");
         }
     }
+}
+
+/// The distance by `metric` from a voxel's centre to the voxel `o` away, as a cube, by
+/// its definition: the gap on each axis is `max(|o| - 1/2, 0)`.
+fn metric_distance(metric: Metric, o: [i64; 3]) -> f64 {
+    let gaps = o.map(|c| (c.abs() as f64 - 0.5).max(0.0));
+    match metric {
+        Metric::Euclidean => gaps.iter().map(|g| g * g).sum::<f64>().sqrt(),
+        Metric::Manhattan => gaps.iter().sum(),
+        Metric::Chebyshev => gaps.iter().copied().fold(0.0, f64::max),
+    }
+}
+
+/// `tree` offset by `d` by brute force under `metric`: each voxel of the phase the step
+/// spreads into flips when a voxel of the other phase (outside the domain empty) lies
+/// under `|d|` away, every lattice offset up to `cap` voxels an axis tried.
+fn oracle_metric_offset(tree: &LinearOctree, metric: Metric, d: f64, cap: i64) -> LinearOctree {
+    let n = i64::from(tree.domain().resolution());
+    let full = tree.occupancy([0; 3], n as u32);
+    let at = |p: [i64; 3]| p.iter().all(|&c| (0..n).contains(&c)) && full[(p[0] + n * (p[1] + n * p[2])) as usize];
+    let mut near: Vec<[i64; 3]> = Vec::new();
+    for z in -cap..=cap {
+        for y in -cap..=cap {
+            for x in -cap..=cap {
+                if [x, y, z] != [0; 3] && metric_distance(metric, [x, y, z]) < d.abs() {
+                    near.push([x, y, z]);
+                }
+            }
+        }
+    }
+    let mut voxels = Vec::new();
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let phase = at([x, y, z]);
+                let flips = phase != (d > 0.0) && near.iter().any(|o| at([x + o[0], y + o[1], z + o[2]]) != phase);
+                if phase != flips {
+                    voxels.push([x, y, z].map(|c| c as u32));
+                }
+            }
+        }
+    }
+    LinearOctree::from_voxels(*tree.domain(), voxels).unwrap()
+}
+
+#[test]
+fn offsets_by_the_manhattan_and_chebyshev_distances_are_the_brute_force_ones_voxel_for_voxel() {
+    let mut rng = Rng(0x4d65_7472);
+    for round in 0..4 {
+        let tree = if round == 3 {
+            random_octree(&mut rng, unit_domain(5))
+        } else {
+            voxelize(&random_csg(&mut rng, 3, UNIT_CENTRES), unit_domain(5), &VoxelizeOptions::default()).unwrap()
+        };
+        for metric in [Metric::Manhattan, Metric::Chebyshev] {
+            let options = OffsetOptions { metric, ..OffsetOptions::default() };
+            for d in [0.5, 0.7, 1.0, 1.5, 2.5, 2.9, 4.0, -0.7, -1.0, -1.5, -2.9, -4.0] {
+                let got = tree.offset(d, &options).unwrap();
+                got.validate().unwrap();
+                assert!(got == oracle_metric_offset(&tree, metric, d, 5), "round {round} {metric} offset {d}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_cube_grown_by_the_chebyshev_distance_is_a_cube_and_by_the_manhattan_one_its_sum_with_an_octahedron() {
+    // Reaches over the Euclidean transform's window (32 voxels) too.
+    let tree = cube(40);
+    for d in [3.2, 12.0, 40.4] {
+        let reach = ((d + 0.5_f64).ceil() - 1.0) as u64;
+        let chebyshev = OffsetOptions { metric: Metric::Chebyshev, ..OffsetOptions::default() };
+        assert_eq!(tree.offset(d, &chebyshev).unwrap().voxel_count(), (40 + 2 * reach).pow(3), "grown by {d}");
+        let manhattan = OffsetOptions { metric: Metric::Manhattan, ..OffsetOptions::default() };
+        // The lattice points whose L1 gap to the cube's voxels is under d: each axis's
+        // gap is how far past the cube's 40 voxels the coordinate lies.
+        let r = reach as i64;
+        let gap = |c: i64| if c < 0 { -c } else { (c - 39).max(0) };
+        let mut want = 0u64;
+        for z in -r..40 + r {
+            for y in -r..40 + r {
+                for x in -r..40 + r {
+                    let o = [gap(x), gap(y), gap(z)];
+                    want += u64::from(metric_distance(Metric::Manhattan, o) < d);
+                }
+            }
+        }
+        assert_eq!(tree.offset(d, &manhattan).unwrap().voxel_count(), want, "grown by {d}");
+    }
+    let chebyshev = OffsetOptions { metric: Metric::Chebyshev, ..OffsetOptions::default() };
+    assert_eq!(tree.offset(-7.0, &chebyshev).unwrap().voxel_count(), (40 - 2 * 7u64).pow(3), "shrunk");
+}
+
+#[test]
+fn along_a_surface_only_the_euclidean_distance_is_measured() {
+    let (tree, data) = with_surface(&Sphere::new(DVec3::splat(0.5), 0.3).unwrap(), 5);
+    let options = OffsetOptions { metric: Metric::Chebyshev, ..OffsetOptions::default() };
+    let e = offset_with_surface(&tree, &data, 1.5, &options).unwrap_err().to_string();
+    assert!(e.contains("Euclidean") && e.contains("chebyshev"), "{e}");
 }
 
 /// Four times the squared distance from each voxel's centre to the nearest voxel (as a
@@ -562,7 +661,7 @@ fn shells_and_rounds_over_the_budget_are_refused_before_any_step_runs() {
         // concave alone) is refused naming the largest estimate and the budget.
         for (job, op) in [(0, "shell in"), (1, "shell out"), (2, "round convex"), (3, "round concave")] {
             let progress = common::Recorder::default();
-            let options = OffsetOptions { budget, progress: &progress };
+            let options = OffsetOptions { budget, progress: &progress, ..OffsetOptions::default() };
             let result = match (job, along_surface) {
                 (0 | 1, false) => tree.shell(r, job == 1, &options),
                 (2 | 3, false) => tree.round(r, job == 2, true, &options),

@@ -197,7 +197,7 @@ impl Solid {
         let surface = self.surface_read_back(py)?;
         let tree = &self.tree;
         let (result, data) = job.run(py, |budget, progress| {
-            let options = OffsetOptions { budget, progress };
+            let options = OffsetOptions { budget, progress, ..OffsetOptions::default() };
             match surface {
                 Some(surface) => along(tree, &surface, &options).map(|(t, d)| (t, Some(d))),
                 None => plain(tree, &options).map(|t| (t, None)),

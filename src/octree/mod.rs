@@ -39,7 +39,7 @@ pub(crate) use driver::{Counters, Decision, Plan, Voxelizer};
 pub use linear::LinearOctree;
 pub use measure::{MassProperties, Measures, SurfaceArea};
 pub use node::{Node, NodeKey};
-pub use offset::{FaceCrossings, NewCrossing, OffsetOptions, Staircase};
+pub use offset::{FaceCrossings, Metric, NewCrossing, OffsetOptions, Staircase};
 pub use transform::{CoarsenRule, Fit, Motion, OctreeShape, Turn, common_domain};
 pub(crate) use transform::{CubeSymmetry, MovePlan};
 pub(crate) use voxelize::check_level;

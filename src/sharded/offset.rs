@@ -64,7 +64,6 @@ use super::window::{ShardCache, Window, is_full, shard_of};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::{CellNodes, CellSink, LinearOctree, NodeKey, OffsetOptions};
-use crate::progress::NoProgress;
 use crate::surface::{Crossing, FaceKey, HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
 
 /// A morphological operation, distances in voxels (see [`crate::octree::LinearOctree`]'s
@@ -371,7 +370,7 @@ impl Windows<'_> {
         if !compute {
             return Ok((None, Vec::new()));
         }
-        let options = OffsetOptions { budget: self.budget, progress: &NoProgress };
+        let options = OffsetOptions { budget: self.budget, ..OffsetOptions::default() };
         let surface = self.along.then_some(crossings);
         let (result, data) =
             self.morph.apply(&window, surface.as_ref(), &options).map_err(|e| in_cell(e, self.solid, cell))?;

@@ -128,7 +128,7 @@ fn evaluate(node: &Morphed, lattice: Lattice, options: &VoxelizeOptions) -> Resu
         }
     };
     let per_unit = domain.voxels_per_unit();
-    let offset = OffsetOptions { budget: options.budget, progress: options.progress };
+    let offset = OffsetOptions { budget: options.budget, progress: options.progress, ..OffsetOptions::default() };
     match node.operation() {
         Morphology::Offset { by } => offset_with_surface(&tree, &data, by.in_voxels(per_unit), &offset),
         Morphology::Shell { thickness, outward } => {

@@ -13,12 +13,17 @@
 //! from its neighbours' shards), never whole in memory: `--memory-budget` is checked
 //! on the largest window before any cell is written; `--shard-level` and `--cells` as
 //! for `csg`. A sharded input to any other output is read whole within the budget.
+//!
+//! `--metric manhattan` or `chebyshev` measure the distance by the octahedron or the
+//! cube instead of the ball (`OffsetOptions::metric`), over the voxels as cubes: the
+//! true surface is measured by the Euclidean distance only, so such a result carries
+//! no surface data (and a sharded solid is offset by the ball only).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use octsolid::octree::{LinearOctree, OffsetOptions};
+use octsolid::octree::{LinearOctree, Metric, OffsetOptions};
 use octsolid::sharded::{self, Morph, ShardedSolid};
 use octsolid::surface::{HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
@@ -45,6 +50,8 @@ pub struct OffsetArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = crate::values::parse_finite)]
     pub voxels: Option<f64>,
     #[command(flatten)]
+    pub metric: MetricFlag,
+    #[command(flatten)]
     pub read: ReadFlags,
     #[command(flatten)]
     pub shards: ShardFlags,
@@ -64,6 +71,8 @@ pub struct ShellArgs {
     /// The wall outside the surface instead of inside it.
     #[arg(long)]
     pub outward: bool,
+    #[command(flatten)]
+    pub metric: MetricFlag,
     #[command(flatten)]
     pub read: ReadFlags,
     #[command(flatten)]
@@ -88,19 +97,30 @@ pub struct RoundArgs {
     #[arg(long)]
     pub concave: bool,
     #[command(flatten)]
+    pub metric: MetricFlag,
+    #[command(flatten)]
     pub read: ReadFlags,
     #[command(flatten)]
     pub shards: ShardFlags,
+}
+
+/// The distance an offset, shell or round measures.
+#[derive(clap::Args, Debug)]
+pub struct MetricFlag {
+    /// The distance measured: euclidean (a ball), manhattan (an octahedron) or chebyshev
+    /// (a cube); other than euclidean, over the voxels, the result without surface data.
+    #[arg(long, default_value_t = Metric::Euclidean)]
+    pub metric: Metric,
 }
 
 /// `octsolid offset IN (--by D | --voxels N) -o OUT`
 pub fn run_offset(a: &OffsetArgs, budget: MemoryBudget) -> Result<()> {
     let (by, voxels) = (a.by, a.voxels);
     let morph = |per_unit: f64| Morph::Offset(voxels.unwrap_or_else(|| by.unwrap_or(0.0) * per_unit));
-    if cell_by_cell(&a.input, &a.output, &a.shards, budget, morph)? {
+    if cell_by_cell(&a.input, &a.output, &a.shards, a.metric.metric, budget, morph)? {
         return Ok(());
     }
-    apply(&a.input, &a.output, &a.read, budget, "offset", |tree, surface, per_unit, options| {
+    apply(&a.input, &a.output, &a.read, budget, a.metric.metric, "offset", |tree, surface, per_unit, options| {
         let d = voxels.unwrap_or_else(|| by.unwrap_or(0.0) * per_unit);
         Ok(match surface {
             Some(data) => {
@@ -118,10 +138,10 @@ pub fn run_shell(a: &ShellArgs, budget: MemoryBudget) -> Result<()> {
         bail!("--thickness must be positive, not {}", a.thickness);
     }
     let morph = |per_unit: f64| Morph::Shell { thickness: a.thickness * per_unit, outward: a.outward };
-    if cell_by_cell(&a.input, &a.output, &a.shards, budget, morph)? {
+    if cell_by_cell(&a.input, &a.output, &a.shards, a.metric.metric, budget, morph)? {
         return Ok(());
     }
-    apply(&a.input, &a.output, &a.read, budget, "shell", |tree, surface, per_unit, options| {
+    apply(&a.input, &a.output, &a.read, budget, a.metric.metric, "shell", |tree, surface, per_unit, options| {
         let t = a.thickness * per_unit;
         Ok(match surface {
             Some(data) => {
@@ -141,10 +161,10 @@ pub fn run_round(a: &RoundArgs, budget: MemoryBudget) -> Result<()> {
     // Neither flag: both kinds of edge.
     let (convex, concave) = if a.convex || a.concave { (a.convex, a.concave) } else { (true, true) };
     let morph = |per_unit: f64| Morph::Round { radius: a.radius * per_unit, convex, concave };
-    if cell_by_cell(&a.input, &a.output, &a.shards, budget, morph)? {
+    if cell_by_cell(&a.input, &a.output, &a.shards, a.metric.metric, budget, morph)? {
         return Ok(());
     }
-    apply(&a.input, &a.output, &a.read, budget, "round", |tree, surface, per_unit, options| {
+    apply(&a.input, &a.output, &a.read, budget, a.metric.metric, "round", |tree, surface, per_unit, options| {
         let r = a.radius * per_unit;
         Ok(match surface {
             Some(data) => {
@@ -162,12 +182,19 @@ fn cell_by_cell(
     input: &std::path::Path,
     output: &std::path::Path,
     shards: &ShardFlags,
+    metric: Metric,
     budget: MemoryBudget,
     morph: impl FnOnce(f64) -> Morph,
 ) -> Result<bool> {
     shards.check_for(output)?;
     if !(is_sharded(input) && is_sharded(output)) {
         return Ok(false);
+    }
+    if metric != Metric::Euclidean {
+        bail!(
+            "{}: a sharded solid is offset cell by cell by the euclidean distance only, not {metric}",
+            input.display()
+        );
     }
     check_not_an_input(output, &[input])?;
     let solid = ShardedSolid::open(input)?;
@@ -187,6 +214,7 @@ fn apply(
     output: &std::path::Path,
     read: &ReadFlags,
     budget: MemoryBudget,
+    metric: Metric,
     name: &str,
     op: impl FnOnce(&LinearOctree, Option<&HermiteData>, f64, &OffsetOptions) -> Result<(LinearOctree, Option<HermiteData>)>,
 ) -> Result<()> {
@@ -194,12 +222,18 @@ fn apply(
     check_not_an_input(output, &[input])?;
     let mut file = read_solid_file(input, read, budget)?;
     let meta = file.meta;
-    let surface = if file.solids.solids.len() == 1 { file.surface.take() } else { None };
+    let mut surface = if file.solids.solids.len() == 1 { file.surface.take() } else { None };
+    if metric != Metric::Euclidean && surface.take().is_some() {
+        out!(
+            "{}: the {metric} distance is measured over the voxels; the result carries no surface data",
+            input.display()
+        );
+    }
     let tree = file.into_union();
     let started = Instant::now();
     let bar = Bar::new("band");
     let per_unit = tree.domain().voxels_per_unit();
-    let (result, surface) = op(&tree, surface.as_ref(), per_unit, &OffsetOptions { budget, progress: &bar })
+    let (result, surface) = op(&tree, surface.as_ref(), per_unit, &OffsetOptions { budget, progress: &bar, metric })
         .with_context(|| format!("{}: cannot {name}", input.display()))?;
     out!("{}: {name} in {:.1} ms", input.display(), started.elapsed().as_secs_f64() * 1e3);
     let bytes = write_solid_file(output, &result, &meta, surface, budget)?;

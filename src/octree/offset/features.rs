@@ -1030,7 +1030,7 @@ mod tests {
             let tree = random_solid(&mut rng);
             let full = tree.occupancy([0; 3], 32);
             for (radius, grow) in [(0.7, true), (2.3, false), (4.6, true), (4.6, false), (7.2, true), (7.2, false)] {
-                let step = Step { radius, grow };
+                let step = Step { radius, grow, metric: crate::octree::Metric::Euclidean };
                 let band = band(&tree, step).unwrap();
                 let sites = tile_sites(&tree, &band, grow);
                 let cap = (2.0 * radius + 3.0).powi(2).ceil() as i64;

@@ -44,6 +44,11 @@
 //! Voxels beyond the domain are never added: a solid grown past the domain's faces is
 //! cut by them.
 //!
+//! Other metrics ([`Metric`]: Manhattan, the octahedron; Chebyshev, the cube) replace
+//! the ball by their own unit ball over the cubes: the same passes over the same tiles
+//! with their own costs an axis (the window of the reach at every reach); along a
+//! surface the distance is Euclidean only.
+//!
 //! Memory: a step is refused before it starts when the estimate of its band
 //! ([`LinearOctree::offset_estimate`]) exceeds the budget; shells and rounds first
 //! check the largest of their steps' estimates, each taken on the input, so they are
@@ -53,11 +58,13 @@
 mod band;
 mod edt;
 mod features;
+mod metric;
 mod step;
 mod subvoxel;
 mod tiles;
 
 use band::changed_runs;
+pub use metric::Metric;
 use step::Step;
 pub use subvoxel::{FaceCrossings, NewCrossing, Staircase};
 
@@ -74,11 +81,14 @@ pub struct OffsetOptions<'a> {
     /// Receives progress in tiles of the band, three passes each over the cubes, four
     /// along a surface (a round's two or four steps as the stages of one job).
     pub progress: &'a dyn Progress,
+    /// The distance measured over the cubes ([`Metric`], Euclidean by default; along a
+    /// surface only Euclidean).
+    pub metric: Metric,
 }
 
 impl Default for OffsetOptions<'_> {
     fn default() -> Self {
-        OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress }
+        OffsetOptions { budget: MemoryBudget::default(), progress: &NoProgress, metric: Metric::Euclidean }
     }
 }
 
@@ -120,7 +130,8 @@ impl LinearOctree {
         if !distance_in_voxels.is_finite() {
             return 0;
         }
-        let step = Step { radius: distance_in_voxels.abs(), grow: distance_in_voxels > 0.0 };
+        // The Euclidean limit is the largest, so its estimate bounds the others'.
+        let step = Step { radius: distance_in_voxels.abs(), grow: distance_in_voxels > 0.0, metric: Metric::Euclidean };
         band::estimate(self, step, along_surface)
     }
 
@@ -149,8 +160,14 @@ impl LinearOctree {
         if !distance_in_voxels.is_finite() {
             return Err(Error::invalid("offset distance", format!("{distance_in_voxels} is not finite")));
         }
+        if surface.is_some() && options.metric != Metric::Euclidean {
+            return Err(Error::invalid(
+                "offset metric",
+                format!("along a surface the distance is Euclidean, not {}: offset the voxels alone", options.metric),
+            ));
+        }
         let grow = distance_in_voxels > 0.0;
-        let step = Step { radius: distance_in_voxels.abs(), grow };
+        let step = Step { radius: distance_in_voxels.abs(), grow, metric: options.metric };
         let (runs, crossings) = changed_runs(self, step, surface, options.budget, options.progress)?;
         if runs.is_empty() {
             return Ok((self.clone(), crossings));

@@ -3,6 +3,7 @@
 //! ([`super::tiles`], and along a surface [`super::features`]) compute from it, and what
 //! a step gives.
 
+use super::metric::Metric;
 use super::subvoxel::NewCrossing;
 
 /// What a step gives: the Morton runs of the voxels that change, and along a surface
@@ -16,6 +17,8 @@ pub(super) struct Step {
     pub radius: f64,
     /// Dilation (add empty voxels near full ones) or erosion (the reverse).
     pub grow: bool,
+    /// The distance measured (Euclidean along a surface).
+    pub metric: Metric,
 }
 
 impl Step {
@@ -31,9 +34,9 @@ impl Step {
         self.radius.ceil().clamp(0.0, f64::from(u32::MAX / 4)) as u32
     }
 
-    /// A voxel changes when four times its squared distance is at most this (strictly
-    /// under `4 radius^2`).
+    /// A voxel changes when its sum of costs ([`Metric::axis_cost`]) is at most this:
+    /// Euclidean, four times its squared distance strictly under `4 radius^2`.
     pub(super) fn limit(self) -> i64 {
-        ((4.0 * self.radius * self.radius).ceil() - 1.0).min(1e18) as i64
+        self.metric.limit(self.radius)
     }
 }

@@ -58,7 +58,8 @@
 
 use rayon::prelude::*;
 
-use super::edt::{FAR, axis_cost, lower_envelope, nearest_site_along_row};
+use super::edt::{FAR, lower_envelope, nearest_site_along_row};
+use super::metric::Metric;
 use super::step::Step;
 use crate::morton;
 use crate::octree::window::{keys_meeting, keys_meeting_near, range_meeting_near};
@@ -238,8 +239,8 @@ impl TileBand {
         let strides = [[1, t, t * t], [t, 1, t * t], [t * t, 1, t]];
         for (axis, strides) in strides.into_iter().enumerate() {
             let runs = runs(&self.tiles, axis);
-            if self.reach <= WINDOW_REACH {
-                window_pass(&runs, &mut values, v, t, strides, self.reach, limit, self, progress);
+            if self.reach <= WINDOW_REACH || step.metric != Metric::Euclidean {
+                window_pass(&runs, &mut values, v, t, strides, step.metric, self.reach, limit, self, progress);
             } else if axis == 0 {
                 row_pass(&runs, &mut values, v, t, limit, self, progress);
             } else {
@@ -543,10 +544,14 @@ const WINDOW_REACH: u32 = 32;
 const LANES: usize = 8;
 
 /// [`envelope_pass`]'s values by the window of the reach `r`: `values(x) <- min over
-/// |o| <= r of (axis_cost(o) + values(x + o))`, in saturating integers, `t` lines side
-/// by side (those along `strides[1]`). Exact: beyond `r` voxels along an axis a cost
-/// is over the cap (`(2r + 1)^2 >= 4 radius^2`), so the window holds every value the
-/// envelope could keep, and a sum over the cap becomes none as there.
+/// |o| <= r of (cost(o) + values(x + o))`, in saturating integers, `t` lines side by
+/// side (those along `strides[1]`), `cost` the metric's ([`Metric::axis_cost`]).
+/// Exact: Euclidean, beyond `r` voxels along an axis a cost is over the cap (`(2r +
+/// 1)^2 >= 4 radius^2`), so the window holds every value the envelope could keep, and
+/// a sum over the cap becomes none as there; by any metric no voxel beyond the reach
+/// on some axis is within the radius (its gap on that axis alone is at least the
+/// radius), so the values over the window decide the same voxels. The other metrics
+/// take this pass for every reach (`2 r + 1` taps a value).
 #[allow(clippy::too_many_arguments)]
 fn window_pass<V: Value>(
     runs: &[Run],
@@ -554,6 +559,7 @@ fn window_pass<V: Value>(
     v: usize,
     t: usize,
     strides: [usize; 3],
+    metric: Metric,
     reach: u32,
     cap: i64,
     band: &TileBand,
@@ -561,7 +567,7 @@ fn window_pass<V: Value>(
 ) {
     let r = reach as usize;
     // costs[j]: the cost of the offset j - r, as stored.
-    let costs: Vec<V> = (0..=2 * r).map(|j| V::of(axis_cost(j as i64 - i64::from(reach)), cap)).collect();
+    let costs: Vec<V> = (0..=2 * r).map(|j| V::of(metric.axis_cost(j as i64 - i64::from(reach)), cap)).collect();
     let top = V::of(cap, cap);
     for_runs(runs, values, v, band, progress, |run, slots| {
         let len = run.len() * t;
