@@ -15,6 +15,7 @@ Bounds = Tuple[list[float], list[float]]
 MemoryBudget = Union[int, str]
 # ``progress=``: ``True`` for a bar on the terminal, or ``f(done, total)``.
 ProgressLike = Union[bool, Callable[[int, int], object], None]
+Metric = Literal["euclidean", "manhattan", "chebyshev"]
 
 class Shape:
     """A shape: a CSG tree of primitives, set operations, moves and patterns.
@@ -194,15 +195,24 @@ class Solid:
     ) -> Solid:
         """The solid scaled, turned (each ``(axis, degrees)`` in order) and moved, as ``octsolid transform``."""
     def offset(
-        self, by: float, voxels: bool = False, memory_budget: Optional[MemoryBudget] = None, progress: ProgressLike = None
+        self,
+        by: float,
+        voxels: bool = False,
+        memory_budget: Optional[MemoryBudget] = None,
+        progress: ProgressLike = None,
+        metric: Metric = "euclidean",
     ) -> Solid:
-        """Grown (``by`` > 0) or shrunk (``by`` < 0) by a ball, world units (``voxels=True``: voxels)."""
+        """Grown (``by`` > 0) or shrunk (``by`` < 0) by a ball, world units (``voxels=True``: voxels).
+
+        ``metric``: ``"manhattan"`` (an octahedron) or ``"chebyshev"`` (a cube) instead of
+        the ball, over the voxels (the result carries no surface data)."""
     def shell(
         self,
         thickness: float,
         outward: bool = False,
         memory_budget: Optional[MemoryBudget] = None,
         progress: ProgressLike = None,
+        metric: Metric = "euclidean",
     ) -> Solid:
         """Hollowed to a wall ``thickness`` thick inside the surface (``outward``: outside)."""
     def round(
@@ -212,6 +222,7 @@ class Solid:
         concave: bool = False,
         memory_budget: Optional[MemoryBudget] = None,
         progress: ProgressLike = None,
+        metric: Metric = "euclidean",
     ) -> Solid:
         """Edges rounded to ``radius``: both kinds unless ``convex`` or ``concave`` picks one."""
     def slice(

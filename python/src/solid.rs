@@ -34,7 +34,7 @@ use octsolid::io::oct::Metadata;
 use octsolid::io::{ReadOptions, SolidsRef, WriteOptions};
 use octsolid::mesh::{InsideRule, TriangleMesh, separate_sheets, write_mesh};
 use octsolid::octree::{
-    Domain, LinearOctree, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
+    Domain, LinearOctree, Metric, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
     voxelize as voxelize_shape,
 };
 use octsolid::render::{CameraRequest, RenderOverrides, Up, render_picture};
@@ -185,19 +185,22 @@ impl Solid {
 
     /// An offset, shell or round as `octsolid` makes it of this solid's `.oct` file:
     /// `along` the surface data as that file gives it back when the solid has some
-    /// (the result then carries its new crossings), else `plain` on the voxels.
+    /// and `metric` is the Euclidean one (the result then carries its new crossings),
+    /// else `plain` on the voxels.
     fn derived_along_surface(
         &self,
         py: Python<'_>,
         job: Job,
+        metric: &str,
         plain: impl FnOnce(&LinearOctree, &OffsetOptions) -> octsolid::Result<LinearOctree> + Send,
         along: impl FnOnce(&LinearOctree, &HermiteData, &OffsetOptions) -> octsolid::Result<(LinearOctree, HermiteData)>
         + Send,
     ) -> PyResult<Solid> {
-        let surface = self.surface_read_back(py)?;
+        let metric: Metric = metric.parse().map_err(|e: String| invalid("metric", e))?;
+        let surface = if metric == Metric::Euclidean { self.surface_read_back(py)? } else { None };
         let tree = &self.tree;
         let (result, data) = job.run(py, |budget, progress| {
-            let options = OffsetOptions { budget, progress, ..OffsetOptions::default() };
+            let options = OffsetOptions { budget, progress, metric };
             match surface {
                 Some(surface) => along(tree, &surface, &options).map(|(t, d)| (t, Some(d))),
                 None => plain(tree, &options).map(|t| (t, None)),
@@ -550,8 +553,10 @@ impl Solid {
     /// The solid grown (positive `by`) or shrunk (negative) by a ball of radius `|by|`
     /// world units, as `octsolid offset --by` (`voxels=True`: `by` counts voxels).
     /// `memory_budget`: bytes or a size like `"2GiB"` (`--memory-budget`); `progress`:
-    /// `True` for a bar on the terminal, or `f(done, total)` (the band's).
-    #[pyo3(signature = (by, voxels=false, memory_budget=None, progress=None))]
+    /// `True` for a bar on the terminal, or `f(done, total)` (the band's); `metric`:
+    /// `"euclidean"`, `"manhattan"` or `"chebyshev"` (`--metric`: other than euclidean,
+    /// over the voxels, the result without surface data).
+    #[pyo3(signature = (by, voxels=false, memory_budget=None, progress=None, metric="euclidean"))]
     fn offset(
         &self,
         py: Python<'_>,
@@ -559,20 +564,22 @@ impl Solid {
         voxels: bool,
         memory_budget: Option<Budget>,
         progress: Option<Want>,
+        metric: &str,
     ) -> PyResult<Solid> {
         let d = if voxels { by } else { by * self.tree.domain().voxels_per_unit() };
         self.derived_along_surface(
             py,
             Job::new(memory_budget, progress, "band"),
+            metric,
             |tree, options| tree.offset(d, options),
             |tree, surface, options| offset_with_surface(tree, surface, d, options),
         )
     }
 
     /// The solid hollowed to a wall `thickness` world units thick inside its surface
-    /// (`outward=True`: outside it), as `octsolid shell` (`memory_budget`, `progress`:
-    /// as `.offset`'s).
-    #[pyo3(signature = (thickness, outward=false, memory_budget=None, progress=None))]
+    /// (`outward=True`: outside it), as `octsolid shell` (`memory_budget`, `progress`,
+    /// `metric`: as `.offset`'s).
+    #[pyo3(signature = (thickness, outward=false, memory_budget=None, progress=None, metric="euclidean"))]
     fn shell(
         &self,
         py: Python<'_>,
@@ -580,6 +587,7 @@ impl Solid {
         outward: bool,
         memory_budget: Option<Budget>,
         progress: Option<Want>,
+        metric: &str,
     ) -> PyResult<Solid> {
         if thickness <= 0.0 {
             return Err(invalid("thickness", format!("must be positive, not {thickness}")));
@@ -588,6 +596,7 @@ impl Solid {
         self.derived_along_surface(
             py,
             Job::new(memory_budget, progress, "band"),
+            metric,
             |tree, options| tree.shell(t, outward, options),
             |tree, surface, options| shell_with_surface(tree, surface, t, outward, options),
         )
@@ -595,8 +604,9 @@ impl Solid {
 
     /// The solid with its edges rounded to `radius` world units, as `octsolid round`:
     /// both kinds of edge unless `convex` or `concave` picks one (`memory_budget`,
-    /// `progress`: as `.offset`'s).
-    #[pyo3(signature = (radius, convex=false, concave=false, memory_budget=None, progress=None))]
+    /// `progress`, `metric`: as `.offset`'s).
+    #[pyo3(signature = (radius, convex=false, concave=false, memory_budget=None, progress=None, metric="euclidean"))]
+    #[allow(clippy::too_many_arguments)]
     fn round(
         &self,
         py: Python<'_>,
@@ -605,6 +615,7 @@ impl Solid {
         concave: bool,
         memory_budget: Option<Budget>,
         progress: Option<Want>,
+        metric: &str,
     ) -> PyResult<Solid> {
         if radius <= 0.0 {
             return Err(invalid("radius", format!("must be positive, not {radius}")));
@@ -614,6 +625,7 @@ impl Solid {
         self.derived_along_surface(
             py,
             Job::new(memory_budget, progress, "band"),
+            metric,
             |tree, options| tree.round(r, convex, concave, options),
             |tree, surface, options| round_with_surface(tree, surface, r, convex, concave, options),
         )

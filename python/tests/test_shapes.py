@@ -122,6 +122,23 @@ def test_shape_tree_matches_a_scene_build(tmp_path, make, spec):
     assert py_file.read_bytes() == cli_file.read_bytes()
 
 
+def test_offsets_by_another_metric_grow_by_its_unit_ball_over_the_voxels():
+    # A voxelized box is a block of voxels: by the cube (Chebyshev) grown by 2 voxels it
+    # is the block 4 voxels longer on each axis; by the octahedron (Manhattan) it lies
+    # between the block and that cube.
+    box = o.voxelize(o.Box((0, 0, 0), (1.2, 0.9, 0.7)), 6, ((-1, -1, -1), 2.0))
+    (lo, hi), v = box.bounds, box.voxel_size
+    sides = [round((b - a) / v) for a, b in zip(lo, hi)]
+    assert box.voxel_count == sides[0] * sides[1] * sides[2]
+    cube = box.offset(2, voxels=True, metric="chebyshev")
+    assert cube.voxel_count == (sides[0] + 4) * (sides[1] + 4) * (sides[2] + 4)
+    octahedron = box.offset(2, voxels=True, metric="manhattan")
+    assert box.voxel_count < octahedron.voxel_count < cube.voxel_count
+    assert box.round(0.1, metric="chebyshev").voxel_count == box.voxel_count
+    with pytest.raises(o.ArgumentError, match="euclidean, manhattan, chebyshev"):
+        box.shell(0.1, metric="l2")
+
+
 def test_offset_nodes_are_the_solid_methods_on_the_voxelized_shape():
     # A node voxelizes its child on the lattice, with its crossings, and applies the
     # operation as the Solid's method does: the same voxels.
