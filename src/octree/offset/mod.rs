@@ -56,6 +56,7 @@ mod features;
 mod step;
 mod subvoxel;
 mod tiles;
+mod window;
 
 use band::changed_runs;
 use step::Step;
