@@ -100,8 +100,12 @@ mod tests {
             let g: Vec<i16> = (0..len + LANES * (taps.len() - 1))
                 .map(|_| if rng.below(3) == 0 { i16::MAX } else { rng.below(20) as i16 })
                 .collect();
+            // As run here (with AVX2 where the CPU has it), and without AVX2.
             let (mut out, mut at) = (vec![0; len], vec![0; len]);
             window_argmin(&g, &taps, &mut out, &mut at, &vec![true; len / BLOCK]);
+            let (mut base_out, mut base_at) = (vec![0; len], vec![0; len]);
+            window_argmin_lanes(&g, &taps, &mut base_out, &mut base_at, &vec![true; len / BLOCK]);
+            assert_eq!((&out, &at), (&base_out, &base_at));
             for x in 0..len {
                 let sums: Vec<i16> =
                     taps.iter().enumerate().map(|(j, &c)| g[x + LANES * j].saturating_add(c)).collect();
