@@ -37,6 +37,16 @@
 //! `S`, not always the least nearest (for PR 6647's cube grown by 36.6 voxels, the
 //! middles of the lines along z through the shell of its side faces).
 //!
+//! Where the cap's reach `W` is at most 64 voxels (tiles of 8^3), passes two and three
+//! take each voxel's least cost by the window `|o| <= W` instead of the envelope
+//! ([`super::window`]: a tile's eight lines side by side in 16-bit lanes, every tap in
+//! turn, keeping the first tap that gives the least, so the envelope's entry among
+//! equal ones), the same rule as the cubes' window passes ([`super::tiles`]) with the
+//! entry carried. It gives every voxel its exact entry, so it leaves all settled voxels
+//! alone (the envelope's stretches also transform those in short gaps) and skips the
+//! window for the voxels of a tile's layer across the axis that are all settled; the
+//! voxels not settled get the envelope's features.
+//!
 //! Then the tiles are measured in two sweeps, each in parallel. The first decides each
 //! voxel's phase in the result (a bit a voxel, a mask a tile): a voxel whose lattice
 //! distance `d_cube` lies within `[D - 1, D + 3/2]` is measured to its site's tangent
@@ -71,6 +81,7 @@ use super::edt::{FAR, axis_cost, lower_envelope, nearest_site_along_row};
 use super::step::{Changes, Step};
 use super::subvoxel::{FaceCrossings, NewCrossing, Plane, distance_to_site};
 use super::tiles::{Kind, Packed, Run, TileBand, encode, for_runs, pack, runs, unpack};
+use super::window::{LANES, has_avx2, window_argmin};
 use crate::morton;
 use crate::octree::LinearOctree;
 use crate::progress::Progress;
@@ -92,6 +103,12 @@ trait Feature: Copy + PartialEq + Send + Sync {
     /// [`cost_of`] its offset, [`FAR`] for [`Feature::NONE`].
     fn cost(self) -> i64 {
         self.offset().map_or(FAR, cost_of)
+    }
+    /// [`Feature::cost`] in 16 bits: `u16::MAX` when over `cap` (under `u16::MAX`) or
+    /// for [`Feature::NONE`].
+    fn cost_under(self, cap: u16) -> u16 {
+        let c = self.cost();
+        if c <= i64::from(cap) { c as u16 } else { u16::MAX }
     }
 }
 
@@ -126,6 +143,19 @@ impl Feature for u32 {
         }
         let field = |a: u32| FIELD_COSTS[((self >> (10 * a)) & 0x3ff) as usize];
         field(0) + field(1) + field(2)
+    }
+    /// Without a branch or a table, so a tile's row of them vectorizes: each field's
+    /// `max(2 |o| - 1, 0)^2` in 16 bits, its root held at 255 (so for caps under
+    /// `255^2` a field over it is over the cap); [`Feature::NONE`]'s fields (511 each)
+    /// are.
+    fn cost_under(self, cap: u16) -> u16 {
+        debug_assert!(cap < 255 * 255, "a cap beyond the 16-bit costs");
+        let field = |a: u32| {
+            let d = ((2 * ((self >> (10 * a)) & 0x3ff) as i32 - 1024).abs() - 1).clamp(0, 255) as u16;
+            d * d
+        };
+        let c = field(0).saturating_add(field(1)).saturating_add(field(2));
+        if c <= cap { c } else { u16::MAX }
     }
 }
 
@@ -361,12 +391,29 @@ fn settled(radius: f64) -> i64 {
 /// most `cap`, else [`Feature::NONE`], `v` a tile in the tiles' order (see the module
 /// doc), but for the voxels the last pass leaves alone, settled (under `settled` after
 /// the second pass) and in no stretch: those keep the second pass's sites, each also
-/// costing under `settled`; progress three a tile.
+/// costing under `settled`; progress three a tile. Passes two and three by the window
+/// where it applies ([`feature_window_pass`]), else by the envelope.
 fn feature_transform<F: Feature>(
     band: &TileBand,
     sites: &[Option<Vec<bool>>],
     cap: i64,
     settled: i64,
+    progress: &dyn Progress,
+) -> Vec<F> {
+    let window = 1 << band.k == LANES && cap_reach(cap) <= WINDOW_FEATURE_REACH;
+    let pass: Pass<F> = if window { feature_window_pass } else { feature_pass };
+    features_by(band, sites, (cap, settled), pass, progress)
+}
+
+/// A pass two or three of the feature transform, by the envelope or the window.
+type Pass<F> = fn(&[Run], &mut [F], usize, [usize; 3], (i64, i64), &TileBand, &dyn Progress);
+
+/// [`feature_transform`] with passes two and three by `pass`.
+fn features_by<F: Feature>(
+    band: &TileBand,
+    sites: &[Option<Vec<bool>>],
+    (cap, settled): (i64, i64),
+    pass: Pass<F>,
     progress: &dyn Progress,
 ) -> Vec<F> {
     let t = 1usize << band.k;
@@ -402,8 +449,8 @@ fn feature_transform<F: Feature>(
             }
         }
     });
-    feature_pass(&runs(&band.tiles, 1), &mut features, 1, [t, 1, t * t], (cap, 0), band, progress);
-    feature_pass(&runs(&band.tiles, 2), &mut features, 2, [t * t, 1, t], (cap, settled), band, progress);
+    pass(&runs(&band.tiles, 1), &mut features, 1, [t, 1, t * t], (cap, 0), band, progress);
+    pass(&runs(&band.tiles, 2), &mut features, 2, [t * t, 1, t], (cap, settled), band, progress);
     features
 }
 
@@ -456,9 +503,7 @@ fn feature_pass<F: Feature>(
         let (mut out, mut nearest) = (vec![0i64; len], vec![0u32; len]);
         let (mut sites, mut starts) = (Vec::new(), Vec::new());
         let own = F::of([0; 3]);
-        // The farthest an entry under the cap reaches: `axis_cost(o) <= cap` for `|o|`
-        // up to this (one more, for safety).
-        let reach = usize::try_from((cap.isqrt() + 1) / 2 + 1).unwrap_or(usize::MAX / 4);
+        let reach = cap_reach(cap);
         for b in 0..t {
             for a in 0..t {
                 let base = a * strides[1] + b * strides[2];
@@ -517,6 +562,153 @@ fn feature_pass<F: Feature>(
             }
         }
     });
+}
+
+/// The farthest an entry under `cap` reaches along a line: `axis_cost(o) <= cap` only
+/// for `|o|` under this (`(2 |o| - 1)^2 > cap` from `|o| = (isqrt(cap) + 1) / 2 + 1`
+/// on, one more than needed, for safety).
+fn cap_reach(cap: i64) -> usize {
+    usize::try_from((cap.isqrt() + 1) / 2 + 1).unwrap_or(usize::MAX / 4)
+}
+
+/// The largest [`cap_reach`] [`feature_window_pass`] is used for: it costs `2 R + 1`
+/// lane steps a voxel, where the envelope's cost does not grow with the reach; at 64
+/// the costs stay within 15 bits. The window still won at a reach of 63 (PR 6647 at
+/// depth 8 grown by 60.3 voxels: the whole offset in 41% fewer instructions); the
+/// crossover lies beyond, not measured.
+const WINDOW_FEATURE_REACH: usize = 64;
+
+/// [`feature_pass`] by the window ([`window_argmin`]), for tiles of [`LANES`] voxels a
+/// side where the cap's reach is at most [`WINDOW_FEATURE_REACH`] (so costs fit 15
+/// bits): each voxel's least cost along the line and the first entry along it that
+/// gives it (the envelope's choice among equal ones) from the window, the same
+/// features for every voxel the pass must transform. The settled voxels are left
+/// alone, all of them (the envelope transforms those in short gaps between others:
+/// either way each keeps a site under `settled`, which is all that is read of it), and
+/// the window skips blocks of them. The tiles' rows across the axis are the lanes
+/// (`strides[1] == 1`). Compiled with AVX2 too, used where the CPU has it.
+fn feature_window_pass<F: Feature>(
+    runs: &[Run],
+    features: &mut [F],
+    axis: usize,
+    strides: [usize; 3],
+    (cap, settled): (i64, i64),
+    band: &TileBand,
+    progress: &dyn Progress,
+) {
+    assert!(1 << band.k == LANES && strides[1] == 1, "a window pass over rows of tiles of {LANES} voxels");
+    let cap = i16::try_from(cap).ok().filter(|&c| c < i16::MAX).expect("a window pass's cap in 15 bits");
+    let settled = i16::try_from(settled).expect("settled under the cap");
+    // The taps `|o| <= w`: beyond, `axis_cost(o)` is over the cap.
+    let w = (0..).take_while(|&o| axis_cost(o) <= i64::from(cap)).last().unwrap_or(0) as usize;
+    let taps: Vec<i16> = (0..=2 * w).map(|j| axis_cost(j as i64 - w as i64) as i16).collect();
+    let pass = WindowPass { axis, strides, cap, settled, w, taps, own: F::of([0; 3]) };
+    let avx2 = has_avx2();
+    for_runs(runs, features, LANES * LANES * LANES, band, progress, |run, slots| {
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: the CPU has AVX2 (checked at run time).
+            return unsafe { pass.run_avx2(run, slots) };
+        }
+        pass.run(run, slots);
+    });
+}
+
+/// What a window pass reads (see [`feature_window_pass`]).
+struct WindowPass<F> {
+    axis: usize,
+    strides: [usize; 3],
+    cap: i16,
+    settled: i16,
+    /// The window's reach.
+    w: usize,
+    /// `axis_cost(j - w)`.
+    taps: Vec<i16>,
+    /// A site's own feature.
+    own: F,
+}
+
+impl<F: Feature> WindowPass<F> {
+    /// [`WindowPass::run`] compiled with AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn run_avx2(&self, run: &Run, slots: &mut [&mut [F]]) {
+        self.run(run, slots);
+    }
+
+    /// One run of tiles (`slots`), layer by layer across the axis.
+    #[inline(always)]
+    fn run(&self, run: &Run, slots: &mut [&mut [F]]) {
+        const T: usize = LANES;
+        let WindowPass { axis, strides, cap, settled, w, ref taps, own } = *self;
+        let len = run.len() * T;
+        let (before, after) = (run.before == Kind::Site, run.after == Kind::Site);
+        // costs[w + e]: the lanes' costs of entry e (0 and len + 1 the site tiles
+        // beyond the ends), none (i16::MAX) beyond; line[e]: their features; least[x]
+        // and first[x]: voxel x's least cost and the tap giving it; need[x / T]: a
+        // block of voxels not all settled.
+        let mut costs = vec![[i16::MAX; T]; len + 2 + 2 * w];
+        let mut line = vec![[F::NONE; T]; len + 2];
+        let (mut least, mut first) = (vec![[i16::MAX; T]; len], vec![[0i16; T]; len]);
+        let mut need = vec![false; run.len()];
+        for (e, site) in [(0, before), (len + 1, after)] {
+            if site {
+                costs[w + e] = [0; T];
+                line[e] = [own; T];
+            }
+        }
+        for b in 0..T {
+            let mut any = before || after;
+            for (j, tile) in slots.iter().enumerate() {
+                let mut open = false;
+                for i in 0..T {
+                    let at = b * strides[2] + i * strides[0];
+                    let row: &[F; T] = tile[at..at + T].try_into().expect("a row of a tile");
+                    let e = 1 + j * T + i;
+                    line[e] = *row;
+                    let c = lane_costs(row, cap);
+                    any |= c != [i16::MAX; T];
+                    open |= c.iter().any(|&c| c >= settled);
+                    costs[w + e] = c;
+                }
+                need[j] = open;
+            }
+            if !any || !need.contains(&true) {
+                continue;
+            }
+            window_argmin(costs[1..].as_flattened(), taps, least.as_flattened_mut(), first.as_flattened_mut(), &need);
+            for (j, tile) in slots.iter_mut().enumerate().filter(|(j, _)| need[*j]) {
+                for i in 0..T {
+                    let at = b * strides[2] + i * strides[0];
+                    let row: &mut [F; T] = (&mut tile[at..at + T]).try_into().expect("a row of a tile");
+                    let x = j * T + i;
+                    let (c, m, o) = (&costs[w + 1 + x], &least[x], &first[x]);
+                    for a in 0..T {
+                        if c[a] >= settled {
+                            // The entry `x + 1 + o - w` of the tap `o`.
+                            let o = o[a] as usize;
+                            row[a] = if m[a] <= cap {
+                                line[x + 1 + o - w][a].moved(axis, o as i64 - w as i64)
+                            } else {
+                                F::NONE
+                            };
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The costs of a tile's row of features (each [`Feature::cost_under`] `cap`), none
+/// as `i16::MAX`.
+#[inline(always)]
+fn lane_costs<F: Feature>(row: &[F; LANES], cap: i16) -> [i16; LANES] {
+    let mut out = [0; LANES];
+    for (c, f) in out.iter_mut().zip(row) {
+        *c = f.cost_under(cap as u16).min(i16::MAX as u16) as i16;
+    }
+    out
 }
 
 /// A bit a voxel of a tile, x fastest (tiles of at most 8^3 voxels).
@@ -1024,6 +1216,14 @@ mod tests {
 
     #[test]
     fn features_name_the_least_nearest_site_in_z_y_x_order_by_brute_force() {
+        // Passes two and three by the envelope and by the window, each against the
+        // brute force.
+        for pass in [feature_pass as Pass<u32>, feature_window_pass] {
+            features_are_the_brute_force_ones(pass);
+        }
+    }
+
+    fn features_are_the_brute_force_ones(pass: Pass<u32>) {
         let mut rng = Rng(0x39_f7a3);
         let mut kept = 0;
         for round in 0..4 {
@@ -1035,7 +1235,7 @@ mod tests {
                 let sites = tile_sites(&tree, &band, grow);
                 let cap = (2.0 * radius + 3.0).powi(2).ceil() as i64;
                 let settled = settled(radius);
-                let features: Vec<u32> = feature_transform(&band, &sites, cap, settled, &NoProgress);
+                let features: Vec<u32> = features_by(&band, &sites, (cap, settled), pass, &NoProgress);
                 let is_site = |p: [i64; 3]| {
                     if p.iter().any(|&c| !(0..32).contains(&c)) {
                         return !grow;

@@ -62,6 +62,7 @@ mod metric;
 mod step;
 mod subvoxel;
 mod tiles;
+mod window;
 
 use band::changed_runs;
 pub use metric::Metric;
