@@ -25,6 +25,14 @@
 //!
 //! The points are found and the heights interpolated in floats; a relative slack of
 //! [`SLACK`] times the patch's size is added for their rounding.
+//!
+//! Each check either refuses the collapse or gives a least bound, and the answer is
+//! the largest of those (refused past the limit), so their order leaves it as it is:
+//! they run by what they cost a refusal. Most calls are refused, and early: the
+//! closed bunny at depth 8 within 0.04 voxel makes 1,118,000 calls (up to four
+//! candidate points an edge tried) for 139,000 collapses, and 853,000 are refused at
+//! the facing test or the corners `a`, `b`, `v`; so the fan's one-turn test, an arc
+//! tangent a face, comes after them (3.5% of the export's instructions).
 
 use glam::{DVec2, DVec3};
 
@@ -70,20 +78,7 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     let w = n.cross(u);
     let flat = |x: DVec3| DVec2::new(x.dot(u), x.dot(w));
     let height = |x: DVec3| x.dot(n);
-    // One turn around v: the signed angles of the fan's corners at v.
     let fv = flat(p.new_inside);
-    let turn: f64 = p
-        .new
-        .iter()
-        .map(|t| {
-            let k = t.iter().position(|&x| x == p.new_inside).unwrap_or(0);
-            let (e1, e2) = (flat(t[(k + 1) % 3]) - fv, flat(t[(k + 2) % 3]) - fv);
-            e1.perp_dot(e2).atan2(e1.dot(e2))
-        })
-        .sum();
-    if (turn - std::f64::consts::TAU).abs() > 1e-6 {
-        return None;
-    }
     // The least e(v) for the corner point where v weighs `weight`, the rest of the new
     // side weighs `rest` and the old side needs `need` (gap plus old bound).
     let solve = |need: f64, rest: f64, weight: f64| -> Option<f64> {
@@ -116,6 +111,21 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     let e_old: f64 = (0..3).map(|k| weights[k] * p.old_bounds[face][k]).sum();
     bound = bound.max((height(p.new_inside) - h).abs() + e_old);
     if bound > limit {
+        return None;
+    }
+    // One turn around v: the signed angles of the fan's corners at v (after the
+    // corners above, which refuse most collapses at a point location each; this
+    // takes an arc tangent a face).
+    let turn: f64 = p
+        .new
+        .iter()
+        .map(|t| {
+            let k = t.iter().position(|&x| x == p.new_inside).unwrap_or(0);
+            let (e1, e2) = (flat(t[(k + 1) % 3]) - fv, flat(t[(k + 2) % 3]) - fv);
+            e1.perp_dot(e2).atan2(e1.dot(e2))
+        })
+        .sum();
+    if (turn - std::f64::consts::TAU).abs() > 1e-6 {
         return None;
     }
     // Crossings of interior edges, each from its interior end.
