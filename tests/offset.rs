@@ -192,6 +192,24 @@ fn a_cube_grown_by_the_chebyshev_distance_is_a_cube_and_by_the_manhattan_one_its
 }
 
 #[test]
+fn offsets_by_any_metric_past_the_domain_fill_it() {
+    // One voxel in a corner of 8^3: the far corner's gaps are 6.5 a side, so it lies
+    // 19.5 away (Manhattan), 11.26 (Euclidean), 6.5 (Chebyshev). Every radius past that
+    // fills the domain; one just under leaves out that corner (Chebyshev: the three far
+    // faces, all 6.5 away).
+    let tree = LinearOctree::from_voxels(unit_domain(3), vec![[0, 0, 0]]).unwrap();
+    let euclidean = (3.0 * 6.5f64.powi(2)).sqrt();
+    for (metric, far, under) in
+        [(Metric::Manhattan, 19.5, 511), (Metric::Euclidean, euclidean, 511), (Metric::Chebyshev, 6.5, 7u64.pow(3))]
+    {
+        let options = OffsetOptions { metric, ..OffsetOptions::default() };
+        assert_eq!(tree.offset(far + 0.01, &options).unwrap().voxel_count(), 512, "{metric}");
+        assert_eq!(tree.offset(far + 100.0, &options).unwrap().voxel_count(), 512, "{metric}");
+        assert_eq!(tree.offset(far - 0.01, &options).unwrap().voxel_count(), under, "{metric}");
+    }
+}
+
+#[test]
 fn along_a_surface_only_the_euclidean_distance_is_measured() {
     let (tree, data) = with_surface(&Sphere::new(DVec3::splat(0.5), 0.3).unwrap(), 5);
     let options = OffsetOptions { metric: Metric::Chebyshev, ..OffsetOptions::default() };

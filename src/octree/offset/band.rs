@@ -14,6 +14,7 @@
 //! of threads.
 
 use super::features;
+use super::metric::Metric;
 use super::step::{Changes, Step};
 use super::subvoxel::FaceCrossings;
 use super::tiles::TileBand;
@@ -23,11 +24,17 @@ use crate::octree::LinearOctree;
 use crate::progress::Progress;
 
 /// `step` over the cubes with a radius no larger than the domain needs: every voxel
-/// centre lies within `sqrt 3 n` of every voxel, so radii of `2n + 2` and more all
-/// flip the same voxels (and the squared distances stay small).
+/// centre lies within `sqrt 3 n` of every voxel (Euclidean; `3n` Manhattan, `n`
+/// Chebyshev), so radii of `2n + 2` (`3n + 2`, `n + 2`) and more all flip the same
+/// voxels (and the distances stay small).
 fn clamped(tree: &LinearOctree, step: Step) -> Step {
     let n = f64::from(tree.domain().resolution());
-    Step { radius: step.radius.min(2.0 * n + 2.0), ..step }
+    let all = match step.metric {
+        Metric::Euclidean => 2.0 * n + 2.0,
+        Metric::Manhattan => 3.0 * n + 2.0,
+        Metric::Chebyshev => n + 2.0,
+    };
+    Step { radius: step.radius.min(all), ..step }
 }
 
 /// The memory `step` (along a surface when `along_surface`) is estimated to need; 0
