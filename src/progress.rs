@@ -156,6 +156,10 @@ mod tests {
             let stages = Stages::new(&bar, 3);
             stage(&stages, 1000, true);
             assert_eq!(bar.done.load(Ordering::Relaxed), STAGE_UNITS);
+            // A stage's steps move the bar as they come: each advance that raises the
+            // stage's scaled units shows (one that another thread's overtook folds
+            // into it), so the bar moved many times, not once at the stage's end.
+            assert!(bar.advances.lock().unwrap().len() > 100);
             // A stage that does not finish is shown whole when the next starts.
             stage(&stages, 7, false);
             stage(&stages, 12_345, true);
@@ -164,11 +168,8 @@ mod tests {
         assert_eq!(*bar.starts.lock().unwrap(), vec![3 * STAGE_UNITS]);
         assert_eq!(bar.done.load(Ordering::Relaxed), 3 * STAGE_UNITS);
         assert_eq!(bar.finishes.load(Ordering::Relaxed), 1, "and the drop does not again");
-        // The bar only moves on (its starts: one), and a stage's steps are its units
-        // scaled to its share: the first stage's 1000 units moved it 1000 times.
-        let advances = bar.advances.lock().unwrap();
-        assert!(advances.iter().all(|&n| n > 0));
-        assert!(advances.len() >= 1000 + 12_345);
+        // The bar only moves on (its starts: one).
+        assert!(bar.advances.lock().unwrap().iter().all(|&n| n > 0));
     }
 
     #[test]
