@@ -48,7 +48,7 @@
 //! quarter of the tolerance and simplification the rest, and the tests measure the
 //! result against the exact surface.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
@@ -497,7 +497,7 @@ fn defects(merged: &Merged) -> Option<Defects> {
         .collect();
     bad.extend(pinched.iter().map(|&v| origin[v as usize]));
     // Faces at merged vertices against faces near them.
-    for (f, g) in clashing_pairs(positions, triangles, origin, fresh.as_deref()) {
+    for (f, g) in clashing_pairs(positions, triangles, &fans, origin, fresh.as_deref()) {
         blame(&triangles[f as usize], &mut bad);
         blame(&triangles[g as usize], &mut bad);
     }
@@ -520,17 +520,41 @@ fn defects(merged: &Merged) -> Option<Defects> {
 /// Broad phase: a grid of cells [`CLASH_CELL`] a side, each face listed in every cell
 /// its box meets (sorted by cell, so the lists are slices of one array). A pair whose
 /// boxes meet is tested only in the cell holding the low corner of their boxes'
-/// intersection, so faces sharing several cells are tested once. Faces at a merged
+/// intersection, so faces sharing several cells are tested once; each cell's faces
+/// are one run of the sorted list, its pairs taken within the run. Faces at a merged
 /// vertex and fresh look for every other face (of two such, the lower looks for the
 /// higher); fresh faces not at a merged vertex look for faces at one that are not
 /// fresh.
+///
+/// Narrow phase: two faces of one fan (sharing one vertex, no other corner by
+/// position) are not tested when the fan is a height field (`flat_fans`); the other
+/// pairs go to the exact test. On the classic part at depth 9 that leaves 0.9 of the
+/// first test's 5.2 million pairs.
 fn clashing_pairs(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
+    fans: &Fans,
     origin: &[u32],
     fresh: Option<&[bool]>,
 ) -> Vec<(u32, u32)> {
     let corners = |f: u32| triangles[f as usize].map(|v| positions[v as usize]);
+    let flat = flat_fans(positions, triangles, fans);
+    // Whether faces `f` and `g` share one vertex, by index, whose fan is flat, and no
+    // other corner, not even by position: they then meet there alone.
+    let apart_in_a_flat_fan = |f: [u32; 3], p: [DVec3; 3], g: [u32; 3], q: [DVec3; 3]| {
+        let mut shared = None;
+        for i in 0..3 {
+            for j in 0..3 {
+                if p[i] == q[j] || f[i] == g[j] {
+                    if shared.is_some() || f[i] != g[j] {
+                        return false;
+                    }
+                    shared = Some(f[i]);
+                }
+            }
+        }
+        shared.is_some_and(|v| flat[v as usize])
+    };
     // Per face: at a merged vertex, and fresh.
     let (merged, new): (Vec<bool>, Vec<bool>) = triangles
         .par_iter()
@@ -563,47 +587,47 @@ fn clashing_pairs(
         })
         .collect();
     listed.par_sort_unstable();
-    let in_cell = |cell: [i64; 3]| {
-        let start = listed.partition_point(|e| e.0 < cell);
-        let end = start + listed[start..].partition_point(|e| e.0 == cell);
-        &listed[start..end]
-    };
     let looks_for = |f: u32, g: u32| {
         let (f, g) = (f as usize, g as usize);
         if merged[f] { !(merged[g] && new[g] && g <= f) } else { merged[g] && !new[g] }
     };
-    (0..triangles.len() as u32)
-        .into_par_iter()
-        .with_min_len(1024)
-        .filter(|&f| new[f as usize] && (merged[f as usize] || fresh.is_some()))
-        .flat_map_iter(|f| {
-            let p = corners(f);
-            let (plo, phi) = boxes[f as usize];
-            let (lo, hi) = cell_range((plo, phi));
+    let low_cell: Vec<[i64; 3]> = boxes.par_iter().with_min_len(4096).map(|&b| cell_range(b).0).collect();
+    // Each cell's run of `listed`, its pairs tested there.
+    let mut runs: Vec<usize> = (0..listed.len()).filter(|&i| i == 0 || listed[i].0 != listed[i - 1].0).collect();
+    runs.push(listed.len());
+    runs.par_windows(2)
+        .with_min_len(64)
+        .flat_map_iter(|w| {
+            let run = &listed[w[0]..w[1]];
+            let cell = run[0].0;
             let mut found = Vec::new();
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        for &(_, g) in in_cell([x, y, z]) {
-                            if !looks_for(f, g) {
-                                continue;
-                            }
-                            let (qlo, qhi) = boxes[g as usize];
-                            if plo.cmpgt(qhi).any() || qlo.cmpgt(phi).any() {
-                                continue;
-                            }
-                            let (glo, _) = cell_range((qlo, qhi));
-                            if [x, y, z] != [lo[0].max(glo[0]), lo[1].max(glo[1]), lo[2].max(glo[2])] {
-                                continue;
-                            }
-                            let q = corners(g);
-                            if across_an_edge(triangles[f as usize], p, triangles[g as usize], q) {
-                                continue;
-                            }
-                            if faces_cross(triangles[f as usize], p, triangles[g as usize], q) {
-                                found.push((f, g));
-                            }
-                        }
+            for &(_, f) in run {
+                if !(new[f as usize] && (merged[f as usize] || fresh.is_some())) {
+                    continue;
+                }
+                let (plo, phi) = boxes[f as usize];
+                let lo = low_cell[f as usize];
+                let mut p = None;
+                for &(_, g) in run {
+                    if !looks_for(f, g) {
+                        continue;
+                    }
+                    let (qlo, qhi) = boxes[g as usize];
+                    if plo.cmpgt(qhi).any() || qlo.cmpgt(phi).any() {
+                        continue;
+                    }
+                    let glo = low_cell[g as usize];
+                    if cell != [lo[0].max(glo[0]), lo[1].max(glo[1]), lo[2].max(glo[2])] {
+                        continue;
+                    }
+                    let p = *p.get_or_insert_with(|| corners(f));
+                    let q = corners(g);
+                    let (ft, gt) = (triangles[f as usize], triangles[g as usize]);
+                    if across_an_edge(ft, p, gt, q) || apart_in_a_flat_fan(ft, p, gt, q) {
+                        continue;
+                    }
+                    if faces_cross(ft, p, gt, q) {
+                        found.push((f, g));
                     }
                 }
             }
@@ -611,6 +635,52 @@ fn clashing_pairs(
         })
         .collect()
 }
+
+/// Whether each vertex's faces, seen along their summed normal, cover the plane
+/// around it exactly once: every face facing that normal by [`FLAT_FAN_FACING`] (and
+/// far from degenerate), their angles at the vertex summing to one turn. The faces
+/// share their edges in one cycle (the mesh is checked manifold and oriented first),
+/// so their projections are sectors of one turn that overlap only along shared edges:
+/// two faces of the fan without a common edge meet at the vertex alone, in projection
+/// and so in space (module `gap` takes a fan's projection so too).
+fn flat_fans(positions: &[DVec3], triangles: &[[u32; 3]], fans: &Fans) -> Vec<bool> {
+    (0..positions.len())
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|v| {
+            let fan = fans.of_vertex(v);
+            let at = positions[v];
+            // Each face's corners after `v`, in order.
+            let spokes = |f: &u32| {
+                let t = triangles[*f as usize];
+                let k = t.iter().position(|&w| w as usize == v).unwrap_or(0);
+                (positions[t[(k + 1) % 3] as usize] - at, positions[t[(k + 2) % 3] as usize] - at)
+            };
+            let Some(normal) = fan.iter().map(|f| spokes(f).0.cross(spokes(f).1)).sum::<DVec3>().try_normalize() else {
+                return false;
+            };
+            let u = normal.any_orthonormal_vector();
+            let w = normal.cross(u);
+            let mut turn = 0.0;
+            for f in fan {
+                let (a, b) = spokes(f);
+                let cross = a.cross(b);
+                let facing = cross.dot(normal);
+                if facing <= FLAT_FAN_FACING * cross.length()
+                    || cross.length_squared() <= 1e-20 * a.length_squared() * b.length_squared()
+                {
+                    return false;
+                }
+                let (a2, b2) = (DVec2::new(a.dot(u), a.dot(w)), DVec2::new(b.dot(u), b.dot(w)));
+                turn += a2.perp_dot(b2).atan2(a2.dot(b2));
+            }
+            (turn - std::f64::consts::TAU).abs() <= 1e-6
+        })
+        .collect()
+}
+
+/// Least cosine between a face of a flat fan and the fan's summed normal.
+const FLAT_FAN_FACING: f64 = 0.2;
 
 /// Whether two faces share an edge (by index) and face the same side: run opposite
 /// ways along it (the mesh is checked oriented first), they could meet beyond it only
@@ -626,4 +696,48 @@ fn across_an_edge(si: [u32; 3], s: [DVec3; 3], ti: [u32; 3], t: [DVec3; 3]) -> b
 fn faces_cross(si: [u32; 3], s: [DVec3; 3], ti: [u32; 3], t: [DVec3; 3]) -> bool {
     let shares_position_not_index = (0..3).any(|i| (0..3).any(|j| s[i] == t[j] && si[i] != ti[j]));
     shares_position_not_index || triangles_clash(s, t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fan of `n` faces around a centre vertex (index 0) whose rim vertices lie at
+    /// the angles `angles` (radians) on a unit circle, lifted by `lift`.
+    fn fan(angles: &[f64], lift: impl Fn(DVec2) -> f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let mut positions = vec![DVec3::ZERO];
+        for &a in angles {
+            let p = DVec2::new(a.cos(), a.sin());
+            positions.push(DVec3::new(p.x, p.y, lift(p)));
+        }
+        let n = angles.len() as u32;
+        let triangles = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
+        (positions, triangles)
+    }
+
+    fn centre_is_flat(positions: &[DVec3], triangles: &[[u32; 3]]) -> bool {
+        flat_fans(positions, triangles, &Fans::of(positions.len(), triangles))[0]
+    }
+
+    #[test]
+    fn a_fan_is_flat_when_it_covers_its_plane_once() {
+        let six: Vec<f64> = (0..6).map(|i| f64::from(i) * std::f64::consts::TAU / 6.0).collect();
+        // Gently curved, and uneven: flat.
+        let (p, t) = fan(&six, |q| 0.05 * q.x * q.x - 0.03 * q.y);
+        assert!(centre_is_flat(&p, &t));
+        let uneven = [0.0, 0.4, 1.9, 3.0, 3.5, 5.0];
+        let (p, t) = fan(&uneven, |q| 0.1 * q.x);
+        assert!(centre_is_flat(&p, &t));
+        // A rim vertex pulled across its neighbour: two faces overlap in projection.
+        let crossed = [0.0, 1.2, 1.0, 3.0, 4.0, 5.0];
+        let (p, t) = fan(&crossed, |_| 0.0);
+        assert!(!centre_is_flat(&p, &t));
+        // Around twice (a pinched double cover): not flat.
+        let twice: Vec<f64> = (0..8).map(|i| f64::from(i) * std::f64::consts::TAU / 4.0 + 0.1).collect();
+        let (p, t) = fan(&twice, |q| 0.01 * q.x);
+        assert!(!centre_is_flat(&p, &t));
+        // A steep saddle whose faces turn past the facing limit: not flat.
+        let (p, t) = fan(&six, |q| 8.0 * (q.x * q.x - q.y * q.y));
+        assert!(!centre_is_flat(&p, &t));
+    }
 }
