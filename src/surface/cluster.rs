@@ -50,7 +50,8 @@
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
+use smallvec::SmallVec;
 
 use super::dual::{DualMesh, Fans, VertexKind};
 use super::fan_cone::fan_within_cone;
@@ -411,6 +412,11 @@ fn apply(
 
 /// The blocks whose merged vertices take part in a defect of the merged mesh (module
 /// doc): none when it has none, `None` when a defect touches no merged vertex.
+///
+/// After a full test (`fresh` given) only the faces at a fresh vertex are looked at:
+/// blocks have only been split back since, and every defect the last test found had a
+/// merged vertex, so its faces are at fresh vertices now; a face with no fresh vertex is
+/// a face of that test, and an edge none of whose faces changed has the faces it had.
 fn defects(merged: &Merged) -> Option<Defects> {
     let Merged { positions, triangles, origin, fresh } = merged;
     let mut bad: Vec<u32> = Vec::new();
@@ -421,58 +427,44 @@ fn defects(merged: &Merged) -> Option<Defects> {
             }
         }
     };
-    // Faces on the same three vertices.
-    let mut keys: Vec<([u32; 3], u32)> = triangles
-        .par_iter()
-        .enumerate()
-        .map(|(f, t)| {
-            let mut k = *t;
-            k.sort_unstable();
-            (k, f as u32)
-        })
-        .collect();
-    keys.par_sort_unstable();
-    let mut defect = false;
-    for w in keys.windows(2) {
-        if w[0].0 == w[1].0 {
-            defect = true;
-            blame(&w[0].0, &mut bad);
+    let fans = Fans::of(positions.len(), triangles);
+    // The faces looked at: those at a fresh vertex, or all.
+    let changed: Option<Vec<u32>> = fresh.as_ref().map(|fresh| {
+        (0..triangles.len() as u32)
+            .into_par_iter()
+            .with_min_len(4096)
+            .filter(|&f| triangles[f as usize].iter().any(|&v| fresh[v as usize]))
+            .collect()
+    });
+    let all: Vec<u32>;
+    let looked_at = match &changed {
+        Some(changed) => changed,
+        None => {
+            all = (0..triangles.len() as u32).collect();
+            &all
         }
-    }
-    // Every edge in two faces, run opposite ways.
-    let mut edges: Vec<(u32, u32, bool, u32)> = triangles
-        .par_iter()
-        .enumerate()
-        .flat_map_iter(|(f, t)| (0..3).map(move |k| (t[k], t[(k + 1) % 3], f as u32)))
-        .map(|(a, b, f)| (a.min(b), a.max(b), a < b, f))
-        .collect();
-    edges.par_sort_unstable();
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i + 1;
-        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
-            j += 1;
-        }
-        if j - i != 2 || edges[i].2 == edges[i + 1].2 {
-            defect = true;
-            for e in &edges[i..j] {
-                blame(&triangles[e.3 as usize], &mut bad);
-            }
-        }
-        i = j;
-    }
+    };
+    let defect = topology_defects(triangles, &fans, looked_at, &mut |vs| blame(vs, &mut bad));
     if defect {
         bad.sort_unstable();
         bad.dedup();
         return (!bad.is_empty()).then_some(Defects { blocks: bad, clashes_tested: false });
     }
     // Each merged vertex's faces one fan: following each face's next corner around it
-    // comes back after visiting them all.
-    let fans = Fans::of(positions.len(), triangles);
+    // comes back after visiting them all (after a full test, those at a face looked at).
+    let at_changed: Option<Vec<bool>> = changed.as_ref().map(|changed| {
+        let mut at = vec![false; positions.len()];
+        for &f in changed {
+            for v in triangles[f as usize] {
+                at[v as usize] = true;
+            }
+        }
+        at
+    });
     let pinched: Vec<u32> = (0..positions.len() as u32)
         .into_par_iter()
         .with_min_len(4096)
-        .filter(|&v| origin[v as usize] != u32::MAX)
+        .filter(|&v| origin[v as usize] != u32::MAX && at_changed.as_ref().is_none_or(|at| at[v as usize]))
         .filter(|&v| {
             let fan = fans.of_vertex(v as usize);
             let next: FxHashMap<u32, u32> = fan
@@ -504,6 +496,50 @@ fn defects(merged: &Merged) -> Option<Defects> {
     bad.sort_unstable();
     bad.dedup();
     Some(Defects { blocks: bad, clashes_tested: true })
+}
+
+/// Whether a face of `changed` has the same three vertices as another face, or an
+/// edge not in exactly two faces run opposite ways, read off the fans of its corners;
+/// `blame` is given the corners of every face of each defect.
+fn topology_defects(triangles: &[[u32; 3]], fans: &Fans, changed: &[u32], blame: &mut impl FnMut(&[u32])) -> bool {
+    let sorted = |t: [u32; 3]| {
+        let mut k = t;
+        k.sort_unstable();
+        k
+    };
+    let found: Vec<[u32; 3]> = changed
+        .par_iter()
+        .with_min_len(1024)
+        .flat_map_iter(|&f| {
+            let t = triangles[f as usize];
+            let mut found: Vec<[u32; 3]> = Vec::new();
+            let key = sorted(t);
+            if fans.of_vertex(t[0] as usize).iter().any(|&g| g != f && sorted(triangles[g as usize]) == key) {
+                found.push(key);
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let on_edge: SmallVec<[u32; 4]> = fans
+                    .of_vertex(a as usize)
+                    .iter()
+                    .copied()
+                    .filter(|&g| triangles[g as usize].contains(&b))
+                    .collect();
+                let forward = |g: u32| {
+                    let u = triangles[g as usize];
+                    (0..3).any(|i| u[i] == a && u[(i + 1) % 3] == b)
+                };
+                if on_edge.len() != 2 || forward(on_edge[0]) == forward(on_edge[1]) {
+                    found.extend(on_edge.iter().map(|&g| triangles[g as usize]));
+                }
+            }
+            found
+        })
+        .collect();
+    for corners in &found {
+        blame(corners);
+    }
+    !found.is_empty()
 }
 
 /// The pairs of faces that meet beyond what they share (the exact test of
@@ -577,13 +613,19 @@ fn clashing_pairs(
         let hi = (hi / CLASH_CELL).floor();
         ([lo.x as i64, lo.y as i64, lo.z as i64], [hi.x as i64, hi.y as i64, hi.z as i64])
     };
+    let cells_of = |f: u32| {
+        let (lo, hi) = cell_range(boxes[f as usize]);
+        (lo[0]..=hi[0]).flat_map(move |x| (lo[1]..=hi[1]).flat_map(move |y| (lo[2]..=hi[2]).map(move |z| [x, y, z])))
+    };
+    // Every pair tested has a fresh face: after a full test only the cells those meet
+    // are listed.
+    let due_cells: Option<FxHashSet<[i64; 3]>> =
+        fresh.map(|_| (0..triangles.len() as u32).filter(|&f| new[f as usize]).flat_map(cells_of).collect());
     let mut listed: Vec<([i64; 3], u32)> = (0..triangles.len() as u32)
         .into_par_iter()
         .with_min_len(4096)
         .flat_map_iter(|f| {
-            let (lo, hi) = cell_range(boxes[f as usize]);
-            (lo[0]..=hi[0])
-                .flat_map(move |x| (lo[1]..=hi[1]).flat_map(move |y| (lo[2]..=hi[2]).map(move |z| ([x, y, z], f))))
+            cells_of(f).filter(|c| due_cells.as_ref().is_none_or(|due| due.contains(c))).map(move |c| (c, f))
         })
         .collect();
     listed.par_sort_unstable();
@@ -717,6 +759,35 @@ mod tests {
 
     fn centre_is_flat(positions: &[DVec3], triangles: &[[u32; 3]]) -> bool {
         flat_fans(positions, triangles, &Fans::of(positions.len(), triangles))[0]
+    }
+
+    /// The corners of the faces `topology_defects` blames, sorted, looking at all faces.
+    fn blamed(triangles: &[[u32; 3]]) -> Vec<u32> {
+        let fans = Fans::of(5, triangles);
+        let all: Vec<u32> = (0..triangles.len() as u32).collect();
+        let mut corners = Vec::new();
+        let defect = topology_defects(triangles, &fans, &all, &mut |vs| corners.extend_from_slice(vs));
+        corners.sort_unstable();
+        corners.dedup();
+        assert_eq!(defect, !corners.is_empty());
+        corners
+    }
+
+    #[test]
+    fn topology_defects_are_duplicates_open_and_misoriented_edges() {
+        let tetrahedron = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        assert!(blamed(&tetrahedron).is_empty());
+        // A face twice: its edges in three faces, and the duplicate itself.
+        let twice = [tetrahedron.as_slice(), &[[1, 2, 3]]].concat();
+        assert_eq!(blamed(&twice), vec![0, 1, 2, 3]);
+        // A face missing: its edges in one face each.
+        assert_eq!(blamed(&tetrahedron[..3]), vec![0, 1, 2, 3]);
+        // A face turned over: its edges run the same way as their neighbours'.
+        let flipped = [[0, 2, 1], [0, 1, 3], [1, 3, 2], [0, 3, 2]];
+        assert_eq!(blamed(&flipped), vec![0, 1, 2, 3]);
+        // Only the faces looked at are checked.
+        let fans = Fans::of(5, &tetrahedron[..3]);
+        assert!(!topology_defects(&tetrahedron[..3], &fans, &[], &mut |_| {}));
     }
 
     #[test]
