@@ -48,6 +48,9 @@ const MAX_ROUNDS: usize = 12;
 /// The weights a vertex steps down, one step each round its triangles cross another's
 /// (module doc); after the last, the safe position.
 const WEIGHTS: [f64; 7] = [1.0, 0.875, 0.75, 0.5, 0.25, 0.125, 0.0625];
+/// Side of the grid cells that pair triangles for the crossing test, lattice units
+/// (the pairs do not depend on it; the time does).
+const PAIR_CELL: f64 = 2.0;
 /// Crossings' normals further apart than this (cosine of 60 degrees) make a vertex risky.
 const RISKY_NORMAL_COSINE: f64 = 0.5;
 
@@ -199,9 +202,13 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
     around.par_sort_unstable();
     around.dedup();
     let near: FxHashSet<[i64; 3]> = around.into_iter().collect();
-    // The triangles of faces with a corner there, listed in every unit cell their boxes
-    // meet, sorted by cell (so each cell's list is a slice, its triangles ascending).
+    // The triangles of faces with a corner there, listed in every cell their boxes meet,
+    // sorted by cell (so each cell's list is a slice, its triangles ascending). Which
+    // pairs are tested does not depend on the cells' size; cells of two voxels list the
+    // classic part's triangles 1.4 million times instead of 2.6 (at one) and take a
+    // third less time.
     let position = |v: u32| dual.positions[v as usize];
+    let cell_of = |x: DVec3| (x / PAIR_CELL).floor();
     let mut listed: Vec<([i64; 3], u32)> = (0..dual.quads.len())
         .into_par_iter()
         .with_min_len(4096)
@@ -209,7 +216,7 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
         .flat_map_iter(|f| {
             [2 * f, 2 * f + 1].into_iter().flat_map(move |t| {
                 let p = triangles[t].map(position);
-                let (lo, hi) = (p[0].min(p[1]).min(p[2]).floor(), p[0].max(p[1]).max(p[2]).floor());
+                let (lo, hi) = (cell_of(p[0].min(p[1]).min(p[2])), cell_of(p[0].max(p[1]).max(p[2])));
                 (lo.x as i64..=hi.x as i64).flat_map(move |x| {
                     (lo.y as i64..=hi.y as i64)
                         .flat_map(move |y| (lo.z as i64..=hi.z as i64).map(move |z| ([x, y, z], t as u32)))
@@ -244,7 +251,7 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
                     if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
                         continue;
                     }
-                    let low = alo.floor().max(blo.floor());
+                    let low = cell_of(alo).max(cell_of(blo));
                     if [low.x as i64, low.y as i64, low.z as i64] != cell {
                         continue;
                     }
