@@ -549,6 +549,16 @@ impl Local {
             ),
             None => (SmallVec::new(), None),
         };
+        // The replaced faces' normals (times twice their areas) and their lengths, for
+        // the fan's faces in order.
+        let was: SmallVec<[(DVec3, f64); 24]> = fan
+            .iter()
+            .map(|(_, f)| {
+                let before = self.corners(self.faces[*f as usize]);
+                let was = (before[1] - before[0]).cross(before[2] - before[0]);
+                (was, was.length())
+            })
+            .collect();
         for (i, &(_, x)) in candidates.iter().enumerate() {
             if candidates[..i].iter().any(|&(_, y)| y == x) {
                 continue;
@@ -559,16 +569,14 @@ impl Local {
             }
             let at = |v: u32| if v == a { x } else { self.position[v as usize] };
             let new: SmallVec<[[DVec3; 3]; 24]> = fan.iter().map(|(t, _)| t.map(at)).collect();
-            let shapes_ok = fan.iter().zip(&new).all(|((_, f), n)| {
+            let shapes_ok = was.iter().zip(&new).all(|(&(was, was_length), n)| {
                 let normal = (n[1] - n[0]).cross(n[2] - n[0]);
                 let longest = (n[1] - n[0])
                     .length_squared()
                     .max((n[2] - n[1]).length_squared())
                     .max((n[0] - n[2]).length_squared());
-                let before = self.corners(self.faces[*f as usize]);
-                let was = (before[1] - before[0]).cross(before[2] - before[0]);
                 normal.length() > 1e-9 * longest
-                    && normal.dot(was) >= limits.min_normal_cosine * normal.length() * was.length()
+                    && normal.dot(was) >= limits.min_normal_cosine * normal.length() * was_length
             });
             if !shapes_ok {
                 continue;

@@ -158,10 +158,15 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     let new_edges = inside_edges(p.new, p.new_bounds, &[p.new_inside]);
     for o in &old_edges {
         let [o0, o1] = o.ends;
+        // Every new interior edge starts at v (equal to it), so one that shares an
+        // end with this old edge at its start does so for all of them.
+        if p.new_inside == o0 || p.new_inside == o1 {
+            continue;
+        }
         let [f0, f1] = o.flat;
         for n in &new_edges {
-            let [n0, n1] = n.ends;
-            if n1 == o0 || n1 == o1 || n0 == o0 || n0 == o1 {
+            let n1 = n.ends[1];
+            if n1 == o0 || n1 == o1 {
                 continue;
             }
             let [g0, g1] = n.flat;
