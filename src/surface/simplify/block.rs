@@ -452,22 +452,30 @@ impl Local {
         (self.quadric[a as usize] + self.quadric[b as usize]).minimizer((pa + pb) * 0.5)
     }
 
-    /// The candidate points of edge `a b` and their quadric costs, cheapest first
-    /// (ties in the order minimiser, `a`, `b`, midpoint), given its minimiser.
-    fn candidates(&self, a: u32, b: u32, minimizer: DVec3) -> Candidates {
+    /// The candidate points of edge `a b` and their quadric costs in the order
+    /// minimiser, `a`, `b`, midpoint, given its minimiser.
+    fn costs(&self, a: u32, b: u32, minimizer: DVec3) -> Candidates {
         let (pa, pb) = (self.position[a as usize], self.position[b as usize]);
         let q = self.quadric[a as usize] + self.quadric[b as usize];
         let mid = (pa + pb) * 0.5;
-        let mut c = [minimizer, pa, pb, mid].map(|p| (q.eval(p), p));
+        [minimizer, pa, pb, mid].map(|p| (q.eval(p), p))
+    }
+
+    /// The candidate points of edge `a b` and their quadric costs, cheapest first
+    /// (ties in the order minimiser, `a`, `b`, midpoint), given its minimiser.
+    fn candidates(&self, a: u32, b: u32, minimizer: DVec3) -> Candidates {
+        let mut c = self.costs(a, b, minimizer);
         c.sort_by(|x, y| x.0.total_cmp(&y.0));
         c
     }
 
-    /// Queues edge `a b` at its cost, its cheapest candidate's, with its minimiser.
+    /// Queues edge `a b` at its cost, its cheapest candidate's (the least in the
+    /// order the candidates are sorted by, so the same bits), with its minimiser.
     fn push(&self, queue: &mut Queue, a: u32, b: u32) {
         let minimizer = self.minimizer(a, b);
-        let cost = self.candidates(a, b, minimizer)[0].0.to_bits();
-        self.push_priced(queue, a, b, cost, Some(minimizer));
+        let costs = self.costs(a, b, minimizer).map(|(cost, _)| cost);
+        let cost = costs.into_iter().min_by(f64::total_cmp).unwrap_or(f64::INFINITY);
+        self.push_priced(queue, a, b, cost.to_bits(), Some(minimizer));
     }
 
     /// Queues edge `a b` at the cost `cost` (bits), with its minimiser if known.
