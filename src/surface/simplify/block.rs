@@ -113,6 +113,10 @@ struct Local {
     interior: Vec<bool>,
     alive_vertex: Vec<bool>,
     stamp: Vec<u32>,
+    /// Scratch marks by vertex: the vertices listed by the last [`Local::neighbours`]
+    /// hold `tick`.
+    mark: Vec<u32>,
+    tick: u32,
     incident: Vec<SmallVec<[u32; 8]>>,
     faces: Vec<[u32; 3]>,
     /// Each face's cone of input normals (module `normal`).
@@ -139,11 +143,50 @@ struct Local {
     dims: [usize; 3],
 }
 
-/// A heap entry: cost, the edge's squared length, its ends and their stamps when it
-/// was priced. Equal costs (a plane's edges all cost nothing) go shortest edge first:
-/// taken by vertex index, one vertex would swallow its whole plane, its fan growing
-/// with every collapse.
-type Entry = Reverse<(u64, u64, u32, u32, u32, u32)>;
+/// A heap entry: cost, the edge's squared length, its ends, and the slot of
+/// [`Queue::priced`] holding what it was priced on.
+/// Equal costs (a plane's edges all cost nothing) go shortest edge first: taken by
+/// vertex index, one vertex would swallow its whole plane, its fan growing with every
+/// collapse. Entries equal but for the slot are one edge priced at different stamps,
+/// all stale but the one at its ends' stamps now, so their order does not matter.
+type Entry = Reverse<(u64, u64, u32, u32, u32)>;
+
+/// An edge's candidate points and their quadric costs, cheapest first
+/// ([`Local::candidates`]).
+type Candidates = [(f64, DVec3); 4];
+
+/// What an entry was priced on: its ends' stamps (the entry is stale once either
+/// moved) and its quadric minimiser, unless its cost came from an earlier round. The
+/// ends and their quadrics are what they were when it was priced while their stamps
+/// are, so the minimiser (an eigen-decomposition) is not worked out again.
+#[derive(Clone, Copy)]
+struct Priced {
+    stamps: [u32; 2],
+    minimizer: Option<DVec3>,
+}
+
+/// The edges to try, cheapest first.
+#[derive(Default)]
+struct Queue {
+    heap: BinaryHeap<Entry>,
+    /// What each entry was priced on, by slot.
+    priced: Vec<Priced>,
+    /// Slots free for reuse.
+    free: Vec<u32>,
+}
+
+impl Queue {
+    fn push(&mut self, cost: u64, length: f64, a: u32, b: u32, priced: Priced) {
+        let slot = if let Some(slot) = self.free.pop() {
+            self.priced[slot as usize] = priced;
+            slot
+        } else {
+            self.priced.push(priced);
+            (self.priced.len() - 1) as u32
+        };
+        self.heap.push(Reverse((cost, length.to_bits(), a, b, slot)));
+    }
+}
 
 /// When a block tests its collapses for self-intersection.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -174,31 +217,36 @@ pub(crate) fn simplify_block(input: &BlockInput, limits: &Limits) -> BlockOutput
 /// Greedy collapses, cheapest first, until none passes the checks.
 fn collapse_all(input: &BlockInput, limits: &Limits, test: ClashTest) -> (Local, usize) {
     let mut local = Local::new(input, test);
-    let mut heap: BinaryHeap<Entry> = BinaryHeap::new();
+    let mut queue = Queue::default();
     for a in 0..local.global.len() as u32 {
         if local.free[a as usize] {
             for b in local.neighbours(a) {
                 if a < b && local.free[b as usize] {
-                    let cost = local.cost_before(input, a, b).unwrap_or_else(|| local.cost(a, b));
-                    local.push_priced(&mut heap, a, b, cost);
+                    match local.cost_before(input, a, b) {
+                        Some(cost) => local.push_priced(&mut queue, a, b, cost, None),
+                        None => local.push(&mut queue, a, b),
+                    }
                 }
             }
         }
     }
     let mut collapses = 0;
-    while let Some(Reverse((cost, _, a, b, sa, sb))) = heap.pop() {
+    while let Some(Reverse((cost, _, a, b, slot))) = queue.heap.pop() {
+        queue.free.push(slot);
         let (ua, ub) = (a as usize, b as usize);
-        if !local.alive_vertex[ua] || !local.alive_vertex[ub] || local.stamp[ua] != sa || local.stamp[ub] != sb {
+        let priced = &queue.priced[slot as usize];
+        if !local.alive_vertex[ua] || !local.alive_vertex[ub] || [local.stamp[ua], local.stamp[ub]] != priced.stamps {
             continue;
         }
         if local.refused_before(input, a, b) && local.untouched(a, b) {
             continue;
         }
-        if local.try_collapse(a, b, limits) {
+        let minimizer = priced.minimizer.unwrap_or_else(|| local.minimizer(a, b));
+        if local.try_collapse(a, b, &local.candidates(a, b, minimizer), limits) {
             collapses += 1;
             for c in local.neighbours(a) {
                 if local.free[c as usize] {
-                    local.push(&mut heap, a.min(c), a.max(c));
+                    local.push(&mut queue, a.min(c), a.max(c));
                 }
             }
         } else if local.refusal_kept && local.untouched(a, b) {
@@ -220,6 +268,8 @@ impl Local {
             interior: Vec::new(),
             alive_vertex: Vec::new(),
             stamp: Vec::new(),
+            mark: Vec::new(),
+            tick: 0,
             incident: Vec::new(),
             faces: Vec::with_capacity(input.own.len() + input.halo.len()),
             cone: Vec::new(),
@@ -251,6 +301,7 @@ impl Local {
                     local.interior.push(p.cmpgt(input.min).all() && p.cmplt(input.max).all());
                     local.alive_vertex.push(true);
                     local.stamp.push(0);
+                    local.mark.push(0);
                     local.incident.push(SmallVec::new());
                     (local.global.len() - 1) as u32
                 })
@@ -325,13 +376,38 @@ impl Local {
         (index(lo), index(hi))
     }
 
-    /// The vertices sharing a face with `a`, ascending, once each.
-    fn neighbours(&self, a: u32) -> SmallVec<[u32; 16]> {
-        let mut out: SmallVec<[u32; 16]> =
-            self.incident[a as usize].iter().flat_map(|&f| self.faces[f as usize]).filter(|&v| v != a).collect();
-        out.sort_unstable();
-        out.dedup();
+    /// The vertices sharing a face with `a`, once each, marked with a new
+    /// [`Local::mark`] (in no set order: the heap orders the edges pushed from them by
+    /// their keys alone, which no two entries share).
+    fn neighbours(&mut self, a: u32) -> SmallVec<[u32; 16]> {
+        self.tick += 1;
+        let mut out = SmallVec::new();
+        for &f in &self.incident[a as usize] {
+            for v in self.faces[f as usize] {
+                if v != a && self.mark[v as usize] != self.tick {
+                    self.mark[v as usize] = self.tick;
+                    out.push(v);
+                }
+            }
+        }
         out
+    }
+
+    /// How many vertices share a face with both `a` and `b`.
+    fn common_neighbours(&mut self, a: u32, b: u32) -> usize {
+        self.neighbours(a);
+        let (was, tick) = (self.tick, self.tick + 1);
+        self.tick = tick;
+        let mut common = 0;
+        for &f in &self.incident[b as usize] {
+            for v in self.faces[f as usize] {
+                if v != b && self.mark[v as usize] == was {
+                    self.mark[v as usize] = tick;
+                    common += 1;
+                }
+            }
+        }
+        common
     }
 
     /// Whether edge `a b` (local, as tried) was refused in an earlier round on its
@@ -369,34 +445,49 @@ impl Local {
         self.around(a, b, |v| self.stamp[v as usize] == 0)
     }
 
-    /// The candidate points of edge `a b` and their quadric costs, cheapest first
-    /// (ties in the order minimiser, `a`, `b`, midpoint).
-    fn candidates(&self, a: u32, b: u32) -> [(f64, DVec3); 4] {
+    /// The quadric minimiser of edge `a b` (the first candidate point), nearest the
+    /// midpoint.
+    fn minimizer(&self, a: u32, b: u32) -> DVec3 {
+        let (pa, pb) = (self.position[a as usize], self.position[b as usize]);
+        (self.quadric[a as usize] + self.quadric[b as usize]).minimizer((pa + pb) * 0.5)
+    }
+
+    /// The candidate points of edge `a b` and their quadric costs in the order
+    /// minimiser, `a`, `b`, midpoint, given its minimiser.
+    fn costs(&self, a: u32, b: u32, minimizer: DVec3) -> Candidates {
         let (pa, pb) = (self.position[a as usize], self.position[b as usize]);
         let q = self.quadric[a as usize] + self.quadric[b as usize];
         let mid = (pa + pb) * 0.5;
-        let mut c = [q.minimizer(mid), pa, pb, mid].map(|p| (q.eval(p), p));
+        [minimizer, pa, pb, mid].map(|p| (q.eval(p), p))
+    }
+
+    /// The candidate points of edge `a b` and their quadric costs, cheapest first
+    /// (ties in the order minimiser, `a`, `b`, midpoint), given its minimiser.
+    fn candidates(&self, a: u32, b: u32, minimizer: DVec3) -> Candidates {
+        let mut c = self.costs(a, b, minimizer);
         c.sort_by(|x, y| x.0.total_cmp(&y.0));
         c
     }
 
-    /// The bits of edge `a b`'s cost, its cheapest candidate's.
-    fn cost(&self, a: u32, b: u32) -> u64 {
-        self.candidates(a, b)[0].0.to_bits()
+    /// Queues edge `a b` at its cost, its cheapest candidate's (the least in the
+    /// order the candidates are sorted by, so the same bits), with its minimiser.
+    fn push(&self, queue: &mut Queue, a: u32, b: u32) {
+        let minimizer = self.minimizer(a, b);
+        let costs = self.costs(a, b, minimizer).map(|(cost, _)| cost);
+        let cost = costs.into_iter().min_by(f64::total_cmp).unwrap_or(f64::INFINITY);
+        self.push_priced(queue, a, b, cost.to_bits(), Some(minimizer));
     }
 
-    fn push(&self, heap: &mut BinaryHeap<Entry>, a: u32, b: u32) {
-        self.push_priced(heap, a, b, self.cost(a, b));
-    }
-
-    fn push_priced(&self, heap: &mut BinaryHeap<Entry>, a: u32, b: u32, cost: u64) {
+    /// Queues edge `a b` at the cost `cost` (bits), with its minimiser if known.
+    fn push_priced(&self, queue: &mut Queue, a: u32, b: u32, cost: u64, minimizer: Option<DVec3>) {
         let length = (self.position[a as usize] - self.position[b as usize]).length_squared();
-        heap.push(Reverse((cost, length.to_bits(), a, b, self.stamp[a as usize], self.stamp[b as usize])));
+        let stamps = [self.stamp[a as usize], self.stamp[b as usize]];
+        queue.push(cost, length, a, b, Priced { stamps, minimizer });
     }
 
     /// Collapses `a b` into `a` at the cheapest candidate that passes every check.
     /// A refusal says in [`Local::refusal_kept`] whether it is the neighbourhood's alone.
-    fn try_collapse(&mut self, a: u32, b: u32, limits: &Limits) -> bool {
+    fn try_collapse(&mut self, a: u32, b: u32, candidates: &Candidates, limits: &Limits) -> bool {
         let (ua, ub) = (a as usize, b as usize);
         self.refusal_kept = false;
         if !self.free[ua] || !self.free[ub] {
@@ -425,9 +516,7 @@ impl Local {
             return false;
         }
         // Link condition: the links of a and b share exactly the two apexes.
-        let (na, nb) = (self.neighbours(a), self.neighbours(b));
-        let common = na.iter().filter(|v| nb.binary_search(v).is_ok() && **v != a && **v != b).count();
-        if common != 2 {
+        if self.common_neighbours(a, b) != 2 {
             return false;
         }
         // The fan: every other face of the region with b renamed a.
@@ -468,7 +557,16 @@ impl Local {
             ),
             None => (SmallVec::new(), None),
         };
-        let candidates = self.candidates(a, b);
+        // The replaced faces' normals (times twice their areas) and their lengths, for
+        // the fan's faces in order.
+        let was: SmallVec<[(DVec3, f64); 24]> = fan
+            .iter()
+            .map(|(_, f)| {
+                let before = self.corners(self.faces[*f as usize]);
+                let was = (before[1] - before[0]).cross(before[2] - before[0]);
+                (was, was.length())
+            })
+            .collect();
         for (i, &(_, x)) in candidates.iter().enumerate() {
             if candidates[..i].iter().any(|&(_, y)| y == x) {
                 continue;
@@ -479,16 +577,14 @@ impl Local {
             }
             let at = |v: u32| if v == a { x } else { self.position[v as usize] };
             let new: SmallVec<[[DVec3; 3]; 24]> = fan.iter().map(|(t, _)| t.map(at)).collect();
-            let shapes_ok = fan.iter().zip(&new).all(|((_, f), n)| {
+            let shapes_ok = was.iter().zip(&new).all(|(&(was, was_length), n)| {
                 let normal = (n[1] - n[0]).cross(n[2] - n[0]);
                 let longest = (n[1] - n[0])
                     .length_squared()
                     .max((n[2] - n[1]).length_squared())
                     .max((n[0] - n[2]).length_squared());
-                let before = self.corners(self.faces[*f as usize]);
-                let was = (before[1] - before[0]).cross(before[2] - before[0]);
                 normal.length() > 1e-9 * longest
-                    && normal.dot(was) >= limits.min_normal_cosine * normal.length() * was.length()
+                    && normal.dot(was) >= limits.min_normal_cosine * normal.length() * was_length
             });
             if !shapes_ok {
                 continue;
@@ -575,13 +671,18 @@ impl Local {
 
     #[allow(clippy::too_many_arguments)]
     fn apply(&mut self, a: u32, b: u32, x: DVec3, fan: &[([u32; 3], u32)], cones: &[Cone], region: &[u32], bound: f64) {
+        // Every face around a or b goes: their lists empty, the link's lose them.
+        let (ua, ub) = (a as usize, b as usize);
         for &f in region {
             self.alive[f as usize] = false;
             for v in self.faces[f as usize] {
-                self.incident[v as usize].retain(|g| *g != f);
+                if v != a && v != b {
+                    self.incident[v as usize].retain(|g| *g != f);
+                }
             }
         }
-        let (ua, ub) = (a as usize, b as usize);
+        self.incident[ua].clear();
+        self.incident[ub].clear();
         self.alive_vertex[ub] = false;
         self.position[ua] = x;
         let qb = self.quadric[ub];

@@ -35,6 +35,7 @@
 //! tangent a face, comes after them (3.5% of the export's instructions).
 
 use glam::{DVec2, DVec3};
+use smallvec::SmallVec;
 
 /// Least cosine between a triangle's normal and the projection direction.
 pub(crate) const MIN_FACING: f64 = 0.2;
@@ -79,6 +80,8 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     let flat = |x: DVec3| DVec2::new(x.dot(u), x.dot(w));
     let height = |x: DVec3| x.dot(n);
     let fv = flat(p.new_inside);
+    // The fan projected, once for the point locations and the turn.
+    let new_flat: SmallVec<[[DVec2; 3]; 24]> = p.new.iter().map(|t| t.map(flat)).collect();
     // The least e(v) for the corner point where v weighs `weight`, the rest of the new
     // side weighs `rest` and the old side needs `need` (gap plus old bound).
     let solve = |need: f64, rest: f64, weight: f64| -> Option<f64> {
@@ -94,7 +97,7 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     // Old interior vertices over the new fan.
     for (i, &x) in p.old_inside.iter().enumerate() {
         let e_old = old_bound_at(p, x, i);
-        let (face, weights) = holder(p.new, flat(x), &flat)?;
+        let (face, weights) = holder(&new_flat, flat(x))?;
         let t = p.new[face];
         let h: f64 = (0..3).map(|k| weights[k] * height(t[k])).sum();
         let k = t.iter().position(|&c| c == p.new_inside)?;
@@ -105,7 +108,8 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
         }
     }
     // v over the old patch.
-    let (face, weights) = holder(p.old, fv, &flat)?;
+    let old_flat: SmallVec<[[DVec2; 3]; 24]> = p.old.iter().map(|t| t.map(flat)).collect();
+    let (face, weights) = holder(&old_flat, fv)?;
     let t = p.old[face];
     let h: f64 = (0..3).map(|k| weights[k] * height(t[k])).sum();
     let e_old: f64 = (0..3).map(|k| weights[k] * p.old_bounds[face][k]).sum();
@@ -119,25 +123,32 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     let turn: f64 = p
         .new
         .iter()
-        .map(|t| {
+        .zip(&new_flat)
+        .map(|(t, f)| {
             let k = t.iter().position(|&x| x == p.new_inside).unwrap_or(0);
-            let (e1, e2) = (flat(t[(k + 1) % 3]) - fv, flat(t[(k + 2) % 3]) - fv);
+            let (e1, e2) = (f[(k + 1) % 3] - fv, f[(k + 2) % 3] - fv);
             e1.perp_dot(e2).atan2(e1.dot(e2))
         })
         .sum();
     if (turn - std::f64::consts::TAU).abs() > 1e-6 {
         return None;
     }
-    // Crossings of interior edges, each from its interior end.
+    // Crossings of interior edges, each from its interior end: their ends, projected
+    // ends and heights, and bounds at their ends.
     let inside_edges = |faces: &[[DVec3; 3]], bounds: &[[f64; 3]], inside: &[DVec3]| {
-        let mut edges: Vec<(DVec3, f64, DVec3, f64)> = Vec::with_capacity(faces.len() * 2);
+        let mut edges: SmallVec<[Edge; 32]> = SmallVec::new();
         for (t, e) in faces.iter().zip(bounds) {
             for k in 0..3 {
                 // Each interior edge runs from its interior end to the next corner
                 // in one of its two faces.
                 if inside.contains(&t[k]) {
                     let j = (k + 1) % 3;
-                    edges.push((t[k], e[k], t[j], e[j]));
+                    edges.push(Edge {
+                        ends: [t[k], t[j]],
+                        flat: [flat(t[k]), flat(t[j])],
+                        heights: [height(t[k]), height(t[j])],
+                        bounds: [e[k], e[j]],
+                    });
                 }
             }
         }
@@ -145,13 +156,20 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     };
     let old_edges = inside_edges(p.old, p.old_bounds, &p.old_inside);
     let new_edges = inside_edges(p.new, p.new_bounds, &[p.new_inside]);
-    for &(o0, e0, o1, e1) in &old_edges {
-        let (f0, f1) = (flat(o0), flat(o1));
-        for &(n0, _, n1, en1) in &new_edges {
-            if n1 == o0 || n1 == o1 || n0 == o0 || n0 == o1 {
+    for o in &old_edges {
+        let [o0, o1] = o.ends;
+        // Every new interior edge starts at v (equal to it), so one that shares an
+        // end with this old edge at its start does so for all of them.
+        if p.new_inside == o0 || p.new_inside == o1 {
+            continue;
+        }
+        let [f0, f1] = o.flat;
+        for n in &new_edges {
+            let n1 = n.ends[1];
+            if n1 == o0 || n1 == o1 {
                 continue;
             }
-            let (g0, g1) = (flat(n0), flat(n1));
+            let [g0, g1] = n.flat;
             let (d, e) = (f1 - f0, g1 - g0);
             let denom = d.perp_dot(e);
             if denom == 0.0 {
@@ -160,10 +178,10 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
             let s = (g0 - f0).perp_dot(e) / denom;
             let t = (g0 - f0).perp_dot(d) / denom;
             if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
-                let ho = height(o0) + s * (height(o1) - height(o0));
-                let hn = height(n0) + t * (height(n1) - height(n0));
-                let e_old = e0 + s * (e1 - e0);
-                bound = bound.max(solve((ho - hn).abs() + e_old, t * en1, 1.0 - t)?);
+                let ho = o.heights[0] + s * (o.heights[1] - o.heights[0]);
+                let hn = n.heights[0] + t * (n.heights[1] - n.heights[0]);
+                let e_old = o.bounds[0] + s * (o.bounds[1] - o.bounds[0]);
+                bound = bound.max(solve((ho - hn).abs() + e_old, t * n.bounds[1], 1.0 - t)?);
                 if bound > limit {
                     return None;
                 }
@@ -172,6 +190,15 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     }
     let span = p.old.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs().max_element()));
     Some(bound + SLACK * span.max(f64::MIN_POSITIVE))
+}
+
+/// An interior edge of a patch, from its interior end: its ends, their projections,
+/// heights and bounds.
+struct Edge {
+    ends: [DVec3; 2],
+    flat: [DVec2; 2],
+    heights: [f64; 2],
+    bounds: [f64; 2],
 }
 
 /// The bound at old interior vertex `x` (number `i`), read from a face holding it.
@@ -185,13 +212,12 @@ fn old_bound_at(p: &Patches, x: DVec3, i: usize) -> f64 {
     f64::INFINITY
 }
 
-/// The projected triangle of `faces` holding `x` (the one it is deepest inside, for
-/// points on shared edges and for rounding) and `x`'s barycentric weights in it;
-/// `None` when a triangle projects reversed or `x` is outside them all.
-fn holder(faces: &[[DVec3; 3]], x: DVec2, flat: &impl Fn(DVec3) -> DVec2) -> Option<(usize, [f64; 3])> {
+/// The projected triangle of `faces` (projected already) holding `x` (the one it is
+/// deepest inside, for points on shared edges and for rounding) and `x`'s barycentric
+/// weights in it; `None` when a triangle projects reversed or `x` is outside them all.
+fn holder(faces: &[[DVec2; 3]], x: DVec2) -> Option<(usize, [f64; 3])> {
     let mut best: Option<(f64, [f64; 3], usize)> = None;
-    for (i, t) in faces.iter().enumerate() {
-        let [a, b, c] = t.map(flat);
+    for (i, &[a, b, c]) in faces.iter().enumerate() {
         let det = (b - a).perp_dot(c - a);
         if det <= 0.0 {
             return None;
