@@ -55,7 +55,7 @@ use smallvec::SmallVec;
 
 use super::dual::{DualMesh, Fans, VertexKind};
 use super::fan_cone::fan_within_cone;
-use super::simplify::triangles_clash;
+use super::simplify::{DEGENERATE_AREA, triangles_clash};
 
 /// Largest block merged: `2^MAX_LEVEL` voxel corners a side.
 const MAX_LEVEL: u32 = 4;
@@ -692,24 +692,25 @@ fn flat_fans(positions: &[DVec3], triangles: &[[u32; 3]], fans: &Fans) -> Vec<bo
         .map(|v| {
             let fan = fans.of_vertex(v);
             let at = positions[v];
-            // Each face's corners after `v`, in order.
-            let spokes = |f: &u32| {
-                let t = triangles[*f as usize];
-                let k = t.iter().position(|&w| w as usize == v).unwrap_or(0);
-                (positions[t[(k + 1) % 3] as usize] - at, positions[t[(k + 2) % 3] as usize] - at)
-            };
-            let Some(normal) = fan.iter().map(|f| spokes(f).0.cross(spokes(f).1)).sum::<DVec3>().try_normalize() else {
+            // Each face's corners after `v`, in order, and their cross product.
+            let spokes: SmallVec<[(DVec3, DVec3, DVec3); 8]> = fan
+                .iter()
+                .map(|&f| {
+                    let t = triangles[f as usize];
+                    let k = t.iter().position(|&w| w as usize == v).unwrap_or(0);
+                    let (a, b) = (positions[t[(k + 1) % 3] as usize] - at, positions[t[(k + 2) % 3] as usize] - at);
+                    (a, b, a.cross(b))
+                })
+                .collect();
+            let Some(normal) = spokes.iter().map(|s| s.2).sum::<DVec3>().try_normalize() else {
                 return false;
             };
             let u = normal.any_orthonormal_vector();
             let w = normal.cross(u);
             let mut turn = 0.0;
-            for f in fan {
-                let (a, b) = spokes(f);
-                let cross = a.cross(b);
-                let facing = cross.dot(normal);
-                if facing <= FLAT_FAN_FACING * cross.length()
-                    || cross.length_squared() <= 1e-20 * a.length_squared() * b.length_squared()
+            for &(a, b, cross) in &spokes {
+                if cross.dot(normal) <= FLAT_FAN_FACING * cross.length()
+                    || cross.length_squared() <= DEGENERATE_AREA * a.length_squared() * b.length_squared()
                 {
                     return false;
                 }

@@ -68,7 +68,7 @@ mod gap;
 mod normal;
 mod quadric;
 mod tri_tri;
-pub(crate) use tri_tri::triangles_clash;
+pub(crate) use tri_tri::{DEGENERATE_AREA, triangles_clash};
 
 use glam::DVec3;
 use rayon::prelude::*;

@@ -135,8 +135,9 @@ fn apart_along(axis: DVec3, p: &[DVec3], q: &[DVec3], size: f64) -> bool {
 /// `3 eps`).
 const APART_MARGIN: f64 = 1e-13;
 /// Squared sine of a triangle's corner angle below which [`opposite_edge_meets`]
-/// takes its corners as possibly collinear (far above the cross product's rounding).
-const DEGENERATE_AREA: f64 = 1e-20;
+/// (and the merge's flat fans) take its corners as possibly collinear (far above the
+/// cross product's rounding).
+pub(crate) const DEGENERATE_AREA: f64 = 1e-20;
 
 /// Whether closed triangles `p` and `q` have a common point.
 #[must_use]
