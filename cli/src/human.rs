@@ -3,7 +3,6 @@
 //! (`front-to-back`, not `FrontToBack`). `--json` keeps every bit.
 
 use glam::DVec3;
-use octsolid::mesh::InsideRule;
 use octsolid::render::Method;
 use octsolid::shape::Axis;
 
@@ -39,15 +38,6 @@ pub(crate) fn method(m: Method) -> &'static str {
         Method::Painter => "painter",
         Method::ZBuffer => "zbuffer",
         Method::ScanLine => "scanline",
-    }
-}
-
-/// An inside rule by its `--inside` name.
-pub(crate) fn rule(r: InsideRule) -> &'static str {
-    match r {
-        InsideRule::Auto => "auto",
-        InsideRule::Parity => "parity",
-        InsideRule::Winding => "winding",
     }
 }
 

@@ -78,17 +78,22 @@ pub enum InsideRule {
     Winding,
 }
 
-impl std::str::FromStr for InsideRule {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "auto" => Ok(InsideRule::Auto),
-            "parity" => Ok(InsideRule::Parity),
-            "winding" => Ok(InsideRule::Winding),
-            _ => Err(format!("'{s}' is not an inside rule (use auto, parity or winding)")),
+impl InsideRule {
+    /// Every rule, in the order help lists them.
+    pub const ALL: [InsideRule; 3] = [InsideRule::Auto, InsideRule::Parity, InsideRule::Winding];
+
+    /// The rule's one spelling (`auto`, `parity`, `winding`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            InsideRule::Auto => "auto",
+            InsideRule::Parity => "parity",
+            InsideRule::Winding => "winding",
         }
     }
 }
+
+crate::spelling::spelled!(InsideRule);
 
 /// Options of a mesh voxelization.
 #[derive(Clone, Copy)]

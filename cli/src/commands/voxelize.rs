@@ -90,7 +90,7 @@ pub fn run(a: &VoxelizeArgs, budget: MemoryBudget) -> Result<()> {
         if summary.triangles == 1 { "" } else { "s" }
     );
     if let Some(rule) = summary.rule {
-        out!("inside     {} rule{}", crate::human::rule(rule), if inside == InsideRule::Auto { " (auto)" } else { "" });
+        out!("inside     {} rule{}", rule.name(), if inside == InsideRule::Auto { " (auto)" } else { "" });
     }
     print_summary(&tree, None);
     match summary.mesh_volume {

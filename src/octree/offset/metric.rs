@@ -28,6 +28,19 @@ pub enum Metric {
 }
 
 impl Metric {
+    /// Every metric, in the order help lists them.
+    pub const ALL: [Metric; 3] = [Metric::Euclidean, Metric::Manhattan, Metric::Chebyshev];
+
+    /// The metric's one spelling (`euclidean`, `manhattan`, `chebyshev`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Euclidean => "euclidean",
+            Metric::Manhattan => "manhattan",
+            Metric::Chebyshev => "chebyshev",
+        }
+    }
+
     /// The transform's cost of an offset of `o` voxels along one axis (module doc).
     pub(super) fn axis_cost(self, o: i64) -> i64 {
         match (self, o) {
@@ -48,28 +61,7 @@ impl Metric {
     }
 }
 
-impl std::fmt::Display for Metric {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Metric::Euclidean => "euclidean",
-            Metric::Manhattan => "manhattan",
-            Metric::Chebyshev => "chebyshev",
-        })
-    }
-}
-
-impl std::str::FromStr for Metric {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "euclidean" => Ok(Metric::Euclidean),
-            "manhattan" => Ok(Metric::Manhattan),
-            "chebyshev" => Ok(Metric::Chebyshev),
-            _ => Err(format!("unknown metric {s:?} (euclidean, manhattan, chebyshev)")),
-        }
-    }
-}
+crate::spelling::spelled!(Metric);
 
 #[cfg(test)]
 mod tests {
