@@ -3,7 +3,9 @@
 //! Long jobs take a `&dyn Progress` and call it from any thread; the CLI implements it
 //! with a terminal progress bar, tests and library users pass [`NoProgress`]. A job
 //! made of several jobs in a row (a round's four offsets, a resample's extraction and
-//! voxelization) reports through [`Stages`], so its bar fills once.
+//! voxelization, an extraction's dual contouring, untangling, merge and
+//! simplification, the last weighted by what each takes) reports through [`Stages`],
+//! so its bar fills once.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -23,18 +25,22 @@ pub struct NoProgress;
 
 impl Progress for NoProgress {}
 
-/// The bar's units a stage: a stage's own units are scaled to these.
+/// The bar's units a stage of weight 1: a stage's own units are scaled to its weight
+/// times these.
 const STAGE_UNITS: u64 = 1 << 20;
 
 /// One job of `count` stages run one after another on one [`Progress`]: each stage
 /// reports as a job of its own (its `start`, `advance`s and `finish`, as the library's
-/// jobs do) and fills an equal share of the bar, so the bar goes once from 0 to 100%
-/// instead of once a stage. A stage's share is shown whole when the next one starts or
-/// it finishes; starts beyond `count` add nothing; the last stage's `finish` (or the
-/// drop, when a stage failed or never started) finishes the bar.
+/// jobs do) and fills its share of the bar (equal shares, or as weighted), so the bar
+/// goes once from 0 to 100% instead of once a stage. A stage's share is shown whole
+/// when the next one starts or it finishes; starts beyond `count` add nothing; the
+/// last stage's `finish` (or the drop, when a stage failed or never started) finishes
+/// the bar.
 pub struct Stages<'a> {
     inner: &'a dyn Progress,
     count: u64,
+    /// Each stage's share of the bar, in bar units (all [`STAGE_UNITS`] when equal).
+    shares: Vec<u64>,
     /// Stages started so far.
     started: AtomicU64,
     /// The current stage's total and units done, and how many bar units it has shown.
@@ -45,12 +51,24 @@ pub struct Stages<'a> {
 }
 
 impl<'a> Stages<'a> {
-    /// Starts `inner` for a job of `count` stages.
+    /// Starts `inner` for a job of `count` stages of equal shares.
     pub fn new(inner: &'a dyn Progress, count: u64) -> Self {
-        inner.start(count * STAGE_UNITS);
+        let shares = vec![STAGE_UNITS; usize::try_from(count).unwrap_or(0)];
+        Self::of_shares(inner, shares)
+    }
+
+    /// Starts `inner` for a job of one stage a weight, each filling a share of the bar
+    /// in proportion to its weight (what it is expected to take of the job's time).
+    pub fn weighted(inner: &'a dyn Progress, weights: &[u64]) -> Self {
+        Self::of_shares(inner, weights.iter().map(|&w| w.saturating_mul(STAGE_UNITS)).collect())
+    }
+
+    fn of_shares(inner: &'a dyn Progress, shares: Vec<u64>) -> Self {
+        inner.start(shares.iter().fold(0, |sum: u64, &s| sum.saturating_add(s)));
         Stages {
             inner,
-            count,
+            count: shares.len() as u64,
+            shares,
             started: AtomicU64::new(0),
             total: AtomicU64::new(0),
             done: AtomicU64::new(0),
@@ -59,13 +77,17 @@ impl<'a> Stages<'a> {
         }
     }
 
+    /// The bar units of stage `started` (from 1); 0 past the last.
+    fn share(&self, started: u64) -> u64 {
+        usize::try_from(started).ok().and_then(|i| self.shares.get(i.checked_sub(1)?)).copied().unwrap_or(0)
+    }
+
     /// Shows the current stage as whole (what it has not shown yet).
     fn complete_stage(&self) {
-        if (1..=self.count).contains(&self.started.load(Ordering::Relaxed)) {
-            let shown = self.shown.swap(STAGE_UNITS, Ordering::Relaxed);
-            if shown < STAGE_UNITS {
-                self.inner.advance(STAGE_UNITS - shown);
-            }
+        let share = self.share(self.started.load(Ordering::Relaxed));
+        let shown = self.shown.swap(share, Ordering::Relaxed);
+        if shown < share {
+            self.inner.advance(share - shown);
         }
     }
 }
@@ -73,19 +95,20 @@ impl<'a> Stages<'a> {
 impl Progress for Stages<'_> {
     fn start(&self, total: u64) {
         self.complete_stage();
-        let started = self.started.fetch_add(1, Ordering::Relaxed) + 1;
+        self.started.fetch_add(1, Ordering::Relaxed);
         self.total.store(total, Ordering::Relaxed);
         self.done.store(0, Ordering::Relaxed);
-        // Past `count` a stage shows nothing: its share is already full.
-        self.shown.store(if started > self.count { STAGE_UNITS } else { 0 }, Ordering::Relaxed);
+        // Past `count` a stage shows nothing: its share is none.
+        self.shown.store(0, Ordering::Relaxed);
     }
 
     fn advance(&self, n: u64) {
         let total = self.total.load(Ordering::Relaxed);
+        let share = self.share(self.started.load(Ordering::Relaxed));
         let done = self.done.fetch_add(n, Ordering::Relaxed).saturating_add(n);
         let units = match total {
-            0 => STAGE_UNITS,
-            _ => (u128::from(done.min(total)) * u128::from(STAGE_UNITS) / u128::from(total)) as u64,
+            0 => share,
+            _ => (u128::from(done.min(total)) * u128::from(share) / u128::from(total)) as u64,
         };
         let shown = self.shown.fetch_max(units, Ordering::Relaxed);
         if units > shown {
@@ -170,6 +193,27 @@ mod tests {
         assert_eq!(bar.finishes.load(Ordering::Relaxed), 1, "and the drop does not again");
         // The bar only moves on (its starts: one).
         assert!(bar.advances.lock().unwrap().iter().all(|&n| n > 0));
+    }
+
+    #[test]
+    fn weighted_stages_fill_their_shares() {
+        let bar = Recorded::default();
+        {
+            let stages = Stages::weighted(&bar, &[1, 3, 0]);
+            assert_eq!(*bar.starts.lock().unwrap(), vec![4 * STAGE_UNITS]);
+            stage(&stages, 10, true);
+            assert_eq!(bar.done.load(Ordering::Relaxed), STAGE_UNITS);
+            // Half the second stage's work is half its three shares.
+            stages.start(100);
+            (0..50).into_par_iter().for_each(|_| stages.advance(1));
+            assert_eq!(bar.done.load(Ordering::Relaxed), STAGE_UNITS + 3 * STAGE_UNITS / 2);
+            stages.finish();
+            assert_eq!(bar.done.load(Ordering::Relaxed), 4 * STAGE_UNITS);
+            assert_eq!(bar.finishes.load(Ordering::Relaxed), 0, "a stage is left");
+            stage(&stages, 5, true);
+        }
+        assert_eq!(bar.done.load(Ordering::Relaxed), 4 * STAGE_UNITS);
+        assert_eq!(bar.finishes.load(Ordering::Relaxed), 1);
     }
 
     #[test]

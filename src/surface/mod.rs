@@ -55,5 +55,5 @@ pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
 pub use offset::{offset_with_surface, round_with_surface, shell_with_surface};
 pub use resample::{Moved, fit_with_surface, resample_with_surface, transform_with_surface};
 pub use resolve::{SurfacedOctree, resolve_offsets};
-pub use simplify::{SimplifyOptions, SimplifyReport, simplify};
+pub use simplify::{SimplifyOptions, SimplifyReport, simplify, simplify_with_progress};
 pub use window::{CELL_BORDER, CellSurface, CellVertexKind, VertexKey, extract_cell};

@@ -77,6 +77,7 @@ use smallvec::SmallVec;
 
 use crate::error::{Error, Result};
 use crate::mesh::TriangleMesh;
+use crate::progress::{NoProgress, Progress};
 use block::{BlockInput, BlockOutput, Limits, simplify_block};
 use normal::Cone;
 use quadric::Quadric;
@@ -148,6 +149,20 @@ pub struct SimplifyReport {
 /// When the mesh is not valid ([`TriangleMesh::validate`]) or not watertight, or the
 /// options are not finite and non-negative.
 pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(TriangleMesh, SimplifyReport)> {
+    simplify_with_progress(mesh, options, &NoProgress)
+}
+
+/// [`simplify`], reporting to `progress`: four units a face of the input, three of
+/// them as the first round's blocks finish their faces (about three quarters of the
+/// time), then half of what is left a round.
+///
+/// # Errors
+/// As [`simplify`].
+pub fn simplify_with_progress(
+    mesh: &TriangleMesh,
+    options: &SimplifyOptions,
+    progress: &dyn Progress,
+) -> Result<(TriangleMesh, SimplifyReport)> {
     if !(options.tolerance.is_finite() && options.tolerance >= 0.0) {
         return Err(Error::invalid("tolerance", format!("{} is not a finite non-negative length", options.tolerance)));
     }
@@ -168,6 +183,9 @@ pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(Trian
         min_normal_cosine: options.max_normal_change.min(PI_HALF).cos(),
         max_turn: options.normal_tolerance,
     };
+    let total = 4 * mesh.triangles.len() as u64;
+    progress.start(total);
+    let mut shown = 0;
     let mut state = State::new(mesh);
     let bounds = mesh.bounds();
     let extent = (bounds.max - bounds.min).max_element().max(f64::MIN_POSITIVE);
@@ -191,7 +209,15 @@ pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(Trian
             DVec3::ZERO
         };
         rounds += 1;
-        let made = state.round(origin + shift, width, &limits, rounds as u32);
+        // The first round's blocks report their faces as they finish; each later
+        // round, half of what is left.
+        let per_face = if rounds == 1 { 3 } else { 0 };
+        let (made, reported) = state.round(origin + shift, width, &limits, rounds as u32, progress, per_face);
+        let step = if rounds == 1 { reported } else { (total - shown) / 2 };
+        if rounds > 1 {
+            progress.advance(step);
+        }
+        shown += step;
         collapses += made;
         let settled = |made: usize| (made as f64) < SETTLED_SHARE * state.faces.len() as f64;
         if single {
@@ -212,6 +238,7 @@ pub fn simplify(mesh: &TriangleMesh, options: &SimplifyOptions) -> Result<(Trian
             }
         }
     }
+    progress.finish();
     Ok(state.finish(mesh.triangles.len(), collapses, rounds, options.normal_tolerance.is_some()))
 }
 
@@ -265,9 +292,18 @@ impl State {
         }
     }
 
-    /// Round `round` (from 1), of blocks of side `width` from `origin`; returns the
-    /// collapses made.
-    fn round(&mut self, origin: DVec3, width: f64, limits: &Limits, round: u32) -> usize {
+    /// Round `round` (from 1), of blocks of side `width` from `origin`, each block
+    /// advancing `progress` by `per_face` units a face it owns as it finishes; returns
+    /// the collapses made and the units reported.
+    fn round(
+        &mut self,
+        origin: DVec3,
+        width: f64,
+        limits: &Limits,
+        round: u32,
+        progress: &dyn Progress,
+        per_face: u64,
+    ) -> (usize, u64) {
         let block_of = |p: DVec3| {
             let c = ((p - origin) / width).floor();
             [c.x as i64, c.y as i64, c.z as i64]
@@ -348,9 +384,14 @@ impl State {
                     moved_in: &self.moved_in,
                     refused: &self.refused,
                 };
-                simplify_block(&input, limits)
+                let output = simplify_block(&input, limits);
+                if per_face > 0 {
+                    progress.advance(per_face * own[id].len() as u64);
+                }
+                output
             })
             .collect();
+        let reported = per_face * own.iter().map(|o| o.len() as u64).sum::<u64>();
         // Join: the faces no block owned, in order, then each block's in block order.
         let mut faces = Vec::with_capacity(self.faces.len());
         let mut cones = Vec::with_capacity(self.faces.len());
@@ -375,7 +416,7 @@ impl State {
         }
         self.faces = faces;
         self.cones = cones;
-        made
+        (made, reported)
     }
 
     fn finish(

@@ -307,6 +307,43 @@ fn a_finely_cut_cube_becomes_twelve_triangles_on_its_corners() {
     assert!((output.volume() - 8.0).abs() < 1e-12);
 }
 
+/// Records a job's progress.
+#[derive(Default)]
+struct Recorded {
+    starts: std::sync::Mutex<Vec<u64>>,
+    done: std::sync::atomic::AtomicU64,
+    finishes: std::sync::atomic::AtomicU64,
+}
+
+impl crate::progress::Progress for Recorded {
+    fn start(&self, total: u64) {
+        self.starts.lock().unwrap().push(total);
+    }
+    fn advance(&self, n: u64) {
+        self.done.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+    }
+    fn finish(&self) {
+        self.finishes.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    }
+}
+
+#[test]
+fn progress_runs_once_within_four_units_a_face_and_gives_the_same_mesh() {
+    use std::sync::atomic::Ordering::Relaxed;
+    let input = cylinder(1.0, 1.0, 48, 24, 4);
+    let options = SimplifyOptions::new(1e-3);
+    let recorded = Recorded::default();
+    let (output, report) = super::simplify_with_progress(&input, &options, &recorded).unwrap();
+    let total = 4 * input.triangles.len() as u64;
+    assert_eq!(*recorded.starts.lock().unwrap(), vec![total]);
+    assert_eq!(recorded.finishes.load(Relaxed), 1);
+    // The first round's blocks report three units a face they own, every later round
+    // half of what is left: past three quarters, never past the total.
+    let done = recorded.done.load(Relaxed);
+    assert!(done <= total && done > total / 2, "{done} of {total} ({} rounds)", report.rounds);
+    assert_eq!((output, report), simplify(&input, &options).unwrap());
+}
+
 /// Staircases of random voxel sets, with voxels touching along edges and at corners
 /// (sheets): manifold, no self-intersection, within the bound both ways.
 #[test]
