@@ -213,11 +213,13 @@ pub fn simplify_with_progress(
         // round, half of what is left.
         let per_face = if rounds == 1 { 3 } else { 0 };
         let (made, reported) = state.round(origin + shift, width, &limits, rounds as u32, progress, per_face);
-        let step = if rounds == 1 { reported } else { (total - shown) / 2 };
-        if rounds > 1 {
+        if rounds == 1 {
+            shown = reported;
+        } else {
+            let step = (total - shown) / 2;
             progress.advance(step);
+            shown += step;
         }
-        shown += step;
         collapses += made;
         let settled = |made: usize| (made as f64) < SETTLED_SHARE * state.faces.len() as f64;
         if single {
