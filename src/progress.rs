@@ -38,7 +38,6 @@ const STAGE_UNITS: u64 = 1 << 20;
 /// the bar.
 pub struct Stages<'a> {
     inner: &'a dyn Progress,
-    count: u64,
     /// Each stage's share of the bar, in bar units (all [`STAGE_UNITS`] when equal).
     shares: Vec<u64>,
     /// Stages started so far.
@@ -67,7 +66,6 @@ impl<'a> Stages<'a> {
         inner.start(shares.iter().fold(0, |sum: u64, &s| sum.saturating_add(s)));
         Stages {
             inner,
-            count: shares.len() as u64,
             shares,
             started: AtomicU64::new(0),
             total: AtomicU64::new(0),
@@ -118,7 +116,9 @@ impl Progress for Stages<'_> {
 
     fn finish(&self) {
         self.complete_stage();
-        if self.started.load(Ordering::Relaxed) >= self.count && !self.finished.swap(true, Ordering::Relaxed) {
+        if self.started.load(Ordering::Relaxed) >= self.shares.len() as u64
+            && !self.finished.swap(true, Ordering::Relaxed)
+        {
             self.inner.finish();
         }
     }

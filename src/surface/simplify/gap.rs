@@ -80,7 +80,7 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     let flat = |x: DVec3| DVec2::new(x.dot(u), x.dot(w));
     let height = |x: DVec3| x.dot(n);
     let fv = flat(p.new_inside);
-    // The fan projected, once for the point locations and the turn.
+    // The fan projected, once for the point locations, the turn and the edges.
     let new_flat: SmallVec<[[DVec2; 3]; 24]> = p.new.iter().map(|t| t.map(flat)).collect();
     // The least e(v) for the corner point where v weighs `weight`, the rest of the new
     // side weighs `rest` and the old side needs `need` (gap plus old bound).
@@ -135,9 +135,9 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
     }
     // Crossings of interior edges, each from its interior end: their ends, projected
     // ends and heights, and bounds at their ends.
-    let inside_edges = |faces: &[[DVec3; 3]], bounds: &[[f64; 3]], inside: &[DVec3]| {
+    let inside_edges = |faces: &[[DVec3; 3]], flats: &[[DVec2; 3]], bounds: &[[f64; 3]], inside: &[DVec3]| {
         let mut edges: SmallVec<[Edge; 32]> = SmallVec::new();
-        for (t, e) in faces.iter().zip(bounds) {
+        for ((t, f), e) in faces.iter().zip(flats).zip(bounds) {
             for k in 0..3 {
                 // Each interior edge runs from its interior end to the next corner
                 // in one of its two faces.
@@ -145,7 +145,7 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
                     let j = (k + 1) % 3;
                     edges.push(Edge {
                         ends: [t[k], t[j]],
-                        flat: [flat(t[k]), flat(t[j])],
+                        flat: [f[k], f[j]],
                         heights: [height(t[k]), height(t[j])],
                         bounds: [e[k], e[j]],
                     });
@@ -154,8 +154,8 @@ pub(crate) fn vertex_bound(p: &Patches, limit: f64) -> Option<f64> {
         }
         edges
     };
-    let old_edges = inside_edges(p.old, p.old_bounds, &p.old_inside);
-    let new_edges = inside_edges(p.new, p.new_bounds, &[p.new_inside]);
+    let old_edges = inside_edges(p.old, &old_flat, p.old_bounds, &p.old_inside);
+    let new_edges = inside_edges(p.new, &new_flat, p.new_bounds, &[p.new_inside]);
     for o in &old_edges {
         let [o0, o1] = o.ends;
         // Every new interior edge starts at v (equal to it), so one that shares an
