@@ -64,6 +64,7 @@
 //! (`block`: the same result, without pricing and testing it every round).
 
 mod block;
+mod face_grid;
 mod gap;
 mod normal;
 mod quadric;

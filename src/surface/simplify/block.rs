@@ -13,7 +13,8 @@
 //! every check, tried by rising cost among the quadric's minimiser and `a`, `b` and the
 //! midpoint. A refused edge is not tried again in this block; the next round (other
 //! blocks) tries it again. Self-intersection is tested on the block's result, and
-//! only a block whose result clashes tests each collapse ([`simplify_block`]).
+//! only a block whose result clashes tests collapses, those near its clashes
+//! ([`simplify_block`]).
 //!
 //! **Refusals remembered across rounds.** Whether a collapse passes depends on the
 //! faces around its two ends (the region), their corners' positions, quadrics and
@@ -41,13 +42,11 @@ use glam::DVec3;
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
+use super::face_grid::FaceGrid;
 use super::gap::{Patches, vertex_bound};
 use super::normal::{Cone, fan_cones};
 use super::quadric::Quadric;
 use super::tri_tri::triangles_clash;
-
-/// Most cells of the block's face grid along an axis.
-const GRID_CELLS: usize = 64;
 
 /// What one block reads: its box and its faces.
 pub(crate) struct BlockInput<'a> {
@@ -99,6 +98,10 @@ pub(crate) struct BlockOutput {
     /// Edges refused on the snapshot's neighbourhood for reasons the block's box has
     /// no part in (global ends in the order tried), with their cost's bits.
     pub refused: Vec<((u32, u32), u64)>,
+    /// Tries made (1: the first result had no clash; [`simplify_block`]).
+    pub tries: usize,
+    /// Cells of the block's grid the last try watched (0 after one try).
+    pub watched: usize,
 }
 
 /// The block's working mesh, in local vertex indices.
@@ -134,13 +137,12 @@ struct Local {
     refusal_kept: bool,
     /// Edges refused so, global ends, with their cost's bits.
     refused: Vec<((u32, u32), u64)>,
-    /// Face ids by grid cell (stale ids of dead faces left in), over the box
-    /// `min..max` in cells of side `cell`, `dims` along the axes.
-    grid: Vec<Vec<u32>>,
+    /// The block's box.
     min: DVec3,
     max: DVec3,
-    cell: f64,
-    dims: [usize; 3],
+    /// The live faces by cell (stale ids of dead faces left in) when collapses are
+    /// tested (one empty cell else).
+    grid: FaceGrid,
 }
 
 /// A heap entry: cost, the edge's squared length, its ends, and the slot of
@@ -189,29 +191,78 @@ impl Queue {
 }
 
 /// When a block tests its collapses for self-intersection.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 enum ClashTest {
     /// Once, on the block's result: its new faces against every live face near them.
     OnResult,
-    /// Each collapse's new faces before it is made.
-    EachCollapse,
+    /// Before it is made, each collapse whose new faces' box meets a watched cell of
+    /// the block's face grid (by cell index).
+    Watched(Vec<bool>),
 }
+
+/// Tries of a block that watch only the cells near its results' clashes before one
+/// that watches every cell ([`simplify_block`]).
+const NEAR_TRIES: usize = 1;
 
 /// Simplifies one block; see the module doc.
 ///
 /// The block first collapses without self-intersection tests and then tests its
 /// result once: each new face against the live faces near it. A collapse changes
 /// only its own region, so a result without clashes is a mesh free of
-/// self-intersections; the few blocks whose result clashes (thin walls, sheets) are
-/// simplified again from the same snapshot, testing each collapse before it is made.
-/// Either way the output depends on the snapshot alone.
+/// self-intersections. A block whose result clashes (thin walls, sheets) is
+/// simplified again from the same snapshot, testing before it is made each collapse
+/// near a clash of an earlier try (the grid cells the clashing faces' boxes meet and
+/// the cells around them), and its result tested again; after [`NEAR_TRIES`] such
+/// tries, one tests every collapse, and its result is free of clashes as made. Either
+/// way the output depends on the snapshot alone.
 pub(crate) fn simplify_block(input: &BlockInput, limits: &Limits) -> BlockOutput {
-    let (mut local, collapses) = collapse_all(input, limits, ClashTest::OnResult);
-    if collapses == 0 || !local.result_clashes(input.own.len() + input.halo.len()) {
-        return local.output(collapses);
+    simplify_block_trying(input, limits, NEAR_TRIES)
+}
+
+/// [`simplify_block`] with `near_tries` tries near the clashes before the one that
+/// watches every cell.
+pub(super) fn simplify_block_trying(input: &BlockInput, limits: &Limits, near_tries: usize) -> BlockOutput {
+    let first_new = input.own.len() + input.halo.len();
+    let (mut local, mut collapses) = collapse_all(input, limits, ClashTest::OnResult);
+    let mut tries = 1;
+    let mut watched: Option<Vec<bool>> = None;
+    while collapses > 0 && !watched.as_ref().is_some_and(|cells| cells.iter().all(|&c| c)) {
+        let clashes = local.result_clashes(first_new);
+        if clashes.is_empty() {
+            break;
+        }
+        let grid = collapse_grid(input);
+        let cells = watched.get_or_insert_with(|| vec![false; grid.len()]);
+        if tries > near_tries {
+            cells.fill(true);
+        } else {
+            for (lo, hi) in clashes {
+                for cell in grid.cells(grid.grown(grid.cells_between(lo, hi), 1)) {
+                    cells[cell] = true;
+                }
+            }
+        }
+        tries += 1;
+        (local, collapses) = collapse_all(input, limits, ClashTest::Watched(cells.clone()));
     }
-    let (local, collapses) = collapse_all(input, limits, ClashTest::EachCollapse);
-    local.output(collapses)
+    let mut out = local.output(collapses);
+    out.tries = tries;
+    out.watched = watched.map_or(0, |cells| cells.iter().filter(|&&c| c).count());
+    out
+}
+
+/// The grid a block's collapses are tested on: cells twice the mean edge of its own
+/// faces.
+fn collapse_grid(input: &BlockInput) -> FaceGrid {
+    let edges: f64 = input
+        .own
+        .iter()
+        .map(|&f| {
+            let [a, b, c] = input.faces[f as usize].map(|v| input.positions[v as usize]);
+            (b - a).length() + (c - b).length() + (a - c).length()
+        })
+        .sum();
+    FaceGrid::new(input.min, input.max, edges / (3 * input.own.len().max(1)) as f64)
 }
 
 /// Greedy collapses, cheapest first, until none passes the checks.
@@ -280,14 +331,12 @@ impl Local {
             test,
             refusal_kept: false,
             refused: Vec::new(),
-            grid: Vec::new(),
             min: input.min,
             max: input.max,
-            cell: 0.0,
-            dims: [1; 3],
+            grid: FaceGrid::new(input.min, input.max, f64::INFINITY),
         };
-        if test == ClashTest::EachCollapse {
-            local.size_grid(input);
+        if local.test != ClashTest::OnResult {
+            local.grid = collapse_grid(input);
         }
         for (&f, own) in input.own.iter().map(|f| (f, true)).chain(input.halo.iter().map(|f| (f, false))) {
             let face = input.faces[f as usize].map(|g| {
@@ -316,28 +365,6 @@ impl Local {
         local
     }
 
-    /// Cells twice the mean edge of the block's own faces, at most [`GRID_CELLS`] an
-    /// axis.
-    fn size_grid(&mut self, input: &BlockInput) {
-        let edges: f64 = input
-            .own
-            .iter()
-            .map(|&f| {
-                let [a, b, c] = input.faces[f as usize].map(|v| input.positions[v as usize]);
-                (b - a).length() + (c - b).length() + (a - c).length()
-            })
-            .sum();
-        let mean = edges / (3 * input.own.len().max(1)) as f64;
-        let side = (input.max - input.min).max_element();
-        self.cell = (2.0 * mean).max(side / GRID_CELLS as f64);
-        if self.cell.is_nan() || self.cell <= 0.0 {
-            self.cell = side.max(f64::MIN_POSITIVE);
-        }
-        let n = ((input.max - input.min) / self.cell).ceil();
-        self.dims = [n.x, n.y, n.z].map(|c| (c as usize).clamp(1, GRID_CELLS));
-        self.grid = vec![Vec::new(); self.dims[0] * self.dims[1] * self.dims[2]];
-    }
-
     fn add_face(&mut self, face: [u32; 3], own: bool, cone: Cone) -> u32 {
         let id = self.faces.len() as u32;
         self.faces.push(face);
@@ -348,32 +375,11 @@ impl Local {
         for v in face {
             self.incident[v as usize].push(id);
         }
-        if self.test == ClashTest::OnResult {
-            return id;
-        }
-        let (lo, hi) = self.cells_of(face.map(|v| self.position[v as usize]));
-        for z in lo[2]..=hi[2] {
-            for y in lo[1]..=hi[1] {
-                for x in lo[0]..=hi[0] {
-                    self.grid[(z * self.dims[1] + y) * self.dims[0] + x].push(id);
-                }
-            }
+        if self.test != ClashTest::OnResult {
+            let range = self.grid.cells_of(face.map(|v| self.position[v as usize]));
+            self.grid.insert(id, range);
         }
         id
-    }
-
-    /// The grid cells a triangle's box meets, clamped to the grid.
-    fn cells_of(&self, t: [DVec3; 3]) -> ([usize; 3], [usize; 3]) {
-        self.cells_between(t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))
-    }
-
-    /// The grid cells the box `lo..hi` meets, clamped to the grid.
-    fn cells_between(&self, lo: DVec3, hi: DVec3) -> ([usize; 3], [usize; 3]) {
-        let index = |p: DVec3| {
-            let c = ((p - self.min) / self.cell).floor();
-            [0, 1, 2].map(|k| (c[k].max(0.0) as usize).min(self.dims[k] - 1))
-        };
-        (index(lo), index(hi))
     }
 
     /// The vertices sharing a face with `a`, once each, marked with a new
@@ -613,7 +619,7 @@ impl Local {
                 }
                 _ => SmallVec::from_elem(Cone::default(), fan.len()),
             };
-            if self.test == ClashTest::EachCollapse && self.clashes(&new, &region) {
+            if self.clashes(&new, &region) {
                 self.refusal_kept = false;
                 continue;
             }
@@ -628,42 +634,44 @@ impl Local {
     }
 
     /// Whether a triangle of `fan` clashes with a live face near it outside
-    /// `region`. The cells under the fan's box are read once, their dead faces
-    /// dropped as they are read.
+    /// `region`, tested when the fan's box meets a watched cell (else false). The
+    /// cells under the fan's box are read once, their dead faces dropped as they are
+    /// read.
     fn clashes(&mut self, fan: &[[DVec3; 3]], region: &[u32]) -> bool {
+        let ClashTest::Watched(watched) = &self.test else {
+            return false;
+        };
         let boxes: SmallVec<[(DVec3, DVec3); 24]> =
             fan.iter().map(|t| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))).collect();
         let (lo, hi) = boxes.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), b| (l.min(b.0), h.max(b.1)));
+        let cells: SmallVec<[usize; 16]> = self.grid.cells(self.grid.cells_between(lo, hi)).collect();
+        if !cells.iter().any(|&cell| watched[cell]) {
+            return false;
+        }
         self.query += 1;
-        let (first, last) = self.cells_between(lo, hi);
-        for z in first[2]..=last[2] {
-            for y in first[1]..=last[1] {
-                for x in first[0]..=last[0] {
-                    let cell = (z * self.dims[1] + y) * self.dims[0] + x;
-                    let mut ids = std::mem::take(&mut self.grid[cell]);
-                    ids.retain(|&f| self.alive[f as usize]);
-                    let mut clash = false;
-                    for &f in &ids {
-                        let fi = f as usize;
-                        if clash || self.seen[fi] == self.query {
-                            continue;
-                        }
-                        self.seen[fi] = self.query;
-                        let other = self.corners(self.faces[fi]);
-                        let (olo, ohi) = (other[0].min(other[1]).min(other[2]), other[0].max(other[1]).max(other[2]));
-                        if !(lo.cmple(ohi).all() && olo.cmple(hi).all()) || region.contains(&f) {
-                            continue;
-                        }
-                        clash = fan
-                            .iter()
-                            .zip(&boxes)
-                            .any(|(t, b)| b.0.cmple(ohi).all() && olo.cmple(b.1).all() && triangles_clash(*t, other));
-                    }
-                    self.grid[cell] = ids;
-                    if clash {
-                        return true;
-                    }
+        for cell in cells {
+            let mut ids = std::mem::take(&mut self.grid.lists[cell]);
+            ids.retain(|&f| self.alive[f as usize]);
+            let mut clash = false;
+            for &f in &ids {
+                let fi = f as usize;
+                if clash || self.seen[fi] == self.query {
+                    continue;
                 }
+                self.seen[fi] = self.query;
+                let other = self.corners(self.faces[fi]);
+                let (olo, ohi) = (other[0].min(other[1]).min(other[2]), other[0].max(other[1]).max(other[2]));
+                if !(lo.cmple(ohi).all() && olo.cmple(hi).all()) || region.contains(&f) {
+                    continue;
+                }
+                clash = fan
+                    .iter()
+                    .zip(&boxes)
+                    .any(|(t, b)| b.0.cmple(ohi).all() && olo.cmple(b.1).all() && triangles_clash(*t, other));
+            }
+            self.grid.lists[cell] = ids;
+            if clash {
+                return true;
             }
         }
         false
@@ -694,63 +702,45 @@ impl Local {
         }
     }
 
-    /// Whether a live face made by a collapse (ids from `first_new` on) clashes with
-    /// another live face; faces of the snapshot never clash with each other. The test
-    /// runs on a fresh grid over the result's faces.
-    fn result_clashes(&mut self, first_new: usize) -> bool {
+    /// The boxes of the pairs of live faces that clash, one of them made by a
+    /// collapse (ids from `first_new` on); faces of the snapshot never clash with each
+    /// other. The test runs on a fresh grid over the result's faces.
+    fn result_clashes(&self, first_new: usize) -> Vec<(DVec3, DVec3)> {
         let live: Vec<u32> = (0..self.faces.len() as u32).filter(|&f| self.alive[f as usize]).collect();
         let corners: Vec<[DVec3; 3]> = live.iter().map(|&f| self.corners(self.faces[f as usize])).collect();
         let edges: f64 =
             corners.iter().map(|c| (c[1] - c[0]).length() + (c[2] - c[1]).length() + (c[0] - c[2]).length()).sum();
-        let side = (self.max - self.min).max_element();
-        self.cell = (2.0 * edges / (3 * live.len().max(1)) as f64).max(side / GRID_CELLS as f64);
-        if self.cell.is_nan() || self.cell <= 0.0 {
-            self.cell = side.max(f64::MIN_POSITIVE);
-        }
-        let n = ((self.max - self.min) / self.cell).ceil();
-        self.dims = [n.x, n.y, n.z].map(|c| (c as usize).clamp(1, GRID_CELLS));
-        let mut grid: Vec<Vec<u32>> = vec![Vec::new(); self.dims[0] * self.dims[1] * self.dims[2]];
+        let mut grid = FaceGrid::new(self.min, self.max, edges / (3 * live.len().max(1)) as f64);
         for (i, c) in corners.iter().enumerate() {
-            let (lo, hi) = self.cells_of(*c);
-            for z in lo[2]..=hi[2] {
-                for y in lo[1]..=hi[1] {
-                    for x in lo[0]..=hi[0] {
-                        grid[(z * self.dims[1] + y) * self.dims[0] + x].push(i as u32);
-                    }
-                }
-            }
+            grid.insert(i as u32, grid.cells_of(*c));
         }
         let boxes: Vec<(DVec3, DVec3)> =
             corners.iter().map(|t| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))).collect();
         let mut seen = vec![u32::MAX; live.len()];
+        let mut clashes = Vec::new();
         for (i, &f) in live.iter().enumerate() {
             if (f as usize) < first_new {
                 continue;
             }
-            let (lo, hi) = self.cells_between(boxes[i].0, boxes[i].1);
-            for z in lo[2]..=hi[2] {
-                for y in lo[1]..=hi[1] {
-                    for x in lo[0]..=hi[0] {
-                        for &j in &grid[(z * self.dims[1] + y) * self.dims[0] + x] {
-                            let j = j as usize;
-                            // A pair of new faces is tested once, from its later face.
-                            if j == i || seen[j] == i as u32 || ((live[j] as usize) >= first_new && j > i) {
-                                continue;
-                            }
-                            seen[j] = i as u32;
-                            let (olo, ohi) = boxes[j];
-                            if boxes[i].0.cmple(ohi).all()
-                                && olo.cmple(boxes[i].1).all()
-                                && triangles_clash(corners[i], corners[j])
-                            {
-                                return true;
-                            }
-                        }
+            for cell in grid.cells(grid.cells_between(boxes[i].0, boxes[i].1)) {
+                for &j in &grid.lists[cell] {
+                    let j = j as usize;
+                    // A pair of new faces is tested once, from its later face.
+                    if j == i || seen[j] == i as u32 || ((live[j] as usize) >= first_new && j > i) {
+                        continue;
+                    }
+                    seen[j] = i as u32;
+                    let (olo, ohi) = boxes[j];
+                    if boxes[i].0.cmple(ohi).all()
+                        && olo.cmple(boxes[i].1).all()
+                        && triangles_clash(corners[i], corners[j])
+                    {
+                        clashes.push((boxes[i].0.min(olo), boxes[i].1.max(ohi)));
                     }
                 }
             }
         }
-        false
+        clashes
     }
 
     fn output(self, collapses: usize) -> BlockOutput {
