@@ -140,9 +140,6 @@ struct Local {
     /// The block's box.
     min: DVec3,
     max: DVec3,
-    /// The live faces by cell (stale ids of dead faces left in) when collapses are
-    /// tested (one empty cell else).
-    grid: FaceGrid,
 }
 
 /// A heap entry: cost, the edge's squared length, its ends, and the slot of
@@ -191,13 +188,13 @@ impl Queue {
 }
 
 /// When a block tests its collapses for self-intersection.
-#[derive(Clone, Debug, PartialEq, Eq)]
 enum ClashTest {
     /// Once, on the block's result: its new faces against every live face near them.
     OnResult,
-    /// Before it is made, each collapse whose new faces' box meets a watched cell of
-    /// the block's face grid (by cell index).
-    Watched(Vec<bool>),
+    /// Before it is made, each collapse whose new faces' box meets a watched cell
+    /// (by cell index) of `grid`, the block's live faces by cell (stale ids of dead
+    /// faces left in).
+    Watched { cells: Vec<bool>, grid: FaceGrid },
 }
 
 /// Tries of a block that watch only the cells near its results' clashes before one
@@ -243,7 +240,8 @@ pub(super) fn simplify_block_trying(input: &BlockInput, limits: &Limits, near_tr
             }
         }
         tries += 1;
-        (local, collapses) = collapse_all(input, limits, ClashTest::Watched(cells.clone()));
+        let test = ClashTest::Watched { cells: cells.clone(), grid };
+        (local, collapses) = collapse_all(input, limits, test);
     }
     let mut out = local.output(collapses);
     out.tries = tries;
@@ -333,11 +331,7 @@ impl Local {
             refused: Vec::new(),
             min: input.min,
             max: input.max,
-            grid: FaceGrid::new(input.min, input.max, f64::INFINITY),
         };
-        if local.test != ClashTest::OnResult {
-            local.grid = collapse_grid(input);
-        }
         for (&f, own) in input.own.iter().map(|f| (f, true)).chain(input.halo.iter().map(|f| (f, false))) {
             let face = input.faces[f as usize].map(|g| {
                 *map.entry(g).or_insert_with(|| {
@@ -375,9 +369,8 @@ impl Local {
         for v in face {
             self.incident[v as usize].push(id);
         }
-        if self.test != ClashTest::OnResult {
-            let range = self.grid.cells_of(face.map(|v| self.position[v as usize]));
-            self.grid.insert(id, range);
+        if let ClashTest::Watched { grid, .. } = &mut self.test {
+            grid.insert(id, grid.cells_of(face.map(|v| self.position[v as usize])));
         }
         id
     }
@@ -638,19 +631,19 @@ impl Local {
     /// cells under the fan's box are read once, their dead faces dropped as they are
     /// read.
     fn clashes(&mut self, fan: &[[DVec3; 3]], region: &[u32]) -> bool {
-        let ClashTest::Watched(watched) = &self.test else {
+        let ClashTest::Watched { cells: watched, grid } = &mut self.test else {
             return false;
         };
         let boxes: SmallVec<[(DVec3, DVec3); 24]> =
             fan.iter().map(|t| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))).collect();
         let (lo, hi) = boxes.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), b| (l.min(b.0), h.max(b.1)));
-        let cells: SmallVec<[usize; 16]> = self.grid.cells(self.grid.cells_between(lo, hi)).collect();
+        let cells: SmallVec<[usize; 16]> = grid.cells(grid.cells_between(lo, hi)).collect();
         if !cells.iter().any(|&cell| watched[cell]) {
             return false;
         }
         self.query += 1;
         for cell in cells {
-            let mut ids = std::mem::take(&mut self.grid.lists[cell]);
+            let mut ids = std::mem::take(&mut grid.lists[cell]);
             ids.retain(|&f| self.alive[f as usize]);
             let mut clash = false;
             for &f in &ids {
@@ -659,7 +652,7 @@ impl Local {
                     continue;
                 }
                 self.seen[fi] = self.query;
-                let other = self.corners(self.faces[fi]);
+                let other = self.faces[fi].map(|v| self.position[v as usize]);
                 let (olo, ohi) = (other[0].min(other[1]).min(other[2]), other[0].max(other[1]).max(other[2]));
                 if !(lo.cmple(ohi).all() && olo.cmple(hi).all()) || region.contains(&f) {
                     continue;
@@ -669,7 +662,7 @@ impl Local {
                     .zip(&boxes)
                     .any(|(t, b)| b.0.cmple(ohi).all() && olo.cmple(b.1).all() && triangles_clash(*t, other));
             }
-            self.grid.lists[cell] = ids;
+            grid.lists[cell] = ids;
             if clash {
                 return true;
             }
