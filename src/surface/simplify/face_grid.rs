@@ -62,22 +62,18 @@ impl FaceGrid {
     }
 
     /// The indices of the cells of `range`, x fastest.
-    pub fn cells(&self, (first, last): CellRange) -> impl Iterator<Item = usize> + '_ {
+    pub fn cells(&self, range: CellRange) -> impl Iterator<Item = usize> + use<> {
+        let dims = self.dims;
+        let (first, last) = range;
         (first[2]..=last[2]).flat_map(move |z| {
-            (first[1]..=last[1])
-                .flat_map(move |y| (first[0]..=last[0]).map(move |x| (z * self.dims[1] + y) * self.dims[0] + x))
+            (first[1]..=last[1]).flat_map(move |y| (first[0]..=last[0]).map(move |x| (z * dims[1] + y) * dims[0] + x))
         })
     }
 
     /// Lists face `id` in the cells of `range`.
     pub fn insert(&mut self, id: u32, range: CellRange) {
-        let (first, last) = range;
-        for z in first[2]..=last[2] {
-            for y in first[1]..=last[1] {
-                for x in first[0]..=last[0] {
-                    self.lists[(z * self.dims[1] + y) * self.dims[0] + x].push(id);
-                }
-            }
+        for cell in self.cells(range) {
+            self.lists[cell].push(id);
         }
     }
 }
