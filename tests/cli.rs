@@ -683,6 +683,12 @@ fn convert_oct_through_every_voxel_format_and_back_is_bit_identical() {
     ok(&dir, &["convert", "ball.oct", "ball.glb"]);
     let e = fails(&dir, &["convert", "ball.glb", "b.oct"]);
     assert!(e.contains("ball.glb") && e.contains("(use .oct, .octs, .vox, .binvox or .vdb)"), "{e}");
+    // `-o OUT`, as in the other commands, writes what the positional OUT does; not both.
+    ok(&dir, &["convert", "ball.oct", "-o", "ball-o.vdb"]);
+    ok(&dir, &["convert", "ball.oct", "ball-p.vdb"]);
+    assert!(std::fs::read(dir.join("ball-o.vdb")).unwrap() == std::fs::read(dir.join("ball-p.vdb")).unwrap());
+    let e = fails(&dir, &["convert", "ball.oct", "x.vdb", "-o", "y.vdb"]);
+    assert!(e.contains("cannot be used with"), "{e}");
 }
 
 #[test]

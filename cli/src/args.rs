@@ -91,7 +91,7 @@ octsolid voxelize bunny.obj --depth 11 --shard-level 3 -o bunny.octs --cells 256
     #[command(after_help = "Examples:\n  octsolid voxelize models/stanford-bunny.obj --depth 10 -o bunny.oct\n  \
 octsolid voxelize part.stl --voxel-size 0.25 --units mm -o part.oct")]
     Voxelize(voxelize::VoxelizeArgs),
-    /// Write the boundary of a solid as a closed, manifold triangle mesh (OBJ, STL, PLY, GLB).
+    /// Write the boundary of a solid as a closed, manifold triangle mesh (OBJ, STL, PLY, 3MF, GLB).
     ///
     /// Where voxels touch only along an edge or at a corner the mesh keeps one vertex
     /// for each sheet of the surface. OBJ and PLY store those vertices as they are. STL

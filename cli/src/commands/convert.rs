@@ -4,7 +4,7 @@
 //!
 //! Reads `.oct`, MagicaVoxel `.vox`, `.binvox` and OpenVDB `.vdb`
 //! ([`crate::solid_input`]); writes those, `.glb`, or the boundary as a mesh (`.obj`,
-//! `.stl`, `.ply`). A file's solids go over as they are: `.vox` and `.vdb` keep one solid
+//! `.stl`, `.ply`, `.3mf`); `-o OUT` names the output as in the other commands. A file's solids go over as they are: `.vox` and `.vdb` keep one solid
 //! a colour or grid and `.glb` one mesh a solid with its colour; `.oct`, `.binvox` and
 //! the meshes hold one solid, so several are written as their union (said on stdout).
 //! With `--domain` or `--depth` every solid is first brought into that domain (exactly
@@ -18,7 +18,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use octsolid::io::{ColouredSolid, Solids, WriteOptions};
 use octsolid::octree::{Fit, VoxelizeOptions};
 use octsolid::sharded;
@@ -38,8 +38,12 @@ pub struct ConvertArgs {
     /// The solid file read: .oct, .vox, .binvox or .vdb.
     pub input: PathBuf,
     /// The file written: .oct, .vox, .binvox, .vdb, .glb, or the boundary as .obj,
-    /// .stl or .ply.
-    pub output: PathBuf,
+    /// .stl, .ply or .3mf.
+    #[arg(required_unless_present = "output_flag", conflicts_with = "output_flag")]
+    pub output: Option<PathBuf>,
+    /// The file written, as the positional OUTPUT (the other commands' `-o`).
+    #[arg(short = 'o', long = "output", id = "output_flag", value_name = "OUTPUT")]
+    pub output_flag: Option<PathBuf>,
     // Bring the solids into this domain and depth first (default: the input's).
     #[command(flatten)]
     pub target: TargetFlags,
@@ -51,7 +55,10 @@ pub struct ConvertArgs {
 
 /// `octsolid convert IN OUT [...]`
 pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
-    let (input, output) = (&a.input, &a.output);
+    let Some(output) = a.output.as_ref().or(a.output_flag.as_ref()) else {
+        bail!("convert: no output file (give OUTPUT or -o OUTPUT)")
+    };
+    let input = &a.input;
     let output_kind = check_extension(output, FileKind::SOLID_OUTPUTS)?;
     check_not_an_input(output, &[input])?;
     a.shards.check_for(output)?;
