@@ -9,7 +9,7 @@
 //! | `.vox`, `.vdb` | one solid a palette colour, one a grid (a level set's with its surface data from the distances) | one solid each |
 //! | `.binvox` | one solid | one solid |
 //! | `.glb` | | one boundary mesh a solid |
-//! | `.obj`, `.stl`, `.ply` | | one solid's boundary mesh, merged faces ([`crate::mesh::try_boundary_mesh`]) |
+//! | `.obj`, `.stl`, `.ply`, `.3mf` | | one solid's true surface ([`crate::surface::extract`], on [`WriteOptions::surface`]; [`WriteOptions::mesh_style`] gives the staircase), `.3mf` in the unit and up axis of [`WriteOptions::meta`] ([`write_mesh_file`]) |
 //!
 //! It sits above `io`, `mesh` and `sharded` (it reads and writes through all three) and
 //! below `scene_file`, whose solid leaves it reads. A file of one solid is read as one
@@ -21,13 +21,14 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
-use crate::io::oct::{self, Metadata};
+use crate::io::oct::{self, Metadata, Units};
 use crate::io::{ColouredSolid, ReadOptions, Solids, SolidsRef, WriteOptions, binvox, file_stem, one_solid, vdb, vox};
-use crate::mesh::{BoundaryOptions, try_boundary_mesh, write_mesh};
+use crate::mesh::{ThreeMfOptions, ThreeMfUnit, TriangleMesh, write_mesh_with};
 use crate::octree::LinearOctree;
 use crate::progress::Progress;
+use crate::shape::Axis;
 use crate::sharded::{self, ShardedSolid, StreamOptions};
-use crate::surface::HermiteData;
+use crate::surface::{ExtractOptions, HermiteData, extract};
 
 /// A solid file as read: its kind, its solids over one domain, and what it records
 /// about its source.
@@ -133,9 +134,12 @@ impl SolidFile {
 /// and `options.surface`, `.octs` with `options.meta` and no surface data (at the
 /// default cell level, in one job: a command with its own cells writes through
 /// [`sharded::write`]), `.binvox`, and `.obj`, `.stl`,
-/// `.ply` and `.3mf` the solid's boundary mesh with merged faces (`progress` counts its steps),
-/// refused for an empty solid, which has none, and as [`Error::OverBudget`] (naming the
-/// file) when the mesh's estimate exceeds `options.budget`.
+/// `.ply` and `.3mf` the solid's surface by [`crate::surface::extract`] (the true surface,
+/// contoured on `options.surface` or estimated from the voxels without it, or the
+/// staircase with merged faces by `options.mesh_style`; `progress` counts its steps) and
+/// written by [`write_mesh_file`] with `options.meta`, refused for an empty solid, which
+/// has none, and as [`Error::OverBudget`] (naming the file) when the mesh's estimate
+/// exceeds `options.budget`.
 pub fn write_solid_file(
     path: impl AsRef<Path>,
     solids: &SolidsRef<'_>,
@@ -155,18 +159,41 @@ pub fn write_solid_file(
         if tree.is_empty() {
             return Err(unwritable(path, "the solid is empty; there is no boundary to write as a mesh".into()));
         }
-        let mesh =
-            try_boundary_mesh(tree, &BoundaryOptions::default(), options.budget, progress).map_err(|e| match e {
-                // A refusal for memory stays one (the caller tells it from a file that cannot
-                // be written), naming the output as the voxel formats' refusals do.
-                Error::OverBudget { job, estimate, budget } => {
-                    Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
-                }
-                e => unwritable(path, format!("cannot mesh the solid: {e}")),
-            })?;
-        return write_mesh(&mesh, path);
+        let none = HermiteData::none();
+        let hermite = options.surface.as_deref().unwrap_or(&none);
+        let extract_options =
+            ExtractOptions { style: options.mesh_style, budget: options.budget, ..Default::default() };
+        let surface = extract(tree, hermite, &extract_options, progress).map_err(|e| match e {
+            // A refusal for memory stays one (the caller tells it from a file that cannot
+            // be written), naming the output as the voxel formats' refusals do.
+            Error::OverBudget { job, estimate, budget } => {
+                Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
+            }
+            e => unwritable(path, format!("cannot mesh the solid: {e}")),
+        })?;
+        return write_mesh_file(&surface.mesh, path, &options.meta);
     }
     crate::io::write_voxel_solids(path, kind, solids, options)
+}
+
+/// Writes `mesh` to `path` as the mesh format its extension names
+/// ([`crate::mesh::write_mesh`]), recording `meta` where the format can: a `.3mf` model
+/// takes its unit (millimetres when none is recorded, the 3MF default) and stands a
+/// y-up or x-up world upright in 3MF's z-up by its build item's transform (the vertices
+/// as they are, as `.glb` turns its node).
+///
+/// # Errors
+/// As [`crate::mesh::write_mesh`].
+pub fn write_mesh_file(mesh: &TriangleMesh, path: impl AsRef<Path>, meta: &Metadata) -> Result<u64> {
+    let unit = meta.units.map_or(ThreeMfUnit::Millimetre, |u| match u {
+        Units::Micrometre => ThreeMfUnit::Micron,
+        Units::Millimetre => ThreeMfUnit::Millimetre,
+        Units::Centimetre => ThreeMfUnit::Centimetre,
+        Units::Metre => ThreeMfUnit::Metre,
+        Units::Inch => ThreeMfUnit::Inch,
+        Units::Foot => ThreeMfUnit::Foot,
+    });
+    write_mesh_with(mesh, path, &ThreeMfOptions { unit, up: meta.up.unwrap_or(Axis::Z) })
 }
 
 /// The error of a solid that cannot be written as `path`.

@@ -50,6 +50,11 @@ pub(crate) fn axis(a: Axis) -> &'static str {
     }
 }
 
+/// `n` and the noun, plural unless `n` is 1: `1 solid`, `3 solids`, `1 mesh`, `2 meshes`.
+pub(crate) fn count(n: usize, one: &str, many: &str) -> String {
+    if n == 1 { format!("1 {one}") } else { format!("{n} {many}") }
+}
+
 #[cfg(test)]
 mod tests {
     use super::num;

@@ -156,7 +156,8 @@ class Solid:
     ) -> int:
         """Writes the solid in the format the extension names (``.oct`` with its surface data
         unless ``surface=False``, ``.octs``, ``.vox``, ``.binvox``, ``.vdb``, ``.glb``, or the
-        voxel boundary as ``.obj``, ``.stl``, ``.ply``, ``.3mf``); returns the bytes written."""
+        true surface as ``.obj``, ``.stl``, ``.ply``, ``.3mf``, estimated from the voxels with
+        ``surface=False``); returns the bytes written."""
     def export(
         self,
         path: PathLikeStr,

@@ -11,7 +11,7 @@
 //! | `load(path)` | any command's input | `SolidFile::read`, its union |
 //! | `a | b`, `&`, `-`, `^`; `.union(b)`, `.intersection`, `.difference`, `.symmetric_difference` | `csg` | `common_domain`, `surface::fit_with_surface`, `combine_all`, `HermiteData::combine` |
 //! | `.save(path)` | `-o path` | `write_solid_file` (`.oct` with its surface data) |
-//! | `.export(path)` | `export` | `surface::extract`, `separate_sheets` (STL), `write_mesh` |
+//! | `.export(path)` | `export` | `surface::extract`, `separate_sheets` (STL), `write_mesh_file` (3MF in the solid's unit, upright) |
 //! | `.transform(...)` | `transform` | `Motion`, `surface::transform_with_surface` |
 //! | `.offset`, `.shell`, `.round` | `offset`, `shell`, `round` | `LinearOctree::offset`, `shell`, `round` |
 //! | `.measure()` | `info` | `LinearOctree::measure` |
@@ -32,7 +32,7 @@ use octsolid::glam::DVec3;
 use octsolid::import::{self, Fill, ImportOptions, Input};
 use octsolid::io::oct::Metadata;
 use octsolid::io::{ReadOptions, SolidsRef, WriteOptions};
-use octsolid::mesh::{InsideRule, TriangleMesh, separate_sheets, write_mesh};
+use octsolid::mesh::{InsideRule, TriangleMesh, separate_sheets};
 use octsolid::octree::{
     Domain, LinearOctree, Metric, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
     voxelize as voxelize_shape,
@@ -367,10 +367,11 @@ impl Solid {
 
     /// Writes the solid to `path` in the format its extension names: `.oct` (with the
     /// surface data, as `octsolid` writes it), `.octs`, `.vox`, `.binvox`, `.vdb`,
-    /// `.glb`, or its voxel boundary as a mesh (`.obj`, `.stl`, `.ply`, `.3mf`).
-    /// `surface=False` leaves the `.oct` file's surface section out (a smaller file,
-    /// written sooner, as the library's `oct::write`; its smooth surface is then
-    /// estimated from the voxels). Returns the bytes written. `memory_budget`: bytes
+    /// `.glb`, or its true surface as a mesh (`.obj`, `.stl`, `.ply`, `.3mf`, as
+    /// `octsolid shape ... -o` writes them). `surface=False` leaves the `.oct` file's
+    /// surface section out (a smaller file, written sooner, as the library's
+    /// `oct::write`; its smooth surface is then estimated from the voxels), and a mesh's
+    /// surface is estimated from the voxels. Returns the bytes written. `memory_budget`: bytes
     /// or a size like `"2GiB"` (`--memory-budget`); `progress`: `True` for a bar on the
     /// terminal, or `f(done, total)` (a mesh format's meshing; the others are written
     /// in one step, reported `(0, 1)`, `(1, 1)`).
@@ -384,7 +385,8 @@ impl Solid {
         progress: Option<Want>,
     ) -> PyResult<u64> {
         let kind = FileKind::of(&path, FileKind::SOLID_OUTPUTS).py()?;
-        let surface = if kind == FileKind::Oct && surface { self.surface_data(py)? } else { None };
+        let uses_surface = kind == FileKind::Oct || kind.writes_mesh();
+        let surface = if uses_surface && surface { self.surface_data(py)? } else { None };
         let (tree, meta) = (&self.tree, self.meta);
         let job = Job::new(memory_budget, progress, if kind.writes_mesh() { "meshing" } else { "writing" });
         job.run(py, |budget, progress| {
@@ -424,6 +426,13 @@ impl Solid {
         }
         let style = style_of(surface)?;
         let job = Job::new(memory_budget, progress, "meshing");
+        if kind == FileKind::Glb && style == Style::Smooth {
+            let mesh = self.extracted(py, style, tolerance, normal_tolerance, job)?;
+            let (up, voxel) = (self.meta.up.unwrap_or(octsolid::shape::Axis::Z), self.tree.domain().voxel_size());
+            let name = path.file_stem().map_or_else(|| "solid".into(), |s| s.to_string_lossy().into_owned());
+            let named = [octsolid::io::gltf::NamedMesh { name: &name, color: None, mesh: &mesh }];
+            return py.detach(|| octsolid::io::gltf::write_meshes(&path, &named, up, voxel)).py();
+        }
         if kind == FileKind::Glb {
             let (tree, meta) = (&self.tree, self.meta);
             return job.run(py, |budget, progress| {
@@ -435,15 +444,16 @@ impl Solid {
             });
         }
         let mesh = self.extracted(py, style, tolerance, normal_tolerance, job)?;
+        let meta = self.meta;
         py.detach(|| {
             if kind == FileKind::Stl {
                 let separated = separate_sheets(&mesh).map_err(|e| octsolid::Error::Unwritable {
                     path: path.clone(),
                     reason: format!("cannot write STL ({e}); write .obj or .ply"),
                 })?;
-                return write_mesh(&separated, &path);
+                return octsolid::write_mesh_file(&separated, &path, &meta);
             }
-            write_mesh(&mesh, &path)
+            octsolid::write_mesh_file(&mesh, &path, &meta)
         })
         .py()
     }

@@ -21,6 +21,12 @@
 //! out that neighbouring voxel corners round to one value) is refused, as STL refuses
 //! vertices it cannot keep apart.
 //!
+//! Meshes given whole ([`write_meshes`]: the true surface of `export --surface smooth`)
+//! are written the same way, one node a mesh, with smooth vertex normals: each vertex's
+//! faces are grouped by direction (a face joins the first group whose first face's
+//! normal is within [`CREASE_DEGREES`] of its own), and each group writes the vertex
+//! once with its faces' area-weighted mean normal, so sharp edges stay sharp.
+//!
 //! Memory: every solid's boundary is counted first (exposed squares of node faces, a
 //! pass that allocates nothing), and the largest mesh being built plus every square's
 //! share of the file (split vertices, indices, the buffer and the file around it) is
@@ -32,7 +38,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::solid_set::{SolidRef, Solids, SolidsRef};
+use super::solid_set::{Solids, SolidsRef};
 use crate::atomic::write_atomic;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
@@ -51,6 +57,9 @@ const BYTES_PER_SQUARE: u64 = 200;
 const BYTES_PER_SOLID: u64 = 16 << 10;
 /// Beside them: the small tables a mesh is built with, whatever its size.
 const FIXED_BYTES: u64 = 256 << 10;
+/// Faces around a vertex whose normals differ by more than this many degrees are
+/// shaded apart ([`write_meshes`]).
+pub const CREASE_DEGREES: f64 = 30.0;
 const GLB_MAGIC: u32 = 0x4654_6C67;
 const CHUNK_JSON: u32 = 0x4E4F_534A;
 const CHUNK_BIN: u32 = 0x004E_4942;
@@ -89,6 +98,89 @@ pub fn flat_mesh(mesh: &TriangleMesh) -> FlatMesh {
         }
     }
     out
+}
+
+/// `mesh` with smooth vertex normals, each vertex split where its faces turn by more
+/// than [`CREASE_DEGREES`] (module doc).
+#[must_use]
+pub fn shaded_mesh(mesh: &TriangleMesh) -> FlatMesh {
+    let normals: Vec<DVec3> = (0..mesh.triangles.len())
+        .map(|t| {
+            let [a, b, c] = mesh.corners(t);
+            (b - a).cross(c - a)
+        })
+        .collect();
+    let mut fans: Vec<Vec<u32>> = vec![Vec::new(); mesh.vertices.len()];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        for &v in tri {
+            fans[v as usize].push(t as u32);
+        }
+    }
+    let min_cosine = CREASE_DEGREES.to_radians().cos();
+    let mut out = FlatMesh { positions: Vec::new(), normals: Vec::new(), indices: vec![0; 3 * mesh.triangles.len()] };
+    for (v, fan) in fans.iter().enumerate() {
+        // Groups: their first face's unit normal, and the sum of their faces' normals.
+        let mut groups: Vec<(DVec3, DVec3, Vec<u32>)> = Vec::new();
+        for &t in fan {
+            let n = normals[t as usize];
+            let unit = n.normalize_or_zero();
+            match groups.iter_mut().find(|g| g.0.dot(unit) >= min_cosine) {
+                Some(group) => {
+                    group.1 += n;
+                    group.2.push(t);
+                }
+                None => groups.push((unit, n, vec![t])),
+            }
+        }
+        let p = mesh.vertices[v];
+        for (seed, sum, faces) in groups {
+            let normal = sum.try_normalize().unwrap_or(seed);
+            let id = out.positions.len() as u32;
+            out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
+            out.normals.push([normal.x as f32, normal.y as f32, normal.z as f32]);
+            for t in faces {
+                let corner = mesh.triangles[t as usize].iter().position(|&c| c as usize == v).unwrap_or(0);
+                out.indices[3 * t as usize + corner] = id;
+            }
+        }
+    }
+    out
+}
+
+/// A mesh written as one glTF node ([`write_meshes`]): its name, its colour (linear; light
+/// grey without one) and its triangles.
+#[derive(Clone, Copy, Debug)]
+pub struct NamedMesh<'a> {
+    /// The node's, mesh's and material's name.
+    pub name: &'a str,
+    /// The base colour.
+    pub color: Option<DVec3>,
+    /// The triangles, counter-clockwise seen from outside.
+    pub mesh: &'a TriangleMesh,
+}
+
+/// Writes `meshes` to `path` as one GLB, atomically, one node a non-empty mesh with
+/// smooth normals ([`shaded_mesh`]), turned from `up` to glTF's +Y as the solids are;
+/// returns the bytes written.
+///
+/// # Errors
+/// A vertex `f32` cannot hold apart from its neighbours at `voxel` (far past the
+/// range), a file past 4 GiB, or writing fails.
+pub fn write_meshes(path: impl AsRef<Path>, meshes: &[NamedMesh<'_>], up: Axis, voxel: f64) -> Result<u64> {
+    let path = path.as_ref();
+    let rotation = rotation_json(up);
+    let mut document = GltfDocument::default();
+    for named in meshes.iter().filter(|m| !m.mesh.triangles.is_empty()) {
+        check_single_precision(Some(named.mesh.bounds()), voxel)
+            .map_err(|reason| Error::invalid("glTF output", format!("{}: {reason}", path.display())))?;
+        let shaded = shaded_mesh(named.mesh);
+        let first_accessor = document.accessors.len();
+        let v0 = document.push_buffer_views(&shaded);
+        document.push_accessors(&shaded, v0);
+        document.push_material_mesh_node(named.name, named.color, first_accessor, &rotation);
+    }
+    let bytes = glb_container(document.json(), document.bin)?;
+    write_atomic(path, |w| w.write_all(&bytes))
 }
 
 /// A JSON string literal.
@@ -176,7 +268,7 @@ fn encode_for(solids: &SolidsRef<'_>, up: Axis, budget: MemoryBudget, output: Op
         let first_accessor = document.accessors.len();
         let v0 = document.push_buffer_views(&flat);
         document.push_accessors(&flat, v0);
-        document.push_material_mesh_node(solid, first_accessor, &rotation);
+        document.push_material_mesh_node(&solid.name, solid.color, first_accessor, &rotation);
     }
     glb_container(document.json(), document.bin)
 }
@@ -283,30 +375,27 @@ impl GltfDocument {
         ));
     }
 
-    /// Step 4: the solid's material, mesh (its accessors from `first_accessor` on) and
-    /// node (turned by `rotation`, from [`rotation_json`]).
-    fn push_material_mesh_node(&mut self, solid: &SolidRef<'_>, first_accessor: usize, rotation: &str) {
-        let c = solid.color.unwrap_or(DEFAULT_COLOR).clamp(DVec3::ZERO, DVec3::ONE);
+    /// Step 4: the material of colour `color`, mesh (its accessors from
+    /// `first_accessor` on) and node (turned by `rotation`, from [`rotation_json`]) of
+    /// the solid or mesh `name`.
+    fn push_material_mesh_node(&mut self, name: &str, color: Option<DVec3>, first_accessor: usize, rotation: &str) {
+        let c = color.unwrap_or(DEFAULT_COLOR).clamp(DVec3::ZERO, DVec3::ONE);
         let m = self.materials.len();
         self.materials.push(format!(
             "{{\"name\":{},\"pbrMetallicRoughness\":{{\"baseColorFactor\":[{},{},{},1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.8}}}}",
-            json_string(&solid.name),
+            json_string(name),
             json_number(c.x as f32),
             json_number(c.y as f32),
             json_number(c.z as f32)
         ));
         self.meshes.push(format!(
             "{{\"name\":{},\"primitives\":[{{\"attributes\":{{\"POSITION\":{},\"NORMAL\":{}}},\"indices\":{},\"material\":{m},\"mode\":4}}]}}",
-            json_string(&solid.name),
+            json_string(name),
             first_accessor,
             first_accessor + 1,
             first_accessor + 2
         ));
-        self.nodes.push(format!(
-            "{{\"name\":{},\"mesh\":{}{rotation}}}",
-            json_string(&solid.name),
-            self.meshes.len() - 1
-        ));
+        self.nodes.push(format!("{{\"name\":{},\"mesh\":{}{rotation}}}", json_string(name), self.meshes.len() - 1));
     }
 
     /// Step 5: the JSON document, unpadded; a scene without nodes when no solid was

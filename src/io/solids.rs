@@ -27,7 +27,7 @@ use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
 use crate::octree::LinearOctree;
 use crate::shape::Axis;
-use crate::surface::HermiteData;
+use crate::surface::{HermiteData, Style};
 
 /// How files are written.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,8 +43,13 @@ pub struct WriteOptions {
     /// What `.oct` and `.octs` record about the solid's source (up axis, units).
     pub meta: Metadata,
     /// `.oct`: the solid's surface data, written in a surface section (its faces must
-    /// be boundary faces of the solid written); other formats leave it out.
+    /// be boundary faces of the solid written); the mesh outputs' smooth surface is
+    /// contoured on it (estimated from the voxels without it); other formats leave it
+    /// out.
     pub surface: Option<Arc<HermiteData>>,
+    /// The mesh outputs (`.obj`, `.stl`, `.ply`, `.3mf`): the true surface (the default)
+    /// or the voxels' staircase.
+    pub mesh_style: Style,
 }
 
 impl Default for WriteOptions {
@@ -55,6 +60,7 @@ impl Default for WriteOptions {
             up: Axis::Z,
             meta: Metadata::default(),
             surface: None,
+            mesh_style: Style::Smooth,
         }
     }
 }

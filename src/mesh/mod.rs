@@ -49,10 +49,10 @@ pub(crate) use solid::solid_triangles;
 pub use solid::{InsideRule, MeshVoxelizeOptions, MeshVoxelizeStats, voxelize_mesh, voxelize_mesh_cells};
 pub use surface::{SurfaceKind, estimate_surface_bytes, voxelize_surface};
 pub use tables::{Edge, MeshReport, PolygonTables};
-pub use three_mf::write_3mf;
+pub use three_mf::{ThreeMfOptions, ThreeMfUnit, write_3mf};
 pub(crate) use triangle_tree::TriangleTree;
 pub use winding::WindingNumber;
-pub use write::{write_mesh, write_obj, write_ply, write_stl};
+pub use write::{write_mesh, write_mesh_with, write_obj, write_ply, write_stl};
 
 /// A named run of triangles (an OBJ group or object).
 #[derive(Clone, Debug, PartialEq, Eq)]

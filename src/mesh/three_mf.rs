@@ -17,6 +17,7 @@
 use std::io::Write;
 
 use super::TriangleMesh;
+use crate::shape::Axis;
 
 /// The package's content types: what a `.rels` and a `.model` part are.
 const CONTENT_TYPES: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
@@ -31,24 +32,84 @@ const RELATIONSHIPS: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
 /// The model part's path in the archive.
 const MODEL_PATH: &str = "3D/3dmodel.model";
 
+/// A 3MF model's unit of length (the specification's `ST_Unit`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ThreeMfUnit {
+    /// Micrometres.
+    Micron,
+    /// Millimetres, the specification's default.
+    #[default]
+    Millimetre,
+    /// Centimetres.
+    Centimetre,
+    /// Inches.
+    Inch,
+    /// Feet.
+    Foot,
+    /// Metres.
+    Metre,
+}
+
+impl ThreeMfUnit {
+    /// The `unit` attribute's value.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            ThreeMfUnit::Micron => "micron",
+            ThreeMfUnit::Millimetre => "millimeter",
+            ThreeMfUnit::Centimetre => "centimeter",
+            ThreeMfUnit::Inch => "inch",
+            ThreeMfUnit::Foot => "foot",
+            ThreeMfUnit::Metre => "meter",
+        }
+    }
+}
+
+/// Where a 3MF model stands: its unit and the up axis of its coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ThreeMfOptions {
+    /// The unit of the coordinates.
+    pub unit: ThreeMfUnit,
+    /// The world's up axis; 3MF's is +z, so another is turned there (module doc).
+    pub up: Axis,
+}
+
+impl Default for ThreeMfOptions {
+    fn default() -> Self {
+        ThreeMfOptions { unit: ThreeMfUnit::Millimetre, up: Axis::Z }
+    }
+}
+
 /// Writes `mesh` as a 3MF package to `w` (see the module doc). Fails for a model part
 /// past 4 GiB (the archive has no ZIP64), and with `w`'s errors.
-pub fn write_3mf(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
+pub fn write_3mf(mesh: &TriangleMesh, options: &ThreeMfOptions, w: &mut dyn Write) -> std::io::Result<()> {
     let mut zip = StoredZip::new(w);
     zip.entry("[Content_Types].xml", |w| w.write_all(CONTENT_TYPES.as_bytes()))?;
     zip.entry("_rels/.rels", |w| w.write_all(RELATIONSHIPS.as_bytes()))?;
-    zip.entry(MODEL_PATH, |w| write_model(mesh, w))?;
+    zip.entry(MODEL_PATH, |w| write_model(mesh, options, w))?;
     zip.finish()
 }
 
+/// The build item's `transform` (3MF's 3x4 matrix, rows the images of x, y, z, then
+/// the translation) turning `up` to +z; `None` for +z.
+fn upright_transform(up: Axis) -> Option<&'static str> {
+    match up {
+        Axis::X => Some("0 0 1 0 1 0 -1 0 0 0 0 0"),
+        Axis::Y => Some("1 0 0 0 0 1 0 -1 0 0 0 0"),
+        Axis::Z => None,
+    }
+}
+
 /// The model part: the mesh as one object and one build item.
-fn write_model(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
+fn write_model(mesh: &TriangleMesh, options: &ThreeMfOptions, w: &mut dyn Write) -> std::io::Result<()> {
+    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
+    writeln!(
+        w,
+        r#"<model unit="{}" xml:lang="en-US" xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">"#,
+        options.unit.name()
+    )?;
     w.write_all(
         concat!(
-            r#"<?xml version="1.0" encoding="UTF-8"?>"#,
-            "\n",
-            r#"<model unit="millimeter" xml:lang="en-US" xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">"#,
-            "\n",
             r#"<metadata name="Application">octsolid</metadata>"#,
             "\n<resources>\n<object id=\"1\" type=\"model\">\n<mesh>\n<vertices>\n"
         )
@@ -61,9 +122,12 @@ fn write_model(mesh: &TriangleMesh, w: &mut dyn Write) -> std::io::Result<()> {
     for t in &mesh.triangles {
         writeln!(w, r#"<triangle v1="{}" v2="{}" v3="{}"/>"#, t[0], t[1], t[2])?;
     }
-    w.write_all(
-        b"</triangles>\n</mesh>\n</object>\n</resources>\n<build>\n<item objectid=\"1\"/>\n</build>\n</model>\n",
-    )
+    w.write_all(b"</triangles>\n</mesh>\n</object>\n</resources>\n<build>\n")?;
+    match upright_transform(options.up) {
+        Some(m) => writeln!(w, r#"<item objectid="1" transform="{m}"/>"#)?,
+        None => writeln!(w, r#"<item objectid="1"/>"#)?,
+    }
+    w.write_all(b"</build>\n</model>\n")
 }
 
 /// The general-purpose flag that says an entry's CRC-32 and sizes follow its data (a

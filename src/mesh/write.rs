@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use super::TriangleMesh;
 use super::separate::separate;
+use super::three_mf::ThreeMfOptions;
 use crate::atomic::write_atomic;
 use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
@@ -32,6 +33,16 @@ use crate::file_kind::FileKind;
 /// vertices `f32` cannot keep apart (coordinates far larger than the edges; the
 /// error names the vertices and suggests OBJ or PLY).
 pub fn write_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
+    write_mesh_with(mesh, path, &ThreeMfOptions::default())
+}
+
+/// [`write_mesh`] with what a file records beside the triangles where its format can:
+/// a 3MF model's unit and the up axis its build item turns to +z ([`super::write_3mf`]);
+/// OBJ, STL and PLY record neither.
+///
+/// # Errors
+/// As [`write_mesh`].
+pub fn write_mesh_with(mesh: &TriangleMesh, path: impl AsRef<Path>, options: &ThreeMfOptions) -> Result<u64> {
     let path = path.as_ref();
     let format = FileKind::of(path, FileKind::MESH_OUTPUTS)?;
     let separated;
@@ -48,7 +59,7 @@ pub fn write_mesh(mesh: &TriangleMesh, path: impl AsRef<Path>) -> Result<u64> {
         FileKind::Obj => write_obj(mesh, w),
         FileKind::Stl => write_stl(mesh, w),
         FileKind::Ply => write_ply(mesh, w),
-        FileKind::ThreeMf => super::write_3mf(mesh, w),
+        FileKind::ThreeMf => super::write_3mf(mesh, options, w),
         other => unreachable!("{other:?} is not in FileKind::MESH_OUTPUTS"),
     })
 }

@@ -13,7 +13,7 @@ use octsolid::sharded;
 use octsolid::surface::resolve_offsets;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
-use super::{print_summary, surface_for, voxelize_with_bar};
+use super::{print_summary, surface_for, uses_surface, voxelize_with_bar};
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
@@ -58,8 +58,8 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     check_not_an_input(&a.output, &[a.scene.as_path()])?;
     a.shards.check_for(&a.output)?;
     // A shape with offset nodes goes through its shape, once: resolving them is the work.
-    let to_oct = FileKind::of(&a.output, &[FileKind::Oct]).is_ok();
-    let with_offsets = if to_oct {
+    let uses_surface_data = uses_surface(&a.output);
+    let with_offsets = if uses_surface_data {
         build_shape(&a.scene, a.solid.as_deref(), budget).ok().filter(|(shape, _)| has_morphed(shape))
     } else {
         None
@@ -98,7 +98,7 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     }
     // A shape solid's surface data, from the CSG tree it was voxelized from (a mesh or
     // oct solid has no shape here, and gets none).
-    let shape = if to_oct { build_shape(&a.scene, a.solid.as_deref(), budget).ok() } else { None };
+    let shape = if uses_surface_data { build_shape(&a.scene, a.solid.as_deref(), budget).ok() } else { None };
     let surface = match shape {
         Some((shape, domain)) if domain == *tree.domain() => surface_for(&a.output, &shape, &tree),
         _ => None,

@@ -13,7 +13,7 @@ use octsolid::sharded::{self, ShardedSolid};
 use octsolid::surface::{HermiteData, Moved, fit_with_surface};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
-use super::print_summary;
+use super::{print_summary, uses_surface};
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
@@ -167,7 +167,7 @@ fn combined_surface(
     result: &LinearOctree,
     output: &Path,
 ) -> Result<Option<HermiteData>> {
-    if surfaces.iter().all(Option::is_none) || FileKind::of(output, &[FileKind::Oct]).is_err() {
+    if surfaces.iter().all(Option::is_none) || !uses_surface(output) {
         return Ok(None);
     }
     let started = Instant::now();

@@ -1,10 +1,11 @@
 //! `octsolid export FILE -o OUT.(obj|stl|ply|3mf|glb) [--unit-faces]`: the boundary of a
 //! solid (`.oct`, `.vox`, `.binvox`, `.vdb`) as a closed, manifold triangle mesh.
 //!
-//! OBJ, STL, PLY and 3MF (the printers' package, in millimetres) hold one mesh: a file of several solids (a `.vox` palette colour
-//! each) is written as their union. Binary glTF (`.glb`, [`octsolid::io::gltf`]) keeps
-//! them apart: one mesh a solid with its vertex normals and its colour as the
-//! material's base colour, for web viewers and Blender.
+//! OBJ, STL, PLY and 3MF (the printers' package, in the solid's units, upright) hold one
+//! mesh: a file of several solids (a `.vox` palette colour each) is written as their
+//! union. Binary glTF (`.glb`, [`octsolid::io::gltf`]) keeps them apart: one mesh a
+//! solid (its true surface, or with `--surface voxels` its staircase) with its vertex
+//! normals and its colour as the material's base colour, for web viewers and Blender.
 //!
 //! A sharded solid (`.octs`) is exported cell by cell to STL or OBJ, streamed: memory
 //! follows one cell and a border of its neighbours, and the cells' seams are welded
@@ -19,13 +20,15 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use octsolid::io::WriteOptions;
-use octsolid::mesh::{separate_sheets, write_mesh};
+use octsolid::io::gltf::{NamedMesh, write_meshes};
+use octsolid::mesh::separate_sheets;
 use octsolid::shape::Axis;
 use octsolid::sharded::{ShardedSolid, SurfaceExportOptions, export_surface};
 use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
-use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
+use octsolid::{FileKind, MemoryBudget, NoProgress, SolidFile, human_bytes, write_mesh_file};
 
-use crate::output::check_not_an_input;
+use crate::human::count;
+use crate::output::{check_folder, check_not_an_input};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{is_sharded, peak_memory};
 use crate::solid_input::{ReadFlags, read_solid_file};
@@ -37,7 +40,9 @@ pub struct ExportArgs {
     /// .vox, .binvox or .vdb.
     pub file: PathBuf,
     /// Output mesh: .obj, .stl, .ply or .3mf (STL: vertices where voxels touch moved
-    /// apart; 3MF: one object in millimetres, for printers), or .glb (binary glTF: a mesh with normals and colour a solid).
+    /// apart; 3MF: one object in the solid's units, millimetres when it records none,
+    /// standing on +z, for printers), or .glb (binary glTF: a mesh a solid with its
+    /// colour and smooth normals).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Which surface: `smooth`, the true surface by dual contouring of the file's
@@ -92,6 +97,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
             }
             Err(e) => return Err(e.into()),
         };
+    check_folder(output)?;
     check_not_an_input(output, &[file])?;
     if a.normal_tolerance.is_some() && (a.tolerance == 0.0 || a.surface == Style::Voxels) {
         warn!("--normal-tolerance bounds simplification's normals: it is for the smooth surface with --tolerance");
@@ -105,6 +111,9 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     }
     let Some(format) = format else {
         let up = read.meta.up.unwrap_or(read.kind.default_up());
+        if a.surface == Style::Smooth {
+            return export_glb_smooth(a, read, up, budget);
+        }
         return export_glb(a, &read.solids, up, budget);
     };
     if unit_faces && a.surface == Style::Smooth {
@@ -112,6 +121,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     }
     let hermite = read.surface.take().unwrap_or_else(HermiteData::none);
     let carries_crossings = !hermite.is_empty();
+    let meta = read.meta;
     let tree = read.into_union();
     let started = Instant::now();
     let bar = Bar::new("meshing");
@@ -135,7 +145,7 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
         None
     };
     let written = separated.as_ref().unwrap_or(mesh);
-    let bytes = write_mesh(written, output)?;
+    let bytes = write_mesh_file(written, output, &meta)?;
     out!("read       {} ({} nodes, depth {})", file.display(), tree.node_count(), tree.depth());
     print_surface(&surface, carries_crossings, unit_faces, a.tolerance, tree.domain().voxel_size());
     if separated.is_some() {
@@ -288,7 +298,61 @@ fn export_sharded(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
     Ok(())
 }
 
-/// `export FILE -o OUT.glb`: one mesh a solid, with its colour.
+/// `export FILE -o OUT.glb` (the smooth surface, the default): each solid's true surface
+/// (on the file's crossings for a file of one solid, else estimated from the voxels),
+/// simplified by `--tolerance`, one mesh a solid with its colour and smooth normals
+/// ([`octsolid::io::gltf::write_meshes`]).
+fn export_glb_smooth(a: &ExportArgs, read: SolidFile, up: Axis, budget: MemoryBudget) -> Result<()> {
+    let (file, output) = (&a.file, &a.output);
+    if a.unit_faces {
+        warn!("--unit-faces is for --surface voxels; the smooth surface has its own vertices");
+    }
+    let started = Instant::now();
+    let solids = &read.solids;
+    let none = HermiteData::none();
+    let hermite = match (&read.surface, solids.solids.len()) {
+        (Some(surface), 1) => surface,
+        _ => &none,
+    };
+    let options = ExtractOptions {
+        style: Style::Smooth,
+        tolerance: a.tolerance,
+        normal_tolerance: a.normal_tolerance,
+        unit_faces: false,
+        budget,
+    };
+    let bar = Bar::new("meshing");
+    let mut surfaces = Vec::new();
+    for solid in solids.solids.iter().filter(|s| !s.tree.is_empty()) {
+        let surface = extract(&solid.tree, hermite, &options, &bar)
+            .with_context(|| format!("{}: cannot export {}", file.display(), solid.name))?;
+        surfaces.push((solid, surface));
+    }
+    drop(bar);
+    let meshes: Vec<NamedMesh> = surfaces
+        .iter()
+        .map(|(solid, surface)| NamedMesh { name: &solid.name, color: solid.color, mesh: &surface.mesh })
+        .collect();
+    let bytes = write_meshes(output, &meshes, up, solids.domain.voxel_size())
+        .with_context(|| format!("{}: cannot export", file.display()))?;
+    let triangles: usize = surfaces.iter().map(|(_, s)| s.mesh.triangles.len()).sum();
+    let estimated = surfaces.iter().any(|(_, s)| s.is_estimate());
+    let n = solids.solids.len();
+    out!("read       {} ({}, depth {})", file.display(), count(n, "solid", "solids"), solids.domain.depth());
+    let placed =
+        if estimated { "estimated from the voxels where the file has no crossings" } else { "exact crossings" };
+    out!(
+        "glb        {}, {triangles} triangles (smooth: dual contouring, tolerance {} voxel; {placed}), \
+         smooth normals and a base colour each",
+        count(surfaces.len(), "mesh", "meshes"),
+        a.tolerance
+    );
+    out!("time       {:.1} ms (surfaces and the file)", started.elapsed().as_secs_f64() * 1e3);
+    out!("wrote {} ({})", output.display(), human_bytes(bytes));
+    Ok(())
+}
+
+/// `export FILE -o OUT.glb --surface voxels`: one staircase mesh a solid, with its colour.
 fn export_glb(a: &ExportArgs, solids: &octsolid::io::Solids, up: Axis, budget: MemoryBudget) -> Result<()> {
     let (file, output) = (&a.file, &a.output);
     if a.unit_faces {
@@ -299,8 +363,9 @@ fn export_glb(a: &ExportArgs, solids: &octsolid::io::Solids, up: Axis, budget: M
     let bytes = octsolid::write_solid_file(output, &solids.borrowed(), &options, &NoProgress)
         .with_context(|| format!("{}: cannot export", file.display()))?;
     let meshed = solids.solids.iter().filter(|s| !s.tree.is_empty()).count();
-    out!("read       {} ({} solids, depth {})", file.display(), solids.solids.len(), solids.domain.depth());
-    out!("glb        {meshed} meshes with normals and a base colour each (merged faces)");
+    let n = solids.solids.len();
+    out!("read       {} ({}, depth {})", file.display(), count(n, "solid", "solids"), solids.domain.depth());
+    out!("glb        {} with normals and a base colour each (merged faces)", count(meshed, "mesh", "meshes"));
     out!("time       {:.1} ms (boundary meshes and the file)", started.elapsed().as_secs_f64() * 1e3);
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     Ok(())

@@ -15,7 +15,7 @@ use octsolid::shape::Axis;
 use octsolid::sharded;
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
-use super::{print_summary, read_input};
+use super::{print_summary, read_input, uses_surface};
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
@@ -131,7 +131,7 @@ fn surface_of(
     summary: &import::VoxelizeSummary,
     budget: MemoryBudget,
 ) -> Result<Option<octsolid::surface::HermiteData>> {
-    if FileKind::of(&a.output, &[FileKind::Oct]).is_err() {
+    if !uses_surface(&a.output) {
         return Ok(None);
     }
     let started = Instant::now();
