@@ -781,6 +781,122 @@ fn vox_samples_are_read_by_every_command_with_their_counts_and_colours() {
     assert!(out.contains(&format!("{total}.000000 octree")), "{out}");
 }
 
+#[test]
+fn export_glb_writes_the_true_surface_with_smooth_normals() {
+    let dir = scratch("glb-smooth");
+    ok(&dir, &["shape", "sphere", "--radius", "1", "--depth", "6", "-o", "ball.oct"]);
+    let obj = ok(&dir, &["export", "ball.oct", "-o", "ball.obj"]);
+    let out = ok(&dir, &["export", "ball.oct", "-o", "ball.glb"]);
+    assert!(out.contains("smooth: dual contouring") && out.contains("exact crossings"), "{out}");
+    let glb = std::fs::read(dir.join("ball.glb")).unwrap();
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let gltf: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    let bin = &glb[20 + json_len + 8..];
+    // The three views: positions, normals (f32 VEC3), indices (u32).
+    let view = |i: usize| {
+        let v = &gltf["bufferViews"][i];
+        let at = v["byteOffset"].as_u64().unwrap() as usize;
+        &bin[at..at + v["byteLength"].as_u64().unwrap() as usize]
+    };
+    let floats = |b: &[u8]| -> Vec<f64> {
+        b.chunks_exact(4).map(|c| f64::from(f32::from_le_bytes(c.try_into().unwrap()))).collect()
+    };
+    let (positions, normals) = (floats(view(0)), floats(view(1)));
+    let indices: Vec<usize> =
+        view(2).chunks_exact(4).map(|c| u32::from_le_bytes(c.try_into().unwrap()) as usize).collect();
+    let p = |i: usize| octsolid::glam::DVec3::new(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
+    // The OBJ's triangles, and its volume: the true surface, not the staircase.
+    let triangles = indices.len() / 3;
+    assert!(obj.contains(&format!("mesh       {triangles} triangles")), "{obj}");
+    let volume: f64 = indices.chunks_exact(3).map(|t| p(t[0]).dot(p(t[1]).cross(p(t[2]))) / 6.0).sum();
+    let exact = 4.0 / 3.0 * std::f64::consts::PI;
+    assert!((volume / exact - 1.0).abs() < 2e-3, "{volume} enclosed, {exact} exact");
+    // Smooth normals: unit, and within 5 degrees of the sphere's at every vertex.
+    for (i, n) in normals.chunks_exact(3).enumerate() {
+        let n = octsolid::glam::DVec3::new(n[0], n[1], n[2]);
+        assert!((n.length() - 1.0).abs() < 1e-5, "vertex {i}: |n| = {}", n.length());
+        assert!(n.dot(p(i).normalize()) > 5f64.to_radians().cos(), "vertex {i}: {n} at {}", p(i));
+    }
+    // A sharp edge stays sharp: a box's corners are written once a face direction.
+    ok(&dir, &["shape", "box", "--size", "1,1,1", "--depth", "5", "-o", "box.oct"]);
+    ok(&dir, &["export", "box.oct", "-o", "box.glb"]);
+    let glb = std::fs::read(dir.join("box.glb")).unwrap();
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let gltf: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    let bin = &glb[20 + json_len + 8..];
+    let v = &gltf["bufferViews"][1];
+    let at = v["byteOffset"].as_u64().unwrap() as usize;
+    let normals = floats(&bin[at..at + v["byteLength"].as_u64().unwrap() as usize]);
+    for n in normals.chunks_exact(3) {
+        let largest = n.iter().map(|c| c.abs()).fold(0.0, f64::max);
+        assert!(largest > 0.999, "a box's normal off its faces' axes: {n:?}");
+    }
+}
+
+#[test]
+fn every_command_writing_a_mesh_writes_the_true_surface_and_refuses_a_missing_folder_first() {
+    let dir = scratch("mesh-outputs");
+    // `shape -o X.obj` is `shape -o X.oct` then `export`: the true surface, the same
+    // triangles (the .oct's stored crossings round the vertices by a few 1e-6 voxel).
+    let direct = ok(&dir, &["shape", "sphere", "--depth", "5", "-o", "ball.obj"]);
+    assert!(direct.contains("crossings and normals from the shape"), "{direct}");
+    ok(&dir, &["shape", "sphere", "--depth", "5", "-o", "ball.oct"]);
+    ok(&dir, &["export", "ball.oct", "-o", "exported.obj"]);
+    let staircase = ok(&dir, &["export", "ball.oct", "-o", "stairs.obj", "--surface", "voxels"]);
+    // The OBJs' vertex and face lines as written (a reader would weld the sheets).
+    let lines = |f: &str, tag: &str| -> Vec<Vec<f64>> {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        text.lines()
+            .filter(|l| l.starts_with(tag))
+            .map(|l| l.split_whitespace().skip(1).map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let (a, b) = (lines("ball.obj", "v "), lines("exported.obj", "v "));
+    // (A quad's diagonal, chosen by its crossing, may flip where the two are nearly
+    // tied: the same count.)
+    assert_eq!(a.len(), b.len());
+    assert_eq!(lines("ball.obj", "f ").len(), lines("exported.obj", "f ").len());
+    let apart = |p: &Vec<f64>, q: &Vec<f64>| p.iter().zip(q).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    assert!(a.iter().zip(&b).all(|(p, q)| apart(p, q) < 1e-4 * 0.065));
+    let stairs = lines("stairs.obj", "f ").len();
+    assert!(staircase.contains(&format!("mesh       {stairs} triangles")) && stairs != lines("ball.obj", "f ").len());
+    // An output folder that does not exist is refused before any work, naming it.
+    for args in [
+        &["export", "ball.oct", "-o", "nodir/ball.3mf"][..],
+        &["shape", "sphere", "--depth", "5", "-o", "nodir/ball.octs"],
+        &["render", "ball.oct", "--size", "32x32", "-o", "nodir/ball.png"],
+    ] {
+        let e = fails(&dir, args);
+        assert!(e.contains("the folder nodir does not exist"), "{args:?}: {e}");
+    }
+    // A growth past the domain is said; the result is clipped to it.
+    ok(
+        &dir,
+        &["shape", "sphere", "--radius", "1", "--depth", "5", "--domain", "-1.05,-1.05,-1.05,2.1", "-o", "tight.oct"],
+    );
+    let out = octsolid(&dir, &["offset", "tight.oct", "--by", "0.3", "-o", "grown.oct"]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("the offset reaches the edge of the domain"), "{stderr}");
+    // A scene `build` refuses what `render` refuses: a solid of two sources, two
+    // solids of one name.
+    std::fs::write(
+        dir.join("two.toml"),
+        "[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = 1 } }\nmesh = \"x.obj\"\n",
+    )
+    .unwrap();
+    let e = fails(&dir, &["build", "two.toml", "-o", "two.oct"]);
+    assert!(e.contains("give exactly one of shape, mesh or oct"), "{e}");
+    std::fs::write(
+        dir.join("same.toml"),
+        "[[solid]]\nname = \"a\"\nshape = { sphere = { center = [0, 0, 0], radius = 1 } }\n\
+         [[solid]]\nname = \"a\"\nshape = { sphere = { center = [0, 0, 0], radius = 2 } }\n",
+    )
+    .unwrap();
+    let e = fails(&dir, &["build", "same.toml", "--solid", "a", "-o", "same.oct"]);
+    assert!(e.contains("another solid is named 'a' too"), "{e}");
+}
+
 /// Pixels where channel `c` stands out: above twice the other two and 40.
 fn dominant(img: &image::RgbImage, c: usize) -> usize {
     let stands_out = |p: &image::Rgb<u8>| {

@@ -1,6 +1,7 @@
 //! Output files by extension: a solid is written in the format its `-o` extension
 //! names (octsolid's `.oct`, the voxel formats, or its boundary as a mesh), a picture
-//! as PNG; any other extension is refused before any work, listing what is accepted.
+//! as PNG; any other extension, or a folder that does not exist, is refused before any
+//! work, listing what is accepted.
 //! The extension is read by [`FileKind::of`]; the writing is the library's
 //! [`octsolid::write_solid_file`].
 
@@ -20,7 +21,10 @@ use crate::progress_bar::Bar;
 /// listing what is accepted.
 pub(crate) fn check_extension(path: &Path, accepted: &[FileKind]) -> Result<FileKind> {
     match FileKind::of(path, accepted) {
-        Ok(kind) => Ok(kind),
+        Ok(kind) => {
+            check_folder(path)?;
+            Ok(kind)
+        }
         Err(octsolid::Error::UnknownExtension { found, accepted, .. }) => {
             let found = found.to_ascii_lowercase();
             let found =
@@ -28,6 +32,17 @@ pub(crate) fn check_extension(path: &Path, accepted: &[FileKind]) -> Result<File
             bail!("{}: {found}, which names no format written here; accepted: {}", path.display(), accepted.join(", "))
         }
         Err(e) => Err(e.into()),
+    }
+}
+
+/// Refuses an output whose folder does not exist, before any work (the file itself is
+/// written at the end, through a temporary file beside it).
+pub(crate) fn check_folder(path: &Path) -> Result<()> {
+    match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() && !folder.is_dir() => {
+            bail!("cannot write {}: the folder {} does not exist", path.display(), folder.display())
+        }
+        _ => Ok(()),
     }
 }
 

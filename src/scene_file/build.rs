@@ -65,12 +65,13 @@ pub(super) fn named(solids: &[SolidBuild], name: &str, cx: &Context) -> Result<u
 }
 
 /// The scene's solids to build, named (`solid N` when the file gives no name); fails
-/// when there is none.
+/// when there is none, when a solid gives none or several of `shape`, `mesh` and `oct`
+/// (whether or not it is the one built), and when two share a name.
 pub(super) fn solid_builds<'a>(spec: &'a SceneSpec, cx: &'a Context) -> Result<Vec<SolidBuild<'a>>> {
     if spec.solids.is_empty() {
         return Err(cx.error(None, None, Error::invalid("scene", "it has no [[solid]]")));
     }
-    Ok(spec
+    let solids: Vec<SolidBuild> = spec
         .solids
         .iter()
         .enumerate()
@@ -80,7 +81,18 @@ pub(super) fn solid_builds<'a>(spec: &'a SceneSpec, cx: &'a Context) -> Result<V
             header: s.span(),
             cx,
         })
-        .collect())
+        .collect();
+    for (i, solid) in solids.iter().enumerate() {
+        solid.check_one_source()?;
+        if solids[..i].iter().any(|other| other.name == solid.name) {
+            let reason = format!(
+                "another solid is named {} too; names pick solids, so they differ",
+                quoted(solid.name.as_bytes())
+            );
+            return Err(solid.at(None)(Error::invalid("solid", reason)));
+        }
+    }
+    Ok(solids)
 }
 
 /// What building a scene needs besides its spec.

@@ -25,7 +25,7 @@ use octsolid::sharded;
 use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
 
 use super::info::{print_solids, solid_infos};
-use super::print_summary;
+use super::{print_summary, uses_surface};
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::{Bar, Spinner};
 use crate::sharded_output::ShardFlags;
@@ -89,6 +89,13 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     let union = solids.union();
     print_summary(&union, None);
 
+    if surface.is_some() && !uses_surface(output) {
+        out!(
+            "surface    .{} keeps no surface data: the input's crossings are left out (read back, the surface \
+             is estimated from the voxels; keep the .oct for export)",
+            output_kind.extension()
+        );
+    }
     let started = Instant::now();
     // A mesh shows its own bar while it is meshed.
     let spinner = (!output_kind.writes_mesh()).then(|| Spinner::new("writing"));

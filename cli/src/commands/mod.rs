@@ -26,6 +26,7 @@ use std::time::Instant;
 use std::path::Path;
 
 use anyhow::Result;
+use glam::DVec3;
 use octsolid::Warning;
 use octsolid::import::Input;
 use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
@@ -59,11 +60,18 @@ pub(crate) fn voxelize_with_bar(shape: &dyn Shape, domain: Domain, budget: Memor
     Ok(tree)
 }
 
+/// Whether a file written as `output` uses the solid's surface data: `.oct` keeps it in
+/// its surface section, and the mesh outputs (`.obj`, `.stl`, `.ply`, `.3mf`) contour
+/// their true surface on it.
+pub(crate) fn uses_surface(output: &Path) -> bool {
+    FileKind::of(output, FileKind::SOLID_OUTPUTS).is_ok_and(|kind| kind == FileKind::Oct || kind.writes_mesh())
+}
+
 /// The surface data of `shape` on the boundary faces of `tree`, its voxelization, when
 /// `output` is an `.oct` file (the one format that stores it; [`HermiteData::from_shape`]),
 /// with the time it took printed; `None` for other outputs.
 pub(crate) fn surface_for(output: &Path, shape: &(impl Shape + ?Sized), tree: &LinearOctree) -> Option<HermiteData> {
-    if FileKind::of(output, &[FileKind::Oct]).is_err() {
+    if !uses_surface(output) {
         return None;
     }
     let started = Instant::now();
@@ -71,6 +79,33 @@ pub(crate) fn surface_for(output: &Path, shape: &(impl Shape + ?Sized), tree: &L
     let ms = started.elapsed().as_secs_f64() * 1e3;
     out!("surface    {} boundary faces' crossings and normals from the shape in {ms:.1} ms", surface.len());
     Some(surface)
+}
+
+/// Warns when `result` reaches a face of its domain that `input` kept clear of (what
+/// the operation made past it is cut off), or is empty when `input` was not.
+pub(crate) fn warn_if_clipped(input: &LinearOctree, result: &LinearOctree, what: &str) {
+    if result.is_empty() && !input.is_empty() {
+        warn!("the {what} is empty: no voxel is left");
+        return;
+    }
+    let domain = result.domain();
+    let (lo, hi, half) = (domain.min(), domain.min() + DVec3::splat(domain.edge()), domain.voxel_size() / 2.0);
+    let touches = |tree: &LinearOctree| {
+        tree.bounds().map_or([false; 6], |b| {
+            let low = (b.min - lo).cmplt(DVec3::splat(half));
+            let high = (hi - b.max).cmplt(DVec3::splat(half));
+            [low.x, low.y, low.z, high.x, high.y, high.z]
+        })
+    };
+    let (before, after) = (touches(input), touches(result));
+    if (0..6).any(|i| after[i] && !before[i]) {
+        warn!(
+            "the {what} reaches the edge of the domain (min {}, edge {}): what lies past it is cut off; give the \
+             input a larger domain first (transform IN --domain MINX,MINY,MINZ,EDGE -o OUT)",
+            crate::human::point(lo),
+            crate::human::num(domain.edge())
+        );
+    }
 }
 
 /// Prints nodes, voxels, volume (with the exact one when known), bounds and memory.

@@ -28,7 +28,7 @@ use octsolid::sharded::{self, Morph, ShardedSolid};
 use octsolid::surface::{HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
 use octsolid::{FileKind, MemoryBudget, human_bytes};
 
-use super::print_summary;
+use super::{print_summary, warn_if_clipped};
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
 use crate::progress_bar::Bar;
 use crate::sharded_output::{ShardFlags, is_sharded};
@@ -236,6 +236,7 @@ fn apply(
     let (result, surface) = op(&tree, surface.as_ref(), per_unit, &OffsetOptions { budget, progress: &bar, metric })
         .with_context(|| format!("{}: cannot {name}", input.display()))?;
     out!("{}: {name} in {:.1} ms", input.display(), started.elapsed().as_secs_f64() * 1e3);
+    warn_if_clipped(&tree, &result, name);
     let bytes = write_solid_file(output, &result, &meta, surface, budget)?;
     out!("wrote {} ({})", output.display(), human_bytes(bytes));
     print_summary(&result, None);

@@ -122,6 +122,14 @@ pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
         });
     }
     let tree = voxelize_with_bar(&shape, domain, budget)?;
+    if tree.is_empty() {
+        warn!("the solid is empty: no voxel centre of the shape lies in the domain");
+    } else if let (Some(volume), Some(b)) = (spec.volume(), shape.bounds())
+        && (b.min.cmplt(domain.min()).any() || b.max.cmpgt(domain.min() + DVec3::splat(domain.edge())).any())
+        && tree.volume() < 0.9 * volume
+    {
+        warn!("the shape reaches past the domain: what lies outside it is cut off");
+    }
     let surface = surface_for(&a.output, &shape, &tree);
     let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), surface, budget)?;
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
