@@ -1,5 +1,5 @@
 //! Output files by extension: a solid is written in the format its `-o` extension
-//! names (octsolid's `.oct`, the voxel formats, or its boundary as a mesh), a picture
+//! names (octsolid's `.oct`, the voxel formats, or its true surface as a mesh), a picture
 //! as PNG; any other extension, or a folder that does not exist, is refused before any
 //! work, listing what is accepted.
 //! The extension is read by [`FileKind::of`]; the writing is the library's
@@ -57,8 +57,8 @@ pub(crate) fn check_not_an_input(output: &Path, inputs: &[&Path]) -> Result<()> 
 
 /// Writes `tree` to `path` in the format the extension names
 /// ([`octsolid::write_solid_file`]: `.oct` with `meta` and `surface`, a voxel format,
-/// or the boundary mesh, merged faces, as OBJ, STL or PLY with a bar while it is
-/// meshed). Returns the file size in bytes.
+/// or the true surface contoured on `surface` as OBJ, STL, PLY or 3MF, with a bar
+/// while it is meshed). Returns the file size in bytes.
 pub(crate) fn write_solid_file(
     path: &Path,
     tree: &LinearOctree,

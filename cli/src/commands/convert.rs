@@ -3,7 +3,7 @@
 //! extension.
 //!
 //! Reads `.oct`, MagicaVoxel `.vox`, `.binvox` and OpenVDB `.vdb`
-//! ([`crate::solid_input`]); writes those, `.glb`, or the boundary as a mesh (`.obj`,
+//! ([`crate::solid_input`]); writes those, `.glb`, or the true surface as a mesh (`.obj`,
 //! `.stl`, `.ply`, `.3mf`); `-o OUT` names the output as in the other commands. A file's solids go over as they are: `.vox` and `.vdb` keep one solid
 //! a colour or grid and `.glb` one mesh a solid with its colour; `.oct`, `.binvox` and
 //! the meshes hold one solid, so several are written as their union (said on stdout).
@@ -37,7 +37,7 @@ use crate::values::TargetFlags;
 pub struct ConvertArgs {
     /// The solid file read: .oct, .vox, .binvox or .vdb.
     pub input: PathBuf,
-    /// The file written: .oct, .vox, .binvox, .vdb, .glb, or the boundary as .obj,
+    /// The file written: .oct, .vox, .binvox, .vdb, .glb, or the true surface as .obj,
     /// .stl, .ply or .3mf.
     #[arg(required_unless_present = "output_flag", conflicts_with = "output_flag")]
     pub output: Option<PathBuf>,
