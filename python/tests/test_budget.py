@@ -70,7 +70,7 @@ def test_every_budgeted_call_refuses_a_tiny_budget(tmp_path):
 
 
 def test_a_mesh_file_over_the_budget_is_a_budget_error_naming_it(tmp_path):
-    """`save` to a mesh format meshes the voxels' boundary first: over the budget it is
+    """`save` to a mesh format meshes the solid's true surface first: over the budget it is
     refused as a `BudgetError` (not a file that cannot be written) naming the file, and
     `octsolid convert` refuses the same file with the same words, writing nothing."""
     solid = o.voxelize(PART, 6)
@@ -80,7 +80,7 @@ def test_a_mesh_file_over_the_budget_is_a_budget_error_naming_it(tmp_path):
     for ext in ["stl", "obj", "ply"]:
         path = tmp_path / f"part.{ext}"
         message = refused(lambda **kw: solid.save(path, **kw), budget)
-        assert f"writing {path} (the boundary mesh of" in message, message
+        assert f"writing {path} (the surface of" in message, message
         assert not path.exists(), path
         cli = cli_refusal("--memory-budget", budget, "convert", tmp_path / "part.oct", path)
         assert message in cli, (message, cli)

@@ -92,8 +92,9 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
             Ok(FileKind::Glb) => None,
             Ok(mesh) => Some(mesh),
             Err(octsolid::Error::UnknownExtension { found, .. }) => {
-                let found = if found.is_empty() { "no extension".into() } else { format!("extension .{found}") };
-                bail!("{}: {found} names no mesh format (use .obj, .stl, .ply, .3mf or .glb)", output.display())
+                let found =
+                    if found.is_empty() { "has no extension".into() } else { format!("has extension .{found}") };
+                bail!("{}: {found}, which names no mesh format; accepted: obj, stl, ply, 3mf, glb", output.display())
             }
             Err(e) => return Err(e.into()),
         };
