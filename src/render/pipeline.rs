@@ -239,8 +239,8 @@ pub fn render_streamed(
 impl RenderOptions {
     /// Checks every option against its range: the image size (1 to
     /// [`MAX_IMAGE_SIZE`] a side), 1 to 16 samples a side, the ray depth (at most
-    /// [`MAX_RAY_DEPTH`]), the cutoff (0 to 1), the anti-aliasing threshold (0 to 3: a
-    /// sum of three channels' differences) and depth (1 to [`MAX_AA_DEPTH`]), and the exposure. Rendering calls it
+    /// [`MAX_RAY_DEPTH`]), the cutoff (0 to 1), the anti-aliasing threshold (finite, at
+    /// least 0) and depth (1 to [`MAX_AA_DEPTH`]), and the exposure. Rendering calls it
     /// first; the error names the option.
     pub fn validate(&self) -> Result<()> {
         let RenderOptions { width, height, spp, aa, shade, exposure, .. } = *self;
@@ -261,11 +261,11 @@ impl RenderOptions {
             return Err(Error::invalid("ray cutoff", format!("{cutoff} is outside 0..=1")));
         }
         if let AntiAliasing::Adaptive { threshold } | AntiAliasing::Recursive { threshold, .. } = aa
-            && !(0.0..=3.0).contains(&threshold)
+            && !(threshold.is_finite() && threshold >= 0.0)
         {
             return Err(Error::invalid(
                 "anti-aliasing threshold",
-                format!("{threshold} is outside 0..=3 (the sum of the red, green and blue differences)"),
+                format!("{threshold} must be finite and at least 0"),
             ));
         }
         if let AntiAliasing::Recursive { depth, .. } = aa

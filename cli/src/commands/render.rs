@@ -89,8 +89,8 @@ pub struct RenderArgs {
     pub aa: Option<AntiAliasingKind>,
     /// Contrast that makes adaptive anti-aliasing supersample a pixel (recursive: split
     /// a square): the sum of the red, green and blue differences with a neighbour (a
-    /// corner), 0 to 3 (default: the scene's, or 0.3; implies --aa adaptive unless
-    /// --aa is given or the scene's is recursive).
+    /// corner), 0 to 3; above 3 nothing is supersampled (default: the scene's, or 0.3;
+    /// implies --aa adaptive unless --aa is given or the scene's is recursive).
     #[arg(long, value_parser = crate::values::parse_finite)]
     pub aa_threshold: Option<f64>,
     /// Recursive anti-aliasing: the most times a pixel's square is split, 1 to 6
