@@ -528,7 +528,7 @@ fn export_writes_closed_meshes_with_the_octree_volume() {
     assert_eq!((stl["watertight"].clone(), stl["non_manifold_edges"].clone()), (true.into(), 0.into()), "{stl}");
     assert_eq!(stl["vertices"], obj["vertices"]);
     let e = fails(&dir, &["export", "ring.oct", "-o", "ring.xyz"]);
-    assert!(e.contains("ring.xyz") && e.contains(".obj"), "{e}");
+    assert!(e.contains("ring.xyz") && e.contains("accepted: obj, stl, ply, 3mf, glb"), "{e}");
     let e = fails(&dir, &["export", "missing.oct", "-o", "m.obj"]);
     assert!(e.contains("missing.oct"), "{e}");
     std::fs::write(dir.join("junk.oct"), b"not an octree").unwrap();

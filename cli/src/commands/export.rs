@@ -153,6 +153,12 @@ pub fn run(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
         let moved = written.vertices.iter().zip(&mesh.vertices).filter(|(a, b)| a != b).count();
         out!("stl        {moved} vertices where voxels touch moved apart");
     }
+    if format == FileKind::ThreeMf {
+        match meta.units {
+            Some(units) => out!("3mf        in the solid's units ({}), standing on +z", units.name()),
+            None => out!("3mf        in millimetres: the solid records no units (voxelize --units sets them)"),
+        }
+    }
     let (enclosed, volume) = (written.volume(), tree.volume());
     out!("volume     {enclosed:.6} enclosed, {volume:.6} octree ({:+.1e} relative)", enclosed / volume - 1.0);
     out!("time       {:.1} ms ({} surface)", elapsed * 1e3, surface.style);
