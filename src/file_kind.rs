@@ -191,6 +191,13 @@ impl FileKind {
         FileKind::MESH_OUTPUTS.contains(&self)
     }
 
+    /// Whether a solid written as this kind uses its surface data: `.oct` keeps it in
+    /// its surface section, and the mesh outputs contour their true surface on it.
+    #[must_use]
+    pub fn uses_surface(self) -> bool {
+        self == FileKind::Oct || self.writes_mesh()
+    }
+
     /// Whether this kind is a picture ([`FileKind::PICTURES`]).
     #[must_use]
     pub fn is_picture(self) -> bool {

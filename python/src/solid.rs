@@ -385,8 +385,7 @@ impl Solid {
         progress: Option<Want>,
     ) -> PyResult<u64> {
         let kind = FileKind::of(&path, FileKind::SOLID_OUTPUTS).py()?;
-        let uses_surface = kind == FileKind::Oct || kind.writes_mesh();
-        let surface = if uses_surface && surface { self.surface_data(py)? } else { None };
+        let surface = if kind.uses_surface() && surface { self.surface_data(py)? } else { None };
         let (tree, meta) = (&self.tree, self.meta);
         let job = Job::new(memory_budget, progress, if kind.writes_mesh() { "meshing" } else { "writing" });
         job.run(py, |budget, progress| {

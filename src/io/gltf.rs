@@ -37,6 +37,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use glam::DVec3;
+use smallvec::SmallVec;
 
 use super::solid_set::{Solids, SolidsRef};
 use crate::atomic::write_atomic;
@@ -45,6 +46,7 @@ use crate::error::{Error, Result};
 use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, boundary_mesh_of_size};
 use crate::progress::NoProgress;
 use crate::shape::Axis;
+use crate::surface::Fans;
 
 /// Colour of a solid without one (linear).
 const DEFAULT_COLOR: DVec3 = DVec3::splat(0.6);
@@ -110,38 +112,41 @@ pub fn shaded_mesh(mesh: &TriangleMesh) -> FlatMesh {
             (b - a).cross(c - a)
         })
         .collect();
-    let mut fans: Vec<Vec<u32>> = vec![Vec::new(); mesh.vertices.len()];
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        for &v in tri {
-            fans[v as usize].push(t as u32);
-        }
-    }
+    let fans = Fans::of(mesh.vertices.len(), &mesh.triangles);
     let min_cosine = CREASE_DEGREES.to_radians().cos();
     let mut out = FlatMesh { positions: Vec::new(), normals: Vec::new(), indices: vec![0; 3 * mesh.triangles.len()] };
-    for (v, fan) in fans.iter().enumerate() {
-        // Groups: their first face's unit normal, and the sum of their faces' normals.
-        let mut groups: Vec<(DVec3, DVec3, Vec<u32>)> = Vec::new();
-        for &t in fan {
-            let n = normals[t as usize];
-            let unit = n.normalize_or_zero();
-            match groups.iter_mut().find(|g| g.0.dot(unit) >= min_cosine) {
-                Some(group) => {
-                    group.1 += n;
-                    group.2.push(t);
-                }
-                None => groups.push((unit, n, vec![t])),
-            }
-        }
-        let p = mesh.vertices[v];
-        for (seed, sum, faces) in groups {
+    for (v, &p) in mesh.vertices.iter().enumerate() {
+        let fan = fans.of_vertex(v);
+        // Groups: their first face's unit normal and the sum of their faces' normals;
+        // each face of the fan, its group.
+        let mut groups: SmallVec<[(DVec3, DVec3); 4]> = SmallVec::new();
+        let group_of: SmallVec<[u32; 16]> = fan
+            .iter()
+            .map(|&t| {
+                let n = normals[t as usize];
+                let unit = n.normalize_or_zero();
+                let g = match groups.iter().position(|g| g.0.dot(unit) >= min_cosine) {
+                    Some(g) => {
+                        groups[g].1 += n;
+                        g
+                    }
+                    None => {
+                        groups.push((unit, n));
+                        groups.len() - 1
+                    }
+                };
+                g as u32
+            })
+            .collect();
+        let first = out.positions.len() as u32;
+        for &(seed, sum) in &groups {
             let normal = sum.try_normalize().unwrap_or(seed);
-            let id = out.positions.len() as u32;
             out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
             out.normals.push([normal.x as f32, normal.y as f32, normal.z as f32]);
-            for t in faces {
-                let corner = mesh.triangles[t as usize].iter().position(|&c| c as usize == v).unwrap_or(0);
-                out.indices[3 * t as usize + corner] = id;
-            }
+        }
+        for (&t, g) in fan.iter().zip(group_of) {
+            let corner = mesh.triangles[t as usize].iter().position(|&c| c as usize == v).unwrap_or(0);
+            out.indices[3 * t as usize + corner] = first + g;
         }
     }
     out

@@ -155,7 +155,7 @@ pub(crate) struct Fans {
 
 impl Fans {
     /// The fans of `vertices` vertices over polygons of `N` corners, in polygon order.
-    pub(super) fn of<const N: usize>(vertices: usize, polygons: &[[u32; N]]) -> Fans {
+    pub(crate) fn of<const N: usize>(vertices: usize, polygons: &[[u32; N]]) -> Fans {
         let mut offsets = vec![0u32; vertices + 1];
         for p in polygons {
             for &v in p {
@@ -177,7 +177,7 @@ impl Fans {
     }
 
     /// The polygons around vertex `v`.
-    pub(super) fn of_vertex(&self, v: usize) -> &[u32] {
+    pub(crate) fn of_vertex(&self, v: usize) -> &[u32] {
         &self.faces[self.offsets[v] as usize..self.offsets[v + 1] as usize]
     }
 }

@@ -49,6 +49,7 @@ mod transform;
 mod untangle;
 mod window;
 
+pub(crate) use dual::Fans;
 pub use extract::{CellMerge, DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub(crate) use faces::boundary_faces;
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};

@@ -60,16 +60,16 @@ pub(crate) fn voxelize_with_bar(shape: &dyn Shape, domain: Domain, budget: Memor
     Ok(tree)
 }
 
-/// Whether a file written as `output` uses the solid's surface data: `.oct` keeps it in
-/// its surface section, and the mesh outputs (`.obj`, `.stl`, `.ply`, `.3mf`) contour
-/// their true surface on it.
+/// Whether a file written as `output` uses the solid's surface data
+/// ([`FileKind::uses_surface`]).
 pub(crate) fn uses_surface(output: &Path) -> bool {
-    FileKind::of(output, FileKind::SOLID_OUTPUTS).is_ok_and(|kind| kind == FileKind::Oct || kind.writes_mesh())
+    FileKind::of(output, FileKind::SOLID_OUTPUTS).is_ok_and(FileKind::uses_surface)
 }
 
 /// The surface data of `shape` on the boundary faces of `tree`, its voxelization, when
-/// `output` is an `.oct` file (the one format that stores it; [`HermiteData::from_shape`]),
-/// with the time it took printed; `None` for other outputs.
+/// `output` uses it ([`uses_surface`]: an `.oct` file stores it, a mesh is contoured on
+/// it; [`HermiteData::from_shape`]), with the time it took printed; `None` for other
+/// outputs.
 pub(crate) fn surface_for(output: &Path, shape: &(impl Shape + ?Sized), tree: &LinearOctree) -> Option<HermiteData> {
     if !uses_surface(output) {
         return None;
@@ -89,11 +89,11 @@ pub(crate) fn warn_if_clipped(input: &LinearOctree, result: &LinearOctree, what:
         return;
     }
     let domain = result.domain();
-    let (lo, hi, half) = (domain.min(), domain.min() + DVec3::splat(domain.edge()), domain.voxel_size() / 2.0);
+    let (edges, half) = (domain.aabb(), DVec3::splat(domain.voxel_size() / 2.0));
     let touches = |tree: &LinearOctree| {
         tree.bounds().map_or([false; 6], |b| {
-            let low = (b.min - lo).cmplt(DVec3::splat(half));
-            let high = (hi - b.max).cmplt(DVec3::splat(half));
+            let low = (b.min - edges.min).cmplt(half);
+            let high = (edges.max - b.max).cmplt(half);
             [low.x, low.y, low.z, high.x, high.y, high.z]
         })
     };
@@ -102,7 +102,7 @@ pub(crate) fn warn_if_clipped(input: &LinearOctree, result: &LinearOctree, what:
         warn!(
             "the {what} reaches the edge of the domain (min {}, edge {}): what lies past it is cut off; give the \
              input a larger domain first (transform IN --domain MINX,MINY,MINZ,EDGE -o OUT)",
-            crate::human::point(lo),
+            crate::human::point(edges.min),
             crate::human::num(domain.edge())
         );
     }

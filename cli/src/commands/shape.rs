@@ -125,7 +125,7 @@ pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
     if tree.is_empty() {
         warn!("the solid is empty: no voxel centre of the shape lies in the domain");
     } else if let (Some(volume), Some(b)) = (spec.volume(), shape.bounds())
-        && (b.min.cmplt(domain.min()).any() || b.max.cmpgt(domain.min() + DVec3::splat(domain.edge())).any())
+        && (b.min.cmplt(domain.aabb().min).any() || b.max.cmpgt(domain.aabb().max).any())
         && tree.volume() < 0.9 * volume
     {
         warn!("the shape reaches past the domain: what lies outside it is cut off");
