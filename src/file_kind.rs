@@ -191,11 +191,19 @@ impl FileKind {
         FileKind::MESH_OUTPUTS.contains(&self)
     }
 
+    /// Whether a solid written as this kind is meshed: the mesh outputs and `.glb` write
+    /// its surface, contoured on its surface data.
+    #[must_use]
+    pub fn meshes_solid(self) -> bool {
+        self == FileKind::Glb || self.writes_mesh()
+    }
+
     /// Whether a solid written as this kind uses its surface data: `.oct` keeps it in
-    /// its surface section, and the mesh outputs contour their true surface on it.
+    /// its surface section, and the meshed kinds ([`FileKind::meshes_solid`]) contour
+    /// their true surface on it.
     #[must_use]
     pub fn uses_surface(self) -> bool {
-        self == FileKind::Oct || self.writes_mesh()
+        self == FileKind::Oct || self.meshes_solid()
     }
 
     /// Whether this kind is a picture ([`FileKind::PICTURES`]).

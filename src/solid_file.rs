@@ -8,7 +8,7 @@
 //! | `.octs` | the whole sharded solid within the budget ([`crate::sharded`]; [`SolidFile::read_to_draw`]: at the finest depth that fits) | one solid, at the default cell level, with the metadata |
 //! | `.vox`, `.vdb` | one solid a palette colour, one a grid (a level set's with its surface data from the distances) | one solid each |
 //! | `.binvox` | one solid | one solid |
-//! | `.glb` | | one boundary mesh a solid |
+//! | `.glb` | | each solid's true surface with smooth normals (on [`WriteOptions::surface`] for one solid; [`WriteOptions::mesh_style`] gives the staircase) |
 //! | `.obj`, `.stl`, `.ply`, `.3mf` | | one solid's true surface ([`crate::surface::extract`], on [`WriteOptions::surface`]; [`WriteOptions::mesh_style`] gives the staircase), `.3mf` in the unit and up axis of [`WriteOptions::meta`] ([`write_mesh_file`]) |
 //!
 //! It sits above `io`, `mesh` and `sharded` (it reads and writes through all three) and
@@ -21,6 +21,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
+use crate::io::gltf::{self, NamedMesh};
 use crate::io::oct::{self, Metadata, Units};
 use crate::io::{ColouredSolid, ReadOptions, Solids, SolidsRef, WriteOptions, binvox, file_stem, one_solid, vdb, vox};
 use crate::mesh::{ThreeMfOptions, ThreeMfUnit, TriangleMesh, write_mesh_with};
@@ -28,7 +29,7 @@ use crate::octree::LinearOctree;
 use crate::progress::Progress;
 use crate::shape::Axis;
 use crate::sharded::{self, ShardedSolid, StreamOptions};
-use crate::surface::{ExtractOptions, HermiteData, extract};
+use crate::surface::{ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
 
 /// A solid file as read: its kind, its solids over one domain, and what it records
 /// about its source.
@@ -134,7 +135,7 @@ impl SolidFile {
 /// and `options.surface`, `.octs` with `options.meta` and no surface data (at the
 /// default cell level, in one job: a command with its own cells writes through
 /// [`sharded::write`]), `.binvox`, and `.obj`, `.stl`,
-/// `.ply` and `.3mf` the solid's surface by [`crate::surface::extract`] (the true surface,
+/// `.ply` and `.3mf` (and `.glb`, every solid's) the solid's surface by [`crate::surface::extract`] (the true surface,
 /// contoured on `options.surface` or estimated from the voxels without it, or the
 /// staircase with merged faces by `options.mesh_style`; `progress` counts its steps) and
 /// written by [`write_mesh_file`] with `options.meta`, refused for an empty solid, which
@@ -161,19 +162,62 @@ pub fn write_solid_file(
         }
         let none = HermiteData::none();
         let hermite = options.surface.as_deref().unwrap_or(&none);
-        let extract_options =
-            ExtractOptions { style: options.mesh_style, budget: options.budget, ..Default::default() };
-        let surface = extract(tree, hermite, &extract_options, progress).map_err(|e| match e {
-            // A refusal for memory stays one (the caller tells it from a file that cannot
-            // be written), naming the output as the voxel formats' refusals do.
-            Error::OverBudget { job, estimate, budget } => {
-                Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
-            }
-            e => unwritable(path, format!("cannot mesh the solid: {e}")),
-        })?;
+        let surface = surface_of(path, tree, hermite, options, progress)?;
         return write_mesh_file(&surface.mesh, path, &options.meta);
     }
+    if kind == FileKind::Glb && options.mesh_style == Style::Smooth {
+        return write_glb_surfaces(path, solids, options, progress);
+    }
     crate::io::write_voxel_solids(path, kind, solids, options)
+}
+
+/// `.glb` of the true surface: each non-empty solid's surface, contoured on
+/// `options.surface` when there is one solid (estimated from the voxels otherwise), one
+/// mesh a solid with its name, colour and smooth normals ([`gltf::write_meshes`]),
+/// turned upright from the up axis `options.meta` records (else `options.up`).
+fn write_glb_surfaces(
+    path: &Path,
+    solids: &SolidsRef<'_>,
+    options: &WriteOptions,
+    progress: &dyn Progress,
+) -> Result<u64> {
+    solids.validate()?;
+    let none = HermiteData::none();
+    let hermite = match (&options.surface, solids.solids.len()) {
+        (Some(surface), 1) => surface,
+        _ => &none,
+    };
+    let surfaces = solids
+        .solids
+        .iter()
+        .filter(|solid| !solid.tree.is_empty())
+        .map(|solid| Ok((solid, surface_of(path, solid.tree, hermite, options, progress)?)))
+        .collect::<Result<Vec<_>>>()?;
+    let meshes: Vec<NamedMesh> = surfaces
+        .iter()
+        .map(|(solid, surface)| NamedMesh { name: &solid.name, color: solid.color, mesh: &surface.mesh })
+        .collect();
+    let up = options.meta.up.unwrap_or(options.up);
+    gltf::write_meshes(path, &meshes, up, solids.domain.voxel_size())
+}
+
+/// The surface of `tree` in `options.mesh_style`, contoured on `hermite`, for writing
+/// `path`: a refusal for memory names the output as the voxel formats' refusals do (and
+/// stays one, so a caller tells it from a file that cannot be written).
+fn surface_of(
+    path: &Path,
+    tree: &LinearOctree,
+    hermite: &HermiteData,
+    options: &WriteOptions,
+    progress: &dyn Progress,
+) -> Result<SurfaceMesh> {
+    let extract_options = ExtractOptions { style: options.mesh_style, budget: options.budget, ..Default::default() };
+    extract(tree, hermite, &extract_options, progress).map_err(|e| match e {
+        Error::OverBudget { job, estimate, budget } => {
+            Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
+        }
+        e => unwritable(path, format!("cannot mesh the solid: {e}")),
+    })
 }
 
 /// Writes `mesh` to `path` as the mesh format its extension names

@@ -27,7 +27,7 @@ pub struct Args {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Voxelize a primitive shape into a solid file (.oct, .octs, .vox, .binvox, .vdb,
-    /// .glb, or its true surface as .obj, .stl, .ply, .3mf).
+    /// or its true surface as .obj, .stl, .ply, .3mf, .glb).
     #[command(after_help = "Examples:\n  octsolid shape sphere --radius 1 --depth 9 -o ball.oct\n  \
 octsolid shape box --size 80,40,30 --center 40,20,15 --voxel-size 0.5 -o bracket.oct")]
     Shape(shape::ShapeArgs),

@@ -57,7 +57,7 @@ pub(crate) fn check_not_an_input(output: &Path, inputs: &[&Path]) -> Result<()> 
 
 /// Writes `tree` to `path` in the format the extension names
 /// ([`octsolid::write_solid_file`]: `.oct` with `meta` and `surface`, a voxel format,
-/// or the true surface contoured on `surface` as OBJ, STL, PLY or 3MF, with a bar
+/// or the true surface contoured on `surface` as OBJ, STL, PLY, 3MF or glTF, with a bar
 /// while it is meshed). Returns the file size in bytes.
 pub(crate) fn write_solid_file(
     path: &Path,
@@ -67,7 +67,7 @@ pub(crate) fn write_solid_file(
     budget: MemoryBudget,
 ) -> Result<u64> {
     let kind = check_extension(path, FileKind::SOLID_OUTPUTS)?;
-    let bar = kind.writes_mesh().then(|| Bar::new("meshing"));
+    let bar = kind.meshes_solid().then(|| Bar::new("meshing"));
     let progress: &dyn Progress = bar.as_ref().map_or(&NoProgress, |b| b);
     let options = WriteOptions { budget, meta: *meta, surface: surface.map(Arc::new), ..WriteOptions::default() };
     Ok(octsolid::write_solid_file(path, &SolidsRef::of_file(path, tree), &options, progress)?)

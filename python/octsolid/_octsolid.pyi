@@ -155,8 +155,8 @@ class Solid:
         progress: ProgressLike = None,
     ) -> int:
         """Writes the solid in the format the extension names (``.oct`` with its surface data
-        unless ``surface=False``, ``.octs``, ``.vox``, ``.binvox``, ``.vdb``, ``.glb``, or the
-        true surface as ``.obj``, ``.stl``, ``.ply``, ``.3mf``, estimated from the voxels with
+        unless ``surface=False``, ``.octs``, ``.vox``, ``.binvox``, ``.vdb``, or the true
+        surface as ``.obj``, ``.stl``, ``.ply``, ``.3mf``, ``.glb``, estimated from the voxels with
         ``surface=False``); returns the bytes written."""
     def export(
         self,

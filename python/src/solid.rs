@@ -366,8 +366,8 @@ impl Solid {
     }
 
     /// Writes the solid to `path` in the format its extension names: `.oct` (with the
-    /// surface data, as `octsolid` writes it), `.octs`, `.vox`, `.binvox`, `.vdb`,
-    /// `.glb`, or its true surface as a mesh (`.obj`, `.stl`, `.ply`, `.3mf`, as
+    /// surface data, as `octsolid` writes it), `.octs`, `.vox`, `.binvox`, `.vdb`, or
+    /// its true surface as a mesh (`.obj`, `.stl`, `.ply`, `.3mf`, `.glb`, as
     /// `octsolid shape ... -o` writes them). `surface=False` leaves the `.oct` file's
     /// surface section out (a smaller file, written sooner, as the library's
     /// `oct::write`; its smooth surface is then estimated from the voxels), and a mesh's
@@ -387,7 +387,7 @@ impl Solid {
         let kind = FileKind::of(&path, FileKind::SOLID_OUTPUTS).py()?;
         let surface = if kind.uses_surface() && surface { self.surface_data(py)? } else { None };
         let (tree, meta) = (&self.tree, self.meta);
-        let job = Job::new(memory_budget, progress, if kind.writes_mesh() { "meshing" } else { "writing" });
+        let job = Job::new(memory_budget, progress, if kind.meshes_solid() { "meshing" } else { "writing" });
         job.run(py, |budget, progress| {
             let options = WriteOptions { meta, surface, budget, ..WriteOptions::default() };
             let written = octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, progress);
@@ -436,7 +436,7 @@ impl Solid {
             let (tree, meta) = (&self.tree, self.meta);
             return job.run(py, |budget, progress| {
                 let up = meta.up.unwrap_or(octsolid::shape::Axis::Z);
-                let options = WriteOptions { up, budget, ..WriteOptions::default() };
+                let options = WriteOptions { up, budget, mesh_style: Style::Voxels, ..WriteOptions::default() };
                 let written = octsolid::write_solid_file(&path, &SolidsRef::of_file(&path, tree), &options, progress);
                 progress.end_in_one_step();
                 written

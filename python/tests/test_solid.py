@@ -65,7 +65,10 @@ def test_save_writes_the_cli_bytes(tmp_path, ext):
         assert o.load(py_file).voxel_count == solid.voxel_count
 
 
-@pytest.mark.parametrize("ext, flags", [("stl", []), ("obj", []), ("ply", ["--surface", "voxels"]), ("glb", [])])
+@pytest.mark.parametrize(
+    "ext, flags",
+    [("stl", []), ("obj", []), ("ply", ["--surface", "voxels"]), ("glb", []), ("glb", ["--surface", "voxels"])],
+)
 def test_export_writes_the_cli_bytes(tmp_path, ext, flags):
     source = tmp_path / "ring.oct"
     o.voxelize(o.Torus((0, 0, 0), "y", 0.6, 0.3), 5).save(source)

@@ -38,7 +38,8 @@ pub struct WriteOptions {
     pub budget: MemoryBudget,
     /// `.vdb`: compression of the value buffers.
     pub vdb_compression: vdb::Compression,
-    /// The world's up axis (`.glb` turns it to glTF's +Y; default z, octsolid's own).
+    /// The world's up axis where [`WriteOptions::meta`] records none (`.glb` turns it
+    /// to glTF's +Y; default z, octsolid's own).
     pub up: Axis,
     /// What `.oct` and `.octs` record about the solid's source (up axis, units).
     pub meta: Metadata,
@@ -47,8 +48,8 @@ pub struct WriteOptions {
     /// contoured on it (estimated from the voxels without it); other formats leave it
     /// out.
     pub surface: Option<Arc<HermiteData>>,
-    /// The mesh outputs (`.obj`, `.stl`, `.ply`, `.3mf`): the true surface (the default)
-    /// or the voxels' staircase.
+    /// The mesh outputs (`.obj`, `.stl`, `.ply`, `.3mf`) and `.glb`: the true surface
+    /// (the default) or the voxels' staircase.
     pub mesh_style: Style,
 }
 
@@ -95,7 +96,7 @@ pub(crate) fn write_voxel_solids(
         FileKind::Binvox => binvox::write(path, one_solid(path, solids)?, options.budget),
         FileKind::Vox => vox::write(path, solids, options.budget),
         FileKind::Vdb => vdb::write(path, solids, options.vdb_compression, options.budget),
-        FileKind::Glb => gltf::write(path, solids, options.up, options.budget),
+        FileKind::Glb => gltf::write(path, solids, options.meta.up.unwrap_or(options.up), options.budget),
         other => unreachable!("{other:?} is not a voxel solid output"),
     }
 }

@@ -24,7 +24,7 @@ pub struct BuildArgs {
     /// The scene file (.toml).
     pub scene: PathBuf,
     /// Output file: .oct, a sharded solid (.octs, voxelized cell by cell: shape
-    /// solids only), or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
+    /// solids only), or .vox, .binvox, .vdb, or a mesh (.obj, .stl, .ply, .3mf, .glb).
     #[arg(short, long)]
     pub output: PathBuf,
     /// The `[[solid]]` to build, by its name (default: the union of the scene's shape

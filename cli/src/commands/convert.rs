@@ -3,9 +3,10 @@
 //! extension.
 //!
 //! Reads `.oct`, MagicaVoxel `.vox`, `.binvox` and OpenVDB `.vdb`
-//! ([`crate::solid_input`]); writes those, `.glb`, or the true surface as a mesh (`.obj`,
-//! `.stl`, `.ply`, `.3mf`); `-o OUT` names the output as in the other commands. A file's solids go over as they are: `.vox` and `.vdb` keep one solid
-//! a colour or grid and `.glb` one mesh a solid with its colour; `.oct`, `.binvox` and
+//! ([`crate::solid_input`]); writes those, or the true surface as a mesh (`.obj`,
+//! `.stl`, `.ply`, `.3mf`, `.glb`); `-o OUT` names the output as in the other commands.
+//! A file's solids go over as they are: `.vox` and `.vdb` keep one solid a colour or
+//! grid and `.glb` one mesh a solid with its colour; `.oct`, `.binvox` and
 //! the meshes hold one solid, so several are written as their union (said on stdout).
 //! With `--domain` or `--depth` every solid is first brought into that domain (exactly
 //! where the voxels nest, resampled at the target's voxel centres otherwise, as `csg`
@@ -16,13 +17,14 @@
 //! voxels, volume, bounds, then the file written with its size and the times.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use octsolid::io::{ColouredSolid, Solids, WriteOptions};
 use octsolid::octree::{Fit, VoxelizeOptions};
 use octsolid::sharded;
-use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
+use octsolid::{FileKind, MemoryBudget, NoProgress, Progress, human_bytes};
 
 use super::info::{print_solids, solid_infos};
 use super::{print_summary, uses_surface};
@@ -37,8 +39,8 @@ use crate::values::TargetFlags;
 pub struct ConvertArgs {
     /// The solid file read: .oct, .vox, .binvox or .vdb.
     pub input: PathBuf,
-    /// The file written: .oct, .vox, .binvox, .vdb, .glb, or the true surface as .obj,
-    /// .stl, .ply or .3mf.
+    /// The file written: .oct, .vox, .binvox, .vdb, or the true surface as .obj, .stl,
+    /// .ply, .3mf or .glb.
     #[arg(required_unless_present = "output_flag", conflicts_with = "output_flag")]
     pub output: Option<PathBuf>,
     /// The file written, as the positional OUTPUT (the other commands' `-o`).
@@ -98,14 +100,17 @@ pub fn run(a: &ConvertArgs, budget: MemoryBudget) -> Result<()> {
     }
     let started = Instant::now();
     // A mesh shows its own bar while it is meshed.
-    let spinner = (!output_kind.writes_mesh()).then(|| Spinner::new("writing"));
+    let spinner = (!output_kind.meshes_solid()).then(|| Spinner::new("writing"));
     let bytes_out = if output_kind == FileKind::Octs {
         drop(spinner);
         return a.shards.write(output, budget, started, |options| Ok(sharded::write(&union, meta, output, options)?));
     } else if output_kind.holds_many_solids() {
         let up = meta.up.unwrap_or(kind.default_up());
-        let options = WriteOptions { budget, up, meta, ..WriteOptions::default() };
-        octsolid::write_solid_file(output, &solids.borrowed(), &options, &NoProgress)
+        let surface = surface.filter(|_| solids.solids.len() == 1).map(Arc::new);
+        let options = WriteOptions { budget, up, meta, surface, ..WriteOptions::default() };
+        let bar = output_kind.meshes_solid().then(|| Bar::new("meshing"));
+        let progress: &dyn Progress = bar.as_ref().map_or(&NoProgress, |b| b);
+        octsolid::write_solid_file(output, &solids.borrowed(), &options, progress)
             .with_context(|| format!("{}: cannot write", output.display()))?
     } else {
         if solids.solids.len() > 1 {

@@ -366,7 +366,7 @@ fn export_glb(a: &ExportArgs, solids: &octsolid::io::Solids, up: Axis, budget: M
         warn!("--unit-faces is for OBJ, STL, PLY and 3MF; .glb is written with merged faces");
     }
     let started = Instant::now();
-    let options = WriteOptions { budget, up, ..WriteOptions::default() };
+    let options = WriteOptions { budget, up, mesh_style: Style::Voxels, ..WriteOptions::default() };
     let bytes = octsolid::write_solid_file(output, &solids.borrowed(), &options, &NoProgress)
         .with_context(|| format!("{}: cannot export", file.display()))?;
     let meshed = solids.solids.iter().filter(|s| !s.tree.is_empty()).count();

@@ -19,7 +19,7 @@ use crate::solid_input::{ReadFlags, read_solid_file};
 pub struct HullArgs {
     /// The solid file: .oct, .octs, .vox, .binvox or .vdb.
     pub input: PathBuf,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
+    /// Output file: .oct, or .vox, .binvox, .vdb, or a mesh (.obj, .stl, .ply, .3mf, .glb).
     #[arg(short, long)]
     pub output: PathBuf,
     #[command(flatten)]

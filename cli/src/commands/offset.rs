@@ -40,7 +40,7 @@ use crate::solid_input::{ReadFlags, read_solid_file};
 pub struct OffsetArgs {
     /// The solid file: .oct, .octs, .vox, .binvox or .vdb.
     pub input: PathBuf,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
+    /// Output file: .oct, or .vox, .binvox, .vdb, or a mesh (.obj, .stl, .ply, .3mf, .glb).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Grow (positive) or shrink (negative) by this world distance.
@@ -62,7 +62,7 @@ pub struct OffsetArgs {
 pub struct ShellArgs {
     /// The solid file: .oct, .octs, .vox, .binvox or .vdb.
     pub input: PathBuf,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
+    /// Output file: .oct, or .vox, .binvox, .vdb, or a mesh (.obj, .stl, .ply, .3mf, .glb).
     #[arg(short, long)]
     pub output: PathBuf,
     /// The wall's thickness, a world distance.
@@ -84,7 +84,7 @@ pub struct ShellArgs {
 pub struct RoundArgs {
     /// The solid file: .oct, .octs, .vox, .binvox or .vdb.
     pub input: PathBuf,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
+    /// Output file: .oct, or .vox, .binvox, .vdb, or a mesh (.obj, .stl, .ply, .3mf, .glb).
     #[arg(short, long)]
     pub output: PathBuf,
     /// The rounding radius, a world distance.

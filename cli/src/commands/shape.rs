@@ -74,7 +74,7 @@ pub struct ShapeArgs {
     #[arg(long, conflicts_with = "domain", value_parser = crate::values::parse_finite)]
     pub voxel_size: Option<f64>,
     /// Output file: .oct, a sharded solid (.octs, voxelized cell by cell), or .vox,
-    /// .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
+    /// .binvox, .vdb, or a mesh (.obj, .stl, .ply, .3mf, .glb).
     #[arg(short, long)]
     pub output: PathBuf,
     #[command(flatten)]

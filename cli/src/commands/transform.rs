@@ -12,7 +12,7 @@ use glam::DVec3;
 use octsolid::io::{ColouredSolid, Solids, WriteOptions};
 use octsolid::octree::{Domain, Fit, Motion, Turn, VoxelizeOptions};
 use octsolid::surface::{Moved, transform_with_surface};
-use octsolid::{FileKind, MemoryBudget, NoProgress, human_bytes};
+use octsolid::{FileKind, MemoryBudget, NoProgress, Progress, human_bytes};
 
 use super::print_summary;
 use crate::output::{check_extension, check_not_an_input, write_solid_file};
@@ -27,7 +27,7 @@ pub struct TransformArgs {
     /// The solid file: .oct, .vox, .binvox or .vdb (a file of several solids moves
     /// as their union).
     pub input: PathBuf,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
+    /// Output file: .oct, or .vox, .binvox, .vdb, or a mesh (.obj, .stl, .ply, .3mf, .glb).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Move by X,Y,Z world units (applied last).
@@ -97,8 +97,10 @@ pub fn run(a: &TransformArgs, budget: MemoryBudget) -> Result<()> {
                 each.push(ColouredSolid { tree, ..solid });
             }
             let moved = Solids { domain, solids: each };
-            let options = WriteOptions { budget, ..WriteOptions::default() };
-            octsolid::write_solid_file(&a.output, &moved.borrowed(), &options, &NoProgress)?
+            let options = WriteOptions { budget, meta, ..WriteOptions::default() };
+            let meshing = output_kind.meshes_solid().then(|| Bar::new("meshing"));
+            let progress: &dyn Progress = meshing.as_ref().map_or(&NoProgress, |b| b);
+            octsolid::write_solid_file(&a.output, &moved.borrowed(), &options, progress)?
         }
         None => {
             // Exact moves carry the surface data, resampling makes it again; a

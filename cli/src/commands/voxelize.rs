@@ -50,7 +50,7 @@ pub struct VoxelizeArgs {
     /// The source's length unit, recorded in the .oct file: um, mm, cm, m, in or ft.
     #[arg(long)]
     pub units: Option<Units>,
-    /// Output file: .oct, or .vox, .binvox, .vdb, .glb, or a mesh (.obj, .stl, .ply, .3mf).
+    /// Output file: .oct, or .vox, .binvox, .vdb, or a mesh (.obj, .stl, .ply, .3mf, .glb).
     #[arg(short, long)]
     pub output: PathBuf,
     #[command(flatten)]
