@@ -84,6 +84,10 @@ use crate::render::scene::{Cast, Light, Scene};
 
 use std::f64::consts::PI;
 
+/// The unshot fraction the progress bar counts down to when asked to shoot until none
+/// is left (`until` 0): near the rounding of the patches' total power.
+const UNSHOT_FLOOR: f64 = 1e-12;
+
 /// How far to refine.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Stop {
@@ -272,7 +276,8 @@ impl<'a> Shooter<'a> {
     }
 
     /// Refines until `stop`; progress counts thousandths of the way, on a log scale,
-    /// from all unshot to `until`.
+    /// from all unshot to `until` (to [`UNSHOT_FLOOR`] when `until` is 0), or of the
+    /// shots allowed, whichever is further.
     pub fn run(&mut self, stop: Stop, progress: &dyn Progress) {
         progress.start(1000);
         let mut shown = 0u64;
@@ -293,11 +298,11 @@ impl<'a> Shooter<'a> {
         }
         loop {
             let fraction = self.unshot_fraction();
-            let done = if fraction > 0.0 && stop.until > 0.0 && stop.until < 1.0 {
-                ((fraction.ln() / stop.until.ln()).clamp(0.0, 1.0) * 1000.0) as u64
-            } else {
-                1000
-            };
+            let goal = if stop.until > 0.0 { stop.until } else { UNSHOT_FLOOR };
+            let by_energy =
+                if fraction > 0.0 && goal < 1.0 { (fraction.ln() / goal.ln()).clamp(0.0, 1.0) } else { 1.0 };
+            let by_shots = stop.max_shots.map_or(0.0, |m| (self.shots as f64 / m.max(1) as f64).min(1.0));
+            let done = (by_energy.max(by_shots) * 1000.0) as u64;
             if done > shown {
                 progress.advance(done - shown);
                 shown = done;
@@ -651,5 +656,31 @@ mod tests {
         // Patches shot more than once, and their later shots cast no ray.
         assert!(kept.shots > kept.patches.patches.len() as u64, "{} shots", kept.shots);
         assert!(kept.rays < cast.rays, "{} rays kept against {} cast", kept.rays, cast.rays);
+    }
+
+    /// The thousandths reported as a run goes, in order.
+    #[derive(Default)]
+    struct Steps(std::sync::Mutex<Vec<u64>>);
+
+    impl Progress for Steps {
+        fn advance(&self, n: u64) {
+            self.0.lock().unwrap().push(n);
+        }
+    }
+
+    #[test]
+    fn shooting_until_nothing_is_left_moves_its_progress_by_energy_and_shots() {
+        let scene = room();
+        // Until 0 and at most 40 shots: the bar moves shot by shot (each shot both
+        // lowers the unshot energy and spends a fortieth of the shots), never jumping
+        // to the end before the last shot, and ends full.
+        let patches = Patches::build(&scene, 0.25, 4, MemoryBudget::unlimited()).unwrap();
+        let mut s = Shooter::new(&scene, patches, MemoryBudget::unlimited());
+        let steps = Steps::default();
+        s.run(Stop { until: 0.0, max_shots: Some(40) }, &steps);
+        let steps = steps.0.into_inner().unwrap();
+        assert_eq!(s.shots, 40);
+        assert_eq!(steps.iter().sum::<u64>(), 1000, "{steps:?}");
+        assert!(steps.len() >= 20 && steps[..steps.len() - 1].iter().all(|&n| n < 500), "{steps:?}");
     }
 }
