@@ -165,6 +165,11 @@ fn bad_input_gives_one_line_errors() {
     assert!(out.contains("a.oct: exact (voxels nest, refined 1 level)"), "{out}");
     let e = fails(&dir, &["shape", "sphere", "--radius", "-1", "-o", "x.oct"]);
     assert!(e.contains("radius"), "{e}");
+    // A negative number is a value, not a flag: the command says what is wrong with it.
+    let e = fails(&dir, &["shell", "a.oct", "--thickness", "-1", "-o", "x.oct"]);
+    assert!(e.contains("--thickness must be positive, not -1"), "{e}");
+    let e = fails(&dir, &["round", "a.oct", "--radius", "-0.5", "-o", "x.oct"]);
+    assert!(e.contains("--radius") && e.contains("-0.5"), "{e}");
     let e = fails(&dir, &["shape", "sphere", "--depth", "22", "-o", "x.oct"]);
     assert!(e.contains("depth"), "{e}");
     let e = fails(&dir, &["shape", "sphere", "--depth", "21", "--memory-budget", "1GiB", "-o", "x.oct"]);

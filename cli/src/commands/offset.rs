@@ -59,6 +59,7 @@ pub struct OffsetArgs {
 
 /// Arguments of `octsolid shell`.
 #[derive(clap::Args, Debug)]
+#[command(allow_negative_numbers = true)]
 pub struct ShellArgs {
     /// The solid file: .oct, .octs, .vox, .binvox or .vdb.
     pub input: PathBuf,
@@ -81,6 +82,7 @@ pub struct ShellArgs {
 
 /// Arguments of `octsolid round`.
 #[derive(clap::Args, Debug)]
+#[command(allow_negative_numbers = true)]
 pub struct RoundArgs {
     /// The solid file: .oct, .octs, .vox, .binvox or .vdb.
     pub input: PathBuf,
