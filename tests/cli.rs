@@ -392,6 +392,14 @@ fn render_solids_meshes_and_scenes_by_every_method() {
     assert!(e.contains("bad.toml:2:15: unclosed array"), "{e}");
     let e = fails(&dir, &["render", "ring.oct", "--size", "0x10"]);
     assert!(e.contains("image size"), "{e}");
+    // A size or sample count out of range is refused at its place, before any solid is
+    // voxelized.
+    std::fs::write(dir.join("big.toml"), "[image]\nsize = [64, 20000]\nsamples = 2\n").unwrap();
+    let e = fails(&dir, &["render", "big.toml"]);
+    assert!(e.contains("big.toml:2:8: image size 64x20000 is outside 1..=16384 a side"), "{e}");
+    std::fs::write(dir.join("many.toml"), "[image]\nsize = [64, 48]\nsamples = 17\n").unwrap();
+    let e = fails(&dir, &["render", "many.toml"]);
+    assert!(e.contains("many.toml:3:11: samples 17 a side is outside 1..=16"), "{e}");
 }
 
 #[test]

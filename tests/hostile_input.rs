@@ -188,14 +188,20 @@ fn non_finite_and_out_of_range_camera_values_are_refused_with_their_place() {
     assert!(e.contains("s.toml:5:") && e.contains("camera.eye[1] = inf"), "{e}");
     let e = err("eye = [4, 3, 2]\nfov = 1e400");
     assert!(e.contains("s.toml:6:7: "), "{e}");
+    // Values out of their range: refused where they are read, at their place.
+    for (camera, says) in [
+        ("eye = [4, 3, 2]\nfov = 400", "s.toml:6:7: field of view 400 must be between 0 and 180 degrees"),
+        ("eye = [4, 3, 2]\nfov = 0", "s.toml:6:7: field of view 0 must be"),
+        ("projection = \"orthographic\"\nheight = -1", "s.toml:6:10: orthographic height -1 must be positive"),
+    ] {
+        let e = err(camera);
+        assert!(e.contains(says), "{camera}: {e}");
+    }
     // Finite but unusable cameras.
     for (camera, says) in [
-        ("eye = [4, 3, 2]\nfov = 400", "field of view 400"),
-        ("eye = [4, 3, 2]\nfov = 0", "field of view 0"),
         ("eye = [4, 3, 2]\nup = [0, 0, 0]", "gives no vertical"),
         ("eye = [4, 3, 2]\ntarget = [4, 3, 2]", "is at the target"),
         ("eye = [0, 0, 5]\ntarget = [0, 0, 0]\nup = [0, 0, 1]", "along the line of sight"),
-        ("projection = \"orthographic\"\nheight = -1", "orthographic height -1"),
     ] {
         let e = err(camera);
         assert!(e.contains("invalid camera") && e.contains(says), "{camera}: {e}");

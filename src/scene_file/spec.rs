@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 use serde::Deserialize;
+use serde::de::{self, Deserializer};
 use toml::Spanned;
 
 use crate::aabb::Aabb;
@@ -16,8 +17,8 @@ use crate::color::ColorSpec;
 use crate::error::{Error, Result};
 use crate::mesh::InsideRule;
 use crate::render::{
-    AntiAliasingKind, Bump, Camera, DEFAULT_VIEW, Light, Mapping, Material, Normals, Projection, RenderOptions,
-    RenderOverrides, Texture,
+    AntiAliasingKind, Bump, Camera, DEFAULT_VIEW, Light, MAX_IMAGE_SIZE, Mapping, Material, Normals, Projection,
+    RenderOptions, RenderOverrides, Texture,
 };
 use crate::shape::{Axis, ShapeSpec, TransformSpec};
 
@@ -40,9 +41,9 @@ pub(super) struct SceneSpec {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ImageSpec {
-    #[serde(default = "default_size")]
+    #[serde(default = "default_size", deserialize_with = "image_size")]
     pub(super) size: [u32; 2],
-    #[serde(default = "default_samples")]
+    #[serde(default = "default_samples", deserialize_with = "samples_a_side")]
     pub(super) samples: u32,
     #[serde(default = "default_true")]
     pub(super) shadows: bool,
@@ -98,11 +99,51 @@ pub(super) struct CameraSpec {
     /// Direction from the target to the eye when the eye is not given (auto-framing).
     pub(super) view: Option<[f64; 3]>,
     pub(super) up: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "field_of_view")]
     pub(super) fov: Option<f64>,
     /// Perspective (the default) or orthographic.
     pub(super) projection: Option<ProjectionSpec>,
     /// View height of an orthographic camera.
+    #[serde(default, deserialize_with = "view_height")]
     pub(super) height: Option<f64>,
+}
+
+/// `[image] size`, checked where it is read: 1 to [`MAX_IMAGE_SIZE`] a side (as
+/// [`RenderOptions::validate`] asks, refused here at the value's place).
+fn image_size<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<[u32; 2], D::Error> {
+    let [width, height] = <[u32; 2]>::deserialize(d)?;
+    if !(1..=MAX_IMAGE_SIZE).contains(&width) || !(1..=MAX_IMAGE_SIZE).contains(&height) {
+        return Err(de::Error::custom(format!("image size {width}x{height} is outside 1..={MAX_IMAGE_SIZE} a side")));
+    }
+    Ok([width, height])
+}
+
+/// `[image] samples`, checked where it is read: 1 to 16 a side.
+fn samples_a_side<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<u32, D::Error> {
+    let samples = u32::deserialize(d)?;
+    if !(1..=16).contains(&samples) {
+        return Err(de::Error::custom(format!("samples {samples} a side is outside 1..=16")));
+    }
+    Ok(samples)
+}
+
+/// `[camera] fov`, checked where it is read: strictly between 0 and 180 degrees.
+fn field_of_view<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<f64>, D::Error> {
+    let fov = f64::deserialize(d)?;
+    // (A value that is not finite is named by the file's check of every float.)
+    if fov.is_finite() && !(fov > 0.0 && fov < 180.0) {
+        return Err(de::Error::custom(format!("field of view {fov} must be between 0 and 180 degrees")));
+    }
+    Ok(Some(fov))
+}
+
+/// `[camera] height`, checked where it is read: positive.
+fn view_height<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<f64>, D::Error> {
+    let height = f64::deserialize(d)?;
+    if height.is_finite() && height <= 0.0 {
+        return Err(de::Error::custom(format!("orthographic height {height} must be positive")));
+    }
+    Ok(Some(height))
 }
 
 /// How the camera projects; the field of view and the view height are keys of their own.
