@@ -90,7 +90,7 @@ pub use file_kind::FileKind;
 pub use progress::{NoProgress, Progress, Stages};
 pub use quick::quick;
 pub use ray::{Ray, RayCast};
-pub use solid_file::{SolidFile, write_mesh_file, write_solid_file};
+pub use solid_file::{GlbSurfaces, SolidFile, write_glb_surfaces, write_mesh_file, write_solid_file};
 pub use warning::{Place, Warning};
 
 /// The two crates whose types octsolid's API uses, re-exported so a caller names the

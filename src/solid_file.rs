@@ -162,28 +162,57 @@ pub fn write_solid_file(
         }
         let none = HermiteData::none();
         let hermite = options.surface.as_deref().unwrap_or(&none);
-        let surface = surface_of(path, tree, hermite, options, progress)?;
+        let surface = surface_of(path, tree, hermite, &extract_options(options), progress)?;
         return write_mesh_file(&surface.mesh, path, &options.meta);
     }
     if kind == FileKind::Glb && options.mesh_style == Style::Smooth {
-        return write_glb_surfaces(path, solids, options, progress);
+        let up = options.meta.up.unwrap_or(options.up);
+        let surface = options.surface.as_deref();
+        return Ok(write_glb_surfaces(path, solids, surface, &extract_options(options), up, progress)?.bytes);
     }
     crate::io::write_voxel_solids(path, kind, solids, options)
 }
 
-/// `.glb` of the true surface: each non-empty solid's surface, contoured on
-/// `options.surface` when there is one solid (estimated from the voxels otherwise), one
-/// mesh a solid with its name, colour and smooth normals ([`gltf::write_meshes`]),
-/// turned upright from the up axis `options.meta` records (else `options.up`).
-fn write_glb_surfaces(
-    path: &Path,
+/// How [`write_solid_file`] meshes: in `options.mesh_style`, within `options.budget`,
+/// unsimplified.
+fn extract_options(options: &WriteOptions) -> ExtractOptions {
+    ExtractOptions { style: options.mesh_style, budget: options.budget, ..Default::default() }
+}
+
+/// What [`write_glb_surfaces`] wrote.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GlbSurfaces {
+    /// The file's size in bytes.
+    pub bytes: u64,
+    /// Meshes written, one a non-empty solid.
+    pub meshes: usize,
+    /// Their triangles.
+    pub triangles: usize,
+    /// Whether some vertex was estimated from the voxels (no crossing there).
+    pub estimated: bool,
+}
+
+/// Writes `solids` to `path` as one `.glb` of their surfaces: each non-empty solid's
+/// surface by [`extract`] with `options` (contoured on `surface` when `solids` holds
+/// one solid, estimated from the voxels otherwise), one mesh a solid with its name,
+/// colour and smooth normals ([`gltf::write_meshes`]), turned from `up` to glTF's +Y.
+/// `export` and [`write_solid_file`] write `.glb` through it.
+///
+/// # Errors
+/// As [`extract`] (an over-budget refusal naming `path`), and as
+/// [`gltf::write_meshes`].
+pub fn write_glb_surfaces(
+    path: impl AsRef<Path>,
     solids: &SolidsRef<'_>,
-    options: &WriteOptions,
+    surface: Option<&HermiteData>,
+    options: &ExtractOptions,
+    up: Axis,
     progress: &dyn Progress,
-) -> Result<u64> {
+) -> Result<GlbSurfaces> {
+    let path = path.as_ref();
     solids.validate()?;
     let none = HermiteData::none();
-    let hermite = match (&options.surface, solids.solids.len()) {
+    let hermite = match (surface, solids.solids.len()) {
         (Some(surface), 1) => surface,
         _ => &none,
     };
@@ -197,22 +226,27 @@ fn write_glb_surfaces(
         .iter()
         .map(|(solid, surface)| NamedMesh { name: &solid.name, color: solid.color, mesh: &surface.mesh })
         .collect();
-    let up = options.meta.up.unwrap_or(options.up);
-    gltf::write_meshes(path, &meshes, up, solids.domain.voxel_size())
+    let bytes = gltf::write_meshes(path, &meshes, up, solids.domain.voxel_size())?;
+    Ok(GlbSurfaces {
+        bytes,
+        meshes: surfaces.len(),
+        triangles: surfaces.iter().map(|(_, s)| s.mesh.triangles.len()).sum(),
+        estimated: surfaces.iter().any(|(_, s)| s.is_estimate()),
+    })
 }
 
-/// The surface of `tree` in `options.mesh_style`, contoured on `hermite`, for writing
-/// `path`: a refusal for memory names the output as the voxel formats' refusals do (and
-/// stays one, so a caller tells it from a file that cannot be written).
+/// The surface of `tree` by [`extract`] with `options`, contoured on `hermite`, for
+/// writing `path`: a refusal for memory names the output as the voxel formats'
+/// refusals do (and stays one, so a caller tells it from a file that cannot be
+/// written).
 fn surface_of(
     path: &Path,
     tree: &LinearOctree,
     hermite: &HermiteData,
-    options: &WriteOptions,
+    options: &ExtractOptions,
     progress: &dyn Progress,
 ) -> Result<SurfaceMesh> {
-    let extract_options = ExtractOptions { style: options.mesh_style, budget: options.budget, ..Default::default() };
-    extract(tree, hermite, &extract_options, progress).map_err(|e| match e {
+    extract(tree, hermite, options, progress).map_err(|e| match e {
         Error::OverBudget { job, estimate, budget } => {
             Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
         }

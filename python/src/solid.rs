@@ -166,14 +166,7 @@ impl Solid {
         normal_tolerance: Option<f64>,
         job: Job,
     ) -> PyResult<TriangleMesh> {
-        if let Some(angle) = normal_tolerance
-            && !(angle.is_finite() && angle >= 0.0)
-        {
-            return Err(invalid(
-                "normal_tolerance",
-                format!("{angle} is not an angle in degrees (a number, 0 or more)"),
-            ));
-        }
+        check_normal_tolerance(normal_tolerance)?;
         let hermite = self.surface_read_back(py)?;
         let tree = &self.tree;
         job.run(py, |budget, progress| {
@@ -402,7 +395,7 @@ impl Solid {
     /// `tolerance` in voxels and `normal_tolerance` in degrees as `--tolerance` and
     /// `--normal-tolerance` (`None`: no normal bound). Returns the bytes written. `memory_budget`: bytes or a size like `"2GiB"`
     /// (`--memory-budget`); `progress`: `True` for a bar on the terminal, or `f(done,
-    /// total)` (the meshing; `.glb`, written in one step, reports `(0, 1)`, `(1, 1)`).
+    /// total)` (the meshing; the staircase `.glb`, written in one step, reports `(0, 1)`, `(1, 1)`).
     #[pyo3(signature = (path, surface="smooth", tolerance=DEFAULT_TOLERANCE, normal_tolerance=None, memory_budget=None, progress=None))]
     #[allow(clippy::too_many_arguments)]
     fn export(
@@ -426,11 +419,14 @@ impl Solid {
         let style = style_of(surface)?;
         let job = Job::new(memory_budget, progress, "meshing");
         if kind == FileKind::Glb && style == Style::Smooth {
-            let mesh = self.extracted(py, style, tolerance, normal_tolerance, job)?;
-            let (up, voxel) = (self.meta.up.unwrap_or(octsolid::shape::Axis::Z), self.tree.domain().voxel_size());
-            let name = path.file_stem().map_or_else(|| "solid".into(), |s| s.to_string_lossy().into_owned());
-            let named = [octsolid::io::gltf::NamedMesh { name: &name, color: None, mesh: &mesh }];
-            return py.detach(|| octsolid::io::gltf::write_meshes(&path, &named, up, voxel)).py();
+            check_normal_tolerance(normal_tolerance)?;
+            let hermite = self.surface_read_back(py)?;
+            let (tree, up) = (&self.tree, self.meta.up.unwrap_or(octsolid::shape::Axis::Z));
+            return job.run(py, |budget, progress| {
+                let options = ExtractOptions { style, tolerance, normal_tolerance, unit_faces: false, budget };
+                let solids = SolidsRef::of_file(&path, tree);
+                Ok(octsolid::write_glb_surfaces(&path, &solids, hermite.as_deref(), &options, up, progress)?.bytes)
+            });
         }
         if kind == FileKind::Glb {
             let (tree, meta) = (&self.tree, self.meta);
@@ -899,4 +895,14 @@ pub fn load(py: Python<'_>, path: PathBuf, memory_budget: Option<Budget>) -> PyR
     let meta = file.meta;
     let surface = LazySurface::read(file.surface.take());
     Ok(Solid { tree: Arc::new(file.into_union()), meta, surface })
+}
+
+/// Refuses a `normal_tolerance` that is not an angle in degrees.
+fn check_normal_tolerance(normal_tolerance: Option<f64>) -> PyResult<()> {
+    match normal_tolerance {
+        Some(angle) if !(angle.is_finite() && angle >= 0.0) => {
+            Err(invalid("normal_tolerance", format!("{angle} is not an angle in degrees (a number, 0 or more)")))
+        }
+        _ => Ok(()),
+    }
 }

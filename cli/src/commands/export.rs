@@ -20,12 +20,13 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use octsolid::io::WriteOptions;
-use octsolid::io::gltf::{NamedMesh, write_meshes};
 use octsolid::mesh::separate_sheets;
 use octsolid::shape::Axis;
 use octsolid::sharded::{ShardedSolid, SurfaceExportOptions, export_surface};
 use octsolid::surface::{DEFAULT_TOLERANCE, ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
-use octsolid::{FileKind, MemoryBudget, NoProgress, SolidFile, human_bytes, write_mesh_file};
+use octsolid::{
+    FileKind, GlbSurfaces, MemoryBudget, NoProgress, SolidFile, human_bytes, write_glb_surfaces, write_mesh_file,
+};
 
 use crate::human::count;
 use crate::output::{check_folder, check_not_an_input};
@@ -308,7 +309,7 @@ fn export_sharded(a: &ExportArgs, budget: MemoryBudget) -> Result<()> {
 /// `export FILE -o OUT.glb` (the smooth surface, the default): each solid's true surface
 /// (on the file's crossings for a file of one solid, else estimated from the voxels),
 /// simplified by `--tolerance`, one mesh a solid with its colour and smooth normals
-/// ([`octsolid::io::gltf::write_meshes`]).
+/// ([`octsolid::write_glb_surfaces`]).
 fn export_glb_smooth(a: &ExportArgs, read: SolidFile, up: Axis, budget: MemoryBudget) -> Result<()> {
     let (file, output) = (&a.file, &a.output);
     if a.unit_faces {
@@ -316,11 +317,6 @@ fn export_glb_smooth(a: &ExportArgs, read: SolidFile, up: Axis, budget: MemoryBu
     }
     let started = Instant::now();
     let solids = &read.solids;
-    let none = HermiteData::none();
-    let hermite = match (&read.surface, solids.solids.len()) {
-        (Some(surface), 1) => surface,
-        _ => &none,
-    };
     let options = ExtractOptions {
         style: Style::Smooth,
         tolerance: a.tolerance,
@@ -329,21 +325,10 @@ fn export_glb_smooth(a: &ExportArgs, read: SolidFile, up: Axis, budget: MemoryBu
         budget,
     };
     let bar = Bar::new("meshing");
-    let mut surfaces = Vec::new();
-    for solid in solids.solids.iter().filter(|s| !s.tree.is_empty()) {
-        let surface = extract(&solid.tree, hermite, &options, &bar)
-            .with_context(|| format!("{}: cannot export {}", file.display(), solid.name))?;
-        surfaces.push((solid, surface));
-    }
-    drop(bar);
-    let meshes: Vec<NamedMesh> = surfaces
-        .iter()
-        .map(|(solid, surface)| NamedMesh { name: &solid.name, color: solid.color, mesh: &surface.mesh })
-        .collect();
-    let bytes = write_meshes(output, &meshes, up, solids.domain.voxel_size())
+    let written = write_glb_surfaces(output, &solids.borrowed(), read.surface.as_ref(), &options, up, &bar)
         .with_context(|| format!("{}: cannot export", file.display()))?;
-    let triangles: usize = surfaces.iter().map(|(_, s)| s.mesh.triangles.len()).sum();
-    let estimated = surfaces.iter().any(|(_, s)| s.is_estimate());
+    drop(bar);
+    let GlbSurfaces { bytes, meshes, triangles, estimated } = written;
     let n = solids.solids.len();
     out!("read       {} ({}, depth {})", file.display(), count(n, "solid", "solids"), solids.domain.depth());
     let placed =
@@ -351,7 +336,7 @@ fn export_glb_smooth(a: &ExportArgs, read: SolidFile, up: Axis, budget: MemoryBu
     out!(
         "glb        {}, {triangles} triangles (smooth: dual contouring, tolerance {} voxel; {placed}), \
          smooth normals and a base colour each",
-        count(surfaces.len(), "mesh", "meshes"),
+        count(meshes, "mesh", "meshes"),
         a.tolerance
     );
     out!("time       {:.1} ms (surfaces and the file)", started.elapsed().as_secs_f64() * 1e3);
