@@ -14,7 +14,7 @@
 //! | [`Oct`](FileKind::Oct) | `.oct` | a solid (with its metadata) | a solid | [`SOLIDS`](FileKind::SOLIDS), [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
 //! | [`Octs`](FileKind::Octs) | `.octs` | a sharded solid | a solid | both |
 //! | [`Vox`](FileKind::Vox), [`Binvox`](FileKind::Binvox), [`Vdb`](FileKind::Vdb) | `.vox`, `.binvox`, `.vdb` | solids | solids | both |
-//! | [`Glb`](FileKind::Glb) | `.glb` | | boundary meshes | [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
+//! | [`Glb`](FileKind::Glb) | `.glb` | | each solid's surface, one mesh a solid | [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
 //! | [`Obj`](FileKind::Obj), [`Stl`](FileKind::Stl), [`Ply`](FileKind::Ply) | `.obj`, `.stl`, `.ply` | a mesh | a mesh, a solid's boundary | [`MESHES`](FileKind::MESHES), [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
 //! | [`ThreeMf`](FileKind::ThreeMf) | `.3mf` | | a mesh, a solid's boundary | [`MESH_OUTPUTS`](FileKind::MESH_OUTPUTS), [`SOLID_OUTPUTS`](FileKind::SOLID_OUTPUTS) |
 //! | [`Patches`](FileKind::Patches) | `.patches` | Bezier patches | | [`SURFACES`](FileKind::SURFACES) |
@@ -114,7 +114,7 @@ impl FileKind {
         &[FileKind::Oct, FileKind::Octs, FileKind::Vox, FileKind::Binvox, FileKind::Vdb];
 
     /// What a solid can be written as ([`crate::write_solid_file`]): the voxel
-    /// solids, or its boundary as a `.glb` or a mesh.
+    /// solids, or its surface as a mesh or a `.glb`.
     pub const SOLID_OUTPUTS: &'static [FileKind] = &[
         FileKind::Oct,
         FileKind::Octs,

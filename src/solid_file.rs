@@ -24,12 +24,13 @@ use crate::file_kind::FileKind;
 use crate::io::gltf::{self, NamedMesh};
 use crate::io::oct::{self, Metadata, Units};
 use crate::io::{ColouredSolid, ReadOptions, Solids, SolidsRef, WriteOptions, binvox, file_stem, one_solid, vdb, vox};
+use crate::mesh::BoundarySize;
 use crate::mesh::{ThreeMfOptions, ThreeMfUnit, TriangleMesh, write_mesh_with};
 use crate::octree::LinearOctree;
 use crate::progress::Progress;
 use crate::shape::Axis;
 use crate::sharded::{self, ShardedSolid, StreamOptions};
-use crate::surface::{ExtractOptions, HermiteData, Style, SurfaceMesh, extract};
+use crate::surface::{ExtractOptions, HermiteData, Style, SurfaceMesh, extract, peak_bytes};
 
 /// A solid file as read: its kind, its solids over one domain, and what it records
 /// about its source.
@@ -211,15 +212,30 @@ pub fn write_glb_surfaces(
 ) -> Result<GlbSurfaces> {
     let path = path.as_ref();
     solids.validate()?;
+    // Refused before any meshing: coordinates f32 cannot hold, nothing to mesh, and
+    // the meshes of every solid together past the budget (each is kept until the file
+    // is written; `extract` checks one at a time).
+    gltf::check_single_precision_of(solids, Some(path))?;
+    let meshed: Vec<_> = solids.solids.iter().filter(|solid| !solid.tree.is_empty()).collect();
+    if meshed.is_empty() {
+        let what = if solids.solids.len() == 1 { "the solid is empty" } else { "every solid is empty" };
+        return Err(unwritable(path, format!("{what}; there is no boundary to write as a mesh")));
+    }
     let none = HermiteData::none();
     let hermite = match (surface, solids.solids.len()) {
         (Some(surface), 1) => surface,
         _ => &none,
     };
-    let surfaces = solids
-        .solids
-        .iter()
-        .filter(|solid| !solid.tree.is_empty())
+    if options.style == Style::Smooth {
+        let sizes: Vec<BoundarySize> = meshed.iter().map(|solid| BoundarySize::of(solid.tree)).collect();
+        let faces: u128 = sizes.iter().map(|s| s.unit_faces).sum();
+        let simplifying = options.tolerance > 0.0;
+        let bytes = sizes.into_iter().map(|s| peak_bytes(s, hermite, simplifying)).fold(0u64, u64::saturating_add);
+        let job = format!("writing {} (the surfaces of {} boundary voxel faces)", path.display(), faces);
+        options.budget.check(job, bytes)?;
+    }
+    let surfaces = meshed
+        .into_iter()
         .map(|solid| Ok((solid, surface_of(path, solid.tree, hermite, options, progress)?)))
         .collect::<Result<Vec<_>>>()?;
     let meshes: Vec<NamedMesh> = surfaces

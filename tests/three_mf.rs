@@ -21,13 +21,17 @@ use octsolid::shape::{Axis, Torus};
 use octsolid::surface::{HermiteData, Style};
 use octsolid::{MemoryBudget, NoProgress, write_solid_file};
 
-/// What Python reads from the package at `path`: its entry names, then the vertex and
+/// What Python reads from the package at `path` (every entry deflated and smaller for
+/// it): its entry names, then the vertex and
 /// triangle counts, the unit and the enclosed volume, one a line, then the build
 /// item's transform applied to the unit y vector (`x,y,z`; `1 0 0 ...` when none).
 const READER: &str = r#"
 import sys, zipfile, xml.etree.ElementTree as ET
 z = zipfile.ZipFile(sys.argv[1])
 assert z.testzip() is None, "a CRC-32 does not match"
+for info in z.infolist():
+    assert info.compress_type == zipfile.ZIP_DEFLATED, f"{info.filename} is not deflated"
+    assert info.compress_size < info.file_size, f"{info.filename}: {info.compress_size} of {info.file_size} bytes"
 print(",".join(z.namelist()))
 root = ET.fromstring(z.read("3D/3dmodel.model"))
 ns = {"m": "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"}

@@ -119,9 +119,66 @@ fn writers_refuse_over_budget_before_allocating() {
         let (result, held) = peak(|| octsolid::write_solid_file(&path, &solids.borrowed(), &options, &NoProgress));
         let e = result.expect_err(name);
         assert!(matches!(e, Error::OverBudget { .. }), "{name}: {e}");
-        assert!(e.to_string().contains(name) || name.ends_with(".glb"), "{name}: the output is named: {e}");
+        assert!(e.to_string().contains(name), "{name}: the output is named: {e}");
         assert!(held < budget.0 / 4, "{name}: {held} bytes held before the refusal");
         assert!(!path.exists(), "{name}: nothing is written");
+    }
+}
+
+/// A `.glb` of several solids' surfaces keeps every mesh until the file is written:
+/// the budget holds them together, refused before any is made when each fits alone
+/// but not all, and the estimate holds what the writer then allocates.
+#[test]
+fn a_glb_of_several_surfaces_is_refused_when_their_meshes_together_pass_the_budget() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = scratch("glb-together");
+    let d = Domain::new(DVec3::splat(-1.02), 2.04, 7).unwrap();
+    let (a, b) = (sphere(7), sphere(7).translate([20, 3, 0]));
+    assert_eq!(*a.domain(), d);
+    let two = Solids { domain: d, solids: vec![ColouredSolid::new("a", None, a), ColouredSolid::new("b", None, b)] };
+    let path = dir.join("two.glb");
+    let write = |solids: &Solids, budget: MemoryBudget| {
+        let options = WriteOptions { budget, ..WriteOptions::default() };
+        octsolid::write_solid_file(&path, &solids.borrowed(), &options, &NoProgress)
+    };
+    let alone: Vec<u64> = two
+        .solids
+        .iter()
+        .map(|s| estimate(write(&one(&s.tree), MemoryBudget(0))).expect("refused with nothing"))
+        .collect();
+    let together = estimate(write(&two, MemoryBudget(0))).expect("refused with nothing");
+    assert_eq!(together, alone[0] + alone[1]);
+    let budget = MemoryBudget(alone[0].max(alone[1]));
+    let (result, held) = peak(|| write(&two, budget));
+    let e = result.expect_err("each fits alone, not both");
+    assert!(matches!(e, Error::OverBudget { .. }) && e.to_string().contains("two.glb"), "{e}");
+    assert!(held < budget.0 / 4, "{held} bytes held before the refusal");
+    assert!(!path.exists());
+    let (bytes, held) = peak(|| write(&two, MemoryBudget(together)).unwrap());
+    assert!(held <= together, "held {held} bytes, estimated {together}");
+    assert_eq!(std::fs::metadata(&path).unwrap().len(), bytes);
+}
+
+/// The surface's estimate holds what `extract` allocates, with the crossings of the
+/// shape or estimated from the voxels, simplified or not, and is not ten times more.
+#[test]
+fn the_surface_estimate_holds_what_extraction_allocates() {
+    use octsolid::surface::{ExtractOptions, HermiteData, extract};
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    for depth in [5, 6, 8] {
+        let tree = sphere(depth);
+        let exact = HermiteData::from_shape(&Sphere::new(DVec3::ZERO, 1.0).unwrap(), &tree);
+        for (surface, hermite) in [("exact", &exact), ("estimated", &HermiteData::none())] {
+            for tolerance in [0.0, 0.04] {
+                let case = format!("sphere {depth}, {surface}, tolerance {tolerance}");
+                let options = |budget| ExtractOptions { tolerance, budget, ..ExtractOptions::default() };
+                let refused = extract(&tree, hermite, &options(MemoryBudget(0)), &NoProgress).map(|_| ());
+                let Some(need) = estimate(refused) else { panic!("{case}: not refused") };
+                let (_, held) = peak(|| extract(&tree, hermite, &options(MemoryBudget(need)), &NoProgress).unwrap());
+                assert!(held <= need, "{case}: held {held} bytes, estimated {need}");
+                assert!(need <= 10 * held, "{case}: estimated {need}, held {held}");
+            }
+        }
     }
 }
 

@@ -280,7 +280,7 @@ fn encode_for(solids: &SolidsRef<'_>, up: Axis, budget: MemoryBudget, output: Op
 
 /// Refuses the first solid whose coordinates `f32` cannot hold, naming `output` when
 /// given.
-fn check_single_precision_of(solids: &SolidsRef<'_>, output: Option<&Path>) -> Result<()> {
+pub(crate) fn check_single_precision_of(solids: &SolidsRef<'_>, output: Option<&Path>) -> Result<()> {
     for solid in &solids.solids {
         check_single_precision(solid.tree.bounds(), solids.domain.voxel_size()).map_err(|reason| {
             let reason = match output {

@@ -10,7 +10,7 @@
 //! | `.vox`    | yes  | yes   | one solid a palette colour (MagicaVoxel, [`super::vox`]) |
 //! | `.binvox` | yes  | yes   | one solid (binvox, [`super::binvox`]) |
 //! | `.vdb`    | yes  | yes   | one grid read; one fog-volume grid a solid written ([`super::vdb`]) |
-//! | `.glb`    | no   | yes   | one boundary mesh a solid, PBR base colour ([`super::gltf`]) |
+//! | `.glb`    | no   | yes   | one mesh a solid (its surface, [`crate::write_glb_surfaces`]; the staircase here), PBR base colour ([`super::gltf`]) |
 //!
 //! Every reader names the file and the place (byte offset, chunk or line) of what it
 //! refuses, checks the memory a header claims against [`super::ReadOptions::budget`]

@@ -31,9 +31,20 @@ const MERGE_SHARE: f64 = 0.25;
 /// untangling, the cell merge, simplification), so the bar moves evenly.
 const STAGE_WEIGHTS: [u64; 4] = [10, 7, 20, 52];
 
-/// Estimated peak bytes a boundary face of the extraction takes (the staircase's
-/// quads and sheets, the fans, the QEF's results, the triangles).
-const BYTES_PER_FACE: u64 = 256;
+/// Estimated peak bytes a boundary face with a crossing takes in the extraction (the
+/// staircase's quads and sheets, the fans, the QEF's results, the triangles), beyond
+/// [`FIXED_BYTES`]: the most allocated, measured on spheres at depths 6 to 9 (the
+/// writers' budget test), was 272 a face.
+const BYTES_PER_FACE: u64 = 320;
+/// The same with simplification within 0.04 voxel (the merge and the collapses'
+/// blocks): 424 a face at depth 9, 675 at depth 6.
+const BYTES_PER_SIMPLIFIED_FACE: u64 = 704;
+/// The same for a face without a crossing, whose vertices are estimated (relaxed, then
+/// untangled): 1,105 to 1,261 a face.
+const BYTES_PER_ESTIMATED_FACE: u64 = 1280;
+/// Beside them, whatever the size: the smallest surfaces' tables and blocks (a sphere
+/// at depth 5 took 1.6 MiB more than its faces' share).
+const FIXED_BYTES: u64 = 2 << 20;
 
 /// Which surface leaves the octree.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -174,9 +185,9 @@ pub fn extract(
         });
     }
     let size = BoundarySize::of(tree);
-    let bytes = u64::try_from(size.unit_faces).unwrap_or(u64::MAX).saturating_mul(BYTES_PER_FACE);
-    options.budget.check(format!("the surface of {} boundary voxel faces", size.unit_faces), bytes)?;
     let simplifying = options.tolerance > 0.0;
+    let bytes = peak_bytes(size, hermite, simplifying);
+    options.budget.check(format!("the surface of {} boundary voxel faces", size.unit_faces), bytes)?;
     let stages = Stages::weighted(progress, &STAGE_WEIGHTS[..if simplifying { 4 } else { 2 }]);
     let mut dual = whole_stage(&stages, || DualMesh::of(tree, size, hermite))?;
     let triangles = whole_stage(&stages, || untangle(&mut dual));
@@ -219,6 +230,19 @@ pub fn extract(
         clamped: dual.clamped.iter().filter(|&&c| c).count(),
     };
     Ok(surface)
+}
+
+/// The estimated peak bytes of [`extract`]'s smooth surface of a solid of boundary
+/// `size` with the crossings of `hermite` (its faces past the crossings' count taken as
+/// estimated), `simplifying` or not.
+pub(crate) fn peak_bytes(size: BoundarySize, hermite: &HermiteData, simplifying: bool) -> u64 {
+    let faces = u64::try_from(size.unit_faces).unwrap_or(u64::MAX);
+    let exact = faces.min(hermite.len() as u64);
+    let per_face = if simplifying { BYTES_PER_SIMPLIFIED_FACE } else { BYTES_PER_FACE };
+    exact
+        .saturating_mul(per_face)
+        .saturating_add((faces - exact).saturating_mul(BYTES_PER_ESTIMATED_FACE))
+        .saturating_add(FIXED_BYTES)
 }
 
 /// Runs `work` as one stage of `stages`, shown whole when it ends.

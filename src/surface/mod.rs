@@ -50,6 +50,7 @@ mod untangle;
 mod window;
 
 pub(crate) use dual::Fans;
+pub(crate) use extract::peak_bytes;
 pub use extract::{CellMerge, DEFAULT_TOLERANCE, ExtractOptions, Style, SurfaceMesh, extract};
 pub(crate) use faces::boundary_faces;
 pub use hermite::{Crossing, Direction, FaceKey, HermiteData};
