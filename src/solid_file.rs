@@ -27,7 +27,7 @@ use crate::io::{ColouredSolid, ReadOptions, Solids, SolidsRef, WriteOptions, bin
 use crate::mesh::BoundarySize;
 use crate::mesh::{ThreeMfOptions, ThreeMfUnit, TriangleMesh, write_mesh_with};
 use crate::octree::LinearOctree;
-use crate::progress::Progress;
+use crate::progress::{Progress, Stages};
 use crate::shape::Axis;
 use crate::sharded::{self, ShardedSolid, StreamOptions};
 use crate::surface::{ExtractOptions, HermiteData, Style, SurfaceMesh, extract, peak_bytes};
@@ -196,11 +196,14 @@ pub struct GlbSurfaces {
 /// Writes `solids` to `path` as one `.glb` of their surfaces: each non-empty solid's
 /// surface by [`extract`] with `options` (contoured on `surface` when `solids` holds
 /// one solid, estimated from the voxels otherwise), one mesh a solid with its name,
-/// colour and smooth normals ([`gltf::write_meshes`]), turned from `up` to glTF's +Y.
-/// `export` and [`write_solid_file`] write `.glb` through it.
+/// colour and smooth normals ([`gltf::write_meshes`]), turned from `up` to glTF's +Y;
+/// `progress` fills once over the solids, weighted by their boundaries. `export` and
+/// [`write_solid_file`] write `.glb` through it.
 ///
 /// # Errors
-/// As [`extract`] (an over-budget refusal naming `path`), and as
+/// Before any meshing: coordinates `f32` cannot hold, every solid empty, and the
+/// meshes of all the solids together (each is kept until the file is written) over
+/// `options.budget` ([`Error::OverBudget`] naming `path`); then as [`extract`] and
 /// [`gltf::write_meshes`].
 pub fn write_glb_surfaces(
     path: impl AsRef<Path>,
@@ -226,18 +229,21 @@ pub fn write_glb_surfaces(
         (Some(surface), 1) => surface,
         _ => &none,
     };
+    let sizes: Vec<BoundarySize> = meshed.iter().map(|solid| BoundarySize::of(solid.tree)).collect();
     if options.style == Style::Smooth {
-        let sizes: Vec<BoundarySize> = meshed.iter().map(|solid| BoundarySize::of(solid.tree)).collect();
         let faces: u128 = sizes.iter().map(|s| s.unit_faces).sum();
         let simplifying = options.tolerance > 0.0;
-        let bytes = sizes.into_iter().map(|s| peak_bytes(s, hermite, simplifying)).fold(0u64, u64::saturating_add);
+        let bytes = sizes.iter().map(|&s| peak_bytes(s, hermite, simplifying)).fold(0u64, u64::saturating_add);
         let job = format!("writing {} (the surfaces of {} boundary voxel faces)", path.display(), faces);
         options.budget.check(job, bytes)?;
     }
+    let weights: Vec<u64> = sizes.iter().map(|s| u64::try_from(s.unit_faces).unwrap_or(u64::MAX).max(1)).collect();
+    let stages = Stages::weighted(progress, &weights);
     let surfaces = meshed
         .into_iter()
-        .map(|solid| Ok((solid, surface_of(path, solid.tree, hermite, options, progress)?)))
+        .map(|solid| Ok((solid, surface_of(path, solid.tree, hermite, options, &stages)?)))
         .collect::<Result<Vec<_>>>()?;
+    drop(stages);
     let meshes: Vec<NamedMesh> = surfaces
         .iter()
         .map(|(solid, surface)| NamedMesh { name: &solid.name, color: solid.color, mesh: &surface.mesh })
