@@ -227,6 +227,24 @@ fn style_of(name: &str) -> PyResult<Style> {
 }
 
 /// A domain given as `(min, edge)` at `depth`.
+/// A `depth` argument: any Python integer, one that does not fit a byte refused as the
+/// library refuses a depth out of range (pyo3's own conversion raises an
+/// `OverflowError` naming no argument).
+fn depth_arg(obj: &Bound<'_, PyAny>) -> PyResult<u8> {
+    let given = || obj.repr().map_or_else(|_| "the value".into(), |r| r.to_string());
+    let outside = |given: String| invalid("depth", format!("{given} is outside 1..={}", octsolid::octree::MAX_DEPTH));
+    if !obj.is_instance_of::<pyo3::types::PyInt>() {
+        return Err(invalid("depth", format!("{} is not an integer", given())));
+    }
+    let depth: i128 = obj.extract().map_err(|_| outside(given()))?;
+    u8::try_from(depth).map_err(|_| outside(depth.to_string()))
+}
+
+/// An optional `depth` argument ([`depth_arg`]; `None` for Python's `None`).
+fn optional_depth_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<u8>> {
+    if obj.is_none() { Ok(None) } else { depth_arg(obj).map(Some) }
+}
+
 fn domain_of(domain: ([f64; 3], f64), depth: u8) -> PyResult<Domain> {
     Domain::new(DVec3::from_array(domain.0), domain.1, depth).py()
 }
@@ -526,7 +544,7 @@ impl Solid {
         rotate: Option<Vec<(Bound<'_, PyAny>, f64)>>,
         scale: f64,
         domain: Option<([f64; 3], f64)>,
-        depth: Option<u8>,
+        #[pyo3(from_py_with = optional_depth_arg)] depth: Option<u8>,
         memory_budget: Option<Budget>,
         progress: Option<Want>,
     ) -> PyResult<Solid> {
@@ -723,7 +741,7 @@ fn shape_domain(shape: &octsolid::shape::Csg, depth: u8) -> PyResult<Domain> {
 pub fn voxelize(
     py: Python<'_>,
     shape: &Shape,
-    depth: u8,
+    #[pyo3(from_py_with = depth_arg)] depth: u8,
     domain: Option<([f64; 3], f64)>,
     memory_budget: Option<Budget>,
     progress: Option<Want>,
@@ -822,7 +840,7 @@ pub fn from_mesh(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
-    depth: u8,
+    #[pyo3(from_py_with = depth_arg)] depth: u8,
     inside: &str,
     domain: Option<([f64; 3], f64)>,
     memory_budget: Option<Budget>,
@@ -870,7 +888,7 @@ pub fn from_mesh(
 pub fn load_mesh(
     py: Python<'_>,
     path: PathBuf,
-    depth: u8,
+    #[pyo3(from_py_with = depth_arg)] depth: u8,
     inside: &str,
     domain: Option<([f64; 3], f64)>,
     memory_budget: Option<Budget>,

@@ -54,6 +54,18 @@ def test_bad_arguments_are_value_errors():
         o.Cylinder((0, 0, 0), "w", 1, 1)
     with pytest.raises(o.ArgumentError, match="depth"):
         o.voxelize(o.Sphere((0, 0, 0), 1), 40)
+    # A depth no byte holds, or no integer at all, is named as the library names one.
+    with pytest.raises(o.ArgumentError, match=r"invalid depth: 300 is outside 1\.\.=21"):
+        o.voxelize(o.Sphere((0, 0, 0), 1), 300)
+    with pytest.raises(o.ArgumentError, match=r"invalid depth: -1 is outside"):
+        o.from_mesh(np.zeros((3, 3)), np.array([[0, 1, 2]]), -1)
+    with pytest.raises(o.ArgumentError, match=r"invalid depth: 'a' is not an integer"):
+        o.voxelize(o.Sphere((0, 0, 0), 1), "a")
+    with pytest.raises(o.ArgumentError, match=r"invalid depth: 2\.5 is not an integer"):
+        o.voxelize(o.Sphere((0, 0, 0), 1), 2.5)
+    with pytest.raises(o.ArgumentError, match=r"invalid depth: \d{61} is outside"):
+        o.voxelize(o.Sphere((0, 0, 0), 1), 2**200)
+    assert o.voxelize(o.Sphere((0, 0, 0), 1), 3).transform(scale=2.0, depth=None).voxel_count > 0
     with pytest.raises(o.ArgumentError, match="vertex 7"):
         o.from_mesh(np.zeros((3, 3)), np.array([[0, 1, 7]]), 4)
     with pytest.raises(o.ArgumentError, match=r"\(n, 3\)"):
