@@ -226,7 +226,6 @@ fn style_of(name: &str) -> PyResult<Style> {
     }
 }
 
-/// A domain given as `(min, edge)` at `depth`.
 /// A `depth` argument: any Python integer, one that does not fit a byte refused as the
 /// library refuses a depth out of range (pyo3's own conversion raises an
 /// `OverflowError` naming no argument).
@@ -245,6 +244,7 @@ fn optional_depth_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<u8>> {
     if obj.is_none() { Ok(None) } else { depth_arg(obj).map(Some) }
 }
 
+/// A domain given as `(min, edge)` at `depth`.
 fn domain_of(domain: ([f64; 3], f64), depth: u8) -> PyResult<Domain> {
     Domain::new(DVec3::from_array(domain.0), domain.1, depth).py()
 }
