@@ -138,6 +138,10 @@ pub enum Error {
         /// The budget in bytes.
         budget: u64,
     },
+    /// The job was stopped by its caller ([`crate::Progress::cancelled`]) before it
+    /// finished; it returned nothing and wrote nothing.
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl Error {

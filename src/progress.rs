@@ -6,6 +6,13 @@
 //! voxelization, an extraction's dual contouring, untangling, merge and
 //! simplification, the last weighted by what each takes) reports through [`Stages`],
 //! so its bar fills once.
+//!
+//! A job also asks its [`Progress`] whether to stop ([`Progress::cancelled`]): between
+//! units of work (a row of pixels, a radiosity shot, a cell of a voxelization, a
+//! stage) it polls, and once the answer is yes it returns [`crate::Error::Cancelled`]
+//! without its result, having written nothing (outputs are written whole or not at
+//! all, `atomic`). Python's Ctrl-C stops a long call this way; the CLI is stopped by
+//! the signal itself.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -17,6 +24,27 @@ pub trait Progress: Sync {
     fn advance(&self, _n: u64) {}
     /// The job ended.
     fn finish(&self) {}
+    /// Whether the job should stop: once true, the job returns
+    /// [`crate::Error::Cancelled`] at its next poll (module doc). Polled from any
+    /// thread, often: it must be cheap (an atomic load).
+    fn cancelled(&self) -> bool {
+        false
+    }
+}
+
+/// A job's part that shows no progress of its own but stops with the job: reports
+/// nothing to its inner [`Progress`], asks it whether to stop.
+pub(crate) struct CancelOnly<'a>(pub &'a dyn Progress);
+
+impl Progress for CancelOnly<'_> {
+    fn cancelled(&self) -> bool {
+        self.0.cancelled()
+    }
+}
+
+/// [`crate::Error::Cancelled`] when `progress` asks the job to stop.
+pub(crate) fn stop_if_cancelled(progress: &dyn Progress) -> crate::Result<()> {
+    if progress.cancelled() { Err(crate::Error::Cancelled) } else { Ok(()) }
 }
 
 /// Ignores all progress.
@@ -32,7 +60,7 @@ const STAGE_UNITS: u64 = 1 << 20;
 /// One job of `count` stages run one after another on one [`Progress`]: each stage
 /// reports as a job of its own (its `start`, `advance`s and `finish`, as the library's
 /// jobs do) and fills its share of the bar (equal shares, or as weighted), so the bar
-/// goes once from 0 to 100% instead of once a stage. A stage's share is shown whole
+/// goes once from 0 to 100% instead of once a stage. A stage's share is shown whole (unless the job was cancelled)
 /// when the next one starts or it finishes; starts beyond `count` add nothing; the
 /// last stage's `finish` (or the drop, when a stage failed or never started) finishes
 /// the bar.
@@ -114,8 +142,15 @@ impl Progress for Stages<'_> {
         }
     }
 
+    fn cancelled(&self) -> bool {
+        self.inner.cancelled()
+    }
+
     fn finish(&self) {
-        self.complete_stage();
+        // A cancelled job's stage is not shown whole: it stopped short.
+        if !self.cancelled() {
+            self.complete_stage();
+        }
         if self.started.load(Ordering::Relaxed) >= self.shares.len() as u64
             && !self.finished.swap(true, Ordering::Relaxed)
         {

@@ -272,6 +272,7 @@ fn surface_of(
         Error::OverBudget { job, estimate, budget } => {
             Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
         }
+        Error::Cancelled => Error::Cancelled,
         e => unwritable(path, format!("cannot mesh the solid: {e}")),
     })
 }

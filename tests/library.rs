@@ -19,6 +19,8 @@ mod appearance;
 mod boundary;
 #[path = "bvh.rs"]
 mod bvh;
+#[path = "cancel.rs"]
+mod cancel;
 #[path = "csg_many.rs"]
 mod csg_many;
 #[path = "exact_surface.rs"]

@@ -13,7 +13,8 @@ PathLikeStr = Union[str, "PathLike[str]"]
 Bounds = Tuple[list[float], list[float]]
 # ``memory_budget=``: bytes, or a size as ``--memory-budget`` takes it (``"512MiB"``, ``"2GiB"``).
 MemoryBudget = Union[int, str]
-# ``progress=``: ``True`` for a bar on the terminal, or ``f(done, total)``.
+# ``progress=``: ``True`` for a bar on the terminal, or ``f(done, total)``. Whatever it is,
+# Ctrl-C stops a long call at the library's next step and raises ``KeyboardInterrupt``.
 ProgressLike = Union[bool, Callable[[int, int], object], None]
 Metric = Literal["euclidean", "manhattan", "chebyshev"]
 

@@ -9,6 +9,7 @@
 //! | `Format`, `Parse`, `Toml`, `Scene`, `UnknownExtension`, `Undrawable` | `octsolid.FormatError` | `ValueError` |
 //! | `InvalidArgument`, `DomainMismatch`, `InvalidOctree` | `octsolid.ArgumentError` | `ValueError` |
 //! | `OverBudget` | `octsolid.BudgetError` | `MemoryError` |
+//! | `Cancelled` | `KeyboardInterrupt` (Ctrl-C, `crate::job`) | |
 //!
 //! A scene's error takes the class of its cause (a scene naming a missing file is a
 //! `FileError`), with the scene's place in the message.
@@ -56,6 +57,10 @@ fn error_class<'py>(py: Python<'py>, name: &'static str) -> PyResult<Bound<'py, 
 
 /// A library error as the Python exception of its kind (see the module doc).
 pub fn to_py(e: octsolid::Error) -> PyErr {
+    if let octsolid::Error::Cancelled = e {
+        // Only Ctrl-C cancels (`crate::job`), which raises its own exception first.
+        return pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string());
+    }
     Python::attach(|py| {
         let class = match error_class(py, class_name(&e)) {
             Ok(class) => class,

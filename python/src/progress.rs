@@ -11,11 +11,15 @@
 //! The library calls [`Progress`] from its worker threads with the GIL released; a
 //! callable is called with the GIL taken back for the call. If it raises, it is not
 //! called again and its exception is raised when the library's work returns
-//! ([`Reporter::check`]); the work itself is not stopped (the library has no way to).
+//! ([`Reporter::check`]); the work itself is not stopped by it.
+//!
+//! Ctrl-C stops the work: the reporter answers the library's
+//! [`Progress::cancelled`] from [`Reporter::stop`], which `crate::job` sets when
+//! Python's signal handler raised while the work ran (whatever `progress=` is).
 
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use octsolid::{NoProgress, Progress};
@@ -63,15 +67,25 @@ impl Want {
     /// What reports this call's progress, a bar labelled `label` for `True`.
     pub fn reporter(self, label: &'static str) -> Reporter {
         match self {
-            Want::Nothing => Reporter::Nothing(NoProgress),
-            Want::Bar => Reporter::Bar(Bar::new(label)),
-            Want::Call(f) => Reporter::Call(Callback::new(f)),
+            Want::Nothing => Sink::Nothing(NoProgress),
+            Want::Bar => Sink::Bar(Bar::new(label)),
+            Want::Call(f) => Sink::Call(Callback::new(f)),
         }
+        .into()
     }
 }
 
-/// Where one call's progress goes: the library's [`Progress`].
-pub enum Reporter {
+/// Where one call's progress goes, and whether the call was interrupted: the
+/// library's [`Progress`].
+pub struct Reporter {
+    sink: Sink,
+    /// Set when the call is to stop (Ctrl-C, `crate::job`): the library's
+    /// [`Progress::cancelled`].
+    stop: AtomicBool,
+}
+
+/// Where one call's progress goes.
+enum Sink {
     /// Nowhere.
     Nothing(NoProgress),
     /// A bar on the terminal.
@@ -80,11 +94,22 @@ pub enum Reporter {
     Call(Callback),
 }
 
+impl From<Sink> for Reporter {
+    fn from(sink: Sink) -> Self {
+        Reporter { sink, stop: AtomicBool::new(false) }
+    }
+}
+
 impl Reporter {
+    /// Asks the library's work to stop at its next poll.
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+
     /// The callable's exception, if it raised one while the work ran.
     pub fn check(self) -> PyResult<()> {
-        match self {
-            Reporter::Call(c) => c.raised.into_inner().map_or(Ok(()), |raised| raised.map_or(Ok(()), Err)),
+        match self.sink {
+            Sink::Call(c) => c.raised.into_inner().map_or(Ok(()), |raised| raised.map_or(Ok(()), Err)),
             _ => Ok(()),
         }
     }
@@ -93,10 +118,10 @@ impl Reporter {
     /// `finish()`), so a callable always ends at `(total, total)`: a file written at
     /// once. Nothing when the library reported steps.
     pub fn end_in_one_step(&self) {
-        let silent = match self {
-            Reporter::Nothing(_) => false,
-            Reporter::Bar(b) => b.drawn.lock().is_ok_and(|d| d.is_none()) && b.total.load(Ordering::Relaxed) == 0,
-            Reporter::Call(c) => c.last.lock().is_ok_and(|l| l.is_none()),
+        let silent = match &self.sink {
+            Sink::Nothing(_) => false,
+            Sink::Bar(b) => b.drawn.lock().is_ok_and(|d| d.is_none()) && b.total.load(Ordering::Relaxed) == 0,
+            Sink::Call(c) => c.last.lock().is_ok_and(|l| l.is_none()),
         };
         if silent {
             self.start(1);
@@ -105,10 +130,10 @@ impl Reporter {
     }
 
     fn inner(&self) -> &dyn Progress {
-        match self {
-            Reporter::Nothing(n) => n,
-            Reporter::Bar(b) => b,
-            Reporter::Call(c) => c,
+        match &self.sink {
+            Sink::Nothing(n) => n,
+            Sink::Bar(b) => b,
+            Sink::Call(c) => c,
         }
     }
 }
@@ -122,6 +147,9 @@ impl Progress for Reporter {
     }
     fn finish(&self) {
         self.inner().finish();
+    }
+    fn cancelled(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
     }
 }
 

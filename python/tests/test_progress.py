@@ -3,6 +3,7 @@ pseudo-terminal here) and nothing otherwise; the result is the same either way. 
 callable `progress=f` is called with `(done, total)`, `done` growing to `total`."""
 
 import os
+import signal
 import pty
 import subprocess
 import sys
@@ -116,3 +117,26 @@ def test_a_callable_that_raises_raises_from_the_call():
         o.voxelize(o.Sphere((0, 0, 0), 1), 7, progress=broken)
     with pytest.raises(o.ArgumentError, match="progress"):
         o.voxelize(o.Sphere((0, 0, 0), 1), 4, progress="yes")
+
+
+def test_ctrl_c_stops_a_long_call_and_raises_keyboard_interrupt():
+    """Ctrl-C while the library works: the call stops at the library's next poll (a row
+    of pixels here) and raises KeyboardInterrupt. The oracle of "stopped" is the
+    progress callable: it never sees the last row."""
+    solid = o.voxelize(o.Sphere((0, 0, 0), 1), 7)
+    seen = []
+
+    def interrupt_once_started(done, total):
+        seen.append((done, total))
+        if done > 0 and len(seen) == 2:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    with pytest.raises(KeyboardInterrupt):
+        o.render(solid, size=(3000, 3000), spp=3, progress=interrupt_once_started)
+    total = seen[0][1]
+    assert seen[0] == (0, total) and total == 3000
+    assert max(done for done, _ in seen) < total, seen
+    # The package works on after it: the same call, smaller, runs to its end.
+    calls = []
+    o.render(solid, size=(64, 64), progress=lambda done, total: calls.append((done, total)))
+    assert calls[-1] == (64, 64)

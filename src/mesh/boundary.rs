@@ -52,7 +52,7 @@ use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::morton;
 use crate::octree::{LinearOctree, NodeKey, keys_meeting_near};
-use crate::progress::{NoProgress, Progress};
+use crate::progress::{NoProgress, Progress, stop_if_cancelled};
 use sheets::QuarterFace;
 
 /// Items a parallel task handles.
@@ -255,6 +255,7 @@ pub(crate) fn boundary_mesh_of_size(
     }
 
     progress.advance(1);
+    stop_if_cancelled(progress)?;
     // 2. Polygons with the extra vertices that T-junctions need.
     let polygons = if options.unit_faces {
         rects.par_chunks(CHUNK).map(|chunk| Polygons::of(chunk, &[])).collect::<Vec<_>>()
@@ -271,12 +272,14 @@ pub(crate) fn boundary_mesh_of_size(
     }
 
     progress.advance(1);
+    stop_if_cancelled(progress)?;
     // 3. One vertex a sheet at each lattice point.
     let (points, ids) = weld_sheets(&rects, &polygons);
     let domain = tree.domain();
     let vertices: Vec<_> = points.par_iter().map(|&p| domain.lattice_point(p)).collect();
 
     progress.advance(1);
+    stop_if_cancelled(progress)?;
     // 4. Triangles.
     let triangles = (0..rects.len())
         .into_par_iter()
@@ -284,6 +287,7 @@ pub(crate) fn boundary_mesh_of_size(
         .flat_map_iter(|s| triangulate(usize::from(rects[s].axis), polygons.get(s), &ids[polygons.range(s)]))
         .collect();
     progress.advance(1);
+    stop_if_cancelled(progress)?;
     progress.finish();
     Ok(TriangleMesh { vertices, triangles, groups: Vec::new() })
 }

@@ -200,7 +200,7 @@ pub fn voxelize_mesh(
         return Ok((LinearOctree::empty(domain), stats));
     }
     let (rule, job, root) = prepare(&mesh, domain, options.inside, copied);
-    let (tree, mut stats) = plan.run(&job, root);
+    let (tree, mut stats) = plan.run(&job, root)?;
     stats.rule = Some(rule);
     stats.void_triangles = void_triangles;
     Ok((tree, stats))

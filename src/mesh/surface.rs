@@ -46,7 +46,7 @@ pub fn voxelize_surface(
     let job = Surface { mesh, domain, kind };
     let all: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
     let root = job.meeting(&all, &domain.cube_box([0; 3], domain.resolution()));
-    Ok(plan.run(&job, root).0)
+    Ok(plan.run(&job, root)?.0)
 }
 
 /// Estimated peak bytes of the surface voxelization of `mesh` in `domain`:

@@ -21,6 +21,9 @@
 //!   level `l <= P` that is not split reports its `8^(P - l)` level-`P` nodes when
 //!   decided, and a split node at level `P` reports its one unit before its subtree
 //!   runs, so the units add up to `8^P` whatever the shape of the tree.
+//! - **Cancel.** Every node at a level `<= P` polls [`Progress::cancelled`] before it is
+//!   decided; once it says stop, the walk decides nothing more and the run returns
+//!   [`crate::Error::Cancelled`].
 //! - **Cells.** [`Plan::run_cells`] runs the same walk for the aligned cells `L` levels
 //!   below the root in a range of their Morton numbers ([`Cells`]), handing each
 //!   cell's keys to a [`CellSink`] as soon as the cell is done, so a solid larger than
@@ -41,7 +44,7 @@ use super::node::NodeKey;
 use super::ranges;
 use crate::budget::MemoryBudget;
 use crate::error::Result;
-use crate::progress::{NoProgress, Progress};
+use crate::progress::{NoProgress, Progress, stop_if_cancelled};
 
 /// Levels below the root that are split into parallel tasks (up to 8^3 = 512 tasks).
 pub const PARALLEL_LEVELS: u8 = 3;
@@ -111,14 +114,15 @@ impl<'a> Plan<'a> {
     }
 
     /// Runs `voxelizer` from the root, which starts from `root`.
-    pub(crate) fn run<V: Voxelizer>(self, voxelizer: &V, root: V::Node) -> (LinearOctree, V::Counters) {
+    pub(crate) fn run<V: Voxelizer>(self, voxelizer: &V, root: V::Node) -> Result<(LinearOctree, V::Counters)> {
         let parallel_levels = PARALLEL_LEVELS.min(self.domain.depth());
         self.progress.start(1 << (3 * u32::from(parallel_levels)));
         let walk = Walk { voxelizer, depth: self.domain.depth(), parallel_levels, progress: self.progress };
         let (mut keys, mut counters) = (Vec::new(), V::Counters::default());
         walk.node(NodeKey::new(0, u32::from(self.domain.depth())), root, &mut keys, &mut counters);
+        stop_if_cancelled(self.progress)?;
         self.progress.finish();
-        (LinearOctree::from_canonical(self.domain, keys), counters)
+        Ok((LinearOctree::from_canonical(self.domain, keys), counters))
     }
 
     /// Runs `voxelizer` from the root (which starts from `root`) over the cells of
@@ -229,6 +233,7 @@ impl<V: Voxelizer> TopWalk<'_, '_, V> {
         if cells.is_empty() {
             return Ok(());
         }
+        stop_if_cancelled(self.progress)?;
         if key.level(self.walk.depth) == self.cells.level {
             let mut keys = Vec::new();
             self.walk.node(key, node, &mut keys, &mut self.counters);
@@ -278,6 +283,9 @@ impl<V: Voxelizer> Walk<'_, V> {
     /// Appends the canonical nodes of the solid inside `key` to `out`.
     fn node(&self, key: NodeKey, node: V::Node, out: &mut Vec<NodeKey>, counters: &mut V::Counters) {
         let level = key.level(self.depth);
+        if level <= self.parallel_levels && self.progress.cancelled() {
+            return; // `Plan::run` returns `Cancelled`.
+        }
         match self.voxelizer.decide(key, node, counters) {
             Decision::Empty => self.report(level),
             Decision::Full => {
@@ -425,7 +433,7 @@ mod tests {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
                 let (tree, decided) = pool.install(|| {
                     let plan = Plan::new("test", 0, domain, &options).unwrap();
-                    plan.run(&ball, NodeKey::new(0, u32::from(depth)))
+                    plan.run(&ball, NodeKey::new(0, u32::from(depth))).unwrap()
                 });
                 assert_eq!(tree, want, "depth {depth}, {threads} threads");
                 let total = 1 << (3 * u32::from(depth.min(PARALLEL_LEVELS)));
@@ -457,7 +465,7 @@ mod tests {
             let ball = Ball { center: [0.5 * n, 0.45 * n, 0.5 * n], radius: 0.47 * n };
             let options = VoxelizeOptions { budget: MemoryBudget::unlimited(), progress: &NoProgress };
             let root = NodeKey::new(0, u32::from(depth));
-            let whole = Plan::new("test", 0, domain, &options).unwrap().run(&ball, root).0;
+            let whole = Plan::new("test", 0, domain, &options).unwrap().run(&ball, root).unwrap().0;
             for level in 0..=depth {
                 let total = Cells::count(level);
                 // One job, and the range cut in three uneven jobs.

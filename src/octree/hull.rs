@@ -51,7 +51,7 @@ impl LinearOctree {
         let estimate = (2.0 * 6.0 * side * side * 8.0 * 2.0) as u64 + 4096;
         let plan = Plan::new("taking the hull", estimate, domain, options)?;
         let all: Arc<[u32]> = (0..planes.len() as u32).collect();
-        Ok(plan.run(&PlaneVoxelizer { planes }, all).0)
+        Ok(plan.run(&PlaneVoxelizer { planes }, all)?.0)
     }
 }
 

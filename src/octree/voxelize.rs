@@ -81,9 +81,9 @@ pub fn voxelize(shape: &dyn Shape, domain: Domain, options: &VoxelizeOptions) ->
         Some(tree) => {
             let pruned = PrunedCsg::new(tree);
             let root = pruned.root();
-            Ok(plan.run(&PrunedVoxelizer { pruned, domain }, root).0)
+            Ok(plan.run(&PrunedVoxelizer { pruned, domain }, root)?.0)
         }
-        None => Ok(plan.run(&ShapeVoxelizer { shape, domain }, ()).0),
+        None => Ok(plan.run(&ShapeVoxelizer { shape, domain }, ())?.0),
     }
 }
 

@@ -32,7 +32,7 @@ pub fn voxelize_patch_surface(
     options: &VoxelizeOptions,
 ) -> Result<LinearOctree> {
     let plan = Plan::new("voxelizing a patch surface", estimate_surface_bytes(patches, &domain), domain, options)?;
-    Ok(plan.run(&PatchSurface { domain }, Arc::new(patches.to_vec())).0)
+    Ok(plan.run(&PatchSurface { domain }, Arc::new(patches.to_vec()))?.0)
 }
 
 /// Pieces a node is taken to hold in [`estimate_surface_bytes`] (its parent's pieces,

@@ -84,6 +84,9 @@ pub(crate) fn supersample(
         .into_par_iter()
         .map(|row| {
             let (mut hits_seen, mut rays_cast) = (0, 0);
+            if progress.cancelled() {
+                return (Vec::new(), 0, 0); // The caller returns `Cancelled`.
+            }
             let mut rays: Vec<Ray> = Vec::with_capacity((spp * spp) as usize);
             let mut hits: Vec<Option<SceneHit>> = vec![None; (spp * spp) as usize];
             let mut pixels = Vec::new();

@@ -30,7 +30,7 @@ use super::shade::{ShadeOptions, radiance};
 use super::visibility::{Method, visibility};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::progress::Progress;
+use crate::progress::{Progress, stop_if_cancelled};
 
 /// Largest image edge in pixels.
 pub const MAX_IMAGE_SIZE: u32 = 16_384;
@@ -323,6 +323,7 @@ pub fn render_picture(
             let refine = adaptive::needs_samples(&picture.to_srgb8(), threshold);
             let film = adaptive::Film { samples: SampleGrid { width, height, spp }, scale };
             let (hits, rays) = adaptive::supersample(scene, camera, film, &shading, &refine, &mut picture, progress);
+            stop_if_cancelled(progress)?;
             let supersampled = refine.iter().filter(|&&r| r).count() as u64;
             let stats = RenderStats {
                 samples: stats.samples + supersampled * u64::from(spp * spp),
@@ -337,6 +338,7 @@ pub fn render_picture(
             let mut picture = Picture::new(width, height);
             let film = recursive_aa::Film { width, height, depth, threshold, scale };
             let counts = recursive_aa::render(scene, camera, film, &shading, &mut picture, progress);
+            stop_if_cancelled(progress)?;
             let stats = RenderStats {
                 samples: counts.samples,
                 hits: counts.hits,
@@ -390,6 +392,9 @@ fn uniform<P: Send + Sync + Clone>(
         let strip_pixels = pixel_row * (strip_rows / spp as usize);
         let init = || (display.strip(), Vec::new());
         let draw = |(strip, seen): &mut (Strip, Vec<_>), k: usize, out: &mut [P]| {
+            if progress.cancelled() {
+                return Counts::default();
+            }
             seen.clear();
             seen.resize(out.len() / pixel_row * spp as usize * columns, None);
             let faces = display.draw_strip(k, strip, seen);
@@ -433,6 +438,7 @@ fn uniform<P: Send + Sync + Clone>(
         }
         (seen.iter().filter(|s| s.is_some()).count() as u64, visible.faces_drawn, rays)
     };
+    stop_if_cancelled(progress)?;
     progress.finish();
     let stats = RenderStats {
         samples: u64::from(samples.columns()) * u64::from(samples.rows()),
@@ -552,6 +558,9 @@ impl<'a> Shader<'a> {
         let columns = samples.columns() as usize;
         let mut rays = 0;
         for (row, out) in (first..).zip(out.chunks_exact_mut(width as usize)) {
+            if self.progress.cancelled() {
+                break; // The frame is dropped: `uniform` returns `Cancelled`.
+            }
             for (col, pixel) in (0..width).zip(out.iter_mut()) {
                 let mut sum = DVec3::ZERO;
                 let mut hit = false;

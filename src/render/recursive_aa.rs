@@ -231,16 +231,25 @@ pub(crate) fn render(
         .into_par_iter()
         .map(|row| {
             let mut counts = Counts::default();
+            if progress.cancelled() {
+                return (Vec::new(), counts); // The caller returns `Cancelled`.
+            }
             let samples = sampler.corner_row(row, &mut counts);
             progress.advance(1);
             (samples, counts)
         })
         .collect();
+    if progress.cancelled() {
+        return Counts::default();
+    }
     let rows: Vec<(Vec<DVec3>, Counts)> = (0..height)
         .into_par_iter()
         .map_init(
             || Lattice::new(depth),
             |lattice, row| {
+                if progress.cancelled() {
+                    return (Vec::new(), Counts::default());
+                }
                 let (above, below) = (&corners[row as usize].0, &corners[row as usize + 1].0);
                 let mut counts = Counts::default();
                 let pixels = (0..width)

@@ -64,6 +64,7 @@ use super::window::{ShardCache, Window, is_full, shard_of};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::{CellNodes, CellSink, LinearOctree, NodeKey, OffsetOptions};
+use crate::progress::stop_if_cancelled;
 use crate::surface::{Crossing, FaceKey, HermiteData, offset_with_surface, round_with_surface, shell_with_surface};
 
 /// A morphological operation, distances in voxels (see [`crate::octree::LinearOctree`]'s
@@ -239,6 +240,7 @@ pub fn morph(solid: &ShardedSolid, morph: Morph, out: &Path, options: &StreamOpt
             Some(nodes) => writer.cell_with_surface(cell, nodes, |_| along.then(|| HermiteData::from_sorted(faces)))?,
         }
         options.progress.advance(1);
+        stop_if_cancelled(options.progress)?;
     }
     options.progress.finish();
     job.finish()

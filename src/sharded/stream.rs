@@ -24,7 +24,7 @@ use crate::mesh::{MeshVoxelizeOptions, TriangleMesh, voxelize_mesh_cells};
 use crate::octree::{
     CellNodes, CellSink, Cells, Domain, LinearOctree, NodeKey, SetOp, VoxelizeOptions, voxelize_cells,
 };
-use crate::progress::{NoProgress, Progress};
+use crate::progress::{NoProgress, Progress, stop_if_cancelled};
 use crate::shape::Shape;
 use crate::surface::HermiteData;
 
@@ -130,6 +130,7 @@ pub fn write(tree: &LinearOctree, meta: Metadata, out: &Path, options: &StreamOp
         }
         let reached = layout.cell_of(key.end() - 1) + 1;
         options.progress.advance(reached.min(cells.range.end).saturating_sub(done));
+        stop_if_cancelled(options.progress)?;
         done = done.max(reached);
     }
     options.progress.finish();
@@ -243,6 +244,7 @@ pub fn combine(
             parts.push(cursor.nodes_in(key)?);
         }
         options.progress.advance(1);
+        stop_if_cancelled(options.progress)?;
         let keys = merge_cell(parts, op, domain)?;
         match keys.as_slice() {
             [] => {}

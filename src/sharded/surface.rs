@@ -48,7 +48,7 @@ use crate::error::{Error, Result};
 use crate::file_kind::FileKind;
 use crate::mesh::BoundarySize;
 use crate::morton;
-use crate::progress::Progress;
+use crate::progress::{Progress, stop_if_cancelled};
 use crate::surface::{CELL_BORDER, CellSurface, CellVertexKind, Style, VertexKey, extract_cell};
 
 /// Estimated peak bytes a boundary face of a window takes while its cell is meshed
@@ -156,6 +156,10 @@ pub fn export_surface(solid: &ShardedSolid, path: &Path, options: &SurfaceExport
             }
             stream.cell(&piece)?;
             options.progress.advance(1);
+            if let Err(e) = stop_if_cancelled(options.progress) {
+                failure = Some(e);
+                return Err(std::io::Error::other("cancelled"));
+            }
         }
         options.progress.finish();
         stream.end()

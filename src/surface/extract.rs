@@ -20,7 +20,7 @@ use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, try_boundary_mesh};
 use crate::octree::LinearOctree;
-use crate::progress::{Progress, Stages};
+use crate::progress::{Progress, Stages, stop_if_cancelled};
 
 /// The share of the tolerance the cell merge takes before simplification (module
 /// `cluster`); simplification takes the rest.
@@ -189,8 +189,8 @@ pub fn extract(
     let bytes = peak_bytes(size, hermite, simplifying);
     options.budget.check(format!("the surface of {} boundary voxel faces", size.unit_faces), bytes)?;
     let stages = Stages::weighted(progress, &STAGE_WEIGHTS[..if simplifying { 4 } else { 2 }]);
-    let mut dual = whole_stage(&stages, || DualMesh::of(tree, size, hermite))?;
-    let triangles = whole_stage(&stages, || untangle(&mut dual));
+    let mut dual = whole_stage(&stages, || DualMesh::of(tree, size, hermite))??;
+    let triangles = whole_stage(&stages, || untangle(&mut dual))?;
     let domain = tree.domain();
     let (min, voxel) = (domain.min(), domain.voxel_size());
     let to_world = |positions: &[DVec3]| positions.par_iter().map(|&p| min + p * voxel).collect::<Vec<DVec3>>();
@@ -199,7 +199,7 @@ pub fn extract(
     let mut mesh;
     if simplifying && !triangles.is_empty() {
         let (positions, triangles, report) =
-            whole_stage(&stages, || merge_cells(&dual, &triangles, MERGE_SHARE * options.tolerance));
+            whole_stage(&stages, || merge_cells(&dual, &triangles, MERGE_SHARE * options.tolerance))?;
         merged = Some(CellMerge {
             blocks: report.blocks,
             vertices: report.merged_vertices,
@@ -245,10 +245,12 @@ pub(crate) fn peak_bytes(size: BoundarySize, hermite: &HermiteData, simplifying:
         .saturating_add(FIXED_BYTES)
 }
 
-/// Runs `work` as one stage of `stages`, shown whole when it ends.
-fn whole_stage<T>(stages: &Stages, work: impl FnOnce() -> T) -> T {
+/// Runs `work` as one stage of `stages`, shown whole when it ends; `Cancelled`
+/// instead of its result when the job was cancelled meanwhile.
+fn whole_stage<T>(stages: &Stages, work: impl FnOnce() -> T) -> Result<T> {
     stages.start(1);
     let done = work();
+    stop_if_cancelled(stages)?;
     stages.finish();
-    done
+    Ok(done)
 }

@@ -78,7 +78,7 @@ use smallvec::SmallVec;
 
 use crate::error::{Error, Result};
 use crate::mesh::TriangleMesh;
-use crate::progress::{NoProgress, Progress};
+use crate::progress::{NoProgress, Progress, stop_if_cancelled};
 use block::{BlockInput, BlockOutput, Limits, simplify_block};
 use normal::Cone;
 use quadric::Quadric;
@@ -214,6 +214,7 @@ pub fn simplify_with_progress(
         // round, half of what is left.
         let per_face = if rounds == 1 { 3 } else { 0 };
         let (made, reported) = state.round(origin + shift, width, &limits, rounds as u32, progress, per_face);
+        stop_if_cancelled(progress)?;
         if rounds == 1 {
             shown = reported;
         } else {
@@ -387,6 +388,11 @@ impl State {
                     moved_in: &self.moved_in,
                     refused: &self.refused,
                 };
+                if progress.cancelled() {
+                    // The round's result is dropped: `simplify_with_progress` returns
+                    // `Cancelled` after it.
+                    return BlockOutput::default();
+                }
                 let output = simplify_block(&input, limits);
                 if per_face > 0 {
                     progress.advance(per_face * own[id].len() as u64);

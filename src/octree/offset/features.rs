@@ -243,6 +243,9 @@ fn transform<F: Feature>(
     let mut spread = vec![(Mask::default(), Mask::default()); band.tiles.len()];
     spread.par_chunks_mut(64).enumerate().for_each_init(SiteCache::default, |cache, (c, masks)| {
         for (j, mask) in masks.iter_mut().enumerate() {
+            if progress.cancelled() {
+                return; // The offset returns `Cancelled` after this pass.
+            }
             *mask = measure.spread(64 * c + j, cache);
             progress.advance(1);
         }

@@ -72,7 +72,7 @@ pub use subvoxel::{FaceCrossings, NewCrossing, Staircase};
 use super::linear::LinearOctree;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::progress::{NoProgress, Progress, Stages};
+use crate::progress::{NoProgress, Progress, Stages, stop_if_cancelled};
 
 /// Options of an offset, shell or round.
 #[derive(Clone, Copy)]
@@ -170,6 +170,7 @@ impl LinearOctree {
         let grow = distance_in_voxels > 0.0;
         let step = Step { radius: distance_in_voxels.abs(), grow, metric: options.metric };
         let (runs, crossings) = changed_runs(self, step, surface, options.budget, options.progress)?;
+        stop_if_cancelled(options.progress)?;
         if runs.is_empty() {
             return Ok((self.clone(), crossings));
         }

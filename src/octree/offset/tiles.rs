@@ -441,6 +441,9 @@ pub(super) fn for_runs<V: Send, F>(
         jobs.push((run, slots));
     }
     jobs.par_iter_mut().for_each(|(run, slots)| {
+        if progress.cancelled() {
+            return; // The offset returns `Cancelled` after this pass.
+        }
         f(run, slots);
         progress.advance(run.len() as u64);
     });

@@ -50,7 +50,7 @@ use super::patches::Patches;
 use super::shoot::{from_light, point_power, total};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
-use crate::progress::Progress;
+use crate::progress::{Progress, stop_if_cancelled};
 use crate::render::scene::{Light, Scene};
 
 use std::f64::consts::PI;
@@ -107,6 +107,7 @@ pub(crate) fn gather(
     }
     budget.check(what, bytes)?;
     let (system, rays) = System::build(scene, patches, progress);
+    stop_if_cancelled(progress)?;
     let (radiosity, far_b, iterations, history) = system.solve(tolerance);
     let (emitted, absorbed) = system.energy_book(scene, &radiosity, &far_b);
     Ok(Gathered { radiosity, iterations, history, rays, emitted, absorbed, escaped: emitted - absorbed })
@@ -150,6 +151,9 @@ impl<'a> System<'a> {
             .enumerate()
             .with_min_len(16)
             .map(|(e, row)| {
+                if progress.cancelled() {
+                    return (DVec3::ZERO, Vec::new(), 0); // `gather` returns `Cancelled`.
+                }
                 let result = if is_live(e) { Self::row(scene, patches, e, row) } else { (DVec3::ZERO, Vec::new(), 0) };
                 progress.advance(1);
                 result

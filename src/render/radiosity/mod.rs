@@ -60,7 +60,7 @@ use glam::DVec3;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::fnv::Fnv1a;
-use crate::progress::Progress;
+use crate::progress::{CancelOnly, Progress, stop_if_cancelled};
 use crate::render::scene::{Illumination, Light, Scene};
 use patches::Patches;
 use shoot::{Shooter, Stop};
@@ -250,17 +250,18 @@ impl Radiosity {
             // Split where the light has been laid down (most of it: the lights and the
             // brightest patches have shot), then refine on the finer elements.
             let first = Stop { until: options.until.max(SUBDIVIDE_AT), ..stop };
-            shooter.run(first, &crate::NoProgress);
+            shooter.run(first, &CancelOnly(progress));
             let max_leaves = options.max_elements.unwrap_or(base.saturating_mul(DEFAULT_MAX_ELEMENTS_FACTOR));
             let max_total = shooter.patches.elements_within(options.budget);
             for _ in 0..patches::MAX_LEVEL {
                 if shooter.subdivide(threshold, max_leaves, max_total) == 0 {
                     break;
                 }
-                shooter.run(first, &crate::NoProgress);
+                shooter.run(first, &CancelOnly(progress));
             }
         }
         shooter.run(stop, progress);
+        stop_if_cancelled(progress)?;
         let ambient = shooter.ambient();
         let unshot_fraction = shooter.unshot_fraction();
         let Shooter { patches: mesh, radiosity, shots, rays, emitted, absorbed, escaped, history, timeline, .. } =

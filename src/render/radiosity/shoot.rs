@@ -277,7 +277,8 @@ impl<'a> Shooter<'a> {
 
     /// Refines until `stop`; progress counts thousandths of the way, on a log scale,
     /// from all unshot to `until` (to [`UNSHOT_FLOOR`] when `until` is 0), or of the
-    /// shots allowed, whichever is further.
+    /// shots allowed, whichever is further. Stops early, between shots, when
+    /// `progress` is cancelled (the caller returns `Cancelled`).
     pub fn run(&mut self, stop: Stop, progress: &dyn Progress) {
         progress.start(1000);
         let mut shown = 0u64;
@@ -285,7 +286,7 @@ impl<'a> Shooter<'a> {
         let lights: Vec<Light> = self.scene.lights[self.lights_shot..].to_vec();
         let mut pending: f64 = lights.iter().map(point_power).sum();
         for light in &lights {
-            if !allowed(self.shots) {
+            if !allowed(self.shots) || progress.cancelled() {
                 break;
             }
             self.shoot_light(light);
@@ -307,7 +308,7 @@ impl<'a> Shooter<'a> {
                 progress.advance(done - shown);
                 shown = done;
             }
-            if fraction <= stop.until || !allowed(self.shots) {
+            if fraction <= stop.until || !allowed(self.shots) || progress.cancelled() {
                 break;
             }
             let Some(i) = self.brightest() else { break };
