@@ -15,6 +15,7 @@
 mod budget;
 mod errors;
 mod flat;
+mod ints;
 mod job;
 mod progress;
 mod radiosity;

@@ -12,6 +12,7 @@ use pyo3::types::PyDict;
 
 use crate::budget::Budget;
 use crate::errors::invalid;
+use crate::ints::{optional_max_elements_arg, optional_max_shots_arg};
 use crate::job::Job;
 use crate::progress::Want;
 
@@ -37,11 +38,11 @@ pub fn radiosity<'py>(
     output: Option<PathBuf>,
     solver: &str,
     until: f64,
-    max_shots: Option<u64>,
+    #[pyo3(from_py_with = optional_max_shots_arg)] max_shots: Option<u64>,
     tolerance: f64,
     patch_size: Option<f64>,
     subdivide: Option<f64>,
-    max_elements: Option<usize>,
+    #[pyo3(from_py_with = optional_max_elements_arg)] max_elements: Option<usize>,
     progress: Option<Want>,
     memory_budget: Option<Budget>,
 ) -> PyResult<Bound<'py, PyDict>> {

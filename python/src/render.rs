@@ -20,6 +20,7 @@ use pyo3::prelude::*;
 
 use crate::budget::Budget;
 use crate::errors::{ToPyResult, invalid};
+use crate::ints::{optional_size_arg, optional_spp_arg};
 use crate::job::Job;
 use crate::progress::Want;
 use crate::solid::Solid;
@@ -89,12 +90,12 @@ fn method_of(name: &str) -> PyResult<Method> {
 pub fn render<'py>(
     py: Python<'py>,
     solid_or_scene: &Bound<'py, PyAny>,
-    size: Option<(u32, u32)>,
+    #[pyo3(from_py_with = optional_size_arg)] size: Option<(u32, u32)>,
     view: Option<&str>,
     eye: Option<[f64; 3]>,
     target: Option<[f64; 3]>,
     fov: Option<f64>,
-    spp: Option<u32>,
+    #[pyo3(from_py_with = optional_spp_arg)] spp: Option<u32>,
     method: Option<&str>,
     hdr: bool,
     azimuth: Option<f64>,

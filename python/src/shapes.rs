@@ -17,6 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyString;
 
 use crate::errors::{ToPyResult, invalid};
+use crate::ints::count_arg;
 
 /// Reads an axis: `"x"`, `"y"` or `"z"`, or a unit vector along one of them.
 pub fn axis_of(value: &Bound<'_, PyAny>) -> PyResult<Axis> {
@@ -290,7 +291,7 @@ pub fn polar_array(
     shape: &Shape,
     axis: &Bound<'_, PyAny>,
     center: [f64; 3],
-    count: u32,
+    #[pyo3(from_py_with = count_arg)] count: u32,
     step_degrees: Option<f64>,
 ) -> PyResult<Shape> {
     let axis = axis_of(axis)?;

@@ -49,6 +49,7 @@ use pyo3::types::PyDict;
 
 use crate::budget::{Budget, budget_of};
 use crate::errors::{ToPyResult, invalid};
+use crate::ints::{depth_arg, optional_depth_arg, slice_size_arg};
 use crate::job::Job;
 use crate::progress::Want;
 use crate::shapes::{Shape, axis_of};
@@ -224,24 +225,6 @@ fn style_of(name: &str) -> PyResult<Style> {
         "voxels" => Ok(Style::Voxels),
         other => Err(invalid("surface", format!("{other:?} is not \"smooth\" or \"voxels\""))),
     }
-}
-
-/// A `depth` argument: any Python integer, one that does not fit a byte refused as the
-/// library refuses a depth out of range (pyo3's own conversion raises an
-/// `OverflowError` naming no argument).
-fn depth_arg(obj: &Bound<'_, PyAny>) -> PyResult<u8> {
-    let given = || obj.repr().map_or_else(|_| "the value".into(), |r| r.to_string());
-    let outside = |given: String| invalid("depth", format!("{given} is outside 1..={}", octsolid::octree::MAX_DEPTH));
-    if !obj.is_instance_of::<pyo3::types::PyInt>() {
-        return Err(invalid("depth", format!("{} is not an integer", given())));
-    }
-    let depth: i128 = obj.extract().map_err(|_| outside(given()))?;
-    u8::try_from(depth).map_err(|_| outside(depth.to_string()))
-}
-
-/// An optional `depth` argument ([`depth_arg`]; `None` for Python's `None`).
-fn optional_depth_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<u8>> {
-    if obj.is_none() { Ok(None) } else { depth_arg(obj).map(Some) }
 }
 
 /// A domain given as `(min, edge)` at `depth`.
@@ -679,7 +662,7 @@ impl Solid {
         py: Python<'py>,
         axis: &str,
         at: Option<f64>,
-        size: u32,
+        #[pyo3(from_py_with = slice_size_arg)] size: u32,
     ) -> PyResult<Bound<'py, PyArray3<u8>>> {
         let axis: octsolid::shape::Axis = axis.to_ascii_lowercase().parse().map_err(|e: String| invalid("axis", e))?;
         let d = self.tree.domain();

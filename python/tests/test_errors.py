@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import octsolid as o
+from conftest import SCENES
 
 
 def test_a_missing_file_is_a_file_error(tmp_path):
@@ -66,6 +67,26 @@ def test_bad_arguments_are_value_errors():
     with pytest.raises(o.ArgumentError, match=r"invalid depth: \d{61} is outside"):
         o.voxelize(o.Sphere((0, 0, 0), 1), 2**200)
     assert o.voxelize(o.Sphere((0, 0, 0), 1), 3).transform(scale=2.0, depth=None).voxel_count > 0
+    # So is every other integer argument: the one the type holds but the library refuses
+    # and the one the type cannot hold read alike.
+    ball = o.voxelize(o.Sphere((0, 0, 0), 1), 3)
+    for size in [(0, 5), (-1, 5), (5, 2**70)]:
+        w, h = size
+        with pytest.raises(o.ArgumentError, match=rf"invalid image size: {w}x{h} is outside 1\.\.=16384 a side"):
+            o.render(ball, size=size)
+    with pytest.raises(o.ArgumentError, match=r"invalid image size: \(5, 2\.5\) is not \(width, height\)"):
+        o.render(ball, size=(5, 2.5))
+    for spp in [17, -1]:
+        with pytest.raises(o.ArgumentError, match=rf"invalid samples: {spp} a side is outside 1\.\.=16"):
+            o.render(ball, spp=spp)
+    with pytest.raises(o.ArgumentError, match=r"invalid size: -3 is outside 1\.\.=16384 pixels"):
+        ball.slice("z", size=-3)
+    with pytest.raises(o.ArgumentError, match=r"invalid count: -2 is outside 1\.\.=100000 copies"):
+        o.polar_array(o.Sphere((1, 0, 0), 0.1), "z", (0, 0, 0), -2)
+    with pytest.raises(o.ArgumentError, match=r"invalid max shots: -1 is outside 0\.\.="):
+        o.radiosity(SCENES / "cornell.toml", max_shots=-1)
+    with pytest.raises(o.ArgumentError, match=r"invalid max elements: 'many' is not an integer"):
+        o.radiosity(SCENES / "cornell.toml", max_elements="many")
     with pytest.raises(o.ArgumentError, match="vertex 7"):
         o.from_mesh(np.zeros((3, 3)), np.array([[0, 1, 7]]), 4)
     with pytest.raises(o.ArgumentError, match=r"\(n, 3\)"):
