@@ -3,7 +3,8 @@
 Each kind is also the built-in exception it is a case of, so ``except OSError``
 catches a missing file and ``except ValueError`` a malformed one. The message is the
 library's, naming the file and the place in it (``file: line 3: ...``, ``file: byte
-12: ...``, ``scene.toml:4:9: ...``); ``filename`` is the file where there is one.
+12: ...``, ``scene.toml:4:9: ...``); ``filename`` is the file where there is one, and
+``errno`` and ``strerror`` the operating system's error where it gave one.
 """
 
 
@@ -14,7 +15,16 @@ class Error(Exception):
 
 
 class FileError(Error, OSError):
-    """A file could not be read or written (missing, unreadable, a folder in the way)."""
+    """A file could not be read or written (missing, unreadable, a folder in the way).
+
+    ``errno`` is the operating system's error number when it gave one
+    (``e.errno == errno.ENOENT`` for a missing file), as for Python's own ``open``.
+    """
+
+    def __str__(self):
+        # OSError's own shows "[Errno 2] strerror: 'filename'" once errno is set; the
+        # library's message names the file and says why already.
+        return str(self.args[0]) if self.args else super().__str__()
 
 
 class FormatError(Error, ValueError):

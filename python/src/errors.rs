@@ -12,7 +12,9 @@
 //! | `Cancelled` | `KeyboardInterrupt` (Ctrl-C, `crate::job`) | |
 //!
 //! A scene's error takes the class of its cause (a scene naming a missing file is a
-//! `FileError`), with the scene's place in the message.
+//! `FileError`), with the scene's place in the message. An error with a file has it as
+//! `filename`; one the operating system gave has its `errno` and `strerror` too (so
+//! `e.errno == errno.ENOENT` works as for Python's own `open`).
 
 use std::path::Path;
 
@@ -48,6 +50,17 @@ fn file_of(e: &octsolid::Error) -> Option<&Path> {
     }
 }
 
+/// The operating system's error number behind an error, if any (`errno`).
+fn errno_of(e: &octsolid::Error) -> Option<i32> {
+    use octsolid::Error as E;
+    match e {
+        E::Io { source, .. } => source.raw_os_error(),
+        E::Scene { source, .. } => errno_of(source),
+        E::Undrawable { cause: Some(cause), .. } => errno_of(cause),
+        _ => None,
+    }
+}
+
 /// The class `name` of the module `octsolid.errors`, looked up once.
 fn error_class<'py>(py: Python<'py>, name: &'static str) -> PyResult<Bound<'py, PyType>> {
     static MODULE: PyOnceLock<Py<PyModule>> = PyOnceLock::new();
@@ -67,15 +80,19 @@ pub fn to_py(e: octsolid::Error) -> PyErr {
             Err(lookup) => return lookup,
         };
         let message = e.to_string();
-        let made = match file_of(&e) {
-            // OSError's (errno, strerror, filename) form sets `filename`; the message
-            // already names the file, so `str(error)` is the library's message.
-            Some(path) => class.call1((message,)).and_then(|err| {
+        // OSError's (errno, strerror, filename) form would make the message; the
+        // library's names the file already, so its parts are set as attributes and
+        // `str(error)` is the library's message.
+        let made = class.call1((message,)).and_then(|err| {
+            if let Some(path) = file_of(&e) {
                 err.setattr("filename", path.to_string_lossy().into_owned())?;
-                Ok(err)
-            }),
-            None => class.call1((message,)),
-        };
+            }
+            if let Some(errno) = errno_of(&e) {
+                err.setattr("errno", errno)?;
+                err.setattr("strerror", std::io::Error::from_raw_os_error(errno).to_string())?;
+            }
+            Ok(err)
+        });
         match made {
             Ok(err) => PyErr::from_value(err),
             Err(failed) => failed,

@@ -2,6 +2,8 @@
 MemoryError) with the library's message naming the file and place; it never crashes
 the interpreter."""
 
+import errno
+
 import numpy as np
 import pytest
 
@@ -16,6 +18,7 @@ def test_a_missing_file_is_a_file_error(tmp_path):
     e = caught.value
     assert isinstance(e, o.Error) and isinstance(e, OSError)
     assert str(missing) in str(e) and e.filename == str(missing)
+    assert e.errno == errno.ENOENT and e.strerror.startswith("No such file"), (e.errno, e.strerror)
     with pytest.raises(OSError):
         o.load_mesh(tmp_path / "missing.stl")
 
