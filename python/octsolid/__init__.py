@@ -27,12 +27,13 @@ from ._octsolid import (
     voxelize,
     write_png,
 )
-from .errors import ArgumentError, BudgetError, Error, FileError, FormatError
+from .errors import ArgumentError, BudgetError, ClippedWarning, Error, FileError, FormatError, InputWarning
 
 __all__ = [
     "ArgumentError",
     "Box",
     "BudgetError",
+    "ClippedWarning",
     "Cone",
     "Cylinder",
     "Ellipsoid",
@@ -40,6 +41,7 @@ __all__ = [
     "FileError",
     "FormatError",
     "HalfSpace",
+    "InputWarning",
     "Shape",
     "Solid",
     "Sphere",

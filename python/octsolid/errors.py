@@ -37,3 +37,14 @@ class ArgumentError(Error, ValueError):
 
 class BudgetError(Error, MemoryError):
     """A job's estimated memory exceeds the memory budget; nothing was started."""
+
+
+class InputWarning(UserWarning):
+    """What a reader read past without refusing the file (an unknown PLY header line, a
+    missing ``.mtl``), naming the file and place, as the CLI's ``warning:`` lines."""
+
+
+class ClippedWarning(UserWarning):
+    """An offset, shell or round reached a face of the solid's domain: what lay past it
+    is cut off (give the solid a larger domain first: ``solid.transform(domain=...)``),
+    or nothing was left of it."""

@@ -117,3 +117,20 @@ impl<T> ToPyResult<T> for octsolid::Result<T> {
         self.map_err(to_py)
     }
 }
+
+/// Issues each warning of what a reader read past (an unknown PLY header line, a
+/// missing `.mtl`) as Python's `warnings.warn(message, octsolid.InputWarning)`, as the
+/// CLI prints it as `warning: FILE: line N: ...`.
+pub fn warn_read_past(py: Python<'_>, warnings: &[octsolid::Warning]) -> PyResult<()> {
+    for w in warnings {
+        warn(py, "InputWarning", &w.to_string())?;
+    }
+    Ok(())
+}
+
+/// `warnings.warn(message, octsolid.<class>)`, at the caller's line.
+pub fn warn(py: Python<'_>, class: &'static str, message: &str) -> PyResult<()> {
+    let category = error_class(py, class)?;
+    let message = std::ffi::CString::new(message.replace('\0', "\\0")).expect("no NUL left");
+    PyErr::warn(py, &category, &message, 1)
+}

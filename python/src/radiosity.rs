@@ -12,6 +12,7 @@ use pyo3::types::PyDict;
 
 use crate::budget::Budget;
 use crate::errors::invalid;
+use crate::errors::warn_read_past;
 use crate::ints::{optional_max_elements_arg, optional_max_shots_arg};
 use crate::job::Job;
 use crate::progress::Want;
@@ -68,15 +69,16 @@ pub fn radiosity<'py>(
         tolerance,
         ..RadiosityOptions::default()
     };
-    let (solution, bytes) = job.run(py, |budget, progress| {
+    let (solution, bytes, warnings) = job.run(py, |budget, progress| {
         let file = scene_file::read_scene(&scene, budget)?;
         let solution = Radiosity::solve(&file.scene, &options, progress)?;
         let bytes = match &output {
             Some(path) => solution.write(path)?,
             None => 0,
         };
-        Ok((solution, bytes))
+        Ok((solution, bytes, file.warnings))
     })?;
+    warn_read_past(py, &warnings)?;
     let s = solution.stats();
     let d = PyDict::new(py);
     d.set_item("solver", solver.name())?;

@@ -19,6 +19,7 @@ use octsolid::{Drawing, DrawingOptions, MemoryBudget};
 use pyo3::prelude::*;
 
 use crate::budget::Budget;
+use crate::errors::warn_read_past;
 use crate::errors::{ToPyResult, invalid};
 use crate::ints::{optional_size_arg, optional_spp_arg};
 use crate::job::Job;
@@ -46,7 +47,9 @@ fn drawing(py: Python<'_>, subject: &Subject<'_>, cache: bool, budget: MemoryBud
         Subject::File(path) => {
             let cache = if cache { CachePolicy::ReadWrite } else { CachePolicy::Off };
             let options = DrawingOptions { cache, budget, ..DrawingOptions::default() };
-            py.detach(|| Drawing::open(path, &options)).py()
+            let drawing = py.detach(|| Drawing::open(path, &options)).py()?;
+            warn_read_past(py, drawing.warnings())?;
+            Ok(drawing)
         }
         Subject::Solid(solid) => solid.drawing(py),
     }

@@ -34,7 +34,7 @@ use octsolid::io::oct::Metadata;
 use octsolid::io::{ReadOptions, SolidsRef, WriteOptions};
 use octsolid::mesh::{InsideRule, TriangleMesh, separate_sheets};
 use octsolid::octree::{
-    Domain, LinearOctree, Metric, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
+    Clipping, Domain, LinearOctree, Metric, Motion, OffsetOptions, SetOp, Turn, VoxelizeOptions, common_domain,
     voxelize as voxelize_shape,
 };
 use octsolid::render::{CameraRequest, RenderOverrides, Up, render_picture};
@@ -48,7 +48,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::budget::{Budget, budget_of};
-use crate::errors::{ToPyResult, invalid};
+use crate::errors::{ToPyResult, invalid, warn, warn_read_past};
 use crate::ints::{depth_arg, optional_depth_arg, slice_size_arg};
 use crate::job::Job;
 use crate::progress::Want;
@@ -184,6 +184,7 @@ impl Solid {
     fn derived_along_surface(
         &self,
         py: Python<'_>,
+        what: &str,
         job: Job,
         metric: &str,
         plain: impl FnOnce(&LinearOctree, &OffsetOptions) -> octsolid::Result<LinearOctree> + Send,
@@ -200,8 +201,32 @@ impl Solid {
                 None => plain(tree, &options).map(|t| (t, None)),
             }
         })?;
+        warn_if_clipped(py, tree, &result, what)?;
         Ok(Solid { tree: Arc::new(result), meta: self.meta, surface: LazySurface::ready(data) })
     }
+}
+
+/// Warns (`octsolid.ClippedWarning`) when the `what` of `input` lost voxels to the
+/// domain ([`octsolid::octree::clipping`]), as the CLI's `offset` does.
+fn warn_if_clipped(py: Python<'_>, input: &LinearOctree, result: &LinearOctree, what: &str) -> PyResult<()> {
+    let message = match octsolid::octree::clipping(input, result) {
+        None => return Ok(()),
+        Some(Clipping::Emptied) => format!("the {what} is empty: no voxel is left"),
+        Some(Clipping::AtFaces(faces)) => {
+            let names = ["-x", "-y", "-z", "+x", "+y", "+z"];
+            let reached: Vec<&str> = names.into_iter().zip(faces).filter(|(_, f)| *f).map(|(n, _)| n).collect();
+            let d = result.domain();
+            format!(
+                "the {what} reaches the domain's {} face{} (min {:?}, edge {}): what lies past it is cut off; give \
+                 the solid a larger domain first (solid.transform(domain=(min, edge)))",
+                reached.join(", "),
+                if reached.len() == 1 { "" } else { "s" },
+                d.min().to_array(),
+                d.edge()
+            )
+        }
+    };
+    warn(py, "ClippedWarning", &message)
 }
 
 /// A refusal of one step of a set operation, whose budget was what the operands left
@@ -575,6 +600,7 @@ impl Solid {
         let d = if voxels { by } else { by * self.tree.domain().voxels_per_unit() };
         self.derived_along_surface(
             py,
+            "offset",
             Job::new(memory_budget, progress, "band"),
             metric,
             |tree, options| tree.offset(d, options),
@@ -601,6 +627,7 @@ impl Solid {
         let t = thickness * self.tree.domain().voxels_per_unit();
         self.derived_along_surface(
             py,
+            "shell",
             Job::new(memory_budget, progress, "band"),
             metric,
             |tree, options| tree.shell(t, outward, options),
@@ -630,6 +657,7 @@ impl Solid {
         let r = radius * self.tree.domain().voxels_per_unit();
         self.derived_along_surface(
             py,
+            "round",
             Job::new(memory_budget, progress, "band"),
             metric,
             |tree, options| tree.round(r, convex, concave, options),
@@ -878,7 +906,8 @@ pub fn load_mesh(
     progress: Option<Want>,
 ) -> PyResult<Solid> {
     let up = FileKind::of(&path, FileKind::SURFACES).py()?.default_up();
-    let input = py.detach(|| Input::read(&path)).py()?;
+    let (input, warnings) = py.detach(|| Input::read_and_warnings(&path)).py()?;
+    warn_read_past(py, &warnings)?;
     let job = Job::new(memory_budget, progress, "voxelizing");
     voxelize_input(py, input, depth, inside, domain, up, &path.display().to_string(), job)
 }

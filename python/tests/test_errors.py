@@ -3,6 +3,7 @@ MemoryError) with the library's message naming the file and place; it never cras
 the interpreter."""
 
 import errno
+import warnings
 
 import numpy as np
 import pytest
@@ -124,3 +125,32 @@ def test_mesh_arrays_may_be_lists_or_other_dtypes():
         o.from_mesh(np.zeros(9), f, 5)
     with pytest.raises(o.ArgumentError, match="vertices"):
         o.from_mesh([["a", "b", "c"]], f, 5)
+
+
+def test_what_a_reader_read_past_is_a_warning_naming_the_file_and_line(tmp_path):
+    """The CLI prints these as `warning: FILE: line N: ...`; Python warns the same text."""
+    obj = tmp_path / "t.obj"
+    obj.write_bytes(b"mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    with pytest.warns(o.InputWarning, match=rf"{obj}: line 1: material library 'gone.mtl'"):
+        solid = o.load_mesh(obj, depth=4)
+    assert solid.voxel_count > 0
+    # A scene naming that mesh warns as it draws.
+    scene = tmp_path / "s.toml"
+    scene.write_text(f'[[solid]]\nmesh = "{obj.name}"\ndepth = 4\n')
+    with pytest.warns(o.InputWarning, match="gone.mtl"):
+        o.render(scene, size=(16, 16), cache=False)
+
+
+def test_an_offset_past_the_domain_warns_that_it_is_cut_off():
+    # A ball filling most of its domain, grown by more than the gap to its faces.
+    ball = o.voxelize(o.Sphere((0, 0, 0), 0.9), 5, domain=((-1, -1, -1), 2.0))
+    with pytest.warns(o.ClippedWarning, match=r"offset reaches the domain's -x, -y, -z, \+x, \+y, \+z faces"):
+        grown = ball.offset(0.3)
+    # Every face of the domain is reached: the grown ball's bounds are the domain's.
+    assert grown.bounds == ([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0])
+    with pytest.warns(o.ClippedWarning, match="offset is empty"):
+        ball.offset(-1.0)
+    # Within the domain: no warning.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ball.offset(0.05)

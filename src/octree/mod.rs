@@ -17,6 +17,7 @@
 //! Morton runs), and `transform/`, moving and fitting (exact whole-voxel moves, affine
 //! maps, resampling, change of depth, one domain for several solids).
 
+mod clipping;
 mod csg;
 mod domain;
 mod driver;
@@ -32,6 +33,7 @@ mod transform;
 mod voxelize;
 mod window;
 
+pub use clipping::{Clipping, clipping};
 pub use csg::SetOp;
 pub use domain::{Domain, EDGE_RANGE, LATTICE_BITS, MAX_COORDINATE, MAX_DEPTH};
 pub use driver::{CellNodes, CellSink, Cells, PARALLEL_LEVELS, VoxelizeOptions};

@@ -26,10 +26,9 @@ use std::time::Instant;
 use std::path::Path;
 
 use anyhow::Result;
-use glam::DVec3;
 use octsolid::Warning;
 use octsolid::import::Input;
-use octsolid::octree::{Domain, LinearOctree, VoxelizeOptions, voxelize};
+use octsolid::octree::{Clipping, Domain, LinearOctree, VoxelizeOptions, voxelize};
 use octsolid::render::{Camera, Picture, RenderOptions, Scene};
 use octsolid::shape::Shape;
 use octsolid::surface::HermiteData;
@@ -82,29 +81,19 @@ pub(crate) fn surface_for(output: &Path, shape: &(impl Shape + ?Sized), tree: &L
 }
 
 /// Warns when `result` reaches a face of its domain that `input` kept clear of (what
-/// the operation made past it is cut off), or is empty when `input` was not.
+/// the operation made past it is cut off), or is empty when `input` was not
+/// ([`octsolid::octree::clipping`]).
 pub(crate) fn warn_if_clipped(input: &LinearOctree, result: &LinearOctree, what: &str) {
-    if result.is_empty() && !input.is_empty() {
-        warn!("the {what} is empty: no voxel is left");
-        return;
-    }
     let domain = result.domain();
-    let (edges, half) = (domain.aabb(), DVec3::splat(domain.voxel_size() / 2.0));
-    let touches = |tree: &LinearOctree| {
-        tree.bounds().map_or([false; 6], |b| {
-            let low = (b.min - edges.min).cmplt(half);
-            let high = (edges.max - b.max).cmplt(half);
-            [low.x, low.y, low.z, high.x, high.y, high.z]
-        })
-    };
-    let (before, after) = (touches(input), touches(result));
-    if (0..6).any(|i| after[i] && !before[i]) {
-        warn!(
+    match octsolid::octree::clipping(input, result) {
+        None => {}
+        Some(Clipping::Emptied) => warn!("the {what} is empty: no voxel is left"),
+        Some(Clipping::AtFaces(_)) => warn!(
             "the {what} reaches the edge of the domain (min {}, edge {}): what lies past it is cut off; give the \
              input a larger domain first (transform IN --domain MINX,MINY,MINZ,EDGE -o OUT)",
-            crate::human::point(edges.min),
+            crate::human::point(domain.min()),
             crate::human::num(domain.edge())
-        );
+        ),
     }
 }
 
