@@ -187,18 +187,28 @@ fn risky_vertices(dual: &DualMesh) -> Vec<bool> {
 fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) -> Vec<u32> {
     // Blocks of 4 voxels a side within one of a risky vertex's block: they hold every
     // voxel corner within two of it.
+    // The risky vertices' blocks first (on a solid of creases and corners nearly every
+    // vertex is risky, and 27 entries a vertex held 27 times the vertices), then the
+    // blocks around them.
     let block = |c: [u32; 3]| c.map(|x| i64::from(x >> 2));
-    let mut around: Vec<[i64; 3]> = (0..risky.len())
+    let mut centres: Vec<[i64; 3]> = (0..risky.len())
         .into_par_iter()
         .with_min_len(4096)
         .filter(|&v| risky[v])
-        .flat_map_iter(|v| {
-            let b = block(dual.corners[v]);
+        .map(|v| block(dual.corners[v]))
+        .collect();
+    centres.par_sort_unstable();
+    centres.dedup();
+    let mut around: Vec<[i64; 3]> = centres
+        .par_iter()
+        .with_min_len(4096)
+        .flat_map_iter(|&b| {
             (-1..=1).flat_map(move |dx| {
                 (-1..=1).flat_map(move |dy| (-1..=1).map(move |dz| [b[0] + dx, b[1] + dy, b[2] + dz]))
             })
         })
         .collect();
+    drop(centres);
     around.par_sort_unstable();
     around.dedup();
     let near: FxHashSet<[i64; 3]> = around.into_iter().collect();
@@ -238,25 +248,28 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
         .par_windows(2)
         .flat_map_iter(|w| {
             let cell = listed[w[0]].0;
-            let list = &listed[w[0]..w[1]];
+            // The cell's triangles with their corners, boxes and riskiness, made once
+            // for the cell's pairs.
+            let list: Vec<Listed> = listed[w[0]..w[1]]
+                .iter()
+                .map(|&(_, t)| {
+                    let p = triangles[t as usize].map(position);
+                    let (lo, hi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+                    Listed { t, p, lo, hi, risky: is_risky(t) }
+                })
+                .collect();
             let mut found = Vec::new();
-            for (i, &(_, s)) in list.iter().enumerate() {
-                for &(_, t) in &list[i + 1..] {
-                    if !(is_risky(s) || is_risky(t)) {
+            for (i, a) in list.iter().enumerate() {
+                for b in &list[i + 1..] {
+                    if !(a.risky || b.risky) || a.lo.cmpgt(b.hi).any() || b.lo.cmpgt(a.hi).any() {
                         continue;
                     }
-                    let (a, b) = (triangles[s as usize].map(position), triangles[t as usize].map(position));
-                    let (alo, ahi) = (a[0].min(a[1]).min(a[2]), a[0].max(a[1]).max(a[2]));
-                    let (blo, bhi) = (b[0].min(b[1]).min(b[2]), b[0].max(b[1]).max(b[2]));
-                    if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
-                        continue;
-                    }
-                    let low = cell_of(alo).max(cell_of(blo));
+                    let low = cell_of(a.lo).max(cell_of(b.lo));
                     if [low.x as i64, low.y as i64, low.z as i64] != cell {
                         continue;
                     }
-                    if triangles_cross(triangles[s as usize], a, triangles[t as usize], b) {
-                        found.push((s, t));
+                    if triangles_cross(triangles[a.t as usize], a.p, triangles[b.t as usize], b.p) {
+                        found.push((a.t, b.t));
                     }
                 }
             }
@@ -268,6 +281,15 @@ fn crossing_vertices(dual: &DualMesh, triangles: &[[u32; 3]], risky: &[bool]) ->
     vertices.par_sort_unstable();
     vertices.dedup();
     vertices
+}
+
+/// A triangle listed in a cell of the pairing grid, as its pairs read it.
+struct Listed {
+    t: u32,
+    p: [DVec3; 3],
+    lo: DVec3,
+    hi: DVec3,
+    risky: bool,
 }
 
 /// Whether two triangles of the mesh cross: they meet beyond what they share, by index
