@@ -25,8 +25,9 @@ pub trait Progress: Sync {
     /// The job ended.
     fn finish(&self) {}
     /// Whether the job should stop: once true, the job returns
-    /// [`crate::Error::Cancelled`] at its next poll (module doc). Polled from any
-    /// thread, often: it must be cheap (an atomic load).
+    /// [`crate::Error::Cancelled`] at its next poll (module doc). Once true it must stay
+    /// true (a job skips work at one poll and reports the stop at a later one). Polled
+    /// from any thread, often: it must be cheap (an atomic load).
     fn cancelled(&self) -> bool {
         false
     }

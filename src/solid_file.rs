@@ -152,7 +152,7 @@ pub fn write_solid_file(
     let kind = FileKind::of(path, FileKind::SOLID_OUTPUTS)?;
     if kind == FileKind::Octs {
         let tree = one_solid(path, solids)?;
-        let stream = StreamOptions { budget: options.budget, ..StreamOptions::default() };
+        let stream = StreamOptions { budget: options.budget, progress, ..StreamOptions::default() };
         let index = sharded::write(tree, options.meta, path, &stream)?.expect("every cell: an index");
         return Ok(index.shards.iter().map(|s| s.bytes).sum());
     }

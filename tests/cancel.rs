@@ -158,3 +158,13 @@ fn an_offset_stops_between_passes() {
     let options = OffsetOptions { progress: &stop, ..OffsetOptions::default() };
     assert_stopped_early("shell", tree.shell(4.0, true, &options), &stop);
 }
+
+#[test]
+fn a_drawing_stopped_while_voxelizing_its_mesh_says_cancelled_not_undrawable() {
+    let dir = common::scratch_dir("cancel", "drawing");
+    let path = dir.join("ball.obj");
+    octsolid::mesh::write_mesh(&icosphere(DVec3::ZERO, 0.8, 3), &path).unwrap();
+    let stop = StopAfter::at_once();
+    let options = octsolid::DrawingOptions { depth: Some(7), progress: &stop, ..Default::default() };
+    assert_stopped_early("drawing", octsolid::Drawing::open(&path, &options).map(|_| ()), &stop);
+}

@@ -9,7 +9,7 @@
 //! | `Format`, `Parse`, `Toml`, `Scene`, `UnknownExtension`, `Undrawable` | `octsolid.FormatError` | `ValueError` |
 //! | `InvalidArgument`, `DomainMismatch`, `InvalidOctree` | `octsolid.ArgumentError` | `ValueError` |
 //! | `OverBudget` | `octsolid.BudgetError` | `MemoryError` |
-//! | `Cancelled` | `KeyboardInterrupt` (Ctrl-C, `crate::job`) | |
+//! | `Cancelled` | `KeyboardInterrupt` (Ctrl-C or the progress callable's exception stopped the work, `crate::job`: that exception is raised) | |
 //!
 //! A scene's error takes the class of its cause (a scene naming a missing file is a
 //! `FileError`), with the scene's place in the message. An error with a file has it as
@@ -89,7 +89,8 @@ pub fn to_py(e: octsolid::Error) -> PyErr {
             }
             if let Some(errno) = errno_of(&e) {
                 err.setattr("errno", errno)?;
-                err.setattr("strerror", std::io::Error::from_raw_os_error(errno).to_string())?;
+                // Python's own wording (Rust's adds " (os error N)").
+                err.setattr("strerror", py.import("os")?.call_method1("strerror", (errno,))?)?;
             }
             Ok(err)
         });

@@ -1,5 +1,5 @@
-//! Integer arguments: any Python integer is taken, and one the library's type cannot
-//! hold is refused as an `ArgumentError` naming the argument in the library's words, as
+//! Integer arguments: any Python integer is taken (or what converts to one losslessly,
+//! by `__index__`: numpy's integers), and one the library's type cannot hold is refused as an `ArgumentError` naming the argument in the library's words, as
 //! the library refuses a value out of its range (pyo3's own conversion raises an
 //! `OverflowError` or a `TypeError` naming no argument). Each function here is one
 //! argument's `#[pyo3(from_py_with = ...)]`; the `optional_` ones take `None` too.
@@ -24,14 +24,25 @@ fn int_refused_as<T: TryFrom<i128>>(
     what: &'static str,
     reason: impl Fn(&str) -> String,
 ) -> PyResult<T> {
-    let given = || obj.repr().map_or_else(|_| "the value".into(), |r| r.to_string());
-    if !obj.is_instance_of::<PyInt>() {
-        return Err(invalid(what, format!("{} is not an integer", given())));
-    }
+    let int = integer(obj).ok_or_else(|| invalid(what, format!("{} is not an integer", repr(obj))))?;
     let outside = |value: String| invalid(what, reason(&value));
     // Past 128 bits it is outside every range here.
-    let value: i128 = obj.extract().map_err(|_| outside(given()))?;
+    let value: i128 = int.extract().map_err(|_| outside(repr(&int)))?;
     T::try_from(value).map_err(|_| outside(value.to_string()))
+}
+
+/// `obj` as a Python integer: itself, or its `__index__` (numpy's integers); `None`
+/// for anything else (a float, a string).
+fn integer<'py>(obj: &Bound<'py, PyAny>) -> Option<Bound<'py, PyInt>> {
+    if let Ok(int) = obj.cast::<PyInt>() {
+        return Some(int.clone());
+    }
+    obj.call_method0("__index__").ok()?.cast_into::<PyInt>().ok()
+}
+
+/// `repr(obj)`, or "the value" when it has none.
+fn repr(obj: &Bound<'_, PyAny>) -> String {
+    obj.repr().map_or_else(|_| "the value".into(), |r| r.to_string())
 }
 
 /// `None` as `None`, else [`int_of`].
@@ -66,14 +77,14 @@ pub fn optional_size_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<(u32, u32)>>
     if obj.is_none() {
         return Ok(None);
     }
-    let given = || obj.repr().map_or_else(|_| "the value".into(), |r| r.to_string());
     let (w, h): (Bound<'_, PyAny>, Bound<'_, PyAny>) =
-        obj.extract().map_err(|_| invalid("image size", format!("{} is not (width, height)", given())))?;
+        obj.extract().map_err(|_| invalid("image size", format!("{} is not (width, height)", repr(obj))))?;
+    // Each side as a `u32`, or as it is shown in the refusal.
     let side = |side: &Bound<'_, PyAny>| -> PyResult<Result<u32, String>> {
-        if !side.is_instance_of::<PyInt>() {
-            return Err(invalid("image size", format!("{} is not (width, height) in whole pixels", given())));
-        }
-        Ok(side.extract::<i128>().map_or_else(|_| Err(given()), |v| u32::try_from(v).map_err(|_| v.to_string())))
+        let Some(int) = integer(side) else {
+            return Err(invalid("image size", format!("{} is not (width, height) in whole pixels", repr(obj))));
+        };
+        Ok(int.extract::<i128>().map_or_else(|_| Err(repr(&int)), |v| u32::try_from(v).map_err(|_| v.to_string())))
     };
     match (side(&w)?, side(&h)?) {
         (Ok(w), Ok(h)) => Ok(Some((w, h))),
@@ -84,14 +95,17 @@ pub fn optional_size_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<(u32, u32)>>
     }
 }
 
-/// A slice's `size` in pixels.
+/// A slice's `size` in pixels (`N pixels is outside 1..=16384`, as the library says).
 pub fn slice_size_arg(obj: &Bound<'_, PyAny>) -> PyResult<u32> {
-    int_of(obj, "size", format_args!("1..={} pixels", octsolid::slice::MAX_SLICE_SIZE))
+    int_refused_as(obj, "size", |size| format!("{size} pixels is outside 1..={}", octsolid::slice::MAX_SLICE_SIZE))
 }
 
-/// A pattern's `count` of copies.
+/// A pattern's `count` of copies (`N makes N copies; a pattern makes 1 to 100000`, as the
+/// library says of a count of 0).
 pub fn count_arg(obj: &Bound<'_, PyAny>) -> PyResult<u32> {
-    int_of(obj, "count", format_args!("1..={} copies", octsolid::shape::MAX_COPIES))
+    int_refused_as(obj, "count", |n| {
+        format!("{n} makes {n} copies; a pattern makes 1 to {}", octsolid::shape::MAX_COPIES)
+    })
 }
 
 /// Radiosity's `max_shots`.

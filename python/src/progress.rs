@@ -10,8 +10,8 @@
 //!
 //! The library calls [`Progress`] from its worker threads with the GIL released; a
 //! callable is called with the GIL taken back for the call. If it raises, it is not
-//! called again and its exception is raised when the library's work returns
-//! ([`Reporter::check`]); the work itself is not stopped by it.
+//! called again, the work is asked to stop ([`Progress::cancelled`]) and the callable's
+//! exception is raised when the work returns ([`Reporter::check`]).
 //!
 //! Ctrl-C stops the work: the reporter answers the library's
 //! [`Progress::cancelled`] from [`Reporter::stop`], which `crate::job` sets when
@@ -146,10 +146,17 @@ impl Progress for Reporter {
         self.inner().advance(n);
     }
     fn finish(&self) {
+        if self.cancelled() {
+            // Stopped short: no `(total, total)`, no 100%; a bar's line is ended.
+            if let Sink::Bar(b) = &self.sink {
+                b.end_line();
+            }
+            return;
+        }
         self.inner().finish();
     }
     fn cancelled(&self) -> bool {
-        self.stop.load(Ordering::Relaxed)
+        self.stop.load(Ordering::Relaxed) || matches!(&self.sink, Sink::Call(c) if c.failed.load(Ordering::Relaxed))
     }
 }
 
@@ -218,6 +225,15 @@ impl Progress for Bar {
     }
 }
 
+impl Bar {
+    /// Ends the bar's line where it stands (a job stopped short), if one was drawn.
+    fn end_line(&self) {
+        if self.on && self.drawn.lock().is_ok_and(|d| d.is_some()) {
+            let _ = writeln!(std::io::stderr());
+        }
+    }
+}
+
 /// A Python callable `f(done, total)` as a [`Progress`] (module doc).
 pub struct Callback {
     f: Py<PyAny>,
@@ -227,6 +243,8 @@ pub struct Callback {
     last: Mutex<Option<(u64, Instant)>>,
     /// The callable's exception; once set, the callable is not called again.
     raised: Mutex<Option<PyErr>>,
+    /// Whether it raised: the work is asked to stop ([`Reporter`]'s `cancelled`).
+    failed: AtomicBool,
 }
 
 impl Callback {
@@ -237,6 +255,7 @@ impl Callback {
             done: AtomicU64::new(0),
             last: Mutex::new(None),
             raised: Mutex::new(None),
+            failed: AtomicBool::new(false),
         }
     }
 
@@ -261,6 +280,7 @@ impl Callback {
             && let Ok(mut raised) = self.raised.lock()
         {
             raised.get_or_insert(e);
+            self.failed.store(true, Ordering::Relaxed);
         }
     }
 }

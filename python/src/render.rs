@@ -15,7 +15,7 @@ use octsolid::glam::DVec3;
 use octsolid::image::RgbImage;
 use octsolid::render::{CameraRequest, Method, Picture, RenderOverrides, Up, render_picture};
 use octsolid::scene_file::CachePolicy;
-use octsolid::{Drawing, DrawingOptions, MemoryBudget};
+use octsolid::{Drawing, DrawingOptions};
 use pyo3::prelude::*;
 
 use crate::budget::Budget;
@@ -41,30 +41,33 @@ struct Request {
     job: Job,
 }
 
-/// The drawing of `subject` (a solid's surface data made first, without the GIL).
-fn drawing(py: Python<'_>, subject: &Subject<'_>, cache: bool, budget: MemoryBudget) -> PyResult<Drawing> {
-    match subject {
-        Subject::File(path) => {
-            let cache = if cache { CachePolicy::ReadWrite } else { CachePolicy::Off };
-            let options = DrawingOptions { cache, budget, ..DrawingOptions::default() };
-            let drawing = py.detach(|| Drawing::open(path, &options)).py()?;
-            warn_read_past(py, drawing.warnings())?;
-            Ok(drawing)
-        }
-        Subject::Solid(solid) => solid.drawing(py),
-    }
-}
-
-/// Renders `subject` as asked, without the GIL.
+/// Renders `subject` as asked, without the GIL: a file is opened (its solids built,
+/// a mesh voxelized) within the call's job, so Ctrl-C and the progress reach that too.
 fn picture(py: Python<'_>, subject: &Subject<'_>, request: Request) -> PyResult<Picture> {
-    let drawing = drawing(py, subject, request.cache, request.job.budget)?;
     let (camera, overrides) = (&request.camera, &request.overrides);
-    request.job.run(py, |budget, progress| {
+    let draw = |drawing: Drawing, budget, progress: &dyn octsolid::Progress| -> octsolid::Result<Picture> {
         let camera = drawing.camera(camera, overrides, None)?;
         let options = drawing.options(overrides, budget);
         let scene = drawing.into_scene(None);
         Ok(render_picture(&scene, &camera, &options, progress)?.0)
-    })
+    };
+    match subject {
+        Subject::File(path) => {
+            let cache = if request.cache { CachePolicy::ReadWrite } else { CachePolicy::Off };
+            let (picture, warnings) = request.job.run(py, |budget, progress| {
+                let options = DrawingOptions { cache, budget, progress, ..DrawingOptions::default() };
+                let drawing = Drawing::open(path, &options)?;
+                let warnings = drawing.warnings().to_vec();
+                Ok((draw(drawing, budget, progress)?, warnings))
+            })?;
+            warn_read_past(py, &warnings)?;
+            Ok(picture)
+        }
+        Subject::Solid(solid) => {
+            let drawing = solid.drawing(py)?;
+            request.job.run(py, |budget, progress| draw(drawing, budget, progress))
+        }
+    }
 }
 
 /// A method by its CLI name (`trace`, `front-to-back`, `painter`, `zbuffer`, `scanline`).

@@ -110,7 +110,7 @@ def test_a_callable_sees_every_call_grow_to_its_total(tmp_path):
             raise AssertionError(f"{name}: {e}") from None
 
 
-def test_a_callable_that_raises_raises_from_the_call():
+def test_a_callable_that_raises_raises_from_the_call_and_stops_the_work(tmp_path):
     def broken(done, total):
         raise KeyError("stop")
 
@@ -118,6 +118,21 @@ def test_a_callable_that_raises_raises_from_the_call():
         o.voxelize(o.Sphere((0, 0, 0), 1), 7, progress=broken)
     with pytest.raises(o.ArgumentError, match="progress"):
         o.voxelize(o.Sphere((0, 0, 0), 1), 4, progress="yes")
+    # It stops the work too: a radiosity solution to a millionth unshot, asked to stop
+    # at its first shots, writes no file (the work would write it before the raise).
+    seen = []
+
+    def stop_once_started(done, total):
+        seen.append((done, total))
+        if done > 0:
+            raise KeyError("enough")
+
+    solution = tmp_path / "cornell.rad"
+    with pytest.raises(KeyError, match="enough"):
+        o.radiosity(SCENES / "cornell.toml", output=solution, until=1e-6, progress=stop_once_started)
+    assert not solution.exists()
+    # Called until it raised, never again (no (total, total) at the end).
+    assert len(seen) == 2 and seen[0] == (0, 1000) and 0 < seen[1][0] < 1000, seen
 
 
 def test_ctrl_c_stops_a_long_call_and_raises_keyboard_interrupt():

@@ -239,7 +239,8 @@ pub(crate) fn render(
             (samples, counts)
         })
         .collect();
-    if progress.cancelled() {
+    // A row skipped for the stop is empty (the caller returns `Cancelled`).
+    if corners.iter().any(|(row, _)| row.is_empty()) {
         return Counts::default();
     }
     let rows: Vec<(Vec<DVec3>, Counts)> = (0..height)
