@@ -150,7 +150,7 @@ impl Drawing {
 
     /// A scene file: its scene, camera and options.
     fn open_scene(path: &Path, options: &DrawingOptions, stage: &mut dyn FnMut(DrawingStage<'_>)) -> Result<Drawing> {
-        let load = SceneReadOptions { budget: options.budget, cache: options.cache };
+        let load = SceneReadOptions { budget: options.budget, cache: options.cache, stop: options.progress };
         let file = scene_file::read_scene_with(path, &load)?;
         stage(DrawingStage::SceneLoaded { warnings: &file.warnings, hits: file.cache.hits, misses: file.cache.misses });
         Ok(Drawing {

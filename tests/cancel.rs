@@ -168,3 +168,24 @@ fn a_drawing_stopped_while_voxelizing_its_mesh_says_cancelled_not_undrawable() {
     let options = octsolid::DrawingOptions { depth: Some(7), progress: &stop, ..Default::default() };
     assert_stopped_early("drawing", octsolid::Drawing::open(&path, &options).map(|_| ()), &stop);
 }
+
+#[test]
+fn a_scene_stopped_while_building_its_solids_says_cancelled() {
+    let dir = common::scratch_dir("cancel", "scene");
+    let path = dir.join("ball.toml");
+    std::fs::write(
+        &path,
+        "[domain]\nmin = [-1, -1, -1]\nedge = 2\ndepth = 7\n\n[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = 0.8 } }\n",
+    )
+    .unwrap();
+    let read = |stop: &dyn Progress| {
+        let options = octsolid::scene_file::SceneReadOptions { stop, ..Default::default() };
+        octsolid::scene_file::read_scene_with(&path, &options)
+    };
+    // Asked to stop from the start: the scene reports nothing to it, only asks.
+    match read(&StopAfter::new(0)) {
+        Err(Error::Cancelled) => {}
+        other => panic!("want Cancelled, got {:?}", other.map(|_| ())),
+    }
+    assert_eq!(read(&StopAfter::never()).unwrap().scene.solids.len(), 1);
+}

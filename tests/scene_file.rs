@@ -523,7 +523,7 @@ fn write_cached_scene(dir: &Path, name: &str) -> PathBuf {
 
 /// Loads `path` with the solid cache and `budget`.
 fn load_cached(path: &Path, budget: MemoryBudget) -> Result<SceneFile> {
-    read_scene_with(path, &SceneReadOptions { budget, cache: CachePolicy::ReadWrite })
+    read_scene_with(path, &SceneReadOptions { budget, cache: CachePolicy::ReadWrite, ..Default::default() })
 }
 
 /// The solids' octrees of a loaded scene.

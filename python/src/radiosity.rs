@@ -70,7 +70,8 @@ pub fn radiosity<'py>(
         ..RadiosityOptions::default()
     };
     let (solution, bytes, warnings) = job.run(py, |budget, progress| {
-        let file = scene_file::read_scene(&scene, budget)?;
+        let load = scene_file::SceneReadOptions { budget, stop: progress, ..Default::default() };
+        let file = scene_file::read_scene_with(&scene, &load)?;
         let solution = Radiosity::solve(&file.scene, &options, progress)?;
         let bytes = match &output {
             Some(path) => solution.write(path)?,

@@ -24,7 +24,7 @@ use crate::import::{self, ImportOptions, Input};
 use crate::io::ReadOptions;
 use crate::mesh::{InsideRule, MeshShape, read_mesh};
 use crate::octree::{Domain, LinearOctree, OctreeShape, VoxelizeOptions, voxelize};
-use crate::progress::NoProgress;
+use crate::progress::{CancelOnly, Progress};
 use crate::render::{Light, Material, Scene};
 use crate::shape::{Csg, FileLeaves, Shape, Transformed};
 use crate::solid_file::SolidFile;
@@ -107,6 +107,8 @@ pub(super) struct Context<'a> {
     pub(super) budget: MemoryBudget,
     /// The solid cache, when the load uses one.
     pub(super) cache: RefCell<Option<SceneCache>>,
+    /// Whether to stop (only asked: `SceneReadOptions::stop`).
+    pub(super) stop: &'a dyn Progress,
 }
 
 impl Context<'_> {
@@ -361,7 +363,8 @@ impl SolidBuild<'_> {
         let mut warnings = Vec::new();
         let leaf_files = shape.map_or(&[][..], |(_, files)| files);
         let shape = shape.map(|(shape, _)| shape);
-        let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
+        let stop = CancelOnly(self.cx.stop);
+        let options = VoxelizeOptions { budget: self.cx.budget, progress: &stop };
         let build = |warnings: &mut Vec<Warning>| {
             let (tree, read) = self.octree(shape, shape_domain, depth, &options)?;
             warnings.extend(read);
@@ -439,7 +442,8 @@ impl SolidBuild<'_> {
             read_solid(&self.cx.folder.join(file.get_ref()), self.cx.budget).map_err(self.at(Some(file.span())))?;
         match self.transform()? {
             Some(map) => {
-                let options = VoxelizeOptions { budget: self.cx.budget, progress: &NoProgress };
+                let stop = CancelOnly(self.cx.stop);
+                let options = VoxelizeOptions { budget: self.cx.budget, progress: &stop };
                 tree.transformed(map, Ok, &options).map(|(tree, _)| tree).map_err(self.at(self.transform_span()))
             }
             None => Ok(tree),

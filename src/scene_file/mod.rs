@@ -58,6 +58,7 @@ use std::path::Path;
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::octree::{Domain, LinearOctree, VoxelizeOptions};
+use crate::progress::{NoProgress, Progress};
 use crate::render::{Camera, RenderOptions, Scene};
 use crate::shape::Csg;
 use crate::warning::Warning;
@@ -89,12 +90,22 @@ pub struct SceneFile {
 }
 
 /// How [`read_scene_with`] loads a scene.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct SceneReadOptions {
+#[derive(Clone, Copy)]
+pub struct SceneReadOptions<'a> {
     /// Every voxelization and load is checked against it.
     pub budget: MemoryBudget,
     /// Whether solids are read from and stored in the scene's solid cache.
     pub cache: CachePolicy,
+    /// Asked between the solids' voxelizations' units whether to stop
+    /// ([`Progress::cancelled`]; the load then returns [`Error::Cancelled`]); nothing
+    /// is reported to it.
+    pub stop: &'a dyn Progress,
+}
+
+impl Default for SceneReadOptions<'_> {
+    fn default() -> Self {
+        SceneReadOptions { budget: MemoryBudget::default(), cache: CachePolicy::default(), stop: &NoProgress }
+    }
 }
 
 /// Reads, checks and builds the scene at `path` (voxelizing its shapes and meshes).
@@ -103,7 +114,7 @@ pub struct SceneReadOptions {
 /// text (syntax, an unknown key or value, a value out of range), around the cause when
 /// the scene cannot be built.
 pub fn read_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneFile> {
-    read_scene_with(path, &SceneReadOptions { budget, cache: CachePolicy::Off })
+    read_scene_with(path, &SceneReadOptions { budget, cache: CachePolicy::Off, stop: &NoProgress })
 }
 
 /// [`read_scene`] with the solid cache of `options` (see the module doc): under
@@ -112,7 +123,7 @@ pub fn read_scene(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<SceneF
 /// load into an error: an entry that cannot be used or written is a warning and the
 /// solid is built.
 pub fn read_scene_with(path: impl AsRef<Path>, options: &SceneReadOptions) -> Result<SceneFile> {
-    parse_scene(path.as_ref(), options.budget, options.cache, build)
+    parse_scene(path.as_ref(), options.budget, options.cache, options.stop, build)
 }
 
 /// Reads and checks the scene at `path` (its errors as [`read_scene`]'s) and voxelizes
@@ -122,7 +133,9 @@ pub fn read_scene_with(path: impl AsRef<Path>, options: &SceneReadOptions) -> Re
 /// comes in its own domain, as [`read_scene`] makes it. Progress goes to
 /// `options.progress` and every voxelization is checked against `options.budget`.
 pub fn build_solid(path: impl AsRef<Path>, solid: Option<&str>, options: &VoxelizeOptions) -> Result<LinearOctree> {
-    parse_scene(path.as_ref(), options.budget, CachePolicy::Off, |spec, cx| solid_octree(spec, cx, solid, options))
+    parse_scene(path.as_ref(), options.budget, CachePolicy::Off, options.progress, |spec, cx| {
+        solid_octree(spec, cx, solid, options)
+    })
 }
 
 /// The shape and domain [`build_solid`] would voxelize, without voxelizing: for
@@ -131,7 +144,7 @@ pub fn build_solid(path: impl AsRef<Path>, solid: Option<&str>, options: &Voxeli
 /// ([`crate::surface::resolve_offsets`]). Refuses a named solid
 /// that is a `mesh` or an `oct` (those are voxelized or read whole).
 pub fn build_shape(path: impl AsRef<Path>, solid: Option<&str>, budget: MemoryBudget) -> Result<(Csg, Domain)> {
-    parse_scene(path.as_ref(), budget, CachePolicy::Off, |spec, cx| {
+    parse_scene(path.as_ref(), budget, CachePolicy::Off, &NoProgress, |spec, cx| {
         let whole = |e| cx.error(None, None, e);
         let solids = solid_builds(spec, cx)?;
         let shapes: Vec<Option<Csg>> = solids.iter().map(|s| Ok(s.shape()?.0)).collect::<Result<_>>()?;
@@ -154,12 +167,13 @@ fn parse_scene<T>(
     path: &Path,
     budget: MemoryBudget,
     cache: CachePolicy,
+    stop: &dyn Progress,
     then: impl FnOnce(&SceneSpec, &Context) -> Result<T>,
 ) -> Result<T> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let folder = path.parent().unwrap_or(Path::new("."));
     let cache = RefCell::new(SceneCache::new(path, cache));
-    let cx = Context { path, text: &text, folder, budget, cache };
+    let cx = Context { path, text: &text, folder, budget, cache, stop };
     let spec: SceneSpec = toml::from_str(&text).map_err(|e| cx.refused(&e))?;
     if let Some((span, key, literal)) = first_non_finite(&text) {
         let solid = solid_at(&text, span.start);
