@@ -169,15 +169,18 @@ fn a_drawing_stopped_while_voxelizing_its_mesh_says_cancelled_not_undrawable() {
     assert_stopped_early("drawing", octsolid::Drawing::open(&path, &options).map(|_| ()), &stop);
 }
 
+/// A scene file of one shape solid, a ball at depth 7, in a scratch folder of `test`.
+fn ball_scene(test: &str) -> std::path::PathBuf {
+    let path = common::scratch_dir("cancel", test).join("ball.toml");
+    let scene = "[domain]\nmin = [-1, -1, -1]\nedge = 2\ndepth = 7\n\n[[solid]]\n\
+                 shape = { sphere = { center = [0, 0, 0], radius = 0.8 } }\n";
+    std::fs::write(&path, scene).unwrap();
+    path
+}
+
 #[test]
 fn a_scene_stopped_while_building_its_solids_says_cancelled() {
-    let dir = common::scratch_dir("cancel", "scene");
-    let path = dir.join("ball.toml");
-    std::fs::write(
-        &path,
-        "[domain]\nmin = [-1, -1, -1]\nedge = 2\ndepth = 7\n\n[[solid]]\nshape = { sphere = { center = [0, 0, 0], radius = 0.8 } }\n",
-    )
-    .unwrap();
+    let path = ball_scene("scene");
     let read = |stop: &dyn Progress| {
         let options = octsolid::scene_file::SceneReadOptions { stop, ..Default::default() };
         octsolid::scene_file::read_scene_with(&path, &options)
@@ -188,4 +191,19 @@ fn a_scene_stopped_while_building_its_solids_says_cancelled() {
         other => panic!("want Cancelled, got {:?}", other.map(|_| ())),
     }
     assert_eq!(read(&StopAfter::never()).unwrap().scene.solids.len(), 1);
+}
+
+#[test]
+fn radiosity_stops_while_making_a_shape_solids_patches() {
+    let path = ball_scene("patches");
+    let scene = octsolid::scene_file::read_scene(&path, MemoryBudget::unlimited()).unwrap().scene;
+    for solver in [Solver::Shooting, Solver::Gathering] {
+        let stop = StopAfter::new(0);
+        match Radiosity::solve(&scene, &RadiosityOptions { solver, ..RadiosityOptions::default() }, &stop) {
+            Err(Error::Cancelled) => {}
+            other => panic!("{solver:?}: want Cancelled, got {:?}", other.map(|_| ())),
+        }
+        // Stopped before the solver started: its progress never began.
+        assert_eq!(stop.read(), (0, 0), "{solver:?}");
+    }
 }

@@ -216,7 +216,7 @@ fn read_identity(r: &mut Fields<'_>, scene: &Scene) -> Result<(u32, u64)> {
 /// elements added) must equal the file's, and the file's elements fit `budget`.
 fn rebuild_patches(r: &Fields<'_>, scene: &Scene, header: &Header, budget: MemoryBudget) -> Result<Patches> {
     let Header { patches, element_count, split_count, .. } = *header;
-    let mesh = Patches::build(scene, header.patch_size, header.elements, budget)?;
+    let mesh = Patches::build(scene, header.patch_size, header.elements, budget, &crate::NoProgress)?;
     let counts =
         (mesh.patches.len() as u64, (mesh.elements.len() as u64).saturating_add(split_count.saturating_mul(4)));
     if (patches, element_count) != counts {

@@ -108,7 +108,8 @@ pub(crate) fn gather(
     budget.check(what, bytes)?;
     let (system, rays) = System::build(scene, patches, progress);
     stop_if_cancelled(progress)?;
-    let (radiosity, far_b, iterations, history) = system.solve(tolerance);
+    let (radiosity, far_b, iterations, history) = system.solve(tolerance, progress);
+    stop_if_cancelled(progress)?;
     let (emitted, absorbed) = system.energy_book(scene, &radiosity, &far_b);
     Ok(Gathered { radiosity, iterations, history, rays, emitted, absorbed, escaped: emitted - absorbed })
 }
@@ -251,7 +252,7 @@ impl<'a> System<'a> {
 
     /// Gauss-Seidel from the sources: the elements' radiosities and the patches' far
     /// light, the sweeps and the relative residual after each.
-    fn solve(&self, tolerance: f64) -> (Vec<DVec3>, Vec<DVec3>, u64, Vec<f64>) {
+    fn solve(&self, tolerance: f64, stop: &dyn Progress) -> (Vec<DVec3>, Vec<DVec3>, u64, Vec<f64>) {
         let patches = self.patches;
         let n_p = patches.patches.len();
         let mut b = self.source.clone();
@@ -265,7 +266,7 @@ impl<'a> System<'a> {
         let mut far_b: Vec<DVec3> = (0..n_p).map(|j| self.far(j, patch_b[j], weighted[j])).collect();
         let mut history = Vec::new();
         let mut iterations = 0;
-        while iterations < MAX_ITERATIONS {
+        while iterations < MAX_ITERATIONS && !stop.cancelled() {
             iterations += 1;
             for &e in &self.live {
                 let new = self.source[e] + self.rho(e) * self.gathered(e, &b, &far_b);

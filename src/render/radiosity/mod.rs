@@ -239,7 +239,7 @@ impl Radiosity {
             return Err(Error::invalid("subdivision threshold", format!("{t} must be a finite positive number")));
         }
         let size = patch_size(scene, options)?;
-        let mesh = Patches::build(scene, size, options.elements, options.budget)?;
+        let mesh = Patches::build(scene, size, options.elements, options.budget, progress)?;
         if options.solver == Solver::Gathering {
             return Self::gathered(scene, options, size, mesh, progress);
         }

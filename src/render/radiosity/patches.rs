@@ -53,6 +53,7 @@ use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::mesh::{BoundaryRect, boundary_rects};
 use crate::octree::Domain;
+use crate::progress::Progress;
 use crate::render::scene::Scene;
 
 use super::patch::Patch;
@@ -347,8 +348,15 @@ fn space_lookup(patches: &[Patch], cells: &[u32], domains: &[Domain]) -> FxHashM
 impl Patches {
     /// The patches of every solid of `scene` no longer than `patch_size` (world units)
     /// with up to `elements x elements` elements each; refused when their estimated
-    /// memory exceeds `budget`.
-    pub fn build(scene: &Scene, patch_size: f64, elements: u32, budget: MemoryBudget) -> Result<Patches> {
+    /// memory exceeds `budget`. A solid's true surface is extracted only while `stop`
+    /// does not ask to stop ([`Progress::cancelled`]; then `Cancelled`).
+    pub fn build(
+        scene: &Scene,
+        patch_size: f64,
+        elements: u32,
+        budget: MemoryBudget,
+        stop: &dyn Progress,
+    ) -> Result<Patches> {
         check_settings(patch_size, elements)?;
         let cells = patch_cells(scene, patch_size);
         // Each solid's true surface tiles (a solid made from a shape), or its boundary
@@ -364,7 +372,7 @@ impl Patches {
             .enumerate()
             .map(|(i, solid)| {
                 Ok(if solid.shape().is_some() {
-                    let found = surface_patches(scene, i as u32, patch_size, elements, budget)?;
+                    let found = surface_patches(scene, i as u32, patch_size, elements, budget, stop)?;
                     let count = found.patches.len() as u64;
                     (Part::Surface(found.patches), count, found.elements)
                 } else {

@@ -637,7 +637,7 @@ mod tests {
         let scene = room();
         // A budget of nothing keeps no row: every shot casts its rays.
         let solve = |budget: MemoryBudget| {
-            let patches = Patches::build(&scene, 0.25, 4, MemoryBudget::unlimited()).unwrap();
+            let patches = Patches::build(&scene, 0.25, 4, MemoryBudget::unlimited(), &crate::NoProgress).unwrap();
             let mut s = Shooter::new(&scene, patches, budget);
             let stop = Stop { until: 1e-3, max_shots: Some(400) };
             s.run(stop, &crate::NoProgress);
@@ -675,7 +675,7 @@ mod tests {
         // Until 0 and at most 40 shots: the bar moves shot by shot (each shot both
         // lowers the unshot energy and spends a fortieth of the shots), never jumping
         // to the end before the last shot, and ends full.
-        let patches = Patches::build(&scene, 0.25, 4, MemoryBudget::unlimited()).unwrap();
+        let patches = Patches::build(&scene, 0.25, 4, MemoryBudget::unlimited(), &crate::NoProgress).unwrap();
         let mut s = Shooter::new(&scene, patches, MemoryBudget::unlimited());
         let steps = Steps::default();
         s.run(Stop { until: 0.0, max_shots: Some(40) }, &steps);

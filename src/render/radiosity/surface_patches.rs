@@ -45,6 +45,7 @@ use super::regions::{PLANAR_DISTANCE, Region, planar_regions};
 use crate::budget::MemoryBudget;
 use crate::error::Result;
 use crate::mesh::TriangleMesh;
+use crate::progress::{CancelOnly, Progress};
 use crate::render::scene::Scene;
 use crate::surface::{ExtractOptions, HermiteData, Style, extract};
 
@@ -159,12 +160,13 @@ pub(crate) fn surface_patches(
     patch_size: f64,
     elements: u32,
     budget: MemoryBudget,
+    stop: &dyn Progress,
 ) -> Result<SolidPatches> {
     let solid = &scene.solids[index as usize];
     let shape = solid.shape().expect("a solid with a shape");
     let hermite = HermiteData::from_shape(shape, &solid.tree);
     let options = ExtractOptions { style: Style::Smooth, tolerance: 0.0, budget, ..ExtractOptions::default() };
-    let surface = extract(&solid.tree, &hermite, &options, &crate::NoProgress)?;
+    let surface = extract(&solid.tree, &hermite, &options, &CancelOnly(stop))?;
     let mesh = &facing_out(surface.mesh, scene, index as usize);
     let voxel = solid.tree.domain().voxel_size();
     let regions = planar_regions(mesh, voxel, patch_size);
