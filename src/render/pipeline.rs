@@ -27,7 +27,7 @@ use super::raster::{Display, Strip};
 use super::recursive_aa::{self, MAX_AA_DEPTH};
 use super::scene::{Scene, SceneHit};
 use super::shade::{ShadeOptions, radiance};
-use super::visibility::{Method, visibility};
+use super::visibility::{Method, visibility_or_stop};
 use crate::budget::MemoryBudget;
 use crate::error::{Error, Result};
 use crate::progress::{Progress, stop_if_cancelled};
@@ -424,7 +424,7 @@ fn uniform<P: Send + Sync + Clone>(
         .into()
     } else {
         // Step 1: what each sample sees.
-        let (seen, visible) = visibility(scene, camera, &samples, method);
+        let (seen, visible) = visibility_or_stop(scene, camera, &samples, method, progress);
         // Step 2: shading, the same for every method, averaged over each pixel's samples.
         progress.start(u64::from(height));
         let rays = out

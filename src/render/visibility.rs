@@ -32,6 +32,7 @@ use super::film::{Camera, SampleGrid};
 use super::raster::{self, FaceDrawer};
 use super::scene::{Scene, SceneHit};
 use super::trace::TILE;
+use crate::progress::{NoProgress, Progress};
 use crate::ray::Ray;
 
 /// How primary visibility is decided.
@@ -88,8 +89,21 @@ pub fn visibility(
     samples: &SampleGrid,
     method: Method,
 ) -> (Vec<Option<SceneHit>>, VisibilityStats) {
+    visibility_or_stop(scene, camera, samples, method, &NoProgress)
+}
+
+/// [`visibility`], leaving the rest of the frame unseen once `stop` asks to stop (the
+/// traced method between bands of rows, the others between solids; the caller
+/// returns `Cancelled`).
+pub(crate) fn visibility_or_stop(
+    scene: &Scene,
+    camera: &Camera,
+    samples: &SampleGrid,
+    method: Method,
+    stop: &dyn Progress,
+) -> (Vec<Option<SceneHit>>, VisibilityStats) {
     let mut seen = Vec::new();
-    let stats = visibility_into(scene, camera, samples, method, &mut seen);
+    let stats = visibility_into_or_stop(scene, camera, samples, method, &mut seen, stop);
     (seen, stats)
 }
 
@@ -102,6 +116,18 @@ pub fn visibility_into(
     samples: &SampleGrid,
     method: Method,
     seen: &mut Vec<Option<SceneHit>>,
+) -> VisibilityStats {
+    visibility_into_or_stop(scene, camera, samples, method, seen, &NoProgress)
+}
+
+/// [`visibility_into`] with [`visibility_or_stop`]'s `stop`.
+fn visibility_into_or_stop(
+    scene: &Scene,
+    camera: &Camera,
+    samples: &SampleGrid,
+    method: Method,
+    seen: &mut Vec<Option<SceneHit>>,
+    stop: &dyn Progress,
 ) -> VisibilityStats {
     let view = camera.view(samples.aspect());
     let count = (samples.rows() * samples.columns()) as usize;
@@ -125,6 +151,9 @@ pub fn visibility_into(
     if method == Method::Trace {
         // One packet a tile of TILE x TILE samples, a band of TILE rows a task.
         seen.par_chunks_mut(TILE * columns).zip(rays.par_chunks(TILE * columns)).for_each(|(seen, rays)| {
+            if stop.cancelled() {
+                return;
+            }
             let rows = rays.len() / columns;
             let mut tile = Vec::with_capacity(TILE * TILE);
             let mut hits = [None; TILE * TILE];
@@ -145,6 +174,9 @@ pub fn visibility_into(
     }
     let mut stats = VisibilityStats::default();
     for (index, solid) in scene.solids.iter().enumerate() {
+        if stop.cancelled() {
+            break;
+        }
         let domain = *solid.traversal.domain();
         let drawer = FaceDrawer::new(&view, samples, &rays, domain);
         let (hits, faces) = match method {
