@@ -207,13 +207,12 @@ impl Drawing {
     ) -> Result<Drawing> {
         let (input, warnings) = Input::read_and_warnings(path)?;
         stage(DrawingStage::Read { warnings: &warnings, coarsened: None });
-        let cannot = |e: Error| match e {
-            Error::Cancelled => e,
-            e => Error::Undrawable {
+        let cannot = |e: Error| {
+            e.wrapped(|e| Error::Undrawable {
                 path: path.to_path_buf(),
                 reason: "cannot voxelize".into(),
                 cause: Some(Box::new(e)),
-            },
+            })
         };
         let domain = import::default_domain(&input, options.depth.unwrap_or(9)).map_err(cannot)?;
         let import = ImportOptions { budget: options.budget, progress: options.progress, ..Default::default() };

@@ -149,6 +149,16 @@ impl Error {
     pub(crate) fn invalid(what: &'static str, reason: impl Into<String>) -> Self {
         Error::InvalidArgument { what, reason: reason.into() }
     }
+
+    /// `wrap(self)`, the error as the caller names it (its file, its scene), except
+    /// [`Error::Cancelled`], which stays itself: a stop is no fault of what the wrapper
+    /// names, and its callers match it.
+    pub(crate) fn wrapped(self, wrap: impl FnOnce(Error) -> Error) -> Error {
+        match self {
+            Error::Cancelled => self,
+            e => wrap(e),
+        }
+    }
 }
 
 /// `file:line:column`, or just `file` when the place is not known.

@@ -268,12 +268,13 @@ fn surface_of(
     options: &ExtractOptions,
     progress: &dyn Progress,
 ) -> Result<SurfaceMesh> {
-    extract(tree, hermite, options, progress).map_err(|e| match e {
-        Error::OverBudget { job, estimate, budget } => {
-            Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
-        }
-        Error::Cancelled => Error::Cancelled,
-        e => unwritable(path, format!("cannot mesh the solid: {e}")),
+    extract(tree, hermite, options, progress).map_err(|e| {
+        e.wrapped(|e| match e {
+            Error::OverBudget { job, estimate, budget } => {
+                Error::OverBudget { job: format!("writing {} ({job})", path.display()), estimate, budget }
+            }
+            e => unwritable(path, format!("cannot mesh the solid: {e}")),
+        })
     })
 }
 

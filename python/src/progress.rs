@@ -185,6 +185,13 @@ impl Bar {
         }
     }
 
+    /// Ends the bar's line where it stands (a job stopped short), if one was drawn.
+    fn end_line(&self) {
+        if self.on && self.drawn.lock().is_ok_and(|d| d.is_some()) {
+            let _ = writeln!(std::io::stderr());
+        }
+    }
+
     fn draw(&self, force: bool) {
         if !self.on {
             return;
@@ -220,15 +227,6 @@ impl Progress for Bar {
         if self.on {
             self.done.store(self.total.load(Ordering::Relaxed), Ordering::Relaxed);
             self.draw(true);
-            let _ = writeln!(std::io::stderr());
-        }
-    }
-}
-
-impl Bar {
-    /// Ends the bar's line where it stands (a job stopped short), if one was drawn.
-    fn end_line(&self) {
-        if self.on && self.drawn.lock().is_ok_and(|d| d.is_some()) {
             let _ = writeln!(std::io::stderr());
         }
     }

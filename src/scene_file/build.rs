@@ -115,15 +115,12 @@ impl Context<'_> {
     /// `source` as an error of this scene at the start of the byte range `span` when
     /// given, about the solid `solid` if it concerns one.
     pub(super) fn error(&self, solid: Option<&str>, span: Option<&Range<usize>>, source: Error) -> Error {
-        if let Error::Cancelled = source {
-            return source; // Not the scene's fault: the caller stopped the load.
-        }
-        Error::Scene {
+        source.wrapped(|source| Error::Scene {
             path: self.path.to_path_buf(),
             place: span.map(|s| line_column(self.text, s.start)),
             solid: solid.map(str::to_owned),
             source: Box::new(source),
-        }
+        })
     }
 
     /// The reader's refusal `e`, at its place, naming the solid that place lies in.

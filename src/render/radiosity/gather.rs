@@ -106,8 +106,8 @@ pub(crate) fn gather(
         ));
     }
     budget.check(what, bytes)?;
+    // A stop during the build leaves rows empty; the solve then makes no sweep.
     let (system, rays) = System::build(scene, patches, progress);
-    stop_if_cancelled(progress)?;
     let (radiosity, far_b, iterations, history) = system.solve(tolerance, progress);
     stop_if_cancelled(progress)?;
     let (emitted, absorbed) = system.energy_book(scene, &radiosity, &far_b);
