@@ -195,19 +195,7 @@ impl Qef {
     /// `E` along `n`: `s = n . (b - A m) / (n . A n)`.
     fn solve_flat(&self, m: DVec3) -> Option<QefSolution> {
         let a = self.matrix();
-        // The mean normal is A's dominant direction when the normals agree: A's
-        // diagonal-sum direction by two power iterations from the largest column.
-        let mut n = [a.x_axis, a.y_axis, a.z_axis]
-            .into_iter()
-            .max_by(|p, q| p.length_squared().total_cmp(&q.length_squared()))?;
-        n = (a * n).try_normalize()?;
-        n = (a * n).try_normalize()?;
-        let along = n.dot(a * n);
-        let trace = a.x_axis.x + a.y_axis.y + a.z_axis.z;
-        // The other eigenvalues sum to trace - along; all of them small means rank 1.
-        if along <= 0.0 || trace - along > FLAT_SPREAD * along {
-            return None;
-        }
+        let (n, along) = flat_direction(a, FLAT_SPREAD)?;
         let point = m + n * (n.dot(self.b - a * m) / along);
         Some(QefSolution { point, error: self.error(point), rank: 1 })
     }
@@ -216,7 +204,24 @@ impl Qef {
 /// The share of `A`'s trace off its dominant direction under which the planes count as
 /// one (well under [`TRUNCATION`], so the fast path never decides a rank the
 /// decomposition would call 2).
-const FLAT_SPREAD: f64 = 0.001;
+pub(super) const FLAT_SPREAD: f64 = 0.001;
+
+/// The dominant direction `n` of the symmetric positive semi-definite `a` and its
+/// eigenvalue `n . A n`, when the other two eigenvalues together are at most `spread`
+/// times it (a rank-1 matrix up to `spread`), without an eigen-decomposition: two
+/// power iterations from `a`'s largest column (at least about a third of it along
+/// `n`), after which `n` is within about `2 spread^3` radians of the eigenvector;
+/// `None` otherwise.
+pub(super) fn flat_direction(a: DMat3, spread: f64) -> Option<(DVec3, f64)> {
+    let mut n =
+        [a.x_axis, a.y_axis, a.z_axis].into_iter().max_by(|p, q| p.length_squared().total_cmp(&q.length_squared()))?;
+    n = (a * n).try_normalize()?;
+    n = (a * n).try_normalize()?;
+    let along = n.dot(a * n);
+    let trace = a.x_axis.x + a.y_axis.y + a.z_axis.z;
+    // The other eigenvalues sum to trace - along; all of them small means rank 1.
+    (along > 0.0 && trace - along <= spread * along).then_some((n, along))
+}
 
 /// Eigenvalues and unit eigenvectors (the columns) of the symmetric `a`, by cyclic
 /// Jacobi rotations.

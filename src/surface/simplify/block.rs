@@ -157,7 +157,8 @@ type Candidates = [(f64, DVec3); 4];
 /// What an entry was priced on: its ends' stamps (the entry is stale once either
 /// moved) and its quadric minimiser, unless its cost came from an earlier round. The
 /// ends and their quadrics are what they were when it was priced while their stamps
-/// are, so the minimiser (an eigen-decomposition) is not worked out again.
+/// are, so the minimiser (an eigen-decomposition where the planes do not nearly
+/// agree) is not worked out again.
 #[derive(Clone, Copy)]
 struct Priced {
     stamps: [u32; 2],
@@ -165,7 +166,6 @@ struct Priced {
 }
 
 /// The edges to try, cheapest first.
-#[derive(Default)]
 struct Queue {
     heap: BinaryHeap<Entry>,
     /// What each entry was priced on, by slot.
@@ -175,6 +175,10 @@ struct Queue {
 }
 
 impl Queue {
+    fn with_capacity(entries: usize) -> Self {
+        Queue { heap: BinaryHeap::with_capacity(entries), priced: Vec::with_capacity(entries), free: Vec::new() }
+    }
+
     fn push(&mut self, cost: u64, length: f64, a: u32, b: u32, priced: Priced) {
         let slot = if let Some(slot) = self.free.pop() {
             self.priced[slot as usize] = priced;
@@ -196,6 +200,14 @@ enum ClashTest {
     /// faces left in).
     Watched { cells: Vec<bool>, grid: FaceGrid },
 }
+
+/// The face lists of a block's working mesh are made this many times the faces it
+/// starts with, and its queue this many times its own faces, rather than grown: in
+/// the classic part's first round within 0.04 voxel a block's faces end at 4.3 times
+/// (median; 5.3 at most) and its queue peaks at 3.1 times (4.2 at most): each
+/// collapse adds its fan and re-prices its kept vertex's edges, the dead faces and
+/// stale entries staying listed.
+const FACES_GROWN: usize = 5;
 
 /// Tries of a block that watch only the cells near its results' clashes before one
 /// that watches every cell ([`simplify_block`]).
@@ -266,7 +278,7 @@ fn collapse_grid(input: &BlockInput) -> FaceGrid {
 /// Greedy collapses, cheapest first, until none passes the checks.
 fn collapse_all(input: &BlockInput, limits: &Limits, test: ClashTest) -> (Local, usize) {
     let mut local = Local::new(input, test);
-    let mut queue = Queue::default();
+    let mut queue = Queue::with_capacity(FACES_GROWN * input.own.len());
     for a in 0..local.global.len() as u32 {
         if local.free[a as usize] {
             for b in local.neighbours(a) {
@@ -307,24 +319,27 @@ fn collapse_all(input: &BlockInput, limits: &Limits, test: ClashTest) -> (Local,
 
 impl Local {
     fn new(input: &BlockInput, test: ClashTest) -> Self {
-        let mut map: FxHashMap<u32, u32> = FxHashMap::default();
+        let given = input.own.len() + input.halo.len();
+        // A closed mesh has about half as many vertices as faces.
+        let (vertices, faces) = (given / 2 + 16, FACES_GROWN * given);
+        let mut map: FxHashMap<u32, u32> = FxHashMap::with_capacity_and_hasher(vertices, Default::default());
         let mut local = Local {
-            global: Vec::new(),
-            position: Vec::new(),
-            quadric: Vec::new(),
-            bound: Vec::new(),
-            free: Vec::new(),
-            interior: Vec::new(),
-            alive_vertex: Vec::new(),
-            stamp: Vec::new(),
-            mark: Vec::new(),
+            global: Vec::with_capacity(vertices),
+            position: Vec::with_capacity(vertices),
+            quadric: Vec::with_capacity(vertices),
+            bound: Vec::with_capacity(vertices),
+            free: Vec::with_capacity(vertices),
+            interior: Vec::with_capacity(vertices),
+            alive_vertex: Vec::with_capacity(vertices),
+            stamp: Vec::with_capacity(vertices),
+            mark: Vec::with_capacity(vertices),
             tick: 0,
-            incident: Vec::new(),
-            faces: Vec::with_capacity(input.own.len() + input.halo.len()),
-            cone: Vec::new(),
-            alive: Vec::new(),
-            own: Vec::new(),
-            seen: Vec::new(),
+            incident: Vec::with_capacity(vertices),
+            faces: Vec::with_capacity(faces),
+            cone: Vec::with_capacity(faces),
+            alive: Vec::with_capacity(faces),
+            own: Vec::with_capacity(faces),
+            seen: Vec::with_capacity(faces),
             query: 0,
             test,
             refusal_kept: false,

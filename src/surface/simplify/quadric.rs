@@ -11,9 +11,12 @@
 //! allows, `A`'s eigenvectors are found (Jacobi rotations) and only directions whose
 //! eigenvalue exceeds [`RANK_CUTOFF`] times the largest are solved for, starting from a
 //! point the caller gives (the edge's midpoint): on a plane the point moves only
-//! across it, on a crease only towards the crease, at a corner onto it.
+//! across it, on a crease only towards the crease, at a corner onto it. Where the
+//! planes nearly agree (the other eigenvalues together under a thousandth of the
+//! largest, far under the cutoff) the one direction is found by power iteration
+//! instead, as dual contouring's QEF does (`qef::flat_direction`).
 
-use crate::surface::qef::symmetric_eigen;
+use crate::surface::qef::{FLAT_SPREAD, flat_direction, symmetric_eigen};
 use glam::{DMat3, DVec3};
 
 /// Eigenvalues below this fraction of the largest count as zero in the minimiser.
@@ -52,6 +55,16 @@ impl Quadric {
     /// doc).
     #[must_use]
     pub(crate) fn minimizer(&self, start: DVec3) -> DVec3 {
+        // Most edges lie where their faces' planes nearly agree (rank 1): one direction
+        // to solve, found without the decomposition.
+        if let Some((n, along)) = flat_direction(self.matrix(), FLAT_SPREAD) {
+            return start - n * (n.dot(self.matrix() * start + self.b) / along);
+        }
+        self.minimizer_by_decomposition(start)
+    }
+
+    /// [`Quadric::minimizer`] from `A`'s eigen-decomposition, whatever its rank.
+    fn minimizer_by_decomposition(&self, start: DVec3) -> DVec3 {
         let (values, vectors) = symmetric_eigen(self.matrix());
         let largest = values.max_element();
         if largest <= 0.0 {
@@ -105,6 +118,33 @@ mod tests {
                 assert!((m * e - e * values[k]).length() < 1e-10 * (1.0 + values.max_element()), "{m:?}");
             }
         }
+    }
+
+    #[test]
+    fn nearly_agreeing_planes_give_the_decompositions_minimiser() {
+        // Planes whose normals lie within a small cone (a curved patch a few voxels
+        // wide), the case the power iteration takes: its answer is the decomposition's.
+        let mut rng = Rng(11);
+        let mut taken = 0;
+        for _ in 0..500 {
+            let axis = rng.vec(-1.0, 1.0).normalize();
+            let spread = rng.range(0.0, 0.03);
+            let mut q = Quadric::default();
+            for _ in 0..8 {
+                let normal = (axis + rng.vec(-spread, spread)).normalize();
+                q += Quadric::plane(rng.vec(-1.0, 1.0), normal, rng.range(0.1, 2.0));
+            }
+            let start = rng.vec(-1.0, 1.0);
+            let decomposed = q.minimizer_by_decomposition(start);
+            let x = q.minimizer(start);
+            if flat_direction(q.matrix(), FLAT_SPREAD).is_some() {
+                taken += 1;
+            }
+            assert!((x - decomposed).length() < 1e-9 * (1.0 + decomposed.length()), "{x} against {decomposed}");
+            assert!((q.eval(x) - q.eval(decomposed)).abs() <= 1e-9 * (1.0 + q.eval(decomposed)));
+        }
+        // Both paths were exercised.
+        assert!(taken > 100 && taken < 500, "{taken} of 500 took the power iteration");
     }
 
     #[test]
