@@ -59,6 +59,7 @@ mod fields;
 mod file_kind;
 mod fnv;
 pub mod import;
+mod input_file;
 pub mod io;
 pub mod mesh;
 pub mod morton;

@@ -408,6 +408,24 @@ fn vox_round_trips_exactly_and_dot_vox_reads_what_we_write() {
 }
 
 #[test]
+fn vox_voxel_count_disagreeing_with_its_chunk_is_refused_not_cut_short() {
+    // A solid of more than five voxels, then its XYZI chunk's count set to 5: the
+    // voxels after the fifth would be dropped without a word.
+    let tree = solids(&[4], 0x0c07).into_iter().find(|t| t.voxel_count() > 5).unwrap();
+    let one = Solids { domain: *tree.domain(), solids: vec![ColouredSolid::new("s", None, tree)] };
+    let mut bytes = vox::encode(&one, MemoryBudget::unlimited()).unwrap();
+    let at = bytes.windows(4).position(|w| w == b"XYZI").unwrap() + 12;
+    let count = u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    assert!(count > 5);
+    bytes[at..at + 4].copy_from_slice(&5u32.to_le_bytes());
+    let message = vox::decode(&bytes, Path::new("short.vox"), &options()).unwrap_err().to_string();
+    assert!(message.contains("short.vox") && message.contains("count and the chunk's size disagree"), "{message}");
+    // The count as written reads.
+    bytes[at..at + 4].copy_from_slice(&count.to_le_bytes());
+    assert!(vox::decode(&bytes, Path::new("whole.vox"), &options()).is_ok());
+}
+
+#[test]
 fn vox_splits_large_solids_into_models_and_refuses_too_many_colours() {
     // Voxels 1000 apart along x: the file needs several models of at most 256^3.
     let d = Domain::new(DVec3::ZERO, 1024.0, 10).unwrap();

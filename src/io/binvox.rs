@@ -61,7 +61,7 @@ fn fail(path: &Path, offset: usize, reason: impl Into<String>) -> Error {
 /// Reads the `.binvox` file at `path`.
 pub fn read(path: impl AsRef<Path>, budget: MemoryBudget) -> Result<LinearOctree> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = crate::input_file::read(path)?;
     decode(&bytes, path, budget)
 }
 

@@ -245,7 +245,7 @@ pub fn read_and_surface(
     budget: MemoryBudget,
 ) -> Result<(LinearOctree, Metadata, Option<HermiteData>)> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = crate::input_file::read(path)?;
     decode_and_surface(&bytes, path, budget)
 }
 

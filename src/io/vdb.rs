@@ -720,7 +720,7 @@ pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
 /// their gradient (`vdb_level_set.rs`); `None` for fog volumes and bool grids.
 pub fn read_and_surface(path: impl AsRef<Path>, options: &ReadOptions) -> Result<(Solids, Option<HermiteData>)> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = crate::input_file::read(path)?;
     decode_and_surface(&bytes, path, options)
 }
 

@@ -157,7 +157,7 @@ fn chunk_error(path: &Path, chunk: &Chunk, offset: usize, reason: impl std::fmt:
 /// Reads the `.vox` file at `path`.
 pub fn read(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Solids> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = crate::input_file::read(path)?;
     decode(&bytes, path, options)
 }
 
@@ -333,6 +333,13 @@ fn check_chunks(bytes: &[u8], chunks: &[Chunk], path: &Path, budget: MemoryBudge
                         )));
                     }
                     c.pos += 4;
+                }
+                if c.pos != c.end {
+                    // A count short of the chunk's size would drop the voxels after it.
+                    return Err(c.err(format!(
+                        "{} bytes after the {n} voxels the count gives: the count and the chunk's size disagree",
+                        c.end - c.pos
+                    )));
                 }
                 checked.models.push(s);
             }

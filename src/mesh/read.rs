@@ -27,7 +27,7 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh> {
 /// STL's last triangle.
 pub fn read_mesh_and_warnings(path: impl AsRef<Path>) -> Result<(TriangleMesh, Vec<Warning>)> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = crate::input_file::read(path)?;
     mesh_from_bytes(&bytes, path)
 }
 

@@ -17,7 +17,7 @@ use crate::text::Text;
 /// Reads a patch set; errors name the file and line.
 pub fn read_patches(path: impl AsRef<Path>) -> Result<Vec<BezierPatch>> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = crate::input_file::read(path)?;
     let text = Text::decode(&bytes);
     let fail = |line: usize, reason: String| Error::Parse { path: path.to_path_buf(), line, reason };
     let mut lines = text.lines().map(|(n, l)| (n, l.trim())).filter(|(_, l)| !l.is_empty());

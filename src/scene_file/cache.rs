@@ -119,7 +119,7 @@ impl SolidKey {
     pub(crate) fn file(&mut self, path: &Path) -> Result<()> {
         let index = path.join(crate::sharded::INDEX_FILE);
         let read = if path.is_dir() { index.as_path() } else { path };
-        let bytes = std::fs::read(read).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+        let bytes = crate::input_file::read(read)?;
         let value =
             format!("{} {} {:08x} {:016x}", path.display(), bytes.len(), crc32fast::hash(&bytes), fnv1a(&bytes));
         self.line("file", &value);

@@ -170,7 +170,8 @@ fn parse_scene<T>(
     stop: &dyn Progress,
     then: impl FnOnce(&SceneSpec, &Context) -> Result<T>,
 ) -> Result<T> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let text =
+        String::from_utf8(crate::input_file::read(path)?).map_err(|e| not_utf8(path, e.as_bytes(), e.utf8_error()))?;
     let folder = path.parent().unwrap_or(Path::new("."));
     let cache = RefCell::new(SceneCache::new(path, cache));
     let cx = Context { path, text: &text, folder, budget, cache, stop };
@@ -181,4 +182,18 @@ fn parse_scene<T>(
         return Err(cx.error(solid.as_deref(), Some(&span), Error::Toml { reason }));
     }
     then(&spec, &cx)
+}
+
+/// A scene that is not UTF-8 text, refused at the first byte that is not, by its line
+/// and column (in bytes, as a TOML error's place).
+fn not_utf8(path: &Path, bytes: &[u8], e: std::str::Utf8Error) -> Error {
+    let at = e.valid_up_to();
+    let line_start = bytes[..at].iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
+    Error::Scene {
+        path: path.to_path_buf(),
+        place: Some((line, at - line_start + 1)),
+        solid: None,
+        source: Box::new(Error::Toml { reason: format!("byte 0x{:02x} is not UTF-8 text", bytes[at]) }),
+    }
 }

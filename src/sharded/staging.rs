@@ -30,7 +30,6 @@
 //! `join` of the job finishes and removes it) and the `NAME.octs.old-PID` folders of
 //! octsolid before this layout.
 
-use std::fs::File;
 use std::io::{ErrorKind, Read};
 use std::os::unix::fs::{MetadataExt, OpenOptionsExt};
 use std::path::{Path, PathBuf};
@@ -70,25 +69,10 @@ pub(crate) fn job_of(name: &str) -> Option<JobId> {
     name.strip_prefix(JOB_PREFIX).and_then(JobId::parse)
 }
 
-/// Opens `path` for reading without blocking on a FIFO and refuses anything but a
-/// regular file; returns the file and its length.
-pub(crate) fn open_regular(path: &Path) -> Result<(File, u64)> {
-    let file =
-        std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK).open(path).map_err(io_error(path))?;
-    let meta = file.metadata().map_err(io_error(path))?;
-    if !meta.is_file() {
-        return Err(Error::invalid(
-            "sharded solid",
-            format!("{}: not a regular file (a folder, FIFO, device or socket); not read", path.display()),
-        ));
-    }
-    Ok((file, meta.len()))
-}
-
 /// Reads the regular file `path` whole, after checking that its length is `want`
 /// (`what` names the source of `want` in the error).
 pub(crate) fn read_exact_len(path: &Path, want: u64, what: &str) -> Result<Vec<u8>> {
-    let (file, len) = open_regular(path)?;
+    let (file, len) = crate::input_file::open_regular(path)?;
     if len != want {
         return Err(Error::Format {
             path: path.to_path_buf(),
@@ -111,7 +95,7 @@ pub(crate) fn read_checked_len(
     head: usize,
     length_of: impl FnOnce(&[u8]) -> Result<u64>,
 ) -> Result<Vec<u8>> {
-    let (file, len) = open_regular(path)?;
+    let (file, len) = crate::input_file::open_regular(path)?;
     let mut bytes = Vec::with_capacity(head.min(len as usize));
     let mut file = file;
     (&mut file).take(head as u64).read_to_end(&mut bytes).map_err(io_error(path))?;

@@ -82,8 +82,7 @@ pub(super) fn write(r: &Radiosity, path: &Path) -> Result<u64> {
 fn read_head(path: &Path) -> Result<(Vec<u8>, u64)> {
     use std::io::Read;
     let io = |source| Error::Io { path: path.to_path_buf(), source };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let len = file.metadata().map_err(io)?.len();
+    let (file, len) = crate::input_file::open_regular(path)?;
     let mut head = Vec::with_capacity(HEADER + 8);
     file.take(HEADER as u64 + 8).read_to_end(&mut head).map_err(io)?;
     Ok((head, len))
@@ -252,7 +251,7 @@ fn read_checked_file(path: &Path, r: &Fields<'_>, header: &Header, len: u64) -> 
             format!("the file has {len} bytes, {want} expected for {element_count} elements (truncated or damaged)"),
         ));
     }
-    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = crate::input_file::read(path)?;
     if bytes.len() as u64 != want {
         return Err(r.err(0, "the file changed while it was read"));
     }
