@@ -30,10 +30,17 @@ impl MemoryBudget {
         MemoryBudget(u64::MAX)
     }
 
+    /// The [`Error::OverBudget`] of `job`, which needs at least `estimate` bytes, more
+    /// than the budget (found while counting, before the whole estimate is known).
+    #[must_use]
+    pub fn refusal(&self, job: impl Into<String>, estimate: u64) -> Error {
+        Error::OverBudget { job: job.into(), estimate, budget: self.0 }
+    }
+
     /// Fails with [`Error::OverBudget`] when `estimate` exceeds the budget.
     pub fn check(&self, job: impl Into<String>, estimate: u64) -> Result<()> {
         if estimate > self.0 {
-            return Err(Error::OverBudget { job: job.into(), estimate, budget: self.0 });
+            return Err(self.refusal(job, estimate));
         }
         Ok(())
     }

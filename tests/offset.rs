@@ -711,6 +711,25 @@ fn shells_and_rounds_over_the_budget_are_refused_before_any_step_runs() {
     }
 }
 
+#[test]
+fn a_coarse_solid_at_a_fine_depth_is_refused_while_its_band_is_counted() {
+    // A cube of 8 nodes at depth 21: 6.6e12 voxel faces, a band of terabytes. Its tile
+    // lists used to be made whole before the estimate (an abort out of memory); they are
+    // counted as they grow and the step refused once they pass the budget.
+    use octsolid::{Error, MemoryBudget};
+    let cube = Cuboid::new(DVec3::splat(0.5), DVec3::splat(0.25)).unwrap();
+    let tree = voxelize(&cube, unit_domain(2), &VoxelizeOptions::default()).unwrap().refine(21).unwrap();
+    assert!(tree.depth() == 21 && tree.node_count() < 100, "{} nodes", tree.node_count());
+    let budget = MemoryBudget(64 << 20);
+    let options = OffsetOptions { budget, ..OffsetOptions::default() };
+    for r in [3.0, -3.0] {
+        let e = tree.offset(r, &options).unwrap_err();
+        assert!(matches!(e, Error::OverBudget { estimate, .. } if estimate > budget.0), "{r}: {e}");
+    }
+    let e = tree.shell(2.0, false, &options).unwrap_err();
+    assert!(matches!(e, Error::OverBudget { .. }), "{e}");
+}
+
 /// Issue 39: a bore's rim, the convex edge where a box's top face meets a cylindrical
 /// bore's wall, grown by `D` along the surface is the round of radius `D` around the
 /// rim circle (a quarter of a torus): the result's crossings near it lie `D` from the

@@ -223,6 +223,19 @@ fn a_turned_furnace_of_true_surface_patches_shows_e_over_one_minus_rho_over_the_
     }
 }
 
+#[test]
+fn a_patch_size_far_under_the_surfaces_is_refused_by_the_budget_before_its_tiles_are_made() {
+    // Side 1e-9 on walls of side 1 to 1.6: about 1e19 tiles, far past any memory. They
+    // used to be allocated before anything was checked (an abort, not an error).
+    let (scene, _) = turned_room(0.5, 0.8);
+    let budget = MemoryBudget(64 << 20);
+    for side in [1e-9, 1e-3] {
+        let e = Radiosity::solve(&scene, &RadiosityOptions { budget, ..options(side, 1) }, &NoProgress).unwrap_err();
+        assert!(matches!(e, Error::OverBudget { .. }), "{e}");
+        assert!(e.to_string().contains("patches of side"), "{e}");
+    }
+}
+
 /// A closed room of six slabs, each its own solid made from a shape, overlapping at the
 /// room's edges as walls are modelled: slab `a, sign` is `[-0.75, 0.75]^2` across axis
 /// `a` and `0.5..0.75` along it on the `sign` side; the room is `[-0.5, 0.5]^3`.

@@ -38,15 +38,19 @@ fn clamped(tree: &LinearOctree, step: Step) -> Step {
 }
 
 /// The memory `step` (along a surface when `along_surface`) is estimated to need; 0
-/// when it reaches no voxel.
-pub(super) fn estimate(tree: &LinearOctree, step: Step, along_surface: bool) -> u64 {
+/// when it reaches no voxel. Past `cap` bytes the band is not made: what it needs at
+/// least is returned, more than `cap`.
+pub(super) fn estimate(tree: &LinearOctree, step: Step, along_surface: bool, cap: u64) -> u64 {
     let step = clamped(tree, step);
     if along_surface {
-        return features::band(tree, step).map_or(0, |band| features::estimate(&band, step));
+        return match features::band(tree, step, cap) {
+            Ok(band) => band.map_or(0, |band| features::estimate(&band, step)),
+            Err(least) => least,
+        };
     }
     match step.reach() {
         0 => 0,
-        r => TileBand::of(tree, step, r).estimate,
+        r => TileBand::of(tree, step, r, cap).map_or_else(|least| least, |band| band.estimate),
     }
 }
 
@@ -70,11 +74,11 @@ pub(super) fn changed_runs(
         if step.limit() >= i64::from(u32::MAX) {
             return Err(too_far(step));
         }
-        let band = TileBand::of(tree, step, r);
+        let band = TileBand::of(tree, step, r, budget.0).map_err(|least| budget.refusal(job(), least))?;
         budget.check(job(), band.estimate)?;
         return Ok((band.changed_runs(tree, step, step.limit(), progress), Vec::new()));
     };
-    let Some(band) = features::band(tree, step) else {
+    let Some(band) = features::band(tree, step, budget.0).map_err(|least| budget.refusal(job(), least))? else {
         return Ok((Vec::new(), Vec::new()));
     };
     if !features::holds(step) {

@@ -178,12 +178,12 @@ fn cost_of(o: [i64; 3]) -> i64 {
     o.iter().map(|&c| axis_cost(c)).sum()
 }
 
-/// The band of `step` along a surface on `tree` (see the module doc), `None` when the
-/// step reaches no voxel.
-pub(super) fn band(tree: &LinearOctree, step: Step) -> Option<TileBand> {
+/// The band of `step` along a surface on `tree` (see the module doc), `Ok(None)` when
+/// the step reaches no voxel; `Err` as [`TileBand::of`] past `cap` bytes.
+pub(super) fn band(tree: &LinearOctree, step: Step, cap: u64) -> Result<Option<TileBand>, u64> {
     match step.reach_along_surface() {
-        0 => None,
-        r => Some(TileBand::of(tree, step, r + 1)),
+        0 => Ok(None),
+        r => TileBand::of(tree, step, r + 1, cap).map(Some),
     }
 }
 
@@ -1234,7 +1234,7 @@ mod tests {
             let full = tree.occupancy([0; 3], 32);
             for (radius, grow) in [(0.7, true), (2.3, false), (4.6, true), (4.6, false), (7.2, true), (7.2, false)] {
                 let step = Step { radius, grow, metric: crate::octree::Metric::Euclidean };
-                let band = band(&tree, step).unwrap();
+                let band = band(&tree, step, u64::MAX).unwrap().unwrap();
                 let sites = tile_sites(&tree, &band, grow);
                 let cap = (2.0 * radius + 3.0).powi(2).ceil() as i64;
                 let settled = settled(radius);

@@ -126,14 +126,21 @@ impl LinearOctree {
     /// of its tiles; along a surface, a nearest site a voxel of its tiles, their
     /// occupancy and the crossings out; and the trees in and out; 0 when the step
     /// reaches no voxel or `distance` is not finite.
+    /// Past half the machine's memory the band is not made, and what the step needs at
+    /// least is returned (more than that).
     #[must_use]
     pub fn offset_estimate(&self, distance_in_voxels: f64, along_surface: bool) -> u64 {
+        self.estimate_within(distance_in_voxels, along_surface, MemoryBudget::half_of_ram().0)
+    }
+
+    /// [`LinearOctree::offset_estimate`], its band not made past `cap` bytes.
+    fn estimate_within(&self, distance_in_voxels: f64, along_surface: bool, cap: u64) -> u64 {
         if !distance_in_voxels.is_finite() {
             return 0;
         }
         // The Euclidean limit is the largest, so its estimate bounds the others'.
         let step = Step { radius: distance_in_voxels.abs(), grow: distance_in_voxels > 0.0, metric: Metric::Euclidean };
-        band::estimate(self, step, along_surface)
+        band::estimate(self, step, along_surface, cap)
     }
 
     /// Refuses `job` before any of its steps (offsets by `steps` voxels) runs when the
@@ -147,7 +154,7 @@ impl LinearOctree {
         along_surface: bool,
         budget: MemoryBudget,
     ) -> Result<()> {
-        let estimate = steps.iter().map(|&d| self.offset_estimate(d, along_surface)).max().unwrap_or(0);
+        let estimate = steps.iter().map(|&d| self.estimate_within(d, along_surface, budget.0)).max().unwrap_or(0);
         budget.check(job, estimate)
     }
 

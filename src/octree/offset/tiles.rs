@@ -56,6 +56,8 @@
 //! are gathered in Morton order, so the result does not depend on the number of
 //! threads.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use rayon::prelude::*;
 
 use super::edt::{FAR, lower_envelope, nearest_site_along_row};
@@ -68,6 +70,8 @@ use crate::progress::Progress;
 
 /// Tile edge, as a power of two (at most the domain's).
 const TILE_K: u32 = 3;
+/// Seeds a thread lists before it counts them against the cap ([`TileBand::of`]).
+const COUNT_EVERY: u64 = 1 << 16;
 
 /// A tile's phase as the step sees it.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -148,18 +152,28 @@ impl Tiles<'_> {
 }
 
 impl TileBand {
-    /// The tiles of `step` (reach `r` voxels, at least 1) on `tree` (see the module doc).
-    pub(super) fn of(tree: &LinearOctree, step: Step, r: u32) -> TileBand {
+    /// The tiles of `step` (reach `r` voxels, at least 1) on `tree` (see the module doc),
+    /// or, when finding them would take more than `cap` bytes, `Err` with bytes the step
+    /// needs at least (more than `cap`): the lists are counted as they grow, so a solid
+    /// whose surface is far larger than its nodes (a coarse solid at a fine depth) is
+    /// refused before they fill memory.
+    pub(super) fn of(tree: &LinearOctree, step: Step, r: u32, cap: u64) -> Result<TileBand, u64> {
         let depth = u32::from(tree.depth());
         let k = TILE_K.min(depth);
         let n = tree.domain().resolution() >> k;
         let tiles = Tiles { keys: tree.keys(), k, n, grow: step.grow };
         let t = r.div_ceil(1 << k);
-        let (mixed, free) = seeds(&tiles);
+        let (mixed, free) = seeds(&tiles, cap)?;
+        // Every seed is a tile of the band, which takes at least its values (2 bytes a
+        // voxel) and its entries in the lists.
+        let least = (mixed.len() + free.len()) as u64 * ((2 << (3 * k)) + 64);
+        if least > cap {
+            return Err(least);
+        }
         // Free seeds by at least one: then every site tile next to a tile of the band
         // is in the dilated set (a free tile touching one is a seed).
-        let mut dilated = dilate(mixed, t, n);
-        dilated.extend(dilate(free, (t - 1).max(1), n));
+        let mut dilated = dilate(mixed, t, n, cap)?;
+        dilated.extend(dilate(free, (t - 1).max(1), n, cap)?);
         dilated.par_sort_unstable();
         dilated.dedup();
         let kinds = kinds_of(&tiles, &dilated);
@@ -177,7 +191,7 @@ impl TileBand {
         // runs (about 64 bytes a tile), the trees in and out.
         let value = if step.limit() < i64::from(u16::MAX) { 2 } else { 4 };
         let estimate = value * voxels + 64 * (band.len() + sites.len()) as u64 + 3 * tree.bytes() as u64;
-        TileBand { k, n, grow: step.grow, tiles: band, mixed, reach: r, sites, estimate }
+        Ok(TileBand { k, n, grow: step.grow, tiles: band, mixed, reach: r, sites, estimate })
     }
 
     /// The Morton runs of the voxels `step` changes (sorted), with its `limit` on four
@@ -625,10 +639,14 @@ fn window_pass<V: Value>(
 }
 
 /// The seeds (see the module doc): the mixed tiles, and the free tiles touching a site
-/// tile, each sorted by packed position.
-fn seeds(tiles: &Tiles) -> (Vec<Packed>, Vec<Packed>) {
+/// tile, each sorted by packed position; `Err` with their lists' bytes once those pass
+/// `cap` (counted over all threads as they grow, so at most a few thousand entries a
+/// thread past it).
+fn seeds(tiles: &Tiles, cap: u64) -> Result<(Vec<Packed>, Vec<Packed>), u64> {
     let k = tiles.k;
     let n = i64::from(tiles.n);
+    let listed = AtomicU64::new(0);
+    let entry = std::mem::size_of::<Packed>() as u64;
     let parts: Vec<(Vec<Packed>, Vec<Packed>)> = tiles
         .keys
         .par_chunks(4096)
@@ -636,13 +654,26 @@ fn seeds(tiles: &Tiles) -> (Vec<Packed>, Vec<Packed>) {
         .map(|(c, chunk)| {
             let (mut mixed, mut out) = (Vec::new(), Vec::new());
             let mut last_mixed = u64::MAX;
+            // Entries listed here and not yet added to `listed`; whether all threads'
+            // lists, with them, are still within the cap. Counted every key and every
+            // `COUNT_EVERY` entries within a key: a key of whole tiles may list billions.
+            let mut uncounted = 0u64;
+            let within = |uncounted: &mut u64| {
+                let total = listed.fetch_add(*uncounted, Ordering::Relaxed) + *uncounted;
+                *uncounted = 0;
+                total * entry <= cap
+            };
             for (j, key) in chunk.iter().enumerate() {
+                if !within(&mut uncounted) {
+                    break;
+                }
                 let hint = 4096 * c + j;
                 if key.k() < k {
                     let tile = key.start() >> (3 * k);
                     if tile != last_mixed {
                         last_mixed = tile;
                         mixed.push(pack(morton::decode(tile)));
+                        uncounted += 1;
                     }
                     continue;
                 }
@@ -651,11 +682,14 @@ fn seeds(tiles: &Tiles) -> (Vec<Packed>, Vec<Packed>) {
                 let min = morton::decode(key.start() >> (3 * k)).map(i64::from);
                 let size = 1i64 << (key.k() - k);
                 let inside = |c: [i64; 3]| (0..3).all(|a| c[a] >= min[a] && c[a] < min[a] + size);
+                let mut list = |c: [i64; 3]| {
+                    out.push(pack(c.map(|x| x as u32)));
+                    uncounted += 1;
+                    uncounted < COUNT_EVERY || within(&mut uncounted)
+                };
                 if tiles.grow {
                     for_shell(min.map(|c| c - 1), min.map(|c| c + size + 1), n, |c| {
-                        if !inside(c) && tiles.kind_near(c, hint) == Kind::Free {
-                            out.push(pack(c.map(|x| x as u32)));
-                        }
+                        inside(c) || tiles.kind_near(c, hint) != Kind::Free || list(c)
                     });
                 } else {
                     for_shell(min, min.map(|c| c + size), n, |c| {
@@ -664,15 +698,18 @@ fn seeds(tiles: &Tiles) -> (Vec<Packed>, Vec<Packed>) {
                             let nb: [i64; 3] = std::array::from_fn(|a| c[a] + e[a]);
                             !inside(nb) && tiles.kind_near(nb, hint) == Kind::Site
                         });
-                        if touches {
-                            out.push(pack(c.map(|x| x as u32)));
-                        }
+                        !touches || list(c)
                     });
                 }
             }
+            listed.fetch_add(uncounted, Ordering::Relaxed);
             (mixed, out)
         })
         .collect();
+    let total = listed.load(Ordering::Relaxed) * entry;
+    if total > cap {
+        return Err(total);
+    }
     let (mut mixed, mut free): (Vec<Packed>, Vec<Packed>) = (Vec::new(), Vec::new());
     for (m, f) in parts {
         mixed.extend(m);
@@ -682,33 +719,42 @@ fn seeds(tiles: &Tiles) -> (Vec<Packed>, Vec<Packed>) {
         set.par_sort_unstable();
         set.dedup();
     }
-    (mixed, free)
+    Ok((mixed, free))
 }
 
 /// Calls `f` for each tile of the box `[lo, hi)` on its boundary layer, clipped to the
-/// domain (`0..n`); rows through the box's inside visit only their two ends.
-fn for_shell(lo: [i64; 3], hi: [i64; 3], n: i64, mut f: impl FnMut([i64; 3])) {
+/// domain (`0..n`), until it returns `false`; rows through the box's inside visit only
+/// their two ends.
+fn for_shell(lo: [i64; 3], hi: [i64; 3], n: i64, mut f: impl FnMut([i64; 3]) -> bool) {
     let inside = |x: i64| (0..n).contains(&x);
     for z in lo[2].max(0)..hi[2].min(n) {
         for y in lo[1].max(0)..hi[1].min(n) {
             if z == lo[2] || z == hi[2] - 1 || y == lo[1] || y == hi[1] - 1 {
-                (lo[0].max(0)..hi[0].min(n)).for_each(|x| f([x, y, z]));
+                if !(lo[0].max(0)..hi[0].min(n)).all(|x| f([x, y, z])) {
+                    return;
+                }
                 continue;
             }
-            if inside(lo[0]) {
-                f([lo[0], y, z]);
+            if inside(lo[0]) && !f([lo[0], y, z]) {
+                return;
             }
-            if hi[0] - 1 != lo[0] && inside(hi[0] - 1) {
-                f([hi[0] - 1, y, z]);
+            if hi[0] - 1 != lo[0] && inside(hi[0] - 1) && !f([hi[0] - 1, y, z]) {
+                return;
             }
         }
     }
 }
 
 /// The tiles within `t` (Chebyshev) of `set`, inside the domain of `n` tiles a side,
-/// sorted by packed position: one axis at a time.
-fn dilate(mut set: Vec<Packed>, t: u32, n: u32) -> Vec<Packed> {
+/// sorted by packed position: one axis at a time; `Err` with the bytes a pass would
+/// list when they pass `cap`.
+fn dilate(mut set: Vec<Packed>, t: u32, n: u32, cap: u64) -> Result<Vec<Packed>, u64> {
     for axis in 0..3 {
+        // A pass lists up to `2t + 1` tiles a tile before they are deduplicated.
+        let listed = set.len() as u64 * u64::from(2 * t + 1) * std::mem::size_of::<Packed>() as u64;
+        if listed > cap {
+            return Err(listed);
+        }
         let mut next: Vec<Packed> = set
             .par_iter()
             .flat_map_iter(|&p| {
@@ -725,5 +771,5 @@ fn dilate(mut set: Vec<Packed>, t: u32, n: u32) -> Vec<Packed> {
         next.dedup();
         set = next;
     }
-    set
+    Ok(set)
 }

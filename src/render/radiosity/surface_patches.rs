@@ -172,8 +172,9 @@ pub(crate) fn surface_patches(
     let regions = planar_regions(mesh, voxel, patch_size);
     let (reflectance, emission) = (solid.material.diffuse_reflectance(), solid.material.emission);
     let mut out = SolidPatches { patches: Vec::new(), elements: 0 };
+    let mut tiles = 0.0;
     for region in &regions {
-        for mut p in region_patches(mesh, region, voxel, patch_size, elements) {
+        for mut p in region_patches(mesh, region, voxel, patch_size, elements, budget, &mut tiles)? {
             p.solid = index;
             p.reflectance = reflectance;
             p.emission = emission;
@@ -184,8 +185,21 @@ pub(crate) fn surface_patches(
     Ok(out)
 }
 
-/// The tiles of one region (module doc), with their covers.
-fn region_patches(mesh: &TriangleMesh, region: &Region, voxel: f64, patch_size: f64, elements: u32) -> Vec<Patch> {
+/// The tiles of one region (module doc), with their covers; `tiles` counts the tiles of
+/// the solid's regions so far, this one's added.
+///
+/// # Errors
+/// When those tiles would take more than `budget` (a patch size far under the solid's
+/// size), before this region's are allocated.
+fn region_patches(
+    mesh: &TriangleMesh,
+    region: &Region,
+    voxel: f64,
+    patch_size: f64,
+    elements: u32,
+    budget: MemoryBudget,
+    tiles_so_far: &mut f64,
+) -> Result<Vec<Patch>> {
     let n = region.normal;
     let (e1, e2) = plane_basis(n);
     let flat = |p: DVec3| DVec2::new((p - region.point).dot(e1), (p - region.point).dot(e2));
@@ -212,8 +226,20 @@ fn region_patches(mesh: &TriangleMesh, region: &Region, voxel: f64, patch_size: 
     }
     let size = (hi - lo).max(DVec2::splat(1e-9 * voxel));
     // (A side a hair over a whole number of patches, by rounding, is that number.)
-    let tiles = |len: f64| (len / patch_size - 1e-6).ceil().max(1.0) as usize;
-    let (tu, tv) = (tiles(size.x), tiles(size.y));
+    let tiles = |len: f64| (len / patch_size - 1e-6).ceil().max(1.0);
+    // Each tile holds its two areas and its list of pieces while it is cut, and may
+    // become a patch: checked before any is allocated, in floats (a tiny patch size
+    // overflows any integer), with the solid's tiles so far.
+    let tile_bytes =
+        (std::mem::size_of::<(f64, f64)>() + std::mem::size_of::<Vec<Piece>>() + 1 + std::mem::size_of::<Patch>())
+            as f64;
+    *tiles_so_far += tiles(size.x) * tiles(size.y);
+    let estimate = *tiles_so_far * tile_bytes;
+    budget.check(
+        format!("{:.0} patches of side {patch_size}", *tiles_so_far),
+        if estimate < u64::MAX as f64 { estimate as u64 } else { u64::MAX },
+    )?;
+    let (tu, tv) = (tiles(size.x) as usize, tiles(size.y) as usize);
     let tile = DVec2::new(size.x / tu as f64, size.y / tv as f64);
     // Each triangle clipped to the tiles its box meets, in tile coordinates: first
     // each tile's areas (covered in its plane, and true), then the pieces of the tiles
@@ -289,7 +315,7 @@ fn region_patches(mesh: &TriangleMesh, region: &Region, voxel: f64, patch_size: 
             lift,
         });
     }
-    patches
+    Ok(patches)
 }
 
 #[cfg(test)]
@@ -342,7 +368,7 @@ mod tests {
         for r in &regions {
             assert!(r.planar);
             let (normal, area) = *faces.iter().find(|f| f.0.dot(r.normal) > 1.0 - 1e-9).expect("a face's normal");
-            let patches = region_patches(&surface.mesh, r, voxel, 1.0, 4);
+            let patches = region_patches(&surface.mesh, r, voxel, 1.0, 4, MemoryBudget::unlimited(), &mut 0.0).unwrap();
             assert_eq!(patches.len(), 1, "{normal}");
             let got = patches[0].area;
             // Exact for a tile the face fills; within half a percent where the bent
