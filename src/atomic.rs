@@ -12,6 +12,8 @@
 //! unpredictable bits) and created exclusively (`O_EXCL`), so a file or symlink planted
 //! under a guessed name is never written through.
 //!
+//! A file replaced keeps its permissions: the temporary takes them before the rename.
+//!
 //! A write killed before its rename leaves its temporary file behind. Every later
 //! write into the same folder removes those it can prove stale: this host's whose
 //! process is gone, whatever their destination. Kept: a running process's (a write in
@@ -167,6 +169,11 @@ fn replace(path: &Path, target: &Path, body: impl FnOnce(File) -> std::io::Resul
     let (file, temp) = create_temporary(target).map_err(io_error)?;
     let result = (|| {
         let (file, bytes) = body(file)?;
+        // A file replaced keeps its permissions (the temporary was made 0666 less the
+        // umask).
+        if let Some(old) = std::fs::metadata(target).ok().filter(std::fs::Metadata::is_file) {
+            file.set_permissions(old.permissions())?;
+        }
         file.sync_all()?;
         std::fs::rename(&temp, target)?;
         Ok(bytes)
@@ -251,6 +258,20 @@ mod tests {
             .unwrap()
             .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().contains(TEMP_MARKER));
         assert_eq!(leftovers.count(), 0);
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_permissions() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = scratch("permissions");
+        let out = dir.join("kept.oct");
+        std::fs::write(&out, b"old").unwrap();
+        for mode in [0o600, 0o640, 0o400] {
+            std::fs::set_permissions(&out, std::fs::Permissions::from_mode(mode)).unwrap();
+            write_atomic(&out, |w| w.write_all(b"new")).unwrap();
+            assert_eq!(std::fs::metadata(&out).unwrap().permissions().mode() & 0o777, mode);
+            assert_eq!(std::fs::read(&out).unwrap(), b"new");
+        }
     }
 
     #[test]

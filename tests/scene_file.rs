@@ -234,6 +234,13 @@ fn value_errors_name_the_file_the_place_and_the_solid() {
             vec!["unbounded"],
         ),
         (format!("[[solid]]\nname = \"part\"\n{BALL}\nmesh = \"cube.obj\"\n"), "[[solid]]", vec!["exactly one of"]),
+        // A mesh's keys on a shape: they used to be dropped without a word.
+        (format!("[[solid]]\nname = \"part\"\n{BALL}\ndepth = 3\n"), "3", vec!["only a mesh solid", "depth"]),
+        (
+            format!("[[solid]]\nname = \"part\"\n{BALL}\ninside = \"winding\"\n"),
+            "\"winding\"",
+            vec!["only a mesh solid", "inside rule"],
+        ),
     ];
     for (i, (text, needle, words)) in built.iter().enumerate() {
         let (path, e) = error(&dir, &format!("built{i}.toml"), text);
@@ -243,6 +250,41 @@ fn value_errors_name_the_file_the_place_and_the_solid() {
         for word in words {
             assert!(message.contains(word), "case {i}: {message:?} lacks {word:?}");
         }
+    }
+}
+
+#[test]
+fn half_a_domain_and_a_light_pointing_nowhere_are_refused() {
+    // Each used to be dropped without a word: the domain fitted around the shapes, the
+    // light lighting nothing.
+    let dir = scratch("halves");
+    for (text, words) in [
+        (format!("[domain]\nmin = [0, 0, 0]\n\n[[solid]]\n{BALL}\n"), ["min without edge", "give both"]),
+        (format!("[domain]\nedge = 4\n\n[[solid]]\n{BALL}\n"), ["edge without min", "give both"]),
+        (
+            format!("[[light]]\ntype = \"directional\"\ndirection = [0, 0, 0]\n\n[[solid]]\n{BALL}\n"),
+            ["direction [0, 0, 0]", "points nowhere"],
+        ),
+    ] {
+        let (path, e) = error(&dir, "half.toml", &text);
+        let message = e.to_string();
+        assert!(message.starts_with(&format!("{}:", path.display())), "{message}");
+        for word in words {
+            assert!(message.contains(word), "{message:?} lacks {word:?}");
+        }
+    }
+}
+
+#[test]
+fn a_camera_looking_nowhere_is_refused_at_its_key() {
+    // A zero up or view left the eye at the target; the camera's error blamed the eye
+    // and gave no place.
+    let dir = scratch("camera");
+    for key in ["up", "view"] {
+        let text = format!("[camera]\n{key} = [0, 0, 0]\n\n[[solid]]\n{BALL}\n");
+        let (path, e) = error(&dir, "camera.toml", &text);
+        let cause = scene_cause(e, &path, &text, Some("[0, 0, 0]"), None);
+        assert!(cause.to_string().contains("points nowhere"), "{cause}");
     }
 }
 
@@ -265,6 +307,26 @@ fn a_missing_mesh_keeps_its_io_error_and_the_solids_name() {
     let (path, e) = error(&dir, "texture.toml", &text);
     let cause = scene_cause(e, &path, &text, Some("{ texture"), Some("solid 2"));
     assert!(matches!(cause, Error::Io { path, .. } if path.ends_with("gone.png")));
+}
+
+#[test]
+fn a_folder_or_a_device_as_a_mesh_and_a_scene_not_utf8_are_refused_at_their_place() {
+    let dir = scratch("not-files");
+    std::fs::create_dir_all(dir.join("d.obj")).unwrap();
+    for mesh in ["d.obj", "/dev/zero"] {
+        let text = format!("[[solid]]\nname = \"m\"\nmesh = \"{mesh}\"\n");
+        let (path, e) = error(&dir, "mesh.toml", &text);
+        match scene_cause(e, &path, &text, Some(&format!("\"{mesh}\"")), Some("m")) {
+            Error::Io { source, .. } => assert!(source.to_string().contains("not a regular file"), "{source}"),
+            other => panic!("not an I/O error: {other:?}"),
+        }
+    }
+    // A byte that is not UTF-8 on line 3, column 3.
+    let path = dir.join("latin1.toml");
+    std::fs::write(&path, b"[[solid]]\nname = \"m\"\n# \xff\n").unwrap();
+    let e = read_scene(&path, MemoryBudget::default()).err().expect("refused");
+    let cause = scene_cause_at(e, &path, Some((3, 3)), None);
+    assert!(cause.to_string().contains("0xff is not UTF-8"), "{cause}");
 }
 
 #[test]

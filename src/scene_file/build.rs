@@ -190,6 +190,12 @@ pub(super) fn shape_domain(
     let span = spec.map(Spanned::span);
     let at_domain = |e| cx.error(None, span.as_ref(), e);
     let given = spec.map(Spanned::get_ref);
+    if let Some(DomainSpec { min, edge, .. }) = given
+        && min.is_some() != edge.is_some()
+    {
+        let (has, lacks) = if min.is_some() { ("min", "edge") } else { ("edge", "min") };
+        return Err(at_domain(Error::invalid("domain", format!("{has} without {lacks}: give both, or neither"))));
+    }
     if let Some(DomainSpec { min: Some(min), edge: Some(edge), voxel_size, .. }) = given {
         if voxel_size.is_some() {
             return Err(at_domain(Error::invalid("domain", "give either min and edge or voxel_size, not both")));
@@ -293,12 +299,30 @@ impl SolidBuild<'_> {
         Ok((Some(tree), files.read.into_inner()))
     }
 
-    /// Refuses a solid that gives none or several of `shape`, `mesh` and `oct`.
+    /// Refuses a solid that gives none or several of `shape`, `mesh` and `oct`, and a
+    /// mesh's keys (`depth`, `inside`) on a solid that is not a mesh, at the key.
     pub(super) fn check_one_source(&self) -> Result<()> {
         let s = self.spec;
         let sources = usize::from(s.shape.is_some()) + usize::from(s.mesh.is_some()) + usize::from(s.oct.is_some());
         if sources != 1 {
             return Err(self.at(None)(Error::invalid("solid", "give exactly one of shape, mesh or oct")));
+        }
+        if s.mesh.is_none() {
+            let kind =
+                if s.shape.is_some() { "a shape takes the [domain]'s depth" } else { "an .oct file keeps its own" };
+            if let Some(depth) = &s.depth {
+                return Err(self.at(Some(depth.span()))(Error::invalid(
+                    "depth",
+                    format!("only a mesh solid takes one ({kind})"),
+                )));
+            }
+            if let Some(inside) = &s.inside {
+                let e = Error::invalid(
+                    "inside",
+                    "only a mesh solid takes an inside rule (a shape or an .oct file has its inside)",
+                );
+                return Err(self.at(Some(inside.span()))(e));
+            }
         }
         Ok(())
     }
@@ -330,8 +354,8 @@ impl SolidBuild<'_> {
             (None, Some(mesh), _) => {
                 let mut key = SolidKey::new("mesh");
                 key.file(&self.cx.folder.join(mesh.get_ref())).map_err(self.at(Some(mesh.span())))?;
-                key.line("depth", &s.depth.unwrap_or(depth).to_string());
-                key.line("inside", &format!("{:?}", s.inside.unwrap_or(InsideSpec::Auto)));
+                key.line("depth", &s.depth.as_ref().map_or(depth, |d| *d.get_ref()).to_string());
+                key.line("inside", &format!("{:?}", s.inside.as_ref().map_or(InsideSpec::Auto, |i| *i.get_ref())));
                 key
             }
             (None, None, Some(file)) if s.transform.is_some() => {
@@ -426,8 +450,9 @@ impl SolidBuild<'_> {
         if let Some(map) = self.transform()? {
             input.transform(map);
         }
-        let domain = import::default_domain(&input, self.spec.depth.unwrap_or(depth)).map_err(&at_file)?;
-        let inside = self.spec.inside.map_or(InsideRule::Auto, InsideRule::from);
+        let domain = import::default_domain(&input, self.spec.depth.as_ref().map_or(depth, |d| *d.get_ref()))
+            .map_err(&at_file)?;
+        let inside = self.spec.inside.as_ref().map_or(InsideRule::Auto, |i| InsideRule::from(*i.get_ref()));
         let options =
             ImportOptions { inside, budget: voxelize.budget, progress: voxelize.progress, ..Default::default() };
         Ok((import::voxelize_input(&input, domain, &options).map_err(at_file)?.0, warnings))

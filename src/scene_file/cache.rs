@@ -118,7 +118,8 @@ impl SolidKey {
     /// sharded solid's index, which holds every shard's length and checksum).
     pub(crate) fn file(&mut self, path: &Path) -> Result<()> {
         let index = path.join(crate::sharded::INDEX_FILE);
-        let read = if path.is_dir() { index.as_path() } else { path };
+        // A folder that is not a sharded solid is read as itself: refused as a folder.
+        let read = if index.is_file() { index.as_path() } else { path };
         let bytes = crate::input_file::read(read)?;
         let value =
             format!("{} {} {:08x} {:016x}", path.display(), bytes.len(), crc32fast::hash(&bytes), fnv1a(&bytes));

@@ -97,7 +97,9 @@ pub(super) struct CameraSpec {
     pub(super) eye: Option<[f64; 3]>,
     pub(super) target: Option<[f64; 3]>,
     /// Direction from the target to the eye when the eye is not given (auto-framing).
+    #[serde(default, deserialize_with = "direction")]
     pub(super) view: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "direction")]
     pub(super) up: Option<[f64; 3]>,
     #[serde(default, deserialize_with = "field_of_view")]
     pub(super) fov: Option<f64>,
@@ -135,6 +137,16 @@ fn field_of_view<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<
         return Err(de::Error::custom(format!("field of view {fov} must be between 0 and 180 degrees")));
     }
     Ok(Some(fov))
+}
+
+/// `[camera] view` and `up`, checked where they are read: not zero (a zero view or up
+/// left the eye at the target, and the camera's error blamed the eye).
+fn direction<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<[f64; 3]>, D::Error> {
+    let v = <[f64; 3]>::deserialize(d)?;
+    if v == [0.0; 3] {
+        return Err(de::Error::custom("the direction [0, 0, 0] points nowhere"));
+    }
+    Ok(Some(v))
 }
 
 /// `[camera] height`, checked where it is read: positive.
@@ -199,9 +211,9 @@ pub(super) struct SolidSpec {
     /// Moves the solid: scale, rotate, translate (as a shape's `transform`).
     pub(super) transform: Option<Spanned<TransformSpec>>,
     /// Depth for a mesh (default: the scene domain's).
-    pub(super) depth: Option<u8>,
+    pub(super) depth: Option<Spanned<u8>>,
     /// How a mesh decides its inside (default auto).
-    pub(super) inside: Option<InsideSpec>,
+    pub(super) inside: Option<Spanned<InsideSpec>>,
     pub(super) material: Option<Spanned<MaterialSpec>>,
 }
 
@@ -338,7 +350,11 @@ impl LightSpec {
         match (self.kind, self.position, self.direction) {
             (LightKind::Point, Some(p), None) => Ok(Light::Point { position: DVec3::from_array(p), color }),
             (LightKind::Directional, None, Some(d)) => {
-                Ok(Light::Directional { direction: DVec3::from_array(d), color })
+                let direction = DVec3::from_array(d);
+                if direction.length_squared() == 0.0 {
+                    return Err(Error::invalid("light", "a directional light's direction [0, 0, 0] points nowhere"));
+                }
+                Ok(Light::Directional { direction, color })
             }
             (LightKind::Point, ..) => Err(Error::invalid("light", "a point light takes a position and no direction")),
             (LightKind::Directional, ..) => {
