@@ -289,6 +289,23 @@ fn a_camera_looking_nowhere_is_refused_at_its_key() {
 }
 
 #[test]
+fn render_settings_out_of_range_are_refused_at_their_value() {
+    // They used to pass the reader and fail when the render began, with no place.
+    let dir = scratch("image");
+    for (key, value, words) in [
+        ("max_depth", "100000000", "above the limit of 64"),
+        ("cutoff", "-1", "outside 0..=1"),
+        ("aa_depth", "100", "outside 1..="),
+        ("aa_depth", "0", "outside 1..="),
+    ] {
+        let text = format!("[image]\n{key} = {value}\n\n[[solid]]\n{BALL}\n");
+        let (path, e) = error(&dir, "image.toml", &text);
+        let cause = scene_cause(e, &path, &text, Some(&format!("= {value}")[2..]), None);
+        assert!(cause.to_string().contains(words), "{key}: {cause}");
+    }
+}
+
+#[test]
 fn a_missing_mesh_keeps_its_io_error_and_the_solids_name() {
     let dir = scratch("missing");
     let text = "[[solid]]\nname = \"bunny\"\nmesh = \"missing.obj\"\n";

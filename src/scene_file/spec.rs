@@ -17,8 +17,8 @@ use crate::color::ColorSpec;
 use crate::error::{Error, Result};
 use crate::mesh::InsideRule;
 use crate::render::{
-    AntiAliasingKind, Bump, Camera, DEFAULT_VIEW, Light, MAX_IMAGE_SIZE, Mapping, Material, Normals, Projection,
-    RenderOptions, RenderOverrides, Texture,
+    AntiAliasingKind, Bump, Camera, DEFAULT_VIEW, Light, MAX_AA_DEPTH, MAX_IMAGE_SIZE, MAX_RAY_DEPTH, Mapping,
+    Material, Normals, Projection, RenderOptions, RenderOverrides, Texture,
 };
 use crate::shape::{Axis, ShapeSpec, TransformSpec};
 
@@ -51,8 +51,10 @@ pub(super) struct ImageSpec {
     /// Axis (the default), smooth or octree.
     pub(super) normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays.
+    #[serde(default, deserialize_with = "ray_depth")]
     pub(super) max_depth: Option<u32>,
     /// Share of a pixel below which a secondary ray is not traced.
+    #[serde(default, deserialize_with = "ray_cutoff")]
     pub(super) cutoff: Option<f64>,
     /// Uniform (the default), adaptive or recursive anti-aliasing.
     pub(super) aa: Option<AntiAliasingKind>,
@@ -61,7 +63,37 @@ pub(super) struct ImageSpec {
     pub(super) aa_threshold: Option<f64>,
     /// Most splits of a pixel's square by recursive anti-aliasing (implies recursive
     /// when `aa` is not given).
+    #[serde(default, deserialize_with = "aa_depth")]
     pub(super) aa_depth: Option<u32>,
+}
+
+/// `[image] max_depth`, checked where it is read (as [`RenderOptions::validate`] does,
+/// here at the value's place): at most [`MAX_RAY_DEPTH`].
+fn ray_depth<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<u32>, D::Error> {
+    let depth = u32::deserialize(d)?;
+    if depth > MAX_RAY_DEPTH {
+        return Err(de::Error::custom(format!("max depth {depth} is above the limit of {MAX_RAY_DEPTH}")));
+    }
+    Ok(Some(depth))
+}
+
+/// `[image] cutoff`, checked where it is read: within 0..=1.
+fn ray_cutoff<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<f64>, D::Error> {
+    let cutoff = f64::deserialize(d)?;
+    // (A value that is not finite is named by the file's check of every float.)
+    if cutoff.is_finite() && !(0.0..=1.0).contains(&cutoff) {
+        return Err(de::Error::custom(format!("ray cutoff {cutoff} is outside 0..=1")));
+    }
+    Ok(Some(cutoff))
+}
+
+/// `[image] aa_depth`, checked where it is read: within 1..=[`MAX_AA_DEPTH`].
+fn aa_depth<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<u32>, D::Error> {
+    let depth = u32::deserialize(d)?;
+    if !(1..=MAX_AA_DEPTH).contains(&depth) {
+        return Err(de::Error::custom(format!("anti-aliasing depth {depth} is outside 1..={MAX_AA_DEPTH}")));
+    }
+    Ok(Some(depth))
 }
 
 pub(super) fn default_size() -> [u32; 2] {
