@@ -487,6 +487,13 @@ fn export_writes_closed_meshes_with_the_octree_volume() {
     let (area, exact_area) = (info["surface_area"].as_f64().unwrap(), 4.0 * std::f64::consts::PI.powi(2) * 0.4);
     assert_eq!(info["area_from"], "true surface");
     assert!((area / exact_area - 1.0).abs() < 2e-3, "area {area} against {exact_area}");
+    // A negative tolerance or normal tolerance is refused by its own check, not taken
+    // for a flag.
+    assert!(fails(&dir, &["export", "ring.oct", "-o", "n.obj", "--tolerance", "-1"]).contains("tolerance"));
+    assert!(
+        fails(&dir, &["export", "ring.oct", "-o", "n.obj", "--tolerance", "0.1", "--normal-tolerance", "-1"])
+            .contains("-1")
+    );
     // The staircase encloses the octree's volume exactly.
     for (name, extra) in [("ring.obj", None), ("ring.stl", None), ("ring.ply", Some("--unit-faces"))] {
         let args = ["export", "ring.oct", "-o", name, "--surface", "voxels"];

@@ -54,12 +54,12 @@ pub struct ExportArgs {
     /// How far, in voxels, simplification may move the smooth surface (0: a vertex every
     /// boundary voxel corner): flat blocks of cells merged within a quarter of it, then
     /// edge collapses within the rest (a true bound).
-    #[arg(long, default_value_t = DEFAULT_TOLERANCE, value_parser = parse_tolerance)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = DEFAULT_TOLERANCE, value_parser = parse_tolerance)]
     pub tolerance: f64,
     /// With `--tolerance`: the largest angle, in degrees, a simplified face's normal may
     /// turn from the normals of the merged mesh under it (a true bound; default: none,
     /// only the distance bounds the normals).
-    #[arg(long, value_name = "DEGREES", value_parser = parse_angle)]
+    #[arg(long, allow_hyphen_values = true, value_name = "DEGREES", value_parser = parse_angle)]
     pub normal_tolerance: Option<f64>,
     /// With `--surface voxels`: one voxel face = two triangles (default: coplanar faces
     /// merged into rectangles; .glb always merges).
