@@ -193,13 +193,14 @@ fn non_finite_and_out_of_range_camera_values_are_refused_with_their_place() {
         ("eye = [4, 3, 2]\nfov = 400", "s.toml:6:7: field of view 400 must be between 0 and 180 degrees"),
         ("eye = [4, 3, 2]\nfov = 0", "s.toml:6:7: field of view 0 must be"),
         ("projection = \"orthographic\"\nheight = -1", "s.toml:6:10: orthographic height -1 must be positive"),
+        ("eye = [4, 3, 2]\nup = [0, 0, 0]", "s.toml:6:6: the direction [0, 0, 0] points nowhere"),
+        ("view = [0, 0, 0]", "s.toml:5:8: the direction [0, 0, 0] points nowhere"),
     ] {
         let e = err(camera);
         assert!(e.contains(says), "{camera}: {e}");
     }
     // Finite but unusable cameras.
     for (camera, says) in [
-        ("eye = [4, 3, 2]\nup = [0, 0, 0]", "gives no vertical"),
         ("eye = [4, 3, 2]\ntarget = [4, 3, 2]", "is at the target"),
         ("eye = [0, 0, 5]\ntarget = [0, 0, 0]\nup = [0, 0, 1]", "along the line of sight"),
     ] {
