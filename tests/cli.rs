@@ -880,6 +880,38 @@ fn export_glb_writes_the_true_surface_with_smooth_normals() {
 }
 
 #[test]
+fn ctrl_c_stops_an_export_and_writes_nothing_not_even_a_temporary() {
+    use std::io::{BufRead, BufReader};
+    let dir = scratch("ctrl-c");
+    ok(&dir, &["shape", "sphere", "--depth", "8", "-o", "ball.oct"]);
+    std::fs::write(dir.join("ball.obj"), b"kept").unwrap();
+    // Interrupted once its progress shows it working (every update printed).
+    let mut child = Command::new(env!("CARGO_BIN_EXE_octsolid"))
+        .current_dir(&dir)
+        .args(["export", "ball.oct", "-o", "ball.obj", "--tolerance", "0.04"])
+        .env("OCTSOLID_PROGRESS_SECONDS", "0")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    stderr.read_line(&mut line).unwrap();
+    assert!(line.contains('%'), "{line}");
+    // SAFETY: signalling our own child.
+    assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) }, 0);
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{rest}");
+    assert!(rest.trim_end().ends_with("octsolid: interrupted; nothing written"), "{rest}");
+    // The old output stands and no temporary is left beside it.
+    assert_eq!(std::fs::read(dir.join("ball.obj")).unwrap(), b"kept");
+    let names: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(names.iter().all(|n| !n.contains("octsolid-tmp")), "{names:?}");
+}
+
+#[test]
 fn every_command_writing_a_mesh_writes_the_true_surface_and_refuses_a_missing_folder_first() {
     let dir = scratch("mesh-outputs");
     // `shape -o X.obj` is `shape -o X.oct` then `export`: the true surface, the same

@@ -131,6 +131,23 @@ octsolid render scenes/cornell.toml --illumination radiosity -o cornell.exr")]
 /// Runs the parsed command line.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let budget = args.memory_budget.map_or_else(MemoryBudget::default, MemoryBudget);
+    // The commands that make or draw something stop at Ctrl-C (module `interrupt`).
+    if matches!(
+        args.command,
+        Command::Shape(_)
+            | Command::Build(_)
+            | Command::Offset(_)
+            | Command::Shell(_)
+            | Command::Round(_)
+            | Command::Hull(_)
+            | Command::Voxelize(_)
+            | Command::Export(_)
+            | Command::Render(_)
+            | Command::Radiosity(_)
+            | Command::Demo(_)
+    ) {
+        crate::interrupt::stop_jobs_on_ctrl_c();
+    }
     match args.command {
         Command::Shape(a) => shape::run(&a, budget),
         Command::Csg(a) => csg::run(&a, budget),

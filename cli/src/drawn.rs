@@ -90,4 +90,7 @@ impl Progress for LazyBar {
             bar.finish();
         }
     }
+    fn cancelled(&self) -> bool {
+        crate::interrupt::interrupted()
+    }
 }

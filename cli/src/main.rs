@@ -38,6 +38,7 @@ mod commands;
 mod drawn;
 mod http;
 mod human;
+mod interrupt;
 mod output;
 mod progress_bar;
 mod sharded_output;
@@ -66,6 +67,10 @@ fn main() -> ExitCode {
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.chain().any(|c| matches!(c.downcast_ref(), Some(octsolid::Error::Cancelled))) => {
+            eprintln!("octsolid: interrupted; nothing written");
+            ExitCode::from(130)
+        }
         Err(e) => {
             eprintln!("octsolid: error: {}", one_line(&e));
             ExitCode::FAILURE

@@ -101,6 +101,9 @@ impl Progress for Bar {
             Bar::Lines(_) => {}
         }
     }
+    fn cancelled(&self) -> bool {
+        crate::interrupt::interrupted()
+    }
 }
 
 /// A spinner with the elapsed time, for work whose library call reports no progress
