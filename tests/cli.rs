@@ -886,13 +886,22 @@ fn ctrl_c_stops_an_export_and_writes_nothing_not_even_a_temporary() {
     ok(&dir, &["shape", "sphere", "--depth", "8", "-o", "ball.oct"]);
     std::fs::write(dir.join("ball.obj"), b"kept").unwrap();
     // Interrupted once its progress shows it working (every update printed).
-    let mut child = Command::new(env!("CARGO_BIN_EXE_octsolid"))
+    let mut command = Command::new(env!("CARGO_BIN_EXE_octsolid"));
+    command
         .current_dir(&dir)
         .args(["export", "ball.oct", "-o", "ball.obj", "--tolerance", "0.04"])
         .env("OCTSOLID_PROGRESS_SECONDS", "0")
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+        .stderr(std::process::Stdio::piped());
+    // SIGINT as a terminal's foreground job has it: this suite may run as a background
+    // job, whose SIGINT is ignored (and then left ignored by octsolid).
+    // SAFETY: only an async-signal-safe call between fork and exec.
+    unsafe {
+        std::os::unix::process::CommandExt::pre_exec(&mut command, || {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let mut child = command.spawn().unwrap();
     let mut stderr = BufReader::new(child.stderr.take().unwrap());
     let mut line = String::new();
     stderr.read_line(&mut line).unwrap();

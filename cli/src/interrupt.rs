@@ -14,11 +14,20 @@ extern "C" fn on_interrupt(_: libc::c_int) {
     INTERRUPTED.store(true, Ordering::Relaxed);
 }
 
-/// Makes the first Ctrl-C set the flag instead of ending the process.
+/// Makes the first Ctrl-C set the flag instead of ending the process; leaves SIGINT
+/// alone when it was ignored at start (a background job of a shell without job
+/// control, which must not stop at the terminal's Ctrl-C).
 pub fn stop_jobs_on_ctrl_c() {
-    // SAFETY: a zeroed `sigaction` is a valid empty one; the handler only stores an
-    // atomic; `SA_RESETHAND` restores the default disposition once it has run.
+    // SAFETY: a zeroed `sigaction` is a valid empty one; reading the current action
+    // changes nothing; the handler only stores an atomic; `SA_RESETHAND` restores the
+    // default disposition once it has run.
     unsafe {
+        let mut current: libc::sigaction = std::mem::zeroed();
+        if libc::sigaction(libc::SIGINT, std::ptr::null(), &raw mut current) != 0
+            || current.sa_sigaction == libc::SIG_IGN
+        {
+            return;
+        }
         let mut action: libc::sigaction = std::mem::zeroed();
         action.sa_sigaction = on_interrupt as extern "C" fn(libc::c_int) as libc::sighandler_t;
         action.sa_flags = libc::SA_RESETHAND | libc::SA_RESTART;
