@@ -655,8 +655,9 @@ fn seeds(tiles: &Tiles, cap: u64) -> Result<(Vec<Packed>, Vec<Packed>), u64> {
             let (mut mixed, mut out) = (Vec::new(), Vec::new());
             let mut last_mixed = u64::MAX;
             // Entries listed here and not yet added to `listed`; whether all threads'
-            // lists, with them, are still within the cap. Counted every key and every
-            // `COUNT_EVERY` entries within a key: a key of whole tiles may list billions.
+            // lists, with them, are still within the cap. Added every `COUNT_EVERY`
+            // entries, within a key too (a key of whole tiles may list billions), so the
+            // shared count is written rarely; read every key.
             let mut uncounted = 0u64;
             let within = |uncounted: &mut u64| {
                 let total = listed.fetch_add(*uncounted, Ordering::Relaxed) + *uncounted;
@@ -664,7 +665,10 @@ fn seeds(tiles: &Tiles, cap: u64) -> Result<(Vec<Packed>, Vec<Packed>), u64> {
                 total * entry <= cap
             };
             for (j, key) in chunk.iter().enumerate() {
-                if !within(&mut uncounted) {
+                if uncounted >= COUNT_EVERY {
+                    within(&mut uncounted);
+                }
+                if listed.load(Ordering::Relaxed) * entry > cap {
                     break;
                 }
                 let hint = 4096 * c + j;

@@ -57,20 +57,22 @@ impl Quadric {
     pub(crate) fn minimizer(&self, start: DVec3) -> DVec3 {
         // Most edges lie where their faces' planes nearly agree (rank 1): one direction
         // to solve, found without the decomposition.
-        if let Some((n, along)) = flat_direction(self.matrix(), FLAT_SPREAD) {
-            return start - n * (n.dot(self.matrix() * start + self.b) / along);
+        let a = self.matrix();
+        if let Some((n, along)) = flat_direction(a, FLAT_SPREAD) {
+            return start - n * (n.dot(a * start + self.b) / along);
         }
         self.minimizer_by_decomposition(start)
     }
 
     /// [`Quadric::minimizer`] from `A`'s eigen-decomposition, whatever its rank.
     fn minimizer_by_decomposition(&self, start: DVec3) -> DVec3 {
-        let (values, vectors) = symmetric_eigen(self.matrix());
+        let a = self.matrix();
+        let (values, vectors) = symmetric_eigen(a);
         let largest = values.max_element();
         if largest <= 0.0 {
             return start;
         }
-        let residual = self.matrix() * start + self.b;
+        let residual = a * start + self.b;
         let mut x = start;
         for k in 0..3 {
             if values[k] > RANK_CUTOFF * largest {
