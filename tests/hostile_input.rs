@@ -199,13 +199,15 @@ fn non_finite_and_out_of_range_camera_values_are_refused_with_their_place() {
         let e = err(camera);
         assert!(e.contains(says), "{camera}: {e}");
     }
-    // Finite but unusable cameras.
+    // Finite but unusable cameras, found once the solids' bounds are known: blamed on
+    // the camera's table.
     for (camera, says) in [
         ("eye = [4, 3, 2]\ntarget = [4, 3, 2]", "is at the target"),
         ("eye = [0, 0, 5]\ntarget = [0, 0, 0]\nup = [0, 0, 1]", "along the line of sight"),
+        ("eye = [0, 0, 5]\nup = [0, 0, -2]", "along the line of sight"),
     ] {
         let e = err(camera);
-        assert!(e.contains("invalid camera") && e.contains(says), "{camera}: {e}");
+        assert!(e.contains("s.toml:4:1: ") && e.contains("invalid camera") && e.contains(says), "{camera}: {e}");
     }
     // The same check guards the library's render for cameras built in code.
     let mut scene = Scene::new();

@@ -171,8 +171,12 @@ pub(super) fn build(spec: &SceneSpec, cx: &Context) -> Result<SceneFile> {
     }
     let options = spec.image.options();
     let aspect = f64::from(options.width.max(1)) / f64::from(options.height.max(1));
-    let camera = spec.camera.camera(&bounds, aspect);
-    camera.validate().map_err(|e| cx.error(None, None, e))?;
+    let camera_spec = spec.camera.as_ref();
+    let camera = match camera_spec {
+        Some(c) => c.get_ref().camera(&bounds, aspect),
+        None => CameraSpec::default().camera(&bounds, aspect),
+    };
+    camera.validate().map_err(|e| cx.error(None, camera_spec.map(Spanned::span).as_ref(), e))?;
     Ok(SceneFile { scene, camera, options, warnings, cache })
 }
 

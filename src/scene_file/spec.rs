@@ -28,8 +28,9 @@ use crate::shape::{Axis, ShapeSpec, TransformSpec};
 pub(super) struct SceneSpec {
     #[serde(default)]
     pub(super) image: ImageSpec,
-    #[serde(default)]
-    pub(super) camera: CameraSpec,
+    /// Spanned, so that a camera found wrong once the solids' bounds are known (the eye
+    /// at the target, up along the line of sight) is blamed on its table.
+    pub(super) camera: Option<Spanned<CameraSpec>>,
     pub(super) domain: Option<Spanned<DomainSpec>>,
     #[serde(default, rename = "light")]
     pub(super) lights: Vec<Spanned<LightSpec>>,
@@ -82,7 +83,7 @@ fn ray_cutoff<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<f64
     let cutoff = f64::deserialize(d)?;
     // (A value that is not finite is named by the file's check of every float.)
     if cutoff.is_finite() && !(0.0..=1.0).contains(&cutoff) {
-        return Err(de::Error::custom(format!("ray cutoff {cutoff} is outside 0..=1")));
+        return Err(de::Error::custom(format!("ray cutoff {} is outside 0..=1", crate::error::Number(cutoff))));
     }
     Ok(Some(cutoff))
 }
@@ -166,7 +167,10 @@ fn field_of_view<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<
     let fov = f64::deserialize(d)?;
     // (A value that is not finite is named by the file's check of every float.)
     if fov.is_finite() && !(fov > 0.0 && fov < 180.0) {
-        return Err(de::Error::custom(format!("field of view {fov} must be between 0 and 180 degrees")));
+        return Err(de::Error::custom(format!(
+            "field of view {} must be between 0 and 180 degrees",
+            crate::error::Number(fov)
+        )));
     }
     Ok(Some(fov))
 }
@@ -185,7 +189,10 @@ fn direction<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<[f64
 fn view_height<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<f64>, D::Error> {
     let height = f64::deserialize(d)?;
     if height.is_finite() && height <= 0.0 {
-        return Err(de::Error::custom(format!("orthographic height {height} must be positive")));
+        return Err(de::Error::custom(format!(
+            "orthographic height {} must be positive",
+            crate::error::Number(height)
+        )));
     }
     Ok(Some(height))
 }
@@ -305,7 +312,11 @@ pub(super) enum MappingSpec {
 impl TextureSpec {
     pub(super) fn build(&self, folder: &Path) -> Result<Texture> {
         let positive = |what: &'static str, v: f64| {
-            if v.is_finite() && v > 0.0 { Ok(v) } else { Err(Error::invalid(what, format!("{v} must be positive"))) }
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(Error::invalid(what, format!("{} must be positive", crate::error::Number(v))))
+            }
         };
         Ok(match self {
             TextureSpec::Checker { size, a, b } => {
