@@ -24,6 +24,8 @@ use std::fmt;
 use glam::DVec3;
 use serde::de::{self, Deserialize, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 
+use crate::error::{Number, Vector};
+
 /// A colour in the HSI model: hue in degrees, saturation and intensity in `[0, 1]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hsi {
@@ -128,7 +130,9 @@ fn unknown_model(model: &str) -> String {
 /// `c` as a vector when every component lies in `[0, 1]`.
 fn unit_components(c: [f64; 3]) -> Result<DVec3, String> {
     match c.iter().find(|x| !(0.0..=1.0).contains(*x)) {
-        Some(x) => Err(format!("invalid colour: component {x} of {c:?} is outside 0..1")),
+        Some(&x) => {
+            Err(format!("invalid colour: component {} of {} is outside 0..1", Number(x), Vector(DVec3::from_array(c))))
+        }
         None => Ok(DVec3::from_array(c)),
     }
 }
@@ -137,10 +141,10 @@ fn unit_components(c: [f64; 3]) -> Result<DVec3, String> {
 /// others in `[0, 1]`, and the RGB in `[0, 1]` up to the formulas' rounding.
 fn from_hsi([h, s, i]: [f64; 3]) -> Result<DVec3, String> {
     if !(0.0..=360.0).contains(&h) {
-        return Err(format!("invalid colour: hue {h} is outside 0..360 degrees"));
+        return Err(format!("invalid colour: hue {} is outside 0..360 degrees", Number(h)));
     }
     if let Some((what, x)) = [("saturation", s), ("intensity", i)].into_iter().find(|(_, x)| !(0.0..=1.0).contains(x)) {
-        return Err(format!("invalid colour: {what} {x} is outside 0..1"));
+        return Err(format!("invalid colour: {what} {} is outside 0..1", Number(x)));
     }
     let rgb = hsi_to_rgb(Hsi { h, s, i });
     const ROUNDING: f64 = 1e-9;

@@ -261,6 +261,34 @@ pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
     std::borrow::Cow::Owned(out)
 }
 
+/// A number as an error message shows it: as Rust writes it (`0.25`, `400`) where that
+/// is short, in scientific notation (`1e300`, `2.5e-9`) where plain digits would run to
+/// hundreds (Rust's `Display` of `1e300` is 301 characters).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Number(pub f64);
+
+impl std::fmt::Display for Number {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if x == 0.0 || !x.is_finite() || (1e-5..1e16).contains(&x.abs()) {
+            std::fmt::Display::fmt(&x, f)
+        } else {
+            std::fmt::LowerExp::fmt(&x, f)
+        }
+    }
+}
+
+/// A point or vector as an error message shows it: `[x, y, z]`, each a [`Number`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Vector(pub glam::DVec3);
+
+impl std::fmt::Display for Vector {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [x, y, z] = self.0.to_array().map(Number);
+        write!(f, "[{x}, {y}, {z}]")
+    }
+}
+
 /// Formats a byte count with a binary unit, e.g. `1.5 GiB`.
 #[must_use]
 pub fn human_bytes(bytes: u64) -> String {
@@ -276,7 +304,19 @@ pub fn human_bytes(bytes: u64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{printable, quoted};
+    use super::{Number, Vector, printable, quoted};
+
+    #[test]
+    fn numbers_too_long_for_plain_digits_are_shown_in_scientific_notation() {
+        assert_eq!(Number(400.0).to_string(), "400");
+        assert_eq!(Number(-0.25).to_string(), "-0.25");
+        assert_eq!(Number(0.0).to_string(), "0");
+        assert_eq!(Number(1e300).to_string(), "1e300");
+        assert_eq!(Number(-2.5e-9).to_string(), "-2.5e-9");
+        assert_eq!(Number(f64::NAN).to_string(), "NaN");
+        assert_eq!(Number(f64::INFINITY).to_string(), "inf");
+        assert_eq!(Vector(glam::DVec3::new(1.0, 1e308, -3.5)).to_string(), "[1, 1e308, -3.5]");
+    }
 
     #[test]
     fn quoted_escapes_what_a_terminal_would_act_on() {

@@ -4,7 +4,7 @@
 use image::{Rgb, RgbImage};
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Number, Result};
 use crate::octree::LinearOctree;
 use crate::shape::Axis;
 
@@ -36,7 +36,10 @@ pub fn slice_image(tree: &LinearOctree, axis: Axis, at: f64, size: u32) -> Resul
     let d = tree.domain();
     let lo = d.min()[axis];
     if !(at >= lo && at < lo + d.edge()) {
-        return Err(Error::invalid("slice position", format!("{at} is outside [{lo}, {})", lo + d.edge())));
+        return Err(Error::invalid(
+            "slice position",
+            format!("{} is outside [{}, {})", Number(at), Number(lo), Number(lo + d.edge())),
+        ));
     }
     let n = d.resolution();
     let layer = (((at - lo) / d.voxel_size()) as u32).min(n - 1);

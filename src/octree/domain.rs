@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 use crate::aabb::Aabb;
-use crate::error::{Error, Result};
+use crate::error::{Error, Number, Result, Vector};
 use crate::morton;
 
 /// Deepest allowed octree: 21 levels, 2,097,152 voxels a side, Morton codes in 63 bits.
@@ -48,7 +48,7 @@ impl Domain {
         if !min.is_finite() || !edge.is_finite() || edge <= 0.0 {
             return Err(Error::invalid(
                 "domain",
-                format!("min {min} and edge {edge} must be finite with a positive edge"),
+                format!("min {} and edge {} must be finite with a positive edge", Vector(min), Number(edge)),
             ));
         }
         if !EDGE_RANGE.contains(&edge) {
@@ -109,7 +109,7 @@ impl Domain {
     /// or they need more than [`MAX_DEPTH`] levels, and as [`Domain::new`].
     pub fn on_grid(bounds: &Aabb, voxel: f64, depth: Option<u8>) -> Result<Self> {
         if !(voxel.is_finite() && voxel > 0.0) {
-            return Err(Error::invalid("voxel size", format!("{voxel} must be a finite positive number")));
+            return Err(Error::invalid("voxel size", format!("{} must be a finite positive number", Number(voxel))));
         }
         if !bounds.is_finite() {
             return Err(Error::invalid("bounds", "shape bounds are not finite; give a domain"));

@@ -258,14 +258,14 @@ impl RenderOptions {
             return Err(Error::invalid("max depth", format!("{max_depth} is above the limit of {MAX_RAY_DEPTH}")));
         }
         if !(0.0..=1.0).contains(&cutoff) {
-            return Err(Error::invalid("ray cutoff", format!("{cutoff} is outside 0..=1")));
+            return Err(Error::invalid("ray cutoff", format!("{} is outside 0..=1", crate::error::Number(cutoff))));
         }
         if let AntiAliasing::Adaptive { threshold } | AntiAliasing::Recursive { threshold, .. } = aa
             && !(threshold.is_finite() && threshold >= 0.0)
         {
             return Err(Error::invalid(
                 "anti-aliasing threshold",
-                format!("{threshold} must be finite and at least 0"),
+                format!("{} must be finite and at least 0", crate::error::Number(threshold)),
             ));
         }
         if let AntiAliasing::Recursive { depth, .. } = aa

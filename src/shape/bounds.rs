@@ -64,11 +64,15 @@ pub(crate) fn positive(what: &'static str, v: f64) -> crate::Result<f64> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(crate::Error::invalid(what, format!("{v} must be a finite positive number")))
+        Err(crate::Error::invalid(what, format!("{} must be a finite positive number", crate::error::Number(v))))
     }
 }
 
 /// Fails unless every coordinate is finite.
 pub(crate) fn finite(what: &'static str, v: glam::DVec3) -> crate::Result<glam::DVec3> {
-    if v.is_finite() { Ok(v) } else { Err(crate::Error::invalid(what, format!("{v} must be finite"))) }
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(crate::Error::invalid(what, format!("{} must be finite", crate::error::Vector(v))))
+    }
 }

@@ -35,7 +35,10 @@ impl DisplacedSphere {
             return Err(Error::invalid("amplitude", format!("{amplitude} must lie in [0, radius)")));
         }
         if !(frequency.is_finite() && frequency >= 0.0) {
-            return Err(Error::invalid("frequency", format!("{frequency} must be finite and not negative")));
+            return Err(Error::invalid(
+                "frequency",
+                format!("{} must be finite and not negative", crate::error::Number(frequency)),
+            ));
         }
         Ok(DisplacedSphere { center: finite("center", center)?, radius, amplitude, frequency })
     }

@@ -60,7 +60,7 @@ impl Extrude {
     ) -> Result<Extrude> {
         let height = positive("height", height)?;
         if !twist_degrees.is_finite() {
-            return Err(Error::invalid("twist", format!("{twist_degrees} must be finite")));
+            return Err(Error::invalid("twist", format!("{} must be finite", crate::error::Number(twist_degrees))));
         }
         if !(scale.is_finite() && scale.min_element() >= 0.0) {
             return Err(Error::invalid("scale", format!("{scale} must be finite and not negative")));

@@ -23,7 +23,11 @@ impl HalfSpace {
         if normal.length_squared() == 0.0 || !offset.is_finite() {
             return Err(Error::invalid(
                 "half-space",
-                format!("normal {normal} must be non-zero, offset {offset} finite"),
+                format!(
+                    "normal {} must be non-zero, offset {} finite",
+                    crate::error::Vector(normal),
+                    crate::error::Number(offset)
+                ),
             ));
         }
         Ok(HalfSpace { normal, offset })

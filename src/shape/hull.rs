@@ -95,7 +95,10 @@ impl Hull {
         }
         let tolerance = options.tolerance.unwrap_or(extent / 2048.0);
         if !(tolerance > 0.0 && tolerance.is_finite()) {
-            return Err(Error::invalid("hull tolerance", format!("{tolerance} must be positive")));
+            return Err(Error::invalid(
+                "hull tolerance",
+                format!("{} must be positive", crate::error::Number(tolerance)),
+            ));
         }
         // The snapping lattice: 2^30 steps over the box, centred.
         let unit = extent / f64::from(1u32 << 30);

@@ -109,7 +109,7 @@ impl Morphology {
         let v = d.value();
         if !v.is_finite() || (positive && v <= 0.0) {
             let want = if positive { "a finite positive number" } else { "a finite number" };
-            return Err(Error::invalid(what, format!("{v} is not {want}")));
+            return Err(Error::invalid(what, format!("{} is not {want}", crate::error::Number(v))));
         }
         Ok(())
     }

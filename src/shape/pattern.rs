@@ -94,7 +94,7 @@ pub(crate) fn check_polar(center: DVec3, count: u32, step_degrees: Option<f64>, 
 pub(crate) fn check_mirror(normal: DVec3, point: DVec3) -> Result<(DVec3, DVec3)> {
     let n = finite("normal", normal)?
         .try_normalize()
-        .ok_or_else(|| Error::invalid("normal", format!("{normal} must be non-zero")))?;
+        .ok_or_else(|| Error::invalid("normal", format!("{} must be non-zero", crate::error::Vector(normal))))?;
     Ok((n, finite("point", point)?))
 }
 

@@ -49,7 +49,10 @@ impl Revolve {
     /// `(0, 360]`).
     pub fn new(profile: Profile, axis: Axis, angle_degrees: f64) -> Result<Revolve> {
         if !(angle_degrees > 0.0 && angle_degrees <= 360.0) {
-            return Err(Error::invalid("angle", format!("{angle_degrees} must be in (0, 360] degrees")));
+            return Err(Error::invalid(
+                "angle",
+                format!("{} must be in (0, 360] degrees", crate::error::Number(angle_degrees)),
+            ));
         }
         let (lo, _) = profile.bounds();
         if lo.x < 0.0 {

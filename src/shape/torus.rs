@@ -31,7 +31,10 @@ impl Torus {
     pub fn new(center: DVec3, axis: Axis, major: f64, minor: f64) -> Result<Self> {
         let (major, minor) = (positive("radius", major)?, positive("tube radius", minor)?);
         if minor >= major {
-            return Err(Error::invalid("tube radius", format!("{minor} must be below the radius {major}")));
+            return Err(Error::invalid(
+                "tube radius",
+                format!("{} must be below the radius {}", crate::error::Number(minor), crate::error::Number(major)),
+            ));
         }
         Ok(Torus { center: finite("center", center)?, axis, major, minor })
     }

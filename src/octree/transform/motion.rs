@@ -55,7 +55,10 @@ impl Motion {
     /// The map as an affine transform, checked: finite numbers and a positive scale.
     pub fn checked_affine(&self) -> Result<DAffine3> {
         if !self.scale.is_finite() || self.scale <= 0.0 {
-            return Err(Error::invalid("transform", format!("scale {} must be finite and positive", self.scale)));
+            return Err(Error::invalid(
+                "transform",
+                format!("scale {} must be finite and positive", crate::error::Number(self.scale)),
+            ));
         }
         if let Some(t) = self.turns.iter().find(|t| !t.degrees.is_finite()) {
             return Err(Error::invalid("transform", format!("the turn of {} degrees is not finite", t.degrees)));

@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 use crate::aabb::Aabb;
-use crate::error::{Error, Result};
+use crate::error::{Error, Number, Result, Vector};
 use crate::ray::Ray;
 use crate::shape::Axis;
 
@@ -59,22 +59,22 @@ impl Camera {
         let bad = |reason: String| Err(Error::invalid("camera", reason));
         let (eye, target, up) = (self.eye, self.target, self.up);
         if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
-            return bad(format!("eye {eye}, target {target} and up {up} must be finite"));
+            return bad(format!("eye {}, target {} and up {} must be finite", Vector(eye), Vector(target), Vector(up)));
         }
         let sight = target - eye;
         if sight.length() == 0.0 || !sight.normalize().is_finite() {
-            return bad(format!("the eye {eye} is at the target"));
+            return bad(format!("the eye {} is at the target", Vector(eye)));
         }
         let unit_up = up.normalize_or_zero();
         if unit_up == DVec3::ZERO || sight.normalize().cross(unit_up).length() < 1e-9 {
-            return bad(format!("up {up} gives no vertical: it is zero or along the line of sight"));
+            return bad(format!("up {} gives no vertical: it is zero or along the line of sight", Vector(up)));
         }
         match self.projection {
             Projection::Perspective { fov_y } if !(fov_y > 0.0 && fov_y < 180.0) => {
-                bad(format!("field of view {fov_y} must be between 0 and 180 degrees"))
+                bad(format!("field of view {} must be between 0 and 180 degrees", Number(fov_y)))
             }
             Projection::Orthographic { height } if !(height.is_finite() && height > 0.0) => {
-                bad(format!("orthographic height {height} must be finite and positive"))
+                bad(format!("orthographic height {} must be finite and positive", Number(height)))
             }
             _ => Ok(()),
         }

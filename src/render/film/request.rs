@@ -67,10 +67,16 @@ impl CameraRequest {
     /// request's, else this one). Errors name the field.
     pub fn validate(&self, up: Up) -> Result<()> {
         if let Some(fov) = self.fov.filter(|f| !(f.is_finite() && *f > 0.0 && *f < 180.0)) {
-            return Err(Error::invalid("fov", format!("{fov}: the field of view must be between 0 and 180 degrees")));
+            return Err(Error::invalid(
+                "fov",
+                format!("{}: the field of view must be between 0 and 180 degrees", crate::error::Number(fov)),
+            ));
         }
         if let Some(zoom) = self.zoom.filter(|z| !(z.is_finite() && *z > 0.0)) {
-            return Err(Error::invalid("zoom", format!("{zoom}: the zoom must be a positive number")));
+            return Err(Error::invalid(
+                "zoom",
+                format!("{}: the zoom must be a positive number", crate::error::Number(zoom)),
+            ));
         }
         for (what, p) in [("eye", self.eye), ("target", self.target), ("front", self.front)] {
             if let Some(p) = p.filter(|p| !p.is_finite()) {

@@ -231,12 +231,15 @@ impl Radiosity {
     /// thousandths of the way to `options.until`.
     pub fn solve(scene: &Scene, options: &RadiosityOptions, progress: &dyn Progress) -> Result<Radiosity> {
         if !(options.until.is_finite() && (0.0..1.0).contains(&options.until)) {
-            return Err(Error::invalid("until", format!("{} is outside [0, 1)", options.until)));
+            return Err(Error::invalid("until", format!("{} is outside [0, 1)", crate::error::Number(options.until))));
         }
         if let Some(t) = options.subdivide
             && !(t.is_finite() && t > 0.0)
         {
-            return Err(Error::invalid("subdivision threshold", format!("{t} must be a finite positive number")));
+            return Err(Error::invalid(
+                "subdivision threshold",
+                format!("{} must be a finite positive number", crate::error::Number(t)),
+            ));
         }
         let size = patch_size(scene, options)?;
         let mesh = Patches::build(scene, size, options.elements, options.budget, progress)?;
@@ -308,7 +311,10 @@ impl Radiosity {
             ));
         }
         if !(options.tolerance.is_finite() && options.tolerance > 0.0 && options.tolerance < 1.0) {
-            return Err(Error::invalid("tolerance", format!("{} is outside (0, 1)", options.tolerance)));
+            return Err(Error::invalid(
+                "tolerance",
+                format!("{} is outside (0, 1)", crate::error::Number(options.tolerance)),
+            ));
         }
         let started = std::time::Instant::now();
         let g = gather::gather(scene, &mesh, options.tolerance, options.budget, progress)?;

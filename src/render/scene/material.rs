@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::texture::{Texture, noise};
-use crate::error::{Error, Result};
+use crate::error::{Error, Number, Result, Vector};
 
 /// A surface's optical properties.
 ///
@@ -73,17 +73,20 @@ impl Material {
             .chain([("reflectance", self.reflectance), ("transmittance", self.transmittance)]);
         for (what, k) in unit {
             if !(0.0..=1.0).contains(&k) {
-                return Err(Error::invalid(what, format!("{k} is outside [0, 1]")));
+                return Err(Error::invalid(what, format!("{} is outside [0, 1]", Number(k))));
             }
         }
         if self.reflectance + self.transmittance > 1.0 {
             return Err(Error::invalid("material", "reflectance + transmittance exceeds 1"));
         }
         if !(self.ior.is_finite() && self.ior > 0.0) {
-            return Err(Error::invalid("ior", format!("{} must be a finite positive number", self.ior)));
+            return Err(Error::invalid("ior", format!("{} must be a finite positive number", Number(self.ior))));
         }
         if !(self.emission.is_finite() && self.emission.min_element() >= 0.0) {
-            return Err(Error::invalid("emission", format!("{} must be finite and not negative", self.emission)));
+            return Err(Error::invalid(
+                "emission",
+                format!("{} must be finite and not negative", Vector(self.emission)),
+            ));
         }
         if !(self.shininess.is_finite() && self.shininess >= 0.0 && self.color.is_finite()) {
             return Err(Error::invalid("material", "shininess and colour must be finite"));

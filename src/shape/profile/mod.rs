@@ -69,7 +69,10 @@ impl Profile {
     /// The disc of `radius` around `center`.
     pub fn circle(center: DVec2, radius: f64) -> Result<Profile> {
         if !(center.is_finite() && radius.is_finite() && radius > 0.0) {
-            return Err(Error::invalid("circle", format!("center {center} must be finite, radius {radius} positive")));
+            return Err(Error::invalid(
+                "circle",
+                format!("center {center} must be finite, radius {} positive", crate::error::Number(radius)),
+            ));
         }
         Ok(Profile(Node::Circle { center, radius }))
     }
