@@ -67,6 +67,27 @@ fn generated_meshes_are_closed_with_known_volumes() {
 }
 
 #[test]
+fn a_report_holds_at_any_scale_of_the_coordinates() {
+    // The frame scaled by powers of two: its area and volume scale exactly (s^2, s^3),
+    // overflowing to infinity or underflowing to zero only where the true value does,
+    // and no face turns degenerate. (Corners at 2^520 overflowed the squared lengths:
+    // every face degenerate and a volume of NaN; at 2^-600 every face was degenerate.)
+    let frame = box_with_hole(0.4, 1.0);
+    let at_one = PolygonTables::new(&frame).report();
+    for k in [-600, -100, 0, 100, 520, 1000] {
+        let s = 2f64.powi(k);
+        let mut mesh = frame.clone();
+        mesh.vertices.iter_mut().for_each(|v| *v *= s);
+        let report = PolygonTables::new(&mesh).report();
+        assert!(report.watertight && report.degenerate_faces == 0, "2^{k}: {report:?}");
+        assert_eq!(report.area, at_one.area * s * s, "2^{k}");
+        assert_eq!(report.volume, at_one.volume * s * s * s, "2^{k}");
+        assert_eq!(mesh.volume(), report.volume);
+        assert_eq!(mesh.area(), report.area);
+    }
+}
+
+#[test]
 fn plane_equations_match_the_expanded_formula() {
     let mesh = icosphere(DVec3::new(1.0, 2.0, 3.0), 2.0, 1);
     let tables = PolygonTables::new(&mesh);

@@ -116,26 +116,44 @@ impl TriangleMesh {
     /// The surface area: the sum of the triangles' areas.
     #[must_use]
     pub fn area(&self) -> f64 {
-        self.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| self.vertices[v as usize]);
-                0.5 * (b - a).cross(c - a).length()
-            })
-            .sum()
+        let s = self.coordinate_scale();
+        (0..self.triangles.len()).map(|t| self.twice_area_scaled(t, s)).sum::<f64>() / 2.0 * s * s
+    }
+
+    /// Twice triangle `t`'s area, its corners divided by `s` (a [`coordinate_scale`]).
+    ///
+    /// [`coordinate_scale`]: TriangleMesh::coordinate_scale
+    pub(crate) fn twice_area_scaled(&self, t: usize, s: f64) -> f64 {
+        let [a, b, c] = self.corners(t).map(|p| p / s);
+        (b - a).cross(c - a).length()
+    }
+
+    /// The power of two at or above the largest coordinate a triangle uses (1 for no
+    /// triangles): coordinates divided by it lie in `[-1, 1]` (`[-2, 2]` past 2^1023), so
+    /// the products of areas and volumes cannot overflow, and dividing by it and
+    /// multiplying back are exact (a mesh with corners at 1e200 has area `inf`, not
+    /// degenerate faces and a volume of `NaN`; any other mesh the same bits as unscaled).
+    pub(crate) fn coordinate_scale(&self) -> f64 {
+        let b = self.bounds();
+        let largest = b.min.abs().max(b.max.abs()).max_element();
+        if largest == 0.0 { 1.0 } else { 2f64.powi(largest.log2().ceil().clamp(-1022.0, 1023.0) as i32) }
     }
 
     /// Enclosed volume by the signed-tetrahedron sum `V = sum (p1 . (p2 x p3)) / 6`,
     /// exact for a closed, consistently oriented mesh (positive when it faces out).
     #[must_use]
     pub fn volume(&self) -> f64 {
+        let s = self.coordinate_scale();
         (0..self.triangles.len())
             .map(|t| {
-                let [a, b, c] = self.corners(t);
+                let [a, b, c] = self.corners(t).map(|p| p / s);
                 a.dot(b.cross(c))
             })
             .sum::<f64>()
             / 6.0
+            * s
+            * s
+            * s
     }
 
     /// Whether every edge is used exactly twice, once in each direction (closed,

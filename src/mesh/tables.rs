@@ -103,14 +103,17 @@ impl<'a> PolygonTables<'a> {
     #[must_use]
     pub fn report(&self) -> MeshReport {
         let mesh = self.mesh;
-        let area2: Vec<f64> = self.planes.iter().map(|p| DVec3::new(p[0], p[1], p[2]).length()).collect();
-        let scale = mesh.bounds().size().max_element().max(f64::MIN_POSITIVE);
-        let degenerate_faces = area2.iter().filter(|&&a| a <= 1e-14 * scale * scale).count();
+        // Areas with the corners scaled into [-1, 1] (exactly, by a power of two), so
+        // that corners far out do not overflow them.
+        let s = mesh.coordinate_scale();
+        let area2: Vec<f64> = (0..mesh.triangles.len()).map(|t| mesh.twice_area_scaled(t, s)).collect();
+        let b = mesh.bounds();
+        let size = (b.max / s - b.min / s).max_element().max(f64::MIN_POSITIVE);
+        let degenerate_faces = area2.iter().filter(|&&a| a <= 1e-14 * size * size).count();
         let boundary_edges = self.edges.iter().filter(|e| e.faces.len() == 1).count();
         let non_manifold_edges = self.edges.iter().filter(|e| e.faces.len() > 2).count();
         let misoriented_edges = self.edges.iter().filter(|e| e.faces.len() == 2 && e.forward != 1).count();
         let volume = mesh.volume();
-        let b = mesh.bounds();
         MeshReport {
             vertices: mesh.vertices.len(),
             triangles: mesh.triangles.len(),
@@ -121,7 +124,7 @@ impl<'a> PolygonTables<'a> {
             misoriented_edges,
             watertight: boundary_edges == 0 && non_manifold_edges == 0 && misoriented_edges == 0,
             volume,
-            area: area2.iter().sum::<f64>() / 2.0,
+            area: area2.iter().sum::<f64>() / 2.0 * s * s,
             bounds_min: b.min.to_array(),
             bounds_max: b.max.to_array(),
             groups: mesh.groups.iter().map(|g| (g.name.clone(), g.count)).collect(),
