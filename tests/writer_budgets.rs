@@ -242,3 +242,39 @@ fn binvox_is_written_exactly_when_it_can_be_read_back() {
         assert!(estimate(binvox::encode(tree, MemoryBudget(need - 1))).is_some());
     }
 }
+
+/// Radiosity's tiles of the solids' true surfaces, cut side by side, are counted
+/// together against the budget: each solid's count alone let every solid on the cores
+/// take a whole budget before the total was checked (1.37 GB under 1 GiB at
+/// `--patch-size 3e-3` on the Cornell box).
+#[test]
+fn radiosity_tiles_of_several_solids_are_refused_when_together_they_pass_the_budget() {
+    use common::radiosity_room::{cuboid, diffuse, tree};
+    use octsolid::render::Scene;
+    use octsolid::render::radiosity::{Radiosity, RadiosityOptions};
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let scene_of = |count: usize| {
+        let mut scene = Scene::new();
+        for (k, [x, y]) in [[-0.5, -0.5], [0.5, -0.5], [-0.5, 0.5], [0.5, 0.5]].into_iter().take(count).enumerate() {
+            let block = cuboid([x - 0.4, y - 0.4, -0.4], [x + 0.4, y + 0.4, 0.4]);
+            scene.add_shaped(format!("block {k}"), tree(&block), diffuse(0.5, 0.5), std::sync::Arc::new(block));
+        }
+        scene
+    };
+    let budget = MemoryBudget(24 << 20);
+    let options = RadiosityOptions {
+        patch_size: Some(0.01),
+        elements: 1,
+        max_shots: Some(1),
+        budget,
+        ..RadiosityOptions::default()
+    };
+    // One block's tiles fit (whatever the solve does after them).
+    let alone = Radiosity::solve(&scene_of(1), &options, &NoProgress).err().map(|e| e.to_string());
+    assert!(!alone.as_deref().is_some_and(|e| e.contains("patches of side")), "{alone:?}");
+    // Four do not, and are refused before they are all made.
+    let (result, held) = peak(|| Radiosity::solve(&scene_of(4), &options, &NoProgress));
+    let e = result.expect_err("four blocks' tiles pass the budget").to_string();
+    assert!(e.contains("patches of side 0.01"), "{e}");
+    assert!(held < budget.0 + budget.0 / 4, "{held} bytes held before the refusal, budget {}", budget.0);
+}

@@ -57,7 +57,7 @@ use crate::progress::Progress;
 use crate::render::scene::Scene;
 
 use super::patch::Patch;
-use super::surface_patches::surface_patches;
+use super::surface_patches::{TileTally, surface_patches};
 
 /// A receiving element.
 #[derive(Clone, Copy, Debug)]
@@ -173,7 +173,10 @@ fn element(scene: &Scene, p: &Patch, patch: u32, level: u8, cell: [u32; 2]) -> E
 /// outside `1..=64`.
 fn check_settings(patch_size: f64, elements: u32) -> Result<()> {
     if !(patch_size.is_finite() && patch_size > 0.0) {
-        return Err(Error::invalid("patch size", format!("{patch_size} must be a finite positive number")));
+        return Err(Error::invalid(
+            "patch size",
+            format!("{} must be a finite positive number", crate::error::Number(patch_size)),
+        ));
     }
     if !(1..=64).contains(&elements) {
         return Err(Error::invalid("elements", format!("{elements} a patch side is outside 1..=64")));
@@ -362,19 +365,21 @@ impl Patches {
         // Each solid's true surface tiles (a solid made from a shape), or its boundary
         // rectangles, counted before any element is made.
         enum Part {
-            Surface(Vec<Patch>),
+            Surface(Vec<Vec<Patch>>),
             Faces(Vec<BoundaryRect>),
         }
-        // The solids side by side (each surface's extraction is within `budget`).
+        // The solids side by side (each surface's extraction is within `budget`, their
+        // tiles together).
+        let tally = TileTally::default();
         let found: Vec<(Part, u64, u64)> = scene
             .solids
             .par_iter()
             .enumerate()
             .map(|(i, solid)| {
                 Ok(if solid.shape().is_some() {
-                    let found = surface_patches(scene, i as u32, patch_size, elements, budget, stop)?;
-                    let count = found.patches.len() as u64;
-                    (Part::Surface(found.patches), count, found.elements)
+                    let found = surface_patches(scene, i as u32, patch_size, elements, budget, &tally, stop)?;
+                    let count = found.count() as u64;
+                    (Part::Surface(found.regions), count, found.elements)
                 } else {
                     let rects = boundary_rects(&solid.tree);
                     let (p, e) = face_counts(&rects, cells[i], elements);
@@ -394,7 +399,7 @@ impl Patches {
         let on_surface = parts.iter().map(|p| matches!(p, Part::Surface(_))).collect();
         for (solid, part) in parts.into_iter().enumerate() {
             match part {
-                Part::Surface(tiles) => patches.extend(tiles),
+                Part::Surface(regions) => patches.extend(regions.into_iter().flatten()),
                 Part::Faces(rects) => cut_into_patches(scene, solid, &rects, cells[solid], elements, &mut patches),
             }
         }

@@ -33,7 +33,7 @@
 //! the shape's surface (`patches::element`); the rectangle's form factor stands in for
 //! a partial patch's, scaled by what its rays find covered (`form_factor`).
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -43,7 +43,7 @@ use super::cover::{Cover, Piece, area_and_centroid, clip_to_rect};
 use super::patch::Patch;
 use super::regions::{PLANAR_DISTANCE, Region, planar_regions};
 use crate::budget::MemoryBudget;
-use crate::error::Result;
+use crate::error::{Number, Result};
 use crate::mesh::TriangleMesh;
 use crate::progress::{CancelOnly, Progress};
 use crate::render::scene::Scene;
@@ -105,11 +105,20 @@ fn smallest_rectangle_direction(hull: &[DVec2]) -> DVec2 {
     best.1
 }
 
-/// What one solid's surface gives: its patches (first elements not numbered) and the
-/// elements they will have.
+/// What one solid's surface gives: its patches, region by region (first elements not
+/// numbered), and the elements they will have.
 pub(crate) struct SolidPatches {
-    pub patches: Vec<Patch>,
+    /// Each region's patches, as [`region_patches`] allocated them (not copied into one
+    /// list that grows by doubling: the budget counted each tile once).
+    pub regions: Vec<Vec<Patch>>,
     pub elements: u64,
+}
+
+impl SolidPatches {
+    /// How many patches.
+    pub fn count(&self) -> usize {
+        self.regions.iter().map(Vec::len).sum()
+    }
 }
 
 /// `mesh` (the surface of solid `index` of `scene`) less its triangles that face into
@@ -160,6 +169,7 @@ pub(crate) fn surface_patches(
     patch_size: f64,
     elements: u32,
     budget: MemoryBudget,
+    tally: &TileTally,
     stop: &dyn Progress,
 ) -> Result<SolidPatches> {
     let solid = &scene.solids[index as usize];
@@ -171,26 +181,40 @@ pub(crate) fn surface_patches(
     let voxel = solid.tree.domain().voxel_size();
     let regions = planar_regions(mesh, voxel, patch_size);
     let (reflectance, emission) = (solid.material.diffuse_reflectance(), solid.material.emission);
-    let mut out = SolidPatches { patches: Vec::new(), elements: 0 };
-    let mut tiles = 0.0;
+    let mut out = SolidPatches { regions: Vec::with_capacity(regions.len()), elements: 0 };
     for region in &regions {
-        for mut p in region_patches(mesh, region, voxel, patch_size, elements, budget, &mut tiles)? {
+        let mut patches = region_patches(mesh, region, voxel, patch_size, elements, budget, tally)?;
+        for p in &mut patches {
             p.solid = index;
             p.reflectance = reflectance;
             p.emission = emission;
             out.elements += u64::from(p.nu) * u64::from(p.nv);
-            out.patches.push(p);
         }
+        out.regions.push(patches);
     }
     Ok(out)
 }
 
-/// The tiles of one region (module doc), with their covers; `tiles` counts the tiles of
-/// the solid's regions so far, this one's added.
+/// The tiles counted so far over the regions of every solid, which are cut side by side:
+/// the budget bounds their sum (a count a solid let each of the solids on the cores take
+/// a whole budget).
+#[derive(Default)]
+pub(crate) struct TileTally(Mutex<f64>);
+
+impl TileTally {
+    /// Adds `tiles`; the total so far, these included.
+    fn add(&self, tiles: f64) -> f64 {
+        let mut total = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        *total += tiles;
+        *total
+    }
+}
+
+/// The tiles of one region (module doc), with their covers, counted in `tally`.
 ///
 /// # Errors
-/// When those tiles would take more than `budget` (a patch size far under the solid's
-/// size), before this region's are allocated.
+/// When the tiles of every region so far would take more than `budget` (a patch size
+/// far under the solids' size), before this region's are allocated.
 fn region_patches(
     mesh: &TriangleMesh,
     region: &Region,
@@ -198,7 +222,7 @@ fn region_patches(
     patch_size: f64,
     elements: u32,
     budget: MemoryBudget,
-    tiles_so_far: &mut f64,
+    tally: &TileTally,
 ) -> Result<Vec<Patch>> {
     let n = region.normal;
     let (e1, e2) = plane_basis(n);
@@ -233,10 +257,10 @@ fn region_patches(
     let tile_bytes =
         (std::mem::size_of::<(f64, f64)>() + std::mem::size_of::<Vec<Piece>>() + 1 + std::mem::size_of::<Patch>())
             as f64;
-    *tiles_so_far += tiles(size.x) * tiles(size.y);
-    let estimate = *tiles_so_far * tile_bytes;
+    let tiles_so_far = tally.add(tiles(size.x) * tiles(size.y));
+    let estimate = tiles_so_far * tile_bytes;
     budget.check(
-        format!("{:.0} patches of side {patch_size}", *tiles_so_far),
+        format!("{tiles_so_far:.0} patches of side {}", Number(patch_size)),
         if estimate < u64::MAX as f64 { estimate as u64 } else { u64::MAX },
     )?;
     let (tu, tv) = (tiles(size.x) as usize, tiles(size.y) as usize);
@@ -287,7 +311,7 @@ fn region_patches(
         }
     });
     let tile_area = tile.x * tile.y;
-    let mut patches = Vec::new();
+    let mut patches = Vec::with_capacity(tu * tv);
     for (k, tile_pieces) in pieces.into_iter().enumerate() {
         let (i, j) = (k % tu, k / tu);
         let covered = areas[k].1;
@@ -368,7 +392,9 @@ mod tests {
         for r in &regions {
             assert!(r.planar);
             let (normal, area) = *faces.iter().find(|f| f.0.dot(r.normal) > 1.0 - 1e-9).expect("a face's normal");
-            let patches = region_patches(&surface.mesh, r, voxel, 1.0, 4, MemoryBudget::unlimited(), &mut 0.0).unwrap();
+            let patches =
+                region_patches(&surface.mesh, r, voxel, 1.0, 4, MemoryBudget::unlimited(), &TileTally::default())
+                    .unwrap();
             assert_eq!(patches.len(), 1, "{normal}");
             let got = patches[0].area;
             // Exact for a tile the face fills; within half a percent where the bent
