@@ -726,8 +726,17 @@ fn a_coarse_solid_at_a_fine_depth_is_refused_while_its_band_is_counted() {
         let e = tree.offset(r, &options).unwrap_err();
         assert!(matches!(e, Error::OverBudget { estimate, .. } if estimate > budget.0), "{r}: {e}");
     }
+    // Shrinking, its volume alone bounds its surface (1.3e12 voxel faces at least, the
+    // isoperimetric inequality; it has 1.6e12): refused at once with that bound (770
+    // GiB), before a tile is listed (listing the faces of its big nodes took 20 s at 1
+    // GiB on a depth-21 sphere).
+    let e = tree.offset(-3.0, &options).unwrap_err();
+    assert!(matches!(e, Error::OverBudget { estimate, .. } if estimate > 1 << 38), "{e}");
     let e = tree.shell(2.0, false, &options).unwrap_err();
-    assert!(matches!(e, Error::OverBudget { .. }), "{e}");
+    assert!(matches!(e, Error::OverBudget { estimate, .. } if estimate > 1 << 38), "{e}");
+    assert!(e.to_string().contains("shell of 2 voxels"), "{e}");
+    let e = tree.shell(2.0 / 3.0, false, &options).unwrap_err();
+    assert!(e.to_string().contains("shell of 0.667 voxels"), "{e}");
 }
 
 /// Issue 39: a bore's rim, the convex edge where a box's top face meets a cylindrical

@@ -194,7 +194,12 @@ impl LinearOctree {
     pub fn shell(&self, thickness_in_voxels: f64, outward: bool, options: &OffsetOptions) -> Result<LinearOctree> {
         positive("shell thickness", thickness_in_voxels)?;
         let step = if outward { thickness_in_voxels } else { -thickness_in_voxels };
-        self.check_offset_steps(format!("shell of {thickness_in_voxels} voxels"), &[step], false, options.budget)?;
+        self.check_offset_steps(
+            format!("shell of {} voxels", in_voxels(thickness_in_voxels)),
+            &[step],
+            false,
+            options.budget,
+        )?;
         if outward {
             self.offset(thickness_in_voxels, options)?.difference(self)
         } else {
@@ -216,7 +221,12 @@ impl LinearOctree {
     ) -> Result<LinearOctree> {
         positive("round radius", radius_in_voxels)?;
         let steps = if convex || concave { vec![-radius_in_voxels, radius_in_voxels] } else { Vec::new() };
-        self.check_offset_steps(format!("round by {radius_in_voxels} voxels"), &steps, false, options.budget)?;
+        self.check_offset_steps(
+            format!("round by {} voxels", in_voxels(radius_in_voxels)),
+            &steps,
+            false,
+            options.budget,
+        )?;
         // Two offsets a kind of edge, on one bar.
         let stages = Stages::new(options.progress, 2 * (u64::from(convex) + u64::from(concave)));
         let options = &OffsetOptions { progress: &stages, ..*options };
@@ -231,11 +241,22 @@ impl LinearOctree {
     }
 }
 
+/// A distance in voxels as a job's name shows it: to a thousandth of a voxel (a world
+/// distance over the voxel size runs to 17 digits), in scientific notation past a
+/// billion.
+pub(super) fn in_voxels(d: f64) -> String {
+    if d.abs() >= 1e9 {
+        return crate::error::Number(d).to_string();
+    }
+    let text = format!("{d:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_owned()
+}
+
 /// Fails unless `value` is finite and positive.
 fn positive(what: &'static str, value: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid(what, format!("{value} is not a finite positive number of voxels")))
+        Err(Error::invalid(what, format!("{} is not a finite positive number of voxels", crate::error::Number(value))))
     }
 }

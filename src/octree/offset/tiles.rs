@@ -163,6 +163,12 @@ impl TileBand {
         let n = tree.domain().resolution() >> k;
         let tiles = Tiles { keys: tree.keys(), k, n, grow: step.grow };
         let t = r.div_ceil(1 << k);
+        if !step.grow {
+            let least = least_shrinking_band(tree, k);
+            if least > cap {
+                return Err(least);
+            }
+        }
         let (mixed, free) = seeds(&tiles, cap)?;
         // Every seed is a tile of the band, which takes at least its values (2 bytes a
         // voxel) and its entries in the lists.
@@ -726,6 +732,27 @@ fn seeds(tiles: &Tiles, cap: u64) -> Result<(Vec<Packed>, Vec<Packed>), u64> {
     Ok((mixed, free))
 }
 
+/// Bytes a shrinking step's band takes at least, from the solid's volume alone, without
+/// listing a tile: a coarse solid at a fine depth (a sphere of 2,872 nodes at depth 21)
+/// has a surface of trillions of tiles, and listing its seeds (visiting every tile of
+/// its big nodes' faces) took 20 s before the cap stopped it.
+///
+/// The isoperimetric inequality bounds the voxel faces of a solid of `V` voxels (the
+/// domain's outside counts as empty when shrinking) from below by `(36 pi)^(1/3)
+/// V^(2/3)`. Each such face lies on a seed tile (a mixed tile, or a full one touching a
+/// site tile: the face's inside voxel's tile or its outside voxel's), and a tile of `T`
+/// voxels a side holds at most `3 T^2 (T + 1)` faces, inside it and on its sides. Every
+/// seed takes at least its values and its list entries, as in [`TileBand::of`].
+fn least_shrinking_band(tree: &LinearOctree, k: u32) -> u64 {
+    let volume = tree.voxel_count() as f64;
+    let faces = (36.0 * std::f64::consts::PI).cbrt() * volume.powf(2.0 / 3.0);
+    let side = f64::from(1u32 << k);
+    // (A hundredth off, for the rounding of the powers.)
+    let seeds = (0.99 * faces / (3.0 * side * side * (side + 1.0))).floor();
+    let bytes = seeds * ((2u64 << (3 * k)) + 64) as f64;
+    if bytes < u64::MAX as f64 { bytes as u64 } else { u64::MAX }
+}
+
 /// Calls `f` for each tile of the box `[lo, hi)` on its boundary layer, clipped to the
 /// domain (`0..n`), until it returns `false`; rows through the box's inside visit only
 /// their two ends.
@@ -776,4 +803,75 @@ fn dilate(mut set: Vec<Packed>, t: u32, n: u32, cap: u64) -> Result<Vec<Packed>,
         set = next;
     }
     Ok(set)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::octree::Domain;
+    use crate::test_util::{BoxesAndNoise, Rng, boxes_and_noise};
+
+    /// The exposed voxel faces of a solid at depth 5 (the domain's outside empty), by
+    /// brute force.
+    fn exposed_faces(tree: &LinearOctree) -> u64 {
+        let full = tree.occupancy([0; 3], 32);
+        let at =
+            |p: [i64; 3]| p.iter().all(|&c| (0..32).contains(&c)) && full[(p[0] + 32 * (p[1] + 32 * p[2])) as usize];
+        let mut faces = 0;
+        for z in 0..32 {
+            for y in 0..32 {
+                for x in 0..32 {
+                    if at([x, y, z]) {
+                        faces += [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+                            .iter()
+                            .flat_map(|e| [1, -1].map(|s| [x + s * e[0], y + s * e[1], z + s * e[2]]))
+                            .filter(|&q| !at(q))
+                            .count() as u64;
+                    }
+                }
+            }
+        }
+        faces
+    }
+
+    #[test]
+    fn the_shrinking_bound_is_under_the_seeds_it_stands_for() {
+        let mut rng = Rng(0x21_5e_ed);
+        let mut solids: Vec<LinearOctree> = (0..40)
+            .map(|i| {
+                let how = BoxesAndNoise {
+                    fewest: 1,
+                    more: 6,
+                    against_face: 3,
+                    shortest: 1,
+                    noise: [1_000_000, 40, 400][i % 3],
+                };
+                boxes_and_noise(&mut rng, &how)
+            })
+            .collect();
+        let domain = Domain::new(glam::DVec3::ZERO, 1.0, 5).unwrap();
+        solids.push(LinearOctree::full(domain));
+        solids.push(LinearOctree::from_voxels(domain, vec![[7, 9, 30]]).unwrap());
+        // The most faces a tile: a checkerboard.
+        let checkers =
+            (0..32u32 * 32 * 32).map(|i| [i % 32, i / 32 % 32, i / 1024]).filter(|p| p.iter().sum::<u32>() % 2 == 0);
+        solids.push(LinearOctree::from_voxels(domain, checkers.collect::<Vec<_>>()).unwrap());
+        for (i, tree) in solids.iter().enumerate() {
+            // The isoperimetric inequality on the voxel staircase, as the bound uses it.
+            let volume = tree.voxel_count() as f64;
+            let faces = exposed_faces(tree) as f64;
+            assert!(faces >= (36.0 * std::f64::consts::PI).cbrt() * volume.powf(2.0 / 3.0), "solid {i}");
+            for k in 1..=TILE_K {
+                let tiles = Tiles { keys: tree.keys(), k, n: 32 >> k, grow: false };
+                let (mixed, free) = seeds(&tiles, u64::MAX).unwrap();
+                // Every face lies on a seed tile, at most 3 T^2 (T + 1) a tile.
+                let side = 1u64 << k;
+                let most = (mixed.len() + free.len()) as u64 * 3 * side * side * (side + 1);
+                assert!(faces as u64 <= most, "solid {i}, k {k}: {faces} faces on seeds holding at most {most}");
+                let listed = (mixed.len() + free.len()) as u64 * ((2 << (3 * k)) + 64);
+                let least = least_shrinking_band(tree, k);
+                assert!(least <= listed, "solid {i}, k {k}: bound {least} over the seeds' {listed} bytes");
+            }
+        }
+    }
 }
