@@ -645,14 +645,19 @@ fn window_pass<V: Value>(
 }
 
 /// The seeds (see the module doc): the mixed tiles, and the free tiles touching a site
-/// tile, each sorted by packed position; `Err` with their lists' bytes once those pass
-/// `cap` (counted over all threads as they grow, so at most a few thousand entries a
-/// thread past it).
+/// tile, each sorted by packed position; `Err` with bytes the band needs at least once
+/// those pass `cap` (the listings counted over all threads as they grow, so at most a
+/// few thousand a thread past it).
 fn seeds(tiles: &Tiles, cap: u64) -> Result<(Vec<Packed>, Vec<Packed>), u64> {
     let k = tiles.k;
     let n = i64::from(tiles.n);
     let listed = AtomicU64::new(0);
-    let entry = std::mem::size_of::<Packed>() as u64;
+    // What a listing stands for: its entry, and a 26th of the least a seed takes in the
+    // band (its values and list entries, as in `TileBand::of`), as a tile is listed at
+    // most once by each of the 26 keys around it (growing; shrinking, once by its own
+    // key; a mixed tile by at most the two chunks its keys may span). So the listing
+    // stops well before its entries fill the cap.
+    let per_listing = (std::mem::size_of::<Packed>() as u64).max(((2 << (3 * k)) + 64) / 26);
     let parts: Vec<(Vec<Packed>, Vec<Packed>)> = tiles
         .keys
         .par_chunks(4096)
@@ -668,13 +673,13 @@ fn seeds(tiles: &Tiles, cap: u64) -> Result<(Vec<Packed>, Vec<Packed>), u64> {
             let within = |uncounted: &mut u64| {
                 let total = listed.fetch_add(*uncounted, Ordering::Relaxed) + *uncounted;
                 *uncounted = 0;
-                total * entry <= cap
+                total * per_listing <= cap
             };
             for (j, key) in chunk.iter().enumerate() {
                 if uncounted >= COUNT_EVERY {
                     within(&mut uncounted);
                 }
-                if listed.load(Ordering::Relaxed) * entry > cap {
+                if listed.load(Ordering::Relaxed) * per_listing > cap {
                     break;
                 }
                 let hint = 4096 * c + j;
@@ -716,7 +721,7 @@ fn seeds(tiles: &Tiles, cap: u64) -> Result<(Vec<Packed>, Vec<Packed>), u64> {
             (mixed, out)
         })
         .collect();
-    let total = listed.load(Ordering::Relaxed) * entry;
+    let total = listed.load(Ordering::Relaxed) * per_listing;
     if total > cap {
         return Err(total);
     }
