@@ -127,8 +127,8 @@ pub enum Error {
     /// The estimated memory of a job exceeds the budget; nothing was started.
     #[error(
         "{job} needs an estimated {} but the memory budget is {}; make the job smaller (depth, size, samples) or raise --memory-budget",
-        human_bytes(*estimate),
-        human_bytes(*budget)
+        told_apart(*estimate, *budget).0,
+        told_apart(*estimate, *budget).1
     )]
     OverBudget {
         /// The refused job.
@@ -289,6 +289,24 @@ impl std::fmt::Display for Vector {
     }
 }
 
+/// A distance in voxels as a job's name shows it: to a thousandth of a voxel (a world
+/// distance over the voxel size runs to 17 digits), a [`Number`] past a billion.
+pub(crate) fn in_voxels(d: f64) -> String {
+    if d.abs() >= 1e9 {
+        return Number(d).to_string();
+    }
+    let text = format!("{d:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_owned()
+}
+
+/// Two byte counts in [`human_bytes`], or in whole bytes where those read the same (an
+/// estimate just over the budget read "needs an estimated 1.0 GiB but the memory budget
+/// is 1.0 GiB").
+fn told_apart(a: u64, b: u64) -> (String, String) {
+    let (ha, hb) = (human_bytes(a), human_bytes(b));
+    if ha != hb || a == b { (ha, hb) } else { (format!("{a} bytes"), format!("{b} bytes")) }
+}
+
 /// Formats a byte count with a binary unit, e.g. `1.5 GiB`.
 #[must_use]
 pub fn human_bytes(bytes: u64) -> String {
@@ -316,6 +334,12 @@ mod tests {
         assert_eq!(Number(f64::NAN).to_string(), "NaN");
         assert_eq!(Number(f64::INFINITY).to_string(), "inf");
         assert_eq!(Vector(glam::DVec3::new(1.0, 1e308, -3.5)).to_string(), "[1, 1e308, -3.5]");
+        assert_eq!(super::in_voxels(2016492.3076923075), "2016492.308");
+        assert_eq!(super::in_voxels(2.0), "2");
+        assert_eq!(super::in_voxels(-0.5), "-0.5");
+        assert_eq!(super::in_voxels(3e12), "3e12");
+        assert_eq!(super::told_apart(3 << 30, 1 << 30), ("3.0 GiB".into(), "1.0 GiB".into()));
+        assert_eq!(super::told_apart((1 << 30) + 9, 1 << 30), ("1073741833 bytes".into(), "1073741824 bytes".into()));
     }
 
     #[test]

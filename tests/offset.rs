@@ -663,7 +663,7 @@ fn the_offset_example_of_the_scene_docs_is_its_commands_run_in_turn() {
 fn shells_and_rounds_over_the_budget_are_refused_before_any_step_runs() {
     // Issue 39, point 3: the largest step's estimate is checked before the first step,
     // so a round whose first step fits but whose other does not starts no work.
-    use octsolid::{Error, MemoryBudget, human_bytes};
+    use octsolid::{Error, MemoryBudget};
     let ball = Sphere::new(DVec3::new(0.45, 0.5, 0.55), 0.3).unwrap();
     let (tree, data) = with_surface(&ball, 7);
     let r = 6.0;
@@ -703,7 +703,7 @@ fn shells_and_rounds_over_the_budget_are_refused_before_any_step_runs() {
             );
             let message = e.to_string();
             assert!(
-                message.contains(&human_bytes(largest)) && message.contains(&human_bytes(largest - 1)),
+                message.contains(&format!("{largest} bytes")) && message.contains(&format!("{} bytes", largest - 1)),
                 "{message}"
             );
             assert_eq!(progress.read().0, 0, "{op} (along the surface: {along_surface}) started a step");

@@ -868,3 +868,45 @@ fn nested_patterns_past_the_copies_and_shapes_past_the_nesting_are_refused_at_th
     scene_cause_at(e, &path, Some(place_of_nth(&deep, "{ complement", 63)), Some("deep"));
     assert!(message.contains("nested 65 deep; at most 64"), "{message}");
 }
+
+/// A scene's `oct = ` solid shades with the surface data its file carries, as the file
+/// drawn alone does: its picture is the shape's, near enough, where the same voxels
+/// without the data show the octree's estimate (rings on a ball). The scene dropped
+/// the data, so a ball saved with its crossings rendered with rings in a scene.
+#[test]
+fn an_oct_solid_in_a_scene_shades_with_its_files_surface_data() {
+    use octsolid::NoProgress;
+    use octsolid::render::render;
+    use octsolid::surface::HermiteData;
+    let dir = scratch("oct-surface");
+    let d = Domain::new(DVec3::splat(-1.1), 2.2, 6).unwrap();
+    let ball = Sphere::new(DVec3::ZERO, 1.0).unwrap();
+    let tree = voxelize(&ball, d, &VoxelizeOptions::default()).unwrap();
+    let data = HermiteData::from_shape(&ball, &tree);
+    oct::write_with_surface(&tree, &Default::default(), Some(&data), dir.join("with.oct")).unwrap();
+    oct::write(&tree, dir.join("without.oct")).unwrap();
+    let scene = |solid: &str| {
+        format!(
+            "[image]\nsize = [96, 96]\nsamples = 1\n\n[domain]\nmin = [-1.1, -1.1, -1.1]\nedge = 2.2\ndepth = 6\n\n\
+             [[solid]]\nname = \"ball\"\n{solid}\n"
+        )
+    };
+    let picture = |name: &str, solid: &str| {
+        let (_, loaded) = load(&dir, name, &scene(solid), MemoryBudget::default());
+        let file = loaded.unwrap();
+        render(&file.scene, &file.camera, &file.options, &NoProgress).unwrap().0
+    };
+    let exact = picture("exact.toml", "shape = { sphere = { center = [0, 0, 0], radius = 1 } }");
+    let with = picture("with.toml", "oct = \"with.oct\"");
+    let without = picture("without.toml", "oct = \"without.oct\"");
+    let off = |a: &image::RgbImage| -> u64 {
+        a.as_raw().iter().zip(exact.as_raw()).map(|(&x, &y)| u64::from(x.abs_diff(y))).sum()
+    };
+    assert!(
+        off(&with) * 2 < off(&without),
+        "with the data {} off the shape's picture, without {}",
+        off(&with),
+        off(&without)
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

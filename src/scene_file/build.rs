@@ -395,6 +395,17 @@ impl SolidBuild<'_> {
             warnings.extend(read);
             Ok(tree)
         };
+        // An `.oct` (or level set `.vdb`) solid not moved: its file's surface data gives
+        // its smooth normals, as when the file is drawn alone. (A moved one is cached,
+        // and its cache keeps its voxels only: its normals are the octree's estimate.)
+        if let (None, Some(file), None) = (shape, &self.spec.oct, &self.spec.transform) {
+            let (tree, surface) = self.oct_file(file)?;
+            scene.add(&self.name, tree, self.material()?);
+            if let Some(surface) = surface {
+                scene.solids.last_mut().expect("just added").set_surface(surface);
+            }
+            return Ok(warnings);
+        }
         let mut cache = self.cx.cache.borrow_mut();
         let tree = match (cache.as_mut(), self.cache_key(leaf_files, shape_domain.as_ref(), depth)?) {
             (Some(cache), Some(key)) => {
@@ -460,6 +471,16 @@ impl SolidBuild<'_> {
         let options =
             ImportOptions { inside, budget: voxelize.budget, progress: voxelize.progress, ..Default::default() };
         Ok((import::voxelize_input(&input, domain, &options).map_err(at_file)?.0, warnings))
+    }
+
+    /// The solid file's octree and its surface data, when it carries any.
+    fn oct_file(&self, file: &Spanned<PathBuf>) -> Result<(LinearOctree, Option<crate::surface::HermiteData>)> {
+        let path = self.cx.folder.join(file.get_ref());
+        let read = SolidFile::read(&path, &ReadOptions { budget: self.cx.budget, ..ReadOptions::default() });
+        let mut read = read.map_err(self.at(Some(file.span())))?;
+        // (Data of one solid only: a union of several has other boundary faces.)
+        let surface = read.surface.take().filter(|_| read.solids.solids.len() == 1);
+        Ok((read.into_union(), surface))
     }
 
     /// The `.oct` file's octree moved by the solid's transform.

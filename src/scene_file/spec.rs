@@ -49,7 +49,7 @@ pub(super) struct ImageSpec {
     #[serde(default = "default_true")]
     pub(super) shadows: bool,
     pub(super) background: Option<ColorSpec>,
-    /// Axis (the default), smooth or octree.
+    /// Smooth (the default), axis or octree.
     pub(super) normals: Option<Normals>,
     /// Longest chain of reflected and refracted rays.
     #[serde(default, deserialize_with = "ray_depth")]

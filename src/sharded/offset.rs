@@ -170,10 +170,11 @@ impl Morph {
 
 impl std::fmt::Display for Morph {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use crate::error::in_voxels;
         match *self {
-            Morph::Offset(d) => write!(f, "offset by {d} voxels"),
+            Morph::Offset(d) => write!(f, "offset by {} voxels", in_voxels(d)),
             Morph::Shell { thickness, outward } => {
-                write!(f, "shell of {thickness} voxels {}", if outward { "outward" } else { "inward" })
+                write!(f, "shell of {} voxels {}", in_voxels(thickness), if outward { "outward" } else { "inward" })
             }
             Morph::Round { radius, convex, concave } => {
                 let edges = match (convex, concave) {
@@ -182,7 +183,7 @@ impl std::fmt::Display for Morph {
                     (false, true) => "concave edges",
                     (false, false) => "no edge",
                 };
-                write!(f, "round of {edges} by {radius} voxels")
+                write!(f, "round of {edges} by {} voxels", in_voxels(radius))
             }
         }
     }

@@ -79,7 +79,12 @@ pub fn shell_with_surface(
 ) -> Result<(LinearOctree, HermiteData)> {
     positive("shell thickness", thickness_in_voxels)?;
     let step = if outward { thickness_in_voxels } else { -thickness_in_voxels };
-    tree.check_offset_steps(format!("shell of {thickness_in_voxels} voxels"), &[step], true, options.budget)?;
+    tree.check_offset_steps(
+        format!("shell of {} voxels", crate::error::in_voxels(thickness_in_voxels)),
+        &[step],
+        true,
+        options.budget,
+    )?;
     let (a, b) = if outward {
         (offset_with_surface(tree, surface, thickness_in_voxels, options)?, (tree.clone(), surface.clone()))
     } else {
@@ -104,7 +109,12 @@ pub fn round_with_surface(
 ) -> Result<(LinearOctree, HermiteData)> {
     positive("round radius", radius_in_voxels)?;
     let steps = if convex || concave { vec![-radius_in_voxels, radius_in_voxels] } else { Vec::new() };
-    tree.check_offset_steps(format!("round by {radius_in_voxels} voxels"), &steps, true, options.budget)?;
+    tree.check_offset_steps(
+        format!("round by {} voxels", crate::error::in_voxels(radius_in_voxels)),
+        &steps,
+        true,
+        options.budget,
+    )?;
     // Two offsets a kind of edge, on one bar.
     let stages = Stages::new(options.progress, 2 * (u64::from(convex) + u64::from(concave)));
     let options = &OffsetOptions { progress: &stages, ..*options };

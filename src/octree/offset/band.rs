@@ -65,7 +65,7 @@ pub(super) fn changed_runs(
     progress: &dyn Progress,
 ) -> Result<Changes> {
     let step = clamped(tree, step);
-    let job = || format!("offset by {} voxels", super::in_voxels(step.radius));
+    let job = || format!("offset by {} voxels", crate::error::in_voxels(step.radius));
     let Some(surface) = surface else {
         let r = step.reach();
         if r == 0 {
@@ -92,6 +92,6 @@ pub(super) fn changed_runs(
 fn too_far(step: Step) -> Error {
     Error::invalid(
         "offset distance",
-        format!("{} voxels is more than the band transform holds on this domain", super::in_voxels(step.radius)),
+        format!("{} voxels is more than the band transform holds on this domain", crate::error::in_voxels(step.radius)),
     )
 }

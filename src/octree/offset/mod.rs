@@ -195,7 +195,7 @@ impl LinearOctree {
         positive("shell thickness", thickness_in_voxels)?;
         let step = if outward { thickness_in_voxels } else { -thickness_in_voxels };
         self.check_offset_steps(
-            format!("shell of {} voxels", in_voxels(thickness_in_voxels)),
+            format!("shell of {} voxels", crate::error::in_voxels(thickness_in_voxels)),
             &[step],
             false,
             options.budget,
@@ -222,7 +222,7 @@ impl LinearOctree {
         positive("round radius", radius_in_voxels)?;
         let steps = if convex || concave { vec![-radius_in_voxels, radius_in_voxels] } else { Vec::new() };
         self.check_offset_steps(
-            format!("round by {} voxels", in_voxels(radius_in_voxels)),
+            format!("round by {} voxels", crate::error::in_voxels(radius_in_voxels)),
             &steps,
             false,
             options.budget,
@@ -239,17 +239,6 @@ impl LinearOctree {
         }
         Ok(tree)
     }
-}
-
-/// A distance in voxels as a job's name shows it: to a thousandth of a voxel (a world
-/// distance over the voxel size runs to 17 digits), in scientific notation past a
-/// billion.
-pub(super) fn in_voxels(d: f64) -> String {
-    if d.abs() >= 1e9 {
-        return crate::error::Number(d).to_string();
-    }
-    let text = format!("{d:.3}");
-    text.trim_end_matches('0').trim_end_matches('.').to_owned()
 }
 
 /// Fails unless `value` is finite and positive.
