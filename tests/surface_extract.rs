@@ -268,3 +268,23 @@ fn the_crossing_check_passes_the_separated_staircase() {
         assert_uncrossed(&separated, domain.voxel_size(), &format!("staircase {case}"));
     }
 }
+
+#[test]
+fn a_tolerance_that_is_not_a_distance_is_refused() {
+    // A NaN or negative tolerance was taken as none (the Python package passed them on).
+    let d = Domain::new(DVec3::splat(-1.1), 2.2, 4).unwrap();
+    let ball = Sphere::new(DVec3::ZERO, 1.0).unwrap();
+    let tree = voxelize(&ball, d, &Default::default()).unwrap();
+    let hermite = HermiteData::from_shape(&ball, &tree);
+    for style in [Style::Smooth, Style::Voxels] {
+        for tolerance in [f64::NAN, -1.0, f64::INFINITY] {
+            let options = ExtractOptions { style, tolerance, ..ExtractOptions::default() };
+            let e = extract(&tree, &hermite, &options, &NoProgress).unwrap_err().to_string();
+            assert!(e.contains("invalid tolerance"), "{style:?} {tolerance}: {e}");
+        }
+        let options =
+            ExtractOptions { style, tolerance: 0.1, normal_tolerance: Some(-1.0), ..ExtractOptions::default() };
+        let e = extract(&tree, &hermite, &options, &NoProgress).unwrap_err().to_string();
+        assert!(e.contains("invalid normal tolerance: -1 is not an angle"), "{style:?}: {e}");
+    }
+}

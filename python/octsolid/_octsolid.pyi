@@ -183,8 +183,8 @@ class Solid:
         """The boundary as a ``trimesh.Trimesh`` (needs trimesh)."""
     def keys(self) -> npt.NDArray[np.uint64]:
         """The nodes' Morton keys, a read-only uint64 array sharing the solid's memory."""
-    def to_numpy(self, max_voxels: int = 2**27) -> npt.NDArray[np.bool_]:
-        """The solid as a dense bool array ``a[x, y, z]``, refused above ``max_voxels`` voxels."""
+    def to_numpy(self, max_voxels: int = 2**27, memory_budget: Optional[MemoryBudget] = None) -> npt.NDArray[np.bool_]:
+        """The solid as a dense bool array ``a[x, y, z]``, refused above ``max_voxels`` voxels or past ``memory_budget``."""
     def transform(
         self,
         translate: Optional[Vec3] = None,

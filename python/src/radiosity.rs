@@ -11,8 +11,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::budget::Budget;
-use crate::errors::invalid;
 use crate::errors::warn_read_past;
+use crate::errors::{ToPyResult, invalid};
 use crate::ints::{optional_max_elements_arg, optional_max_shots_arg};
 use crate::job::Job;
 use crate::progress::Want;
@@ -55,6 +55,10 @@ pub fn radiosity<'py>(
     }
     if solver == Solver::Gathering && !(tolerance > 0.0 && tolerance < 1.0) {
         return Err(invalid("tolerance", format!("{tolerance}: the residual fraction must be above 0 and below 1")));
+    }
+    // Checked before the solve (the library's write checks it too, after the solve).
+    if let Some(path) = &output {
+        octsolid::FileKind::of(path, &[octsolid::FileKind::Rad]).py()?;
     }
     let job = Job::new(memory_budget, progress, "radiosity");
     let budget = job.budget;

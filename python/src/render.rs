@@ -158,6 +158,11 @@ pub fn write_png(py: Python<'_>, path: PathBuf, picture: PyReadonlyArray3<'_, u8
     let &[h, w, 3] = a.shape() else {
         return Err(invalid("picture", format!("need shape (h, w, 3), not {:?}", a.shape())));
     };
+    // Checked before the copy (a 100000 x 100000 view aborted on allocating it).
+    let max = octsolid::render::MAX_IMAGE_SIZE as usize;
+    if !(1..=max).contains(&w) || !(1..=max).contains(&h) {
+        return Err(invalid("picture", format!("{w}x{h} is outside 1..={max} pixels a side")));
+    }
     let raw: Vec<u8> = a.iter().copied().collect();
     let (w, h) = (u32::try_from(w), u32::try_from(h));
     let image = match (w, h) {

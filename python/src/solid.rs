@@ -512,9 +512,15 @@ impl Solid {
     }
 
     /// The solid as a dense bool array `a[x, y, z]` of 2^depth voxels a side, refused
-    /// above `max_voxels` voxels (default 2^27).
-    #[pyo3(signature = (max_voxels=DENSE_LIMIT))]
-    fn to_numpy<'py>(&self, py: Python<'py>, max_voxels: u64) -> PyResult<Bound<'py, PyArray3<bool>>> {
+    /// above `max_voxels` voxels (default 2^27) or when its bytes (one a voxel) pass
+    /// `memory_budget` (bytes or a size like `"2GiB"`; default half the RAM).
+    #[pyo3(signature = (max_voxels=DENSE_LIMIT, memory_budget=None))]
+    fn to_numpy<'py>(
+        &self,
+        py: Python<'py>,
+        max_voxels: u64,
+        memory_budget: Option<Budget>,
+    ) -> PyResult<Bound<'py, PyArray3<bool>>> {
         let d = self.tree.domain();
         if d.voxel_total() > max_voxels {
             return Err(invalid(
@@ -522,6 +528,8 @@ impl Solid {
                 format!("depth {} is {} voxels, more than max_voxels = {max_voxels}", d.depth(), d.voxel_total()),
             ));
         }
+        // (A larger max_voxels used to allocate whatever it allowed: an abort.)
+        budget_of(memory_budget).check(format!("a dense array of {} voxels", d.voxel_total()), d.voxel_total()).py()?;
         let n = d.resolution() as usize;
         let tree = &self.tree;
         let grid = py.detach(|| {

@@ -163,3 +163,35 @@ def test_an_offset_past_the_domain_warns_that_it_is_cut_off():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         ball.offset(0.05)
+
+
+def test_outputs_are_checked_before_anything_is_allocated_or_written(tmp_path):
+    ball = o.voxelize(o.Sphere((0, 0, 0), 1), 5)
+    # A dense array past the budget is refused (a larger max_voxels used to abort).
+    with pytest.raises(o.BudgetError, match="dense array"):
+        ball.to_numpy(max_voxels=2**64 - 1, memory_budget="16KiB")
+    # A picture past the render's largest side, before its copy (an abort).
+    huge = np.broadcast_to(np.zeros(3, np.uint8), (100000, 100000, 3))
+    with pytest.raises(o.ArgumentError, match="100000x100000"):
+        o.write_png(tmp_path / "x.png", huge)
+    # A picture named as another file is refused, and the file kept.
+    kept = tmp_path / "part.oct"
+    ball.save(kept)
+    before = kept.read_bytes()
+    with pytest.raises(o.Error, match="extension"):
+        ball.save_slice(kept)
+    with pytest.raises(o.Error, match="extension"):
+        o.write_png(kept, np.zeros((4, 4, 3), np.uint8))
+    assert kept.read_bytes() == before
+    # A tolerance that is not a distance (a NaN or negative one was taken as none).
+    for tolerance in [float("nan"), -1.0]:
+        with pytest.raises(o.ArgumentError, match="tolerance"):
+            ball.export(tmp_path / "x.stl", tolerance=tolerance)
+        with pytest.raises(o.ArgumentError, match="tolerance"):
+            ball.mesh(tolerance=tolerance)
+    # A solution named as its scene is refused before the solve, the scene kept.
+    scene = tmp_path / "s.toml"
+    scene.write_text('[[solid]]\nname = "b"\nshape = { sphere = { center = [0, 0, 0], radius = 1 } }\n')
+    with pytest.raises(o.Error, match="extension"):
+        o.radiosity(scene, output=scene, max_shots=1)
+    assert scene.read_text().startswith("[[solid]]")

@@ -17,13 +17,19 @@ use image::RgbImage;
 
 use crate::atomic::write_atomic;
 use crate::error::{Error, Result};
+use crate::file_kind::FileKind;
 use crate::progress::Progress;
 #[cfg(doc)]
 use crate::render::render;
 use crate::render::{Camera, RenderOptions, RenderStats, Scene, render_streamed};
 
 /// Writes `img` as an 8-bit RGB PNG to `path` through a temporary file; returns the bytes written.
+///
+/// # Errors
+/// A `path` not named `.png` is refused before anything is written (a picture written
+/// over a solid or a scene named by mistake lost it), as are the writer's own errors.
 pub fn write(img: &RgbImage, path: impl AsRef<Path>) -> Result<u64> {
+    FileKind::of(path.as_ref(), &[FileKind::Png])?;
     let bytes = encode(img)?;
     write_atomic(path.as_ref(), |w| w.write_all(&bytes))
 }

@@ -17,7 +17,7 @@ use super::hermite::HermiteData;
 use super::simplify::{SimplifyOptions, SimplifyReport, simplify_with_progress};
 use super::untangle::untangle;
 use crate::budget::MemoryBudget;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mesh::{BoundaryOptions, BoundarySize, TriangleMesh, try_boundary_mesh};
 use crate::octree::LinearOctree;
 use crate::progress::{Progress, Stages, stop_if_cancelled};
@@ -89,6 +89,23 @@ pub struct ExtractOptions {
     pub unit_faces: bool,
     /// Refuse before allocating when the estimate exceeds this.
     pub budget: MemoryBudget,
+}
+
+impl ExtractOptions {
+    /// Refuses a tolerance that is not a finite number of voxels, 0 or more, and a
+    /// normal tolerance that is not a finite angle, 0 or more (a NaN or a negative one
+    /// was taken as none).
+    pub fn validate(&self) -> Result<()> {
+        if !(self.tolerance.is_finite() && self.tolerance >= 0.0) {
+            let t = crate::error::Number(self.tolerance);
+            return Err(Error::invalid("tolerance", format!("{t} is not a number of voxels, 0 or more")));
+        }
+        if let Some(angle) = self.normal_tolerance.filter(|a| !(a.is_finite() && *a >= 0.0)) {
+            let a = crate::error::Number(angle);
+            return Err(Error::invalid("normal tolerance", format!("{a} is not an angle in degrees, 0 or more")));
+        }
+        Ok(())
+    }
 }
 
 impl Default for ExtractOptions {
@@ -168,6 +185,7 @@ pub fn extract(
     options: &ExtractOptions,
     progress: &dyn Progress,
 ) -> Result<SurfaceMesh> {
+    options.validate()?;
     if options.style == Style::Voxels {
         let boundary = BoundaryOptions { unit_faces: options.unit_faces };
         let mesh = try_boundary_mesh(tree, &boundary, options.budget, progress)?;

@@ -422,7 +422,12 @@ impl Radiosity {
     }
 
     /// Writes the solution as a `.rad` file, atomically; returns the bytes written.
+    ///
+    /// # Errors
+    /// A `path` not named `.rad` is refused before anything is written (a solution
+    /// written over its scene named by mistake lost it), as are the writer's own errors.
     pub fn write(&self, path: impl AsRef<Path>) -> Result<u64> {
+        crate::file_kind::FileKind::of(path.as_ref(), &[crate::file_kind::FileKind::Rad])?;
         file::write(self, path.as_ref())
     }
 
