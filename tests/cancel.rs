@@ -207,3 +207,17 @@ fn radiosity_stops_while_making_a_shape_solids_patches() {
         assert_eq!(stop.read(), (0, 0), "{solver:?}");
     }
 }
+
+#[test]
+fn the_crossings_of_a_shape_stop_when_asked_and_report_every_face_otherwise() {
+    // Depth 8: about 200,000 boundary faces, blocks of 65,536. (The CLI's `shape` and `build`
+    // ignored Ctrl-C while they found them.)
+    let (sphere, _, tree) = ball(8);
+    let progress = StopAfter::at_once();
+    assert_stopped_early("crossings", HermiteData::from_shape_with(&sphere, &tree, &progress), &progress);
+    let progress = StopAfter::never();
+    let data = HermiteData::from_shape_with(&sphere, &tree, &progress).unwrap();
+    assert_eq!(progress.read(), (data.len() as u64, data.len() as u64));
+    assert!(data.len() > 2 << 16, "{} faces: not several blocks", data.len());
+    assert_eq!(data, HermiteData::from_shape(&sphere, &tree));
+}

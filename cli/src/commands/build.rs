@@ -76,7 +76,7 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
         let shape = resolve_with_bar(&shape, domain, budget)?;
         if !is_sharded(&a.output) {
             let tree = voxelize_with_bar(&shape, domain, budget)?;
-            let surface = surface_for(&a.output, &shape, &tree);
+            let surface = surface_for(&a.output, &shape, &tree)?;
             let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), surface, budget)?;
             out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
             print_summary(&tree, None);
@@ -100,7 +100,7 @@ pub fn run(a: &BuildArgs, budget: MemoryBudget) -> Result<()> {
     // oct solid has no shape here, and gets none).
     let shape = if uses_surface_data { build_shape(&a.scene, a.solid.as_deref(), budget).ok() } else { None };
     let surface = match shape {
-        Some((shape, domain)) if domain == *tree.domain() => surface_for(&a.output, &shape, &tree),
+        Some((shape, domain)) if domain == *tree.domain() => surface_for(&a.output, &shape, &tree)?,
         _ => None,
     };
     let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), surface, budget)?;

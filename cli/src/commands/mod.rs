@@ -69,15 +69,19 @@ pub(crate) fn uses_surface(output: &Path) -> bool {
 /// `output` uses it ([`uses_surface`]: an `.oct` file stores it, a mesh is contoured on
 /// it; [`HermiteData::from_shape`]), with the time it took printed; `None` for other
 /// outputs.
-pub(crate) fn surface_for(output: &Path, shape: &(impl Shape + ?Sized), tree: &LinearOctree) -> Option<HermiteData> {
+pub(crate) fn surface_for(
+    output: &Path,
+    shape: &(impl Shape + ?Sized),
+    tree: &LinearOctree,
+) -> Result<Option<HermiteData>> {
     if !uses_surface(output) {
-        return None;
+        return Ok(None);
     }
     let started = Instant::now();
-    let surface = HermiteData::from_shape(shape, tree);
+    let surface = HermiteData::from_shape_with(shape, tree, &Bar::new("surface"))?;
     let ms = started.elapsed().as_secs_f64() * 1e3;
     out!("surface    {} boundary faces' crossings and normals from the shape in {ms:.1} ms", surface.len());
-    Some(surface)
+    Ok(Some(surface))
 }
 
 /// Warns when `result` reaches a face of its domain that `input` kept clear of (what

@@ -130,7 +130,7 @@ pub fn run(a: &ShapeArgs, budget: MemoryBudget) -> Result<()> {
     {
         warn!("the shape reaches past the domain: what lies outside it is cut off");
     }
-    let surface = surface_for(&a.output, &shape, &tree);
+    let surface = surface_for(&a.output, &shape, &tree)?;
     let bytes = write_solid_file(&a.output, &tree, &Metadata::default(), surface, budget)?;
     out!("wrote {} ({})", a.output.display(), human_bytes(bytes));
     print_summary(&tree, spec.volume());
