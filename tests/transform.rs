@@ -645,3 +645,14 @@ fn transformed_is_exact_for_cube_symmetries_and_resampled_otherwise() {
     }
     assert!(LinearOctree::empty(domain(3)).transformed(DAffine3::from_scale(DVec3::ZERO), Ok, &opts()).is_err());
 }
+
+#[test]
+fn an_empty_solid_moves_to_an_empty_solid() {
+    // A resampling sampled the solid's surface, and an empty one has none ("invalid
+    // mesh: it has no triangles"); the exact moves already gave an empty solid.
+    let empty = LinearOctree::empty(domain(5));
+    for map in [DAffine3::from_rotation_z(30f64.to_radians()), DAffine3::from_translation(DVec3::X)] {
+        let (moved, _) = empty.transformed(map, Ok, &opts()).unwrap();
+        assert!(moved.is_empty() && moved.depth() == 5, "{map:?}");
+    }
+}

@@ -102,6 +102,8 @@ impl LinearOctree {
     ) -> Result<(LinearOctree, Fit)> {
         match self.plan_move(map, target)? {
             MovePlan::Exact { image, target } => image.fit_image(target, options),
+            // (An empty solid has no surface to sample: it moves to an empty solid.)
+            MovePlan::Resample { target } if self.is_empty() => Ok((LinearOctree::empty(target), Fit::Resampled)),
             MovePlan::Resample { target } => {
                 Ok((voxelize(&OctreeShape::new(self, map)?, target, options)?, Fit::Resampled))
             }
