@@ -290,10 +290,11 @@ impl std::fmt::Display for Vector {
 }
 
 /// A distance in voxels as a job's name shows it: to a thousandth of a voxel (a world
-/// distance over the voxel size runs to 17 digits), a [`Number`] past a billion.
+/// distance over the voxel size runs to 17 digits), in scientific notation past a
+/// billion.
 pub(crate) fn in_voxels(d: f64) -> String {
     if d.abs() >= 1e9 {
-        return Number(d).to_string();
+        return format!("{d:e}");
     }
     let text = format!("{d:.3}");
     text.trim_end_matches('0').trim_end_matches('.').to_owned()

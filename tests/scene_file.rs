@@ -297,6 +297,7 @@ fn render_settings_out_of_range_are_refused_at_their_value() {
         ("cutoff", "-1", "outside 0..=1"),
         ("aa_depth", "100", "outside 1..="),
         ("aa_depth", "0", "outside 1..="),
+        ("aa_threshold", "-1", "anti-aliasing threshold -1 must be at least 0"),
     ] {
         let text = format!("[image]\n{key} = {value}\n\n[[solid]]\n{BALL}\n");
         let (path, e) = error(&dir, "image.toml", &text);

@@ -61,6 +61,7 @@ pub(super) struct ImageSpec {
     pub(super) aa: Option<AntiAliasingKind>,
     /// Contrast at which adaptive anti-aliasing supersamples, recursive splits
     /// (implies adaptive when `aa` is not given).
+    #[serde(default, deserialize_with = "aa_threshold")]
     pub(super) aa_threshold: Option<f64>,
     /// Most splits of a pixel's square by recursive anti-aliasing (implies recursive
     /// when `aa` is not given).
@@ -86,6 +87,18 @@ fn ray_cutoff<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<f64
         return Err(de::Error::custom(format!("ray cutoff {} is outside 0..=1", crate::error::Number(cutoff))));
     }
     Ok(Some(cutoff))
+}
+
+/// `[image] aa_threshold`, checked where it is read: 0 or more (a negative one was
+/// refused by the render, without its place).
+fn aa_threshold<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<f64>, D::Error> {
+    let threshold = f64::deserialize(d)?;
+    // (A value that is not finite is named by the file's check of every float.)
+    if threshold < 0.0 {
+        let t = crate::error::Number(threshold);
+        return Err(de::Error::custom(format!("anti-aliasing threshold {t} must be at least 0")));
+    }
+    Ok(Some(threshold))
 }
 
 /// `[image] aa_depth`, checked where it is read: within 1..=[`MAX_AA_DEPTH`].
