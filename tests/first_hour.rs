@@ -402,5 +402,10 @@ fn outputs_never_replace_inputs_and_stdout_failures_are_errors() {
             .unwrap();
         assert!(!out.status.success(), "a lost output is an error");
         assert!(String::from_utf8_lossy(&out.stderr).contains("cannot write the output to stdout"));
+        // The help too (clap's exit ignored the failed write: status 0).
+        let full = std::fs::File::create("/dev/full").unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_octsolid")).arg("--help").stdout(full).output().unwrap();
+        assert!(!out.status.success(), "a lost help is an error");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("cannot write the help to stdout"));
     }
 }

@@ -102,7 +102,16 @@ fn usage_error(e: &clap::Error) -> ExitCode {
         e.kind(),
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
     ) {
-        e.exit();
+        // Printed and checked here (clap's own exit ignores a failed write: `--help >
+        // /dev/full` exited 0).
+        use std::io::Write as _;
+        return match e.print().and_then(|()| std::io::stdout().flush()) {
+            Ok(()) => ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(1)),
+            Err(w) => {
+                eprintln!("octsolid: error: cannot write the help to stdout: {w}");
+                ExitCode::FAILURE
+            }
+        };
     }
     let text = e.render().to_string();
     let paragraph: Vec<&str> = text.lines().take_while(|l| !l.trim().is_empty()).map(str::trim).collect();
