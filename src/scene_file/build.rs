@@ -260,7 +260,12 @@ impl FileLeaves for SceneFiles<'_> {
 /// The union of the solids of a solid file (one octree for `.oct`, `.octs` and
 /// `.binvox`), read through the door for solid files.
 pub(super) fn read_solid(path: &Path, budget: MemoryBudget) -> Result<LinearOctree> {
-    Ok(SolidFile::read(path, &ReadOptions { budget, ..ReadOptions::default() })?.into_union())
+    Ok(read_solid_file(path, budget)?.into_union())
+}
+
+/// The solid file at `path`, read within `budget`.
+fn read_solid_file(path: &Path, budget: MemoryBudget) -> Result<SolidFile> {
+    SolidFile::read(path, &ReadOptions { budget, ..ReadOptions::default() })
 }
 
 /// One solid being built: its spec, its name, the span of its `[[solid]]` header, and
@@ -476,8 +481,7 @@ impl SolidBuild<'_> {
     /// The solid file's octree and its surface data, when it carries any.
     fn oct_file(&self, file: &Spanned<PathBuf>) -> Result<(LinearOctree, Option<crate::surface::HermiteData>)> {
         let path = self.cx.folder.join(file.get_ref());
-        let read = SolidFile::read(&path, &ReadOptions { budget: self.cx.budget, ..ReadOptions::default() });
-        let mut read = read.map_err(self.at(Some(file.span())))?;
+        let mut read = read_solid_file(&path, self.cx.budget).map_err(self.at(Some(file.span())))?;
         // (Data of one solid only: a union of several has other boundary faces.)
         let surface = read.surface.take().filter(|_| read.solids.solids.len() == 1);
         Ok((read.into_union(), surface))
